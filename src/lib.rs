@@ -1,0 +1,6 @@
+//! armjog: a terminal console to jog a robot arm, with the protocol libraries it speaks.
+#![forbid(unsafe_code)]
+
+pub mod cli;
+pub mod link;
+pub mod talos;

@@ -1,0 +1,354 @@
+//! The ICD's command wrapper and a streaming codec for it.
+//!
+//! ```text
+//! Command ID u32 | RESERVED u16 | Command Value u16 | Length u16 | Payload [Length] | Checksum
+//! ```
+//! All big-endian. The checksum field is 2 bytes (`crc16`, `none`) or 1 byte (`xor8`), see
+//! [`Checksum`].
+//!
+//! The wrapper has no sync marker, so resynchronisation after garbage or a corrupt frame is a
+//! search: drop one byte and try to parse again. While searching, a position is only trusted as
+//! a frame start if its command value is one the ICD defines; otherwise a garbage "length" could
+//! make the decoder wait for bytes that never come. At a clean frame boundary the header is
+//! trusted as is, so a well-formed frame with an unknown command still reaches the server, which
+//! answers "unknown command".
+
+use bytes::{Buf, BytesMut};
+use std::fmt;
+use tokio_util::codec::{Decoder, Encoder};
+
+use super::checksum::Checksum;
+use super::command::{CommandValue, REPLY_BIT};
+
+/// Bytes before the payload: id (4), reserved (2), command value (2), length (2).
+pub const HEADER_LEN: usize = 10;
+
+/// Largest payload the decoder accepts by default. The largest frame armjog defines (Save
+/// Position with two 255-byte names, or all-joint hardware feedback) is well below it.
+pub const DEFAULT_MAX_PAYLOAD: usize = 1024;
+
+/// One frame, request or reply, as on the wire.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Frame {
+    pub id: u32,
+    pub reserved: u16,
+    pub command: u16,
+    pub payload: Vec<u8>,
+}
+
+/// The parts of a header that identify an exchange, kept with a rejection so a server can still
+/// answer a frame whose checksum failed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FrameHeader {
+    pub id: u32,
+    pub command: u16,
+    pub length: u16,
+}
+
+impl Frame {
+    pub fn new(id: u32, command: u16, payload: Vec<u8>) -> Self {
+        Frame {
+            id,
+            reserved: 0,
+            command,
+            payload,
+        }
+    }
+
+    pub fn is_reply(&self) -> bool {
+        self.command & REPLY_BIT != 0
+    }
+
+    /// The command this frame carries, if the ICD defines its value.
+    pub fn command_value(&self) -> Option<CommandValue> {
+        if self.is_reply() {
+            CommandValue::from_reply_value(self.command)
+        } else {
+            CommandValue::from_request_value(self.command)
+        }
+    }
+
+    /// Number of bytes [`Frame::encode_into`] writes.
+    pub fn encoded_len(&self, checksum: Checksum) -> usize {
+        HEADER_LEN + self.payload.len() + checksum.len()
+    }
+
+    /// Appends the frame's bytes to `out`. Fails only if the payload exceeds the u16 length field.
+    pub fn encode_into(&self, checksum: Checksum, out: &mut Vec<u8>) -> Result<(), FrameTooLong> {
+        let length = u16::try_from(self.payload.len()).map_err(|_| FrameTooLong {
+            length: self.payload.len(),
+        })?;
+        let start = out.len();
+        out.reserve(self.encoded_len(checksum));
+        out.extend_from_slice(&self.id.to_be_bytes());
+        out.extend_from_slice(&self.reserved.to_be_bytes());
+        out.extend_from_slice(&self.command.to_be_bytes());
+        out.extend_from_slice(&length.to_be_bytes());
+        out.extend_from_slice(&self.payload);
+        let sum = checksum.compute(&out[start..]);
+        match checksum.len() {
+            1 => out.push(sum as u8),
+            _ => out.extend_from_slice(&sum.to_be_bytes()),
+        }
+        Ok(())
+    }
+
+    pub fn to_bytes(&self, checksum: Checksum) -> Result<Vec<u8>, FrameTooLong> {
+        let mut out = Vec::with_capacity(self.encoded_len(checksum));
+        self.encode_into(checksum, &mut out)?;
+        Ok(out)
+    }
+}
+
+/// A payload longer than the ICD's u16 Length field can describe.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("payload of {length} bytes does not fit the u16 Length field")]
+pub struct FrameTooLong {
+    pub length: usize,
+}
+
+/// Why bytes were discarded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RejectReason {
+    /// The frame was complete but its checksum field did not match.
+    BadChecksum { expected: u16, found: u16 },
+    /// The Length field is above the decoder's bound.
+    OversizedLength { length: u16, max: usize },
+    /// While resynchronising (or with no checksum to trust), a command value the ICD does not
+    /// define cannot start a frame.
+    UnknownCommand { value: u16 },
+    /// The stream ended inside a frame.
+    Truncated { have: usize, needed: usize },
+}
+
+impl fmt::Display for RejectReason {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            RejectReason::BadChecksum { expected, found } => write!(
+                f,
+                "bad checksum: computed 0x{expected:04X}, frame carries 0x{found:04X}"
+            ),
+            RejectReason::OversizedLength { length, max } => {
+                write!(f, "length {length} exceeds the {max}-byte payload bound")
+            }
+            RejectReason::UnknownCommand { value } => {
+                write!(f, "command value 0x{value:04X} is not in the ICD")
+            }
+            RejectReason::Truncated { have, needed } => {
+                write!(f, "stream ended inside a frame ({have} of {needed} bytes)")
+            }
+        }
+    }
+}
+
+/// Bytes the decoder dropped: the reason found at the first bad position, how many bytes were
+/// skipped before the next valid frame (or the end of what was buffered), and the header found at
+/// the first bad position if it was a complete frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Rejection {
+    pub reason: RejectReason,
+    pub discarded: usize,
+    pub header: Option<FrameHeader>,
+}
+
+impl fmt::Display for Rejection {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} ({} bytes discarded)", self.reason, self.discarded)
+    }
+}
+
+/// What the decoder yields: a frame, or a report of bytes it had to drop.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Decoded {
+    Frame(Frame),
+    Rejected(Rejection),
+}
+
+/// Result of parsing at the start of a buffer.
+#[derive(Debug, PartialEq, Eq)]
+pub enum Parse {
+    /// A frame and the number of bytes it took.
+    Complete(Frame, usize),
+    /// Not enough bytes yet; at least this many are needed in all.
+    Incomplete(usize),
+    /// No frame starts here.
+    Invalid(RejectReason, Option<FrameHeader>),
+}
+
+fn header_at(buf: &[u8]) -> Option<FrameHeader> {
+    let h: &[u8; HEADER_LEN] = buf.get(..HEADER_LEN)?.try_into().ok()?;
+    Some(FrameHeader {
+        id: u32::from_be_bytes([h[0], h[1], h[2], h[3]]),
+        command: u16::from_be_bytes([h[6], h[7]]),
+        length: u16::from_be_bytes([h[8], h[9]]),
+    })
+}
+
+/// Parses one frame at the start of `buf`. `strict` (set while resynchronising, and always for
+/// the `none` checksum) refuses command values the ICD does not define.
+pub fn parse_frame(buf: &[u8], checksum: Checksum, max_payload: usize, strict: bool) -> Parse {
+    let Some(header) = header_at(buf) else {
+        return Parse::Incomplete(HEADER_LEN);
+    };
+    let strict = strict || checksum == Checksum::None;
+    if strict && !CommandValue::is_known_value(header.command) {
+        return Parse::Invalid(
+            RejectReason::UnknownCommand {
+                value: header.command,
+            },
+            None,
+        );
+    }
+    if usize::from(header.length) > max_payload {
+        let reason = RejectReason::OversizedLength {
+            length: header.length,
+            max: max_payload,
+        };
+        return Parse::Invalid(reason, Some(header));
+    }
+    let body_end = HEADER_LEN + usize::from(header.length);
+    let total = body_end + checksum.len();
+    let Some(field) = buf.get(body_end..total) else {
+        return Parse::Incomplete(total);
+    };
+    let covered = &buf[..body_end];
+    let found = checksum.read_field(field);
+    if !checksum.verify(covered, found) {
+        let reason = RejectReason::BadChecksum {
+            expected: checksum.compute(covered),
+            found,
+        };
+        return Parse::Invalid(reason, Some(header));
+    }
+    let frame = Frame {
+        id: header.id,
+        reserved: u16::from_be_bytes([buf[4], buf[5]]),
+        command: header.command,
+        payload: buf[HEADER_LEN..body_end].to_vec(),
+    };
+    Parse::Complete(frame, total)
+}
+
+/// A `tokio_util` codec for Talos frames with one checksum dialect.
+#[derive(Debug, Clone)]
+pub struct FrameCodec {
+    checksum: Checksum,
+    max_payload: usize,
+    /// False from the first dropped byte until the next valid frame: positions are then only
+    /// trusted as frame starts if their command value is known.
+    synced: bool,
+    /// Bytes dropped since the last report.
+    discarded: usize,
+    /// The first reason and header of the current run of dropped bytes.
+    first: Option<(RejectReason, Option<FrameHeader>)>,
+}
+
+impl FrameCodec {
+    pub fn new(checksum: Checksum) -> Self {
+        Self::with_max_payload(checksum, DEFAULT_MAX_PAYLOAD)
+    }
+
+    pub fn with_max_payload(checksum: Checksum, max_payload: usize) -> Self {
+        FrameCodec {
+            checksum,
+            max_payload: max_payload.min(usize::from(u16::MAX)),
+            synced: true,
+            discarded: 0,
+            first: None,
+        }
+    }
+
+    pub fn checksum(&self) -> Checksum {
+        self.checksum
+    }
+
+    /// Most bytes the decoder ever holds waiting for one frame.
+    pub fn max_frame_len(&self) -> usize {
+        HEADER_LEN + self.max_payload + self.checksum.len()
+    }
+
+    fn take_rejection(&mut self) -> Option<Decoded> {
+        let (reason, header) = self.first.take()?;
+        let discarded = std::mem::take(&mut self.discarded);
+        Some(Decoded::Rejected(Rejection {
+            reason,
+            discarded,
+            header,
+        }))
+    }
+}
+
+impl Decoder for FrameCodec {
+    type Item = Decoded;
+    type Error = std::io::Error;
+
+    fn decode(&mut self, src: &mut BytesMut) -> Result<Option<Decoded>, Self::Error> {
+        loop {
+            match parse_frame(src, self.checksum, self.max_payload, !self.synced) {
+                Parse::Complete(frame, used) => {
+                    // Report the dropped run first; the frame stays buffered for the next call.
+                    if let Some(rejection) = self.take_rejection() {
+                        return Ok(Some(rejection));
+                    }
+                    self.synced = true;
+                    src.advance(used);
+                    return Ok(Some(Decoded::Frame(frame)));
+                }
+                Parse::Incomplete(needed) => {
+                    if let Some(rejection) = self.take_rejection() {
+                        return Ok(Some(rejection));
+                    }
+                    src.reserve(needed.saturating_sub(src.len()));
+                    return Ok(None);
+                }
+                Parse::Invalid(reason, header) => {
+                    self.synced = false;
+                    self.first.get_or_insert((reason, header));
+                    src.advance(1);
+                    self.discarded += 1;
+                }
+            }
+        }
+    }
+
+    fn decode_eof(&mut self, src: &mut BytesMut) -> Result<Option<Decoded>, Self::Error> {
+        if let Some(item) = self.decode(src)? {
+            return Ok(Some(item));
+        }
+        if src.is_empty() {
+            return Ok(None);
+        }
+        let needed = match parse_frame(src, self.checksum, self.max_payload, false) {
+            Parse::Incomplete(needed) => needed,
+            _ => src.len(),
+        };
+        let have = src.len();
+        src.clear();
+        Ok(Some(Decoded::Rejected(Rejection {
+            reason: RejectReason::Truncated { have, needed },
+            discarded: have,
+            header: None,
+        })))
+    }
+}
+
+impl Encoder<Frame> for FrameCodec {
+    type Error = std::io::Error;
+
+    fn encode(&mut self, frame: Frame, dst: &mut BytesMut) -> Result<(), Self::Error> {
+        self.encode(&frame, dst)
+    }
+}
+
+impl Encoder<&Frame> for FrameCodec {
+    type Error = std::io::Error;
+
+    fn encode(&mut self, frame: &Frame, dst: &mut BytesMut) -> Result<(), Self::Error> {
+        let mut bytes = Vec::with_capacity(frame.encoded_len(self.checksum));
+        frame
+            .encode_into(self.checksum, &mut bytes)
+            .map_err(|e| std::io::Error::new(std::io::ErrorKind::InvalidInput, e))?;
+        dst.extend_from_slice(&bytes);
+        Ok(())
+    }
+}

@@ -1,0 +1,122 @@
+//! Position names: UINT8-length-prefixed, not null terminated, 1-255 bytes.
+//!
+//! armjog's character rule: printable ASCII only (0x20-0x7E), with no leading or trailing space.
+//! It keeps names readable on any terminal, safe in the console's JSON file and unambiguous when
+//! typed back; bytes outside it (control characters, UTF-8) are refused before anything is sent
+//! and answered MALFORMED_PAYLOAD by the simulated operator.
+
+use std::fmt;
+
+pub const MAX_NAME_LEN: usize = 255;
+
+/// Why a name is not valid.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum NameError {
+    #[error("is empty (a name needs 1 to 255 characters)")]
+    Empty,
+    #[error("is {0} bytes long (at most 255)")]
+    TooLong(usize),
+    #[error("has byte 0x{byte:02X} at offset {offset} (only printable ASCII is allowed)")]
+    BadByte { byte: u8, offset: usize },
+    #[error("starts or ends with a space")]
+    OuterSpace,
+}
+
+/// A validated position name.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
+#[serde(transparent)]
+pub struct PositionName(String);
+
+impl PositionName {
+    pub fn new(name: impl Into<String>) -> Result<Self, NameError> {
+        let name = name.into();
+        Self::check(name.as_bytes())?;
+        Ok(PositionName(name))
+    }
+
+    /// Validates raw bytes, as received in a payload.
+    pub fn from_bytes(bytes: &[u8]) -> Result<Self, NameError> {
+        Self::check(bytes)?;
+        // check() admits ASCII only, which is always valid UTF-8.
+        Ok(PositionName(bytes.iter().map(|&b| char::from(b)).collect()))
+    }
+
+    fn check(bytes: &[u8]) -> Result<(), NameError> {
+        if bytes.is_empty() {
+            return Err(NameError::Empty);
+        }
+        if bytes.len() > MAX_NAME_LEN {
+            return Err(NameError::TooLong(bytes.len()));
+        }
+        if let Some((offset, &byte)) = bytes
+            .iter()
+            .enumerate()
+            .find(|&(_, &b)| !(0x20..=0x7E).contains(&b))
+        {
+            return Err(NameError::BadByte { byte, offset });
+        }
+        if bytes.first() == Some(&b' ') || bytes.last() == Some(&b' ') {
+            return Err(NameError::OuterSpace);
+        }
+        Ok(())
+    }
+
+    pub fn as_str(&self) -> &str {
+        &self.0
+    }
+
+    /// Length byte then the name's bytes.
+    pub fn encode_into(&self, out: &mut Vec<u8>) {
+        // check() bounds the length to 255.
+        out.push(self.0.len() as u8);
+        out.extend_from_slice(self.0.as_bytes());
+    }
+}
+
+impl fmt::Display for PositionName {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::str::FromStr for PositionName {
+    type Err = NameError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        PositionName::new(s)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn accepts_printable_ascii_up_to_255() {
+        assert!(PositionName::new("pick 1").is_ok());
+        assert!(PositionName::new("a".repeat(255)).is_ok());
+        assert!(PositionName::new("x_y-z.1:~").is_ok());
+    }
+
+    #[test]
+    fn refuses_what_the_rule_excludes() {
+        assert_eq!(PositionName::new(""), Err(NameError::Empty));
+        assert_eq!(PositionName::new("a".repeat(256)), Err(NameError::TooLong(256)));
+        assert_eq!(
+            PositionName::new("ab\tc"),
+            Err(NameError::BadByte { byte: 0x09, offset: 2 })
+        );
+        assert_eq!(
+            PositionName::new("é"),
+            Err(NameError::BadByte { byte: 0xC3, offset: 0 })
+        );
+        assert_eq!(PositionName::new(" a"), Err(NameError::OuterSpace));
+        assert_eq!(PositionName::new("a "), Err(NameError::OuterSpace));
+    }
+
+    #[test]
+    fn encodes_with_a_length_prefix_and_no_terminator() {
+        let mut out = Vec::new();
+        PositionName::new("home2").unwrap().encode_into(&mut out);
+        assert_eq!(out, [0x05, b'h', b'o', b'm', b'e', b'2']);
+    }
+}
