@@ -1,3 +1,37 @@
+#![forbid(unsafe_code)]
+
+use clap::{CommandFactory, Parser};
+
+use armjog::cli::{Cli, Command};
+
 fn main() {
-    println!("Hello, world!");
+    let cli = Cli::parse();
+    let _log_guard = armjog::logging::init();
+    let runtime = match tokio::runtime::Runtime::new() {
+        Ok(rt) => rt,
+        Err(e) => {
+            eprintln!("armjog: cannot start the async runtime: {e}");
+            std::process::exit(1);
+        }
+    };
+    let code = runtime.block_on(async {
+        match cli.command {
+            Some(Command::Send(args)) => {
+                let outcome = armjog::cli::send::run(&args).await;
+                for line in &outcome.stdout {
+                    println!("{line}");
+                }
+                if let Some(reason) = &outcome.stderr {
+                    eprintln!("armjog: {reason}");
+                }
+                outcome.exit_code
+            }
+            None => {
+                // The console arrives with the simulator; until then show what there is.
+                let _ = Cli::command().print_help();
+                0
+            }
+        }
+    });
+    std::process::exit(code);
 }

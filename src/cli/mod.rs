@@ -1,1 +1,48 @@
-//! Command-line front ends.
+//! Command-line front ends: argument definitions and the one-shot commands.
+
+pub mod send;
+
+use clap::{Parser, Subcommand};
+
+/// armjog: jog a robot arm from the keyboard, and talk to it from a shell.
+#[derive(Debug, Parser)]
+#[command(name = "armjog", version, about, long_about = None)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Send one Talos command to an operator and print its reply.
+    Send(send::SendArgs),
+}
+
+/// Appends the default port to a bare host name.
+pub fn with_default_port(addr: &str, port: u16) -> String {
+    let has_port = match addr.rsplit_once(':') {
+        // "[::1]:61616" or "host:61616"; a bare IPv6 address has several colons and no brackets.
+        Some((host, p)) => p.parse::<u16>().is_ok() && (!host.contains(':') || host.ends_with(']')),
+        None => false,
+    };
+    if has_port {
+        addr.to_string()
+    } else if addr.contains(':') && !addr.starts_with('[') {
+        format!("[{addr}]:{port}")
+    } else {
+        format!("{addr}:{port}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_port_is_added_only_when_missing() {
+        assert_eq!(with_default_port("10.0.0.2", 61616), "10.0.0.2:61616");
+        assert_eq!(with_default_port("arm:8080", 61616), "arm:8080");
+        assert_eq!(with_default_port("[::1]:9", 61616), "[::1]:9");
+        assert_eq!(with_default_port("::1", 61616), "[::1]:61616");
+    }
+}

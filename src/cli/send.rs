@@ -1,0 +1,412 @@
+//! `armjog send`: one Talos command, its reply printed for a person or a script.
+
+use std::time::Duration;
+
+use clap::{Args, Subcommand};
+use serde_json::{Map, Value, json};
+
+use crate::link::talos::{DEFAULT_PORT, Exchange};
+use crate::link::{Answer, Dialect, TalosConfig, TalosError, TalosLink};
+use crate::talos::{Checksum, PositionName, Request};
+
+/// Exit status when the operator answered with a non-zero return code.
+pub const EXIT_RETURN_CODE: i32 = 1;
+/// Exit status when the operator could not be reached or answered nonsense.
+pub const EXIT_LINK: i32 = 3;
+
+#[derive(Debug, Args)]
+pub struct SendArgs {
+    /// The operator, HOST:PORT (port 61616 if omitted).
+    #[arg(long, value_name = "HOST:PORT")]
+    pub talos: String,
+    /// How the operator replies: typed ICD replies, or the deployed operator's "ACK\0".
+    #[arg(long, default_value = "icd", value_parser = parse_dialect)]
+    pub dialect: Dialect,
+    /// Checksum dialect of every frame.
+    #[arg(long, default_value = "crc16", value_parser = parse_checksum)]
+    pub checksum: Checksum,
+    /// Print one JSON object instead of a line of text.
+    #[arg(long)]
+    pub json: bool,
+    /// Also print the frames sent and received, in hex.
+    #[arg(long)]
+    pub hex: bool,
+    /// How long to wait for the reply, in milliseconds.
+    #[arg(long, default_value_t = 500, value_name = "MS")]
+    pub timeout: u64,
+    #[command(subcommand)]
+    pub command: SendCommand,
+}
+
+fn parse_dialect(s: &str) -> Result<Dialect, String> {
+    s.parse()
+}
+
+fn parse_checksum(s: &str) -> Result<Checksum, String> {
+    s.parse()
+}
+
+fn parse_name(s: &str) -> Result<String, String> {
+    PositionName::new(s)
+        .map(|n| n.as_str().to_owned())
+        .map_err(|e| format!("name {e}"))
+}
+
+fn parse_parent(s: &str) -> Result<String, String> {
+    if s.is_empty() {
+        Ok(String::new())
+    } else {
+        parse_name(s)
+    }
+}
+
+fn parse_hex(s: &str) -> Result<Vec<u8>, String> {
+    let cleaned: String = s.chars().filter(|c| !c.is_whitespace()).collect();
+    hex::decode(&cleaned).map_err(|e| format!("not hex bytes: {e}"))
+}
+
+const DIRECTION: std::ops::RangeInclusive<i64> = -1..=1;
+
+/// One subcommand per ICD command; units as in the ICD.
+#[derive(Debug, Subcommand)]
+pub enum SendCommand {
+    /// 0x0000: ask the operator for its version.
+    Handshake {
+        /// Operator-arm model id.
+        #[arg(long, default_value_t = 0)]
+        oid: u16,
+    },
+    /// 0x0001: pan by a number of degrees.
+    PolarPan {
+        #[arg(long, allow_hyphen_values = true)]
+        azimuth: i32,
+        #[arg(long, allow_hyphen_values = true)]
+        altitude: i32,
+        /// Wait before starting, ms.
+        #[arg(long, default_value_t = 0, value_name = "MS")]
+        delay: u32,
+        /// Duration of the pan, ms.
+        #[arg(long, default_value_t = 0, value_name = "MS")]
+        time: u32,
+    },
+    /// 0x0002: go to the home pose.
+    Home {
+        #[arg(long, default_value_t = 0, value_name = "MS")]
+        delay: u32,
+    },
+    /// 0x0003: start or refresh a continuous pan; each direction is -1, 0 or 1.
+    PolarStart {
+        #[arg(long, allow_hyphen_values = true, value_parser = clap::value_parser!(i8).range(DIRECTION))]
+        azimuth: i8,
+        #[arg(long, allow_hyphen_values = true, value_parser = clap::value_parser!(i8).range(DIRECTION))]
+        altitude: i8,
+    },
+    /// 0x0004: stop a continuous pan.
+    PolarStop,
+    /// 0x0005: move by tenths of millimetres.
+    CartMove {
+        #[arg(long, allow_hyphen_values = true)]
+        x: i32,
+        #[arg(long, allow_hyphen_values = true)]
+        y: i32,
+        #[arg(long, allow_hyphen_values = true)]
+        z: i32,
+        #[arg(long, default_value_t = 0, value_name = "MS")]
+        delay: u32,
+        #[arg(long, default_value_t = 0, value_name = "MS")]
+        time: u32,
+    },
+    /// 0x0006: start or refresh a continuous cartesian move; each direction is -1, 0 or 1.
+    CartStart {
+        #[arg(long, allow_hyphen_values = true, value_parser = clap::value_parser!(i8).range(DIRECTION))]
+        x: i8,
+        #[arg(long, allow_hyphen_values = true, value_parser = clap::value_parser!(i8).range(DIRECTION))]
+        y: i8,
+        #[arg(long, allow_hyphen_values = true, value_parser = clap::value_parser!(i8).range(DIRECTION))]
+        z: i8,
+    },
+    /// 0x0007: stop a continuous cartesian move.
+    CartStop,
+    /// 0x0008: a hardware operation (see docs/hardware-icd.md).
+    HwOp {
+        /// Subcommand value.
+        #[arg(long)]
+        sub: u16,
+        /// Subcommand payload as hex bytes, e.g. 01 or "00 01".
+        #[arg(long, value_parser = parse_hex, default_value = "")]
+        payload: Vec<u8>,
+    },
+    /// 0x0009: read the speed (percent of the maximum jog speed).
+    GetSpeed,
+    /// 0x000A: set the speed (armjog's operators take 1-100 percent).
+    SetSpeed { speed: u8 },
+    /// 0x000B: save the current pose under a name.
+    Save {
+        #[arg(value_parser = parse_name)]
+        name: String,
+        /// Move with the parent position.
+        #[arg(long)]
+        anchor: bool,
+        /// Parent (reference) position; empty for the operator's default.
+        #[arg(long, value_parser = parse_parent, default_value = "")]
+        parent: String,
+    },
+    /// 0x000C: delete a named position.
+    Delete {
+        #[arg(value_parser = parse_name)]
+        name: String,
+    },
+    /// 0x000D: move to a named position.
+    Goto {
+        #[arg(value_parser = parse_name)]
+        name: String,
+    },
+    /// 0x000E: define a position in polar coordinates (tenths of degrees / of distance).
+    SetPolar {
+        #[arg(value_parser = parse_name)]
+        name: String,
+        #[arg(long, allow_hyphen_values = true)]
+        delta: i32,
+        #[arg(long, allow_hyphen_values = true)]
+        azimuth: i32,
+        #[arg(long, allow_hyphen_values = true)]
+        radius: i32,
+    },
+    /// 0x000F: read a position's polar coordinates.
+    GetPolar {
+        #[arg(value_parser = parse_name)]
+        name: String,
+    },
+    /// 0x0010: define a position in tenths of millimetres.
+    SetCart {
+        #[arg(value_parser = parse_name)]
+        name: String,
+        #[arg(long, allow_hyphen_values = true)]
+        x: i32,
+        #[arg(long, allow_hyphen_values = true)]
+        y: i32,
+        #[arg(long, allow_hyphen_values = true)]
+        z: i32,
+    },
+    /// 0x0011: read a position's cartesian coordinates.
+    GetCart {
+        #[arg(value_parser = parse_name)]
+        name: String,
+    },
+}
+
+impl SendCommand {
+    pub fn to_request(&self) -> Request {
+        match self {
+            SendCommand::Handshake { oid } => Request::Handshake { oid: *oid },
+            SendCommand::PolarPan {
+                azimuth,
+                altitude,
+                delay,
+                time,
+            } => Request::PolarPan {
+                delta_azimuth: *azimuth,
+                delta_altitude: *altitude,
+                delay_ms: *delay,
+                time_ms: *time,
+            },
+            SendCommand::Home { delay } => Request::Home { delay_ms: *delay },
+            SendCommand::PolarStart { azimuth, altitude } => Request::PolarPanStart {
+                moving_azimuth: *azimuth,
+                moving_altitude: *altitude,
+            },
+            SendCommand::PolarStop => Request::PolarPanStop,
+            SendCommand::CartMove {
+                x,
+                y,
+                z,
+                delay,
+                time,
+            } => Request::CartesianMove {
+                delta_x: *x,
+                delta_y: *y,
+                delta_z: *z,
+                delay_ms: *delay,
+                time_ms: *time,
+            },
+            SendCommand::CartStart { x, y, z } => Request::CartesianMoveStart {
+                moving_x: *x,
+                moving_y: *y,
+                moving_z: *z,
+            },
+            SendCommand::CartStop => Request::CartesianMoveStop,
+            SendCommand::HwOp { sub, payload } => Request::HardwareOperation {
+                subcommand: *sub,
+                reserved: 0,
+                payload: payload.clone(),
+            },
+            SendCommand::GetSpeed => Request::GetSpeed,
+            SendCommand::SetSpeed { speed } => Request::SetSpeed { speed: *speed },
+            SendCommand::Save {
+                name,
+                anchor,
+                parent,
+            } => Request::SavePosition {
+                name: name.clone(),
+                anchor: *anchor,
+                parent: parent.clone(),
+            },
+            SendCommand::Delete { name } => Request::DeletePosition { name: name.clone() },
+            SendCommand::Goto { name } => Request::GoToPosition { name: name.clone() },
+            SendCommand::SetPolar {
+                name,
+                delta,
+                azimuth,
+                radius,
+            } => Request::SetPolarPosition {
+                name: name.clone(),
+                delta: *delta,
+                azimuth: *azimuth,
+                radius: *radius,
+            },
+            SendCommand::GetPolar { name } => Request::GetPolarPosition { name: name.clone() },
+            SendCommand::SetCart { name, x, y, z } => Request::SetCartesianPosition {
+                name: name.clone(),
+                x: *x,
+                y: *y,
+                z: *z,
+            },
+            SendCommand::GetCart { name } => Request::GetCartesianPosition { name: name.clone() },
+        }
+    }
+}
+
+/// What `armjog send` prints and how it exits.
+pub struct SendOutcome {
+    pub stdout: Vec<String>,
+    pub stderr: Option<String>,
+    pub exit_code: i32,
+}
+
+/// Runs `armjog send`.
+pub async fn run(args: &SendArgs) -> SendOutcome {
+    let mut config = TalosConfig::new(super::with_default_port(&args.talos, DEFAULT_PORT));
+    config.dialect = args.dialect;
+    config.checksum = args.checksum;
+    config.request_timeout = Duration::from_millis(args.timeout);
+    let request = args.command.to_request();
+    let result = match TalosLink::connect(config).await {
+        Ok((link, _events)) => link.request(request).await,
+        Err(e) => Err(e),
+    };
+    match result {
+        Ok(exchange) => SendOutcome {
+            stdout: render(args, &exchange),
+            stderr: None,
+            exit_code: 0,
+        },
+        Err(TalosError::ReturnCode { exchange }) => SendOutcome {
+            stdout: render(args, &exchange),
+            stderr: Some(format!(
+                "{} (id {}) failed: return code {}",
+                exchange.request.command(),
+                exchange.id,
+                exchange.return_code()
+            )),
+            exit_code: EXIT_RETURN_CODE,
+        },
+        Err(e) => SendOutcome {
+            stdout: Vec::new(),
+            stderr: Some(e.to_string()),
+            exit_code: EXIT_LINK,
+        },
+    }
+}
+
+fn render(args: &SendArgs, exchange: &Exchange) -> Vec<String> {
+    if args.json {
+        return vec![to_json(exchange, args.hex).to_string()];
+    }
+    let mut lines = vec![describe(exchange)];
+    if args.hex {
+        lines.push(format!("sent     {}", spaced_hex(&exchange.request_bytes)));
+        lines.push(format!("received {}", spaced_hex(&exchange.reply_bytes)));
+    }
+    lines
+}
+
+/// Bytes as upper-case hex pairs separated by spaces.
+pub fn spaced_hex(bytes: &[u8]) -> String {
+    let mut out = String::with_capacity(bytes.len() * 3);
+    for (i, b) in bytes.iter().enumerate() {
+        if i > 0 {
+            out.push(' ');
+        }
+        out.push_str(&format!("{b:02X}"));
+    }
+    out
+}
+
+/// The reply's fields other than the return code, in ICD order.
+fn reply_fields(exchange: &Exchange) -> Map<String, Value> {
+    match &exchange.answer {
+        Answer::Reply(reply) => match serde_json::to_value(reply) {
+            Ok(Value::Object(mut map)) => {
+                map.remove("return_code");
+                map
+            }
+            _ => Map::new(),
+        },
+        Answer::Ack => Map::new(),
+    }
+}
+
+/// One readable line: command, id, outcome, fields, latency.
+pub fn describe(exchange: &Exchange) -> String {
+    let command = exchange.request.command();
+    let outcome = match exchange.answer {
+        Answer::Ack => "ACK".to_string(),
+        Answer::Reply(_) => exchange.return_code().to_string(),
+    };
+    let mut line = format!("{command} (id {}): {outcome}", exchange.id);
+    for (key, value) in reply_fields(exchange) {
+        let shown = match value {
+            Value::String(s) => s,
+            other => other.to_string(),
+        };
+        line.push_str(&format!(" {key}={shown}"));
+    }
+    line.push_str(&format!(
+        " [{:.1} ms]",
+        exchange.latency.as_secs_f64() * 1000.0
+    ));
+    line
+}
+
+/// The `--json` object: command, id, return code, then the reply's fields as the ICD names them.
+pub fn to_json(exchange: &Exchange, with_hex: bool) -> Value {
+    let mut object = Map::new();
+    object.insert("command".into(), json!(exchange.request.command().name()));
+    object.insert("id".into(), json!(exchange.id));
+    match &exchange.answer {
+        Answer::Reply(_) => {
+            let code = exchange.return_code();
+            object.insert("return_code".into(), json!(code.0));
+            object.insert("return_code_name".into(), json!(code.name()));
+        }
+        Answer::Ack => {
+            object.insert("ack".into(), json!(true));
+        }
+    }
+    object.extend(reply_fields(exchange));
+    object.insert(
+        "latency_ms".into(),
+        json!(exchange.latency.as_secs_f64() * 1000.0),
+    );
+    if with_hex {
+        object.insert(
+            "request_hex".into(),
+            json!(hex::encode_upper(&exchange.request_bytes)),
+        );
+        object.insert(
+            "reply_hex".into(),
+            json!(hex::encode_upper(&exchange.reply_bytes)),
+        );
+    }
+    Value::Object(object)
+}

@@ -1,0 +1,250 @@
+//! The operator link against a scripted operator on loopback.
+
+mod common;
+
+use std::sync::Arc;
+use std::time::Duration;
+
+use armjog::link::talos::TalosEvent;
+use armjog::link::{Answer, Dialect, TalosConfig, TalosError, TalosLink};
+use armjog::talos::{Checksum, CommandValue, Frame, Reply, Request, ReturnCode};
+use common::{Action, TestOperator, reply_bytes};
+
+fn ok_reply(frame: &Frame) -> Reply {
+    let request = Request::from_frame(frame).expect("valid request");
+    match request {
+        Request::Handshake { .. } => Reply::Handshake {
+            return_code: ReturnCode::OK,
+            major_version: 1,
+            minor_version: 2,
+        },
+        Request::GetSpeed => Reply::GetSpeed {
+            return_code: ReturnCode::OK,
+            speed: 42,
+        },
+        other => Reply::error(other.command(), ReturnCode::OK),
+    }
+}
+
+fn answering(checksum: Checksum) -> common::Script {
+    Arc::new(move |f: &Frame| vec![Action::Write(reply_bytes(&ok_reply(f), f.id, checksum))])
+}
+
+fn config(addr: &str, checksum: Checksum) -> TalosConfig {
+    let mut c = TalosConfig::new(addr);
+    c.checksum = checksum;
+    c.request_timeout = Duration::from_millis(300);
+    c
+}
+
+#[tokio::test]
+async fn handshake_reports_the_operators_version_for_every_checksum() {
+    for checksum in Checksum::ALL {
+        let mut op = TestOperator::start(checksum, answering(checksum)).await;
+        let (link, _events) = TalosLink::connect(config(&op.addr, checksum)).await.unwrap();
+        assert_eq!(link.handshake(7).await.unwrap(), Some((1, 2)));
+        let sent = op.next_frame().await;
+        assert_eq!(sent.command, 0x0000);
+        assert_eq!(sent.payload, [0x00, 0x07]);
+    }
+}
+
+#[tokio::test]
+async fn ids_are_even_and_increasing_and_replies_pair_out_of_order() {
+    // The operator holds the first reply back and answers the second first.
+    let held = Arc::new(std::sync::Mutex::new(Vec::<Frame>::new()));
+    let held2 = held.clone();
+    let script: common::Script = Arc::new(move |f: &Frame| {
+        let mut held = held2.lock().unwrap();
+        held.push(f.clone());
+        if held.len() == 2 {
+            held.iter()
+                .rev()
+                .map(|f| Action::Write(reply_bytes(&ok_reply(f), f.id, Checksum::Crc16)))
+                .collect()
+        } else {
+            Vec::new()
+        }
+    });
+    let op = TestOperator::start(Checksum::Crc16, script).await;
+    let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16)).await.unwrap();
+    let (a, b) = tokio::join!(link.request(Request::GetSpeed), async {
+        tokio::time::sleep(Duration::from_millis(20)).await;
+        link.request(Request::Handshake { oid: 0 }).await
+    });
+    let (a, b) = (a.unwrap(), b.unwrap());
+    assert_eq!(a.id, 0);
+    assert_eq!(b.id, 2);
+    assert!(matches!(a.answer, Answer::Reply(Reply::GetSpeed { speed: 42, .. })));
+    assert!(matches!(b.answer, Answer::Reply(Reply::Handshake { major_version: 1, .. })));
+    assert_eq!(held.lock().unwrap().iter().map(|f| f.id).collect::<Vec<_>>(), [0, 2]);
+}
+
+#[tokio::test]
+async fn a_silent_operator_times_out_with_the_request_named() {
+    let op = TestOperator::start(Checksum::Crc16, Arc::new(|_: &Frame| Vec::new())).await;
+    let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16)).await.unwrap();
+    let started = std::time::Instant::now();
+    let err = link.request(Request::GetSpeed).await.unwrap_err();
+    assert!(
+        matches!(err, TalosError::Timeout { command: CommandValue::GetSpeed, id: 0, .. }),
+        "{err:?}"
+    );
+    assert!(started.elapsed() >= Duration::from_millis(300));
+    assert!(err.to_string().contains("get_speed"));
+}
+
+#[tokio::test]
+async fn an_error_return_code_is_a_typed_error_carrying_the_reply() {
+    let script: common::Script = Arc::new(|f: &Frame| {
+        let reply = Reply::error(CommandValue::GoToPosition, ReturnCode::UNKNOWN_POSITION);
+        vec![Action::Write(reply_bytes(&reply, f.id, Checksum::Crc16))]
+    });
+    let op = TestOperator::start(Checksum::Crc16, script).await;
+    let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16)).await.unwrap();
+    let err = link
+        .request(Request::GoToPosition { name: "nowhere".into() })
+        .await
+        .unwrap_err();
+    let TalosError::ReturnCode { exchange } = &err else {
+        panic!("expected ReturnCode, got {err:?}");
+    };
+    assert_eq!(exchange.return_code(), ReturnCode::UNKNOWN_POSITION);
+    assert!(err.to_string().contains("UNKNOWN_POSITION"), "{err}");
+}
+
+#[tokio::test]
+async fn a_corrupt_reply_fails_its_request_as_a_checksum_error() {
+    let script: common::Script = Arc::new(|f: &Frame| {
+        let mut bytes = reply_bytes(&ok_reply(f), f.id, Checksum::Crc16);
+        let last = bytes.len() - 1;
+        bytes[last] ^= 0xFF;
+        vec![Action::Write(bytes)]
+    });
+    let op = TestOperator::start(Checksum::Crc16, script).await;
+    let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16)).await.unwrap();
+    let err = link.request(Request::GetSpeed).await.unwrap_err();
+    assert!(matches!(err, TalosError::Checksum { id: 0, .. }), "{err:?}");
+}
+
+#[tokio::test]
+async fn a_reply_to_an_unknown_id_is_reported_not_dropped() {
+    let script: common::Script = Arc::new(|f: &Frame| {
+        let stray = Reply::error(CommandValue::GetSpeed, ReturnCode::OK);
+        vec![
+            Action::Write(reply_bytes(&stray, 1000, Checksum::Crc16)),
+            Action::Write(reply_bytes(&ok_reply(f), f.id, Checksum::Crc16)),
+        ]
+    });
+    let op = TestOperator::start(Checksum::Crc16, script).await;
+    let (link, mut events) = TalosLink::connect(config(&op.addr, Checksum::Crc16)).await.unwrap();
+    link.request(Request::GetSpeed).await.unwrap();
+    let event = tokio::time::timeout(Duration::from_secs(1), events.recv()).await.unwrap();
+    assert_eq!(
+        event,
+        Some(TalosEvent::UnpairedReply { id: 1001, command: 0x8009 })
+    );
+}
+
+#[tokio::test]
+async fn a_dropped_connection_fails_the_pending_request_and_is_reported() {
+    let op = TestOperator::start(Checksum::Crc16, Arc::new(|_: &Frame| vec![Action::Close])).await;
+    let (link, mut events) = TalosLink::connect(config(&op.addr, Checksum::Crc16)).await.unwrap();
+    let err = link.request(Request::Home { delay_ms: 0 }).await.unwrap_err();
+    assert!(matches!(err, TalosError::Disconnected { .. }), "{err:?}");
+    let event = tokio::time::timeout(Duration::from_secs(1), events.recv()).await.unwrap();
+    assert!(matches!(event, Some(TalosEvent::Disconnected { .. })), "{event:?}");
+    // Later requests fail at once.
+    let err = link.request(Request::GetSpeed).await.unwrap_err();
+    assert!(matches!(err, TalosError::Disconnected { .. }), "{err:?}");
+}
+
+#[tokio::test]
+async fn connecting_to_a_closed_port_is_refused() {
+    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let addr = listener.local_addr().unwrap().to_string();
+    drop(listener);
+    let err = TalosLink::connect(config(&addr, Checksum::Crc16)).await.unwrap_err();
+    assert!(matches!(err, TalosError::Refused { .. }), "{err:?}");
+}
+
+#[tokio::test]
+async fn reconnect_with_backoff_reaches_an_operator_that_starts_late() {
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let addr = listener.local_addr().unwrap().to_string();
+    drop(listener);
+    let late_addr = addr.clone();
+    tokio::spawn(async move {
+        tokio::time::sleep(Duration::from_millis(250)).await;
+        let listener = tokio::net::TcpListener::bind(&late_addr).await.unwrap();
+        let (_s, _) = listener.accept().await.unwrap();
+        tokio::time::sleep(Duration::from_secs(2)).await;
+    });
+    let connected = TalosLink::connect_with_backoff(config(&addr, Checksum::Crc16), 6).await;
+    assert!(connected.is_ok(), "{:?}", connected.err());
+}
+
+#[tokio::test]
+async fn ack_dialect_pairs_acks_in_order_and_refuses_typed_commands_locally() {
+    let script: common::Script = Arc::new(|_: &Frame| vec![Action::Write(b"ACK\0".to_vec())]);
+    let mut op = TestOperator::start(Checksum::Xor8, script).await;
+    let mut c = config(&op.addr, Checksum::Xor8);
+    c.dialect = Dialect::Ack;
+    let (link, _events) = TalosLink::connect(c).await.unwrap();
+    let first = link.request(Request::PolarPanStart { moving_azimuth: 1, moving_altitude: 0 });
+    let exchange = first.await.unwrap();
+    assert_eq!(exchange.answer, Answer::Ack);
+    assert_eq!(exchange.reply_bytes, b"ACK\0");
+    assert_eq!(link.handshake(0).await.unwrap(), None);
+    let err = link.request(Request::GetSpeed).await.unwrap_err();
+    assert!(matches!(err, TalosError::NotInDialect { command: CommandValue::GetSpeed }));
+    assert!(err.to_string().contains("ack dialect"), "{err}");
+    // Only the two supported commands reached the operator.
+    assert_eq!(op.next_frame().await.command, 0x0003);
+    assert_eq!(op.next_frame().await.command, 0x0000);
+    assert!(
+        tokio::time::timeout(Duration::from_millis(100), op.received.recv()).await.is_err(),
+        "get_speed must not be sent"
+    );
+}
+
+#[tokio::test]
+async fn dropping_the_link_mid_motion_sends_stop() {
+    let mut op = TestOperator::start(Checksum::Crc16, answering(Checksum::Crc16)).await;
+    let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16)).await.unwrap();
+    link.request(Request::CartesianMoveStart { moving_x: 1, moving_y: 0, moving_z: -1 })
+        .await
+        .unwrap();
+    assert_eq!(op.next_frame().await.command, 0x0006);
+    drop(link);
+    let stop = op.next_frame().await;
+    assert_eq!(stop.command, 0x0007, "a cartesian STOP follows the drop");
+    assert_eq!(stop.id % 2, 0);
+}
+
+#[tokio::test]
+async fn dropping_an_idle_link_sends_nothing() {
+    let mut op = TestOperator::start(Checksum::Crc16, answering(Checksum::Crc16)).await;
+    let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16)).await.unwrap();
+    link.request(Request::PolarPanStart { moving_azimuth: 1, moving_altitude: 0 }).await.unwrap();
+    link.request(Request::PolarPanStop).await.unwrap();
+    assert_eq!(op.next_frame().await.command, 0x0003);
+    assert_eq!(op.next_frame().await.command, 0x0004);
+    drop(link);
+    assert!(tokio::time::timeout(Duration::from_millis(150), op.received.recv())
+        .await
+        .map(|item| item.is_none())
+        .unwrap_or(true));
+}
+
+#[tokio::test]
+async fn an_invalid_request_is_refused_before_sending_with_the_field_named() {
+    let mut op = TestOperator::start(Checksum::Crc16, answering(Checksum::Crc16)).await;
+    let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16)).await.unwrap();
+    let err = link
+        .request(Request::CartesianMoveStart { moving_x: 0, moving_y: 2, moving_z: 0 })
+        .await
+        .unwrap_err();
+    assert!(err.to_string().contains("moving_y"), "{err}");
+    assert!(tokio::time::timeout(Duration::from_millis(100), op.received.recv()).await.is_err());
+}
