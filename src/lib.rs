@@ -2,6 +2,6 @@
 #![forbid(unsafe_code)]
 
 pub mod cli;
-pub mod logging;
 pub mod link;
+pub mod logging;
 pub mod talos;

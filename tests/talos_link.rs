@@ -41,7 +41,9 @@ fn config(addr: &str, checksum: Checksum) -> TalosConfig {
 async fn handshake_reports_the_operators_version_for_every_checksum() {
     for checksum in Checksum::ALL {
         let mut op = TestOperator::start(checksum, answering(checksum)).await;
-        let (link, _events) = TalosLink::connect(config(&op.addr, checksum)).await.unwrap();
+        let (link, _events) = TalosLink::connect(config(&op.addr, checksum))
+            .await
+            .unwrap();
         assert_eq!(link.handshake(7).await.unwrap(), Some((1, 2)));
         let sent = op.next_frame().await;
         assert_eq!(sent.command, 0x0000);
@@ -67,7 +69,9 @@ async fn ids_are_even_and_increasing_and_replies_pair_out_of_order() {
         }
     });
     let op = TestOperator::start(Checksum::Crc16, script).await;
-    let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16)).await.unwrap();
+    let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16))
+        .await
+        .unwrap();
     let (a, b) = tokio::join!(link.request(Request::GetSpeed), async {
         tokio::time::sleep(Duration::from_millis(20)).await;
         link.request(Request::Handshake { oid: 0 }).await
@@ -75,19 +79,44 @@ async fn ids_are_even_and_increasing_and_replies_pair_out_of_order() {
     let (a, b) = (a.unwrap(), b.unwrap());
     assert_eq!(a.id, 0);
     assert_eq!(b.id, 2);
-    assert!(matches!(a.answer, Answer::Reply(Reply::GetSpeed { speed: 42, .. })));
-    assert!(matches!(b.answer, Answer::Reply(Reply::Handshake { major_version: 1, .. })));
-    assert_eq!(held.lock().unwrap().iter().map(|f| f.id).collect::<Vec<_>>(), [0, 2]);
+    assert!(matches!(
+        a.answer,
+        Answer::Reply(Reply::GetSpeed { speed: 42, .. })
+    ));
+    assert!(matches!(
+        b.answer,
+        Answer::Reply(Reply::Handshake {
+            major_version: 1,
+            ..
+        })
+    ));
+    assert_eq!(
+        held.lock()
+            .unwrap()
+            .iter()
+            .map(|f| f.id)
+            .collect::<Vec<_>>(),
+        [0, 2]
+    );
 }
 
 #[tokio::test]
 async fn a_silent_operator_times_out_with_the_request_named() {
     let op = TestOperator::start(Checksum::Crc16, Arc::new(|_: &Frame| Vec::new())).await;
-    let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16)).await.unwrap();
+    let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16))
+        .await
+        .unwrap();
     let started = std::time::Instant::now();
     let err = link.request(Request::GetSpeed).await.unwrap_err();
     assert!(
-        matches!(err, TalosError::Timeout { command: CommandValue::GetSpeed, id: 0, .. }),
+        matches!(
+            err,
+            TalosError::Timeout {
+                command: CommandValue::GetSpeed,
+                id: 0,
+                ..
+            }
+        ),
         "{err:?}"
     );
     assert!(started.elapsed() >= Duration::from_millis(300));
@@ -101,9 +130,13 @@ async fn an_error_return_code_is_a_typed_error_carrying_the_reply() {
         vec![Action::Write(reply_bytes(&reply, f.id, Checksum::Crc16))]
     });
     let op = TestOperator::start(Checksum::Crc16, script).await;
-    let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16)).await.unwrap();
+    let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16))
+        .await
+        .unwrap();
     let err = link
-        .request(Request::GoToPosition { name: "nowhere".into() })
+        .request(Request::GoToPosition {
+            name: "nowhere".into(),
+        })
         .await
         .unwrap_err();
     let TalosError::ReturnCode { exchange } = &err else {
@@ -122,7 +155,9 @@ async fn a_corrupt_reply_fails_its_request_as_a_checksum_error() {
         vec![Action::Write(bytes)]
     });
     let op = TestOperator::start(Checksum::Crc16, script).await;
-    let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16)).await.unwrap();
+    let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16))
+        .await
+        .unwrap();
     let err = link.request(Request::GetSpeed).await.unwrap_err();
     assert!(matches!(err, TalosError::Checksum { id: 0, .. }), "{err:?}");
 }
@@ -137,23 +172,40 @@ async fn a_reply_to_an_unknown_id_is_reported_not_dropped() {
         ]
     });
     let op = TestOperator::start(Checksum::Crc16, script).await;
-    let (link, mut events) = TalosLink::connect(config(&op.addr, Checksum::Crc16)).await.unwrap();
+    let (link, mut events) = TalosLink::connect(config(&op.addr, Checksum::Crc16))
+        .await
+        .unwrap();
     link.request(Request::GetSpeed).await.unwrap();
-    let event = tokio::time::timeout(Duration::from_secs(1), events.recv()).await.unwrap();
+    let event = tokio::time::timeout(Duration::from_secs(1), events.recv())
+        .await
+        .unwrap();
     assert_eq!(
         event,
-        Some(TalosEvent::UnpairedReply { id: 1001, command: 0x8009 })
+        Some(TalosEvent::UnpairedReply {
+            id: 1001,
+            command: 0x8009
+        })
     );
 }
 
 #[tokio::test]
 async fn a_dropped_connection_fails_the_pending_request_and_is_reported() {
     let op = TestOperator::start(Checksum::Crc16, Arc::new(|_: &Frame| vec![Action::Close])).await;
-    let (link, mut events) = TalosLink::connect(config(&op.addr, Checksum::Crc16)).await.unwrap();
-    let err = link.request(Request::Home { delay_ms: 0 }).await.unwrap_err();
+    let (link, mut events) = TalosLink::connect(config(&op.addr, Checksum::Crc16))
+        .await
+        .unwrap();
+    let err = link
+        .request(Request::Home { delay_ms: 0 })
+        .await
+        .unwrap_err();
     assert!(matches!(err, TalosError::Disconnected { .. }), "{err:?}");
-    let event = tokio::time::timeout(Duration::from_secs(1), events.recv()).await.unwrap();
-    assert!(matches!(event, Some(TalosEvent::Disconnected { .. })), "{event:?}");
+    let event = tokio::time::timeout(Duration::from_secs(1), events.recv())
+        .await
+        .unwrap();
+    assert!(
+        matches!(event, Some(TalosEvent::Disconnected { .. })),
+        "{event:?}"
+    );
     // Later requests fail at once.
     let err = link.request(Request::GetSpeed).await.unwrap_err();
     assert!(matches!(err, TalosError::Disconnected { .. }), "{err:?}");
@@ -164,7 +216,9 @@ async fn connecting_to_a_closed_port_is_refused() {
     let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
     let addr = listener.local_addr().unwrap().to_string();
     drop(listener);
-    let err = TalosLink::connect(config(&addr, Checksum::Crc16)).await.unwrap_err();
+    let err = TalosLink::connect(config(&addr, Checksum::Crc16))
+        .await
+        .unwrap_err();
     assert!(matches!(err, TalosError::Refused { .. }), "{err:?}");
 }
 
@@ -191,19 +245,29 @@ async fn ack_dialect_pairs_acks_in_order_and_refuses_typed_commands_locally() {
     let mut c = config(&op.addr, Checksum::Xor8);
     c.dialect = Dialect::Ack;
     let (link, _events) = TalosLink::connect(c).await.unwrap();
-    let first = link.request(Request::PolarPanStart { moving_azimuth: 1, moving_altitude: 0 });
+    let first = link.request(Request::PolarPanStart {
+        moving_azimuth: 1,
+        moving_altitude: 0,
+    });
     let exchange = first.await.unwrap();
     assert_eq!(exchange.answer, Answer::Ack);
     assert_eq!(exchange.reply_bytes, b"ACK\0");
     assert_eq!(link.handshake(0).await.unwrap(), None);
     let err = link.request(Request::GetSpeed).await.unwrap_err();
-    assert!(matches!(err, TalosError::NotInDialect { command: CommandValue::GetSpeed }));
+    assert!(matches!(
+        err,
+        TalosError::NotInDialect {
+            command: CommandValue::GetSpeed
+        }
+    ));
     assert!(err.to_string().contains("ack dialect"), "{err}");
     // Only the two supported commands reached the operator.
     assert_eq!(op.next_frame().await.command, 0x0003);
     assert_eq!(op.next_frame().await.command, 0x0000);
     assert!(
-        tokio::time::timeout(Duration::from_millis(100), op.received.recv()).await.is_err(),
+        tokio::time::timeout(Duration::from_millis(100), op.received.recv())
+            .await
+            .is_err(),
         "get_speed must not be sent"
     );
 }
@@ -211,10 +275,16 @@ async fn ack_dialect_pairs_acks_in_order_and_refuses_typed_commands_locally() {
 #[tokio::test]
 async fn dropping_the_link_mid_motion_sends_stop() {
     let mut op = TestOperator::start(Checksum::Crc16, answering(Checksum::Crc16)).await;
-    let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16)).await.unwrap();
-    link.request(Request::CartesianMoveStart { moving_x: 1, moving_y: 0, moving_z: -1 })
+    let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16))
         .await
         .unwrap();
+    link.request(Request::CartesianMoveStart {
+        moving_x: 1,
+        moving_y: 0,
+        moving_z: -1,
+    })
+    .await
+    .unwrap();
     assert_eq!(op.next_frame().await.command, 0x0006);
     drop(link);
     let stop = op.next_frame().await;
@@ -225,26 +295,45 @@ async fn dropping_the_link_mid_motion_sends_stop() {
 #[tokio::test]
 async fn dropping_an_idle_link_sends_nothing() {
     let mut op = TestOperator::start(Checksum::Crc16, answering(Checksum::Crc16)).await;
-    let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16)).await.unwrap();
-    link.request(Request::PolarPanStart { moving_azimuth: 1, moving_altitude: 0 }).await.unwrap();
+    let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16))
+        .await
+        .unwrap();
+    link.request(Request::PolarPanStart {
+        moving_azimuth: 1,
+        moving_altitude: 0,
+    })
+    .await
+    .unwrap();
     link.request(Request::PolarPanStop).await.unwrap();
     assert_eq!(op.next_frame().await.command, 0x0003);
     assert_eq!(op.next_frame().await.command, 0x0004);
     drop(link);
-    assert!(tokio::time::timeout(Duration::from_millis(150), op.received.recv())
-        .await
-        .map(|item| item.is_none())
-        .unwrap_or(true));
+    assert!(
+        tokio::time::timeout(Duration::from_millis(150), op.received.recv())
+            .await
+            .map(|item| item.is_none())
+            .unwrap_or(true)
+    );
 }
 
 #[tokio::test]
 async fn an_invalid_request_is_refused_before_sending_with_the_field_named() {
     let mut op = TestOperator::start(Checksum::Crc16, answering(Checksum::Crc16)).await;
-    let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16)).await.unwrap();
+    let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16))
+        .await
+        .unwrap();
     let err = link
-        .request(Request::CartesianMoveStart { moving_x: 0, moving_y: 2, moving_z: 0 })
+        .request(Request::CartesianMoveStart {
+            moving_x: 0,
+            moving_y: 2,
+            moving_z: 0,
+        })
         .await
         .unwrap_err();
     assert!(err.to_string().contains("moving_y"), "{err}");
-    assert!(tokio::time::timeout(Duration::from_millis(100), op.received.recv()).await.is_err());
+    assert!(
+        tokio::time::timeout(Duration::from_millis(100), op.received.recv())
+            .await
+            .is_err()
+    );
 }

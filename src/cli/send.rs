@@ -60,9 +60,15 @@ fn parse_parent(s: &str) -> Result<String, String> {
     }
 }
 
-fn parse_hex(s: &str) -> Result<Vec<u8>, String> {
+/// Bytes given as hex on the command line.
+#[derive(Debug, Clone, Default)]
+pub struct HexBytes(pub Vec<u8>);
+
+fn parse_hex(s: &str) -> Result<HexBytes, String> {
     let cleaned: String = s.chars().filter(|c| !c.is_whitespace()).collect();
-    hex::decode(&cleaned).map_err(|e| format!("not hex bytes: {e}"))
+    hex::decode(&cleaned)
+        .map(HexBytes)
+        .map_err(|e| format!("not hex bytes: {e}"))
 }
 
 const DIRECTION: std::ops::RangeInclusive<i64> = -1..=1;
@@ -83,15 +89,30 @@ pub enum SendCommand {
         #[arg(long, allow_hyphen_values = true)]
         altitude: i32,
         /// Wait before starting, ms.
-        #[arg(long, default_value_t = 0, value_name = "MS")]
+        #[arg(
+            long,
+            default_value_t = 0,
+            value_name = "MS",
+            allow_hyphen_values = true
+        )]
         delay: u32,
         /// Duration of the pan, ms.
-        #[arg(long, default_value_t = 0, value_name = "MS")]
+        #[arg(
+            long,
+            default_value_t = 0,
+            value_name = "MS",
+            allow_hyphen_values = true
+        )]
         time: u32,
     },
     /// 0x0002: go to the home pose.
     Home {
-        #[arg(long, default_value_t = 0, value_name = "MS")]
+        #[arg(
+            long,
+            default_value_t = 0,
+            value_name = "MS",
+            allow_hyphen_values = true
+        )]
         delay: u32,
     },
     /// 0x0003: start or refresh a continuous pan; each direction is -1, 0 or 1.
@@ -111,9 +132,19 @@ pub enum SendCommand {
         y: i32,
         #[arg(long, allow_hyphen_values = true)]
         z: i32,
-        #[arg(long, default_value_t = 0, value_name = "MS")]
+        #[arg(
+            long,
+            default_value_t = 0,
+            value_name = "MS",
+            allow_hyphen_values = true
+        )]
         delay: u32,
-        #[arg(long, default_value_t = 0, value_name = "MS")]
+        #[arg(
+            long,
+            default_value_t = 0,
+            value_name = "MS",
+            allow_hyphen_values = true
+        )]
         time: u32,
     },
     /// 0x0006: start or refresh a continuous cartesian move; each direction is -1, 0 or 1.
@@ -134,7 +165,7 @@ pub enum SendCommand {
         sub: u16,
         /// Subcommand payload as hex bytes, e.g. 01 or "00 01".
         #[arg(long, value_parser = parse_hex, default_value = "")]
-        payload: Vec<u8>,
+        payload: HexBytes,
     },
     /// 0x0009: read the speed (percent of the maximum jog speed).
     GetSpeed,
@@ -238,7 +269,7 @@ impl SendCommand {
             SendCommand::HwOp { sub, payload } => Request::HardwareOperation {
                 subcommand: *sub,
                 reserved: 0,
-                payload: payload.clone(),
+                payload: payload.0.clone(),
             },
             SendCommand::GetSpeed => Request::GetSpeed,
             SendCommand::SetSpeed { speed } => Request::SetSpeed { speed: *speed },

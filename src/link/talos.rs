@@ -547,7 +547,10 @@ impl LinkTask {
     }
 
     fn on_frame(&mut self, frame: Frame) {
-        let Some(pending) = self.pending.remove(&(frame.id & !1)).filter(|_| frame.id & 1 == 1)
+        let Some(pending) = self
+            .pending
+            .remove(&(frame.id & !1))
+            .filter(|_| frame.id & 1 == 1)
         else {
             self.event(TalosEvent::UnpairedReply {
                 id: frame.id,

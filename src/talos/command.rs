@@ -99,7 +99,10 @@ mod tests {
     #[test]
     fn values_are_the_icds() {
         assert_eq!(CommandValue::Handshake.request_value(), 0x0000);
-        assert_eq!(CommandValue::ExecuteHardwareOperation.request_value(), 0x0008);
+        assert_eq!(
+            CommandValue::ExecuteHardwareOperation.request_value(),
+            0x0008
+        );
         assert_eq!(CommandValue::SetSpeed.request_value(), 0x000A);
         assert_eq!(CommandValue::GetCartesianPosition.request_value(), 0x0011);
         assert_eq!(CommandValue::GetCartesianPosition.reply_value(), 0x8011);
@@ -110,9 +113,15 @@ mod tests {
 
     #[test]
     fn lookups_respect_the_reply_bit() {
-        assert_eq!(CommandValue::from_request_value(0x0003), Some(CommandValue::PolarPanStart));
+        assert_eq!(
+            CommandValue::from_request_value(0x0003),
+            Some(CommandValue::PolarPanStart)
+        );
         assert_eq!(CommandValue::from_request_value(0x8003), None);
-        assert_eq!(CommandValue::from_reply_value(0x8003), Some(CommandValue::PolarPanStart));
+        assert_eq!(
+            CommandValue::from_reply_value(0x8003),
+            Some(CommandValue::PolarPanStart)
+        );
         assert_eq!(CommandValue::from_reply_value(0x0003), None);
         assert_eq!(CommandValue::from_request_value(0x0012), None);
         assert!(CommandValue::is_known_value(0x8011));

@@ -17,7 +17,7 @@ pub mod return_code;
 
 pub use checksum::Checksum;
 pub use command::CommandValue;
-pub use frame::{Frame, FrameCodec, Rejection, RejectReason};
+pub use frame::{Frame, FrameCodec, RejectReason, Rejection};
 pub use message::{Reply, Request};
 pub use name::PositionName;
 pub use return_code::ReturnCode;

@@ -100,14 +100,23 @@ mod tests {
     #[test]
     fn refuses_what_the_rule_excludes() {
         assert_eq!(PositionName::new(""), Err(NameError::Empty));
-        assert_eq!(PositionName::new("a".repeat(256)), Err(NameError::TooLong(256)));
+        assert_eq!(
+            PositionName::new("a".repeat(256)),
+            Err(NameError::TooLong(256))
+        );
         assert_eq!(
             PositionName::new("ab\tc"),
-            Err(NameError::BadByte { byte: 0x09, offset: 2 })
+            Err(NameError::BadByte {
+                byte: 0x09,
+                offset: 2
+            })
         );
         assert_eq!(
             PositionName::new("é"),
-            Err(NameError::BadByte { byte: 0xC3, offset: 0 })
+            Err(NameError::BadByte {
+                byte: 0xC3,
+                offset: 0
+            })
         );
         assert_eq!(PositionName::new(" a"), Err(NameError::OuterSpace));
         assert_eq!(PositionName::new("a "), Err(NameError::OuterSpace));
