@@ -1,0 +1,766 @@
+//! The simulated arm: joint state, the motion it is executing, a fixed-step integrator and
+//! plausible, deterministic torques, currents and temperatures.
+//!
+//! Protocol-neutral: the Talos and Modbus servers translate their commands into [`Motion`]s and
+//! read [`ArmSnapshot`]s. Time only moves through [`Arm::step`], so tests drive it exactly.
+
+use nalgebra::{Rotation3, Unit, Vector3, Vector6};
+
+use super::kinematics::{
+    self, HOME_DEG, JOINTS, Joints, MAX_JOINT_SPEED_DEG, MAX_JOINT_TORQUE, Pose,
+};
+
+/// Integrator step, seconds (1 kHz).
+pub const STEP: f64 = 0.001;
+
+/// Kinova twist hard limits.
+pub const MAX_TWIST_LINEAR: f64 = 0.5;
+pub const MAX_TWIST_ANGULAR_DEG: f64 = 100.0;
+
+/// The operator's continuous-START watchdog, seconds.
+pub const WATCHDOG: f64 = 0.5;
+
+/// Kinova robot states (Modbus input register 0).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u16)]
+pub enum RobotState {
+    Ready = 7,
+    InFault = 4,
+    ControlledBySequence = 8,
+    ControlledManually = 9,
+}
+
+/// Kinova arm fault/warning bit numbers (Modbus input registers 2-5).
+pub mod flag {
+    pub const JOINT_FAULT: u32 = 4;
+    pub const UNABLE_TO_REACH_POSE: u32 = 10;
+    pub const MAX_CURRENT: u32 = 13;
+    pub const EMERGENCY_STOP: u32 = 23;
+    pub const SINGULARITY: u32 = 30;
+}
+
+/// Cartesian reference frames (Modbus holding register 203).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Frame {
+    Mixed,
+    Tool,
+    Base,
+}
+
+/// Status of the last action or trajectory (Modbus holding register 100).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ActionStatus {
+    Started = 0,
+    Completed = 1,
+    Paused = 2,
+    Aborted = 3,
+}
+
+/// What the arm is doing.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Motion {
+    Idle,
+    /// Linear m/s and angular rad/s, in `frame`.
+    Twist {
+        linear: Vector3<f64>,
+        angular: Vector3<f64>,
+        frame: Frame,
+    },
+    /// Orbit about the base Z axis (azimuth) and change of elevation (altitude), rad/s.
+    Polar {
+        azimuth: f64,
+        altitude: f64,
+    },
+    /// Straight-line move to a pose at bounded speeds (m/s, rad/s).
+    ToPose {
+        target: Pose,
+        linear_speed: f64,
+        angular_speed: f64,
+    },
+    /// Joint-space move, every joint arriving together, at `fraction` of the joints' top speed.
+    ToJoints {
+        target: Joints,
+        fraction: f64,
+    },
+    /// One joint at a velocity, rad/s (single-joint jog).
+    JointVelocity {
+        joint: usize,
+        velocity: f64,
+    },
+}
+
+impl Motion {
+    pub fn is_idle(&self) -> bool {
+        matches!(self, Motion::Idle)
+    }
+}
+
+/// Why the arm refused a command.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum Refusal {
+    #[error("the arm is in fault")]
+    InFault,
+    #[error("the target is unreachable")]
+    Unreachable,
+    #[error("the target passes the limit of joint {0}")]
+    JointLimit(usize),
+    #[error("a value is out of range")]
+    OutOfRange,
+}
+
+/// Everything the servers report, at one instant.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ArmSnapshot {
+    pub time: f64,
+    pub robot_state: RobotState,
+    pub faults: u32,
+    pub warnings: u32,
+    /// Degrees as Kinova reports them (0-360), deg/s, N·m, A, °C.
+    pub joint_position: Joints,
+    pub joint_velocity: Joints,
+    pub joint_torque: Joints,
+    pub joint_current: Joints,
+    pub joint_temperature: Joints,
+    /// Metres and degrees (extrinsic XYZ).
+    pub tcp_position: [f64; 3],
+    pub tcp_orientation: [f64; 3],
+    /// m/s and deg/s in the base frame.
+    pub tcp_linear_velocity: [f64; 3],
+    pub tcp_angular_velocity: [f64; 3],
+    /// N and N·m.
+    pub tcp_force: [f64; 3],
+    pub tcp_torque: [f64; 3],
+    pub arm_current: f64,
+    pub arm_voltage: f64,
+    pub cpu_temperature: f64,
+    pub ambient_temperature: f64,
+    pub action_status: ActionStatus,
+    pub action_id: u16,
+    pub move_type: u16,
+    pub speed_limit_linear: f64,
+    pub speed_limit_angular_deg: f64,
+    pub moving: bool,
+}
+
+/// The simulated Gen3.
+#[derive(Debug, Clone)]
+pub struct Arm {
+    time: f64,
+    q: Joints,
+    qd: Joints,
+    motion: Motion,
+    /// A motion waiting for its start time (Talos Delay).
+    delayed: Option<(f64, Motion)>,
+    /// When set, the current motion stops at this time unless refreshed (Talos continuous).
+    watchdog: Option<f64>,
+    faults: u32,
+    warnings: u32,
+    action_status: ActionStatus,
+    action_id: u16,
+    move_type: u16,
+    speed_limit_linear: f64,
+    speed_limit_angular: f64,
+    temperature: Joints,
+    torque: Joints,
+    current: Joints,
+}
+
+impl Default for Arm {
+    fn default() -> Self {
+        Arm::at(kinematics::to_radians(&HOME_DEG))
+    }
+}
+
+impl Arm {
+    /// An arm at rest at joint angles `q` (radians).
+    pub fn at(q: Joints) -> Arm {
+        let mut arm = Arm {
+            time: 0.0,
+            q,
+            qd: [0.0; JOINTS],
+            motion: Motion::Idle,
+            delayed: None,
+            watchdog: None,
+            faults: 0,
+            warnings: 0,
+            action_status: ActionStatus::Completed,
+            action_id: 0,
+            move_type: 0,
+            speed_limit_linear: MAX_TWIST_LINEAR,
+            speed_limit_angular: MAX_TWIST_ANGULAR_DEG.to_radians(),
+            temperature: [30.0; JOINTS],
+            torque: [0.0; JOINTS],
+            current: [0.0; JOINTS],
+        };
+        arm.update_effort();
+        arm
+    }
+
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    pub fn joints(&self) -> Joints {
+        self.q
+    }
+
+    pub fn pose(&self) -> Pose {
+        kinematics::forward(&self.q)
+    }
+
+    pub fn motion(&self) -> &Motion {
+        &self.motion
+    }
+
+    pub fn is_moving(&self) -> bool {
+        !self.motion.is_idle() || self.qd.iter().any(|v| v.abs() > 1e-9)
+    }
+
+    pub fn in_fault(&self) -> bool {
+        self.faults != 0
+    }
+
+    /// Starts `motion`, after `delay` seconds if non-zero. `watchdog` makes it stop unless
+    /// refreshed within [`WATCHDOG`].
+    pub fn command(&mut self, motion: Motion, delay: f64, watchdog: bool) -> Result<(), Refusal> {
+        if self.in_fault() && !motion.is_idle() {
+            return Err(Refusal::InFault);
+        }
+        self.check_reachable(&motion)?;
+        self.watchdog = watchdog.then_some(self.time + WATCHDOG);
+        self.move_type = match motion {
+            Motion::ToPose { .. } => 2,
+            Motion::Twist { .. } | Motion::Polar { .. } => 3,
+            _ => self.move_type,
+        };
+        if delay > 0.0 {
+            self.delayed = Some((self.time + delay, motion));
+        } else {
+            self.delayed = None;
+            self.start(motion);
+        }
+        Ok(())
+    }
+
+    /// Refreshes the watchdog of a continuous motion (a repeated START).
+    pub fn refresh_watchdog(&mut self) {
+        if self.watchdog.is_some() {
+            self.watchdog = Some(self.time + WATCHDOG);
+        }
+    }
+
+    fn start(&mut self, motion: Motion) {
+        if !motion.is_idle() {
+            self.action_status = ActionStatus::Started;
+        }
+        self.motion = motion;
+    }
+
+    /// Stops any motion at once (the integrator has no deceleration ramp).
+    pub fn stop(&mut self) {
+        if !self.motion.is_idle() {
+            self.action_status = ActionStatus::Aborted;
+        }
+        self.motion = Motion::Idle;
+        self.delayed = None;
+        self.watchdog = None;
+        self.qd = [0.0; JOINTS];
+    }
+
+    /// Coil 0: stop and go into fault, as Kinova's quick stop does.
+    pub fn quick_stop(&mut self) {
+        self.stop();
+        self.faults |= 1 << flag::EMERGENCY_STOP;
+    }
+
+    /// Coil 2 / clear-faults hardware operation.
+    pub fn fault_reset(&mut self) {
+        self.faults = 0;
+    }
+
+    /// Fault injection: raise one fault bit (stops motion).
+    pub fn raise_fault(&mut self, bit: u32) {
+        self.stop();
+        self.faults |= 1 << (bit & 31);
+    }
+
+    pub fn set_action(&mut self, id: u16) {
+        self.action_id = id;
+        self.move_type = 0;
+    }
+
+    /// Desired speed limits (m/s, deg/s), clamped to the hard limits.
+    pub fn set_speed_limits(&mut self, linear: f64, angular_deg: f64) -> Result<(), Refusal> {
+        if !(linear.is_finite() && angular_deg.is_finite()) || linear <= 0.0 || angular_deg <= 0.0 {
+            return Err(Refusal::OutOfRange);
+        }
+        self.speed_limit_linear = linear.min(MAX_TWIST_LINEAR);
+        self.speed_limit_angular = angular_deg.min(MAX_TWIST_ANGULAR_DEG).to_radians();
+        Ok(())
+    }
+
+    pub fn speed_limits(&self) -> (f64, f64) {
+        (
+            self.speed_limit_linear,
+            self.speed_limit_angular.to_degrees(),
+        )
+    }
+
+    fn check_reachable(&self, motion: &Motion) -> Result<(), Refusal> {
+        match motion {
+            Motion::ToPose { target, .. } => kinematics::inverse(&self.q, target)
+                .map(|_| ())
+                .map_err(|e| match e {
+                    kinematics::IkError::JointLimit { joint } => Refusal::JointLimit(joint),
+                    kinematics::IkError::Unreachable { .. } => Refusal::Unreachable,
+                }),
+            Motion::ToJoints { target, .. } => {
+                match (0..JOINTS).find(|&i| !kinematics::within_limit(i, target[i])) {
+                    Some(i) => Err(Refusal::JointLimit(i + 1)),
+                    None => Ok(()),
+                }
+            }
+            Motion::JointVelocity { joint, .. } if *joint >= JOINTS => Err(Refusal::OutOfRange),
+            _ => Ok(()),
+        }
+    }
+
+    /// Advances the simulation by `seconds` in fixed steps.
+    pub fn advance(&mut self, seconds: f64) {
+        let steps = (seconds / STEP).round() as u64;
+        for _ in 0..steps {
+            self.step();
+        }
+    }
+
+    /// One integrator step of [`STEP`] seconds.
+    pub fn step(&mut self) {
+        self.time += STEP;
+        if let Some((at, _)) = &self.delayed
+            && self.time >= *at
+            && let Some((_, motion)) = self.delayed.take()
+        {
+            self.start(motion);
+        }
+        if self.watchdog.is_some_and(|deadline| self.time >= deadline) {
+            tracing::info!("sim: continuous motion stopped by the 500 ms watchdog");
+            self.stop();
+        }
+        let desired = self.desired_velocity();
+        self.qd = limit_joint_speeds(desired);
+        let mut next = self.q;
+        for i in 0..JOINTS {
+            next[i] += self.qd[i] * STEP;
+        }
+        if let Some(joint) = (0..JOINTS).find(|&i| !kinematics::within_limit(i, next[i])) {
+            // A real arm stops at a joint limit; the warning says which kind of stop it was.
+            tracing::info!("sim: joint {} reached its limit", joint + 1);
+            self.stop();
+            self.warnings |= 1 << flag::JOINT_FAULT;
+        } else {
+            if self.qd.iter().any(|v| *v != 0.0) {
+                self.warnings &= !(1 << flag::JOINT_FAULT);
+            }
+            self.q = next;
+        }
+        self.update_effort();
+    }
+
+    fn desired_velocity(&mut self) -> Joints {
+        match self.motion.clone() {
+            Motion::Idle => [0.0; JOINTS],
+            Motion::Twist {
+                linear,
+                angular,
+                frame,
+            } => {
+                let rotation = self.pose().rotation;
+                let (linear, angular) = match frame {
+                    Frame::Base => (linear, angular),
+                    Frame::Tool => (rotation * linear, rotation * angular),
+                    Frame::Mixed => (linear, rotation * angular),
+                };
+                self.track(linear, angular)
+            }
+            Motion::Polar { azimuth, altitude } => {
+                let (linear, angular) = polar_twist(&self.pose(), azimuth, altitude);
+                self.track(linear, angular)
+            }
+            Motion::ToPose {
+                target,
+                linear_speed,
+                angular_speed,
+            } => {
+                let err = kinematics::pose_error(&self.pose(), &target);
+                let dp = err.fixed_rows::<3>(0).into_owned();
+                let dr = err.fixed_rows::<3>(3).into_owned();
+                if dp.norm() < 2e-4 && dr.norm() < 0.05_f64.to_radians() {
+                    self.finish();
+                    return [0.0; JOINTS];
+                }
+                // Proportional approach, capped at the requested speeds.
+                let linear = cap(dp * 8.0, linear_speed);
+                let angular = cap(dr * 8.0, angular_speed);
+                self.track(linear, angular)
+            }
+            Motion::ToJoints { target, fraction } => {
+                let delta: Joints =
+                    std::array::from_fn(|i| kinematics::wrap_pi(target[i] - self.q[i]));
+                if delta.iter().all(|d| d.abs() < 1e-5) {
+                    self.finish();
+                    return [0.0; JOINTS];
+                }
+                // Time for the slowest joint, then every joint moves to arrive together.
+                let duration = (0..JOINTS)
+                    .map(|i| delta[i].abs() / (MAX_JOINT_SPEED_DEG[i].to_radians() * fraction))
+                    .fold(STEP, f64::max);
+                std::array::from_fn(|i| delta[i] / duration)
+            }
+            Motion::JointVelocity { joint, velocity } => {
+                let mut qd = [0.0; JOINTS];
+                if let Some(v) = qd.get_mut(joint) {
+                    *v = velocity;
+                }
+                qd
+            }
+        }
+    }
+
+    fn finish(&mut self) {
+        self.motion = Motion::Idle;
+        self.watchdog = None;
+        self.action_status = ActionStatus::Completed;
+    }
+
+    /// Joint velocities for a base-frame twist, capped at the desired speed limits.
+    fn track(&self, linear: Vector3<f64>, angular: Vector3<f64>) -> Joints {
+        let linear = cap(linear, self.speed_limit_linear);
+        let angular = cap(angular, self.speed_limit_angular);
+        let xdot = Vector6::new(
+            linear.x, linear.y, linear.z, angular.x, angular.y, angular.z,
+        );
+        kinematics::dls_velocity(&self.q, &xdot, 0.05)
+    }
+
+    /// Torques from a simple gravity model plus viscous friction; currents from the torque
+    /// constant; temperatures as a first-order response to copper losses. Deterministic.
+    fn update_effort(&mut self) {
+        let pose = self.pose();
+        // Horizontal reach loads the shoulder and elbow like a lever.
+        let reach = (pose.position.x.powi(2) + pose.position.y.powi(2)).sqrt();
+        for i in 0..JOINTS {
+            let lever = match i {
+                1 => 18.0 * reach,
+                3 => 9.0 * reach,
+                5 => 1.5 * reach,
+                _ => 0.3 * (self.q[i]).sin(),
+            };
+            let friction = 0.8 * self.qd[i];
+            let torque = (lever + friction).clamp(-MAX_JOINT_TORQUE[i], MAX_JOINT_TORQUE[i]);
+            let k_t = if i < 4 { 11.0 } else { 7.6 };
+            let current = 0.15 + torque.abs() / k_t;
+            self.torque[i] = torque;
+            self.current[i] = current;
+            let target = 30.0 + 12.0 * current * current;
+            self.temperature[i] += (target - self.temperature[i]) * STEP / 120.0;
+        }
+    }
+
+    pub fn snapshot(&self) -> ArmSnapshot {
+        let pose = self.pose();
+        let twist = kinematics::jacobian(&self.q) * nalgebra::SVector::<f64, 7>::from(self.qd);
+        let total_current: f64 = self.current.iter().sum();
+        let gravity = Vector3::new(0.0, 0.0, -0.5 * 9.81);
+        // The tool's weight as the wrist sensor sees it, in the tool frame.
+        let force = pose.rotation.inverse() * gravity;
+        ArmSnapshot {
+            time: self.time,
+            robot_state: if self.in_fault() {
+                RobotState::InFault
+            } else if self.motion.is_idle() {
+                RobotState::Ready
+            } else if matches!(self.motion, Motion::ToJoints { .. }) {
+                RobotState::ControlledBySequence
+            } else {
+                RobotState::ControlledManually
+            },
+            faults: self.faults,
+            warnings: self.warnings,
+            joint_position: kinematics::reported_deg(&self.q),
+            joint_velocity: self.qd.map(f64::to_degrees),
+            joint_torque: self.torque,
+            joint_current: self.current,
+            joint_temperature: self.temperature,
+            tcp_position: pose.position.into(),
+            tcp_orientation: pose.euler_deg(),
+            tcp_linear_velocity: [twist[0], twist[1], twist[2]],
+            tcp_angular_velocity: [
+                twist[3].to_degrees(),
+                twist[4].to_degrees(),
+                twist[5].to_degrees(),
+            ],
+            tcp_force: force.into(),
+            tcp_torque: [0.0, 0.0, 0.0],
+            arm_current: 0.4 + 0.35 * total_current,
+            arm_voltage: 24.0 - 0.05 * total_current,
+            cpu_temperature: 45.0 + 0.5 * total_current,
+            ambient_temperature: 25.0,
+            action_status: self.action_status,
+            action_id: self.action_id,
+            move_type: self.move_type,
+            speed_limit_linear: self.speed_limit_linear,
+            speed_limit_angular_deg: self.speed_limit_angular.to_degrees(),
+            moving: self.is_moving(),
+        }
+    }
+}
+
+fn cap(v: Vector3<f64>, max: f64) -> Vector3<f64> {
+    let n = v.norm();
+    if n > max && n > 0.0 { v * (max / n) } else { v }
+}
+
+/// Scales the whole vector so no joint exceeds its top speed (keeps the direction).
+fn limit_joint_speeds(qd: Joints) -> Joints {
+    let ratio = (0..JOINTS)
+        .map(|i| qd[i].abs() / MAX_JOINT_SPEED_DEG[i].to_radians())
+        .fold(1.0, f64::max);
+    qd.map(|v| v / ratio)
+}
+
+/// The base-frame twist for a polar pan at `azimuth` and `altitude` rad/s: an orbit about the
+/// base Z axis and a change of elevation about the base origin. The tool turns with the motion
+/// so it keeps its bearing relative to the orbit.
+pub fn polar_twist(pose: &Pose, azimuth: f64, altitude: f64) -> (Vector3<f64>, Vector3<f64>) {
+    let p = pose.position;
+    let horizontal = Vector3::new(p.x, p.y, 0.0);
+    let mut omega = Vector3::new(0.0, 0.0, azimuth);
+    if horizontal.norm() > 1e-6 {
+        // Rotating about z × r̂ lowers the point; elevation rises about its opposite.
+        let axis = Unit::new_normalize(Vector3::z().cross(&horizontal));
+        omega -= axis.into_inner() * altitude;
+    }
+    (omega.cross(&p), omega)
+}
+
+/// A pose moved by a polar pan of `azimuth` and `altitude` radians.
+pub fn polar_target(pose: &Pose, azimuth: f64, altitude: f64) -> Pose {
+    let p = pose.position;
+    let horizontal = Vector3::new(p.x, p.y, 0.0);
+    let mut rotation = Rotation3::from_axis_angle(&Vector3::z_axis(), azimuth);
+    if horizontal.norm() > 1e-6 {
+        let axis = Unit::new_normalize(Vector3::z().cross(&horizontal));
+        rotation *= Rotation3::from_axis_angle(&axis, -altitude);
+    }
+    Pose {
+        position: rotation * p,
+        rotation: rotation * pose.rotation,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn starts_at_home_at_rest() {
+        let arm = Arm::default();
+        let s = arm.snapshot();
+        assert!((s.tcp_position[0] - 0.4566).abs() < 1e-3);
+        assert_eq!(s.robot_state, RobotState::Ready);
+        assert!(!s.moving);
+    }
+
+    #[test]
+    fn a_base_twist_moves_the_tcp_along_x_at_the_commanded_speed() {
+        let mut arm = Arm::default();
+        let x0 = arm.pose().position;
+        let twist = Motion::Twist {
+            linear: Vector3::new(0.1, 0.0, 0.0),
+            angular: Vector3::zeros(),
+            frame: Frame::Base,
+        };
+        arm.command(twist, 0.0, false).unwrap();
+        arm.advance(0.5);
+        let d = arm.pose().position - x0;
+        assert!((d.x - 0.05).abs() < 0.005, "{d:?}");
+        assert!(d.y.abs() < 0.003 && d.z.abs() < 0.003, "{d:?}");
+    }
+
+    #[test]
+    fn the_watchdog_stops_an_unrefreshed_continuous_motion() {
+        let mut arm = Arm::default();
+        let m = Motion::Polar {
+            azimuth: 0.2,
+            altitude: 0.0,
+        };
+        arm.command(m, 0.0, true).unwrap();
+        arm.advance(0.3);
+        arm.refresh_watchdog();
+        arm.advance(0.45);
+        assert!(
+            !arm.motion().is_idle(),
+            "refreshed at 0.3 s, still moving at 0.75 s"
+        );
+        arm.advance(0.051 + STEP);
+        assert!(arm.motion().is_idle());
+        assert!(!arm.is_moving());
+    }
+
+    #[test]
+    fn polar_azimuth_orbits_about_z_at_constant_radius_and_height() {
+        let mut arm = Arm::default();
+        let p0 = arm.pose().position;
+        let m = Motion::Polar {
+            azimuth: 10f64.to_radians(),
+            altitude: 0.0,
+        };
+        arm.command(m, 0.0, false).unwrap();
+        arm.advance(1.0);
+        let p = arm.pose().position;
+        let r0 = (p0.x.powi(2) + p0.y.powi(2)).sqrt();
+        let r = (p.x.powi(2) + p.y.powi(2)).sqrt();
+        assert!((r - r0).abs() < 0.003 && (p.z - p0.z).abs() < 0.003);
+        let turned = p.y.atan2(p.x) - p0.y.atan2(p0.x);
+        assert!(
+            (turned.to_degrees() - 10.0).abs() < 0.5,
+            "{}",
+            turned.to_degrees()
+        );
+    }
+
+    #[test]
+    fn polar_altitude_raises_the_elevation() {
+        let mut arm = Arm::default();
+        let elevation = |p: Vector3<f64>| p.z.atan2((p.x.powi(2) + p.y.powi(2)).sqrt());
+        let e0 = elevation(arm.pose().position);
+        arm.command(
+            Motion::Polar {
+                azimuth: 0.0,
+                altitude: 0.1,
+            },
+            0.0,
+            false,
+        )
+        .unwrap();
+        arm.advance(0.5);
+        assert!(elevation(arm.pose().position) > e0 + 0.04);
+    }
+
+    #[test]
+    fn to_pose_reaches_a_reachable_target_and_refuses_an_unreachable_one() {
+        let mut arm = Arm::default();
+        let mut target = arm.pose();
+        target.position += Vector3::new(-0.05, 0.05, 0.05);
+        let m = Motion::ToPose {
+            target,
+            linear_speed: 0.1,
+            angular_speed: 0.5,
+        };
+        arm.command(m, 0.0, false).unwrap();
+        arm.advance(3.0);
+        assert!((arm.pose().position - target.position).norm() < 1e-3);
+        assert!(arm.motion().is_idle());
+        assert_eq!(arm.snapshot().action_status, ActionStatus::Completed);
+
+        let mut far = arm.pose();
+        far.position = Vector3::new(1.5, 0.0, 0.4);
+        let m = Motion::ToPose {
+            target: far,
+            linear_speed: 0.1,
+            angular_speed: 0.5,
+        };
+        assert_eq!(arm.command(m, 0.0, false), Err(Refusal::Unreachable));
+    }
+
+    #[test]
+    fn home_returns_every_joint() {
+        let mut arm = Arm::at(kinematics::to_radians(&[
+            20.0, 30.0, 170.0, 240.0, 10.0, 40.0, 80.0,
+        ]));
+        let home = kinematics::to_radians(&HOME_DEG);
+        arm.command(
+            Motion::ToJoints {
+                target: home,
+                fraction: 0.5,
+            },
+            0.0,
+            false,
+        )
+        .unwrap();
+        arm.advance(3.0);
+        for i in 0..JOINTS {
+            assert!(
+                kinematics::wrap_pi(arm.joints()[i] - home[i]).abs() < 1e-3,
+                "joint {i}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_joint_limit_stops_the_motion_and_warns() {
+        // J2 starts near +128.9 deg and is driven outwards.
+        let mut arm = Arm::at(kinematics::to_radians(&[
+            0.0, 127.0, 180.0, 230.0, 0.0, 55.0, 90.0,
+        ]));
+        let m = Motion::JointVelocity {
+            joint: 1,
+            velocity: 20f64.to_radians(),
+        };
+        arm.command(m, 0.0, false).unwrap();
+        arm.advance(0.5);
+        assert!(arm.motion().is_idle());
+        assert!(arm.joints()[1].to_degrees() <= 128.9 + 1e-6);
+        assert_ne!(arm.snapshot().warnings & (1 << flag::JOINT_FAULT), 0);
+    }
+
+    #[test]
+    fn quick_stop_faults_the_arm_until_reset() {
+        let mut arm = Arm::default();
+        arm.quick_stop();
+        assert_eq!(arm.snapshot().robot_state, RobotState::InFault);
+        let m = Motion::Polar {
+            azimuth: 0.1,
+            altitude: 0.0,
+        };
+        assert_eq!(arm.command(m.clone(), 0.0, false), Err(Refusal::InFault));
+        arm.fault_reset();
+        assert!(arm.command(m, 0.0, false).is_ok());
+    }
+
+    #[test]
+    fn a_delayed_motion_waits() {
+        let mut arm = Arm::default();
+        let m = Motion::Polar {
+            azimuth: 0.1,
+            altitude: 0.0,
+        };
+        arm.command(m, 0.2, false).unwrap();
+        arm.advance(0.1);
+        assert!(arm.motion().is_idle());
+        arm.advance(0.15);
+        assert!(!arm.motion().is_idle());
+    }
+
+    #[test]
+    fn efforts_are_plausible_and_deterministic() {
+        let mut a = Arm::default();
+        let mut b = Arm::default();
+        let m = Motion::Polar {
+            azimuth: 0.2,
+            altitude: 0.05,
+        };
+        a.command(m.clone(), 0.0, false).unwrap();
+        b.command(m, 0.0, false).unwrap();
+        a.advance(1.0);
+        b.advance(1.0);
+        assert_eq!(a.snapshot(), b.snapshot());
+        let s = a.snapshot();
+        for i in 0..JOINTS {
+            assert!(s.joint_torque[i].abs() <= MAX_JOINT_TORQUE[i]);
+            assert!(s.joint_current[i] > 0.0 && s.joint_current[i] < 10.0);
+            assert!(s.joint_temperature[i] >= 30.0 && s.joint_temperature[i] < 80.0);
+        }
+        assert!(s.arm_voltage > 20.0 && s.arm_voltage < 25.0);
+    }
+}

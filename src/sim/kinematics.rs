@@ -1,0 +1,306 @@
+//! Kinova Gen3 7-DOF kinematics from the classic DH table of the field notes: forward
+//! kinematics, the geometric Jacobian and damped-least-squares inverse kinematics.
+//!
+//! Joint angles here are radians, positions metres. Orientation is a rotation matrix; Kinova
+//! reports it as extrinsic XYZ Euler angles in degrees (`R = Rz(θz)·Ry(θy)·Rx(θx)`).
+
+use nalgebra::{Matrix4, Matrix6, Rotation3, SMatrix, Vector3, Vector6};
+
+pub const JOINTS: usize = 7;
+
+/// Joint angles in radians.
+pub type Joints = [f64; JOINTS];
+
+/// (alpha, d, theta offset) per joint row; `a = 0` for every row.
+const DH_ROWS: [(f64, f64, f64); JOINTS] = {
+    use std::f64::consts::{FRAC_PI_2, PI};
+    [
+        (FRAC_PI_2, -0.2848, 0.0),
+        (FRAC_PI_2, -0.0118, PI),
+        (FRAC_PI_2, -0.4208, PI),
+        (FRAC_PI_2, -0.0128, PI),
+        (FRAC_PI_2, -0.3143, PI),
+        (FRAC_PI_2, 0.0, PI),
+        (PI, -0.1674, PI),
+    ]
+};
+
+/// Joint limits in degrees; `None` for the continuous joints J1, J3, J5, J7.
+pub const JOINT_LIMITS_DEG: [Option<f64>; JOINTS] = [
+    None,
+    Some(128.9),
+    None,
+    Some(147.8),
+    None,
+    Some(120.3),
+    None,
+];
+
+/// Maximum joint speeds in deg/s.
+pub const MAX_JOINT_SPEED_DEG: [f64; JOINTS] = [80.0, 80.0, 80.0, 80.0, 70.0, 70.0, 70.0];
+
+/// Maximum joint torques in N·m.
+pub const MAX_JOINT_TORQUE: [f64; JOINTS] = [39.0, 39.0, 39.0, 39.0, 9.0, 9.0, 9.0];
+
+/// The home pose, degrees (field notes).
+pub const HOME_DEG: Joints = [0.0, 15.0, 180.0, 230.0, 0.0, 55.0, 90.0];
+
+/// A tool pose in the base frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pose {
+    pub position: Vector3<f64>,
+    pub rotation: Rotation3<f64>,
+}
+
+impl Pose {
+    /// Kinova's orientation: extrinsic XYZ Euler angles, degrees.
+    pub fn euler_deg(&self) -> [f64; 3] {
+        let (x, y, z) = self.rotation.euler_angles();
+        [x.to_degrees(), y.to_degrees(), z.to_degrees()]
+    }
+
+    pub fn from_position_euler_deg(position: [f64; 3], theta_deg: [f64; 3]) -> Pose {
+        Pose {
+            position: Vector3::from(position),
+            rotation: Rotation3::from_euler_angles(
+                theta_deg[0].to_radians(),
+                theta_deg[1].to_radians(),
+                theta_deg[2].to_radians(),
+            ),
+        }
+    }
+}
+
+fn dh(alpha: f64, d: f64, theta: f64) -> Matrix4<f64> {
+    let (st, ct) = theta.sin_cos();
+    let (sa, ca) = alpha.sin_cos();
+    Matrix4::new(
+        ct,
+        -st * ca,
+        st * sa,
+        0.0,
+        st,
+        ct * ca,
+        -ct * sa,
+        0.0,
+        0.0,
+        sa,
+        ca,
+        d,
+        0.0,
+        0.0,
+        0.0,
+        1.0,
+    )
+}
+
+/// The fixed base row: alpha = pi, d = 0, theta = 0.
+fn base() -> Matrix4<f64> {
+    dh(std::f64::consts::PI, 0.0, 0.0)
+}
+
+/// Frames before each joint (index i is the frame joint i+1 rotates in) and the tool frame.
+fn frames(q: &Joints) -> ([Matrix4<f64>; JOINTS], Matrix4<f64>) {
+    let mut t = base();
+    let mut before = [Matrix4::identity(); JOINTS];
+    for (i, (alpha, d, offset)) in DH_ROWS.iter().enumerate() {
+        before[i] = t;
+        t *= dh(*alpha, *d, q[i] + offset);
+    }
+    (before, t)
+}
+
+fn pose_of(t: &Matrix4<f64>) -> Pose {
+    let r = t.fixed_view::<3, 3>(0, 0).into_owned();
+    Pose {
+        position: Vector3::new(t[(0, 3)], t[(1, 3)], t[(2, 3)]),
+        rotation: Rotation3::from_matrix_unchecked(r),
+    }
+}
+
+/// Forward kinematics: the tool interface pose for joint angles `q`.
+pub fn forward(q: &Joints) -> Pose {
+    pose_of(&frames(q).1)
+}
+
+/// The geometric Jacobian: rows vx, vy, vz, wx, wy, wz in the base frame.
+pub fn jacobian(q: &Joints) -> SMatrix<f64, 6, JOINTS> {
+    let (before, tool) = frames(q);
+    let p = Vector3::new(tool[(0, 3)], tool[(1, 3)], tool[(2, 3)]);
+    let mut j = SMatrix::<f64, 6, JOINTS>::zeros();
+    for (i, f) in before.iter().enumerate() {
+        let z = Vector3::new(f[(0, 2)], f[(1, 2)], f[(2, 2)]);
+        let o = Vector3::new(f[(0, 3)], f[(1, 3)], f[(2, 3)]);
+        let v = z.cross(&(p - o));
+        for k in 0..3 {
+            j[(k, i)] = v[k];
+            j[(k + 3, i)] = z[k];
+        }
+    }
+    j
+}
+
+/// Joint velocities that best produce the twist `xdot` (vx, vy, vz in m/s, wx, wy, wz in rad/s,
+/// base frame), damped so that singularities give small motions instead of huge ones.
+pub fn dls_velocity(q: &Joints, xdot: &Vector6<f64>, damping: f64) -> Joints {
+    let j = jacobian(q);
+    let jjt: Matrix6<f64> = j * j.transpose() + Matrix6::identity() * damping * damping;
+    let Some(inv) = jjt.try_inverse() else {
+        return [0.0; JOINTS];
+    };
+    let dq = j.transpose() * (inv * xdot);
+    let mut out = [0.0; JOINTS];
+    out.copy_from_slice(dq.as_slice());
+    out
+}
+
+/// The 6-vector error from `from` to `to`: position (m) then rotation vector (rad).
+pub fn pose_error(from: &Pose, to: &Pose) -> Vector6<f64> {
+    let dp = to.position - from.position;
+    let dr = (to.rotation * from.rotation.inverse()).scaled_axis();
+    Vector6::new(dp.x, dp.y, dp.z, dr.x, dr.y, dr.z)
+}
+
+/// Why inverse kinematics gave up.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum IkError {
+    #[error("target not reached: {position_mm:.1} mm / {rotation_deg:.2} deg away")]
+    Unreachable { position_mm: f64, rotation_deg: f64 },
+    #[error("the solution passes the limit of joint {joint}")]
+    JointLimit { joint: usize },
+}
+
+/// Whether joint `i` at `angle` (rad) is inside its limit.
+pub fn within_limit(i: usize, angle: f64) -> bool {
+    match JOINT_LIMITS_DEG[i] {
+        Some(limit) => wrap_pi(angle).abs() <= limit.to_radians() + 1e-9,
+        None => true,
+    }
+}
+
+/// An angle folded into (-pi, pi].
+pub fn wrap_pi(angle: f64) -> f64 {
+    let two_pi = std::f64::consts::TAU;
+    let mut a = angle.rem_euclid(two_pi);
+    if a > std::f64::consts::PI {
+        a -= two_pi;
+    }
+    a
+}
+
+/// Damped-least-squares IK from the seed `q0` towards `target`: 1e-4 m and 0.01 deg tolerance,
+/// limited joints clamped at every iteration.
+pub fn inverse(q0: &Joints, target: &Pose) -> Result<Joints, IkError> {
+    let mut q = *q0;
+    let mut err = pose_error(&forward(&q), target);
+    for _ in 0..400 {
+        let position = err.fixed_rows::<3>(0).norm();
+        let rotation = err.fixed_rows::<3>(3).norm();
+        if position < 1e-4 && rotation < 1e-2_f64.to_radians() {
+            return Ok(q);
+        }
+        // Cap each step so the linearisation holds.
+        let scale = (0.05 / position.max(1e-12))
+            .min(0.2 / rotation.max(1e-12))
+            .min(1.0);
+        let dq = dls_velocity(&q, &(err * scale), 0.02);
+        for i in 0..JOINTS {
+            q[i] += dq[i];
+            if let Some(limit) = JOINT_LIMITS_DEG[i] {
+                let limit = limit.to_radians();
+                q[i] = wrap_pi(q[i]).clamp(-limit, limit);
+            }
+        }
+        err = pose_error(&forward(&q), target);
+    }
+    Err(IkError::Unreachable {
+        position_mm: err.fixed_rows::<3>(0).norm() * 1000.0,
+        rotation_deg: err.fixed_rows::<3>(3).norm().to_degrees(),
+    })
+}
+
+/// Degrees to radians for a whole joint vector.
+pub fn to_radians(deg: &Joints) -> Joints {
+    deg.map(f64::to_radians)
+}
+
+/// Joint angles as Kinova reports them: 0 to 360 degrees.
+pub fn reported_deg(q: &Joints) -> Joints {
+    q.map(|a| a.to_degrees().rem_euclid(360.0))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn assert_close(a: [f64; 3], b: [f64; 3], tol: f64) {
+        for k in 0..3 {
+            assert!((a[k] - b[k]).abs() <= tol, "{a:?} vs {b:?}");
+        }
+    }
+
+    #[test]
+    fn zero_pose_matches_the_field_notes() {
+        let p = forward(&[0.0; JOINTS]);
+        assert_close(p.position.into(), [0.0, -0.0246, 1.1873], 1e-3);
+    }
+
+    #[test]
+    fn home_pose_matches_the_field_notes_within_a_millimetre() {
+        let p = forward(&to_radians(&HOME_DEG));
+        assert_close(p.position.into(), [0.4566, 0.0010, 0.4338], 1e-3);
+        assert_close(p.euler_deg(), [90.0, 0.0, 90.0], 0.05);
+    }
+
+    #[test]
+    fn jacobian_matches_finite_differences() {
+        let q = to_radians(&[10.0, 20.0, 170.0, 240.0, 15.0, 50.0, 80.0]);
+        let j = jacobian(&q);
+        let h = 1e-6;
+        for i in 0..JOINTS {
+            let mut qp = q;
+            qp[i] += h;
+            let d = (forward(&qp).position - forward(&q).position) / h;
+            for k in 0..3 {
+                assert!((j[(k, i)] - d[k]).abs() < 1e-4, "joint {i} row {k}");
+            }
+        }
+    }
+
+    #[test]
+    fn ik_round_trips_across_the_workspace() {
+        let seeds = [
+            [0.0, 15.0, 180.0, 230.0, 0.0, 55.0, 90.0],
+            [30.0, 30.0, 180.0, 240.0, 10.0, 60.0, 90.0],
+            [-40.0, 5.0, 170.0, 220.0, -20.0, 40.0, 60.0],
+            [90.0, 40.0, 190.0, 250.0, 30.0, 70.0, 120.0],
+        ];
+        for target_deg in seeds {
+            let target = forward(&to_radians(&target_deg));
+            let q = inverse(&to_radians(&HOME_DEG), &target).expect("reachable");
+            let got = forward(&q);
+            assert!(
+                (got.position - target.position).norm() < 1e-3,
+                "{target_deg:?}"
+            );
+            for (i, a) in q.iter().enumerate() {
+                assert!(within_limit(i, *a), "joint {i} out of limits");
+            }
+        }
+    }
+
+    #[test]
+    fn ik_refuses_a_target_out_of_reach() {
+        let far = Pose::from_position_euler_deg([2.0, 0.0, 0.5], [90.0, 0.0, 90.0]);
+        assert!(matches!(
+            inverse(&to_radians(&HOME_DEG), &far),
+            Err(IkError::Unreachable { .. })
+        ));
+    }
+
+    #[test]
+    fn reported_angles_are_0_to_360() {
+        let r = reported_deg(&to_radians(&[-10.0, 0.0, 370.0, 230.0, 0.0, 0.0, 0.0]));
+        assert!((r[0] - 350.0).abs() < 1e-9 && (r[2] - 10.0).abs() < 1e-9);
+    }
+}

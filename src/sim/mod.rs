@@ -1,0 +1,4 @@
+//! The simulated Kinova Gen3 arm and the servers in front of it.
+
+pub mod arm;
+pub mod kinematics;
