@@ -4,4 +4,5 @@
 pub mod cli;
 pub mod link;
 pub mod logging;
+pub mod sim;
 pub mod talos;
