@@ -348,10 +348,7 @@ impl Arm {
         }
         let desired = self.desired_velocity();
         self.qd = limit_joint_speeds(desired);
-        let mut next = self.q;
-        for i in 0..JOINTS {
-            next[i] += self.qd[i] * STEP;
-        }
+        let next: Joints = std::array::from_fn(|i| self.q[i] + self.qd[i] * STEP);
         if let Some(joint) = (0..JOINTS).find(|&i| !kinematics::within_limit(i, next[i])) {
             // A real arm stops at a joint limit; the warning says which kind of stop it was.
             tracing::info!("sim: joint {} reached its limit", joint + 1);
@@ -448,7 +445,7 @@ impl Arm {
         let pose = self.pose();
         // Horizontal reach loads the shoulder and elbow like a lever.
         let reach = (pose.position.x.powi(2) + pose.position.y.powi(2)).sqrt();
-        for i in 0..JOINTS {
+        for (i, max_torque) in MAX_JOINT_TORQUE.iter().enumerate() {
             let lever = match i {
                 1 => 18.0 * reach,
                 3 => 9.0 * reach,
@@ -456,7 +453,7 @@ impl Arm {
                 _ => 0.3 * (self.q[i]).sin(),
             };
             let friction = 0.8 * self.qd[i];
-            let torque = (lever + friction).clamp(-MAX_JOINT_TORQUE[i], MAX_JOINT_TORQUE[i]);
+            let torque = (lever + friction).clamp(-max_torque, *max_torque);
             let k_t = if i < 4 { 11.0 } else { 7.6 };
             let current = 0.15 + torque.abs() / k_t;
             self.torque[i] = torque;
@@ -559,6 +556,7 @@ pub fn polar_target(pose: &Pose, azimuth: f64, altitude: f64) -> Pose {
 }
 
 #[cfg(test)]
+#[allow(clippy::needless_range_loop)] // parallel per-joint arrays read clearest by index
 mod tests {
     use super::*;
 

@@ -2,3 +2,8 @@
 
 pub mod arm;
 pub mod kinematics;
+pub mod operator;
+pub mod telemetry;
+
+#[cfg(test)]
+mod operator_tests;

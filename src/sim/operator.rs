@@ -1,0 +1,564 @@
+//! The simulated Talos operator: what each ICD command means to the simulated arm.
+//!
+//! Pure: [`Operator::handle`] takes a request and the arm and returns the reply. The server
+//! around it does the IO.
+//!
+//! Semantics armjog settles where the ICD is silent:
+//! - Speed is a percentage (1-100) of the maximum jog speeds: [`MAX_JOG_LINEAR`] for cartesian
+//!   motion and [`MAX_JOG_ANGULAR_DEG`] for polar pans. 0 or above 100 is OUT_OF_RANGE.
+//! - Continuous START runs until STOP or until no START arrives for 500 ms (the watchdog). A
+//!   START with every direction 0 stops. Either STOP stops any continuous motion: a stop is never
+//!   ignored because it named the other kind.
+//! - Discrete moves honour Delay; Time, when non-zero, sets the speed so the move takes that long
+//!   (never faster than the maximum jog speed); otherwise the move runs at the current speed.
+//! - Polar coordinates of named positions are about the base origin: delta is the elevation,
+//!   azimuth is measured from +X towards +Y, radius is in tenths of millimetres.
+//! - A position saved with a parent and anchor set is stored relative to its parent and moves
+//!   with it. Deleting a parent freezes its anchored children where they are.
+
+use std::collections::BTreeMap;
+
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+
+use super::arm::{Arm, Frame, Motion, Refusal, polar_target};
+use super::kinematics::{self, HOME_DEG, Joints, Pose};
+use crate::talos::hardware::{self, HwReply, HwRequest};
+use crate::talos::message::DecodeError;
+use crate::talos::{Reply, Request, ReturnCode};
+
+/// The simulated operator's version, reported by Handshake.
+pub const VERSION: (u8, u8) = (1, 0);
+
+/// Cartesian jog speed at 100 %, m/s (ISO 10218-1 reduced speed).
+pub const MAX_JOG_LINEAR: f64 = 0.25;
+/// Polar pan rate at 100 %, deg/s.
+pub const MAX_JOG_ANGULAR_DEG: f64 = 30.0;
+/// Joint-space moves (home, go to) at 100 % run at this fraction of the joints' top speed.
+const MAX_JOINT_FRACTION: f64 = 0.5;
+const DEFAULT_SPEED: u8 = 50;
+/// Anchors deeper than this are refused (and cycles are impossible by construction).
+const MAX_ANCHOR_DEPTH: usize = 32;
+
+/// One named position.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SavedPosition {
+    /// Absolute pose, or the pose relative to `parent` when `anchor` is set.
+    pub pose: Pose,
+    /// Joint angles when the position was saved from the arm and is not anchored: going there
+    /// is then a joint move, which needs no IK.
+    pub joints: Option<Joints>,
+    pub anchor: bool,
+    pub parent: Option<String>,
+}
+
+/// The operator's state beyond the arm.
+#[derive(Debug, Clone)]
+pub struct Operator {
+    speed: u8,
+    positions: BTreeMap<String, SavedPosition>,
+}
+
+impl Default for Operator {
+    fn default() -> Self {
+        Operator {
+            speed: DEFAULT_SPEED,
+            positions: BTreeMap::new(),
+        }
+    }
+}
+
+fn refusal_code(refusal: Refusal) -> ReturnCode {
+    match refusal {
+        Refusal::InFault => ReturnCode::ARM_FAULT,
+        Refusal::Unreachable => ReturnCode::UNREACHABLE,
+        Refusal::JointLimit(_) => ReturnCode::JOINT_LIMIT,
+        Refusal::OutOfRange => ReturnCode::OUT_OF_RANGE,
+    }
+}
+
+fn iso(pose: &Pose) -> Isometry3<f64> {
+    Isometry3::from_parts(
+        Translation3::from(pose.position),
+        UnitQuaternion::from_rotation_matrix(&pose.rotation),
+    )
+}
+
+fn pose_of(iso: &Isometry3<f64>) -> Pose {
+    Pose {
+        position: iso.translation.vector,
+        rotation: iso.rotation.to_rotation_matrix(),
+    }
+}
+
+impl Operator {
+    pub fn speed(&self) -> u8 {
+        self.speed
+    }
+
+    pub fn positions(&self) -> &BTreeMap<String, SavedPosition> {
+        &self.positions
+    }
+
+    fn fraction(&self) -> f64 {
+        f64::from(self.speed) / 100.0
+    }
+
+    /// The answer to a frame that did not decode as a request.
+    pub fn reply_to_undecodable(error: &DecodeError) -> ReturnCode {
+        match error {
+            DecodeError::UnknownCommand(_) => ReturnCode::UNKNOWN_COMMAND,
+            _ => ReturnCode::MALFORMED_PAYLOAD,
+        }
+    }
+
+    /// Carries out `request` on `arm` and returns the reply.
+    pub fn handle(&mut self, arm: &mut Arm, request: Request) -> Reply {
+        let command = request.command();
+        match self.dispatch(arm, request) {
+            Ok(reply) => reply,
+            Err(code) => Reply::error(command, code),
+        }
+    }
+
+    fn dispatch(&mut self, arm: &mut Arm, request: Request) -> Result<Reply, ReturnCode> {
+        let ok = ReturnCode::OK;
+        let command = request.command();
+        let done = Reply::error(command, ok);
+        match request {
+            Request::Handshake { .. } => Ok(Reply::Handshake {
+                return_code: ok,
+                major_version: VERSION.0,
+                minor_version: VERSION.1,
+            }),
+            Request::PolarPan {
+                delta_azimuth,
+                delta_altitude,
+                delay_ms,
+                time_ms,
+            } => {
+                let (az, alt) = (f64::from(delta_azimuth), f64::from(delta_altitude));
+                let target = polar_target(&arm.pose(), az.to_radians(), alt.to_radians());
+                let angle = az.hypot(alt).to_radians();
+                let rate = self.timed_speed(angle, time_ms, MAX_JOG_ANGULAR_DEG.to_radians());
+                // Orbiting at `rate` moves the tool at rate × radius.
+                let radius = arm.pose().position.norm().max(0.05);
+                let motion = Motion::ToPose {
+                    target,
+                    linear_speed: rate * radius,
+                    angular_speed: rate,
+                };
+                self.command(arm, motion, delay_ms, false)?;
+                Ok(done)
+            }
+            Request::Home { delay_ms } => {
+                let motion = Motion::ToJoints {
+                    target: kinematics::to_radians(&HOME_DEG),
+                    fraction: self.fraction() * MAX_JOINT_FRACTION,
+                };
+                self.command(arm, motion, delay_ms, false)?;
+                Ok(done)
+            }
+            Request::PolarPanStart {
+                moving_azimuth,
+                moving_altitude,
+            } => {
+                if moving_azimuth == 0 && moving_altitude == 0 {
+                    arm.stop();
+                    return Ok(done);
+                }
+                let rate = MAX_JOG_ANGULAR_DEG.to_radians() * self.fraction();
+                let motion = Motion::Polar {
+                    azimuth: f64::from(moving_azimuth) * rate,
+                    altitude: f64::from(moving_altitude) * rate,
+                };
+                self.continuous(arm, motion)?;
+                Ok(done)
+            }
+            Request::PolarPanStop | Request::CartesianMoveStop => {
+                arm.stop();
+                Ok(done)
+            }
+            Request::CartesianMove {
+                delta_x,
+                delta_y,
+                delta_z,
+                delay_ms,
+                time_ms,
+            } => {
+                let delta =
+                    Vector3::new(f64::from(delta_x), f64::from(delta_y), f64::from(delta_z))
+                        / 10_000.0;
+                let mut target = arm.pose();
+                target.position += delta;
+                let speed = self.timed_speed(delta.norm(), time_ms, MAX_JOG_LINEAR);
+                let motion = Motion::ToPose {
+                    target,
+                    linear_speed: speed,
+                    angular_speed: MAX_JOG_ANGULAR_DEG.to_radians(),
+                };
+                self.command(arm, motion, delay_ms, false)?;
+                Ok(done)
+            }
+            Request::CartesianMoveStart {
+                moving_x,
+                moving_y,
+                moving_z,
+            } => {
+                let direction = Vector3::new(
+                    f64::from(moving_x),
+                    f64::from(moving_y),
+                    f64::from(moving_z),
+                );
+                if direction.norm() == 0.0 {
+                    arm.stop();
+                    return Ok(done);
+                }
+                // Diagonals are normalised so the TCP never exceeds the jog speed.
+                let motion = Motion::Twist {
+                    linear: direction.normalize() * MAX_JOG_LINEAR * self.fraction(),
+                    angular: Vector3::zeros(),
+                    frame: Frame::Base,
+                };
+                self.continuous(arm, motion)?;
+                Ok(done)
+            }
+            Request::HardwareOperation {
+                subcommand,
+                payload,
+                ..
+            } => {
+                let hw = HwRequest::decode(subcommand, &payload)
+                    .map_err(|e| ReturnCode(e.return_code()))?;
+                let reply = hardware_operation(arm, hw)?;
+                Ok(Reply::HardwareOperation {
+                    return_code: ok,
+                    subcommand,
+                    payload: reply.encode_payload(),
+                })
+            }
+            Request::GetSpeed => Ok(Reply::GetSpeed {
+                return_code: ok,
+                speed: self.speed,
+            }),
+            Request::SetSpeed { speed } => {
+                if !(1..=100).contains(&speed) {
+                    return Err(ReturnCode::OUT_OF_RANGE);
+                }
+                self.speed = speed;
+                Ok(done)
+            }
+            Request::SavePosition {
+                name,
+                anchor,
+                parent,
+            } => {
+                self.save(arm, name, anchor, parent)?;
+                Ok(done)
+            }
+            Request::DeletePosition { name } => {
+                self.delete(&name)?;
+                Ok(done)
+            }
+            Request::GoToPosition { name } => {
+                let motion = self.go_to(&name)?;
+                self.command(arm, motion, 0, false)?;
+                Ok(done)
+            }
+            Request::SetPolarPosition {
+                name,
+                delta,
+                azimuth,
+                radius,
+            } => {
+                let (el, az) = (
+                    (f64::from(delta) / 10.0).to_radians(),
+                    (f64::from(azimuth) / 10.0).to_radians(),
+                );
+                let r = f64::from(radius) / 10_000.0;
+                let xyz = Vector3::new(
+                    r * el.cos() * az.cos(),
+                    r * el.cos() * az.sin(),
+                    r * el.sin(),
+                );
+                self.set_absolute_position(arm, name, xyz)?;
+                Ok(done)
+            }
+            Request::GetPolarPosition { name } => {
+                let p = self.absolute(&name, 0)?.position;
+                let horizontal = p.x.hypot(p.y);
+                Ok(Reply::GetPolarPosition {
+                    return_code: ok,
+                    delta: tenths(p.z.atan2(horizontal).to_degrees()),
+                    azimuth: tenths(p.y.atan2(p.x).to_degrees()),
+                    radius: tenths(p.norm() * 1000.0),
+                })
+            }
+            Request::SetCartesianPosition { name, x, y, z } => {
+                let xyz = Vector3::new(f64::from(x), f64::from(y), f64::from(z)) / 10_000.0;
+                self.set_absolute_position(arm, name, xyz)?;
+                Ok(done)
+            }
+            Request::GetCartesianPosition { name } => {
+                let p = self.absolute(&name, 0)?.position;
+                Ok(Reply::GetCartesianPosition {
+                    return_code: ok,
+                    x: tenths(p.x * 1000.0),
+                    y: tenths(p.y * 1000.0),
+                    z: tenths(p.z * 1000.0),
+                })
+            }
+        }
+    }
+
+    /// Speed so a move of `amount` takes `time_ms`, capped at `max`; without a time, the current
+    /// speed setting.
+    fn timed_speed(&self, amount: f64, time_ms: u32, max: f64) -> f64 {
+        if time_ms == 0 {
+            return max * self.fraction();
+        }
+        (amount / (f64::from(time_ms) / 1000.0)).clamp(1e-4, max)
+    }
+
+    fn command(
+        &self,
+        arm: &mut Arm,
+        motion: Motion,
+        delay_ms: u32,
+        watchdog: bool,
+    ) -> Result<(), ReturnCode> {
+        arm.command(motion, f64::from(delay_ms) / 1000.0, watchdog)
+            .map_err(refusal_code)
+    }
+
+    /// A continuous START: a repeat of the running motion only refreshes the watchdog.
+    fn continuous(&self, arm: &mut Arm, motion: Motion) -> Result<(), ReturnCode> {
+        if *arm.motion() == motion {
+            arm.refresh_watchdog();
+            return Ok(());
+        }
+        self.command(arm, motion, 0, true)
+    }
+
+    fn save(
+        &mut self,
+        arm: &Arm,
+        name: String,
+        anchor: bool,
+        parent: String,
+    ) -> Result<(), ReturnCode> {
+        let here = arm.pose();
+        let parent = (!parent.is_empty()).then_some(parent);
+        let anchored_to = match (&parent, anchor) {
+            (Some(p), true) => Some(p.clone()),
+            _ => None,
+        };
+        if let Some(p) = &parent
+            && (!self.positions.contains_key(p) || self.depends_on(p, &name))
+        {
+            return Err(ReturnCode::INVALID_PARENT);
+        }
+        let position = match &anchored_to {
+            Some(p) => {
+                let parent_pose = self.absolute(p, 0)?;
+                SavedPosition {
+                    pose: pose_of(&(iso(&parent_pose).inverse() * iso(&here))),
+                    joints: None,
+                    anchor: true,
+                    parent,
+                }
+            }
+            None => SavedPosition {
+                pose: here,
+                joints: Some(arm.joints()),
+                anchor: false,
+                parent,
+            },
+        };
+        self.positions.insert(name, position);
+        Ok(())
+    }
+
+    /// Whether `name`'s anchor chain passes through `ancestor` (or is it).
+    fn depends_on(&self, name: &str, ancestor: &str) -> bool {
+        let mut current = Some(name.to_string());
+        for _ in 0..=MAX_ANCHOR_DEPTH {
+            let Some(n) = current else { return false };
+            if n == ancestor {
+                return true;
+            }
+            current = self
+                .positions
+                .get(&n)
+                .filter(|p| p.anchor)
+                .and_then(|p| p.parent.clone());
+        }
+        true
+    }
+
+    fn delete(&mut self, name: &str) -> Result<(), ReturnCode> {
+        if !self.positions.contains_key(name) {
+            return Err(ReturnCode::UNKNOWN_POSITION);
+        }
+        // Freeze anchored children where they are now.
+        let children: Vec<String> = self
+            .positions
+            .iter()
+            .filter(|(_, p)| p.anchor && p.parent.as_deref() == Some(name))
+            .map(|(n, _)| n.clone())
+            .collect();
+        for child in children {
+            let pose = self.absolute(&child, 0)?;
+            if let Some(p) = self.positions.get_mut(&child) {
+                *p = SavedPosition {
+                    pose,
+                    joints: None,
+                    anchor: false,
+                    parent: None,
+                };
+            }
+        }
+        self.positions.remove(name);
+        Ok(())
+    }
+
+    /// The absolute pose of a named position, following anchors.
+    fn absolute(&self, name: &str, depth: usize) -> Result<Pose, ReturnCode> {
+        let position = self
+            .positions
+            .get(name)
+            .ok_or(ReturnCode::UNKNOWN_POSITION)?;
+        match (&position.parent, position.anchor) {
+            (Some(parent), true) => {
+                if depth >= MAX_ANCHOR_DEPTH {
+                    return Err(ReturnCode::INVALID_PARENT);
+                }
+                let parent_pose = self.absolute(parent, depth + 1)?;
+                Ok(pose_of(&(iso(&parent_pose) * iso(&position.pose))))
+            }
+            _ => Ok(position.pose),
+        }
+    }
+
+    fn go_to(&self, name: &str) -> Result<Motion, ReturnCode> {
+        let position = self
+            .positions
+            .get(name)
+            .ok_or(ReturnCode::UNKNOWN_POSITION)?;
+        if let (Some(joints), false) = (position.joints, position.anchor) {
+            return Ok(Motion::ToJoints {
+                target: joints,
+                fraction: self.fraction() * MAX_JOINT_FRACTION,
+            });
+        }
+        Ok(Motion::ToPose {
+            target: self.absolute(name, 0)?,
+            linear_speed: MAX_JOG_LINEAR * self.fraction(),
+            angular_speed: MAX_JOG_ANGULAR_DEG.to_radians() * self.fraction(),
+        })
+    }
+
+    /// Set Polar / Set Cartesian: the position's absolute place becomes `xyz`; its orientation is
+    /// kept (a new position takes the tool's current orientation). An anchored position stays
+    /// anchored, its offset recomputed.
+    fn set_absolute_position(
+        &mut self,
+        arm: &Arm,
+        name: String,
+        xyz: Vector3<f64>,
+    ) -> Result<(), ReturnCode> {
+        let existing = self.positions.get(&name).cloned();
+        let rotation = match &existing {
+            Some(_) => self.absolute(&name, 0)?.rotation,
+            None => arm.pose().rotation,
+        };
+        let absolute = Pose {
+            position: xyz,
+            rotation,
+        };
+        let position = match existing {
+            Some(SavedPosition {
+                anchor: true,
+                parent: Some(parent),
+                ..
+            }) => {
+                let parent_pose = self.absolute(&parent, 0)?;
+                SavedPosition {
+                    pose: pose_of(&(iso(&parent_pose).inverse() * iso(&absolute))),
+                    joints: None,
+                    anchor: true,
+                    parent: Some(parent),
+                }
+            }
+            other => SavedPosition {
+                pose: absolute,
+                joints: None,
+                anchor: false,
+                parent: other.and_then(|p| p.parent),
+            },
+        };
+        self.positions.insert(name, position);
+        Ok(())
+    }
+}
+
+fn tenths(value: f64) -> i32 {
+    (value * 10.0)
+        .round()
+        .clamp(f64::from(i32::MIN), f64::from(i32::MAX)) as i32
+}
+
+/// The hardware companion ICD's operations on the simulated arm.
+fn hardware_operation(arm: &mut Arm, request: HwRequest) -> Result<HwReply, ReturnCode> {
+    let snapshot = arm.snapshot();
+    match request {
+        HwRequest::GetActuatorFeedback { selector } => {
+            let joints: Vec<u8> = if selector == hardware::ALL_JOINTS {
+                (1..=hardware::JOINT_COUNT).collect()
+            } else {
+                vec![selector]
+            };
+            Ok(HwReply::GetActuatorFeedback {
+                actuators: joints
+                    .into_iter()
+                    .map(|j| super::telemetry::actuator_feedback(&snapshot, j))
+                    .collect(),
+            })
+        }
+        HwRequest::SendActuatorCommand { joint, command } => {
+            use hardware::CommandFlags as F;
+            let flags = command.flags;
+            if flags.contains(F::CLEAR_MAJOR_FAULT) || flags.contains(F::CLEAR_MINOR_FAULT) {
+                arm.fault_reset();
+            }
+            if flags.contains(F::SERVO_ENABLE) {
+                let index = usize::from(joint.saturating_sub(1));
+                let velocity = f64::from(command.velocity_deg_s).to_radians();
+                let motion = Motion::JointVelocity {
+                    joint: index,
+                    velocity,
+                };
+                if velocity == 0.0 {
+                    arm.stop();
+                } else if *arm.motion() == motion {
+                    arm.refresh_watchdog();
+                } else {
+                    arm.command(motion, 0.0, true).map_err(refusal_code)?;
+                }
+            }
+            Ok(HwReply::SendActuatorCommand {
+                feedback: super::telemetry::actuator_feedback(&arm.snapshot(), joint),
+            })
+        }
+        HwRequest::GetArmState => Ok(HwReply::GetArmState {
+            state: super::telemetry::arm_state(&snapshot),
+        }),
+        HwRequest::StopAllJoints => {
+            arm.stop();
+            Ok(HwReply::StopAllJoints)
+        }
+        HwRequest::ClearAllFaults => {
+            arm.fault_reset();
+            Ok(HwReply::ClearAllFaults)
+        }
+    }
+}

@@ -1,0 +1,415 @@
+//! The simulated operator's semantics, driven directly (no sockets).
+
+use super::arm::{Arm, Motion};
+use super::operator::{MAX_JOG_LINEAR, Operator, VERSION};
+use crate::talos::hardware::{self, ActuatorCommand, HwReply, HwRequest};
+use crate::talos::{Reply, Request, ReturnCode};
+
+fn rc(reply: &Reply) -> ReturnCode {
+    reply.return_code()
+}
+
+fn cart(op: &mut Operator, arm: &mut Arm, name: &str) -> (i32, i32, i32) {
+    match op.handle(arm, Request::GetCartesianPosition { name: name.into() }) {
+        Reply::GetCartesianPosition {
+            return_code,
+            x,
+            y,
+            z,
+        } if return_code.is_ok() => (x, y, z),
+        other => panic!("get_cart {name}: {other:?}"),
+    }
+}
+
+fn save(op: &mut Operator, arm: &mut Arm, name: &str, anchor: bool, parent: &str) -> ReturnCode {
+    let reply = op.handle(
+        arm,
+        Request::SavePosition {
+            name: name.into(),
+            anchor,
+            parent: parent.into(),
+        },
+    );
+    rc(&reply)
+}
+
+#[test]
+fn handshake_reports_the_version() {
+    let reply = Operator::default().handle(&mut Arm::default(), Request::Handshake { oid: 3 });
+    assert_eq!(
+        reply,
+        Reply::Handshake {
+            return_code: ReturnCode::OK,
+            major_version: VERSION.0,
+            minor_version: VERSION.1
+        }
+    );
+}
+
+#[test]
+fn speed_is_a_percentage_and_0_or_over_100_is_refused() {
+    let (mut op, mut arm) = (Operator::default(), Arm::default());
+    assert_eq!(
+        rc(&op.handle(&mut arm, Request::SetSpeed { speed: 80 })),
+        ReturnCode::OK
+    );
+    assert_eq!(
+        op.handle(&mut arm, Request::GetSpeed),
+        Reply::GetSpeed {
+            return_code: ReturnCode::OK,
+            speed: 80
+        }
+    );
+    for bad in [0, 101, 255] {
+        assert_eq!(
+            rc(&op.handle(&mut arm, Request::SetSpeed { speed: bad })),
+            ReturnCode::OUT_OF_RANGE
+        );
+    }
+    assert_eq!(op.speed(), 80);
+}
+
+#[test]
+fn cartesian_start_moves_along_x_at_the_speed_setting_until_the_watchdog() {
+    let (mut op, mut arm) = (Operator::default(), Arm::default());
+    op.handle(&mut arm, Request::SetSpeed { speed: 40 });
+    let x0 = arm.pose().position;
+    let start = Request::CartesianMoveStart {
+        moving_x: 1,
+        moving_y: 0,
+        moving_z: 0,
+    };
+    assert!(rc(&op.handle(&mut arm, start.clone())).is_ok());
+    arm.advance(0.3);
+    op.handle(&mut arm, start);
+    arm.advance(0.3);
+    let moved = arm.pose().position - x0;
+    let expected = MAX_JOG_LINEAR * 0.4 * 0.6;
+    assert!(
+        (moved.x - expected).abs() < 0.01,
+        "moved {moved:?}, expected {expected}"
+    );
+    assert!(arm.is_moving());
+    arm.advance(0.25);
+    assert!(
+        !arm.is_moving(),
+        "the watchdog stops 500 ms after the last START"
+    );
+}
+
+#[test]
+fn a_stop_stops_either_kind_of_continuous_motion() {
+    let (mut op, mut arm) = (Operator::default(), Arm::default());
+    op.handle(
+        &mut arm,
+        Request::PolarPanStart {
+            moving_azimuth: 1,
+            moving_altitude: 0,
+        },
+    );
+    arm.advance(0.05);
+    op.handle(&mut arm, Request::CartesianMoveStop);
+    assert!(arm.motion().is_idle());
+    op.handle(
+        &mut arm,
+        Request::CartesianMoveStart {
+            moving_x: 0,
+            moving_y: 0,
+            moving_z: 1,
+        },
+    );
+    op.handle(&mut arm, Request::PolarPanStop);
+    assert!(arm.motion().is_idle());
+}
+
+#[test]
+fn discrete_cartesian_move_arrives_and_honours_delay() {
+    let (mut op, mut arm) = (Operator::default(), Arm::default());
+    let p0 = arm.pose().position;
+    let reply = op.handle(
+        &mut arm,
+        Request::CartesianMove {
+            delta_x: 0,
+            delta_y: 500,
+            delta_z: -300,
+            delay_ms: 200,
+            time_ms: 1000,
+        },
+    );
+    assert!(rc(&reply).is_ok());
+    arm.advance(0.15);
+    assert!(
+        (arm.pose().position - p0).norm() < 1e-6,
+        "still waiting for the delay"
+    );
+    arm.advance(2.5);
+    let d = arm.pose().position - p0;
+    assert!(
+        (d.y - 0.05).abs() < 1e-3 && (d.z + 0.03).abs() < 1e-3,
+        "{d:?}"
+    );
+}
+
+#[test]
+fn polar_pan_discrete_turns_the_azimuth_by_whole_degrees() {
+    let (mut op, mut arm) = (Operator::default(), Arm::default());
+    let p0 = arm.pose().position;
+    let reply = op.handle(
+        &mut arm,
+        Request::PolarPan {
+            delta_azimuth: 10,
+            delta_altitude: 0,
+            delay_ms: 0,
+            time_ms: 0,
+        },
+    );
+    assert!(rc(&reply).is_ok());
+    arm.advance(3.0);
+    let p = arm.pose().position;
+    let turned = (p.y.atan2(p.x) - p0.y.atan2(p0.x)).to_degrees();
+    assert!((turned - 10.0).abs() < 0.2, "{turned}");
+}
+
+#[test]
+fn an_unreachable_move_is_refused_and_nothing_moves() {
+    let (mut op, mut arm) = (Operator::default(), Arm::default());
+    let reply = op.handle(
+        &mut arm,
+        Request::CartesianMove {
+            delta_x: 20_000,
+            delta_y: 0,
+            delta_z: 0,
+            delay_ms: 0,
+            time_ms: 0,
+        },
+    );
+    assert_eq!(rc(&reply), ReturnCode::UNREACHABLE);
+    assert!(arm.motion().is_idle());
+}
+
+#[test]
+fn motion_is_refused_while_the_arm_is_in_fault() {
+    let (mut op, mut arm) = (Operator::default(), Arm::default());
+    arm.quick_stop();
+    let reply = op.handle(&mut arm, Request::Home { delay_ms: 0 });
+    assert_eq!(rc(&reply), ReturnCode::ARM_FAULT);
+}
+
+#[test]
+fn save_go_to_and_get_a_named_position() {
+    let (mut op, mut arm) = (Operator::default(), Arm::default());
+    assert_eq!(save(&mut op, &mut arm, "start", false, ""), ReturnCode::OK);
+    let (x, y, z) = cart(&mut op, &mut arm, "start");
+    assert!(
+        (x - 4566).abs() <= 10 && (y - 10).abs() <= 10 && (z - 4338).abs() <= 10,
+        "{x} {y} {z}"
+    );
+    op.handle(
+        &mut arm,
+        Request::CartesianMove {
+            delta_x: 0,
+            delta_y: 800,
+            delta_z: 0,
+            delay_ms: 0,
+            time_ms: 0,
+        },
+    );
+    arm.advance(2.0);
+    assert!(
+        rc(&op.handle(
+            &mut arm,
+            Request::GoToPosition {
+                name: "start".into()
+            }
+        ))
+        .is_ok()
+    );
+    arm.advance(4.0);
+    let p = arm.pose().position;
+    assert!((p.y - 0.001).abs() < 1e-3, "back at start: {p:?}");
+}
+
+#[test]
+fn unknown_names_and_parents_get_their_codes() {
+    let (mut op, mut arm) = (Operator::default(), Arm::default());
+    for request in [
+        Request::GoToPosition {
+            name: "nope".into(),
+        },
+        Request::DeletePosition {
+            name: "nope".into(),
+        },
+        Request::GetPolarPosition {
+            name: "nope".into(),
+        },
+        Request::GetCartesianPosition {
+            name: "nope".into(),
+        },
+    ] {
+        assert_eq!(
+            rc(&op.handle(&mut arm, request)),
+            ReturnCode::UNKNOWN_POSITION
+        );
+    }
+    assert_eq!(
+        save(&mut op, &mut arm, "child", true, "missing"),
+        ReturnCode::INVALID_PARENT
+    );
+}
+
+#[test]
+fn set_cartesian_and_set_polar_round_trip_through_get() {
+    let (mut op, mut arm) = (Operator::default(), Arm::default());
+    let set = Request::SetCartesianPosition {
+        name: "p".into(),
+        x: 4000,
+        y: -1000,
+        z: 3000,
+    };
+    assert!(rc(&op.handle(&mut arm, set)).is_ok());
+    assert_eq!(cart(&mut op, &mut arm, "p"), (4000, -1000, 3000));
+    // 30.0 deg elevation, 45.0 deg azimuth, 500.0 mm radius.
+    let set = Request::SetPolarPosition {
+        name: "q".into(),
+        delta: 300,
+        azimuth: 450,
+        radius: 5000,
+    };
+    assert!(rc(&op.handle(&mut arm, set)).is_ok());
+    let reply = op.handle(&mut arm, Request::GetPolarPosition { name: "q".into() });
+    assert_eq!(
+        reply,
+        Reply::GetPolarPosition {
+            return_code: ReturnCode::OK,
+            delta: 300,
+            azimuth: 450,
+            radius: 5000
+        }
+    );
+    // r cos(30) cos(45) = 306.2 mm; z = r sin(30) = 250 mm.
+    assert_eq!(cart(&mut op, &mut arm, "q"), (3062, 3062, 2500));
+}
+
+#[test]
+fn an_anchored_position_moves_with_its_parent_and_is_frozen_when_the_parent_goes() {
+    let (mut op, mut arm) = (Operator::default(), Arm::default());
+    op.handle(
+        &mut arm,
+        Request::SetCartesianPosition {
+            name: "table".into(),
+            x: 4000,
+            y: 0,
+            z: 2000,
+        },
+    );
+    // The arm is at home, (4566, 10, 4338): 566 / 10 / 2338 tenths from the table.
+    assert_eq!(
+        save(&mut op, &mut arm, "cup", true, "table"),
+        ReturnCode::OK
+    );
+    assert_eq!(
+        save(&mut op, &mut arm, "note", false, "table"),
+        ReturnCode::OK
+    );
+    let before_note = cart(&mut op, &mut arm, "note");
+    op.handle(
+        &mut arm,
+        Request::SetCartesianPosition {
+            name: "table".into(),
+            x: 4000,
+            y: 1000,
+            z: 2000,
+        },
+    );
+    let (x, y, z) = cart(&mut op, &mut arm, "cup");
+    assert!(
+        (x - 4566).abs() <= 2 && (y - 1010).abs() <= 2 && (z - 4338).abs() <= 2,
+        "{x} {y} {z}"
+    );
+    assert_eq!(
+        cart(&mut op, &mut arm, "note"),
+        before_note,
+        "not anchored: stays"
+    );
+    // A parent may not become its own descendant.
+    assert_eq!(
+        save(&mut op, &mut arm, "table", true, "cup"),
+        ReturnCode::INVALID_PARENT
+    );
+    assert!(
+        rc(&op.handle(
+            &mut arm,
+            Request::DeletePosition {
+                name: "table".into()
+            }
+        ))
+        .is_ok()
+    );
+    let (x, y, _) = cart(&mut op, &mut arm, "cup");
+    assert!(
+        (x - 4566).abs() <= 2 && (y - 1010).abs() <= 2,
+        "frozen where it was"
+    );
+}
+
+#[test]
+fn hardware_operations_read_feedback_and_jog_one_joint() {
+    let (mut op, mut arm) = (Operator::default(), Arm::default());
+    let hw = |request: HwRequest| Request::HardwareOperation {
+        subcommand: request.subcommand(),
+        reserved: 0,
+        payload: request.encode_payload().unwrap(),
+    };
+    let reply = op.handle(&mut arm, hw(HwRequest::GetActuatorFeedback { selector: 0 }));
+    let Reply::HardwareOperation {
+        return_code,
+        subcommand,
+        payload,
+    } = reply
+    else {
+        panic!()
+    };
+    assert!(return_code.is_ok());
+    let HwReply::GetActuatorFeedback { actuators } = HwReply::decode(subcommand, &payload).unwrap()
+    else {
+        panic!()
+    };
+    assert_eq!(actuators.len(), 7);
+    assert!((actuators[3].position_deg - 230.0).abs() < 0.01);
+
+    let jog = HwRequest::SendActuatorCommand {
+        joint: 1,
+        command: ActuatorCommand::jog(0.0, 10.0),
+    };
+    assert!(rc(&op.handle(&mut arm, hw(jog))).is_ok());
+    assert!(matches!(
+        arm.motion(),
+        Motion::JointVelocity { joint: 0, .. }
+    ));
+    arm.advance(0.4);
+    assert!((arm.joints()[0].to_degrees() - 4.0).abs() < 0.1);
+    arm.advance(0.2);
+    assert!(
+        arm.motion().is_idle(),
+        "jog stops without a refresh within 500 ms"
+    );
+
+    let unknown = Request::HardwareOperation {
+        subcommand: 0x0042,
+        reserved: 0,
+        payload: vec![],
+    };
+    assert_eq!(
+        rc(&op.handle(&mut arm, unknown)),
+        ReturnCode::UNSUPPORTED_SUBCOMMAND
+    );
+    let short = Request::HardwareOperation {
+        subcommand: hardware::subcommand::SEND_ACTUATOR_COMMAND,
+        reserved: 0,
+        payload: vec![1, 2],
+    };
+    assert_eq!(
+        rc(&op.handle(&mut arm, short)),
+        ReturnCode::MALFORMED_PAYLOAD
+    );
+}
