@@ -1,0 +1,133 @@
+//! armjog's hardware companion ICD for Talos "Execute Hardware Operation" (0x0008 / 0x8008).
+//!
+//! The Talos ICD leaves the subcommand values and their payloads to a hardware-specific
+//! companion ICD; `docs/hardware-icd.md` is armjog's, for a Kinova Gen3 7-joint arm, modelled on
+//! Kinova's ActuatorCyclic service. This module is that document as code: the subcommand values,
+//! the typed requests and replies, and their exact byte layouts. It is pure (no IO) and never
+//! panics on input: every length and field is checked and reported as an [`HwError`].
+//!
+//! Only the inner `Payload` bytes live here. The Talos wrapper around them (Subcommand UINT16 and
+//! RESERVED UINT32 in the request, Return Code UINT16 and Subcommand UINT16 in the reply) is the
+//! frame/message layer's. All values are big-endian; physical values are IEEE-754 `f32`.
+//!
+//! The code is split by layer: `flags` holds the flag-word newtypes and [`RobotState`],
+//! `payload` the payload structures and their byte layouts, `message` the typed
+//! [`HwRequest`] and [`HwReply`], and `reader` the field checks and the big-endian reader they
+//! share. Everything public is re-exported here, so paths are `armjog::talos::hardware::...`.
+
+mod flags;
+mod message;
+mod payload;
+mod reader;
+
+pub use flags::{ArmFlags, CommandFlags, RobotState, StatusFlags};
+pub use message::{HwReply, HwRequest};
+pub use payload::{ActuatorCommand, ActuatorFeedback, ArmState};
+
+/// Joints of a Kinova Gen3 7-DOF arm; joints are numbered `1..=JOINT_COUNT` from the base.
+pub const JOINT_COUNT: u8 = 7;
+/// GET_ACTUATOR_FEEDBACK selector meaning "every joint".
+pub const ALL_JOINTS: u8 = 0;
+/// Bytes of one actuator feedback block (joint + 13 four-byte fields).
+pub const FEEDBACK_BLOCK_LEN: usize = 53;
+/// Bytes of a SEND_ACTUATOR_COMMAND request payload (joint + flags + 4 setpoints).
+pub const ACTUATOR_COMMAND_LEN: usize = 21;
+/// Bytes of a GET_ARM_STATE reply payload.
+pub const ARM_STATE_LEN: usize = 98;
+
+/// The subcommand values carried in the Talos "Subcommand Value" field (request and reply alike).
+pub mod subcommand {
+    /// Read the feedback of one actuator or of all of them.
+    pub const GET_ACTUATOR_FEEDBACK: u16 = 0x0001;
+    /// Send one command to one actuator; the reply carries its feedback (like ActuatorCyclic.Refresh).
+    pub const SEND_ACTUATOR_COMMAND: u16 = 0x0002;
+    /// Read the arm-level state, pose, twist and wrench.
+    pub const GET_ARM_STATE: u16 = 0x0003;
+    /// Bring every joint to velocity 0 and hold position.
+    pub const STOP_ALL_JOINTS: u16 = 0x0004;
+    /// Clear the major and minor fault flags of every actuator.
+    pub const CLEAR_ALL_FAULTS: u16 = 0x0005;
+
+    /// Every defined subcommand, ascending.
+    pub const ALL: [u16; 5] = [
+        GET_ACTUATOR_FEEDBACK,
+        SEND_ACTUATOR_COMMAND,
+        GET_ARM_STATE,
+        STOP_ALL_JOINTS,
+        CLEAR_ALL_FAULTS,
+    ];
+
+    /// snake_case name of a defined subcommand.
+    pub fn name(value: u16) -> Option<&'static str> {
+        match value {
+            GET_ACTUATOR_FEEDBACK => Some("get_actuator_feedback"),
+            SEND_ACTUATOR_COMMAND => Some("send_actuator_command"),
+            GET_ARM_STATE => Some("get_arm_state"),
+            STOP_ALL_JOINTS => Some("stop_all_joints"),
+            CLEAR_ALL_FAULTS => Some("clear_all_faults"),
+            _ => None,
+        }
+    }
+}
+
+/// "0x0002 (send_actuator_command)", for error messages.
+fn subcommand_label(value: &u16) -> String {
+    match subcommand::name(*value) {
+        Some(name) => format!("0x{value:04X} ({name})"),
+        None => format!("0x{value:04X}"),
+    }
+}
+
+/// What was wrong with a hardware payload or with a value to be encoded.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum HwError {
+    #[error("unknown hardware subcommand 0x{0:04X}")]
+    UnknownSubcommand(u16),
+    #[error("payload too short for subcommand {}: expected {expected} bytes, got {got}", subcommand_label(.subcommand))]
+    TooShort {
+        subcommand: u16,
+        expected: usize,
+        got: usize,
+    },
+    #[error("payload too long for subcommand {}: expected {expected} bytes, got {got}", subcommand_label(.subcommand))]
+    TooLong {
+        subcommand: u16,
+        expected: usize,
+        got: usize,
+    },
+    #[error("joint selector {0} out of range: expected 0 (all joints) or 1..=7")]
+    SelectorOutOfRange(u8),
+    #[error("joint {0} out of range: expected 1..=7")]
+    JointOutOfRange(u8),
+    #[error("actuator count {0} out of range: expected 0..=7")]
+    CountOutOfRange(usize),
+    #[error(
+        "count mismatch for subcommand {}: count byte says {count} actuator blocks ({expected} bytes) but the payload has {got} bytes",
+        subcommand_label(.subcommand)
+    )]
+    CountMismatch {
+        subcommand: u16,
+        count: u8,
+        expected: usize,
+        got: usize,
+    },
+    #[error(
+        "actuator blocks out of order: joint {joint} follows joint {previous} (must be strictly ascending)"
+    )]
+    JointOrder { previous: u8, joint: u8 },
+    #[error("non-finite value in field {field}")]
+    NonFinite { field: &'static str },
+    #[error("undefined bits 0x{bits:08X} set in field {field}")]
+    UndefinedBits { field: &'static str, bits: u32 },
+}
+
+impl HwError {
+    /// The Talos return code a server answers with when a request fails to decode:
+    /// 0x0009 UNSUPPORTED_SUBCOMMAND for an unknown subcommand, 0x0002 MALFORMED_PAYLOAD otherwise.
+    pub fn return_code(&self) -> u16 {
+        match self {
+            HwError::UnknownSubcommand(_) => 0x0009,
+            _ => 0x0002,
+        }
+    }
+}
