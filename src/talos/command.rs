@@ -80,6 +80,49 @@ impl CommandValue {
         Self::from_request_value(value & !REPLY_BIT)
     }
 
+    /// Whether the ICD allows a payload of `length` bytes for this command's request
+    /// (`reply == false`) or reply. Names are 1-255 bytes; a reply may also be a bare 2-byte
+    /// return code, as error replies can be.
+    pub fn allows_payload_len(self, reply: bool, length: usize) -> bool {
+        use CommandValue as C;
+        const NAME: usize = 1 + 255;
+        if reply {
+            return length == 2
+                || match self {
+                    C::Handshake => length == 4,
+                    C::ExecuteHardwareOperation => length >= 4,
+                    C::GetSpeed => length == 3,
+                    C::GetPolarPosition | C::GetCartesianPosition => length == 14,
+                    _ => false,
+                };
+        }
+        let range = match self {
+            C::Handshake => 2..=2,
+            C::PolarPanDiscrete => 16..=16,
+            C::Home => 4..=4,
+            C::PolarPanStart => 2..=2,
+            C::PolarPanStop | C::CartesianMoveStop | C::GetSpeed => 0..=0,
+            C::CartesianMoveDiscrete => 20..=20,
+            C::CartesianMoveStart => 3..=3,
+            C::ExecuteHardwareOperation => 6..=usize::MAX,
+            C::SetSpeed => 1..=1,
+            C::SavePosition => 4..=NAME + 1 + NAME,
+            C::DeletePosition | C::GoToPosition | C::GetPolarPosition | C::GetCartesianPosition => {
+                2..=NAME
+            }
+            C::SetPolarPosition | C::SetCartesianPosition => 14..=NAME + 12,
+        };
+        range.contains(&length)
+    }
+
+    /// Whether `length` is a payload length the ICD allows for the command value `value` (either
+    /// direction). False for values the ICD does not define.
+    pub fn is_plausible(value: u16, length: usize) -> bool {
+        let reply = value & REPLY_BIT != 0;
+        Self::from_request_value(value & !REPLY_BIT)
+            .is_some_and(|c| c.allows_payload_len(reply, length))
+    }
+
     /// Whether a command value (either direction) is one the ICD defines.
     pub fn is_known_value(value: u16) -> bool {
         Self::from_request_value(value & !REPLY_BIT).is_some()
@@ -126,5 +169,19 @@ mod tests {
         assert_eq!(CommandValue::from_request_value(0x0012), None);
         assert!(CommandValue::is_known_value(0x8011));
         assert!(!CommandValue::is_known_value(0x8012));
+    }
+
+    #[test]
+    fn plausible_lengths_follow_the_icd_tables() {
+        assert!(CommandValue::is_plausible(0x0006, 3));
+        assert!(!CommandValue::is_plausible(0x0006, 4));
+        assert!(CommandValue::is_plausible(0x0004, 0));
+        assert!(CommandValue::is_plausible(0x000B, 4)); // 1-byte name, anchor, empty parent
+        assert!(CommandValue::is_plausible(0x000B, 513));
+        assert!(!CommandValue::is_plausible(0x000B, 514));
+        assert!(CommandValue::is_plausible(0x8011, 14));
+        assert!(CommandValue::is_plausible(0x8011, 2)); // bare error reply
+        assert!(!CommandValue::is_plausible(0x8011, 13));
+        assert!(!CommandValue::is_plausible(0x0042, 0));
     }
 }

@@ -7,11 +7,12 @@
 //! [`Checksum`].
 //!
 //! The wrapper has no sync marker, so resynchronisation after garbage or a corrupt frame is a
-//! search: drop one byte and try to parse again. While searching, a position is only trusted as
-//! a frame start if its command value is one the ICD defines; otherwise a garbage "length" could
-//! make the decoder wait for bytes that never come. At a clean frame boundary the header is
-//! trusted as is, so a well-formed frame with an unknown command still reaches the server, which
-//! answers "unknown command".
+//! search: drop one byte and try to parse again. The decoder only waits for the rest of a frame
+//! whose command value is in the ICD and whose length the ICD allows for it; otherwise a garbage
+//! "length" could make it wait for bytes that never come. While searching, only such plausible
+//! positions count as frame starts. At a clean frame boundary a complete frame with a good
+//! checksum is accepted as is, so one with an unknown command or a wrong payload length still
+//! reaches the server, which answers "unknown command" or "malformed payload".
 
 use bytes::{Buf, BytesMut};
 use std::fmt;
@@ -114,9 +115,12 @@ pub enum RejectReason {
     BadChecksum { expected: u16, found: u16 },
     /// The Length field is above the decoder's bound.
     OversizedLength { length: u16, max: usize },
-    /// While resynchronising (or with no checksum to trust), a command value the ICD does not
-    /// define cannot start a frame.
+    /// A command value the ICD does not define cannot start a frame while resynchronising (or
+    /// with no checksum to trust), nor be waited for.
     UnknownCommand { value: u16 },
+    /// The Length field is not one the ICD allows for the command value: not a frame start
+    /// while resynchronising, nor one worth waiting for.
+    ImplausibleLength { command: u16, length: u16 },
     /// The stream ended inside a frame.
     Truncated { have: usize, needed: usize },
 }
@@ -134,6 +138,10 @@ impl fmt::Display for RejectReason {
             RejectReason::UnknownCommand { value } => {
                 write!(f, "command value 0x{value:04X} is not in the ICD")
             }
+            RejectReason::ImplausibleLength { command, length } => write!(
+                f,
+                "length {length} is not one the ICD allows for command value 0x{command:04X}"
+            ),
             RejectReason::Truncated { have, needed } => {
                 write!(f, "stream ended inside a frame ({have} of {needed} bytes)")
             }
@@ -184,20 +192,22 @@ fn header_at(buf: &[u8]) -> Option<FrameHeader> {
     })
 }
 
-/// Parses one frame at the start of `buf`. `strict` (set while resynchronising, and always for
-/// the `none` checksum) refuses command values the ICD does not define.
+/// Parses one frame at the start of `buf`.
+///
+/// `strict` (set while resynchronising, and always for the `none` checksum, which cannot tell a
+/// frame from noise) only accepts command values the ICD defines, with a payload length the ICD
+/// allows for them. Otherwise a complete frame with a good checksum is accepted whatever it
+/// carries, so the server can answer "unknown command" or "malformed payload"; but the decoder
+/// only *waits* for the rest of a frame whose header is plausible, so garbage that looks like a
+/// long header cannot stall the stream.
 pub fn parse_frame(buf: &[u8], checksum: Checksum, max_payload: usize, strict: bool) -> Parse {
     let Some(header) = header_at(buf) else {
         return Parse::Incomplete(HEADER_LEN);
     };
     let strict = strict || checksum == Checksum::None;
-    if strict && !CommandValue::is_known_value(header.command) {
-        return Parse::Invalid(
-            RejectReason::UnknownCommand {
-                value: header.command,
-            },
-            None,
-        );
+    let plausible = CommandValue::is_plausible(header.command, usize::from(header.length));
+    if strict && !plausible {
+        return Parse::Invalid(implausible(header), None);
     }
     if usize::from(header.length) > max_payload {
         let reason = RejectReason::OversizedLength {
@@ -209,6 +219,9 @@ pub fn parse_frame(buf: &[u8], checksum: Checksum, max_payload: usize, strict: b
     let body_end = HEADER_LEN + usize::from(header.length);
     let total = body_end + checksum.len();
     let Some(field) = buf.get(body_end..total) else {
+        if !plausible {
+            return Parse::Invalid(implausible(header), None);
+        }
         return Parse::Incomplete(total);
     };
     let covered = &buf[..body_end];
@@ -229,13 +242,26 @@ pub fn parse_frame(buf: &[u8], checksum: Checksum, max_payload: usize, strict: b
     Parse::Complete(frame, total)
 }
 
+fn implausible(header: FrameHeader) -> RejectReason {
+    if CommandValue::is_known_value(header.command) {
+        RejectReason::ImplausibleLength {
+            command: header.command,
+            length: header.length,
+        }
+    } else {
+        RejectReason::UnknownCommand {
+            value: header.command,
+        }
+    }
+}
+
 /// A `tokio_util` codec for Talos frames with one checksum dialect.
 #[derive(Debug, Clone)]
 pub struct FrameCodec {
     checksum: Checksum,
     max_payload: usize,
     /// False from the first dropped byte until the next valid frame: positions are then only
-    /// trusted as frame starts if their command value is known.
+    /// trusted as frame starts if their command value and length are plausible.
     synced: bool,
     /// Bytes dropped since the last report.
     discarded: usize,
@@ -323,10 +349,22 @@ impl Decoder for FrameCodec {
             _ => src.len(),
         };
         let have = src.len();
-        src.clear();
+        // The frame begun at the front can no longer complete, but its header may have been
+        // garbage or carried a corrupt length: a complete frame may still be buffered behind it.
+        // Drop up to the next position where one parses, as resynchronisation would.
+        let discarded = (1..have)
+            .find(|&at| {
+                matches!(
+                    parse_frame(&src[at..], self.checksum, self.max_payload, true),
+                    Parse::Complete(..)
+                )
+            })
+            .unwrap_or(have);
+        src.advance(discarded);
+        self.synced = false;
         Ok(Some(Decoded::Rejected(Rejection {
             reason: RejectReason::Truncated { have, needed },
-            discarded: have,
+            discarded,
             header: None,
         })))
     }
