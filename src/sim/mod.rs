@@ -1,9 +1,145 @@
 //! The simulated Kinova Gen3 arm and the servers in front of it.
+//!
+//! One [`world::SimArm`] task owns the arm; the Talos operator server (default
+//! `127.0.0.1:61616`) and the Kinova Modbus server (default `127.0.0.1:5020`) both drive it, so a
+//! jog over one protocol shows in the other's telemetry.
 
 pub mod arm;
 pub mod kinematics;
 pub mod operator;
+pub mod talos_server;
 pub mod telemetry;
+pub mod world;
 
 #[cfg(test)]
 mod operator_tests;
+
+use std::net::SocketAddr;
+
+use tokio::net::TcpListener;
+use tokio::sync::watch;
+use tokio::task::JoinHandle;
+
+use arm::Arm;
+use operator::Operator;
+use talos_server::{NetworkFaults, TalosServerConfig};
+use world::SimArm;
+
+pub const DEFAULT_TALOS_LISTEN: &str = "127.0.0.1:61616";
+pub const DEFAULT_MODBUS_LISTEN: &str = "127.0.0.1:5020";
+
+/// Where and how the simulator serves.
+#[derive(Debug, Clone)]
+pub struct SimConfig {
+    pub talos_listen: String,
+    pub talos: TalosServerConfig,
+    pub faults: NetworkFaults,
+    /// The arm's starting state (home pose at rest by default).
+    pub arm: Arm,
+}
+
+impl Default for SimConfig {
+    fn default() -> Self {
+        SimConfig {
+            talos_listen: DEFAULT_TALOS_LISTEN.into(),
+            talos: TalosServerConfig::default(),
+            faults: NetworkFaults::default(),
+            arm: Arm::default(),
+        }
+    }
+}
+
+impl SimConfig {
+    /// Both servers on ephemeral loopback ports: for tests and the console's built-in arm.
+    pub fn ephemeral() -> Self {
+        SimConfig {
+            talos_listen: "127.0.0.1:0".into(),
+            ..SimConfig::default()
+        }
+    }
+}
+
+/// Why the simulator could not start.
+#[derive(Debug, thiserror::Error)]
+pub enum SimError {
+    #[error("cannot listen for {what} on {addr}: {source}{hint}", hint = port_hint(.source))]
+    Bind {
+        what: &'static str,
+        addr: String,
+        source: std::io::Error,
+    },
+}
+
+fn port_hint(e: &std::io::Error) -> &'static str {
+    match e.kind() {
+        std::io::ErrorKind::AddrInUse => {
+            " (another program, perhaps another armjog sim, uses that port: choose another with --talos-listen / --modbus-listen)"
+        }
+        std::io::ErrorKind::PermissionDenied => " (ports below 1024 need privileges)",
+        _ => "",
+    }
+}
+
+/// A running simulator. Dropping it stops the servers.
+pub struct Simulator {
+    pub arm: SimArm,
+    pub talos_addr: SocketAddr,
+    faults: watch::Sender<NetworkFaults>,
+    tasks: Vec<JoinHandle<()>>,
+}
+
+impl Simulator {
+    pub async fn start(config: SimConfig) -> Result<Simulator, SimError> {
+        let talos_listener = bind("the Talos operator", &config.talos_listen).await?;
+        let talos_addr = local_addr("the Talos operator", &config.talos_listen, &talos_listener)?;
+        let arm = SimArm::spawn(config.arm, Operator::default());
+        let (faults, faults_rx) = watch::channel(config.faults);
+        let tasks = vec![tokio::spawn(talos_server::serve(
+            talos_listener,
+            arm.clone(),
+            config.talos,
+            faults_rx,
+        ))];
+        Ok(Simulator {
+            arm,
+            talos_addr,
+            faults,
+            tasks,
+        })
+    }
+
+    /// Changes the injected network faults; they apply to the next frame.
+    pub fn set_faults(&self, faults: NetworkFaults) {
+        self.faults.send_replace(faults);
+    }
+}
+
+impl Drop for Simulator {
+    fn drop(&mut self) {
+        for task in &self.tasks {
+            task.abort();
+        }
+    }
+}
+
+async fn bind(what: &'static str, addr: &str) -> Result<TcpListener, SimError> {
+    TcpListener::bind(addr)
+        .await
+        .map_err(|source| SimError::Bind {
+            what,
+            addr: addr.to_string(),
+            source,
+        })
+}
+
+fn local_addr(
+    what: &'static str,
+    addr: &str,
+    listener: &TcpListener,
+) -> Result<SocketAddr, SimError> {
+    listener.local_addr().map_err(|source| SimError::Bind {
+        what,
+        addr: addr.to_string(),
+        source,
+    })
+}

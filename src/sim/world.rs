@@ -1,0 +1,83 @@
+//! The one simulated arm both servers drive: a task that owns the [`Arm`] and the Talos
+//! [`Operator`] state, advances the arm in real time, and runs operations sent to it.
+
+use std::time::Duration;
+
+use tokio::sync::{mpsc, oneshot};
+use tokio::time::{Instant, MissedTickBehavior};
+
+use super::arm::{Arm, ArmSnapshot, STEP};
+use super::operator::Operator;
+
+/// How often the task wakes to advance the arm when nobody asks anything.
+const TICK: Duration = Duration::from_millis(10);
+/// Longest stretch of simulated time caught up at once (after a suspended process, say).
+const MAX_CATCH_UP_STEPS: u64 = 2_000;
+
+type Job = Box<dyn FnOnce(&mut Arm, &mut Operator) + Send>;
+
+/// The simulated arm's task has ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("the simulated arm has stopped")]
+pub struct SimGone;
+
+/// A handle on the simulated arm. Cheap to clone; the task ends when every handle is dropped.
+#[derive(Clone, Debug)]
+pub struct SimArm {
+    jobs: mpsc::Sender<Job>,
+}
+
+impl SimArm {
+    /// Starts the arm task with `arm` and `operator` as the initial state.
+    pub fn spawn(arm: Arm, operator: Operator) -> SimArm {
+        let (jobs, rx) = mpsc::channel::<Job>(256);
+        tokio::spawn(run(arm, operator, rx));
+        SimArm { jobs }
+    }
+
+    /// Runs `f` on the arm, brought up to the present first, and returns its result.
+    pub async fn with<R, F>(&self, f: F) -> Result<R, SimGone>
+    where
+        R: Send + 'static,
+        F: FnOnce(&mut Arm, &mut Operator) -> R + Send + 'static,
+    {
+        let (tx, rx) = oneshot::channel();
+        let job: Job = Box::new(move |arm, operator| {
+            let _ = tx.send(f(arm, operator));
+        });
+        self.jobs.send(job).await.map_err(|_| SimGone)?;
+        rx.await.map_err(|_| SimGone)
+    }
+
+    pub async fn snapshot(&self) -> Result<ArmSnapshot, SimGone> {
+        self.with(|arm, _| arm.snapshot()).await
+    }
+}
+
+async fn run(mut arm: Arm, mut operator: Operator, mut jobs: mpsc::Receiver<Job>) {
+    let mut clock = Instant::now();
+    let mut tick = tokio::time::interval(TICK);
+    tick.set_missed_tick_behavior(MissedTickBehavior::Delay);
+    let step = Duration::from_secs_f64(STEP);
+    let mut catch_up = |arm: &mut Arm| {
+        let behind = Instant::now().saturating_duration_since(clock);
+        let steps = u64::try_from(behind.as_nanos() / step.as_nanos()).unwrap_or(u64::MAX);
+        for _ in 0..steps.min(MAX_CATCH_UP_STEPS) {
+            arm.step();
+        }
+        // Time beyond the cap is dropped rather than simulated.
+        clock += Duration::from_nanos(step.as_nanos() as u64 * steps.min(1 << 40));
+    };
+    loop {
+        tokio::select! {
+            job = jobs.recv() => match job {
+                Some(job) => {
+                    catch_up(&mut arm);
+                    job(&mut arm, &mut operator);
+                }
+                None => return,
+            },
+            _ = tick.tick() => catch_up(&mut arm),
+        }
+    }
+}
