@@ -1,0 +1,327 @@
+//! Small forms and confirmations the console shows over the panels.
+//!
+//! Input is validated here, before anything is sent: a bad name or number keeps the form open
+//! with the reason, and nothing is lost.
+
+use crate::talos::PositionName;
+
+/// Which form is open.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FormKind {
+    /// Save the current pose: name, parent, anchor.
+    Save,
+    /// Define a position by elevation, azimuth (deg) and radius (mm).
+    SetPolar,
+    /// Define a position by x, y, z (mm).
+    SetCartesian,
+}
+
+/// One text field.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Field {
+    pub label: &'static str,
+    pub value: String,
+    /// A yes/no field toggled with space instead of typed.
+    pub toggle: bool,
+}
+
+impl Field {
+    fn text(label: &'static str, value: &str) -> Field {
+        Field {
+            label,
+            value: value.to_string(),
+            toggle: false,
+        }
+    }
+
+    fn toggle(label: &'static str) -> Field {
+        Field {
+            label,
+            value: "no".into(),
+            toggle: true,
+        }
+    }
+}
+
+/// An open form.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Form {
+    pub kind: FormKind,
+    pub fields: Vec<Field>,
+    pub focus: usize,
+    /// Why the last submit was refused.
+    pub error: Option<String>,
+}
+
+/// What a completed form asks for. Coordinates in the Talos ICD's tenths.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum FormResult {
+    Save {
+        name: String,
+        anchor: bool,
+        parent: Option<String>,
+    },
+    SetPolar {
+        name: String,
+        delta: i32,
+        azimuth: i32,
+        radius: i32,
+    },
+    SetCartesian {
+        name: String,
+        x: i32,
+        y: i32,
+        z: i32,
+    },
+}
+
+impl Form {
+    /// A new form; `name` prefills the name field (the selected position).
+    pub fn new(kind: FormKind, name: &str) -> Form {
+        let fields = match kind {
+            FormKind::Save => vec![
+                Field::text("name", name),
+                Field::text("parent", ""),
+                Field::toggle("anchor"),
+            ],
+            FormKind::SetPolar => vec![
+                Field::text("name", name),
+                Field::text("elevation deg", ""),
+                Field::text("azimuth deg", ""),
+                Field::text("radius mm", ""),
+            ],
+            FormKind::SetCartesian => vec![
+                Field::text("name", name),
+                Field::text("x mm", ""),
+                Field::text("y mm", ""),
+                Field::text("z mm", ""),
+            ],
+        };
+        Form {
+            kind,
+            fields,
+            focus: 0,
+            error: None,
+        }
+    }
+
+    pub fn title(&self) -> &'static str {
+        match self.kind {
+            FormKind::Save => "Save current pose",
+            FormKind::SetPolar => "Set polar position",
+            FormKind::SetCartesian => "Set cartesian position",
+        }
+    }
+
+    pub fn next_field(&mut self) {
+        self.focus = (self.focus + 1) % self.fields.len();
+    }
+
+    pub fn previous_field(&mut self) {
+        self.focus = (self.focus + self.fields.len() - 1) % self.fields.len();
+    }
+
+    /// Typing into the focused field. Space toggles a yes/no field.
+    pub fn type_char(&mut self, c: char) {
+        let Some(field) = self.fields.get_mut(self.focus) else {
+            return;
+        };
+        if field.toggle {
+            if c == ' ' || c == 'y' || c == 'n' {
+                let yes = match c {
+                    'y' => true,
+                    'n' => false,
+                    _ => field.value != "yes",
+                };
+                field.value = if yes { "yes" } else { "no" }.into();
+            }
+        } else if field.value.len() < 255 {
+            field.value.push(c);
+        }
+        self.error = None;
+    }
+
+    pub fn backspace(&mut self) {
+        if let Some(field) = self.fields.get_mut(self.focus)
+            && !field.toggle
+        {
+            field.value.pop();
+        }
+    }
+
+    /// Validates every field. On error the form stays as typed, with the reason.
+    pub fn submit(&mut self) -> Option<FormResult> {
+        match self.parse() {
+            Ok(result) => Some(result),
+            Err((field, reason)) => {
+                self.focus = field;
+                self.error = Some(reason);
+                None
+            }
+        }
+    }
+
+    fn parse(&self) -> Result<FormResult, (usize, String)> {
+        let value = |i: usize| self.fields.get(i).map(|f| f.value.trim()).unwrap_or("");
+        let name = PositionName::new(value(0))
+            .map_err(|e| (0, format!("name {e}")))?
+            .as_str()
+            .to_string();
+        match self.kind {
+            FormKind::Save => {
+                let parent = match value(1) {
+                    "" => None,
+                    p => Some(
+                        PositionName::new(p)
+                            .map_err(|e| (1, format!("parent {e}")))?
+                            .as_str()
+                            .to_string(),
+                    ),
+                };
+                if parent.as_deref() == Some(name.as_str()) {
+                    return Err((1, "a position cannot be its own parent".into()));
+                }
+                let anchor = value(2) == "yes";
+                if anchor && parent.is_none() {
+                    return Err((2, "anchor needs a parent to move with".into()));
+                }
+                Ok(FormResult::Save {
+                    name,
+                    anchor,
+                    parent,
+                })
+            }
+            FormKind::SetPolar => Ok(FormResult::SetPolar {
+                name,
+                delta: tenths(self, 1, -90.0, 90.0)?,
+                azimuth: tenths(self, 2, -360.0, 360.0)?,
+                radius: tenths(self, 3, 0.0, 2000.0)?,
+            }),
+            FormKind::SetCartesian => Ok(FormResult::SetCartesian {
+                name,
+                x: tenths(self, 1, -2000.0, 2000.0)?,
+                y: tenths(self, 2, -2000.0, 2000.0)?,
+                z: tenths(self, 3, -2000.0, 2000.0)?,
+            }),
+        }
+    }
+}
+
+/// Field `i` as a number within `min..=max`, in tenths.
+fn tenths(form: &Form, i: usize, min: f64, max: f64) -> Result<i32, (usize, String)> {
+    let field = &form.fields[i];
+    let text = field.value.trim();
+    let value: f64 = text
+        .parse()
+        .ok()
+        .filter(|v: &f64| v.is_finite())
+        .ok_or_else(|| (i, format!("{}: '{text}' is not a number", field.label)))?;
+    if !(min..=max).contains(&value) {
+        return Err((
+            i,
+            format!("{}: {value} is outside {min} to {max}", field.label),
+        ));
+    }
+    Ok((value * 10.0).round() as i32)
+}
+
+/// What a yes/no question is about.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Confirm {
+    Home,
+    GoTo(String),
+    Delete(String),
+}
+
+impl Confirm {
+    pub fn question(&self) -> String {
+        match self {
+            Confirm::Home => "Move the arm to its home pose?".into(),
+            Confirm::GoTo(name) => format!("Move the arm to '{name}'?"),
+            Confirm::Delete(name) => format!("Delete position '{name}'?"),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn typed(kind: FormKind, values: &[&str]) -> Form {
+        let mut form = Form::new(kind, "");
+        for (i, v) in values.iter().enumerate() {
+            form.focus = i;
+            for c in v.chars() {
+                form.type_char(c);
+            }
+        }
+        form
+    }
+
+    #[test]
+    fn a_valid_save_form_gives_the_request() {
+        let mut form = typed(FormKind::Save, &["pick 1", "table", " "]);
+        assert_eq!(
+            form.submit(),
+            Some(FormResult::Save {
+                name: "pick 1".into(),
+                anchor: true,
+                parent: Some("table".into())
+            })
+        );
+    }
+
+    #[test]
+    fn invalid_names_are_refused_in_the_form_and_nothing_is_lost() {
+        let mut form = typed(FormKind::Save, &["", "", ""]);
+        assert_eq!(form.submit(), None);
+        assert!(
+            form.error
+                .as_deref()
+                .unwrap_or("")
+                .contains("name is empty")
+        );
+        let mut form = typed(FormKind::Save, &["café", "", ""]);
+        assert_eq!(form.submit(), None);
+        assert!(
+            form.error
+                .as_deref()
+                .unwrap_or("")
+                .contains("printable ASCII")
+        );
+        assert_eq!(form.fields[0].value, "café", "the typed text stays");
+        let mut form = typed(FormKind::Save, &["a", "", " "]);
+        assert_eq!(form.submit(), None);
+        assert_eq!(form.focus, 2);
+    }
+
+    #[test]
+    fn numbers_become_tenths_and_bad_numbers_name_the_field() {
+        let mut form = typed(FormKind::SetCartesian, &["p", "456.6", "-1", "433.85"]);
+        assert_eq!(
+            form.submit(),
+            Some(FormResult::SetCartesian {
+                name: "p".into(),
+                x: 4566,
+                y: -10,
+                z: 4339
+            })
+        );
+        let mut form = typed(FormKind::SetPolar, &["q", "30", "abc", "500"]);
+        assert_eq!(form.submit(), None);
+        assert!(
+            form.error
+                .as_deref()
+                .unwrap_or("")
+                .starts_with("azimuth deg: 'abc'")
+        );
+        let mut form = typed(FormKind::SetPolar, &["q", "95", "0", "500"]);
+        assert_eq!(form.submit(), None);
+        assert!(
+            form.error
+                .as_deref()
+                .unwrap_or("")
+                .contains("outside -90 to 90")
+        );
+    }
+}
