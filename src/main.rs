@@ -26,6 +26,8 @@ fn main() {
                 }
                 outcome.exit_code
             }
+            Some(Command::Status(args)) => report(armjog::cli::status::run(&args).await),
+            Some(Command::Modbus(args)) => report(armjog::cli::modbus::run(&args).await),
             None => {
                 // The console arrives with the simulator; until then show what there is.
                 let _ = Cli::command().print_help();
@@ -34,4 +36,15 @@ fn main() {
         }
     });
     std::process::exit(code);
+}
+
+/// Prints a one-shot command's output and returns its exit status.
+fn report(outcome: armjog::cli::modbus::Outcome) -> i32 {
+    for line in &outcome.stdout {
+        println!("{line}");
+    }
+    if let Some(reason) = &outcome.stderr {
+        eprintln!("armjog: {reason}");
+    }
+    outcome.exit_code
 }

@@ -1,6 +1,8 @@
 //! Command-line front ends: argument definitions and the one-shot commands.
 
+pub mod modbus;
 pub mod send;
+pub mod status;
 
 use clap::{Parser, Subcommand};
 
@@ -16,6 +18,10 @@ pub struct Cli {
 pub enum Command {
     /// Send one Talos command to an operator and print its reply.
     Send(send::SendArgs),
+    /// Print a complete snapshot of a Kinova arm over Modbus TCP.
+    Status(status::StatusArgs),
+    /// Write one Kinova Modbus command: quick stop, abort, fault reset, stop, home, speed limit.
+    Modbus(modbus::ModbusArgs),
 }
 
 /// Appends the default port to a bare host name.

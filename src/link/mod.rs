@@ -1,6 +1,11 @@
 //! The arm interfaces the console drives. Each link owns its socket in a task; callers talk to
 //! it over channels.
 
+pub mod modbus;
 pub mod talos;
 
+pub use modbus::{
+    ModbusConfig, ModbusError, ModbusEvent, ModbusException, ModbusLink, Snapshot, StopReason,
+    WriteReport,
+};
 pub use talos::{Answer, Dialect, Exchange, TalosConfig, TalosError, TalosEvent, TalosLink};

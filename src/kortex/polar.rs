@@ -1,0 +1,128 @@
+//! Polar pan over Modbus: the arm has no polar command, so azimuth and altitude motion become
+//! a base-frame twist computed from the live tool pose, recomputed on every poll.
+//!
+//! The tool turns rigidly about axes through the base origin: azimuth about the base Z axis,
+//! altitude about the horizontal axis perpendicular to the tool's bearing. Its distance from the
+//! base stays constant and its orientation turns with it, so a camera on it keeps the same view
+//! of the scene's centre. For a rotation rate w about axis k (through the origin) the tool point
+//! at p moves at v = w k x p.
+
+use super::cartesian::{Pose, Twist};
+use super::commands::{MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED};
+
+/// Below this horizontal distance from the base Z axis (m) the bearing is undefined, so there is
+/// no altitude axis.
+pub const MIN_RADIUS: f32 = 0.01;
+
+/// How fast a polar pan turns.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PolarPanSettings {
+    /// Rotation rate at direction 1, deg/s.
+    pub angular_speed: f32,
+    /// The tool point never moves faster than this, m/s; the default is ISO 10218-1's manual
+    /// reduced speed (250 mm/s).
+    pub max_linear_speed: f32,
+}
+
+impl Default for PolarPanSettings {
+    fn default() -> Self {
+        PolarPanSettings {
+            angular_speed: 10.0,
+            max_linear_speed: 0.25,
+        }
+    }
+}
+
+/// Why no twist could be computed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PolarPanError {
+    #[error("{what} direction {value} is outside -1..1")]
+    DirectionOutOfRange { what: &'static str, value: f32 },
+    #[error("the tool pose holds a non-finite value")]
+    PoseNotFinite,
+    #[error(
+        "the tool is {radius:.4} m from the base Z axis: its bearing, and so the altitude axis, is undefined"
+    )]
+    OnBaseAxis { radius: f32 },
+    #[error(
+        "polar pan settings out of range: angular speed must be in (0, {MAX_ANGULAR_SPEED}] deg/s and maximum linear speed in (0, {MAX_LINEAR_SPEED}] m/s"
+    )]
+    BadSettings,
+}
+
+/// Checks the directions (each in -1..1) and the settings, before any pose is known.
+pub fn check_directions(
+    azimuth: f32,
+    altitude: f32,
+    settings: PolarPanSettings,
+) -> Result<(), PolarPanError> {
+    for (what, value) in [("azimuth", azimuth), ("altitude", altitude)] {
+        if !(-1.0..=1.0).contains(&value) {
+            return Err(PolarPanError::DirectionOutOfRange { what, value });
+        }
+    }
+    let speed_ok = settings.angular_speed > 0.0 && settings.angular_speed <= MAX_ANGULAR_SPEED;
+    let linear_ok =
+        settings.max_linear_speed > 0.0 && settings.max_linear_speed <= MAX_LINEAR_SPEED;
+    if speed_ok && linear_ok {
+        Ok(())
+    } else {
+        Err(PolarPanError::BadSettings)
+    }
+}
+
+/// The base-frame twist that moves the tool at `pose` in azimuth and altitude. `azimuth` and
+/// `altitude` are directions in -1..1 (positive: counter-clockwise seen from above; upward).
+/// The result is scaled down, never up, to stay within the settings' linear speed and the arm's
+/// angular limit.
+pub fn polar_twist(
+    pose: Pose,
+    azimuth: f32,
+    altitude: f32,
+    settings: PolarPanSettings,
+) -> Result<Twist, PolarPanError> {
+    check_directions(azimuth, altitude, settings)?;
+    if !pose.to_array().iter().all(|v| v.is_finite()) {
+        return Err(PolarPanError::PoseNotFinite);
+    }
+    let (x, y, z) = (f64::from(pose.x), f64::from(pose.y), f64::from(pose.z));
+    let radius = x.hypot(y);
+    // Rotation axis and rate, deg/s, in the base frame.
+    let mut omega = [0.0, 0.0, f64::from(azimuth * settings.angular_speed)];
+    if altitude != 0.0 {
+        if radius < f64::from(MIN_RADIUS) {
+            return Err(PolarPanError::OnBaseAxis {
+                radius: radius as f32,
+            });
+        }
+        // k = (sin bearing, -cos bearing, 0): turning about it lifts the tool.
+        let rate = f64::from(altitude * settings.angular_speed);
+        omega[0] = rate * y / radius;
+        omega[1] = -rate * x / radius;
+    }
+    let w = omega.map(f64::to_radians);
+    let linear = [
+        w[1] * z - w[2] * y,
+        w[2] * x - w[0] * z,
+        w[0] * y - w[1] * x,
+    ];
+    let linear_speed = linear.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let angular_speed = omega.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let scale = [
+        1.0,
+        f64::from(settings.max_linear_speed) / linear_speed,
+        f64::from(MAX_ANGULAR_SPEED) / angular_speed,
+    ]
+    .into_iter()
+    .filter(|s| s.is_finite())
+    .fold(1.0f64, f64::min);
+    let out = |v: f64| (v * scale) as f32;
+    Ok(Twist {
+        x: out(linear[0]),
+        y: out(linear[1]),
+        z: out(linear[2]),
+        theta_x: out(omega[0]),
+        theta_y: out(omega[1]),
+        theta_z: out(omega[2]),
+    })
+}

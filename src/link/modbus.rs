@@ -1,0 +1,515 @@
+//! Async client for a Kinova Kortex arm over Modbus TCP (`shared/icd/kinova-modbus-icd.md`).
+//!
+//! One task owns the connection. It polls the complete telemetry at the configured rate and
+//! publishes each [`Snapshot`] on a `watch` channel; commands reach it over a channel with a
+//! oneshot for the outcome and run between polls, one request at a time. Values that cannot be
+//! written are refused by the caller's method, before anything is queued.
+//!
+//! Safety: the arm has no twist watchdog, so the link never leaves a twist running. It writes
+//! the stop sequence when every handle is gone, when a jog is not refreshed within
+//! [`ModbusConfig::twist_hold`], when a motion write or a poll fails, and after a reconnect.
+//! A stop the arm refuses is escalated to the abort coil; a stop that could not be written at
+//! all is logged with `tracing::error!`, sent as [`ModbusEvent::StopFailed`] and returned as an
+//! error. Actions and cartesian trajectories end by themselves and are left running on drop.
+//! A task cancelled by the runtime shutting down can write nothing: await
+//! [`ModbusLink::close`] before leaving the runtime.
+
+mod task;
+mod wire;
+
+use std::fmt;
+use std::time::{Duration, Instant};
+
+use tokio::sync::{mpsc, oneshot, watch};
+
+use crate::kortex::commands::{self, CommandError, StoredMotion, Write};
+use crate::kortex::{
+    ControlCoil, PolarPanError, PolarPanSettings, PollPlan, Pose, ReadBlock, ReferenceFrame,
+    Telemetry, Twist,
+};
+
+/// Modbus TCP port of the arm.
+pub const DEFAULT_PORT: u16 = 502;
+/// Unit id used unless told otherwise (the ICD leaves it undocumented).
+pub const DEFAULT_UNIT: u8 = 1;
+/// armjog's default id of the Home action. Ids are per arm: look yours up in the Kortex Web App.
+pub const DEFAULT_HOME_ACTION_ID: u16 = 2;
+
+/// Where and how to reach an arm.
+#[derive(Debug, Clone)]
+pub struct ModbusConfig {
+    /// HOST:PORT.
+    pub addr: String,
+    pub unit: u8,
+    /// Background polls per second; `None` polls only when asked (`read_telemetry`), which also
+    /// rules out polar pan.
+    pub poll_rate_hz: Option<f64>,
+    pub request_timeout: Duration,
+    pub connect_timeout: Duration,
+    /// First reconnect delay, doubled after each failed attempt up to `reconnect_max_delay`.
+    pub reconnect_delay: Duration,
+    pub reconnect_max_delay: Duration,
+    /// A twist or polar pan not refreshed (by calling the same jog again) within this long is
+    /// stopped, standing in for the watchdog the arm lacks. `None` keeps it until stopped.
+    pub twist_hold: Option<Duration>,
+    pub polar: PolarPanSettings,
+    pub plan: PollPlan,
+    pub home_action_id: u16,
+}
+
+impl ModbusConfig {
+    pub fn new(addr: impl Into<String>) -> Self {
+        ModbusConfig {
+            addr: addr.into(),
+            unit: DEFAULT_UNIT,
+            poll_rate_hz: Some(30.0),
+            request_timeout: Duration::from_millis(500),
+            connect_timeout: Duration::from_secs(2),
+            reconnect_delay: Duration::from_millis(100),
+            reconnect_max_delay: Duration::from_secs(2),
+            twist_hold: Some(Duration::from_millis(500)),
+            polar: PolarPanSettings::default(),
+            plan: PollPlan::Compact,
+            home_action_id: DEFAULT_HOME_ACTION_ID,
+        }
+    }
+}
+
+/// A Modbus exception response, by name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ModbusException {
+    IllegalFunction,
+    IllegalDataAddress,
+    IllegalDataValue,
+    ServerDeviceFailure,
+    Acknowledge,
+    ServerDeviceBusy,
+    MemoryParityError,
+    GatewayPathUnavailable,
+    GatewayTargetDeviceFailedToRespond,
+    Other(u8),
+}
+
+impl ModbusException {
+    pub fn code(self) -> u8 {
+        match self {
+            ModbusException::IllegalFunction => 0x01,
+            ModbusException::IllegalDataAddress => 0x02,
+            ModbusException::IllegalDataValue => 0x03,
+            ModbusException::ServerDeviceFailure => 0x04,
+            ModbusException::Acknowledge => 0x05,
+            ModbusException::ServerDeviceBusy => 0x06,
+            ModbusException::MemoryParityError => 0x08,
+            ModbusException::GatewayPathUnavailable => 0x0A,
+            ModbusException::GatewayTargetDeviceFailedToRespond => 0x0B,
+            ModbusException::Other(code) => code,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            ModbusException::IllegalFunction => "illegal function",
+            ModbusException::IllegalDataAddress => "illegal data address",
+            ModbusException::IllegalDataValue => "illegal data value",
+            ModbusException::ServerDeviceFailure => "server device failure",
+            ModbusException::Acknowledge => "acknowledge",
+            ModbusException::ServerDeviceBusy => "server device busy",
+            ModbusException::MemoryParityError => "memory parity error",
+            ModbusException::GatewayPathUnavailable => "gateway path unavailable",
+            ModbusException::GatewayTargetDeviceFailedToRespond => {
+                "gateway target device failed to respond"
+            }
+            ModbusException::Other(_) => "unknown exception",
+        }
+    }
+}
+
+impl From<tokio_modbus::ExceptionCode> for ModbusException {
+    fn from(code: tokio_modbus::ExceptionCode) -> Self {
+        match u8::from(code) {
+            0x01 => ModbusException::IllegalFunction,
+            0x02 => ModbusException::IllegalDataAddress,
+            0x03 => ModbusException::IllegalDataValue,
+            0x04 => ModbusException::ServerDeviceFailure,
+            0x05 => ModbusException::Acknowledge,
+            0x06 => ModbusException::ServerDeviceBusy,
+            0x08 => ModbusException::MemoryParityError,
+            0x0A => ModbusException::GatewayPathUnavailable,
+            0x0B => ModbusException::GatewayTargetDeviceFailedToRespond,
+            other => ModbusException::Other(other),
+        }
+    }
+}
+
+impl fmt::Display for ModbusException {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} (0x{:02X})", self.name(), self.code())
+    }
+}
+
+/// One request, named for error messages.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Operation {
+    Read(ReadBlock),
+    Write(Write),
+}
+
+impl fmt::Display for Operation {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Operation::Read(block) => block.fmt(f),
+            Operation::Write(write) => write.fmt(f),
+        }
+    }
+}
+
+/// Everything that can go wrong talking to an arm.
+#[derive(Debug, thiserror::Error)]
+pub enum ModbusError {
+    #[error("cannot resolve {addr}: {source}")]
+    Resolve {
+        addr: String,
+        source: std::io::Error,
+    },
+    #[error("connection to {addr} refused: {source}")]
+    ConnectRefused {
+        addr: String,
+        source: std::io::Error,
+    },
+    #[error("no connection to {addr} within {after:?}")]
+    ConnectTimeout { addr: String, after: Duration },
+    #[error("{operation}: the arm answered with exception {exception}")]
+    Exception {
+        operation: Operation,
+        exception: ModbusException,
+    },
+    #[error("{operation}: no reply within {after:?}")]
+    Timeout {
+        operation: Operation,
+        after: Duration,
+    },
+    #[error("{operation}: connection lost: {source}")]
+    Transport {
+        operation: Operation,
+        source: std::io::Error,
+    },
+    #[error("{operation}: the reply does not match the request: {detail}")]
+    Protocol {
+        operation: Operation,
+        detail: String,
+    },
+    #[error("refused before anything was sent: {0}")]
+    InvalidCommand(#[from] CommandError),
+    #[error("polar pan refused: {0}")]
+    PolarPan(#[from] PolarPanError),
+    #[error("polar pan needs background polling: the link was made without a poll rate")]
+    NoPolling,
+    #[error("bad link configuration: {reason}")]
+    BadConfig { reason: String },
+    #[error("not connected to the arm: {reason}")]
+    Disconnected { reason: String },
+    #[error("the arm refused the stop ({stop}) and the abort coil ({abort}): it may still move")]
+    StopFailed {
+        stop: Box<ModbusError>,
+        abort: Box<ModbusError>,
+    },
+}
+
+impl ModbusError {
+    /// Whether the connection can no longer be trusted (no reply, a broken stream, or replies
+    /// out of step) and must be reopened.
+    pub fn breaks_connection(&self) -> bool {
+        matches!(
+            self,
+            ModbusError::Timeout { .. }
+                | ModbusError::Transport { .. }
+                | ModbusError::Protocol { .. }
+        )
+    }
+
+    /// Whether nothing was sent because the command itself was refused.
+    pub fn refused_before_sending(&self) -> bool {
+        matches!(
+            self,
+            ModbusError::InvalidCommand(_)
+                | ModbusError::PolarPan(
+                    PolarPanError::BadSettings | PolarPanError::DirectionOutOfRange { .. }
+                )
+                | ModbusError::NoPolling
+                | ModbusError::BadConfig { .. }
+        )
+    }
+
+    /// The exception the arm answered with, if it answered with one.
+    pub fn exception(&self) -> Option<ModbusException> {
+        match self {
+            ModbusError::Exception { exception, .. } => Some(*exception),
+            ModbusError::StopFailed { stop, .. } => stop.exception(),
+            _ => None,
+        }
+    }
+}
+
+/// Why the link stopped a motion by itself.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StopReason {
+    /// A caller asked for it (`stop`, or a zero twist / zero polar pan).
+    Requested,
+    /// The jog was not refreshed within `twist_hold`.
+    HoldExpired,
+    /// A motion write failed.
+    WriteFailed,
+    /// A poll failed while the arm moved.
+    PollFailed,
+    /// The connection was lost while a twist could have been running.
+    Reconnected,
+    /// Every handle of the link was dropped or closed.
+    LinkClosed,
+    /// A polar pan could not be computed from the live pose.
+    PolarPanUndefined,
+    /// A cartesian trajectory or action replaces the twist.
+    Replaced,
+}
+
+/// Things the link did or noticed on its own.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ModbusEvent {
+    /// The connection was lost; the link is reconnecting.
+    Disconnected { reason: String },
+    /// The connection is back after `attempts` tries.
+    Reconnected { attempts: u32 },
+    /// A background poll failed.
+    PollFailed { error: String },
+    /// The arm refused a read spanning unlisted addresses: polls now read the ICD's blocks.
+    PlanFallback { plan: PollPlan },
+    /// The link stopped a motion.
+    Stopped { reason: StopReason },
+    /// The arm refused the stop and the abort coil was written instead.
+    StopEscalated { reason: StopReason, error: String },
+    /// No stop could be written: the arm may still be moving.
+    StopFailed { reason: StopReason, error: String },
+}
+
+/// One published poll.
+#[derive(Debug, Clone)]
+pub struct Snapshot {
+    pub telemetry: Telemetry,
+    /// Counts polls of this link from 1.
+    pub sequence: u64,
+    pub completed_at: Instant,
+    /// How long the poll's reads took.
+    pub poll_time: Duration,
+}
+
+/// The writes a command made, in order, and how long they took. A jog that only refreshed a
+/// running motion made none.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct WriteReport {
+    pub writes: Vec<Write>,
+    pub elapsed: Duration,
+}
+
+type Reply<T> = oneshot::Sender<Result<T, ModbusError>>;
+
+/// What a caller asks the task for.
+enum Job {
+    Read(Reply<Telemetry>),
+    Twist {
+        frame: ReferenceFrame,
+        twist: Twist,
+        reply: Reply<WriteReport>,
+    },
+    PolarPan {
+        azimuth: f32,
+        altitude: f32,
+        reply: Reply<WriteReport>,
+    },
+    Stop(Reply<WriteReport>),
+    /// A trajectory or stored motion: any twist is stopped first.
+    Move {
+        writes: Vec<Write>,
+        reply: Reply<WriteReport>,
+    },
+    /// Writes that leave motion alone (speed limits, fault reset), or end it (`halts`: quick
+    /// stop, abort).
+    Plain {
+        writes: Vec<Write>,
+        halts: bool,
+        reply: Reply<WriteReport>,
+    },
+    Close(Reply<()>),
+}
+
+/// A connected arm. Cheap to clone; the task ends, stopping any twist, when every clone is gone.
+#[derive(Clone)]
+pub struct ModbusLink {
+    jobs: mpsc::Sender<Job>,
+    snapshots: watch::Receiver<Option<Snapshot>>,
+    config: ModbusConfig,
+}
+
+impl fmt::Debug for ModbusLink {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("ModbusLink")
+            .field("addr", &self.config.addr)
+            .field("unit", &self.config.unit)
+            .finish()
+    }
+}
+
+impl ModbusLink {
+    /// Connects within the connect timeout and starts the task. Returns the link and the
+    /// receiver of its events. Later losses are reconnected by the task itself.
+    pub async fn connect(
+        config: ModbusConfig,
+    ) -> Result<(ModbusLink, mpsc::UnboundedReceiver<ModbusEvent>), ModbusError> {
+        if let Some(hz) = config.poll_rate_hz
+            && !(hz.is_finite() && hz > 0.0 && hz <= 1000.0)
+        {
+            return Err(ModbusError::BadConfig {
+                reason: format!("poll rate {hz} Hz is outside (0, 1000]"),
+            });
+        }
+        let context = wire::open(&config).await?;
+        let (jobs_tx, jobs_rx) = mpsc::channel(64);
+        let (events_tx, events_rx) = mpsc::unbounded_channel();
+        let (snapshots_tx, snapshots_rx) = watch::channel(None);
+        let task = task::LinkTask::new(config.clone(), jobs_rx, snapshots_tx, events_tx);
+        tokio::spawn(task.run(context));
+        let link = ModbusLink {
+            jobs: jobs_tx,
+            snapshots: snapshots_rx,
+            config,
+        };
+        Ok((link, events_rx))
+    }
+
+    pub fn config(&self) -> &ModbusConfig {
+        &self.config
+    }
+
+    /// The latest published snapshot, updated after every background poll.
+    pub fn subscribe(&self) -> watch::Receiver<Option<Snapshot>> {
+        self.snapshots.clone()
+    }
+
+    /// Polls the complete telemetry now (also published to subscribers).
+    pub async fn read_telemetry(&self) -> Result<Telemetry, ModbusError> {
+        self.ask(Job::Read).await
+    }
+
+    /// Starts a twist (linear m/s, angular deg/s) in `frame`, or updates the running one. The
+    /// same twist again only refreshes the hold; a zero twist stops.
+    pub async fn jog_twist(
+        &self,
+        frame: ReferenceFrame,
+        twist: Twist,
+    ) -> Result<WriteReport, ModbusError> {
+        commands::check_twist(twist)?;
+        self.ask(|reply| Job::Twist {
+            frame,
+            twist,
+            reply,
+        })
+        .await
+    }
+
+    /// Starts or updates a polar pan: `azimuth` and `altitude` directions in -1..1 (see
+    /// [`crate::kortex::polar`]). The twist is recomputed from the pose of every poll. The same
+    /// directions again only refresh the hold; zero in both stops.
+    pub async fn polar_pan(&self, azimuth: f32, altitude: f32) -> Result<WriteReport, ModbusError> {
+        crate::kortex::check_directions(azimuth, altitude, self.config.polar)?;
+        if self.config.poll_rate_hz.is_none() {
+            return Err(ModbusError::NoPolling);
+        }
+        self.ask(|reply| Job::PolarPan {
+            azimuth,
+            altitude,
+            reply,
+        })
+        .await
+    }
+
+    /// Stops the running twist, polar pan, trajectory or action (holding register 200 <- 2),
+    /// escalating to the abort coil if the arm refuses.
+    pub async fn stop(&self) -> Result<WriteReport, ModbusError> {
+        self.ask(Job::Stop).await
+    }
+
+    /// Moves the tool to `pose` (m, deg) in `frame` as a cartesian trajectory.
+    pub async fn go_to_pose(
+        &self,
+        frame: ReferenceFrame,
+        pose: Pose,
+    ) -> Result<WriteReport, ModbusError> {
+        let writes = commands::go_to_pose(frame, pose)?;
+        self.ask(|reply| Job::Move { writes, reply }).await
+    }
+
+    /// Starts a stored action or sequence by id.
+    pub async fn start_stored(
+        &self,
+        id: u16,
+        motion: StoredMotion,
+    ) -> Result<WriteReport, ModbusError> {
+        let writes = commands::start_stored(id, motion);
+        self.ask(|reply| Job::Move { writes, reply }).await
+    }
+
+    /// Starts the Home action (id from the config).
+    pub async fn home(&self) -> Result<WriteReport, ModbusError> {
+        self.start_stored(self.config.home_action_id, StoredMotion::Action)
+            .await
+    }
+
+    /// Sets the desired cartesian speed limits: linear m/s, angular deg/s.
+    pub async fn set_speed_limits(
+        &self,
+        linear: f32,
+        angular: f32,
+    ) -> Result<WriteReport, ModbusError> {
+        let writes = commands::speed_limits(linear, angular)?;
+        self.plain(writes, false).await
+    }
+
+    /// Pulses the quick stop coil (0).
+    pub async fn quick_stop(&self) -> Result<WriteReport, ModbusError> {
+        self.plain(commands::pulse(ControlCoil::QuickStop), true)
+            .await
+    }
+
+    /// Pulses the abort / manual stop coil (1).
+    pub async fn abort(&self) -> Result<WriteReport, ModbusError> {
+        self.plain(commands::pulse(ControlCoil::Abort), true).await
+    }
+
+    /// Pulses the fault reset coil (2). After a quick stop the arm may need more than one.
+    pub async fn fault_reset(&self) -> Result<WriteReport, ModbusError> {
+        self.plain(commands::pulse(ControlCoil::FaultReset), false)
+            .await
+    }
+
+    /// Stops any twist, waits for the stop to be written and ends the task; other clones then
+    /// get `Disconnected`. Use it rather than a plain drop to learn whether the stop failed.
+    pub async fn close(self) -> Result<(), ModbusError> {
+        self.ask(Job::Close).await
+    }
+
+    async fn plain(&self, writes: Vec<Write>, halts: bool) -> Result<WriteReport, ModbusError> {
+        self.ask(|reply| Job::Plain {
+            writes,
+            halts,
+            reply,
+        })
+        .await
+    }
+
+    async fn ask<T>(&self, job: impl FnOnce(Reply<T>) -> Job) -> Result<T, ModbusError> {
+        let gone = || ModbusError::Disconnected {
+            reason: "the link task has ended".into(),
+        };
+        let (reply, answer) = oneshot::channel();
+        self.jobs.send(job(reply)).await.map_err(|_| gone())?;
+        answer.await.map_err(|_| gone())?
+    }
+}

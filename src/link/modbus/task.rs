@@ -1,0 +1,595 @@
+//! The task that owns the connection: polls, runs commands one request at a time, keeps the
+//! twist hold, and reconnects. See the parent module for the safety rules it keeps.
+
+use std::time::Duration;
+
+use tokio::sync::{mpsc, watch};
+use tokio::time::{Instant, MissedTickBehavior};
+use tokio_modbus::client::{Client, Context};
+
+use super::{
+    Job, ModbusConfig, ModbusError, ModbusEvent, ModbusException, Reply, Snapshot, StopReason,
+    WriteReport, wire,
+};
+use crate::kortex::commands::{self, Write};
+use crate::kortex::{
+    ControlCoil, PollPlan, Pose, ReferenceFrame, RegisterImage, Telemetry, Twist, polar_twist,
+};
+
+/// Reconnects tried, once the link is closing, to write a stop that is still owed.
+const CLOSING_ATTEMPTS: u32 = 5;
+
+/// The motion this link keeps running on the arm.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Motion {
+    Idle,
+    Twist {
+        frame: ReferenceFrame,
+        twist: Twist,
+    },
+    /// A polar pan, with the base-frame twist last written for it.
+    Polar {
+        azimuth: f32,
+        altitude: f32,
+        twist: Twist,
+    },
+}
+
+/// What woke the task.
+enum Wake {
+    Job(Option<Job>),
+    HoldExpired,
+    Tick,
+}
+
+pub(super) struct LinkTask {
+    config: ModbusConfig,
+    jobs: mpsc::Receiver<Job>,
+    jobs_closed: bool,
+    snapshots: watch::Sender<Option<Snapshot>>,
+    events: mpsc::UnboundedSender<ModbusEvent>,
+    /// `None` while disconnected, or once a request broke the connection.
+    ctx: Option<Context>,
+    lost_reason: String,
+    plan: PollPlan,
+    image: RegisterImage,
+    sequence: u64,
+    motion: Motion,
+    hold_until: Option<Instant>,
+    /// A twist may be running on the arm: set before any twist write, cleared by a stop.
+    stop_owed: bool,
+    closing: bool,
+    /// Reconnects tried since closing began, to deliver an owed stop.
+    closing_attempts: u32,
+    close_replies: Vec<Reply<()>>,
+}
+
+impl LinkTask {
+    pub(super) fn new(
+        config: ModbusConfig,
+        jobs: mpsc::Receiver<Job>,
+        snapshots: watch::Sender<Option<Snapshot>>,
+        events: mpsc::UnboundedSender<ModbusEvent>,
+    ) -> LinkTask {
+        LinkTask {
+            plan: config.plan,
+            config,
+            jobs,
+            jobs_closed: false,
+            snapshots,
+            events,
+            ctx: None,
+            lost_reason: String::new(),
+            image: RegisterImage::default(),
+            sequence: 0,
+            motion: Motion::Idle,
+            hold_until: None,
+            stop_owed: false,
+            closing: false,
+            closing_attempts: 0,
+            close_replies: Vec::new(),
+        }
+    }
+
+    pub(super) async fn run(mut self, context: Context) {
+        self.ctx = Some(context);
+        loop {
+            if self.ctx.is_none() && !self.reconnect().await {
+                return;
+            }
+            if self.serve().await {
+                return;
+            }
+            let reason = std::mem::take(&mut self.lost_reason);
+            tracing::warn!("modbus link to {} lost: {reason}", self.config.addr);
+            self.motion = Motion::Idle;
+            self.hold_until = None;
+            self.event(ModbusEvent::Disconnected { reason });
+        }
+    }
+
+    /// Serves one connection. Returns true when the task is done, false when the connection
+    /// was lost.
+    async fn serve(&mut self) -> bool {
+        if self.stop_owed {
+            // After a reconnect: whatever was running before the loss must not go on.
+            let _ = self.stop(StopReason::Reconnected).await;
+        }
+        let period = self
+            .config
+            .poll_rate_hz
+            .and_then(|hz| Duration::try_from_secs_f64(1.0 / hz).ok());
+        let mut ticker = tokio::time::interval(period.unwrap_or(Duration::from_secs(3600)));
+        ticker.set_missed_tick_behavior(MissedTickBehavior::Delay);
+        loop {
+            if self.ctx.is_none() {
+                return false;
+            }
+            if self.closing {
+                return self.shut_down().await;
+            }
+            let hold = self.hold_until;
+            let wake = tokio::select! {
+                biased;
+                job = self.jobs.recv(), if !self.jobs_closed => Wake::Job(job),
+                _ = tokio::time::sleep_until(hold.unwrap_or_else(Instant::now)), if hold.is_some() => {
+                    Wake::HoldExpired
+                }
+                _ = ticker.tick(), if period.is_some() => Wake::Tick,
+            };
+            match wake {
+                Wake::Job(Some(job)) => self.handle(job).await,
+                Wake::Job(None) => {
+                    self.jobs_closed = true;
+                    self.closing = true;
+                }
+                Wake::HoldExpired => {
+                    let _ = self.stop(StopReason::HoldExpired).await;
+                }
+                Wake::Tick => self.tick().await,
+            }
+        }
+    }
+
+    /// Writes the owed stop, answers `close`, and disconnects. Returns false if the stop broke
+    /// the connection: the task then reconnects to try again.
+    async fn shut_down(&mut self) -> bool {
+        let result = if self.stop_owed {
+            self.stop(StopReason::LinkClosed).await.map(|_| ())
+        } else {
+            Ok(())
+        };
+        if self.ctx.is_none() && self.stop_owed {
+            return false;
+        }
+        self.answer_close(result);
+        if let Some(mut ctx) = self.ctx.take() {
+            let _ = ctx.disconnect().await;
+        }
+        true
+    }
+
+    fn answer_close(&mut self, result: Result<(), ModbusError>) {
+        let mut result = Some(result);
+        for reply in self.close_replies.drain(..) {
+            let outcome = result.take().unwrap_or_else(|| {
+                Err(ModbusError::Disconnected {
+                    reason: "closed by another caller".into(),
+                })
+            });
+            let _ = reply.send(outcome);
+        }
+    }
+
+    async fn handle(&mut self, job: Job) {
+        match job {
+            Job::Read(reply) => {
+                let result = self.poll().await;
+                if result.is_err() {
+                    self.stop_after_failed_poll().await;
+                }
+                let _ = reply.send(result);
+            }
+            Job::Twist {
+                frame,
+                twist,
+                reply,
+            } => {
+                let result = self.jog_twist(frame, twist).await;
+                let _ = reply.send(result);
+            }
+            Job::PolarPan {
+                azimuth,
+                altitude,
+                reply,
+            } => {
+                let result = self.polar_pan(azimuth, altitude).await;
+                let _ = reply.send(result);
+            }
+            Job::Stop(reply) => {
+                let result = self.stop(StopReason::Requested).await;
+                let _ = reply.send(result);
+            }
+            Job::Move { writes, reply } => {
+                let result = match self.stop_owed {
+                    true => self.stop(StopReason::Replaced).await.map(|_| ()),
+                    false => Ok(()),
+                };
+                let result = match result {
+                    Ok(()) => self.execute(&writes).await,
+                    Err(e) => Err(e),
+                };
+                let _ = reply.send(result);
+            }
+            Job::Plain {
+                writes,
+                halts,
+                reply,
+            } => {
+                let result = self.execute(&writes).await;
+                if halts && result.is_ok() {
+                    self.motion = Motion::Idle;
+                    self.hold_until = None;
+                    self.stop_owed = false;
+                }
+                let _ = reply.send(result);
+            }
+            Job::Close(reply) => {
+                self.close_replies.push(reply);
+                self.closing = true;
+            }
+        }
+    }
+
+    async fn jog_twist(
+        &mut self,
+        frame: ReferenceFrame,
+        twist: Twist,
+    ) -> Result<WriteReport, ModbusError> {
+        if twist.is_zero() {
+            return self.stop(StopReason::Requested).await;
+        }
+        let wanted = Motion::Twist { frame, twist };
+        if self.motion == wanted {
+            self.refresh_hold();
+            return Ok(WriteReport::default());
+        }
+        let writes = commands::twist(frame, twist)?;
+        self.motion = wanted;
+        self.refresh_hold();
+        self.write_motion(&writes).await
+    }
+
+    async fn polar_pan(&mut self, azimuth: f32, altitude: f32) -> Result<WriteReport, ModbusError> {
+        if azimuth == 0.0 && altitude == 0.0 {
+            return self.stop(StopReason::Requested).await;
+        }
+        if let Motion::Polar {
+            azimuth: a,
+            altitude: e,
+            ..
+        } = self.motion
+            && (a, e) == (azimuth, altitude)
+        {
+            self.refresh_hold();
+            return Ok(WriteReport::default());
+        }
+        // A fresh pose, not the last poll's: the new direction starts from where the arm is.
+        let pose = match self.poll().await {
+            Ok(telemetry) => telemetry.tcp.pose,
+            Err(e) => {
+                self.stop_after_failed_poll().await;
+                return Err(e);
+            }
+        };
+        let twist = match polar_twist(pose, azimuth, altitude, self.config.polar) {
+            Ok(twist) => twist,
+            Err(e) => {
+                if self.motion != Motion::Idle {
+                    let _ = self.stop(StopReason::PolarPanUndefined).await;
+                }
+                return Err(e.into());
+            }
+        };
+        self.motion = Motion::Polar {
+            azimuth,
+            altitude,
+            twist,
+        };
+        self.refresh_hold();
+        let writes = commands::twist(ReferenceFrame::Base, twist)?;
+        self.write_motion(&writes).await
+    }
+
+    /// Recomputes a running polar pan from the pose just polled.
+    async fn refresh_polar(&mut self, pose: Pose) {
+        let Motion::Polar {
+            azimuth,
+            altitude,
+            twist: last,
+        } = self.motion
+        else {
+            return;
+        };
+        let writes = polar_twist(pose, azimuth, altitude, self.config.polar)
+            .map_err(ModbusError::from)
+            .and_then(|twist| Ok((twist, commands::twist(ReferenceFrame::Base, twist)?)));
+        match writes {
+            Ok((twist, _)) if twist == last => {}
+            Ok((twist, writes)) => {
+                self.motion = Motion::Polar {
+                    azimuth,
+                    altitude,
+                    twist,
+                };
+                let _ = self.write_motion(&writes).await;
+            }
+            Err(e) => {
+                tracing::warn!("polar pan stopped: {e}");
+                let _ = self.stop(StopReason::PolarPanUndefined).await;
+            }
+        }
+    }
+
+    fn refresh_hold(&mut self) {
+        self.hold_until = self.config.twist_hold.map(|hold| Instant::now() + hold);
+    }
+
+    /// Writes a twist; if that fails the twist is stopped (now, or after the reconnect).
+    async fn write_motion(&mut self, writes: &[Write]) -> Result<WriteReport, ModbusError> {
+        self.stop_owed = true;
+        let result = self.execute(writes).await;
+        if result.is_err() {
+            if self.ctx.is_some() {
+                let _ = self.stop(StopReason::WriteFailed).await;
+            } else {
+                self.motion = Motion::Idle;
+                self.hold_until = None;
+            }
+        }
+        result
+    }
+
+    /// The stop sequence (holding register 200 <- 2). If the arm refuses it with an exception,
+    /// the abort coil is pulsed instead. Failures are logged as errors and sent as events.
+    async fn stop(&mut self, reason: StopReason) -> Result<WriteReport, ModbusError> {
+        self.motion = Motion::Idle;
+        self.hold_until = None;
+        let stop_error = match self.execute(&commands::stop()).await {
+            Ok(report) => {
+                self.stop_owed = false;
+                tracing::info!("twist stopped ({reason:?})");
+                self.event(ModbusEvent::Stopped { reason });
+                return Ok(report);
+            }
+            Err(e) if self.ctx.is_none() => {
+                self.stop_failed(reason, &e);
+                return Err(e);
+            }
+            Err(e) => e,
+        };
+        tracing::error!("the arm refused the stop ({stop_error}); pulsing the abort coil");
+        match self.execute(&commands::pulse(ControlCoil::Abort)).await {
+            Ok(mut report) => {
+                self.stop_owed = false;
+                report.writes.splice(0..0, commands::stop());
+                self.event(ModbusEvent::StopEscalated {
+                    reason,
+                    error: stop_error.to_string(),
+                });
+                Ok(report)
+            }
+            Err(abort) => {
+                let e = ModbusError::StopFailed {
+                    stop: Box::new(stop_error),
+                    abort: Box::new(abort),
+                };
+                self.stop_failed(reason, &e);
+                Err(e)
+            }
+        }
+    }
+
+    fn stop_failed(&mut self, reason: StopReason, error: &ModbusError) {
+        let retry = if self.ctx.is_none() {
+            "; retrying after the reconnect"
+        } else {
+            ""
+        };
+        tracing::error!(
+            "STOP NOT WRITTEN ({reason:?}): {error}{retry}. The arm may still be moving: use its e-stop"
+        );
+        self.event(ModbusEvent::StopFailed {
+            reason,
+            error: error.to_string(),
+        });
+    }
+
+    /// A poll failed: a moving arm we cannot see is stopped.
+    async fn stop_after_failed_poll(&mut self) {
+        if self.motion != Motion::Idle && self.ctx.is_some() {
+            let _ = self.stop(StopReason::PollFailed).await;
+        }
+    }
+
+    async fn tick(&mut self) {
+        match self.poll().await {
+            Ok(telemetry) => self.refresh_polar(telemetry.tcp.pose).await,
+            Err(e) => {
+                tracing::debug!("poll failed: {e}");
+                self.event(ModbusEvent::PollFailed {
+                    error: e.to_string(),
+                });
+                self.stop_after_failed_poll().await;
+            }
+        }
+    }
+
+    /// Reads one complete snapshot and publishes it. Falls back to the ICD's blocks if the arm
+    /// refuses the compact reads.
+    async fn poll(&mut self) -> Result<Telemetry, ModbusError> {
+        let started = Instant::now();
+        let mut index = 0;
+        while let Some(block) = self.plan.blocks().get(index).copied() {
+            let Some(ctx) = self.ctx.as_mut() else {
+                return Err(self.not_connected());
+            };
+            match wire::read(ctx, block, &mut self.image, self.config.request_timeout).await {
+                Ok(()) => index += 1,
+                Err(e)
+                    if self.plan == PollPlan::Compact
+                        && e.exception() == Some(ModbusException::IllegalDataAddress) =>
+                {
+                    tracing::warn!("{e}; reading the ICD's blocks one by one from now on");
+                    self.plan = PollPlan::IcdBlocks;
+                    self.event(ModbusEvent::PlanFallback { plan: self.plan });
+                    index = 0;
+                }
+                Err(e) => {
+                    self.note_broken(&e);
+                    return Err(e);
+                }
+            }
+        }
+        let telemetry = Telemetry::decode(&self.image);
+        self.sequence += 1;
+        self.snapshots.send_replace(Some(Snapshot {
+            telemetry: telemetry.clone(),
+            sequence: self.sequence,
+            completed_at: std::time::Instant::now(),
+            poll_time: started.elapsed(),
+        }));
+        Ok(telemetry)
+    }
+
+    /// Sends writes in order, stopping at the first failure.
+    async fn execute(&mut self, writes: &[Write]) -> Result<WriteReport, ModbusError> {
+        let started = Instant::now();
+        for write in writes {
+            let Some(ctx) = self.ctx.as_mut() else {
+                return Err(self.not_connected());
+            };
+            if let Err(e) = wire::write(ctx, write, self.config.request_timeout).await {
+                self.note_broken(&e);
+                return Err(e);
+            }
+        }
+        Ok(WriteReport {
+            writes: writes.to_vec(),
+            elapsed: started.elapsed(),
+        })
+    }
+
+    /// Drops a connection that can no longer be trusted.
+    fn note_broken(&mut self, error: &ModbusError) {
+        if error.breaks_connection() {
+            self.ctx = None;
+            self.lost_reason = error.to_string();
+        }
+    }
+
+    fn not_connected(&self) -> ModbusError {
+        ModbusError::Disconnected {
+            reason: if self.lost_reason.is_empty() {
+                "reconnecting".into()
+            } else {
+                format!("reconnecting after: {}", self.lost_reason)
+            },
+        }
+    }
+
+    /// Reconnects with backoff, refusing jobs meanwhile. Returns false when the task should end:
+    /// every handle is gone and no stop is owed, or the owed stop could not be delivered.
+    async fn reconnect(&mut self) -> bool {
+        let mut delay = self.config.reconnect_delay;
+        let mut attempts = 0u32;
+        loop {
+            if self.closing {
+                if !self.stop_owed {
+                    self.answer_close(Ok(()));
+                    return false;
+                }
+                if self.closing_attempts >= CLOSING_ATTEMPTS {
+                    let e = ModbusError::Disconnected {
+                        reason: format!(
+                            "gave up writing the stop after {CLOSING_ATTEMPTS} reconnects: {}",
+                            self.lost_reason
+                        ),
+                    };
+                    self.stop_failed(StopReason::LinkClosed, &e);
+                    self.answer_close(Err(e));
+                    return false;
+                }
+                self.closing_attempts += 1;
+            }
+            attempts += 1;
+            let opened = {
+                let config = self.config.clone();
+                let open = wire::open(&config);
+                tokio::pin!(open);
+                loop {
+                    tokio::select! {
+                        biased;
+                        job = self.jobs.recv(), if !self.jobs_closed => self.refuse(job),
+                        opened = &mut open => break opened,
+                    }
+                }
+            };
+            match opened {
+                Ok(ctx) => {
+                    self.ctx = Some(ctx);
+                    tracing::info!("modbus link to {} reconnected", self.config.addr);
+                    self.event(ModbusEvent::Reconnected { attempts });
+                    return true;
+                }
+                Err(e) => {
+                    tracing::debug!("reconnect attempt {attempts} failed: {e}");
+                    self.lost_reason = e.to_string();
+                }
+            }
+            let wait = tokio::time::sleep(delay);
+            tokio::pin!(wait);
+            loop {
+                tokio::select! {
+                    biased;
+                    job = self.jobs.recv(), if !self.jobs_closed => self.refuse(job),
+                    () = &mut wait => break,
+                }
+            }
+            delay = (delay * 2).min(self.config.reconnect_max_delay);
+        }
+    }
+
+    /// Answers a job that arrived while disconnected. Nothing is queued for later: a jog sent
+    /// now must not start when the connection comes back.
+    fn refuse(&mut self, job: Option<Job>) {
+        let error = || self.not_connected();
+        match job {
+            None => {
+                self.jobs_closed = true;
+                self.closing = true;
+            }
+            Some(Job::Close(reply)) => {
+                self.close_replies.push(reply);
+                self.closing = true;
+            }
+            Some(Job::Read(reply)) => {
+                let _ = reply.send(Err(error()));
+            }
+            Some(
+                Job::Twist { reply, .. }
+                | Job::PolarPan { reply, .. }
+                | Job::Stop(reply)
+                | Job::Move { reply, .. }
+                | Job::Plain { reply, .. },
+            ) => {
+                let _ = reply.send(Err(error()));
+            }
+        }
+    }
+
+    fn event(&self, event: ModbusEvent) {
+        tracing::debug!("modbus event: {event:?}");
+        let _ = self.events.send(event);
+    }
+}

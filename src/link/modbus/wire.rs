@@ -1,0 +1,149 @@
+//! One request on the wire: opening the connection, sending a read or write within the request
+//! timeout, and turning every outcome into a typed result.
+
+use std::borrow::Cow;
+use std::time::Duration;
+
+use tokio::net::TcpStream;
+use tokio_modbus::client::{Client, Context};
+use tokio_modbus::{Request, Response, Slave};
+
+use super::{ModbusConfig, ModbusError, ModbusException, Operation};
+use crate::kortex::{ReadBlock, RegisterImage, Table, Write};
+
+/// Opens a TCP connection to the arm within the connect timeout (name lookup included), trying
+/// every resolved address.
+pub(super) async fn open(config: &ModbusConfig) -> Result<Context, ModbusError> {
+    let addr = config.addr.clone();
+    let connect = async {
+        let addrs: Vec<_> = tokio::net::lookup_host(&addr)
+            .await
+            .map_err(|source| ModbusError::Resolve {
+                addr: addr.clone(),
+                source,
+            })?
+            .collect();
+        let mut last = None;
+        for a in addrs {
+            match TcpStream::connect(a).await {
+                Ok(stream) => return Ok(stream),
+                Err(e) => last = Some(e),
+            }
+        }
+        Err(ModbusError::ConnectRefused {
+            addr: addr.clone(),
+            source: last
+                .unwrap_or_else(|| std::io::Error::other("the name resolved to no address")),
+        })
+    };
+    match tokio::time::timeout(config.connect_timeout, connect).await {
+        Ok(Ok(stream)) => {
+            // Small request/reply pairs: never wait to coalesce.
+            let _ = stream.set_nodelay(true);
+            Ok(tokio_modbus::client::tcp::attach_slave(
+                stream,
+                Slave(config.unit),
+            ))
+        }
+        Ok(Err(e)) => Err(e),
+        Err(_) => Err(ModbusError::ConnectTimeout {
+            addr,
+            after: config.connect_timeout,
+        }),
+    }
+}
+
+/// Sends one request and returns its response, or the typed reason there is none.
+async fn call(
+    ctx: &mut Context,
+    operation: &Operation,
+    request: Request<'_>,
+    timeout: Duration,
+) -> Result<Response, ModbusError> {
+    match tokio::time::timeout(timeout, ctx.call(request)).await {
+        Err(_) => Err(ModbusError::Timeout {
+            operation: operation.clone(),
+            after: timeout,
+        }),
+        Ok(Err(tokio_modbus::Error::Transport(source))) => Err(ModbusError::Transport {
+            operation: operation.clone(),
+            source,
+        }),
+        Ok(Err(tokio_modbus::Error::Protocol(e))) => Err(ModbusError::Protocol {
+            operation: operation.clone(),
+            detail: e.to_string(),
+        }),
+        Ok(Ok(Err(exception))) => Err(ModbusError::Exception {
+            operation: operation.clone(),
+            exception: ModbusException::from(exception),
+        }),
+        Ok(Ok(Ok(response))) => Ok(response),
+    }
+}
+
+fn mismatch(operation: &Operation, response: &Response) -> ModbusError {
+    ModbusError::Protocol {
+        operation: operation.clone(),
+        detail: format!("unexpected response {response:?}"),
+    }
+}
+
+/// Reads one block into the image. A reply of the wrong kind or length is a protocol error.
+pub(super) async fn read(
+    ctx: &mut Context,
+    block: ReadBlock,
+    image: &mut RegisterImage,
+    timeout: Duration,
+) -> Result<(), ModbusError> {
+    let operation = Operation::Read(block);
+    let request = match block.table {
+        Table::Coils => Request::ReadCoils(block.start, block.count),
+        Table::DiscreteInputs => Request::ReadDiscreteInputs(block.start, block.count),
+        Table::InputRegisters => Request::ReadInputRegisters(block.start, block.count),
+        Table::HoldingRegisters => Request::ReadHoldingRegisters(block.start, block.count),
+    };
+    let response = call(ctx, &operation, request, timeout).await?;
+    let stored = match (&block.table, &response) {
+        (Table::DiscreteInputs, Response::ReadDiscreteInputs(bits)) => {
+            image.store_bits(block, bits)
+        }
+        (Table::InputRegisters, Response::ReadInputRegisters(words))
+        | (Table::HoldingRegisters, Response::ReadHoldingRegisters(words)) => {
+            image.store_words(block, words)
+        }
+        _ => return Err(mismatch(&operation, &response)),
+    };
+    stored.map_err(|e| ModbusError::Protocol {
+        operation,
+        detail: e.to_string(),
+    })
+}
+
+/// Sends one write and checks the arm's echo of it.
+pub(super) async fn write(
+    ctx: &mut Context,
+    write: &Write,
+    timeout: Duration,
+) -> Result<(), ModbusError> {
+    let operation = Operation::Write(write.clone());
+    match write {
+        Write::Registers { addr, values } => {
+            let request = Request::WriteMultipleRegisters(*addr, Cow::Borrowed(values));
+            match call(ctx, &operation, request, timeout).await? {
+                Response::WriteMultipleRegisters(a, n)
+                    if a == *addr && usize::from(n) == values.len() =>
+                {
+                    Ok(())
+                }
+                other => Err(mismatch(&operation, &other)),
+            }
+        }
+        Write::Coil { addr, value } => {
+            let request = Request::WriteSingleCoil(*addr, *value);
+            match call(ctx, &operation, request, timeout).await? {
+                Response::WriteSingleCoil(a, v) if a == *addr && v == *value => Ok(()),
+                other => Err(mismatch(&operation, &other)),
+            }
+        }
+    }
+}
