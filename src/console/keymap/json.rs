@@ -1,0 +1,381 @@
+//! Reading a keymap file with serde_json, refusing anything doubtful with a position.
+//!
+//! Every check runs inside deserialization so that serde_json attaches the line and column of
+//! the offending token. serde_json's position is where it stopped reading, which can be past the
+//! token (after whitespace, or after the `}` that closes the object); for errors about one
+//! string (a key name, an action name, a field name) [`token_start`] walks back to the string's
+//! opening quote so that the position points at the start of what is wrong.
+
+use super::{Keymap, KeymapError, KeymapErrorKind, REQUIRED_ACTIONS, TextPosition};
+use crate::console::action::Action;
+use crate::console::keymap::KeyName;
+use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, Visitor};
+use std::cell::Cell;
+use std::collections::BTreeMap;
+use std::fmt;
+
+const FIELDS: [&str; 3] = ["name", "description", "bindings"];
+
+pub(super) fn parse(source_name: &str, text: &str) -> Result<Keymap, KeymapError> {
+    let problem = Cell::new(None);
+    let mut deserializer = serde_json::Deserializer::from_str(text);
+    let parsed = FileSeed { problem: &problem }
+        .deserialize(&mut deserializer)
+        .and_then(|keymap| deserializer.end().map(|()| keymap));
+    parsed.map_err(|error| describe(source_name, text, &error, problem.get()))
+}
+
+fn describe(
+    source_name: &str,
+    text: &str,
+    error: &serde_json::Error,
+    problem: Option<KeymapErrorKind>,
+) -> KeymapError {
+    let kind = problem.unwrap_or(match error.classify() {
+        serde_json::error::Category::Data => KeymapErrorKind::InvalidValue,
+        serde_json::error::Category::Io
+        | serde_json::error::Category::Syntax
+        | serde_json::error::Category::Eof => KeymapErrorKind::InvalidJson,
+    });
+    let shown = error.to_string();
+    let position_suffix = format!(" at line {} column {}", error.line(), error.column());
+    let message = shown
+        .strip_suffix(&position_suffix)
+        .unwrap_or(&shown)
+        .to_owned();
+    let read_up_to = byte_offset(text, error.line(), error.column());
+    let points_at_a_string = matches!(
+        kind,
+        KeymapErrorKind::UnknownKey
+            | KeymapErrorKind::UnknownAction
+            | KeymapErrorKind::DuplicateKey
+            | KeymapErrorKind::UnknownField
+            | KeymapErrorKind::DuplicateField
+    );
+    let position = match (points_at_a_string, read_up_to) {
+        (true, Some(end)) => match token_start(text, end) {
+            Some(start) => Some(position_of_character(text, start)),
+            None => Some(position_of_last_read(text, end)),
+        },
+        (false, Some(end)) => Some(position_of_last_read(text, end)),
+        (_, None) => Some(TextPosition {
+            line: error.line().max(1),
+            column: error.column().max(1),
+        }),
+    };
+    KeymapError {
+        source_name: source_name.to_owned(),
+        position,
+        kind,
+        message,
+    }
+}
+
+/// The byte offset of serde_json's (line, column): `column` bytes into line `line`.
+fn byte_offset(text: &str, line: usize, column: usize) -> Option<usize> {
+    let line_start = if line <= 1 {
+        0
+    } else {
+        text.match_indices('\n').nth(line - 2)?.0 + 1
+    };
+    let offset = line_start.checked_add(column)?;
+    (offset <= text.len()).then_some(offset)
+}
+
+/// The position of the last character read before byte `end`; column 1 of the next line when
+/// that character is a newline (serde_json's column 0).
+fn position_of_last_read(text: &str, end: usize) -> TextPosition {
+    let before = text.get(..end).unwrap_or(text);
+    match before.char_indices().next_back() {
+        Some((_, '\n')) | None => position_of_character(text, before.len()),
+        Some((start, _)) => position_of_character(text, start),
+    }
+}
+
+/// Line and character column (both from 1) of the character starting at byte `offset`.
+fn position_of_character(text: &str, offset: usize) -> TextPosition {
+    let before = text.get(..offset).unwrap_or(text);
+    let line_start = before.rfind('\n').map_or(0, |newline| newline + 1);
+    TextPosition {
+        line: 1 + before.matches('\n').count(),
+        column: 1 + before[line_start..].chars().count(),
+    }
+}
+
+/// The byte offset of the opening quote of the string that ends before `end`, skipping back
+/// over whitespace and at most one `}` (serde_json may have consumed the `}` closing the
+/// object before reporting the error). `None` if no string ends there.
+fn token_start(text: &str, end: usize) -> Option<usize> {
+    let bytes = text.as_bytes();
+    let skip_whitespace = |mut index: usize| {
+        while index > 0 && bytes[index - 1].is_ascii_whitespace() {
+            index -= 1;
+        }
+        index
+    };
+    let mut index = skip_whitespace(end.min(bytes.len()));
+    if index > 0 && bytes[index - 1] == b'}' {
+        index = skip_whitespace(index - 1);
+    }
+    if index == 0 || bytes[index - 1] != b'"' {
+        return None;
+    }
+    let closing_quote = index - 1;
+    // Inside a JSON string every quote is escaped, so the opening quote is the nearest quote
+    // before the closing one that is preceded by an even number of backslashes.
+    let mut candidate = closing_quote;
+    while candidate > 0 {
+        candidate -= 1;
+        if bytes[candidate] == b'"' {
+            let backslashes = bytes[..candidate]
+                .iter()
+                .rev()
+                .take_while(|byte| **byte == b'\\')
+                .count();
+            if backslashes.is_multiple_of(2) {
+                return Some(candidate);
+            }
+        }
+    }
+    None
+}
+
+/// Records the kind of the first problem found, for [`describe`].
+#[derive(Clone, Copy)]
+struct ProblemSlot<'a>(&'a Cell<Option<KeymapErrorKind>>);
+
+impl ProblemSlot<'_> {
+    fn raise<E: de::Error>(self, kind: KeymapErrorKind, message: impl fmt::Display) -> E {
+        self.0.set(Some(kind));
+        E::custom(message)
+    }
+}
+
+struct FileSeed<'a> {
+    problem: &'a Cell<Option<KeymapErrorKind>>,
+}
+
+impl<'de> DeserializeSeed<'de> for FileSeed<'_> {
+    type Value = Keymap;
+
+    fn deserialize<D: Deserializer<'de>>(self, deserializer: D) -> Result<Keymap, D::Error> {
+        deserializer.deserialize_map(FileVisitor {
+            problem: ProblemSlot(self.problem),
+        })
+    }
+}
+
+struct FileVisitor<'a> {
+    problem: ProblemSlot<'a>,
+}
+
+impl<'de> Visitor<'de> for FileVisitor<'_> {
+    type Value = Keymap;
+
+    fn expecting(&self, formatter: &mut fmt::Formatter) -> fmt::Result {
+        formatter.write_str("a keymap object with \"name\", \"description\" and \"bindings\"")
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Keymap, A::Error> {
+        let problem = self.problem;
+        let mut name: Option<String> = None;
+        let mut description: Option<String> = None;
+        let mut bindings: Option<BTreeMap<KeyName, Action>> = None;
+        while let Some(field) = map.next_key::<String>()? {
+            let duplicate = || {
+                problem.raise(
+                    KeymapErrorKind::DuplicateField,
+                    format!("field {field:?} appears twice"),
+                )
+            };
+            match field.as_str() {
+                "name" => {
+                    if name.is_some() {
+                        return Err(duplicate());
+                    }
+                    name = Some(map.next_value()?);
+                }
+                "description" => {
+                    if description.is_some() {
+                        return Err(duplicate());
+                    }
+                    description = Some(map.next_value()?);
+                }
+                "bindings" => {
+                    if bindings.is_some() {
+                        return Err(duplicate());
+                    }
+                    bindings = Some(map.next_value_seed(BindingsSeed { problem })?);
+                }
+                _ => {
+                    return Err(problem.raise(
+                        KeymapErrorKind::UnknownField,
+                        format!(
+                            "unknown field {field:?} (expected one of: {})",
+                            FIELDS.join(", ")
+                        ),
+                    ));
+                }
+            }
+        }
+        let missing = |field: &str| {
+            problem.raise(
+                KeymapErrorKind::MissingField,
+                format!("the keymap has no {field:?} field"),
+            )
+        };
+        let name = name.ok_or_else(|| missing("name"))?;
+        let bindings = bindings.ok_or_else(|| missing("bindings"))?;
+        Ok(Keymap {
+            name,
+            description: description.unwrap_or_default(),
+            bindings,
+        })
+    }
+}
+
+struct BindingsSeed<'a> {
+    problem: ProblemSlot<'a>,
+}
+
+impl<'de> DeserializeSeed<'de> for BindingsSeed<'_> {
+    type Value = BTreeMap<KeyName, Action>;
+
+    fn deserialize<D: Deserializer<'de>>(self, deserializer: D) -> Result<Self::Value, D::Error> {
+        deserializer.deserialize_map(self)
+    }
+}
+
+impl<'de> Visitor<'de> for BindingsSeed<'_> {
+    type Value = BTreeMap<KeyName, Action>;
+
+    fn expecting(&self, formatter: &mut fmt::Formatter) -> fmt::Result {
+        formatter.write_str("an object of bindings such as {\"w\": \"jog_x_plus\"}")
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
+        let problem = self.problem;
+        let mut bindings = BTreeMap::new();
+        while let Some(key) = map.next_key_seed(KeyNameSeed { problem })? {
+            if let Some(earlier) = bindings.get(&key) {
+                return Err(problem.raise(
+                    KeymapErrorKind::DuplicateKey,
+                    format!(
+                        "duplicate binding: key \"{key}\" is already bound above (to \"{}\")",
+                        Action::name(*earlier)
+                    ),
+                ));
+            }
+            let action = map.next_value_seed(ActionSeed { problem })?;
+            bindings.insert(key, action);
+        }
+        for required in REQUIRED_ACTIONS {
+            if !bindings.values().any(|bound| *bound == required) {
+                return Err(problem.raise(
+                    KeymapErrorKind::MissingRequiredAction,
+                    format!(
+                        "no key is bound to \"{}\": every keymap must let the technician stop \
+                         the arm and quit",
+                        required.name()
+                    ),
+                ));
+            }
+        }
+        Ok(bindings)
+    }
+}
+
+#[derive(Clone, Copy)]
+struct KeyNameSeed<'a> {
+    problem: ProblemSlot<'a>,
+}
+
+impl<'de> DeserializeSeed<'de> for KeyNameSeed<'_> {
+    type Value = KeyName;
+
+    fn deserialize<D: Deserializer<'de>>(self, deserializer: D) -> Result<KeyName, D::Error> {
+        deserializer.deserialize_str(self)
+    }
+}
+
+impl Visitor<'_> for KeyNameSeed<'_> {
+    type Value = KeyName;
+
+    fn expecting(&self, formatter: &mut fmt::Formatter) -> fmt::Result {
+        formatter.write_str("a key name")
+    }
+
+    fn visit_str<E: de::Error>(self, text: &str) -> Result<KeyName, E> {
+        text.parse()
+            .map_err(|error| self.problem.raise(KeymapErrorKind::UnknownKey, error))
+    }
+}
+
+#[derive(Clone, Copy)]
+struct ActionSeed<'a> {
+    problem: ProblemSlot<'a>,
+}
+
+impl<'de> DeserializeSeed<'de> for ActionSeed<'_> {
+    type Value = Action;
+
+    fn deserialize<D: Deserializer<'de>>(self, deserializer: D) -> Result<Action, D::Error> {
+        deserializer.deserialize_str(self)
+    }
+}
+
+impl Visitor<'_> for ActionSeed<'_> {
+    type Value = Action;
+
+    fn expecting(&self, formatter: &mut fmt::Formatter) -> fmt::Result {
+        formatter.write_str("an action name such as \"stop\"")
+    }
+
+    fn visit_str<E: de::Error>(self, text: &str) -> Result<Action, E> {
+        Action::ALL
+            .into_iter()
+            .find(|action| action.name() == text)
+            .ok_or_else(|| {
+                let expected: Vec<String> = Action::ALL.iter().map(|a| a.name()).collect();
+                self.problem.raise(
+                    KeymapErrorKind::UnknownAction,
+                    format!(
+                        "unknown action {text:?} (expected one of: {})",
+                        expected.join(", ")
+                    ),
+                )
+            })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn token_start_finds_the_opening_quote() {
+        let text = "{ \"ab\\\"c\" : 1 }";
+        // Just after the closing quote, after the following whitespace, and after a `}`.
+        assert_eq!(token_start(text, 9), Some(2));
+        assert_eq!(token_start(text, 10), Some(2));
+        assert_eq!(token_start("{\"a\"\n }", 7), Some(1));
+        assert_eq!(token_start("{ 12 }", 4), None);
+        assert_eq!(token_start("", 0), None);
+    }
+
+    #[test]
+    fn positions_count_characters_from_one() {
+        let text = "ab\né\"x\"";
+        assert_eq!(
+            position_of_character(text, 0),
+            TextPosition { line: 1, column: 1 }
+        );
+        // 'é' is two bytes: the quote after it is byte 5, character column 2.
+        assert_eq!(
+            position_of_character(text, 5),
+            TextPosition { line: 2, column: 2 }
+        );
+        assert_eq!(byte_offset(text, 2, 3), Some(6));
+        assert_eq!(byte_offset(text, 3, 0), None);
+    }
+}
