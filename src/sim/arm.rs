@@ -284,6 +284,11 @@ impl Arm {
         self.faults |= 1 << (bit & 31);
     }
 
+    /// A start the arm could not carry out.
+    pub fn mark_aborted(&mut self) {
+        self.action_status = ActionStatus::Aborted;
+    }
+
     pub fn set_action(&mut self, id: u16) {
         self.action_id = id;
         self.move_type = 0;

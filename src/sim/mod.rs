@@ -6,6 +6,8 @@
 
 pub mod arm;
 pub mod kinematics;
+pub mod modbus_registers;
+pub mod modbus_server;
 pub mod operator;
 pub mod talos_server;
 pub mod telemetry;
@@ -32,6 +34,8 @@ pub const DEFAULT_MODBUS_LISTEN: &str = "127.0.0.1:5020";
 #[derive(Debug, Clone)]
 pub struct SimConfig {
     pub talos_listen: String,
+    /// `None` runs no Modbus server.
+    pub modbus_listen: Option<String>,
     pub talos: TalosServerConfig,
     pub faults: NetworkFaults,
     /// The arm's starting state (home pose at rest by default).
@@ -42,6 +46,7 @@ impl Default for SimConfig {
     fn default() -> Self {
         SimConfig {
             talos_listen: DEFAULT_TALOS_LISTEN.into(),
+            modbus_listen: Some(DEFAULT_MODBUS_LISTEN.into()),
             talos: TalosServerConfig::default(),
             faults: NetworkFaults::default(),
             arm: Arm::default(),
@@ -54,6 +59,7 @@ impl SimConfig {
     pub fn ephemeral() -> Self {
         SimConfig {
             talos_listen: "127.0.0.1:0".into(),
+            modbus_listen: Some("127.0.0.1:0".into()),
             ..SimConfig::default()
         }
     }
@@ -73,7 +79,7 @@ pub enum SimError {
 fn port_hint(e: &std::io::Error) -> &'static str {
     match e.kind() {
         std::io::ErrorKind::AddrInUse => {
-            " (another program, perhaps another armjog sim, uses that port: choose another with --talos-listen / --modbus-listen)"
+            " (another program, perhaps another armjog sim, uses that port: choose another with --talos-listen or --modbus-listen)"
         }
         std::io::ErrorKind::PermissionDenied => " (ports below 1024 need privileges)",
         _ => "",
@@ -84,6 +90,8 @@ fn port_hint(e: &std::io::Error) -> &'static str {
 pub struct Simulator {
     pub arm: SimArm,
     pub talos_addr: SocketAddr,
+    /// Where the Kinova Modbus server listens, when it runs.
+    pub modbus_addr: Option<SocketAddr>,
     faults: watch::Sender<NetworkFaults>,
     tasks: Vec<JoinHandle<()>>,
 }
@@ -92,17 +100,34 @@ impl Simulator {
     pub async fn start(config: SimConfig) -> Result<Simulator, SimError> {
         let talos_listener = bind("the Talos operator", &config.talos_listen).await?;
         let talos_addr = local_addr("the Talos operator", &config.talos_listen, &talos_listener)?;
+        let modbus_listener = match &config.modbus_listen {
+            Some(addr) => {
+                let listener = bind("the Modbus server", addr).await?;
+                let local = local_addr("the Modbus server", addr, &listener)?;
+                Some((listener, local))
+            }
+            None => None,
+        };
         let arm = SimArm::spawn(config.arm, Operator::default());
         let (faults, faults_rx) = watch::channel(config.faults);
-        let tasks = vec![tokio::spawn(talos_server::serve(
+        let mut tasks = vec![tokio::spawn(talos_server::serve(
             talos_listener,
             arm.clone(),
             config.talos,
-            faults_rx,
+            faults_rx.clone(),
         ))];
+        let modbus_addr = modbus_listener.map(|(listener, local)| {
+            tasks.push(tokio::spawn(modbus_server::serve_on(
+                listener,
+                arm.clone(),
+                faults_rx,
+            )));
+            local
+        });
         Ok(Simulator {
             arm,
             talos_addr,
+            modbus_addr,
             faults,
             tasks,
         })

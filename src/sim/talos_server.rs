@@ -104,7 +104,7 @@ async fn connection(
         }
         let n = replies.fetch_add(1, Ordering::Relaxed) + 1;
         let nth = u64::from(faults_now.drop_every_nth_reply);
-        let dropped = nth != 0 && n % nth == 0;
+        let dropped = nth != 0 && n.is_multiple_of(nth);
         if !dropped {
             let sent = match answer {
                 Answer::Frame(frame) => writer.send(frame).await,

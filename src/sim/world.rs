@@ -14,7 +14,17 @@ const TICK: Duration = Duration::from_millis(10);
 /// Longest stretch of simulated time caught up at once (after a suspended process, say).
 const MAX_CATCH_UP_STEPS: u64 = 2_000;
 
-type Job = Box<dyn FnOnce(&mut Arm, &mut Operator) + Send>;
+/// Everything the simulated robot holds: the arm, the Talos operator's state and the Modbus
+/// command block.
+#[derive(Debug, Clone, Default)]
+pub struct World {
+    pub arm: Arm,
+    pub operator: Operator,
+    /// Holding registers 200-219 as last written.
+    pub command_block: [u16; 20],
+}
+
+type Job = Box<dyn FnOnce(&mut World) + Send>;
 
 /// The simulated arm's task has ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
@@ -31,22 +41,37 @@ impl SimArm {
     /// Starts the arm task with `arm` and `operator` as the initial state.
     pub fn spawn(arm: Arm, operator: Operator) -> SimArm {
         let (jobs, rx) = mpsc::channel::<Job>(256);
-        tokio::spawn(run(arm, operator, rx));
+        let world = World {
+            arm,
+            operator,
+            command_block: [0; 20],
+        };
+        tokio::spawn(run(world, rx));
         SimArm { jobs }
     }
 
-    /// Runs `f` on the arm, brought up to the present first, and returns its result.
+    /// Runs `f` on the whole world, the arm brought up to the present first.
+    pub async fn with_world<R, F>(&self, f: F) -> Result<R, SimGone>
+    where
+        R: Send + 'static,
+        F: FnOnce(&mut World) -> R + Send + 'static,
+    {
+        let (tx, rx) = oneshot::channel();
+        let job: Job = Box::new(move |world| {
+            let _ = tx.send(f(world));
+        });
+        self.jobs.send(job).await.map_err(|_| SimGone)?;
+        rx.await.map_err(|_| SimGone)
+    }
+
+    /// Runs `f` on the arm and the Talos operator state.
     pub async fn with<R, F>(&self, f: F) -> Result<R, SimGone>
     where
         R: Send + 'static,
         F: FnOnce(&mut Arm, &mut Operator) -> R + Send + 'static,
     {
-        let (tx, rx) = oneshot::channel();
-        let job: Job = Box::new(move |arm, operator| {
-            let _ = tx.send(f(arm, operator));
-        });
-        self.jobs.send(job).await.map_err(|_| SimGone)?;
-        rx.await.map_err(|_| SimGone)
+        self.with_world(move |w| f(&mut w.arm, &mut w.operator))
+            .await
     }
 
     pub async fn snapshot(&self) -> Result<ArmSnapshot, SimGone> {
@@ -54,7 +79,7 @@ impl SimArm {
     }
 }
 
-async fn run(mut arm: Arm, mut operator: Operator, mut jobs: mpsc::Receiver<Job>) {
+async fn run(mut world: World, mut jobs: mpsc::Receiver<Job>) {
     let mut clock = Instant::now();
     let mut tick = tokio::time::interval(TICK);
     tick.set_missed_tick_behavior(MissedTickBehavior::Delay);
@@ -72,12 +97,12 @@ async fn run(mut arm: Arm, mut operator: Operator, mut jobs: mpsc::Receiver<Job>
         tokio::select! {
             job = jobs.recv() => match job {
                 Some(job) => {
-                    catch_up(&mut arm);
-                    job(&mut arm, &mut operator);
+                    catch_up(&mut world.arm);
+                    job(&mut world);
                 }
                 None => return,
             },
-            _ = tick.tick() => catch_up(&mut arm),
+            _ = tick.tick() => catch_up(&mut world.arm),
         }
     }
 }

@@ -1,0 +1,127 @@
+//! `armjog sim`: the simulated Gen3 arm, standalone, serving Talos and Kinova Modbus.
+
+use std::time::Duration;
+
+use clap::Args;
+
+use crate::link::Dialect;
+use crate::sim::arm::Arm;
+use crate::sim::kinematics::{self, HOME_DEG, JOINT_LIMITS_DEG};
+use crate::sim::talos_server::{NetworkFaults, TalosServerConfig};
+use crate::sim::{DEFAULT_MODBUS_LISTEN, DEFAULT_TALOS_LISTEN, SimConfig, Simulator};
+use crate::talos::Checksum;
+
+#[derive(Debug, Args)]
+pub struct SimArgs {
+    /// Where the Talos operator listens.
+    #[arg(long, default_value = DEFAULT_TALOS_LISTEN, value_name = "ADDR")]
+    pub talos_listen: String,
+    /// Where the Kinova Modbus server listens.
+    #[arg(long, default_value = DEFAULT_MODBUS_LISTEN, value_name = "ADDR")]
+    pub modbus_listen: String,
+    /// Run no Modbus server.
+    #[arg(long)]
+    pub no_modbus: bool,
+    /// The operator's reply dialect: typed ICD replies, or the deployed operator's "ACK\0".
+    #[arg(long, default_value = "icd", value_parser = |s: &str| s.parse::<Dialect>())]
+    pub dialect: Dialect,
+    /// The operator's checksum dialect.
+    #[arg(long, default_value = "crc16", value_parser = |s: &str| s.parse::<Checksum>())]
+    pub checksum: Checksum,
+    /// Fault injection: wait this long before every reply, ms.
+    #[arg(long, default_value_t = 0, value_name = "MS")]
+    pub reply_delay: u64,
+    /// Fault injection: drop every Nth reply (1 drops all).
+    #[arg(long, default_value_t = 0, value_name = "N")]
+    pub drop_every: u32,
+    /// Fault injection: close each Talos connection after N frames.
+    #[arg(long, value_name = "N")]
+    pub close_after: Option<u32>,
+    /// Fault injection: start with this Kinova fault bit raised (0-30, e.g. 4 joint fault).
+    #[arg(long, value_name = "BIT", value_parser = clap::value_parser!(u32).range(0..=30))]
+    pub fault: Option<u32>,
+    /// Fault injection: start with this joint (2, 4 or 6) 2 degrees short of its upper limit.
+    #[arg(long, value_name = "JOINT", value_parser = clap::value_parser!(u8).range(1..=7))]
+    pub near_limit: Option<u8>,
+}
+
+impl SimArgs {
+    pub fn config(&self) -> Result<SimConfig, String> {
+        let mut q = HOME_DEG;
+        if let Some(joint) = self.near_limit {
+            let i = usize::from(joint - 1);
+            let Some(limit) = JOINT_LIMITS_DEG[i] else {
+                return Err(format!(
+                    "--near-limit {joint}: joint {joint} turns continuously; J2, J4 and J6 have limits"
+                ));
+            };
+            q[i] = limit - 2.0;
+        }
+        let mut arm = Arm::at(kinematics::to_radians(&q));
+        if let Some(bit) = self.fault {
+            arm.raise_fault(bit);
+        }
+        Ok(SimConfig {
+            talos_listen: self.talos_listen.clone(),
+            modbus_listen: (!self.no_modbus).then(|| self.modbus_listen.clone()),
+            talos: TalosServerConfig {
+                checksum: self.checksum,
+                dialect: self.dialect,
+            },
+            faults: NetworkFaults {
+                reply_delay: Duration::from_millis(self.reply_delay),
+                drop_every_nth_reply: self.drop_every,
+                close_after_frames: self.close_after,
+            },
+            arm,
+        })
+    }
+}
+
+/// Runs the simulator until SIGINT or SIGTERM. Returns the exit status.
+pub async fn run(args: &SimArgs) -> i32 {
+    let config = match args.config() {
+        Ok(config) => config,
+        Err(reason) => {
+            eprintln!("armjog: {reason}");
+            return 2;
+        }
+    };
+    let sim = match Simulator::start(config).await {
+        Ok(sim) => sim,
+        Err(e) => {
+            eprintln!("armjog: {e}");
+            return 1;
+        }
+    };
+    println!(
+        "armjog sim: simulated Kinova Gen3 at the home pose\n  talos operator  {} ({}, {})",
+        sim.talos_addr, args.dialect, args.checksum
+    );
+    match sim.modbus_addr {
+        Some(addr) => println!("  kinova modbus   {addr} (any unit id)"),
+        None => println!("  kinova modbus   off"),
+    }
+    println!("Ctrl-C stops it.");
+    wait_for_signal().await;
+    println!("armjog sim: stopped");
+    0
+}
+
+async fn wait_for_signal() {
+    use tokio::signal::unix::{SignalKind, signal};
+    match (
+        signal(SignalKind::interrupt()),
+        signal(SignalKind::terminate()),
+    ) {
+        (Ok(mut int), Ok(mut term)) => {
+            tokio::select! {
+                _ = int.recv() => {}
+                _ = term.recv() => {}
+            }
+        }
+        _ => {
+            let _ = tokio::signal::ctrl_c().await;
+        }
+    }
+}

@@ -1,0 +1,240 @@
+//! The simulated arm as the Kinova Modbus ICD shows it: the register image of a snapshot, and
+//! what writes to the command block and the coils do. Pure.
+//!
+//! Like the real arm (field notes), a twist has no watchdog: it runs until stopped or faulted.
+//! Only the addresses the ICD lists exist; any other answers "illegal data address".
+
+use nalgebra::Vector3;
+
+use super::arm::{ArmSnapshot, Frame, Motion};
+use super::kinematics::{self, HOME_DEG, Pose};
+use super::world::World;
+use crate::kortex::registers::{coil, discrete_input, holding_register, input_register};
+use crate::kortex::words::{f32_to_words, u32_to_words};
+
+/// The Home action's id in the simulator (armjog's default `--action-id`).
+pub const HOME_ACTION_ID: u16 = 2;
+
+/// Listed address ranges (start, end exclusive), per table.
+pub const DISCRETE_INPUTS: [(u16, u16); 3] = [(0, 10), (32, 63), (64, 95)];
+pub const INPUT_REGISTERS: [(u16, u16); 3] = [(0, 1), (2, 14), (34, 140)];
+pub const HOLDING_REGISTERS: [(u16, u16); 4] = [(0, 1), (100, 103), (104, 108), (200, 220)];
+pub const COILS: [(u16, u16); 1] = [(0, 3)];
+/// Only the command block can be written.
+const WRITABLE: (u16, u16) = (200, 220);
+
+/// A request that cannot be served.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Refused {
+    IllegalAddress,
+    IllegalValue,
+}
+
+/// Whether every address of `start..start+count` is listed.
+pub fn listed(ranges: &[(u16, u16)], start: u16, count: u16) -> bool {
+    count > 0
+        && u32::from(start) + u32::from(count) <= 0x1_0000
+        && (start..start.saturating_add(count))
+            .all(|a| ranges.iter().any(|(s, e)| a >= *s && a < *e))
+}
+
+/// Input registers 0-139 of a snapshot.
+pub fn input_registers(s: &ArmSnapshot) -> [u16; 140] {
+    let mut r = [0u16; 140];
+    let mut put = |addr: u16, words: [u16; 2]| {
+        let a = usize::from(addr);
+        r[a..a + 2].copy_from_slice(&words);
+    };
+    let f = |v: f64| f32_to_words(v as f32);
+    put(input_register::FAULT_FLAGS, u32_to_words(s.faults));
+    put(input_register::WARNING_FLAGS, u32_to_words(s.warnings));
+    put(input_register::ARM_CURRENT, f(s.arm_current));
+    put(input_register::ARM_VOLTAGE, f(s.arm_voltage));
+    put(input_register::ARM_CPU_TEMPERATURE, f(s.cpu_temperature));
+    put(
+        input_register::ARM_AMBIENT_TEMPERATURE,
+        f(s.ambient_temperature),
+    );
+    for j in 0..7u16 {
+        let i = usize::from(j);
+        put(
+            input_register::JOINT_POSITIONS + 2 * j,
+            f(s.joint_position[i]),
+        );
+        put(
+            input_register::JOINT_VELOCITIES + 2 * j,
+            f(s.joint_velocity[i]),
+        );
+        put(input_register::JOINT_TORQUES + 2 * j, f(s.joint_torque[i]));
+        put(
+            input_register::JOINT_CURRENTS + 2 * j,
+            f(s.joint_current[i]),
+        );
+        put(
+            input_register::JOINT_MOTOR_TEMPERATURES + 2 * j,
+            f(s.joint_temperature[i]),
+        );
+    }
+    let six = |a: [f64; 3], b: [f64; 3]| [a[0], a[1], a[2], b[0], b[1], b[2]];
+    for (block, values) in [
+        (
+            input_register::TCP_POSE,
+            six(s.tcp_position, s.tcp_orientation),
+        ),
+        (
+            input_register::TCP_TWIST,
+            six(s.tcp_linear_velocity, s.tcp_angular_velocity),
+        ),
+        (input_register::TCP_WRENCH, six(s.tcp_force, s.tcp_torque)),
+    ] {
+        for (k, v) in values.iter().enumerate() {
+            put(block + 2 * k as u16, f(*v));
+        }
+    }
+    r[usize::from(input_register::ROBOT_STATE)] = s.robot_state as u16;
+    r
+}
+
+/// Discrete inputs 0-94: the state one-hot, then fault and warning bits.
+pub fn discrete_inputs(s: &ArmSnapshot) -> [bool; 95] {
+    let mut d = [false; 95];
+    if let Some(slot) = d.get_mut(s.robot_state as usize) {
+        *slot = true;
+    }
+    for bit in 0..31u16 {
+        d[usize::from(discrete_input::FAULT_FLAGS + bit)] = s.faults & (1 << bit) != 0;
+        d[usize::from(discrete_input::WARNING_FLAGS + bit)] = s.warnings & (1 << bit) != 0;
+    }
+    d
+}
+
+/// Holding registers 0-219: action state, speed limits, and the command block as written.
+pub fn holding_registers(s: &ArmSnapshot, command_block: &[u16; 20]) -> [u16; 220] {
+    let mut h = [0u16; 220];
+    h[usize::from(holding_register::ACTION_STATUS)] = s.action_status as u16;
+    h[usize::from(holding_register::ACTION_ID)] = s.action_id;
+    h[usize::from(holding_register::ACTION_MOVE_TYPE)] = s.move_type;
+    let lin = f32_to_words(s.speed_limit_linear as f32);
+    let ang = f32_to_words(s.speed_limit_angular_deg as f32);
+    h[104..106].copy_from_slice(&lin);
+    h[106..108].copy_from_slice(&ang);
+    h[200..220].copy_from_slice(command_block);
+    h
+}
+
+fn float_at(block: &[u16; 20], addr: u16) -> f32 {
+    let i = usize::from(addr - 200);
+    f32::from_bits((u32::from(block[i + 1]) << 16) | u32::from(block[i]))
+}
+
+/// Writes registers `start..` of the command block and carries out what they ask.
+pub fn write_registers(world: &mut World, start: u16, values: &[u16]) -> Result<(), Refused> {
+    let count = u16::try_from(values.len()).map_err(|_| Refused::IllegalValue)?;
+    if count == 0
+        || start < WRITABLE.0
+        || u32::from(start) + u32::from(count) > u32::from(WRITABLE.1)
+    {
+        return Err(Refused::IllegalAddress);
+    }
+    let at = usize::from(start - 200);
+    world.command_block[at..at + values.len()].copy_from_slice(values);
+    let touches = |addr: u16| start <= addr && addr < start + count;
+    if touches(holding_register::DESIRED_LINEAR_SPEED_LIMIT)
+        || touches(holding_register::DESIRED_ANGULAR_SPEED_LIMIT)
+    {
+        let linear = float_at(
+            &world.command_block,
+            holding_register::DESIRED_LINEAR_SPEED_LIMIT,
+        );
+        let angular = float_at(
+            &world.command_block,
+            holding_register::DESIRED_ANGULAR_SPEED_LIMIT,
+        );
+        if linear > 0.0 && angular > 0.0 {
+            world
+                .arm
+                .set_speed_limits(f64::from(linear), f64::from(angular))
+                .map_err(|_| Refused::IllegalValue)?;
+        }
+    }
+    if touches(holding_register::COMMAND) {
+        execute(world);
+    }
+    Ok(())
+}
+
+/// Register 200: 0 none, 1 start what 201-215 describe, 2 stop.
+fn execute(world: &mut World) {
+    let block = world.command_block;
+    match block[0] {
+        2 => world.arm.stop(),
+        1 => {
+            let id = block[1];
+            let motion = match block[2] {
+                0 if id == HOME_ACTION_ID => Some(Motion::ToJoints {
+                    target: kinematics::to_radians(&HOME_DEG),
+                    fraction: 0.3,
+                }),
+                2 => {
+                    let v = |a: u16| f64::from(float_at(&block, a));
+                    let pose = Pose::from_position_euler_deg(
+                        [v(204), v(206), v(208)],
+                        [v(210), v(212), v(214)],
+                    );
+                    let (linear, angular) = world.arm.speed_limits();
+                    Some(Motion::ToPose {
+                        target: pose,
+                        linear_speed: linear,
+                        angular_speed: angular.to_radians(),
+                    })
+                }
+                3 => {
+                    let v = |a: u16| f64::from(float_at(&block, a));
+                    let frame = match block[3] {
+                        1 => Frame::Mixed,
+                        2 => Frame::Tool,
+                        _ => Frame::Base,
+                    };
+                    Some(Motion::Twist {
+                        linear: Vector3::new(v(204), v(206), v(208)),
+                        angular: Vector3::new(v(210), v(212), v(214)).map(f64::to_radians),
+                        frame,
+                    })
+                }
+                // Unknown actions and sequences: nothing to run.
+                _ => None,
+            };
+            match motion {
+                Some(motion) => {
+                    if block[2] == 0 {
+                        world.arm.set_action(id);
+                    }
+                    // A refused start (fault, unreachable) shows as an aborted action; like the
+                    // real arm, "unable to reach pose" raises no flag.
+                    if world.arm.command(motion, 0.0, false).is_err() {
+                        world.arm.mark_aborted();
+                    }
+                }
+                None => world.arm.mark_aborted(),
+            }
+        }
+        _ => {}
+    }
+}
+
+/// Coils: quick stop faults the arm, abort stops it, fault reset clears faults. Writing false
+/// does nothing (the link pulses them).
+pub fn write_coil(world: &mut World, addr: u16, value: bool) -> Result<(), Refused> {
+    if !listed(&COILS, addr, 1) {
+        return Err(Refused::IllegalAddress);
+    }
+    if value {
+        match addr {
+            coil::QUICK_STOP => world.arm.quick_stop(),
+            coil::ABORT => world.arm.stop(),
+            coil::FAULT_RESET => world.arm.fault_reset(),
+            _ => {}
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,140 @@
+//! The simulated arm's Kinova Modbus TCP server (tokio-modbus). Any unit id is answered.
+
+use std::future::Future;
+use std::net::SocketAddr;
+use std::pin::Pin;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use tokio::net::{TcpListener, TcpStream};
+use tokio::sync::watch;
+use tokio_modbus::server::Service;
+use tokio_modbus::server::tcp::Server;
+use tokio_modbus::{ExceptionCode, Request, Response, SlaveRequest};
+
+use super::modbus_registers::{
+    self as registers, COILS, DISCRETE_INPUTS, HOLDING_REGISTERS, INPUT_REGISTERS, Refused,
+};
+use super::talos_server::NetworkFaults;
+use super::world::{SimArm, World};
+
+/// Most registers one read may ask for (Modbus).
+const MAX_READ_REGISTERS: u16 = 125;
+const MAX_READ_BITS: u16 = 2000;
+
+type Reply = Pin<Box<dyn Future<Output = Result<Option<Response>, ExceptionCode>> + Send>>;
+
+struct ArmService {
+    arm: SimArm,
+    faults: watch::Receiver<NetworkFaults>,
+    replies: Arc<AtomicU64>,
+}
+
+impl Service for ArmService {
+    type Request = SlaveRequest<'static>;
+    type Response = Option<Response>;
+    type Exception = ExceptionCode;
+    type Future = Reply;
+
+    fn call(&self, req: Self::Request) -> Self::Future {
+        let arm = self.arm.clone();
+        let faults = self.faults.borrow().clone();
+        let n = self.replies.fetch_add(1, Ordering::Relaxed) + 1;
+        let request = req.request;
+        Box::pin(async move {
+            let answer = arm
+                .with_world(move |world| serve(world, &request))
+                .await
+                .map_err(|_| ExceptionCode::ServerDeviceFailure)?;
+            if !faults.reply_delay.is_zero() {
+                tokio::time::sleep(faults.reply_delay).await;
+            }
+            let nth = u64::from(faults.drop_every_nth_reply);
+            if nth != 0 && n.is_multiple_of(nth) {
+                return Ok(None);
+            }
+            answer.map(Some)
+        })
+    }
+}
+
+fn refused(r: Refused) -> ExceptionCode {
+    match r {
+        Refused::IllegalAddress => ExceptionCode::IllegalDataAddress,
+        Refused::IllegalValue => ExceptionCode::IllegalDataValue,
+    }
+}
+
+/// One request against the world.
+fn serve(world: &mut World, request: &Request<'static>) -> Result<Response, ExceptionCode> {
+    let snapshot = || world.arm.snapshot();
+    let check = |ranges: &[(u16, u16)], start: u16, count: u16, max: u16| {
+        if count == 0 || count > max {
+            Err(ExceptionCode::IllegalDataValue)
+        } else if !registers::listed(ranges, start, count) {
+            Err(ExceptionCode::IllegalDataAddress)
+        } else {
+            Ok(usize::from(start)..usize::from(start) + usize::from(count))
+        }
+    };
+    match request {
+        Request::ReadDiscreteInputs(start, count) => {
+            let range = check(&DISCRETE_INPUTS, *start, *count, MAX_READ_BITS)?;
+            let bits = registers::discrete_inputs(&snapshot());
+            Ok(Response::ReadDiscreteInputs(bits[range].to_vec()))
+        }
+        Request::ReadCoils(start, count) => {
+            let range = check(&COILS, *start, *count, MAX_READ_BITS)?;
+            Ok(Response::ReadCoils(vec![false; range.len()]))
+        }
+        Request::ReadInputRegisters(start, count) => {
+            let range = check(&INPUT_REGISTERS, *start, *count, MAX_READ_REGISTERS)?;
+            let words = registers::input_registers(&snapshot());
+            Ok(Response::ReadInputRegisters(words[range].to_vec()))
+        }
+        Request::ReadHoldingRegisters(start, count) => {
+            let range = check(&HOLDING_REGISTERS, *start, *count, MAX_READ_REGISTERS)?;
+            let words = registers::holding_registers(&snapshot(), &world.command_block);
+            Ok(Response::ReadHoldingRegisters(words[range].to_vec()))
+        }
+        Request::WriteSingleRegister(addr, value) => {
+            registers::write_registers(world, *addr, &[*value]).map_err(refused)?;
+            Ok(Response::WriteSingleRegister(*addr, *value))
+        }
+        Request::WriteMultipleRegisters(addr, values) => {
+            registers::write_registers(world, *addr, values).map_err(refused)?;
+            Ok(Response::WriteMultipleRegisters(*addr, values.len() as u16))
+        }
+        Request::WriteSingleCoil(addr, value) => {
+            registers::write_coil(world, *addr, *value).map_err(refused)?;
+            Ok(Response::WriteSingleCoil(*addr, *value))
+        }
+        Request::WriteMultipleCoils(addr, values) => {
+            let count = u16::try_from(values.len()).map_err(|_| ExceptionCode::IllegalDataValue)?;
+            check(&COILS, *addr, count, 3)?;
+            for (i, v) in values.iter().enumerate() {
+                registers::write_coil(world, addr + i as u16, *v).map_err(refused)?;
+            }
+            Ok(Response::WriteMultipleCoils(*addr, count))
+        }
+        _ => Err(ExceptionCode::IllegalFunction),
+    }
+}
+
+/// Serves Modbus TCP on `listener` until the task is aborted.
+pub async fn serve_on(listener: TcpListener, arm: SimArm, faults: watch::Receiver<NetworkFaults>) {
+    let replies = Arc::new(AtomicU64::new(0));
+    let on_connected = move |stream: TcpStream, peer: SocketAddr| {
+        tracing::info!("sim modbus: client {peer} connected");
+        let service = ArmService {
+            arm: arm.clone(),
+            faults: faults.clone(),
+            replies: replies.clone(),
+        };
+        async move { Ok(Some((service, stream))) }
+    };
+    let on_error = |e| tracing::warn!("sim modbus: {e}");
+    if let Err(e) = Server::new(listener).serve(&on_connected, on_error).await {
+        tracing::error!("sim modbus: server stopped: {e}");
+    }
+}
