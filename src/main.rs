@@ -1,6 +1,6 @@
 #![forbid(unsafe_code)]
 
-use clap::{CommandFactory, Parser};
+use clap::Parser;
 
 use armjog::cli::{Cli, Command};
 
@@ -28,11 +28,8 @@ fn main() {
             }
             Some(Command::Status(args)) => report(armjog::cli::status::run(&args).await),
             Some(Command::Modbus(args)) => report(armjog::cli::modbus::run(&args).await),
-            None => {
-                // The console arrives with the simulator; until then show what there is.
-                let _ = Cli::command().print_help();
-                0
-            }
+            Some(Command::Sim(args)) => armjog::cli::sim::run(&args).await,
+            None => armjog::cli::console::run_console(&cli.console).await,
         }
     });
     std::process::exit(code);

@@ -1,17 +1,24 @@
 //! Command-line front ends: argument definitions and the one-shot commands.
 
+pub mod console;
 pub mod modbus;
 pub mod send;
+pub mod sim;
 pub mod status;
 
 use clap::{Parser, Subcommand};
 
 /// armjog: jog a robot arm from the keyboard, and talk to it from a shell.
+///
+/// With no subcommand it opens the jog console: on the built-in simulated arm, or on the arm
+/// given with --talos and/or --modbus.
 #[derive(Debug, Parser)]
-#[command(name = "armjog", version, about, long_about = None)]
+#[command(name = "armjog", version, about, long_about = None, args_conflicts_with_subcommands = true)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
+    #[command(flatten)]
+    pub console: console::ConsoleArgs,
 }
 
 #[derive(Debug, Subcommand)]
@@ -22,6 +29,8 @@ pub enum Command {
     Status(status::StatusArgs),
     /// Write one Kinova Modbus command: quick stop, abort, fault reset, stop, home, speed limit.
     Modbus(modbus::ModbusArgs),
+    /// Run the simulated Kinova Gen3 arm: a Talos operator and a Kinova Modbus server.
+    Sim(sim::SimArgs),
 }
 
 /// Appends the default port to a bare host name.

@@ -1,4 +1,11 @@
 //! The console: app state machine, jog engine, keymaps and the panels under `ui/`.
 
 pub mod action;
+pub mod app;
+pub mod form;
 pub mod jog;
+pub mod keymap;
+pub mod positions;
+pub mod run;
+pub mod terminal;
+pub mod ui;

@@ -1,6 +1,8 @@
 //! The arm interfaces the console drives. Each link owns its socket in a task; callers talk to
 //! it over channels.
 
+pub mod arm;
+pub mod driver;
 pub mod modbus;
 pub mod talos;
 

@@ -285,6 +285,13 @@ impl TalosLink {
     /// Sends `request` and waits for its answer within the request timeout. A reply with a
     /// non-zero return code is `Err(TalosError::ReturnCode)`, carrying the whole exchange.
     pub async fn request(&self, request: Request) -> Result<Exchange, TalosError> {
+        self.submit(request).await?.wait().await
+    }
+
+    /// Queues `request` for sending and returns at once with a handle on its answer. Requests
+    /// go on the wire in the order they were submitted, so a STOP submitted after a START is
+    /// never overtaken by it, while the caller need not wait for the START's reply.
+    pub async fn submit(&self, request: Request) -> Result<PendingReply, TalosError> {
         let command = request.command();
         if !self.config.dialect.supports(command) {
             return Err(TalosError::NotInDialect { command });
@@ -296,25 +303,13 @@ impl TalosLink {
             request,
             answer: answer_tx,
         };
-        let gone = || TalosError::Disconnected {
-            reason: "the link task has ended".into(),
-        };
-        self.jobs.send(job).await.map_err(|_| gone())?;
-        let after = self.config.request_timeout;
-        let exchange = match tokio::time::timeout(after, answer_rx).await {
-            Ok(Ok(result)) => result?,
-            Ok(Err(_)) => return Err(gone()),
-            Err(_) => {
-                return Err(TalosError::Timeout { command, id, after });
-            }
-        };
-        if exchange.return_code().is_ok() {
-            Ok(exchange)
-        } else {
-            Err(TalosError::ReturnCode {
-                exchange: Box::new(exchange),
-            })
-        }
+        self.jobs.send(job).await.map_err(|_| task_gone())?;
+        Ok(PendingReply {
+            command,
+            id,
+            after: self.config.request_timeout,
+            answer: answer_rx,
+        })
     }
 
     /// Handshake with `oid`; returns the operator's (major, minor) version, or `None` in the
@@ -329,6 +324,49 @@ impl TalosLink {
             }) => Some((major_version, minor_version)),
             _ => None,
         })
+    }
+}
+
+fn task_gone() -> TalosError {
+    TalosError::Disconnected {
+        reason: "the link task has ended".into(),
+    }
+}
+
+/// The answer to a submitted request, still to come.
+#[derive(Debug)]
+pub struct PendingReply {
+    command: CommandValue,
+    id: u32,
+    after: Duration,
+    answer: oneshot::Receiver<Result<Exchange, TalosError>>,
+}
+
+impl PendingReply {
+    /// The command id the request went out with.
+    pub fn id(&self) -> u32 {
+        self.id
+    }
+
+    pub fn command(&self) -> CommandValue {
+        self.command
+    }
+
+    /// Waits for the answer within the request timeout, counted from now.
+    pub async fn wait(self) -> Result<Exchange, TalosError> {
+        let (command, id, after) = (self.command, self.id, self.after);
+        let exchange = match tokio::time::timeout(after, self.answer).await {
+            Ok(Ok(result)) => result?,
+            Ok(Err(_)) => return Err(task_gone()),
+            Err(_) => return Err(TalosError::Timeout { command, id, after }),
+        };
+        if exchange.return_code().is_ok() {
+            Ok(exchange)
+        } else {
+            Err(TalosError::ReturnCode {
+                exchange: Box::new(exchange),
+            })
+        }
     }
 }
 

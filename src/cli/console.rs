@@ -1,0 +1,184 @@
+//! `armjog` with no subcommand: the jog console, on the built-in simulated arm unless told
+//! where an arm is.
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use clap::{Args, ValueEnum};
+
+use crate::console::keymap::Keymap;
+use crate::console::run::{ConsoleSetup, run};
+use crate::link::Dialect;
+use crate::link::driver::DriverConfig;
+use crate::link::modbus::{self, ModbusConfig};
+use crate::link::talos::{self, TalosConfig};
+use crate::sim::{SimConfig, Simulator};
+use crate::talos::Checksum;
+
+/// How key releases are detected.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum KeyRelease {
+    /// Probe the terminal: release events if it speaks the kitty protocol, else auto-repeat.
+    Auto,
+    /// Assume release events (kitty keyboard protocol).
+    Events,
+    /// Assume none: detect holds from auto-repeat.
+    Repeat,
+}
+
+#[derive(Debug, Args)]
+pub struct ConsoleArgs {
+    /// Jog through a Talos operator, HOST:PORT (port 61616 if omitted).
+    #[arg(long, value_name = "HOST:PORT")]
+    pub talos: Option<String>,
+    /// Reach a Kinova arm over Modbus TCP, HOST:PORT (port 502 if omitted). With --talos too,
+    /// jogging goes through Talos and telemetry comes over Modbus.
+    #[arg(long, value_name = "HOST:PORT")]
+    pub modbus: Option<String>,
+    /// Talos reply dialect.
+    #[arg(long, default_value = "icd", value_parser = parse_dialect)]
+    pub dialect: Dialect,
+    /// Talos checksum dialect.
+    #[arg(long, default_value = "crc16", value_parser = parse_checksum)]
+    pub checksum: Checksum,
+    /// Modbus unit id.
+    #[arg(long, default_value_t = modbus::DEFAULT_UNIT)]
+    pub unit: u8,
+    /// Keymap: a built-in name (default, numpad) or a JSON file.
+    #[arg(long, default_value = "default", value_name = "NAME|PATH")]
+    pub keymap: String,
+    /// Cartesian jog speed cap at 100 % speed, mm/s.
+    #[arg(long, default_value_t = 250.0, value_name = "MM_S")]
+    pub max_jog_speed: f64,
+    /// How often a held jog is re-sent, per second (the operator's watchdog is 500 ms).
+    #[arg(long, default_value_t = 10.0, value_name = "HZ")]
+    pub refresh_hz: f64,
+    /// Modbus telemetry polls per second.
+    #[arg(long, default_value_t = 30.0, value_name = "HZ")]
+    pub telemetry_hz: f64,
+    /// How key releases are detected.
+    #[arg(long, value_enum, default_value_t = KeyRelease::Auto)]
+    pub key_release: KeyRelease,
+    /// The file of named positions (default: one per arm in the user's data directory).
+    #[arg(long, value_name = "FILE")]
+    pub positions: Option<PathBuf>,
+    /// Id of the Home action on a Kinova arm (Modbus).
+    #[arg(long, default_value_t = modbus::DEFAULT_HOME_ACTION_ID)]
+    pub home_action_id: u16,
+}
+
+fn parse_dialect(s: &str) -> Result<Dialect, String> {
+    s.parse()
+}
+
+fn parse_checksum(s: &str) -> Result<Checksum, String> {
+    s.parse()
+}
+
+impl ConsoleArgs {
+    /// Checks the numbers a technician could get wrong, before anything starts.
+    fn validate(&self) -> Result<(), String> {
+        if !(self.max_jog_speed.is_finite()
+            && self.max_jog_speed > 0.0
+            && self.max_jog_speed <= 500.0)
+        {
+            return Err(format!(
+                "--max-jog-speed {} mm/s: must be above 0 and at most 500 (the arm's twist limit)",
+                self.max_jog_speed
+            ));
+        }
+        if !(self.refresh_hz.is_finite() && (2.5..=100.0).contains(&self.refresh_hz)) {
+            return Err(format!(
+                "--refresh-hz {}: must be 2.5 to 100 (re-sending well inside the 500 ms watchdog)",
+                self.refresh_hz
+            ));
+        }
+        if !(self.telemetry_hz.is_finite() && (1.0..=200.0).contains(&self.telemetry_hz)) {
+            return Err(format!(
+                "--telemetry-hz {}: must be 1 to 200",
+                self.telemetry_hz
+            ));
+        }
+        Ok(())
+    }
+
+    fn driver_config(
+        &self,
+        talos_addr: Option<String>,
+        modbus_addr: Option<String>,
+    ) -> DriverConfig {
+        let talos = talos_addr.map(|addr| {
+            let mut c = TalosConfig::new(super::with_default_port(&addr, talos::DEFAULT_PORT));
+            c.dialect = self.dialect;
+            c.checksum = self.checksum;
+            c
+        });
+        let modbus = modbus_addr.map(|addr| {
+            let mut c = ModbusConfig::new(super::with_default_port(&addr, modbus::DEFAULT_PORT));
+            c.unit = self.unit;
+            c.poll_rate_hz = Some(self.telemetry_hz);
+            c.home_action_id = self.home_action_id;
+            c.polar.max_linear_speed = (self.max_jog_speed / 1000.0) as f32;
+            c
+        });
+        let mut config = DriverConfig::new(talos, modbus);
+        config.max_jog_speed = self.max_jog_speed / 1000.0;
+        config
+    }
+}
+
+/// Runs the console; returns the exit status. Errors are printed as one line.
+pub async fn run_console(args: &ConsoleArgs) -> i32 {
+    if let Err(reason) = args.validate() {
+        eprintln!("armjog: {reason}");
+        return 2;
+    }
+    let keymap = match Keymap::load(&args.keymap) {
+        Ok(keymap) => keymap,
+        Err(e) => {
+            eprintln!("armjog: bad keymap: {e}");
+            return 2;
+        }
+    };
+    // With no arm named, the console opens on the built-in simulated arm.
+    let mut simulator = None;
+    let (talos_addr, modbus_addr) = match (&args.talos, &args.modbus) {
+        (None, None) => match Simulator::start(SimConfig::ephemeral()).await {
+            Ok(sim) => {
+                let talos = sim.talos_addr.to_string();
+                let modbus = sim.modbus_addr.map(|a| a.to_string());
+                simulator = Some(sim);
+                (Some(talos), modbus)
+            }
+            Err(e) => {
+                eprintln!("armjog: cannot start the simulated arm: {e}");
+                return 1;
+            }
+        },
+        (t, m) => (t.clone(), m.clone()),
+    };
+    let setup = ConsoleSetup {
+        driver: args.driver_config(talos_addr, modbus_addr),
+        keymap,
+        refresh: Duration::from_secs_f64(1.0 / args.refresh_hz),
+        release_events: match args.key_release {
+            KeyRelease::Auto => None,
+            KeyRelease::Events => Some(true),
+            KeyRelease::Repeat => Some(false),
+        },
+        positions_file: args.positions.clone().or_else(|| {
+            simulator
+                .as_ref()
+                .and_then(|_| crate::console::positions::default_path("simulator"))
+        }),
+    };
+    let code = match run(setup).await {
+        Ok(()) => 0,
+        Err(e) => {
+            eprintln!("armjog: {e}");
+            1
+        }
+    };
+    drop(simulator);
+    code
+}

@@ -1,0 +1,853 @@
+//! The console's state machine: an input goes in, the state changes, effects come out.
+//!
+//! Pure: no IO, no clock of its own (every input carries `now`). The runtime feeds it terminal
+//! and arm events and carries out the effects; the panels draw from it.
+//!
+//! Safety rules it keeps: motion only starts from a jog key press; any other key, an overlay,
+//! focus loss, a link problem, a terminal too small to show the status, a signal and quitting
+//! all stop it.
+
+use std::collections::VecDeque;
+use std::time::{Duration, Instant};
+
+use super::action::Action;
+use super::form::{Confirm, Form, FormKind, FormResult};
+use super::jog::{JogEffect, JogEngine, JogMotion, KeyKind, ReleaseMode};
+use super::keymap::{KeyName, Keymap};
+use super::positions::PositionBook;
+use crate::kortex::{Pose, ReferenceFrame, Telemetry};
+use crate::link::arm::{
+    ArmCommand, ArmEvent, LinkStatus, LogEntry, PositionCoordinates, StepMove, TelemetrySource,
+};
+
+/// Below this the status bar cannot be shown: motion stops and the screen says so.
+pub const MIN_WIDTH: u16 = 40;
+pub const MIN_HEIGHT: u16 = 10;
+/// Command log lines kept.
+const LOG_CAPACITY: usize = 500;
+/// How long a status message stays.
+const MESSAGE_TIME: Duration = Duration::from_secs(6);
+/// Cartesian steps, tenths of millimetres; polar steps, degrees.
+const CARTESIAN_STEPS: [i32; 6] = [1, 10, 50, 100, 500, 1000];
+const POLAR_STEPS: [i32; 5] = [1, 2, 5, 10, 30];
+const SPEED_STEP: u8 = 10;
+
+/// One key event as the console needs it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct KeyInput {
+    pub key: KeyName,
+    /// The character typed, for forms.
+    pub text: Option<char>,
+    pub kind: KeyKind,
+}
+
+/// Everything that can happen to the console.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Input {
+    Key(KeyInput),
+    FocusLost,
+    FocusGained,
+    Resize {
+        width: u16,
+        height: u16,
+    },
+    /// Time passed (the runtime wakes at [`App::next_deadline`]).
+    Tick,
+    Arm(ArmEvent),
+    /// SIGINT, SIGTERM or SIGHUP.
+    Signal(&'static str),
+}
+
+/// What the runtime must do.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Effect {
+    Arm(ArmCommand),
+    /// Write the position book to its file.
+    SavePositions(PositionBook),
+    Quit,
+}
+
+/// How bad a status message is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Severity {
+    Info,
+    Warning,
+    Error,
+}
+
+/// What is drawn over the panels.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Overlay {
+    None,
+    Help,
+    Confirm(Confirm),
+    Form(Form),
+    Position {
+        name: String,
+        coordinates: Option<PositionCoordinates>,
+    },
+}
+
+/// Step mode settings.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Step {
+    pub enabled: bool,
+    index: usize,
+}
+
+impl Step {
+    /// Cartesian step in tenths of millimetres.
+    pub fn cartesian(&self) -> i32 {
+        CARTESIAN_STEPS[self.index.min(CARTESIAN_STEPS.len() - 1)]
+    }
+
+    /// Polar step in degrees.
+    pub fn polar(&self) -> i32 {
+        POLAR_STEPS[self.index.min(POLAR_STEPS.len() - 1)]
+    }
+}
+
+/// Fixed facts about this console session.
+#[derive(Debug, Clone)]
+pub struct AppConfig {
+    pub keymap: Keymap,
+    pub release_mode: ReleaseMode,
+    /// START re-send period while a jog key is held.
+    pub refresh: Duration,
+    /// Named positions live on a Talos operator (else only in the console's book, over Modbus).
+    pub positions_on_operator: bool,
+    /// Cartesian jog speed cap, m/s.
+    pub max_jog_speed: f64,
+    /// Reference frames apply (Modbus jogging).
+    pub frames: bool,
+}
+
+/// The console's whole state.
+#[derive(Debug, Clone)]
+pub struct App {
+    pub config: AppConfig,
+    pub jog: JogEngine,
+    pub overlay: Overlay,
+    pub message: Option<(String, Severity, Instant)>,
+    pub link: LinkStatus,
+    pub telemetry: Option<Telemetry>,
+    pub telemetry_source: TelemetrySource,
+    pub latency: Option<Duration>,
+    pub speed: Option<u8>,
+    pub frame: ReferenceFrame,
+    pub step: Step,
+    pub positions: PositionBook,
+    pub selected: usize,
+    pub log: VecDeque<LogEntry>,
+    pub hex: bool,
+    pub size: (u16, u16),
+    pub quitting: bool,
+}
+
+impl App {
+    pub fn new(config: AppConfig, positions: PositionBook) -> App {
+        let jog = JogEngine::new(config.release_mode, config.refresh);
+        App {
+            config,
+            jog,
+            overlay: Overlay::None,
+            message: None,
+            link: LinkStatus::Connecting,
+            telemetry: None,
+            telemetry_source: TelemetrySource::None,
+            latency: None,
+            speed: None,
+            frame: ReferenceFrame::Base,
+            step: Step {
+                enabled: false,
+                index: 2,
+            },
+            positions,
+            selected: 0,
+            log: VecDeque::new(),
+            hex: false,
+            size: (80, 24),
+            quitting: false,
+        }
+    }
+
+    /// Whether the terminal is large enough to show the status.
+    pub fn fits(&self) -> bool {
+        self.size.0 >= MIN_WIDTH && self.size.1 >= MIN_HEIGHT
+    }
+
+    pub fn selected_name(&self) -> Option<&str> {
+        self.positions.names().nth(self.selected)
+    }
+
+    /// When the runtime must next send [`Input::Tick`].
+    pub fn next_deadline(&self) -> Option<Instant> {
+        let message = self.message.as_ref().map(|(_, _, at)| *at + MESSAGE_TIME);
+        self.jog.next_deadline().into_iter().chain(message).min()
+    }
+
+    /// The state machine's one entry point.
+    pub fn handle(&mut self, input: Input, now: Instant) -> Vec<Effect> {
+        let mut effects = Vec::new();
+        match input {
+            Input::Key(key) => self.on_key(key, now, &mut effects),
+            Input::FocusLost => self.stop_jog(now, &mut effects),
+            Input::FocusGained => {}
+            Input::Resize { width, height } => {
+                self.size = (width, height);
+                if !self.fits() {
+                    self.stop_jog(now, &mut effects);
+                }
+            }
+            Input::Tick => {
+                jog_effects(self.jog.tick(now), &mut effects);
+                if self
+                    .message
+                    .as_ref()
+                    .is_some_and(|(_, _, at)| now >= *at + MESSAGE_TIME)
+                {
+                    self.message = None;
+                }
+            }
+            Input::Arm(event) => self.on_arm(event, now, &mut effects),
+            Input::Signal(name) => {
+                self.say(
+                    format!("{name}: stopping and quitting"),
+                    Severity::Warning,
+                    now,
+                );
+                self.quit(now, &mut effects);
+            }
+        }
+        effects
+    }
+
+    /// Shows a message on the bottom line (also used by the runtime, e.g. for file errors).
+    pub fn say(&mut self, text: impl Into<String>, severity: Severity, now: Instant) {
+        self.message = Some((text.into(), severity, now));
+    }
+
+    /// Releases every jog key and stops a jog in progress.
+    fn stop_jog(&mut self, now: Instant, effects: &mut Vec<Effect>) {
+        jog_effects(self.jog.stop_all(now), effects);
+    }
+
+    /// Stops everything, jog or not (space, quick paths): STOP is always sent.
+    fn stop_everything(&mut self, now: Instant, effects: &mut Vec<Effect>) {
+        self.jog.stop_all(now);
+        effects.push(Effect::Arm(ArmCommand::Stop));
+    }
+
+    fn quit(&mut self, now: Instant, effects: &mut Vec<Effect>) {
+        self.stop_everything(now, effects);
+        self.quitting = true;
+        effects.push(Effect::Quit);
+    }
+
+    fn on_key(&mut self, key: KeyInput, now: Instant, effects: &mut Vec<Effect>) {
+        // Ctrl-C always stops and quits, whatever the keymap or overlay (raw mode turns it
+        // into a key instead of SIGINT).
+        if key.kind == KeyKind::Press && key.key.to_string() == "ctrl+c" {
+            self.quit(now, effects);
+            return;
+        }
+        if !self.fits() {
+            // Nothing is shown: every key only stops.
+            if key.kind == KeyKind::Press {
+                self.stop_jog(now, effects);
+            }
+            return;
+        }
+        if self.overlay != Overlay::None {
+            if key.kind != KeyKind::Release {
+                self.stop_jog(now, effects);
+                self.on_overlay_key(key, now, effects);
+            }
+            return;
+        }
+        if key.kind == KeyKind::Release {
+            // A release may carry other modifiers than its press (shift pressed mid-hold turns
+            // the release of "w" into "W"): release every jog action the key could have meant.
+            for action in self.release_candidates(&key.key) {
+                jog_effects(self.jog.key(action, KeyKind::Release, now), effects);
+            }
+            return;
+        }
+        let action = self.config.keymap.action(&key.key);
+        match (action, key.kind) {
+            (Some(action), kind) if action.jog().is_some() => {
+                if self.step.enabled {
+                    if kind == KeyKind::Press {
+                        self.step_move(action, now, effects);
+                    }
+                } else if self.link_is_up() || kind == KeyKind::Release {
+                    jog_effects(self.jog.key(action, kind, now), effects);
+                } else if kind == KeyKind::Press {
+                    self.say("no link to the arm: not moving", Severity::Warning, now);
+                }
+            }
+            (_, KeyKind::Release) => {}
+            (Some(action), KeyKind::Repeat) => {
+                // A held non-jog key: keep everything stopped, do not repeat the action.
+                self.stop_jog(now, effects);
+                let _ = action;
+            }
+            (Some(action), KeyKind::Press) => {
+                // Stop, quick stop and quit send their own stop.
+                if !matches!(action, Action::Stop | Action::QuickStop | Action::Quit) {
+                    self.stop_jog(now, effects);
+                }
+                self.on_action(action, now, effects);
+            }
+            (None, _) => {
+                self.stop_jog(now, effects);
+                self.say(
+                    format!("'{}' is not bound: press ? for help", key.key),
+                    Severity::Info,
+                    now,
+                );
+            }
+        }
+    }
+
+    /// The jog actions bound to `key`, to the key without modifiers, and to the other case of
+    /// a letter.
+    fn release_candidates(&self, key: &KeyName) -> Vec<Action> {
+        let mut names = vec![key.to_string(), key.without_modifiers().to_string()];
+        for name in names.clone() {
+            let mut chars = name.chars();
+            if let (Some(c), None) = (chars.next(), chars.next()) {
+                names.push(c.to_lowercase().to_string());
+                names.push(c.to_uppercase().to_string());
+            }
+        }
+        let mut actions: Vec<Action> = names
+            .iter()
+            .filter_map(|n| n.parse::<KeyName>().ok())
+            .filter_map(|k| self.config.keymap.action(&k))
+            .filter(|a| a.jog().is_some())
+            .collect();
+        actions.sort();
+        actions.dedup();
+        actions
+    }
+
+    fn link_is_up(&self) -> bool {
+        matches!(self.link, LinkStatus::Up { .. })
+    }
+
+    fn step_move(&mut self, action: Action, now: Instant, effects: &mut Vec<Effect>) {
+        let Some((axis, sign)) = action.jog() else {
+            return;
+        };
+        use super::action::JogAxis as A;
+        let s = i32::from(sign.value());
+        let (c, p) = (self.step.cartesian() * s, self.step.polar() * s);
+        let step = match axis {
+            A::X => StepMove::Cartesian {
+                dx: c,
+                dy: 0,
+                dz: 0,
+            },
+            A::Y => StepMove::Cartesian {
+                dx: 0,
+                dy: c,
+                dz: 0,
+            },
+            A::Z => StepMove::Cartesian {
+                dx: 0,
+                dy: 0,
+                dz: c,
+            },
+            A::Azimuth => StepMove::Polar {
+                azimuth: p,
+                altitude: 0,
+            },
+            A::Altitude => StepMove::Polar {
+                azimuth: 0,
+                altitude: p,
+            },
+            A::Joint => {
+                self.say(
+                    "step mode has no joint steps: hold to jog a joint",
+                    Severity::Info,
+                    now,
+                );
+                return;
+            }
+        };
+        effects.push(Effect::Arm(ArmCommand::Step(step)));
+    }
+
+    fn on_action(&mut self, action: Action, now: Instant, effects: &mut Vec<Effect>) {
+        use Action as A;
+        match action {
+            A::Stop => {
+                self.stop_everything(now, effects);
+                self.say("stopped", Severity::Info, now);
+            }
+            A::QuickStop => {
+                self.jog.stop_all(now);
+                effects.push(Effect::Arm(ArmCommand::QuickStop));
+                self.say(
+                    "quick stop: reset the fault before moving again",
+                    Severity::Warning,
+                    now,
+                );
+            }
+            A::FaultReset => effects.push(Effect::Arm(ArmCommand::FaultReset)),
+            A::Home => self.overlay = Overlay::Confirm(Confirm::Home),
+            A::StepMode => {
+                self.step.enabled = !self.step.enabled;
+                let text = if self.step.enabled {
+                    "step mode: each press moves one step"
+                } else {
+                    "jog mode: hold a key to move"
+                };
+                self.say(text, Severity::Info, now);
+            }
+            A::StepBigger => self.step.index = (self.step.index + 1).min(CARTESIAN_STEPS.len() - 1),
+            A::StepSmaller => self.step.index = self.step.index.saturating_sub(1),
+            A::SpeedUp | A::SpeedDown => {
+                let current = self.speed.unwrap_or(50);
+                let speed = if action == A::SpeedUp {
+                    current.saturating_add(SPEED_STEP).min(100)
+                } else {
+                    current.saturating_sub(SPEED_STEP).max(1)
+                };
+                effects.push(Effect::Arm(ArmCommand::SetSpeed(speed)));
+            }
+            A::FrameCycle => {
+                if !self.config.frames {
+                    self.say(
+                        "the Talos link jogs in the base frame only",
+                        Severity::Info,
+                        now,
+                    );
+                    return;
+                }
+                self.frame = match self.frame {
+                    ReferenceFrame::Base => ReferenceFrame::Tool,
+                    ReferenceFrame::Tool => ReferenceFrame::Mixed,
+                    ReferenceFrame::Mixed => ReferenceFrame::Base,
+                };
+                effects.push(Effect::Arm(ArmCommand::SetFrame(self.frame)));
+            }
+            A::JointNext | A::JointPrevious => {
+                let j = self.jog.joint();
+                let next = if action == A::JointNext {
+                    j % 7 + 1
+                } else {
+                    (j + 5) % 7 + 1
+                };
+                jog_effects(self.jog.select_joint(next, now), effects);
+            }
+            A::SavePosition => {
+                let name = self.selected_name().unwrap_or("").to_string();
+                self.overlay = Overlay::Form(Form::new(FormKind::Save, &name));
+            }
+            A::SetPolarPosition | A::SetCartesianPosition => {
+                let kind = if action == A::SetPolarPosition {
+                    FormKind::SetPolar
+                } else {
+                    FormKind::SetCartesian
+                };
+                let name = self.selected_name().unwrap_or("").to_string();
+                self.overlay = Overlay::Form(Form::new(kind, &name));
+            }
+            A::GoToPosition | A::DeletePosition | A::ShowPosition => {
+                let Some(name) = self.selected_name().map(str::to_string) else {
+                    self.say("no position selected: save one first", Severity::Info, now);
+                    return;
+                };
+                match action {
+                    A::GoToPosition => self.overlay = Overlay::Confirm(Confirm::GoTo(name)),
+                    A::DeletePosition => self.overlay = Overlay::Confirm(Confirm::Delete(name)),
+                    _ => self.show_position(name, effects),
+                }
+            }
+            A::PositionNext if !self.positions.is_empty() => {
+                self.selected = (self.selected + 1) % self.positions.len();
+            }
+            A::PositionPrevious if !self.positions.is_empty() => {
+                let n = self.positions.len();
+                self.selected = (self.selected + n - 1) % n;
+            }
+            A::ToggleHex => self.hex = !self.hex,
+            A::Help => self.overlay = Overlay::Help,
+            A::Quit => self.quit(now, effects),
+            // Jog actions are handled before this.
+            _ => {}
+        }
+    }
+
+    fn show_position(&mut self, name: String, effects: &mut Vec<Effect>) {
+        if self.config.positions_on_operator {
+            effects.push(Effect::Arm(ArmCommand::GetPosition { name: name.clone() }));
+            self.overlay = Overlay::Position {
+                name,
+                coordinates: None,
+            };
+        } else {
+            let coordinates = self.positions.get(&name).map(|e| PositionCoordinates {
+                cartesian: e.cartesian,
+                polar: e.cartesian.map(polar_of),
+            });
+            self.overlay = Overlay::Position { name, coordinates };
+        }
+    }
+
+    fn on_overlay_key(&mut self, key: KeyInput, now: Instant, effects: &mut Vec<Effect>) {
+        let named = key.key.to_string();
+        match std::mem::replace(&mut self.overlay, Overlay::None) {
+            Overlay::None => {}
+            Overlay::Help | Overlay::Position { .. } => {}
+            Overlay::Confirm(confirm) => {
+                if named == "y" || named == "Y" || named == "enter" {
+                    self.confirmed(confirm, now, effects);
+                } else {
+                    self.say("cancelled", Severity::Info, now);
+                }
+            }
+            Overlay::Form(mut form) => {
+                match named.as_str() {
+                    "esc" => {
+                        self.say("cancelled", Severity::Info, now);
+                        return;
+                    }
+                    "enter" => {
+                        if let Some(result) = form.submit() {
+                            self.form_done(result, now, effects);
+                            return;
+                        }
+                    }
+                    "tab" | "down" => form.next_field(),
+                    "shift+tab" | "up" => form.previous_field(),
+                    "backspace" => form.backspace(),
+                    _ => {
+                        if let Some(c) = key.text.filter(|c| !c.is_control()) {
+                            form.type_char(c);
+                        }
+                    }
+                }
+                self.overlay = Overlay::Form(form);
+            }
+        }
+    }
+
+    fn confirmed(&mut self, confirm: Confirm, now: Instant, effects: &mut Vec<Effect>) {
+        match confirm {
+            Confirm::Home => effects.push(Effect::Arm(ArmCommand::Home)),
+            Confirm::GoTo(name) => {
+                if self.config.positions_on_operator {
+                    effects.push(Effect::Arm(ArmCommand::GoToPosition { name }));
+                } else {
+                    match self.stored_pose(&name) {
+                        Some(pose) => effects.push(Effect::Arm(ArmCommand::MoveToPose(pose))),
+                        None => self.say(
+                            format!("'{name}' has no coordinates stored"),
+                            Severity::Warning,
+                            now,
+                        ),
+                    }
+                }
+            }
+            Confirm::Delete(name) => {
+                if self.config.positions_on_operator {
+                    effects.push(Effect::Arm(ArmCommand::DeletePosition { name }));
+                } else {
+                    self.positions.remove(&name);
+                    self.clamp_selection();
+                    effects.push(Effect::SavePositions(self.positions.clone()));
+                }
+            }
+        }
+    }
+
+    /// A stored pose for a local (Modbus) go-to: position plus orientation (the current tool
+    /// orientation when none was stored).
+    fn stored_pose(&self, name: &str) -> Option<Pose> {
+        let entry = self.positions.get(name)?;
+        let [x, y, z] = entry.cartesian?;
+        let current = self.telemetry.as_ref().map(|t| t.tcp.pose);
+        let theta = entry
+            .orientation
+            .or(current.map(|p| [p.theta_x, p.theta_y, p.theta_z]))?;
+        Some(Pose {
+            x: x as f32 / 10_000.0,
+            y: y as f32 / 10_000.0,
+            z: z as f32 / 10_000.0,
+            theta_x: theta[0],
+            theta_y: theta[1],
+            theta_z: theta[2],
+        })
+    }
+
+    fn form_done(&mut self, result: FormResult, now: Instant, effects: &mut Vec<Effect>) {
+        if self.config.positions_on_operator {
+            let command = match result {
+                FormResult::Save {
+                    name,
+                    anchor,
+                    parent,
+                } => ArmCommand::SavePosition {
+                    name,
+                    anchor,
+                    parent,
+                },
+                FormResult::SetPolar {
+                    name,
+                    delta,
+                    azimuth,
+                    radius,
+                } => ArmCommand::SetPolarPosition {
+                    name,
+                    delta,
+                    azimuth,
+                    radius,
+                },
+                FormResult::SetCartesian { name, x, y, z } => {
+                    ArmCommand::SetCartesianPosition { name, x, y, z }
+                }
+            };
+            effects.push(Effect::Arm(command));
+            return;
+        }
+        // Over Modbus the book is the only store.
+        let pose = self.telemetry.as_ref().map(|t| t.tcp.pose);
+        let (name, cartesian, orientation, anchor, parent) = match result {
+            FormResult::Save {
+                name,
+                anchor,
+                parent,
+            } => {
+                let Some(p) = pose else {
+                    self.say(
+                        "no telemetry yet: cannot save the pose",
+                        Severity::Warning,
+                        now,
+                    );
+                    return;
+                };
+                let c = [p.x, p.y, p.z].map(|v| (f64::from(v) * 10_000.0).round() as i32);
+                (
+                    name,
+                    c,
+                    Some([p.theta_x, p.theta_y, p.theta_z]),
+                    anchor,
+                    parent,
+                )
+            }
+            FormResult::SetCartesian { name, x, y, z } => (name, [x, y, z], None, false, None),
+            FormResult::SetPolar {
+                name,
+                delta,
+                azimuth,
+                radius,
+            } => (
+                name,
+                cartesian_of([delta, azimuth, radius]),
+                None,
+                false,
+                None,
+            ),
+        };
+        if anchor {
+            self.say(
+                "anchored positions need a Talos operator: saved without anchor",
+                Severity::Warning,
+                now,
+            );
+        }
+        let entry = self.positions.entry(&name);
+        entry.cartesian = Some(cartesian);
+        entry.orientation = orientation.or(entry.orientation);
+        entry.anchor = false;
+        entry.parent = parent;
+        self.select(&name);
+        self.say(format!("saved '{name}'"), Severity::Info, now);
+        effects.push(Effect::SavePositions(self.positions.clone()));
+    }
+
+    fn select(&mut self, name: &str) {
+        if let Some(i) = self.positions.names().position(|n| n == name) {
+            self.selected = i;
+        }
+    }
+
+    fn clamp_selection(&mut self) {
+        self.selected = self.selected.min(self.positions.len().saturating_sub(1));
+    }
+
+    fn on_arm(&mut self, event: ArmEvent, now: Instant, effects: &mut Vec<Effect>) {
+        match event {
+            ArmEvent::Status(status) => {
+                if let LinkStatus::Down { reason } = &status {
+                    // Stop through whatever link is left, and forget every held key so nothing
+                    // restarts when the link comes back.
+                    self.stop_jog(now, effects);
+                    self.say(format!("link lost: {reason}"), Severity::Error, now);
+                }
+                self.link = status;
+            }
+            ArmEvent::Telemetry(t) => self.telemetry = Some(*t),
+            ArmEvent::TelemetrySource(source) => self.telemetry_source = source,
+            ArmEvent::Latency(latency) => self.latency = Some(latency),
+            ArmEvent::Speed(speed) => self.speed = Some(speed),
+            ArmEvent::Log(entry) => {
+                if self.log.len() >= LOG_CAPACITY {
+                    self.log.pop_front();
+                }
+                self.log.push_back(entry);
+            }
+            ArmEvent::Failed { command, reason } => {
+                // A jog the arm did not take must not be left to the watchdog: stop and forget
+                // the held keys, so only a new press moves again.
+                if command == "jog" {
+                    self.stop_jog(now, effects);
+                }
+                self.say(format!("{command} failed: {reason}"), Severity::Error, now);
+            }
+            ArmEvent::Position { name, coordinates } => {
+                if let Some(c) = coordinates.cartesian {
+                    self.positions.entry(&name).cartesian = Some(c);
+                }
+                if matches!(&self.overlay, Overlay::Position { name: shown, .. } if *shown == name)
+                {
+                    self.overlay = Overlay::Position {
+                        name,
+                        coordinates: Some(coordinates),
+                    };
+                }
+            }
+            ArmEvent::UnknownPosition { name } => {
+                self.positions.entry(&name).unknown_to_operator = true;
+                self.say(
+                    format!("the operator does not know '{name}'"),
+                    Severity::Warning,
+                    now,
+                );
+            }
+            ArmEvent::Done { command } => self.on_done(command, now, effects),
+        }
+    }
+
+    /// Keeps the book in step with what the operator accepted.
+    fn on_done(&mut self, command: ArmCommand, now: Instant, effects: &mut Vec<Effect>) {
+        let name = match &command {
+            ArmCommand::SavePosition {
+                name,
+                anchor,
+                parent,
+            } => {
+                let pose = self.telemetry.as_ref().map(|t| t.tcp.pose);
+                let entry = self.positions.entry(name);
+                entry.anchor = *anchor;
+                entry.parent = parent.clone();
+                entry.unknown_to_operator = false;
+                if let Some(p) = pose {
+                    entry.cartesian =
+                        Some([p.x, p.y, p.z].map(|v| (f64::from(v) * 10_000.0).round() as i32));
+                }
+                name.clone()
+            }
+            ArmCommand::SetCartesianPosition { name, x, y, z } => {
+                let entry = self.positions.entry(name);
+                entry.cartesian = Some([*x, *y, *z]);
+                entry.unknown_to_operator = false;
+                name.clone()
+            }
+            ArmCommand::SetPolarPosition {
+                name,
+                delta,
+                azimuth,
+                radius,
+            } => {
+                let entry = self.positions.entry(name);
+                entry.cartesian = Some(cartesian_of([*delta, *azimuth, *radius]));
+                entry.unknown_to_operator = false;
+                name.clone()
+            }
+            ArmCommand::DeletePosition { name } => {
+                self.positions.remove(name);
+                self.clamp_selection();
+                self.say(format!("deleted '{name}'"), Severity::Info, now);
+                effects.push(Effect::SavePositions(self.positions.clone()));
+                return;
+            }
+            ArmCommand::SetSpeed(speed) => {
+                self.speed = Some(*speed);
+                return;
+            }
+            _ => return,
+        };
+        self.select(&name);
+        self.say(format!("saved '{name}'"), Severity::Info, now);
+        effects.push(Effect::SavePositions(self.positions.clone()));
+    }
+}
+
+fn jog_effects(jog: Vec<JogEffect>, effects: &mut Vec<Effect>) {
+    for effect in jog {
+        effects.push(Effect::Arm(match effect {
+            JogEffect::Start(motion) => ArmCommand::Jog(motion),
+            JogEffect::Stop => ArmCommand::Stop,
+        }));
+    }
+}
+
+/// Polar [delta, azimuth, radius] (tenths of deg, deg, mm) to cartesian tenths of mm, about
+/// the base origin (the simulated operator's convention).
+pub fn cartesian_of(polar: [i32; 3]) -> [i32; 3] {
+    let el = (f64::from(polar[0]) / 10.0).to_radians();
+    let az = (f64::from(polar[1]) / 10.0).to_radians();
+    let r = f64::from(polar[2]);
+    [
+        r * el.cos() * az.cos(),
+        r * el.cos() * az.sin(),
+        r * el.sin(),
+    ]
+    .map(|v| v.round() as i32)
+}
+
+/// Cartesian tenths of mm to polar [delta, azimuth, radius] in tenths.
+pub fn polar_of(c: [i32; 3]) -> [i32; 3] {
+    let [x, y, z] = c.map(f64::from);
+    let horizontal = x.hypot(y);
+    [
+        (z.atan2(horizontal).to_degrees() * 10.0).round() as i32,
+        (y.atan2(x).to_degrees() * 10.0).round() as i32,
+        (x.hypot(y).hypot(z)).round() as i32,
+    ]
+}
+
+/// Motion a jog would command, for the status bar.
+pub fn describe_motion(motion: JogMotion) -> String {
+    let sign = |v: i8| match v {
+        1 => "+",
+        -1 => "-",
+        _ => "",
+    };
+    match motion {
+        JogMotion::Cartesian { x, y, z } => {
+            let mut parts = Vec::new();
+            for (axis, v) in [("X", x), ("Y", y), ("Z", z)] {
+                if v != 0 {
+                    parts.push(format!("{}{axis}", sign(v)));
+                }
+            }
+            parts.join(" ")
+        }
+        JogMotion::Polar { azimuth, altitude } => {
+            let mut parts = Vec::new();
+            if azimuth != 0 {
+                parts.push(format!("az{}", sign(azimuth)));
+            }
+            if altitude != 0 {
+                parts.push(format!("alt{}", sign(altitude)));
+            }
+            parts.join(" ")
+        }
+        JogMotion::Joint { joint, direction } => format!("J{joint}{}", sign(direction)),
+    }
+}

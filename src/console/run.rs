@@ -1,0 +1,236 @@
+//! The console's runtime: terminal, event loop, and the IO the state machine asks for.
+//!
+//! One `select!` over terminal events, arm events, the state machine's deadline, a render tick
+//! and signals. The terminal is restored on quit, error, panic and signal; the arm is told to
+//! stop first on every one of those paths.
+
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use crossterm::event::{Event, EventStream, KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
+use futures::StreamExt;
+use ratatui::Terminal;
+use ratatui::backend::CrosstermBackend;
+
+use super::app::{App, AppConfig, Effect, Input, KeyInput, Severity};
+use super::jog::{KeyKind, ReleaseMode};
+use super::keymap::{KeyName, Keymap};
+use super::positions::{self, PositionBook};
+use super::terminal;
+use super::ui::{self, Theme};
+use crate::link::arm::ArmCommand;
+use crate::link::driver::{Driver, DriverConfig, StopHandle};
+
+/// How often the screen is redrawn at most.
+const FRAME: Duration = Duration::from_millis(33);
+
+/// Everything the console needs to start.
+pub struct ConsoleSetup {
+    pub driver: DriverConfig,
+    pub keymap: Keymap,
+    /// START re-send period while a jog key is held.
+    pub refresh: Duration,
+    /// `Some(true)` / `Some(false)` overrides the key-release probe.
+    pub release_events: Option<bool>,
+    pub positions_file: Option<PathBuf>,
+}
+
+/// Why the console could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum ConsoleError {
+    #[error("terminal: {0}")]
+    Terminal(#[from] std::io::Error),
+    #[error("{0}")]
+    Positions(#[from] positions::BookError),
+}
+
+/// Maps a crossterm key event to the state machine's input.
+pub fn key_input(event: &KeyEvent) -> Option<KeyInput> {
+    let key = KeyName::from_event(event)?;
+    let text = match event.code {
+        KeyCode::Char(c)
+            if !event
+                .modifiers
+                .intersects(KeyModifiers::CONTROL | KeyModifiers::ALT) =>
+        {
+            Some(c)
+        }
+        _ => None,
+    };
+    let kind = match event.kind {
+        KeyEventKind::Press => KeyKind::Press,
+        KeyEventKind::Repeat => KeyKind::Repeat,
+        KeyEventKind::Release => KeyKind::Release,
+    };
+    Some(KeyInput { key, text, kind })
+}
+
+/// Runs the console until the technician quits.
+pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
+    let book_path = setup
+        .positions_file
+        .clone()
+        .or_else(|| positions::default_path(&setup.driver.target()));
+    let book = match &book_path {
+        Some(path) => PositionBook::load(path)?,
+        None => PositionBook::new(),
+    };
+    let frames = setup.driver.modbus.is_some() && setup.driver.talos.is_none();
+    let positions_on_operator = setup.driver.positions_on_operator();
+    let max_jog_speed = setup.driver.max_jog_speed;
+    let (driver, mut arm_events) = Driver::spawn(setup.driver);
+
+    let release_events = terminal::enter(setup.release_events)?;
+    install_panic_hook(driver.stop_handle(), release_events);
+    let result = event_loop(
+        AppConfig {
+            keymap: setup.keymap,
+            release_mode: if release_events {
+                ReleaseMode::Reported
+            } else {
+                ReleaseMode::AutoRepeat
+            },
+            refresh: setup.refresh,
+            positions_on_operator,
+            max_jog_speed,
+            frames,
+        },
+        book,
+        book_path,
+        &driver,
+        &mut arm_events,
+    )
+    .await;
+    // Whatever happened, the arm is told to stop before the terminal is given back.
+    driver.send(ArmCommand::Stop);
+    terminal::restore(release_events);
+    driver.shutdown().await;
+    result
+}
+
+fn install_panic_hook(stop: StopHandle, release_events: bool) {
+    let previous = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        // Stop first: the driver runs on another thread and sends it while this one waits.
+        stop.stop();
+        std::thread::sleep(Duration::from_millis(200));
+        terminal::restore(release_events);
+        previous(info);
+    }));
+}
+
+async fn event_loop(
+    config: AppConfig,
+    book: PositionBook,
+    book_path: Option<PathBuf>,
+    driver: &Driver,
+    arm_events: &mut tokio::sync::mpsc::UnboundedReceiver<crate::link::arm::ArmEvent>,
+) -> Result<(), ConsoleError> {
+    let mut terminal = Terminal::new(CrosstermBackend::new(std::io::stdout()))?;
+    let theme = Theme::from_env();
+    let mut app = App::new(config, book);
+    let size = terminal.size()?;
+    app.handle(
+        Input::Resize {
+            width: size.width,
+            height: size.height,
+        },
+        Instant::now(),
+    );
+    let mut keys = EventStream::new();
+    let mut signals = Signals::new()?;
+    let mut render = tokio::time::interval(FRAME);
+    render.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
+    let mut dirty = true;
+    loop {
+        let deadline = app.next_deadline();
+        let input = tokio::select! {
+            biased;
+            signal = signals.next() => Some(Input::Signal(signal)),
+            event = keys.next() => match event {
+                Some(Ok(event)) => terminal_input(event),
+                Some(Err(e)) => {
+                    tracing::error!("terminal input failed: {e}");
+                    Some(Input::Signal("terminal input error"))
+                }
+                None => Some(Input::Signal("terminal closed")),
+            },
+            event = arm_events.recv() => match event {
+                Some(event) => Some(Input::Arm(event)),
+                None => Some(Input::Signal("arm driver ended")),
+            },
+            _ = sleep_until(deadline) => Some(Input::Tick),
+            _ = render.tick() => {
+                if dirty {
+                    terminal.draw(|frame| ui::draw(frame, &app, &theme))?;
+                    dirty = false;
+                }
+                None
+            }
+        };
+        let Some(input) = input else { continue };
+        let now = Instant::now();
+        for effect in app.handle(input, now) {
+            match effect {
+                Effect::Arm(command) => {
+                    if !driver.send(command) {
+                        app.say("the arm driver has stopped", Severity::Error, now);
+                    }
+                }
+                Effect::SavePositions(book) => {
+                    if let Some(path) = &book_path
+                        && let Err(e) = book.save(path)
+                    {
+                        tracing::error!("saving positions: {e}");
+                        app.say(format!("positions not saved: {e}"), Severity::Error, now);
+                    }
+                }
+                Effect::Quit => return Ok(()),
+            }
+        }
+        dirty = true;
+    }
+}
+
+fn terminal_input(event: Event) -> Option<Input> {
+    match event {
+        Event::Key(key) => key_input(&key).map(Input::Key),
+        Event::FocusLost => Some(Input::FocusLost),
+        Event::FocusGained => Some(Input::FocusGained),
+        Event::Resize(width, height) => Some(Input::Resize { width, height }),
+        _ => None,
+    }
+}
+
+async fn sleep_until(deadline: Option<Instant>) {
+    match deadline {
+        Some(at) => tokio::time::sleep_until(tokio::time::Instant::from_std(at)).await,
+        None => std::future::pending().await,
+    }
+}
+
+/// SIGINT, SIGTERM and SIGHUP as one stream.
+struct Signals {
+    interrupt: tokio::signal::unix::Signal,
+    terminate: tokio::signal::unix::Signal,
+    hangup: tokio::signal::unix::Signal,
+}
+
+impl Signals {
+    fn new() -> std::io::Result<Signals> {
+        use tokio::signal::unix::{SignalKind, signal};
+        Ok(Signals {
+            interrupt: signal(SignalKind::interrupt())?,
+            terminate: signal(SignalKind::terminate())?,
+            hangup: signal(SignalKind::hangup())?,
+        })
+    }
+
+    async fn next(&mut self) -> &'static str {
+        tokio::select! {
+            _ = self.interrupt.recv() => "SIGINT",
+            _ = self.terminate.recv() => "SIGTERM",
+            _ = self.hangup.recv() => "SIGHUP",
+        }
+    }
+}

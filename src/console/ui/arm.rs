@@ -1,0 +1,74 @@
+//! The arm panel: robot state, faults and warnings by name, arm health and speed limits.
+
+use ratatui::Frame;
+use ratatui::layout::Rect;
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Block, Borders, Paragraph, Wrap};
+
+use super::theme::Theme;
+use crate::console::app::App;
+use crate::kortex::{Coded, RobotState};
+
+pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
+    let block = Block::default()
+        .borders(Borders::ALL)
+        .title(Span::styled(" Arm ", theme.title()));
+    let Some(t) = &app.telemetry else {
+        frame.render_widget(
+            Paragraph::new(super::no_telemetry_text(app)).block(block),
+            area,
+        );
+        return;
+    };
+    let in_fault = matches!(t.robot_state, Coded::Known(RobotState::InFault));
+    let state_style = if in_fault { theme.alarm() } else { theme.ok() };
+    let mut lines = vec![Line::from(vec![
+        Span::styled("state ", theme.dim()),
+        Span::styled(format!(" {} ", t.robot_state), state_style),
+    ])];
+    let faults = t.faults.names();
+    lines.push(if faults.is_empty() {
+        Line::from(vec![
+            Span::styled("faults ", theme.dim()),
+            Span::raw("none"),
+        ])
+    } else {
+        Line::from(vec![
+            Span::styled("FAULTS ", theme.alarm()),
+            Span::styled(format!(" {}", faults.join(", ")), theme.warning()),
+        ])
+    });
+    let warnings = t.warnings.names();
+    lines.push(if warnings.is_empty() {
+        Line::from(vec![
+            Span::styled("warnings ", theme.dim()),
+            Span::raw("none"),
+        ])
+    } else {
+        Line::from(vec![
+            Span::styled("warnings ", theme.warning()),
+            Span::raw(warnings.join(", ")),
+        ])
+    });
+    lines.push(Line::from(vec![
+        Span::styled("power ", theme.dim()),
+        Span::raw(format!(
+            "{:.1} V {:.2} A  cpu {:.1} C  ambient {:.1} C",
+            t.arm.voltage, t.arm.current, t.arm.cpu_temperature, t.arm.ambient_temperature
+        )),
+    ]));
+    lines.push(Line::from(vec![
+        Span::styled("limits ", theme.dim()),
+        Span::raw(format!(
+            "{:.0} mm/s {:.0} deg/s  action {} #{}",
+            t.speed_limits.linear * 1000.0,
+            t.speed_limits.angular,
+            t.action.status,
+            t.action.id
+        )),
+    ]));
+    frame.render_widget(
+        Paragraph::new(lines).block(block).wrap(Wrap { trim: true }),
+        area,
+    );
+}

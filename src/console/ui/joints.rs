@@ -1,0 +1,121 @@
+//! The joints panel: position (against limits), velocity, torque, current and temperature of
+//! all seven joints.
+
+use ratatui::Frame;
+use ratatui::layout::{Constraint, Rect};
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Block, Borders, Cell, Paragraph, Row, Table};
+
+use super::theme::Theme;
+use crate::console::app::App;
+
+/// Joint limits in degrees (Gen3: J2, J4, J6 limited; the others turn continuously).
+const LIMITS: [Option<f32>; 7] = [
+    None,
+    Some(128.9),
+    None,
+    Some(147.8),
+    None,
+    Some(120.3),
+    None,
+];
+/// Within this many degrees of a limit the position is highlighted.
+const NEAR_LIMIT: f32 = 10.0;
+
+/// A reported 0-360 angle as a signed one, -180..180.
+fn signed(deg: f32) -> f32 {
+    if deg > 180.0 { deg - 360.0 } else { deg }
+}
+
+/// "▕====|   ▏" style gauge of a limited joint's position between its limits.
+fn gauge(position: f32, limit: f32, width: usize) -> String {
+    let fraction = ((signed(position) + limit) / (2.0 * limit)).clamp(0.0, 1.0);
+    let at = ((fraction * (width.saturating_sub(1)) as f32).round() as usize).min(width - 1);
+    (0..width)
+        .map(|i| if i == at { '|' } else { '-' })
+        .collect()
+}
+
+pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
+    let block = Block::default()
+        .borders(Borders::ALL)
+        .title(Span::styled(" Joints ", theme.title()));
+    let Some(t) = &app.telemetry else {
+        let text = super::no_telemetry_text(app);
+        frame.render_widget(Paragraph::new(text).block(block), area);
+        return;
+    };
+    let wide = area.width >= 70;
+    let header = if wide {
+        vec![
+            "",
+            "pos deg",
+            "limits",
+            "vel deg/s",
+            "torque Nm",
+            "cur A",
+            "temp C",
+        ]
+    } else {
+        vec!["", "pos", "vel", "Nm", "A", "C"]
+    };
+    let rows = t.joints.iter().enumerate().map(|(i, j)| {
+        let near = LIMITS[i].is_some_and(|l| l - signed(j.position).abs() < NEAR_LIMIT);
+        let selected = usize::from(app.jog.joint()) == i + 1;
+        let name = Cell::from(Span::styled(
+            format!("J{}", i + 1),
+            if selected {
+                theme.selected()
+            } else {
+                theme.title()
+            },
+        ));
+        let pos = Cell::from(Span::styled(
+            format!("{:7.2}", j.position),
+            if near {
+                theme.warning()
+            } else {
+                Default::default()
+            },
+        ));
+        let mut cells = vec![name, pos];
+        if wide {
+            cells.push(Cell::from(match LIMITS[i] {
+                Some(l) => gauge(j.position, l, 11),
+                None => "continuous".into(),
+            }));
+        }
+        cells.extend([
+            Cell::from(format!("{:7.2}", j.velocity)),
+            Cell::from(format!("{:6.2}", j.torque)),
+            Cell::from(format!("{:5.2}", j.current)),
+            Cell::from(format!("{:5.1}", j.temperature)),
+        ]);
+        Row::new(cells)
+    });
+    let widths: Vec<Constraint> = if wide {
+        vec![
+            Constraint::Length(3),
+            Constraint::Length(8),
+            Constraint::Length(11),
+            Constraint::Length(9),
+            Constraint::Length(9),
+            Constraint::Length(6),
+            Constraint::Length(6),
+        ]
+    } else {
+        vec![
+            Constraint::Length(3),
+            Constraint::Length(7),
+            Constraint::Length(7),
+            Constraint::Length(6),
+            Constraint::Length(5),
+            Constraint::Length(5),
+        ]
+    };
+    let table = Table::new(rows, widths)
+        .header(Row::new(header).style(theme.dim()))
+        .block(block);
+    frame.render_widget(table, area);
+    let _ = Line::default();
+}

@@ -1,0 +1,67 @@
+//! The command log: every request and reply with id, name, outcome and latency; frames in hex
+//! when toggled.
+
+use ratatui::Frame;
+use ratatui::layout::Rect;
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Block, Borders, Paragraph};
+
+use super::theme::Theme;
+use crate::console::app::App;
+
+pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
+    let title = if app.hex {
+        " Command log (hex) "
+    } else {
+        " Command log "
+    };
+    let block = Block::default()
+        .borders(Borders::ALL)
+        .title(Span::styled(title, theme.title()));
+    let rows = usize::from(area.height.saturating_sub(2));
+    let mut lines: Vec<Line> = Vec::new();
+    for entry in app.log.iter().rev() {
+        let mut entry_lines = vec![Line::from(vec![
+            Span::styled(
+                match entry.id {
+                    Some(id) => format!("{id:>6} "),
+                    None => "     - ".into(),
+                },
+                theme.dim(),
+            ),
+            Span::raw(format!("{:<14} ", entry.name)),
+            Span::styled(
+                entry.outcome.clone(),
+                if entry.ok {
+                    theme.ok()
+                } else {
+                    theme.warning()
+                },
+            ),
+            Span::styled(
+                match entry.latency {
+                    Some(l) => format!(" {:.1} ms", l.as_secs_f64() * 1000.0),
+                    None => String::new(),
+                },
+                theme.dim(),
+            ),
+        ])];
+        if app.hex {
+            for (arrow, hex) in [("  > ", &entry.sent_hex), ("  < ", &entry.received_hex)] {
+                if let Some(hex) = hex {
+                    entry_lines.push(Line::styled(format!("{arrow}{hex}"), theme.dim()));
+                }
+            }
+        }
+        // Newest at the bottom: collect newest first, then reverse.
+        for line in entry_lines.into_iter().rev() {
+            lines.push(line);
+        }
+        if lines.len() >= rows {
+            break;
+        }
+    }
+    lines.truncate(rows);
+    lines.reverse();
+    frame.render_widget(Paragraph::new(lines).block(block), area);
+}

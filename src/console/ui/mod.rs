@@ -1,0 +1,90 @@
+//! Rendering: a pure function of the app state, one file per panel.
+
+pub mod arm;
+pub mod dialog;
+pub mod help;
+pub mod hints;
+pub mod joints;
+pub mod log;
+pub mod positions;
+pub mod status;
+pub mod tcp;
+pub mod theme;
+
+use ratatui::Frame;
+use ratatui::layout::{Constraint, Direction, Layout, Rect};
+use ratatui::text::Line;
+use ratatui::widgets::Paragraph;
+
+use super::app::{App, MIN_HEIGHT, MIN_WIDTH, Overlay};
+use crate::link::arm::TelemetrySource;
+pub use theme::Theme;
+
+/// What a telemetry panel says when it has nothing to show.
+pub fn no_telemetry_text(app: &App) -> &'static str {
+    match app.telemetry_source {
+        TelemetrySource::None => "no telemetry: the ack-dialect operator sends none back",
+        _ => "waiting for telemetry...",
+    }
+}
+
+/// Draws the whole screen.
+pub fn draw(frame: &mut Frame, app: &App, theme: &Theme) {
+    let area = frame.area();
+    if area.width < MIN_WIDTH || area.height < MIN_HEIGHT {
+        let text = format!(
+            "terminal too small ({}x{}): motion stopped. Need {MIN_WIDTH}x{MIN_HEIGHT}.",
+            area.width, area.height
+        );
+        frame.render_widget(
+            Paragraph::new(Line::styled(text, theme.alarm())).wrap(Default::default()),
+            area,
+        );
+        return;
+    }
+    let rows = Layout::default()
+        .direction(Direction::Vertical)
+        .constraints([
+            Constraint::Length(2),
+            Constraint::Length(10),
+            Constraint::Length(7),
+            Constraint::Min(3),
+            Constraint::Length(1),
+        ])
+        .split(area);
+    status::draw(frame, rows[0], app, theme);
+    let top = split_columns(rows[1], 58);
+    joints::draw(frame, top[0], app, theme);
+    tcp::draw(frame, top[1], app, theme);
+    let middle = split_columns(rows[2], 55);
+    arm::draw(frame, middle[0], app, theme);
+    positions::draw(frame, middle[1], app, theme);
+    log::draw(frame, rows[3], app, theme);
+    hints::draw(frame, rows[4], app, theme);
+    match &app.overlay {
+        Overlay::None => {}
+        Overlay::Help => help::draw(frame, centered(area, 96, 30), app, theme),
+        _ => dialog::draw(frame, area, app, theme),
+    }
+}
+
+fn split_columns(area: Rect, left_percent: u16) -> std::rc::Rc<[Rect]> {
+    Layout::default()
+        .direction(Direction::Horizontal)
+        .constraints([
+            Constraint::Percentage(left_percent),
+            Constraint::Percentage(100 - left_percent),
+        ])
+        .split(area)
+}
+
+fn centered(area: Rect, width: u16, height: u16) -> Rect {
+    let width = width.min(area.width);
+    let height = height.min(area.height);
+    Rect {
+        x: area.x + (area.width - width) / 2,
+        y: area.y + (area.height - height) / 2,
+        width,
+        height,
+    }
+}

@@ -1,0 +1,84 @@
+//! The status bar: link, key-release mode, motion, speed, frame, step mode and joint.
+
+use ratatui::Frame;
+use ratatui::layout::Rect;
+use ratatui::text::{Line, Span};
+use ratatui::widgets::Paragraph;
+
+use super::theme::Theme;
+use crate::console::app::{App, describe_motion};
+use crate::console::jog::ReleaseMode;
+use crate::kortex::CodeName;
+use crate::link::arm::LinkStatus;
+
+/// What the key-release mode is, in words: the status bar always shows it.
+pub fn release_mode_text(app: &App) -> String {
+    match app.jog.mode() {
+        ReleaseMode::Reported => "keys: release events".into(),
+        ReleaseMode::AutoRepeat => {
+            let timing = app.jog.timing();
+            match (timing.onset, timing.interval) {
+                (Some(onset), Some(interval)) => format!(
+                    "keys: auto-repeat fallback ({} ms, {:.0} Hz)",
+                    onset.as_millis(),
+                    1.0 / interval.as_secs_f64()
+                ),
+                _ => "keys: auto-repeat fallback".into(),
+            }
+        }
+    }
+}
+
+/// Two lines: the link, then keys, motion and settings (so the key-release mode always shows,
+/// even at 80 columns).
+pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
+    let mut spans = Vec::new();
+    match &app.link {
+        LinkStatus::Up { description } => {
+            spans.push(Span::styled(" LINK UP ", theme.ok()));
+            spans.push(Span::raw(description.clone()));
+            if let Some(latency) = app.latency {
+                spans.push(Span::raw(format!(
+                    " {:.1} ms",
+                    latency.as_secs_f64() * 1000.0
+                )));
+            }
+        }
+        LinkStatus::Connecting => spans.push(Span::styled(" CONNECTING ", theme.warning())),
+        LinkStatus::Down { reason } => {
+            spans.push(Span::styled(" LINK DOWN ", theme.alarm()));
+            spans.push(Span::styled(format!(" {reason}"), theme.warning()));
+        }
+    }
+    let link_line = Line::from(std::mem::take(&mut spans));
+    match app.jog.active() {
+        Some(motion) => spans.push(Span::styled(
+            format!(" JOG {} ", describe_motion(motion)),
+            theme.moving(),
+        )),
+        None => spans.push(Span::raw(if app.step.enabled {
+            " STEP "
+        } else {
+            " idle "
+        })),
+    }
+    spans.push(Span::raw(" | "));
+    spans.push(Span::styled(release_mode_text(app), theme.accent()));
+    spans.push(Span::raw(" | speed "));
+    spans.push(Span::raw(match app.speed {
+        Some(s) => format!("{s}%"),
+        None => "?".into(),
+    }));
+    if app.config.frames {
+        spans.push(Span::raw(format!(" | frame {}", app.frame.key())));
+    }
+    if app.step.enabled {
+        spans.push(Span::raw(format!(
+            " | step {:.1} mm / {} deg",
+            f64::from(app.step.cartesian()) / 10.0,
+            app.step.polar()
+        )));
+    }
+    spans.push(Span::raw(format!(" | J{}", app.jog.joint())));
+    frame.render_widget(Paragraph::new(vec![link_line, Line::from(spans)]), area);
+}

@@ -1,0 +1,168 @@
+//! The arm interface the console drives, whatever the wire: commands in, events out.
+//!
+//! The console's state machine emits [`ArmCommand`]s; a driver task translates them to Talos
+//! frames or Modbus writes and reports back [`ArmEvent`]s.
+
+use std::time::Duration;
+
+use crate::console::jog::JogMotion;
+use crate::kortex::{Pose, ReferenceFrame, Telemetry};
+
+/// A discrete step move.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StepMove {
+    /// Tenths of millimetres.
+    Cartesian { dx: i32, dy: i32, dz: i32 },
+    /// Whole degrees.
+    Polar { azimuth: i32, altitude: i32 },
+}
+
+/// Everything the console asks of an arm.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ArmCommand {
+    /// Start, change or refresh continuous motion.
+    Jog(JogMotion),
+    /// Stop every motion: continuous, discrete, home, go-to.
+    Stop,
+    Step(StepMove),
+    /// Cartesian move to a stored pose (named positions kept by the console, over Modbus).
+    MoveToPose(Pose),
+    Home,
+    /// Percent of the maximum jog speed, 1-100.
+    SetSpeed(u8),
+    SetFrame(ReferenceFrame),
+    QuickStop,
+    FaultReset,
+    SavePosition {
+        name: String,
+        anchor: bool,
+        parent: Option<String>,
+    },
+    DeletePosition {
+        name: String,
+    },
+    GoToPosition {
+        name: String,
+    },
+    /// Tenths of degrees and tenths of millimetres, as the Talos ICD has them.
+    SetPolarPosition {
+        name: String,
+        delta: i32,
+        azimuth: i32,
+        radius: i32,
+    },
+    /// Tenths of millimetres.
+    SetCartesianPosition {
+        name: String,
+        x: i32,
+        y: i32,
+        z: i32,
+    },
+    /// Read a position's coordinates, both ways.
+    GetPosition {
+        name: String,
+    },
+}
+
+impl ArmCommand {
+    /// Whether this command stops motion. Stops are never queued behind anything.
+    pub fn is_stop(&self) -> bool {
+        matches!(self, ArmCommand::Stop | ArmCommand::QuickStop)
+    }
+
+    pub fn label(&self) -> &'static str {
+        match self {
+            ArmCommand::Jog(_) => "jog",
+            ArmCommand::Stop => "stop",
+            ArmCommand::Step(_) => "step",
+            ArmCommand::MoveToPose(_) => "move to pose",
+            ArmCommand::Home => "home",
+            ArmCommand::SetSpeed(_) => "set speed",
+            ArmCommand::SetFrame(_) => "set frame",
+            ArmCommand::QuickStop => "quick stop",
+            ArmCommand::FaultReset => "fault reset",
+            ArmCommand::SavePosition { .. } => "save position",
+            ArmCommand::DeletePosition { .. } => "delete position",
+            ArmCommand::GoToPosition { .. } => "go to position",
+            ArmCommand::SetPolarPosition { .. } => "set polar position",
+            ArmCommand::SetCartesianPosition { .. } => "set cartesian position",
+            ArmCommand::GetPosition { .. } => "get position",
+        }
+    }
+}
+
+/// A named position's coordinates, as read back.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PositionCoordinates {
+    /// Tenths of millimetres.
+    pub cartesian: Option<[i32; 3]>,
+    /// Delta (elevation), azimuth in tenths of degrees; radius in tenths of millimetres.
+    pub polar: Option<[i32; 3]>,
+}
+
+/// The state of the link(s) to the arm.
+#[derive(Debug, Clone, PartialEq)]
+pub enum LinkStatus {
+    Connecting,
+    Up {
+        /// e.g. "talos 127.0.0.1:61616 (icd, crc16), operator 1.0".
+        description: String,
+    },
+    Down {
+        reason: String,
+    },
+}
+
+/// Which telemetry the panels can have.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TelemetrySource {
+    Modbus,
+    /// The Talos hardware operation (GET_ARM_STATE and actuator feedback).
+    TalosHardware,
+    /// The ack dialect carries no data back.
+    None,
+}
+
+/// One line of the command log: a request and its answer.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LogEntry {
+    pub id: Option<u32>,
+    pub name: String,
+    /// "OK", a return code or exception name, or an error.
+    pub outcome: String,
+    pub ok: bool,
+    pub latency: Option<Duration>,
+    pub sent_hex: Option<String>,
+    pub received_hex: Option<String>,
+}
+
+/// What the driver tells the console.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ArmEvent {
+    Status(LinkStatus),
+    Telemetry(Box<Telemetry>),
+    TelemetrySource(TelemetrySource),
+    /// Round trip of the latest request, for the link panel.
+    Latency(Duration),
+    /// The speed in force, percent.
+    Speed(u8),
+    Log(LogEntry),
+    /// A command failed: shown on the status line.
+    Failed {
+        command: &'static str,
+        reason: String,
+    },
+    /// A position's coordinates, answering `GetPosition`.
+    Position {
+        name: String,
+        coordinates: PositionCoordinates,
+    },
+    /// The operator does not know this name (so the console can mark it).
+    UnknownPosition {
+        name: String,
+    },
+    /// A command completed (so the console can note saved names and so on).
+    Done {
+        command: ArmCommand,
+    },
+}

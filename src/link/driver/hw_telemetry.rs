@@ -1,0 +1,77 @@
+//! Telemetry for a Talos-only link, from the hardware companion ICD's GET_ARM_STATE and
+//! GET_ACTUATOR_FEEDBACK, in the same [`Telemetry`] shape the Modbus link decodes.
+
+use crate::kortex::{
+    ActionState, ArmHealth, Coded, FlagSet, JointState, Pose, SpeedLimits, Telemetry, ToolState,
+    Twist, Wrench,
+};
+use crate::talos::hardware::{ActuatorFeedback, ArmState};
+
+/// Builds a snapshot. Joints without feedback read as zero. Action status and speed limits do
+/// not exist over Talos: they read as unknown / zero.
+pub fn telemetry(state: &ArmState, actuators: &[ActuatorFeedback]) -> Telemetry {
+    let mut joints = [JointState::default(); 7];
+    for a in actuators {
+        if let Some(j) = joints.get_mut(usize::from(a.joint).wrapping_sub(1)) {
+            *j = JointState {
+                position: a.position_deg,
+                velocity: a.velocity_deg_s,
+                torque: a.torque_nm,
+                current: a.current_a,
+                temperature: a.motor_temp_c,
+            };
+        }
+    }
+    let [x, y, z] = state.tcp_position_m;
+    let [theta_x, theta_y, theta_z] = state.tcp_orientation_deg;
+    let [vx, vy, vz] = state.linear_velocity_m_s;
+    let [wx, wy, wz] = state.angular_velocity_deg_s;
+    let [fx, fy, fz] = state.force_n;
+    let [tx, ty, tz] = state.torque_nm;
+    Telemetry {
+        robot_state: Coded::from_code(state.robot_state.0),
+        faults: FlagSet::from_bits(state.faults.0),
+        warnings: FlagSet::from_bits(state.warnings.0),
+        arm: ArmHealth {
+            current: state.current_a,
+            voltage: state.voltage_v,
+            cpu_temperature: state.cpu_temp_c,
+            ambient_temperature: state.ambient_temp_c,
+        },
+        joints,
+        tcp: ToolState {
+            pose: Pose {
+                x,
+                y,
+                z,
+                theta_x,
+                theta_y,
+                theta_z,
+            },
+            twist: Twist {
+                x: vx,
+                y: vy,
+                z: vz,
+                theta_x: wx,
+                theta_y: wy,
+                theta_z: wz,
+            },
+            wrench: Wrench {
+                force_x: fx,
+                force_y: fy,
+                force_z: fz,
+                torque_x: tx,
+                torque_y: ty,
+                torque_z: tz,
+            },
+        },
+        action: ActionState {
+            status: Coded::Unknown(u16::MAX),
+            id: 0,
+            move_type: Coded::Unknown(u16::MAX),
+        },
+        speed_limits: SpeedLimits::default(),
+        control: Coded::Unknown(u16::MAX),
+        state_from_inputs: None,
+    }
+}

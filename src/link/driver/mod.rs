@@ -1,0 +1,287 @@
+//! The arm driver: one task that carries out the console's [`ArmCommand`]s on a Talos operator,
+//! a Modbus arm, or both (jog through Talos, telemetry over Modbus), and reports [`ArmEvent`]s.
+//!
+//! Order is kept: Talos requests are submitted in command order and their replies awaited
+//! apart, so a STOP never waits behind a START's reply; Modbus commands run one after another
+//! in a worker that drops jog refreshes a later STOP makes stale. A STOP goes to every link.
+//! When a link drops, the driver reports it and reconnects; nothing moves again until the
+//! technician presses a key.
+
+mod hw_telemetry;
+mod modbus_worker;
+mod talos_side;
+
+use std::time::Duration;
+
+use tokio::sync::mpsc;
+
+use super::Dialect;
+use super::arm::{ArmCommand, ArmEvent, LinkStatus, TelemetrySource};
+use super::modbus::{ModbusConfig, ModbusEvent, ModbusLink};
+use super::talos::{TalosConfig, TalosEvent};
+
+/// What the driver connects to and how it jogs.
+#[derive(Debug, Clone)]
+pub struct DriverConfig {
+    pub talos: Option<TalosConfig>,
+    pub modbus: Option<ModbusConfig>,
+    /// Cartesian jog speed at 100 %, m/s (Modbus twists; 250 mm/s by default).
+    pub max_jog_speed: f64,
+    /// Single-joint jog speed at 100 %, deg/s.
+    pub joint_jog_speed: f32,
+    /// Hardware-operation telemetry polls per second on a Talos-only link.
+    pub hw_telemetry_hz: f64,
+    /// Handshake OID.
+    pub oid: u16,
+}
+
+impl DriverConfig {
+    pub fn new(talos: Option<TalosConfig>, modbus: Option<ModbusConfig>) -> DriverConfig {
+        DriverConfig {
+            talos,
+            modbus,
+            max_jog_speed: 0.25,
+            joint_jog_speed: 20.0,
+            hw_telemetry_hz: 10.0,
+            oid: 0,
+        }
+    }
+
+    /// Where the telemetry panels get their data.
+    pub fn telemetry_source(&self) -> TelemetrySource {
+        match (&self.modbus, &self.talos) {
+            (Some(_), _) => TelemetrySource::Modbus,
+            (None, Some(t)) if t.dialect == Dialect::Icd => TelemetrySource::TalosHardware,
+            _ => TelemetrySource::None,
+        }
+    }
+
+    /// Named positions live on the operator when there is a Talos link in the ICD dialect.
+    pub fn positions_on_operator(&self) -> bool {
+        self.talos
+            .as_ref()
+            .is_some_and(|t| t.dialect == Dialect::Icd)
+    }
+
+    /// A short name of the target, for the positions file.
+    pub fn target(&self) -> String {
+        match (&self.talos, &self.modbus) {
+            (Some(t), _) => format!("talos-{}", t.addr),
+            (None, Some(m)) => format!("modbus-{}-{}", m.addr, m.unit),
+            (None, None) => "none".into(),
+        }
+    }
+}
+
+/// The console's handle on the driver task. Dropping every clone stops the arm and ends the
+/// task.
+#[derive(Debug, Clone)]
+pub struct Driver {
+    commands: mpsc::UnboundedSender<ArmCommand>,
+    task: std::sync::Arc<std::sync::Mutex<Option<tokio::task::JoinHandle<()>>>>,
+}
+
+impl Driver {
+    /// Starts the driver; it connects in the background and reports through the events.
+    pub fn spawn(config: DriverConfig) -> (Driver, mpsc::UnboundedReceiver<ArmEvent>) {
+        let (commands, rx) = mpsc::unbounded_channel();
+        let (events, events_rx) = mpsc::unbounded_channel();
+        let task = tokio::spawn(run(config, rx, events));
+        let task = std::sync::Arc::new(std::sync::Mutex::new(Some(task)));
+        (Driver { commands, task }, events_rx)
+    }
+
+    /// Ends the driver: it stops every motion, waits (up to 2 s) for the stops to be answered,
+    /// and closes the links.
+    pub async fn shutdown(self) {
+        let task = self.task.lock().ok().and_then(|mut t| t.take());
+        drop(self);
+        if let Some(task) = task {
+            let _ = tokio::time::timeout(Duration::from_secs(2), task).await;
+        }
+    }
+
+    /// A handle that can only stop the arm and does not keep the driver alive: for the panic
+    /// hook.
+    pub fn stop_handle(&self) -> StopHandle {
+        StopHandle(self.commands.downgrade())
+    }
+
+    /// Queues a command; never blocks. Returns false if the driver has ended.
+    pub fn send(&self, command: ArmCommand) -> bool {
+        self.commands.send(command).is_ok()
+    }
+}
+
+/// See [`Driver::stop_handle`].
+#[derive(Debug, Clone)]
+pub struct StopHandle(mpsc::WeakUnboundedSender<ArmCommand>);
+
+impl StopHandle {
+    /// Asks the driver to stop every motion, if it still runs.
+    pub fn stop(&self) {
+        if let Some(commands) = self.0.upgrade() {
+            let _ = commands.send(ArmCommand::Stop);
+        }
+    }
+}
+
+/// Link states, combined for the status bar.
+#[derive(Default)]
+struct Links {
+    talos: Option<Result<String, String>>,
+    modbus: Option<Result<String, String>>,
+}
+
+impl Links {
+    fn status(&self, config: &DriverConfig) -> LinkStatus {
+        let parts = [
+            (config.talos.is_some(), &self.talos),
+            (config.modbus.is_some(), &self.modbus),
+        ];
+        let mut up = Vec::new();
+        for (wanted, state) in parts {
+            if !wanted {
+                continue;
+            }
+            match state {
+                None => return LinkStatus::Connecting,
+                Some(Err(reason)) => {
+                    return LinkStatus::Down {
+                        reason: reason.clone(),
+                    };
+                }
+                Some(Ok(description)) => up.push(description.clone()),
+            }
+        }
+        if up.is_empty() {
+            return LinkStatus::Down {
+                reason: "no link configured".into(),
+            };
+        }
+        LinkStatus::Up {
+            description: up.join(" + "),
+        }
+    }
+}
+
+async fn run(
+    config: DriverConfig,
+    mut commands: mpsc::UnboundedReceiver<ArmCommand>,
+    events: mpsc::UnboundedSender<ArmEvent>,
+) {
+    let _ = events.send(ArmEvent::TelemetrySource(config.telemetry_source()));
+    let _ = events.send(ArmEvent::Status(LinkStatus::Connecting));
+    let mut links = Links::default();
+    let mut talos = talos_side::TalosSide::new(&config, events.clone());
+    let (modbus_events_tx, mut modbus_events) = mpsc::unbounded_channel::<ModbusEvent>();
+    let mut modbus: Option<modbus_worker::ModbusWorker> = None;
+
+    if let Some(mc) = &config.modbus {
+        match ModbusLink::connect(mc.clone()).await {
+            Ok((link, link_events)) => {
+                forward(link_events, modbus_events_tx.clone());
+                links.modbus = Some(Ok(format!("modbus {} unit {}", mc.addr, mc.unit)));
+                modbus = Some(modbus_worker::ModbusWorker::start(
+                    link,
+                    &config,
+                    events.clone(),
+                ));
+            }
+            Err(e) => links.modbus = Some(Err(format!("modbus {}: {e}", mc.addr))),
+        }
+    }
+    if config.talos.is_some() {
+        links.talos = Some(talos.connect().await);
+    }
+    let _ = events.send(ArmEvent::Status(links.status(&config)));
+
+    let mut reconnect = tokio::time::interval(Duration::from_secs(1));
+    reconnect.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+    let hz = config.hw_telemetry_hz.clamp(0.5, 50.0);
+    let mut hw_poll = tokio::time::interval(Duration::from_secs_f64(1.0 / hz));
+    hw_poll.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
+    let hw_telemetry = config.telemetry_source() == TelemetrySource::TalosHardware;
+
+    loop {
+        tokio::select! {
+            command = commands.recv() => {
+                let Some(command) = command else { break };
+                if command.is_stop() {
+                    // Stops go everywhere, whichever link the motion came through.
+                    if let Some(m) = &modbus {
+                        m.send(command.clone());
+                    }
+                    talos.command(command).await;
+                    continue;
+                }
+                let via_talos = talos.handles(&command, modbus.is_some());
+                match (&modbus, via_talos) {
+                    (_, true) => talos.command(command).await,
+                    (Some(m), false) => m.send(command),
+                    (None, false) => {
+                        let _ = events.send(ArmEvent::Failed {
+                            command: command.label(),
+                            reason: "not possible over this link".into(),
+                        });
+                    }
+                }
+            }
+            Some(event) = talos.next_event() => {
+                if let TalosEvent::Disconnected { reason } = event {
+                    links.talos = Some(Err(format!("talos: {reason}")));
+                    talos.lost();
+                    let _ = events.send(ArmEvent::Status(links.status(&config)));
+                }
+            }
+            Some(event) = modbus_events.recv() => {
+                match event {
+                    ModbusEvent::Disconnected { reason } => {
+                        links.modbus = Some(Err(format!("modbus: {reason}")));
+                        let _ = events.send(ArmEvent::Status(links.status(&config)));
+                    }
+                    ModbusEvent::Reconnected { .. } => {
+                        if let Some(mc) = &config.modbus {
+                            links.modbus = Some(Ok(format!("modbus {} unit {}", mc.addr, mc.unit)));
+                        }
+                        let _ = events.send(ArmEvent::Status(links.status(&config)));
+                    }
+                    ModbusEvent::StopFailed { error, .. } => {
+                        let _ = events.send(ArmEvent::Failed {
+                            command: "stop",
+                            reason: format!("STOP COULD NOT BE WRITTEN: {error}"),
+                        });
+                    }
+                    other => tracing::info!("modbus: {other:?}"),
+                }
+            }
+            _ = reconnect.tick(), if talos.is_down() => {
+                let result = talos.connect().await;
+                if result.is_ok() {
+                    links.talos = Some(result);
+                    let _ = events.send(ArmEvent::Status(links.status(&config)));
+                }
+            }
+            _ = hw_poll.tick(), if hw_telemetry => talos.poll_telemetry().await,
+        }
+    }
+    // The console is gone: stop everything on the way out.
+    if let Some(m) = &modbus {
+        m.send(ArmCommand::Stop);
+    }
+    talos.command(ArmCommand::Stop).await;
+    talos.flush().await;
+    if let Some(m) = modbus {
+        m.close().await;
+    }
+}
+
+fn forward<T: Send + 'static>(mut from: mpsc::UnboundedReceiver<T>, to: mpsc::UnboundedSender<T>) {
+    tokio::spawn(async move {
+        while let Some(item) = from.recv().await {
+            if to.send(item).is_err() {
+                break;
+            }
+        }
+    });
+}

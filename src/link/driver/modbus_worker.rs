@@ -1,0 +1,309 @@
+//! The driver's Modbus half: commands run one at a time in order; a STOP makes queued jog
+//! refreshes before it stale, so they are dropped rather than run after it.
+
+use std::time::Duration;
+
+use tokio::sync::mpsc;
+use tokio::task::JoinHandle;
+
+use super::DriverConfig;
+use crate::console::jog::JogMotion;
+use crate::kortex::{Pose, ReferenceFrame, Twist};
+use crate::link::arm::{ArmCommand, ArmEvent, LogEntry, StepMove};
+use crate::link::modbus::{ModbusError, ModbusLink, WriteReport};
+
+pub struct ModbusWorker {
+    commands: mpsc::UnboundedSender<ArmCommand>,
+    task: JoinHandle<()>,
+    link: ModbusLink,
+}
+
+struct State {
+    link: ModbusLink,
+    events: mpsc::UnboundedSender<ArmEvent>,
+    max_jog_speed: f64,
+    speed: u8,
+    frame: ReferenceFrame,
+}
+
+impl ModbusWorker {
+    pub fn start(
+        link: ModbusLink,
+        config: &DriverConfig,
+        events: mpsc::UnboundedSender<ArmEvent>,
+    ) -> ModbusWorker {
+        forward_telemetry(&link, events.clone());
+        let (commands, rx) = mpsc::unbounded_channel();
+        let state = State {
+            link: link.clone(),
+            events,
+            max_jog_speed: config.max_jog_speed,
+            speed: 50,
+            frame: ReferenceFrame::Base,
+        };
+        let task = tokio::spawn(run(state, rx));
+        ModbusWorker {
+            commands,
+            task,
+            link,
+        }
+    }
+
+    pub fn send(&self, command: ArmCommand) {
+        let _ = self.commands.send(command);
+    }
+
+    /// Runs what is queued (a STOP last), then closes the link, which stops any twist.
+    pub async fn close(self) {
+        drop(self.commands);
+        let _ = tokio::time::timeout(Duration::from_secs(1), self.task).await;
+        let _ = tokio::time::timeout(Duration::from_secs(1), self.link.close()).await;
+    }
+}
+
+fn forward_telemetry(link: &ModbusLink, events: mpsc::UnboundedSender<ArmEvent>) {
+    let mut snapshots = link.subscribe();
+    tokio::spawn(async move {
+        while snapshots.changed().await.is_ok() {
+            let snapshot = snapshots.borrow_and_update().clone();
+            if let Some(s) = snapshot {
+                let latency = s.poll_time;
+                if events.send(ArmEvent::Telemetry(Box::new(s.telemetry))).is_err()
+                    || events.send(ArmEvent::Latency(latency)).is_err()
+                {
+                    break;
+                }
+            }
+        }
+    });
+}
+
+async fn run(mut state: State, mut rx: mpsc::UnboundedReceiver<ArmCommand>) {
+    while let Some(first) = rx.recv().await {
+        let mut batch = vec![first];
+        while let Ok(more) = rx.try_recv() {
+            batch.push(more);
+        }
+        for command in without_stale_jogs(batch) {
+            state.execute(command).await;
+        }
+    }
+}
+
+/// Drops jog commands queued before the last STOP: they were overtaken by it.
+fn without_stale_jogs(batch: Vec<ArmCommand>) -> Vec<ArmCommand> {
+    let Some(last_stop) = batch.iter().rposition(ArmCommand::is_stop) else {
+        return batch;
+    };
+    batch
+        .into_iter()
+        .enumerate()
+        .filter(|(i, c)| *i >= last_stop || !matches!(c, ArmCommand::Jog(_)))
+        .map(|(_, c)| c)
+        .collect()
+}
+
+impl State {
+    fn current_pose(&self) -> Option<Pose> {
+        self.link
+            .subscribe()
+            .borrow()
+            .as_ref()
+            .map(|s| s.telemetry.tcp.pose)
+    }
+
+    fn fraction(&self) -> f64 {
+        f64::from(self.speed) / 100.0
+    }
+
+    async fn execute(&mut self, command: ArmCommand) {
+        let result: Result<Option<WriteReport>, String> = match &command {
+            ArmCommand::Jog(JogMotion::Cartesian { x, y, z }) => {
+                let d = [f64::from(*x), f64::from(*y), f64::from(*z)];
+                let norm = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt().max(1.0);
+                // Diagonals are normalised: the tool never exceeds the jog speed cap.
+                let v = self.max_jog_speed * self.fraction() / norm;
+                let twist = Twist {
+                    x: (d[0] * v) as f32,
+                    y: (d[1] * v) as f32,
+                    z: (d[2] * v) as f32,
+                    ..Twist::default()
+                };
+                wrap(self.link.jog_twist(self.frame, twist).await)
+            }
+            ArmCommand::Jog(JogMotion::Polar { azimuth, altitude }) => wrap(
+                self.link
+                    .polar_pan(f32::from(*azimuth), f32::from(*altitude))
+                    .await,
+            ),
+            ArmCommand::Jog(JogMotion::Joint { .. }) => {
+                Err("single-joint jog needs a Talos operator: Modbus cannot command joints".into())
+            }
+            ArmCommand::Stop => wrap(self.link.stop().await),
+            ArmCommand::QuickStop => wrap(self.link.quick_stop().await),
+            ArmCommand::FaultReset => wrap(self.link.fault_reset().await),
+            ArmCommand::Home => wrap(self.link.home().await),
+            ArmCommand::MoveToPose(pose) => {
+                wrap(self.link.go_to_pose(ReferenceFrame::Base, *pose).await)
+            }
+            ArmCommand::Step(step) => match self.current_pose() {
+                Some(pose) => {
+                    let target = step_target(pose, *step);
+                    wrap(self.link.go_to_pose(ReferenceFrame::Base, target).await)
+                }
+                None => Err("no telemetry yet: the step needs the current pose".into()),
+            },
+            ArmCommand::SetSpeed(speed) => {
+                self.speed = (*speed).clamp(1, 100);
+                let linear = (self.max_jog_speed * self.fraction()) as f32;
+                let angular = (100.0 * self.fraction()) as f32;
+                let result = wrap(self.link.set_speed_limits(linear, angular).await);
+                if result.is_ok() {
+                    let _ = self.events.send(ArmEvent::Speed(self.speed));
+                }
+                result
+            }
+            ArmCommand::SetFrame(frame) => {
+                self.frame = *frame;
+                Ok(None)
+            }
+            _ => Err("named positions over Modbus are kept by the console".into()),
+        };
+        self.report(command, result);
+    }
+
+    fn report(&self, command: ArmCommand, result: Result<Option<WriteReport>, String>) {
+        let label = command.label();
+        match result {
+            Ok(report) => {
+                // A jog refresh that wrote nothing is not worth a log line.
+                if let Some(report) = report.filter(|r| !r.writes.is_empty()) {
+                    let writes: Vec<String> = report.writes.iter().map(|w| w.to_string()).collect();
+                    let _ = self.events.send(ArmEvent::Log(LogEntry {
+                        id: None,
+                        name: label.to_string(),
+                        outcome: format!("OK ({} writes)", report.writes.len()),
+                        ok: true,
+                        latency: Some(report.elapsed),
+                        sent_hex: Some(writes.join("; ")),
+                        received_hex: None,
+                    }));
+                }
+                let _ = self.events.send(ArmEvent::Done { command });
+            }
+            Err(reason) => {
+                let _ = self.events.send(ArmEvent::Log(LogEntry {
+                    id: None,
+                    name: label.to_string(),
+                    outcome: reason.clone(),
+                    ok: false,
+                    latency: None,
+                    sent_hex: None,
+                    received_hex: None,
+                }));
+                let _ = self.events.send(ArmEvent::Failed {
+                    command: label,
+                    reason,
+                });
+            }
+        }
+    }
+}
+
+fn wrap(result: Result<WriteReport, ModbusError>) -> Result<Option<WriteReport>, String> {
+    result.map(Some).map_err(|e| e.to_string())
+}
+
+/// The pose a step moves to. Polar steps turn the position about the base Z axis (and the tool
+/// with it: extrinsic XYZ makes that a change of theta z) and change its elevation about the
+/// base origin, keeping the distance.
+pub fn step_target(pose: Pose, step: StepMove) -> Pose {
+    match step {
+        StepMove::Cartesian { dx, dy, dz } => Pose {
+            x: pose.x + dx as f32 / 10_000.0,
+            y: pose.y + dy as f32 / 10_000.0,
+            z: pose.z + dz as f32 / 10_000.0,
+            ..pose
+        },
+        StepMove::Polar { azimuth, altitude } => {
+            let (x, y, z) = (f64::from(pose.x), f64::from(pose.y), f64::from(pose.z));
+            let horizontal = x.hypot(y);
+            let distance = horizontal.hypot(z);
+            let azimuth_now = y.atan2(x) + f64::from(azimuth).to_radians();
+            let elevation = (z.atan2(horizontal) + f64::from(altitude).to_radians())
+                .clamp(-89f64.to_radians(), 89f64.to_radians());
+            let h = distance * elevation.cos();
+            Pose {
+                x: (h * azimuth_now.cos()) as f32,
+                y: (h * azimuth_now.sin()) as f32,
+                z: (distance * elevation.sin()) as f32,
+                theta_z: pose.theta_z + azimuth as f32,
+                ..pose
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_stop_drops_the_jogs_queued_before_it_but_keeps_other_commands() {
+        let jog = ArmCommand::Jog(JogMotion::Polar {
+            azimuth: 1,
+            altitude: 0,
+        });
+        let batch = vec![
+            jog.clone(),
+            ArmCommand::SetSpeed(20),
+            jog.clone(),
+            ArmCommand::Stop,
+        ];
+        assert_eq!(
+            without_stale_jogs(batch),
+            [ArmCommand::SetSpeed(20), ArmCommand::Stop]
+        );
+        let after = vec![ArmCommand::Stop, jog.clone()];
+        assert_eq!(without_stale_jogs(after.clone()), after);
+    }
+
+    #[test]
+    fn polar_steps_keep_the_distance() {
+        let pose = Pose {
+            x: 0.4,
+            y: 0.0,
+            z: 0.3,
+            theta_x: 90.0,
+            theta_y: 0.0,
+            theta_z: 90.0,
+        };
+        let t = step_target(
+            pose,
+            StepMove::Polar {
+                azimuth: 90,
+                altitude: 0,
+            },
+        );
+        assert!(t.x.abs() < 1e-6 && (t.y - 0.4).abs() < 1e-6 && (t.z - 0.3).abs() < 1e-6);
+        assert!((t.theta_z - 180.0).abs() < 1e-6);
+        let up = step_target(
+            pose,
+            StepMove::Polar {
+                azimuth: 0,
+                altitude: 10,
+            },
+        );
+        let d = |p: Pose| (p.x * p.x + p.y * p.y + p.z * p.z).sqrt();
+        assert!((d(up) - d(pose)).abs() < 1e-5 && up.z > pose.z);
+        let c = step_target(
+            pose,
+            StepMove::Cartesian {
+                dx: 100,
+                dy: -50,
+                dz: 0,
+            },
+        );
+        assert!((c.x - 0.41).abs() < 1e-6 && (c.y + 0.005).abs() < 1e-6);
+    }
+}

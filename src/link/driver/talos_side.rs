@@ -1,0 +1,439 @@
+//! The driver's Talos half: commands to frames, replies to events, telemetry from the hardware
+//! companion ICD, reconnection.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+use tokio::sync::mpsc;
+
+use super::DriverConfig;
+use super::hw_telemetry;
+use crate::console::jog::JogMotion;
+use crate::link::arm::{ArmCommand, ArmEvent, LogEntry, PositionCoordinates, StepMove};
+use crate::link::talos::{Answer, Exchange, PendingReply, TalosConfig, TalosError, TalosEvent};
+use crate::link::{Dialect, TalosLink};
+use crate::talos::hardware::{ActuatorCommand, HwReply, HwRequest};
+use crate::talos::{CommandValue, Reply, Request, ReturnCode};
+
+pub struct TalosSide {
+    config: Option<TalosConfig>,
+    oid: u16,
+    joint_jog_speed: f32,
+    link: Option<TalosLink>,
+    link_events: Option<mpsc::UnboundedReceiver<TalosEvent>>,
+    events: mpsc::UnboundedSender<ArmEvent>,
+    speed: u8,
+    polling: Arc<AtomicBool>,
+    /// Joint positions from the latest hardware telemetry, for joint jog commands.
+    joints: Arc<std::sync::Mutex<[f32; 7]>>,
+}
+
+impl TalosSide {
+    pub fn new(config: &DriverConfig, events: mpsc::UnboundedSender<ArmEvent>) -> TalosSide {
+        TalosSide {
+            config: config.talos.clone(),
+            oid: config.oid,
+            joint_jog_speed: config.joint_jog_speed,
+            link: None,
+            link_events: None,
+            events,
+            speed: 50,
+            polling: Arc::new(AtomicBool::new(false)),
+            joints: Arc::new(std::sync::Mutex::new([0.0; 7])),
+        }
+    }
+
+    fn dialect(&self) -> Dialect {
+        self.config.as_ref().map_or(Dialect::Icd, |c| c.dialect)
+    }
+
+    pub fn is_down(&self) -> bool {
+        self.config.is_some() && self.link.is_none()
+    }
+
+    pub fn lost(&mut self) {
+        self.link = None;
+        self.link_events = None;
+    }
+
+    /// Connects and handshakes; on success, reads the speed (ICD dialect).
+    pub async fn connect(&mut self) -> Result<String, String> {
+        let Some(config) = self.config.clone() else {
+            return Err("no Talos operator configured".into());
+        };
+        let (link, link_events) = TalosLink::connect(config.clone())
+            .await
+            .map_err(|e| format!("talos: {e}"))?;
+        let version = match link.handshake(self.oid).await {
+            Ok(Some((major, minor))) => format!(", operator {major}.{minor}"),
+            Ok(None) => String::new(),
+            Err(e) => return Err(format!("talos handshake: {e}")),
+        };
+        if config.dialect == Dialect::Icd
+            && let Ok(exchange) = link.request(Request::GetSpeed).await
+            && let Answer::Reply(Reply::GetSpeed { speed, .. }) = exchange.answer
+        {
+            self.speed = speed;
+            let _ = self.events.send(ArmEvent::Speed(speed));
+        }
+        self.link = Some(link);
+        self.link_events = Some(link_events);
+        Ok(format!(
+            "talos {} ({}, {}){version}",
+            config.addr, config.dialect, config.checksum
+        ))
+    }
+
+    /// The next unsolicited link event; pends forever without a link.
+    pub async fn next_event(&mut self) -> Option<TalosEvent> {
+        match &mut self.link_events {
+            Some(rx) => match rx.recv().await {
+                Some(event) => Some(event),
+                None => {
+                    self.link_events = None;
+                    std::future::pending().await
+                }
+            },
+            None => std::future::pending().await,
+        }
+    }
+
+    /// Whether the Talos link carries `command` (rather than the Modbus link).
+    pub fn handles(&self, command: &ArmCommand, has_modbus: bool) -> bool {
+        if self.config.is_none() {
+            return false;
+        }
+        match command {
+            ArmCommand::MoveToPose(_) | ArmCommand::SetFrame(_) => false,
+            // Over Modbus the coils do it properly; over Talos only the nearest equivalent.
+            ArmCommand::FaultReset => !has_modbus,
+            _ => true,
+        }
+    }
+
+    /// The requests that carry out `command`, in order.
+    fn requests(&mut self, command: &ArmCommand) -> Result<Vec<Request>, String> {
+        let icd = self.dialect() == Dialect::Icd;
+        let hw = |request: HwRequest| -> Result<Request, String> {
+            Ok(Request::HardwareOperation {
+                subcommand: request.subcommand(),
+                reserved: 0,
+                payload: request.encode_payload().map_err(|e| e.to_string())?,
+            })
+        };
+        Ok(match command {
+            ArmCommand::Jog(JogMotion::Cartesian { x, y, z }) => {
+                vec![Request::CartesianMoveStart {
+                    moving_x: *x,
+                    moving_y: *y,
+                    moving_z: *z,
+                }]
+            }
+            ArmCommand::Jog(JogMotion::Polar { azimuth, altitude }) => {
+                vec![Request::PolarPanStart {
+                    moving_azimuth: *azimuth,
+                    moving_altitude: *altitude,
+                }]
+            }
+            ArmCommand::Jog(JogMotion::Joint { joint, direction }) => {
+                if !icd {
+                    return Err("joint jog needs the icd dialect".into());
+                }
+                let index = usize::from(joint.saturating_sub(1)).min(6);
+                let position = self.joints.lock().map(|j| j[index]).unwrap_or(0.0);
+                let velocity =
+                    f32::from(*direction) * self.joint_jog_speed * f32::from(self.speed) / 100.0;
+                vec![hw(HwRequest::SendActuatorCommand {
+                    joint: *joint,
+                    command: ActuatorCommand::jog(position, velocity),
+                })?]
+            }
+            ArmCommand::Stop | ArmCommand::QuickStop => {
+                let mut stops = vec![Request::PolarPanStop];
+                if icd {
+                    stops.insert(0, Request::CartesianMoveStop);
+                    stops.push(hw(HwRequest::StopAllJoints)?);
+                }
+                stops
+            }
+            ArmCommand::Step(StepMove::Cartesian { dx, dy, dz }) => vec![Request::CartesianMove {
+                delta_x: *dx,
+                delta_y: *dy,
+                delta_z: *dz,
+                delay_ms: 0,
+                time_ms: 0,
+            }],
+            ArmCommand::Step(StepMove::Polar { azimuth, altitude }) => vec![Request::PolarPan {
+                delta_azimuth: *azimuth,
+                delta_altitude: *altitude,
+                delay_ms: 0,
+                time_ms: 0,
+            }],
+            ArmCommand::Home => vec![Request::Home { delay_ms: 0 }],
+            ArmCommand::SetSpeed(speed) => vec![Request::SetSpeed { speed: *speed }],
+            ArmCommand::FaultReset => vec![hw(HwRequest::ClearAllFaults)?],
+            ArmCommand::SavePosition {
+                name,
+                anchor,
+                parent,
+            } => vec![Request::SavePosition {
+                name: name.clone(),
+                anchor: *anchor,
+                parent: parent.clone().unwrap_or_default(),
+            }],
+            ArmCommand::DeletePosition { name } => {
+                vec![Request::DeletePosition { name: name.clone() }]
+            }
+            ArmCommand::GoToPosition { name } => vec![Request::GoToPosition { name: name.clone() }],
+            ArmCommand::SetPolarPosition {
+                name,
+                delta,
+                azimuth,
+                radius,
+            } => vec![Request::SetPolarPosition {
+                name: name.clone(),
+                delta: *delta,
+                azimuth: *azimuth,
+                radius: *radius,
+            }],
+            ArmCommand::SetCartesianPosition { name, x, y, z } => {
+                vec![Request::SetCartesianPosition {
+                    name: name.clone(),
+                    x: *x,
+                    y: *y,
+                    z: *z,
+                }]
+            }
+            ArmCommand::GetPosition { name } => vec![
+                Request::GetCartesianPosition { name: name.clone() },
+                Request::GetPolarPosition { name: name.clone() },
+            ],
+            ArmCommand::MoveToPose(_) | ArmCommand::SetFrame(_) => {
+                return Err("not available over Talos".into());
+            }
+        })
+    }
+
+    /// Submits the command's requests in order and reports their answers as they come.
+    pub async fn command(&mut self, command: ArmCommand) {
+        let Some(link) = self.link.clone() else {
+            if !command.is_stop() {
+                let _ = self.events.send(ArmEvent::Failed {
+                    command: command.label(),
+                    reason: "no link to the Talos operator".into(),
+                });
+            }
+            return;
+        };
+        if let ArmCommand::SetSpeed(speed) = command {
+            self.speed = speed;
+        }
+        let requests = match self.requests(&command) {
+            Ok(requests) => requests,
+            Err(reason) => {
+                let _ = self.events.send(ArmEvent::Failed {
+                    command: command.label(),
+                    reason,
+                });
+                return;
+            }
+        };
+        let mut pending = Vec::new();
+        for request in requests {
+            let name = request.command();
+            match link.submit(request).await {
+                Ok(p) => pending.push(p),
+                Err(e) => report_error(&self.events, &command, name, None, &e),
+            }
+        }
+        tokio::spawn(answers(command, pending, self.events.clone()));
+    }
+
+    /// Asks for arm state and actuator feedback; skipped while the last poll is outstanding.
+    pub async fn poll_telemetry(&mut self) {
+        let Some(link) = self.link.clone() else {
+            return;
+        };
+        if self.polling.swap(true, Ordering::AcqRel) {
+            return;
+        }
+        let encode = |r: HwRequest| Request::HardwareOperation {
+            subcommand: r.subcommand(),
+            reserved: 0,
+            payload: r.encode_payload().unwrap_or_default(),
+        };
+        let state = link.submit(encode(HwRequest::GetArmState)).await;
+        let feedback = link
+            .submit(encode(HwRequest::GetActuatorFeedback { selector: 0 }))
+            .await;
+        let events = self.events.clone();
+        let polling = self.polling.clone();
+        let joints = self.joints.clone();
+        tokio::spawn(async move {
+            if let (Ok(state), Ok(feedback)) = (state, feedback) {
+                let (state, feedback) = (state.wait().await, feedback.wait().await);
+                if let (Ok(state), Ok(feedback)) = (state, feedback) {
+                    let latency = state.latency;
+                    if let (
+                        Some(HwReply::GetArmState { state }),
+                        Some(HwReply::GetActuatorFeedback { actuators }),
+                    ) = (hw_reply(&state), hw_reply(&feedback))
+                    {
+                        if let Ok(mut j) = joints.lock() {
+                            for a in &actuators {
+                                if let Some(slot) = j.get_mut(usize::from(a.joint).wrapping_sub(1))
+                                {
+                                    *slot = a.position_deg;
+                                }
+                            }
+                        }
+                        let telemetry = hw_telemetry::telemetry(&state, &actuators);
+                        let _ = events.send(ArmEvent::Telemetry(Box::new(telemetry)));
+                        let _ = events.send(ArmEvent::Latency(latency));
+                    }
+                }
+            }
+            polling.store(false, Ordering::Release);
+        });
+    }
+
+    /// On the way out: stops every motion and waits (briefly) until the stops are answered.
+    pub async fn flush(&mut self) {
+        let Some(link) = self.link.take() else {
+            return;
+        };
+        let mut stops = vec![Request::PolarPanStop];
+        if self.dialect() == Dialect::Icd {
+            stops.insert(0, Request::CartesianMoveStop);
+        }
+        for stop in stops {
+            let _ = tokio::time::timeout(Duration::from_millis(500), link.request(stop)).await;
+        }
+    }
+}
+
+fn hw_reply(exchange: &Exchange) -> Option<HwReply> {
+    match &exchange.answer {
+        Answer::Reply(Reply::HardwareOperation {
+            subcommand,
+            payload,
+            ..
+        }) => HwReply::decode(*subcommand, payload).ok(),
+        _ => None,
+    }
+}
+
+fn log_entry(exchange: &Exchange) -> LogEntry {
+    let code = exchange.return_code();
+    LogEntry {
+        id: Some(exchange.id),
+        name: exchange.request.command().name().to_string(),
+        outcome: match exchange.answer {
+            Answer::Ack => "ACK".into(),
+            Answer::Reply(_) => code.name().map_or_else(|| code.to_string(), str::to_string),
+        },
+        ok: code.is_ok(),
+        latency: Some(exchange.latency),
+        sent_hex: Some(crate::cli::send::spaced_hex(&exchange.request_bytes)),
+        received_hex: Some(crate::cli::send::spaced_hex(&exchange.reply_bytes)),
+    }
+}
+
+fn report_error(
+    events: &mpsc::UnboundedSender<ArmEvent>,
+    command: &ArmCommand,
+    name: CommandValue,
+    id: Option<u32>,
+    error: &TalosError,
+) {
+    if let TalosError::ReturnCode { exchange } = error {
+        let _ = events.send(ArmEvent::Log(log_entry(exchange)));
+        if exchange.return_code() == ReturnCode::UNKNOWN_POSITION
+            && let Some(name) = position_name(command)
+        {
+            let _ = events.send(ArmEvent::UnknownPosition { name });
+        }
+    } else {
+        let _ = events.send(ArmEvent::Log(LogEntry {
+            id,
+            name: name.name().to_string(),
+            outcome: error.to_string(),
+            ok: false,
+            latency: None,
+            sent_hex: None,
+            received_hex: None,
+        }));
+    }
+    let _ = events.send(ArmEvent::Failed {
+        command: command.label(),
+        reason: match error {
+            TalosError::ReturnCode { exchange } => exchange.return_code().to_string(),
+            other => other.to_string(),
+        },
+    });
+}
+
+fn position_name(command: &ArmCommand) -> Option<String> {
+    match command {
+        ArmCommand::GoToPosition { name }
+        | ArmCommand::DeletePosition { name }
+        | ArmCommand::GetPosition { name } => Some(name.clone()),
+        _ => None,
+    }
+}
+
+/// Awaits a command's replies in order and reports them.
+async fn answers(
+    command: ArmCommand,
+    pending: Vec<PendingReply>,
+    events: mpsc::UnboundedSender<ArmEvent>,
+) {
+    let mut all_ok = !pending.is_empty();
+    let mut coordinates = PositionCoordinates {
+        cartesian: None,
+        polar: None,
+    };
+    for p in pending {
+        let (id, name) = (p.id(), p.command());
+        match p.wait().await {
+            Ok(exchange) => {
+                let _ = events.send(ArmEvent::Latency(exchange.latency));
+                let _ = events.send(ArmEvent::Log(log_entry(&exchange)));
+                match exchange.answer {
+                    Answer::Reply(Reply::GetCartesianPosition { x, y, z, .. }) => {
+                        coordinates.cartesian = Some([x, y, z]);
+                    }
+                    Answer::Reply(Reply::GetPolarPosition {
+                        delta,
+                        azimuth,
+                        radius,
+                        ..
+                    }) => coordinates.polar = Some([delta, azimuth, radius]),
+                    _ => {}
+                }
+            }
+            Err(e) => {
+                all_ok = false;
+                report_error(&events, &command, name, Some(id), &e);
+                // One failure is enough to report; a Stop still tries every request.
+                if !command.is_stop() {
+                    break;
+                }
+            }
+        }
+    }
+    if !all_ok {
+        return;
+    }
+    if let ArmCommand::GetPosition { name } = &command {
+        let _ = events.send(ArmEvent::Position {
+            name: name.clone(),
+            coordinates,
+        });
+    }
+    if let ArmCommand::SetSpeed(speed) = command {
+        let _ = events.send(ArmEvent::Speed(speed));
+    }
+    let _ = events.send(ArmEvent::Done { command });
+}
