@@ -15,7 +15,9 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         .title(Span::styled(" Arm ", theme.title()));
     let Some(t) = &app.telemetry else {
         frame.render_widget(
-            Paragraph::new(super::no_telemetry_text(app)).block(block),
+            Paragraph::new(super::no_telemetry_text(app))
+                .block(block)
+                .wrap(Wrap { trim: true }),
             area,
         );
         return;
@@ -50,21 +52,32 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
             Span::raw(warnings.join(", ")),
         ])
     });
+    // The wide lines take 50 columns; the left-hand panel at 80 columns has 42 inside, where
+    // a wrapped line would push the last one out of the panel.
+    let narrow = area.width < 50 + 2;
+    let (power, ambient) = if narrow {
+        ("", "amb")
+    } else {
+        ("power ", "ambient")
+    };
     lines.push(Line::from(vec![
-        Span::styled("power ", theme.dim()),
+        Span::styled(power, theme.dim()),
         Span::raw(format!(
-            "{:.1} V {:.2} A  cpu {:.1} C  ambient {:.1} C",
+            "{:.1} V {:.2} A  cpu {:.1} C  {ambient} {:.1} C",
             t.arm.voltage, t.arm.current, t.arm.cpu_temperature, t.arm.ambient_temperature
         )),
     ]));
+    let action = if narrow {
+        format!("action {}", t.action.status.key())
+    } else {
+        format!("action {} #{}", t.action.status, t.action.id)
+    };
     lines.push(Line::from(vec![
-        Span::styled("limits ", theme.dim()),
+        Span::styled(if narrow { "max " } else { "limits " }, theme.dim()),
         Span::raw(format!(
-            "{:.0} mm/s {:.0} deg/s  action {} #{}",
+            "{:.0} mm/s {:.0} deg/s  {action}",
             t.speed_limits.linear * 1000.0,
             t.speed_limits.angular,
-            t.action.status,
-            t.action.id
         )),
     ]));
     frame.render_widget(

@@ -4,7 +4,7 @@
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Rect};
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Block, Borders, Cell, Paragraph, Row, Table};
+use ratatui::widgets::{Block, Borders, Cell, Paragraph, Row, Table, Wrap};
 
 use super::theme::Theme;
 use crate::console::app::App;
@@ -42,7 +42,10 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         .title(Span::styled(" Joints ", theme.title()));
     let Some(t) = &app.telemetry else {
         let text = super::no_telemetry_text(app);
-        frame.render_widget(Paragraph::new(text).block(block), area);
+        frame.render_widget(
+            Paragraph::new(text).block(block).wrap(Wrap { trim: true }),
+            area,
+        );
         return;
     };
     let wide = area.width >= 70;
@@ -59,6 +62,16 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
     } else {
         vec!["", "pos", "vel", "Nm", "A", "C"]
     };
+    // Numbers and their headings right-aligned in their columns.
+    let right = |text: String| Cell::from(Line::from(text).right_aligned());
+    let header: Vec<Cell> = header
+        .into_iter()
+        .enumerate()
+        .map(|(i, h)| match (i, wide) {
+            (0, _) | (2, true) => Cell::from(h),
+            _ => right(h.to_string()),
+        })
+        .collect();
     let rows = t.joints.iter().enumerate().map(|(i, j)| {
         let near = LIMITS[i].is_some_and(|l| l - signed(j.position).abs() < NEAR_LIMIT);
         let selected = usize::from(app.jog.joint()) == i + 1;
@@ -70,14 +83,17 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
                 theme.title()
             },
         ));
-        let pos = Cell::from(Span::styled(
-            format!("{:7.2}", j.position),
-            if near {
-                theme.warning()
-            } else {
-                Default::default()
-            },
-        ));
+        let pos = Cell::from(
+            Line::from(Span::styled(
+                format!("{:.2}", j.position),
+                if near {
+                    theme.warning()
+                } else {
+                    Default::default()
+                },
+            ))
+            .right_aligned(),
+        );
         let mut cells = vec![name, pos];
         if wide {
             cells.push(Cell::from(match LIMITS[i] {
@@ -86,10 +102,10 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
             }));
         }
         cells.extend([
-            Cell::from(format!("{:7.2}", j.velocity)),
-            Cell::from(format!("{:6.2}", j.torque)),
-            Cell::from(format!("{:5.2}", j.current)),
-            Cell::from(format!("{:5.1}", j.temperature)),
+            right(format!("{:.2}", j.velocity)),
+            right(format!("{:.2}", j.torque)),
+            right(format!("{:.2}", j.current)),
+            right(format!("{:.1}", j.temperature)),
         ]);
         Row::new(cells)
     });
@@ -117,5 +133,4 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         .header(Row::new(header).style(theme.dim()))
         .block(block);
     frame.render_widget(table, area);
-    let _ = Line::default();
 }

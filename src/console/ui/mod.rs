@@ -42,12 +42,14 @@ pub fn draw(frame: &mut Frame, app: &App, theme: &Theme) {
         );
         return;
     }
+    // A tall terminal gives half its extra rows to the arm and positions row, half to the log.
+    let extra = area.height.saturating_sub(24) / 2;
     let rows = Layout::default()
         .direction(Direction::Vertical)
         .constraints([
             Constraint::Length(2),
             Constraint::Length(10),
-            Constraint::Length(7),
+            Constraint::Length(7 + extra),
             Constraint::Min(3),
             Constraint::Length(1),
         ])

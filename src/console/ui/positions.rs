@@ -27,7 +27,16 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         .positions
         .entries()
         .map(|(name, entry)| {
+            // The marks first, the coordinates last: a narrow panel cuts the end of the line.
             let mut spans = vec![Span::raw(name.to_string())];
+            if entry.unknown_to_operator {
+                spans.push(Span::styled("  unknown to operator", theme.warning()));
+            }
+            if entry.anchor
+                && let Some(parent) = &entry.parent
+            {
+                spans.push(Span::styled(format!("  @{parent}"), theme.accent()));
+            }
             if let Some([x, y, z]) = entry.cartesian {
                 spans.push(Span::styled(
                     format!(
@@ -38,14 +47,6 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
                     ),
                     theme.dim(),
                 ));
-            }
-            if entry.anchor
-                && let Some(parent) = &entry.parent
-            {
-                spans.push(Span::styled(format!("  ⚓{parent}"), theme.accent()));
-            }
-            if entry.unknown_to_operator {
-                spans.push(Span::styled("  unknown to operator", theme.warning()));
             }
             ListItem::new(Line::from(spans))
         })

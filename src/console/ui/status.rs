@@ -29,6 +29,14 @@ pub fn release_mode_text(app: &App) -> String {
     }
 }
 
+/// The key-release mode without its measured timing.
+fn release_mode_name(app: &App) -> &'static str {
+    match app.jog.mode() {
+        ReleaseMode::Reported => "keys: release events",
+        ReleaseMode::AutoRepeat => "keys: auto-repeat fallback",
+    }
+}
+
 /// Two lines: the link, then keys, motion and settings (so the key-release mode always shows,
 /// even at 80 columns).
 pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
@@ -56,13 +64,16 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
             format!(" JOG {} ", describe_motion(motion)),
             theme.moving(),
         )),
-        None => spans.push(Span::raw(if app.step.enabled {
-            " STEP "
-        } else {
-            " idle "
-        })),
+        // The step size goes with the mode, so it shows even at 80 columns.
+        None if app.step.enabled => spans.push(Span::raw(format!(
+            " STEP {:.1} mm / {} deg ",
+            f64::from(app.step.cartesian()) / 10.0,
+            app.step.polar()
+        ))),
+        None => spans.push(Span::raw(" idle ")),
     }
     spans.push(Span::raw(" | "));
+    let keys = spans.len();
     spans.push(Span::styled(release_mode_text(app), theme.accent()));
     spans.push(Span::raw(" | speed "));
     spans.push(Span::raw(match app.speed {
@@ -72,13 +83,14 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
     if app.config.frames {
         spans.push(Span::raw(format!(" | frame {}", app.frame.key())));
     }
-    if app.step.enabled {
-        spans.push(Span::raw(format!(
-            " | step {:.1} mm / {} deg",
-            f64::from(app.step.cartesian()) / 10.0,
-            app.step.polar()
-        )));
+    // Step mode has no joint steps: the selected joint only matters when jogging.
+    if !app.step.enabled {
+        spans.push(Span::raw(format!(" | J{}", app.jog.joint())));
     }
-    spans.push(Span::raw(format!(" | J{}", app.jog.joint())));
+    // The mode always shows; its measured timing only when the whole line fits.
+    let width: usize = spans.iter().map(|s| s.width()).sum();
+    if width > usize::from(area.width) {
+        spans[keys] = Span::styled(release_mode_name(app), theme.accent());
+    }
     frame.render_widget(Paragraph::new(vec![link_line, Line::from(spans)]), area);
 }

@@ -3,7 +3,7 @@
 use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Block, Borders, Paragraph};
+use ratatui::widgets::{Block, Borders, Paragraph, Wrap};
 
 use super::theme::Theme;
 use crate::console::app::App;
@@ -14,7 +14,9 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         .title(Span::styled(" Tool (TCP, base frame) ", theme.title()));
     let Some(t) = &app.telemetry else {
         frame.render_widget(
-            Paragraph::new(super::no_telemetry_text(app)).block(block),
+            Paragraph::new(super::no_telemetry_text(app))
+                .block(block)
+                .wrap(Wrap { trim: true }),
             area,
         );
         return;
@@ -23,17 +25,30 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
     let v = t.tcp.twist;
     let w = t.tcp.wrench;
     let dim = theme.dim();
+    // 36 columns inside the borders; one column less per number where that does not fit (the
+    // right-hand panel at 80 columns has 32).
+    let (label_w, value_w) = if area.width >= 36 + 2 {
+        (10, 8)
+    } else {
+        (9, 7)
+    };
     let row = |label: &str, values: [f32; 3], precision: usize| {
         let [a, b, c] = values;
         Line::from(vec![
-            Span::styled(format!("{label:<10}"), dim),
+            Span::styled(format!("{label:<label_w$}"), dim),
             Span::raw(format!(
-                "{a:>8.precision$} {b:>8.precision$} {c:>8.precision$}"
+                "{a:>value_w$.precision$} {b:>value_w$.precision$} {c:>value_w$.precision$}"
             )),
         ])
     };
     let lines = vec![
-        Line::styled(format!("{:<10}{:>8} {:>8} {:>8}", "", "x", "y", "z"), dim),
+        Line::styled(
+            format!(
+                "{:<label_w$}{:>value_w$} {:>value_w$} {:>value_w$}",
+                "", "x", "y", "z"
+            ),
+            dim,
+        ),
         row("pos mm", [p.x, p.y, p.z].map(|v| v * 1000.0), 1),
         row("rot deg", [p.theta_x, p.theta_y, p.theta_z], 2),
         row("vel mm/s", [v.x, v.y, v.z].map(|v| v * 1000.0), 1),
