@@ -7,7 +7,7 @@
 //! When a link drops, the driver reports it and reconnects; nothing moves again until the
 //! technician presses a key.
 
-mod hw_telemetry;
+pub mod hw_telemetry;
 mod modbus_worker;
 mod talos_side;
 

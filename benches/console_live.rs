@@ -1,0 +1,242 @@
+//! Live console figures (a bench binary, not criterion):
+//! - press-to-START and release-to-STOP latency through the real Talos link to the simulator on
+//!   loopback, p50 and p99 (target: p99 under 1 ms);
+//! - CPU at rest with telemetry at 30 Hz (target: under 2 % of one core) and resident memory
+//!   (target: under 30 MB) of the real console binary, running in tmux against `armjog sim` in
+//!   another process.
+//!
+//! Run with `cargo bench --bench console_live`. Needs tmux for the second part.
+
+use std::io::{BufRead, BufReader};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use armjog::console::app::{App, AppConfig, Effect, Input, KeyInput};
+use armjog::console::jog::{KeyKind, ReleaseMode};
+use armjog::console::keymap::Keymap;
+use armjog::console::positions::PositionBook;
+use armjog::link::TalosConfig;
+use armjog::link::arm::{ArmCommand, ArmEvent, LinkStatus};
+use armjog::link::driver::{Driver, DriverConfig};
+use armjog::sim::{SimConfig, Simulator};
+
+fn percentile(sorted: &[Duration], p: f64) -> Duration {
+    let i = ((sorted.len() as f64 - 1.0) * p).round() as usize;
+    sorted[i.min(sorted.len() - 1)]
+}
+
+fn ms(d: Duration) -> f64 {
+    d.as_secs_f64() * 1000.0
+}
+
+async fn wait_done(
+    events: &mut tokio::sync::mpsc::UnboundedReceiver<ArmEvent>,
+    wanted: impl Fn(&ArmCommand) -> bool,
+) {
+    while let Some(event) = events.recv().await {
+        if let ArmEvent::Done { command } = &event
+            && wanted(command)
+        {
+            return;
+        }
+    }
+}
+
+async fn latency() {
+    let sim = Simulator::start(SimConfig::ephemeral()).await.expect("sim");
+    let config = DriverConfig::new(Some(TalosConfig::new(sim.talos_addr.to_string())), None);
+    let (driver, mut events) = Driver::spawn(config);
+    let mut app = App::new(
+        AppConfig {
+            keymap: Keymap::builtin("default").expect("keymap"),
+            release_mode: ReleaseMode::Reported,
+            refresh: Duration::from_millis(100),
+            positions_on_operator: true,
+            max_jog_speed: 0.25,
+            frames: false,
+        },
+        PositionBook::new(),
+    );
+    loop {
+        let Some(event) = events.recv().await else {
+            return;
+        };
+        let up = matches!(event, ArmEvent::Status(LinkStatus::Up { .. }));
+        app.handle(Input::Arm(event), Instant::now());
+        if up {
+            break;
+        }
+    }
+    let key = |kind| {
+        Input::Key(KeyInput {
+            key: "w".parse().expect("w"),
+            text: Some('w'),
+            kind,
+        })
+    };
+    let (mut press, mut release) = (Vec::new(), Vec::new());
+    for _ in 0..300 {
+        let t = Instant::now();
+        for effect in app.handle(key(KeyKind::Press), t) {
+            if let Effect::Arm(c) = effect {
+                driver.send(c);
+            }
+        }
+        wait_done(&mut events, |c| matches!(c, ArmCommand::Jog(_))).await;
+        press.push(t.elapsed());
+        tokio::time::sleep(Duration::from_millis(5)).await;
+        let t = Instant::now();
+        for effect in app.handle(key(KeyKind::Release), t) {
+            if let Effect::Arm(c) = effect {
+                driver.send(c);
+            }
+        }
+        wait_done(&mut events, |c| matches!(c, ArmCommand::Stop)).await;
+        release.push(t.elapsed());
+        tokio::time::sleep(Duration::from_millis(5)).await;
+    }
+    press.sort();
+    release.sort();
+    println!(
+        "press-to-START acknowledged:   p50 {:.3} ms  p99 {:.3} ms  (n={})",
+        ms(percentile(&press, 0.5)),
+        ms(percentile(&press, 0.99)),
+        press.len()
+    );
+    println!(
+        "release-to-STOP acknowledged:  p50 {:.3} ms  p99 {:.3} ms  (n={}, 3 stop frames)",
+        ms(percentile(&release, 0.5)),
+        ms(percentile(&release, 0.99)),
+        release.len()
+    );
+}
+
+/// utime + stime of a process, in clock ticks (USER_HZ = 100 on Linux).
+fn cpu_ticks(pid: u32) -> Option<u64> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+    let after = stat.rsplit_once(')')?.1;
+    let fields: Vec<&str> = after.split_whitespace().collect();
+    // Fields after the command: state is [0], utime is [11], stime is [12].
+    Some(fields.get(11)?.parse::<u64>().ok()? + fields.get(12)?.parse::<u64>().ok()?)
+}
+
+fn status_kb(pid: u32, key: &str) -> Option<u64> {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
+    let line = status.lines().find(|l| l.starts_with(key))?;
+    line.split_whitespace().nth(1)?.parse().ok()
+}
+
+fn cpu_percent(pid: u32, window: Duration) -> Option<f64> {
+    let before = cpu_ticks(pid)?;
+    std::thread::sleep(window);
+    let after = cpu_ticks(pid)?;
+    Some((after - before) as f64 / 100.0 / window.as_secs_f64() * 100.0)
+}
+
+fn console_at_rest() -> Result<(), String> {
+    let bin = env!("CARGO_BIN_EXE_armjog");
+    let dir = std::env::temp_dir().join(format!("armjog-bench-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
+    let mut sim = Command::new(bin)
+        .args([
+            "sim",
+            "--talos-listen",
+            "127.0.0.1:0",
+            "--modbus-listen",
+            "127.0.0.1:0",
+        ])
+        .env("ARMJOG_LOG_DIR", &dir)
+        .stdout(Stdio::piped())
+        .spawn()
+        .map_err(|e| format!("armjog sim: {e}"))?;
+    let stdout = sim.stdout.take().ok_or("no sim stdout")?;
+    let mut addrs = Vec::new();
+    for line in BufReader::new(stdout).lines().take(4) {
+        let line = line.map_err(|e| e.to_string())?;
+        if let Some(addr) = line
+            .split_whitespace()
+            .find(|w| w.starts_with("127.0.0.1:"))
+        {
+            addrs.push(addr.to_string());
+        }
+    }
+    let [talos, modbus] = addrs.as_slice() else {
+        let _ = sim.kill();
+        return Err(format!("could not read the sim's addresses: {addrs:?}"));
+    };
+    let socket = format!("armjog-bench-{}", std::process::id());
+    let command = format!(
+        "ARMJOG_DATA_DIR={d} ARMJOG_LOG_DIR={d} exec {bin} --talos {talos} --modbus {modbus} --telemetry-hz 30",
+        d = dir.display()
+    );
+    let started = Command::new("tmux")
+        .args([
+            "-L",
+            &socket,
+            "new-session",
+            "-d",
+            "-s",
+            "b",
+            "-x",
+            "120",
+            "-y",
+            "40",
+            &command,
+        ])
+        .status()
+        .map_err(|e| format!("tmux is needed for this part: {e}"))?;
+    if !started.success() {
+        let _ = sim.kill();
+        return Err("tmux new-session failed".into());
+    }
+    let result = (|| {
+        let out = Command::new("tmux")
+            .args(["-L", &socket, "display", "-p", "-t", "b", "#{pane_pid}"])
+            .output()
+            .map_err(|e| e.to_string())?;
+        let pid: u32 = String::from_utf8_lossy(&out.stdout)
+            .trim()
+            .parse()
+            .map_err(|_| "no console pid".to_string())?;
+        std::thread::sleep(Duration::from_secs(3));
+        let window = Duration::from_secs(10);
+        let sim_pid = sim.id();
+        let sim_thread = std::thread::spawn(move || cpu_percent(sim_pid, window));
+        let console = cpu_percent(pid, window).ok_or("console exited early")?;
+        let sim_cpu = sim_thread.join().ok().flatten();
+        let rss = status_kb(pid, "VmRSS:").unwrap_or(0);
+        let hwm = status_kb(pid, "VmHWM:").unwrap_or(0);
+        println!(
+            "console at rest, telemetry 30 Hz over Modbus + Talos link: CPU {console:.2} % of one core over {window:?}"
+        );
+        println!(
+            "console resident memory: {:.1} MB (peak {:.1} MB)",
+            rss as f64 / 1024.0,
+            hwm as f64 / 1024.0
+        );
+        if let Some(s) = sim_cpu {
+            println!("armjog sim serving that console: CPU {s:.2} % of one core");
+        }
+        Ok(())
+    })();
+    let _ = Command::new("tmux")
+        .args(["-L", &socket, "kill-server"])
+        .status();
+    let _ = sim.kill();
+    result
+}
+
+fn main() {
+    // `cargo bench` passes flags such as --bench; this binary takes none.
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .expect("runtime");
+    runtime.block_on(latency());
+    drop(runtime);
+    if let Err(e) = console_at_rest() {
+        eprintln!("console_live: {e}");
+        std::process::exit(1);
+    }
+}

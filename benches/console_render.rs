@@ -1,0 +1,82 @@
+//! Render time of a full console frame (target: under 2 ms at 200x60).
+
+use std::time::{Duration, Instant};
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use ratatui::Terminal;
+use ratatui::backend::TestBackend;
+
+use armjog::console::app::{App, AppConfig, Input};
+use armjog::console::jog::ReleaseMode;
+use armjog::console::keymap::Keymap;
+use armjog::console::positions::PositionBook;
+use armjog::console::ui::{self, Theme};
+use armjog::link::arm::{ArmEvent, LinkStatus, LogEntry};
+use armjog::link::driver::hw_telemetry;
+use armjog::sim::arm::Arm;
+use armjog::sim::telemetry::{actuator_feedback, arm_state};
+
+/// A busy console: telemetry, a full log, positions, a jog in progress.
+fn busy_app() -> App {
+    let mut app = App::new(
+        AppConfig {
+            keymap: Keymap::builtin("default").expect("keymap"),
+            release_mode: ReleaseMode::AutoRepeat,
+            refresh: Duration::from_millis(100),
+            positions_on_operator: true,
+            max_jog_speed: 0.25,
+            frames: false,
+        },
+        PositionBook::new(),
+    );
+    let now = Instant::now();
+    let snapshot = Arm::default().snapshot();
+    let feedback: Vec<_> = (1..=7).map(|j| actuator_feedback(&snapshot, j)).collect();
+    let telemetry = hw_telemetry::telemetry(&arm_state(&snapshot), &feedback);
+    let events = [
+        ArmEvent::Status(LinkStatus::Up {
+            description: "talos 127.0.0.1:61616 (icd, crc16), operator 1.0".into(),
+        }),
+        ArmEvent::Telemetry(Box::new(telemetry)),
+        ArmEvent::Speed(50),
+        ArmEvent::Latency(Duration::from_micros(420)),
+    ];
+    for event in events {
+        app.handle(Input::Arm(event), now);
+    }
+    for i in 0..200u32 {
+        let entry = LogEntry {
+            id: Some(i * 2),
+            name: "cart_start".into(),
+            outcome: "OK".into(),
+            ok: true,
+            latency: Some(Duration::from_micros(400)),
+            sent_hex: Some("00 00 00 02 00 00 00 06 00 03 01 00 00 4A 9D".into()),
+            received_hex: Some("00 00 00 03 00 00 80 06 00 02 00 00 55 21".into()),
+        };
+        app.handle(Input::Arm(ArmEvent::Log(entry)), now);
+    }
+    for name in ["bench", "pick", "place", "home2", "camera"] {
+        app.positions.entry(name).cartesian = Some([4566, 10, 4338]);
+    }
+    app.hex = true;
+    app
+}
+
+fn render(c: &mut Criterion) {
+    let app = busy_app();
+    let theme = Theme { color: true };
+    for (w, h) in [(200u16, 60u16), (80, 24)] {
+        let mut terminal = Terminal::new(TestBackend::new(w, h)).expect("terminal");
+        c.bench_function(&format!("render full frame {w}x{h}"), |b| {
+            b.iter(|| {
+                terminal
+                    .draw(|frame| ui::draw(frame, &app, &theme))
+                    .expect("draw");
+            })
+        });
+    }
+}
+
+criterion_group!(benches, render);
+criterion_main!(benches);
