@@ -297,6 +297,19 @@ async fn the_default_output_is_one_readable_line_and_hex_adds_both_frames() {
 }
 
 #[tokio::test(flavor = "multi_thread")]
+async fn a_hardware_reply_is_decoded_by_the_companion_icd() {
+    use armjog::sim::{SimConfig, Simulator};
+    let sim = Simulator::start(SimConfig::ephemeral()).await.unwrap();
+    let addr = sim.talos_addr.to_string();
+    let run = armjog(&["send", "--talos", &addr, "--json", "hw-op", "--sub", "3"]).await;
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let json: Value = serde_json::from_str(run.stdout.trim()).unwrap();
+    let state = &json["decoded"]["GetArmState"]["state"];
+    let x = state["tcp_position_m"][0].as_f64().unwrap_or(0.0);
+    assert!((x - 0.4566).abs() < 1e-3, "{json}");
+}
+
+#[tokio::test(flavor = "multi_thread")]
 async fn an_error_return_code_exits_non_zero_with_a_reason() {
     let op = operator(Checksum::Crc16).await;
     let run = armjog(&["send", "--talos", &op.addr, "--json", "goto", "missing"]).await;

@@ -7,6 +7,7 @@ use serde_json::{Map, Value, json};
 
 use crate::link::talos::{DEFAULT_PORT, Exchange};
 use crate::link::{Answer, Dialect, TalosConfig, TalosError, TalosLink};
+use crate::talos::hardware::HwReply;
 use crate::talos::{Checksum, PositionName, Request};
 
 /// Exit status when the operator answered with a non-zero return code.
@@ -373,12 +374,24 @@ pub fn spaced_hex(bytes: &[u8]) -> String {
     out
 }
 
-/// The reply's fields other than the return code, in ICD order.
+/// The reply's fields other than the return code, in ICD order. A hardware operation's payload
+/// is also decoded by the companion ICD (`decoded`), when it decodes.
 fn reply_fields(exchange: &Exchange) -> Map<String, Value> {
     match &exchange.answer {
         Answer::Reply(reply) => match serde_json::to_value(reply) {
             Ok(Value::Object(mut map)) => {
                 map.remove("return_code");
+                if let crate::talos::Reply::HardwareOperation {
+                    subcommand,
+                    payload,
+                    return_code,
+                } = reply
+                    && return_code.is_ok()
+                    && let Ok(decoded) = HwReply::decode(*subcommand, payload)
+                    && let Ok(value) = serde_json::to_value(&decoded)
+                {
+                    map.insert("decoded".into(), value);
+                }
                 map
             }
             _ => Map::new(),
