@@ -12,6 +12,7 @@ pub mod cartesian;
 pub mod codes;
 pub mod commands;
 pub mod flags;
+pub mod gen3;
 pub mod image;
 pub mod polar;
 pub mod registers;

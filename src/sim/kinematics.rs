@@ -25,25 +25,7 @@ const DH_ROWS: [(f64, f64, f64); JOINTS] = {
     ]
 };
 
-/// Joint limits in degrees; `None` for the continuous joints J1, J3, J5, J7.
-pub const JOINT_LIMITS_DEG: [Option<f64>; JOINTS] = [
-    None,
-    Some(128.9),
-    None,
-    Some(147.8),
-    None,
-    Some(120.3),
-    None,
-];
-
-/// Maximum joint speeds in deg/s.
-pub const MAX_JOINT_SPEED_DEG: [f64; JOINTS] = [80.0, 80.0, 80.0, 80.0, 70.0, 70.0, 70.0];
-
-/// Maximum joint torques in N·m.
-pub const MAX_JOINT_TORQUE: [f64; JOINTS] = [39.0, 39.0, 39.0, 39.0, 9.0, 9.0, 9.0];
-
-/// The home pose, degrees (field notes).
-pub const HOME_DEG: Joints = [0.0, 15.0, 180.0, 230.0, 0.0, 55.0, 90.0];
+pub use crate::kortex::gen3::{HOME_DEG, JOINT_LIMITS_DEG, MAX_JOINT_SPEED_DEG, MAX_JOINT_TORQUE};
 
 /// A tool pose in the base frame.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -8,17 +8,17 @@ use ratatui::widgets::{Block, Borders, Cell, Paragraph, Row, Table, Wrap};
 
 use super::theme::Theme;
 use crate::console::app::App;
+use crate::kortex::gen3::JOINT_LIMITS_DEG;
 
-/// Joint limits in degrees (Gen3: J2, J4, J6 limited; the others turn continuously).
-const LIMITS: [Option<f32>; 7] = [
-    None,
-    Some(128.9),
-    None,
-    Some(147.8),
-    None,
-    Some(120.3),
-    None,
-];
+/// Joint `joint`'s limit in degrees (Gen3: J2, J4, J6 limited; the others turn continuously).
+fn limit(joint: usize) -> Option<f32> {
+    JOINT_LIMITS_DEG
+        .get(joint)
+        .copied()
+        .flatten()
+        .map(|l| l as f32)
+}
+
 /// Within this many degrees of a limit the position is highlighted.
 const NEAR_LIMIT: f32 = 10.0;
 
@@ -73,7 +73,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         })
         .collect();
     let rows = t.joints.iter().enumerate().map(|(i, j)| {
-        let near = LIMITS[i].is_some_and(|l| l - signed(j.position).abs() < NEAR_LIMIT);
+        let near = limit(i).is_some_and(|l| l - signed(j.position).abs() < NEAR_LIMIT);
         let selected = usize::from(app.jog.joint()) == i + 1;
         let name = Cell::from(Span::styled(
             format!("J{}", i + 1),
@@ -96,7 +96,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         );
         let mut cells = vec![name, pos];
         if wide {
-            cells.push(Cell::from(match LIMITS[i] {
+            cells.push(Cell::from(match limit(i) {
                 Some(l) => gauge(j.position, l, 11),
                 None => "continuous".into(),
             }));

@@ -187,6 +187,10 @@ async fn run(
                     &config,
                     events.clone(),
                 ));
+                if config.talos.is_none() {
+                    // Jog twists start at half the jog speed until the technician changes it.
+                    let _ = events.send(ArmEvent::Speed(modbus_worker::INITIAL_SPEED));
+                }
             }
             Err(e) => links.modbus = Some(Err(format!("modbus {}: {e}", mc.addr))),
         }

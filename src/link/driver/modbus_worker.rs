@@ -12,6 +12,9 @@ use crate::kortex::{Pose, ReferenceFrame, Twist};
 use crate::link::arm::{ArmCommand, ArmEvent, LogEntry, StepMove};
 use crate::link::modbus::{ModbusError, ModbusLink, WriteReport};
 
+/// Percent of the jog speed twists use until the technician changes it.
+pub const INITIAL_SPEED: u8 = 50;
+
 pub struct ModbusWorker {
     commands: mpsc::UnboundedSender<ArmCommand>,
     task: JoinHandle<()>,
@@ -38,7 +41,7 @@ impl ModbusWorker {
             link: link.clone(),
             events,
             max_jog_speed: config.max_jog_speed,
-            speed: 50,
+            speed: INITIAL_SPEED,
             frame: ReferenceFrame::Base,
         };
         let task = tokio::spawn(run(state, rx));
@@ -68,7 +71,9 @@ fn forward_telemetry(link: &ModbusLink, events: mpsc::UnboundedSender<ArmEvent>)
             let snapshot = snapshots.borrow_and_update().clone();
             if let Some(s) = snapshot {
                 let latency = s.poll_time;
-                if events.send(ArmEvent::Telemetry(Box::new(s.telemetry))).is_err()
+                if events
+                    .send(ArmEvent::Telemetry(Box::new(s.telemetry)))
+                    .is_err()
                     || events.send(ArmEvent::Latency(latency)).is_err()
                 {
                     break;
