@@ -136,27 +136,32 @@ pub fn write_registers(world: &mut World, start: u16, values: &[u16]) -> Result<
     {
         return Err(Refused::IllegalAddress);
     }
+    let mut block = world.command_block;
     let at = usize::from(start - 200);
-    world.command_block[at..at + values.len()].copy_from_slice(values);
+    block[at..at + values.len()].copy_from_slice(values);
     let touches = |addr: u16| start <= addr && addr < start + count;
     if touches(holding_register::DESIRED_LINEAR_SPEED_LIMIT)
         || touches(holding_register::DESIRED_ANGULAR_SPEED_LIMIT)
     {
-        let linear = float_at(
-            &world.command_block,
-            holding_register::DESIRED_LINEAR_SPEED_LIMIT,
-        );
-        let angular = float_at(
-            &world.command_block,
+        // A limit not written yet (still 0) keeps the one in force.
+        let (current_linear, current_angular) = world.arm.speed_limits();
+        let pick = |addr: u16, current: f64| match float_at(&block, addr) {
+            v if v == 0.0 => Ok(current),
+            v if v.is_finite() && v > 0.0 => Ok(f64::from(v)),
+            _ => Err(Refused::IllegalValue),
+        };
+        let linear = pick(holding_register::DESIRED_LINEAR_SPEED_LIMIT, current_linear)?;
+        let angular = pick(
             holding_register::DESIRED_ANGULAR_SPEED_LIMIT,
-        );
-        if linear > 0.0 && angular > 0.0 {
-            world
-                .arm
-                .set_speed_limits(f64::from(linear), f64::from(angular))
-                .map_err(|_| Refused::IllegalValue)?;
-        }
+            current_angular,
+        )?;
+        world
+            .arm
+            .set_speed_limits(linear, angular)
+            .map_err(|_| Refused::IllegalValue)?;
     }
+    // Only a write the arm accepted lands in the block.
+    world.command_block = block;
     if touches(holding_register::COMMAND) {
         execute(world);
     }
@@ -237,4 +242,29 @@ pub fn write_coil(world: &mut World, addr: u16, value: bool) -> Result<(), Refus
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_linear_limit_alone_keeps_the_angular_one() {
+        let mut world = World::default();
+        // 0.2 m/s = 0x3E4CCCCD, low word first.
+        write_registers(&mut world, 216, &[0xCCCD, 0x3E4C]).expect("accepted");
+        let (linear, angular) = world.arm.speed_limits();
+        assert!((linear - 0.2).abs() < 1e-6 && (angular - 100.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_non_finite_limit_is_refused_and_not_stored() {
+        let mut world = World::default();
+        // NaN = 0x7FC00000.
+        assert_eq!(
+            write_registers(&mut world, 218, &[0x0000, 0x7FC0]),
+            Err(Refused::IllegalValue)
+        );
+        assert_eq!(world.command_block[18..20], [0, 0]);
+    }
 }
