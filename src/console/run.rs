@@ -110,6 +110,8 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
     result
 }
 
+/// On a panic anywhere (the event loop or any task): stop the arm, give the terminal back, report,
+/// and end the process. A console that lost part of itself must not go on driving an arm.
 fn install_panic_hook(stop: StopHandle, release_events: bool) {
     let previous = std::panic::take_hook();
     std::panic::set_hook(Box::new(move |info| {
@@ -117,7 +119,9 @@ fn install_panic_hook(stop: StopHandle, release_events: bool) {
         stop.stop();
         std::thread::sleep(Duration::from_millis(200));
         terminal::restore(release_events);
+        tracing::error!("panic: {info}");
         previous(info);
+        std::process::exit(101);
     }));
 }
 
