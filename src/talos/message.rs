@@ -221,8 +221,11 @@ fn check_direction(field: &'static str, value: i8) -> Result<i8, EncodeError> {
 }
 
 fn put_name(out: &mut Vec<u8>, field: &'static str, name: &str) -> Result<(), EncodeError> {
-    let name = PositionName::new(name).map_err(|reason| EncodeError::Name { field, reason })?;
-    name.encode_into(out);
+    PositionName::validate(name.as_bytes())
+        .map_err(|reason| EncodeError::Name { field, reason })?;
+    // validate() bounds the length to 1..=255.
+    out.push(name.len() as u8);
+    out.extend_from_slice(name.as_bytes());
     Ok(())
 }
 
@@ -356,9 +359,25 @@ impl Request {
         Ok(())
     }
 
+    /// The payload's length, or an upper bound for the fixed layouts (to allocate once).
+    fn payload_capacity(&self) -> usize {
+        match self {
+            Request::HardwareOperation { payload, .. } => 6 + payload.len(),
+            Request::SavePosition { name, parent, .. } => 3 + name.len() + parent.len(),
+            Request::DeletePosition { name }
+            | Request::GoToPosition { name }
+            | Request::GetPolarPosition { name }
+            | Request::GetCartesianPosition { name } => 1 + name.len(),
+            Request::SetPolarPosition { name, .. } | Request::SetCartesianPosition { name, .. } => {
+                13 + name.len()
+            }
+            _ => 20,
+        }
+    }
+
     /// The request as a frame with command id `id`.
     pub fn to_frame(&self, id: u32) -> Result<Frame, EncodeError> {
-        let mut payload = Vec::new();
+        let mut payload = Vec::with_capacity(self.payload_capacity());
         self.encode_payload(&mut payload)?;
         if payload.len() > usize::from(u16::MAX) {
             return Err(EncodeError::TooLong(payload.len()));
@@ -545,7 +564,11 @@ impl Reply {
 
     /// The reply as a frame answering request id `request_id` (its id | 1).
     pub fn to_frame(&self, request_id: u32) -> Result<Frame, EncodeError> {
-        let mut payload = Vec::new();
+        let capacity = match self {
+            Reply::HardwareOperation { payload, .. } => 4 + payload.len(),
+            _ => 14,
+        };
+        let mut payload = Vec::with_capacity(capacity);
         self.encode_payload(&mut payload);
         if payload.len() > usize::from(u16::MAX) {
             return Err(EncodeError::TooLong(payload.len()));
@@ -717,7 +740,7 @@ impl<'a> Reader<'a> {
     fn name(&mut self, field: &'static str) -> Result<String, DecodeError> {
         let raw = self.bytes_of_len(field)?;
         PositionName::from_bytes(raw)
-            .map(|n| n.as_str().to_owned())
+            .map(PositionName::into_string)
             .map_err(|reason| DecodeError::Name {
                 command: self.command,
                 field,
@@ -731,7 +754,7 @@ impl<'a> Reader<'a> {
             return Ok(String::new());
         }
         PositionName::from_bytes(raw)
-            .map(|n| n.as_str().to_owned())
+            .map(PositionName::into_string)
             .map_err(|reason| DecodeError::Name {
                 command: self.command,
                 field: "parent",

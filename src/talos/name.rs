@@ -37,8 +37,17 @@ impl PositionName {
     /// Validates raw bytes, as received in a payload.
     pub fn from_bytes(bytes: &[u8]) -> Result<Self, NameError> {
         Self::check(bytes)?;
-        // check() admits ASCII only, which is always valid UTF-8.
-        Ok(PositionName(bytes.iter().map(|&b| char::from(b)).collect()))
+        // check() admits ASCII only, which is always valid UTF-8: nothing is replaced.
+        Ok(PositionName(String::from_utf8_lossy(bytes).into_owned()))
+    }
+
+    /// Checks a name against the rule without keeping it (no allocation).
+    pub fn validate(bytes: &[u8]) -> Result<(), NameError> {
+        Self::check(bytes)
+    }
+
+    pub fn into_string(self) -> String {
+        self.0
     }
 
     fn check(bytes: &[u8]) -> Result<(), NameError> {
