@@ -146,7 +146,7 @@ pub fn write_registers(world: &mut World, start: u16, values: &[u16]) -> Result<
         // A limit not written yet (still 0) keeps the one in force.
         let (current_linear, current_angular) = world.arm.speed_limits();
         let pick = |addr: u16, current: f64| match float_at(&block, addr) {
-            v if v == 0.0 => Ok(current),
+            0.0 => Ok(current),
             v if v.is_finite() && v > 0.0 => Ok(f64::from(v)),
             _ => Err(Refused::IllegalValue),
         };
