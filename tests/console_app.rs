@@ -397,3 +397,41 @@ fn over_modbus_the_console_keeps_positions_and_go_to_moves_to_the_stored_pose() 
     press(&mut app, "o", t0);
     assert!(press(&mut app, "y", t0).is_empty());
 }
+
+#[test]
+fn remembered_names_are_checked_with_the_operator_when_the_link_comes_up() {
+    let config = AppConfig {
+        keymap: Keymap::builtin("default").expect("default keymap"),
+        release_mode: ReleaseMode::Reported,
+        refresh: Duration::from_millis(100),
+        positions_on_operator: true,
+        max_jog_speed: 0.25,
+        frames: false,
+    };
+    let mut book = PositionBook::new();
+    book.entry("ghost");
+    let mut app = App::new(config, book);
+    let t0 = Instant::now();
+    let up = Input::Arm(ArmEvent::Status(LinkStatus::Up {
+        description: "t".into(),
+    }));
+    assert_eq!(
+        app.handle(up.clone(), t0),
+        [Effect::Arm(ArmCommand::GetPosition {
+            name: "ghost".into()
+        })]
+    );
+    assert!(app.handle(up, t0).is_empty(), "only when the link comes up");
+    app.handle(
+        Input::Arm(ArmEvent::UnknownPosition {
+            name: "ghost".into(),
+        }),
+        t0,
+    );
+    assert!(
+        app.positions
+            .get("ghost")
+            .is_some_and(|e| e.unknown_to_operator)
+    );
+    assert!(app.message.is_none(), "marked in the panel, not shouted");
+}

@@ -44,6 +44,9 @@ impl Console {
             Links::Modbus => DriverConfig::new(None, modbus),
             Links::Both => DriverConfig::new(Some(talos), modbus),
         };
+        let mut book = PositionBook::new();
+        // A name remembered from an earlier run that this (fresh) operator does not know.
+        book.entry("ghost");
         let app = App::new(
             AppConfig {
                 keymap: Keymap::builtin("default").expect("keymap"),
@@ -53,7 +56,7 @@ impl Console {
                 max_jog_speed: config.max_jog_speed,
                 frames: config.talos.is_none(),
             },
-            PositionBook::new(),
+            book,
         );
         let (driver, events) = Driver::spawn(config);
         let mut console = Console {
@@ -344,4 +347,17 @@ async fn save_and_recall_a_named_position_on_the_operator() {
             "back at bench: {back:?} vs {home:?}"
         );
     }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn names_the_operator_does_not_know_are_marked() {
+    let mut console = Console::start(Links::Talos).await;
+    console
+        .run_until(Duration::from_secs(2), |c| {
+            c.app
+                .positions
+                .get("ghost")
+                .is_some_and(|e| e.unknown_to_operator)
+        })
+        .await;
 }

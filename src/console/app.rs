@@ -442,10 +442,8 @@ impl App {
                 };
                 jog_effects(self.jog.select_joint(next, now), effects);
             }
-            A::SavePosition => {
-                let name = self.selected_name().unwrap_or("").to_string();
-                self.overlay = Overlay::Form(Form::new(FormKind::Save, &name));
-            }
+            // Starts empty: a saved pose must not overwrite the selected one by accident.
+            A::SavePosition => self.overlay = Overlay::Form(Form::new(FormKind::Save, "")),
             A::SetPolarPosition | A::SetCartesianPosition => {
                 let kind = if action == A::SetPolarPosition {
                     FormKind::SetPolar
@@ -688,7 +686,19 @@ impl App {
                     self.stop_jog(now, effects);
                     self.say(format!("link lost: {reason}"), Severity::Error, now);
                 }
+                let came_up = matches!(status, LinkStatus::Up { .. })
+                    && !matches!(self.link, LinkStatus::Up { .. });
                 self.link = status;
+                if came_up && self.config.positions_on_operator {
+                    // The ICD cannot list positions: ask about each remembered name, so the
+                    // panel marks the ones this operator does not know (and shows where the
+                    // others are now).
+                    for name in self.positions.names() {
+                        effects.push(Effect::Arm(ArmCommand::GetPosition {
+                            name: name.to_string(),
+                        }));
+                    }
+                }
             }
             ArmEvent::Telemetry(t) => self.telemetry = Some(*t),
             ArmEvent::TelemetrySource(source) => self.telemetry_source = source,
@@ -709,8 +719,10 @@ impl App {
                 self.say(format!("{command} failed: {reason}"), Severity::Error, now);
             }
             ArmEvent::Position { name, coordinates } => {
+                let entry = self.positions.entry(&name);
+                entry.unknown_to_operator = false;
                 if let Some(c) = coordinates.cartesian {
-                    self.positions.entry(&name).cartesian = Some(c);
+                    entry.cartesian = Some(c);
                 }
                 if matches!(&self.overlay, Overlay::Position { name: shown, .. } if *shown == name)
                 {
@@ -722,11 +734,16 @@ impl App {
             }
             ArmEvent::UnknownPosition { name } => {
                 self.positions.entry(&name).unknown_to_operator = true;
-                self.say(
-                    format!("the operator does not know '{name}'"),
-                    Severity::Warning,
-                    now,
-                );
+                // Said only when the technician is looking at it; otherwise the panel marks it.
+                if matches!(&self.overlay, Overlay::Position { name: shown, .. } if *shown == name)
+                {
+                    self.overlay = Overlay::None;
+                    self.say(
+                        format!("the operator does not know '{name}'"),
+                        Severity::Warning,
+                        now,
+                    );
+                }
             }
             ArmEvent::Done { command } => self.on_done(command, now, effects),
         }

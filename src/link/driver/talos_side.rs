@@ -365,6 +365,12 @@ fn report_error(
             received_hex: None,
         }));
     }
+    // An unknown name asked about is not a failure of the technician's: the panel marks it.
+    let unknown_asked = matches!(command, ArmCommand::GetPosition { .. })
+        && matches!(error, TalosError::ReturnCode { exchange } if exchange.return_code() == ReturnCode::UNKNOWN_POSITION);
+    if unknown_asked {
+        return;
+    }
     let _ = events.send(ArmEvent::Failed {
         command: command.label(),
         reason: match error {
