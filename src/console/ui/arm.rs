@@ -3,24 +3,16 @@
 use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Block, Borders, Paragraph, Wrap};
+use ratatui::widgets::{Paragraph, Wrap};
 
 use super::theme::Theme;
 use crate::console::app::App;
 use crate::kortex::{Coded, RobotState};
 
 pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
-    let block = Block::default()
-        .borders(Borders::ALL)
-        .title(Span::styled(" Arm ", theme.title()));
+    let block = super::panel("Arm", theme);
     let Some(t) = &app.telemetry else {
-        frame.render_widget(
-            Paragraph::new(super::no_telemetry_text(app))
-                .block(block)
-                .wrap(Wrap { trim: true }),
-            area,
-        );
-        return;
+        return super::draw_no_telemetry(frame, area, block, app);
     };
     let in_fault = matches!(t.robot_state, Coded::Known(RobotState::InFault));
     let state_style = if in_fault { theme.alarm() } else { theme.ok() };

@@ -4,7 +4,7 @@
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Rect};
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Block, Borders, Cell, Paragraph, Row, Table, Wrap};
+use ratatui::widgets::{Cell, Row, Table};
 
 use super::theme::Theme;
 use crate::console::app::App;
@@ -37,16 +37,9 @@ fn gauge(position: f32, limit: f32, width: usize) -> String {
 }
 
 pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
-    let block = Block::default()
-        .borders(Borders::ALL)
-        .title(Span::styled(" Joints ", theme.title()));
+    let block = super::panel("Joints", theme);
     let Some(t) = &app.telemetry else {
-        let text = super::no_telemetry_text(app);
-        frame.render_widget(
-            Paragraph::new(text).block(block).wrap(Wrap { trim: true }),
-            area,
-        );
-        return;
+        return super::draw_no_telemetry(frame, area, block, app);
     };
     let wide = area.width >= 70;
     let header = if wide {

@@ -13,8 +13,8 @@ pub mod theme;
 
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Direction, Layout, Rect};
-use ratatui::text::Line;
-use ratatui::widgets::Paragraph;
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Block, Borders, Paragraph, Wrap};
 
 use super::app::{App, MIN_HEIGHT, MIN_WIDTH, Overlay};
 use crate::link::arm::TelemetrySource;
@@ -26,6 +26,23 @@ pub fn no_telemetry_text(app: &App) -> &'static str {
         TelemetrySource::None => "no telemetry: the ack-dialect operator sends none back",
         _ => "waiting for telemetry...",
     }
+}
+
+/// A bordered panel with a bold title.
+pub fn panel(title: &str, theme: &Theme) -> Block<'static> {
+    Block::default()
+        .borders(Borders::ALL)
+        .title(Span::styled(format!(" {title} "), theme.title()))
+}
+
+/// Draws a telemetry panel's notice when there is no telemetry to show.
+pub fn draw_no_telemetry(frame: &mut Frame, area: Rect, block: Block, app: &App) {
+    frame.render_widget(
+        Paragraph::new(no_telemetry_text(app))
+            .block(block)
+            .wrap(Wrap { trim: true }),
+        area,
+    );
 }
 
 /// Draws the whole screen.

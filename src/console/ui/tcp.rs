@@ -3,23 +3,15 @@
 use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Block, Borders, Paragraph, Wrap};
+use ratatui::widgets::Paragraph;
 
 use super::theme::Theme;
 use crate::console::app::App;
 
 pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
-    let block = Block::default()
-        .borders(Borders::ALL)
-        .title(Span::styled(" Tool (TCP, base frame) ", theme.title()));
+    let block = super::panel("Tool (TCP, base frame)", theme);
     let Some(t) = &app.telemetry else {
-        frame.render_widget(
-            Paragraph::new(super::no_telemetry_text(app))
-                .block(block)
-                .wrap(Wrap { trim: true }),
-            area,
-        );
-        return;
+        return super::draw_no_telemetry(frame, area, block, app);
     };
     let p = t.tcp.pose;
     let v = t.tcp.twist;
