@@ -2,6 +2,7 @@
 //! `armjog::talos::hardware`: hand-written byte vectors, every rejection, flag and state names,
 //! JSON shape, and property round trips.
 
+use armjog::kortex::Flag;
 use armjog::talos::hardware::*;
 use proptest::prelude::*;
 
@@ -79,8 +80,8 @@ const ARM_STATE_HEX: &str = "0007 00800000 00000400
 fn arm_state() -> ArmState {
     ArmState {
         robot_state: RobotState::READY,
-        faults: ArmFlags::EMERGENCY_STOP,
-        warnings: ArmFlags::UNABLE_TO_REACH_POSE,
+        faults: ArmFlags::from(Flag::EmergencyStop),
+        warnings: ArmFlags::from(Flag::UnableToReachPose),
         current_a: 1.5,
         voltage_v: 24.0,
         cpu_temp_c: 40.0,
@@ -605,19 +606,23 @@ fn flag_words_combine_and_show_unknown_bits() {
             "emergency_stop"
         ]
     );
-    assert_eq!(ArmFlags(0x8000_0002).to_string(), "bit_1|bit_31");
-    assert_eq!(ArmFlags::ILLEGAL_POSITION.0, 0x4000_0000);
+    assert_eq!(
+        ArmFlags(0x8000_0002).to_string(),
+        "unknown_bit_1|unknown_bit_31"
+    );
+    assert_eq!(ArmFlags::from(Flag::IllegalPosition).0, 0x4000_0000);
 }
 
 #[test]
 fn robot_states_are_named() {
+    // The Modbus register map's names, so both links name a state alike.
     let names = [
         "unspecified",
-        "base_init_not_completed",
-        "base_init_succeeded",
-        "initialising",
+        "base_initialization",
+        "base_initialized",
+        "arm_initialization",
         "in_fault",
-        "maintenance",
+        "in_maintenance",
         "low_level_servoing",
         "ready",
         "controlled_by_sequence",

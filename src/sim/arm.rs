@@ -6,6 +6,9 @@
 
 use nalgebra::{Rotation3, Unit, Vector3, Vector6};
 
+use crate::kortex::Flag;
+pub use crate::kortex::RobotState;
+
 use super::kinematics::{
     self, HOME_DEG, JOINTS, Joints, MAX_JOINT_SPEED_DEG, MAX_JOINT_TORQUE, Pose,
 };
@@ -19,25 +22,6 @@ pub const MAX_TWIST_ANGULAR_DEG: f64 = 100.0;
 
 /// The operator's continuous-START watchdog, seconds.
 pub const WATCHDOG: f64 = 0.5;
-
-/// Kinova robot states (Modbus input register 0).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[repr(u16)]
-pub enum RobotState {
-    Ready = 7,
-    InFault = 4,
-    ControlledBySequence = 8,
-    ControlledManually = 9,
-}
-
-/// Kinova arm fault/warning bit numbers (Modbus input registers 2-5).
-pub mod flag {
-    pub const JOINT_FAULT: u32 = 4;
-    pub const UNABLE_TO_REACH_POSE: u32 = 10;
-    pub const MAX_CURRENT: u32 = 13;
-    pub const EMERGENCY_STOP: u32 = 23;
-    pub const SINGULARITY: u32 = 30;
-}
 
 /// Cartesian reference frames (Modbus holding register 203).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -270,7 +254,7 @@ impl Arm {
     /// Coil 0: stop and go into fault, as Kinova's quick stop does.
     pub fn quick_stop(&mut self) {
         self.stop();
-        self.faults |= 1 << flag::EMERGENCY_STOP;
+        self.faults |= Flag::EmergencyStop.bit();
     }
 
     /// Coil 2 / clear-faults hardware operation.
@@ -358,10 +342,10 @@ impl Arm {
             // A real arm stops at a joint limit; the warning says which kind of stop it was.
             tracing::info!("sim: joint {} reached its limit", joint + 1);
             self.stop();
-            self.warnings |= 1 << flag::JOINT_FAULT;
+            self.warnings |= Flag::JointFault.bit();
         } else {
             if self.qd.iter().any(|v| *v != 0.0) {
-                self.warnings &= !(1 << flag::JOINT_FAULT);
+                self.warnings &= !(Flag::JointFault.bit());
             }
             self.q = next;
         }
@@ -714,7 +698,7 @@ mod tests {
         arm.advance(0.5);
         assert!(arm.motion().is_idle());
         assert!(arm.joints()[1].to_degrees() <= 128.9 + 1e-6);
-        assert_ne!(arm.snapshot().warnings & (1 << flag::JOINT_FAULT), 0);
+        assert_ne!(arm.snapshot().warnings & (Flag::JointFault.bit()), 0);
     }
 
     #[test]

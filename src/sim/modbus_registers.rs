@@ -4,6 +4,7 @@
 //! Like the real arm (field notes), a twist has no watchdog: it runs until stopped or faulted.
 //! Only the addresses the ICD lists exist; any other answers "illegal data address".
 
+use crate::kortex::CodeName;
 use nalgebra::Vector3;
 
 use super::arm::{ArmSnapshot, Frame, Motion};
@@ -91,14 +92,14 @@ pub fn input_registers(s: &ArmSnapshot) -> [u16; 140] {
             put(block + 2 * k as u16, f(*v));
         }
     }
-    r[usize::from(input_register::ROBOT_STATE)] = s.robot_state as u16;
+    r[usize::from(input_register::ROBOT_STATE)] = s.robot_state.code();
     r
 }
 
 /// Discrete inputs 0-94: the state one-hot, then fault and warning bits.
 pub fn discrete_inputs(s: &ArmSnapshot) -> [bool; 95] {
     let mut d = [false; 95];
-    if let Some(slot) = d.get_mut(s.robot_state as usize) {
+    if let Some(slot) = d.get_mut(usize::from(s.robot_state.code())) {
         *slot = true;
     }
     for bit in 0..31u16 {

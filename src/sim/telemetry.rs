@@ -1,6 +1,7 @@
 //! The simulated arm's snapshot in the shapes the hardware companion ICD reports.
 
 use super::arm::ArmSnapshot;
+use crate::kortex::CodeName;
 use crate::talos::hardware::{ActuatorFeedback, ArmFlags, ArmState, RobotState, StatusFlags};
 
 /// Feedback of joint `joint` (1..=7; the caller validated it, out-of-range values are clamped).
@@ -42,7 +43,7 @@ pub fn actuator_feedback(s: &ArmSnapshot, joint: u8) -> ActuatorFeedback {
 pub fn arm_state(s: &ArmSnapshot) -> ArmState {
     let f = |v: [f64; 3]| v.map(|x| x as f32);
     ArmState {
-        robot_state: RobotState(s.robot_state as u16),
+        robot_state: RobotState(s.robot_state.code()),
         faults: ArmFlags(s.faults),
         warnings: ArmFlags(s.warnings),
         current_a: s.arm_current as f32,

@@ -6,6 +6,8 @@ use std::ops::BitOr;
 
 use serde::Serialize;
 
+use crate::kortex::{CodeName, Flag, FlagSet};
+
 const BIT_LABELS: [&str; 32] = [
     "bit_0", "bit_1", "bit_2", "bit_3", "bit_4", "bit_5", "bit_6", "bit_7", "bit_8", "bit_9",
     "bit_10", "bit_11", "bit_12", "bit_13", "bit_14", "bit_15", "bit_16", "bit_17", "bit_18",
@@ -178,30 +180,51 @@ impl StatusFlags {
     pub const UNKNOWN_STATUS: StatusFlags = StatusFlags(0);
 }
 
-flag_word! {
-    /// Arm fault or warning word, same bit numbering as Kinova Modbus input registers 2-3 (faults)
-    /// and 4-5 (warnings); bit N is discrete input 32+N (faults) or 64+N (warnings).
-    ArmFlags, zero = "none";
-    FIRMWARE_UPDATE_FAILURE = bit 0, "firmware_update_failure";
-    MAX_AMBIENT_TEMPERATURE = bit 2, "max_ambient_temperature";
-    MAX_CORE_TEMPERATURE = bit 3, "max_core_temperature";
-    JOINT_FAULT = bit 4, "joint_fault";
-    ABOVE_MAX_DOF = bit 8, "above_max_dof";
-    UNABLE_TO_REACH_POSE = bit 10, "unable_to_reach_pose";
-    JOINT_DETECTION_ERROR = bit 11, "joint_detection_error";
-    NETWORK_INIT_ERROR = bit 12, "network_init_error";
-    MAX_CURRENT = bit 13, "max_current";
-    MAX_VOLTAGE = bit 14, "max_voltage";
-    MIN_VOLTAGE = bit 15, "min_voltage";
-    EMERGENCY_STOP = bit 23, "emergency_stop";
-    EMERGENCY_LINE = bit 24, "emergency_line";
-    INRUSH_CURRENT_LIMITER_FAULT = bit 25, "inrush_current_limiter_fault";
-    /// Discrete input 58 only ("not implemented yet" upstream).
-    NVRAM_CORRUPTED = bit 26, "nvram_corrupted";
-    INCOMPATIBLE_FIRMWARE = bit 27, "incompatible_firmware";
-    POWER_ON_SELF_TEST_FAILURE = bit 28, "power_on_self_test_failure";
-    DISCRETE_INPUT_STUCK = bit 29, "discrete_input_stuck";
-    ILLEGAL_POSITION = bit 30, "illegal_position";
+/// Arm fault or warning word, same bit numbering as Kinova Modbus input registers 2-3 (faults)
+/// and 4-5 (warnings); bit N is discrete input 32+N (faults) or 64+N (warnings). Its names are
+/// the Modbus register map's ([`crate::kortex::Flag`]), so both links name a flag alike.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize)]
+#[serde(transparent)]
+pub struct ArmFlags(pub u32);
+
+impl ArmFlags {
+    pub const fn bits(self) -> u32 {
+        self.0
+    }
+
+    /// Whether every bit of `other` is set in `self`.
+    pub const fn contains(self, other: ArmFlags) -> bool {
+        self.0 & other.0 == other.0
+    }
+
+    /// snake_case names of the set bits, ascending; unnamed bits as `unknown_bit_N`.
+    pub fn names(&self) -> Vec<String> {
+        FlagSet::from_bits(self.0).names()
+    }
+}
+
+impl From<Flag> for ArmFlags {
+    fn from(flag: Flag) -> ArmFlags {
+        ArmFlags(flag.bit())
+    }
+}
+
+impl BitOr for ArmFlags {
+    type Output = ArmFlags;
+    fn bitor(self, other: ArmFlags) -> ArmFlags {
+        ArmFlags(self.0 | other.0)
+    }
+}
+
+impl fmt::Display for ArmFlags {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let names = self.names();
+        if names.is_empty() {
+            f.write_str("none")
+        } else {
+            f.write_str(&names.join("|"))
+        }
+    }
 }
 
 /// Arm state, same values as Kinova Modbus input register 0. Unknown values are kept raw.
@@ -221,21 +244,9 @@ impl RobotState {
     pub const CONTROLLED_BY_SEQUENCE: RobotState = RobotState(8);
     pub const CONTROLLED_MANUALLY: RobotState = RobotState(9);
 
-    /// snake_case name of a defined state.
+    /// snake_case name of a defined state, as the Modbus register map names it.
     pub fn name(self) -> Option<&'static str> {
-        const NAMES: [&str; 10] = [
-            "unspecified",
-            "base_init_not_completed",
-            "base_init_succeeded",
-            "initialising",
-            "in_fault",
-            "maintenance",
-            "low_level_servoing",
-            "ready",
-            "controlled_by_sequence",
-            "controlled_manually",
-        ];
-        NAMES.get(usize::from(self.0)).copied()
+        crate::kortex::RobotState::from_code(self.0).map(CodeName::key)
     }
 }
 
