@@ -143,7 +143,13 @@ pub async fn run_console(args: &ConsoleArgs) -> i32 {
     // With no arm named, the console opens on the built-in simulated arm.
     let mut simulator = None;
     let (talos_addr, modbus_addr) = match (&args.talos, &args.modbus) {
-        (None, None) => match Simulator::start(SimConfig::ephemeral()).await {
+        (None, None) => match Simulator::start(SimConfig {
+            // The built-in operator honours the console's cap.
+            max_jog_speed: args.max_jog_speed / 1000.0,
+            ..SimConfig::ephemeral()
+        })
+        .await
+        {
             Ok(sim) => {
                 let talos = sim.talos_addr.to_string();
                 let modbus = sim.modbus_addr.map(|a| a.to_string());

@@ -28,6 +28,9 @@ pub struct SimArgs {
     /// The operator's checksum dialect.
     #[arg(long, default_value = "crc16", value_parser = |s: &str| s.parse::<Checksum>())]
     pub checksum: Checksum,
+    /// The operator's cartesian jog speed at 100 % speed, mm/s.
+    #[arg(long, default_value_t = 250.0, value_name = "MM_S")]
+    pub max_jog_speed: f64,
     /// Fault injection: wait this long before every reply, ms.
     #[arg(long, default_value_t = 0, value_name = "MS")]
     pub reply_delay: u64,
@@ -47,6 +50,15 @@ pub struct SimArgs {
 
 impl SimArgs {
     pub fn config(&self) -> Result<SimConfig, String> {
+        if !(self.max_jog_speed.is_finite()
+            && self.max_jog_speed > 0.0
+            && self.max_jog_speed <= 500.0)
+        {
+            return Err(format!(
+                "--max-jog-speed {} mm/s: must be above 0 and at most 500",
+                self.max_jog_speed
+            ));
+        }
         let mut q = HOME_DEG;
         if let Some(joint) = self.near_limit {
             let i = usize::from(joint - 1);
@@ -74,6 +86,7 @@ impl SimArgs {
                 close_after_frames: self.close_after,
             },
             arm,
+            max_jog_speed: self.max_jog_speed / 1000.0,
         })
     }
 }

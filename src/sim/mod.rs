@@ -40,6 +40,8 @@ pub struct SimConfig {
     pub faults: NetworkFaults,
     /// The arm's starting state (home pose at rest by default).
     pub arm: Arm,
+    /// The operator's cartesian jog speed at 100 %, m/s.
+    pub max_jog_speed: f64,
 }
 
 impl Default for SimConfig {
@@ -50,6 +52,7 @@ impl Default for SimConfig {
             talos: TalosServerConfig::default(),
             faults: NetworkFaults::default(),
             arm: Arm::default(),
+            max_jog_speed: operator::MAX_JOG_LINEAR,
         }
     }
 }
@@ -108,7 +111,10 @@ impl Simulator {
             }
             None => None,
         };
-        let arm = SimArm::spawn(config.arm, Operator::default());
+        let arm = SimArm::spawn(
+            config.arm,
+            Operator::with_max_jog_linear(config.max_jog_speed),
+        );
         let (faults, faults_rx) = watch::channel(config.faults);
         let mut tasks = vec![tokio::spawn(talos_server::serve(
             talos_listener,

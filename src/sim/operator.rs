@@ -4,7 +4,8 @@
 //! around it does the IO.
 //!
 //! Semantics armjog settles where the ICD is silent:
-//! - Speed is a percentage (1-100) of the maximum jog speeds: [`MAX_JOG_LINEAR`] for cartesian
+//! - Speed is a percentage (1-100) of the maximum jog speeds: [`MAX_JOG_LINEAR`] (or the cap
+//!   the operator was started with, [`Operator::with_max_jog_linear`]) for cartesian
 //!   motion and [`MAX_JOG_ANGULAR_DEG`] for polar pans. 0 or above 100 is OUT_OF_RANGE.
 //! - Continuous START runs until STOP or until no START arrives for 500 ms (the watchdog). A
 //!   START with every direction 0 stops. Either STOP stops any continuous motion: a stop is never
@@ -29,7 +30,7 @@ use crate::talos::{Reply, Request, ReturnCode};
 /// The simulated operator's version, reported by Handshake.
 pub const VERSION: (u8, u8) = (1, 0);
 
-/// Cartesian jog speed at 100 %, m/s (ISO 10218-1 reduced speed).
+/// Cartesian jog speed at 100 % by default, m/s (ISO 10218-1 reduced speed).
 pub const MAX_JOG_LINEAR: f64 = 0.25;
 /// Polar pan rate at 100 %, deg/s.
 pub const MAX_JOG_ANGULAR_DEG: f64 = 30.0;
@@ -55,6 +56,8 @@ pub struct SavedPosition {
 #[derive(Debug, Clone)]
 pub struct Operator {
     speed: u8,
+    /// Cartesian speed at 100 %, m/s.
+    max_jog_linear: f64,
     positions: BTreeMap<String, SavedPosition>,
 }
 
@@ -62,6 +65,7 @@ impl Default for Operator {
     fn default() -> Self {
         Operator {
             speed: DEFAULT_SPEED,
+            max_jog_linear: MAX_JOG_LINEAR,
             positions: BTreeMap::new(),
         }
     }
@@ -91,6 +95,18 @@ fn pose_of(iso: &Isometry3<f64>) -> Pose {
 }
 
 impl Operator {
+    /// An operator whose cartesian jog speed at 100 % is `max` m/s (clamped to 0.001-0.5).
+    pub fn with_max_jog_linear(max: f64) -> Operator {
+        Operator {
+            max_jog_linear: if max.is_finite() {
+                max.clamp(0.001, 0.5)
+            } else {
+                MAX_JOG_LINEAR
+            },
+            ..Operator::default()
+        }
+    }
+
     pub fn speed(&self) -> u8 {
         self.speed
     }
@@ -190,7 +206,7 @@ impl Operator {
                         / 10_000.0;
                 let mut target = arm.pose();
                 target.position += delta;
-                let speed = self.timed_speed(delta.norm(), time_ms, MAX_JOG_LINEAR);
+                let speed = self.timed_speed(delta.norm(), time_ms, self.max_jog_linear);
                 let motion = Motion::ToPose {
                     target,
                     linear_speed: speed,
@@ -215,7 +231,7 @@ impl Operator {
                 }
                 // Diagonals are normalised so the TCP never exceeds the jog speed.
                 let motion = Motion::Twist {
-                    linear: direction.normalize() * MAX_JOG_LINEAR * self.fraction(),
+                    linear: direction.normalize() * self.max_jog_linear * self.fraction(),
                     angular: Vector3::zeros(),
                     frame: Frame::Base,
                 };
@@ -452,7 +468,7 @@ impl Operator {
         }
         Ok(Motion::ToPose {
             target: self.absolute(name, 0)?,
-            linear_speed: MAX_JOG_LINEAR * self.fraction(),
+            linear_speed: self.max_jog_linear * self.fraction(),
             angular_speed: MAX_JOG_ANGULAR_DEG.to_radians() * self.fraction(),
         })
     }

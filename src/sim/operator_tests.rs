@@ -413,3 +413,22 @@ fn hardware_operations_read_feedback_and_jog_one_joint() {
         ReturnCode::MALFORMED_PAYLOAD
     );
 }
+
+#[test]
+fn the_jog_speed_cap_is_the_operators_100_percent() {
+    let (mut op, mut arm) = (Operator::with_max_jog_linear(0.1), Arm::default());
+    op.handle(&mut arm, Request::SetSpeed { speed: 100 });
+    let x0 = arm.pose().position.x;
+    let start = Request::CartesianMoveStart {
+        moving_x: 1,
+        moving_y: 0,
+        moving_z: 0,
+    };
+    op.handle(&mut arm, start);
+    arm.advance(0.4);
+    let moved = arm.pose().position.x - x0;
+    assert!(
+        (moved - 0.04).abs() < 0.004,
+        "0.1 m/s for 0.4 s: moved {moved}"
+    );
+}
