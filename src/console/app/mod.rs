@@ -7,15 +7,20 @@
 //! focus loss, a link problem, a terminal too small to show the status, a signal and quitting
 //! all stop it.
 
+mod coords;
+mod named;
+
+pub use coords::{cartesian_of, describe_motion, polar_of};
+
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
 use super::action::Action;
-use super::form::{Confirm, Form, FormKind, FormResult};
-use super::jog::{JogEffect, JogEngine, JogMotion, KeyKind, ReleaseMode};
+use super::form::{Confirm, Form, FormKind};
+use super::jog::{JogEffect, JogEngine, KeyKind, ReleaseMode};
 use super::keymap::{KeyName, Keymap};
 use super::positions::PositionBook;
-use crate::kortex::{Pose, ReferenceFrame, Telemetry};
+use crate::kortex::{ReferenceFrame, Telemetry};
 use crate::link::arm::{
     ArmCommand, ArmEvent, LinkStatus, LogEntry, PositionCoordinates, StepMove, TelemetrySource,
 };
@@ -479,22 +484,6 @@ impl App {
         }
     }
 
-    fn show_position(&mut self, name: String, effects: &mut Vec<Effect>) {
-        if self.config.positions_on_operator {
-            effects.push(Effect::Arm(ArmCommand::GetPosition { name: name.clone() }));
-            self.overlay = Overlay::Position {
-                name,
-                coordinates: None,
-            };
-        } else {
-            let coordinates = self.positions.get(&name).map(|e| PositionCoordinates {
-                cartesian: e.cartesian,
-                polar: e.cartesian.map(polar_of),
-            });
-            self.overlay = Overlay::Position { name, coordinates };
-        }
-    }
-
     fn on_overlay_key(&mut self, key: KeyInput, now: Instant, effects: &mut Vec<Effect>) {
         let named = key.key.to_string();
         match std::mem::replace(&mut self.overlay, Overlay::None) {
@@ -531,150 +520,6 @@ impl App {
                 self.overlay = Overlay::Form(form);
             }
         }
-    }
-
-    fn confirmed(&mut self, confirm: Confirm, now: Instant, effects: &mut Vec<Effect>) {
-        match confirm {
-            Confirm::Home => effects.push(Effect::Arm(ArmCommand::Home)),
-            Confirm::GoTo(name) => {
-                if self.config.positions_on_operator {
-                    effects.push(Effect::Arm(ArmCommand::GoToPosition { name }));
-                } else {
-                    match self.stored_pose(&name) {
-                        Some(pose) => effects.push(Effect::Arm(ArmCommand::MoveToPose(pose))),
-                        None => self.say(
-                            format!("'{name}' has no coordinates stored"),
-                            Severity::Warning,
-                            now,
-                        ),
-                    }
-                }
-            }
-            Confirm::Delete(name) => {
-                if self.config.positions_on_operator {
-                    effects.push(Effect::Arm(ArmCommand::DeletePosition { name }));
-                } else {
-                    self.positions.remove(&name);
-                    self.clamp_selection();
-                    effects.push(Effect::SavePositions(self.positions.clone()));
-                }
-            }
-        }
-    }
-
-    /// A stored pose for a local (Modbus) go-to: position plus orientation (the current tool
-    /// orientation when none was stored).
-    fn stored_pose(&self, name: &str) -> Option<Pose> {
-        let entry = self.positions.get(name)?;
-        let [x, y, z] = entry.cartesian?;
-        let current = self.telemetry.as_ref().map(|t| t.tcp.pose);
-        let theta = entry
-            .orientation
-            .or(current.map(|p| [p.theta_x, p.theta_y, p.theta_z]))?;
-        Some(Pose {
-            x: x as f32 / 10_000.0,
-            y: y as f32 / 10_000.0,
-            z: z as f32 / 10_000.0,
-            theta_x: theta[0],
-            theta_y: theta[1],
-            theta_z: theta[2],
-        })
-    }
-
-    fn form_done(&mut self, result: FormResult, now: Instant, effects: &mut Vec<Effect>) {
-        if self.config.positions_on_operator {
-            let command = match result {
-                FormResult::Save {
-                    name,
-                    anchor,
-                    parent,
-                } => ArmCommand::SavePosition {
-                    name,
-                    anchor,
-                    parent,
-                },
-                FormResult::SetPolar {
-                    name,
-                    delta,
-                    azimuth,
-                    radius,
-                } => ArmCommand::SetPolarPosition {
-                    name,
-                    delta,
-                    azimuth,
-                    radius,
-                },
-                FormResult::SetCartesian { name, x, y, z } => {
-                    ArmCommand::SetCartesianPosition { name, x, y, z }
-                }
-            };
-            effects.push(Effect::Arm(command));
-            return;
-        }
-        // Over Modbus the book is the only store.
-        let pose = self.telemetry.as_ref().map(|t| t.tcp.pose);
-        let (name, cartesian, orientation, anchor, parent) = match result {
-            FormResult::Save {
-                name,
-                anchor,
-                parent,
-            } => {
-                let Some(p) = pose else {
-                    self.say(
-                        "no telemetry yet: cannot save the pose",
-                        Severity::Warning,
-                        now,
-                    );
-                    return;
-                };
-                let c = [p.x, p.y, p.z].map(|v| (f64::from(v) * 10_000.0).round() as i32);
-                (
-                    name,
-                    c,
-                    Some([p.theta_x, p.theta_y, p.theta_z]),
-                    anchor,
-                    parent,
-                )
-            }
-            FormResult::SetCartesian { name, x, y, z } => (name, [x, y, z], None, false, None),
-            FormResult::SetPolar {
-                name,
-                delta,
-                azimuth,
-                radius,
-            } => (
-                name,
-                cartesian_of([delta, azimuth, radius]),
-                None,
-                false,
-                None,
-            ),
-        };
-        if anchor {
-            self.say(
-                "anchored positions need a Talos operator: saved without anchor",
-                Severity::Warning,
-                now,
-            );
-        }
-        let entry = self.positions.entry(&name);
-        entry.cartesian = Some(cartesian);
-        entry.orientation = orientation.or(entry.orientation);
-        entry.anchor = false;
-        entry.parent = parent;
-        self.select(&name);
-        self.say(format!("saved '{name}'"), Severity::Info, now);
-        effects.push(Effect::SavePositions(self.positions.clone()));
-    }
-
-    fn select(&mut self, name: &str) {
-        if let Some(i) = self.positions.names().position(|n| n == name) {
-            self.selected = i;
-        }
-    }
-
-    fn clamp_selection(&mut self) {
-        self.selected = self.selected.min(self.positions.len().saturating_sub(1));
     }
 
     fn on_arm(&mut self, event: ArmEvent, now: Instant, effects: &mut Vec<Effect>) {
@@ -748,60 +593,6 @@ impl App {
             ArmEvent::Done { command } => self.on_done(command, now, effects),
         }
     }
-
-    /// Keeps the book in step with what the operator accepted.
-    fn on_done(&mut self, command: ArmCommand, now: Instant, effects: &mut Vec<Effect>) {
-        let name = match &command {
-            ArmCommand::SavePosition {
-                name,
-                anchor,
-                parent,
-            } => {
-                let pose = self.telemetry.as_ref().map(|t| t.tcp.pose);
-                let entry = self.positions.entry(name);
-                entry.anchor = *anchor;
-                entry.parent = parent.clone();
-                entry.unknown_to_operator = false;
-                if let Some(p) = pose {
-                    entry.cartesian =
-                        Some([p.x, p.y, p.z].map(|v| (f64::from(v) * 10_000.0).round() as i32));
-                }
-                name.clone()
-            }
-            ArmCommand::SetCartesianPosition { name, x, y, z } => {
-                let entry = self.positions.entry(name);
-                entry.cartesian = Some([*x, *y, *z]);
-                entry.unknown_to_operator = false;
-                name.clone()
-            }
-            ArmCommand::SetPolarPosition {
-                name,
-                delta,
-                azimuth,
-                radius,
-            } => {
-                let entry = self.positions.entry(name);
-                entry.cartesian = Some(cartesian_of([*delta, *azimuth, *radius]));
-                entry.unknown_to_operator = false;
-                name.clone()
-            }
-            ArmCommand::DeletePosition { name } => {
-                self.positions.remove(name);
-                self.clamp_selection();
-                self.say(format!("deleted '{name}'"), Severity::Info, now);
-                effects.push(Effect::SavePositions(self.positions.clone()));
-                return;
-            }
-            ArmCommand::SetSpeed(speed) => {
-                self.speed = Some(*speed);
-                return;
-            }
-            _ => return,
-        };
-        self.select(&name);
-        self.say(format!("saved '{name}'"), Severity::Info, now);
-        effects.push(Effect::SavePositions(self.positions.clone()));
-    }
 }
 
 fn jog_effects(jog: Vec<JogEffect>, effects: &mut Vec<Effect>) {
@@ -810,61 +601,5 @@ fn jog_effects(jog: Vec<JogEffect>, effects: &mut Vec<Effect>) {
             JogEffect::Start(motion) => ArmCommand::Jog(motion),
             JogEffect::Stop => ArmCommand::Stop,
         }));
-    }
-}
-
-/// Polar [delta, azimuth, radius] (tenths of deg, deg, mm) to cartesian tenths of mm, about
-/// the base origin (the simulated operator's convention).
-pub fn cartesian_of(polar: [i32; 3]) -> [i32; 3] {
-    let el = (f64::from(polar[0]) / 10.0).to_radians();
-    let az = (f64::from(polar[1]) / 10.0).to_radians();
-    let r = f64::from(polar[2]);
-    [
-        r * el.cos() * az.cos(),
-        r * el.cos() * az.sin(),
-        r * el.sin(),
-    ]
-    .map(|v| v.round() as i32)
-}
-
-/// Cartesian tenths of mm to polar [delta, azimuth, radius] in tenths.
-pub fn polar_of(c: [i32; 3]) -> [i32; 3] {
-    let [x, y, z] = c.map(f64::from);
-    let horizontal = x.hypot(y);
-    [
-        (z.atan2(horizontal).to_degrees() * 10.0).round() as i32,
-        (y.atan2(x).to_degrees() * 10.0).round() as i32,
-        (x.hypot(y).hypot(z)).round() as i32,
-    ]
-}
-
-/// Motion a jog would command, for the status bar.
-pub fn describe_motion(motion: JogMotion) -> String {
-    let sign = |v: i8| match v {
-        1 => "+",
-        -1 => "-",
-        _ => "",
-    };
-    match motion {
-        JogMotion::Cartesian { x, y, z } => {
-            let mut parts = Vec::new();
-            for (axis, v) in [("X", x), ("Y", y), ("Z", z)] {
-                if v != 0 {
-                    parts.push(format!("{}{axis}", sign(v)));
-                }
-            }
-            parts.join(" ")
-        }
-        JogMotion::Polar { azimuth, altitude } => {
-            let mut parts = Vec::new();
-            if azimuth != 0 {
-                parts.push(format!("az{}", sign(azimuth)));
-            }
-            if altitude != 0 {
-                parts.push(format!("alt{}", sign(altitude)));
-            }
-            parts.join(" ")
-        }
-        JogMotion::Joint { joint, direction } => format!("J{joint}{}", sign(direction)),
     }
 }

@@ -1,0 +1,59 @@
+//! Coordinate conversions and motion descriptions for the console's text.
+
+use crate::console::jog::JogMotion;
+
+/// Polar [delta, azimuth, radius] (tenths of degrees, tenths of degrees, tenths of mm) to
+/// cartesian tenths of mm, about the base origin (the simulated operator's convention).
+pub fn cartesian_of(polar: [i32; 3]) -> [i32; 3] {
+    let el = (f64::from(polar[0]) / 10.0).to_radians();
+    let az = (f64::from(polar[1]) / 10.0).to_radians();
+    let r = f64::from(polar[2]);
+    [
+        r * el.cos() * az.cos(),
+        r * el.cos() * az.sin(),
+        r * el.sin(),
+    ]
+    .map(|v| v.round() as i32)
+}
+
+/// Cartesian tenths of mm to polar [delta, azimuth, radius] in tenths.
+pub fn polar_of(c: [i32; 3]) -> [i32; 3] {
+    let [x, y, z] = c.map(f64::from);
+    let horizontal = x.hypot(y);
+    [
+        (z.atan2(horizontal).to_degrees() * 10.0).round() as i32,
+        (y.atan2(x).to_degrees() * 10.0).round() as i32,
+        (x.hypot(y).hypot(z)).round() as i32,
+    ]
+}
+
+/// Motion a jog would command, for the status bar.
+pub fn describe_motion(motion: JogMotion) -> String {
+    let sign = |v: i8| match v {
+        1 => "+",
+        -1 => "-",
+        _ => "",
+    };
+    match motion {
+        JogMotion::Cartesian { x, y, z } => {
+            let mut parts = Vec::new();
+            for (axis, v) in [("X", x), ("Y", y), ("Z", z)] {
+                if v != 0 {
+                    parts.push(format!("{}{axis}", sign(v)));
+                }
+            }
+            parts.join(" ")
+        }
+        JogMotion::Polar { azimuth, altitude } => {
+            let mut parts = Vec::new();
+            if azimuth != 0 {
+                parts.push(format!("az{}", sign(azimuth)));
+            }
+            if altitude != 0 {
+                parts.push(format!("alt{}", sign(altitude)));
+            }
+            parts.join(" ")
+        }
+        JogMotion::Joint { joint, direction } => format!("J{joint}{}", sign(direction)),
+    }
+}
