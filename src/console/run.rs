@@ -55,7 +55,12 @@ pub fn key_input(event: &KeyEvent) -> Option<KeyInput> {
                 .modifiers
                 .intersects(KeyModifiers::CONTROL | KeyModifiers::ALT) =>
         {
-            Some(c)
+            // Some kitty-protocol terminals send shift+a as 'a' with SHIFT.
+            if event.modifiers.contains(KeyModifiers::SHIFT) {
+                c.to_uppercase().next()
+            } else {
+                Some(c)
+            }
         }
         _ => None,
     };
@@ -244,5 +249,58 @@ impl Signals {
             _ = self.terminate.recv() => "SIGTERM",
             _ = self.hangup.recv() => "SIGHUP",
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crossterm::event::KeyEventState;
+
+    fn event(code: KeyCode, modifiers: KeyModifiers, kind: KeyEventKind) -> KeyEvent {
+        KeyEvent {
+            code,
+            modifiers,
+            kind,
+            state: KeyEventState::NONE,
+        }
+    }
+
+    #[test]
+    fn key_events_keep_their_kind_and_typed_text() {
+        let press = key_input(&event(
+            KeyCode::Char('w'),
+            KeyModifiers::NONE,
+            KeyEventKind::Press,
+        ));
+        let press = press.expect("w");
+        assert_eq!(
+            (press.key.to_string(), press.text, press.kind),
+            ("w".into(), Some('w'), KeyKind::Press)
+        );
+        let release = key_input(&event(
+            KeyCode::Char('w'),
+            KeyModifiers::NONE,
+            KeyEventKind::Release,
+        ));
+        assert_eq!(release.map(|k| k.kind), Some(KeyKind::Release));
+        let shifted = key_input(&event(
+            KeyCode::Char('a'),
+            KeyModifiers::SHIFT,
+            KeyEventKind::Press,
+        ));
+        assert_eq!(
+            shifted.map(|k| (k.key.to_string(), k.text)),
+            Some(("A".into(), Some('A')))
+        );
+        let ctrl = key_input(&event(
+            KeyCode::Char('c'),
+            KeyModifiers::CONTROL,
+            KeyEventKind::Press,
+        ));
+        assert_eq!(
+            ctrl.map(|k| (k.key.to_string(), k.text)),
+            Some(("ctrl+c".into(), None))
+        );
     }
 }
