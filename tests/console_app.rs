@@ -435,3 +435,22 @@ fn remembered_names_are_checked_with_the_operator_when_the_link_comes_up() {
     );
     assert!(app.message.is_none(), "marked in the panel, not shouted");
 }
+
+#[test]
+fn holding_the_key_that_closed_an_overlay_does_not_start_a_jog() {
+    let (mut app, t0) = app(ReleaseMode::AutoRepeat, true);
+    press(&mut app, "?", t0);
+    assert!(
+        press(&mut app, "w", t0 + ms(100)).is_empty(),
+        "w closes help"
+    );
+    // Its auto-repeat arrives as presses in the fallback mode.
+    for t in [600, 633, 666, 700] {
+        assert!(
+            press(&mut app, "w", t0 + ms(t)).is_empty(),
+            "repeat at {t} ms"
+        );
+    }
+    // Released, then pressed again after a pause: that is a jog.
+    assert_eq!(press(&mut app, "w", t0 + ms(1600)), [jog(1, 0, 0)]);
+}

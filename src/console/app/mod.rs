@@ -17,7 +17,7 @@ use std::time::{Duration, Instant};
 
 use super::action::Action;
 use super::form::{Confirm, Form, FormKind};
-use super::jog::{JogEffect, JogEngine, KeyKind, ReleaseMode};
+use super::jog::{JogEffect, JogEngine, KeyKind, MAX_ONSET, ReleaseMode};
 use super::keymap::{KeyName, Keymap};
 use super::positions::PositionBook;
 use crate::kortex::{ReferenceFrame, Telemetry};
@@ -147,6 +147,9 @@ pub struct App {
     pub hex: bool,
     pub size: (u16, u16),
     pub quitting: bool,
+    /// The key that closed an overlay and when it was last seen: its auto-repeat must not be
+    /// taken for new presses (and start a jog) once the overlay is gone.
+    swallowed: Option<(KeyName, Instant)>,
 }
 
 impl App {
@@ -173,6 +176,7 @@ impl App {
             hex: false,
             size: (80, 24),
             quitting: false,
+            swallowed: None,
         }
     }
 
@@ -266,9 +270,24 @@ impl App {
         if self.overlay != Overlay::None {
             if key.kind != KeyKind::Release {
                 self.stop_jog(now, effects);
+                let held = key.key.clone();
                 self.on_overlay_key(key, now, effects);
+                if self.overlay == Overlay::None {
+                    self.swallowed = Some((held, now));
+                }
             }
             return;
+        }
+        if let Some((held, seen)) = &self.swallowed {
+            let repeating = *held == key.key && now.saturating_duration_since(*seen) < MAX_ONSET;
+            if repeating && key.kind != KeyKind::Release {
+                self.swallowed = Some((key.key, now));
+                return;
+            }
+            self.swallowed = None;
+            if repeating {
+                return;
+            }
         }
         if key.kind == KeyKind::Release {
             // A release may carry other modifiers than its press (shift pressed mid-hold turns
