@@ -270,7 +270,7 @@ impl App {
         if self.overlay != Overlay::None {
             if key.kind != KeyKind::Release {
                 self.stop_jog(now, effects);
-                let held = key.key.clone();
+                let held = key.key;
                 self.on_overlay_key(key, now, effects);
                 if self.overlay == Overlay::None {
                     self.swallowed = Some((held, now));
