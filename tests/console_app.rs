@@ -454,3 +454,28 @@ fn holding_the_key_that_closed_an_overlay_does_not_start_a_jog() {
     // Released, then pressed again after a pause: that is a jog.
     assert_eq!(press(&mut app, "w", t0 + ms(1600)), [jog(1, 0, 0)]);
 }
+
+#[test]
+fn holding_the_key_that_opened_a_question_does_not_answer_it() {
+    let (mut app, t0) = app(ReleaseMode::AutoRepeat, true);
+    press(&mut app, "h", t0);
+    for t in [500, 533, 566] {
+        press(&mut app, "h", t0 + ms(t));
+    }
+    assert!(matches!(app.overlay, Overlay::Confirm(_)), "still asking");
+    assert_eq!(
+        press(&mut app, "y", t0 + ms(900)),
+        [Effect::Arm(ArmCommand::Home)]
+    );
+}
+
+#[test]
+fn with_reported_events_a_repeat_never_answers_an_overlay() {
+    let (mut app, t0) = app(ReleaseMode::Reported, true);
+    press(&mut app, "h", t0);
+    assert!(
+        app.handle(key("h", KeyKind::Repeat), t0 + ms(500))
+            .is_empty()
+    );
+    assert!(matches!(app.overlay, Overlay::Confirm(_)));
+}

@@ -267,27 +267,43 @@ impl App {
             }
             return;
         }
+        if self.auto_repeat_of_overlay_key(&key, now) {
+            // Keep still, but let the repeat neither answer the overlay nor start a jog.
+            self.stop_jog(now, effects);
+            return;
+        }
+        let overlay_was_open = self.overlay != Overlay::None;
+        self.dispatch_key(key.clone(), now, effects);
+        if key.kind == KeyKind::Press && overlay_was_open != (self.overlay != Overlay::None) {
+            self.swallowed = Some((key.key, now));
+        }
+    }
+
+    /// Whether `key` is the auto-repeat of the key that just opened or closed an overlay:
+    /// holding `h` must not cancel the home question it opened, nor holding `w` to close the
+    /// help start a jog. With reported key events a repeat says so itself.
+    fn auto_repeat_of_overlay_key(&mut self, key: &KeyInput, now: Instant) -> bool {
+        if key.kind == KeyKind::Repeat && self.overlay != Overlay::None {
+            return true;
+        }
+        let Some((held, seen)) = self.swallowed else {
+            return false;
+        };
+        let repeating = held == key.key
+            && key.kind == KeyKind::Press
+            && self.jog.mode() == ReleaseMode::AutoRepeat
+            && now.saturating_duration_since(seen) < MAX_ONSET;
+        self.swallowed = repeating.then_some((held, now));
+        repeating
+    }
+
+    fn dispatch_key(&mut self, key: KeyInput, now: Instant, effects: &mut Vec<Effect>) {
         if self.overlay != Overlay::None {
             if key.kind != KeyKind::Release {
                 self.stop_jog(now, effects);
-                let held = key.key;
                 self.on_overlay_key(key, now, effects);
-                if self.overlay == Overlay::None {
-                    self.swallowed = Some((held, now));
-                }
             }
             return;
-        }
-        if let Some((held, seen)) = &self.swallowed {
-            let repeating = *held == key.key && now.saturating_duration_since(*seen) < MAX_ONSET;
-            if repeating && key.kind != KeyKind::Release {
-                self.swallowed = Some((key.key, now));
-                return;
-            }
-            self.swallowed = None;
-            if repeating {
-                return;
-            }
         }
         if key.kind == KeyKind::Release {
             // A release may carry other modifiers than its press (shift pressed mid-hold turns
