@@ -143,6 +143,21 @@ impl Console {
     async fn moving(&self) -> bool {
         self.sim.arm.snapshot().await.expect("sim").moving
     }
+
+    /// Runs the loop until the simulated arm stands still; false if it still moves after
+    /// `within` (a release must stop it within one console tick plus the wire).
+    async fn stops_within(&mut self, within: Duration) -> bool {
+        let until = tokio::time::Instant::now() + within;
+        loop {
+            if !self.moving().await {
+                return true;
+            }
+            if tokio::time::Instant::now() >= until {
+                return false;
+            }
+            self.run_for(Duration::from_millis(2)).await;
+        }
+    }
 }
 
 /// Holds `key` for `hold`, releases it, and returns the TCP displacement (m).
@@ -151,9 +166,8 @@ async fn jog(console: &mut Console, key: &str, hold: Duration) -> [f64; 3] {
     console.key(key, KeyKind::Press);
     console.run_for(hold).await;
     console.key(key, KeyKind::Release);
-    console.run_for(Duration::from_millis(30)).await;
     assert!(
-        !console.moving().await,
+        console.stops_within(Duration::from_millis(100)).await,
         "{key}: stopped within a tick of the release"
     );
     let after = console.tcp().await;
@@ -209,8 +223,7 @@ async fn holding_a_key_past_the_watchdog_keeps_moving() {
         "refreshed well inside the 500 ms watchdog"
     );
     console.key("w", KeyKind::Release);
-    console.run_for(Duration::from_millis(30)).await;
-    assert!(!console.moving().await);
+    assert!(console.stops_within(Duration::from_millis(100)).await);
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
@@ -299,8 +312,7 @@ async fn crossterm_press_and_release_events_drive_the_jog() {
     console.run_for(Duration::from_millis(150)).await;
     assert!(console.moving().await);
     console.input(Input::Key(key_input(&release).expect("w release maps")));
-    console.run_for(Duration::from_millis(30)).await;
-    assert!(!console.moving().await);
+    assert!(console.stops_within(Duration::from_millis(100)).await);
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
@@ -309,13 +321,11 @@ async fn focus_loss_and_space_stop_the_arm() {
     console.key("d", KeyKind::Press);
     console.run_for(Duration::from_millis(150)).await;
     console.input(Input::FocusLost);
-    console.run_for(Duration::from_millis(30)).await;
-    assert!(!console.moving().await);
+    assert!(console.stops_within(Duration::from_millis(100)).await);
     console.key("f", KeyKind::Press);
     console.run_for(Duration::from_millis(150)).await;
     console.key("space", KeyKind::Press);
-    console.run_for(Duration::from_millis(30)).await;
-    assert!(!console.moving().await);
+    assert!(console.stops_within(Duration::from_millis(100)).await);
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
