@@ -46,6 +46,8 @@ fn busy_app() -> App {
     }
     for i in 0..200u32 {
         let entry = LogEntry {
+            poll: false,
+            count: 1,
             id: Some(i * 2),
             name: "cart_start".into(),
             outcome: "OK".into(),

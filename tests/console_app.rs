@@ -479,3 +479,33 @@ fn with_reported_events_a_repeat_never_answers_an_overlay() {
     );
     assert!(matches!(app.overlay, Overlay::Confirm(_)));
 }
+
+#[test]
+fn telemetry_polls_share_one_counted_log_line() {
+    use armjog::link::arm::LogEntry;
+    let (mut app, t0) = app(ReleaseMode::Reported, true);
+    let poll = |id| LogEntry {
+        id: Some(id),
+        name: "hw_op".into(),
+        outcome: "OK".into(),
+        ok: true,
+        poll: true,
+        count: 1,
+        ..LogEntry::default()
+    };
+    for id in [2, 4, 6] {
+        app.handle(Input::Arm(ArmEvent::Log(poll(id))), t0);
+    }
+    let command = LogEntry {
+        id: Some(8),
+        name: "cart_start".into(),
+        outcome: "OK".into(),
+        ok: true,
+        count: 1,
+        ..LogEntry::default()
+    };
+    app.handle(Input::Arm(ArmEvent::Log(command)), t0);
+    app.handle(Input::Arm(ArmEvent::Log(poll(10))), t0);
+    let lines: Vec<(Option<u32>, u32)> = app.log.iter().map(|e| (e.id, e.count)).collect();
+    assert_eq!(lines, [(Some(6), 3), (Some(8), 1), (Some(10), 1)]);
+}

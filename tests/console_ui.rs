@@ -84,6 +84,8 @@ fn home_telemetry() -> Telemetry {
 
 fn log_entry(id: u32, name: &str, outcome: &str, ok: bool, micros: u64) -> LogEntry {
     LogEntry {
+        poll: false,
+        count: 1,
         id: Some(id),
         name: name.into(),
         outcome: outcome.into(),
@@ -126,6 +128,8 @@ fn live_app(mode: ReleaseMode) -> (App, Instant) {
         ArmEvent::Log(log_entry(3, "goto", "UNKNOWN_POSITION", false, 977)),
         ArmEvent::Log(log_entry(4, "cart_start", "OK", true, 640)),
         ArmEvent::Log(LogEntry {
+            poll: false,
+            count: 1,
             id: Some(5),
             name: "cart_stop".into(),
             outcome: "no reply within 500 ms".into(),
@@ -309,6 +313,8 @@ fn log_over_modbus_has_no_ids() {
     let (mut app, t0) = bare_app(ReleaseMode::Reported, false);
     for entry in [
         LogEntry {
+            poll: false,
+            count: 1,
             id: None,
             name: "jog".into(),
             outcome: "OK (3 writes)".into(),
@@ -318,6 +324,8 @@ fn log_over_modbus_has_no_ids() {
             received_hex: None,
         },
         LogEntry {
+            poll: false,
+            count: 1,
             id: None,
             name: "fault reset".into(),
             outcome: "Modbus exception: illegal data address".into(),

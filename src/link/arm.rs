@@ -124,9 +124,13 @@ pub enum TelemetrySource {
 }
 
 /// One line of the command log: a request and its answer.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct LogEntry {
     pub id: Option<u32>,
+    /// A periodic telemetry poll: consecutive polls with the same outcome share one line.
+    pub poll: bool,
+    /// How many exchanges the line stands for (polls), at least 1.
+    pub count: u32,
     pub name: String,
     /// "OK", a return code or exception name, or an error.
     pub outcome: String,

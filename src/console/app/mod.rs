@@ -585,10 +585,25 @@ impl App {
             ArmEvent::Latency(latency) => self.latency = Some(latency),
             ArmEvent::Speed(speed) => self.speed = Some(speed),
             ArmEvent::Log(entry) => {
+                // Telemetry polls with the same outcome in a row share one counted line, so
+                // they are logged without drowning the technician's own commands.
+                if let Some(last) = self.log.back_mut()
+                    && entry.poll
+                    && last.poll
+                    && last.name == entry.name
+                    && last.outcome == entry.outcome
+                {
+                    let count = last.count.saturating_add(entry.count.max(1));
+                    *last = LogEntry { count, ..entry };
+                    return;
+                }
                 if self.log.len() >= LOG_CAPACITY {
                     self.log.pop_front();
                 }
-                self.log.push_back(entry);
+                self.log.push_back(LogEntry {
+                    count: entry.count.max(1),
+                    ..entry
+                });
             }
             ArmEvent::Failed { command, reason } => {
                 // A jog the arm did not take must not be left to the watchdog: stop and forget

@@ -31,7 +31,11 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
             ),
             Span::raw(format!("{:<14} ", entry.name)),
             Span::styled(
-                entry.outcome.clone(),
+                if entry.count > 1 {
+                    format!("{} x{}", entry.outcome, entry.count)
+                } else {
+                    entry.outcome.clone()
+                },
                 if entry.ok {
                     theme.ok()
                 } else {

@@ -71,6 +71,16 @@ fn forward_telemetry(link: &ModbusLink, events: mpsc::UnboundedSender<ArmEvent>)
             let snapshot = snapshots.borrow_and_update().clone();
             if let Some(s) = snapshot {
                 let latency = s.poll_time;
+                let entry = LogEntry {
+                    name: "modbus poll".into(),
+                    outcome: "OK".into(),
+                    ok: true,
+                    latency: Some(latency),
+                    poll: true,
+                    count: 1,
+                    ..LogEntry::default()
+                };
+                let _ = events.send(ArmEvent::Log(entry));
                 if events
                     .send(ArmEvent::Telemetry(Box::new(s.telemetry)))
                     .is_err()
@@ -186,6 +196,8 @@ impl State {
                     let writes: Vec<String> = report.writes.iter().map(|w| w.to_string()).collect();
                     let _ = self.events.send(ArmEvent::Log(LogEntry {
                         id: None,
+                        poll: false,
+                        count: 1,
                         name: label.to_string(),
                         outcome: format!("OK ({} writes)", report.writes.len()),
                         ok: true,
@@ -199,6 +211,8 @@ impl State {
             Err(reason) => {
                 let _ = self.events.send(ArmEvent::Log(LogEntry {
                     id: None,
+                    poll: false,
+                    count: 1,
                     name: label.to_string(),
                     outcome: reason.clone(),
                     ok: false,

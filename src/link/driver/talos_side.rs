@@ -274,6 +274,13 @@ impl TalosSide {
             if let (Ok(state), Ok(feedback)) = (state, feedback) {
                 let (state, feedback) = (state.wait().await, feedback.wait().await);
                 if let (Ok(state), Ok(feedback)) = (state, feedback) {
+                    for exchange in [&state, &feedback] {
+                        let entry = LogEntry {
+                            poll: true,
+                            ..log_entry(exchange)
+                        };
+                        let _ = events.send(ArmEvent::Log(entry));
+                    }
                     let latency = state.latency;
                     if let (
                         Some(HwReply::GetArmState { state }),
@@ -328,6 +335,8 @@ fn log_entry(exchange: &Exchange) -> LogEntry {
     let code = exchange.return_code();
     LogEntry {
         id: Some(exchange.id),
+        poll: false,
+        count: 1,
         name: exchange.request.command().name().to_string(),
         outcome: match exchange.answer {
             Answer::Ack => "ACK".into(),
@@ -357,12 +366,14 @@ fn report_error(
     } else {
         let _ = events.send(ArmEvent::Log(LogEntry {
             id,
+            count: 1,
             name: name.name().to_string(),
             outcome: error.to_string(),
             ok: false,
             latency: None,
             sent_hex: None,
             received_hex: None,
+            ..LogEntry::default()
         }));
     }
     // An unknown name asked about is not a failure of the technician's: the panel marks it.
