@@ -371,3 +371,34 @@ async fn names_the_operator_does_not_know_are_marked() {
         })
         .await;
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_joint_jog_turns_the_selected_joint_over_talos() {
+    let mut console = Console::start(Links::Talos).await;
+    // The jog command carries the joint's reported position: wait for telemetry first.
+    console
+        .run_until(Duration::from_secs(2), |c| c.app.telemetry.is_some())
+        .await;
+    console.key("]", KeyKind::Press); // J1 -> J2
+    console.key("]", KeyKind::Press); // J2 -> J3
+    let before = console
+        .sim
+        .arm
+        .snapshot()
+        .await
+        .expect("sim")
+        .joint_position[2];
+    console.key("k", KeyKind::Press);
+    console.run_for(Duration::from_millis(400)).await;
+    console.key("k", KeyKind::Release);
+    assert!(console.stops_within(Duration::from_millis(100)).await);
+    let after = console
+        .sim
+        .arm
+        .snapshot()
+        .await
+        .expect("sim")
+        .joint_position[2];
+    // 20 deg/s at 50 % for about 0.4 s.
+    assert!((after - before - 4.0).abs() < 1.5, "J3 {before} -> {after}");
+}

@@ -20,6 +20,10 @@ use super::arm::{ArmCommand, ArmEvent, LinkStatus, TelemetrySource};
 use super::modbus::{ModbusConfig, ModbusEvent, ModbusLink};
 use super::talos::{TalosConfig, TalosEvent};
 
+/// The latest joint positions (deg) from whichever telemetry the driver has: a joint jog's
+/// command carries the joint's last reported position, and none is sent before one is known.
+pub(crate) type JointPositions = std::sync::Arc<tokio::sync::watch::Sender<Option<[f32; 7]>>>;
+
 /// What the driver connects to and how it jogs.
 #[derive(Debug, Clone)]
 pub struct DriverConfig {
@@ -173,7 +177,8 @@ async fn run(
     let _ = events.send(ArmEvent::TelemetrySource(config.telemetry_source()));
     let _ = events.send(ArmEvent::Status(LinkStatus::Connecting));
     let mut links = Links::default();
-    let mut talos = talos_side::TalosSide::new(&config, events.clone());
+    let joints: JointPositions = std::sync::Arc::new(tokio::sync::watch::Sender::new(None));
+    let mut talos = talos_side::TalosSide::new(&config, events.clone(), joints.clone());
     let (modbus_events_tx, mut modbus_events) = mpsc::unbounded_channel::<ModbusEvent>();
     let mut modbus: Option<modbus_worker::ModbusWorker> = None;
 
@@ -186,6 +191,7 @@ async fn run(
                     link,
                     &config,
                     events.clone(),
+                    joints.clone(),
                 ));
                 if config.talos.is_none() {
                     // Jog twists start at half the jog speed until the technician changes it.

@@ -6,7 +6,7 @@ use std::time::Duration;
 use tokio::sync::mpsc;
 use tokio::task::JoinHandle;
 
-use super::DriverConfig;
+use super::{DriverConfig, JointPositions};
 use crate::console::jog::JogMotion;
 use crate::kortex::{Pose, ReferenceFrame, Twist};
 use crate::link::arm::{ArmCommand, ArmEvent, LogEntry, StepMove};
@@ -34,8 +34,9 @@ impl ModbusWorker {
         link: ModbusLink,
         config: &DriverConfig,
         events: mpsc::UnboundedSender<ArmEvent>,
+        joints: JointPositions,
     ) -> ModbusWorker {
-        forward_telemetry(&link, events.clone());
+        forward_telemetry(&link, events.clone(), joints);
         let (commands, rx) = mpsc::unbounded_channel();
         let state = State {
             link: link.clone(),
@@ -64,13 +65,18 @@ impl ModbusWorker {
     }
 }
 
-fn forward_telemetry(link: &ModbusLink, events: mpsc::UnboundedSender<ArmEvent>) {
+fn forward_telemetry(
+    link: &ModbusLink,
+    events: mpsc::UnboundedSender<ArmEvent>,
+    joints: JointPositions,
+) {
     let mut snapshots = link.subscribe();
     tokio::spawn(async move {
         while snapshots.changed().await.is_ok() {
             let snapshot = snapshots.borrow_and_update().clone();
             if let Some(s) = snapshot {
                 let latency = s.poll_time;
+                joints.send_replace(Some(s.telemetry.joints.map(|j| j.position)));
                 let entry = LogEntry {
                     name: "modbus poll".into(),
                     outcome: "OK".into(),

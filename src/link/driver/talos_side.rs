@@ -7,8 +7,8 @@ use std::time::Duration;
 
 use tokio::sync::mpsc;
 
-use super::DriverConfig;
 use super::hw_telemetry;
+use super::{DriverConfig, JointPositions};
 use crate::console::jog::JogMotion;
 use crate::link::arm::{ArmCommand, ArmEvent, LogEntry, PositionCoordinates, StepMove};
 use crate::link::talos::{Answer, Exchange, PendingReply, TalosConfig, TalosError, TalosEvent};
@@ -25,12 +25,16 @@ pub struct TalosSide {
     events: mpsc::UnboundedSender<ArmEvent>,
     speed: u8,
     polling: Arc<AtomicBool>,
-    /// Joint positions from the latest hardware telemetry, for joint jog commands.
-    joints: Arc<std::sync::Mutex<[f32; 7]>>,
+    /// Joint positions from the latest telemetry, for joint jog commands.
+    joints: JointPositions,
 }
 
 impl TalosSide {
-    pub fn new(config: &DriverConfig, events: mpsc::UnboundedSender<ArmEvent>) -> TalosSide {
+    pub fn new(
+        config: &DriverConfig,
+        events: mpsc::UnboundedSender<ArmEvent>,
+        joints: JointPositions,
+    ) -> TalosSide {
         TalosSide {
             config: config.talos.clone(),
             oid: config.oid,
@@ -40,7 +44,7 @@ impl TalosSide {
             events,
             speed: 50,
             polling: Arc::new(AtomicBool::new(false)),
-            joints: Arc::new(std::sync::Mutex::new([0.0; 7])),
+            joints,
         }
     }
 
@@ -141,7 +145,10 @@ impl TalosSide {
                     return Err("joint jog needs the icd dialect".into());
                 }
                 let index = usize::from(joint.saturating_sub(1)).min(6);
-                let position = self.joints.lock().map(|j| j[index]).unwrap_or(0.0);
+                // The command carries the joint's last reported position: none is invented.
+                let Some(position) = self.joints.borrow().map(|j| j[index]) else {
+                    return Err("no joint position reported yet: wait for telemetry".into());
+                };
                 let velocity =
                     f32::from(*direction) * self.joint_jog_speed * f32::from(self.speed) / 100.0;
                 vec![hw(HwRequest::SendActuatorCommand {
@@ -287,13 +294,16 @@ impl TalosSide {
                         Some(HwReply::GetActuatorFeedback { actuators }),
                     ) = (hw_reply(&state), hw_reply(&feedback))
                     {
-                        if let Ok(mut j) = joints.lock() {
-                            for a in &actuators {
-                                if let Some(slot) = j.get_mut(usize::from(a.joint).wrapping_sub(1))
-                                {
-                                    *slot = a.position_deg;
-                                }
+                        let mut positions = [0.0f32; 7];
+                        for a in &actuators {
+                            if let Some(slot) =
+                                positions.get_mut(usize::from(a.joint).wrapping_sub(1))
+                            {
+                                *slot = a.position_deg;
                             }
+                        }
+                        if actuators.len() == 7 {
+                            joints.send_replace(Some(positions));
                         }
                         let telemetry = hw_telemetry::telemetry(&state, &actuators);
                         let _ = events.send(ArmEvent::Telemetry(Box::new(telemetry)));
