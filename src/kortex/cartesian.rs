@@ -47,29 +47,24 @@ pub struct Wrench {
     pub torque_z: f32,
 }
 
-impl Pose {
-    pub fn from_array(v: [f32; 6]) -> Pose {
-        Pose {
-            x: v[0],
-            y: v[1],
-            z: v[2],
-            theta_x: v[3],
-            theta_y: v[4],
-            theta_z: v[5],
-        }
-    }
+/// `from_array` / `to_array` in the ICD's order (x, y, z, theta x, y, z) for the two blocks
+/// that share that layout.
+macro_rules! six_floats {
+    ($($t:ident),*) => {$(
+        impl $t {
+            pub fn from_array(v: [f32; 6]) -> $t {
+                let [x, y, z, theta_x, theta_y, theta_z] = v;
+                $t { x, y, z, theta_x, theta_y, theta_z }
+            }
 
-    pub fn to_array(self) -> [f32; 6] {
-        [
-            self.x,
-            self.y,
-            self.z,
-            self.theta_x,
-            self.theta_y,
-            self.theta_z,
-        ]
-    }
+            pub fn to_array(self) -> [f32; 6] {
+                [self.x, self.y, self.z, self.theta_x, self.theta_y, self.theta_z]
+            }
+        }
+    )*};
 }
+
+six_floats!(Pose, Twist);
 
 impl Twist {
     pub const ZERO: Twist = Twist {
@@ -80,28 +75,6 @@ impl Twist {
         theta_y: 0.0,
         theta_z: 0.0,
     };
-
-    pub fn from_array(v: [f32; 6]) -> Twist {
-        Twist {
-            x: v[0],
-            y: v[1],
-            z: v[2],
-            theta_x: v[3],
-            theta_y: v[4],
-            theta_z: v[5],
-        }
-    }
-
-    pub fn to_array(self) -> [f32; 6] {
-        [
-            self.x,
-            self.y,
-            self.z,
-            self.theta_x,
-            self.theta_y,
-            self.theta_z,
-        ]
-    }
 
     /// Speed of the tool point, m/s.
     pub fn linear_speed(self) -> f32 {
