@@ -22,10 +22,7 @@ pub fn telemetry(state: &ArmState, actuators: &[ActuatorFeedback]) -> Telemetry 
             };
         }
     }
-    let [x, y, z] = state.tcp_position_m;
-    let [theta_x, theta_y, theta_z] = state.tcp_orientation_deg;
-    let [vx, vy, vz] = state.linear_velocity_m_s;
-    let [wx, wy, wz] = state.angular_velocity_deg_s;
+    let six = |a: [f32; 3], b: [f32; 3]| [a[0], a[1], a[2], b[0], b[1], b[2]];
     let [fx, fy, fz] = state.force_n;
     let [tx, ty, tz] = state.torque_nm;
     Telemetry {
@@ -40,22 +37,8 @@ pub fn telemetry(state: &ArmState, actuators: &[ActuatorFeedback]) -> Telemetry 
         },
         joints,
         tcp: ToolState {
-            pose: Pose {
-                x,
-                y,
-                z,
-                theta_x,
-                theta_y,
-                theta_z,
-            },
-            twist: Twist {
-                x: vx,
-                y: vy,
-                z: vz,
-                theta_x: wx,
-                theta_y: wy,
-                theta_z: wz,
-            },
+            pose: Pose::from_array(six(state.tcp_position_m, state.tcp_orientation_deg)),
+            twist: Twist::from_array(six(state.linear_velocity_m_s, state.angular_velocity_deg_s)),
             wrench: Wrench {
                 force_x: fx,
                 force_y: fy,
