@@ -29,6 +29,7 @@ fn main() {
             Some(Command::Status(args)) => report(armjog::cli::status::run(&args).await),
             Some(Command::Modbus(args)) => report(armjog::cli::modbus::run(&args).await),
             Some(Command::Sim(args)) => armjog::cli::sim::run(&args).await,
+            Some(Command::Guard(args)) => armjog::cli::guard::run(&args).await,
             None => armjog::cli::console::run_console(&cli.console).await,
         }
     });

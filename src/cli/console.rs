@@ -10,6 +10,7 @@ use crate::console::keymap::Keymap;
 use crate::console::run::{ConsoleSetup, run};
 use crate::link::Dialect;
 use crate::link::driver::DriverConfig;
+use crate::link::guard::GuardPolicy;
 use crate::link::modbus::{self, ModbusConfig};
 use crate::link::talos::{self, TalosConfig};
 use crate::sim::{SimConfig, Simulator};
@@ -163,8 +164,18 @@ pub async fn run_console(args: &ConsoleArgs) -> i32 {
         },
         (t, m) => (t.clone(), m.clone()),
     };
+    let mut driver = args.driver_config(talos_addr, modbus_addr);
+    // The built-in simulated arm dies with the console; a real arm over Modbus needs the guard
+    // (this same binary) to stop it if the console is killed.
+    driver.guard = match &simulator {
+        Some(_) => GuardPolicy::NotNeeded,
+        None => GuardPolicy::Spawn(std::env::current_exe().unwrap_or_else(|e| {
+            tracing::warn!("cannot name this program ({e}); starting the guard as /proc/self/exe");
+            PathBuf::from("/proc/self/exe")
+        })),
+    };
     let setup = ConsoleSetup {
-        driver: args.driver_config(talos_addr, modbus_addr),
+        driver,
         keymap,
         refresh: Duration::from_secs_f64(1.0 / args.refresh_hz),
         release_events: match args.key_release {

@@ -1,6 +1,7 @@
 //! Command-line front ends: argument definitions and the one-shot commands.
 
 pub mod console;
+pub mod guard;
 pub mod modbus;
 pub mod send;
 pub mod sim;
@@ -31,6 +32,9 @@ pub enum Command {
     Modbus(modbus::ModbusArgs),
     /// Run the simulated Kinova Gen3 arm: a Talos operator and a Kinova Modbus server.
     Sim(sim::SimArgs),
+    /// The stop guard the console starts for a Modbus arm (internal).
+    #[command(hide = true)]
+    Guard(guard::GuardArgs),
 }
 
 /// Appends the default port to a bare host name.

@@ -140,6 +140,18 @@ pub struct LogEntry {
     pub received_hex: Option<String>,
 }
 
+/// The stop guard: a separate process with its own Modbus connection that stops the arm when the
+/// console dies (see [`crate::link::guard`]). Sent only when a guard is required.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum GuardStatus {
+    /// Started, not yet connected to the arm: Modbus motion is refused.
+    Starting,
+    /// Connected and watching the console.
+    Ready { pid: u32 },
+    /// Not running, or cut off from the arm: Modbus motion is refused and any is stopped.
+    Down { reason: String },
+}
+
 /// What the driver tells the console.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ArmEvent {
@@ -169,4 +181,6 @@ pub enum ArmEvent {
     Done {
         command: ArmCommand,
     },
+    /// The stop guard's state changed.
+    Guard(GuardStatus),
 }

@@ -22,7 +22,8 @@ use super::keymap::{KeyName, Keymap};
 use super::positions::PositionBook;
 use crate::kortex::{ReferenceFrame, Telemetry};
 use crate::link::arm::{
-    ArmCommand, ArmEvent, LinkStatus, LogEntry, PositionCoordinates, StepMove, TelemetrySource,
+    ArmCommand, ArmEvent, GuardStatus, LinkStatus, LogEntry, PositionCoordinates, StepMove,
+    TelemetrySource,
 };
 
 /// Below this the status bar cannot be shown: motion stops and the screen says so.
@@ -147,6 +148,8 @@ pub struct App {
     pub hex: bool,
     pub size: (u16, u16),
     pub quitting: bool,
+    /// The stop guard's state, once the driver says one is required (Modbus motion).
+    pub guard: Option<GuardStatus>,
     /// The key that closed an overlay and when it was last seen: its auto-repeat must not be
     /// taken for new presses (and start a jog) once the overlay is gone.
     swallowed: Option<(KeyName, Instant)>,
@@ -176,6 +179,7 @@ impl App {
             hex: false,
             size: (80, 24),
             quitting: false,
+            guard: None,
             swallowed: None,
         }
     }
@@ -641,6 +645,21 @@ impl App {
                 }
             }
             ArmEvent::Done { command } => self.on_done(command, now, effects),
+            ArmEvent::Guard(status) => {
+                // Without a ready guard the driver refuses Modbus motion and stops any: forget
+                // the held keys so nothing restarts when the guard is back.
+                if !matches!(status, GuardStatus::Ready { .. }) {
+                    self.stop_jog(now, effects);
+                }
+                if let GuardStatus::Down { reason } = &status {
+                    self.say(
+                        format!("stop guard down, motion stopped: {reason}"),
+                        Severity::Error,
+                        now,
+                    );
+                }
+                self.guard = Some(status);
+            }
         }
     }
 }

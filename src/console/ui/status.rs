@@ -9,7 +9,7 @@ use super::theme::Theme;
 use crate::console::app::{App, describe_motion};
 use crate::console::jog::ReleaseMode;
 use crate::kortex::CodeName;
-use crate::link::arm::LinkStatus;
+use crate::link::arm::{GuardStatus, LinkStatus};
 
 /// What the key-release mode is, in words: the status bar always shows it.
 pub fn release_mode_text(app: &App) -> String {
@@ -37,10 +37,24 @@ fn release_mode_name(app: &App) -> &'static str {
     }
 }
 
+/// The stop guard's badge, when one is required (Modbus motion).
+fn guard_spans(app: &App, theme: &Theme) -> Vec<Span<'static>> {
+    match &app.guard {
+        None => Vec::new(),
+        Some(GuardStatus::Ready { .. }) => vec![Span::styled(" GUARD OK ", theme.ok())],
+        Some(GuardStatus::Starting) => vec![
+            Span::styled(" NO GUARD ", theme.alarm()),
+            Span::styled(" starting ", theme.warning()),
+        ],
+        Some(GuardStatus::Down { .. }) => vec![Span::styled(" NO GUARD ", theme.alarm())],
+    }
+}
+
 /// Two lines: the link, then keys, motion and settings (so the key-release mode always shows,
 /// even at 80 columns).
 pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
-    let mut spans = Vec::new();
+    // The guard goes first: a missing one must show even when a long link line is cut.
+    let mut spans = guard_spans(app, theme);
     match &app.link {
         LinkStatus::Up { description } => {
             spans.push(Span::styled(" LINK UP ", theme.ok()));

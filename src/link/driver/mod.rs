@@ -17,6 +17,7 @@ use tokio::sync::mpsc;
 
 use super::Dialect;
 use super::arm::{ArmCommand, ArmEvent, LinkStatus, TelemetrySource};
+use super::guard::{self, GuardPolicy, GuardReport, GuardSupervisor};
 use super::modbus::{ModbusConfig, ModbusEvent, ModbusLink};
 use super::talos::{TalosConfig, TalosEvent};
 
@@ -37,6 +38,9 @@ pub struct DriverConfig {
     pub hw_telemetry_hz: f64,
     /// Handshake OID.
     pub oid: u16,
+    /// The stop guard for a Modbus link that carries motion (none by default; the console
+    /// starts one for a real arm).
+    pub guard: GuardPolicy,
 }
 
 impl DriverConfig {
@@ -48,7 +52,19 @@ impl DriverConfig {
             joint_jog_speed: 20.0,
             hw_telemetry_hz: 10.0,
             oid: 0,
+            guard: GuardPolicy::NotNeeded,
         }
+    }
+
+    /// Whether motion can go over Modbus: jogs on a Modbus-only link, and go-to of the
+    /// console's own positions whenever there is a Modbus link.
+    pub fn modbus_carries_motion(&self) -> bool {
+        self.modbus.is_some() && (self.talos.is_none() || !self.positions_on_operator())
+    }
+
+    /// Whether a stop guard must run before motion goes over Modbus.
+    pub fn guard_required(&self) -> bool {
+        matches!(self.guard, GuardPolicy::Spawn(_)) && self.modbus_carries_motion()
     }
 
     /// Where the telemetry panels get their data.
@@ -181,6 +197,9 @@ async fn run(
     let mut talos = talos_side::TalosSide::new(&config, events.clone(), joints.clone());
     let (modbus_events_tx, mut modbus_events) = mpsc::unbounded_channel::<ModbusEvent>();
     let mut modbus: Option<modbus_worker::ModbusWorker> = None;
+    let (guard_reports_tx, mut guard_reports) = mpsc::unbounded_channel::<GuardReport>();
+    // Dropped when this task ends: the guard then stops the arm (once more) and exits.
+    let guard = start_guard(&config, guard_reports_tx);
 
     if let Some(mc) = &config.modbus {
         match ModbusLink::connect(mc.clone()).await {
@@ -228,7 +247,12 @@ async fn run(
                 let via_talos = talos.handles(&command, modbus.is_some());
                 match (&modbus, via_talos) {
                     (_, true) => talos.command(command).await,
-                    (Some(m), false) => m.send(command),
+                    (Some(m), false) => match guard_refusal(&config, guard.as_ref(), &command) {
+                        Some(reason) => {
+                            let _ = events.send(ArmEvent::Failed { command: command.label(), reason });
+                        }
+                        None => m.send(command),
+                    },
                     (None, false) => {
                         let _ = events.send(ArmEvent::Failed {
                             command: command.label(),
@@ -265,6 +289,14 @@ async fn run(
                     other => tracing::info!("modbus: {other:?}"),
                 }
             }
+            Some(report) = guard_reports.recv() => {
+                if report.stops_motion()
+                    && let Some(m) = &modbus
+                {
+                    m.send(ArmCommand::Stop);
+                }
+                let _ = events.send(report.into_event());
+            }
             _ = reconnect.tick(), if talos.is_down() => {
                 let result = talos.connect().await;
                 if result.is_ok() {
@@ -283,6 +315,41 @@ async fn run(
     talos.flush().await;
     if let Some(m) = modbus {
         m.close().await;
+    }
+}
+
+/// Starts the stop guard when the configuration needs one.
+fn start_guard(
+    config: &DriverConfig,
+    reports: mpsc::UnboundedSender<GuardReport>,
+) -> Option<GuardSupervisor> {
+    let (GuardPolicy::Spawn(program), Some(mc)) = (&config.guard, &config.modbus) else {
+        return None;
+    };
+    if !config.guard_required() {
+        return None;
+    }
+    let _ = reports.send(GuardReport::Status(crate::link::arm::GuardStatus::Starting));
+    Some(GuardSupervisor::spawn(
+        program.clone(),
+        mc.addr.clone(),
+        mc.unit,
+        reports,
+    ))
+}
+
+/// Why a command bound for the Modbus link is refused for want of a stop guard, if it is.
+fn guard_refusal(
+    config: &DriverConfig,
+    guard: Option<&GuardSupervisor>,
+    command: &ArmCommand,
+) -> Option<String> {
+    if config.guard == GuardPolicy::NotNeeded || !guard::is_motion(command) {
+        return None;
+    }
+    match guard {
+        Some(g) => g.refusal(),
+        None => Some("stop guard not running: none was started for this link".into()),
     }
 }
 

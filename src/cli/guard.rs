@@ -1,0 +1,288 @@
+//! `armjog guard` (hidden): the stop guard the console starts for a Modbus arm. See
+//! [`crate::link::guard`] for why and for the protocol on its stdin and stdout.
+//!
+//! It holds its own Modbus connection and writes nothing while the console lives. When its
+//! stdin closes (the console is gone, however it ended) it writes the stop (holding register
+//! 200 <- 2, the abort coil if that is refused or fails) and exits; when the heartbeat stops for
+//! the heartbeat timeout while stdin stays open (a frozen console) it writes the stop and keeps
+//! watching. SIGTERM, SIGINT and SIGHUP also stop the arm before it exits.
+
+use std::future::Future;
+use std::time::Duration;
+
+use clap::Args;
+use tokio::io::{AsyncRead, AsyncReadExt, AsyncWrite, AsyncWriteExt};
+use tokio::sync::mpsc;
+use tokio::time::Instant;
+
+use crate::link::guard::HEARTBEAT_TIMEOUT;
+use crate::link::modbus::{DEFAULT_PORT, DEFAULT_UNIT, ModbusConfig, ModbusEvent, ModbusLink};
+
+/// How long the guard keeps trying to write a stop (reconnecting meanwhile) before it gives up.
+const STOP_PERSISTENCE: Duration = Duration::from_secs(3);
+/// Pause between connection attempts while the arm cannot be reached.
+const CONNECT_RETRY: Duration = Duration::from_secs(1);
+
+#[derive(Debug, Args)]
+pub struct GuardArgs {
+    /// The arm, HOST:PORT (port 502 if omitted).
+    #[arg(long, value_name = "HOST:PORT")]
+    pub modbus: String,
+    /// Modbus unit id.
+    #[arg(long, default_value_t = DEFAULT_UNIT, value_name = "N")]
+    pub unit: u8,
+    /// Stop the arm when no heartbeat byte came for this long, milliseconds.
+    #[arg(long, default_value_t = HEARTBEAT_TIMEOUT.as_millis() as u64, value_name = "MS")]
+    pub heartbeat_timeout: u64,
+}
+
+impl GuardArgs {
+    /// A link that only writes when told: no twist of its own, a slow poll that notices a
+    /// dead connection, short timeouts so a stop that fails is retried soon.
+    pub fn config(&self) -> ModbusConfig {
+        guard_link_config(
+            super::with_default_port(&self.modbus, DEFAULT_PORT),
+            self.unit,
+        )
+    }
+}
+
+/// The guard's Modbus link settings for an arm at `addr`.
+pub fn guard_link_config(addr: String, unit: u8) -> ModbusConfig {
+    let mut config = ModbusConfig::new(addr);
+    config.unit = unit;
+    config.poll_rate_hz = Some(1.0);
+    config.twist_hold = None;
+    config.request_timeout = Duration::from_millis(300);
+    config.connect_timeout = Duration::from_secs(1);
+    config
+}
+
+/// Runs the guard on this process's stdin and stdout; returns the exit status (0: the console
+/// went away and the stop was written, or nothing had been connected; 1: the stop failed).
+pub async fn run(args: &GuardArgs) -> i32 {
+    let timeout = Duration::from_millis(args.heartbeat_timeout.max(100));
+    let signal = match signals() {
+        Ok(signal) => signal,
+        Err(e) => {
+            tracing::error!("stop guard: cannot watch signals: {e}");
+            return 1;
+        }
+    };
+    watch(
+        args.config(),
+        timeout,
+        tokio::io::stdin(),
+        tokio::io::stdout(),
+        signal,
+    )
+    .await
+}
+
+fn signals() -> std::io::Result<impl Future<Output = &'static str>> {
+    use tokio::signal::unix::{SignalKind, signal};
+    let mut interrupt = signal(SignalKind::interrupt())?;
+    let mut terminate = signal(SignalKind::terminate())?;
+    let mut hangup = signal(SignalKind::hangup())?;
+    Ok(async move {
+        tokio::select! {
+            _ = interrupt.recv() => "SIGINT",
+            _ = terminate.recv() => "SIGTERM",
+            _ = hangup.recv() => "SIGHUP",
+        }
+    })
+}
+
+/// What came through the console's pipe.
+enum FromConsole {
+    Beat,
+    Gone(String),
+}
+
+fn read_console<R: AsyncRead + Unpin + Send + 'static>(
+    mut pipe: R,
+) -> mpsc::UnboundedReceiver<FromConsole> {
+    let (tx, rx) = mpsc::unbounded_channel();
+    tokio::spawn(async move {
+        let mut buf = [0u8; 64];
+        loop {
+            let message = match pipe.read(&mut buf).await {
+                Ok(0) => FromConsole::Gone("its pipe closed".into()),
+                Ok(_) => FromConsole::Beat,
+                Err(e) => FromConsole::Gone(format!("reading its pipe failed: {e}")),
+            };
+            let gone = matches!(message, FromConsole::Gone(_));
+            if tx.send(message).is_err() || gone {
+                return;
+            }
+        }
+    });
+    rx
+}
+
+/// Waits until the console is gone, ignoring heartbeats.
+async fn console_gone(console: &mut mpsc::UnboundedReceiver<FromConsole>) -> String {
+    loop {
+        match console.recv().await {
+            Some(FromConsole::Beat) => {}
+            Some(FromConsole::Gone(reason)) => return reason,
+            None => return "its pipe reader ended".into(),
+        }
+    }
+}
+
+/// The guard itself, on any pipe and output: the console's pipe in, status lines out.
+pub async fn watch<R, W>(
+    config: ModbusConfig,
+    heartbeat_timeout: Duration,
+    pipe: R,
+    mut out: W,
+    signal: impl Future<Output = &'static str>,
+) -> i32
+where
+    R: AsyncRead + Unpin + Send + 'static,
+    W: AsyncWrite + Unpin,
+{
+    tokio::pin!(signal);
+    let mut console = read_console(pipe);
+    let connected = {
+        let connect = connect(config, &mut out);
+        tokio::pin!(connect);
+        tokio::select! {
+            biased;
+            reason = console_gone(&mut console) => {
+                // Not connected yet, so the console was refused every motion: nothing to stop.
+                tracing::info!("stop guard: the console is gone ({reason}) before the arm was reached");
+                return 0;
+            }
+            name = &mut signal => {
+                tracing::info!("stop guard: {name} before the arm was reached");
+                return 0;
+            }
+            link = &mut connect => link,
+        }
+    };
+    let (link, mut link_events) = connected;
+    say(&mut out, "ready").await;
+    let mut deadline = Instant::now() + heartbeat_timeout;
+    let mut starved = false;
+    loop {
+        tokio::select! {
+            biased;
+            message = console.recv() => match message {
+                Some(FromConsole::Beat) => {
+                    deadline = Instant::now() + heartbeat_timeout;
+                    if starved {
+                        tracing::info!("stop guard: the console's heartbeat is back");
+                        starved = false;
+                    }
+                }
+                Some(FromConsole::Gone(reason)) => {
+                    return finish(&link, &format!("the console is gone ({reason})"), &mut out).await;
+                }
+                None => return finish(&link, "the console's pipe reader ended", &mut out).await,
+            },
+            name = &mut signal => return finish(&link, name, &mut out).await,
+            _ = tokio::time::sleep_until(deadline), if !starved => {
+                starved = true;
+                let why = format!("no heartbeat from the console for {} ms", heartbeat_timeout.as_millis());
+                match stop_arm(&link, &why).await {
+                    Ok(done) => say(&mut out, &format!("stopped {why}: {done}")).await,
+                    Err(e) => say(&mut out, &format!("stop-failed {why}: {e}")).await,
+                }
+            }
+            event = link_events.recv() => match event {
+                Some(ModbusEvent::Disconnected { reason }) => say(&mut out, &format!("down {reason}")).await,
+                Some(ModbusEvent::Reconnected { .. }) => say(&mut out, "ready").await,
+                Some(_) => {}
+                None => {
+                    say(&mut out, "down the link to the arm has ended").await;
+                    return 1;
+                }
+            },
+        }
+    }
+}
+
+/// Connects, retrying until it works; says `down` while the arm cannot be reached.
+async fn connect<W: AsyncWrite + Unpin>(
+    config: ModbusConfig,
+    out: &mut W,
+) -> (ModbusLink, mpsc::UnboundedReceiver<ModbusEvent>) {
+    let mut last = String::new();
+    loop {
+        match ModbusLink::connect(config.clone()).await {
+            Ok(connected) => return connected,
+            Err(e) => {
+                let reason = e.to_string();
+                if reason != last {
+                    tracing::warn!("stop guard: cannot reach the arm: {reason}");
+                    say(out, &format!("down {reason}")).await;
+                    last = reason;
+                }
+                tokio::time::sleep(CONNECT_RETRY).await;
+            }
+        }
+    }
+}
+
+/// Stops the arm as the console is gone, and returns the exit status.
+async fn finish<W: AsyncWrite + Unpin>(link: &ModbusLink, why: &str, out: &mut W) -> i32 {
+    let code = match stop_arm(link, why).await {
+        Ok(done) => {
+            tracing::info!("stop guard: {why}: arm stopped ({done})");
+            say(out, &format!("stopped {why}: {done}")).await;
+            0
+        }
+        Err(e) => {
+            tracing::error!("stop guard: {why}: THE STOP FAILED: {e}. Use the arm's e-stop");
+            say(out, &format!("stop-failed {why}: {e}")).await;
+            1
+        }
+    };
+    let _ = tokio::time::timeout(Duration::from_secs(1), link.clone().close()).await;
+    code
+}
+
+/// Holding register 200 <- 2 (the link pulses the abort coil if the arm refuses it); if the
+/// stop fails, the abort coil; both again, over a fresh connection, until one is written or
+/// [`STOP_PERSISTENCE`] has passed.
+async fn stop_arm(link: &ModbusLink, why: &str) -> Result<String, String> {
+    let started = Instant::now();
+    let give_up = started + STOP_PERSISTENCE;
+    let mut errors = Vec::new();
+    loop {
+        match link.stop().await {
+            Ok(report) => return Ok(done(started, report.writes.len())),
+            Err(e) => {
+                tracing::error!("stop guard ({why}): stop not written: {e}");
+                errors.push(e.to_string());
+            }
+        }
+        match link.abort().await {
+            Ok(report) => return Ok(done(started, report.writes.len())),
+            Err(e) => {
+                tracing::error!("stop guard ({why}): abort coil not written: {e}");
+                errors.push(e.to_string());
+            }
+        }
+        if Instant::now() >= give_up {
+            errors.dedup();
+            return Err(errors.join("; "));
+        }
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+}
+
+fn done(started: Instant, writes: usize) -> String {
+    format!(
+        "{writes} writes in {:.1} ms",
+        started.elapsed().as_secs_f64() * 1000.0
+    )
+}
+
+/// One status line to the console; a console that is gone cannot read it, which is fine.
+async fn say<W: AsyncWrite + Unpin>(out: &mut W, line: &str) {
+    let _ = out.write_all(format!("{line}\n").as_bytes()).await;
+    let _ = out.flush().await;
+}

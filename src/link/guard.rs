@@ -1,0 +1,324 @@
+//! The stop guard, console side: a small process (`armjog guard`, see [`crate::cli::guard`])
+//! with its own Modbus connection that stops the arm when the console dies.
+//!
+//! A Kinova arm has no twist watchdog: a console killed with SIGKILL (or by the OOM killer)
+//! mid-jog leaves the twist running, and no code of the console can run to stop it. The guard
+//! watches the console through a pipe on its stdin: when the pipe closes (every way a process
+//! ends closes it) it writes the stop and exits; when the heartbeat written into the pipe stops
+//! for [`HEARTBEAT_TIMEOUT`] (a frozen console) it writes the stop and keeps watching.
+//!
+//! The protocol: the console writes [`HEARTBEAT`] every [`HEARTBEAT_PERIOD`]; the guard answers
+//! with lines on its stdout: `ready` (its Modbus connection is up), `down REASON` (it cannot
+//! reach the arm), `stopped REASON` (it wrote a stop on its own) and `stop-failed REASON`.
+//!
+//! The guard runs in its own process group, so a Ctrl-C or a group kill aimed at the console's
+//! terminal does not take it down first. Its stderr is read into the console's log, never the
+//! terminal. Dropping the [`GuardSupervisor`] closes the pipe: the guard stops the arm (harmless
+//! on the way out) and exits.
+
+use std::path::PathBuf;
+use std::process::Stdio;
+use std::time::Duration;
+
+use tokio::io::{AsyncBufReadExt, AsyncWriteExt, BufReader};
+use tokio::process::{Child, ChildStdin, Command};
+use tokio::sync::{mpsc, oneshot, watch};
+
+use super::arm::{ArmCommand, ArmEvent, GuardStatus};
+
+/// The byte the console writes to keep the guard from stopping the arm.
+pub const HEARTBEAT: u8 = b'.';
+/// How often the console writes it.
+pub const HEARTBEAT_PERIOD: Duration = Duration::from_millis(100);
+/// A console silent this long is taken as frozen: the guard stops the arm.
+pub const HEARTBEAT_TIMEOUT: Duration = Duration::from_secs(1);
+/// First delay before restarting a guard that died; doubled up to [`RESTART_MAX_DELAY`].
+const RESTART_DELAY: Duration = Duration::from_millis(500);
+const RESTART_MAX_DELAY: Duration = Duration::from_secs(5);
+/// A guard ready this long counts as healthy: the next restart starts with the short delay.
+const HEALTHY_AFTER: Duration = Duration::from_secs(10);
+/// A heartbeat the pipe does not take within this long means the guard no longer reads it.
+const WRITE_TIMEOUT: Duration = Duration::from_secs(1);
+
+/// Whether the driver starts a stop guard for its Modbus link.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum GuardPolicy {
+    /// Start this program as `PROGRAM guard --modbus ADDR --unit N` (the armjog binary:
+    /// `std::env::current_exe()` in the console, `CARGO_BIN_EXE_armjog` in tests).
+    Spawn(PathBuf),
+    /// No guard: an in-process simulated arm dies with the console, and library users and tests
+    /// that do not want one say so.
+    NotNeeded,
+}
+
+/// Commands that start motion: refused over Modbus while no guard is ready.
+pub fn is_motion(command: &ArmCommand) -> bool {
+    matches!(
+        command,
+        ArmCommand::Jog(_) | ArmCommand::Step(_) | ArmCommand::MoveToPose(_) | ArmCommand::Home
+    )
+}
+
+/// What the supervisor tells the driver.
+#[derive(Debug, Clone, PartialEq)]
+pub enum GuardReport {
+    Status(GuardStatus),
+    /// The guard wrote a stop on its own (it missed the heartbeat).
+    StoppedArm {
+        reason: String,
+    },
+}
+
+impl GuardReport {
+    /// Whether the driver must stop Modbus motion: without a ready guard nothing may run, and
+    /// after the guard's own stop the link must not believe a twist still runs.
+    pub fn stops_motion(&self) -> bool {
+        !matches!(self, GuardReport::Status(GuardStatus::Ready { .. }))
+    }
+
+    /// The event the console sees.
+    pub fn into_event(self) -> ArmEvent {
+        match self {
+            GuardReport::Status(status) => ArmEvent::Guard(status),
+            // As a failed jog: the console stops and forgets the held keys.
+            GuardReport::StoppedArm { reason } => ArmEvent::Failed {
+                command: "jog",
+                reason: format!("the stop guard stopped the arm: {reason}"),
+            },
+        }
+    }
+}
+
+/// Starts the guard, watches it, restarts it when it dies. Dropping it ends the guard.
+#[derive(Debug)]
+pub struct GuardSupervisor {
+    status: watch::Receiver<GuardStatus>,
+    _shutdown: oneshot::Sender<()>,
+}
+
+impl GuardSupervisor {
+    /// Starts `program guard --modbus ADDR --unit UNIT`; reports every change of state.
+    pub fn spawn(
+        program: PathBuf,
+        addr: String,
+        unit: u8,
+        reports: mpsc::UnboundedSender<GuardReport>,
+    ) -> GuardSupervisor {
+        let (status_tx, status) = watch::channel(GuardStatus::Starting);
+        let (shutdown_tx, shutdown) = oneshot::channel();
+        let args = vec![
+            "guard".to_string(),
+            "--modbus".to_string(),
+            addr,
+            "--unit".to_string(),
+            unit.to_string(),
+        ];
+        let reporter = Reporter {
+            status: status_tx,
+            reports,
+        };
+        tokio::spawn(supervise(program, args, reporter, shutdown));
+        GuardSupervisor {
+            status,
+            _shutdown: shutdown_tx,
+        }
+    }
+
+    pub fn status(&self) -> GuardStatus {
+        self.status.borrow().clone()
+    }
+
+    /// Why motion over Modbus is refused now, or `None` when the guard is ready.
+    pub fn refusal(&self) -> Option<String> {
+        match self.status() {
+            GuardStatus::Ready { .. } => None,
+            GuardStatus::Starting => {
+                Some("stop guard not running: still starting (connecting to the arm)".into())
+            }
+            GuardStatus::Down { reason } => Some(format!("stop guard not running: {reason}")),
+        }
+    }
+}
+
+struct Reporter {
+    status: watch::Sender<GuardStatus>,
+    reports: mpsc::UnboundedSender<GuardReport>,
+}
+
+impl Reporter {
+    fn status(&self, status: GuardStatus) {
+        if *self.status.borrow() == status {
+            return;
+        }
+        match &status {
+            GuardStatus::Down { reason } => tracing::error!("stop guard down: {reason}"),
+            other => tracing::info!("stop guard: {other:?}"),
+        }
+        self.status.send_replace(status.clone());
+        let _ = self.reports.send(GuardReport::Status(status));
+    }
+}
+
+async fn supervise(
+    program: PathBuf,
+    args: Vec<String>,
+    reporter: Reporter,
+    mut shutdown: oneshot::Receiver<()>,
+) {
+    let mut delay = RESTART_DELAY;
+    loop {
+        reporter.status(GuardStatus::Starting);
+        let started = tokio::time::Instant::now();
+        // Dropping `run_once` (on shutdown) drops the pipe: the guard stops the arm and exits.
+        let ended = tokio::select! {
+            reason = run_once(&program, &args, &reporter) => reason,
+            _ = &mut shutdown => return,
+        };
+        if started.elapsed() >= HEALTHY_AFTER {
+            delay = RESTART_DELAY;
+        }
+        reporter.status(GuardStatus::Down {
+            reason: format!("{ended}; restarting it in {:.1} s", delay.as_secs_f64()),
+        });
+        tokio::select! {
+            _ = tokio::time::sleep(delay) => {}
+            _ = &mut shutdown => return,
+        }
+        delay = (delay * 2).min(RESTART_MAX_DELAY);
+    }
+}
+
+/// Runs one guard process until it ends; returns why it ended.
+async fn run_once(program: &PathBuf, args: &[String], reporter: &Reporter) -> String {
+    let spawned = Command::new(program)
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        // Its own process group: Ctrl-C or a group kill aimed at the console spares it.
+        .process_group(0)
+        .kill_on_drop(false)
+        .spawn();
+    let mut child = match spawned {
+        Ok(child) => child,
+        Err(e) => return format!("cannot start the stop guard {}: {e}", program.display()),
+    };
+    let pid = child.id().unwrap_or(0);
+    let (Some(mut stdin), Some(stdout)) = (child.stdin.take(), child.stdout.take()) else {
+        return "the stop guard's pipes were not set up".into();
+    };
+    if let Some(stderr) = child.stderr.take() {
+        tokio::spawn(async move {
+            let mut lines = BufReader::new(stderr).lines();
+            while let Ok(Some(line)) = lines.next_line().await {
+                tracing::warn!("stop guard {pid} stderr: {line}");
+            }
+        });
+    }
+    let mut lines = BufReader::new(stdout).lines();
+    let mut beat = tokio::time::interval(HEARTBEAT_PERIOD);
+    beat.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+    loop {
+        tokio::select! {
+            _ = beat.tick() => {
+                if let Err(reason) = heartbeat(&mut stdin).await {
+                    return end(child, format!("the stop guard {pid} stopped reading: {reason}")).await;
+                }
+            }
+            line = lines.next_line() => match line {
+                Ok(Some(line)) => on_line(&line, pid, reporter),
+                Ok(None) | Err(_) => {
+                    return end(child, format!("the stop guard {pid} closed its output")).await;
+                }
+            },
+            status = child.wait() => {
+                return match status {
+                    Ok(status) => format!("the stop guard {pid} exited ({status})"),
+                    Err(e) => format!("the stop guard {pid} cannot be watched: {e}"),
+                };
+            }
+        }
+    }
+}
+
+async fn heartbeat(stdin: &mut ChildStdin) -> Result<(), String> {
+    let write = async {
+        stdin.write_all(&[HEARTBEAT]).await?;
+        stdin.flush().await
+    };
+    match tokio::time::timeout(WRITE_TIMEOUT, write).await {
+        Ok(Ok(())) => Ok(()),
+        Ok(Err(e)) => Err(e.to_string()),
+        Err(_) => Err(format!("the pipe took no byte for {WRITE_TIMEOUT:?}")),
+    }
+}
+
+/// A guard that no longer talks is ended (it is ours, by its own handle) so a fresh one can
+/// take over; dropping its stdin first lets a live one stop the arm on the way out.
+async fn end(mut child: Child, reason: String) -> String {
+    drop(child.stdin.take());
+    if tokio::time::timeout(Duration::from_secs(1), child.wait())
+        .await
+        .is_err()
+    {
+        let _ = child.start_kill();
+        let _ = tokio::time::timeout(Duration::from_secs(1), child.wait()).await;
+    }
+    reason
+}
+
+fn on_line(line: &str, pid: u32, reporter: &Reporter) {
+    let (word, rest) = line.split_once(' ').unwrap_or((line, ""));
+    match word {
+        "ready" => reporter.status(GuardStatus::Ready { pid }),
+        "down" => reporter.status(GuardStatus::Down {
+            reason: format!("the stop guard cannot reach the arm: {rest}"),
+        }),
+        "stopped" => {
+            tracing::warn!("stop guard {pid} stopped the arm: {rest}");
+            let _ = reporter.reports.send(GuardReport::StoppedArm {
+                reason: rest.to_string(),
+            });
+        }
+        "stop-failed" => {
+            tracing::error!("stop guard {pid} could not stop the arm: {rest}");
+            let _ = reporter.reports.send(GuardReport::StoppedArm {
+                reason: format!("its stop FAILED: {rest}"),
+            });
+        }
+        _ => tracing::info!("stop guard {pid}: {line}"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::console::jog::JogMotion;
+
+    #[test]
+    fn only_commands_that_move_the_arm_need_a_guard() {
+        assert!(is_motion(&ArmCommand::Jog(JogMotion::Cartesian {
+            x: 1,
+            y: 0,
+            z: 0
+        })));
+        assert!(is_motion(&ArmCommand::Home));
+        assert!(!is_motion(&ArmCommand::Stop));
+        assert!(!is_motion(&ArmCommand::QuickStop));
+        assert!(!is_motion(&ArmCommand::SetSpeed(10)));
+    }
+
+    #[test]
+    fn every_report_but_ready_stops_motion() {
+        assert!(!GuardReport::Status(GuardStatus::Ready { pid: 7 }).stops_motion());
+        assert!(GuardReport::Status(GuardStatus::Starting).stops_motion());
+        let stopped = GuardReport::StoppedArm {
+            reason: "no heartbeat".into(),
+        };
+        assert!(stopped.stops_motion());
+        assert!(matches!(
+            stopped.into_event(),
+            ArmEvent::Failed { command: "jog", reason } if reason.contains("no heartbeat")
+        ));
+    }
+}
