@@ -535,3 +535,109 @@ async fn killing_the_console_with_sigkill_mid_jog_stops_the_arm() {
     }
     assert!(left.is_empty(), "the guard exited after the stop: {left:?}");
 }
+
+/// The status bar's two lines as text, 80 columns wide.
+fn status_text(app: &armjog::console::app::App) -> (String, ratatui::buffer::Buffer) {
+    use armjog::console::ui::{Theme, status};
+    let mut terminal =
+        ratatui::Terminal::new(ratatui::backend::TestBackend::new(80, 2)).expect("terminal");
+    terminal
+        .draw(|f| status::draw(f, f.area(), app, &Theme { color: true }))
+        .expect("draw");
+    let buffer = terminal.backend().buffer().clone();
+    let text: String = buffer.content().iter().map(|c| c.symbol()).collect();
+    (text, buffer)
+}
+
+#[test]
+fn the_console_stops_and_says_so_when_its_guard_goes_down_and_shows_its_state() {
+    use armjog::console::app::{App, AppConfig, Effect, Input, KeyInput, Severity};
+    use armjog::console::jog::{KeyKind, ReleaseMode};
+    use armjog::console::keymap::Keymap;
+    use armjog::console::positions::PositionBook;
+    use armjog::console::ui::Theme;
+    use armjog::link::arm::LinkStatus;
+
+    let t0 = std::time::Instant::now();
+    let mut app = App::new(
+        AppConfig {
+            keymap: Keymap::builtin("default").expect("keymap"),
+            release_mode: ReleaseMode::Reported,
+            refresh: Duration::from_millis(100),
+            positions_on_operator: false,
+            max_jog_speed: 0.25,
+            frames: true,
+        },
+        PositionBook::new(),
+    );
+    let up = LinkStatus::Up {
+        description: "modbus 10.0.0.9:502 unit 1".into(),
+    };
+    app.handle(Input::Arm(ArmEvent::Status(up)), t0);
+    let (text, _) = status_text(&app);
+    assert!(
+        !text.contains("GUARD"),
+        "no badge while none is required: {text}"
+    );
+
+    app.handle(Input::Arm(ArmEvent::Guard(GuardStatus::Starting)), t0);
+    let (text, buffer) = status_text(&app);
+    assert!(text.contains("NO GUARD"), "{text}");
+    let at = text.find("NO GUARD").expect("badge");
+    assert_eq!(
+        buffer.content()[at + 1].style().bg,
+        Theme { color: true }.alarm().bg
+    );
+
+    app.handle(
+        Input::Arm(ArmEvent::Guard(GuardStatus::Ready { pid: 42 })),
+        t0,
+    );
+    assert!(status_text(&app).0.contains("GUARD OK"));
+    let w = KeyInput {
+        key: "w".parse().expect("key"),
+        text: Some('w'),
+        kind: KeyKind::Press,
+    };
+    let effects = app.handle(Input::Key(w), t0);
+    assert!(
+        effects
+            .iter()
+            .any(|e| matches!(e, Effect::Arm(ArmCommand::Jog(_)))),
+        "w jogs with the guard ready: {effects:?}"
+    );
+
+    // The guard dies with w still held: the console stops, forgets the key, says why.
+    let down = GuardStatus::Down {
+        reason: "the stop guard 42 exited (signal: 9)".into(),
+    };
+    let t1 = t0 + Duration::from_millis(50);
+    let effects = app.handle(Input::Arm(ArmEvent::Guard(down)), t1);
+    assert!(
+        effects.contains(&Effect::Arm(ArmCommand::Stop)),
+        "stopped: {effects:?}"
+    );
+    assert!(app.jog.active().is_none(), "nothing held any more");
+    let (message, severity, _) = app.message.clone().expect("a message");
+    assert_eq!(severity, Severity::Error);
+    assert!(
+        message.contains("stop guard down") && message.contains("exited"),
+        "{message}"
+    );
+    assert!(status_text(&app).0.contains("NO GUARD"));
+
+    // Back again: nothing restarts without a fresh press.
+    let t2 = t1 + Duration::from_millis(500);
+    let effects = app.handle(
+        Input::Arm(ArmEvent::Guard(GuardStatus::Ready { pid: 43 })),
+        t2,
+    );
+    let effects_later = app.handle(Input::Tick, t2 + Duration::from_millis(200));
+    assert!(
+        !effects
+            .iter()
+            .chain(&effects_later)
+            .any(|e| matches!(e, Effect::Arm(ArmCommand::Jog(_)))),
+        "no jog after the guard is back: {effects:?} {effects_later:?}"
+    );
+}
