@@ -496,18 +496,21 @@ async fn killing_the_console_with_sigkill_mid_jog_stops_the_arm() {
         .args(["-9", &console_pid.to_string()])
         .status()
         .expect("kill");
+    // `kill` has returned: the signal is delivered.
+    let killed_at = Instant::now();
     holding.store(false, std::sync::atomic::Ordering::Relaxed);
-    let _ = keys.join();
     assert!(
         moving.is_some() && still_moving,
         "w jogged the arm over Modbus"
     );
     assert!(killed.success(), "kill -9 {console_pid}");
 
-    let took = wait_moving(&sim, false, Duration::from_secs(2))
+    wait_moving(&sim, false, Duration::from_secs(2))
         .await
         .expect("the guard stops the twist within 2 s of the console's death");
+    let took = killed_at.elapsed();
     let (_, x_stopped) = arm_state(&sim).await;
+    let _ = keys.join();
     eprintln!(
         "console SIGKILLed -> arm stopped in {:.1} ms ({x_at_kill:.1} -> {x_stopped:.1} mm)",
         took.as_secs_f64() * 1000.0
