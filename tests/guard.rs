@@ -143,12 +143,19 @@ impl Guard {
         }
     }
 
+    /// The next line other than the guard's periodic `alive`.
     async fn line(&mut self, within: Duration) -> Option<String> {
-        tokio::time::timeout(within, self.lines.next_line())
-            .await
-            .ok()
-            .and_then(|l| l.ok())
-            .flatten()
+        let until = Instant::now() + within;
+        loop {
+            let line = tokio::time::timeout_at(until, self.lines.next_line())
+                .await
+                .ok()
+                .and_then(|l| l.ok())
+                .flatten()?;
+            if line != "alive" {
+                return Some(line);
+            }
+        }
     }
 }
 
@@ -362,6 +369,60 @@ async fn a_killed_guard_stops_the_jog_and_is_restarted() {
     assert_ne!(again, pid, "a fresh guard process");
     jogging.abort();
     driver.send(ArmCommand::Stop);
+    driver.shutdown().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_guard_that_stops_answering_is_replaced() {
+    let sim = simulator().await;
+    let (driver, mut events) = modbus_driver(&sim, GuardPolicy::Spawn(BIN.into()));
+    let ready = |e: &ArmEvent| matches!(e, ArmEvent::Guard(GuardStatus::Ready { .. }));
+    let ArmEvent::Guard(GuardStatus::Ready { pid }) = wait_event(
+        &mut events,
+        Duration::from_secs(10),
+        "the guard ready",
+        ready,
+    )
+    .await
+    else {
+        unreachable!()
+    };
+    // A frozen guard: alive as a process, but it would not stop anything.
+    let frozen = std::process::Command::new("kill")
+        .args(["-STOP", &pid.to_string()])
+        .status()
+        .expect("kill");
+    assert!(frozen.success());
+    let down = wait_event(
+        &mut events,
+        Duration::from_secs(15),
+        "the guard down",
+        |e| matches!(e, ArmEvent::Guard(GuardStatus::Down { .. })),
+    )
+    .await;
+    assert!(
+        matches!(&down, ArmEvent::Guard(GuardStatus::Down { reason }) if reason.contains("stopped answering")),
+        "says why: {down:?}"
+    );
+    assert!(driver.send(jog_x()));
+    wait_event(&mut events, Duration::from_secs(5), "the jog refused", |e| {
+        matches!(e, ArmEvent::Failed { command: "jog", reason } if reason.contains("stop guard not running"))
+    })
+    .await;
+    let ArmEvent::Guard(GuardStatus::Ready { pid: again }) =
+        wait_event(&mut events, Duration::from_secs(15), "a new guard", ready).await
+    else {
+        unreachable!()
+    };
+    assert_ne!(again, pid, "a fresh guard process");
+    let until = Instant::now() + Duration::from_secs(5);
+    while std::path::Path::new(&format!("/proc/{pid}")).exists() && Instant::now() < until {
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    assert!(
+        !std::path::Path::new(&format!("/proc/{pid}")).exists(),
+        "the frozen guard was ended"
+    );
     driver.shutdown().await;
 }
 

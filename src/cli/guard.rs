@@ -15,7 +15,7 @@ use tokio::io::{AsyncRead, AsyncReadExt, AsyncWrite, AsyncWriteExt};
 use tokio::sync::mpsc;
 use tokio::time::Instant;
 
-use crate::link::guard::HEARTBEAT_TIMEOUT;
+use crate::link::guard::{ALIVE_PERIOD, HEARTBEAT_TIMEOUT};
 use crate::link::modbus::{DEFAULT_PORT, DEFAULT_UNIT, ModbusConfig, ModbusEvent, ModbusLink};
 
 /// How long the guard keeps trying to write a stop (reconnecting meanwhile) before it gives up.
@@ -166,6 +166,8 @@ where
     say(&mut out, "ready").await;
     let mut deadline = Instant::now() + heartbeat_timeout;
     let mut starved = false;
+    let mut alive = tokio::time::interval(ALIVE_PERIOD);
+    alive.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
     loop {
         tokio::select! {
             biased;
@@ -191,6 +193,7 @@ where
                     Err(e) => say(&mut out, &format!("stop-failed {why}: {e}")).await,
                 }
             }
+            _ = alive.tick() => say(&mut out, "alive").await,
             event = link_events.recv() => match event {
                 Some(ModbusEvent::Disconnected { reason }) => say(&mut out, &format!("down {reason}")).await,
                 Some(ModbusEvent::Reconnected { .. }) => say(&mut out, "ready").await,

@@ -152,6 +152,12 @@ pub enum GuardStatus {
     Down { reason: String },
 }
 
+impl GuardStatus {
+    pub fn is_ready(&self) -> bool {
+        matches!(self, GuardStatus::Ready { .. })
+    }
+}
+
 /// What the driver tells the console.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ArmEvent {

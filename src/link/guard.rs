@@ -8,8 +8,10 @@
 //! for [`HEARTBEAT_TIMEOUT`] (a frozen console) it writes the stop and keeps watching.
 //!
 //! The protocol: the console writes [`HEARTBEAT`] every [`HEARTBEAT_PERIOD`]; the guard answers
-//! with lines on its stdout: `ready` (its Modbus connection is up), `down REASON` (it cannot
-//! reach the arm), `stopped REASON` (it wrote a stop on its own) and `stop-failed REASON`.
+//! with lines on its stdout: `ready` (its Modbus connection is up), `alive` every
+//! [`ALIVE_PERIOD`] from then on, `down REASON` (it cannot reach the arm), `stopped REASON` (it
+//! wrote a stop on its own) and `stop-failed REASON`. A ready guard silent for [`GUARD_SILENCE`]
+//! (stopped, frozen) is ended and replaced.
 //!
 //! The guard runs in its own process group, so a Ctrl-C or a group kill aimed at the console's
 //! terminal does not take it down first. Its stderr is read into the console's log, never the
@@ -32,6 +34,11 @@ pub const HEARTBEAT: u8 = b'.';
 pub const HEARTBEAT_PERIOD: Duration = Duration::from_millis(100);
 /// A console silent this long is taken as frozen: the guard stops the arm.
 pub const HEARTBEAT_TIMEOUT: Duration = Duration::from_secs(1);
+/// How often a ready guard says `alive`.
+pub const ALIVE_PERIOD: Duration = Duration::from_millis(500);
+/// A ready guard silent this long is taken as frozen. Longer than a stop that keeps failing
+/// (the guard retries for 3 s), so a guard busy stopping the arm is not ended for it.
+pub const GUARD_SILENCE: Duration = Duration::from_secs(5);
 /// First delay before restarting a guard that died; doubled up to [`RESTART_MAX_DELAY`].
 const RESTART_DELAY: Duration = Duration::from_millis(500);
 const RESTART_MAX_DELAY: Duration = Duration::from_secs(5);
@@ -218,15 +225,30 @@ async fn run_once(program: &PathBuf, args: &[String], reporter: &Reporter) -> St
     let mut lines = BufReader::new(stdout).lines();
     let mut beat = tokio::time::interval(HEARTBEAT_PERIOD);
     beat.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+    // Armed once the guard is ready: from then on it speaks at least every ALIVE_PERIOD.
+    let mut heard: Option<tokio::time::Instant> = None;
     loop {
+        let silent_until = heard.map(|at| at + GUARD_SILENCE);
         tokio::select! {
+            _ = sleep_until(silent_until) => {
+                let silence = format!(
+                    "the stop guard {pid} stopped answering for {} s",
+                    GUARD_SILENCE.as_secs()
+                );
+                return end(child, silence).await;
+            }
             _ = beat.tick() => {
                 if let Err(reason) = heartbeat(&mut stdin).await {
                     return end(child, format!("the stop guard {pid} stopped reading: {reason}")).await;
                 }
             }
             line = lines.next_line() => match line {
-                Ok(Some(line)) => on_line(&line, pid, reporter),
+                Ok(Some(line)) => {
+                    on_line(&line, pid, reporter);
+                    if heard.is_some() || reporter.status.borrow().is_ready() {
+                        heard = Some(tokio::time::Instant::now());
+                    }
+                }
                 Ok(None) | Err(_) => {
                     return end(child, format!("the stop guard {pid} closed its output")).await;
                 }
@@ -238,6 +260,13 @@ async fn run_once(program: &PathBuf, args: &[String], reporter: &Reporter) -> St
                 };
             }
         }
+    }
+}
+
+async fn sleep_until(deadline: Option<tokio::time::Instant>) {
+    match deadline {
+        Some(at) => tokio::time::sleep_until(at).await,
+        None => std::future::pending().await,
     }
 }
 
@@ -271,6 +300,7 @@ fn on_line(line: &str, pid: u32, reporter: &Reporter) {
     let (word, rest) = line.split_once(' ').unwrap_or((line, ""));
     match word {
         "ready" => reporter.status(GuardStatus::Ready { pid }),
+        "alive" => {}
         "down" => reporter.status(GuardStatus::Down {
             reason: format!("the stop guard cannot reach the arm: {rest}"),
         }),
