@@ -339,6 +339,35 @@ mod tests {
     }
 
     #[test]
+    fn a_guard_is_required_wherever_motion_can_go_over_modbus() {
+        use crate::link::driver::DriverConfig;
+        use crate::link::{Dialect, ModbusConfig, TalosConfig};
+        let modbus = || Some(ModbusConfig::new("10.0.0.9:502"));
+        let talos = |dialect| {
+            let mut t = TalosConfig::new("10.0.0.8:61616");
+            t.dialect = dialect;
+            Some(t)
+        };
+        let spawn = GuardPolicy::Spawn(PathBuf::from("/usr/bin/armjog"));
+        let required = |t: Option<TalosConfig>, m: Option<ModbusConfig>, g: &GuardPolicy| {
+            let mut config = DriverConfig::new(t, m);
+            config.guard = g.clone();
+            config.guard_required()
+        };
+        assert!(required(None, modbus(), &spawn), "Modbus-only jogs");
+        assert!(
+            !required(talos(Dialect::Icd), modbus(), &spawn),
+            "jogs and go-to through Talos"
+        );
+        assert!(
+            required(talos(Dialect::Ack), modbus(), &spawn),
+            "go-to of the console's positions over Modbus"
+        );
+        assert!(!required(talos(Dialect::Icd), None, &spawn));
+        assert!(!required(None, modbus(), &GuardPolicy::NotNeeded));
+    }
+
+    #[test]
     fn every_report_but_ready_stops_motion() {
         assert!(!GuardReport::Status(GuardStatus::Ready { pid: 7 }).stops_motion());
         assert!(GuardReport::Status(GuardStatus::Starting).stops_motion());
