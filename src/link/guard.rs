@@ -77,10 +77,15 @@ pub enum GuardReport {
 }
 
 impl GuardReport {
-    /// Whether the driver must stop Modbus motion: without a ready guard nothing may run, and
-    /// after the guard's own stop the link must not believe a twist still runs.
+    /// Whether the driver must stop Modbus motion: a guard that went down leaves nothing to
+    /// stop the arm if the console dies, and after the guard's own stop the link must not
+    /// believe a twist still runs. (`Starting` follows a `Down`, or comes before anything could
+    /// move: it needs no stop of its own, which could cut into another client's motion.)
     pub fn stops_motion(&self) -> bool {
-        !matches!(self, GuardReport::Status(GuardStatus::Ready { .. }))
+        matches!(
+            self,
+            GuardReport::Status(GuardStatus::Down { .. }) | GuardReport::StoppedArm { .. }
+        )
     }
 
     /// The event the console sees.
@@ -235,11 +240,12 @@ async fn run_once(program: &PathBuf, args: &[String], reporter: &Reporter) -> St
                     "the stop guard {pid} stopped answering for {} s",
                     GUARD_SILENCE.as_secs()
                 );
-                return end(child, silence).await;
+                return end(child, stdin, silence).await;
             }
             _ = beat.tick() => {
                 if let Err(reason) = heartbeat(&mut stdin).await {
-                    return end(child, format!("the stop guard {pid} stopped reading: {reason}")).await;
+                    let reason = format!("the stop guard {pid} stopped reading: {reason}");
+                    return end(child, stdin, reason).await;
                 }
             }
             line = lines.next_line() => match line {
@@ -250,7 +256,8 @@ async fn run_once(program: &PathBuf, args: &[String], reporter: &Reporter) -> St
                     }
                 }
                 Ok(None) | Err(_) => {
-                    return end(child, format!("the stop guard {pid} closed its output")).await;
+                    let reason = format!("the stop guard {pid} closed its output");
+                    return end(child, stdin, reason).await;
                 }
             },
             status = child.wait() => {
@@ -284,8 +291,8 @@ async fn heartbeat(stdin: &mut ChildStdin) -> Result<(), String> {
 
 /// A guard that no longer talks is ended (it is ours, by its own handle) so a fresh one can
 /// take over; dropping its stdin first lets a live one stop the arm on the way out.
-async fn end(mut child: Child, reason: String) -> String {
-    drop(child.stdin.take());
+async fn end(mut child: Child, stdin: ChildStdin, reason: String) -> String {
+    drop(stdin);
     if tokio::time::timeout(Duration::from_secs(1), child.wait())
         .await
         .is_err()
@@ -368,9 +375,13 @@ mod tests {
     }
 
     #[test]
-    fn every_report_but_ready_stops_motion() {
+    fn a_guard_going_down_or_stopping_the_arm_stops_motion() {
         assert!(!GuardReport::Status(GuardStatus::Ready { pid: 7 }).stops_motion());
-        assert!(GuardReport::Status(GuardStatus::Starting).stops_motion());
+        assert!(!GuardReport::Status(GuardStatus::Starting).stops_motion());
+        let down = GuardStatus::Down {
+            reason: "exited".into(),
+        };
+        assert!(GuardReport::Status(down).stops_motion());
         let stopped = GuardReport::StoppedArm {
             reason: "no heartbeat".into(),
         };
