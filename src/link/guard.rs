@@ -13,6 +13,10 @@
 //! wrote a stop on its own) and `stop-failed REASON`. A ready guard silent for [`GUARD_SILENCE`]
 //! (stopped, frozen) is ended and replaced.
 //!
+//! The heartbeat is written by a task of the console's runtime: a stuck event loop is already
+//! covered by the link's 500 ms twist hold (no refresh, no twist); the heartbeat covers a whole
+//! process that no longer runs (stopped, swapping, deadlocked).
+//!
 //! The guard runs in its own process group, so a Ctrl-C or a group kill aimed at the console's
 //! terminal does not take it down first. Its stderr is read into the console's log, never the
 //! terminal. Dropping the [`GuardSupervisor`] closes the pipe: the guard stops the arm (harmless
