@@ -17,8 +17,9 @@ struct Tmux {
 }
 
 impl Tmux {
-    fn start(command: &str) -> Tmux {
-        let socket = format!("armjog-guard-test-{}", std::process::id());
+    /// `name` tells apart the servers of tests running at once.
+    fn start(name: &str, command: &str) -> Tmux {
+        let socket = format!("armjog-guard-{name}-{}", std::process::id());
         let status = std::process::Command::new("tmux")
             .args(["-L", &socket, "new-session", "-d", "-s", "console"])
             .args(["-x", "100", "-y", "30", command])
@@ -75,6 +76,37 @@ impl Drop for Tmux {
     }
 }
 
+/// The console on the simulator's Modbus port, logs in the test's directory.
+fn console_command(addr: &str) -> String {
+    format!(
+        "exec env ARMJOG_DATA_DIR={d} ARMJOG_LOG_DIR={d} {BIN} --modbus {addr} --unit 1 --key-release repeat",
+        d = log_dir().display(),
+    )
+}
+
+/// Whether any of `pids` still runs.
+fn any_alive(pids: &[u32]) -> bool {
+    pids.iter()
+        .any(|pid| std::path::Path::new(&format!("/proc/{pid}")).exists())
+}
+
+/// Waits (10 s at most) for the guard processes to exit; ends any left and fails.
+async fn assert_exit(guards: &[u32], when: &str) {
+    let until = Instant::now() + Duration::from_secs(10);
+    while any_alive(guards) && Instant::now() < until {
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    let alive = any_alive(guards);
+    if alive {
+        for pid in guards {
+            let _ = std::process::Command::new("kill")
+                .arg(pid.to_string())
+                .status();
+        }
+    }
+    assert!(!alive, "the guard exits {when}: {guards:?}");
+}
+
 /// Pids of running processes whose command line has every one of `words`.
 fn pids_with(words: &[&str]) -> Vec<u32> {
     let Ok(entries) = std::fs::read_dir("/proc") else {
@@ -95,15 +127,26 @@ fn pids_with(words: &[&str]) -> Vec<u32> {
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_guard_exits_when_the_console_quits() {
+    let sim = simulator().await;
+    let addr = modbus_addr(&sim);
+    let tmux = Tmux::start("quit", &console_command(&addr));
+    tmux.wait_for(Duration::from_secs(20), "the guard", |s| {
+        s.contains("GUARD OK")
+    })
+    .await;
+    let guards = pids_with(&["guard", "--modbus", &addr]);
+    assert_eq!(guards.len(), 1, "one guard process runs: {guards:?}");
+    tmux.key("q");
+    assert_exit(&guards, "with the console").await;
+    assert!(!arm_state(&sim).await.0, "nothing moves");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn killing_the_console_with_sigkill_mid_jog_stops_the_arm() {
     let sim = simulator().await;
     let addr = modbus_addr(&sim);
-    let dir = log_dir();
-    let command = format!(
-        "exec env ARMJOG_DATA_DIR={d} ARMJOG_LOG_DIR={d} {BIN} --modbus {addr} --unit 1 --key-release repeat",
-        d = dir.display(),
-    );
-    let tmux = Tmux::start(&command);
+    let tmux = Tmux::start("sigkill", &console_command(&addr));
     tmux.wait_for(Duration::from_secs(20), "the link and the guard", |s| {
         s.contains("LINK UP") && s.contains("GUARD OK")
     })
@@ -164,25 +207,7 @@ async fn killing_the_console_with_sigkill_mid_jog_stops_the_arm() {
     assert_still(&sim).await;
 
     // Its work done, the guard exits.
-    let until = Instant::now() + Duration::from_secs(5);
-    while guards
-        .iter()
-        .any(|pid| std::path::Path::new(&format!("/proc/{pid}")).exists())
-        && Instant::now() < until
-    {
-        tokio::time::sleep(Duration::from_millis(50)).await;
-    }
-    let left: Vec<u32> = guards
-        .iter()
-        .copied()
-        .filter(|pid| std::path::Path::new(&format!("/proc/{pid}")).exists())
-        .collect();
-    for pid in &left {
-        let _ = std::process::Command::new("kill")
-            .arg(pid.to_string())
-            .status();
-    }
-    assert!(left.is_empty(), "the guard exited after the stop: {left:?}");
+    assert_exit(&guards, "after the stop").await;
 }
 
 /// The status bar's two lines as text, 80 columns wide.
