@@ -1,13 +1,22 @@
 //! Hold-to-jog: which jog keys are held, what motion that makes, and when to re-send or stop.
 //!
 //! Pure and clocked from outside: every call takes `now`. Two ways to know a key is held:
-//! - [`ReleaseMode::Reported`]: the terminal reports releases (kitty keyboard protocol).
+//! - [`ReleaseMode::Reported`]: the terminal reports releases (kitty keyboard protocol). A press
+//!   starts motion; a release stops it. Evidence is still required: a held key that sends
+//!   nothing (no repeat, no release) for [`KEY_EVENT_TIMEOUT`] stops, and a second press with no
+//!   release between proves the terminal does not report releases: the engine stops and falls
+//!   back to [`ReleaseMode::AutoRepeat`] for the rest of the session.
 //! - [`ReleaseMode::AutoRepeat`]: it does not (tmux, VTE, xterm, the Linux console), so a key
-//!   counts as held while its auto-repeat keeps arriving. The repeat onset and interval are
-//!   measured at run time; a key is released about three intervals after its last repeat, and no
-//!   later than the slowest plausible onset after a single press.
+//!   counts as held while its auto-repeat keeps arriving. A tap cannot be told from the start of
+//!   a hold until the repeats come, so, as on a teach pendant, a tap is a step
+//!   ([`JogEffect::Step`], cartesian keys only) and continuous motion starts only once the
+//!   repeat pattern confirms a hold: a pause (the onset) followed by closely spaced, regular
+//!   repeats. It stops about three repeat intervals after the last repeat.
 //!
-//! The engine never starts motion by itself: only a key press does.
+//! Nothing starts by itself: when the engine stops ([`JogEngine::stop_all`], a timeout), the keys
+//! still down become *latched*. Events of a latched key only keep the latch fresh; it ends with
+//! a release event, or with a pause in the key's events longer than its release timeout. Events
+//! that arrive while motion is not allowed go to [`JogEngine::latch`].
 
 use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
@@ -48,26 +57,51 @@ pub enum JogMotion {
     },
 }
 
-/// What the engine wants sent.
+/// What the engine wants sent or said.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum JogEffect {
     /// Start, change or refresh continuous motion.
     Start(JogMotion),
     /// Stop all continuous motion.
     Stop,
+    /// A cartesian jog key was tapped (auto-repeat fallback): move one small, bounded step in
+    /// this direction (a unit cartesian motion; the console chooses the distance).
+    Step(JogMotion),
+    /// Something the technician must be told.
+    Notice(JogNotice),
 }
 
-/// Slowest auto-repeat onset in the field (X11: 660 ms) plus margin: the longest a single tap
-/// can keep the arm moving in the fallback mode before any repeat was measured.
+/// Events worth a message on the screen.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JogNotice {
+    /// Release events mode: a held key sent no event for this long, so the jog stopped.
+    NoKeyEvents(Duration),
+    /// Release events mode: a held key was pressed again without a release in between. The
+    /// terminal does not report releases; the engine switched to the auto-repeat fallback.
+    ReleasesMissing,
+    /// Auto-repeat fallback: an arrow or joint key was tapped. Those have no bounded step:
+    /// only a hold moves them.
+    TapNeedsHold,
+}
+
+/// Slowest auto-repeat onset in the field (X11: 660 ms) plus margin: in the fallback, a key
+/// with no event for this long after a single event counts as released.
 pub const MAX_ONSET: Duration = Duration::from_millis(700);
+/// The longest gap between two auto-repeats that can confirm a hold (8 Hz; the slowest common
+/// repeat, the Linux console's, is 11 Hz). Deliberate taps are slower: an event followed by
+/// no other within this gap, and not preceded by one either, is a tap.
+pub const REPEAT_GAP_MAX: Duration = Duration::from_millis(125);
+/// Release events mode: a held key that sends nothing for this long is stopped (a terminal that
+/// claims to report releases must prove it; OS auto-repeat keeps a real hold alive).
+pub const KEY_EVENT_TIMEOUT: Duration = Duration::from_secs(1);
 /// Repeat interval assumed before one is measured (Linux console, 11 Hz).
 const DEFAULT_INTERVAL: Duration = Duration::from_millis(91);
 /// Repeats more than this many intervals late mean the key is up.
 const INTERVALS_TO_RELEASE: u32 = 3;
-/// Plausible measurements; anything else is a separate press, not a repeat.
+/// Plausible repeat onsets; a longer pause before a run of repeats is not a hold.
 const ONSET_RANGE: (Duration, Duration) = (Duration::from_millis(100), Duration::from_millis(1000));
-const INTERVAL_RANGE: (Duration, Duration) =
-    (Duration::from_millis(10), Duration::from_millis(300));
+/// Shorter gaps are key bounce or a burst, not a repeat interval worth measuring.
+const INTERVAL_MIN: Duration = Duration::from_millis(10);
 /// With reported releases, a key whose repeats stop for this many intervals (and at least
 /// [`STALE_MIN`]) is treated as released: a guard against a lost release event.
 const STALE_INTERVALS: u32 = 6;
@@ -85,7 +119,8 @@ impl RepeatTiming {
         self.interval.unwrap_or(DEFAULT_INTERVAL)
     }
 
-    /// How long after a press, with no repeat yet, the key counts as released.
+    /// How long after a lone event (a press, a tap), with no repeat yet, the key counts as
+    /// released.
     pub fn first_timeout(&self) -> Duration {
         match self.onset {
             Some(onset) => (onset + onset / 4 + Duration::from_millis(40)).min(MAX_ONSET),
@@ -105,9 +140,31 @@ impl RepeatTiming {
     }
 
     fn sample_interval(&mut self, d: Duration) {
-        if (INTERVAL_RANGE.0..=INTERVAL_RANGE.1).contains(&d) {
+        if (INTERVAL_MIN..REPEAT_GAP_MAX).contains(&d) {
             self.interval = Some(average(self.interval, d));
         }
+    }
+
+    /// Whether a run of repeats after a pause of `onset`, the last two gaps `previous` and
+    /// `last`, is the auto-repeat of a held key rather than taps.
+    fn confirms_hold(&self, onset: Duration, previous: Option<Duration>, last: Duration) -> bool {
+        if !(ONSET_RANGE.0..=ONSET_RANGE.1).contains(&onset) || onset < last * 2 {
+            return false;
+        }
+        // A keyboard already measured: one repeat about one onset after the pause, the next
+        // about one interval later.
+        if let (Some(measured_onset), Some(measured_interval)) = (self.onset, self.interval) {
+            let onset_matches =
+                onset.abs_diff(measured_onset) <= measured_onset / 4 + Duration::from_millis(30);
+            if onset_matches && last <= measured_interval * 2 + Duration::from_millis(10) {
+                return true;
+            }
+        }
+        // Otherwise two short gaps in a row that agree.
+        previous.is_some_and(|previous| {
+            let (low, high) = (previous.min(last), previous.max(last));
+            high - low <= high / 2 + Duration::from_millis(10)
+        })
     }
 }
 
@@ -119,15 +176,100 @@ fn average(old: Option<Duration>, new: Duration) -> Duration {
     }
 }
 
+/// What a held key does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum KeyState {
+    /// Fallback: down, not yet known to be held (a tap's step may be due).
+    Pending,
+    /// Takes part in the motion.
+    Moving,
+    /// Down since before a stop: never moves until released and pressed again.
+    Latched,
+}
+
 #[derive(Debug, Clone, Copy)]
 struct Held {
     axis: JogAxis,
     direction: i8,
-    pressed_at: Instant,
+    state: KeyState,
     last_event: Instant,
+    /// Events after the first.
     repeats: u32,
-    /// Press order, to pick the family when keys of several families are held.
+    /// The pause before the current run of closely spaced events (the repeat onset, if held);
+    /// `None` while the run began with the key's first event.
+    run_onset: Option<Duration>,
+    /// The last two gaps inside the current run, oldest first.
+    run_gaps: (Option<Duration>, Option<Duration>),
+    /// A tap's step, due at this instant unless another event of the key comes first.
+    step_due: Option<Instant>,
+    /// Order of press (reported) or confirmation (fallback), to pick the family when keys of
+    /// several families move.
     order: u64,
+}
+
+impl Held {
+    fn new(axis: JogAxis, direction: i8, state: KeyState, now: Instant) -> Held {
+        Held {
+            axis,
+            direction,
+            state,
+            last_event: now,
+            repeats: 0,
+            run_onset: None,
+            run_gaps: (None, None),
+            step_due: None,
+            order: 0,
+        }
+    }
+
+    /// Records one more event of the key; returns the gap since the previous one.
+    fn record(&mut self, now: Instant) -> Duration {
+        let gap = now.saturating_duration_since(self.last_event);
+        if gap < REPEAT_GAP_MAX {
+            self.run_gaps = (self.run_gaps.1, Some(gap));
+        } else {
+            self.run_onset = Some(gap);
+            self.run_gaps = (None, None);
+        }
+        self.repeats += 1;
+        self.last_event = now;
+        gap
+    }
+
+    /// Whether a tap of this key moves a step: only cartesian keys have a bounded one.
+    fn steps(&self) -> bool {
+        self.axis.family() == JogFamily::Cartesian
+    }
+
+    /// Whether the key's last event stood alone (a press or a tap), not in a run of repeats.
+    fn last_event_alone(&self) -> bool {
+        self.run_gaps.1.is_none()
+    }
+
+    fn latch(&mut self) {
+        self.state = KeyState::Latched;
+        self.step_due = None;
+    }
+
+    /// The unit motion of this key alone, for a tap's step.
+    fn unit_motion(&self, joint: u8) -> JogMotion {
+        let along = |axis: JogAxis| if self.axis == axis { self.direction } else { 0 };
+        match self.axis.family() {
+            JogFamily::Cartesian => JogMotion::Cartesian {
+                x: along(JogAxis::X),
+                y: along(JogAxis::Y),
+                z: along(JogAxis::Z),
+            },
+            JogFamily::Polar => JogMotion::Polar {
+                azimuth: along(JogAxis::Azimuth),
+                altitude: along(JogAxis::Altitude),
+            },
+            JogFamily::Joint => JogMotion::Joint {
+                joint,
+                direction: self.direction,
+            },
+        }
+    }
 }
 
 /// The hold-to-jog state machine.
@@ -159,6 +301,8 @@ impl JogEngine {
         }
     }
 
+    /// How releases are known now: [`ReleaseMode::Reported`] can turn into
+    /// [`ReleaseMode::AutoRepeat`] when the terminal proves it does not report releases.
     pub fn mode(&self) -> ReleaseMode {
         self.mode
     }
@@ -171,8 +315,16 @@ impl JogEngine {
         self.active
     }
 
+    /// Every jog key the engine believes is down, latched or not.
     pub fn held_actions(&self) -> impl Iterator<Item = Action> + '_ {
         self.held.keys().copied()
+    }
+
+    /// Whether `action`'s key is down since before a stop, so it cannot move until released.
+    pub fn is_latched(&self, action: Action) -> bool {
+        self.held
+            .get(&action)
+            .is_some_and(|h| h.state == KeyState::Latched)
     }
 
     pub fn is_jogging(&self) -> bool {
@@ -194,56 +346,59 @@ impl JogEngine {
         effects
     }
 
-    /// A jog key event. Non-jog actions must go to [`JogEngine::stop_all`] instead.
+    /// A jog key event while motion is allowed. Non-jog actions must go to
+    /// [`JogEngine::stop_all`] instead.
     pub fn key(&mut self, action: Action, kind: KeyKind, now: Instant) -> Vec<JogEffect> {
         let Some((axis, sign)) = action.jog() else {
             return Vec::new();
         };
-        match (kind, self.held.get_mut(&action)) {
-            (KeyKind::Release, _) => {
-                // Releases may be duplicated (some terminals synthesise them): idempotent.
-                self.held.remove(&action);
-            }
-            (KeyKind::Press | KeyKind::Repeat, Some(held)) => {
-                // Without reported releases, a press of a held key is its auto-repeat.
-                if held.repeats == 0 {
-                    self.timing
-                        .sample_onset(now.saturating_duration_since(held.pressed_at));
-                } else {
-                    self.timing
-                        .sample_interval(now.saturating_duration_since(held.last_event));
-                }
-                held.repeats += 1;
-                held.last_event = now;
-                return Vec::new();
-            }
-            (KeyKind::Repeat, None) => {
-                // A repeat with no press seen (focus came back mid-hold): not a reason to move.
-                return Vec::new();
-            }
-            (KeyKind::Press, None) => {
-                self.presses += 1;
-                self.held.insert(
-                    action,
-                    Held {
-                        axis,
-                        direction: sign.value(),
-                        pressed_at: now,
-                        last_event: now,
-                        repeats: 0,
-                        order: self.presses,
-                    },
-                );
-            }
+        let mut effects = self.catch_up(now);
+        if kind == KeyKind::Release {
+            self.release(action, now, &mut effects);
+            return effects;
         }
-        self.update(now)
+        match self.mode {
+            ReleaseMode::Reported => self.reported_event(action, kind, now, &mut effects),
+            ReleaseMode::AutoRepeat => self.fallback_event(action, now, &mut effects),
+        }
+        if !self.held.contains_key(&action) {
+            self.insert_pressed(action, axis, sign.value(), now, &mut effects);
+        }
+        effects
     }
 
-    /// Releases every key and stops any jog: for a non-jog key, focus loss, link loss, quit.
-    /// Returns `Stop` if anything was moving or about to move.
+    /// A jog key event while motion is not allowed (link down, overlay open, step mode, screen
+    /// too small): the key is tracked as latched, so it cannot move once motion is allowed
+    /// again until it is released and pressed anew.
+    pub fn latch(&mut self, action: Action, kind: KeyKind, now: Instant) -> Vec<JogEffect> {
+        let Some((axis, sign)) = action.jog() else {
+            return Vec::new();
+        };
+        let mut effects = self.catch_up(now);
+        if kind == KeyKind::Release {
+            self.release(action, now, &mut effects);
+            return effects;
+        }
+        match self.held.get_mut(&action) {
+            Some(held) => {
+                held.record(now);
+                held.latch();
+            }
+            None => {
+                let held = Held::new(axis, sign.value(), KeyState::Latched, now);
+                self.held.insert(action, held);
+            }
+        }
+        effects.extend(self.update(now));
+        effects
+    }
+
+    /// Stops any jog; every key still down becomes latched: for a non-jog key, focus loss, link
+    /// loss, an overlay, quit. Returns `Stop` if anything was moving or about to move.
     pub fn stop_all(&mut self, _now: Instant) -> Vec<JogEffect> {
-        let was_busy = self.active.is_some() || !self.held.is_empty();
-        self.held.clear();
+        let was_busy =
+            self.active.is_some() || self.held.values().any(|h| h.state == KeyState::Pending);
+        self.held.values_mut().for_each(Held::latch);
         self.active = None;
         self.last_start = None;
         if was_busy {
@@ -253,23 +408,17 @@ impl JogEngine {
         }
     }
 
-    /// Time passing: expires keys whose repeats stopped, and re-sends START when due.
+    /// Time passing: steps for taps, expires keys whose events stopped, and re-sends START
+    /// when due.
     pub fn tick(&mut self, now: Instant) -> Vec<JogEffect> {
-        let before = self.held.len();
-        let timing = self.timing;
-        let mode = self.mode;
-        self.held
-            .retain(|_, h| expiry(mode, &timing, h).is_none_or(|at| now < at));
-        if self.held.len() != before {
-            return self.update(now);
+        let mut effects = self.catch_up(now);
+        if let (Some(motion), Some(last)) = (self.active, self.last_start)
+            && now >= last + self.refresh
+        {
+            self.last_start = Some(now);
+            effects.push(JogEffect::Start(motion));
         }
-        match (self.active, self.last_start) {
-            (Some(motion), Some(last)) if now >= last + self.refresh => {
-                self.last_start = Some(now);
-                vec![JogEffect::Start(motion)]
-            }
-            _ => Vec::new(),
-        }
+        effects
     }
 
     /// The next instant [`JogEngine::tick`] has something to do, if any.
@@ -278,14 +427,203 @@ impl JogEngine {
             .active
             .and(self.last_start)
             .map(|last| last + self.refresh);
+        // A latched key's expiry changes nothing outside: it expires lazily.
         let expiries = self
             .held
             .values()
-            .filter_map(|h| expiry(self.mode, &self.timing, h));
-        refresh.into_iter().chain(expiries).min()
+            .filter(|h| h.state != KeyState::Latched)
+            .map(|h| self.expiry(h));
+        let steps = self.held.values().filter_map(|h| h.step_due);
+        refresh.into_iter().chain(expiries).chain(steps).min()
     }
 
-    /// Recomputes the motion from the held keys and says what changed.
+    fn insert_pressed(
+        &mut self,
+        action: Action,
+        axis: JogAxis,
+        direction: i8,
+        now: Instant,
+        effects: &mut Vec<JogEffect>,
+    ) {
+        let mut held = Held::new(axis, direction, KeyState::Moving, now);
+        match self.mode {
+            ReleaseMode::Reported => {
+                self.presses += 1;
+                held.order = self.presses;
+                self.held.insert(action, held);
+                effects.extend(self.update(now));
+            }
+            ReleaseMode::AutoRepeat => {
+                // A tap or the start of a hold: decided by what follows.
+                held.state = KeyState::Pending;
+                held.step_due = held.steps().then_some(now + REPEAT_GAP_MAX);
+                self.held.insert(action, held);
+            }
+        }
+    }
+
+    fn release(&mut self, action: Action, now: Instant, effects: &mut Vec<JogEffect>) {
+        // Releases may be duplicated (some terminals synthesise them): idempotent.
+        let Some(held) = self.held.remove(&action) else {
+            return;
+        };
+        // A released key whose tap was waiting for a possible repeat: it was a tap.
+        if held.state == KeyState::Pending && held.step_due.is_some() {
+            effects.extend(self.tap(&held));
+        }
+        effects.extend(self.update(now));
+    }
+
+    fn reported_event(
+        &mut self,
+        action: Action,
+        kind: KeyKind,
+        now: Instant,
+        effects: &mut Vec<JogEffect>,
+    ) {
+        let Some(held) = self.held.get_mut(&action) else {
+            if kind == KeyKind::Repeat {
+                // A repeat with no press seen (focus came back mid-hold): down, but no reason
+                // to move.
+                let Some((axis, sign)) = action.jog() else {
+                    return;
+                };
+                let held = Held::new(axis, sign.value(), KeyState::Latched, now);
+                self.held.insert(action, held);
+            }
+            return;
+        };
+        let since_press = held.repeats == 0;
+        let gap = held.record(now);
+        match (held.state, kind) {
+            (_, KeyKind::Press) => {
+                // Pressed again with no release between (held or latched, a latch ending only
+                // with a release or a second of silence): releases are not reported. Whatever
+                // the terminal claimed, stop and rely on auto-repeat from now on.
+                self.mode = ReleaseMode::AutoRepeat;
+                effects.extend(self.stop_all(now));
+                effects.push(JogEffect::Notice(JogNotice::ReleasesMissing));
+            }
+            (KeyState::Moving, _) => {
+                if since_press {
+                    self.timing.sample_onset(gap);
+                } else {
+                    self.timing.sample_interval(gap);
+                }
+            }
+            // A repeat of a latched key only keeps the latch fresh.
+            _ => {}
+        }
+    }
+
+    fn fallback_event(&mut self, action: Action, now: Instant, effects: &mut Vec<JogEffect>) {
+        let Some(held) = self.held.get_mut(&action) else {
+            return;
+        };
+        let gap = held.record(now);
+        match held.state {
+            KeyState::Moving => self.timing.sample_interval(gap),
+            KeyState::Latched => {}
+            KeyState::Pending if gap >= REPEAT_GAP_MAX => {
+                // A new tap, or the onset of a hold: the next event tells.
+                held.step_due = held.steps().then_some(now + REPEAT_GAP_MAX);
+            }
+            KeyState::Pending => {
+                // The previous event was followed this closely: a repeat, not a tap.
+                held.step_due = None;
+                let confirmed = held
+                    .run_onset
+                    .is_some_and(|onset| self.timing.confirms_hold(onset, held.run_gaps.0, gap));
+                if confirmed {
+                    self.presses += 1;
+                    held.state = KeyState::Moving;
+                    held.order = self.presses;
+                    let (onset, gaps) = (held.run_onset, held.run_gaps);
+                    if let Some(onset) = onset {
+                        self.timing.sample_onset(onset);
+                    }
+                    gaps.0
+                        .into_iter()
+                        .chain(gaps.1)
+                        .for_each(|g| self.timing.sample_interval(g));
+                    effects.extend(self.update(now));
+                }
+            }
+        }
+    }
+
+    /// Due taps and expired keys, up to `now`.
+    fn catch_up(&mut self, now: Instant) -> Vec<JogEffect> {
+        let mut effects = Vec::new();
+        // Expiries first: a key released by timeout stops before any step goes out.
+        let mut silent_for = None;
+        let mut expired_taps = Vec::new();
+        let mut changed = false;
+        let (mode, timing) = (self.mode, self.timing);
+        self.held.retain(|_, h| {
+            let at = expiry(mode, &timing, h);
+            if now < at {
+                return true;
+            }
+            changed |= h.state == KeyState::Moving;
+            match (mode, h.state) {
+                (ReleaseMode::Reported, KeyState::Moving) => {
+                    // No evidence the key is still down: stop, but keep it latched in case it
+                    // is and its events come late.
+                    silent_for = Some(at.saturating_duration_since(h.last_event));
+                    h.latch();
+                    h.last_event = now;
+                    true
+                }
+                _ => {
+                    // A lone event with no repeat after it: a tap. A tap of a key with no step
+                    // is only worth a word.
+                    let tap = h.state == KeyState::Pending
+                        && h.last_event_alone()
+                        && (h.step_due.is_some() || !h.steps());
+                    if tap {
+                        expired_taps.push(*h);
+                    }
+                    false
+                }
+            }
+        });
+        if changed {
+            effects.extend(self.update(now));
+        }
+        if let Some(silent_for) = silent_for {
+            effects.push(JogEffect::Notice(JogNotice::NoKeyEvents(silent_for)));
+        }
+        let mut due: Vec<Held> = expired_taps;
+        for held in self.held.values_mut() {
+            if held.state == KeyState::Pending && held.step_due.is_some_and(|at| now >= at) {
+                due.push(*held);
+                held.step_due = None;
+            }
+        }
+        for held in due {
+            effects.extend(self.tap(&held));
+        }
+        effects
+    }
+
+    /// A tap's effect: a step for a cartesian key, unless a jog is in progress (a discrete move
+    /// must not interfere with it); a word for the others.
+    fn tap(&self, held: &Held) -> Option<JogEffect> {
+        match held.axis.family() {
+            JogFamily::Cartesian if self.active.is_none() => {
+                Some(JogEffect::Step(held.unit_motion(self.joint)))
+            }
+            JogFamily::Cartesian => None,
+            JogFamily::Polar | JogFamily::Joint => Some(JogEffect::Notice(JogNotice::TapNeedsHold)),
+        }
+    }
+
+    fn expiry(&self, held: &Held) -> Instant {
+        expiry(self.mode, &self.timing, held)
+    }
+
+    /// Recomputes the motion from the moving keys and says what changed.
     fn update(&mut self, now: Instant) -> Vec<JogEffect> {
         let wanted = self.motion();
         if wanted == self.active {
@@ -313,14 +651,13 @@ impl JogEngine {
         effects
     }
 
-    /// The motion of the most recently pressed key's family, all its held keys combined.
+    /// The motion of the most recently started key's family, all its moving keys combined.
     fn motion(&self) -> Option<JogMotion> {
-        let newest = self.held.values().max_by_key(|h| h.order)?;
+        let moving = || self.held.values().filter(|h| h.state == KeyState::Moving);
+        let newest = moving().max_by_key(|h| h.order)?;
         let family = newest.axis.family();
         let sum = |axis: JogAxis| -> i8 {
-            let total: i8 = self
-                .held
-                .values()
+            let total: i8 = moving()
                 .filter(|h| h.axis == axis)
                 .map(|h| h.direction)
                 .sum();
@@ -362,18 +699,24 @@ fn family_of(motion: JogMotion) -> JogFamily {
     }
 }
 
-/// When a held key counts as released without a release event, if ever.
-fn expiry(mode: ReleaseMode, timing: &RepeatTiming, held: &Held) -> Option<Instant> {
-    match mode {
-        ReleaseMode::AutoRepeat if held.repeats == 0 => {
-            Some(held.pressed_at + timing.first_timeout())
-        }
-        ReleaseMode::AutoRepeat => Some(held.last_event + timing.repeat_timeout()),
-        // Releases are reported; once the keyboard is seen to auto-repeat, a hold whose repeats
-        // stop for long is treated as released in case its release event was lost.
-        ReleaseMode::Reported => timing
-            .interval
-            .filter(|_| held.repeats > 0)
-            .map(|interval| held.last_event + (interval * STALE_INTERVALS).max(STALE_MIN)),
-    }
+/// When a held key counts as released (or, moving with reported releases, unproven) if no
+/// further event of it comes.
+fn expiry(mode: ReleaseMode, timing: &RepeatTiming, held: &Held) -> Instant {
+    let silence = match (mode, held.state) {
+        (ReleaseMode::AutoRepeat, KeyState::Moving) => timing.repeat_timeout(),
+        // In a run of repeats the next one is due within an interval; after a lone event the
+        // next may be a whole onset away.
+        (ReleaseMode::AutoRepeat, _) if !held.last_event_alone() => timing.repeat_timeout(),
+        (ReleaseMode::AutoRepeat, _) => timing.first_timeout(),
+        // Once the keyboard is seen to auto-repeat, a hold whose repeats stop for long is
+        // treated as released in case its release event was lost.
+        (ReleaseMode::Reported, KeyState::Moving) => match timing.interval {
+            Some(interval) if held.repeats > 0 => {
+                (interval * STALE_INTERVALS).clamp(STALE_MIN, KEY_EVENT_TIMEOUT)
+            }
+            _ => KEY_EVENT_TIMEOUT,
+        },
+        (ReleaseMode::Reported, _) => KEY_EVENT_TIMEOUT,
+    };
+    held.last_event + silence
 }
