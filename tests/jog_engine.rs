@@ -413,11 +413,28 @@ fn fallback_a_held_key_never_restarts_after_a_stop_until_its_repeats_pause() {
 fn fallback_a_stall_in_the_repeats_stops_and_the_resumed_stream_moves_nothing() {
     let (mut jog, t0) = fallback();
     let t = fallback_hold(&mut jog, t0);
-    // No repeat for 400 ms (a stalled terminal): released by timeout.
-    assert!(ticks(&mut jog, t, t + ms(400)).contains(&JogEffect::Stop));
-    // The repeats come back: no step, no jog, for as long as they keep coming.
-    let effects = repeats(&mut jog, t + ms(400), ms(3000), KeyKind::Press);
+    // No repeat for 150 ms (a stalled terminal; 3 intervals are 90 ms): stopped.
+    assert!(ticks(&mut jog, t, t + ms(150)).contains(&JogEffect::Stop));
+    // The repeats come back before a second timeout: no step, no jog, as long as they come.
+    let effects = repeats(&mut jog, t + ms(150), ms(3000), KeyKind::Press);
     assert!(effects.is_empty(), "{effects:?}");
+}
+
+#[test]
+fn fallback_a_burst_with_no_onset_is_a_hold_only_once_longer_than_any_onset() {
+    let (mut jog, t0) = fallback();
+    let effects = repeats(&mut jog, t0, ms(690), KeyKind::Press);
+    assert!(effects.is_empty(), "no step, no jog yet: {effects:?}");
+    let effects = repeats(&mut jog, t0 + ms(720), ms(100), KeyKind::Press);
+    assert_eq!(effects.first(), Some(&cart(1, 0, 0)), "{effects:?}");
+    // A burst as slow as fast tapping (10 Hz) never is.
+    let (mut jog, t0) = fallback();
+    let mut effects = Vec::new();
+    for i in 0..30 {
+        effects.extend(jog.key(Action::JogXPlus, KeyKind::Press, t0 + ms(100 * i)));
+        effects.extend(jog.tick(t0 + ms(100 * i + 50)));
+    }
+    assert_eq!(starts(&effects), 0, "{effects:?}");
 }
 
 #[test]

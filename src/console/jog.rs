@@ -91,6 +91,9 @@ pub const MAX_ONSET: Duration = Duration::from_millis(700);
 /// repeat, the Linux console's, is 11 Hz). Deliberate taps are slower: an event followed by
 /// no other within this gap, and not preceded by one either, is a tap.
 pub const REPEAT_GAP_MAX: Duration = Duration::from_millis(125);
+/// A run of events this closely spaced (12.5 Hz), kept up for [`MAX_ONSET`], is a hold even
+/// with no onset pause before it: no finger taps that fast for that long.
+const BURST_GAP_MAX: Duration = Duration::from_millis(80);
 /// Release events mode: a held key that sends nothing for this long is stopped (a terminal that
 /// claims to report releases must prove it; OS auto-repeat keeps a real hold alive).
 pub const KEY_EVENT_TIMEOUT: Duration = Duration::from_secs(1);
@@ -145,9 +148,18 @@ impl RepeatTiming {
         }
     }
 
-    /// Whether a run of repeats after a pause of `onset`, the last two gaps `previous` and
-    /// `last`, is the auto-repeat of a held key rather than taps.
-    fn confirms_hold(&self, onset: Duration, previous: Option<Duration>, last: Duration) -> bool {
+    /// Whether the current run of closely spaced events of a key, with its last two gaps
+    /// `previous` and `last`, is the auto-repeat of a held key rather than taps.
+    fn confirms_hold(&self, run: &Held, previous: Option<Duration>, last: Duration) -> bool {
+        let regular = previous.is_some_and(|previous| {
+            let (low, high) = (previous.min(last), previous.max(last));
+            high - low <= high / 2 + Duration::from_millis(10)
+        });
+        let Some(onset) = run.run_onset else {
+            // No pause before the run (it began with the key's first event): only a run too
+            // fast and too long for any tapping finger is a hold.
+            return regular && last <= BURST_GAP_MAX && run.run_span() >= MAX_ONSET;
+        };
         if !(ONSET_RANGE.0..=ONSET_RANGE.1).contains(&onset) || onset < last * 2 {
             return false;
         }
@@ -161,10 +173,7 @@ impl RepeatTiming {
             }
         }
         // Otherwise two short gaps in a row that agree.
-        previous.is_some_and(|previous| {
-            let (low, high) = (previous.min(last), previous.max(last));
-            high - low <= high / 2 + Duration::from_millis(10)
-        })
+        regular
     }
 }
 
@@ -198,6 +207,8 @@ struct Held {
     /// The pause before the current run of closely spaced events (the repeat onset, if held);
     /// `None` while the run began with the key's first event.
     run_onset: Option<Duration>,
+    /// The first event of the current run.
+    run_start: Instant,
     /// The last two gaps inside the current run, oldest first.
     run_gaps: (Option<Duration>, Option<Duration>),
     /// A tap's step, due at this instant unless another event of the key comes first.
@@ -216,6 +227,7 @@ impl Held {
             last_event: now,
             repeats: 0,
             run_onset: None,
+            run_start: now,
             run_gaps: (None, None),
             step_due: None,
             order: 0,
@@ -229,11 +241,16 @@ impl Held {
             self.run_gaps = (self.run_gaps.1, Some(gap));
         } else {
             self.run_onset = Some(gap);
+            self.run_start = now;
             self.run_gaps = (None, None);
         }
         self.repeats += 1;
         self.last_event = now;
         gap
+    }
+
+    fn run_span(&self) -> Duration {
+        self.last_event.saturating_duration_since(self.run_start)
     }
 
     /// Whether a tap of this key moves a step: only cartesian keys have a bounded one.
@@ -359,7 +376,7 @@ impl JogEngine {
         }
         match self.mode {
             ReleaseMode::Reported => self.reported_event(action, kind, now, &mut effects),
-            ReleaseMode::AutoRepeat => self.fallback_event(action, now, &mut effects),
+            ReleaseMode::AutoRepeat => self.fallback_event(action, kind, now, &mut effects),
         }
         if !self.held.contains_key(&action) {
             self.insert_pressed(action, axis, sign.value(), now, &mut effects);
@@ -516,8 +533,18 @@ impl JogEngine {
         }
     }
 
-    fn fallback_event(&mut self, action: Action, now: Instant, effects: &mut Vec<JogEffect>) {
+    fn fallback_event(
+        &mut self,
+        action: Action,
+        kind: KeyKind,
+        now: Instant,
+        effects: &mut Vec<JogEffect>,
+    ) {
         let Some(held) = self.held.get_mut(&action) else {
+            if kind == KeyKind::Repeat {
+                // The terminal says this key was pressed before: no reason to move.
+                self.latch(action, kind, now);
+            }
             return;
         };
         let gap = held.record(now);
@@ -531,9 +558,7 @@ impl JogEngine {
             KeyState::Pending => {
                 // The previous event was followed this closely: a repeat, not a tap.
                 held.step_due = None;
-                let confirmed = held
-                    .run_onset
-                    .is_some_and(|onset| self.timing.confirms_hold(onset, held.run_gaps.0, gap));
+                let confirmed = self.timing.confirms_hold(held, held.run_gaps.0, gap);
                 if confirmed {
                     self.presses += 1;
                     held.state = KeyState::Moving;
@@ -571,6 +596,13 @@ impl JogEngine {
                     // No evidence the key is still down: stop, but keep it latched in case it
                     // is and its events come late.
                     silent_for = Some(at.saturating_duration_since(h.last_event));
+                    h.latch();
+                    h.last_event = now;
+                    true
+                }
+                (ReleaseMode::AutoRepeat, KeyState::Moving) => {
+                    // Its repeats stopped: released, or stalled. Stop; if they come back
+                    // without a pause (a stall), the key stays latched until they pause.
                     h.latch();
                     h.last_event = now;
                     true
