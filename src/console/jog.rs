@@ -91,6 +91,9 @@ pub const MAX_ONSET: Duration = Duration::from_millis(700);
 /// repeat, the Linux console's, is 11 Hz). Deliberate taps are slower: an event followed by
 /// no other within this gap, and not preceded by one either, is a tap.
 pub const REPEAT_GAP_MAX: Duration = Duration::from_millis(125);
+/// Fallback: a latched key in a run of repeats is released by a pause of at least this (and
+/// of at least three repeat intervals).
+const LATCH_SILENCE_MIN: Duration = Duration::from_millis(250);
 /// A run of events this closely spaced (12.5 Hz), kept up for [`MAX_ONSET`], is a hold even
 /// with no onset pause before it: no finger taps that fast for that long.
 const BURST_GAP_MAX: Duration = Duration::from_millis(80);
@@ -738,6 +741,10 @@ fn expiry(mode: ReleaseMode, timing: &RepeatTiming, held: &Held) -> Instant {
         (ReleaseMode::AutoRepeat, KeyState::Moving) => timing.repeat_timeout(),
         // In a run of repeats the next one is due within an interval; after a lone event the
         // next may be a whole onset away.
+        // A latch errs on the side of holding on: a stall of the repeats is not a release.
+        (ReleaseMode::AutoRepeat, KeyState::Latched) if !held.last_event_alone() => {
+            timing.repeat_timeout().max(LATCH_SILENCE_MIN)
+        }
         (ReleaseMode::AutoRepeat, _) if !held.last_event_alone() => timing.repeat_timeout(),
         (ReleaseMode::AutoRepeat, _) => timing.first_timeout(),
         // Once the keyboard is seen to auto-repeat, a hold whose repeats stop for long is
