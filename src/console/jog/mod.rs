@@ -18,10 +18,16 @@
 //! a release event, or with a pause in the key's events longer than its release timeout. Events
 //! that arrive while motion is not allowed go to [`JogEngine::latch`].
 
+mod held;
+mod timing;
+
 use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
 
 use super::action::{Action, JogAxis, JogFamily};
+pub use held::KEY_EVENT_TIMEOUT;
+use held::{Held, KeyState, expiry};
+pub use timing::{MAX_ONSET, REPEAT_GAP_MAX, RepeatTiming};
 
 /// How key releases are known.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -82,214 +88,6 @@ pub enum JogNotice {
     /// Auto-repeat fallback: an arrow or joint key was tapped. Those have no bounded step:
     /// only a hold moves them.
     TapNeedsHold,
-}
-
-/// Slowest auto-repeat onset in the field (X11: 660 ms) plus margin: in the fallback, a key
-/// with no event for this long after a single event counts as released.
-pub const MAX_ONSET: Duration = Duration::from_millis(700);
-/// The longest gap between two auto-repeats that can confirm a hold (8 Hz; the slowest common
-/// repeat, the Linux console's, is 11 Hz). Deliberate taps are slower: an event followed by
-/// no other within this gap, and not preceded by one either, is a tap.
-pub const REPEAT_GAP_MAX: Duration = Duration::from_millis(125);
-/// Fallback: a latched key in a run of repeats is released by a pause of at least this (and
-/// of at least three repeat intervals).
-const LATCH_SILENCE_MIN: Duration = Duration::from_millis(250);
-/// A run of events this closely spaced (12.5 Hz), kept up for [`MAX_ONSET`], is a hold even
-/// with no onset pause before it: no finger taps that fast for that long.
-const BURST_GAP_MAX: Duration = Duration::from_millis(80);
-/// Release events mode: a held key that sends nothing for this long is stopped (a terminal that
-/// claims to report releases must prove it; OS auto-repeat keeps a real hold alive).
-pub const KEY_EVENT_TIMEOUT: Duration = Duration::from_secs(1);
-/// Repeat interval assumed before one is measured (Linux console, 11 Hz).
-const DEFAULT_INTERVAL: Duration = Duration::from_millis(91);
-/// Repeats more than this many intervals late mean the key is up.
-const INTERVALS_TO_RELEASE: u32 = 3;
-/// Plausible repeat onsets; a longer pause before a run of repeats is not a hold.
-const ONSET_RANGE: (Duration, Duration) = (Duration::from_millis(100), Duration::from_millis(1000));
-/// Shorter gaps are key bounce or a burst, not a repeat interval worth measuring.
-const INTERVAL_MIN: Duration = Duration::from_millis(10);
-/// With reported releases, a key whose repeats stop for this many intervals (and at least
-/// [`STALE_MIN`]) is treated as released: a guard against a lost release event.
-const STALE_INTERVALS: u32 = 6;
-const STALE_MIN: Duration = Duration::from_millis(500);
-
-/// Auto-repeat timing measured from the keyboard.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct RepeatTiming {
-    pub onset: Option<Duration>,
-    pub interval: Option<Duration>,
-}
-
-impl RepeatTiming {
-    fn interval_or_default(&self) -> Duration {
-        self.interval.unwrap_or(DEFAULT_INTERVAL)
-    }
-
-    /// How long after a lone event (a press, a tap), with no repeat yet, the key counts as
-    /// released.
-    pub fn first_timeout(&self) -> Duration {
-        match self.onset {
-            Some(onset) => (onset + onset / 4 + Duration::from_millis(40)).min(MAX_ONSET),
-            None => MAX_ONSET,
-        }
-    }
-
-    /// How long after a repeat, with no further one, the key counts as released.
-    pub fn repeat_timeout(&self) -> Duration {
-        self.interval_or_default() * INTERVALS_TO_RELEASE
-    }
-
-    fn sample_onset(&mut self, d: Duration) {
-        if (ONSET_RANGE.0..=ONSET_RANGE.1).contains(&d) {
-            self.onset = Some(average(self.onset, d));
-        }
-    }
-
-    fn sample_interval(&mut self, d: Duration) {
-        if (INTERVAL_MIN..REPEAT_GAP_MAX).contains(&d) {
-            self.interval = Some(average(self.interval, d));
-        }
-    }
-
-    /// Whether the current run of closely spaced events of a key, with its last two gaps
-    /// `previous` and `last`, is the auto-repeat of a held key rather than taps.
-    fn confirms_hold(&self, run: &Held, previous: Option<Duration>, last: Duration) -> bool {
-        let regular = previous.is_some_and(|previous| {
-            let (low, high) = (previous.min(last), previous.max(last));
-            high - low <= high / 2 + Duration::from_millis(10)
-        });
-        let Some(onset) = run.run_onset else {
-            // No pause before the run (it began with the key's first event): only a run too
-            // fast and too long for any tapping finger is a hold.
-            return regular && last <= BURST_GAP_MAX && run.run_span() >= MAX_ONSET;
-        };
-        if !(ONSET_RANGE.0..=ONSET_RANGE.1).contains(&onset) || onset < last * 2 {
-            return false;
-        }
-        // A keyboard already measured: one repeat about one onset after the pause, the next
-        // about one interval later.
-        if let (Some(measured_onset), Some(measured_interval)) = (self.onset, self.interval) {
-            let onset_matches =
-                onset.abs_diff(measured_onset) <= measured_onset / 4 + Duration::from_millis(30);
-            if onset_matches && last <= measured_interval * 2 + Duration::from_millis(10) {
-                return true;
-            }
-        }
-        // Otherwise two short gaps in a row that agree.
-        regular
-    }
-}
-
-/// Exponential moving average, weight 1/4 on the new sample.
-fn average(old: Option<Duration>, new: Duration) -> Duration {
-    match old {
-        Some(old) => (old * 3 + new) / 4,
-        None => new,
-    }
-}
-
-/// What a held key does.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum KeyState {
-    /// Fallback: down, not yet known to be held (a tap's step may be due).
-    Pending,
-    /// Takes part in the motion.
-    Moving,
-    /// Down since before a stop: never moves until released and pressed again.
-    Latched,
-}
-
-#[derive(Debug, Clone, Copy)]
-struct Held {
-    axis: JogAxis,
-    direction: i8,
-    state: KeyState,
-    last_event: Instant,
-    /// Events after the first.
-    repeats: u32,
-    /// The pause before the current run of closely spaced events (the repeat onset, if held);
-    /// `None` while the run began with the key's first event.
-    run_onset: Option<Duration>,
-    /// The first event of the current run.
-    run_start: Instant,
-    /// The last two gaps inside the current run, oldest first.
-    run_gaps: (Option<Duration>, Option<Duration>),
-    /// A tap's step, due at this instant unless another event of the key comes first.
-    step_due: Option<Instant>,
-    /// Order of press (reported) or confirmation (fallback), to pick the family when keys of
-    /// several families move.
-    order: u64,
-}
-
-impl Held {
-    fn new(axis: JogAxis, direction: i8, state: KeyState, now: Instant) -> Held {
-        Held {
-            axis,
-            direction,
-            state,
-            last_event: now,
-            repeats: 0,
-            run_onset: None,
-            run_start: now,
-            run_gaps: (None, None),
-            step_due: None,
-            order: 0,
-        }
-    }
-
-    /// Records one more event of the key; returns the gap since the previous one.
-    fn record(&mut self, now: Instant) -> Duration {
-        let gap = now.saturating_duration_since(self.last_event);
-        if gap < REPEAT_GAP_MAX {
-            self.run_gaps = (self.run_gaps.1, Some(gap));
-        } else {
-            self.run_onset = Some(gap);
-            self.run_start = now;
-            self.run_gaps = (None, None);
-        }
-        self.repeats += 1;
-        self.last_event = now;
-        gap
-    }
-
-    fn run_span(&self) -> Duration {
-        self.last_event.saturating_duration_since(self.run_start)
-    }
-
-    /// Whether a tap of this key moves a step: only cartesian keys have a bounded one.
-    fn steps(&self) -> bool {
-        self.axis.family() == JogFamily::Cartesian
-    }
-
-    /// Whether the key's last event stood alone (a press or a tap), not in a run of repeats.
-    fn last_event_alone(&self) -> bool {
-        self.run_gaps.1.is_none()
-    }
-
-    fn latch(&mut self) {
-        self.state = KeyState::Latched;
-        self.step_due = None;
-    }
-
-    /// The unit motion of this key alone, for a tap's step.
-    fn unit_motion(&self, joint: u8) -> JogMotion {
-        let along = |axis: JogAxis| if self.axis == axis { self.direction } else { 0 };
-        match self.axis.family() {
-            JogFamily::Cartesian => JogMotion::Cartesian {
-                x: along(JogAxis::X),
-                y: along(JogAxis::Y),
-                z: along(JogAxis::Z),
-            },
-            JogFamily::Polar => JogMotion::Polar {
-                azimuth: along(JogAxis::Azimuth),
-                altitude: along(JogAxis::Altitude),
-            },
-            JogFamily::Joint => JogMotion::Joint {
-                joint,
-                direction: self.direction,
-            },
-        }
-    }
 }
 
 /// The hold-to-jog state machine.
@@ -561,7 +359,12 @@ impl JogEngine {
             KeyState::Pending => {
                 // The previous event was followed this closely: a repeat, not a tap.
                 held.step_due = None;
-                let confirmed = self.timing.confirms_hold(held, held.run_gaps.0, gap);
+                let confirmed = self.timing.confirms_hold(
+                    held.run_onset,
+                    held.run_span(),
+                    held.run_gaps.0,
+                    gap,
+                );
                 if confirmed {
                     self.presses += 1;
                     held.state = KeyState::Moving;
@@ -732,30 +535,4 @@ fn family_of(motion: JogMotion) -> JogFamily {
         JogMotion::Polar { .. } => JogFamily::Polar,
         JogMotion::Joint { .. } => JogFamily::Joint,
     }
-}
-
-/// When a held key counts as released (or, moving with reported releases, unproven) if no
-/// further event of it comes.
-fn expiry(mode: ReleaseMode, timing: &RepeatTiming, held: &Held) -> Instant {
-    let silence = match (mode, held.state) {
-        (ReleaseMode::AutoRepeat, KeyState::Moving) => timing.repeat_timeout(),
-        // In a run of repeats the next one is due within an interval; after a lone event the
-        // next may be a whole onset away.
-        // A latch errs on the side of holding on: a stall of the repeats is not a release.
-        (ReleaseMode::AutoRepeat, KeyState::Latched) if !held.last_event_alone() => {
-            timing.repeat_timeout().max(LATCH_SILENCE_MIN)
-        }
-        (ReleaseMode::AutoRepeat, _) if !held.last_event_alone() => timing.repeat_timeout(),
-        (ReleaseMode::AutoRepeat, _) => timing.first_timeout(),
-        // Once the keyboard is seen to auto-repeat, a hold whose repeats stop for long is
-        // treated as released in case its release event was lost.
-        (ReleaseMode::Reported, KeyState::Moving) => match timing.interval {
-            Some(interval) if held.repeats > 0 => {
-                (interval * STALE_INTERVALS).clamp(STALE_MIN, KEY_EVENT_TIMEOUT)
-            }
-            _ => KEY_EVENT_TIMEOUT,
-        },
-        (ReleaseMode::Reported, _) => KEY_EVENT_TIMEOUT,
-    };
-    held.last_event + silence
 }
