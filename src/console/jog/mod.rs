@@ -344,7 +344,7 @@ impl JogEngine {
         let Some(held) = self.held.get_mut(&action) else {
             if kind == KeyKind::Repeat {
                 // The terminal says this key was pressed before: no reason to move.
-                self.latch(action, kind, now);
+                effects.extend(self.latch(action, kind, now));
             }
             return;
         };
