@@ -367,6 +367,11 @@ fn with_release_events_a_second_press_without_release_switches_to_the_fallback()
         .map(|m| m.0.clone())
         .unwrap_or_default();
     assert!(message.contains("auto-repeat fallback"), "{message}");
+    let status = armjog::console::ui::status::release_mode_text(&app);
+    assert!(
+        status.contains("auto-repeat fallback"),
+        "the status bar follows: {status}"
+    );
     let effects = keep_holding(&mut app, ReleaseMode::AutoRepeat, t0 + ms(530), ms(3000));
     assert!(!moves(&effects), "no runaway: {effects:?}");
     fresh_press_moves(&mut app, ReleaseMode::AutoRepeat, t0 + ms(3600));
