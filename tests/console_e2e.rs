@@ -217,7 +217,13 @@ async fn arrows_pan_the_tool_right_and_up() {
 async fn holding_a_key_past_the_watchdog_keeps_moving() {
     let mut console = Console::start(Links::Talos).await;
     console.key("w", KeyKind::Press);
-    console.run_for(Duration::from_millis(1200)).await;
+    // The keyboard's auto-repeat: with release events a hold must keep proving itself (a key
+    // silent for 1 s is stopped).
+    let until = Instant::now() + Duration::from_millis(1200);
+    while Instant::now() < until {
+        console.run_for(Duration::from_millis(33)).await;
+        console.key("w", KeyKind::Repeat);
+    }
     assert!(
         console.moving().await,
         "refreshed well inside the 500 ms watchdog"

@@ -34,6 +34,57 @@ impl Tmux {
         assert!(status.success());
     }
 
+    /// Resizes the window, as a technician dragging the terminal smaller or larger.
+    fn resize(&self, width: u16, height: u16) {
+        let status = Command::new("tmux")
+            .args(["-L", &self.socket, "resize-window", "-t", &self.session])
+            .args(["-x", &width.to_string(), "-y", &height.to_string()])
+            .status()
+            .expect("tmux resize-window");
+        assert!(status.success(), "tmux resize-window failed");
+    }
+
+    /// The auto-repeat of a held key: `key` every `interval` for `span`.
+    fn repeat(&self, key: &str, interval: Duration, span: Duration) {
+        self.repeat_watching(key, interval, span, "");
+    }
+
+    /// [`Tmux::repeat`], looking at the screen every few repeats (not after them: the console
+    /// stops a few intervals after the last one); whether `shown` was ever on it.
+    fn repeat_watching(&self, key: &str, interval: Duration, span: Duration, shown: &str) -> bool {
+        let until = Instant::now() + span;
+        let mut seen = false;
+        let mut sent = 0u32;
+        while Instant::now() < until {
+            self.keys(&[key]);
+            sent += 1;
+            if !shown.is_empty() && !seen && sent.is_multiple_of(4) {
+                seen = self.screen().contains(shown);
+            }
+            std::thread::sleep(interval);
+        }
+        seen
+    }
+
+    /// Waits until the TCP x stops changing (two equal readings 400 ms apart) and returns it.
+    fn settled_x(&self, within: Duration) -> f64 {
+        let until = Instant::now() + within;
+        let mut last = None;
+        loop {
+            let x = tcp_x(&self.screen());
+            if x.is_some() && x == last {
+                return x.unwrap_or_default();
+            }
+            assert!(
+                Instant::now() < until,
+                "tcp x did not settle within {within:?}; screen:\n{}",
+                self.screen()
+            );
+            last = x;
+            std::thread::sleep(Duration::from_millis(400));
+        }
+    }
+
     fn screen(&self) -> String {
         let out = Command::new("tmux")
             .args([
@@ -94,7 +145,8 @@ fn the_console_opens_on_the_simulator_jogs_shows_help_and_gives_the_terminal_bac
 
     // The panels, the link to the built-in arm and the key-release mode.
     let screen = tmux.wait_for(Duration::from_secs(15), "the link to come up", |s| {
-        s.contains("LINK UP") && s.contains("pos mm")
+        // The whole first frame, not one caught mid-draw.
+        s.contains("LINK UP") && s.contains("pos mm") && s.contains("Command log")
     });
     for panel in ["Joints", "Tool (TCP", "Arm", "Positions", "Command log"] {
         assert!(screen.contains(panel), "panel {panel} missing:\n{screen}");
@@ -105,26 +157,65 @@ fn the_console_opens_on_the_simulator_jogs_shows_help_and_gives_the_terminal_bac
     );
     let x0 = tcp_x(&screen).expect("tcp x on screen");
 
+    // A tap of w is one small step (5 mm at most), never a jog.
+    tmux.keys(&["w"]);
+    std::thread::sleep(Duration::from_millis(1500));
+    let x_tap = tmux.settled_x(Duration::from_secs(10));
+    assert!(
+        x_tap > x0 + 0.5 && x_tap <= x0 + 5.5,
+        "a tap steps at most 5 mm: {x0} -> {x_tap}"
+    );
+
     // Hold w: a press, then auto-repeat every 30 ms after a 500 ms onset.
     tmux.keys(&["w"]);
     std::thread::sleep(Duration::from_millis(500));
-    for _ in 0..15 {
-        tmux.keys(&["w"]);
-        std::thread::sleep(Duration::from_millis(30));
-    }
-    let jogging = tmux.screen();
-    assert!(jogging.contains("JOG +X"), "jogging shown:\n{jogging}");
+    let repeat = Duration::from_millis(30);
+    let jogging = tmux.repeat_watching("w", repeat, Duration::from_millis(800), "JOG +X");
+    assert!(jogging, "jogging shown while held");
     // The repeats stopped: the console stops the arm by itself.
-    let stopped = tmux.wait_for(Duration::from_secs(2), "the jog to stop", |s| {
+    let stopped = tmux.wait_for(Duration::from_secs(5), "the jog to stop", |s| {
         s.contains(" idle ")
     });
     let x1 = tcp_x(&stopped).expect("tcp x");
-    assert!(x1 > x0 + 20.0, "w moved +X: {x0} -> {x1}");
+    assert!(x1 > x_tap + 20.0, "w held moved +X: {x_tap} -> {x1}");
     std::thread::sleep(Duration::from_millis(300));
     let still = tcp_x(&tmux.screen()).expect("tcp x");
     assert!(
         (still - x1).abs() < 0.5,
         "no motion after the stop: {x1} -> {still}"
+    );
+
+    // A burst of w at about 30 Hz for 1.5 s, with no onset pause: a hold too.
+    let jogging = tmux.repeat_watching("w", repeat, Duration::from_millis(1500), "JOG +X");
+    assert!(jogging, "jogging shown during the burst");
+    tmux.wait_for(Duration::from_secs(5), "the burst's jog to stop", |s| {
+        s.contains(" idle ")
+    });
+    let x2 = tmux.settled_x(Duration::from_secs(10));
+    assert!(x2 > x1 + 20.0, "a 1.5 s burst jogged: {x1} -> {x2}");
+
+    // Nothing starts by itself: w held (repeating) while the window is made too small and
+    // large again stops and stays stopped until its repeats pause.
+    tmux.keys(&["w"]);
+    std::thread::sleep(Duration::from_millis(500));
+    let jogging = tmux.repeat_watching("w", repeat, Duration::from_millis(600), "JOG +X");
+    assert!(jogging, "held w jogs again");
+    tmux.resize(30, 8);
+    tmux.repeat("w", repeat, Duration::from_millis(300));
+    tmux.resize(100, 30);
+    tmux.repeat("w", repeat, Duration::from_millis(300));
+    let x_resumed = tcp_x(&tmux.screen()).expect("tcp x after the resize");
+    tmux.repeat("w", repeat, Duration::from_millis(500));
+    let held_on = tmux.screen();
+    let x_held = tcp_x(&held_on).expect("tcp x");
+    assert!(
+        held_on.contains(" idle ") && (x_held - x_resumed).abs() < 0.5,
+        "no motion while w keeps repeating after the resize: {x_resumed} -> {x_held}\n{held_on}"
+    );
+    let x3 = tmux.settled_x(Duration::from_secs(10));
+    assert!(
+        (x3 - x_held).abs() < 0.5,
+        "nothing moved after the repeats paused: {x_held} -> {x3}"
     );
 
     // Help lists the active keymap; any key closes it.

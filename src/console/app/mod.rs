@@ -8,16 +8,18 @@
 //! all stop it.
 
 mod coords;
+mod jog_keys;
 mod named;
 
 pub use coords::{cartesian_of, describe_motion, polar_of};
+pub use jog_keys::TAP_STEP_LIMIT;
 
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
 use super::action::Action;
 use super::form::{Confirm, Form, FormKind};
-use super::jog::{JogEffect, JogEngine, KeyKind, MAX_ONSET, ReleaseMode};
+use super::jog::{JogEngine, KeyKind, MAX_ONSET, ReleaseMode};
 use super::keymap::{KeyName, Keymap};
 use super::positions::PositionBook;
 use crate::kortex::{ReferenceFrame, Telemetry};
@@ -213,7 +215,8 @@ impl App {
                 }
             }
             Input::Tick => {
-                jog_effects(self.jog.tick(now), &mut effects);
+                let jog = self.jog.tick(now);
+                self.apply_jog(jog, now, &mut effects);
                 if self
                     .message
                     .as_ref()
@@ -240,9 +243,10 @@ impl App {
         self.message = Some((text.into(), severity, now));
     }
 
-    /// Releases every jog key and stops a jog in progress.
+    /// Stops a jog in progress; the jog keys still down stay latched until released.
     fn stop_jog(&mut self, now: Instant, effects: &mut Vec<Effect>) {
-        jog_effects(self.jog.stop_all(now), effects);
+        let jog = self.jog.stop_all(now);
+        self.apply_jog(jog, now, effects);
     }
 
     /// Stops everything, jog or not (space, quick paths): STOP is always sent.
@@ -264,16 +268,22 @@ impl App {
             self.quit(now, effects);
             return;
         }
+        if key.kind == KeyKind::Release {
+            self.release_jog_keys(&key, now, effects);
+            return;
+        }
         if !self.fits() {
             // Nothing is shown: every key only stops.
             if key.kind == KeyKind::Press {
                 self.stop_jog(now, effects);
             }
+            self.latch_jog_key(&key, now, effects);
             return;
         }
         if self.auto_repeat_of_overlay_key(&key, now) {
             // Keep still, but let the repeat neither answer the overlay nor start a jog.
             self.stop_jog(now, effects);
+            self.latch_jog_key(&key, now, effects);
             return;
         }
         let overlay_was_open = self.overlay != Overlay::None;
@@ -305,15 +315,8 @@ impl App {
         if self.overlay != Overlay::None {
             if key.kind != KeyKind::Release {
                 self.stop_jog(now, effects);
+                self.latch_jog_key(&key, now, effects);
                 self.on_overlay_key(key, now, effects);
-            }
-            return;
-        }
-        if key.kind == KeyKind::Release {
-            // A release may carry other modifiers than its press (shift pressed mid-hold turns
-            // the release of "w" into "W"): release every jog action the key could have meant.
-            for action in self.release_candidates(&key.key) {
-                jog_effects(self.jog.key(action, KeyKind::Release, now), effects);
             }
             return;
         }
@@ -321,13 +324,18 @@ impl App {
         match (action, key.kind) {
             (Some(action), kind) if action.jog().is_some() => {
                 if self.step.enabled {
+                    self.latch_jog_key(&key, now, effects);
                     if kind == KeyKind::Press {
                         self.step_move(action, now, effects);
                     }
-                } else if self.link_is_up() || kind == KeyKind::Release {
-                    jog_effects(self.jog.key(action, kind, now), effects);
-                } else if kind == KeyKind::Press {
-                    self.say("no link to the arm: not moving", Severity::Warning, now);
+                } else if self.link_is_up() {
+                    let jog = self.jog.key(action, kind, now);
+                    self.apply_jog(jog, now, effects);
+                } else {
+                    self.latch_jog_key(&key, now, effects);
+                    if kind == KeyKind::Press {
+                        self.say("no link to the arm: not moving", Severity::Warning, now);
+                    }
                 }
             }
             (_, KeyKind::Release) => {}
@@ -484,7 +492,8 @@ impl App {
                 } else {
                     (j + 5) % 7 + 1
                 };
-                jog_effects(self.jog.select_joint(next, now), effects);
+                let jog = self.jog.select_joint(next, now);
+                self.apply_jog(jog, now, effects);
             }
             // Starts empty: a saved pose must not overwrite the selected one by accident.
             A::SavePosition => self.overlay = Overlay::Form(Form::new(FormKind::Save, "")),
@@ -565,7 +574,7 @@ impl App {
         match event {
             ArmEvent::Status(status) => {
                 if let LinkStatus::Down { reason } = &status {
-                    // Stop through whatever link is left, and forget every held key so nothing
+                    // Stop through whatever link is left; the held keys stay latched so nothing
                     // restarts when the link comes back.
                     self.stop_jog(now, effects);
                     self.say(format!("link lost: {reason}"), Severity::Error, now);
@@ -610,7 +619,7 @@ impl App {
                 });
             }
             ArmEvent::Failed { command, reason } => {
-                // A jog the arm did not take must not be left to the watchdog: stop and forget
+                // A jog the arm did not take must not be left to the watchdog: stop and latch
                 // the held keys, so only a new press moves again.
                 if command == "jog" {
                     self.stop_jog(now, effects);
@@ -661,14 +670,5 @@ impl App {
                 self.guard = Some(status);
             }
         }
-    }
-}
-
-fn jog_effects(jog: Vec<JogEffect>, effects: &mut Vec<Effect>) {
-    for effect in jog {
-        effects.push(Effect::Arm(match effect {
-            JogEffect::Start(motion) => ArmCommand::Jog(motion),
-            JogEffect::Stop => ArmCommand::Stop,
-        }));
     }
 }

@@ -1,0 +1,538 @@
+//! Hold-to-jog: which jog keys are held, what motion that makes, and when to re-send or stop.
+//!
+//! Pure and clocked from outside: every call takes `now`. Two ways to know a key is held:
+//! - [`ReleaseMode::Reported`]: the terminal reports releases (kitty keyboard protocol). A press
+//!   starts motion; a release stops it. Evidence is still required: a held key that sends
+//!   nothing (no repeat, no release) for [`KEY_EVENT_TIMEOUT`] stops, and a second press with no
+//!   release between proves the terminal does not report releases: the engine stops and falls
+//!   back to [`ReleaseMode::AutoRepeat`] for the rest of the session.
+//! - [`ReleaseMode::AutoRepeat`]: it does not (tmux, VTE, xterm, the Linux console), so a key
+//!   counts as held while its auto-repeat keeps arriving. A tap cannot be told from the start of
+//!   a hold until the repeats come, so, as on a teach pendant, a tap is a step
+//!   ([`JogEffect::Step`], cartesian keys only) and continuous motion starts only once the
+//!   repeat pattern confirms a hold: a pause (the onset) followed by closely spaced, regular
+//!   repeats. It stops about three repeat intervals after the last repeat.
+//!
+//! Nothing starts by itself: when the engine stops ([`JogEngine::stop_all`], a timeout), the keys
+//! still down become *latched*. Events of a latched key only keep the latch fresh; it ends with
+//! a release event, or with a pause in the key's events longer than its release timeout. Events
+//! that arrive while motion is not allowed go to [`JogEngine::latch`].
+
+mod held;
+mod timing;
+
+use std::collections::BTreeMap;
+use std::time::{Duration, Instant};
+
+use super::action::{Action, JogAxis, JogFamily};
+pub use held::KEY_EVENT_TIMEOUT;
+use held::{Held, KeyState, expiry};
+pub use timing::{MAX_ONSET, REPEAT_GAP_MAX, RepeatTiming};
+
+/// How key releases are known.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ReleaseMode {
+    Reported,
+    AutoRepeat,
+}
+
+/// The kind of a key event as the engine needs it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum KeyKind {
+    Press,
+    Repeat,
+    Release,
+}
+
+/// The motion the held keys ask for. Directions are -1, 0 or 1.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JogMotion {
+    Cartesian {
+        x: i8,
+        y: i8,
+        z: i8,
+    },
+    Polar {
+        azimuth: i8,
+        altitude: i8,
+    },
+    /// Joint 1..=7.
+    Joint {
+        joint: u8,
+        direction: i8,
+    },
+}
+
+/// What the engine wants sent or said.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JogEffect {
+    /// Start, change or refresh continuous motion.
+    Start(JogMotion),
+    /// Stop all continuous motion.
+    Stop,
+    /// A cartesian jog key was tapped (auto-repeat fallback): move one small, bounded step in
+    /// this direction (a unit cartesian motion; the console chooses the distance).
+    Step(JogMotion),
+    /// Something the technician must be told.
+    Notice(JogNotice),
+}
+
+/// Events worth a message on the screen.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JogNotice {
+    /// Release events mode: a held key sent no event for this long, so the jog stopped.
+    NoKeyEvents(Duration),
+    /// Release events mode: a held key was pressed again without a release in between. The
+    /// terminal does not report releases; the engine switched to the auto-repeat fallback.
+    ReleasesMissing,
+    /// Auto-repeat fallback: an arrow or joint key was tapped. Those have no bounded step:
+    /// only a hold moves them.
+    TapNeedsHold,
+}
+
+/// The hold-to-jog state machine.
+#[derive(Debug, Clone)]
+pub struct JogEngine {
+    mode: ReleaseMode,
+    timing: RepeatTiming,
+    refresh: Duration,
+    held: BTreeMap<Action, Held>,
+    presses: u64,
+    /// The motion last started and not yet stopped.
+    active: Option<JogMotion>,
+    last_start: Option<Instant>,
+    joint: u8,
+}
+
+impl JogEngine {
+    /// `refresh` is how often START is re-sent while keys are held (10 Hz by default).
+    pub fn new(mode: ReleaseMode, refresh: Duration) -> Self {
+        JogEngine {
+            mode,
+            timing: RepeatTiming::default(),
+            refresh,
+            held: BTreeMap::new(),
+            presses: 0,
+            active: None,
+            last_start: None,
+            joint: 1,
+        }
+    }
+
+    /// How releases are known now: [`ReleaseMode::Reported`] can turn into
+    /// [`ReleaseMode::AutoRepeat`] when the terminal proves it does not report releases.
+    pub fn mode(&self) -> ReleaseMode {
+        self.mode
+    }
+
+    pub fn timing(&self) -> RepeatTiming {
+        self.timing
+    }
+
+    pub fn active(&self) -> Option<JogMotion> {
+        self.active
+    }
+
+    /// Every jog key the engine believes is down, latched or not.
+    pub fn held_actions(&self) -> impl Iterator<Item = Action> + '_ {
+        self.held.keys().copied()
+    }
+
+    /// Whether `action`'s key is down since before a stop, so it cannot move until released.
+    pub fn is_latched(&self, action: Action) -> bool {
+        self.held
+            .get(&action)
+            .is_some_and(|h| h.state == KeyState::Latched)
+    }
+
+    pub fn is_jogging(&self) -> bool {
+        self.active.is_some()
+    }
+
+    /// The joint a joint jog drives (1..=7).
+    pub fn joint(&self) -> u8 {
+        self.joint
+    }
+
+    /// Selects the joint for joint jogs; stops a joint jog in progress first.
+    pub fn select_joint(&mut self, joint: u8, now: Instant) -> Vec<JogEffect> {
+        let mut effects = Vec::new();
+        if matches!(self.active, Some(JogMotion::Joint { .. })) {
+            effects = self.stop_all(now);
+        }
+        self.joint = joint.clamp(1, 7);
+        effects
+    }
+
+    /// A jog key event while motion is allowed. Non-jog actions must go to
+    /// [`JogEngine::stop_all`] instead.
+    pub fn key(&mut self, action: Action, kind: KeyKind, now: Instant) -> Vec<JogEffect> {
+        let Some((axis, sign)) = action.jog() else {
+            return Vec::new();
+        };
+        let mut effects = self.catch_up(now);
+        if kind == KeyKind::Release {
+            self.release(action, now, &mut effects);
+            return effects;
+        }
+        match self.mode {
+            ReleaseMode::Reported => self.reported_event(action, kind, now, &mut effects),
+            ReleaseMode::AutoRepeat => self.fallback_event(action, kind, now, &mut effects),
+        }
+        if !self.held.contains_key(&action) {
+            self.insert_pressed(action, axis, sign.value(), now, &mut effects);
+        }
+        effects
+    }
+
+    /// A jog key event while motion is not allowed (link down, overlay open, step mode, screen
+    /// too small): the key is tracked as latched, so it cannot move once motion is allowed
+    /// again until it is released and pressed anew.
+    pub fn latch(&mut self, action: Action, kind: KeyKind, now: Instant) -> Vec<JogEffect> {
+        let Some((axis, sign)) = action.jog() else {
+            return Vec::new();
+        };
+        let mut effects = self.catch_up(now);
+        if kind == KeyKind::Release {
+            self.release(action, now, &mut effects);
+            return effects;
+        }
+        match self.held.get_mut(&action) {
+            Some(held) => {
+                held.record(now);
+                held.latch();
+            }
+            None => {
+                let held = Held::new(axis, sign.value(), KeyState::Latched, now);
+                self.held.insert(action, held);
+            }
+        }
+        effects.extend(self.update(now));
+        effects
+    }
+
+    /// Stops any jog; every key still down becomes latched: for a non-jog key, focus loss, link
+    /// loss, an overlay, quit. Returns `Stop` if anything was moving or about to move.
+    pub fn stop_all(&mut self, _now: Instant) -> Vec<JogEffect> {
+        let was_busy =
+            self.active.is_some() || self.held.values().any(|h| h.state == KeyState::Pending);
+        self.held.values_mut().for_each(Held::latch);
+        self.active = None;
+        self.last_start = None;
+        if was_busy {
+            vec![JogEffect::Stop]
+        } else {
+            Vec::new()
+        }
+    }
+
+    /// Time passing: steps for taps, expires keys whose events stopped, and re-sends START
+    /// when due.
+    pub fn tick(&mut self, now: Instant) -> Vec<JogEffect> {
+        let mut effects = self.catch_up(now);
+        if let (Some(motion), Some(last)) = (self.active, self.last_start)
+            && now >= last + self.refresh
+        {
+            self.last_start = Some(now);
+            effects.push(JogEffect::Start(motion));
+        }
+        effects
+    }
+
+    /// The next instant [`JogEngine::tick`] has something to do, if any.
+    pub fn next_deadline(&self) -> Option<Instant> {
+        let refresh = self
+            .active
+            .and(self.last_start)
+            .map(|last| last + self.refresh);
+        // A latched key's expiry changes nothing outside: it expires lazily.
+        let expiries = self
+            .held
+            .values()
+            .filter(|h| h.state != KeyState::Latched)
+            .map(|h| self.expiry(h));
+        let steps = self.held.values().filter_map(|h| h.step_due);
+        refresh.into_iter().chain(expiries).chain(steps).min()
+    }
+
+    fn insert_pressed(
+        &mut self,
+        action: Action,
+        axis: JogAxis,
+        direction: i8,
+        now: Instant,
+        effects: &mut Vec<JogEffect>,
+    ) {
+        let mut held = Held::new(axis, direction, KeyState::Moving, now);
+        match self.mode {
+            ReleaseMode::Reported => {
+                self.presses += 1;
+                held.order = self.presses;
+                self.held.insert(action, held);
+                effects.extend(self.update(now));
+            }
+            ReleaseMode::AutoRepeat => {
+                // A tap or the start of a hold: decided by what follows.
+                held.state = KeyState::Pending;
+                held.step_due = held.steps().then_some(now + REPEAT_GAP_MAX);
+                self.held.insert(action, held);
+            }
+        }
+    }
+
+    fn release(&mut self, action: Action, now: Instant, effects: &mut Vec<JogEffect>) {
+        // Releases may be duplicated (some terminals synthesise them): idempotent.
+        let Some(held) = self.held.remove(&action) else {
+            return;
+        };
+        // A released key whose tap was waiting for a possible repeat: it was a tap.
+        if held.state == KeyState::Pending && held.step_due.is_some() {
+            effects.extend(self.tap(&held));
+        }
+        effects.extend(self.update(now));
+    }
+
+    fn reported_event(
+        &mut self,
+        action: Action,
+        kind: KeyKind,
+        now: Instant,
+        effects: &mut Vec<JogEffect>,
+    ) {
+        let Some(held) = self.held.get_mut(&action) else {
+            if kind == KeyKind::Repeat {
+                // A repeat with no press seen (focus came back mid-hold): down, but no reason
+                // to move.
+                let Some((axis, sign)) = action.jog() else {
+                    return;
+                };
+                let held = Held::new(axis, sign.value(), KeyState::Latched, now);
+                self.held.insert(action, held);
+            }
+            return;
+        };
+        let since_press = held.repeats == 0;
+        let gap = held.record(now);
+        match (held.state, kind) {
+            (_, KeyKind::Press) => {
+                // Pressed again with no release between (held or latched, a latch ending only
+                // with a release or a second of silence): releases are not reported. Whatever
+                // the terminal claimed, stop and rely on auto-repeat from now on.
+                self.mode = ReleaseMode::AutoRepeat;
+                effects.extend(self.stop_all(now));
+                effects.push(JogEffect::Notice(JogNotice::ReleasesMissing));
+            }
+            (KeyState::Moving, _) => {
+                if since_press {
+                    self.timing.sample_onset(gap);
+                } else {
+                    self.timing.sample_interval(gap);
+                }
+            }
+            // A repeat of a latched key only keeps the latch fresh.
+            _ => {}
+        }
+    }
+
+    fn fallback_event(
+        &mut self,
+        action: Action,
+        kind: KeyKind,
+        now: Instant,
+        effects: &mut Vec<JogEffect>,
+    ) {
+        let Some(held) = self.held.get_mut(&action) else {
+            if kind == KeyKind::Repeat {
+                // The terminal says this key was pressed before: no reason to move.
+                effects.extend(self.latch(action, kind, now));
+            }
+            return;
+        };
+        let gap = held.record(now);
+        match held.state {
+            KeyState::Moving => self.timing.sample_interval(gap),
+            KeyState::Latched => {}
+            KeyState::Pending if gap >= REPEAT_GAP_MAX => {
+                // A new tap, or the onset of a hold: the next event tells.
+                held.step_due = held.steps().then_some(now + REPEAT_GAP_MAX);
+            }
+            KeyState::Pending => {
+                // The previous event was followed this closely: a repeat, not a tap.
+                held.step_due = None;
+                let confirmed = self.timing.confirms_hold(
+                    held.run_onset,
+                    held.run_span(),
+                    held.run_gaps.0,
+                    gap,
+                );
+                if confirmed {
+                    self.presses += 1;
+                    held.state = KeyState::Moving;
+                    held.order = self.presses;
+                    let (onset, gaps) = (held.run_onset, held.run_gaps);
+                    if let Some(onset) = onset {
+                        self.timing.sample_onset(onset);
+                    }
+                    gaps.0
+                        .into_iter()
+                        .chain(gaps.1)
+                        .for_each(|g| self.timing.sample_interval(g));
+                    effects.extend(self.update(now));
+                }
+            }
+        }
+    }
+
+    /// Due taps and expired keys, up to `now`.
+    fn catch_up(&mut self, now: Instant) -> Vec<JogEffect> {
+        let mut effects = Vec::new();
+        // Expiries first: a key released by timeout stops before any step goes out.
+        let mut silent_for = None;
+        let mut expired_taps = Vec::new();
+        let mut changed = false;
+        let (mode, timing) = (self.mode, self.timing);
+        self.held.retain(|_, h| {
+            let at = expiry(mode, &timing, h);
+            if now < at {
+                return true;
+            }
+            changed |= h.state == KeyState::Moving;
+            match (mode, h.state) {
+                (ReleaseMode::Reported, KeyState::Moving) => {
+                    // No evidence the key is still down: stop, but keep it latched in case it
+                    // is and its events come late.
+                    silent_for = Some(at.saturating_duration_since(h.last_event));
+                    h.latch();
+                    h.last_event = now;
+                    true
+                }
+                (ReleaseMode::AutoRepeat, KeyState::Moving) => {
+                    // Its repeats stopped: released, or stalled. Stop; if they come back
+                    // without a pause (a stall), the key stays latched until they pause.
+                    h.latch();
+                    h.last_event = now;
+                    true
+                }
+                _ => {
+                    // A lone event with no repeat after it: a tap. A tap of a key with no step
+                    // is only worth a word.
+                    let tap = h.state == KeyState::Pending
+                        && h.last_event_alone()
+                        && (h.step_due.is_some() || !h.steps());
+                    if tap {
+                        expired_taps.push(*h);
+                    }
+                    false
+                }
+            }
+        });
+        if changed {
+            effects.extend(self.update(now));
+        }
+        if let Some(silent_for) = silent_for {
+            effects.push(JogEffect::Notice(JogNotice::NoKeyEvents(silent_for)));
+        }
+        let mut due: Vec<Held> = expired_taps;
+        for held in self.held.values_mut() {
+            if held.state == KeyState::Pending && held.step_due.is_some_and(|at| now >= at) {
+                due.push(*held);
+                held.step_due = None;
+            }
+        }
+        for held in due {
+            effects.extend(self.tap(&held));
+        }
+        effects
+    }
+
+    /// A tap's effect: a step for a cartesian key, unless a jog is in progress (a discrete move
+    /// must not interfere with it); a word for the others.
+    fn tap(&self, held: &Held) -> Option<JogEffect> {
+        match held.axis.family() {
+            JogFamily::Cartesian if self.active.is_none() => {
+                Some(JogEffect::Step(held.unit_motion(self.joint)))
+            }
+            JogFamily::Cartesian => None,
+            JogFamily::Polar | JogFamily::Joint => Some(JogEffect::Notice(JogNotice::TapNeedsHold)),
+        }
+    }
+
+    fn expiry(&self, held: &Held) -> Instant {
+        expiry(self.mode, &self.timing, held)
+    }
+
+    /// Recomputes the motion from the moving keys and says what changed.
+    fn update(&mut self, now: Instant) -> Vec<JogEffect> {
+        let wanted = self.motion();
+        if wanted == self.active {
+            return Vec::new();
+        }
+        let mut effects = Vec::new();
+        let family_changed = match (self.active, wanted) {
+            (Some(a), Some(b)) => family_of(a) != family_of(b),
+            _ => false,
+        };
+        if family_changed {
+            effects.push(JogEffect::Stop);
+        }
+        self.active = wanted;
+        match wanted {
+            Some(motion) => {
+                self.last_start = Some(now);
+                effects.push(JogEffect::Start(motion));
+            }
+            None => {
+                self.last_start = None;
+                effects.push(JogEffect::Stop);
+            }
+        }
+        effects
+    }
+
+    /// The motion of the most recently started key's family, all its moving keys combined.
+    fn motion(&self) -> Option<JogMotion> {
+        let moving = || self.held.values().filter(|h| h.state == KeyState::Moving);
+        let newest = moving().max_by_key(|h| h.order)?;
+        let family = newest.axis.family();
+        let sum = |axis: JogAxis| -> i8 {
+            let total: i8 = moving()
+                .filter(|h| h.axis == axis)
+                .map(|h| h.direction)
+                .sum();
+            total.clamp(-1, 1)
+        };
+        let motion = match family {
+            JogFamily::Cartesian => JogMotion::Cartesian {
+                x: sum(JogAxis::X),
+                y: sum(JogAxis::Y),
+                z: sum(JogAxis::Z),
+            },
+            JogFamily::Polar => JogMotion::Polar {
+                azimuth: sum(JogAxis::Azimuth),
+                altitude: sum(JogAxis::Altitude),
+            },
+            JogFamily::Joint => JogMotion::Joint {
+                joint: self.joint,
+                direction: sum(JogAxis::Joint),
+            },
+        };
+        // Opposite keys cancel: no motion rather than a zero-speed START.
+        (!is_zero(motion)).then_some(motion)
+    }
+}
+
+fn is_zero(motion: JogMotion) -> bool {
+    match motion {
+        JogMotion::Cartesian { x, y, z } => x == 0 && y == 0 && z == 0,
+        JogMotion::Polar { azimuth, altitude } => azimuth == 0 && altitude == 0,
+        JogMotion::Joint { direction, .. } => direction == 0,
+    }
+}
+
+fn family_of(motion: JogMotion) -> JogFamily {
+    match motion {
+        JogMotion::Cartesian { .. } => JogFamily::Cartesian,
+        JogMotion::Polar { .. } => JogFamily::Polar,
+        JogMotion::Joint { .. } => JogFamily::Joint,
+    }
+}
