@@ -174,16 +174,18 @@ impl State {
                 }
                 None => Err("no telemetry yet: the step needs the current pose".into()),
             },
-            ArmCommand::SetSpeed(speed) => {
-                self.speed = (*speed).clamp(1, 100);
-                let linear = (self.max_jog_speed * self.fraction()) as f32;
-                let angular = (100.0 * self.fraction()) as f32;
-                let result = wrap(self.link.set_speed_limits(linear, angular).await);
-                if result.is_ok() {
-                    let _ = self.events.send(ArmEvent::Speed(self.speed));
-                }
-                result
+            // The jog speed is the console's own setting: it scales the twists this worker
+            // computes and is never written to the arm's configured limits (216-219), which
+            // belong to `armjog modbus speed-limit`.
+            ArmCommand::SetSpeed(speed) if (1..=100).contains(speed) => {
+                self.speed = *speed;
+                let _ = self.events.send(ArmEvent::Speed(self.speed));
+                Ok(None)
             }
+            ArmCommand::SetSpeed(speed) => Err(format!(
+                "speed {speed} % is outside 1-100: {} % stays in force",
+                self.speed
+            )),
             ArmCommand::SetFrame(frame) => {
                 self.frame = *frame;
                 Ok(None)

@@ -2,7 +2,7 @@
 //! companion ICD, reconnection.
 
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU8, Ordering};
 use std::time::Duration;
 
 use tokio::sync::mpsc;
@@ -23,7 +23,9 @@ pub struct TalosSide {
     link: Option<TalosLink>,
     link_events: Option<mpsc::UnboundedReceiver<TalosEvent>>,
     events: mpsc::UnboundedSender<ArmEvent>,
-    speed: u8,
+    /// The speed in force, percent: changed only by the operator's answers (Get Speed, or an
+    /// acknowledged Set Speed), never by the request alone.
+    speed: Arc<AtomicU8>,
     polling: Arc<AtomicBool>,
     /// Joint positions from the latest telemetry, for joint jog commands.
     joints: JointPositions,
@@ -42,7 +44,7 @@ impl TalosSide {
             link: None,
             link_events: None,
             events,
-            speed: 50,
+            speed: Arc::new(AtomicU8::new(50)),
             polling: Arc::new(AtomicBool::new(false)),
             joints,
         }
@@ -78,7 +80,7 @@ impl TalosSide {
             && let Ok(exchange) = link.request(Request::GetSpeed).await
             && let Answer::Reply(Reply::GetSpeed { speed, .. }) = exchange.answer
         {
-            self.speed = speed;
+            self.speed.store(speed, Ordering::Release);
             let _ = self.events.send(ArmEvent::Speed(speed));
         }
         self.link = Some(link);
@@ -149,8 +151,10 @@ impl TalosSide {
                 let Some(position) = self.joints.borrow().map(|j| j[index]) else {
                     return Err("no joint position reported yet: wait for telemetry".into());
                 };
-                let velocity =
-                    f32::from(*direction) * self.joint_jog_speed * f32::from(self.speed) / 100.0;
+                let velocity = f32::from(*direction)
+                    * self.joint_jog_speed
+                    * f32::from(self.speed.load(Ordering::Acquire))
+                    / 100.0;
                 vec![hw(HwRequest::SendActuatorCommand {
                     joint: *joint,
                     command: ActuatorCommand::jog(position, velocity),
@@ -233,9 +237,6 @@ impl TalosSide {
             }
             return;
         };
-        if let ArmCommand::SetSpeed(speed) = command {
-            self.speed = speed;
-        }
         let requests = match self.requests(&command) {
             Ok(requests) => requests,
             Err(reason) => {
@@ -254,7 +255,12 @@ impl TalosSide {
                 Err(e) => report_error(&self.events, &command, name, None, &e),
             }
         }
-        tokio::spawn(answers(command, pending, self.events.clone()));
+        tokio::spawn(answers(
+            command,
+            pending,
+            self.events.clone(),
+            self.speed.clone(),
+        ));
     }
 
     /// Asks for arm state and actuator feedback; skipped while the last poll is outstanding.
@@ -410,11 +416,13 @@ fn position_name(command: &ArmCommand) -> Option<String> {
     }
 }
 
-/// Awaits a command's replies in order and reports them.
+/// Awaits a command's replies in order and reports them. A Set Speed takes effect (for later
+/// joint jogs and in the status bar) only once the operator has answered OK.
 async fn answers(
     command: ArmCommand,
     pending: Vec<PendingReply>,
     events: mpsc::UnboundedSender<ArmEvent>,
+    speed_in_force: Arc<AtomicU8>,
 ) {
     let mut all_ok = !pending.is_empty();
     let mut coordinates = PositionCoordinates {
@@ -460,6 +468,7 @@ async fn answers(
         });
     }
     if let ArmCommand::SetSpeed(speed) = command {
+        speed_in_force.store(speed, Ordering::Release);
         let _ = events.send(ArmEvent::Speed(speed));
     }
     let _ = events.send(ArmEvent::Done { command });
