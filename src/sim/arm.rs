@@ -13,6 +13,9 @@ use super::kinematics::{
     self, HOME_DEG, JOINTS, Joints, MAX_JOINT_SPEED_DEG, MAX_JOINT_TORQUE, Pose,
 };
 
+/// The geometric Jacobian (rows vx, vy, vz, wx, wy, wz; a column per joint).
+type Jacobian = nalgebra::SMatrix<f64, 6, JOINTS>;
+
 /// Integrator step, seconds (1 kHz).
 pub const STEP: f64 = 0.001;
 
@@ -133,8 +136,11 @@ pub struct Arm {
     q: Joints,
     qd: Joints,
     motion: Motion,
-    /// A motion waiting for its start time (Talos Delay).
-    delayed: Option<(f64, Motion)>,
+    /// A motion waiting for its start time (Talos Delay), with its tool speed cap.
+    delayed: Option<(f64, Motion, Option<f64>)>,
+    /// The tool point's speed cap of the running motion, m/s, if its commander set one (the
+    /// Talos operator's jog speed); the configured linear limit applies on top.
+    tcp_cap: Option<f64>,
     /// When set, the current motion stops at this time unless refreshed (Talos continuous).
     watchdog: Option<f64>,
     faults: u32,
@@ -164,6 +170,7 @@ impl Arm {
             qd: [0.0; JOINTS],
             motion: Motion::Idle,
             delayed: None,
+            tcp_cap: None,
             watchdog: None,
             faults: 0,
             warnings: 0,
@@ -205,8 +212,21 @@ impl Arm {
     }
 
     /// Starts `motion`, after `delay` seconds if non-zero. `watchdog` makes it stop unless
-    /// refreshed within [`WATCHDOG`].
+    /// refreshed within [`WATCHDOG`]. Only the configured linear limit bounds the tool speed.
     pub fn command(&mut self, motion: Motion, delay: f64, watchdog: bool) -> Result<(), Refusal> {
+        self.command_capped(motion, delay, watchdog, None)
+    }
+
+    /// [`Arm::command`] with the tool point kept at or under `max_tcp_speed` m/s (and the
+    /// configured linear limit) whatever the motion: joint velocities are scaled down together,
+    /// so the path is the same, only slower.
+    pub fn command_capped(
+        &mut self,
+        motion: Motion,
+        delay: f64,
+        watchdog: bool,
+        max_tcp_speed: Option<f64>,
+    ) -> Result<(), Refusal> {
         if self.in_fault() && !motion.is_idle() {
             return Err(Refusal::InFault);
         }
@@ -218,12 +238,18 @@ impl Arm {
             _ => self.move_type,
         };
         if delay > 0.0 {
-            self.delayed = Some((self.time + delay, motion));
+            self.delayed = Some((self.time + delay, motion, max_tcp_speed));
         } else {
             self.delayed = None;
+            self.tcp_cap = max_tcp_speed;
             self.start(motion);
         }
         Ok(())
+    }
+
+    /// Changes the tool speed cap of the running motion (a repeated START at a new speed).
+    pub fn set_tcp_cap(&mut self, max_tcp_speed: Option<f64>) {
+        self.tcp_cap = max_tcp_speed;
     }
 
     /// Refreshes the watchdog of a continuous motion (a repeated START).
@@ -325,18 +351,24 @@ impl Arm {
     /// One integrator step of [`STEP`] seconds.
     pub fn step(&mut self) {
         self.time += STEP;
-        if let Some((at, _)) = &self.delayed
+        if let Some((at, _, _)) = &self.delayed
             && self.time >= *at
-            && let Some((_, motion)) = self.delayed.take()
+            && let Some((_, motion, cap)) = self.delayed.take()
         {
+            self.tcp_cap = cap;
             self.start(motion);
         }
         if self.watchdog.is_some_and(|deadline| self.time >= deadline) {
             tracing::info!("sim: continuous motion stopped by the 500 ms watchdog");
             self.stop();
         }
-        let desired = self.desired_velocity();
-        self.qd = limit_joint_speeds(desired);
+        self.qd = if self.motion.is_idle() {
+            [0.0; JOINTS]
+        } else {
+            let (pose, j) = kinematics::pose_and_jacobian(&self.q);
+            let desired = self.desired_velocity(&pose, &j);
+            self.limit_tcp_speed(limit_joint_speeds(desired), &j)
+        };
         let next: Joints = std::array::from_fn(|i| self.q[i] + self.qd[i] * STEP);
         if let Some(joint) = (0..JOINTS).find(|&i| !kinematics::within_limit(i, next[i])) {
             // A real arm stops at a joint limit; the warning says which kind of stop it was.
@@ -352,7 +384,8 @@ impl Arm {
         self.update_effort();
     }
 
-    fn desired_velocity(&mut self) -> Joints {
+    /// Joint velocities the motion asks for at `pose`, whose Jacobian is `j`.
+    fn desired_velocity(&mut self, pose: &Pose, j: &Jacobian) -> Joints {
         match self.motion.clone() {
             Motion::Idle => [0.0; JOINTS],
             Motion::Twist {
@@ -360,24 +393,24 @@ impl Arm {
                 angular,
                 frame,
             } => {
-                let rotation = self.pose().rotation;
+                let rotation = pose.rotation;
                 let (linear, angular) = match frame {
                     Frame::Base => (linear, angular),
                     Frame::Tool => (rotation * linear, rotation * angular),
                     Frame::Mixed => (linear, rotation * angular),
                 };
-                self.track(linear, angular)
+                self.track(j, linear, angular)
             }
             Motion::Polar { azimuth, altitude } => {
-                let (linear, angular) = polar_twist(&self.pose(), azimuth, altitude);
-                self.track(linear, angular)
+                let (linear, angular) = polar_twist(pose, azimuth, altitude);
+                self.track(j, linear, angular)
             }
             Motion::ToPose {
                 target,
                 linear_speed,
                 angular_speed,
             } => {
-                let err = kinematics::pose_error(&self.pose(), &target);
+                let err = kinematics::pose_error(pose, &target);
                 let dp = err.fixed_rows::<3>(0).into_owned();
                 let dr = err.fixed_rows::<3>(3).into_owned();
                 if dp.norm() < 2e-4 && dr.norm() < 0.05_f64.to_radians() {
@@ -387,11 +420,10 @@ impl Arm {
                 // Proportional approach, capped at the requested speeds.
                 let linear = cap(dp * 8.0, linear_speed);
                 let angular = cap(dr * 8.0, angular_speed);
-                self.track(linear, angular)
+                self.track(j, linear, angular)
             }
             Motion::ToJoints { target, fraction } => {
-                let delta: Joints =
-                    std::array::from_fn(|i| kinematics::wrap_pi(target[i] - self.q[i]));
+                let delta: Joints = std::array::from_fn(|i| joint_delta(i, self.q[i], target[i]));
                 if delta.iter().all(|d| d.abs() < 1e-5) {
                     self.finish();
                     return [0.0; JOINTS];
@@ -412,20 +444,52 @@ impl Arm {
         }
     }
 
+    /// The tool point's speed cap in force, m/s.
+    fn linear_cap(&self) -> f64 {
+        self.tcp_cap
+            .map_or(self.speed_limit_linear, |c| c.min(self.speed_limit_linear))
+    }
+
+    /// Scales joint velocities down (never up) so the tool point moves no faster than the
+    /// motion's cap and the configured linear limit, measured through the Jacobian: a
+    /// cartesian motion is capped before its inverse kinematics too (see [`Arm::track`]), but
+    /// damped least squares can trade a little rotation for translation.
+    fn limit_tcp_speed(&self, qd: Joints, j: &Jacobian) -> Joints {
+        if qd.iter().all(|v| *v == 0.0) {
+            return qd;
+        }
+        let cap = self.linear_cap();
+        let twist = j * nalgebra::SVector::<f64, JOINTS>::from(qd);
+        let speed = twist.fixed_rows::<3>(0).norm();
+        if speed > cap && speed > 0.0 {
+            qd.map(|v| v * cap / speed)
+        } else {
+            qd
+        }
+    }
+
     fn finish(&mut self) {
         self.motion = Motion::Idle;
         self.watchdog = None;
         self.action_status = ActionStatus::Completed;
     }
 
-    /// Joint velocities for a base-frame twist, capped at the desired speed limits.
-    fn track(&self, linear: Vector3<f64>, angular: Vector3<f64>) -> Joints {
-        let linear = cap(linear, self.speed_limit_linear);
-        let angular = cap(angular, self.speed_limit_angular);
+    /// Joint velocities for a base-frame twist, capped at the desired speed limits and the
+    /// motion's tool speed cap. The whole twist is scaled for the linear cap, so a polar pan
+    /// keeps its shape (slower rotation, not a tool turning faster than it orbits).
+    fn track(&self, j: &Jacobian, linear: Vector3<f64>, angular: Vector3<f64>) -> Joints {
+        let speed = linear.norm();
+        let scale = if speed > self.linear_cap() {
+            self.linear_cap() / speed
+        } else {
+            1.0
+        };
+        let linear = linear * scale;
+        let angular = cap(angular * scale, self.speed_limit_angular);
         let xdot = Vector6::new(
             linear.x, linear.y, linear.z, angular.x, angular.y, angular.z,
         );
-        kinematics::dls_velocity(&self.q, &xdot, 0.05)
+        kinematics::dls_velocity_with(j, &xdot, 0.05)
     }
 
     /// Torques from a simple gravity model plus viscous friction; currents from the torque
@@ -498,6 +562,16 @@ impl Arm {
             speed_limit_angular_deg: self.speed_limit_angular.to_degrees(),
             moving: self.is_moving(),
         }
+    }
+}
+
+/// How far joint `i` turns from `from` to reach `to` (radians), as a joint-space move does it:
+/// a continuous joint the short way round; a limited joint straight across its range, never
+/// the way through its limit (both ends are inside it, so every angle between is too).
+pub fn joint_delta(i: usize, from: f64, to: f64) -> f64 {
+    match kinematics::JOINT_LIMITS_DEG[i] {
+        Some(_) => kinematics::wrap_pi(to) - kinematics::wrap_pi(from),
+        None => kinematics::wrap_pi(to - from),
     }
 }
 

@@ -16,10 +16,16 @@ use crate::link::{Dialect, TalosLink};
 use crate::talos::hardware::{ActuatorCommand, HwReply, HwRequest};
 use crate::talos::{CommandValue, Reply, Request, ReturnCode};
 
+/// How long a joint jog command may run before it is renewed or stopped: the operator's
+/// watchdog, s.
+const JOINT_JOG_HORIZON: f64 = 0.5;
+
 pub struct TalosSide {
     config: Option<TalosConfig>,
     oid: u16,
     joint_jog_speed: f32,
+    /// The tool speed cap at 100 %, m/s: bounds joint jog rates by the joint's lever arm.
+    max_jog_speed: f64,
     link: Option<TalosLink>,
     link_events: Option<mpsc::UnboundedReceiver<TalosEvent>>,
     events: mpsc::UnboundedSender<ArmEvent>,
@@ -41,6 +47,7 @@ impl TalosSide {
             config: config.talos.clone(),
             oid: config.oid,
             joint_jog_speed: config.joint_jog_speed,
+            max_jog_speed: config.max_jog_speed,
             link: None,
             link_events: None,
             events,
@@ -118,6 +125,21 @@ impl TalosSide {
         }
     }
 
+    /// A joint jog's rate, deg/s: its jog speed at the speed in force, bounded so the tool point
+    /// moves no faster than the cap at that speed (the lever arm from the joint's axis to the
+    /// tool, from the reported angles), until the jog's next refresh or the operator's 500 ms
+    /// watchdog.
+    fn joint_rate(&self, positions: &[f32; 7], joint: u8) -> f32 {
+        let fraction = f64::from(self.speed.load(Ordering::Acquire)) / 100.0;
+        let by_tool = crate::kortex::gen3::joint_rate_for_tool_speed(
+            positions,
+            joint,
+            self.max_jog_speed * fraction,
+            JOINT_JOG_HORIZON,
+        );
+        (f64::from(self.joint_jog_speed) * fraction).min(by_tool) as f32
+    }
+
     /// The requests that carry out `command`, in order.
     fn requests(&mut self, command: &ArmCommand) -> Result<Vec<Request>, String> {
         let icd = self.dialect() == Dialect::Icd;
@@ -146,15 +168,13 @@ impl TalosSide {
                 if !icd {
                     return Err("joint jog needs the icd dialect".into());
                 }
-                let index = usize::from(joint.saturating_sub(1)).min(6);
                 // The command carries the joint's last reported position: none is invented.
-                let Some(position) = self.joints.borrow().map(|j| j[index]) else {
+                let Some(positions) = *self.joints.borrow() else {
                     return Err("no joint position reported yet: wait for telemetry".into());
                 };
-                let velocity = f32::from(*direction)
-                    * self.joint_jog_speed
-                    * f32::from(self.speed.load(Ordering::Acquire))
-                    / 100.0;
+                let index = usize::from(joint.saturating_sub(1)).min(6);
+                let velocity = f32::from(*direction) * self.joint_rate(&positions, *joint);
+                let position = positions[index];
                 vec![hw(HwRequest::SendActuatorCommand {
                     joint: *joint,
                     command: ActuatorCommand::jog(position, velocity),
