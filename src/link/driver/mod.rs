@@ -262,6 +262,15 @@ async fn run(
                             reason: format!("STOP COULD NOT BE WRITTEN: {error}"),
                         });
                     }
+                    ModbusEvent::SpeedLimitsNotRestored { limits, error } => {
+                        let _ = events.send(ArmEvent::Failed {
+                            command: "restore speed limits",
+                            reason: format!(
+                                "the arm keeps the lowered limits; set {} m/s, {} deg/s again: {error}",
+                                limits.linear, limits.angular
+                            ),
+                        });
+                    }
                     other => tracing::info!("modbus: {other:?}"),
                 }
             }
