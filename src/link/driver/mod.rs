@@ -29,7 +29,8 @@ pub(crate) type JointPositions = std::sync::Arc<tokio::sync::watch::Sender<Optio
 pub struct DriverConfig {
     pub talos: Option<TalosConfig>,
     pub modbus: Option<ModbusConfig>,
-    /// Cartesian jog speed at 100 %, m/s (Modbus twists; 250 mm/s by default).
+    /// The tool speed cap at 100 %, m/s (250 mm/s by default): bounds every motion the driver
+    /// commands over Modbus and joint jogs over Talos; the speed in force is a percentage of it.
     pub max_jog_speed: f64,
     /// Single-joint jog speed at 100 %, deg/s.
     pub joint_jog_speed: f32,
