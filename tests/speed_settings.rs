@@ -248,3 +248,63 @@ async fn a_set_speed_answered_with_an_error_is_not_adopted() {
     }
     driver.shutdown().await;
 }
+
+#[tokio::test]
+async fn talos_joint_jogs_keep_the_tool_under_the_consoles_cap() {
+    // The operator would allow 500 mm/s: only the console's lever-arm bound keeps J2 under the
+    // console's 50 mm/s, whatever joint jog rate is configured.
+    let sim = Simulator::start(SimConfig {
+        max_jog_speed: 0.5,
+        ..SimConfig::ephemeral()
+    })
+    .await
+    .expect("simulator");
+    let talos = TalosConfig::new(sim.talos_addr.to_string());
+    let mut config = DriverConfig::new(Some(talos), None);
+    config.max_jog_speed = 0.05;
+    config.joint_jog_speed = 60.0;
+    let (driver, mut events) = Driver::spawn(config);
+    link_up(&mut events).await;
+    assert!(driver.send(ArmCommand::SetSpeed(100)));
+    assert_eq!(
+        until_event(&mut events, is_speed).await.0,
+        ArmEvent::Speed(100)
+    );
+    until_event(&mut events, |e| matches!(e, ArmEvent::Telemetry(_))).await;
+
+    for (joint, direction) in [(2u8, -1i8), (1, 1), (4, 1)] {
+        let jog = ArmCommand::Jog(armjog::console::jog::JogMotion::Joint { joint, direction });
+        let mut top = 0.0f64;
+        let until = tokio::time::Instant::now() + Duration::from_millis(800);
+        let mut resend = tokio::time::Instant::now();
+        while tokio::time::Instant::now() < until {
+            if tokio::time::Instant::now() >= resend {
+                assert!(driver.send(jog.clone()));
+                resend += Duration::from_millis(100);
+            }
+            let v = sim
+                .arm
+                .snapshot()
+                .await
+                .expect("sim alive")
+                .tcp_linear_velocity;
+            top = top.max((v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt());
+            tokio::time::sleep(Duration::from_millis(5)).await;
+        }
+        assert!(driver.send(ArmCommand::Stop));
+        let stopped = async {
+            while sim.arm.snapshot().await.expect("sim alive").moving {
+                tokio::time::sleep(Duration::from_millis(10)).await;
+            }
+        };
+        tokio::time::timeout(Duration::from_secs(10), stopped)
+            .await
+            .expect("stopped");
+        assert!(
+            top <= 0.05 * 1.01 && top > 0.025,
+            "J{joint}: top tool speed {:.1} mm/s",
+            top * 1000.0
+        );
+    }
+    driver.shutdown().await;
+}
