@@ -308,3 +308,34 @@ async fn talos_joint_jogs_keep_the_tool_under_the_consoles_cap() {
     }
     driver.shutdown().await;
 }
+
+#[test]
+fn the_status_bar_shows_the_jog_speed_from_the_cap_and_the_percent() {
+    use armjog::console::app::{App, AppConfig, Input};
+    use armjog::console::jog::ReleaseMode;
+    use armjog::console::keymap::Keymap;
+    use armjog::console::positions::PositionBook;
+    use armjog::console::ui::status::speed_text;
+
+    let mut app = App::new(
+        AppConfig {
+            keymap: Keymap::builtin("default").expect("keymap"),
+            release_mode: ReleaseMode::Reported,
+            refresh: Duration::from_millis(100),
+            positions_on_operator: false,
+            max_jog_speed: 0.05,
+            frames: true,
+        },
+        PositionBook::new(),
+    );
+    assert_eq!(speed_text(&app), "?", "unknown until the arm reports it");
+    let now = std::time::Instant::now();
+    for (percent, text) in [
+        (100, "100% (50 mm/s)"),
+        (40, "40% (20 mm/s)"),
+        (1, "1% (0.5 mm/s)"),
+    ] {
+        app.handle(Input::Arm(ArmEvent::Speed(percent)), now);
+        assert_eq!(speed_text(&app), text);
+    }
+}

@@ -42,7 +42,12 @@ pub fn speed_text(app: &App) -> String {
     match app.speed {
         Some(s) => {
             let mm_s = app.config.max_jog_speed * 1000.0 * f64::from(s) / 100.0;
-            format!("{s}% ({mm_s:.0} mm/s)")
+            // A slow speed keeps a decimal: "0 mm/s" would read as stopped.
+            if mm_s < 10.0 {
+                format!("{s}% ({mm_s:.1} mm/s)")
+            } else {
+                format!("{s}% ({mm_s:.0} mm/s)")
+            }
         }
         None => "?".into(),
     }
