@@ -26,9 +26,12 @@ use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 
 use super::arm::{Arm, Frame, Motion, Refusal, polar_target};
 use super::kinematics::{self, HOME_DEG, Joints, Pose};
-use crate::talos::hardware::{self, HwReply, HwRequest};
+use crate::talos::hardware::HwRequest;
 use crate::talos::message::DecodeError;
+
+mod hardware;
 use crate::talos::{Reply, Request, ReturnCode};
+use hardware::hardware_operation;
 
 /// The simulated operator's version, reported by Handshake.
 pub const VERSION: (u8, u8) = (1, 0);
@@ -548,59 +551,4 @@ fn continuous(arm: &mut Arm, motion: Motion, cap: f64) -> Result<(), ReturnCode>
     }
     arm.command_capped(motion, 0.0, true, Some(cap))
         .map_err(refusal_code)
-}
-
-/// The hardware companion ICD's operations on the simulated arm; `cap` bounds the tool speed
-/// of a joint jog, m/s.
-fn hardware_operation(arm: &mut Arm, request: HwRequest, cap: f64) -> Result<HwReply, ReturnCode> {
-    let snapshot = arm.snapshot();
-    match request {
-        HwRequest::GetActuatorFeedback { selector } => {
-            let joints: Vec<u8> = if selector == hardware::ALL_JOINTS {
-                (1..=hardware::JOINT_COUNT).collect()
-            } else {
-                vec![selector]
-            };
-            Ok(HwReply::GetActuatorFeedback {
-                actuators: joints
-                    .into_iter()
-                    .map(|j| super::telemetry::actuator_feedback(&snapshot, j))
-                    .collect(),
-            })
-        }
-        HwRequest::SendActuatorCommand { joint, command } => {
-            use hardware::CommandFlags as F;
-            let flags = command.flags;
-            if flags.contains(F::CLEAR_MAJOR_FAULT) || flags.contains(F::CLEAR_MINOR_FAULT) {
-                arm.fault_reset();
-            }
-            if flags.contains(F::SERVO_ENABLE) {
-                let index = usize::from(joint.saturating_sub(1));
-                let velocity = f64::from(command.velocity_deg_s).to_radians();
-                let motion = Motion::JointVelocity {
-                    joint: index,
-                    velocity,
-                };
-                if velocity == 0.0 {
-                    arm.stop();
-                } else {
-                    continuous(arm, motion, cap)?;
-                }
-            }
-            Ok(HwReply::SendActuatorCommand {
-                feedback: super::telemetry::actuator_feedback(&arm.snapshot(), joint),
-            })
-        }
-        HwRequest::GetArmState => Ok(HwReply::GetArmState {
-            state: super::telemetry::arm_state(&snapshot),
-        }),
-        HwRequest::StopAllJoints => {
-            arm.stop();
-            Ok(HwReply::StopAllJoints)
-        }
-        HwRequest::ClearAllFaults => {
-            arm.fault_reset();
-            Ok(HwReply::ClearAllFaults)
-        }
-    }
 }
