@@ -48,7 +48,8 @@ pub struct ConsoleArgs {
     /// Keymap: a built-in name (default, numpad) or a JSON file.
     #[arg(long, default_value = "default", value_name = "NAME|PATH")]
     pub keymap: String,
-    /// Cartesian jog speed cap at 100 % speed, mm/s.
+    /// The tool speed cap at 100 % speed, mm/s: bounds every motion (cartesian and polar jogs,
+    /// joint jogs, steps, go to, home); the speed keys pick a percentage of it.
     #[arg(long, default_value_t = 250.0, value_name = "MM_S")]
     pub max_jog_speed: f64,
     /// How often a held jog is re-sent, per second (the operator's watchdog is 500 ms).

@@ -28,7 +28,8 @@ pub struct SimArgs {
     /// The operator's checksum dialect.
     #[arg(long, default_value = "crc16", value_parser = |s: &str| s.parse::<Checksum>())]
     pub checksum: Checksum,
-    /// The operator's cartesian jog speed at 100 % speed, mm/s.
+    /// The operator's tool speed cap at 100 % speed, mm/s: bounds every motion it commands
+    /// (cartesian and polar, continuous and discrete, joint jogs, go to, home).
     #[arg(long, default_value_t = 250.0, value_name = "MM_S")]
     pub max_jog_speed: f64,
     /// Fault injection: wait this long before every reply, ms.

@@ -126,3 +126,49 @@ pub fn polar_twist(
         theta_z: out(omega[2]),
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Over the reachable space and every direction, altitude included, the tool point never
+    /// moves faster than the settings' linear speed, and the linear part is the rigid motion
+    /// of the point under the angular part (v = w x p), so the bound is the tool's true speed.
+    #[test]
+    fn the_tool_point_speed_is_bounded_whatever_the_pose_and_direction() {
+        let settings = PolarPanSettings {
+            angular_speed: 30.0,
+            max_linear_speed: 0.05,
+        };
+        for x in [-0.9f32, -0.3, 0.05, 0.4566, 0.9] {
+            for y in [-0.7f32, 0.0, 0.2, 0.8] {
+                for z in [-0.2f32, 0.1, 0.4338, 1.0] {
+                    let pose = Pose {
+                        x,
+                        y,
+                        z,
+                        theta_x: 90.0,
+                        theta_y: 0.0,
+                        theta_z: 90.0,
+                    };
+                    for (az, alt) in [(1.0, 0.0), (0.0, 1.0), (1.0, 1.0), (-1.0, 0.5)] {
+                        let t = polar_twist(pose, az, alt, settings).expect("defined off axis");
+                        assert!(
+                            t.linear_speed() <= 0.05 * 1.0001,
+                            "{pose:?} {az} {alt}: {t:?}"
+                        );
+                        let w = [t.theta_x, t.theta_y, t.theta_z].map(|v| v.to_radians());
+                        let rigid = [
+                            w[1] * z - w[2] * y,
+                            w[2] * x - w[0] * z,
+                            w[0] * y - w[1] * x,
+                        ];
+                        for (v, r) in [t.x, t.y, t.z].iter().zip(rigid) {
+                            assert!((v - r).abs() < 1e-5, "{pose:?} {az} {alt}: {t:?}");
+                        }
+                    }
+                }
+            }
+        }
+    }
+}

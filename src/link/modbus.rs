@@ -10,7 +10,10 @@
 //! [`ModbusConfig::twist_hold`], when a motion write or a poll fails, and after a reconnect.
 //! A stop the arm refuses is escalated to the abort coil; a stop that could not be written at
 //! all is logged with `tracing::error!`, sent as [`ModbusEvent::StopFailed`] and returned as an
-//! error. Actions and cartesian trajectories end by themselves and are left running on drop.
+//! error. Actions and cartesian trajectories end by themselves and are left running on drop,
+//! except a move started under a speed cap ([`ModbusLink::go_to_pose_capped`],
+//! [`ModbusLink::home_capped`]): the link lowered the arm's speed limits for it, so it stops that
+//! move on close and puts the limits back (see `task/limits.rs` for every path and the gap).
 //! A task cancelled by the runtime shutting down can write nothing: await
 //! [`ModbusLink::close`] before leaving the runtime.
 
@@ -25,7 +28,7 @@ use tokio::sync::{mpsc, oneshot, watch};
 use crate::kortex::commands::{self, CommandError, StoredMotion, Write};
 use crate::kortex::{
     ControlCoil, PolarPanError, PolarPanSettings, PollPlan, Pose, ReadBlock, ReferenceFrame,
-    Telemetry, Twist,
+    SpeedLimits, Telemetry, Twist,
 };
 
 /// Modbus TCP port of the arm.
@@ -208,6 +211,10 @@ pub enum ModbusError {
     BadConfig { reason: String },
     #[error("not connected to the arm: {reason}")]
     Disconnected { reason: String },
+    #[error(
+        "the arm reports speed limits of {linear} m/s and {angular} deg/s: a move's speed cannot be bounded from them"
+    )]
+    SpeedLimitsUnknown { linear: f32, angular: f32 },
     #[error("the arm refused the stop ({stop}) and the abort coil ({abort}): it may still move")]
     StopFailed {
         stop: Box<ModbusError>,
@@ -288,6 +295,14 @@ pub enum ModbusEvent {
     StopEscalated { reason: StopReason, error: String },
     /// No stop could be written: the arm may still be moving.
     StopFailed { reason: StopReason, error: String },
+    /// The arm's speed limits were lowered to `linear` m/s for a capped move; `previous` are
+    /// put back when it ends.
+    SpeedLimitsLowered { linear: f32, previous: SpeedLimits },
+    /// The speed limits a capped move lowered are back to `limits`.
+    SpeedLimitsRestored { limits: SpeedLimits },
+    /// The speed limits a capped move lowered could not be put back: the arm keeps the lower
+    /// ones until someone sets them (`armjog modbus speed-limit`).
+    SpeedLimitsNotRestored { limits: SpeedLimits, error: String },
 }
 
 /// One published poll.
@@ -322,12 +337,15 @@ enum Job {
     PolarPan {
         azimuth: f32,
         altitude: f32,
+        settings: PolarPanSettings,
         reply: Reply<WriteReport>,
     },
     Stop(Reply<WriteReport>),
-    /// A trajectory or stored motion: any twist is stopped first.
+    /// A trajectory or stored motion: any twist is stopped first. With `max_linear` (m/s), the
+    /// arm's linear speed limit is lowered to it for the move and put back afterwards.
     Move {
         writes: Vec<Write>,
+        max_linear: Option<f32>,
         reply: Reply<WriteReport>,
     },
     /// Writes that leave motion alone (speed limits, fault reset), or end it (`halts`: quick
@@ -418,13 +436,26 @@ impl ModbusLink {
     /// [`crate::kortex::polar`]). The twist is recomputed from the pose of every poll. The same
     /// directions again only refresh the hold; zero in both stops.
     pub async fn polar_pan(&self, azimuth: f32, altitude: f32) -> Result<WriteReport, ModbusError> {
-        crate::kortex::check_directions(azimuth, altitude, self.config.polar)?;
+        self.polar_pan_with(azimuth, altitude, self.config.polar)
+            .await
+    }
+
+    /// [`ModbusLink::polar_pan`] at `settings` rather than the config's: the console's speed
+    /// scales the rotation rate and the tool speed bound. Other settings again restart the pan.
+    pub async fn polar_pan_with(
+        &self,
+        azimuth: f32,
+        altitude: f32,
+        settings: PolarPanSettings,
+    ) -> Result<WriteReport, ModbusError> {
+        crate::kortex::check_directions(azimuth, altitude, settings)?;
         if self.config.poll_rate_hz.is_none() {
             return Err(ModbusError::NoPolling);
         }
         self.ask(|reply| Job::PolarPan {
             azimuth,
             altitude,
+            settings,
             reply,
         })
         .await
@@ -443,7 +474,31 @@ impl ModbusLink {
         pose: Pose,
     ) -> Result<WriteReport, ModbusError> {
         let writes = commands::go_to_pose(frame, pose)?;
-        self.ask(|reply| Job::Move { writes, reply }).await
+        self.ask(|reply| Job::Move {
+            writes,
+            max_linear: None,
+            reply,
+        })
+        .await
+    }
+
+    /// [`ModbusLink::go_to_pose`] with the tool at or under `max_linear` m/s: the arm runs a
+    /// cartesian trajectory at its configured limit, so the link lowers that limit (never raises
+    /// it) for the move and puts it back when the move ends, is stopped, or the link closes.
+    pub async fn go_to_pose_capped(
+        &self,
+        frame: ReferenceFrame,
+        pose: Pose,
+        max_linear: f32,
+    ) -> Result<WriteReport, ModbusError> {
+        let writes = commands::go_to_pose(frame, pose)?;
+        commands::speed_limits(max_linear, commands::MAX_ANGULAR_SPEED)?;
+        self.ask(|reply| Job::Move {
+            writes,
+            max_linear: Some(max_linear),
+            reply,
+        })
+        .await
     }
 
     /// Starts a stored action or sequence by id.
@@ -453,13 +508,32 @@ impl ModbusLink {
         motion: StoredMotion,
     ) -> Result<WriteReport, ModbusError> {
         let writes = commands::start_stored(id, motion);
-        self.ask(|reply| Job::Move { writes, reply }).await
+        self.ask(|reply| Job::Move {
+            writes,
+            max_linear: None,
+            reply,
+        })
+        .await
     }
 
     /// Starts the Home action (id from the config).
     pub async fn home(&self) -> Result<WriteReport, ModbusError> {
         self.start_stored(self.config.home_action_id, StoredMotion::Action)
             .await
+    }
+
+    /// The Home action with the arm's linear speed limit lowered to `max_linear` m/s while it
+    /// runs, as [`ModbusLink::go_to_pose_capped`] does. Whether an arm's stored action honours
+    /// its cartesian limit is up to the arm (the simulator's does).
+    pub async fn home_capped(&self, max_linear: f32) -> Result<WriteReport, ModbusError> {
+        let writes = commands::start_stored(self.config.home_action_id, StoredMotion::Action);
+        commands::speed_limits(max_linear, commands::MAX_ANGULAR_SPEED)?;
+        self.ask(|reply| Job::Move {
+            writes,
+            max_linear: Some(max_linear),
+            reply,
+        })
+        .await
     }
 
     /// Sets the desired cartesian speed limits: linear m/s, angular deg/s.

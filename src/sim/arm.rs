@@ -13,6 +13,9 @@ use super::kinematics::{
     self, HOME_DEG, JOINTS, Joints, MAX_JOINT_SPEED_DEG, MAX_JOINT_TORQUE, Pose,
 };
 
+/// The geometric Jacobian (rows vx, vy, vz, wx, wy, wz; a column per joint).
+type Jacobian = nalgebra::SMatrix<f64, 6, JOINTS>;
+
 /// Integrator step, seconds (1 kHz).
 pub const STEP: f64 = 0.001;
 
@@ -133,8 +136,11 @@ pub struct Arm {
     q: Joints,
     qd: Joints,
     motion: Motion,
-    /// A motion waiting for its start time (Talos Delay).
-    delayed: Option<(f64, Motion)>,
+    /// A motion waiting for its start time (Talos Delay), with its tool speed cap.
+    delayed: Option<(f64, Motion, Option<f64>)>,
+    /// The tool point's speed cap of the running motion, m/s, if its commander set one (the
+    /// Talos operator's jog speed); the configured linear limit applies on top.
+    tcp_cap: Option<f64>,
     /// When set, the current motion stops at this time unless refreshed (Talos continuous).
     watchdog: Option<f64>,
     faults: u32,
@@ -164,6 +170,7 @@ impl Arm {
             qd: [0.0; JOINTS],
             motion: Motion::Idle,
             delayed: None,
+            tcp_cap: None,
             watchdog: None,
             faults: 0,
             warnings: 0,
@@ -205,8 +212,21 @@ impl Arm {
     }
 
     /// Starts `motion`, after `delay` seconds if non-zero. `watchdog` makes it stop unless
-    /// refreshed within [`WATCHDOG`].
+    /// refreshed within [`WATCHDOG`]. Only the configured linear limit bounds the tool speed.
     pub fn command(&mut self, motion: Motion, delay: f64, watchdog: bool) -> Result<(), Refusal> {
+        self.command_capped(motion, delay, watchdog, None)
+    }
+
+    /// [`Arm::command`] with the tool point kept at or under `max_tcp_speed` m/s (and the
+    /// configured linear limit) whatever the motion: joint velocities are scaled down together,
+    /// so the path is the same, only slower.
+    pub fn command_capped(
+        &mut self,
+        motion: Motion,
+        delay: f64,
+        watchdog: bool,
+        max_tcp_speed: Option<f64>,
+    ) -> Result<(), Refusal> {
         if self.in_fault() && !motion.is_idle() {
             return Err(Refusal::InFault);
         }
@@ -218,12 +238,18 @@ impl Arm {
             _ => self.move_type,
         };
         if delay > 0.0 {
-            self.delayed = Some((self.time + delay, motion));
+            self.delayed = Some((self.time + delay, motion, max_tcp_speed));
         } else {
             self.delayed = None;
+            self.tcp_cap = max_tcp_speed;
             self.start(motion);
         }
         Ok(())
+    }
+
+    /// Changes the tool speed cap of the running motion (a repeated START at a new speed).
+    pub fn set_tcp_cap(&mut self, max_tcp_speed: Option<f64>) {
+        self.tcp_cap = max_tcp_speed;
     }
 
     /// Refreshes the watchdog of a continuous motion (a repeated START).
@@ -325,18 +351,24 @@ impl Arm {
     /// One integrator step of [`STEP`] seconds.
     pub fn step(&mut self) {
         self.time += STEP;
-        if let Some((at, _)) = &self.delayed
+        if let Some((at, _, _)) = &self.delayed
             && self.time >= *at
-            && let Some((_, motion)) = self.delayed.take()
+            && let Some((_, motion, cap)) = self.delayed.take()
         {
+            self.tcp_cap = cap;
             self.start(motion);
         }
         if self.watchdog.is_some_and(|deadline| self.time >= deadline) {
             tracing::info!("sim: continuous motion stopped by the 500 ms watchdog");
             self.stop();
         }
-        let desired = self.desired_velocity();
-        self.qd = limit_joint_speeds(desired);
+        self.qd = if self.motion.is_idle() {
+            [0.0; JOINTS]
+        } else {
+            let (pose, j) = kinematics::pose_and_jacobian(&self.q);
+            let desired = self.desired_velocity(&pose, &j);
+            self.limit_tcp_speed(limit_joint_speeds(desired), &j)
+        };
         let next: Joints = std::array::from_fn(|i| self.q[i] + self.qd[i] * STEP);
         if let Some(joint) = (0..JOINTS).find(|&i| !kinematics::within_limit(i, next[i])) {
             // A real arm stops at a joint limit; the warning says which kind of stop it was.
@@ -352,7 +384,8 @@ impl Arm {
         self.update_effort();
     }
 
-    fn desired_velocity(&mut self) -> Joints {
+    /// Joint velocities the motion asks for at `pose`, whose Jacobian is `j`.
+    fn desired_velocity(&mut self, pose: &Pose, j: &Jacobian) -> Joints {
         match self.motion.clone() {
             Motion::Idle => [0.0; JOINTS],
             Motion::Twist {
@@ -360,24 +393,24 @@ impl Arm {
                 angular,
                 frame,
             } => {
-                let rotation = self.pose().rotation;
+                let rotation = pose.rotation;
                 let (linear, angular) = match frame {
                     Frame::Base => (linear, angular),
                     Frame::Tool => (rotation * linear, rotation * angular),
                     Frame::Mixed => (linear, rotation * angular),
                 };
-                self.track(linear, angular)
+                self.track(j, linear, angular)
             }
             Motion::Polar { azimuth, altitude } => {
-                let (linear, angular) = polar_twist(&self.pose(), azimuth, altitude);
-                self.track(linear, angular)
+                let (linear, angular) = polar_twist(pose, azimuth, altitude);
+                self.track(j, linear, angular)
             }
             Motion::ToPose {
                 target,
                 linear_speed,
                 angular_speed,
             } => {
-                let err = kinematics::pose_error(&self.pose(), &target);
+                let err = kinematics::pose_error(pose, &target);
                 let dp = err.fixed_rows::<3>(0).into_owned();
                 let dr = err.fixed_rows::<3>(3).into_owned();
                 if dp.norm() < 2e-4 && dr.norm() < 0.05_f64.to_radians() {
@@ -387,11 +420,10 @@ impl Arm {
                 // Proportional approach, capped at the requested speeds.
                 let linear = cap(dp * 8.0, linear_speed);
                 let angular = cap(dr * 8.0, angular_speed);
-                self.track(linear, angular)
+                self.track(j, linear, angular)
             }
             Motion::ToJoints { target, fraction } => {
-                let delta: Joints =
-                    std::array::from_fn(|i| kinematics::wrap_pi(target[i] - self.q[i]));
+                let delta: Joints = std::array::from_fn(|i| joint_delta(i, self.q[i], target[i]));
                 if delta.iter().all(|d| d.abs() < 1e-5) {
                     self.finish();
                     return [0.0; JOINTS];
@@ -412,20 +444,52 @@ impl Arm {
         }
     }
 
+    /// The tool point's speed cap in force, m/s.
+    fn linear_cap(&self) -> f64 {
+        self.tcp_cap
+            .map_or(self.speed_limit_linear, |c| c.min(self.speed_limit_linear))
+    }
+
+    /// Scales joint velocities down (never up) so the tool point moves no faster than the
+    /// motion's cap and the configured linear limit, measured through the Jacobian: a
+    /// cartesian motion is capped before its inverse kinematics too (see [`Arm::track`]), but
+    /// damped least squares can trade a little rotation for translation.
+    fn limit_tcp_speed(&self, qd: Joints, j: &Jacobian) -> Joints {
+        if qd.iter().all(|v| *v == 0.0) {
+            return qd;
+        }
+        let cap = self.linear_cap();
+        let twist = j * nalgebra::SVector::<f64, JOINTS>::from(qd);
+        let speed = twist.fixed_rows::<3>(0).norm();
+        if speed > cap && speed > 0.0 {
+            qd.map(|v| v * cap / speed)
+        } else {
+            qd
+        }
+    }
+
     fn finish(&mut self) {
         self.motion = Motion::Idle;
         self.watchdog = None;
         self.action_status = ActionStatus::Completed;
     }
 
-    /// Joint velocities for a base-frame twist, capped at the desired speed limits.
-    fn track(&self, linear: Vector3<f64>, angular: Vector3<f64>) -> Joints {
-        let linear = cap(linear, self.speed_limit_linear);
-        let angular = cap(angular, self.speed_limit_angular);
+    /// Joint velocities for a base-frame twist, capped at the desired speed limits and the
+    /// motion's tool speed cap. The whole twist is scaled for the linear cap, so a polar pan
+    /// keeps its shape (slower rotation, not a tool turning faster than it orbits).
+    fn track(&self, j: &Jacobian, linear: Vector3<f64>, angular: Vector3<f64>) -> Joints {
+        let speed = linear.norm();
+        let scale = if speed > self.linear_cap() {
+            self.linear_cap() / speed
+        } else {
+            1.0
+        };
+        let linear = linear * scale;
+        let angular = cap(angular * scale, self.speed_limit_angular);
         let xdot = Vector6::new(
             linear.x, linear.y, linear.z, angular.x, angular.y, angular.z,
         );
-        kinematics::dls_velocity(&self.q, &xdot, 0.05)
+        kinematics::dls_velocity_with(j, &xdot, 0.05)
     }
 
     /// Torques from a simple gravity model plus viscous friction; currents from the torque
@@ -501,6 +565,16 @@ impl Arm {
     }
 }
 
+/// How far joint `i` turns from `from` to reach `to` (radians), as a joint-space move does it:
+/// a continuous joint the short way round; a limited joint straight across its range, never
+/// the way through its limit (both ends are inside it, so every angle between is too).
+pub fn joint_delta(i: usize, from: f64, to: f64) -> f64 {
+    match kinematics::JOINT_LIMITS_DEG[i] {
+        Some(_) => kinematics::wrap_pi(to) - kinematics::wrap_pi(from),
+        None => kinematics::wrap_pi(to - from),
+    }
+}
+
 fn cap(v: Vector3<f64>, max: f64) -> Vector3<f64> {
     let n = v.norm();
     if n > max && n > 0.0 { v * (max / n) } else { v }
@@ -545,209 +619,4 @@ pub fn polar_target(pose: &Pose, azimuth: f64, altitude: f64) -> Pose {
 }
 
 #[cfg(test)]
-#[allow(clippy::needless_range_loop)] // parallel per-joint arrays read clearest by index
-mod tests {
-    use super::*;
-
-    #[test]
-    fn starts_at_home_at_rest() {
-        let arm = Arm::default();
-        let s = arm.snapshot();
-        assert!((s.tcp_position[0] - 0.4566).abs() < 1e-3);
-        assert_eq!(s.robot_state, RobotState::Ready);
-        assert!(!s.moving);
-    }
-
-    #[test]
-    fn a_base_twist_moves_the_tcp_along_x_at_the_commanded_speed() {
-        let mut arm = Arm::default();
-        let x0 = arm.pose().position;
-        let twist = Motion::Twist {
-            linear: Vector3::new(0.1, 0.0, 0.0),
-            angular: Vector3::zeros(),
-            frame: Frame::Base,
-        };
-        arm.command(twist, 0.0, false).unwrap();
-        arm.advance(0.5);
-        let d = arm.pose().position - x0;
-        assert!((d.x - 0.05).abs() < 0.005, "{d:?}");
-        assert!(d.y.abs() < 0.003 && d.z.abs() < 0.003, "{d:?}");
-    }
-
-    #[test]
-    fn the_watchdog_stops_an_unrefreshed_continuous_motion() {
-        let mut arm = Arm::default();
-        let m = Motion::Polar {
-            azimuth: 0.2,
-            altitude: 0.0,
-        };
-        arm.command(m, 0.0, true).unwrap();
-        arm.advance(0.3);
-        arm.refresh_watchdog();
-        arm.advance(0.45);
-        assert!(
-            !arm.motion().is_idle(),
-            "refreshed at 0.3 s, still moving at 0.75 s"
-        );
-        arm.advance(0.051 + STEP);
-        assert!(arm.motion().is_idle());
-        assert!(!arm.is_moving());
-    }
-
-    #[test]
-    fn polar_azimuth_orbits_about_z_at_constant_radius_and_height() {
-        let mut arm = Arm::default();
-        let p0 = arm.pose().position;
-        let m = Motion::Polar {
-            azimuth: 10f64.to_radians(),
-            altitude: 0.0,
-        };
-        arm.command(m, 0.0, false).unwrap();
-        arm.advance(1.0);
-        let p = arm.pose().position;
-        let r0 = (p0.x.powi(2) + p0.y.powi(2)).sqrt();
-        let r = (p.x.powi(2) + p.y.powi(2)).sqrt();
-        assert!((r - r0).abs() < 0.003 && (p.z - p0.z).abs() < 0.003);
-        let turned = p.y.atan2(p.x) - p0.y.atan2(p0.x);
-        assert!(
-            (turned.to_degrees() - 10.0).abs() < 0.5,
-            "{}",
-            turned.to_degrees()
-        );
-    }
-
-    #[test]
-    fn polar_altitude_raises_the_elevation() {
-        let mut arm = Arm::default();
-        let elevation = |p: Vector3<f64>| p.z.atan2((p.x.powi(2) + p.y.powi(2)).sqrt());
-        let e0 = elevation(arm.pose().position);
-        arm.command(
-            Motion::Polar {
-                azimuth: 0.0,
-                altitude: 0.1,
-            },
-            0.0,
-            false,
-        )
-        .unwrap();
-        arm.advance(0.5);
-        assert!(elevation(arm.pose().position) > e0 + 0.04);
-    }
-
-    #[test]
-    fn to_pose_reaches_a_reachable_target_and_refuses_an_unreachable_one() {
-        let mut arm = Arm::default();
-        let mut target = arm.pose();
-        target.position += Vector3::new(-0.05, 0.05, 0.05);
-        let m = Motion::ToPose {
-            target,
-            linear_speed: 0.1,
-            angular_speed: 0.5,
-        };
-        arm.command(m, 0.0, false).unwrap();
-        arm.advance(3.0);
-        assert!((arm.pose().position - target.position).norm() < 1e-3);
-        assert!(arm.motion().is_idle());
-        assert_eq!(arm.snapshot().action_status, ActionStatus::Completed);
-
-        let mut far = arm.pose();
-        far.position = Vector3::new(1.5, 0.0, 0.4);
-        let m = Motion::ToPose {
-            target: far,
-            linear_speed: 0.1,
-            angular_speed: 0.5,
-        };
-        assert_eq!(arm.command(m, 0.0, false), Err(Refusal::Unreachable));
-    }
-
-    #[test]
-    fn home_returns_every_joint() {
-        let mut arm = Arm::at(kinematics::to_radians(&[
-            20.0, 30.0, 170.0, 240.0, 10.0, 40.0, 80.0,
-        ]));
-        let home = kinematics::to_radians(&HOME_DEG);
-        arm.command(
-            Motion::ToJoints {
-                target: home,
-                fraction: 0.5,
-            },
-            0.0,
-            false,
-        )
-        .unwrap();
-        arm.advance(3.0);
-        for i in 0..JOINTS {
-            assert!(
-                kinematics::wrap_pi(arm.joints()[i] - home[i]).abs() < 1e-3,
-                "joint {i}"
-            );
-        }
-    }
-
-    #[test]
-    fn a_joint_limit_stops_the_motion_and_warns() {
-        // J2 starts near +128.9 deg and is driven outwards.
-        let mut arm = Arm::at(kinematics::to_radians(&[
-            0.0, 127.0, 180.0, 230.0, 0.0, 55.0, 90.0,
-        ]));
-        let m = Motion::JointVelocity {
-            joint: 1,
-            velocity: 20f64.to_radians(),
-        };
-        arm.command(m, 0.0, false).unwrap();
-        arm.advance(0.5);
-        assert!(arm.motion().is_idle());
-        assert!(arm.joints()[1].to_degrees() <= 128.9 + 1e-6);
-        assert_ne!(arm.snapshot().warnings & (Flag::JointFault.bit()), 0);
-    }
-
-    #[test]
-    fn quick_stop_faults_the_arm_until_reset() {
-        let mut arm = Arm::default();
-        arm.quick_stop();
-        assert_eq!(arm.snapshot().robot_state, RobotState::InFault);
-        let m = Motion::Polar {
-            azimuth: 0.1,
-            altitude: 0.0,
-        };
-        assert_eq!(arm.command(m.clone(), 0.0, false), Err(Refusal::InFault));
-        arm.fault_reset();
-        assert!(arm.command(m, 0.0, false).is_ok());
-    }
-
-    #[test]
-    fn a_delayed_motion_waits() {
-        let mut arm = Arm::default();
-        let m = Motion::Polar {
-            azimuth: 0.1,
-            altitude: 0.0,
-        };
-        arm.command(m, 0.2, false).unwrap();
-        arm.advance(0.1);
-        assert!(arm.motion().is_idle());
-        arm.advance(0.15);
-        assert!(!arm.motion().is_idle());
-    }
-
-    #[test]
-    fn efforts_are_plausible_and_deterministic() {
-        let mut a = Arm::default();
-        let mut b = Arm::default();
-        let m = Motion::Polar {
-            azimuth: 0.2,
-            altitude: 0.05,
-        };
-        a.command(m.clone(), 0.0, false).unwrap();
-        b.command(m, 0.0, false).unwrap();
-        a.advance(1.0);
-        b.advance(1.0);
-        assert_eq!(a.snapshot(), b.snapshot());
-        let s = a.snapshot();
-        for i in 0..JOINTS {
-            assert!(s.joint_torque[i].abs() <= MAX_JOINT_TORQUE[i]);
-            assert!(s.joint_current[i] > 0.0 && s.joint_current[i] < 10.0);
-            assert!(s.joint_temperature[i] >= 30.0 && s.joint_temperature[i] < 80.0);
-        }
-        assert!(s.arm_voltage > 20.0 && s.arm_voltage < 25.0);
-    }
-}
+mod tests;

@@ -1,5 +1,6 @@
-//! Kinova Gen3 7-DOF kinematics from the classic DH table of the field notes: forward
-//! kinematics, the geometric Jacobian and damped-least-squares inverse kinematics.
+//! Kinova Gen3 7-DOF kinematics from the classic DH table of the field notes (the table and its
+//! transforms live in [`crate::kortex::gen3`]): forward kinematics, the geometric Jacobian and
+//! damped-least-squares inverse kinematics.
 //!
 //! Joint angles here are radians, positions metres. Orientation is a rotation matrix; Kinova
 //! reports it as extrinsic XYZ Euler angles in degrees (`R = Rz(θz)·Ry(θy)·Rx(θx)`).
@@ -10,20 +11,6 @@ pub const JOINTS: usize = 7;
 
 /// Joint angles in radians.
 pub type Joints = [f64; JOINTS];
-
-/// (alpha, d, theta offset) per joint row; `a = 0` for every row.
-const DH_ROWS: [(f64, f64, f64); JOINTS] = {
-    use std::f64::consts::{FRAC_PI_2, PI};
-    [
-        (FRAC_PI_2, -0.2848, 0.0),
-        (FRAC_PI_2, -0.0118, PI),
-        (FRAC_PI_2, -0.4208, PI),
-        (FRAC_PI_2, -0.0128, PI),
-        (FRAC_PI_2, -0.3143, PI),
-        (FRAC_PI_2, 0.0, PI),
-        (PI, -0.1674, PI),
-    ]
-};
 
 pub use crate::kortex::gen3::{HOME_DEG, JOINT_LIMITS_DEG, MAX_JOINT_SPEED_DEG, MAX_JOINT_TORQUE};
 
@@ -53,43 +40,9 @@ impl Pose {
     }
 }
 
-fn dh(alpha: f64, d: f64, theta: f64) -> Matrix4<f64> {
-    let (st, ct) = theta.sin_cos();
-    let (sa, ca) = alpha.sin_cos();
-    Matrix4::new(
-        ct,
-        -st * ca,
-        st * sa,
-        0.0,
-        st,
-        ct * ca,
-        -ct * sa,
-        0.0,
-        0.0,
-        sa,
-        ca,
-        d,
-        0.0,
-        0.0,
-        0.0,
-        1.0,
-    )
-}
-
-/// The fixed base row: alpha = pi, d = 0, theta = 0.
-fn base() -> Matrix4<f64> {
-    dh(std::f64::consts::PI, 0.0, 0.0)
-}
-
 /// Frames before each joint (index i is the frame joint i+1 rotates in) and the tool frame.
 fn frames(q: &Joints) -> ([Matrix4<f64>; JOINTS], Matrix4<f64>) {
-    let mut t = base();
-    let mut before = [Matrix4::identity(); JOINTS];
-    for (i, (alpha, d, offset)) in DH_ROWS.iter().enumerate() {
-        before[i] = t;
-        t *= dh(*alpha, *d, q[i] + offset);
-    }
-    (before, t)
+    crate::kortex::gen3::frames(q)
 }
 
 fn pose_of(t: &Matrix4<f64>) -> Pose {
@@ -107,6 +60,12 @@ pub fn forward(q: &Joints) -> Pose {
 
 /// The geometric Jacobian: rows vx, vy, vz, wx, wy, wz in the base frame.
 pub fn jacobian(q: &Joints) -> SMatrix<f64, 6, JOINTS> {
+    pose_and_jacobian(q).1
+}
+
+/// The tool pose and the Jacobian from one pass over the DH chain (the integrator needs both
+/// every step).
+pub fn pose_and_jacobian(q: &Joints) -> (Pose, SMatrix<f64, 6, JOINTS>) {
     let (before, tool) = frames(q);
     let p = Vector3::new(tool[(0, 3)], tool[(1, 3)], tool[(2, 3)]);
     let mut j = SMatrix::<f64, 6, JOINTS>::zeros();
@@ -119,13 +78,17 @@ pub fn jacobian(q: &Joints) -> SMatrix<f64, 6, JOINTS> {
             j[(k + 3, i)] = z[k];
         }
     }
-    j
+    (pose_of(&tool), j)
 }
 
 /// Joint velocities that best produce the twist `xdot` (vx, vy, vz in m/s, wx, wy, wz in rad/s,
 /// base frame), damped so that singularities give small motions instead of huge ones.
 pub fn dls_velocity(q: &Joints, xdot: &Vector6<f64>, damping: f64) -> Joints {
-    let j = jacobian(q);
+    dls_velocity_with(&jacobian(q), xdot, damping)
+}
+
+/// [`dls_velocity`] with the Jacobian `j` already computed.
+pub fn dls_velocity_with(j: &SMatrix<f64, 6, JOINTS>, xdot: &Vector6<f64>, damping: f64) -> Joints {
     let jjt: Matrix6<f64> = j * j.transpose() + Matrix6::identity() * damping * damping;
     let Some(inv) = jjt.try_inverse() else {
         return [0.0; JOINTS];

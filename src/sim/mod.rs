@@ -40,7 +40,7 @@ pub struct SimConfig {
     pub faults: NetworkFaults,
     /// The arm's starting state (home pose at rest by default).
     pub arm: Arm,
-    /// The operator's cartesian jog speed at 100 %, m/s.
+    /// The operator's tool speed cap at 100 %, m/s, for every motion it commands.
     pub max_jog_speed: f64,
 }
 

@@ -7,6 +7,9 @@
 //! - Speed is a percentage (1-100) of the maximum jog speeds: [`MAX_JOG_LINEAR`] (or the cap
 //!   the operator was started with, [`Operator::with_max_jog_linear`]) for cartesian
 //!   motion and [`MAX_JOG_ANGULAR_DEG`] for polar pans. 0 or above 100 is OUT_OF_RANGE.
+//! - One cap for every motion: whatever it is (continuous or discrete, cartesian, polar, joint,
+//!   go to, home), the tool point never moves faster than the linear cap times the speed (a
+//!   timed discrete move: the cap itself). The arm scales joint velocities down to keep it.
 //! - Continuous START runs until STOP or until no START arrives for 500 ms (the watchdog). A
 //!   START with every direction 0 stops. Either STOP stops any continuous motion: a stop is never
 //!   ignored because it named the other kind.
@@ -23,9 +26,12 @@ use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 
 use super::arm::{Arm, Frame, Motion, Refusal, polar_target};
 use super::kinematics::{self, HOME_DEG, Joints, Pose};
-use crate::talos::hardware::{self, HwReply, HwRequest};
+use crate::talos::hardware::HwRequest;
 use crate::talos::message::DecodeError;
+
+mod hardware;
 use crate::talos::{Reply, Request, ReturnCode};
+use hardware::hardware_operation;
 
 /// The simulated operator's version, reported by Handshake.
 pub const VERSION: (u8, u8) = (1, 0);
@@ -119,6 +125,20 @@ impl Operator {
         f64::from(self.speed) / 100.0
     }
 
+    /// The tool speed cap at the current speed, m/s.
+    fn jog_cap(&self) -> f64 {
+        self.max_jog_linear * self.fraction()
+    }
+
+    /// The tool speed cap of a discrete move: a timed one may run up to the full cap.
+    fn move_cap(&self, time_ms: u32) -> f64 {
+        if time_ms == 0 {
+            self.jog_cap()
+        } else {
+            self.max_jog_linear
+        }
+    }
+
     /// The answer to a frame that did not decode as a request.
     pub fn reply_to_undecodable(error: &DecodeError) -> ReturnCode {
         match error {
@@ -163,7 +183,7 @@ impl Operator {
                     linear_speed: rate * radius,
                     angular_speed: rate,
                 };
-                self.command(arm, motion, delay_ms, false)?;
+                self.command(arm, motion, delay_ms, false, self.move_cap(time_ms))?;
                 Ok(done)
             }
             Request::Home { delay_ms } => {
@@ -171,7 +191,7 @@ impl Operator {
                     target: kinematics::to_radians(&HOME_DEG),
                     fraction: self.fraction() * MAX_JOINT_FRACTION,
                 };
-                self.command(arm, motion, delay_ms, false)?;
+                self.command(arm, motion, delay_ms, false, self.jog_cap())?;
                 Ok(done)
             }
             Request::PolarPanStart {
@@ -212,7 +232,7 @@ impl Operator {
                     linear_speed: speed,
                     angular_speed: MAX_JOG_ANGULAR_DEG.to_radians(),
                 };
-                self.command(arm, motion, delay_ms, false)?;
+                self.command(arm, motion, delay_ms, false, self.move_cap(time_ms))?;
                 Ok(done)
             }
             Request::CartesianMoveStart {
@@ -245,7 +265,7 @@ impl Operator {
             } => {
                 let hw = HwRequest::decode(subcommand, &payload)
                     .map_err(|e| ReturnCode(e.return_code()))?;
-                let reply = hardware_operation(arm, hw)?;
+                let reply = hardware_operation(arm, hw, self.jog_cap())?;
                 Ok(Reply::HardwareOperation {
                     return_code: ok,
                     subcommand,
@@ -277,7 +297,7 @@ impl Operator {
             }
             Request::GoToPosition { name } => {
                 let motion = self.go_to(&name)?;
-                self.command(arm, motion, 0, false)?;
+                self.command(arm, motion, 0, false, self.jog_cap())?;
                 Ok(done)
             }
             Request::SetPolarPosition {
@@ -335,24 +355,22 @@ impl Operator {
         (amount / (f64::from(time_ms) / 1000.0)).clamp(1e-4, max)
     }
 
+    /// Starts `motion` with the tool point kept under `cap` m/s.
     fn command(
         &self,
         arm: &mut Arm,
         motion: Motion,
         delay_ms: u32,
         watchdog: bool,
+        cap: f64,
     ) -> Result<(), ReturnCode> {
-        arm.command(motion, f64::from(delay_ms) / 1000.0, watchdog)
+        arm.command_capped(motion, f64::from(delay_ms) / 1000.0, watchdog, Some(cap))
             .map_err(refusal_code)
     }
 
     /// A continuous START: a repeat of the running motion only refreshes the watchdog.
     fn continuous(&self, arm: &mut Arm, motion: Motion) -> Result<(), ReturnCode> {
-        if *arm.motion() == motion {
-            arm.refresh_watchdog();
-            return Ok(());
-        }
-        self.command(arm, motion, 0, true)
+        continuous(arm, motion, self.jog_cap())
     }
 
     fn save(
@@ -523,58 +541,14 @@ fn tenths(value: f64) -> i32 {
         .clamp(f64::from(i32::MIN), f64::from(i32::MAX)) as i32
 }
 
-/// The hardware companion ICD's operations on the simulated arm.
-fn hardware_operation(arm: &mut Arm, request: HwRequest) -> Result<HwReply, ReturnCode> {
-    let snapshot = arm.snapshot();
-    match request {
-        HwRequest::GetActuatorFeedback { selector } => {
-            let joints: Vec<u8> = if selector == hardware::ALL_JOINTS {
-                (1..=hardware::JOINT_COUNT).collect()
-            } else {
-                vec![selector]
-            };
-            Ok(HwReply::GetActuatorFeedback {
-                actuators: joints
-                    .into_iter()
-                    .map(|j| super::telemetry::actuator_feedback(&snapshot, j))
-                    .collect(),
-            })
-        }
-        HwRequest::SendActuatorCommand { joint, command } => {
-            use hardware::CommandFlags as F;
-            let flags = command.flags;
-            if flags.contains(F::CLEAR_MAJOR_FAULT) || flags.contains(F::CLEAR_MINOR_FAULT) {
-                arm.fault_reset();
-            }
-            if flags.contains(F::SERVO_ENABLE) {
-                let index = usize::from(joint.saturating_sub(1));
-                let velocity = f64::from(command.velocity_deg_s).to_radians();
-                let motion = Motion::JointVelocity {
-                    joint: index,
-                    velocity,
-                };
-                if velocity == 0.0 {
-                    arm.stop();
-                } else if *arm.motion() == motion {
-                    arm.refresh_watchdog();
-                } else {
-                    arm.command(motion, 0.0, true).map_err(refusal_code)?;
-                }
-            }
-            Ok(HwReply::SendActuatorCommand {
-                feedback: super::telemetry::actuator_feedback(&arm.snapshot(), joint),
-            })
-        }
-        HwRequest::GetArmState => Ok(HwReply::GetArmState {
-            state: super::telemetry::arm_state(&snapshot),
-        }),
-        HwRequest::StopAllJoints => {
-            arm.stop();
-            Ok(HwReply::StopAllJoints)
-        }
-        HwRequest::ClearAllFaults => {
-            arm.fault_reset();
-            Ok(HwReply::ClearAllFaults)
-        }
+/// A continuous motion with the tool point under `cap` m/s: a repeat of the running motion
+/// only refreshes the watchdog (and takes the cap in force).
+fn continuous(arm: &mut Arm, motion: Motion, cap: f64) -> Result<(), ReturnCode> {
+    if *arm.motion() == motion {
+        arm.refresh_watchdog();
+        arm.set_tcp_cap(Some(cap));
+        return Ok(());
     }
+    arm.command_capped(motion, 0.0, true, Some(cap))
+        .map_err(refusal_code)
 }

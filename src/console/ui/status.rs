@@ -50,6 +50,22 @@ fn guard_spans(app: &App, theme: &Theme) -> Vec<Span<'static>> {
     }
 }
 
+/// The speed in force and the jog speed it gives (percent of the cap), e.g. `50% (125 mm/s)`.
+pub fn speed_text(app: &App) -> String {
+    match app.speed {
+        Some(s) => {
+            let mm_s = app.config.max_jog_speed * 1000.0 * f64::from(s) / 100.0;
+            // A slow speed keeps a decimal: "0 mm/s" would read as stopped.
+            if mm_s < 10.0 {
+                format!("{s}% ({mm_s:.1} mm/s)")
+            } else {
+                format!("{s}% ({mm_s:.0} mm/s)")
+            }
+        }
+        None => "?".into(),
+    }
+}
+
 /// Two lines: the link, then keys, motion and settings (so the key-release mode always shows,
 /// even at 80 columns).
 pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
@@ -90,10 +106,8 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
     let keys = spans.len();
     spans.push(Span::styled(release_mode_text(app), theme.accent()));
     spans.push(Span::raw(" | speed "));
-    spans.push(Span::raw(match app.speed {
-        Some(s) => format!("{s}%"),
-        None => "?".into(),
-    }));
+    let speed = spans.len();
+    spans.push(Span::raw(speed_text(app)));
     if app.config.frames {
         spans.push(Span::raw(format!(" | frame {}", app.frame.key())));
     }
@@ -105,6 +119,13 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
     let width: usize = spans.iter().map(|s| s.width()).sum();
     if width > usize::from(area.width) {
         spans[keys] = Span::styled(release_mode_name(app), theme.accent());
+    }
+    // Still too wide: the percent alone, so the frame still shows.
+    let width: usize = spans.iter().map(|s| s.width()).sum();
+    if width > usize::from(area.width)
+        && let Some(s) = app.speed
+    {
+        spans[speed] = Span::raw(format!("{s}%"));
     }
     frame.render_widget(Paragraph::new(vec![link_line, Line::from(spans)]), area);
 }

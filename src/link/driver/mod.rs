@@ -30,7 +30,8 @@ pub(crate) type JointPositions = std::sync::Arc<tokio::sync::watch::Sender<Optio
 pub struct DriverConfig {
     pub talos: Option<TalosConfig>,
     pub modbus: Option<ModbusConfig>,
-    /// Cartesian jog speed at 100 %, m/s (Modbus twists; 250 mm/s by default).
+    /// The tool speed cap at 100 %, m/s (250 mm/s by default): bounds every motion the driver
+    /// commands over Modbus and joint jogs over Talos; the speed in force is a percentage of it.
     pub max_jog_speed: f64,
     /// Single-joint jog speed at 100 %, deg/s.
     pub joint_jog_speed: f32,
@@ -284,6 +285,15 @@ async fn run(
                         let _ = events.send(ArmEvent::Failed {
                             command: "stop",
                             reason: format!("STOP COULD NOT BE WRITTEN: {error}"),
+                        });
+                    }
+                    ModbusEvent::SpeedLimitsNotRestored { limits, error } => {
+                        let _ = events.send(ArmEvent::Failed {
+                            command: "restore speed limits",
+                            reason: format!(
+                                "the arm keeps the lowered limits; set {} m/s, {} deg/s again: {error}",
+                                limits.linear, limits.angular
+                            ),
                         });
                     }
                     other => tracing::info!("modbus: {other:?}"),

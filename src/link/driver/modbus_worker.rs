@@ -8,7 +8,7 @@ use tokio::task::JoinHandle;
 
 use super::{DriverConfig, JointPositions};
 use crate::console::jog::JogMotion;
-use crate::kortex::{Pose, ReferenceFrame, Twist};
+use crate::kortex::{PolarPanSettings, Pose, ReferenceFrame, Twist};
 use crate::link::arm::{ArmCommand, ArmEvent, LogEntry, StepMove};
 use crate::link::modbus::{ModbusError, ModbusLink, WriteReport};
 
@@ -137,13 +137,29 @@ impl State {
         f64::from(self.speed) / 100.0
     }
 
+    /// The tool speed at the speed in force, m/s: the one cap every motion keeps.
+    fn tool_speed(&self) -> f32 {
+        (self.max_jog_speed * self.fraction()) as f32
+    }
+
+    /// A polar pan at the speed in force: the rotation rate scaled by it, and the tool point
+    /// (azimuth and altitude motion together) at most the tool speed.
+    fn polar_settings(&self) -> PolarPanSettings {
+        let configured = self.link.config().polar;
+        PolarPanSettings {
+            angular_speed: configured.angular_speed * self.fraction() as f32,
+            max_linear_speed: configured.max_linear_speed.min(self.max_jog_speed as f32)
+                * self.fraction() as f32,
+        }
+    }
+
     async fn execute(&mut self, command: ArmCommand) {
         let result: Result<Option<WriteReport>, String> = match &command {
             ArmCommand::Jog(JogMotion::Cartesian { x, y, z }) => {
                 let d = [f64::from(*x), f64::from(*y), f64::from(*z)];
                 let norm = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt().max(1.0);
                 // Diagonals are normalised: the tool never exceeds the jog speed cap.
-                let v = self.max_jog_speed * self.fraction() / norm;
+                let v = f64::from(self.tool_speed()) / norm;
                 let twist = Twist {
                     x: (d[0] * v) as f32,
                     y: (d[1] * v) as f32,
@@ -154,7 +170,11 @@ impl State {
             }
             ArmCommand::Jog(JogMotion::Polar { azimuth, altitude }) => wrap(
                 self.link
-                    .polar_pan(f32::from(*azimuth), f32::from(*altitude))
+                    .polar_pan_with(
+                        f32::from(*azimuth),
+                        f32::from(*altitude),
+                        self.polar_settings(),
+                    )
                     .await,
             ),
             ArmCommand::Jog(JogMotion::Joint { .. }) => {
@@ -163,27 +183,38 @@ impl State {
             ArmCommand::Stop => wrap(self.link.stop().await),
             ArmCommand::QuickStop => wrap(self.link.quick_stop().await),
             ArmCommand::FaultReset => wrap(self.link.fault_reset().await),
-            ArmCommand::Home => wrap(self.link.home().await),
-            ArmCommand::MoveToPose(pose) => {
-                wrap(self.link.go_to_pose(ReferenceFrame::Base, *pose).await)
-            }
+            // Moves run at the arm's configured limit: the link lowers it to the tool speed for
+            // the move and restores it afterwards (a twist servo would leave the arm's own
+            // trajectory planning, and its final accuracy, behind).
+            ArmCommand::Home => wrap(self.link.home_capped(self.tool_speed()).await),
+            ArmCommand::MoveToPose(pose) => wrap(
+                self.link
+                    .go_to_pose_capped(ReferenceFrame::Base, *pose, self.tool_speed())
+                    .await,
+            ),
             ArmCommand::Step(step) => match self.current_pose() {
                 Some(pose) => {
                     let target = step_target(pose, *step);
-                    wrap(self.link.go_to_pose(ReferenceFrame::Base, target).await)
+                    wrap(
+                        self.link
+                            .go_to_pose_capped(ReferenceFrame::Base, target, self.tool_speed())
+                            .await,
+                    )
                 }
                 None => Err("no telemetry yet: the step needs the current pose".into()),
             },
-            ArmCommand::SetSpeed(speed) => {
-                self.speed = (*speed).clamp(1, 100);
-                let linear = (self.max_jog_speed * self.fraction()) as f32;
-                let angular = (100.0 * self.fraction()) as f32;
-                let result = wrap(self.link.set_speed_limits(linear, angular).await);
-                if result.is_ok() {
-                    let _ = self.events.send(ArmEvent::Speed(self.speed));
-                }
-                result
+            // The jog speed is the console's own setting: it scales the twists this worker
+            // computes and is never written to the arm's configured limits (216-219), which
+            // belong to `armjog modbus speed-limit`.
+            ArmCommand::SetSpeed(speed) if (1..=100).contains(speed) => {
+                self.speed = *speed;
+                let _ = self.events.send(ArmEvent::Speed(self.speed));
+                Ok(None)
             }
+            ArmCommand::SetSpeed(speed) => Err(format!(
+                "speed {speed} % is outside 1-100: {} % stays in force",
+                self.speed
+            )),
             ArmCommand::SetFrame(frame) => {
                 self.frame = *frame;
                 Ok(None)

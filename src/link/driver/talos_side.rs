@@ -2,7 +2,7 @@
 //! companion ICD, reconnection.
 
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU8, Ordering};
 use std::time::Duration;
 
 use tokio::sync::mpsc;
@@ -16,14 +16,22 @@ use crate::link::{Dialect, TalosLink};
 use crate::talos::hardware::{ActuatorCommand, HwReply, HwRequest};
 use crate::talos::{CommandValue, Reply, Request, ReturnCode};
 
+/// How long a joint jog command may run before it is renewed or stopped: the operator's
+/// watchdog, s.
+const JOINT_JOG_HORIZON: f64 = 0.5;
+
 pub struct TalosSide {
     config: Option<TalosConfig>,
     oid: u16,
     joint_jog_speed: f32,
+    /// The tool speed cap at 100 %, m/s: bounds joint jog rates by the joint's lever arm.
+    max_jog_speed: f64,
     link: Option<TalosLink>,
     link_events: Option<mpsc::UnboundedReceiver<TalosEvent>>,
     events: mpsc::UnboundedSender<ArmEvent>,
-    speed: u8,
+    /// The speed in force, percent: changed only by the operator's answers (Get Speed, or an
+    /// acknowledged Set Speed), never by the request alone.
+    speed: Arc<AtomicU8>,
     polling: Arc<AtomicBool>,
     /// Joint positions from the latest telemetry, for joint jog commands.
     joints: JointPositions,
@@ -39,10 +47,11 @@ impl TalosSide {
             config: config.talos.clone(),
             oid: config.oid,
             joint_jog_speed: config.joint_jog_speed,
+            max_jog_speed: config.max_jog_speed,
             link: None,
             link_events: None,
             events,
-            speed: 50,
+            speed: Arc::new(AtomicU8::new(50)),
             polling: Arc::new(AtomicBool::new(false)),
             joints,
         }
@@ -78,7 +87,7 @@ impl TalosSide {
             && let Ok(exchange) = link.request(Request::GetSpeed).await
             && let Answer::Reply(Reply::GetSpeed { speed, .. }) = exchange.answer
         {
-            self.speed = speed;
+            self.speed.store(speed, Ordering::Release);
             let _ = self.events.send(ArmEvent::Speed(speed));
         }
         self.link = Some(link);
@@ -116,6 +125,21 @@ impl TalosSide {
         }
     }
 
+    /// A joint jog's rate, deg/s: its jog speed at the speed in force, bounded so the tool point
+    /// moves no faster than the cap at that speed (the lever arm from the joint's axis to the
+    /// tool, from the reported angles), until the jog's next refresh or the operator's 500 ms
+    /// watchdog.
+    fn joint_rate(&self, positions: &[f32; 7], joint: u8) -> f32 {
+        let fraction = f64::from(self.speed.load(Ordering::Acquire)) / 100.0;
+        let by_tool = crate::kortex::gen3::joint_rate_for_tool_speed(
+            positions,
+            joint,
+            self.max_jog_speed * fraction,
+            JOINT_JOG_HORIZON,
+        );
+        (f64::from(self.joint_jog_speed) * fraction).min(by_tool) as f32
+    }
+
     /// The requests that carry out `command`, in order.
     fn requests(&mut self, command: &ArmCommand) -> Result<Vec<Request>, String> {
         let icd = self.dialect() == Dialect::Icd;
@@ -144,13 +168,13 @@ impl TalosSide {
                 if !icd {
                     return Err("joint jog needs the icd dialect".into());
                 }
-                let index = usize::from(joint.saturating_sub(1)).min(6);
                 // The command carries the joint's last reported position: none is invented.
-                let Some(position) = self.joints.borrow().map(|j| j[index]) else {
+                let Some(positions) = *self.joints.borrow() else {
                     return Err("no joint position reported yet: wait for telemetry".into());
                 };
-                let velocity =
-                    f32::from(*direction) * self.joint_jog_speed * f32::from(self.speed) / 100.0;
+                let index = usize::from(joint.saturating_sub(1)).min(6);
+                let velocity = f32::from(*direction) * self.joint_rate(&positions, *joint);
+                let position = positions[index];
                 vec![hw(HwRequest::SendActuatorCommand {
                     joint: *joint,
                     command: ActuatorCommand::jog(position, velocity),
@@ -233,9 +257,6 @@ impl TalosSide {
             }
             return;
         };
-        if let ArmCommand::SetSpeed(speed) = command {
-            self.speed = speed;
-        }
         let requests = match self.requests(&command) {
             Ok(requests) => requests,
             Err(reason) => {
@@ -254,7 +275,12 @@ impl TalosSide {
                 Err(e) => report_error(&self.events, &command, name, None, &e),
             }
         }
-        tokio::spawn(answers(command, pending, self.events.clone()));
+        tokio::spawn(answers(
+            command,
+            pending,
+            self.events.clone(),
+            self.speed.clone(),
+        ));
     }
 
     /// Asks for arm state and actuator feedback; skipped while the last poll is outstanding.
@@ -410,11 +436,13 @@ fn position_name(command: &ArmCommand) -> Option<String> {
     }
 }
 
-/// Awaits a command's replies in order and reports them.
+/// Awaits a command's replies in order and reports them. A Set Speed takes effect (for later
+/// joint jogs and in the status bar) only once the operator has answered OK.
 async fn answers(
     command: ArmCommand,
     pending: Vec<PendingReply>,
     events: mpsc::UnboundedSender<ArmEvent>,
+    speed_in_force: Arc<AtomicU8>,
 ) {
     let mut all_ok = !pending.is_empty();
     let mut coordinates = PositionCoordinates {
@@ -460,6 +488,7 @@ async fn answers(
         });
     }
     if let ArmCommand::SetSpeed(speed) = command {
+        speed_in_force.store(speed, Ordering::Release);
         let _ = events.send(ArmEvent::Speed(speed));
     }
     let _ = events.send(ArmEvent::Done { command });

@@ -1,6 +1,9 @@
 //! The task that owns the connection: polls, runs commands one request at a time, keeps the
 //! twist hold, and reconnects. See the parent module for the safety rules it keeps.
 
+mod limits;
+mod reconnect;
+
 use std::time::Duration;
 
 use tokio::sync::{mpsc, watch};
@@ -13,7 +16,8 @@ use super::{
 };
 use crate::kortex::commands::{self, Write};
 use crate::kortex::{
-    ControlCoil, PollPlan, Pose, ReferenceFrame, RegisterImage, Telemetry, Twist, polar_twist,
+    ControlCoil, PolarPanSettings, PollPlan, Pose, ReferenceFrame, RegisterImage, Telemetry, Twist,
+    polar_twist,
 };
 
 /// Reconnects tried, once the link is closing, to write a stop that is still owed.
@@ -27,10 +31,11 @@ enum Motion {
         frame: ReferenceFrame,
         twist: Twist,
     },
-    /// A polar pan, with the base-frame twist last written for it.
+    /// A polar pan at `settings`, with the base-frame twist last written for it.
     Polar {
         azimuth: f32,
         altitude: f32,
+        settings: PolarPanSettings,
         twist: Twist,
     },
 }
@@ -59,6 +64,8 @@ pub(super) struct LinkTask {
     /// A twist may be running on the arm: set before any twist write, cleared by a stop.
     stop_owed: bool,
     closing: bool,
+    /// The arm's speed limits as they were before a capped move lowered them: owed back.
+    limit_hold: Option<limits::LimitHold>,
     /// Reconnects tried since closing began, to deliver an owed stop.
     closing_attempts: u32,
     close_replies: Vec<Reply<()>>,
@@ -86,6 +93,7 @@ impl LinkTask {
             hold_until: None,
             stop_owed: false,
             closing: false,
+            limit_hold: None,
             closing_attempts: 0,
             close_replies: Vec::new(),
         }
@@ -154,7 +162,8 @@ impl LinkTask {
     /// Writes the owed stop, answers `close`, and disconnects. Returns false if the stop broke
     /// the connection: the task then reconnects to try again.
     async fn shut_down(&mut self) -> bool {
-        let result = if self.stop_owed {
+        // A capped move must not run on at the limits put back: it is stopped first.
+        let result = if self.stop_owed || self.limit_hold.is_some() {
             self.stop(StopReason::LinkClosed).await.map(|_| ())
         } else {
             Ok(())
@@ -201,23 +210,29 @@ impl LinkTask {
             Job::PolarPan {
                 azimuth,
                 altitude,
+                settings,
                 reply,
             } => {
-                let result = self.polar_pan(azimuth, altitude).await;
+                let result = self.polar_pan(azimuth, altitude, settings).await;
                 let _ = reply.send(result);
             }
             Job::Stop(reply) => {
                 let result = self.stop(StopReason::Requested).await;
                 let _ = reply.send(result);
             }
-            Job::Move { writes, reply } => {
+            Job::Move {
+                writes,
+                max_linear,
+                reply,
+            } => {
                 let result = match self.stop_owed {
                     true => self.stop(StopReason::Replaced).await.map(|_| ()),
                     false => Ok(()),
                 };
-                let result = match result {
-                    Ok(()) => self.execute(&writes).await,
-                    Err(e) => Err(e),
+                let result = match (result, max_linear) {
+                    (Ok(()), Some(max_linear)) => self.capped_move(&writes, max_linear).await,
+                    (Ok(()), None) => self.execute(&writes).await,
+                    (Err(e), _) => Err(e),
                 };
                 let _ = reply.send(result);
             }
@@ -231,6 +246,7 @@ impl LinkTask {
                     self.motion = Motion::Idle;
                     self.hold_until = None;
                     self.stop_owed = false;
+                    self.restore_limits().await;
                 }
                 let _ = reply.send(result);
             }
@@ -257,19 +273,27 @@ impl LinkTask {
         let writes = commands::twist(frame, twist)?;
         self.motion = wanted;
         self.refresh_hold();
-        self.write_motion(&writes).await
+        let result = self.write_motion(&writes).await;
+        self.restore_after_replacing_move(&result).await;
+        result
     }
 
-    async fn polar_pan(&mut self, azimuth: f32, altitude: f32) -> Result<WriteReport, ModbusError> {
+    async fn polar_pan(
+        &mut self,
+        azimuth: f32,
+        altitude: f32,
+        settings: PolarPanSettings,
+    ) -> Result<WriteReport, ModbusError> {
         if azimuth == 0.0 && altitude == 0.0 {
             return self.stop(StopReason::Requested).await;
         }
         if let Motion::Polar {
             azimuth: a,
             altitude: e,
+            settings: s,
             ..
         } = self.motion
-            && (a, e) == (azimuth, altitude)
+            && (a, e, s) == (azimuth, altitude, settings)
         {
             self.refresh_hold();
             return Ok(WriteReport::default());
@@ -282,7 +306,7 @@ impl LinkTask {
                 return Err(e);
             }
         };
-        let twist = match polar_twist(pose, azimuth, altitude, self.config.polar) {
+        let twist = match polar_twist(pose, azimuth, altitude, settings) {
             Ok(twist) => twist,
             Err(e) => {
                 if self.motion != Motion::Idle {
@@ -294,11 +318,14 @@ impl LinkTask {
         self.motion = Motion::Polar {
             azimuth,
             altitude,
+            settings,
             twist,
         };
         self.refresh_hold();
         let writes = commands::twist(ReferenceFrame::Base, twist)?;
-        self.write_motion(&writes).await
+        let result = self.write_motion(&writes).await;
+        self.restore_after_replacing_move(&result).await;
+        result
     }
 
     /// Recomputes a running polar pan from the pose just polled.
@@ -306,12 +333,13 @@ impl LinkTask {
         let Motion::Polar {
             azimuth,
             altitude,
+            settings,
             twist: last,
         } = self.motion
         else {
             return;
         };
-        let writes = polar_twist(pose, azimuth, altitude, self.config.polar)
+        let writes = polar_twist(pose, azimuth, altitude, settings)
             .map_err(ModbusError::from)
             .and_then(|twist| Ok((twist, commands::twist(ReferenceFrame::Base, twist)?)));
         match writes {
@@ -320,6 +348,7 @@ impl LinkTask {
                 self.motion = Motion::Polar {
                     azimuth,
                     altitude,
+                    settings,
                     twist,
                 };
                 let _ = self.write_motion(&writes).await;
@@ -360,6 +389,7 @@ impl LinkTask {
                 self.stop_owed = false;
                 tracing::info!("twist stopped ({reason:?})");
                 self.event(ModbusEvent::Stopped { reason });
+                self.restore_after_stop(reason).await;
                 return Ok(report);
             }
             Err(e) if self.ctx.is_none() => {
@@ -377,6 +407,7 @@ impl LinkTask {
                     reason,
                     error: stop_error.to_string(),
                 });
+                self.restore_after_stop(reason).await;
                 Ok(report)
             }
             Err(abort) => {
@@ -414,7 +445,10 @@ impl LinkTask {
 
     async fn tick(&mut self) {
         match self.poll().await {
-            Ok(telemetry) => self.refresh_polar(telemetry.tcp.pose).await,
+            Ok(telemetry) => {
+                self.refresh_polar(telemetry.tcp.pose).await;
+                self.note_action(&telemetry).await;
+            }
             Err(e) => {
                 tracing::debug!("poll failed: {e}");
                 self.event(ModbusEvent::PollFailed {
@@ -495,96 +529,6 @@ impl LinkTask {
             } else {
                 format!("reconnecting after: {}", self.lost_reason)
             },
-        }
-    }
-
-    /// Reconnects with backoff, refusing jobs meanwhile. Returns false when the task should end:
-    /// every handle is gone and no stop is owed, or the owed stop could not be delivered.
-    async fn reconnect(&mut self) -> bool {
-        let mut delay = self.config.reconnect_delay;
-        let mut attempts = 0u32;
-        loop {
-            if self.closing {
-                if !self.stop_owed {
-                    self.answer_close(Ok(()));
-                    return false;
-                }
-                if self.closing_attempts >= CLOSING_ATTEMPTS {
-                    let e = ModbusError::Disconnected {
-                        reason: format!(
-                            "gave up writing the stop after {CLOSING_ATTEMPTS} reconnects: {}",
-                            self.lost_reason
-                        ),
-                    };
-                    self.stop_failed(StopReason::LinkClosed, &e);
-                    self.answer_close(Err(e));
-                    return false;
-                }
-                self.closing_attempts += 1;
-            }
-            attempts += 1;
-            let opened = {
-                let config = self.config.clone();
-                let open = wire::open(&config);
-                tokio::pin!(open);
-                loop {
-                    tokio::select! {
-                        biased;
-                        job = self.jobs.recv(), if !self.jobs_closed => self.refuse(job),
-                        opened = &mut open => break opened,
-                    }
-                }
-            };
-            match opened {
-                Ok(ctx) => {
-                    self.ctx = Some(ctx);
-                    tracing::info!("modbus link to {} reconnected", self.config.addr);
-                    self.event(ModbusEvent::Reconnected { attempts });
-                    return true;
-                }
-                Err(e) => {
-                    tracing::debug!("reconnect attempt {attempts} failed: {e}");
-                    self.lost_reason = e.to_string();
-                }
-            }
-            let wait = tokio::time::sleep(delay);
-            tokio::pin!(wait);
-            loop {
-                tokio::select! {
-                    biased;
-                    job = self.jobs.recv(), if !self.jobs_closed => self.refuse(job),
-                    () = &mut wait => break,
-                }
-            }
-            delay = (delay * 2).min(self.config.reconnect_max_delay);
-        }
-    }
-
-    /// Answers a job that arrived while disconnected. Nothing is queued for later: a jog sent
-    /// now must not start when the connection comes back.
-    fn refuse(&mut self, job: Option<Job>) {
-        let error = || self.not_connected();
-        match job {
-            None => {
-                self.jobs_closed = true;
-                self.closing = true;
-            }
-            Some(Job::Close(reply)) => {
-                self.close_replies.push(reply);
-                self.closing = true;
-            }
-            Some(Job::Read(reply)) => {
-                let _ = reply.send(Err(error()));
-            }
-            Some(
-                Job::Twist { reply, .. }
-                | Job::PolarPan { reply, .. }
-                | Job::Stop(reply)
-                | Job::Move { reply, .. }
-                | Job::Plain { reply, .. },
-            ) => {
-                let _ = reply.send(Err(error()));
-            }
         }
     }
 

@@ -1,0 +1,184 @@
+//! Capped moves: a Kinova cartesian trajectory (and a stored action) runs at the arm's
+//! configured speed limit, not at a speed the client names. To keep such a move under the
+//! console's cap, the link lowers the linear limit (holding registers 216-219) for the move, never
+//! raising it, and puts the previous limits back:
+//!
+//! - when a poll shows the move has ended (action status no longer "started", after it was seen
+//!   started, or [`START_GRACE`] after it was sent if it never showed);
+//! - after any stop the link writes (requested, hold expiry, failed write or poll, reconnect),
+//!   and after a quick stop or abort;
+//! - when a twist or polar pan replaces the move;
+//! - when the link closes or its last handle is dropped: the move is stopped first, so it never
+//!   runs on at the restored limits.
+//!
+//! The limits in force before the first capped move are the ones restored, however many capped
+//! moves follow. Remaining gap: if the process dies (or the connection cannot be reopened
+//! while closing) between lowering and restoring, the arm keeps the lower limits: the safe
+//! direction, but a technician must set them again (`armjog modbus speed-limit`); the restore
+//! failure is logged as an error and sent as [`ModbusEvent::SpeedLimitsNotRestored`].
+
+use std::time::Duration;
+
+use tokio::time::Instant;
+
+use super::{LinkTask, ModbusError, ModbusEvent, StopReason, WriteReport};
+use crate::kortex::commands::{self, Write};
+use crate::kortex::{ActionStatus, Coded, SpeedLimits, Telemetry};
+
+/// How long a capped move may take to show as started before the link takes it as refused or
+/// over, and restores the limits.
+pub(super) const START_GRACE: Duration = Duration::from_secs(2);
+
+/// The limits owed back to the arm, and how far the move they were lowered for has got.
+#[derive(Debug, Clone, Copy)]
+pub(in crate::link::modbus) struct LimitHold {
+    pub(super) original: SpeedLimits,
+    seen_running: bool,
+    sent_at: Instant,
+}
+
+impl LinkTask {
+    /// Runs `writes` (a move) with the arm's linear speed limit at most `max_linear` m/s.
+    pub(super) async fn capped_move(
+        &mut self,
+        writes: &[Write],
+        max_linear: f32,
+    ) -> Result<WriteReport, ModbusError> {
+        let mut report = self.lower_limits(max_linear).await?;
+        match self.execute(writes).await {
+            Ok(moved) => {
+                report.writes.extend(moved.writes);
+                report.elapsed += moved.elapsed;
+                Ok(report)
+            }
+            Err(e) => {
+                // The move did not start: nothing needs the lower limits.
+                self.restore_limits().await;
+                Err(e)
+            }
+        }
+    }
+
+    /// Brings the linear limit down to `max_linear` (or to the limits owed back, if lower) and
+    /// notes what to restore. Writes nothing when the limit in force is already right.
+    async fn lower_limits(&mut self, max_linear: f32) -> Result<WriteReport, ModbusError> {
+        // A fresh read: the limits may have been changed by someone else since the last poll.
+        let in_force = self.poll().await?.speed_limits;
+        let original = self.limit_hold.map_or(in_force, |h| h.original);
+        let valid = |v: f32| v.is_finite() && v > 0.0;
+        if !(valid(original.linear) && valid(original.angular)) {
+            return Err(ModbusError::SpeedLimitsUnknown {
+                linear: original.linear,
+                angular: original.angular,
+            });
+        }
+        let linear = max_linear.min(original.linear);
+        let wanted = SpeedLimits {
+            linear,
+            angular: original.angular,
+        };
+        let mut report = WriteReport::default();
+        if in_force != wanted {
+            let writes = commands::speed_limits(wanted.linear, wanted.angular)?;
+            // Owed back from the moment the write may have landed.
+            self.hold(original);
+            report = self.execute(&writes).await?;
+            if linear < original.linear {
+                tracing::info!(
+                    "speed limit lowered to {linear} m/s for a capped move (was {} m/s)",
+                    original.linear
+                );
+                self.event(ModbusEvent::SpeedLimitsLowered {
+                    linear,
+                    previous: original,
+                });
+            }
+        }
+        if linear < original.linear {
+            self.hold(original);
+        } else {
+            // The move is allowed the original limits, which are now in force.
+            self.limit_hold = None;
+        }
+        Ok(report)
+    }
+
+    fn hold(&mut self, original: SpeedLimits) {
+        self.limit_hold = Some(LimitHold {
+            original,
+            seen_running: false,
+            sent_at: Instant::now(),
+        });
+    }
+
+    /// Puts back the limits a capped move lowered, if any are owed. A connection that broke
+    /// keeps them owed (retried after the reconnect); a refusal is reported and given up.
+    pub(super) async fn restore_limits(&mut self) {
+        let Some(hold) = self.limit_hold else {
+            return;
+        };
+        let limits = hold.original;
+        let result = match commands::speed_limits(limits.linear, limits.angular) {
+            Ok(writes) => self.execute(&writes).await.map(|_| ()),
+            Err(e) => Err(e.into()),
+        };
+        match result {
+            Ok(()) => {
+                self.limit_hold = None;
+                tracing::info!("speed limits restored to {limits:?}");
+                self.event(ModbusEvent::SpeedLimitsRestored { limits });
+            }
+            Err(e) if self.ctx.is_none() => {
+                tracing::warn!("speed limits not restored yet ({e}); retrying after the reconnect");
+            }
+            Err(e) => {
+                self.limit_hold = None;
+                tracing::error!(
+                    "SPEED LIMITS NOT RESTORED: the arm keeps the lowered ones; set {} m/s and {} deg/s again: {e}",
+                    limits.linear,
+                    limits.angular
+                );
+                self.event(ModbusEvent::SpeedLimitsNotRestored {
+                    limits,
+                    error: e.to_string(),
+                });
+            }
+        }
+    }
+
+    /// After a stop: the move it ended no longer needs the lower limits (a stop that makes way
+    /// for the next move keeps them).
+    pub(super) async fn restore_after_stop(&mut self, reason: StopReason) {
+        if reason != StopReason::Replaced {
+            self.restore_limits().await;
+        }
+    }
+
+    /// A twist or polar pan was written: it replaced any capped move.
+    pub(super) async fn restore_after_replacing_move(
+        &mut self,
+        written: &Result<WriteReport, ModbusError>,
+    ) {
+        if written.is_ok() && self.limit_hold.is_some() {
+            self.restore_limits().await;
+        }
+    }
+
+    /// Follows a capped move through the polls and restores the limits once it has ended.
+    pub(super) async fn note_action(&mut self, telemetry: &Telemetry) {
+        let Some(hold) = self.limit_hold.as_mut() else {
+            return;
+        };
+        let running = matches!(
+            telemetry.action.status,
+            Coded::Known(ActionStatus::Started | ActionStatus::Paused)
+        );
+        if running {
+            hold.seen_running = true;
+            return;
+        }
+        if hold.seen_running || hold.sent_at.elapsed() >= START_GRACE {
+            self.restore_limits().await;
+        }
+    }
+}

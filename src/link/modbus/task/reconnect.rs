@@ -1,0 +1,96 @@
+//! Reconnecting after a lost connection: with backoff, refusing every job meanwhile, and
+//! giving up once the link is closing and an owed stop cannot be delivered.
+
+use super::{CLOSING_ATTEMPTS, Job, LinkTask, ModbusError, ModbusEvent, StopReason, wire};
+
+impl LinkTask {
+    /// Reconnects with backoff, refusing jobs meanwhile. Returns false when the task should end:
+    /// every handle is gone and no stop is owed, or the owed stop could not be delivered.
+    pub(super) async fn reconnect(&mut self) -> bool {
+        let mut delay = self.config.reconnect_delay;
+        let mut attempts = 0u32;
+        loop {
+            if self.closing {
+                if !self.stop_owed {
+                    self.answer_close(Ok(()));
+                    return false;
+                }
+                if self.closing_attempts >= CLOSING_ATTEMPTS {
+                    let e = ModbusError::Disconnected {
+                        reason: format!(
+                            "gave up writing the stop after {CLOSING_ATTEMPTS} reconnects: {}",
+                            self.lost_reason
+                        ),
+                    };
+                    self.stop_failed(StopReason::LinkClosed, &e);
+                    self.answer_close(Err(e));
+                    return false;
+                }
+                self.closing_attempts += 1;
+            }
+            attempts += 1;
+            let opened = {
+                let config = self.config.clone();
+                let open = wire::open(&config);
+                tokio::pin!(open);
+                loop {
+                    tokio::select! {
+                        biased;
+                        job = self.jobs.recv(), if !self.jobs_closed => self.refuse(job),
+                        opened = &mut open => break opened,
+                    }
+                }
+            };
+            match opened {
+                Ok(ctx) => {
+                    self.ctx = Some(ctx);
+                    tracing::info!("modbus link to {} reconnected", self.config.addr);
+                    self.event(ModbusEvent::Reconnected { attempts });
+                    return true;
+                }
+                Err(e) => {
+                    tracing::debug!("reconnect attempt {attempts} failed: {e}");
+                    self.lost_reason = e.to_string();
+                }
+            }
+            let wait = tokio::time::sleep(delay);
+            tokio::pin!(wait);
+            loop {
+                tokio::select! {
+                    biased;
+                    job = self.jobs.recv(), if !self.jobs_closed => self.refuse(job),
+                    () = &mut wait => break,
+                }
+            }
+            delay = (delay * 2).min(self.config.reconnect_max_delay);
+        }
+    }
+
+    /// Answers a job that arrived while disconnected. Nothing is queued for later: a jog sent
+    /// now must not start when the connection comes back.
+    fn refuse(&mut self, job: Option<Job>) {
+        let error = || self.not_connected();
+        match job {
+            None => {
+                self.jobs_closed = true;
+                self.closing = true;
+            }
+            Some(Job::Close(reply)) => {
+                self.close_replies.push(reply);
+                self.closing = true;
+            }
+            Some(Job::Read(reply)) => {
+                let _ = reply.send(Err(error()));
+            }
+            Some(
+                Job::Twist { reply, .. }
+                | Job::PolarPan { reply, .. }
+                | Job::Stop(reply)
+                | Job::Move { reply, .. }
+                | Job::Plain { reply, .. },
+            ) => {
+                let _ = reply.send(Err(error()));
+            }
+        }
+    }
+}
