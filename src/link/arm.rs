@@ -169,4 +169,12 @@ pub enum ArmEvent {
     Done {
         command: ArmCommand,
     },
+    /// Every link that carried motion acknowledged (or wrote) a STOP the console sent: one per
+    /// STOP, after its `Done`/`Failed` events.
+    StopConfirmed,
+    /// A STOP did not get through (not written, not acknowledged, no link to send it on), or a
+    /// link's own stop failed: the arm may still be moving.
+    StopUnconfirmed {
+        reason: String,
+    },
 }

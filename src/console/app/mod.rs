@@ -8,9 +8,14 @@
 //! all stop it.
 
 mod coords;
+mod motion_truth;
 mod named;
 
 pub use coords::{cartesian_of, describe_motion, polar_of};
+pub use motion_truth::{
+    ACTION_TIMEOUT, ActionKind, MotionShown, MotionTruth, NO_TELEMETRY_ACTION_TIME, STALE_AFTER,
+    STOP_GRACE, TrackedAction, at_rest,
+};
 
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
@@ -147,6 +152,10 @@ pub struct App {
     pub hex: bool,
     pub size: (u16, u16),
     pub quitting: bool,
+    /// Link health and motion evidence (LINK STALE, MAY BE MOVING, MOVING: HOME).
+    pub truth: MotionTruth,
+    /// The latest input's `now`: the panels draw ages against it.
+    now: Option<Instant>,
     /// The key that closed an overlay and when it was last seen: its auto-repeat must not be
     /// taken for new presses (and start a jog) once the overlay is gone.
     swallowed: Option<(KeyName, Instant)>,
@@ -176,6 +185,8 @@ impl App {
             hex: false,
             size: (80, 24),
             quitting: false,
+            truth: MotionTruth::default(),
+            now: None,
             swallowed: None,
         }
     }
@@ -192,11 +203,18 @@ impl App {
     /// When the runtime must next send [`Input::Tick`].
     pub fn next_deadline(&self) -> Option<Instant> {
         let message = self.message.as_ref().map(|(_, _, at)| *at + MESSAGE_TIME);
-        self.jog.next_deadline().into_iter().chain(message).min()
+        self.jog
+            .next_deadline()
+            .into_iter()
+            .chain(message)
+            .chain(self.truth_deadline())
+            .min()
     }
 
     /// The state machine's one entry point.
     pub fn handle(&mut self, input: Input, now: Instant) -> Vec<Effect> {
+        self.now = Some(now);
+        let goto = self.goto_in_question();
         let mut effects = Vec::new();
         match input {
             Input::Key(key) => self.on_key(key, now, &mut effects),
@@ -228,6 +246,7 @@ impl App {
                 self.quit(now, &mut effects);
             }
         }
+        self.truth_after(goto, now, &mut effects);
         effects
     }
 
@@ -323,7 +342,11 @@ impl App {
                 } else if self.link_is_up() || kind == KeyKind::Release {
                     jog_effects(self.jog.key(action, kind, now), effects);
                 } else if kind == KeyKind::Press {
-                    self.say("no link to the arm: not moving", Severity::Warning, now);
+                    let text = match self.link_stale() {
+                        Some(_) => "link stale: not moving",
+                        None => "no link to the arm: not moving",
+                    };
+                    self.say(text, Severity::Warning, now);
                 }
             }
             (_, KeyKind::Release) => {}
@@ -372,8 +395,9 @@ impl App {
         actions
     }
 
+    /// Up and heard from: a stale link starts no motion.
     fn link_is_up(&self) -> bool {
-        matches!(self.link, LinkStatus::Up { .. })
+        matches!(self.link, LinkStatus::Up { .. }) && self.link_stale().is_none()
     }
 
     fn step_move(&mut self, action: Action, now: Instant, effects: &mut Vec<Effect>) {
@@ -558,6 +582,7 @@ impl App {
     }
 
     fn on_arm(&mut self, event: ArmEvent, now: Instant, effects: &mut Vec<Effect>) {
+        self.truth_on_arm(&event, now);
         match event {
             ArmEvent::Status(status) => {
                 if let LinkStatus::Down { reason } = &status {
@@ -641,6 +666,8 @@ impl App {
                 }
             }
             ArmEvent::Done { command } => self.on_done(command, now, effects),
+            // Evidence only: see `truth_on_arm`.
+            ArmEvent::StopConfirmed | ArmEvent::StopUnconfirmed { .. } => {}
         }
     }
 }

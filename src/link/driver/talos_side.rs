@@ -247,14 +247,20 @@ impl TalosSide {
             }
         };
         let mut pending = Vec::new();
+        // A stop reports one outcome, whichever of its requests failed (see `answers`).
+        let mut stop_failure = None;
         for request in requests {
             let name = request.command();
             match link.submit(request).await {
                 Ok(p) => pending.push(p),
+                Err(e) if command.is_stop() => {
+                    log_error(&self.events, &command, name, None, &e);
+                    stop_failure.get_or_insert_with(|| failure_reason(&e));
+                }
                 Err(e) => report_error(&self.events, &command, name, None, &e),
             }
         }
-        tokio::spawn(answers(command, pending, self.events.clone()));
+        tokio::spawn(answers(command, pending, stop_failure, self.events.clone()));
     }
 
     /// Asks for arm state and actuator feedback; skipped while the last poll is outstanding.
@@ -366,6 +372,34 @@ fn report_error(
     id: Option<u32>,
     error: &TalosError,
 ) {
+    log_error(events, command, name, id, error);
+    // An unknown name asked about is not a failure of the technician's: the panel marks it.
+    let unknown_asked = matches!(command, ArmCommand::GetPosition { .. })
+        && matches!(error, TalosError::ReturnCode { exchange } if exchange.return_code() == ReturnCode::UNKNOWN_POSITION);
+    if unknown_asked {
+        return;
+    }
+    let _ = events.send(ArmEvent::Failed {
+        command: command.label(),
+        reason: failure_reason(error),
+    });
+}
+
+fn failure_reason(error: &TalosError) -> String {
+    match error {
+        TalosError::ReturnCode { exchange } => exchange.return_code().to_string(),
+        other => other.to_string(),
+    }
+}
+
+/// Logs a failed request (and marks an unknown name), without reporting the command failed.
+fn log_error(
+    events: &mpsc::UnboundedSender<ArmEvent>,
+    command: &ArmCommand,
+    name: CommandValue,
+    id: Option<u32>,
+    error: &TalosError,
+) {
     if let TalosError::ReturnCode { exchange } = error {
         let _ = events.send(ArmEvent::Log(log_entry(exchange)));
         if exchange.return_code() == ReturnCode::UNKNOWN_POSITION
@@ -386,19 +420,6 @@ fn report_error(
             ..LogEntry::default()
         }));
     }
-    // An unknown name asked about is not a failure of the technician's: the panel marks it.
-    let unknown_asked = matches!(command, ArmCommand::GetPosition { .. })
-        && matches!(error, TalosError::ReturnCode { exchange } if exchange.return_code() == ReturnCode::UNKNOWN_POSITION);
-    if unknown_asked {
-        return;
-    }
-    let _ = events.send(ArmEvent::Failed {
-        command: command.label(),
-        reason: match error {
-            TalosError::ReturnCode { exchange } => exchange.return_code().to_string(),
-            other => other.to_string(),
-        },
-    });
 }
 
 fn position_name(command: &ArmCommand) -> Option<String> {
@@ -410,13 +431,15 @@ fn position_name(command: &ArmCommand) -> Option<String> {
     }
 }
 
-/// Awaits a command's replies in order and reports them.
+/// Awaits a command's replies in order and reports them. A stop tries every request and
+/// reports exactly one `Done` or `Failed` (`stop_failure`: a request that could not be sent).
 async fn answers(
     command: ArmCommand,
     pending: Vec<PendingReply>,
+    mut stop_failure: Option<String>,
     events: mpsc::UnboundedSender<ArmEvent>,
 ) {
-    let mut all_ok = !pending.is_empty();
+    let all_ok = !pending.is_empty();
     let mut coordinates = PositionCoordinates {
         cartesian: None,
         polar: None,
@@ -440,15 +463,24 @@ async fn answers(
                     _ => {}
                 }
             }
+            Err(e) if command.is_stop() => {
+                // A Stop still tries every request.
+                log_error(&events, &command, name, Some(id), &e);
+                stop_failure.get_or_insert_with(|| failure_reason(&e));
+            }
             Err(e) => {
-                all_ok = false;
+                // One failure is enough to report.
                 report_error(&events, &command, name, Some(id), &e);
-                // One failure is enough to report; a Stop still tries every request.
-                if !command.is_stop() {
-                    break;
-                }
+                return;
             }
         }
+    }
+    if let Some(reason) = stop_failure {
+        let _ = events.send(ArmEvent::Failed {
+            command: command.label(),
+            reason,
+        });
+        return;
     }
     if !all_ok {
         return;
