@@ -302,6 +302,8 @@ fn status_step_mode_with_measured_auto_repeat_fits_80_columns() {
     }
     app.handle(Input::Tick, t0 + ms(2000));
     assert!(!app.jog.is_jogging());
+    // The driver confirms the STOP, or the status would say STOPPING.
+    app.handle(Input::Arm(ArmEvent::StopConfirmed), t0 + ms(2000));
     press(&mut app, "g", t0 + ms(2000));
     press(&mut app, "g", t0 + ms(2000));
     press(&mut app, "t", t0 + ms(2000));

@@ -356,6 +356,10 @@ fn log_entry(exchange: &Exchange) -> LogEntry {
         name: exchange.request.command().name().to_string(),
         outcome: match exchange.answer {
             Answer::Ack => "ACK".into(),
+            // The operator took the motion; how it ends shows in the telemetry.
+            Answer::Reply(_) if code.is_ok() && starts_motion(exchange.request.command()) => {
+                "accepted".into()
+            }
             Answer::Reply(_) => code.name().map_or_else(|| code.to_string(), str::to_string),
         },
         ok: code.is_ok(),
@@ -363,6 +367,16 @@ fn log_entry(exchange: &Exchange) -> LogEntry {
         sent_hex: Some(crate::cli::send::spaced_hex(&exchange.request_bytes)),
         received_hex: Some(crate::cli::send::spaced_hex(&exchange.reply_bytes)),
     }
+}
+
+fn starts_motion(command: CommandValue) -> bool {
+    matches!(
+        command,
+        CommandValue::Home
+            | CommandValue::GoToPosition
+            | CommandValue::CartesianMoveDiscrete
+            | CommandValue::PolarPanDiscrete
+    )
 }
 
 fn report_error(
