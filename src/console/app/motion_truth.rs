@@ -229,7 +229,7 @@ pub fn at_rest(t: &Telemetry) -> bool {
 }
 
 /// Why an action aborted, naming the joint at its limit if one is.
-fn abort_reason(t: &Telemetry) -> String {
+pub fn abort_reason(t: &Telemetry) -> String {
     let signed = |deg: f32| if deg > 180.0 { deg - 360.0 } else { deg };
     let at_limit = t.joints.iter().enumerate().find(|(i, j)| {
         JOINT_LIMITS_DEG
@@ -245,7 +245,8 @@ fn abort_reason(t: &Telemetry) -> String {
     }
 }
 
-fn in_fault(t: &Telemetry) -> Option<String> {
+/// What the arm's fault is, if it is in fault.
+pub fn fault_reason(t: &Telemetry) -> Option<String> {
     let state_fault = matches!(t.robot_state, Coded::Known(RobotState::InFault));
     if t.faults.is_empty() && !state_fault {
         return None;
@@ -453,7 +454,7 @@ impl App {
         let verb = action.kind.verb();
         let aborted = (status_current && t.action.status == Coded::Known(ActionStatus::Aborted))
             || (action.seen_motion && rest && t.warnings.contains(Flag::JointFault));
-        let failure = in_fault(t).or_else(|| aborted.then(|| abort_reason(t)));
+        let failure = fault_reason(t).or_else(|| aborted.then(|| abort_reason(t)));
         if let Some(reason) = failure {
             self.truth.action = None;
             self.truth.stop_needed = true;
