@@ -121,7 +121,10 @@ impl Console {
                 .map(tokio::time::Instant::from_std)
                 .unwrap_or(until)
                 .min(until);
+            // As the runtime does: events already in before a deadline are taken first, so a
+            // busy machine does not make the link look stale.
             tokio::select! {
+                biased;
                 event = self.events.recv() => {
                     let event = event.expect("driver events");
                     self.input(Input::Arm(event));
