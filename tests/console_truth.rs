@@ -505,3 +505,45 @@ fn go_to_over_modbus_shows_the_position_name() {
         }
     );
 }
+
+#[test]
+fn a_go_to_the_link_cannot_carry_ends_its_tracking_and_stops() {
+    let (mut app, t0) = app(TelemetrySource::Modbus);
+    feed(&mut app, at_rest(), t0);
+    let bench = app.positions.entry("bench");
+    bench.cartesian = Some([4000, 1000, 3000]);
+    bench.orientation = Some([90.0, 0.0, 90.0]);
+    press(&mut app, "o", t0);
+    press(&mut app, "y", t0);
+    let failed = ArmEvent::Failed {
+        command: "move to pose",
+        reason: "not possible over this link".into(),
+    };
+    assert_eq!(app.handle(Input::Arm(failed), t0 + ms(2)), [STOP]);
+    assert!(app.truth.action.is_none());
+    assert_eq!(
+        message(&app),
+        "move to pose failed: not possible over this link"
+    );
+}
+
+#[test]
+fn ages_count_in_tenths_then_whole_seconds() {
+    use armjog::console::app::age_text;
+    assert_eq!(age_text(ms(1849)), "1.8 s");
+    assert_eq!(age_text(ms(42_300)), "42 s");
+    let (mut app, t0) = app(TelemetrySource::Modbus);
+    feed(&mut app, at_rest(), t0);
+    app.handle(Input::Tick, t0 + ms(2000));
+    assert_eq!(
+        app.next_deadline(),
+        Some(t0 + ms(2100)),
+        "tenths while young"
+    );
+    app.handle(Input::Tick, t0 + ms(20_000));
+    assert_eq!(
+        app.next_deadline(),
+        Some(t0 + ms(21_000)),
+        "seconds when old"
+    );
+}

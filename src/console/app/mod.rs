@@ -14,7 +14,7 @@ mod named;
 pub use coords::{cartesian_of, describe_motion, polar_of};
 pub use motion_truth::{
     ACTION_TIMEOUT, ActionKind, MotionShown, MotionTruth, NO_TELEMETRY_ACTION_TIME, STALE_AFTER,
-    STOP_GRACE, TrackedAction, abort_reason, at_rest, fault_reason,
+    STOP_GRACE, TrackedAction, abort_reason, age_text, at_rest, fault_reason,
 };
 
 use std::collections::VecDeque;

@@ -48,6 +48,8 @@ const REST_LINEAR_M_S: f32 = 0.002;
 const REST_ANGULAR_DEG_S: f32 = 0.5;
 /// A joint this close to its limit is the one an abort stopped at.
 const AT_LIMIT_DEG: f32 = 3.0;
+/// Ages below this are shown in tenths of a second, above it in whole seconds.
+const AGE_TENTHS_UNTIL: Duration = Duration::from_secs(10);
 /// Telemetry intervals kept to estimate the link's period.
 const INTERVALS_KEPT: usize = 8;
 
@@ -78,11 +80,12 @@ impl ActionKind {
         }
     }
 
-    fn command_label(&self) -> &'static str {
+    /// Whether a failure of the command labelled `label` is this action's.
+    fn failed_by(&self, label: &str) -> bool {
         match self {
-            ActionKind::Home => ArmCommand::Home.label(),
-            ActionKind::GoTo(_) => "go to position",
-            ActionKind::Step => "step",
+            ActionKind::Home => label == ArmCommand::Home.label(),
+            ActionKind::GoTo(_) => label == "go to position" || label == "move to pose",
+            ActionKind::Step => label == "step",
         }
     }
 
@@ -197,12 +200,19 @@ impl MotionTruth {
             }
             candidates.extend(self.waiting_since.map(|since| since + STALE_AFTER));
         }
-        // The shown ages count up while anything is old.
-        let telemetry_old = self
+        // The shown ages count up while anything is old: in tenths, then whole seconds.
+        let telemetry_age = self
             .telemetry_at
-            .is_some_and(|at| now.saturating_duration_since(at) >= self.stale_after());
-        if telemetry_old || (link_up && self.stale_for(now).is_some()) {
-            candidates.push(now + Duration::from_millis(100));
+            .map(|at| now.saturating_duration_since(at))
+            .filter(|age| *age >= self.stale_after());
+        let link_age = self.stale_for(now).filter(|_| link_up);
+        if let Some(age) = telemetry_age.max(link_age) {
+            let step = if age < AGE_TENTHS_UNTIL {
+                Duration::from_millis(100)
+            } else {
+                Duration::from_secs(1)
+            };
+            candidates.push(now + step);
         }
         candidates.extend(self.stop_sent.map(|at| at + STOP_GRACE));
         candidates.extend(self.stop_confirmed_at.map(|at| at + STOP_GRACE));
@@ -215,6 +225,15 @@ impl MotionTruth {
             candidates.push(action.sent + limit);
         }
         candidates.into_iter().filter(|at| *at > now).min()
+    }
+}
+
+/// An age for the screen: `1.8 s`, or `42 s` once past ten seconds.
+pub fn age_text(age: Duration) -> String {
+    if age < AGE_TENTHS_UNTIL {
+        format!("{:.1} s", age.as_secs_f64())
+    } else {
+        format!("{} s", age.as_secs())
     }
 }
 
@@ -307,8 +326,8 @@ impl App {
             }
             if let Some(age) = self.link_stale() {
                 return MotionShown::MayBeMoving(format!(
-                    "no word from the arm for {:.1} s",
-                    age.as_secs_f64()
+                    "no word from the arm for {}",
+                    age_text(age)
                 ));
             }
         }
@@ -416,7 +435,7 @@ impl App {
                     .truth
                     .action
                     .as_ref()
-                    .is_some_and(|a| a.kind.command_label() == *command) =>
+                    .is_some_and(|a| a.kind.failed_by(command)) =>
             {
                 // The failure itself is said by the caller; a STOP settles the doubt.
                 self.truth.action = None;
@@ -489,8 +508,8 @@ impl App {
             self.stop_jog(now, effects);
             self.say(
                 format!(
-                    "link stale: no word from the arm for {:.1} s: jog stopped",
-                    age.as_secs_f64()
+                    "link stale: no word from the arm for {}: jog stopped",
+                    age_text(age)
                 ),
                 Severity::Error,
                 now,

@@ -31,7 +31,7 @@ pub fn no_telemetry_text(app: &App) -> &'static str {
 /// A telemetry panel's title, with the telemetry's age when it is old.
 pub fn telemetry_title(title: &str, app: &App) -> String {
     match app.telemetry_stale() {
-        Some(age) => format!("{title} (stale {:.1} s)", age.as_secs_f64()),
+        Some(age) => format!("{title} (stale {})", super::app::age_text(age)),
         None => title.to_string(),
     }
 }

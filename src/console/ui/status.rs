@@ -7,7 +7,7 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 
 use super::theme::Theme;
-use crate::console::app::{App, MotionShown, describe_motion};
+use crate::console::app::{App, MotionShown, age_text, describe_motion};
 use crate::console::jog::ReleaseMode;
 use crate::kortex::CodeName;
 use crate::link::arm::LinkStatus;
@@ -47,7 +47,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
             // A link that went silent is not shown as healthy.
             match app.link_stale() {
                 Some(age) => spans.push(Span::styled(
-                    format!(" LINK STALE {:.1} s ", age.as_secs_f64()),
+                    format!(" LINK STALE {} ", age_text(age)),
                     theme.alarm(),
                 )),
                 None => spans.push(Span::styled(" LINK UP ", theme.ok())),
