@@ -7,14 +7,16 @@
 //! focus loss, a link problem, a terminal too small to show the status, a signal and quitting
 //! all stop it.
 
+mod arm_state;
 mod coords;
 mod motion_truth;
 mod named;
 
+pub use arm_state::{abort_reason, age_text, at_rest, fault_reason};
 pub use coords::{cartesian_of, describe_motion, polar_of};
 pub use motion_truth::{
     ACTION_TIMEOUT, ActionKind, MotionShown, MotionTruth, NO_TELEMETRY_ACTION_TIME, STALE_AFTER,
-    STOP_GRACE, TrackedAction, abort_reason, age_text, at_rest, fault_reason,
+    STOP_GRACE, TrackedAction,
 };
 
 use std::collections::VecDeque;
