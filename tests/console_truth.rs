@@ -547,3 +547,33 @@ fn ages_count_in_tenths_then_whole_seconds() {
         "seconds when old"
     );
 }
+
+#[test]
+fn a_joint_limit_hit_between_two_polls_is_still_an_abort() {
+    let unknown = Coded::Unknown(u16::MAX);
+    let (mut app, t0) = app(TelemetrySource::TalosHardware);
+    let mut near = HOME;
+    near[3] = 145.8;
+    feed(&mut app, telemetry(near, 0.0, unknown), t0);
+    start_home(&mut app, t0);
+    // The next poll already finds the arm stopped at the limit, never seen moving.
+    near[3] = 147.8;
+    let mut stopped = telemetry(near, 0.0, unknown);
+    stopped.warnings = FlagSet::from_bits(Flag::JointFault.bit());
+    feed(&mut app, stopped, t0 + ms(100));
+    assert_eq!(message(&app), "home failed: aborted, J4 at its limit");
+}
+
+#[test]
+fn a_joint_fault_warning_from_before_the_start_is_not_this_actions_abort() {
+    let unknown = Coded::Unknown(u16::MAX);
+    let (mut app, t0) = app(TelemetrySource::TalosHardware);
+    let mut warned = telemetry(HOME, 0.0, unknown);
+    warned.warnings = FlagSet::from_bits(Flag::JointFault.bit());
+    feed(&mut app, warned.clone(), t0);
+    start_home(&mut app, t0);
+    feed(&mut app, warned.clone(), t0 + ms(100));
+    assert_eq!(app.motion_shown(), moving_home());
+    feed(&mut app, warned, t0 + ms(1100));
+    assert_eq!(message(&app), "home done", "already home, nothing moved");
+}

@@ -17,9 +17,11 @@ use armjog::console::app::{App, AppConfig, Effect, Input, KeyInput, MotionShown}
 use armjog::console::jog::{KeyKind, ReleaseMode};
 use armjog::console::keymap::{KeyName, Keymap};
 use armjog::console::positions::PositionBook;
-use armjog::link::ModbusConfig;
 use armjog::link::arm::{ArmEvent, LinkStatus};
 use armjog::link::driver::{Driver, DriverConfig};
+use armjog::link::{ModbusConfig, TalosConfig};
+use armjog::sim::arm::Arm;
+use armjog::sim::kinematics::to_radians;
 use armjog::sim::{SimConfig, Simulator};
 
 /// Forwards TCP connections to `target` until frozen; frozen, it holds every byte (and keeps
@@ -78,23 +80,32 @@ struct Console {
 }
 
 impl Console {
+    /// Over Modbus through the relay, to a simulated arm at home.
     async fn start() -> Console {
-        let sim = Simulator::start(SimConfig::ephemeral())
-            .await
-            .expect("simulator");
+        Console::start_with(Arm::default(), false).await
+    }
+
+    /// To a simulated `arm`, over Modbus through the relay, or over Talos (`talos`, direct).
+    async fn start_with(arm: Arm, talos: bool) -> Console {
+        let mut sim_config = SimConfig::ephemeral();
+        sim_config.arm = arm;
+        let sim = Simulator::start(sim_config).await.expect("simulator");
         let relay = Relay::start(sim.modbus_addr.expect("modbus server")).await;
         let mut modbus = ModbusConfig::new(relay.addr.to_string());
         // A slow arm's reply timeout: the link is stale well before it gives up on a request.
         modbus.request_timeout = Duration::from_secs(3);
-        let config = DriverConfig::new(None, Some(modbus));
+        let config = match talos {
+            true => DriverConfig::new(Some(TalosConfig::new(sim.talos_addr.to_string())), None),
+            false => DriverConfig::new(None, Some(modbus)),
+        };
         let app = App::new(
             AppConfig {
                 keymap: Keymap::builtin("default").expect("keymap"),
                 release_mode: ReleaseMode::Reported,
                 refresh: Duration::from_millis(100),
-                positions_on_operator: false,
+                positions_on_operator: config.positions_on_operator(),
                 max_jog_speed: config.max_jog_speed,
-                frames: true,
+                frames: !talos,
             },
             PositionBook::new(),
         );
@@ -238,4 +249,85 @@ async fn a_network_that_freezes_mid_jog_shows_link_stale_and_may_be_moving() {
         })
         .await;
     assert!(!console.moving().await, "idle is the truth");
+}
+
+fn message(c: &Console) -> String {
+    c.app
+        .message
+        .as_ref()
+        .map(|(text, _, _)| text.clone())
+        .unwrap_or_default()
+}
+
+fn moving_home(c: &Console) -> bool {
+    matches!(&c.app.motion_shown(), MotionShown::Action { label, confirmed: true } if label == "HOME")
+}
+
+/// An arm away from home, within every joint limit.
+fn away() -> Arm {
+    Arm::at(to_radians(&[10.0, 30.0, 170.0, 240.0, 10.0, 40.0, 80.0]))
+}
+
+/// J4 two degrees short of its limit: the simulator's home passes the limit and stops there.
+fn near_j4_limit() -> Arm {
+    Arm::at(to_radians(&[0.0, 15.0, 180.0, 145.8, 0.0, 55.0, 90.0]))
+}
+
+async fn home(console: &mut Console) {
+    console.key("h", KeyKind::Press);
+    console.key("y", KeyKind::Press);
+    assert!(moving_home(console), "{:?}", console.app.motion_shown());
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn home_over_modbus_shows_moving_until_it_completes_at_rest() {
+    let mut console = Console::start_with(away(), false).await;
+    home(&mut console).await;
+    console.seen.clear();
+    console
+        .run_until(Duration::from_secs(15), |c| message(c) == "home done")
+        .await;
+    let before_done = &console.seen[..console.seen.len() - 1];
+    assert!(
+        before_done.iter().all(|s| *s != MotionShown::Idle),
+        "{:?}",
+        console.seen
+    );
+    assert_eq!(console.app.motion_shown(), MotionShown::Idle);
+    assert!(!console.moving().await, "done means at rest");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_home_aborted_at_a_joint_limit_is_a_failure_over_modbus_and_over_talos() {
+    for talos in [false, true] {
+        let mut console = Console::start_with(near_j4_limit(), talos).await;
+        console
+            .run_until(Duration::from_secs(5), |c| c.app.telemetry.is_some())
+            .await;
+        home(&mut console).await;
+        console
+            .run_until(Duration::from_secs(15), |c| message(c).contains("home"))
+            .await;
+        assert_eq!(
+            message(&console),
+            "home failed: aborted, J4 at its limit",
+            "talos {talos}"
+        );
+        assert!(
+            !console
+                .app
+                .log
+                .iter()
+                .any(|e| e.name == "home" && e.outcome.contains("OK")),
+            "talos {talos}: {:?}",
+            console.app.log
+        );
+        // The STOP it sends is confirmed and the arm seen at rest: idle, truthfully.
+        console
+            .run_until(Duration::from_secs(5), |c| {
+                c.app.motion_shown() == MotionShown::Idle
+            })
+            .await;
+        assert!(!console.moving().await);
+    }
 }

@@ -42,6 +42,8 @@ const NO_MOTION_GRACE: Duration = Duration::from_secs(1);
 pub const ACTION_TIMEOUT: Duration = Duration::from_secs(60);
 /// Without telemetry, how long an action is assumed to take at most.
 pub const NO_TELEMETRY_ACTION_TIME: Duration = Duration::from_secs(30);
+/// A joint this far from where it was when an action started has moved.
+const MOVED_DEG: f32 = 0.5;
 /// Telemetry intervals kept to estimate the link's period.
 const INTERVALS_KEPT: usize = 8;
 
@@ -95,12 +97,16 @@ impl ActionKind {
 }
 
 /// A home, go-to or step in progress.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct TrackedAction {
     pub kind: ActionKind,
     sent: Instant,
     /// When the link reported the command taken.
     accepted: Option<Instant>,
+    /// Joint positions when it was sent, to see it moved even between two polls.
+    from: Option<[f32; 7]>,
+    /// A joint-fault warning was already raised when it was sent.
+    warned_before: bool,
     seen_motion: bool,
     seen_started: bool,
 }
@@ -405,7 +411,13 @@ impl App {
             return;
         };
         let rest = at_rest(t);
-        action.seen_motion |= !rest;
+        let moved = action.from.is_some_and(|from| {
+            from.iter().zip(&t.joints).any(|(a, j)| {
+                let d = (j.position - a).rem_euclid(360.0);
+                d.min(360.0 - d) > MOVED_DEG
+            })
+        });
+        action.seen_motion |= !rest || moved;
         if t.action.status == Coded::Known(ActionStatus::Started) {
             action.seen_started = true;
         }
@@ -413,8 +425,11 @@ impl App {
         let status_current =
             action.seen_started || action.seen_motion || now >= accepted + ACTION_GRACE;
         let verb = action.kind.verb();
+        // A joint-fault warning raised since the start: the arm stopped at a limit.
+        let joint_fault =
+            t.warnings.contains(Flag::JointFault) && (action.seen_motion || !action.warned_before);
         let aborted = (status_current && t.action.status == Coded::Known(ActionStatus::Aborted))
-            || (action.seen_motion && rest && t.warnings.contains(Flag::JointFault));
+            || (rest && joint_fault);
         let failure = fault_reason(t).or_else(|| aborted.then(|| abort_reason(t)));
         if let Some(reason) = failure {
             self.truth.action = None;
@@ -534,10 +549,13 @@ impl App {
         truth.motion_since_stop = true;
         truth.stop_confirmed_at = None;
         // A new motion replaces whatever action was running.
+        let last = self.telemetry.as_ref();
         truth.action = kind.map(|kind| TrackedAction {
             kind,
             sent: now,
             accepted: None,
+            from: last.map(|t| t.joints.map(|j| j.position)),
+            warned_before: last.is_some_and(|t| t.warnings.contains(Flag::JointFault)),
             seen_motion: false,
             seen_started: false,
         });
