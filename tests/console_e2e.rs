@@ -65,9 +65,11 @@ impl Console {
             events,
             sim,
         };
+        // Every link here sends telemetry: a link silent since it came up would soon be stale
+        // and refuse to jog.
         console
-            .run_until(Duration::from_secs(3), |c| {
-                matches!(c.app.link, LinkStatus::Up { .. })
+            .run_until(Duration::from_secs(5), |c| {
+                matches!(c.app.link, LinkStatus::Up { .. }) && c.app.telemetry.is_some()
             })
             .await;
         console
