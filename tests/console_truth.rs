@@ -433,12 +433,14 @@ fn over_talos_hardware_telemetry_home_ends_at_rest_after_moving_or_at_a_joint_fa
     feed(&mut app, telemetry(HOME, 0.0, unknown), t0 + ms(200));
     assert_eq!(message(&app), "home done");
     // Already home: nothing moves; done a second after the start.
+    feed(&mut app, telemetry(HOME, 0.0, unknown), t0 + ms(1000));
     start_home(&mut app, t0 + ms(1000));
     feed(&mut app, telemetry(HOME, 0.0, unknown), t0 + ms(1100));
     assert_eq!(app.motion_shown(), moving_home());
     feed(&mut app, telemetry(HOME, 0.0, unknown), t0 + ms(2100));
     assert_eq!(app.motion_shown(), MotionShown::Idle);
     // Stopped by a joint limit on the way.
+    feed(&mut app, telemetry(HOME, 0.0, unknown), t0 + ms(3000));
     start_home(&mut app, t0 + ms(3000));
     let mut near = HOME;
     near[1] = 127.5;
@@ -576,4 +578,32 @@ fn a_joint_fault_warning_from_before_the_start_is_not_this_actions_abort() {
     assert_eq!(app.motion_shown(), moving_home());
     feed(&mut app, warned, t0 + ms(1100));
     assert_eq!(message(&app), "home done", "already home, nothing moved");
+}
+
+#[test]
+fn a_stale_link_starts_no_home_step_or_go_to() {
+    let (mut app, t0) = app(TelemetrySource::TalosHardware);
+    feed(&mut app, at_rest(), t0);
+    let stale = t0 + ms(800);
+    press(&mut app, "h", stale);
+    assert!(press(&mut app, "y", stale).is_empty(), "no home");
+    assert_eq!(message(&app), "link stale: not moving");
+    app.positions.entry("bench");
+    press(&mut app, "o", stale);
+    assert!(press(&mut app, "y", stale).is_empty(), "no go-to");
+    press(&mut app, "t", stale);
+    assert!(press(&mut app, "w", stale).is_empty(), "no step");
+    assert!(app.truth.action.is_none());
+    // Fresh again: a new press moves.
+    feed(&mut app, at_rest(), stale + ms(10));
+    assert_eq!(
+        press(&mut app, "w", stale + ms(20)),
+        [Effect::Arm(ArmCommand::Step(
+            armjog::link::arm::StepMove::Cartesian {
+                dx: 50,
+                dy: 0,
+                dz: 0
+            }
+        ))]
+    );
 }

@@ -226,6 +226,18 @@ impl MotionTruth {
     }
 }
 
+/// Whether `command` sets the arm moving.
+fn starts_motion(command: &ArmCommand) -> bool {
+    matches!(
+        command,
+        ArmCommand::Jog(_)
+            | ArmCommand::Step(_)
+            | ArmCommand::Home
+            | ArmCommand::GoToPosition { .. }
+            | ArmCommand::MoveToPose(_)
+    )
+}
+
 impl App {
     /// The instant of the latest input: the clock the panels' ages are drawn with.
     pub fn now(&self) -> Option<Instant> {
@@ -451,7 +463,8 @@ impl App {
         }
     }
 
-    /// After every input: stale links stop the jog, tracked actions time out, and the commands
+    /// After every input: a stale link starts no motion (a command held up in a frozen network
+    /// could run whenever it thaws) and stops the jog; tracked actions time out; the commands
     /// just emitted are noted.
     pub(super) fn truth_after(
         &mut self,
@@ -459,18 +472,23 @@ impl App {
         now: Instant,
         effects: &mut Vec<Effect>,
     ) {
-        if let Some(age) = self.link_stale()
-            && self.jog.is_jogging()
-        {
-            self.stop_jog(now, effects);
-            self.say(
-                format!(
-                    "link stale: no word from the arm for {}: jog stopped",
-                    age_text(age)
-                ),
-                Severity::Error,
-                now,
-            );
+        if let Some(age) = self.link_stale() {
+            let asked = effects.len();
+            effects.retain(|e| !matches!(e, Effect::Arm(command) if starts_motion(command)));
+            if effects.len() != asked {
+                self.say("link stale: not moving", Severity::Warning, now);
+            }
+            if self.jog.is_jogging() {
+                self.stop_jog(now, effects);
+                self.say(
+                    format!(
+                        "link stale: no word from the arm for {}: jog stopped",
+                        age_text(age)
+                    ),
+                    Severity::Error,
+                    now,
+                );
+            }
         }
         self.time_out_action(now);
         if std::mem::take(&mut self.truth.stop_needed)
