@@ -65,9 +65,11 @@ impl Console {
             events,
             sim,
         };
+        // Every link here sends telemetry: a link silent since it came up would soon be stale
+        // and refuse to jog.
         console
-            .run_until(Duration::from_secs(3), |c| {
-                matches!(c.app.link, LinkStatus::Up { .. })
+            .run_until(Duration::from_secs(5), |c| {
+                matches!(c.app.link, LinkStatus::Up { .. }) && c.app.telemetry.is_some()
             })
             .await;
         console
@@ -121,7 +123,10 @@ impl Console {
                 .map(tokio::time::Instant::from_std)
                 .unwrap_or(until)
                 .min(until);
+            // As the runtime does: events already in before a deadline are taken first, so a
+            // busy machine does not make the link look stale.
             tokio::select! {
+                biased;
                 event = self.events.recv() => {
                     let event = event.expect("driver events");
                     self.input(Input::Arm(event));

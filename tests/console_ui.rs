@@ -7,7 +7,7 @@
 use std::time::{Duration, Instant};
 
 use armjog::console::app::{App, AppConfig, Input, KeyInput, Overlay};
-use armjog::console::jog::{KeyKind, ReleaseMode};
+use armjog::console::jog::{JogMotion, KeyKind, ReleaseMode};
 use armjog::console::keymap::{KeyName, Keymap};
 use armjog::console::positions::PositionBook;
 use armjog::console::ui::{self, Theme};
@@ -15,7 +15,9 @@ use armjog::kortex::{
     ActionState, ActionStatus, ArmHealth, Coded, ControlCoil, Flag, FlagSet, JointState, MoveType,
     Pose, RobotState, SpeedLimits, Telemetry, ToolState, Twist, Wrench,
 };
-use armjog::link::arm::{ArmEvent, LinkStatus, LogEntry, PositionCoordinates, TelemetrySource};
+use armjog::link::arm::{
+    ArmCommand, ArmEvent, LinkStatus, LogEntry, PositionCoordinates, TelemetrySource,
+};
 use ratatui::Frame;
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
@@ -184,11 +186,19 @@ fn jogging_app() -> (App, Instant) {
     (app, t0)
 }
 
-/// `w` held with no release events: one press, a 500 ms onset and 40 ms repeats (25 Hz).
+/// `w` held with no release events: one press, a 500 ms onset and 40 ms repeats (25 Hz). The
+/// arm keeps answering and sending telemetry meanwhile, so the link stays fresh.
 fn auto_repeat_app() -> (App, Instant) {
     let (mut app, t0) = live_app(ReleaseMode::AutoRepeat);
     for at in [0, 500, 540, 580, 620] {
-        press(&mut app, "w", t0 + ms(at));
+        let now = t0 + ms(at);
+        app.handle(
+            Input::Arm(ArmEvent::Telemetry(Box::new(home_telemetry()))),
+            now,
+        );
+        press(&mut app, "w", now);
+        let start = ArmCommand::Jog(JogMotion::Cartesian { x: 1, y: 0, z: 0 });
+        app.handle(Input::Arm(ArmEvent::Done { command: start }), now);
     }
     (app, t0)
 }
@@ -292,6 +302,8 @@ fn status_step_mode_with_measured_auto_repeat_fits_80_columns() {
     }
     app.handle(Input::Tick, t0 + ms(2000));
     assert!(!app.jog.is_jogging());
+    // The driver confirms the STOP, or the status would say STOPPING.
+    app.handle(Input::Arm(ArmEvent::StopConfirmed), t0 + ms(2000));
     press(&mut app, "g", t0 + ms(2000));
     press(&mut app, "g", t0 + ms(2000));
     press(&mut app, "t", t0 + ms(2000));

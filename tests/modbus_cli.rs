@@ -172,8 +172,9 @@ async fn modbus_commands_write_their_sequences() {
         vec!["abort"],
         vec!["fault-reset"],
         vec!["stop"],
-        vec!["home"],
-        vec!["home", "--action-id", "5"],
+        // The fake arm never runs actions: do not wait for their end.
+        vec!["home", "--no-wait"],
+        vec!["home", "--action-id", "5", "--no-wait"],
         vec!["speed-limit", "--linear", "0.25", "--angular", "50"],
     ] {
         let mut full = vec!["modbus", "--modbus", addr.as_str()];
@@ -251,4 +252,132 @@ async fn modbus_json_output_and_refusals() {
         "{}",
         run.stderr
     );
+}
+
+// ---- `armjog modbus home` waits for the action's end, against the simulator ----
+
+mod home {
+    use super::armjog;
+    use armjog::sim::arm::Arm;
+    use armjog::sim::kinematics::to_radians;
+    use armjog::sim::{SimConfig, Simulator};
+    use std::time::{Duration, Instant};
+
+    /// A simulated arm (Modbus only) away from home, or as given.
+    async fn sim(arm: Arm) -> Simulator {
+        let mut config = SimConfig::ephemeral();
+        config.arm = arm;
+        Simulator::start(config).await.expect("simulator")
+    }
+
+    fn away() -> Arm {
+        Arm::at(to_radians(&[10.0, 30.0, 170.0, 240.0, 10.0, 40.0, 80.0]))
+    }
+
+    fn addr(sim: &Simulator) -> String {
+        sim.modbus_addr.expect("modbus server").to_string()
+    }
+
+    #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+    async fn home_on_a_healthy_arm_waits_for_the_end_and_exits_0() {
+        let sim = sim(away()).await;
+        let run = armjog(&["modbus", "--modbus", &addr(&sim), "home"]).await;
+        assert_eq!(run.code, 0, "{}{}", run.stdout, run.stderr);
+        assert!(run.stdout.contains("home: completed in"), "{}", run.stdout);
+        let s = sim.arm.snapshot().await.expect("sim");
+        assert!(!s.moving, "at rest when it says completed");
+        let home = [0.0, 15.0, 180.0, 230.0, 0.0, 55.0, 90.0];
+        for (j, (at, want)) in s.joint_position.iter().zip(home).enumerate() {
+            // Reported 0-360: 360 is 0.
+            let off = (at - want).rem_euclid(360.0);
+            assert!(off.min(360.0 - off) < 0.1, "J{}: {at} vs {want}", j + 1);
+        }
+    }
+
+    #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+    async fn home_on_an_arm_in_fault_exits_1_and_starts_nothing() {
+        let mut arm = away();
+        arm.raise_fault(4);
+        let sim = sim(arm).await;
+        let before = sim.arm.snapshot().await.expect("sim").joint_position;
+        let run = armjog(&["modbus", "--modbus", &addr(&sim), "home"]).await;
+        assert_eq!(run.code, 1, "{}{}", run.stdout, run.stderr);
+        assert!(
+            run.stderr
+                .contains("home failed: the arm is in fault: joint_fault"),
+            "{}",
+            run.stderr
+        );
+        tokio::time::sleep(Duration::from_millis(200)).await;
+        let after = sim.arm.snapshot().await.expect("sim").joint_position;
+        assert_eq!(before, after, "nothing moved");
+    }
+
+    #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+    async fn home_with_an_action_id_the_arm_does_not_have_exits_1() {
+        let sim = sim(away()).await;
+        let run = armjog(&[
+            "modbus",
+            "--modbus",
+            &addr(&sim),
+            "home",
+            "--action-id",
+            "99",
+        ])
+        .await;
+        assert_eq!(run.code, 1, "{}{}", run.stdout, run.stderr);
+        assert!(run.stderr.contains("action 99"), "{}", run.stderr);
+        assert!(!run.stdout.contains("completed"), "{}", run.stdout);
+    }
+
+    #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+    async fn home_aborted_at_a_joint_limit_names_the_joint_and_exits_1() {
+        // J4 two degrees short of its limit: the simulator's home passes it and stops there.
+        let sim = sim(Arm::at(to_radians(&[
+            0.0, 15.0, 180.0, 145.8, 0.0, 55.0, 90.0,
+        ])))
+        .await;
+        let run = armjog(&["modbus", "--modbus", &addr(&sim), "home"]).await;
+        assert_eq!(run.code, 1, "{}{}", run.stdout, run.stderr);
+        assert!(
+            run.stderr.contains("home failed: aborted, J4 at its limit"),
+            "{}",
+            run.stderr
+        );
+    }
+
+    #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+    async fn a_home_past_its_wait_timeout_is_stopped_and_exits_1() {
+        let sim = sim(away()).await;
+        let run = armjog(&[
+            "modbus",
+            "--modbus",
+            &addr(&sim),
+            "home",
+            "--wait-timeout",
+            "0.2",
+        ])
+        .await;
+        assert_eq!(run.code, 1, "{}{}", run.stdout, run.stderr);
+        assert!(
+            run.stderr.contains("no end within 0.2 s; stopped"),
+            "{}",
+            run.stderr
+        );
+        assert!(!sim.arm.snapshot().await.expect("sim").moving, "stopped");
+    }
+
+    #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+    async fn home_no_wait_returns_while_the_arm_still_moves() {
+        let sim = sim(away()).await;
+        let started = Instant::now();
+        let run = armjog(&["modbus", "--modbus", &addr(&sim), "home", "--no-wait"]).await;
+        assert_eq!(run.code, 0, "{}{}", run.stdout, run.stderr);
+        assert!(run.stdout.starts_with("home: started"), "{}", run.stdout);
+        assert!(
+            sim.arm.snapshot().await.expect("sim").moving,
+            "returned before the end ({:?})",
+            started.elapsed()
+        );
+    }
 }

@@ -1,17 +1,19 @@
 //! `armjog modbus`: the writes a technician needs from a shell, and what `armjog status`
 //! shares with it (the connection options and exit codes).
 
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use clap::{Args, Subcommand};
 use serde_json::{Value, json};
 
-use crate::kortex::StoredMotion;
+use crate::console::app::{abort_reason, at_rest, fault_reason};
 use crate::kortex::commands::{self, Write};
+use crate::kortex::{ActionStatus, Coded, StoredMotion, Telemetry};
 use crate::link::modbus::{DEFAULT_HOME_ACTION_ID, DEFAULT_PORT, ModbusConfig, ModbusError};
 use crate::link::{ModbusLink, WriteReport};
 
-/// Exit status when the arm answered with a Modbus exception.
+/// Exit status when the arm answered with a Modbus exception, or an action it was asked for
+/// did not complete (aborted, faulted, never started, timed out).
 pub const EXIT_EXCEPTION: i32 = 1;
 /// Exit status when a value was refused before anything was sent.
 pub const EXIT_REFUSED: i32 = 2;
@@ -76,11 +78,18 @@ pub enum ModbusCommand {
     FaultReset,
     /// Stop the running action, trajectory or twist (holding register 200 <- 2).
     Stop,
-    /// Start the Home action.
+    /// Start the Home action and wait for its end (refused if the arm is in fault).
     Home {
         /// The arm's id of its Home action (see the Kortex Web App).
         #[arg(long, default_value_t = DEFAULT_HOME_ACTION_ID, value_name = "N")]
         action_id: u16,
+        /// Return once the action is started, without waiting for its end.
+        #[arg(long)]
+        no_wait: bool,
+        /// Longest wait for the end, seconds: past it the action is stopped and the exit status
+        /// is 1.
+        #[arg(long, default_value_t = 60.0, value_name = "S")]
+        wait_timeout: f64,
     },
     /// Set the desired cartesian speed limits (holding registers 216-219).
     SpeedLimit {
@@ -111,7 +120,7 @@ impl ModbusCommand {
             ModbusCommand::Abort => link.abort().await,
             ModbusCommand::FaultReset => link.fault_reset().await,
             ModbusCommand::Stop => link.stop().await,
-            ModbusCommand::Home { action_id } => {
+            ModbusCommand::Home { action_id, .. } => {
                 link.start_stored(*action_id, StoredMotion::Action).await
             }
             ModbusCommand::SpeedLimit { linear, angular } => {
@@ -146,35 +155,194 @@ pub async fn run(args: &ModbusArgs) -> Outcome {
     {
         return Outcome::failed(&e.into());
     }
+    let home = match &args.command {
+        ModbusCommand::Home {
+            action_id,
+            no_wait,
+            wait_timeout,
+        } => {
+            if !(wait_timeout.is_finite() && *wait_timeout > 0.0 && *wait_timeout <= 86_400.0) {
+                return Outcome {
+                    stdout: Vec::new(),
+                    stderr: Some(format!(
+                        "--wait-timeout {wait_timeout}: must be above 0 and at most 86400 s"
+                    )),
+                    exit_code: EXIT_REFUSED,
+                };
+            }
+            Some((
+                *action_id,
+                !*no_wait,
+                Duration::from_secs_f64(*wait_timeout),
+            ))
+        }
+        _ => None,
+    };
     let link = match ModbusLink::connect(args.arm.config()).await {
         Ok((link, _events)) => link,
         Err(e) => return Outcome::failed(&e),
     };
-    let result = args.command.send(&link).await;
+    let outcome = match home {
+        Some((action_id, wait, timeout)) => run_home(args, &link, action_id, wait, timeout).await,
+        None => match args.command.send(&link).await {
+            Ok(report) => Outcome {
+                stdout: render(args, &report, None),
+                stderr: None,
+                exit_code: 0,
+            },
+            Err(e) => Outcome::failed(&e),
+        },
+    };
     let _ = link.close().await;
-    match result {
-        Ok(report) => Outcome {
-            stdout: render(args, &report),
+    outcome
+}
+
+/// How often a home's end is polled.
+const HOME_POLL: Duration = Duration::from_millis(100);
+/// A status read this soon after the start may still be the previous action's.
+const HOME_STATUS_GRACE: Duration = Duration::from_millis(500);
+/// An arm that has not taken the action id by then does not have it.
+const HOME_START_LIMIT: Duration = Duration::from_secs(2);
+
+/// How a home ended.
+enum HomeEnd {
+    Completed(Duration),
+    Failed(String),
+}
+
+/// `armjog modbus home`: refuses an arm in fault, starts the action and (unless told not to)
+/// waits for its end.
+async fn run_home(
+    args: &ModbusArgs,
+    link: &ModbusLink,
+    action_id: u16,
+    wait: bool,
+    timeout: Duration,
+) -> Outcome {
+    let failed = |reason: String, stdout: Vec<String>| Outcome {
+        stdout,
+        stderr: Some(format!("home failed: {reason}")),
+        exit_code: EXIT_EXCEPTION,
+    };
+    match link.read_telemetry().await {
+        Ok(t) => {
+            if let Some(fault) = fault_reason(&t) {
+                return failed(format!("{fault}; not started"), Vec::new());
+            }
+        }
+        Err(e) => return Outcome::failed(&e),
+    }
+    let report = match args.command.send(link).await {
+        Ok(report) => report,
+        Err(e) => return Outcome::failed(&e),
+    };
+    if !wait {
+        return Outcome {
+            stdout: render(args, &report, Some("started")),
             stderr: None,
             exit_code: 0,
-        },
+        };
+    }
+    match wait_for_home(link, action_id, timeout).await {
+        Ok(HomeEnd::Completed(took)) => {
+            let mut stdout = render(args, &report, Some("completed"));
+            if !args.json {
+                stdout.push(format!("home: completed in {:.1} s", took.as_secs_f64()));
+            }
+            Outcome {
+                stdout,
+                stderr: None,
+                exit_code: 0,
+            }
+        }
+        Ok(HomeEnd::Failed(reason)) => failed(reason, render(args, &report, Some("failed"))),
         Err(e) => Outcome::failed(&e),
     }
 }
 
-fn render(args: &ModbusArgs, report: &WriteReport) -> Vec<String> {
+/// Polls the action status and faults until the action `action_id` ends. Past `timeout` it is
+/// stopped.
+async fn wait_for_home(
+    link: &ModbusLink,
+    action_id: u16,
+    timeout: Duration,
+) -> Result<HomeEnd, ModbusError> {
+    let started = Instant::now();
+    let mut seen_started = false;
+    loop {
+        let t = link.read_telemetry().await?;
+        let elapsed = started.elapsed();
+        if let Some(end) = home_end(&t, action_id, elapsed, &mut seen_started) {
+            return Ok(end);
+        }
+        if elapsed >= timeout {
+            let stopped = match link.stop().await {
+                Ok(_) => "stopped",
+                Err(_) => "and the STOP could not be written: the arm may still be moving",
+            };
+            return Ok(HomeEnd::Failed(format!(
+                "no end within {:.1} s; {stopped}",
+                timeout.as_secs_f64()
+            )));
+        }
+        tokio::time::sleep(HOME_POLL).await;
+    }
+}
+
+/// What one poll says about the home, if it ended.
+fn home_end(
+    t: &Telemetry,
+    action_id: u16,
+    elapsed: Duration,
+    seen_started: &mut bool,
+) -> Option<HomeEnd> {
+    if let Some(fault) = fault_reason(t) {
+        return Some(HomeEnd::Failed(fault));
+    }
+    let ours = t.action.id == action_id;
+    if ours && t.action.status == Coded::Known(ActionStatus::Started) {
+        *seen_started = true;
+    }
+    // Right after the start the status may still describe an earlier run of the same action.
+    let current = ours && (*seen_started || elapsed >= HOME_STATUS_GRACE);
+    match t.action.status {
+        Coded::Known(ActionStatus::Aborted) if current => {
+            let reason = abort_reason(t);
+            Some(HomeEnd::Failed(if *seen_started {
+                reason
+            } else {
+                format!("{reason} at once: does the arm have action {action_id}?")
+            }))
+        }
+        Coded::Known(ActionStatus::Completed) if current && at_rest(t) => {
+            Some(HomeEnd::Completed(elapsed))
+        }
+        _ if !ours && elapsed >= HOME_START_LIMIT => Some(HomeEnd::Failed(format!(
+            "the arm did not take action {action_id} (it reports action {}): does it exist?",
+            t.action.id
+        ))),
+        _ => None,
+    }
+}
+
+/// The writes made; `action`: how a started action ended (`started` when not waited for).
+fn render(args: &ModbusArgs, report: &WriteReport, action: Option<&str>) -> Vec<String> {
     let elapsed_ms = report.elapsed.as_secs_f64() * 1000.0;
     if args.json {
         let writes: Vec<Value> = report.writes.iter().map(write_json).collect();
-        let object = json!({
+        let mut object = json!({
             "command": args.command.name(),
             "writes": writes,
             "elapsed_ms": elapsed_ms,
         });
+        if let Some(action) = action {
+            object["action"] = json!(action);
+        }
         return vec![object.to_string()];
     }
+    let verb = if action.is_some() { "started" } else { "done" };
     let mut lines = vec![format!(
-        "{}: done [{elapsed_ms:.1} ms]",
+        "{}: {verb} [{elapsed_ms:.1} ms]",
         args.command.name()
     )];
     lines.extend(report.writes.iter().map(|w| format!("  {w}")));

@@ -189,4 +189,12 @@ pub enum ArmEvent {
     },
     /// The stop guard's state changed.
     Guard(GuardStatus),
+    /// Every link that carried motion acknowledged (or wrote) a STOP the console sent: one per
+    /// STOP, after its `Done`/`Failed` events.
+    StopConfirmed,
+    /// A STOP did not get through (not written, not acknowledged, no link to send it on), or a
+    /// link's own stop failed: the arm may still be moving.
+    StopUnconfirmed {
+        reason: String,
+    },
 }

@@ -221,7 +221,13 @@ fn execute(world: &mut World) {
                         world.arm.mark_aborted();
                     }
                 }
-                None => world.arm.mark_aborted(),
+                None => {
+                    // The status names the refused id, so its client can tell.
+                    if block[2] == 0 {
+                        world.arm.set_action(id);
+                    }
+                    world.arm.mark_aborted();
+                }
             }
         }
         _ => {}

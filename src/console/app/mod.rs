@@ -7,12 +7,19 @@
 //! focus loss, a link problem, a terminal too small to show the status, a signal and quitting
 //! all stop it.
 
+mod arm_state;
 mod coords;
 mod jog_keys;
+mod motion_truth;
 mod named;
 
+pub use arm_state::{abort_reason, age_text, at_rest, fault_reason};
 pub use coords::{cartesian_of, describe_motion, polar_of};
 pub use jog_keys::TAP_STEP_LIMIT;
+pub use motion_truth::{
+    ACTION_TIMEOUT, ActionKind, MotionShown, MotionTruth, NO_TELEMETRY_ACTION_TIME, STALE_AFTER,
+    STOP_GRACE, TrackedAction,
+};
 
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
@@ -152,6 +159,10 @@ pub struct App {
     pub quitting: bool,
     /// The stop guard's state, once the driver says one is required (Modbus motion).
     pub guard: Option<GuardStatus>,
+    /// Link health and motion evidence (LINK STALE, MAY BE MOVING, MOVING: HOME).
+    pub truth: MotionTruth,
+    /// The latest input's `now`: the panels draw ages against it.
+    now: Option<Instant>,
     /// The key that closed an overlay and when it was last seen: its auto-repeat must not be
     /// taken for new presses (and start a jog) once the overlay is gone.
     swallowed: Option<(KeyName, Instant)>,
@@ -182,6 +193,8 @@ impl App {
             size: (80, 24),
             quitting: false,
             guard: None,
+            truth: MotionTruth::default(),
+            now: None,
             swallowed: None,
         }
     }
@@ -198,11 +211,18 @@ impl App {
     /// When the runtime must next send [`Input::Tick`].
     pub fn next_deadline(&self) -> Option<Instant> {
         let message = self.message.as_ref().map(|(_, _, at)| *at + MESSAGE_TIME);
-        self.jog.next_deadline().into_iter().chain(message).min()
+        self.jog
+            .next_deadline()
+            .into_iter()
+            .chain(message)
+            .chain(self.truth_deadline())
+            .min()
     }
 
     /// The state machine's one entry point.
     pub fn handle(&mut self, input: Input, now: Instant) -> Vec<Effect> {
+        self.now = Some(now);
+        let goto = self.goto_in_question();
         let mut effects = Vec::new();
         match input {
             Input::Key(key) => self.on_key(key, now, &mut effects),
@@ -235,6 +255,7 @@ impl App {
                 self.quit(now, &mut effects);
             }
         }
+        self.truth_after(goto, now, &mut effects);
         effects
     }
 
@@ -334,7 +355,11 @@ impl App {
                 } else {
                     self.latch_jog_key(&key, now, effects);
                     if kind == KeyKind::Press {
-                        self.say("no link to the arm: not moving", Severity::Warning, now);
+                        let text = match self.link_stale() {
+                            Some(_) => "link stale: not moving",
+                            None => "no link to the arm: not moving",
+                        };
+                        self.say(text, Severity::Warning, now);
                     }
                 }
             }
@@ -384,8 +409,9 @@ impl App {
         actions
     }
 
+    /// Up and heard from: a stale link starts no motion.
     fn link_is_up(&self) -> bool {
-        matches!(self.link, LinkStatus::Up { .. })
+        matches!(self.link, LinkStatus::Up { .. }) && self.link_stale().is_none()
     }
 
     fn step_move(&mut self, action: Action, now: Instant, effects: &mut Vec<Effect>) {
@@ -571,6 +597,7 @@ impl App {
     }
 
     fn on_arm(&mut self, event: ArmEvent, now: Instant, effects: &mut Vec<Effect>) {
+        self.truth_on_arm(&event, now);
         match event {
             ArmEvent::Status(status) => {
                 if let LinkStatus::Down { reason } = &status {
@@ -669,6 +696,8 @@ impl App {
                 }
                 self.guard = Some(status);
             }
+            // Evidence only: see `truth_on_arm`.
+            ArmEvent::StopConfirmed | ArmEvent::StopUnconfirmed { .. } => {}
         }
     }
 }

@@ -10,7 +10,7 @@ use crate::console::app::App;
 use crate::kortex::{Coded, RobotState};
 
 pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
-    let block = super::panel("Arm", theme);
+    let block = super::panel(&super::telemetry_title("Arm", app), theme);
     let Some(t) = &app.telemetry else {
         return super::draw_no_telemetry(frame, area, block, app);
     };
@@ -76,4 +76,5 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         Paragraph::new(lines).block(block).wrap(Wrap { trim: true }),
         area,
     );
+    super::grey_if_stale(frame, area, app, theme);
 }

@@ -37,7 +37,7 @@ fn gauge(position: f32, limit: f32, width: usize) -> String {
 }
 
 pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
-    let block = super::panel("Joints", theme);
+    let block = super::panel(&super::telemetry_title("Joints", app), theme);
     let Some(t) = &app.telemetry else {
         return super::draw_no_telemetry(frame, area, block, app);
     };
@@ -126,4 +126,5 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         .header(Row::new(header).style(theme.dim()))
         .block(block);
     frame.render_widget(table, area);
+    super::grey_if_stale(frame, area, app, theme);
 }

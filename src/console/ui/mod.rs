@@ -28,6 +28,22 @@ pub fn no_telemetry_text(app: &App) -> &'static str {
     }
 }
 
+/// A telemetry panel's title, with the telemetry's age when it is old.
+pub fn telemetry_title(title: &str, app: &App) -> String {
+    match app.telemetry_stale() {
+        Some(age) => format!("{title} (stale {})", super::app::age_text(age)),
+        None => title.to_string(),
+    }
+}
+
+/// Greys out the inside of a telemetry panel whose values are old (call after drawing it).
+pub fn grey_if_stale(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
+    if app.telemetry_stale().is_some() {
+        let inner = Block::default().borders(Borders::ALL).inner(area);
+        frame.buffer_mut().set_style(inner, theme.stale());
+    }
+}
+
 /// A bordered panel with a bold title.
 pub fn panel(title: &str, theme: &Theme) -> Block<'static> {
     Block::default()

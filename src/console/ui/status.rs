@@ -1,4 +1,5 @@
-//! The status bar: link, key-release mode, motion, speed, frame, step mode and joint.
+//! The status bar: link (up, stale, down), key-release mode, motion (jog, action, stopping, may
+//! be moving), speed, frame, step mode and joint.
 
 use ratatui::Frame;
 use ratatui::layout::Rect;
@@ -6,7 +7,7 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 
 use super::theme::Theme;
-use crate::console::app::{App, describe_motion};
+use crate::console::app::{App, MotionShown, age_text, describe_motion};
 use crate::console::jog::ReleaseMode;
 use crate::kortex::CodeName;
 use crate::link::arm::{GuardStatus, LinkStatus};
@@ -73,7 +74,14 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
     let mut spans = guard_spans(app, theme);
     match &app.link {
         LinkStatus::Up { description } => {
-            spans.push(Span::styled(" LINK UP ", theme.ok()));
+            // A link that went silent is not shown as healthy.
+            match app.link_stale() {
+                Some(age) => spans.push(Span::styled(
+                    format!(" LINK STALE {} ", age_text(age)),
+                    theme.alarm(),
+                )),
+                None => spans.push(Span::styled(" LINK UP ", theme.ok())),
+            }
             spans.push(Span::raw(description.clone()));
             if let Some(latency) = app.latency {
                 spans.push(Span::raw(format!(
@@ -89,18 +97,36 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         }
     }
     let link_line = Line::from(std::mem::take(&mut spans));
-    match app.jog.active() {
-        Some(motion) => spans.push(Span::styled(
+    let mut reason = None;
+    match app.motion_shown() {
+        MotionShown::Jog(motion) => spans.push(Span::styled(
             format!(" JOG {} ", describe_motion(motion)),
             theme.moving(),
         )),
+        MotionShown::Action {
+            label,
+            confirmed: true,
+        } => spans.push(Span::styled(format!(" MOVING: {label} "), theme.moving())),
+        // Nothing comes back to say when it ends.
+        MotionShown::Action {
+            label,
+            confirmed: false,
+        } => spans.push(Span::styled(
+            format!(" MAY BE MOVING: {label} "),
+            theme.alarm(),
+        )),
+        MotionShown::Stopping => spans.push(Span::styled(" STOPPING ", theme.warning())),
+        MotionShown::MayBeMoving(why) => {
+            spans.push(Span::styled(" MAY BE MOVING ", theme.alarm()));
+            reason = Some(why);
+        }
         // The step size goes with the mode, so it shows even at 80 columns.
-        None if app.step.enabled => spans.push(Span::raw(format!(
+        MotionShown::Idle if app.step.enabled => spans.push(Span::raw(format!(
             " STEP {:.1} mm / {} deg ",
             f64::from(app.step.cartesian()) / 10.0,
             app.step.polar()
         ))),
-        None => spans.push(Span::raw(" idle ")),
+        MotionShown::Idle => spans.push(Span::raw(" idle ")),
     }
     spans.push(Span::raw(" | "));
     let keys = spans.len();
@@ -126,6 +152,15 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         && let Some(s) = app.speed
     {
         spans[speed] = Span::raw(format!("{s}%"));
+    }
+    // Why the arm may be moving, after the motion, where the line has room (the message line
+    // says it too).
+    if let Some(why) = reason {
+        let why = Span::styled(format!("({why}) "), theme.warning());
+        let width: usize = spans.iter().map(|s| s.width()).sum();
+        if width + why.width() <= usize::from(area.width) {
+            spans.insert(1, why);
+        }
     }
     frame.render_widget(Paragraph::new(vec![link_line, Line::from(spans)]), area);
 }

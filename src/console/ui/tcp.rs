@@ -9,7 +9,10 @@ use super::theme::Theme;
 use crate::console::app::App;
 
 pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
-    let block = super::panel("Tool (TCP, base frame)", theme);
+    let block = super::panel(
+        &super::telemetry_title("Tool (TCP, base frame)", app),
+        theme,
+    );
     let Some(t) = &app.telemetry else {
         return super::draw_no_telemetry(frame, area, block, app);
     };
@@ -49,4 +52,5 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         row("torque Nm", [w.torque_x, w.torque_y, w.torque_z], 2),
     ];
     frame.render_widget(Paragraph::new(lines).block(block), area);
+    super::grey_if_stale(frame, area, app, theme);
 }

@@ -66,6 +66,18 @@ impl Theme {
         }
     }
 
+    /// Values from telemetry too old to trust: greyed out (dimmed without colour).
+    pub fn stale(&self) -> Style {
+        if self.color {
+            Style::default()
+                .fg(Color::DarkGray)
+                .bg(Color::Reset)
+                .remove_modifier(Modifier::BOLD | Modifier::REVERSED)
+        } else {
+            Style::default().add_modifier(Modifier::DIM)
+        }
+    }
+
     pub fn selected(&self) -> Style {
         Style::default().add_modifier(Modifier::REVERSED)
     }

@@ -9,6 +9,7 @@
 
 pub mod hw_telemetry;
 mod modbus_worker;
+mod stop_outcome;
 mod talos_side;
 
 use std::time::Duration;
@@ -18,7 +19,7 @@ use tokio::sync::mpsc;
 use super::Dialect;
 use super::arm::{ArmCommand, ArmEvent, LinkStatus, TelemetrySource};
 use super::guard::{self, GuardPolicy, GuardReport, GuardSupervisor};
-use super::modbus::{ModbusConfig, ModbusEvent, ModbusLink};
+use super::modbus::{ModbusConfig, ModbusEvent, ModbusLink, StopReason};
 use super::talos::{TalosConfig, TalosEvent};
 
 /// The latest joint positions (deg) from whichever telemetry the driver has: a joint jog's
@@ -195,7 +196,11 @@ async fn run(
     let _ = events.send(ArmEvent::Status(LinkStatus::Connecting));
     let mut links = Links::default();
     let joints: JointPositions = std::sync::Arc::new(tokio::sync::watch::Sender::new(None));
-    let mut talos = talos_side::TalosSide::new(&config, events.clone(), joints.clone());
+    // Each side's events pass through here, so every STOP gets one outcome from all links.
+    let mut stops = stop_outcome::StopOutcomes::default();
+    let (talos_tx, mut talos_rx) = mpsc::unbounded_channel::<ArmEvent>();
+    let (modbus_tx, mut modbus_rx) = mpsc::unbounded_channel::<ArmEvent>();
+    let mut talos = talos_side::TalosSide::new(&config, talos_tx, joints.clone());
     let (modbus_events_tx, mut modbus_events) = mpsc::unbounded_channel::<ModbusEvent>();
     let mut modbus: Option<modbus_worker::ModbusWorker> = None;
     let (guard_reports_tx, mut guard_reports) = mpsc::unbounded_channel::<GuardReport>();
@@ -210,7 +215,7 @@ async fn run(
                 modbus = Some(modbus_worker::ModbusWorker::start(
                     link,
                     &config,
-                    events.clone(),
+                    modbus_tx.clone(),
                     joints.clone(),
                 ));
                 if config.talos.is_none() {
@@ -239,20 +244,36 @@ async fn run(
                 let Some(command) = command else { break };
                 if command.is_stop() {
                     // Stops go everywhere, whichever link the motion came through.
+                    let (mut sent, mut down) = (Vec::new(), Vec::new());
                     if let Some(m) = &modbus {
                         m.send(command.clone());
+                        sent.push(stop_outcome::Side::Modbus);
+                    }
+                    match (config.talos.is_some(), talos.is_down()) {
+                        (true, false) => sent.push(stop_outcome::Side::Talos),
+                        (true, true) => down.push(stop_outcome::Side::Talos),
+                        (false, _) => {}
+                    }
+                    if let Some(outcome) = stops.stop(&sent, &down) {
+                        let _ = events.send(outcome);
                     }
                     talos.command(command).await;
                     continue;
                 }
                 let via_talos = talos.handles(&command, modbus.is_some());
                 match (&modbus, via_talos) {
-                    (_, true) => talos.command(command).await,
+                    (_, true) => {
+                        stops.motion(&command, stop_outcome::Side::Talos);
+                        talos.command(command).await
+                    }
                     (Some(m), false) => match guard_refusal(&config, guard.as_ref(), &command) {
                         Some(reason) => {
                             let _ = events.send(ArmEvent::Failed { command: command.label(), reason });
                         }
-                        None => m.send(command),
+                        None => {
+                            stops.motion(&command, stop_outcome::Side::Modbus);
+                            m.send(command)
+                        }
                     },
                     (None, false) => {
                         let _ = events.send(ArmEvent::Failed {
@@ -261,6 +282,12 @@ async fn run(
                         });
                     }
                 }
+            }
+            Some(event) = talos_rx.recv() => {
+                forward_side(event, stop_outcome::Side::Talos, &mut stops, &events);
+            }
+            Some(event) = modbus_rx.recv() => {
+                forward_side(event, stop_outcome::Side::Modbus, &mut stops, &events);
             }
             Some(event) = talos.next_event() => {
                 if let TalosEvent::Disconnected { reason } = event {
@@ -281,11 +308,18 @@ async fn run(
                         }
                         let _ = events.send(ArmEvent::Status(links.status(&config)));
                     }
-                    ModbusEvent::StopFailed { error, .. } => {
+                    ModbusEvent::StopFailed { error, reason } => {
                         let _ = events.send(ArmEvent::Failed {
                             command: "stop",
                             reason: format!("STOP COULD NOT BE WRITTEN: {error}"),
                         });
+                        // A stop the console asked for gets its outcome from the worker's
+                        // answer; one the link made on its own is reported here.
+                        if reason != StopReason::Requested {
+                            let _ = events.send(ArmEvent::StopUnconfirmed {
+                                reason: format!("the Modbus link's own stop ({reason:?}): {error}"),
+                            });
+                        }
                     }
                     ModbusEvent::SpeedLimitsNotRestored { limits, error } => {
                         let _ = events.send(ArmEvent::Failed {
@@ -360,6 +394,20 @@ fn guard_refusal(
     match guard {
         Some(g) => g.refusal(),
         None => Some("stop guard not running: none was started for this link".into()),
+    }
+}
+
+/// Passes one side's event on, and the STOP outcome it completes after it.
+fn forward_side(
+    event: ArmEvent,
+    side: stop_outcome::Side,
+    stops: &mut stop_outcome::StopOutcomes,
+    events: &mpsc::UnboundedSender<ArmEvent>,
+) {
+    let outcome = stop_outcome::stop_answer(&event).and_then(|answer| stops.answer(side, answer));
+    let _ = events.send(event);
+    if let Some(outcome) = outcome {
+        let _ = events.send(outcome);
     }
 }
 

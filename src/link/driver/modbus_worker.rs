@@ -231,12 +231,21 @@ impl State {
                 // A jog refresh that wrote nothing is not worth a log line.
                 if let Some(report) = report.filter(|r| !r.writes.is_empty()) {
                     let writes: Vec<String> = report.writes.iter().map(|w| w.to_string()).collect();
+                    // An action's writes only start it: how it ends shows in the telemetry.
+                    let starts = matches!(
+                        command,
+                        ArmCommand::Home | ArmCommand::MoveToPose(_) | ArmCommand::Step(_)
+                    );
                     let _ = self.events.send(ArmEvent::Log(LogEntry {
                         id: None,
                         poll: false,
                         count: 1,
                         name: label.to_string(),
-                        outcome: format!("OK ({} writes)", report.writes.len()),
+                        outcome: format!(
+                            "{} ({} writes)",
+                            if starts { "started" } else { "OK" },
+                            report.writes.len()
+                        ),
                         ok: true,
                         latency: Some(report.elapsed),
                         sent_hex: Some(writes.join("; ")),

@@ -268,16 +268,23 @@ impl TalosSide {
             }
         };
         let mut pending = Vec::new();
+        // A stop reports one outcome, whichever of its requests failed (see `answers`).
+        let mut stop_failure = None;
         for request in requests {
             let name = request.command();
             match link.submit(request).await {
                 Ok(p) => pending.push(p),
+                Err(e) if command.is_stop() => {
+                    log_error(&self.events, &command, name, None, &e);
+                    stop_failure.get_or_insert_with(|| failure_reason(&e));
+                }
                 Err(e) => report_error(&self.events, &command, name, None, &e),
             }
         }
         tokio::spawn(answers(
             command,
             pending,
+            stop_failure,
             self.events.clone(),
             self.speed.clone(),
         ));
@@ -376,6 +383,10 @@ fn log_entry(exchange: &Exchange) -> LogEntry {
         name: exchange.request.command().name().to_string(),
         outcome: match exchange.answer {
             Answer::Ack => "ACK".into(),
+            // The operator took the motion; how it ends shows in the telemetry.
+            Answer::Reply(_) if code.is_ok() && starts_motion(exchange.request.command()) => {
+                "accepted".into()
+            }
             Answer::Reply(_) => code.name().map_or_else(|| code.to_string(), str::to_string),
         },
         ok: code.is_ok(),
@@ -385,7 +396,45 @@ fn log_entry(exchange: &Exchange) -> LogEntry {
     }
 }
 
+fn starts_motion(command: CommandValue) -> bool {
+    matches!(
+        command,
+        CommandValue::Home
+            | CommandValue::GoToPosition
+            | CommandValue::CartesianMoveDiscrete
+            | CommandValue::PolarPanDiscrete
+    )
+}
+
 fn report_error(
+    events: &mpsc::UnboundedSender<ArmEvent>,
+    command: &ArmCommand,
+    name: CommandValue,
+    id: Option<u32>,
+    error: &TalosError,
+) {
+    log_error(events, command, name, id, error);
+    // An unknown name asked about is not a failure of the technician's: the panel marks it.
+    let unknown_asked = matches!(command, ArmCommand::GetPosition { .. })
+        && matches!(error, TalosError::ReturnCode { exchange } if exchange.return_code() == ReturnCode::UNKNOWN_POSITION);
+    if unknown_asked {
+        return;
+    }
+    let _ = events.send(ArmEvent::Failed {
+        command: command.label(),
+        reason: failure_reason(error),
+    });
+}
+
+fn failure_reason(error: &TalosError) -> String {
+    match error {
+        TalosError::ReturnCode { exchange } => exchange.return_code().to_string(),
+        other => other.to_string(),
+    }
+}
+
+/// Logs a failed request (and marks an unknown name), without reporting the command failed.
+fn log_error(
     events: &mpsc::UnboundedSender<ArmEvent>,
     command: &ArmCommand,
     name: CommandValue,
@@ -412,19 +461,6 @@ fn report_error(
             ..LogEntry::default()
         }));
     }
-    // An unknown name asked about is not a failure of the technician's: the panel marks it.
-    let unknown_asked = matches!(command, ArmCommand::GetPosition { .. })
-        && matches!(error, TalosError::ReturnCode { exchange } if exchange.return_code() == ReturnCode::UNKNOWN_POSITION);
-    if unknown_asked {
-        return;
-    }
-    let _ = events.send(ArmEvent::Failed {
-        command: command.label(),
-        reason: match error {
-            TalosError::ReturnCode { exchange } => exchange.return_code().to_string(),
-            other => other.to_string(),
-        },
-    });
 }
 
 fn position_name(command: &ArmCommand) -> Option<String> {
@@ -436,15 +472,18 @@ fn position_name(command: &ArmCommand) -> Option<String> {
     }
 }
 
-/// Awaits a command's replies in order and reports them. A Set Speed takes effect (for later
-/// joint jogs and in the status bar) only once the operator has answered OK.
+/// Awaits a command's replies in order and reports them. A stop tries every request and
+/// reports exactly one `Done` or `Failed` (`stop_failure`: a request that could not be sent).
+/// A Set Speed takes effect (for later joint jogs and in the status bar) only once the
+/// operator has answered OK.
 async fn answers(
     command: ArmCommand,
     pending: Vec<PendingReply>,
+    mut stop_failure: Option<String>,
     events: mpsc::UnboundedSender<ArmEvent>,
     speed_in_force: Arc<AtomicU8>,
 ) {
-    let mut all_ok = !pending.is_empty();
+    let all_ok = !pending.is_empty();
     let mut coordinates = PositionCoordinates {
         cartesian: None,
         polar: None,
@@ -468,15 +507,24 @@ async fn answers(
                     _ => {}
                 }
             }
+            Err(e) if command.is_stop() => {
+                // A Stop still tries every request.
+                log_error(&events, &command, name, Some(id), &e);
+                stop_failure.get_or_insert_with(|| failure_reason(&e));
+            }
             Err(e) => {
-                all_ok = false;
+                // One failure is enough to report.
                 report_error(&events, &command, name, Some(id), &e);
-                // One failure is enough to report; a Stop still tries every request.
-                if !command.is_stop() {
-                    break;
-                }
+                return;
             }
         }
+    }
+    if let Some(reason) = stop_failure {
+        let _ = events.send(ArmEvent::Failed {
+            command: command.label(),
+            reason,
+        });
+        return;
     }
     if !all_ok {
         return;

@@ -1,0 +1,188 @@
+//! One outcome per STOP the console sends: [`ArmEvent::StopConfirmed`] once every link that
+//! carried motion answered it, [`ArmEvent::StopUnconfirmed`] if any could not.
+//!
+//! A link owes an answer to each STOP it was given (the Modbus worker and the Talos side each
+//! report one `Done` or one `Failed` per command). A link that carried motion but is down when
+//! the STOP is sent cannot take it: that STOP is unconfirmed at once.
+
+use std::collections::VecDeque;
+
+use crate::link::arm::{ArmCommand, ArmEvent};
+
+/// The two links the driver may have.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Side {
+    Talos = 0,
+    Modbus = 1,
+}
+
+impl Side {
+    fn name(self) -> &'static str {
+        match self {
+            Side::Talos => "the Talos operator",
+            Side::Modbus => "the Modbus arm",
+        }
+    }
+}
+
+/// A STOP still waiting for some link's answer.
+#[derive(Debug)]
+struct Pending {
+    owed: [bool; 2],
+    failure: Option<String>,
+}
+
+/// See the module docs.
+#[derive(Debug, Default)]
+pub struct StopOutcomes {
+    /// Links that carried motion since they last answered a STOP.
+    carried: [bool; 2],
+    pending: VecDeque<Pending>,
+}
+
+impl StopOutcomes {
+    /// `side` was given a command that moves the arm.
+    pub fn motion(&mut self, command: &ArmCommand, side: Side) {
+        if matches!(
+            command,
+            ArmCommand::Jog(_)
+                | ArmCommand::Step(_)
+                | ArmCommand::Home
+                | ArmCommand::GoToPosition { .. }
+                | ArmCommand::MoveToPose(_)
+        ) {
+            self.carried[side as usize] = true;
+        }
+    }
+
+    /// A STOP was dispatched to the links in `sent`; `down` lists the configured links that had
+    /// no connection to take it. Returns the outcome at once when no answer is owed.
+    pub fn stop(&mut self, sent: &[Side], down: &[Side]) -> Option<ArmEvent> {
+        let failure = down
+            .iter()
+            .find(|side| self.carried[**side as usize])
+            .map(|side| format!("no link to {}: the STOP could not be sent", side.name()));
+        let mut owed = [false; 2];
+        for side in sent {
+            owed[*side as usize] = true;
+        }
+        let pending = Pending { owed, failure };
+        if owed == [false; 2] {
+            return Some(pending.outcome());
+        }
+        self.pending.push_back(pending);
+        None
+    }
+
+    /// What `side` answered to the oldest STOP it owes; returns that STOP's outcome once no
+    /// link owes it anything more.
+    pub fn answer(&mut self, side: Side, result: Result<(), String>) -> Option<ArmEvent> {
+        let index = self.pending.iter().position(|p| p.owed[side as usize])?;
+        let pending = &mut self.pending[index];
+        pending.owed[side as usize] = false;
+        match result {
+            Ok(()) => self.carried[side as usize] = false,
+            Err(reason) => {
+                let reason = format!("{}: {reason}", side.name());
+                pending.failure.get_or_insert(reason);
+            }
+        }
+        if pending.owed != [false; 2] {
+            return None;
+        }
+        self.pending.remove(index).map(Pending::outcome)
+    }
+}
+
+impl Pending {
+    fn outcome(self) -> ArmEvent {
+        match self.failure {
+            None => ArmEvent::StopConfirmed,
+            Some(reason) => ArmEvent::StopUnconfirmed { reason },
+        }
+    }
+}
+
+/// The stop outcome an event from one link's side carries, if it answers a STOP.
+pub fn stop_answer(event: &ArmEvent) -> Option<Result<(), String>> {
+    match event {
+        ArmEvent::Done { command } if command.is_stop() => Some(Ok(())),
+        ArmEvent::Failed { command, reason }
+            if *command == ArmCommand::Stop.label()
+                || *command == ArmCommand::QuickStop.label() =>
+        {
+            Some(Err(reason.clone()))
+        }
+        _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::link::arm::StepMove;
+
+    const STEP: ArmCommand = ArmCommand::Step(StepMove::Polar {
+        azimuth: 1,
+        altitude: 0,
+    });
+
+    #[test]
+    fn a_stop_is_confirmed_once_every_link_given_it_answered() {
+        let mut outcomes = StopOutcomes::default();
+        outcomes.motion(&STEP, Side::Talos);
+        assert_eq!(outcomes.stop(&[Side::Talos, Side::Modbus], &[]), None);
+        assert_eq!(outcomes.answer(Side::Modbus, Ok(())), None);
+        assert_eq!(
+            outcomes.answer(Side::Talos, Ok(())),
+            Some(ArmEvent::StopConfirmed)
+        );
+        assert_eq!(outcomes.answer(Side::Talos, Ok(())), None, "nothing owed");
+    }
+
+    #[test]
+    fn one_failed_link_makes_the_stop_unconfirmed() {
+        let mut outcomes = StopOutcomes::default();
+        outcomes.stop(&[Side::Talos, Side::Modbus], &[]);
+        outcomes.answer(Side::Talos, Err("no reply within 500 ms".into()));
+        let Some(ArmEvent::StopUnconfirmed { reason }) = outcomes.answer(Side::Modbus, Ok(()))
+        else {
+            panic!("expected an unconfirmed stop");
+        };
+        assert!(
+            reason.contains("Talos") && reason.contains("500 ms"),
+            "{reason}"
+        );
+    }
+
+    #[test]
+    fn a_link_that_carried_motion_and_is_down_cannot_confirm() {
+        let mut outcomes = StopOutcomes::default();
+        outcomes.motion(&STEP, Side::Talos);
+        assert!(matches!(
+            outcomes.stop(&[], &[Side::Talos]),
+            Some(ArmEvent::StopUnconfirmed { .. })
+        ));
+        // A link that moved nothing owes nothing.
+        let mut idle = StopOutcomes::default();
+        assert_eq!(
+            idle.stop(&[], &[Side::Talos]),
+            Some(ArmEvent::StopConfirmed)
+        );
+    }
+
+    #[test]
+    fn answers_go_to_the_oldest_stop_each_link_owes() {
+        let mut outcomes = StopOutcomes::default();
+        outcomes.stop(&[Side::Modbus], &[]);
+        outcomes.stop(&[Side::Modbus], &[]);
+        assert!(matches!(
+            outcomes.answer(Side::Modbus, Err("timeout".into())),
+            Some(ArmEvent::StopUnconfirmed { .. })
+        ));
+        assert_eq!(
+            outcomes.answer(Side::Modbus, Ok(())),
+            Some(ArmEvent::StopConfirmed)
+        );
+    }
+}

@@ -1,0 +1,333 @@
+//! The console against the simulator over real sockets, through a TCP relay that can freeze
+//! (stop forwarding both ways, connections left open): a frozen network while jogging over
+//! Modbus must show as LINK STALE and MAY BE MOVING (the arm has no twist watchdog, and the
+//! STOP cannot get through), never as a healthy idle arm. The state machine gets the real
+//! driver's events, as the runtime would deliver them.
+
+use std::net::SocketAddr;
+use std::time::{Duration, Instant};
+
+use tokio::io::{AsyncReadExt, AsyncWriteExt};
+use tokio::net::tcp::{OwnedReadHalf, OwnedWriteHalf};
+use tokio::net::{TcpListener, TcpStream};
+use tokio::sync::mpsc::UnboundedReceiver;
+use tokio::sync::watch;
+
+use armjog::console::app::{App, AppConfig, Effect, Input, KeyInput, MotionShown};
+use armjog::console::jog::{KeyKind, ReleaseMode};
+use armjog::console::keymap::{KeyName, Keymap};
+use armjog::console::positions::PositionBook;
+use armjog::link::arm::{ArmEvent, LinkStatus};
+use armjog::link::driver::{Driver, DriverConfig};
+use armjog::link::{ModbusConfig, TalosConfig};
+use armjog::sim::arm::Arm;
+use armjog::sim::kinematics::to_radians;
+use armjog::sim::{SimConfig, Simulator};
+
+/// Forwards TCP connections to `target` until frozen; frozen, it holds every byte (and keeps
+/// accepting connections it does not serve), like a network that stopped.
+struct Relay {
+    addr: SocketAddr,
+    frozen: watch::Sender<bool>,
+}
+
+impl Relay {
+    async fn start(target: SocketAddr) -> Relay {
+        let listener = TcpListener::bind("127.0.0.1:0").await.expect("bind relay");
+        let addr = listener.local_addr().expect("relay address");
+        let (frozen, thawed) = watch::channel(false);
+        tokio::spawn(async move {
+            while let Ok((inbound, _)) = listener.accept().await {
+                let Ok(outbound) = TcpStream::connect(target).await else {
+                    continue;
+                };
+                let (from_client, to_client) = inbound.into_split();
+                let (from_server, to_server) = outbound.into_split();
+                tokio::spawn(pipe(from_client, to_server, thawed.clone()));
+                tokio::spawn(pipe(from_server, to_client, thawed.clone()));
+            }
+        });
+        Relay { addr, frozen }
+    }
+
+    fn freeze(&self, frozen: bool) {
+        self.frozen.send_replace(frozen);
+    }
+}
+
+async fn pipe(mut from: OwnedReadHalf, mut to: OwnedWriteHalf, mut frozen: watch::Receiver<bool>) {
+    let mut buf = [0u8; 4096];
+    loop {
+        let n = match from.read(&mut buf).await {
+            Ok(0) | Err(_) => return,
+            Ok(n) => n,
+        };
+        if frozen.wait_for(|f| !*f).await.is_err() || to.write_all(&buf[..n]).await.is_err() {
+            return;
+        }
+    }
+}
+
+struct Console {
+    app: App,
+    driver: Driver,
+    events: UnboundedReceiver<ArmEvent>,
+    sim: Simulator,
+    relay: Relay,
+    /// Every motion state shown since the last `clear_seen`, in order.
+    seen: Vec<MotionShown>,
+    seen_stale: bool,
+}
+
+impl Console {
+    /// Over Modbus through the relay, to a simulated arm at home.
+    async fn start() -> Console {
+        Console::start_with(Arm::default(), false).await
+    }
+
+    /// To a simulated `arm`, over Modbus through the relay, or over Talos (`talos`, direct).
+    async fn start_with(arm: Arm, talos: bool) -> Console {
+        let mut sim_config = SimConfig::ephemeral();
+        sim_config.arm = arm;
+        let sim = Simulator::start(sim_config).await.expect("simulator");
+        let relay = Relay::start(sim.modbus_addr.expect("modbus server")).await;
+        let mut modbus = ModbusConfig::new(relay.addr.to_string());
+        // A slow arm's reply timeout: the link is stale well before it gives up on a request.
+        modbus.request_timeout = Duration::from_secs(3);
+        let config = match talos {
+            true => DriverConfig::new(Some(TalosConfig::new(sim.talos_addr.to_string())), None),
+            false => DriverConfig::new(None, Some(modbus)),
+        };
+        let app = App::new(
+            AppConfig {
+                keymap: Keymap::builtin("default").expect("keymap"),
+                release_mode: ReleaseMode::Reported,
+                refresh: Duration::from_millis(100),
+                positions_on_operator: config.positions_on_operator(),
+                max_jog_speed: config.max_jog_speed,
+                frames: !talos,
+            },
+            PositionBook::new(),
+        );
+        let (driver, events) = Driver::spawn(config);
+        let mut console = Console {
+            app,
+            driver,
+            events,
+            sim,
+            relay,
+            seen: Vec::new(),
+            seen_stale: false,
+        };
+        console
+            .run_until(Duration::from_secs(5), |c| {
+                matches!(c.app.link, LinkStatus::Up { .. }) && c.app.telemetry.is_some()
+            })
+            .await;
+        console
+    }
+
+    fn input(&mut self, input: Input) {
+        for effect in self.app.handle(input, Instant::now()) {
+            if let Effect::Arm(command) = effect {
+                assert!(self.driver.send(command), "driver alive");
+            }
+        }
+        let shown = self.app.motion_shown();
+        if self.seen.last() != Some(&shown) {
+            self.seen.push(shown);
+        }
+        self.seen_stale |= self.app.link_stale().is_some();
+    }
+
+    fn key(&mut self, name: &str, kind: KeyKind) {
+        let key: KeyName = name.parse().expect("key name");
+        self.input(Input::Key(KeyInput {
+            key,
+            text: None,
+            kind,
+        }));
+    }
+
+    /// Runs the event loop (arm events and ticks) until `done` holds; panics after `within`.
+    async fn run_until(&mut self, within: Duration, done: impl Fn(&Console) -> bool) {
+        let until = tokio::time::Instant::now() + within;
+        loop {
+            if done(self) {
+                return;
+            }
+            assert!(
+                tokio::time::Instant::now() < until,
+                "not within {within:?}: link {:?}, stale {:?}, shown {:?}",
+                self.app.link,
+                self.app.link_stale(),
+                self.seen
+            );
+            let deadline = self
+                .app
+                .next_deadline()
+                .map(tokio::time::Instant::from_std)
+                .unwrap_or(until)
+                .min(until);
+            // As the runtime does: events already in before a deadline are taken first, so a
+            // busy machine does not make the link look stale.
+            tokio::select! {
+                biased;
+                event = self.events.recv() => {
+                    let event = event.expect("driver events");
+                    self.input(Input::Arm(event));
+                }
+                _ = tokio::time::sleep_until(deadline) => self.input(Input::Tick),
+            }
+        }
+    }
+
+    async fn run_for(&mut self, duration: Duration) {
+        let until = Instant::now() + duration;
+        self.run_until(duration + Duration::from_secs(5), |_| {
+            Instant::now() >= until
+        })
+        .await;
+    }
+
+    async fn moving(&self) -> bool {
+        self.sim.arm.snapshot().await.expect("sim").moving
+    }
+}
+
+fn may_be_moving(c: &Console) -> bool {
+    matches!(c.app.motion_shown(), MotionShown::MayBeMoving(_))
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_network_that_freezes_mid_jog_shows_link_stale_and_may_be_moving() {
+    let mut console = Console::start().await;
+    console.key("w", KeyKind::Press);
+    console.run_for(Duration::from_millis(300)).await;
+    assert!(console.moving().await, "jogging");
+    assert!(console.app.link_stale().is_none());
+
+    console.relay.freeze(true);
+    console.seen.clear();
+    console
+        .run_until(Duration::from_secs(10), |c| {
+            c.seen_stale && !c.app.jog.is_jogging() && may_be_moving(c)
+        })
+        .await;
+    // The key is still held: only the stale link stopped the jog.
+    assert!(
+        console.seen.iter().all(|s| *s != MotionShown::Idle),
+        "never idle while frozen: {:?}",
+        console.seen
+    );
+    assert!(
+        console.moving().await,
+        "the STOP cannot get through: the arm does move"
+    );
+    // It keeps saying so while the network stays frozen, whatever the link does meanwhile.
+    console.run_for(Duration::from_secs(1)).await;
+    assert!(may_be_moving(&console), "{:?}", console.app.motion_shown());
+    assert!(
+        console.seen.iter().all(|s| *s != MotionShown::Idle),
+        "{:?}",
+        console.seen
+    );
+
+    // The network comes back: a STOP now gets through, and the screen says idle only once the
+    // STOP is confirmed and the arm is seen at rest.
+    console.key("w", KeyKind::Release);
+    console.relay.freeze(false);
+    console
+        .run_until(Duration::from_secs(10), |c| {
+            matches!(c.app.link, LinkStatus::Up { .. }) && c.app.link_stale().is_none()
+        })
+        .await;
+    console.key("space", KeyKind::Press);
+    console
+        .run_until(Duration::from_secs(10), |c| {
+            c.app.motion_shown() == MotionShown::Idle
+        })
+        .await;
+    assert!(!console.moving().await, "idle is the truth");
+}
+
+fn message(c: &Console) -> String {
+    c.app
+        .message
+        .as_ref()
+        .map(|(text, _, _)| text.clone())
+        .unwrap_or_default()
+}
+
+fn moving_home(c: &Console) -> bool {
+    matches!(&c.app.motion_shown(), MotionShown::Action { label, confirmed: true } if label == "HOME")
+}
+
+/// An arm away from home, within every joint limit.
+fn away() -> Arm {
+    Arm::at(to_radians(&[10.0, 30.0, 170.0, 240.0, 10.0, 40.0, 80.0]))
+}
+
+/// J4 two degrees short of its limit: the simulator's home passes the limit and stops there.
+fn near_j4_limit() -> Arm {
+    Arm::at(to_radians(&[0.0, 15.0, 180.0, 145.8, 0.0, 55.0, 90.0]))
+}
+
+async fn home(console: &mut Console) {
+    console.key("h", KeyKind::Press);
+    console.key("y", KeyKind::Press);
+    assert!(moving_home(console), "{:?}", console.app.motion_shown());
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn home_over_modbus_shows_moving_until_it_completes_at_rest() {
+    let mut console = Console::start_with(away(), false).await;
+    home(&mut console).await;
+    console.seen.clear();
+    console
+        .run_until(Duration::from_secs(15), |c| message(c) == "home done")
+        .await;
+    let before_done = &console.seen[..console.seen.len() - 1];
+    assert!(
+        before_done.iter().all(|s| *s != MotionShown::Idle),
+        "{:?}",
+        console.seen
+    );
+    assert_eq!(console.app.motion_shown(), MotionShown::Idle);
+    assert!(!console.moving().await, "done means at rest");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_home_aborted_at_a_joint_limit_is_a_failure_over_modbus_and_over_talos() {
+    for talos in [false, true] {
+        let mut console = Console::start_with(near_j4_limit(), talos).await;
+        console
+            .run_until(Duration::from_secs(5), |c| c.app.telemetry.is_some())
+            .await;
+        home(&mut console).await;
+        console
+            .run_until(Duration::from_secs(15), |c| message(c).contains("home"))
+            .await;
+        assert_eq!(
+            message(&console),
+            "home failed: aborted, J4 at its limit",
+            "talos {talos}"
+        );
+        assert!(
+            !console
+                .app
+                .log
+                .iter()
+                .any(|e| e.name == "home" && e.outcome.contains("OK")),
+            "talos {talos}: {:?}",
+            console.app.log
+        );
+        // The STOP it sends is confirmed and the arm seen at rest: idle, truthfully.
+        console
+            .run_until(Duration::from_secs(5), |c| {
+                c.app.motion_shown() == MotionShown::Idle
+            })
+            .await;
+        assert!(!console.moving().await);
+    }
+}
