@@ -208,6 +208,8 @@ fn an_ack_link_without_telemetry_is_stale_only_while_something_waits_for_an_answ
     press(&mut app, "right", start);
     for n in 1..=10 {
         app.handle(ack(), start + ms(100 * n - 95));
+        // The held key keeps auto-repeating, as a terminal with release events reports it.
+        app.handle(key("right", KeyKind::Repeat), start + ms(100 * n - 50));
         app.handle(Input::Tick, start + ms(100 * n));
     }
     assert_eq!(app.link_stale(), None);
@@ -216,6 +218,7 @@ fn an_ack_link_without_telemetry_is_stale_only_while_something_waits_for_an_answ
     let mut stopped = None;
     for n in 11..=20 {
         let now = start + ms(100 * n);
+        app.handle(key("right", KeyKind::Repeat), now - ms(50));
         if app.handle(Input::Tick, now).contains(&STOP) {
             stopped = Some(now);
             break;
