@@ -8,14 +8,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
 use std::time::Duration;
 
-use ratatui::Terminal;
-use ratatui::backend::CrosstermBackend;
 use tokio::sync::mpsc;
 
 use super::app::App;
-use super::ui::{self, Theme};
-
-type Screen = Terminal<CrosstermBackend<std::io::Stdout>>;
 
 #[derive(Default)]
 struct Slot {
@@ -33,10 +28,10 @@ pub struct Painter {
 }
 
 impl Painter {
-    /// Starts the thread; a draw that fails is reported on the returned receiver and ends it.
+    /// Starts the thread that calls `draw` with each snapshot (the console's: a ratatui draw
+    /// on the terminal). A draw that fails is reported on the returned receiver and ends it.
     pub fn start(
-        terminal: Screen,
-        theme: Theme,
+        draw: impl FnMut(&App) -> std::io::Result<()> + Send + 'static,
         allowed: Arc<AtomicBool>,
     ) -> std::io::Result<(Painter, mpsc::UnboundedReceiver<std::io::Error>)> {
         let slot = Arc::new((Mutex::new(Slot::default()), Condvar::new()));
@@ -47,7 +42,7 @@ impl Painter {
         std::thread::Builder::new()
             .name("armjog-draw".into())
             .spawn(move || {
-                paint(terminal, theme, &thread_slot, &thread_allowed, &errors_tx);
+                paint(draw, &thread_slot, &thread_allowed, &errors_tx);
                 let _ = done_tx.send(());
             })?;
         Ok((
@@ -94,8 +89,7 @@ impl Drop for Painter {
 }
 
 fn paint(
-    mut terminal: Screen,
-    theme: Theme,
+    mut draw: impl FnMut(&App) -> std::io::Result<()>,
     slot: &(Mutex<Slot>, Condvar),
     allowed: &AtomicBool,
     errors: &mpsc::UnboundedSender<std::io::Error>,
@@ -120,9 +114,109 @@ fn paint(
         if !allowed.load(Ordering::SeqCst) {
             return;
         }
-        if let Err(e) = terminal.draw(|frame| ui::draw(frame, &app, &theme)) {
+        if let Err(e) = draw(&app) {
             let _ = errors.send(e);
             return;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::time::Instant;
+
+    use super::*;
+    use crate::console::app::AppConfig;
+    use crate::console::jog::ReleaseMode;
+    use crate::console::keymap::Keymap;
+    use crate::console::positions::PositionBook;
+
+    fn app(width: u16) -> App {
+        let mut app = App::new(
+            AppConfig {
+                keymap: Keymap::builtin("default").expect("keymap"),
+                release_mode: ReleaseMode::Reported,
+                refresh: Duration::from_millis(100),
+                positions_on_operator: true,
+                max_jog_speed: 0.25,
+                frames: false,
+            },
+            PositionBook::new(),
+        );
+        app.size = (width, 40);
+        app
+    }
+
+    #[test]
+    fn handing_over_a_snapshot_never_waits_for_a_draw_and_the_newest_is_drawn() {
+        let drawn = Arc::new(Mutex::new(Vec::new()));
+        let seen = drawn.clone();
+        let (started_tx, started) = std::sync::mpsc::channel();
+        // Each draw holds until the test lets it finish.
+        let (finish, finish_rx) = std::sync::mpsc::channel::<()>();
+        let draw = move |app: &App| {
+            let _ = started_tx.send(());
+            let _ = finish_rx.recv_timeout(Duration::from_secs(5));
+            seen.lock().expect("lock").push(app.size.0);
+            Ok(())
+        };
+        let (mut painter, _errors) =
+            Painter::start(draw, Arc::new(AtomicBool::new(true))).expect("thread");
+        painter.paint(app(1));
+        started
+            .recv_timeout(Duration::from_secs(5))
+            .expect("the first draw began");
+        // While that draw runs, two more snapshots: handing them over does not wait for it.
+        let handed = Instant::now();
+        painter.paint(app(2));
+        painter.paint(app(3));
+        let took = handed.elapsed();
+        assert!(took < Duration::from_millis(100), "paint waited {took:?}");
+        finish.send(()).expect("draw 1");
+        started
+            .recv_timeout(Duration::from_secs(5))
+            .expect("the next draw began");
+        finish.send(()).expect("draw 2");
+        painter.close(Duration::from_secs(5));
+        assert_eq!(
+            *drawn.lock().expect("lock"),
+            [1, 3],
+            "the snapshot overtaken before it was drawn is skipped"
+        );
+    }
+
+    #[test]
+    fn a_failed_draw_is_reported_and_nothing_is_drawn_once_drawing_is_halted() {
+        let draws = Arc::new(Mutex::new(0));
+        let count = draws.clone();
+        let draw = move |_: &App| {
+            *count.lock().expect("lock") += 1;
+            Err(std::io::Error::other("terminal gone"))
+        };
+        let (mut painter, mut errors) =
+            Painter::start(draw, Arc::new(AtomicBool::new(true))).expect("thread");
+        painter.paint(app(1));
+        let error = errors.blocking_recv().expect("the error is reported");
+        assert_eq!(error.to_string(), "terminal gone");
+        painter.close(Duration::from_secs(5));
+        assert_eq!(*draws.lock().expect("lock"), 1);
+
+        let halted_draws = Arc::new(Mutex::new(0));
+        let count = halted_draws.clone();
+        let draw = move |_: &App| {
+            *count.lock().expect("lock") += 1;
+            Ok(())
+        };
+        let (mut painter, _errors) =
+            Painter::start(draw, Arc::new(AtomicBool::new(false))).expect("thread");
+        painter.paint(app(1));
+        // Time for the thread to take the snapshot before it is told to close.
+        std::thread::sleep(Duration::from_millis(50));
+        painter.close(Duration::from_secs(5));
+        assert_eq!(
+            *halted_draws.lock().expect("lock"),
+            0,
+            "drew after the halt"
+        );
     }
 }

@@ -22,7 +22,7 @@ use super::keymap::{KeyName, Keymap};
 use super::painter::Painter;
 use super::positions::{self, PositionBook};
 use super::terminal;
-use super::ui::Theme;
+use super::ui::{self, Theme};
 use crate::link::arm::ArmCommand;
 use crate::link::driver::{Driver, DriverConfig, StopHandle};
 
@@ -145,7 +145,14 @@ type PainterStart = (
 fn start_painter(drawing: Arc<AtomicBool>) -> Result<PainterStart, ConsoleError> {
     let terminal = Terminal::new(CrosstermBackend::new(std::io::stdout()))?;
     let size = terminal.size()?;
-    let (painter, errors) = Painter::start(terminal, Theme::from_env(), drawing)?;
+    let theme = Theme::from_env();
+    let mut terminal = terminal;
+    let draw = move |app: &App| {
+        terminal
+            .draw(|frame| ui::draw(frame, app, &theme))
+            .map(|_| ())
+    };
+    let (painter, errors) = Painter::start(draw, drawing)?;
     Ok((painter, (size.width, size.height), errors))
 }
 
