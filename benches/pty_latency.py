@@ -6,6 +6,7 @@ Usage (from the repository root, after `cargo build --release`):
     python3 benches/pty_latency.py                    # 200 cycles, idle machine
     stress --cpu 2 & python3 benches/pty_latency.py   # the same with both cores busy
     python3 benches/pty_latency.py --cycles 500 --binary target/release/armjog
+    python3 benches/pty_latency.py --size 400x120     # costly frames: does a key wait for one?
 
 The script starts `armjog --talos 127.0.0.1:PORT --dialect ack --checksum xor8
 --key-release events` on a pseudo-terminal and plays both of its peers itself, in one
@@ -112,6 +113,9 @@ def main():
     parser.add_argument("--binary", default="target/release/armjog")
     parser.add_argument("--cycles", type=int, default=200)
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument(
+        "--size", default="120x40", help="terminal COLSxROWS; a large one makes frames costly"
+    )
     args = parser.parse_args()
     if not os.access(args.binary, os.X_OK):
         sys.exit(f"{args.binary} not found: run `cargo build --release` first")
@@ -132,7 +136,8 @@ def main():
         os.environ["ARMJOG_LOG_DIR"] = log_dir
         os.environ["TERM"] = "xterm-256color"
         os.execv(args.binary, argv)
-    fcntl.ioctl(master, termios.TIOCSWINSZ, struct.pack("HHHH", 40, 120, 0, 0))
+    cols, rows = (int(n) for n in args.size.split("x"))
+    fcntl.ioctl(master, termios.TIOCSWINSZ, struct.pack("HHHH", rows, cols, 0, 0))
 
     screen = bytearray()  # the tail of the console's output, for the queries
 

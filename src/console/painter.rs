@@ -2,11 +2,12 @@
 //! task that reads keys never waits for a frame to be drawn (a release's STOP goes out while a
 //! frame is being written).
 //!
-//! Only the newest snapshot is kept: a slow draw skips frames rather than queueing them.
+//! Only the newest snapshot is kept: a slow draw skips frames rather than queueing them, and
+//! the thread rests after each draw in proportion to its cost.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use tokio::sync::mpsc;
 
@@ -88,6 +89,12 @@ impl Drop for Painter {
     }
 }
 
+/// After a draw that took `d`, the thread rests `REST_FACTOR * d` (at most `MAX_REST`): a draw
+/// slowed down by a busy machine then takes at most a third of a core, leaving the rest to the
+/// key path rather than competing with it for every frame.
+const REST_FACTOR: u32 = 2;
+const MAX_REST: Duration = Duration::from_millis(200);
+
 fn paint(
     mut draw: impl FnMut(&App) -> std::io::Result<()>,
     slot: &(Mutex<Slot>, Condvar),
@@ -95,6 +102,7 @@ fn paint(
     errors: &mpsc::UnboundedSender<std::io::Error>,
 ) {
     let (lock, ready) = slot;
+    let mut rest_until = Instant::now();
     loop {
         let app = {
             let Ok(mut guard) = lock.lock() else { return };
@@ -102,29 +110,40 @@ fn paint(
                 if guard.closing {
                     return;
                 }
-                if let Some(app) = guard.next.take() {
+                let resting = rest_until.saturating_duration_since(Instant::now());
+                if resting.is_zero()
+                    && let Some(app) = guard.next.take()
+                {
                     break app;
                 }
-                guard = match ready.wait(guard) {
-                    Ok(guard) => guard,
-                    Err(_) => return,
+                guard = if guard.next.is_some() {
+                    match ready.wait_timeout(guard, resting) {
+                        Ok((guard, _)) => guard,
+                        Err(_) => return,
+                    }
+                } else {
+                    match ready.wait(guard) {
+                        Ok(guard) => guard,
+                        Err(_) => return,
+                    }
                 };
             }
         };
         if !allowed.load(Ordering::SeqCst) {
             return;
         }
+        let started = Instant::now();
         if let Err(e) = draw(&app) {
             let _ = errors.send(e);
             return;
         }
+        let took = started.elapsed();
+        rest_until = Instant::now() + (took * REST_FACTOR).min(MAX_REST);
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use std::time::Instant;
-
     use super::*;
     use crate::console::app::AppConfig;
     use crate::console::jog::ReleaseMode;
