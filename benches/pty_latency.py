@@ -7,6 +7,7 @@ Usage (from the repository root, after `cargo build --release`):
     stress --cpu 2 & python3 benches/pty_latency.py   # the same with both cores busy
     python3 benches/pty_latency.py --cycles 500 --binary target/release/armjog
     python3 benches/pty_latency.py --size 400x120     # costly frames: does a key wait for one?
+    python3 benches/pty_latency.py --compare /tmp/armjog-old  # A/B, cycles alternate
 
 The script starts `armjog --talos 127.0.0.1:PORT --dialect ack --checksum xor8
 --key-release events` on a pseudo-terminal and plays both of its peers itself, in one
@@ -20,7 +21,9 @@ single-threaded select loop (stdlib only):
 
 One cycle: press, wait for the polar START (0x0003), hold 60-140 ms, write the release, and wait
 for the polar STOP (0x0004). Latency = STOP frame received - release bytes written. It prints
-p50, p90, p99 and max, and exits 1 if a cycle saw no STOP within 2 s.
+p50, p90, p99 and max, and exits 1 if a cycle saw no STOP within 2 s. With --compare, a second
+binary runs beside the first and the cycles alternate between them, so both see the same
+machine load (on a shared machine the load, not the binary, dominates the tail otherwise).
 """
 
 import argparse
@@ -108,128 +111,175 @@ def percentile(sorted_values, p):
     return sorted_values[min(i, len(sorted_values) - 1)]
 
 
+class Console:
+    """One console binary on its own pty, with its own operator and cycle state."""
+
+    def __init__(self, binary, size, log_dir):
+        self.binary = binary
+        self.op = Operator()
+        argv = [
+            binary,
+            "--talos", f"127.0.0.1:{self.op.port}",
+            "--dialect", "ack",
+            "--checksum", "xor8",
+            "--key-release", "events",
+            "--positions", os.path.join(log_dir, f"positions-{self.op.port}.json"),
+        ]
+        self.pid, self.master = pty.fork()
+        if self.pid == 0:
+            os.environ["ARMJOG_LOG_DIR"] = log_dir
+            os.environ["TERM"] = "xterm-256color"
+            os.execv(binary, argv)
+        cols, rows = (int(n) for n in size.split("x"))
+        fcntl.ioctl(self.master, termios.TIOCSWINSZ, struct.pack("HHHH", rows, cols, 0, 0))
+        self.screen = bytearray()
+        self.handshake_at = None
+        self.state = "connecting"
+        self.latencies = []
+        self.failures = 0
+        self.release_ns = 0
+
+    def fds(self):
+        return [self.master, *self.op.sockets()]
+
+    def drain_pty(self):
+        """Reads the console's output and answers its terminal queries; False once it exited."""
+        try:
+            data = os.read(self.master, 65536)
+        except OSError:
+            return False
+        if not data:
+            return False
+        self.screen.extend(data)
+        if KITTY_QUERY in self.screen:
+            os.write(self.master, b"\x1b[?1u")
+        if DA1_QUERY in self.screen:
+            os.write(self.master, b"\x1b[?62;c")
+        self.screen = self.screen[-8:]
+        return True
+
+    def on_readable(self, fd, at_ns):
+        """Returns the frames' commands read from `fd` (a socket of this console's operator)."""
+        return [command for _, command in self.op.on_readable(fd, at_ns)]
+
+    def quit(self):
+        os.write(self.master, PRESS_Q + RELEASE_Q)
+        end = time.monotonic() + 3
+        while time.monotonic() < end:
+            done, _ = os.waitpid(self.pid, os.WNOHANG)
+            if done:
+                return
+            readable, _, _ = select.select(self.fds(), [], [], 0.05)
+            for r in readable:
+                if r == self.master:
+                    self.drain_pty()
+                else:
+                    self.op.on_readable(r, now_ns())
+        os.kill(self.pid, signal.SIGTERM)
+        os.waitpid(self.pid, 0)
+
+    def summary(self):
+        values = sorted(self.latencies)
+        if not values:
+            return f"{self.binary}: no cycle completed; {self.failures} without a STOP"
+        return (
+            f"{self.binary}: release->STOP over {len(values)} cycles: "
+            f"p50 {percentile(values, 0.5):.3f} ms, p90 {percentile(values, 0.9):.3f} ms, "
+            f"p99 {percentile(values, 0.99):.3f} ms, max {values[-1]:.3f} ms; "
+            f"{self.failures} without a STOP"
+        )
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--binary", default="target/release/armjog")
-    parser.add_argument("--cycles", type=int, default=200)
+    parser.add_argument("--compare", help="a second binary; cycles alternate between the two")
+    parser.add_argument("--cycles", type=int, default=200, help="cycles per binary")
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument(
         "--size", default="120x40", help="terminal COLSxROWS; a large one makes frames costly"
     )
     args = parser.parse_args()
-    if not os.access(args.binary, os.X_OK):
-        sys.exit(f"{args.binary} not found: run `cargo build --release` first")
+    binaries = [args.binary] + ([args.compare] if args.compare else [])
+    for binary in binaries:
+        if not os.access(binary, os.X_OK):
+            sys.exit(f"{binary} not found: run `cargo build --release` first")
     random.seed(args.seed)
-
-    op = Operator()
     log_dir = tempfile.mkdtemp(prefix="armjog-pty-")
-    argv = [
-        args.binary,
-        "--talos", f"127.0.0.1:{op.port}",
-        "--dialect", "ack",
-        "--checksum", "xor8",
-        "--key-release", "events",
-        "--positions", os.path.join(log_dir, "positions.json"),
-    ]
-    pid, master = pty.fork()
-    if pid == 0:
-        os.environ["ARMJOG_LOG_DIR"] = log_dir
-        os.environ["TERM"] = "xterm-256color"
-        os.execv(args.binary, argv)
-    cols, rows = (int(n) for n in args.size.split("x"))
-    fcntl.ioctl(master, termios.TIOCSWINSZ, struct.pack("HHHH", rows, cols, 0, 0))
-
-    screen = bytearray()  # the tail of the console's output, for the queries
-
-    def drain_pty():
-        nonlocal screen
-        try:
-            data = os.read(master, 65536)
-        except OSError:
-            return False
-        if not data:
-            return False
-        screen.extend(data)
-        if KITTY_QUERY in screen:
-            os.write(master, b"\x1b[?1u")
-        if DA1_QUERY in screen:
-            os.write(master, b"\x1b[?62;c")
-        screen = screen[-8:]
-        return True
-
-    latencies = []
-    failures = 0
-    state = "connecting"
-    handshake_at = None
+    consoles = [Console(b, args.size, log_dir) for b in binaries]
+    owner = {}
+    turn = 0  # index of the console whose cycle runs
     next_at = 0.0
     deadline = 0.0
-    release_ns = 0
     started = time.monotonic()
+
+    def done():
+        return all(len(c.latencies) + c.failures >= args.cycles for c in consoles)
 
     while True:
         t = time.monotonic()
-        if state == "connecting" and handshake_at and t - handshake_at > 1.0:
-            state, next_at = "idle", t
-        if state == "connecting" and t - started > 10:
-            sys.exit("the console did not handshake within 10 s")
-        if state == "idle" and t >= next_at:
-            if len(latencies) + failures >= args.cycles:
-                break
-            os.write(master, PRESS_RIGHT)
-            state, deadline = "pressed", t + 2.0
-        elif state == "held" and t >= next_at:
-            release_ns = now_ns()
-            os.write(master, RELEASE_RIGHT)
-            state, deadline = "released", t + 2.0
-        elif state in ("pressed", "released") and t >= deadline:
-            failures += 1
-            print(f"cycle {len(latencies) + failures}: no {'START' if state == 'pressed' else 'STOP'} within 2 s", file=sys.stderr)
-            os.write(master, RELEASE_RIGHT)
-            state, next_at = "idle", t + 0.5
+        for c in consoles:
+            if c.state == "connecting" and c.handshake_at and t - c.handshake_at > 1.0:
+                c.state = "ready"
+        if any(c.state == "connecting" for c in consoles):
+            if t - started > 10:
+                sys.exit("a console did not handshake within 10 s")
+            next_at = t
+        else:
+            c = consoles[turn]
+            if c.state == "ready" and t >= next_at:
+                if done():
+                    break
+                os.write(c.master, PRESS_RIGHT)
+                c.state, deadline = "pressed", t + 2.0
+            elif c.state == "held" and t >= next_at:
+                c.release_ns = now_ns()
+                os.write(c.master, RELEASE_RIGHT)
+                c.state, deadline = "released", t + 2.0
+            elif c.state in ("pressed", "released") and t >= deadline:
+                c.failures += 1
+                missing = "START" if c.state == "pressed" else "STOP"
+                print(f"{c.binary}: no {missing} within 2 s", file=sys.stderr)
+                os.write(c.master, RELEASE_RIGHT)
+                c.state, next_at = "ready", t + 0.5
+                turn = (turn + 1) % len(consoles)
 
-        wake = {"idle": next_at, "held": next_at}.get(state, deadline)
-        timeout = max(0.0, min(wake - time.monotonic(), 0.05)) if state != "connecting" else 0.05
-        readable, _, _ = select.select([master, *op.sockets()], [], [], timeout)
+        c = consoles[turn]
+        wake = next_at if c.state in ("ready", "held") else deadline
+        timeout = max(0.0, min(wake - time.monotonic(), 0.05))
+        fds = []
+        for console in consoles:
+            for fd in console.fds():
+                owner[fd] = console
+                fds.append(fd)
+        readable, _, _ = select.select(fds, [], [], timeout)
         at_ns = now_ns()
         for r in readable:
-            if r == master:
-                if not drain_pty():
-                    sys.exit("the console exited during the run")
+            console = owner[r]
+            if r == console.master:
+                if not console.drain_pty():
+                    sys.exit(f"{console.binary} exited during the run")
                 continue
-            for frame_ns, command in op.on_readable(r, at_ns):
-                if command == 0x0000 and handshake_at is None:
-                    handshake_at = time.monotonic()
-                elif state == "pressed" and command == POLAR_START:
-                    state, next_at = "held", time.monotonic() + random.uniform(0.06, 0.14)
-                elif state == "released" and command == POLAR_STOP and frame_ns >= release_ns:
-                    latencies.append((frame_ns - release_ns) / 1e6)
-                    state, next_at = "idle", time.monotonic() + random.uniform(0.05, 0.1)
+            for command in console.on_readable(r, at_ns):
+                if command == 0x0000 and console.handshake_at is None:
+                    console.handshake_at = time.monotonic()
+                elif console.state == "pressed" and command == POLAR_START:
+                    console.state = "held"
+                    next_at = time.monotonic() + random.uniform(0.06, 0.14)
+                elif (
+                    console.state == "released"
+                    and command == POLAR_STOP
+                    and at_ns >= console.release_ns
+                ):
+                    console.latencies.append((at_ns - console.release_ns) / 1e6)
+                    console.state = "ready"
+                    next_at = time.monotonic() + random.uniform(0.05, 0.1)
+                    turn = (turn + 1) % len(consoles)
 
-    os.write(master, PRESS_Q + RELEASE_Q)
-    end = time.monotonic() + 3
-    while time.monotonic() < end:
-        done, _ = os.waitpid(pid, os.WNOHANG)
-        if done:
-            break
-        readable, _, _ = select.select([master, *op.sockets()], [], [], 0.05)
-        for r in readable:
-            if r == master:
-                drain_pty()
-            else:
-                op.on_readable(r, now_ns())
-    else:
-        os.kill(pid, signal.SIGTERM)
-        os.waitpid(pid, 0)
-
-    values = sorted(latencies)
-    if not values:
-        sys.exit("no cycle completed")
-    print(
-        f"release->STOP over {len(values)} cycles: p50 {percentile(values, 0.5):.3f} ms, "
-        f"p90 {percentile(values, 0.9):.3f} ms, p99 {percentile(values, 0.99):.3f} ms, "
-        f"max {values[-1]:.3f} ms; {failures} without a STOP"
-    )
-    sys.exit(1 if failures else 0)
+    for c in consoles:
+        c.quit()
+        print(c.summary())
+    sys.exit(1 if any(c.failures or not c.latencies for c in consoles) else 0)
 
 
 if __name__ == "__main__":
