@@ -8,6 +8,7 @@ Usage (from the repository root, after `cargo build --release`):
     python3 benches/pty_latency.py --cycles 500 --binary target/release/armjog
     python3 benches/pty_latency.py --size 400x120     # costly frames: does a key wait for one?
     python3 benches/pty_latency.py --compare /tmp/armjog-old  # A/B, cycles alternate
+    python3 benches/pty_latency.py --compare floor    # against the machine's own floor
 
 The script starts `armjog --talos 127.0.0.1:PORT --dialect ack --checksum xor8
 --key-release events` on a pseudo-terminal and plays both of its peers itself, in one
@@ -24,6 +25,8 @@ for the polar STOP (0x0004). Latency = STOP frame received - release bytes writt
 p50, p90, p99 and max, and exits 1 if a cycle saw no STOP within 2 s. With --compare, a second
 binary runs beside the first and the cycles alternate between them, so both see the same
 machine load (on a shared machine the load, not the binary, dominates the tail otherwise).
+`--compare floor` runs a minimal stand-in instead (a Python child that turns each key event
+into one frame): what is left of the tail there is the machine's and the harness's, not armjog's.
 """
 
 import argparse
@@ -106,6 +109,41 @@ class Operator:
         return frames
 
 
+FLOOR = "floor"
+
+
+def frame(command):
+    """An ack-dialect request frame with no payload and the xor8 checksum."""
+    header = struct.pack(">IHHH", 0, 0, command, 0)
+    checksum = 0
+    for b in header:
+        checksum ^= b
+    return header + bytes([checksum])
+
+
+def floor_console(port):
+    """The least a console can do, in this process: raw pty, a START frame on each press and a
+    STOP frame on each release. Its latency is the floor the machine and the harness set."""
+    import tty
+
+    tty.setraw(0)
+    sock = socket.create_connection(("127.0.0.1", port))
+    sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+    sock.sendall(frame(0x0000))
+    while True:
+        readable, _, _ = select.select([0, sock], [], [])
+        if sock in readable and not sock.recv(4096):
+            os._exit(0)
+        if 0 in readable:
+            data = os.read(0, 4096)
+            if not data or PRESS_Q in data:
+                os._exit(0)
+            if RELEASE_RIGHT in data:
+                sock.sendall(frame(POLAR_STOP))
+            elif PRESS_RIGHT in data:
+                sock.sendall(frame(POLAR_START))
+
+
 def percentile(sorted_values, p):
     i = round((len(sorted_values) - 1) * p)
     return sorted_values[min(i, len(sorted_values) - 1)]
@@ -127,6 +165,8 @@ class Console:
         ]
         self.pid, self.master = pty.fork()
         if self.pid == 0:
+            if binary == FLOOR:
+                floor_console(self.op.port)
             os.environ["ARMJOG_LOG_DIR"] = log_dir
             os.environ["TERM"] = "xterm-256color"
             os.execv(binary, argv)
@@ -202,7 +242,7 @@ def main():
     args = parser.parse_args()
     binaries = [args.binary] + ([args.compare] if args.compare else [])
     for binary in binaries:
-        if not os.access(binary, os.X_OK):
+        if binary != FLOOR and not os.access(binary, os.X_OK):
             sys.exit(f"{binary} not found: run `cargo build --release` first")
     random.seed(args.seed)
     log_dir = tempfile.mkdtemp(prefix="armjog-pty-")
