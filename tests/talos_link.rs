@@ -337,3 +337,194 @@ async fn an_invalid_request_is_refused_before_sending_with_the_field_named() {
             .is_err()
     );
 }
+
+/// An ack-dialect operator that answers every frame with "ACK\0" except those `drop` picks
+/// (by the frame's position in the connection, from 0, and the frame).
+fn acking_except(drop: impl Fn(usize, &Frame) -> bool + Send + Sync + 'static) -> common::Script {
+    let seen = Arc::new(std::sync::atomic::AtomicUsize::new(0));
+    Arc::new(move |f: &Frame| {
+        let n = seen.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+        if drop(n, f) {
+            Vec::new()
+        } else {
+            vec![Action::Write(b"ACK\0".to_vec())]
+        }
+    })
+}
+
+fn ack_config(addr: &str) -> TalosConfig {
+    let mut c = config(addr, Checksum::Xor8);
+    c.dialect = Dialect::Ack;
+    c
+}
+
+const POLAR_START: Request = Request::PolarPanStart {
+    moving_azimuth: 1,
+    moving_altitude: 0,
+};
+
+/// Every frame the operator received so far, waiting `settle` for stragglers.
+async fn frames_received(op: &mut TestOperator, settle: Duration) -> Vec<Frame> {
+    let mut frames = Vec::new();
+    while let Ok(Some(item)) = tokio::time::timeout(settle, op.received.recv()).await {
+        if let armjog::talos::frame::Decoded::Frame(f) = item {
+            frames.push(f);
+        }
+    }
+    frames
+}
+
+#[tokio::test]
+async fn ack_dialect_one_lost_ack_during_refreshes_does_not_fail_the_final_stop() {
+    // The second START's ACK is lost while STARTs are refreshed every 100 ms: every later ACK
+    // pairs one request early, so the STOP's own ACK is taken by the last START.
+    let mut op = TestOperator::start(Checksum::Xor8, acking_except(|n, _| n == 1)).await;
+    let (link, _events) = TalosLink::connect(ack_config(&op.addr)).await.unwrap();
+    let mut starts = Vec::new();
+    for _ in 0..5 {
+        starts.push(link.submit(POLAR_START).await.unwrap());
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+    let stop = link.request(Request::PolarPanStop).await;
+    assert!(stop.is_ok(), "the operator acknowledged the STOP: {stop:?}");
+    let frames = frames_received(&mut op, Duration::from_millis(300)).await;
+    let stops = frames.iter().filter(|f| f.command == 0x0004).count();
+    assert!(
+        (1..=2).contains(&stops),
+        "at most one re-send: {stops} STOP frames"
+    );
+    drop(starts);
+}
+
+#[tokio::test]
+async fn ack_dialect_an_expired_request_leaves_the_queue_so_the_next_stop_pairs_first_time() {
+    let mut op = TestOperator::start(Checksum::Xor8, acking_except(|n, _| n == 0)).await;
+    let (link, mut events) = TalosLink::connect(ack_config(&op.addr)).await.unwrap();
+    let start = link.submit(POLAR_START).await.unwrap();
+    let err = start.wait().await.unwrap_err();
+    assert!(
+        matches!(
+            err,
+            TalosError::Timeout {
+                command: CommandValue::PolarPanStart,
+                id: 0,
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+    let stop = link.request(Request::PolarPanStop).await.unwrap();
+    assert_eq!(stop.id, 2, "the STOP's own ACK answered it");
+    assert!(
+        stop.latency < Duration::from_millis(150),
+        "{:?}",
+        stop.latency
+    );
+    let frames = frames_received(&mut op, Duration::from_millis(300)).await;
+    assert_eq!(
+        frames.iter().map(|f| f.command).collect::<Vec<_>>(),
+        [0x0003, 0x0004],
+        "no re-send was needed"
+    );
+    let event = tokio::time::timeout(Duration::from_secs(1), events.recv()).await;
+    assert!(
+        matches!(
+            event,
+            Ok(Some(TalosEvent::AckExpired {
+                id: 0,
+                resent_as: None,
+                ..
+            }))
+        ),
+        "{event:?}"
+    );
+}
+
+#[tokio::test]
+async fn ack_dialect_a_stop_whose_ack_is_lost_is_sent_again_and_reported_ok() {
+    let mut op = TestOperator::start(
+        Checksum::Xor8,
+        acking_except(|n, f| n == 0 && f.command == 0x0004),
+    )
+    .await;
+    let (link, mut events) = TalosLink::connect(ack_config(&op.addr)).await.unwrap();
+    let stop = link.request(Request::PolarPanStop).await.unwrap();
+    assert_eq!(stop.id, 2, "answered by the re-sent frame's ACK");
+    assert_eq!(stop.answer, Answer::Ack);
+    let frames = frames_received(&mut op, Duration::from_millis(300)).await;
+    assert_eq!(
+        frames.iter().map(|f| (f.command, f.id)).collect::<Vec<_>>(),
+        [(0x0004, 0), (0x0004, 2)]
+    );
+    let event = tokio::time::timeout(Duration::from_secs(1), events.recv()).await;
+    assert_eq!(
+        event.ok().flatten(),
+        Some(TalosEvent::AckExpired {
+            id: 0,
+            command: CommandValue::PolarPanStop,
+            resent_as: Some(2)
+        })
+    );
+}
+
+#[tokio::test]
+async fn ack_dialect_a_stop_never_acknowledged_fails_after_three_frames() {
+    let mut op =
+        TestOperator::start(Checksum::Xor8, acking_except(|_, f| f.command == 0x0004)).await;
+    let (link, _events) = TalosLink::connect(ack_config(&op.addr)).await.unwrap();
+    let started = std::time::Instant::now();
+    let err = link.request(Request::PolarPanStop).await.unwrap_err();
+    assert!(
+        matches!(
+            err,
+            TalosError::Timeout {
+                command: CommandValue::PolarPanStop,
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+    let waited = started.elapsed();
+    let window = armjog::link::talos::STOP_ACK_INTERVAL * armjog::link::talos::STOP_ACK_TRIES;
+    assert!(waited >= window, "gave up after {waited:?}");
+    let frames = frames_received(&mut op, Duration::from_millis(300)).await;
+    assert_eq!(
+        frames.iter().map(|f| f.id).collect::<Vec<_>>(),
+        [0, 2, 4],
+        "three STOP frames, each with its own id"
+    );
+}
+
+#[tokio::test]
+async fn ack_dialect_a_late_ack_is_reported_late_and_pairs_with_nothing() {
+    let script: common::Script = Arc::new(|f: &Frame| {
+        let mut actions = Vec::new();
+        if f.command == 0x0003 {
+            actions.push(Action::Sleep(Duration::from_millis(500)));
+        }
+        actions.push(Action::Write(b"ACK\0".to_vec()));
+        actions
+    });
+    let op = TestOperator::start(Checksum::Xor8, script).await;
+    let (link, mut events) = TalosLink::connect(ack_config(&op.addr)).await.unwrap();
+    let start = link.request(POLAR_START).await;
+    assert!(
+        matches!(start, Err(TalosError::Timeout { .. })),
+        "{start:?}"
+    );
+    let mut saw_late = false;
+    while let Ok(Some(event)) = tokio::time::timeout(Duration::from_secs(1), events.recv()).await {
+        if event
+            == (TalosEvent::LateReply {
+                id: 0,
+                command: CommandValue::PolarPanStart,
+            })
+        {
+            saw_late = true;
+            break;
+        }
+    }
+    assert!(saw_late, "the late ACK was reported as the START's");
+    let stop = link.request(Request::PolarPanStop).await.unwrap();
+    assert_eq!(stop.id, 2);
+}

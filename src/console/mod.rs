@@ -5,6 +5,7 @@ pub mod app;
 pub mod form;
 pub mod jog;
 pub mod keymap;
+pub mod painter;
 pub mod positions;
 pub mod run;
 pub mod terminal;

@@ -1,10 +1,14 @@
 //! The console's runtime: terminal, event loop, and the IO the state machine asks for.
 //!
 //! One `select!` over terminal events, arm events, the state machine's deadline, a render tick
-//! and signals. The terminal is restored on quit, error, panic and signal; the arm is told to
-//! stop first on every one of those paths.
+//! and signals. Frames are drawn on their own thread from a snapshot of the app (see
+//! [`super::painter`]): the task that reads keys and sends their STOPs never waits for a draw.
+//! The terminal is restored on quit, error, panic and signal; the arm is told to stop first on
+//! every one of those paths.
 
 use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use crossterm::event::{Event, EventStream, KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
@@ -15,6 +19,7 @@ use ratatui::backend::CrosstermBackend;
 use super::app::{App, AppConfig, Effect, Input, KeyInput, Severity};
 use super::jog::{KeyKind, ReleaseMode};
 use super::keymap::{KeyName, Keymap};
+use super::painter::Painter;
 use super::positions::{self, PositionBook};
 use super::terminal;
 use super::ui::{self, Theme};
@@ -88,26 +93,41 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
     let (driver, mut arm_events) = Driver::spawn(setup.driver);
 
     let release_events = terminal::enter(setup.release_events)?;
-    install_panic_hook(driver.stop_handle(), release_events);
-    let result = event_loop(
-        AppConfig {
-            keymap: setup.keymap,
-            release_mode: if release_events {
-                ReleaseMode::Reported
-            } else {
-                ReleaseMode::AutoRepeat
-            },
-            refresh: setup.refresh,
-            positions_on_operator,
-            max_jog_speed,
-            frames,
-        },
-        book,
-        book_path,
-        &driver,
-        &mut arm_events,
-    )
-    .await;
+    let drawing = Arc::new(AtomicBool::new(true));
+    install_panic_hook(driver.stop_handle(), release_events, drawing.clone());
+    let result = match start_painter(drawing) {
+        Ok((mut painter, size, draw_errors)) => {
+            let result = event_loop(
+                AppConfig {
+                    keymap: setup.keymap,
+                    release_mode: if release_events {
+                        ReleaseMode::Reported
+                    } else {
+                        ReleaseMode::AutoRepeat
+                    },
+                    refresh: setup.refresh,
+                    positions_on_operator,
+                    max_jog_speed,
+                    frames,
+                },
+                book,
+                book_path,
+                &driver,
+                &mut arm_events,
+                Screen {
+                    painter: &painter,
+                    size,
+                    errors: draw_errors,
+                },
+            )
+            .await;
+            // The arm is told to stop before waiting for the frame in progress.
+            driver.send(ArmCommand::Stop);
+            painter.close(Duration::from_millis(500));
+            result
+        }
+        Err(e) => Err(e),
+    };
     // Whatever happened, the arm is told to stop before the terminal is given back.
     driver.send(ArmCommand::Stop);
     terminal::restore(release_events);
@@ -115,13 +135,43 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
     result
 }
 
+/// The drawing thread, the terminal's size, and the thread's draw errors.
+type PainterStart = (
+    Painter,
+    (u16, u16),
+    tokio::sync::mpsc::UnboundedReceiver<std::io::Error>,
+);
+
+fn start_painter(drawing: Arc<AtomicBool>) -> Result<PainterStart, ConsoleError> {
+    let terminal = Terminal::new(CrosstermBackend::new(std::io::stdout()))?;
+    let size = terminal.size()?;
+    let theme = Theme::from_env();
+    let mut terminal = terminal;
+    let draw = move |app: &App| {
+        terminal
+            .draw(|frame| ui::draw(frame, app, &theme))
+            .map(|_| ())
+    };
+    let (painter, errors) = Painter::start(draw, drawing)?;
+    Ok((painter, (size.width, size.height), errors))
+}
+
+/// What the event loop needs of the screen.
+struct Screen<'a> {
+    painter: &'a Painter,
+    size: (u16, u16),
+    errors: tokio::sync::mpsc::UnboundedReceiver<std::io::Error>,
+}
+
 /// On a panic anywhere (the event loop or any task): stop the arm, give the terminal back, report,
 /// and end the process. A console that lost part of itself must not go on driving an arm.
-fn install_panic_hook(stop: StopHandle, release_events: bool) {
+fn install_panic_hook(stop: StopHandle, release_events: bool, drawing: Arc<AtomicBool>) {
     let previous = std::panic::take_hook();
     std::panic::set_hook(Box::new(move |info| {
         // Stop first: the driver runs on another thread and sends it while this one waits.
         stop.stop();
+        // No frame starts after this; one in progress ends within the wait.
+        drawing.store(false, Ordering::SeqCst);
         std::thread::sleep(Duration::from_millis(200));
         terminal::restore(release_events);
         tracing::error!("panic: {info}");
@@ -136,15 +186,13 @@ async fn event_loop(
     book_path: Option<PathBuf>,
     driver: &Driver,
     arm_events: &mut tokio::sync::mpsc::UnboundedReceiver<crate::link::arm::ArmEvent>,
+    mut screen: Screen<'_>,
 ) -> Result<(), ConsoleError> {
-    let mut terminal = Terminal::new(CrosstermBackend::new(std::io::stdout()))?;
-    let theme = Theme::from_env();
     let mut app = App::new(config, book);
-    let size = terminal.size()?;
     app.handle(
         Input::Resize {
-            width: size.width,
-            height: size.height,
+            width: screen.size.0,
+            height: screen.size.1,
         },
         Instant::now(),
     );
@@ -173,10 +221,12 @@ async fn event_loop(
                 None => Some(Input::Signal("arm driver ended")),
             },
             _ = sleep_until(deadline) => Some(Input::Tick),
+            Some(e) = screen.errors.recv() => return Err(ConsoleError::Terminal(e)),
             _ = render.tick() => {
                 let due = urgent || app.jog.is_jogging() || last_draw.elapsed() >= IDLE_FRAME;
                 if dirty && due {
-                    terminal.draw(|frame| ui::draw(frame, &app, &theme))?;
+                    // A snapshot for the drawing thread: this task goes straight back to keys.
+                    screen.painter.paint(app.clone());
                     last_draw = Instant::now();
                     dirty = false;
                     urgent = false;

@@ -8,6 +8,11 @@
 //! Safety: while a continuous START is in effect, dropping the link (or the task losing its
 //! callers) sends the matching STOP before closing, rather than leaving it to the operator's
 //! 500 ms watchdog.
+//!
+//! Ack dialect: an ACK carries no id, so one lost ACK would misalign every later pairing. A
+//! request whose ACK has not come within its timeout therefore leaves the in-order queue (a
+//! late ACK for it is then absorbed, not paired with a newer request), and a STOP without an
+//! ACK is re-sent ([`STOP_ACK_TRIES`] frames, [`STOP_ACK_INTERVAL`] apart) before it fails.
 
 use std::collections::{HashMap, VecDeque};
 use std::fmt;
@@ -28,6 +33,14 @@ use crate::talos::{Checksum, CommandValue, Reply, Request, ReturnCode};
 
 /// Default port of the deployed operator.
 pub const DEFAULT_PORT: u16 = 61616;
+
+/// Ack dialect: how many STOP frames are sent before a STOP without an ACK fails.
+pub const STOP_ACK_TRIES: u32 = 3;
+/// Ack dialect: how long a STOP frame waits for its ACK before it is sent again.
+pub const STOP_ACK_INTERVAL: Duration = Duration::from_millis(150);
+/// Extra time a caller waits beyond the link's own ack-dialect deadline, which always answers
+/// first: the caller's clock may start before the frame is written.
+const ACK_CALLER_GRACE: Duration = Duration::from_millis(250);
 
 /// How the operator answers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -186,6 +199,13 @@ pub enum TalosEvent {
     LateReply { id: u32, command: CommandValue },
     /// Bytes the decoder dropped that could not be tied to a pending request.
     Rejected(Rejection),
+    /// Ack dialect: no ACK came for this frame in time; it left the in-order queue. A STOP is
+    /// sent again as `resent_as` while it has tries left.
+    AckExpired {
+        id: u32,
+        command: CommandValue,
+        resent_as: Option<u32>,
+    },
     /// An ack-dialect stream carried bytes that were not "ACK\0", or an ACK nobody waited for.
     UnexpectedAckBytes(usize),
     /// The connection ended; every pending request failed with `Disconnected`.
@@ -244,6 +264,8 @@ impl TalosLink {
             ids: ids.clone(),
             pending: HashMap::new(),
             ack_queue: VecDeque::new(),
+            expired_acks: VecDeque::new(),
+            request_timeout: config.request_timeout,
             motion: Motion::default(),
             events: events_tx,
         };
@@ -303,11 +325,16 @@ impl TalosLink {
             request,
             answer: answer_tx,
         };
+        let after = match self.config.dialect {
+            Dialect::Icd => self.config.request_timeout,
+            // The link task answers by its own deadline (re-sends included); this is a backstop.
+            Dialect::Ack => ack_deadline(command, self.config.request_timeout) + ACK_CALLER_GRACE,
+        };
         self.jobs.send(job).await.map_err(|_| task_gone())?;
         Ok(PendingReply {
             command,
             id,
-            after: self.config.request_timeout,
+            after,
             answer: answer_rx,
         })
     }
@@ -370,6 +397,13 @@ impl PendingReply {
     }
 }
 
+async fn sleep_until(deadline: Option<tokio::time::Instant>) {
+    match deadline {
+        Some(at) => tokio::time::sleep_until(at).await,
+        None => std::future::pending().await,
+    }
+}
+
 async fn open_stream(config: &TalosConfig) -> Result<TcpStream, TalosError> {
     let addr = config.addr.clone();
     let addrs: Vec<_> = tokio::net::lookup_host(&addr)
@@ -405,6 +439,41 @@ struct Pending {
     request_bytes: Vec<u8>,
     sent: Instant,
     answer: AnswerTx,
+}
+
+fn is_stop(command: CommandValue) -> bool {
+    matches!(
+        command,
+        CommandValue::PolarPanStop | CommandValue::CartesianMoveStop
+    )
+}
+
+/// Ack dialect: how long the link waits for a request's ACK in all, re-sends included.
+fn ack_deadline(command: CommandValue, request_timeout: Duration) -> Duration {
+    if is_stop(command) {
+        STOP_ACK_INTERVAL * STOP_ACK_TRIES
+    } else {
+        request_timeout
+    }
+}
+
+/// Ack dialect: one frame on the wire waiting for its ACK.
+struct AckWait {
+    pending: Pending,
+    /// When the frame is given up (and a STOP sent again).
+    expires: tokio::time::Instant,
+    /// Frames sent for this request so far.
+    tries: u32,
+    /// When the request's first frame went out, for the latency.
+    first_sent: Instant,
+}
+
+/// Ack dialect: a frame whose ACK did not come in time and may still arrive.
+struct ExpiredAck {
+    id: u32,
+    command: CommandValue,
+    /// After this an ACK is no longer taken for this frame's.
+    forget_at: tokio::time::Instant,
 }
 
 /// Which continuous motions the operator was last told to run.
@@ -449,8 +518,12 @@ struct LinkTask {
     checksum: Checksum,
     ids: Arc<CommandIds>,
     pending: HashMap<u32, Pending>,
-    /// Ack dialect: requests in the order sent, answered in order.
-    ack_queue: VecDeque<Pending>,
+    /// Ack dialect: frames in the order sent, answered in order.
+    ack_queue: VecDeque<AckWait>,
+    /// Ack dialect: frames given up on, oldest first: an ACK that comes while nothing waits is
+    /// theirs.
+    expired_acks: VecDeque<ExpiredAck>,
+    request_timeout: Duration,
     motion: Motion,
     events: mpsc::UnboundedSender<TalosEvent>,
 }
@@ -523,6 +596,11 @@ impl LinkTask {
                     Some(Err(e)) => break format!("read failed: {e}"),
                     None => break "the operator closed the connection".to_string(),
                 },
+                _ = sleep_until(self.next_ack_expiry()) => {
+                    if let Err(e) = self.expire_acks(&mut writer).await {
+                        break format!("write failed: {e}");
+                    }
+                }
                 _ = sweep.tick() => self.sweep(),
             }
         };
@@ -532,8 +610,8 @@ impl LinkTask {
                 reason: reason.clone(),
             }));
         }
-        for p in self.ack_queue.drain(..) {
-            let _ = p.answer.send(Err(TalosError::Disconnected {
+        for wait in self.ack_queue.drain(..) {
+            let _ = wait.pending.answer.send(Err(TalosError::Disconnected {
                 reason: reason.clone(),
             }));
         }
@@ -579,9 +657,100 @@ impl LinkTask {
             Dialect::Icd => {
                 self.pending.insert(id, pending);
             }
-            Dialect::Ack => self.ack_queue.push_back(pending),
+            Dialect::Ack => {
+                let first_sent = pending.sent;
+                self.queue_ack_wait(pending, 1, first_sent);
+            }
         }
         writer.send(frame).await
+    }
+
+    fn queue_ack_wait(&mut self, pending: Pending, tries: u32, first_sent: Instant) {
+        let wait = if is_stop(pending.request.command()) {
+            STOP_ACK_INTERVAL
+        } else {
+            self.request_timeout
+        };
+        self.ack_queue.push_back(AckWait {
+            pending,
+            expires: tokio::time::Instant::now() + wait,
+            tries,
+            first_sent,
+        });
+    }
+
+    fn next_ack_expiry(&self) -> Option<tokio::time::Instant> {
+        self.ack_queue.iter().map(|w| w.expires).min()
+    }
+
+    /// Takes frames whose ACK is overdue out of the queue, so later ACKs pair with later
+    /// frames; sends an overdue STOP again while it has tries left, and fails the rest.
+    async fn expire_acks(
+        &mut self,
+        writer: &mut FramedWrite<tokio::net::tcp::OwnedWriteHalf, FrameCodec>,
+    ) -> std::io::Result<()> {
+        let now = tokio::time::Instant::now();
+        let (overdue, waiting): (VecDeque<AckWait>, VecDeque<AckWait>) =
+            self.ack_queue.drain(..).partition(|w| w.expires <= now);
+        self.ack_queue = waiting;
+        let forget_after = self.request_timeout.max(Duration::from_secs(1));
+        for wait in overdue {
+            let AckWait {
+                pending,
+                tries,
+                first_sent,
+                ..
+            } = wait;
+            let command = pending.request.command();
+            self.expired_acks.push_back(ExpiredAck {
+                id: pending.id,
+                command,
+                forget_at: now + forget_after,
+            });
+            if is_stop(command) && tries < STOP_ACK_TRIES {
+                let id = self.ids.next();
+                tracing::warn!(
+                    "{command} (id {}) not acknowledged within {STOP_ACK_INTERVAL:?}: sending it again as id {id}",
+                    pending.id
+                );
+                self.event(TalosEvent::AckExpired {
+                    id: pending.id,
+                    command,
+                    resent_as: Some(id),
+                });
+                let frame = match pending.request.to_frame(id) {
+                    Ok(frame) => frame,
+                    Err(source) => {
+                        let _ = pending
+                            .answer
+                            .send(Err(TalosError::Encode { command, source }));
+                        continue;
+                    }
+                };
+                let request_bytes = frame.to_bytes(self.checksum).unwrap_or_default();
+                let resent = Pending {
+                    id,
+                    request_bytes,
+                    sent: Instant::now(),
+                    ..pending
+                };
+                self.queue_ack_wait(resent, tries + 1, first_sent);
+                writer.send(frame).await?;
+            } else {
+                tracing::warn!("{command} (id {}) not acknowledged in time", pending.id);
+                self.event(TalosEvent::AckExpired {
+                    id: pending.id,
+                    command,
+                    resent_as: None,
+                });
+                let _ = pending.answer.send(Err(TalosError::Timeout {
+                    command,
+                    id: pending.id,
+                    after: ack_deadline(command, self.request_timeout),
+                }));
+            }
+        }
+        Ok(())
     }
 
     fn on_frame(&mut self, frame: Frame) {
@@ -644,11 +813,28 @@ impl LinkTask {
         }
     }
 
+    /// Pairs an ACK with the oldest frame still waiting. With none waiting it belongs to a
+    /// frame given up on (reported late), or to nothing (reported unexpected).
     fn on_ack(&mut self) {
-        let Some(pending) = self.ack_queue.pop_front() else {
-            self.event(TalosEvent::UnexpectedAckBytes(ACK.len()));
+        let Some(wait) = self.ack_queue.pop_front() else {
+            let now = tokio::time::Instant::now();
+            while self
+                .expired_acks
+                .front()
+                .is_some_and(|e| e.forget_at <= now)
+            {
+                self.expired_acks.pop_front();
+            }
+            match self.expired_acks.pop_front() {
+                Some(late) => self.event(TalosEvent::LateReply {
+                    id: late.id,
+                    command: late.command,
+                }),
+                None => self.event(TalosEvent::UnexpectedAckBytes(ACK.len())),
+            }
             return;
         };
+        let pending = wait.pending;
         let id = pending.id;
         let exchange = Exchange {
             id,
@@ -656,7 +842,7 @@ impl LinkTask {
             answer: Answer::Ack,
             request_bytes: pending.request_bytes,
             reply_bytes: ACK.to_vec(),
-            latency: pending.sent.elapsed(),
+            latency: wait.first_sent.elapsed(),
         };
         let command = exchange.request.command();
         if pending.answer.send(Ok(exchange)).is_err() {

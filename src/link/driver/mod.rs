@@ -5,8 +5,10 @@
 //! apart, so a STOP never waits behind a START's reply; Modbus commands run one after another
 //! in a worker that drops jog refreshes a later STOP makes stale. A STOP goes to every link.
 //! When a link drops, the driver reports it and reconnects; nothing moves again until the
-//! technician presses a key.
+//! technician presses a key. Connects and handshakes run off the loop (see [`connect`]), so a
+//! STOP never waits behind one; a link unreachable at start is retried with back-off.
 
+mod connect;
 pub mod hw_telemetry;
 mod modbus_worker;
 mod stop_outcome;
@@ -19,8 +21,9 @@ use tokio::sync::mpsc;
 use super::Dialect;
 use super::arm::{ArmCommand, ArmEvent, LinkStatus, TelemetrySource};
 use super::guard::{self, GuardPolicy, GuardReport, GuardSupervisor};
-use super::modbus::{ModbusConfig, ModbusEvent, ModbusLink, StopReason};
+use super::modbus::{ModbusConfig, ModbusEvent, StopReason};
 use super::talos::{TalosConfig, TalosEvent};
+use connect::{Attempts, Connected};
 
 /// The latest joint positions (deg) from whichever telemetry the driver has: a joint jog's
 /// command carries the joint's last reported position, and none is sent before one is known.
@@ -207,32 +210,17 @@ async fn run(
     // Dropped when this task ends: the guard then stops the arm (once more) and exits.
     let guard = start_guard(&config, guard_reports_tx);
 
-    if let Some(mc) = &config.modbus {
-        match ModbusLink::connect(mc.clone()).await {
-            Ok((link, link_events)) => {
-                forward(link_events, modbus_events_tx.clone());
-                links.modbus = Some(Ok(format!("modbus {} unit {}", mc.addr, mc.unit)));
-                modbus = Some(modbus_worker::ModbusWorker::start(
-                    link,
-                    &config,
-                    modbus_tx.clone(),
-                    joints.clone(),
-                ));
-                if config.talos.is_none() {
-                    // Jog twists start at half the jog speed until the technician changes it.
-                    let _ = events.send(ArmEvent::Speed(modbus_worker::INITIAL_SPEED));
-                }
-            }
-            Err(e) => links.modbus = Some(Err(format!("modbus {}: {e}", mc.addr))),
-        }
-    }
-    if config.talos.is_some() {
-        links.talos = Some(talos.connect().await);
-    }
-    let _ = events.send(ArmEvent::Status(links.status(&config)));
+    // Connects and handshakes run as tasks that report here: the loop never waits for one.
+    let (connected_tx, mut connected) = mpsc::unbounded_channel::<Connected>();
+    let mut talos_attempts = match config.talos {
+        Some(_) => Attempts::due_now(),
+        None => Attempts::never(),
+    };
+    let mut modbus_attempts = match config.modbus {
+        Some(_) => Attempts::due_now(),
+        None => Attempts::never(),
+    };
 
-    let mut reconnect = tokio::time::interval(Duration::from_secs(1));
-    reconnect.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
     let hz = config.hw_telemetry_hz.clamp(0.5, 50.0);
     let mut hw_poll = tokio::time::interval(Duration::from_secs_f64(1.0 / hz));
     hw_poll.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
@@ -240,6 +228,8 @@ async fn run(
 
     loop {
         tokio::select! {
+            // Commands first: a STOP is never kept waiting by anything else that is ready.
+            biased;
             command = commands.recv() => {
                 let Some(command) = command else { break };
                 if command.is_stop() {
@@ -289,10 +279,57 @@ async fn run(
             Some(event) = modbus_rx.recv() => {
                 forward_side(event, stop_outcome::Side::Modbus, &mut stops, &events);
             }
+            Some(result) = connected.recv() => match result {
+                Connected::Talos(Ok(link)) => {
+                    talos_attempts.finished(true);
+                    links.talos = Some(Ok(talos.attach(link)));
+                    // The speed the operator reported comes before the link shows up.
+                    while let Ok(event) = talos_rx.try_recv() {
+                        forward_side(event, stop_outcome::Side::Talos, &mut stops, &events);
+                    }
+                    let _ = events.send(ArmEvent::Status(links.status(&config)));
+                }
+                Connected::Talos(Err(reason)) => {
+                    talos_attempts.finished(false);
+                    tracing::info!("{reason}; trying again");
+                    // A link already down keeps the reason it went down with.
+                    if !matches!(links.talos, Some(Err(_))) {
+                        links.talos = Some(Err(reason));
+                        let _ = events.send(ArmEvent::Status(links.status(&config)));
+                    }
+                }
+                Connected::Modbus(Ok((link, link_events))) => {
+                    modbus_attempts.finished(true);
+                    forward(link_events, modbus_events_tx.clone());
+                    if let Some(mc) = &config.modbus {
+                        links.modbus = Some(Ok(format!("modbus {} unit {}", mc.addr, mc.unit)));
+                    }
+                    modbus = Some(modbus_worker::ModbusWorker::start(
+                        link,
+                        &config,
+                        modbus_tx.clone(),
+                        joints.clone(),
+                    ));
+                    if config.talos.is_none() {
+                        // Jog twists start at half the jog speed until the technician changes it.
+                        let _ = events.send(ArmEvent::Speed(modbus_worker::INITIAL_SPEED));
+                    }
+                    let _ = events.send(ArmEvent::Status(links.status(&config)));
+                }
+                Connected::Modbus(Err(reason)) => {
+                    modbus_attempts.finished(false);
+                    tracing::info!("{reason}; trying again");
+                    if !matches!(links.modbus, Some(Err(_))) {
+                        links.modbus = Some(Err(reason));
+                        let _ = events.send(ArmEvent::Status(links.status(&config)));
+                    }
+                }
+            },
             Some(event) = talos.next_event() => {
                 if let TalosEvent::Disconnected { reason } = event {
                     links.talos = Some(Err(format!("talos: {reason}")));
                     talos.lost();
+                    talos_attempts.lost();
                     let _ = events.send(ArmEvent::Status(links.status(&config)));
                 }
             }
@@ -341,17 +378,23 @@ async fn run(
                 }
                 let _ = events.send(report.into_event());
             }
-            _ = reconnect.tick(), if talos.is_down() => {
-                let result = talos.connect().await;
-                if result.is_ok() {
-                    links.talos = Some(result);
-                    let _ = events.send(ArmEvent::Status(links.status(&config)));
+            _ = connect::sleep_until(talos_attempts.due_at()) => {
+                if let Some(attempt) = talos.connect_attempt() {
+                    talos_attempts.start(async move { Connected::Talos(attempt.await) }, &connected_tx);
+                }
+            }
+            _ = connect::sleep_until(modbus_attempts.due_at()) => {
+                if let Some(mc) = &config.modbus {
+                    modbus_attempts.start(connect::modbus(mc.clone()), &connected_tx);
                 }
             }
             _ = hw_poll.tick(), if hw_telemetry => talos.poll_telemetry().await,
         }
     }
-    // The console is gone: stop everything on the way out.
+    // The console is gone: stop everything on the way out. A connect still in flight has
+    // started nothing and is given up.
+    talos_attempts.abort();
+    modbus_attempts.abort();
     if let Some(m) = &modbus {
         m.send(ArmCommand::Stop);
     }

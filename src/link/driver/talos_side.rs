@@ -20,6 +20,43 @@ use crate::talos::{CommandValue, Reply, Request, ReturnCode};
 /// watchdog, s.
 const JOINT_JOG_HORIZON: f64 = 0.5;
 
+/// A Talos link that connected and answered the handshake, not yet attached.
+pub struct TalosConnected {
+    link: TalosLink,
+    link_events: mpsc::UnboundedReceiver<TalosEvent>,
+    /// The operator's speed (ICD dialect), if it answered.
+    speed: Option<u8>,
+    description: String,
+}
+
+/// Connects and handshakes; on success, reads the speed (ICD dialect).
+async fn connect(config: TalosConfig, oid: u16) -> Result<TalosConnected, String> {
+    let (link, link_events) = TalosLink::connect(config.clone())
+        .await
+        .map_err(|e| format!("talos: {e}"))?;
+    let version = match link.handshake(oid).await {
+        Ok(Some((major, minor))) => format!(", operator {major}.{minor}"),
+        Ok(None) => String::new(),
+        Err(e) => return Err(format!("talos handshake: {e}")),
+    };
+    let mut speed = None;
+    if config.dialect == Dialect::Icd
+        && let Ok(exchange) = link.request(Request::GetSpeed).await
+        && let Answer::Reply(Reply::GetSpeed { speed: s, .. }) = exchange.answer
+    {
+        speed = Some(s);
+    }
+    Ok(TalosConnected {
+        link,
+        link_events,
+        speed,
+        description: format!(
+            "talos {} ({}, {}){version}",
+            config.addr, config.dialect, config.checksum
+        ),
+    })
+}
+
 pub struct TalosSide {
     config: Option<TalosConfig>,
     oid: u16,
@@ -61,6 +98,7 @@ impl TalosSide {
         self.config.as_ref().map_or(Dialect::Icd, |c| c.dialect)
     }
 
+    /// Whether an operator is configured but not connected.
     pub fn is_down(&self) -> bool {
         self.config.is_some() && self.link.is_none()
     }
@@ -70,32 +108,24 @@ impl TalosSide {
         self.link_events = None;
     }
 
-    /// Connects and handshakes; on success, reads the speed (ICD dialect).
-    pub async fn connect(&mut self) -> Result<String, String> {
-        let Some(config) = self.config.clone() else {
-            return Err("no Talos operator configured".into());
-        };
-        let (link, link_events) = TalosLink::connect(config.clone())
-            .await
-            .map_err(|e| format!("talos: {e}"))?;
-        let version = match link.handshake(self.oid).await {
-            Ok(Some((major, minor))) => format!(", operator {major}.{minor}"),
-            Ok(None) => String::new(),
-            Err(e) => return Err(format!("talos handshake: {e}")),
-        };
-        if config.dialect == Dialect::Icd
-            && let Ok(exchange) = link.request(Request::GetSpeed).await
-            && let Answer::Reply(Reply::GetSpeed { speed, .. }) = exchange.answer
-        {
+    /// The connect, handshake and speed read, as a future the driver runs off its loop (so a
+    /// STOP never waits behind it); `None` with no operator configured.
+    pub fn connect_attempt(
+        &self,
+    ) -> Option<impl Future<Output = Result<TalosConnected, String>> + Send + 'static> {
+        let config = self.config.clone()?;
+        Some(connect(config, self.oid))
+    }
+
+    /// Takes a link that connected; returns its description for the status bar.
+    pub fn attach(&mut self, connected: TalosConnected) -> String {
+        if let Some(speed) = connected.speed {
             self.speed.store(speed, Ordering::Release);
             let _ = self.events.send(ArmEvent::Speed(speed));
         }
-        self.link = Some(link);
-        self.link_events = Some(link_events);
-        Ok(format!(
-            "talos {} ({}, {}){version}",
-            config.addr, config.dialect, config.checksum
-        ))
+        self.link = Some(connected.link);
+        self.link_events = Some(connected.link_events);
+        connected.description
     }
 
     /// The next unsolicited link event; pends forever without a link.

@@ -1,0 +1,326 @@
+#!/usr/bin/env python3
+"""Release->STOP latency of the real console binary, measured end to end on a pty.
+
+Usage (from the repository root, after `cargo build --release`):
+
+    python3 benches/pty_latency.py                    # 200 cycles, idle machine
+    stress --cpu 2 & python3 benches/pty_latency.py   # the same with both cores busy
+    python3 benches/pty_latency.py --cycles 500 --binary target/release/armjog
+    python3 benches/pty_latency.py --size 400x120     # costly frames: does a key wait for one?
+    python3 benches/pty_latency.py --compare /tmp/armjog-old  # A/B, cycles alternate
+    python3 benches/pty_latency.py --compare floor    # against the machine's own floor
+
+The script starts `armjog --talos 127.0.0.1:PORT --dialect ack --checksum xor8
+--key-release events` on a pseudo-terminal and plays both of its peers itself, in one
+single-threaded select loop (stdlib only):
+
+- the terminal: it answers crossterm's kitty-protocol query (CSI ? u) and DA1 (CSI c), keeps the
+  pty drained, and types kitty key events: Right arrow press (CSI 1;1:1 C), release
+  (CSI 1;1:3 C);
+- the Talos operator (the deployed dialect): it answers every frame with "ACK\\0" and stamps
+  each frame it receives with time.perf_counter_ns().
+
+One cycle: press, wait for the polar START (0x0003), hold 60-140 ms, write the release, and wait
+for the polar STOP (0x0004). Latency = STOP frame received - release bytes written. It prints
+p50, p90, p99 and max, and exits 1 if a cycle saw no STOP within 2 s. With --compare, a second
+binary runs beside the first and the cycles alternate between them, so both see the same
+machine load (on a shared machine the load, not the binary, dominates the tail otherwise).
+`--compare floor` runs a minimal stand-in instead (a Python child that turns each key event
+into one frame): what is left of the tail there is the machine's and the harness's, not armjog's.
+"""
+
+import argparse
+import fcntl
+import os
+import pty
+import random
+import select
+import signal
+import socket
+import struct
+import sys
+import tempfile
+import termios
+import time
+
+PRESS_RIGHT = b"\x1b[1;1:1C"
+RELEASE_RIGHT = b"\x1b[1;1:3C"
+PRESS_Q = b"\x1b[113u"
+RELEASE_Q = b"\x1b[113;1:3u"
+KITTY_QUERY = b"\x1b[?u"
+DA1_QUERY = b"\x1b[c"
+ACK = b"ACK\x00"
+POLAR_START = 0x0003
+POLAR_STOP = 0x0004
+HEADER = 10  # id u32, reserved u16, command u16, length u16
+XOR8 = 1  # checksum bytes
+
+
+def now_ns():
+    return time.perf_counter_ns()
+
+
+class Operator:
+    """A loopback Talos operator in the ack dialect with the xor8 checksum."""
+
+    def __init__(self):
+        self.listener = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+        self.listener.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        self.listener.bind(("127.0.0.1", 0))
+        self.listener.listen(4)
+        self.listener.setblocking(False)
+        self.port = self.listener.getsockname()[1]
+        self.conns = {}  # socket -> bytearray
+
+    def sockets(self):
+        return [self.listener, *self.conns]
+
+    def on_readable(self, sock, at_ns):
+        """Returns [(at_ns, command)] for every complete frame read."""
+        if sock is self.listener:
+            conn, _ = self.listener.accept()
+            conn.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+            conn.setblocking(False)
+            self.conns[conn] = bytearray()
+            return []
+        try:
+            data = sock.recv(65536)
+        except OSError:
+            data = b""
+        if not data:
+            del self.conns[sock]
+            sock.close()
+            return []
+        buf = self.conns[sock]
+        buf.extend(data)
+        frames = []
+        while len(buf) >= HEADER:
+            length = struct.unpack(">H", buf[8:10])[0]
+            size = HEADER + length + XOR8
+            if len(buf) < size:
+                break
+            command = struct.unpack(">H", buf[6:8])[0]
+            del buf[:size]
+            frames.append((at_ns, command))
+            try:
+                sock.sendall(ACK)
+            except OSError:
+                pass
+        return frames
+
+
+FLOOR = "floor"
+
+
+def frame(command):
+    """An ack-dialect request frame with no payload and the xor8 checksum."""
+    header = struct.pack(">IHHH", 0, 0, command, 0)
+    checksum = 0
+    for b in header:
+        checksum ^= b
+    return header + bytes([checksum])
+
+
+def floor_console(port):
+    """The least a console can do, in this process: raw pty, a START frame on each press and a
+    STOP frame on each release. Its latency is the floor the machine and the harness set."""
+    import tty
+
+    tty.setraw(0)
+    sock = socket.create_connection(("127.0.0.1", port))
+    sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+    sock.sendall(frame(0x0000))
+    while True:
+        readable, _, _ = select.select([0, sock], [], [])
+        if sock in readable and not sock.recv(4096):
+            os._exit(0)
+        if 0 in readable:
+            data = os.read(0, 4096)
+            if not data or PRESS_Q in data:
+                os._exit(0)
+            if RELEASE_RIGHT in data:
+                sock.sendall(frame(POLAR_STOP))
+            elif PRESS_RIGHT in data:
+                sock.sendall(frame(POLAR_START))
+
+
+def percentile(sorted_values, p):
+    i = round((len(sorted_values) - 1) * p)
+    return sorted_values[min(i, len(sorted_values) - 1)]
+
+
+class Console:
+    """One console binary on its own pty, with its own operator and cycle state."""
+
+    def __init__(self, binary, size, log_dir):
+        self.binary = binary
+        self.op = Operator()
+        argv = [
+            binary,
+            "--talos", f"127.0.0.1:{self.op.port}",
+            "--dialect", "ack",
+            "--checksum", "xor8",
+            "--key-release", "events",
+            "--positions", os.path.join(log_dir, f"positions-{self.op.port}.json"),
+        ]
+        self.pid, self.master = pty.fork()
+        if self.pid == 0:
+            if binary == FLOOR:
+                floor_console(self.op.port)
+            os.environ["ARMJOG_LOG_DIR"] = log_dir
+            os.environ["TERM"] = "xterm-256color"
+            os.execv(binary, argv)
+        cols, rows = (int(n) for n in size.split("x"))
+        fcntl.ioctl(self.master, termios.TIOCSWINSZ, struct.pack("HHHH", rows, cols, 0, 0))
+        self.screen = bytearray()
+        self.handshake_at = None
+        self.state = "connecting"
+        self.latencies = []
+        self.failures = 0
+        self.release_ns = 0
+
+    def fds(self):
+        return [self.master, *self.op.sockets()]
+
+    def drain_pty(self):
+        """Reads the console's output and answers its terminal queries; False once it exited."""
+        try:
+            data = os.read(self.master, 65536)
+        except OSError:
+            return False
+        if not data:
+            return False
+        self.screen.extend(data)
+        if KITTY_QUERY in self.screen:
+            os.write(self.master, b"\x1b[?1u")
+        if DA1_QUERY in self.screen:
+            os.write(self.master, b"\x1b[?62;c")
+        self.screen = self.screen[-8:]
+        return True
+
+    def on_readable(self, fd, at_ns):
+        """Returns the frames' commands read from `fd` (a socket of this console's operator)."""
+        return [command for _, command in self.op.on_readable(fd, at_ns)]
+
+    def quit(self):
+        os.write(self.master, PRESS_Q + RELEASE_Q)
+        end = time.monotonic() + 3
+        while time.monotonic() < end:
+            done, _ = os.waitpid(self.pid, os.WNOHANG)
+            if done:
+                return
+            readable, _, _ = select.select(self.fds(), [], [], 0.05)
+            for r in readable:
+                if r == self.master:
+                    self.drain_pty()
+                else:
+                    self.op.on_readable(r, now_ns())
+        os.kill(self.pid, signal.SIGTERM)
+        os.waitpid(self.pid, 0)
+
+    def summary(self):
+        values = sorted(self.latencies)
+        if not values:
+            return f"{self.binary}: no cycle completed; {self.failures} without a STOP"
+        return (
+            f"{self.binary}: release->STOP over {len(values)} cycles: "
+            f"p50 {percentile(values, 0.5):.3f} ms, p90 {percentile(values, 0.9):.3f} ms, "
+            f"p99 {percentile(values, 0.99):.3f} ms, max {values[-1]:.3f} ms; "
+            f"{self.failures} without a STOP"
+        )
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--binary", default="target/release/armjog")
+    parser.add_argument("--compare", help="a second binary; cycles alternate between the two")
+    parser.add_argument("--cycles", type=int, default=200, help="cycles per binary")
+    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument(
+        "--size", default="120x40", help="terminal COLSxROWS; a large one makes frames costly"
+    )
+    args = parser.parse_args()
+    binaries = [args.binary] + ([args.compare] if args.compare else [])
+    for binary in binaries:
+        if binary != FLOOR and not os.access(binary, os.X_OK):
+            sys.exit(f"{binary} not found: run `cargo build --release` first")
+    random.seed(args.seed)
+    log_dir = tempfile.mkdtemp(prefix="armjog-pty-")
+    consoles = [Console(b, args.size, log_dir) for b in binaries]
+    owner = {}
+    turn = 0  # index of the console whose cycle runs
+    next_at = 0.0
+    deadline = 0.0
+    started = time.monotonic()
+
+    def done():
+        return all(len(c.latencies) + c.failures >= args.cycles for c in consoles)
+
+    while True:
+        t = time.monotonic()
+        for c in consoles:
+            if c.state == "connecting" and c.handshake_at and t - c.handshake_at > 1.0:
+                c.state = "ready"
+        if any(c.state == "connecting" for c in consoles):
+            if t - started > 10:
+                sys.exit("a console did not handshake within 10 s")
+            next_at = t
+        else:
+            c = consoles[turn]
+            if c.state == "ready" and t >= next_at:
+                if done():
+                    break
+                os.write(c.master, PRESS_RIGHT)
+                c.state, deadline = "pressed", t + 2.0
+            elif c.state == "held" and t >= next_at:
+                c.release_ns = now_ns()
+                os.write(c.master, RELEASE_RIGHT)
+                c.state, deadline = "released", t + 2.0
+            elif c.state in ("pressed", "released") and t >= deadline:
+                c.failures += 1
+                missing = "START" if c.state == "pressed" else "STOP"
+                print(f"{c.binary}: no {missing} within 2 s", file=sys.stderr)
+                os.write(c.master, RELEASE_RIGHT)
+                c.state, next_at = "ready", t + 0.5
+                turn = (turn + 1) % len(consoles)
+
+        c = consoles[turn]
+        wake = next_at if c.state in ("ready", "held") else deadline
+        timeout = max(0.0, min(wake - time.monotonic(), 0.05))
+        fds = []
+        for console in consoles:
+            for fd in console.fds():
+                owner[fd] = console
+                fds.append(fd)
+        readable, _, _ = select.select(fds, [], [], timeout)
+        at_ns = now_ns()
+        for r in readable:
+            console = owner[r]
+            if r == console.master:
+                if not console.drain_pty():
+                    sys.exit(f"{console.binary} exited during the run")
+                continue
+            for command in console.on_readable(r, at_ns):
+                if command == 0x0000 and console.handshake_at is None:
+                    console.handshake_at = time.monotonic()
+                elif console.state == "pressed" and command == POLAR_START:
+                    console.state = "held"
+                    next_at = time.monotonic() + random.uniform(0.06, 0.14)
+                elif (
+                    console.state == "released"
+                    and command == POLAR_STOP
+                    and at_ns >= console.release_ns
+                ):
+                    console.latencies.append((at_ns - console.release_ns) / 1e6)
+                    console.state = "ready"
+                    next_at = time.monotonic() + random.uniform(0.05, 0.1)
+                    turn = (turn + 1) % len(consoles)
+
+    for c in consoles:
+        c.quit()
+        print(c.summary())
+    sys.exit(1 if any(c.failures or not c.latencies for c in consoles) else 0)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,241 @@
+//! The drawing thread: it owns the terminal's output and draws snapshots of the app, so the
+//! task that reads keys never waits for a frame to be drawn (a release's STOP goes out while a
+//! frame is being written).
+//!
+//! Only the newest snapshot is kept: a slow draw skips frames rather than queueing them, and
+//! the thread rests after each draw in proportion to its cost.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Condvar, Mutex};
+use std::time::{Duration, Instant};
+
+use tokio::sync::mpsc;
+
+use super::app::App;
+
+#[derive(Default)]
+struct Slot {
+    next: Option<Box<App>>,
+    closing: bool,
+}
+
+/// The handle on the drawing thread. Closing (or dropping) it ends the thread.
+pub struct Painter {
+    slot: Arc<(Mutex<Slot>, Condvar)>,
+    /// Whether drawing is still allowed: cleared by the panic hook before it restores the
+    /// terminal, so no frame lands on the restored screen.
+    allowed: Arc<AtomicBool>,
+    done: Option<std::sync::mpsc::Receiver<()>>,
+}
+
+impl Painter {
+    /// Starts the thread that calls `draw` with each snapshot (the console's: a ratatui draw
+    /// on the terminal). A draw that fails is reported on the returned receiver and ends it.
+    pub fn start(
+        draw: impl FnMut(&App) -> std::io::Result<()> + Send + 'static,
+        allowed: Arc<AtomicBool>,
+    ) -> std::io::Result<(Painter, mpsc::UnboundedReceiver<std::io::Error>)> {
+        let slot = Arc::new((Mutex::new(Slot::default()), Condvar::new()));
+        let (errors_tx, errors) = mpsc::unbounded_channel();
+        let (done_tx, done) = std::sync::mpsc::channel();
+        let thread_slot = slot.clone();
+        let thread_allowed = allowed.clone();
+        std::thread::Builder::new()
+            .name("armjog-draw".into())
+            .spawn(move || {
+                paint(draw, &thread_slot, &thread_allowed, &errors_tx);
+                let _ = done_tx.send(());
+            })?;
+        Ok((
+            Painter {
+                slot,
+                allowed,
+                done: Some(done),
+            },
+            errors,
+        ))
+    }
+
+    /// Hands the thread a snapshot to draw; replaces one not drawn yet. Never waits for a draw.
+    pub fn paint(&self, app: App) {
+        let (lock, ready) = &*self.slot;
+        if let Ok(mut slot) = lock.lock() {
+            slot.next = Some(Box::new(app));
+            ready.notify_one();
+        }
+    }
+
+    /// Ends the thread after the frame in progress, waiting for it at most `within`.
+    pub fn close(&mut self, within: Duration) {
+        let (lock, ready) = &*self.slot;
+        if let Ok(mut slot) = lock.lock() {
+            slot.closing = true;
+            slot.next = None;
+            ready.notify_one();
+        }
+        if let Some(done) = self.done.take()
+            && done.recv_timeout(within).is_err()
+        {
+            // A terminal that does not take output: stop drawing and go on restoring it.
+            self.allowed.store(false, Ordering::SeqCst);
+            tracing::warn!("the drawing thread did not end within {within:?}");
+        }
+    }
+}
+
+impl Drop for Painter {
+    fn drop(&mut self) {
+        self.close(Duration::from_millis(500));
+    }
+}
+
+/// After a draw that took `d`, the thread rests `REST_FACTOR * d` (at most `MAX_REST`): a draw
+/// slowed down by a busy machine then takes at most a third of a core, leaving the rest to the
+/// key path rather than competing with it for every frame.
+const REST_FACTOR: u32 = 2;
+const MAX_REST: Duration = Duration::from_millis(200);
+
+fn paint(
+    mut draw: impl FnMut(&App) -> std::io::Result<()>,
+    slot: &(Mutex<Slot>, Condvar),
+    allowed: &AtomicBool,
+    errors: &mpsc::UnboundedSender<std::io::Error>,
+) {
+    let (lock, ready) = slot;
+    let mut rest_until = Instant::now();
+    loop {
+        let app = {
+            let Ok(mut guard) = lock.lock() else { return };
+            loop {
+                if guard.closing {
+                    return;
+                }
+                let resting = rest_until.saturating_duration_since(Instant::now());
+                if resting.is_zero()
+                    && let Some(app) = guard.next.take()
+                {
+                    break app;
+                }
+                guard = if guard.next.is_some() {
+                    match ready.wait_timeout(guard, resting) {
+                        Ok((guard, _)) => guard,
+                        Err(_) => return,
+                    }
+                } else {
+                    match ready.wait(guard) {
+                        Ok(guard) => guard,
+                        Err(_) => return,
+                    }
+                };
+            }
+        };
+        if !allowed.load(Ordering::SeqCst) {
+            return;
+        }
+        let started = Instant::now();
+        if let Err(e) = draw(&app) {
+            let _ = errors.send(e);
+            return;
+        }
+        let took = started.elapsed();
+        rest_until = Instant::now() + (took * REST_FACTOR).min(MAX_REST);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::console::app::AppConfig;
+    use crate::console::jog::ReleaseMode;
+    use crate::console::keymap::Keymap;
+    use crate::console::positions::PositionBook;
+
+    fn app(width: u16) -> App {
+        let mut app = App::new(
+            AppConfig {
+                keymap: Keymap::builtin("default").expect("keymap"),
+                release_mode: ReleaseMode::Reported,
+                refresh: Duration::from_millis(100),
+                positions_on_operator: true,
+                max_jog_speed: 0.25,
+                frames: false,
+            },
+            PositionBook::new(),
+        );
+        app.size = (width, 40);
+        app
+    }
+
+    #[test]
+    fn handing_over_a_snapshot_never_waits_for_a_draw_and_the_newest_is_drawn() {
+        let drawn = Arc::new(Mutex::new(Vec::new()));
+        let seen = drawn.clone();
+        let (started_tx, started) = std::sync::mpsc::channel();
+        // Each draw holds until the test lets it finish.
+        let (finish, finish_rx) = std::sync::mpsc::channel::<()>();
+        let draw = move |app: &App| {
+            let _ = started_tx.send(());
+            let _ = finish_rx.recv_timeout(Duration::from_secs(5));
+            seen.lock().expect("lock").push(app.size.0);
+            Ok(())
+        };
+        let (mut painter, _errors) =
+            Painter::start(draw, Arc::new(AtomicBool::new(true))).expect("thread");
+        painter.paint(app(1));
+        started
+            .recv_timeout(Duration::from_secs(5))
+            .expect("the first draw began");
+        // While that draw runs, two more snapshots: handing them over does not wait for it.
+        let handed = Instant::now();
+        painter.paint(app(2));
+        painter.paint(app(3));
+        let took = handed.elapsed();
+        assert!(took < Duration::from_millis(100), "paint waited {took:?}");
+        finish.send(()).expect("draw 1");
+        started
+            .recv_timeout(Duration::from_secs(5))
+            .expect("the next draw began");
+        finish.send(()).expect("draw 2");
+        painter.close(Duration::from_secs(5));
+        assert_eq!(
+            *drawn.lock().expect("lock"),
+            [1, 3],
+            "the snapshot overtaken before it was drawn is skipped"
+        );
+    }
+
+    #[test]
+    fn a_failed_draw_is_reported_and_nothing_is_drawn_once_drawing_is_halted() {
+        let draws = Arc::new(Mutex::new(0));
+        let count = draws.clone();
+        let draw = move |_: &App| {
+            *count.lock().expect("lock") += 1;
+            Err(std::io::Error::other("terminal gone"))
+        };
+        let (mut painter, mut errors) =
+            Painter::start(draw, Arc::new(AtomicBool::new(true))).expect("thread");
+        painter.paint(app(1));
+        let error = errors.blocking_recv().expect("the error is reported");
+        assert_eq!(error.to_string(), "terminal gone");
+        painter.close(Duration::from_secs(5));
+        assert_eq!(*draws.lock().expect("lock"), 1);
+
+        let halted_draws = Arc::new(Mutex::new(0));
+        let count = halted_draws.clone();
+        let draw = move |_: &App| {
+            *count.lock().expect("lock") += 1;
+            Ok(())
+        };
+        let (mut painter, _errors) =
+            Painter::start(draw, Arc::new(AtomicBool::new(false))).expect("thread");
+        painter.paint(app(1));
+        // Time for the thread to take the snapshot before it is told to close.
+        std::thread::sleep(Duration::from_millis(50));
+        painter.close(Duration::from_secs(5));
+        assert_eq!(
+            *halted_draws.lock().expect("lock"),
+            0,
+            "drew after the halt"
+        );
+    }
+}
