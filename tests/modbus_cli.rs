@@ -401,9 +401,12 @@ mod home {
         assert!(!run.stdout.contains("completed"), "{}", run.stdout);
     }
 
-    /// J1 170 degrees from home: the home takes about 7 s, time enough to abort it.
+    /// J1 170 degrees from home and the tool limited to 50 mm/s: the home takes over 20 s,
+    /// time enough to abort it however slowly a second process starts.
     fn far_from_home() -> Arm {
-        Arm::at(to_radians(&[170.0, 30.0, 170.0, 240.0, 10.0, 40.0, 80.0]))
+        let mut arm = Arm::at(to_radians(&[170.0, 30.0, 170.0, 240.0, 10.0, 40.0, 80.0]));
+        arm.set_speed_limits(0.05, 100.0).expect("valid limits");
+        arm
     }
 
     #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
