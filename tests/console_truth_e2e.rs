@@ -319,8 +319,59 @@ fn step_plus_x(console: &mut Console) {
     console.key("w", KeyKind::Release);
 }
 
-fn moving_step(c: &Console) -> bool {
-    matches!(&c.app.motion_shown(), MotionShown::Action { label, confirmed: true } if label == "STEP")
+/// Whether the status bar shows the tracked action `label` (`STEP`, `GOTO beyond`).
+fn moving(c: &Console, label: &str) -> bool {
+    matches!(&c.app.motion_shown(), MotionShown::Action { label: shown, confirmed: true } if shown == label)
+}
+
+/// Runs the action shown as `label` (just started at the tool position `from`, metres) to its
+/// end and checks it was a 100 mm move along +X that the arm aborted at J4's limit: the console
+/// says so as a failure naming the joint (`verb failed: ...`), never idle or done before, logs
+/// nothing OK for it, and then reaches idle truthfully.
+async fn assert_aborted_at_j4(console: &mut Console, label: &str, verb: &str, from: [f64; 3]) {
+    assert!(moving(console, label), "{:?}", console.app.motion_shown());
+    console.seen.clear();
+    console
+        .run_until(Duration::from_secs(15), |c| !moving(c, label))
+        .await;
+    assert_eq!(
+        message(console),
+        format!("{verb} failed: aborted, J4 at its limit"),
+        "said {:?}",
+        console.said
+    );
+    // Until and at the failure it never said idle, nor done.
+    assert!(
+        console.seen.iter().all(|s| *s != MotionShown::Idle),
+        "{:?}",
+        console.seen
+    );
+    let done = format!("{verb} done");
+    assert!(!console.said.contains(&done), "{:?}", console.said);
+    assert!(
+        !console.app.log.iter().any(|e| {
+            ["step", "cart_move", "move to pose"].contains(&e.name.as_str())
+                && e.outcome.contains("OK")
+        }),
+        "{:?}",
+        console.app.log
+    );
+    // The arm really moved and really stopped at J4's limit, short of the target.
+    let s = console.sim.arm.snapshot().await.expect("sim");
+    let j4 = s.joint_position[3];
+    assert!((j4 - 147.8).abs() < 0.1, "J4 at {j4}");
+    let moved_x = (s.tcp_position[0] - from[0]) * 1000.0;
+    assert!(
+        (10.0..90.0).contains(&moved_x),
+        "moved {moved_x:.1} mm of 100"
+    );
+    // The STOP it sends is confirmed and the arm seen at rest: idle, truthfully.
+    console
+        .run_until(Duration::from_secs(5), |c| {
+            c.app.motion_shown() == MotionShown::Idle
+        })
+        .await;
+    assert!(!console.moving().await);
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
@@ -332,53 +383,24 @@ async fn a_step_aborted_at_a_joint_limit_is_a_failure_over_modbus_and_over_talos
         let from = console.sim.arm.snapshot().await.expect("sim").tcp_position;
         console.said.clear();
         step_plus_x(&mut console);
-        assert!(moving_step(&console), "{:?}", console.app.motion_shown());
-        console.seen.clear();
-        console
-            .run_until(Duration::from_secs(15), |c| !moving_step(c))
-            .await;
-        assert_eq!(
-            message(&console),
-            "step failed: aborted, J4 at its limit",
-            "talos {talos}: said {:?}",
-            console.said
-        );
-        // Until and at the failure it never said idle, nor done.
-        assert!(
-            console.seen.iter().all(|s| *s != MotionShown::Idle),
-            "talos {talos}: {:?}",
-            console.seen
-        );
-        assert!(
-            !console.said.iter().any(|m| m == "step done"),
-            "talos {talos}: {:?}",
-            console.said
-        );
-        assert!(
-            !console
-                .app
-                .log
-                .iter()
-                .any(|e| ["step", "cart_move"].contains(&e.name.as_str())
-                    && e.outcome.contains("OK")),
-            "talos {talos}: {:?}",
-            console.app.log
-        );
-        // The arm really moved and really stopped at J4's limit, short of the target.
-        let s = console.sim.arm.snapshot().await.expect("sim");
-        let j4 = s.joint_position[3];
-        assert!((j4 - 147.8).abs() < 0.1, "talos {talos}: J4 at {j4}");
-        let moved_x = (s.tcp_position[0] - from[0]) * 1000.0;
-        assert!(
-            (10.0..90.0).contains(&moved_x),
-            "talos {talos}: moved {moved_x:.1} mm of 100"
-        );
-        // The STOP it sends is confirmed and the arm seen at rest: idle, truthfully.
-        console
-            .run_until(Duration::from_secs(5), |c| {
-                c.app.motion_shown() == MotionShown::Idle
-            })
-            .await;
-        assert!(!console.moving().await);
+        assert_aborted_at_j4(&mut console, "STEP", "step", from).await;
     }
+}
+
+/// Over Talos a go-to of a position saved from the arm is a joint-space move, which never
+/// passes a limit; one set by coordinates is the operator's straight-line move, as the step
+/// above. Over Modbus the console keeps the positions and a go-to is a Move To Pose.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_go_to_aborted_at_a_joint_limit_is_a_failure_over_modbus() {
+    let mut console = Console::start_with(step_through_j4_limit(), false).await;
+    let from = console.sim.arm.snapshot().await.expect("sim").tcp_position;
+    // 100 mm along +X, in the tool's current orientation: the step's target.
+    let tenths = |m: f64| (m * 10_000.0).round() as i32;
+    console.app.positions.entry("beyond").cartesian =
+        Some([tenths(from[0] + 0.1), tenths(from[1]), tenths(from[2])]);
+    assert_eq!(console.app.selected_name(), Some("beyond"));
+    console.said.clear();
+    console.key("o", KeyKind::Press);
+    console.key("y", KeyKind::Press);
+    assert_aborted_at_j4(&mut console, "GOTO beyond", "go to 'beyond'", from).await;
 }
