@@ -77,6 +77,8 @@ struct Console {
     /// Every motion state shown since the last `clear_seen`, in order.
     seen: Vec<MotionShown>,
     seen_stale: bool,
+    /// Every message shown since the last `said.clear()`, in order.
+    said: Vec<String>,
 }
 
 impl Console {
@@ -118,6 +120,7 @@ impl Console {
             relay,
             seen: Vec::new(),
             seen_stale: false,
+            said: Vec::new(),
         };
         console
             .run_until(Duration::from_secs(5), |c| {
@@ -138,6 +141,10 @@ impl Console {
             self.seen.push(shown);
         }
         self.seen_stale |= self.app.link_stale().is_some();
+        let text = message(self);
+        if !text.is_empty() && self.said.last() != Some(&text) {
+            self.said.push(text);
+        }
     }
 
     fn key(&mut self, name: &str, kind: KeyKind) {
@@ -268,9 +275,13 @@ fn away() -> Arm {
     Arm::at(to_radians(&[10.0, 30.0, 170.0, 240.0, 10.0, 40.0, 80.0]))
 }
 
-/// J4 two degrees short of its limit: the simulator's home passes the limit and stops there.
-fn near_j4_limit() -> Arm {
-    Arm::at(to_radians(&[0.0, 15.0, 180.0, 145.8, 0.0, 55.0, 90.0]))
+/// J4 2.3 degrees short of its limit, the tool at (-199, -231, 435) mm. A 100 mm step along
+/// +X ends where J4 is within its limit (the arm accepts it), but the straight line there
+/// passes closer to the shoulder than the folded elbow allows: the arm stops at J4's limit
+/// about 58 mm along, with a joint-fault warning. (Found with `sim::arm::Arm` directly; the
+/// simulator's home is a joint-space move and never passes a limit.)
+fn step_through_j4_limit() -> Arm {
+    Arm::at(to_radians(&[0.0, 19.0, 135.0, 145.5, 0.0, -25.0, 90.0]))
 }
 
 async fn home(console: &mut Console) {
@@ -297,37 +308,99 @@ async fn home_over_modbus_shows_moving_until_it_completes_at_rest() {
     assert!(!console.moving().await, "done means at rest");
 }
 
-#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn a_home_aborted_at_a_joint_limit_is_a_failure_over_modbus_and_over_talos() {
-    for talos in [false, true] {
-        let mut console = Console::start_with(near_j4_limit(), talos).await;
-        console
-            .run_until(Duration::from_secs(5), |c| c.app.telemetry.is_some())
-            .await;
-        home(&mut console).await;
-        console
-            .run_until(Duration::from_secs(15), |c| message(c).contains("home"))
-            .await;
-        assert_eq!(
-            message(&console),
-            "home failed: aborted, J4 at its limit",
-            "talos {talos}"
-        );
-        assert!(
-            !console
-                .app
-                .log
-                .iter()
-                .any(|e| e.name == "home" && e.outcome.contains("OK")),
-            "talos {talos}: {:?}",
-            console.app.log
-        );
-        // The STOP it sends is confirmed and the arm seen at rest: idle, truthfully.
-        console
-            .run_until(Duration::from_secs(5), |c| {
-                c.app.motion_shown() == MotionShown::Idle
-            })
-            .await;
-        assert!(!console.moving().await);
+/// Step mode, the largest step (100 mm), one press of +X.
+fn step_plus_x(console: &mut Console) {
+    console.key("t", KeyKind::Press);
+    for _ in 0..3 {
+        console.key(".", KeyKind::Press);
     }
+    assert_eq!(console.app.step.cartesian(), 1000, "100 mm, in tenths");
+    console.key("w", KeyKind::Press);
+    console.key("w", KeyKind::Release);
+}
+
+/// Whether the status bar shows the tracked action `label` (`STEP`, `GOTO beyond`).
+fn moving(c: &Console, label: &str) -> bool {
+    matches!(&c.app.motion_shown(), MotionShown::Action { label: shown, confirmed: true } if shown == label)
+}
+
+/// Runs the action shown as `label` (just started at the tool position `from`, metres) to its
+/// end and checks it was a 100 mm move along +X that the arm aborted at J4's limit: the console
+/// says so as a failure naming the joint (`verb failed: ...`), never idle or done before, logs
+/// nothing OK for it, and then reaches idle truthfully.
+async fn assert_aborted_at_j4(console: &mut Console, label: &str, verb: &str, from: [f64; 3]) {
+    assert!(moving(console, label), "{:?}", console.app.motion_shown());
+    console.seen.clear();
+    console
+        .run_until(Duration::from_secs(15), |c| !moving(c, label))
+        .await;
+    assert_eq!(
+        message(console),
+        format!("{verb} failed: aborted, J4 at its limit"),
+        "said {:?}",
+        console.said
+    );
+    // Until and at the failure it never said idle, nor done.
+    assert!(
+        console.seen.iter().all(|s| *s != MotionShown::Idle),
+        "{:?}",
+        console.seen
+    );
+    let done = format!("{verb} done");
+    assert!(!console.said.contains(&done), "{:?}", console.said);
+    assert!(
+        !console.app.log.iter().any(|e| {
+            ["step", "cart_move", "move to pose"].contains(&e.name.as_str())
+                && e.outcome.contains("OK")
+        }),
+        "{:?}",
+        console.app.log
+    );
+    // The arm really moved and really stopped at J4's limit, short of the target.
+    let s = console.sim.arm.snapshot().await.expect("sim");
+    let j4 = s.joint_position[3];
+    assert!((j4 - 147.8).abs() < 0.1, "J4 at {j4}");
+    let moved_x = (s.tcp_position[0] - from[0]) * 1000.0;
+    assert!(
+        (10.0..90.0).contains(&moved_x),
+        "moved {moved_x:.1} mm of 100"
+    );
+    // The STOP it sends is confirmed and the arm seen at rest: idle, truthfully.
+    console
+        .run_until(Duration::from_secs(5), |c| {
+            c.app.motion_shown() == MotionShown::Idle
+        })
+        .await;
+    assert!(!console.moving().await);
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_step_aborted_at_a_joint_limit_is_a_failure_over_modbus_and_over_talos() {
+    // Over Talos the step is a Cartesian Move (Discrete) the operator accepts; its end shows
+    // in the hardware telemetry (joints at rest, a joint-fault warning).
+    for talos in [false, true] {
+        let mut console = Console::start_with(step_through_j4_limit(), talos).await;
+        let from = console.sim.arm.snapshot().await.expect("sim").tcp_position;
+        console.said.clear();
+        step_plus_x(&mut console);
+        assert_aborted_at_j4(&mut console, "STEP", "step", from).await;
+    }
+}
+
+/// Over Talos a go-to of a position saved from the arm is a joint-space move, which never
+/// passes a limit; one set by coordinates is the operator's straight-line move, as the step
+/// above. Over Modbus the console keeps the positions and a go-to is a Move To Pose.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_go_to_aborted_at_a_joint_limit_is_a_failure_over_modbus() {
+    let mut console = Console::start_with(step_through_j4_limit(), false).await;
+    let from = console.sim.arm.snapshot().await.expect("sim").tcp_position;
+    // 100 mm along +X, in the tool's current orientation: the step's target.
+    let tenths = |m: f64| (m * 10_000.0).round() as i32;
+    console.app.positions.entry("beyond").cartesian =
+        Some([tenths(from[0] + 0.1), tenths(from[1]), tenths(from[2])]);
+    assert_eq!(console.app.selected_name(), Some("beyond"));
+    console.said.clear();
+    console.key("o", KeyKind::Press);
+    console.key("y", KeyKind::Press);
+    assert_aborted_at_j4(&mut console, "GOTO beyond", "go to 'beyond'", from).await;
 }

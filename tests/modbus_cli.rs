@@ -254,13 +254,84 @@ async fn modbus_json_output_and_refusals() {
     );
 }
 
+/// Polls the fake arm until `done` holds; panics after 10 s.
+async fn fake_until(arm: &FakeArm, what: &str, done: impl Fn(&modbus_fake::ArmState) -> bool) {
+    let until = std::time::Instant::now() + Duration::from_secs(10);
+    while !arm.with(|s| done(s)) {
+        assert!(std::time::Instant::now() < until, "not within 10 s: {what}");
+        tokio::time::sleep(Duration::from_millis(10)).await;
+    }
+}
+
+/// The simulator's home is a joint-space move that never passes a limit, so an arm whose home
+/// stops at a joint limit is played by the fake: it takes the home, reports it started and
+/// moving, then aborted with J4 at its limit and a joint-fault warning.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn home_aborted_at_a_joint_limit_names_the_joint_and_exits_1() {
+    let arm = FakeArm::start().await;
+    arm.with(|s| {
+        s.input_registers[0] = 7; // ready
+        for (j, deg) in [0.0, 15.0, 180.0, 230.0, 0.0, 55.0, 90.0]
+            .iter()
+            .enumerate()
+        {
+            s.set_input_f32(34 + 2 * j, *deg);
+        }
+        s.holding_registers[100] = 1; // an earlier action completed
+    });
+    let home = command(&["modbus", "--modbus", &arm.addr(), "home"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .kill_on_drop(true)
+        .spawn()
+        .expect("spawn armjog modbus home");
+    let start = Written::Registers(200, vec![1]);
+    fake_until(&arm, "home started", |s| s.writes().contains(&start)).await;
+    let reads_before = arm.with(|s| {
+        s.holding_registers[100] = 0; // started
+        s.holding_registers[101] = 2; // the home action
+        s.set_input_f32(48 + 2 * 3, -20.0); // J4 turning
+        s.reads().len()
+    });
+    // Once the waiting command has read the action status as started, the arm stops at the
+    // limit.
+    fake_until(&arm, "action status read while started", |s| {
+        s.reads()[reads_before..]
+            .iter()
+            .any(|&(fc, at, n)| fc == 3 && at <= 100 && 100 < at + n)
+    })
+    .await;
+    arm.with(|s| {
+        s.set_input_f32(34 + 2 * 3, 147.8);
+        s.set_input_f32(48 + 2 * 3, 0.0);
+        s.input_registers[4] = 1 << 4; // warning: joint_fault
+        s.holding_registers[100] = 3; // aborted
+    });
+    let out = tokio::time::timeout(Duration::from_secs(20), home.wait_with_output())
+        .await
+        .expect("armjog modbus home returns after the abort")
+        .expect("armjog modbus home output");
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert_eq!(out.status.code(), Some(1), "{stdout}{stderr}");
+    assert!(
+        stderr.contains("home failed: aborted, J4 at its limit"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("at once"), "{stderr}");
+    assert!(!stdout.contains("completed"), "{stdout}");
+}
+
 // ---- `armjog modbus home` waits for the action's end, against the simulator ----
 
 mod home {
-    use super::armjog;
+    use super::{armjog, command};
     use armjog::sim::arm::Arm;
     use armjog::sim::kinematics::to_radians;
     use armjog::sim::{SimConfig, Simulator};
+    use std::process::Stdio;
     use std::time::{Duration, Instant};
 
     /// A simulated arm (Modbus only) away from home, or as given.
@@ -330,19 +401,50 @@ mod home {
         assert!(!run.stdout.contains("completed"), "{}", run.stdout);
     }
 
+    /// J1 170 degrees from home and the tool limited to 50 mm/s: the home takes over 20 s,
+    /// time enough to abort it however slowly a second process starts.
+    fn far_from_home() -> Arm {
+        let mut arm = Arm::at(to_radians(&[170.0, 30.0, 170.0, 240.0, 10.0, 40.0, 80.0]));
+        arm.set_speed_limits(0.05, 100.0).expect("valid limits");
+        arm
+    }
+
     #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-    async fn home_aborted_at_a_joint_limit_names_the_joint_and_exits_1() {
-        // J4 two degrees short of its limit: the simulator's home passes it and stops there.
-        let sim = sim(Arm::at(to_radians(&[
-            0.0, 15.0, 180.0, 145.8, 0.0, 55.0, 90.0,
-        ])))
-        .await;
-        let run = armjog(&["modbus", "--modbus", &addr(&sim), "home"]).await;
-        assert_eq!(run.code, 1, "{}{}", run.stdout, run.stderr);
+    async fn home_aborted_by_another_client_while_waiting_exits_1() {
+        let sim = sim(far_from_home()).await;
+        let home = command(&["modbus", "--modbus", &addr(&sim), "home"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .kill_on_drop(true)
+            .spawn()
+            .expect("spawn armjog modbus home");
+        // Abort only once the home runs, from a second client, as a technician would.
+        let until = Instant::now() + Duration::from_secs(10);
+        while !sim.arm.snapshot().await.expect("sim").moving {
+            assert!(Instant::now() < until, "the home never started");
+            tokio::time::sleep(Duration::from_millis(20)).await;
+        }
+        let abort = armjog(&["modbus", "--modbus", &addr(&sim), "abort"]).await;
+        assert_eq!(abort.code, 0, "{}", abort.stderr);
+        let out = tokio::time::timeout(Duration::from_secs(20), home.wait_with_output())
+            .await
+            .expect("armjog modbus home returns after the abort")
+            .expect("armjog modbus home output");
+        let (stdout, stderr) = (
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr),
+        );
+        assert_eq!(out.status.code(), Some(1), "{stdout}{stderr}");
+        assert!(stderr.contains("home failed: aborted"), "{stderr}");
+        // It had seen the home start: the abort is not mistaken for a missing action.
+        assert!(!stderr.contains("at once"), "{stderr}");
+        assert!(!stdout.contains("completed"), "{stdout}");
+        let s = sim.arm.snapshot().await.expect("sim");
+        assert!(!s.moving, "the abort stopped the arm");
+        let j1 = s.joint_position[0];
         assert!(
-            run.stderr.contains("home failed: aborted, J4 at its limit"),
-            "{}",
-            run.stderr
+            (1.0..=170.0).contains(&j1),
+            "stopped short of home: J1 at {j1}"
         );
     }
 
