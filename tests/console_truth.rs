@@ -5,7 +5,7 @@ use std::time::{Duration, Instant};
 
 use armjog::console::app::{
     App, AppConfig, Effect, Input, KeyInput, MotionShown, NO_TELEMETRY_ACTION_TIME, STOP_GRACE,
-    Severity,
+    Severity, abort_reason,
 };
 use armjog::console::jog::{KeyKind, ReleaseMode};
 use armjog::console::keymap::{KeyName, Keymap};
@@ -609,4 +609,17 @@ fn a_stale_link_starts_no_home_step_or_go_to() {
             }
         ))]
     );
+}
+
+#[test]
+fn an_abort_names_a_joint_as_the_cause_only_when_the_arm_reports_a_joint_fault() {
+    let mut near = HOME;
+    near[3] = 146.0;
+    let mut t = telemetry(near, 0.0, Coded::Known(ActionStatus::Aborted));
+    // Aborted by hand (or by anything else) near a limit: where the joint was, not why.
+    assert_eq!(abort_reason(&t), "aborted, J4 near its limit");
+    t.warnings = FlagSet::from_bits(Flag::JointFault.bit());
+    assert_eq!(abort_reason(&t), "aborted, J4 at its limit");
+    let far = telemetry(HOME, 0.0, Coded::Known(ActionStatus::Aborted));
+    assert_eq!(abort_reason(&far), "aborted");
 }

@@ -45,10 +45,14 @@ pub fn abort_reason(t: &Telemetry) -> String {
             .flatten()
             .is_some_and(|limit| signed(j.position).abs() >= limit as f32 - AT_LIMIT_DEG)
     });
-    match at_limit {
-        Some((i, _)) => format!("aborted, J{} at its limit", i + 1),
-        None if t.warnings.contains(Flag::JointFault) => "aborted (joint fault warning)".into(),
-        None => "aborted".into(),
+    // A joint near its limit is named as the cause only when the arm also says a joint
+    // faulted; otherwise it is only where the joint was (an abort by hand near a limit).
+    let warned = t.warnings.contains(Flag::JointFault);
+    match (at_limit, warned) {
+        (Some((i, _)), true) => format!("aborted, J{} at its limit", i + 1),
+        (Some((i, _)), false) => format!("aborted, J{} near its limit", i + 1),
+        (None, true) => "aborted (joint fault warning)".into(),
+        (None, false) => "aborted".into(),
     }
 }
 

@@ -266,10 +266,13 @@ async fn run(
                         }
                     },
                     (None, false) => {
-                        let _ = events.send(ArmEvent::Failed {
-                            command: command.label(),
-                            reason: "not possible over this link".into(),
-                        });
+                        // A missing guard is the reason that outlives the connect.
+                        let reason = match (&config.modbus, guard_refusal(&config, guard.as_ref(), &command)) {
+                            (_, Some(reason)) => reason,
+                            (Some(mc), None) => format!("the Modbus link to {} is not up", mc.addr),
+                            (None, None) => "not possible over this link".into(),
+                        };
+                        let _ = events.send(ArmEvent::Failed { command: command.label(), reason });
                     }
                 }
             }
