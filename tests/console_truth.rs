@@ -296,9 +296,16 @@ fn a_lost_link_after_motion_says_may_be_moving_until_a_stop_is_confirmed() {
     let up = ArmEvent::Status(LinkStatus::Up {
         description: "back".into(),
     });
-    app.handle(Input::Arm(up), t0 + ms(2000));
-    assert!(may_be_moving(&app), "back up proves nothing");
-    press(&mut app, "space", t0 + ms(2100));
+    assert_eq!(
+        app.handle(Input::Arm(up), t0 + ms(2000)),
+        [STOP],
+        "the console stops it once it can reach it"
+    );
+    assert_ne!(
+        app.motion_shown(),
+        MotionShown::Idle,
+        "back up proves nothing"
+    );
     app.handle(Input::Arm(ArmEvent::StopConfirmed), t0 + ms(2110));
     assert_eq!(app.motion_shown(), MotionShown::Idle);
 }
@@ -620,6 +627,33 @@ fn an_abort_names_a_joint_as_the_cause_only_when_the_arm_reports_a_joint_fault()
     assert_eq!(abort_reason(&t), "aborted, J4 near its limit");
     t.warnings = FlagSet::from_bits(Flag::JointFault.bit());
     assert_eq!(abort_reason(&t), "aborted, J4 at its limit");
+    // Right at the limit it is the cause, even before the warning shows in a poll.
+    near[3] = 147.6;
+    let at = telemetry(near, 0.0, Coded::Known(ActionStatus::Aborted));
+    assert_eq!(abort_reason(&at), "aborted, J4 at its limit");
     let far = telemetry(HOME, 0.0, Coded::Known(ActionStatus::Aborted));
     assert_eq!(abort_reason(&far), "aborted");
+}
+
+#[test]
+fn a_link_back_after_a_loss_mid_jog_gets_a_stop_whose_confirmation_settles_it() {
+    let (mut app, t0) = app(TelemetrySource::Modbus);
+    feed(&mut app, at_rest(), t0);
+    press(&mut app, "w", t0);
+    feed(&mut app, moving(), t0 + ms(30));
+    let down = Input::Arm(ArmEvent::Status(LinkStatus::Down {
+        reason: "connection reset".into(),
+    }));
+    app.handle(down, t0 + ms(50));
+    assert!(matches!(app.motion_shown(), MotionShown::MayBeMoving(_)));
+    let up = Input::Arm(ArmEvent::Status(LinkStatus::Up {
+        description: "test".into(),
+    }));
+    assert!(
+        app.handle(up, t0 + ms(2000)).contains(&STOP),
+        "the console asks the arm to stop once it can be reached again"
+    );
+    app.handle(Input::Arm(ArmEvent::StopConfirmed), t0 + ms(2010));
+    feed(&mut app, at_rest(), t0 + ms(2040));
+    assert_eq!(app.motion_shown(), MotionShown::Idle);
 }

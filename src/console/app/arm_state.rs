@@ -11,8 +11,10 @@ use crate::kortex::{Coded, Flag, RobotState, Telemetry};
 const REST_JOINT_DEG_S: f32 = 0.5;
 const REST_LINEAR_M_S: f32 = 0.002;
 const REST_ANGULAR_DEG_S: f32 = 0.5;
-/// A joint this close to its limit is the one an abort stopped at.
-const AT_LIMIT_DEG: f32 = 3.0;
+/// A joint this close to its limit may be the one an abort stopped at.
+const NEAR_LIMIT_DEG: f32 = 3.0;
+/// A joint this close to its limit is at it.
+const AT_LIMIT_DEG: f32 = 0.5;
 /// Ages below this are shown in tenths of a second, above it in whole seconds.
 pub(super) const AGE_TENTHS_UNTIL: Duration = Duration::from_secs(10);
 
@@ -38,21 +40,30 @@ pub fn at_rest(t: &Telemetry) -> bool {
 /// Why an action aborted, naming the joint at its limit if one is.
 pub fn abort_reason(t: &Telemetry) -> String {
     let signed = |deg: f32| if deg > 180.0 { deg - 360.0 } else { deg };
-    let at_limit = t.joints.iter().enumerate().find(|(i, j)| {
+    // How far each limited joint is from its limit, deg.
+    let margin = |i: usize, position: f32| {
         JOINT_LIMITS_DEG
-            .get(*i)
+            .get(i)
             .copied()
             .flatten()
-            .is_some_and(|limit| signed(j.position).abs() >= limit as f32 - AT_LIMIT_DEG)
-    });
-    // A joint near its limit is named as the cause only when the arm also says a joint
-    // faulted; otherwise it is only where the joint was (an abort by hand near a limit).
+            .map(|limit| limit as f32 - signed(position).abs())
+    };
+    let nearest = t
+        .joints
+        .iter()
+        .enumerate()
+        .filter_map(|(i, j)| margin(i, j.position).map(|m| (i, m)))
+        .filter(|(_, m)| *m <= NEAR_LIMIT_DEG)
+        .min_by(|a, b| a.1.total_cmp(&b.1));
+    // A joint is named as the cause when the arm says a joint faulted or the joint is right
+    // at its limit; a joint merely near it (an abort by hand close to a limit) is only where
+    // it was.
     let warned = t.warnings.contains(Flag::JointFault);
-    match (at_limit, warned) {
-        (Some((i, _)), true) => format!("aborted, J{} at its limit", i + 1),
-        (Some((i, _)), false) => format!("aborted, J{} near its limit", i + 1),
-        (None, true) => "aborted (joint fault warning)".into(),
-        (None, false) => "aborted".into(),
+    match nearest {
+        Some((i, m)) if warned || m <= AT_LIMIT_DEG => format!("aborted, J{} at its limit", i + 1),
+        Some((i, _)) => format!("aborted, J{} near its limit", i + 1),
+        None if warned => "aborted (joint fault warning)".into(),
+        None => "aborted".into(),
     }
 }
 

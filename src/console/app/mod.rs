@@ -689,7 +689,7 @@ impl App {
                 }
                 if let GuardStatus::Down { reason } = &status {
                     self.say(
-                        format!("stop guard down, motion stopped: {reason}"),
+                        format!("stop guard down, no motion until it is back: {reason}"),
                         Severity::Error,
                         now,
                     );

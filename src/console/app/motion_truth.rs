@@ -331,6 +331,12 @@ impl App {
                 if came_up {
                     truth.link_up_at = Some(now);
                     truth.waiting_since = None;
+                    // Back after a loss with motion unaccounted for: a STOP is always safe, and
+                    // its confirmation (with telemetry at rest) is the evidence that clears
+                    // MAY BE MOVING.
+                    if truth.unsettled || truth.action.is_some() {
+                        truth.stop_needed = true;
+                    }
                 }
             }
             ArmEvent::TelemetrySource(source) => truth.expect = Some(*source),

@@ -2,6 +2,21 @@
 //! giving up once the link is closing and an owed stop cannot be delivered.
 
 use super::{CLOSING_ATTEMPTS, Job, LinkTask, ModbusError, ModbusEvent, StopReason, wire};
+use crate::kortex::{PollPlan, RegisterImage};
+use crate::link::modbus::ModbusConfig;
+use tokio_modbus::client::Context;
+
+/// Opens a connection and checks that the arm answers on it. A TCP connect alone proves
+/// nothing: a frozen server's kernel still accepts connections into its backlog, and a link
+/// reported up then would hide the freeze from the technician.
+async fn open_answering(config: &ModbusConfig) -> Result<Context, ModbusError> {
+    let mut ctx = wire::open(config).await?;
+    let mut scratch = RegisterImage::default();
+    if let Some(block) = PollPlan::IcdBlocks.blocks().first() {
+        wire::read(&mut ctx, *block, &mut scratch, config.request_timeout).await?;
+    }
+    Ok(ctx)
+}
 
 impl LinkTask {
     /// Reconnects with backoff, refusing jobs meanwhile. Returns false when the task should end:
@@ -31,7 +46,7 @@ impl LinkTask {
             attempts += 1;
             let opened = {
                 let config = self.config.clone();
-                let open = wire::open(&config);
+                let open = open_answering(&config);
                 tokio::pin!(open);
                 loop {
                     tokio::select! {
