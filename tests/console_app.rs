@@ -167,7 +167,8 @@ fn link_loss_stops_and_nothing_restarts_after_reconnect() {
     let up = Input::Arm(ArmEvent::Status(LinkStatus::Up {
         description: "back".into(),
     }));
-    assert!(app.handle(up, t0 + ms(20)).is_empty());
+    // Back up: only a STOP (motion was unaccounted for), never a start.
+    assert_eq!(app.handle(up, t0 + ms(20)), [STOP]);
     assert!(
         app.handle(key("w", KeyKind::Repeat), t0 + ms(30))
             .is_empty(),

@@ -376,3 +376,28 @@ fn with_release_events_a_second_press_without_release_switches_to_the_fallback()
     assert!(!moves(&effects), "no runaway: {effects:?}");
     fresh_press_moves(&mut app, ReleaseMode::AutoRepeat, t0 + ms(3600));
 }
+
+#[test]
+fn fallback_step_mode_steps_once_per_press_not_once_per_auto_repeat() {
+    let (mut app, t0) = app(ReleaseMode::AutoRepeat, true);
+    press(&mut app, "t", t0);
+    let steps = |effects: &[Effect]| {
+        effects
+            .iter()
+            .filter(|e| matches!(e, Effect::Arm(ArmCommand::Step(_))))
+            .count()
+    };
+    let mut total = steps(&press(&mut app, "w", t0 + ms(500)));
+    assert_eq!(total, 1, "the press steps");
+    // Held: the auto-repeat arrives as presses, after the onset and then every 33 ms.
+    let mut at = t0 + ms(1000);
+    while at < t0 + ms(2500) {
+        total += steps(&press(&mut app, "w", at));
+        total += steps(&app.handle(Input::Tick, at + ms(1)));
+        at += ms(33);
+    }
+    assert_eq!(total, 1, "a held key steps once");
+    // Let go (the repeats pause), then press again: one more step.
+    app.handle(Input::Tick, at + ms(600));
+    assert_eq!(steps(&press(&mut app, "w", at + ms(700))), 1);
+}

@@ -345,8 +345,10 @@ impl App {
         match (action, key.kind) {
             (Some(action), kind) if action.jog().is_some() => {
                 if self.step.enabled {
-                    self.latch_jog_key(&key, now, effects);
-                    if kind == KeyKind::Press {
+                    // One step per press: a held key's auto-repeat steps no further.
+                    let (fresh, jog) = self.jog.latch_press(action, kind, now);
+                    self.apply_jog(jog, now, effects);
+                    if fresh {
                         self.step_move(action, now, effects);
                     }
                 } else if self.link_is_up() {

@@ -211,6 +211,21 @@ impl JogEngine {
         effects
     }
 
+    /// As [`JogEngine::latch`], and whether the event is a fresh press: the key was neither
+    /// held nor latched. Step mode steps only on those, so a held key's auto-repeat (which
+    /// arrives as presses in the fallback) does not step again and again.
+    pub fn latch_press(
+        &mut self,
+        action: Action,
+        kind: KeyKind,
+        now: Instant,
+    ) -> (bool, Vec<JogEffect>) {
+        let mut effects = self.catch_up(now);
+        let fresh = kind == KeyKind::Press && !self.held.contains_key(&action);
+        effects.extend(self.latch(action, kind, now));
+        (fresh, effects)
+    }
+
     /// Stops any jog; every key still down becomes latched: for a non-jog key, focus loss, link
     /// loss, an overlay, quit. Returns `Stop` if anything was moving or about to move.
     pub fn stop_all(&mut self, _now: Instant) -> Vec<JogEffect> {
