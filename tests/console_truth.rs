@@ -605,6 +605,7 @@ fn a_stale_link_starts_no_home_step_or_go_to() {
     assert!(press(&mut app, "w", stale).is_empty(), "no step");
     assert!(app.truth.action.is_none());
     // Fresh again: a new press moves.
+    app.handle(key("w", KeyKind::Release), stale + ms(5));
     feed(&mut app, at_rest(), stale + ms(10));
     assert_eq!(
         press(&mut app, "w", stale + ms(20)),
@@ -656,4 +657,21 @@ fn a_link_back_after_a_loss_mid_jog_gets_a_stop_whose_confirmation_settles_it() 
     app.handle(Input::Arm(ArmEvent::StopConfirmed), t0 + ms(2010));
     feed(&mut app, at_rest(), t0 + ms(2040));
     assert_eq!(app.motion_shown(), MotionShown::Idle);
+}
+
+#[test]
+fn a_home_on_a_link_that_goes_stale_is_stopped() {
+    let (mut app, t0) = app(TelemetrySource::Modbus);
+    feed(&mut app, at_rest(), t0);
+    start_home(&mut app, t0);
+    feed(&mut app, moving(), t0 + ms(100));
+    assert_eq!(app.motion_shown(), moving_home());
+    // The telemetry stops: past 500 ms the home can no longer be watched, so it is stopped.
+    assert_eq!(app.handle(Input::Tick, t0 + ms(700)), [STOP]);
+    assert_ne!(app.motion_shown(), moving_home());
+    assert_ne!(app.motion_shown(), MotionShown::Idle);
+    assert!(
+        app.handle(Input::Tick, t0 + ms(900)).is_empty(),
+        "one STOP, not one per tick"
+    );
 }

@@ -486,6 +486,11 @@ impl App {
             if effects.len() != asked {
                 self.say("link stale: not moving", Severity::Warning, now);
             }
+            // An action the console can no longer watch is stopped like a jog: the arm must
+            // not go on moving unseen.
+            if self.truth.action.is_some() {
+                self.truth.stop_needed = true;
+            }
             if self.jog.is_jogging() {
                 self.stop_jog(now, effects);
                 self.say(
