@@ -3,63 +3,15 @@
 
 use std::time::{Duration, Instant};
 
-use armjog::console::app::{App, AppConfig, Effect, Input, KeyInput, Overlay};
+use armjog::console::app::{App, AppConfig, Effect, Input, Overlay};
 use armjog::console::jog::{JogMotion, KeyKind, ReleaseMode};
-use armjog::console::keymap::{KeyName, Keymap};
+use armjog::console::keymap::Keymap;
 use armjog::console::positions::PositionBook;
 use armjog::link::arm::{ArmCommand, ArmEvent, LinkStatus, StepMove};
 
-fn app(mode: ReleaseMode, on_operator: bool) -> (App, Instant) {
-    let config = AppConfig {
-        keymap: Keymap::builtin("default").expect("default keymap"),
-        release_mode: mode,
-        refresh: Duration::from_millis(100),
-        positions_on_operator: on_operator,
-        max_jog_speed: 0.25,
-        frames: !on_operator,
-    };
-    let mut app = App::new(config, PositionBook::new());
-    let t0 = Instant::now();
-    app.handle(
-        Input::Arm(ArmEvent::Status(LinkStatus::Up {
-            description: "test".into(),
-        })),
-        t0,
-    );
-    (app, t0)
-}
+mod app_support;
 
-fn key(name: &str, kind: KeyKind) -> Input {
-    let key: KeyName = name.parse().expect("key name");
-    let text = if name.chars().count() == 1 {
-        name.chars().next()
-    } else {
-        None
-    };
-    Input::Key(KeyInput { key, text, kind })
-}
-
-fn press(app: &mut App, name: &str, now: Instant) -> Vec<Effect> {
-    app.handle(key(name, KeyKind::Press), now)
-}
-
-fn release(app: &mut App, name: &str, now: Instant) -> Vec<Effect> {
-    app.handle(key(name, KeyKind::Release), now)
-}
-
-fn jog(x: i8, y: i8, z: i8) -> Effect {
-    Effect::Arm(ArmCommand::Jog(JogMotion::Cartesian { x, y, z }))
-}
-
-const STOP: Effect = Effect::Arm(ArmCommand::Stop);
-
-fn step(dx: i32, dy: i32, dz: i32) -> Effect {
-    Effect::Arm(ArmCommand::Step(StepMove::Cartesian { dx, dy, dz }))
-}
-
-fn ms(n: u64) -> Duration {
-    Duration::from_millis(n)
-}
+use app_support::*;
 
 #[test]
 fn holding_w_jogs_plus_x_and_releasing_stops() {
