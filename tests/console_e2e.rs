@@ -165,6 +165,12 @@ impl Console {
     }
 }
 
+/// How soon after a release the simulated arm must stand still. The STOP itself takes well
+/// under a millisecond; the bound leaves room for a loaded 2-core CI while staying below the
+/// 400 ms the operator's watchdog would take at the earliest (500 ms after the last START,
+/// which went out at most 100 ms before the release), so a pass still proves the STOP.
+const STOP_BOUND: Duration = Duration::from_millis(300);
+
 /// Holds `key` for `hold`, releases it, and returns the TCP displacement (m).
 async fn jog(console: &mut Console, key: &str, hold: Duration) -> [f64; 3] {
     let before = console.tcp().await;
@@ -172,7 +178,7 @@ async fn jog(console: &mut Console, key: &str, hold: Duration) -> [f64; 3] {
     console.run_for(hold).await;
     console.key(key, KeyKind::Release);
     assert!(
-        console.stops_within(Duration::from_millis(100)).await,
+        console.stops_within(STOP_BOUND).await,
         "{key}: stopped within a tick of the release"
     );
     let after = console.tcp().await;
@@ -234,7 +240,7 @@ async fn holding_a_key_past_the_watchdog_keeps_moving() {
         "refreshed well inside the 500 ms watchdog"
     );
     console.key("w", KeyKind::Release);
-    assert!(console.stops_within(Duration::from_millis(100)).await);
+    assert!(console.stops_within(STOP_BOUND).await);
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
@@ -323,7 +329,7 @@ async fn crossterm_press_and_release_events_drive_the_jog() {
     console.run_for(Duration::from_millis(150)).await;
     assert!(console.moving().await);
     console.input(Input::Key(key_input(&release).expect("w release maps")));
-    assert!(console.stops_within(Duration::from_millis(100)).await);
+    assert!(console.stops_within(STOP_BOUND).await);
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
@@ -332,11 +338,11 @@ async fn focus_loss_and_space_stop_the_arm() {
     console.key("d", KeyKind::Press);
     console.run_for(Duration::from_millis(150)).await;
     console.input(Input::FocusLost);
-    assert!(console.stops_within(Duration::from_millis(100)).await);
+    assert!(console.stops_within(STOP_BOUND).await);
     console.key("f", KeyKind::Press);
     console.run_for(Duration::from_millis(150)).await;
     console.key("space", KeyKind::Press);
-    assert!(console.stops_within(Duration::from_millis(100)).await);
+    assert!(console.stops_within(STOP_BOUND).await);
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
@@ -402,7 +408,7 @@ async fn a_joint_jog_turns_the_selected_joint_over_talos() {
     console.key("k", KeyKind::Press);
     console.run_for(Duration::from_millis(400)).await;
     console.key("k", KeyKind::Release);
-    assert!(console.stops_within(Duration::from_millis(100)).await);
+    assert!(console.stops_within(STOP_BOUND).await);
     let after = console
         .sim
         .arm
