@@ -31,12 +31,18 @@ pub enum Refused {
     IllegalValue,
 }
 
-/// Whether every address of `start..start+count` is listed.
+/// Whether every address of `start..start+count` is listed. Computed in u32: a range that runs
+/// past 65535 is not listed (a u16 end would wrap or saturate and hide the last address).
 pub fn listed(ranges: &[(u16, u16)], start: u16, count: u16) -> bool {
+    let start = u32::from(start);
+    let end = start + u32::from(count);
     count > 0
-        && u32::from(start) + u32::from(count) <= 0x1_0000
-        && (start..start.saturating_add(count))
-            .all(|a| ranges.iter().any(|(s, e)| a >= *s && a < *e))
+        && end <= 0x1_0000
+        && (start..end).all(|a| {
+            ranges
+                .iter()
+                .any(|(s, e)| a >= u32::from(*s) && a < u32::from(*e))
+        })
 }
 
 /// Input registers 0-139 of a snapshot.
@@ -131,16 +137,17 @@ fn float_at(block: &[u16; 20], addr: u16) -> f32 {
 /// Writes registers `start..` of the command block and carries out what they ask.
 pub fn write_registers(world: &mut World, start: u16, values: &[u16]) -> Result<(), Refused> {
     let count = u16::try_from(values.len()).map_err(|_| Refused::IllegalValue)?;
-    if count == 0
-        || start < WRITABLE.0
-        || u32::from(start) + u32::from(count) > u32::from(WRITABLE.1)
-    {
+    if count == 0 {
+        return Err(Refused::IllegalValue);
+    }
+    let end = u32::from(start) + u32::from(count);
+    if start < WRITABLE.0 || end > u32::from(WRITABLE.1) {
         return Err(Refused::IllegalAddress);
     }
     let mut block = world.command_block;
-    let at = usize::from(start - 200);
+    let at = usize::from(start - WRITABLE.0);
     block[at..at + values.len()].copy_from_slice(values);
-    let touches = |addr: u16| start <= addr && addr < start + count;
+    let touches = |addr: u16| u32::from(start) <= u32::from(addr) && u32::from(addr) < end;
     if touches(holding_register::DESIRED_LINEAR_SPEED_LIMIT)
         || touches(holding_register::DESIRED_ANGULAR_SPEED_LIMIT)
     {

@@ -18,9 +18,11 @@ use super::modbus_registers::{
 use super::talos_server::NetworkFaults;
 use super::world::{SimArm, World};
 
-/// Most registers one read may ask for (Modbus).
+/// Most registers or bits one request may carry (Modbus application protocol, FC 1-4, 15, 16).
 const MAX_READ_REGISTERS: u16 = 125;
 const MAX_READ_BITS: u16 = 2000;
+const MAX_WRITE_REGISTERS: u16 = 123;
+const MAX_WRITE_COILS: u16 = 1968;
 
 type Reply = Pin<Box<dyn Future<Output = Result<Option<Response>, ExceptionCode>> + Send>>;
 
@@ -102,8 +104,12 @@ fn serve(world: &mut World, request: &Request<'static>) -> Result<Response, Exce
             Ok(Response::WriteSingleRegister(*addr, *value))
         }
         Request::WriteMultipleRegisters(addr, values) => {
+            let count = u16::try_from(values.len()).map_err(|_| ExceptionCode::IllegalDataValue)?;
+            if count == 0 || count > MAX_WRITE_REGISTERS {
+                return Err(ExceptionCode::IllegalDataValue);
+            }
             registers::write_registers(world, *addr, values).map_err(refused)?;
-            Ok(Response::WriteMultipleRegisters(*addr, values.len() as u16))
+            Ok(Response::WriteMultipleRegisters(*addr, count))
         }
         Request::WriteSingleCoil(addr, value) => {
             registers::write_coil(world, *addr, *value).map_err(refused)?;
@@ -111,9 +117,12 @@ fn serve(world: &mut World, request: &Request<'static>) -> Result<Response, Exce
         }
         Request::WriteMultipleCoils(addr, values) => {
             let count = u16::try_from(values.len()).map_err(|_| ExceptionCode::IllegalDataValue)?;
-            check(&COILS, *addr, count, 3)?;
-            for (i, v) in values.iter().enumerate() {
-                registers::write_coil(world, addr + i as u16, *v).map_err(refused)?;
+            let range = check(&COILS, *addr, count, MAX_WRITE_COILS)?;
+            for (coil_addr, v) in range.zip(values.iter()) {
+                // `check` keeps the range inside the listed coils, so it fits a u16.
+                let coil_addr =
+                    u16::try_from(coil_addr).map_err(|_| ExceptionCode::IllegalDataAddress)?;
+                registers::write_coil(world, coil_addr, *v).map_err(refused)?;
             }
             Ok(Response::WriteMultipleCoils(*addr, count))
         }
