@@ -2,7 +2,7 @@
 
 use clap::Parser;
 
-use armjog::cli::{Cli, Command};
+use armjog::cli::{Cli, Command, output};
 
 fn main() {
     let cli = Cli::parse();
@@ -10,7 +10,7 @@ fn main() {
     let runtime = match tokio::runtime::Runtime::new() {
         Ok(rt) => rt,
         Err(e) => {
-            eprintln!("armjog: cannot start the async runtime: {e}");
+            output::print_error(&format!("cannot start the async runtime: {e}"));
             std::process::exit(1);
         }
     };
@@ -18,13 +18,11 @@ fn main() {
         match cli.command {
             Some(Command::Send(args)) => {
                 let outcome = armjog::cli::send::run(&args).await;
-                for line in &outcome.stdout {
-                    println!("{line}");
-                }
-                if let Some(reason) = &outcome.stderr {
-                    eprintln!("armjog: {reason}");
-                }
-                outcome.exit_code
+                output::report(
+                    &outcome.stdout,
+                    outcome.stderr.as_deref(),
+                    outcome.exit_code,
+                )
             }
             Some(Command::Status(args)) => report(armjog::cli::status::run(&args).await),
             Some(Command::Modbus(args)) => report(armjog::cli::modbus::run(&args).await),
@@ -38,11 +36,9 @@ fn main() {
 
 /// Prints a one-shot command's output and returns its exit status.
 fn report(outcome: armjog::cli::modbus::Outcome) -> i32 {
-    for line in &outcome.stdout {
-        println!("{line}");
-    }
-    if let Some(reason) = &outcome.stderr {
-        eprintln!("armjog: {reason}");
-    }
-    outcome.exit_code
+    output::report(
+        &outcome.stdout,
+        outcome.stderr.as_deref(),
+        outcome.exit_code,
+    )
 }

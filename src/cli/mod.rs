@@ -3,6 +3,7 @@
 pub mod console;
 pub mod guard;
 pub mod modbus;
+pub mod output;
 pub mod send;
 pub mod sim;
 pub mod status;

@@ -4,6 +4,8 @@ use std::time::Duration;
 
 use clap::Args;
 
+use super::output;
+
 use crate::link::Dialect;
 use crate::sim::arm::Arm;
 use crate::sim::kinematics::{self, HOME_DEG, JOINT_LIMITS_DEG};
@@ -97,28 +99,38 @@ pub async fn run(args: &SimArgs) -> i32 {
     let config = match args.config() {
         Ok(config) => config,
         Err(reason) => {
-            eprintln!("armjog: {reason}");
+            output::print_error(&reason);
             return 2;
         }
     };
     let sim = match Simulator::start(config).await {
         Ok(sim) => sim,
         Err(e) => {
-            eprintln!("armjog: {e}");
+            output::print_error(&e.to_string());
             return 1;
         }
     };
-    println!(
-        "armjog sim: simulated Kinova Gen3 at the home pose\n  talos operator  {} ({}, {})",
-        sim.talos_addr, args.dialect, args.checksum
-    );
-    match sim.modbus_addr {
-        Some(addr) => println!("  kinova modbus   {addr} (any unit id)"),
-        None => println!("  kinova modbus   off"),
+    // The simulator serves until signalled even if no one reads its banner (`| head`); a
+    // closed stdout only cuts the banner short.
+    let banner = [
+        "armjog sim: simulated Kinova Gen3 at the home pose".to_string(),
+        format!(
+            "  talos operator  {} ({}, {})",
+            sim.talos_addr, args.dialect, args.checksum
+        ),
+        match sim.modbus_addr {
+            Some(addr) => format!("  kinova modbus   {addr} (any unit id)"),
+            None => "  kinova modbus   off".to_string(),
+        },
+        "Ctrl-C stops it.".to_string(),
+    ];
+    if let Err(e) = output::print_lines(&banner) {
+        tracing::warn!("sim: cannot print the banner: {e}");
     }
-    println!("Ctrl-C stops it.");
     wait_for_signal().await;
-    println!("armjog sim: stopped");
+    if let Err(e) = output::print_line("armjog sim: stopped") {
+        tracing::warn!("sim: cannot print the last line: {e}");
+    }
     0
 }
 

@@ -1,12 +1,12 @@
 //! `armjog status`: one complete snapshot of a Kinova arm over Modbus, as a table or JSON, once
 //! or repeatedly.
 
-use std::io::Write as _;
 use std::time::Duration;
 
 use clap::Args;
 
 use super::modbus::{ArmAddress, Outcome};
+use super::output::{self, Printed};
 use crate::kortex::{CodeName, Flag, FlagSet, Telemetry};
 use crate::link::ModbusLink;
 
@@ -66,16 +66,25 @@ pub async fn run(args: &StatusArgs) -> Outcome {
         }
         match link.read_telemetry().await {
             Ok(telemetry) => {
-                let mut out = std::io::stdout().lock();
-                let lines = render(&telemetry, args.json);
-                let written = lines.iter().try_for_each(|l| writeln!(out, "{l}"));
-                let separated = if args.json { Ok(()) } else { writeln!(out) };
-                if written.and(separated).and(out.flush()).is_err() {
+                let mut lines = render(&telemetry, args.json);
+                if !args.json {
+                    // A blank line between tables.
+                    lines.push(String::new());
+                }
+                match output::print_lines(&lines) {
+                    Ok(Printed::All) => {}
                     // The reader went away (a closed pipe): nothing left to do.
-                    break;
+                    Ok(Printed::ReaderGone) => break,
+                    Err(e) => {
+                        return Outcome {
+                            stdout: Vec::new(),
+                            stderr: Some(format!("cannot write the output: {e}")),
+                            exit_code: 1,
+                        };
+                    }
                 }
             }
-            Err(e) => eprintln!("armjog: {e}"),
+            Err(e) => output::print_error(&e.to_string()),
         }
     }
     Outcome {

@@ -1,0 +1,127 @@
+//! Writing a command's output to stdout and stderr without panicking when the reader goes away
+//! (`armjog status | head -c 10`): `println!` panics on a closed pipe, these stop quietly.
+
+use std::io::{self, Write};
+
+/// What became of a write to stdout.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Printed {
+    /// Everything was written.
+    All,
+    /// The reader went away (a closed pipe): stop printing, this is not an error.
+    ReaderGone,
+}
+
+/// Writes `lines` to `out`, one a line, and flushes. A broken pipe is [`Printed::ReaderGone`];
+/// any other failure (a full disk, say) is returned.
+pub fn write_lines<W: Write>(out: &mut W, lines: &[String]) -> io::Result<Printed> {
+    let written = lines
+        .iter()
+        .try_for_each(|line| writeln!(out, "{line}"))
+        .and_then(|()| out.flush());
+    match written {
+        Ok(()) => Ok(Printed::All),
+        Err(e) if e.kind() == io::ErrorKind::BrokenPipe => Ok(Printed::ReaderGone),
+        Err(e) => Err(e),
+    }
+}
+
+/// Prints `lines` on stdout; see [`write_lines`].
+pub fn print_lines(lines: &[String]) -> io::Result<Printed> {
+    write_lines(&mut io::stdout().lock(), lines)
+}
+
+/// Prints one line on stdout; see [`write_lines`].
+pub fn print_line(line: impl Into<String>) -> io::Result<Printed> {
+    print_lines(&[line.into()])
+}
+
+/// Prints an `armjog: ...` message on stderr. A failure to do so is only logged: there is no
+/// one left to tell.
+pub fn print_error(reason: &str) {
+    let mut err = io::stderr().lock();
+    if let Err(e) = writeln!(err, "armjog: {reason}").and_then(|()| err.flush()) {
+        tracing::warn!("cannot write to stderr ({e}): {reason}");
+    }
+}
+
+/// Prints a one-shot command's stdout lines and stderr reason; returns its exit status. The
+/// status is the command's own when its reader went away, and 1 when stdout failed otherwise.
+pub fn report(stdout: &[String], stderr: Option<&str>, exit_code: i32) -> i32 {
+    let code = match print_lines(stdout) {
+        Ok(Printed::All) => exit_code,
+        Ok(Printed::ReaderGone) => {
+            tracing::info!("stdout closed by its reader; output cut short");
+            exit_code
+        }
+        Err(e) => {
+            print_error(&format!("cannot write the output: {e}"));
+            if exit_code == 0 { 1 } else { exit_code }
+        }
+    };
+    if let Some(reason) = stderr {
+        print_error(reason);
+    }
+    code
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A writer whose reader has gone after `room` bytes.
+    struct ClosedAfter {
+        room: usize,
+        kind: io::ErrorKind,
+    }
+
+    impl Write for ClosedAfter {
+        fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+            if self.room == 0 {
+                return Err(io::Error::from(self.kind));
+            }
+            let n = buf.len().min(self.room);
+            self.room -= n;
+            Ok(n)
+        }
+        fn flush(&mut self) -> io::Result<()> {
+            Ok(())
+        }
+    }
+
+    fn lines() -> Vec<String> {
+        vec!["robot state   ready".into(), "faults        none".into()]
+    }
+
+    #[test]
+    fn a_broken_pipe_means_the_reader_is_gone() {
+        let mut out = ClosedAfter {
+            room: 10,
+            kind: io::ErrorKind::BrokenPipe,
+        };
+        assert_eq!(
+            write_lines(&mut out, &lines()).ok(),
+            Some(Printed::ReaderGone)
+        );
+    }
+
+    #[test]
+    fn other_write_failures_are_errors() {
+        let mut out = ClosedAfter {
+            room: 0,
+            kind: io::ErrorKind::StorageFull,
+        };
+        let err = write_lines(&mut out, &lines()).expect_err("a full disk is an error");
+        assert_eq!(err.kind(), io::ErrorKind::StorageFull);
+    }
+
+    #[test]
+    fn all_lines_are_written_when_there_is_room() {
+        let mut out = Vec::new();
+        assert_eq!(write_lines(&mut out, &lines()).ok(), Some(Printed::All));
+        assert_eq!(
+            String::from_utf8_lossy(&out),
+            "robot state   ready\nfaults        none\n"
+        );
+    }
+}
