@@ -219,3 +219,46 @@ async fn raw_exchange(sim: &Simulator, function: u8, body: &[u8]) -> Option<[u8;
         });
     read.ok().map(|_| reply)
 }
+
+/// Panics raised inside tokio-modbus (its per-connection tasks), recorded by a chained hook.
+static LIBRARY_PANICS: std::sync::Mutex<Vec<String>> = std::sync::Mutex::new(Vec::new());
+
+fn record_library_panics() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if let Some(location) = info.location()
+                && location.file().contains("tokio-modbus")
+                && let Ok(mut panics) = LIBRARY_PANICS.lock()
+            {
+                panics.push(info.to_string());
+            }
+            previous(info);
+        }));
+    });
+}
+
+#[tokio::test]
+async fn write_frames_whose_counts_disagree_with_their_data_close_the_connection_without_a_panic() {
+    record_library_panics();
+    let sim = sim().await;
+    // FC 15: 2001 coils announced, one data byte sent.
+    let reply = raw_exchange(&sim, 0x0F, &[0x00, 0x00, 0x07, 0xD1, 1, 0xFF]).await;
+    assert_refused_as_value(reply, "FC15 0+2001 in 1 byte");
+    // FC 16: 32768 registers announced (the decoder's quantity * 2 overflows), none sent.
+    let reply = raw_exchange(&sim, 0x10, &[0x00, 200, 0x80, 0x00, 0]).await;
+    assert_refused_as_value(reply, "FC16 200+32768 in 0 bytes");
+    // FC 23: the same in its write half.
+    let reply = raw_exchange(&sim, 0x17, &[0, 100, 0, 1, 0, 200, 0x80, 0x00, 0]).await;
+    if let Some(reply) = reply {
+        assert_eq!(
+            reply[7] & 0x80,
+            0x80,
+            "FC23: an exception reply: {reply:02x?}"
+        );
+    }
+    assert_still_answers(&sim, "malformed write frames").await;
+    let panics = LIBRARY_PANICS.lock().map(|p| p.clone()).unwrap_or_default();
+    assert!(panics.is_empty(), "tokio-modbus panicked: {panics:?}");
+}

@@ -6,6 +6,7 @@
 
 pub mod arm;
 pub mod kinematics;
+pub mod modbus_frames;
 pub mod modbus_registers;
 pub mod modbus_server;
 pub mod operator;

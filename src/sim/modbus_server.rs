@@ -12,6 +12,7 @@ use tokio_modbus::server::Service;
 use tokio_modbus::server::tcp::Server;
 use tokio_modbus::{ExceptionCode, Request, Response, SlaveRequest};
 
+use super::modbus_frames::{self, Relay};
 use super::modbus_registers::{
     self as registers, COILS, DISCRETE_INPUTS, HOLDING_REGISTERS, INPUT_REGISTERS, Refused,
 };
@@ -30,6 +31,8 @@ struct ArmService {
     arm: SimArm,
     faults: watch::Receiver<NetworkFaults>,
     replies: Arc<AtomicU64>,
+    /// Ends the connection's frame relay with the service.
+    _relay: Relay,
 }
 
 impl Service for ArmService {
@@ -135,10 +138,12 @@ pub async fn serve_on(listener: TcpListener, arm: SimArm, faults: watch::Receive
     let replies = Arc::new(AtomicU64::new(0));
     let on_connected = move |stream: TcpStream, peer: SocketAddr| {
         tracing::info!("sim modbus: client {peer} connected");
+        let (stream, relay) = modbus_frames::guard(stream);
         let service = ArmService {
             arm: arm.clone(),
             faults: faults.clone(),
             replies: replies.clone(),
+            _relay: relay,
         };
         async move { Ok(Some((service, stream))) }
     };
