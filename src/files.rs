@@ -36,7 +36,7 @@ pub fn read_to_string_bounded(path: &Path, limit: u64) -> std::io::Result<String
 /// "1 MB (1048576 bytes)": the limit as people and `ls -l` read it.
 fn describe_size(bytes: u64) -> String {
     const MB: u64 = 1024 * 1024;
-    if bytes % MB == 0 {
+    if bytes.is_multiple_of(MB) {
         format!("{} MB ({bytes} bytes)", bytes / MB)
     } else {
         format!("{bytes} bytes")
