@@ -3,6 +3,7 @@
 
 pub mod cli;
 pub mod console;
+pub mod files;
 pub mod kortex;
 pub mod link;
 pub mod logging;

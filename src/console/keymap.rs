@@ -90,7 +90,10 @@ impl Keymap {
         if let Some((name, text)) = builtin_source(name_or_path) {
             return Keymap::from_json(&builtin_source_name(name), text);
         }
-        match std::fs::read_to_string(name_or_path) {
+        match crate::files::read_to_string_bounded(
+            std::path::Path::new(name_or_path),
+            crate::files::KEYMAP_LIMIT,
+        ) {
             Ok(text) => Keymap::from_json(name_or_path, &text),
             Err(error) => {
                 let looks_like_a_name = !name_or_path.contains(['/', '\\', '.']);

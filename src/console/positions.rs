@@ -100,7 +100,7 @@ impl PositionBook {
     /// Reads a book; a missing file is an empty book.
     pub fn load(path: &Path) -> Result<PositionBook, BookError> {
         let shown = path.display().to_string();
-        let text = match std::fs::read_to_string(path) {
+        let text = match crate::files::read_to_string_bounded(path, crate::files::POSITIONS_LIMIT) {
             Ok(text) => text,
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(PositionBook::new()),
             Err(source) => {
