@@ -80,6 +80,33 @@ impl Motion {
     pub fn is_idle(&self) -> bool {
         matches!(self, Motion::Idle)
     }
+
+    /// Whether every number in the motion is finite: a NaN or infinity from a client would
+    /// otherwise drive the integrator to an arbitrary pose (or trip a joint fault).
+    pub fn is_finite(&self) -> bool {
+        let finite3 = |v: &Vector3<f64>| v.iter().all(|x| x.is_finite());
+        match self {
+            Motion::Idle => true,
+            Motion::Twist {
+                linear, angular, ..
+            } => finite3(linear) && finite3(angular),
+            Motion::Polar { azimuth, altitude } => azimuth.is_finite() && altitude.is_finite(),
+            Motion::ToPose {
+                target,
+                linear_speed,
+                angular_speed,
+            } => {
+                finite3(&target.position)
+                    && target.rotation.matrix().iter().all(|x| x.is_finite())
+                    && linear_speed.is_finite()
+                    && angular_speed.is_finite()
+            }
+            Motion::ToJoints { target, fraction } => {
+                target.iter().all(|x| x.is_finite()) && fraction.is_finite()
+            }
+            Motion::JointVelocity { velocity, .. } => velocity.is_finite(),
+        }
+    }
 }
 
 /// Why the arm refused a command.
@@ -93,6 +120,8 @@ pub enum Refusal {
     JointLimit(usize),
     #[error("a value is out of range")]
     OutOfRange,
+    #[error("a value is NaN or infinite")]
+    NotFinite,
 }
 
 /// Everything the servers report, at one instant.
@@ -227,6 +256,12 @@ impl Arm {
         watchdog: bool,
         max_tcp_speed: Option<f64>,
     ) -> Result<(), Refusal> {
+        if !motion.is_finite()
+            || !delay.is_finite()
+            || max_tcp_speed.is_some_and(|cap| !cap.is_finite())
+        {
+            return Err(Refusal::NotFinite);
+        }
         if self.in_fault() && !motion.is_idle() {
             return Err(Refusal::InFault);
         }

@@ -176,6 +176,24 @@ pub fn write_registers(world: &mut World, start: u16, values: &[u16]) -> Result<
     Ok(())
 }
 
+/// Whether the pose/twist floats (registers 204-215) are all finite; logs each one that is not.
+fn command_floats_finite(block: &[u16; 20]) -> bool {
+    let mut finite = true;
+    for addr in (204..=214).step_by(2) {
+        let value = float_at(block, addr);
+        if !value.is_finite() {
+            tracing::warn!(
+                register = addr,
+                %value,
+                action_type = block[2],
+                "modbus: refused a start with a non-finite value in holding register {addr}: {value}"
+            );
+            finite = false;
+        }
+    }
+    finite
+}
+
 /// Register 200: 0 none, 1 start what 201-215 describe, 2 stop.
 fn execute(world: &mut World) {
     let block = world.command_block;
@@ -183,6 +201,13 @@ fn execute(world: &mut World) {
         2 => world.arm.stop(),
         1 => {
             let id = block[1];
+            if matches!(block[2], 2 | 3) && !command_floats_finite(&block) {
+                // Like the real arm: the action is aborted and nothing moves (a running motion
+                // stops too, since its client just asked for something else).
+                world.arm.stop();
+                world.arm.mark_aborted();
+                return;
+            }
             let motion = match block[2] {
                 0 if id == HOME_ACTION_ID => Some(Motion::ToJoints {
                     target: kinematics::to_radians(&HOME_DEG),
@@ -261,6 +286,8 @@ pub fn write_coil(world: &mut World, addr: u16, value: bool) -> Result<(), Refus
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::kortex::Flag;
+    use crate::sim::arm::ActionStatus;
 
     #[test]
     fn a_linear_limit_alone_keeps_the_angular_one() {
@@ -280,5 +307,60 @@ mod tests {
             Err(Refused::IllegalValue)
         );
         assert_eq!(world.command_block[18..20], [0, 0]);
+    }
+
+    /// Writes a twist (type 3) or cartesian move (type 2) with `bad` in register `addr`
+    /// (the others zero, or the current pose for a move) and starts it.
+    fn start_with(world: &mut World, action_type: u16, addr: u16, bad: f32) {
+        let mut values = [0u16; 16];
+        if action_type == 2 {
+            let start = world.arm.pose();
+            let (x, y, z) = (start.position.x, start.position.y, start.position.z);
+            let (rx, ry, rz) = start.rotation.euler_angles();
+            let floats = [x, y, z, rx.to_degrees(), ry.to_degrees(), rz.to_degrees()];
+            for (i, f) in floats.iter().enumerate() {
+                values[4 + 2 * i..6 + 2 * i].copy_from_slice(&f32_to_words(*f as f32));
+            }
+        }
+        let i = usize::from(addr - 200);
+        values[i..i + 2].copy_from_slice(&f32_to_words(bad));
+        values[0] = 1;
+        values[1] = 7;
+        values[2] = action_type;
+        write_registers(world, 200, &values).expect("the write itself is accepted");
+    }
+
+    #[test]
+    fn a_non_finite_twist_or_move_is_aborted_and_nothing_moves() {
+        for action_type in [2u16, 3] {
+            for addr in (204..=214).step_by(2) {
+                for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+                    let mut world = World::default();
+                    let before = world.arm.joints();
+                    start_with(&mut world, action_type, addr, bad);
+                    world.arm.advance(0.3);
+                    let snap = world.arm.snapshot();
+                    let case = format!("type {action_type}, register {addr}, {bad}");
+                    assert_eq!(world.arm.joints(), before, "{case}: moved");
+                    assert!(!world.arm.is_moving(), "{case}: still moving");
+                    assert_eq!(snap.action_status, ActionStatus::Aborted, "{case}");
+                    assert_eq!(
+                        snap.warnings & Flag::JointFault.bit(),
+                        0,
+                        "{case}: joint fault"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_finite_twist_still_moves() {
+        let mut world = World::default();
+        let before = world.arm.joints();
+        start_with(&mut world, 3, 204, 0.05);
+        world.arm.advance(0.3);
+        assert_ne!(world.arm.joints(), before);
+        assert_ne!(world.arm.snapshot().action_status, ActionStatus::Aborted);
     }
 }

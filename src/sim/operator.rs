@@ -82,7 +82,7 @@ fn refusal_code(refusal: Refusal) -> ReturnCode {
         Refusal::InFault => ReturnCode::ARM_FAULT,
         Refusal::Unreachable => ReturnCode::UNREACHABLE,
         Refusal::JointLimit(_) => ReturnCode::JOINT_LIMIT,
-        Refusal::OutOfRange => ReturnCode::OUT_OF_RANGE,
+        Refusal::OutOfRange | Refusal::NotFinite => ReturnCode::OUT_OF_RANGE,
     }
 }
 

@@ -205,3 +205,16 @@ fn efforts_are_plausible_and_deterministic() {
     }
     assert!(s.arm_voltage > 20.0 && s.arm_voltage < 25.0);
 }
+
+#[test]
+fn a_non_finite_motion_is_refused_and_nothing_moves() {
+    let mut arm = Arm::default();
+    let before = arm.joints();
+    let m = Motion::JointVelocity {
+        joint: 0,
+        velocity: f64::NAN,
+    };
+    assert_eq!(arm.command(m, 0.0, false), Err(Refusal::NotFinite));
+    arm.advance(0.3);
+    assert_eq!(arm.joints(), before);
+}
