@@ -8,6 +8,7 @@ use serde_json::{Map, Value, json};
 use crate::link::talos::{DEFAULT_PORT, Exchange};
 use crate::link::{Answer, Dialect, TalosConfig, TalosError, TalosLink};
 use crate::talos::hardware::HwReply;
+use crate::talos::hex::spaced_hex;
 use crate::talos::{Checksum, PositionName, Request};
 
 /// Exit status when the operator answered with a non-zero return code.
@@ -360,18 +361,6 @@ fn render(args: &SendArgs, exchange: &Exchange) -> Vec<String> {
         lines.push(format!("received {}", spaced_hex(&exchange.reply_bytes)));
     }
     lines
-}
-
-/// Bytes as upper-case hex pairs separated by spaces.
-pub fn spaced_hex(bytes: &[u8]) -> String {
-    let mut out = String::with_capacity(bytes.len() * 3);
-    for (i, b) in bytes.iter().enumerate() {
-        if i > 0 {
-            out.push(' ');
-        }
-        out.push_str(&format!("{b:02X}"));
-    }
-    out
 }
 
 /// The reply's fields other than the return code, in ICD order. A hardware operation's payload

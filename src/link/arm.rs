@@ -5,8 +5,26 @@
 
 use std::time::Duration;
 
-use crate::console::jog::JogMotion;
 use crate::kortex::{Pose, ReferenceFrame, Telemetry};
+
+/// A continuous motion (a jog): what the held keys ask for. Directions are -1, 0 or 1.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JogMotion {
+    Cartesian {
+        x: i8,
+        y: i8,
+        z: i8,
+    },
+    Polar {
+        azimuth: i8,
+        altitude: i8,
+    },
+    /// Joint 1..=7.
+    Joint {
+        joint: u8,
+        direction: i8,
+    },
+}
 
 /// A discrete step move.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

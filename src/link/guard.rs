@@ -1,5 +1,5 @@
-//! The stop guard, console side: a small process (`armjog guard`, see [`crate::cli::guard`])
-//! with its own Modbus connection that stops the arm when the console dies.
+//! The stop guard, console side: a small process (`armjog guard`, in `src/cli/guard.rs`) with
+//! its own Modbus connection that stops the arm when the console dies.
 //!
 //! A Kinova arm has no twist watchdog: a console killed with SIGKILL (or by the OOM killer)
 //! mid-jog leaves the twist running, and no code of the console can run to stop it. The guard
@@ -334,7 +334,7 @@ fn on_line(line: &str, pid: u32, reporter: &Reporter) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::console::jog::JogMotion;
+    use crate::link::arm::JogMotion;
 
     #[test]
     fn only_commands_that_move_the_arm_need_a_guard() {

@@ -16,7 +16,6 @@
 
 use std::collections::{HashMap, VecDeque};
 use std::fmt;
-use std::str::FromStr;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::{Duration, Instant};
@@ -30,6 +29,8 @@ use crate::talos::ack::{ACK, AckCodec, AckItem};
 use crate::talos::frame::{Decoded, Frame, FrameCodec, Rejection};
 use crate::talos::message::{DecodeError, EncodeError};
 use crate::talos::{Checksum, CommandValue, Reply, Request, ReturnCode};
+// Re-exported so the link's callers keep naming it `link::Dialect`.
+pub use crate::talos::Dialect;
 
 /// Default port of the deployed operator.
 pub const DEFAULT_PORT: u16 = 61616;
@@ -41,50 +42,6 @@ pub const STOP_ACK_INTERVAL: Duration = Duration::from_millis(150);
 /// Extra time a caller waits beyond the link's own ack-dialect deadline, which always answers
 /// first: the caller's clock may start before the frame is written.
 const ACK_CALLER_GRACE: Duration = Duration::from_millis(250);
-
-/// How the operator answers.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Dialect {
-    /// Typed replies as the ICD defines them.
-    #[default]
-    Icd,
-    /// The deployed operator: "ACK\0" for every frame, commands 0x0000-0x0004 only.
-    Ack,
-}
-
-impl Dialect {
-    /// Whether this dialect can carry `command` at all.
-    pub fn supports(self, command: CommandValue) -> bool {
-        match self {
-            Dialect::Icd => true,
-            Dialect::Ack => command.request_value() <= CommandValue::PolarPanStop.request_value(),
-        }
-    }
-
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Dialect::Icd => "icd",
-            Dialect::Ack => "ack",
-        }
-    }
-}
-
-impl fmt::Display for Dialect {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.as_str())
-    }
-}
-
-impl FromStr for Dialect {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s {
-            "icd" => Ok(Dialect::Icd),
-            "ack" => Ok(Dialect::Ack),
-            other => Err(format!("unknown dialect '{other}': expected icd or ack")),
-        }
-    }
-}
 
 /// Where and how to reach an operator.
 #[derive(Debug, Clone)]

@@ -17,7 +17,7 @@ use tokio_util::codec::{FramedRead, FramedWrite};
 
 use super::operator::Operator;
 use super::world::SimArm;
-use crate::link::Dialect;
+use crate::talos::Dialect;
 use crate::talos::ack::ACK;
 use crate::talos::command::REPLY_BIT;
 use crate::talos::frame::{Decoded, RejectReason};

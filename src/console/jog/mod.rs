@@ -25,6 +25,8 @@ use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
 
 use super::action::{Action, JogAxis, JogFamily};
+// The motion the held keys ask for is the link's vocabulary: re-exported for the console.
+pub use crate::link::arm::JogMotion;
 pub use held::KEY_EVENT_TIMEOUT;
 use held::{Held, KeyState, expiry};
 pub use timing::{MAX_ONSET, REPEAT_GAP_MAX, RepeatTiming};
@@ -42,25 +44,6 @@ pub enum KeyKind {
     Press,
     Repeat,
     Release,
-}
-
-/// The motion the held keys ask for. Directions are -1, 0 or 1.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum JogMotion {
-    Cartesian {
-        x: i8,
-        y: i8,
-        z: i8,
-    },
-    Polar {
-        azimuth: i8,
-        altitude: i8,
-    },
-    /// Joint 1..=7.
-    Joint {
-        joint: u8,
-        direction: i8,
-    },
 }
 
 /// What the engine wants sent or said.

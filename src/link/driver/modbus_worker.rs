@@ -7,9 +7,8 @@ use tokio::sync::mpsc;
 use tokio::task::JoinHandle;
 
 use super::{DriverConfig, JointPositions};
-use crate::console::jog::JogMotion;
 use crate::kortex::{PolarPanSettings, Pose, ReferenceFrame, Twist};
-use crate::link::arm::{ArmCommand, ArmEvent, LogEntry, StepMove};
+use crate::link::arm::{ArmCommand, ArmEvent, JogMotion, LogEntry, StepMove};
 use crate::link::modbus::{ModbusError, ModbusLink, WriteReport};
 
 /// Percent of the jog speed twists use until the technician changes it.

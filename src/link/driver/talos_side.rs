@@ -9,8 +9,7 @@ use tokio::sync::mpsc;
 
 use super::hw_telemetry;
 use super::{DriverConfig, JointPositions};
-use crate::console::jog::JogMotion;
-use crate::link::arm::{ArmCommand, ArmEvent, LogEntry, PositionCoordinates, StepMove};
+use crate::link::arm::{ArmCommand, ArmEvent, JogMotion, LogEntry, PositionCoordinates, StepMove};
 use crate::link::talos::{Answer, Exchange, PendingReply, TalosConfig, TalosError, TalosEvent};
 use crate::link::{Dialect, TalosLink};
 use crate::talos::hardware::{ActuatorCommand, HwReply, HwRequest};
@@ -421,8 +420,8 @@ fn log_entry(exchange: &Exchange) -> LogEntry {
         },
         ok: code.is_ok(),
         latency: Some(exchange.latency),
-        sent_hex: Some(crate::cli::send::spaced_hex(&exchange.request_bytes)),
-        received_hex: Some(crate::cli::send::spaced_hex(&exchange.reply_bytes)),
+        sent_hex: Some(crate::talos::hex::spaced_hex(&exchange.request_bytes)),
+        received_hex: Some(crate::talos::hex::spaced_hex(&exchange.reply_bytes)),
     }
 }
 
