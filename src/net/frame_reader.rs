@@ -35,7 +35,7 @@ pub struct FrameReader<R> {
     codec: FrameCodec,
     buf: BytesMut,
     deadline: Duration,
-    /// Who is at the other end, for the log.
+    /// Who is at the other end, as the log names it.
     peer: String,
     /// One entry per read whose bytes are still buffered: the stream offset just past its last
     /// byte, and when it arrived. Bounded by the buffered bytes, as every read brings one or more.
@@ -127,7 +127,7 @@ impl<R: AsyncRead + Unpin> FrameReader<R> {
         if let Some(Decoded::Rejected(rejection)) = &item
             && let RejectReason::Stalled { .. } = rejection.reason
         {
-            tracing::info!("talos frames from {}: {rejection}", self.peer);
+            tracing::info!("{}: {rejection}", self.peer);
         }
         item
     }
