@@ -107,7 +107,8 @@ fn several_split_odd_frames_in_a_row_all_come_out() {
         let wires: Vec<Vec<u8>> = frames.iter().map(|f| bytes_of(f, checksum)).collect();
         let mut pieces: Vec<&[u8]> = Vec::new();
         for (i, wire) in wires.iter().enumerate() {
-            let (a, b) = wire.split_at(1 + i % (wire.len() - 1));
+            // After the header: the split the old decoder got wrong.
+            let (a, b) = wire.split_at(HEADER_LEN + i % (wire.len() - HEADER_LEN));
             pieces.extend([a, b]);
         }
         let expected: Vec<Decoded> = frames.into_iter().map(Decoded::Frame).collect();
@@ -210,7 +211,7 @@ async fn split_odd_frames_with_pauses_all_come_out_of_the_reader() {
         .collect();
     let writer = tokio::spawn(async move {
         for wire in wires {
-            let (a, b) = wire.split_at(wire.len() / 2);
+            let (a, b) = wire.split_at(HEADER_LEN + 1);
             peer.write_all(a).await.unwrap();
             tokio::time::sleep(Duration::from_millis(300)).await;
             peer.write_all(b).await.unwrap();
