@@ -368,3 +368,62 @@ async fn the_stream_ending_inside_a_frame_is_reported_truncated() {
     ));
     assert!(reader.next().await.is_none());
 }
+
+// ---- expiry on arbitrary input ----
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(256))]
+
+    /// Whatever the bytes, the split and the moments the deadline passes: no panic, an expiry
+    /// while the codec waits always reports what it dropped, the codec never holds more than
+    /// one frame's worth, and every byte is in a frame or reported discarded, exactly once.
+    #[test]
+    fn expiring_at_arbitrary_moments_accounts_for_every_byte(
+        bytes in proptest::collection::vec(
+            proptest::prop_oneof![3 => 0u8..=0x12, 1 => proptest::prelude::any::<u8>()],
+            0..600,
+        ),
+        chunk in 1usize..40,
+        expiries in proptest::collection::vec(proptest::prelude::any::<(bool, u8)>(), 64),
+    ) {
+        for checksum in Checksum::ALL {
+            let mut codec = FrameCodec::with_max_payload(checksum, 64);
+            let mut buf = BytesMut::new();
+            let mut accounted = 0;
+            let mut account = |item: &Decoded| match item {
+                Decoded::Frame(f) => accounted += f.encoded_len(checksum),
+                Decoded::Rejected(r) => accounted += r.discarded,
+            };
+            for (i, piece) in bytes.chunks(chunk).enumerate() {
+                buf.extend_from_slice(piece);
+                while let Some(item) = codec.decode(&mut buf).unwrap() {
+                    account(&item);
+                }
+                proptest::prop_assert!(buf.len() < codec.max_frame_len());
+                let (expire, overdue) = expiries[i % expiries.len()];
+                if expire && !buf.is_empty() {
+                    let overdue = 1 + usize::from(overdue) % buf.len();
+                    let item = codec.expire(&mut buf, overdue, DEADLINE);
+                    match &item {
+                        Some(Decoded::Rejected(r)) => {
+                            proptest::prop_assert!(r.discarded >= 1);
+                            let stalled = matches!(r.reason, RejectReason::Stalled { .. });
+                            proptest::prop_assert!(stalled, "{:?}", r);
+                        }
+                        other => proptest::prop_assert!(false, "expiry gave {:?}", other),
+                    }
+                    for item in item.into_iter().chain(std::iter::from_fn(|| {
+                        codec.decode(&mut buf).unwrap()
+                    })) {
+                        account(&item);
+                    }
+                }
+            }
+            while let Some(item) = codec.decode_eof(&mut buf).unwrap() {
+                account(&item);
+            }
+            proptest::prop_assert!(buf.is_empty());
+            proptest::prop_assert_eq!(accounted, bytes.len(), "{}", checksum);
+        }
+    }
+}
