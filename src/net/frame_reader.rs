@@ -4,8 +4,8 @@
 //! across reads must not be lost), so without a clock one bad header would hold back every frame
 //! behind it. Each frame must therefore complete within a deadline counted from the arrival of
 //! its first byte (so trickling bytes does not extend it); past it, the frame is given up
-//! ([`FrameCodec::expire`]), reported as [`RejectReason::Stalled`], and the frames already
-//! buffered behind it come out at once, without waiting for another byte.
+//! ([`FrameCodec::expire`]), reported as `RejectReason::Stalled` and logged with the peer, and
+//! the frames already buffered behind it come out at once, without waiting for another byte.
 //!
 //! `tokio_util`'s `FramedRead` cannot do this: it calls the decoder only when new bytes arrive.
 
@@ -14,12 +14,13 @@ use std::io;
 use std::time::Duration;
 
 use bytes::BytesMut;
+use futures::FutureExt;
 use tokio::io::{AsyncRead, AsyncReadExt};
 use tokio::time::Instant;
 use tokio_util::codec::Decoder;
 
 use crate::talos::FrameCodec;
-use crate::talos::frame::{Decoded, RejectReason};
+use crate::talos::frame::Decoded;
 
 /// How long a frame may take from its first byte to its last, by default.
 pub const DEFAULT_FRAME_DEADLINE: Duration = Duration::from_secs(1);
@@ -93,22 +94,34 @@ impl<R: AsyncRead + Unpin> FrameReader<R> {
             };
             match outcome {
                 Ok(Ok(0)) => self.eof = true,
-                Ok(Ok(n)) => {
-                    self.received += n as u64;
-                    self.arrivals.push_back((self.received, Instant::now()));
-                }
+                Ok(Ok(n)) => self.note_arrival(n),
                 Ok(Err(e)) => return Some(Err(e)),
-                Err(_elapsed) => match self.expire() {
-                    Some(item) => return Some(Ok(item)),
-                    // Nothing was waiting after all: restart the clock rather than spin.
-                    None => {
-                        if let Some(front) = self.arrivals.front_mut() {
-                            front.1 = Instant::now();
-                        }
+                Err(_elapsed) => {
+                    // The read may have yielded only because the task's cooperative budget ran
+                    // out: take any bytes already here before giving up on a frame.
+                    let read = tokio::task::unconstrained(self.inner.read_buf(&mut self.buf));
+                    match read.now_or_never() {
+                        Some(Ok(0)) => self.eof = true,
+                        Some(Ok(n)) => self.note_arrival(n),
+                        Some(Err(e)) => return Some(Err(e)),
+                        None => match self.expire() {
+                            Some(item) => return Some(Ok(item)),
+                            // Nothing was waiting after all: restart the clock, not spin.
+                            None => {
+                                if let Some(front) = self.arrivals.front_mut() {
+                                    front.1 = Instant::now();
+                                }
+                            }
+                        },
                     }
-                },
+                }
             }
         }
+    }
+
+    fn note_arrival(&mut self, n: usize) {
+        self.received += n as u64;
+        self.arrivals.push_back((self.received, Instant::now()));
     }
 
     /// Gives up on the overdue frame at the front of the buffer.
@@ -124,9 +137,7 @@ impl<R: AsyncRead + Unpin> FrameReader<R> {
         let overdue = usize::try_from(overdue_end - consumed).unwrap_or(usize::MAX);
         let item = self.codec.expire(&mut self.buf, overdue, self.deadline);
         self.forget_consumed();
-        if let Some(Decoded::Rejected(rejection)) = &item
-            && let RejectReason::Stalled { .. } = rejection.reason
-        {
+        if let Some(Decoded::Rejected(rejection)) = &item {
             tracing::info!("{}: {rejection}", self.peer);
         }
         item
