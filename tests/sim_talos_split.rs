@@ -96,3 +96,59 @@ async fn a_header_announcing_more_than_comes_delays_the_next_frame_by_the_deadli
         "answered after {waited:?}"
     );
 }
+
+#[tokio::test]
+async fn a_burst_larger_than_the_read_buffer_loses_no_odd_frame() {
+    // Issue 9 item 2 as first seen: frames that straddle the server's read-buffer boundary
+    // arrive in two reads. 700 unknown-command and wrong-length frames of varying sizes in one
+    // write: every one gets its reply, in order.
+    let sim = sim_with_deadline(Duration::from_secs(30)).await;
+    let mut stream = TcpStream::connect(sim.talos_addr).await.unwrap();
+    let count = 700u32;
+    let mut wire = Vec::new();
+    let mut expected = Vec::new();
+    for i in 0..count {
+        let id = 2 * i;
+        let (frame, code) = if i % 2 == 0 {
+            let payload = vec![0x5A; (i % 7) as usize];
+            (Frame::new(id, 0x0042, payload), ReturnCode::UNKNOWN_COMMAND)
+        } else {
+            let payload = vec![1; 2 + (i % 5) as usize];
+            (
+                Frame::new(id, 0x000A, payload),
+                ReturnCode::MALFORMED_PAYLOAD,
+            )
+        };
+        wire.extend(frame.to_bytes(Checksum::Crc16).unwrap());
+        expected.push((id | 1, code));
+    }
+    let (mut reader, mut writer) = stream.split();
+    let send = async {
+        writer.write_all(&wire).await.unwrap();
+    };
+    let receive = async {
+        let mut got = Vec::new();
+        let mut reply = [0u8; 14];
+        // Until every reply is in, or the server has been silent for 3 s.
+        while got.len() < expected.len() {
+            match tokio::time::timeout(Duration::from_secs(3), reader.read_exact(&mut reply)).await
+            {
+                Ok(Ok(_)) => got.push((
+                    u32::from_be_bytes([reply[0], reply[1], reply[2], reply[3]]),
+                    return_code_of(&reply),
+                )),
+                _ => break,
+            }
+        }
+        got
+    };
+    let ((), got) = tokio::join!(send, receive);
+    assert_eq!(
+        got.len(),
+        expected.len(),
+        "{} of {} replies lost",
+        expected.len() - got.len(),
+        expected.len()
+    );
+    assert_eq!(got, expected);
+}
