@@ -7,5 +7,6 @@ pub mod files;
 pub mod kortex;
 pub mod link;
 pub mod logging;
+pub mod net;
 pub mod sim;
 pub mod talos;

@@ -82,6 +82,7 @@ impl SimArgs {
             talos: TalosServerConfig {
                 checksum: self.checksum,
                 dialect: self.dialect,
+                ..TalosServerConfig::default()
             },
             faults: NetworkFaults {
                 reply_delay: Duration::from_millis(self.reply_delay),

@@ -22,9 +22,11 @@ use std::time::{Duration, Instant};
 
 use futures::{SinkExt, StreamExt};
 use tokio::net::TcpStream;
+use tokio::net::tcp::OwnedReadHalf;
 use tokio::sync::{mpsc, oneshot};
 use tokio_util::codec::{FramedRead, FramedWrite};
 
+use crate::net::{DEFAULT_FRAME_DEADLINE, FrameReader};
 use crate::talos::ack::{ACK, AckCodec, AckItem};
 use crate::talos::frame::{Decoded, Frame, FrameCodec, Rejection};
 use crate::talos::message::{DecodeError, EncodeError};
@@ -51,6 +53,8 @@ pub struct TalosConfig {
     pub checksum: Checksum,
     pub connect_timeout: Duration,
     pub request_timeout: Duration,
+    /// How long a reply may take from its first byte to its last before it is given up.
+    pub frame_deadline: Duration,
 }
 
 impl TalosConfig {
@@ -61,6 +65,7 @@ impl TalosConfig {
             checksum: Checksum::Crc16,
             connect_timeout: Duration::from_secs(2),
             request_timeout: Duration::from_millis(500),
+            frame_deadline: DEFAULT_FRAME_DEADLINE,
         }
     }
 }
@@ -223,6 +228,8 @@ impl TalosLink {
             ack_queue: VecDeque::new(),
             expired_acks: VecDeque::new(),
             request_timeout: config.request_timeout,
+            frame_deadline: config.frame_deadline,
+            addr: config.addr.clone(),
             motion: Motion::default(),
             events: events_tx,
         };
@@ -481,6 +488,9 @@ struct LinkTask {
     /// theirs.
     expired_acks: VecDeque<ExpiredAck>,
     request_timeout: Duration,
+    frame_deadline: Duration,
+    /// The operator's address, for the log.
+    addr: String,
     motion: Motion,
     events: mpsc::UnboundedSender<TalosEvent>,
 }
@@ -491,26 +501,19 @@ enum Incoming {
     Ack(AckItem),
 }
 
-/// Reads replies in the link's dialect.
-struct ReplyDecoder {
-    frames: Option<FrameCodec>,
+/// Reads replies in the link's dialect. Both readers are cancel-safe, as `select!` needs.
+enum Replies {
+    /// Frames with a per-frame deadline, so a reply split across reads is kept and one that
+    /// never completes is given up.
+    Frames(FrameReader<OwnedReadHalf>),
+    Acks(FramedRead<OwnedReadHalf, AckCodec>),
 }
 
-impl tokio_util::codec::Decoder for ReplyDecoder {
-    type Item = Incoming;
-    type Error = std::io::Error;
-
-    fn decode(&mut self, src: &mut bytes::BytesMut) -> Result<Option<Incoming>, Self::Error> {
-        match &mut self.frames {
-            Some(codec) => Ok(codec.decode(src)?.map(Incoming::Frame)),
-            None => Ok(AckCodec.decode(src)?.map(Incoming::Ack)),
-        }
-    }
-
-    fn decode_eof(&mut self, src: &mut bytes::BytesMut) -> Result<Option<Incoming>, Self::Error> {
-        match &mut self.frames {
-            Some(codec) => Ok(codec.decode_eof(src)?.map(Incoming::Frame)),
-            None => Ok(AckCodec.decode_eof(src)?.map(Incoming::Ack)),
+impl Replies {
+    async fn next(&mut self) -> Option<std::io::Result<Incoming>> {
+        match self {
+            Replies::Frames(reader) => reader.next().await.map(|r| r.map(Incoming::Frame)),
+            Replies::Acks(reader) => reader.next().await.map(|r| r.map(Incoming::Ack)),
         }
     }
 }
@@ -519,10 +522,15 @@ impl LinkTask {
     async fn run(mut self, stream: TcpStream, mut jobs: mpsc::Receiver<Job>) {
         let (read_half, write_half) = stream.into_split();
         let mut writer = FramedWrite::new(write_half, FrameCodec::new(self.checksum));
-        let decoder = ReplyDecoder {
-            frames: (self.dialect == Dialect::Icd).then(|| FrameCodec::new(self.checksum)),
+        let mut reader = match self.dialect {
+            Dialect::Icd => Replies::Frames(FrameReader::new(
+                read_half,
+                FrameCodec::new(self.checksum),
+                self.frame_deadline,
+                format!("talos replies from {}", self.addr),
+            )),
+            Dialect::Ack => Replies::Acks(FramedRead::new(read_half, AckCodec)),
         };
-        let mut reader = FramedRead::new(read_half, decoder);
         let mut sweep = tokio::time::interval(Duration::from_secs(1));
         let reason = loop {
             tokio::select! {

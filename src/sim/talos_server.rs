@@ -9,14 +9,15 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
 
-use futures::{SinkExt, StreamExt};
+use futures::SinkExt;
 use tokio::io::AsyncWriteExt;
 use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::watch;
-use tokio_util::codec::{FramedRead, FramedWrite};
+use tokio_util::codec::FramedWrite;
 
 use super::operator::Operator;
 use super::world::SimArm;
+use crate::net::{DEFAULT_FRAME_DEADLINE, FrameReader};
 use crate::talos::Dialect;
 use crate::talos::ack::ACK;
 use crate::talos::command::REPLY_BIT;
@@ -39,6 +40,8 @@ pub struct NetworkFaults {
 pub struct TalosServerConfig {
     pub checksum: Checksum,
     pub dialect: Dialect,
+    /// How long a frame may take from its first byte to its last before it is given up.
+    pub frame_deadline: Duration,
 }
 
 impl Default for TalosServerConfig {
@@ -46,6 +49,7 @@ impl Default for TalosServerConfig {
         TalosServerConfig {
             checksum: Checksum::Crc16,
             dialect: Dialect::Icd,
+            frame_deadline: DEFAULT_FRAME_DEADLINE,
         }
     }
 }
@@ -86,8 +90,16 @@ async fn connection(
     faults: watch::Receiver<NetworkFaults>,
     replies: Arc<AtomicU64>,
 ) {
+    let peer = stream
+        .peer_addr()
+        .map_or_else(|_| "an unknown peer".to_string(), |addr| addr.to_string());
     let (read_half, write_half) = stream.into_split();
-    let mut frames = FramedRead::new(read_half, FrameCodec::new(config.checksum));
+    let mut frames = FrameReader::new(
+        read_half,
+        FrameCodec::new(config.checksum),
+        config.frame_deadline,
+        format!("sim talos client {peer}"),
+    );
     let mut writer = FramedWrite::new(write_half, FrameCodec::new(config.checksum));
     let mut seen: u32 = 0;
     while let Some(item) = frames.next().await {

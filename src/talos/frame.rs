@@ -7,15 +7,18 @@
 //! [`Checksum`].
 //!
 //! The wrapper has no sync marker, so resynchronisation after garbage or a corrupt frame is a
-//! search: drop one byte and try to parse again. The decoder only waits for the rest of a frame
-//! whose command value is in the ICD and whose length the ICD allows for it; otherwise a garbage
-//! "length" could make it wait for bytes that never come. While searching, only such plausible
-//! positions count as frame starts. At a clean frame boundary a complete frame with a good
-//! checksum is accepted as is, so one with an unknown command or a wrong payload length still
-//! reaches the server, which answers "unknown command" or "malformed payload".
+//! search: drop one byte and try to parse again. While searching, only plausible positions count
+//! as frame starts: a command value in the ICD with a length the ICD allows for it. At a clean
+//! frame boundary the decoder keeps any frame whose Length is within the payload bound, whatever
+//! its command value, until it is complete and its checksum decides; so a frame with an unknown
+//! command or a wrong payload length reaches the server (which answers "unknown command" or
+//! "malformed payload") however TCP split it into reads. A header that announces more than ever
+//! comes is not the codec's to time out: the reader gives each frame a deadline and calls
+//! [`FrameCodec::expire`] (see `crate::net::FrameReader`).
 
 use bytes::{Buf, BytesMut};
 use std::fmt;
+use std::time::Duration;
 use tokio_util::codec::{Decoder, Encoder};
 
 use super::checksum::Checksum;
@@ -116,13 +119,20 @@ pub enum RejectReason {
     /// The Length field is above the decoder's bound.
     OversizedLength { length: u16, max: usize },
     /// A command value the ICD does not define cannot start a frame while resynchronising (or
-    /// with no checksum to trust), nor be waited for.
+    /// with no checksum to trust).
     UnknownCommand { value: u16 },
     /// The Length field is not one the ICD allows for the command value: not a frame start
-    /// while resynchronising, nor one worth waiting for.
+    /// while resynchronising (or with no checksum to trust).
     ImplausibleLength { command: u16, length: u16 },
     /// The stream ended inside a frame.
     Truncated { have: usize, needed: usize },
+    /// A frame begun `after` ago was still incomplete at its deadline: the peer announced more
+    /// bytes than it sent (or sends them too slowly).
+    Stalled {
+        have: usize,
+        needed: usize,
+        after: Duration,
+    },
 }
 
 impl fmt::Display for RejectReason {
@@ -145,13 +155,22 @@ impl fmt::Display for RejectReason {
             RejectReason::Truncated { have, needed } => {
                 write!(f, "stream ended inside a frame ({have} of {needed} bytes)")
             }
+            RejectReason::Stalled {
+                have,
+                needed,
+                after,
+            } => write!(
+                f,
+                "frame incomplete after {after:?} ({have} of {needed} bytes): given up"
+            ),
         }
     }
 }
 
 /// Bytes the decoder dropped: the reason found at the first bad position, how many bytes were
 /// skipped before the next valid frame (or the end of what was buffered), and the header found at
-/// the first bad position if it was a complete frame.
+/// the first bad position if it was a complete frame (or, for [`RejectReason::Stalled`], the
+/// unverified header of the frame that never completed).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Rejection {
     pub reason: RejectReason,
@@ -196,17 +215,15 @@ fn header_at(buf: &[u8]) -> Option<FrameHeader> {
 ///
 /// `strict` (set while resynchronising, and always for the `none` checksum, which cannot tell a
 /// frame from noise) only accepts command values the ICD defines, with a payload length the ICD
-/// allows for them. Otherwise a complete frame with a good checksum is accepted whatever it
-/// carries, so the server can answer "unknown command" or "malformed payload"; but the decoder
-/// only *waits* for the rest of a frame whose header is plausible, so garbage that looks like a
-/// long header cannot stall the stream.
+/// allows for them. Otherwise any header whose Length is within `max_payload` is waited for and
+/// the checksum decides, so the server can answer "unknown command" or "malformed payload" for a
+/// frame whichever way it was split into reads.
 pub fn parse_frame(buf: &[u8], checksum: Checksum, max_payload: usize, strict: bool) -> Parse {
     let Some(header) = header_at(buf) else {
         return Parse::Incomplete(HEADER_LEN);
     };
     let strict = strict || checksum == Checksum::None;
-    let plausible = CommandValue::is_plausible(header.command, usize::from(header.length));
-    if strict && !plausible {
+    if strict && !CommandValue::is_plausible(header.command, usize::from(header.length)) {
         return Parse::Invalid(implausible(header), None);
     }
     if usize::from(header.length) > max_payload {
@@ -219,9 +236,6 @@ pub fn parse_frame(buf: &[u8], checksum: Checksum, max_payload: usize, strict: b
     let body_end = HEADER_LEN + usize::from(header.length);
     let total = body_end + checksum.len();
     let Some(field) = buf.get(body_end..total) else {
-        if !plausible {
-            return Parse::Invalid(implausible(header), None);
-        }
         return Parse::Incomplete(total);
     };
     let covered = &buf[..body_end];
@@ -293,6 +307,75 @@ impl FrameCodec {
         HEADER_LEN + self.max_payload + self.checksum.len()
     }
 
+    /// Gives up on the frame at the front of `src`, whose deadline has passed (the reader keeps
+    /// the clock): drops its first byte, and every later one of the first `overdue` bytes (those
+    /// whose own deadline has passed too) that does not start a complete frame, then
+    /// resynchronises on the rest as after any bad frame. Returns the report of the dropped run
+    /// ([`RejectReason::Stalled`]), or `None` if no frame was waiting.
+    pub fn expire(
+        &mut self,
+        src: &mut BytesMut,
+        overdue: usize,
+        after: Duration,
+    ) -> Option<Decoded> {
+        let needed = match parse_frame(src, self.checksum, self.max_payload, !self.synced) {
+            Parse::Incomplete(needed) if !src.is_empty() => needed,
+            _ => return None,
+        };
+        let reason = RejectReason::Stalled {
+            have: src.len(),
+            needed,
+            after,
+        };
+        self.first.get_or_insert((reason, header_at(src)));
+        self.synced = false;
+        src.advance(1);
+        self.discarded += 1;
+        for _ in 1..overdue {
+            let complete = matches!(
+                parse_frame(src, self.checksum, self.max_payload, true),
+                Parse::Complete(..)
+            );
+            if src.is_empty() || complete {
+                break;
+            }
+            src.advance(1);
+            self.discarded += 1;
+        }
+        self.decode_buffered(src)
+    }
+
+    /// The next item from what is buffered, or `None` to wait for more bytes: what
+    /// [`Decoder::decode`] returns, without its never-taken error path.
+    pub fn decode_buffered(&mut self, src: &mut BytesMut) -> Option<Decoded> {
+        loop {
+            match parse_frame(src, self.checksum, self.max_payload, !self.synced) {
+                Parse::Complete(frame, used) => {
+                    // Report the dropped run first; the frame stays buffered for the next call.
+                    if let Some(rejection) = self.take_rejection() {
+                        return Some(rejection);
+                    }
+                    self.synced = true;
+                    src.advance(used);
+                    return Some(Decoded::Frame(frame));
+                }
+                Parse::Incomplete(needed) => {
+                    if let Some(rejection) = self.take_rejection() {
+                        return Some(rejection);
+                    }
+                    src.reserve(needed.saturating_sub(src.len()));
+                    return None;
+                }
+                Parse::Invalid(reason, header) => {
+                    self.synced = false;
+                    self.first.get_or_insert((reason, header));
+                    src.advance(1);
+                    self.discarded += 1;
+                }
+            }
+        }
+    }
+
     fn take_rejection(&mut self) -> Option<Decoded> {
         let (reason, header) = self.first.take()?;
         let discarded = std::mem::take(&mut self.discarded);
@@ -309,32 +392,7 @@ impl Decoder for FrameCodec {
     type Error = std::io::Error;
 
     fn decode(&mut self, src: &mut BytesMut) -> Result<Option<Decoded>, Self::Error> {
-        loop {
-            match parse_frame(src, self.checksum, self.max_payload, !self.synced) {
-                Parse::Complete(frame, used) => {
-                    // Report the dropped run first; the frame stays buffered for the next call.
-                    if let Some(rejection) = self.take_rejection() {
-                        return Ok(Some(rejection));
-                    }
-                    self.synced = true;
-                    src.advance(used);
-                    return Ok(Some(Decoded::Frame(frame)));
-                }
-                Parse::Incomplete(needed) => {
-                    if let Some(rejection) = self.take_rejection() {
-                        return Ok(Some(rejection));
-                    }
-                    src.reserve(needed.saturating_sub(src.len()));
-                    return Ok(None);
-                }
-                Parse::Invalid(reason, header) => {
-                    self.synced = false;
-                    self.first.get_or_insert((reason, header));
-                    src.advance(1);
-                    self.discarded += 1;
-                }
-            }
-        }
+        Ok(self.decode_buffered(src))
     }
 
     fn decode_eof(&mut self, src: &mut BytesMut) -> Result<Option<Decoded>, Self::Error> {

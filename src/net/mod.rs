@@ -1,0 +1,5 @@
+//! IO helpers shared by the link (client) and the simulator (server). Imports neither.
+
+pub mod frame_reader;
+
+pub use frame_reader::{DEFAULT_FRAME_DEADLINE, FrameReader};
