@@ -125,28 +125,28 @@ async fn refreshing_start_keeps_the_motion_alive_past_the_watchdog() {
 }
 
 #[tokio::test]
-async fn a_lost_client_mid_jog_is_stopped_by_the_watchdog() {
+async fn a_silent_client_mid_jog_is_stopped_by_the_watchdog() {
     let sim = sim().await;
-    {
-        // A raw client that vanishes without STOP (no link task to send one on drop).
-        let mut stream = TcpStream::connect(sim.talos_addr).await.unwrap();
-        let frame = Request::CartesianMoveStart {
-            moving_x: -1,
-            moving_y: 0,
-            moving_z: 0,
-        }
-        .to_frame(0)
-        .unwrap();
-        stream
-            .write_all(&frame.to_bytes(Checksum::Crc16).unwrap())
-            .await
-            .unwrap();
-        let mut reply = [0u8; 14];
-        stream.read_exact(&mut reply).await.unwrap();
+    // A raw client that freezes without STOP but keeps its connection open (a client that
+    // closes is stopped at once: tests/sim_talos_disconnect.rs).
+    let mut stream = TcpStream::connect(sim.talos_addr).await.unwrap();
+    let frame = Request::CartesianMoveStart {
+        moving_x: -1,
+        moving_y: 0,
+        moving_z: 0,
     }
+    .to_frame(0)
+    .unwrap();
+    stream
+        .write_all(&frame.to_bytes(Checksum::Crc16).unwrap())
+        .await
+        .unwrap();
+    let mut reply = [0u8; 14];
+    stream.read_exact(&mut reply).await.unwrap();
     assert!(sim.arm.snapshot().await.unwrap().moving);
     tokio::time::sleep(Duration::from_millis(600)).await;
     assert!(!sim.arm.snapshot().await.unwrap().moving);
+    drop(stream);
 }
 
 #[tokio::test]

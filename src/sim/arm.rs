@@ -172,6 +172,8 @@ pub struct Arm {
     tcp_cap: Option<f64>,
     /// When set, the current motion stops at this time unless refreshed (Talos continuous).
     watchdog: Option<f64>,
+    /// How long a continuous motion runs without a refresh, seconds ([`WATCHDOG`]).
+    watchdog_period: f64,
     faults: u32,
     warnings: u32,
     action_status: ActionStatus,
@@ -201,6 +203,7 @@ impl Arm {
             delayed: None,
             tcp_cap: None,
             watchdog: None,
+            watchdog_period: WATCHDOG,
             faults: 0,
             warnings: 0,
             action_status: ActionStatus::Completed,
@@ -266,7 +269,7 @@ impl Arm {
             return Err(Refusal::InFault);
         }
         self.check_reachable(&motion)?;
-        self.watchdog = watchdog.then_some(self.time + WATCHDOG);
+        self.watchdog = watchdog.then_some(self.time + self.watchdog_period);
         self.move_type = match motion {
             Motion::ToPose { .. } => 2,
             Motion::Twist { .. } | Motion::Polar { .. } => 3,
@@ -290,7 +293,21 @@ impl Arm {
     /// Refreshes the watchdog of a continuous motion (a repeated START).
     pub fn refresh_watchdog(&mut self) {
         if self.watchdog.is_some() {
-            self.watchdog = Some(self.time + WATCHDOG);
+            self.watchdog = Some(self.time + self.watchdog_period);
+        }
+    }
+
+    /// When the running continuous motion stops unless refreshed (arm time, seconds); `None`
+    /// when the motion has no watchdog. A change of it means a command (re)armed the watchdog.
+    pub fn watchdog_deadline(&self) -> Option<f64> {
+        self.watchdog
+    }
+
+    /// Changes the watchdog period of continuous motions (tests lengthen it to tell a stop by
+    /// the watchdog from another stop). Non-finite or non-positive periods are ignored.
+    pub fn set_watchdog_period(&mut self, seconds: f64) {
+        if seconds.is_finite() && seconds > 0.0 {
+            self.watchdog_period = seconds;
         }
     }
 
@@ -394,7 +411,10 @@ impl Arm {
             self.start(motion);
         }
         if self.watchdog.is_some_and(|deadline| self.time >= deadline) {
-            tracing::info!("sim: continuous motion stopped by the 500 ms watchdog");
+            tracing::info!(
+                "sim: continuous motion stopped by the {} ms watchdog",
+                (self.watchdog_period * 1000.0).round()
+            );
             self.stop();
         }
         self.qd = if self.motion.is_idle() {

@@ -10,6 +10,7 @@ pub mod modbus_frames;
 pub mod modbus_registers;
 pub mod modbus_server;
 pub mod operator;
+pub mod reject_log;
 pub mod talos_server;
 pub mod telemetry;
 pub mod world;

@@ -13,6 +13,8 @@
 //! - Continuous START runs until STOP or until no START arrives for 500 ms (the watchdog). A
 //!   START with every direction 0 stops. Either STOP stops any continuous motion: a stop is never
 //!   ignored because it named the other kind.
+//! - A continuous motion (START, a joint jog) also stops when the connection holding it closes
+//!   (see [`Operator::client_gone`]); a discrete move (home, go to, a pan) runs to its end.
 //! - Discrete moves honour Delay; Time, when non-zero, sets the speed so the move takes that long
 //!   (never faster than the maximum jog speed); otherwise the move runs at the current speed.
 //! - Polar coordinates of named positions are about the base origin: delta is the elevation,
@@ -29,8 +31,10 @@ use super::kinematics::{self, HOME_DEG, Joints, Pose};
 use crate::talos::hardware::HwRequest;
 use crate::talos::message::DecodeError;
 
+mod clients;
 mod hardware;
 use crate::talos::{Reply, Request, ReturnCode};
+pub use clients::ClientId;
 use hardware::hardware_operation;
 
 /// The simulated operator's version, reported by Handshake.
@@ -65,6 +69,8 @@ pub struct Operator {
     /// Cartesian speed at 100 %, m/s.
     max_jog_linear: f64,
     positions: BTreeMap<String, SavedPosition>,
+    /// The client whose command last started or refreshed the running continuous motion.
+    holder: Option<ClientId>,
 }
 
 impl Default for Operator {
@@ -73,6 +79,7 @@ impl Default for Operator {
             speed: DEFAULT_SPEED,
             max_jog_linear: MAX_JOG_LINEAR,
             positions: BTreeMap::new(),
+            holder: None,
         }
     }
 }

@@ -4,7 +4,21 @@
 //! order, so they cannot corrupt each other; any client's START refreshes the arm's single
 //! watchdog and any client's STOP stops it. (The deployed operator takes one client at a time;
 //! the simulator is more permissive so `armjog send` can be used beside a running console.)
+//!
+//! When a connection ends (end of stream, read or write error, injected close) the continuous
+//! motion it holds stops at once, not at the watchdog: a joint jog (the hardware ICD's SHALL)
+//! and, where the Talos ICD is silent, a continuous START too. With several clients, only the
+//! one whose command last started or refreshed the motion holds it (see
+//! [`Operator::client_gone`]): another client leaving does not stop it.
+//!
+//! Every rejected frame is logged at info with the peer and the reason, in both dialects (the ack
+//! dialect answers "ACK" to all of them, so the log is the only place an integrator can see why a
+//! frame did nothing): undecodable bytes, reply values, unknown or (ack dialect) unimplemented
+//! commands, malformed payloads, and requests the operator refused. The log is rate-limited per
+//! connection ([`RejectLog`]).
 
+use std::fmt;
+use std::net::SocketAddr;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
@@ -15,13 +29,14 @@ use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::watch;
 use tokio_util::codec::FramedWrite;
 
-use super::operator::Operator;
+use super::operator::{ClientId, Operator};
+use super::reject_log::RejectLog;
 use super::world::SimArm;
 use crate::net::{DEFAULT_FRAME_DEADLINE, FrameReader};
 use crate::talos::Dialect;
 use crate::talos::ack::ACK;
 use crate::talos::command::REPLY_BIT;
-use crate::talos::frame::{Decoded, RejectReason};
+use crate::talos::frame::{Decoded, RejectReason, Rejection};
 use crate::talos::{Checksum, CommandValue, Frame, FrameCodec, Reply, Request, ReturnCode};
 
 /// Network misbehaviour to inject, for tests and training. Changes apply at once.
@@ -62,13 +77,16 @@ pub async fn serve(
     faults: watch::Receiver<NetworkFaults>,
 ) {
     let replies = Arc::new(AtomicU64::new(0));
+    let mut next_client = 0u64;
     loop {
         match listener.accept().await {
             Ok((stream, peer)) => {
                 tracing::info!("sim talos: client {peer} connected");
                 let _ = stream.set_nodelay(true);
+                next_client += 1;
                 tokio::spawn(connection(
                     stream,
+                    Client::new(ClientId(next_client), peer),
                     arm.clone(),
                     config,
                     faults.clone(),
@@ -83,8 +101,53 @@ pub async fn serve(
     }
 }
 
+/// One connection as the server sees it.
+struct Client {
+    id: ClientId,
+    peer: SocketAddr,
+    rejects: RejectLog,
+}
+
+impl Client {
+    fn new(id: ClientId, peer: SocketAddr) -> Client {
+        Client {
+            id,
+            peer,
+            rejects: RejectLog::new(peer),
+        }
+    }
+
+    fn reject(&mut self, reason: impl fmt::Display) {
+        self.rejects.rejected(now(), reason);
+    }
+}
+
+/// Why a connection ended.
+enum Ending {
+    EndOfStream,
+    ReadError(String),
+    WriteError(String),
+    FaultInjection,
+}
+
+impl fmt::Display for Ending {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Ending::EndOfStream => f.write_str("end of stream"),
+            Ending::ReadError(e) => write!(f, "read error: {e}"),
+            Ending::WriteError(e) => write!(f, "write error: {e}"),
+            Ending::FaultInjection => f.write_str("closed by fault injection"),
+        }
+    }
+}
+
+fn now() -> std::time::Instant {
+    tokio::time::Instant::now().into_std()
+}
+
 async fn connection(
     stream: TcpStream,
+    mut client: Client,
     arm: SimArm,
     config: TalosServerConfig,
     faults: watch::Receiver<NetworkFaults>,
@@ -102,13 +165,20 @@ async fn connection(
     );
     let mut writer = FramedWrite::new(write_half, FrameCodec::new(config.checksum));
     let mut seen: u32 = 0;
+    let mut ending = Ending::EndOfStream;
     while let Some(item) = frames.next().await {
-        let Ok(item) = item else { break };
+        let item = match item {
+            Ok(item) => item,
+            Err(e) => {
+                ending = Ending::ReadError(e.to_string());
+                break;
+            }
+        };
         seen = seen.saturating_add(1);
         let faults_now = faults.borrow().clone();
         let answer = match config.dialect {
-            Dialect::Icd => answer_icd(&arm, item).await,
-            Dialect::Ack => answer_ack(&arm, item).await,
+            Dialect::Icd => answer_icd(&arm, item, &mut client).await,
+            Dialect::Ack => answer_ack(&arm, item, &mut client).await,
         };
         let Some(answer) = answer else { continue };
         if !faults_now.reply_delay.is_zero() {
@@ -122,7 +192,8 @@ async fn connection(
                 Answer::Frame(frame) => writer.send(frame).await,
                 Answer::Ack => writer.get_mut().write_all(&ACK).await,
             };
-            if sent.is_err() {
+            if let Err(e) = sent {
+                ending = Ending::WriteError(e.to_string());
                 break;
             }
         }
@@ -130,11 +201,27 @@ async fn connection(
             .close_after_frames
             .is_some_and(|limit| seen >= limit)
         {
-            tracing::info!("sim talos: closing the connection (fault injection)");
+            ending = Ending::FaultInjection;
             break;
         }
     }
-    tracing::info!("sim talos: client disconnected");
+    client_gone(&arm, &mut client, &ending).await;
+}
+
+/// The end of a connection: stops the continuous motion the client holds, at once.
+async fn client_gone(arm: &SimArm, client: &mut Client, ending: &Ending) {
+    client.rejects.finish();
+    let (id, peer) = (client.id, client.peer);
+    match arm
+        .with(move |arm, operator| operator.client_gone(id, arm))
+        .await
+    {
+        Ok(true) => tracing::info!(
+            "sim talos: client {peer} disconnected ({ending}): stopped the continuous motion it held"
+        ),
+        Ok(false) => tracing::info!("sim talos: client {peer} disconnected ({ending})"),
+        Err(e) => tracing::warn!("sim talos: client {peer} disconnected ({ending}); {e}"),
+    }
 }
 
 enum Answer {
@@ -147,11 +234,42 @@ fn bare_reply(id: u32, command: u16, code: ReturnCode) -> Frame {
     Frame::new(id | 1, command | REPLY_BIT, code.0.to_be_bytes().to_vec())
 }
 
-async fn answer_icd(arm: &SimArm, item: Decoded) -> Option<Answer> {
+/// Names a frame in the log: its id and command value.
+fn label(id: u32, command: u16) -> String {
+    match CommandValue::from_request_value(command) {
+        Some(value) => format!("frame id {id} ({value}, 0x{command:04X})"),
+        None => format!("frame id {id} (command 0x{command:04X})"),
+    }
+}
+
+fn describe_rejection(rejection: &Rejection) -> String {
+    match rejection.header {
+        Some(h) => format!("{}: {rejection}", label(h.id, h.command)),
+        None => format!("undecodable bytes: {rejection}"),
+    }
+}
+
+/// Runs `request` from `client` on the operator; logs a refusal.
+async fn carry_out(arm: &SimArm, client: &mut Client, id: u32, request: Request) -> Option<Reply> {
+    let client_id = client.id;
+    let command = request.command().request_value();
+    let reply = arm
+        .with(move |arm, operator| operator.handle_from(client_id, arm, request))
+        .await
+        .ok()?;
+    let code = reply.return_code();
+    if !code.is_ok() {
+        client.reject(format_args!("{}: refused with {code}", label(id, command)));
+    }
+    Some(reply)
+}
+
+async fn answer_icd(arm: &SimArm, item: Decoded, client: &mut Client) -> Option<Answer> {
+    client.rejects.poll(now());
     let frame = match item {
         Decoded::Frame(frame) => frame,
         Decoded::Rejected(rejection) => {
-            tracing::info!("sim talos: rejected input: {rejection}");
+            client.reject(describe_rejection(&rejection));
             // A frame whose checksum failed still names its exchange: say so.
             return match (rejection.reason, rejection.header) {
                 (RejectReason::BadChecksum { .. }, Some(h)) if h.command & REPLY_BIT == 0 => Some(
@@ -162,6 +280,10 @@ async fn answer_icd(arm: &SimArm, item: Decoded) -> Option<Answer> {
         }
     };
     if frame.is_reply() {
+        client.reject(format_args!(
+            "{}: a reply value; the operator takes requests",
+            label(frame.id, frame.command)
+        ));
         return Some(Answer::Frame(bare_reply(
             frame.id,
             frame.command,
@@ -169,11 +291,9 @@ async fn answer_icd(arm: &SimArm, item: Decoded) -> Option<Answer> {
         )));
     }
     let reply = match Request::from_frame(&frame) {
-        Ok(request) => arm
-            .with(move |arm, operator| operator.handle(arm, request))
-            .await
-            .ok()?,
+        Ok(request) => carry_out(arm, client, frame.id, request).await?,
         Err(error) => {
+            client.reject(format_args!("{}: {error}", label(frame.id, frame.command)));
             let code = Operator::reply_to_undecodable(&error);
             match CommandValue::from_request_value(frame.command) {
                 Some(command) => Reply::error(command, code),
@@ -191,15 +311,42 @@ async fn answer_icd(arm: &SimArm, item: Decoded) -> Option<Answer> {
 }
 
 /// The deployed operator: "ACK\0" for every frame, before validating it; only commands
-/// 0x0000-0x0004 do anything.
-async fn answer_ack(arm: &SimArm, item: Decoded) -> Option<Answer> {
-    if let Decoded::Frame(frame) = item
-        && let Ok(request) = Request::from_frame(&frame)
-        && Dialect::Ack.supports(request.command())
-    {
-        let _ = arm
-            .with(move |arm, operator| operator.handle(arm, request))
-            .await;
+/// 0x0000-0x0004 do anything. What it ignores is logged with the reason.
+async fn answer_ack(arm: &SimArm, item: Decoded, client: &mut Client) -> Option<Answer> {
+    client.rejects.poll(now());
+    match ack_request(item) {
+        Ok((id, request)) => {
+            carry_out(arm, client, id, request).await;
+        }
+        Err(reason) => client.reject(reason),
     }
     Some(Answer::Ack)
+}
+
+/// The request an ack-dialect frame carries, with the frame id, or why the deployed operator
+/// does nothing with it.
+fn ack_request(item: Decoded) -> Result<(u32, Request), String> {
+    let frame = match item {
+        Decoded::Frame(frame) => frame,
+        Decoded::Rejected(rejection) => return Err(describe_rejection(&rejection)),
+    };
+    let name = label(frame.id, frame.command);
+    if frame.is_reply() {
+        return Err(format!(
+            "{name}: a reply value; the operator takes requests"
+        ));
+    }
+    match CommandValue::from_request_value(frame.command) {
+        None => return Err(format!("{name}: not a command of the ICD")),
+        Some(command) if !Dialect::Ack.supports(command) => {
+            return Err(format!(
+                "{name}: the deployed operator implements only commands 0x0000-0x0004"
+            ));
+        }
+        Some(_) => {}
+    }
+    match Request::from_frame(&frame) {
+        Ok(request) => Ok((frame.id, request)),
+        Err(error) => Err(format!("{name}: malformed payload: {error}")),
+    }
 }
