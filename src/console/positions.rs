@@ -8,6 +8,7 @@
 use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
@@ -34,11 +35,34 @@ pub struct BookEntry {
 }
 
 /// The named positions of one arm.
+///
+/// Cloning is cheap (the map is shared, copied on the first change to a shared book): the
+/// runtime hands the book to the saver and the app to the drawing thread without copying a big
+/// book each time.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PositionBook {
     format: u32,
-    positions: BTreeMap<String, BookEntry>,
+    #[serde(with = "shared_map")]
+    positions: Arc<BTreeMap<String, BookEntry>>,
+}
+
+/// Serde for the shared map: the file holds the plain map.
+mod shared_map {
+    use super::*;
+
+    pub fn serialize<S: serde::Serializer>(
+        map: &Arc<BTreeMap<String, BookEntry>>,
+        serializer: S,
+    ) -> Result<S::Ok, S::Error> {
+        map.as_ref().serialize(serializer)
+    }
+
+    pub fn deserialize<'de, D: serde::Deserializer<'de>>(
+        deserializer: D,
+    ) -> Result<Arc<BTreeMap<String, BookEntry>>, D::Error> {
+        BTreeMap::deserialize(deserializer).map(Arc::new)
+    }
 }
 
 /// Why the book could not be read or written. Names the file.
@@ -64,7 +88,7 @@ impl PositionBook {
     pub fn new() -> Self {
         PositionBook {
             format: FORMAT,
-            positions: BTreeMap::new(),
+            positions: Arc::new(BTreeMap::new()),
         }
     }
 
@@ -90,11 +114,43 @@ impl PositionBook {
 
     /// The entry for `name`, created empty if new.
     pub fn entry(&mut self, name: &str) -> &mut BookEntry {
-        self.positions.entry(name.to_string()).or_default()
+        Arc::make_mut(&mut self.positions)
+            .entry(name.to_string())
+            .or_default()
     }
 
     pub fn remove(&mut self, name: &str) -> Option<BookEntry> {
-        self.positions.remove(name)
+        if !self.positions.contains_key(name) {
+            return None;
+        }
+        Arc::make_mut(&mut self.positions).remove(name)
+    }
+
+    /// Up to `count` entries from the `start`-th, in name order: a window of a big book, built
+    /// without copying the rest of it.
+    pub fn window(&self, start: usize, count: usize) -> PositionBook {
+        PositionBook {
+            format: self.format,
+            positions: Arc::new(
+                self.positions
+                    .iter()
+                    .skip(start)
+                    .take(count)
+                    .map(|(n, e)| (n.clone(), e.clone()))
+                    .collect(),
+            ),
+        }
+    }
+
+    /// Adds every entry of `other` to this book, replacing those of the same name.
+    pub fn merge(&mut self, other: &PositionBook) {
+        if other.is_empty() {
+            return;
+        }
+        let map = Arc::make_mut(&mut self.positions);
+        for (name, entry) in other.positions.iter() {
+            map.insert(name.clone(), entry.clone());
+        }
     }
 
     /// Reads a book; a missing file is an empty book.

@@ -1,0 +1,202 @@
+//! Reading and writing the position book off the event loop: parsing a 16 MB book takes a
+//! second or more and writing one (with its fsync) a good part of one, and the task that reads
+//! keys and sends their STOPs must not wait for either.
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use tokio::sync::{mpsc, oneshot, watch};
+
+use super::positions::PositionBook;
+
+/// What the loader hands back: the book, or the error naming the file and what was wrong.
+pub type Loaded = Result<PositionBook, String>;
+
+/// Starts reading the book at `path` on a blocking thread.
+pub fn load(path: &Path) -> oneshot::Receiver<Loaded> {
+    let (tx, rx) = oneshot::channel();
+    let path = path.to_path_buf();
+    tokio::task::spawn_blocking(move || {
+        let started = std::time::Instant::now();
+        let result = PositionBook::load(&path).map_err(|e| e.to_string());
+        if let Ok(book) = &result {
+            tracing::info!(
+                "loaded {} positions from {} in {:?}",
+                book.len(),
+                path.display(),
+                started.elapsed()
+            );
+        }
+        // The console may have quit meanwhile: nobody wants the book then.
+        let _ = tx.send(result);
+    });
+    rx
+}
+
+/// Waits for the loader's answer; never ends when there is none to wait for (`None`: loaded
+/// already, or no file). A loader that ended without answering is an error.
+pub async fn loaded(loading: &mut Option<oneshot::Receiver<Loaded>>) -> Loaded {
+    let Some(rx) = loading.as_mut() else {
+        return std::future::pending().await;
+    };
+    let result = rx
+        .await
+        .unwrap_or_else(|_| Err("the positions loader ended without a book".to_string()));
+    *loading = None;
+    result
+}
+
+/// The thread of writes: books are written one at a time, in order; a book handed over while
+/// another is written replaces any not written yet (only the newest matters).
+pub struct Saver {
+    next: watch::Sender<Option<PositionBook>>,
+    task: tokio::task::JoinHandle<()>,
+}
+
+impl Saver {
+    /// Starts the writer for `path`; a failed write is reported on the returned receiver.
+    pub fn start(path: PathBuf) -> (Saver, mpsc::UnboundedReceiver<String>) {
+        let (next, mut books) = watch::channel(None::<PositionBook>);
+        let (errors_tx, errors) = mpsc::unbounded_channel();
+        let task = tokio::spawn(async move {
+            while books.changed().await.is_ok() {
+                let Some(book) = books.borrow_and_update().clone() else {
+                    continue;
+                };
+                let path = path.clone();
+                let written = tokio::task::spawn_blocking(move || book.save(&path)).await;
+                let error = match written {
+                    Ok(Ok(())) => continue,
+                    Ok(Err(e)) => e.to_string(),
+                    Err(e) => format!("the positions writer failed: {e}"),
+                };
+                tracing::error!("saving positions: {error}");
+                let _ = errors_tx.send(error);
+            }
+        });
+        (Saver { next, task }, errors)
+    }
+
+    /// Hands a book over to be written. Never waits for a write.
+    pub fn save(&self, book: PositionBook) {
+        self.next.send_replace(Some(book));
+    }
+
+    /// Writes the book handed over last, if not written yet, waiting at most `within`.
+    pub async fn finish(self, within: Duration) {
+        drop(self.next);
+        if tokio::time::timeout(within, self.task).await.is_err() {
+            tracing::error!("the positions file was not written within {within:?}");
+        }
+    }
+}
+
+/// The book's file as the event loop sees it: the load in progress, the writer, its errors.
+pub struct BookFiles {
+    /// Where the book lives; `None`: nowhere (nothing is loaded or saved).
+    pub path: Option<PathBuf>,
+    pub loading: Option<oneshot::Receiver<Loaded>>,
+    saver: Option<Saver>,
+    pub save_errors: mpsc::UnboundedReceiver<String>,
+}
+
+impl BookFiles {
+    /// Starts loading the book at `path` and the writer for it.
+    pub fn open(path: Option<PathBuf>) -> BookFiles {
+        match &path {
+            Some(p) => {
+                let (saver, save_errors) = Saver::start(p.clone());
+                BookFiles {
+                    loading: Some(load(p)),
+                    path,
+                    saver: Some(saver),
+                    save_errors,
+                }
+            }
+            None => BookFiles {
+                path,
+                loading: None,
+                saver: None,
+                save_errors: mpsc::unbounded_channel().1,
+            },
+        }
+    }
+
+    /// Hands a book over to be written (nothing happens without a file).
+    pub fn save(&self, book: PositionBook) {
+        if let Some(saver) = &self.saver {
+            saver.save(book);
+        }
+    }
+
+    /// Writes the book handed over last, waiting at most `within`.
+    pub async fn finish(self, within: Duration) {
+        if let Some(saver) = self.saver {
+            saver.finish(within).await;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn dir() -> PathBuf {
+        let d = std::env::temp_dir().join(format!(
+            "armjog-book-io-{}-{}",
+            std::process::id(),
+            std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map(|d| d.as_nanos())
+                .unwrap_or(0)
+        ));
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    #[tokio::test]
+    async fn the_last_book_handed_over_is_written_before_finish_returns() {
+        let path = dir().join("book.json");
+        let (saver, _errors) = Saver::start(path.clone());
+        let mut book = PositionBook::new();
+        for i in 0..5 {
+            book.entry(&format!("p{i}")).cartesian = Some([i, 0, 0]);
+            saver.save(book.clone());
+        }
+        saver.finish(Duration::from_secs(10)).await;
+        assert_eq!(PositionBook::load(&path).unwrap(), book);
+    }
+
+    #[tokio::test]
+    async fn a_failed_write_is_reported_with_the_file() {
+        let blocker = dir().join("not-a-dir");
+        std::fs::write(&blocker, "x").unwrap();
+        let path = blocker.join("book.json");
+        let (saver, mut errors) = Saver::start(path.clone());
+        saver.save(PositionBook::new());
+        let error = tokio::time::timeout(Duration::from_secs(10), errors.recv())
+            .await
+            .expect("reported in time")
+            .expect("an error");
+        assert!(error.contains(&path.display().to_string()), "{error}");
+        saver.finish(Duration::from_secs(10)).await;
+    }
+
+    #[tokio::test]
+    async fn a_book_loads_off_the_loop_and_an_unreadable_one_names_its_file() {
+        let d = dir();
+        let path = d.join("book.json");
+        let mut book = PositionBook::new();
+        book.entry("pick").cartesian = Some([1, 2, 3]);
+        book.save(&path).unwrap();
+        let mut loading = Some(load(&path));
+        assert_eq!(loaded(&mut loading).await, Ok(book));
+        assert!(loading.is_none(), "nothing left to wait for");
+
+        let bad = d.join("bad.json");
+        std::fs::write(&bad, "{ not json").unwrap();
+        let mut loading = Some(load(&bad));
+        let error = loaded(&mut loading).await.unwrap_err();
+        assert!(error.starts_with(&bad.display().to_string()), "{error}");
+    }
+}
