@@ -17,6 +17,8 @@ simulated arm in a detached tmux session (120x40), and reads the screen with `tm
 - quit while loading: a second start, `q` typed as soon as the first frame is up -> the process
   has ended (a console that parses the book on its event loop only sees the key after it);
 - key: PageDown (select the next position) -> the selection mark is on the second name;
+- save: `p`, a name, Enter (the simulated operator saves it, the console writes the book) ->
+  "saved" is on the screen, and -> the file has been replaced (the write is atomic: a rename);
 - rest CPU: the process's user+system time over 5 s, book loaded, no key held, after 2 s to
   settle (in % of one core);
 - peak RSS: VmHWM from /proc/PID/status, read before quitting;
@@ -103,6 +105,8 @@ def peak_rss_mb(pid):
 
 
 def start(session, binary, book, workdir):
+    # Each start reads the book as written first (a run saves into it).
+    shutil.copyfile(book + ".orig", book)
     env = f"ARMJOG_DATA_DIR={workdir} ARMJOG_LOG_DIR={workdir}"
     command = f"exec env {env} {binary} --positions {book}"
     started = time.monotonic()
@@ -145,6 +149,22 @@ def one_run(binary, book, workdir, run):
         figures["key PageDown (s)"] = time.monotonic() - typed
     else:
         figures["key PageDown (s)"] = float("inf")
+    tmux("send-keys", "-t", session, "p")
+    if not wait_for(lambda: "Save current pose" in screen(session), 30.0):
+        sys.exit("no save form:\n" + screen(session))
+    tmux("send-keys", "-t", session, "zzzz")
+    inode = os.stat(book).st_ino
+    typed = time.monotonic()
+    tmux("send-keys", "-t", session, "Enter")
+    if wait_for(lambda: "saved 'zzzz'" in screen(session), 30.0):
+        figures["save shown (s)"] = time.monotonic() - typed
+    else:
+        figures["save shown (s)"] = float("inf")
+    if wait_for(lambda: os.stat(book).st_ino != inode, 30.0):
+        figures["save written (s)"] = time.monotonic() - typed
+    else:
+        figures["save written (s)"] = float("inf")
+    figures["file after save (MB)"] = os.path.getsize(book) / (1024 * 1024)
     figures["peak RSS (MB)"] = peak_rss_mb(pid)
     figures["quit (s)"] = quit_and_time(session, pid)
 
@@ -170,8 +190,8 @@ def main():
     try:
         book = os.path.join(workdir, "book.json")
         # Just under the limit: 4 KiB of margin below the megabytes asked for.
-        count = write_book(book, int(args.megabytes * 1024 * 1024) - 4096)
-        print(f"book: {count} positions, {os.path.getsize(book)} bytes ({binary})")
+        count = write_book(book + ".orig", int(args.megabytes * 1024 * 1024) - 4096)
+        print(f"book: {count} positions, {os.path.getsize(book + '.orig')} bytes ({binary})")
         runs = [one_run(binary, book, workdir, run) for run in range(args.runs)]
         for name in runs[0]:
             values = ", ".join(f"{r[name]:.3f}" for r in runs)

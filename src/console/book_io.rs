@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-use tokio::sync::{mpsc, oneshot, watch};
+use tokio::sync::{mpsc, oneshot};
 
 use super::positions::PositionBook;
 
@@ -49,20 +49,22 @@ pub async fn loaded(loading: &mut Option<oneshot::Receiver<Loaded>>) -> Loaded {
 /// The thread of writes: books are written one at a time, in order; a book handed over while
 /// another is written replaces any not written yet (only the newest matters).
 pub struct Saver {
-    next: watch::Sender<Option<PositionBook>>,
+    next: mpsc::UnboundedSender<PositionBook>,
     task: tokio::task::JoinHandle<()>,
 }
 
 impl Saver {
     /// Starts the writer for `path`; a failed write is reported on the returned receiver.
     pub fn start(path: PathBuf) -> (Saver, mpsc::UnboundedReceiver<String>) {
-        let (next, mut books) = watch::channel(None::<PositionBook>);
+        let (next, mut books) = mpsc::unbounded_channel::<PositionBook>();
         let (errors_tx, errors) = mpsc::unbounded_channel();
         let task = tokio::spawn(async move {
-            while books.changed().await.is_ok() {
-                let Some(book) = books.borrow_and_update().clone() else {
-                    continue;
-                };
+            // Books are taken out of the channel, not copied: once written, the app's book is
+            // no longer shared and changing it copies nothing.
+            while let Some(mut book) = books.recv().await {
+                while let Ok(newer) = books.try_recv() {
+                    book = newer;
+                }
                 let path = path.clone();
                 let written = tokio::task::spawn_blocking(move || book.save(&path)).await;
                 let error = match written {
@@ -79,7 +81,9 @@ impl Saver {
 
     /// Hands a book over to be written. Never waits for a write.
     pub fn save(&self, book: PositionBook) {
-        self.next.send_replace(Some(book));
+        if self.next.send(book).is_err() {
+            tracing::error!("the positions writer has ended: positions not saved");
+        }
     }
 
     /// Writes the book handed over last, if not written yet, waiting at most `within`.

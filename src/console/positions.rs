@@ -82,6 +82,16 @@ pub enum BookError {
     },
     #[error("{path}: format {found} is newer than this armjog understands ({FORMAT})")]
     Format { path: String, found: u32 },
+    /// Writing it would make a file too large to be read back.
+    #[error(
+        "{path}: not written: the book takes {bytes} bytes, over the limit of {limit} bytes \
+         that armjog reads back"
+    )]
+    TooLarge {
+        path: String,
+        bytes: u64,
+        limit: u64,
+    },
 }
 
 impl PositionBook {
@@ -191,7 +201,7 @@ impl PositionBook {
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir).map_err(io)?;
         }
-        let text = serde_json::to_string_pretty(self).map_err(|e| io(std::io::Error::other(e)))?;
+        let text = self.to_text(&shown, crate::files::POSITIONS_LIMIT)?;
         let tmp = temporary_path(path);
         let mut file = std::fs::File::create(&tmp).map_err(io)?;
         file.write_all(text.as_bytes()).map_err(io)?;
@@ -200,6 +210,33 @@ impl PositionBook {
         drop(file);
         std::fs::rename(&tmp, path).map_err(io)?;
         Ok(())
+    }
+}
+
+impl PositionBook {
+    /// The file's text (without the final newline): indented for people to read, compact when
+    /// that would not fit in `limit` bytes (a book written must load again), refused when even
+    /// compact does not.
+    fn to_text(&self, path: &str, limit: u64) -> Result<String, BookError> {
+        // The text and its final newline.
+        let fits = |text: &String| (text.len() as u64) < limit;
+        let failed = |e: serde_json::Error| BookError::Io {
+            path: path.to_string(),
+            source: std::io::Error::other(e),
+        };
+        let text = serde_json::to_string_pretty(self).map_err(failed)?;
+        if fits(&text) {
+            return Ok(text);
+        }
+        let text = serde_json::to_string(self).map_err(failed)?;
+        if fits(&text) {
+            return Ok(text);
+        }
+        Err(BookError::TooLarge {
+            path: path.to_string(),
+            bytes: text.len() as u64 + 1,
+            limit,
+        })
     }
 }
 
@@ -262,6 +299,27 @@ mod tests {
         assert_eq!(PositionBook::load(&path).unwrap(), book);
         let files: Vec<_> = std::fs::read_dir(&d).unwrap().collect();
         assert_eq!(files.len(), 1, "only the book itself");
+    }
+
+    #[test]
+    fn a_book_too_big_to_indent_is_written_compact_and_one_too_big_for_that_is_refused() {
+        let mut book = PositionBook::new();
+        for i in 0..100 {
+            book.entry(&format!("p{i:03}")).cartesian = Some([i, 0, 0]);
+        }
+        let pretty = book.to_text("b.json", u64::MAX).unwrap();
+        let compact = serde_json::to_string(&book).unwrap();
+        assert!(
+            pretty.len() > compact.len() + 100,
+            "the test needs a difference"
+        );
+        let limit = compact.len() as u64 + 1;
+        assert_eq!(book.to_text("b.json", limit).unwrap(), compact);
+        let parsed: PositionBook = serde_json::from_str(&compact).unwrap();
+        assert_eq!(parsed, book);
+        let err = book.to_text("b.json", limit - 1).unwrap_err().to_string();
+        assert!(err.starts_with("b.json: not written"), "{err}");
+        assert!(err.contains(&format!("{limit} bytes")), "{err}");
     }
 
     #[test]
