@@ -20,7 +20,8 @@ simulated arm in a detached tmux session (120x40), and reads the screen with `tm
 - save: `p`, a name, Enter (the simulated operator saves it, the console writes the book) ->
   "saved" is on the screen, and -> the file has been replaced (the write is atomic: a rename);
 - rest CPU: the process's user+system time over 5 s, book loaded, no key held, after 2 s to
-  settle (in % of one core);
+  settle (in % of one core); "rest CPU, last" the same with the last position selected (PageUp
+  from the first wraps to it), where a list drawn from its start walks the whole book;
 - peak RSS: VmHWM from /proc/PID/status, read before quitting;
 - quit: `q` -> the process has ended.
 
@@ -126,7 +127,7 @@ def quit_and_time(session, pid):
     return took if ended else float("inf")
 
 
-def one_run(binary, book, workdir, run):
+def one_run(binary, book, count, workdir, run):
     figures = {}
     session = f"armjog-big-book-{os.getpid()}-{run}"
     started, pid = start(session, binary, book, workdir)
@@ -149,6 +150,14 @@ def one_run(binary, book, workdir, run):
         figures["key PageDown (s)"] = time.monotonic() - typed
     else:
         figures["key PageDown (s)"] = float("inf")
+    tmux("send-keys", "-t", session, "PageUp", "PageUp")
+    last = f"> pos-{count - 1:06d}"
+    if not wait_for(lambda: last in screen(session), 30.0):
+        sys.exit("the last position was never selected:\n" + screen(session))
+    time.sleep(1.0)
+    before = cpu_seconds(pid)
+    time.sleep(5.0)
+    figures["rest CPU, last (% core)"] = (cpu_seconds(pid) - before) / 5.0 * 100.0
     tmux("send-keys", "-t", session, "p")
     if not wait_for(lambda: "Save current pose" in screen(session), 30.0):
         sys.exit("no save form:\n" + screen(session))
@@ -192,7 +201,7 @@ def main():
         # Just under the limit: 4 KiB of margin below the megabytes asked for.
         count = write_book(book + ".orig", int(args.megabytes * 1024 * 1024) - 4096)
         print(f"book: {count} positions, {os.path.getsize(book + '.orig')} bytes ({binary})")
-        runs = [one_run(binary, book, workdir, run) for run in range(args.runs)]
+        runs = [one_run(binary, book, count, workdir, run) for run in range(args.runs)]
         for name in runs[0]:
             values = ", ".join(f"{r[name]:.3f}" for r in runs)
             print(f"{name:24} {values}")

@@ -34,34 +34,45 @@ pub struct BookEntry {
     pub unknown_to_operator: bool,
 }
 
-/// The named positions of one arm.
+/// One named position and its name; the book keeps them sorted by name.
+type Named = (String, BookEntry);
+
+/// The named positions of one arm, in name order.
 ///
-/// Cloning is cheap (the map is shared, copied on the first change to a shared book): the
-/// runtime hands the book to the saver and the app to the drawing thread without copying a big
-/// book each time.
+/// Kept as a sorted list, so the `i`-th name (the selection, the rows on the screen) is found
+/// at once and a name in a few steps however big the book: no frame walks the whole book.
+/// Cloning is cheap (the list is shared, copied on the first change to a shared book): the
+/// runtime hands the book to the writer without copying a big book each time.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PositionBook {
     format: u32,
-    #[serde(with = "shared_map")]
-    positions: Arc<BTreeMap<String, BookEntry>>,
+    #[serde(with = "sorted_map")]
+    positions: Arc<Vec<Named>>,
 }
 
-/// Serde for the shared map: the file holds the plain map.
-mod shared_map {
+/// Serde for the shared sorted list: the file holds a map from name to entry.
+mod sorted_map {
     use super::*;
+    use serde::ser::SerializeMap;
 
     pub fn serialize<S: serde::Serializer>(
-        map: &Arc<BTreeMap<String, BookEntry>>,
+        list: &Arc<Vec<Named>>,
         serializer: S,
     ) -> Result<S::Ok, S::Error> {
-        map.as_ref().serialize(serializer)
+        let mut map = serializer.serialize_map(Some(list.len()))?;
+        for (name, entry) in list.iter() {
+            map.serialize_entry(name, entry)?;
+        }
+        map.end()
     }
 
     pub fn deserialize<'de, D: serde::Deserializer<'de>>(
         deserializer: D,
-    ) -> Result<Arc<BTreeMap<String, BookEntry>>, D::Error> {
-        BTreeMap::deserialize(deserializer).map(Arc::new)
+    ) -> Result<Arc<Vec<Named>>, D::Error> {
+        // The map sorts the names and keeps the last of a name given twice.
+        let map = BTreeMap::<String, BookEntry>::deserialize(deserializer)?;
+        Ok(Arc::new(map.into_iter().collect()))
     }
 }
 
@@ -98,12 +109,28 @@ impl PositionBook {
     pub fn new() -> Self {
         PositionBook {
             format: FORMAT,
-            positions: Arc::new(BTreeMap::new()),
+            positions: Arc::new(Vec::new()),
         }
     }
 
+    /// Where `name` is in the list, or where it would go.
+    fn find(&self, name: &str) -> Result<usize, usize> {
+        self.positions
+            .binary_search_by(|(n, _)| n.as_str().cmp(name))
+    }
+
     pub fn names(&self) -> impl Iterator<Item = &str> {
-        self.positions.keys().map(String::as_str)
+        self.positions.iter().map(|(n, _)| n.as_str())
+    }
+
+    /// The `index`-th name in name order.
+    pub fn name_at(&self, index: usize) -> Option<&str> {
+        self.positions.get(index).map(|(n, _)| n.as_str())
+    }
+
+    /// Where `name` is in name order.
+    pub fn index_of(&self, name: &str) -> Option<usize> {
+        self.find(name).ok()
     }
 
     pub fn len(&self) -> usize {
@@ -115,25 +142,39 @@ impl PositionBook {
     }
 
     pub fn get(&self, name: &str) -> Option<&BookEntry> {
-        self.positions.get(name)
+        let index = self.find(name).ok()?;
+        self.positions.get(index).map(|(_, e)| e)
     }
 
     pub fn entries(&self) -> impl Iterator<Item = (&str, &BookEntry)> {
-        self.positions.iter().map(|(n, e)| (n.as_str(), e))
+        self.entries_from(0)
+    }
+
+    /// The entries from the `start`-th on, in name order (none past the end).
+    pub fn entries_from(&self, start: usize) -> impl Iterator<Item = (&str, &BookEntry)> {
+        self.positions
+            .get(start..)
+            .unwrap_or_default()
+            .iter()
+            .map(|(n, e)| (n.as_str(), e))
     }
 
     /// The entry for `name`, created empty if new.
     pub fn entry(&mut self, name: &str) -> &mut BookEntry {
-        Arc::make_mut(&mut self.positions)
-            .entry(name.to_string())
-            .or_default()
+        let index = match self.find(name) {
+            Ok(index) => index,
+            Err(index) => {
+                Arc::make_mut(&mut self.positions)
+                    .insert(index, (name.to_string(), BookEntry::default()));
+                index
+            }
+        };
+        &mut Arc::make_mut(&mut self.positions)[index].1
     }
 
     pub fn remove(&mut self, name: &str) -> Option<BookEntry> {
-        if !self.positions.contains_key(name) {
-            return None;
-        }
-        Arc::make_mut(&mut self.positions).remove(name)
+        let index = self.find(name).ok()?;
+        Some(Arc::make_mut(&mut self.positions).remove(index).1)
     }
 
     /// Up to `count` entries from the `start`-th, in name order: a window of a big book, built
@@ -143,10 +184,11 @@ impl PositionBook {
             format: self.format,
             positions: Arc::new(
                 self.positions
+                    .get(start..)
+                    .unwrap_or_default()
                     .iter()
-                    .skip(start)
                     .take(count)
-                    .map(|(n, e)| (n.clone(), e.clone()))
+                    .cloned()
                     .collect(),
             ),
         }
@@ -157,9 +199,8 @@ impl PositionBook {
         if other.is_empty() {
             return;
         }
-        let map = Arc::make_mut(&mut self.positions);
         for (name, entry) in other.positions.iter() {
-            map.insert(name.clone(), entry.clone());
+            *self.entry(name) = entry.clone();
         }
     }
 
@@ -320,6 +361,37 @@ mod tests {
         let err = book.to_text("b.json", limit - 1).unwrap_err().to_string();
         assert!(err.starts_with("b.json: not written"), "{err}");
         assert!(err.contains(&format!("{limit} bytes")), "{err}");
+    }
+
+    #[test]
+    fn names_stay_in_order_through_changes_and_are_found_by_index_and_by_name() {
+        let mut book = PositionBook::new();
+        for name in ["pick", "bench", "table", "home"] {
+            book.entry(name);
+        }
+        book.entry("pick").anchor = true;
+        assert_eq!(book.remove("table").map(|e| e.anchor), Some(false));
+        assert_eq!(book.remove("table"), None);
+        let names: Vec<&str> = book.names().collect();
+        assert_eq!(names, ["bench", "home", "pick"]);
+        assert_eq!(book.name_at(2), Some("pick"));
+        assert_eq!(book.name_at(3), None);
+        assert_eq!(book.index_of("home"), Some(1));
+        assert_eq!(book.index_of("nope"), None);
+        assert!(book.get("pick").is_some_and(|e| e.anchor));
+        let tail: Vec<&str> = book.entries_from(1).map(|(n, _)| n).collect();
+        assert_eq!(tail, ["home", "pick"]);
+        assert_eq!(book.entries_from(9).count(), 0);
+        let window: Vec<String> = book.window(1, 1).names().map(String::from).collect();
+        assert_eq!(window, ["home"]);
+        // A file in any order, a name given twice: sorted, the last one kept.
+        let parsed: PositionBook = serde_json::from_str(
+            r#"{"format":1,"positions":{"b":{},"a":{"anchor":true},"b":{"anchor":true}}}"#,
+        )
+        .unwrap();
+        let names: Vec<&str> = parsed.names().collect();
+        assert_eq!(names, ["a", "b"]);
+        assert!(parsed.get("b").is_some_and(|e| e.anchor));
     }
 
     #[test]

@@ -213,7 +213,7 @@ impl App {
     }
 
     pub fn selected_name(&self) -> Option<&str> {
-        self.positions.names().nth(self.selected)
+        self.positions.name_at(self.selected)
     }
 
     /// When the runtime must next send [`Input::Tick`].

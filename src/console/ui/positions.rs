@@ -50,8 +50,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
     let mut items: Vec<ListItem> = state.into_iter().map(ListItem::new).collect();
     items.extend(
         app.positions
-            .entries()
-            .skip(first)
+            .entries_from(first)
             .take(rows)
             .map(|(name, entry)| ListItem::new(row(name, entry, theme))),
     );
