@@ -7,7 +7,7 @@ use std::time::Duration;
 
 use tokio::sync::{mpsc, oneshot};
 
-use super::positions::PositionBook;
+use super::positions::{BookError, PositionBook};
 
 /// What the loader hands back: the book, or the error naming the file and what was wrong.
 pub type Loaded = Result<PositionBook, String>;
@@ -106,24 +106,39 @@ pub struct BookFiles {
 
 impl BookFiles {
     /// Starts loading the book at `path` and the writer for it.
-    pub fn open(path: Option<PathBuf>) -> BookFiles {
-        match &path {
-            Some(p) => {
-                let (saver, save_errors) = Saver::start(p.clone());
-                BookFiles {
-                    loading: Some(load(p)),
-                    path,
-                    saver: Some(saver),
-                    save_errors,
-                }
-            }
-            None => BookFiles {
+    ///
+    /// A regular file within the size limit (or none) is read off the event loop. Anything else
+    /// (a file over the limit, a device such as `/dev/zero`, a FIFO, a file that cannot be
+    /// opened) is read here, at most to the limit, and refused at once with the file's name and
+    /// what was wrong, before the console takes the terminal.
+    pub fn open(path: Option<PathBuf>) -> Result<BookFiles, BookError> {
+        let Some(p) = &path else {
+            return Ok(BookFiles {
                 path,
                 loading: None,
                 saver: None,
                 save_errors: mpsc::unbounded_channel().1,
-            },
-        }
+            });
+        };
+        let regular_within_limit = match std::fs::metadata(p) {
+            Ok(meta) => meta.is_file() && meta.len() <= crate::files::POSITIONS_LIMIT,
+            Err(e) => e.kind() == std::io::ErrorKind::NotFound,
+        };
+        let loading = if regular_within_limit {
+            load(p)
+        } else {
+            let book = PositionBook::load(p)?;
+            let (tx, rx) = oneshot::channel();
+            let _ = tx.send(Ok(book));
+            rx
+        };
+        let (saver, save_errors) = Saver::start(p.clone());
+        Ok(BookFiles {
+            loading: Some(loading),
+            path,
+            saver: Some(saver),
+            save_errors,
+        })
     }
 
     /// Hands a book over to be written (nothing happens without a file).
@@ -184,6 +199,31 @@ mod tests {
             .expect("an error");
         assert!(error.contains(&path.display().to_string()), "{error}");
         saver.finish(Duration::from_secs(10)).await;
+    }
+
+    #[tokio::test]
+    async fn a_file_over_the_limit_or_a_device_is_refused_at_once_and_a_book_loads_later() {
+        let d = dir();
+        let big = d.join("big.json");
+        std::fs::write(&big, vec![b' '; 17 * 1024 * 1024]).unwrap();
+        let error = BookFiles::open(Some(big.clone())).err().expect("refused");
+        assert!(error.to_string().contains("16 MB"), "{error}");
+        #[cfg(unix)]
+        {
+            let error = BookFiles::open(Some("/dev/zero".into()))
+                .err()
+                .expect("refused");
+            assert!(error.to_string().starts_with("/dev/zero"), "{error}");
+        }
+        let path = d.join("book.json");
+        let mut book = PositionBook::new();
+        book.entry("pick");
+        book.save(&path).unwrap();
+        let mut files = BookFiles::open(Some(path)).expect("opened");
+        assert_eq!(loaded(&mut files.loading).await, Ok(book));
+        let mut none = BookFiles::open(Some(d.join("missing.json"))).expect("opened");
+        assert_eq!(loaded(&mut none.loading).await, Ok(PositionBook::new()));
+        files.finish(Duration::from_secs(10)).await;
     }
 
     #[tokio::test]

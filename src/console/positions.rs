@@ -5,7 +5,6 @@
 //! live, with their full pose. Writes are atomic (temporary file, fsync, rename), so a crash
 //! never leaves a half-written book.
 
-use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -70,9 +69,41 @@ mod sorted_map {
     pub fn deserialize<'de, D: serde::Deserializer<'de>>(
         deserializer: D,
     ) -> Result<Arc<Vec<Named>>, D::Error> {
-        // The map sorts the names and keeps the last of a name given twice.
-        let map = BTreeMap::<String, BookEntry>::deserialize(deserializer)?;
-        Ok(Arc::new(map.into_iter().collect()))
+        deserializer.deserialize_map(ListVisitor).map(Arc::new)
+    }
+
+    /// Reads the map straight into the list (no map built on the side), then sorts it and keeps
+    /// the last of a name given twice, as a map would.
+    struct ListVisitor;
+
+    impl<'de> serde::de::Visitor<'de> for ListVisitor {
+        type Value = Vec<Named>;
+
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str("a map from position names to positions")
+        }
+
+        fn visit_map<A: serde::de::MapAccess<'de>>(
+            self,
+            mut map: A,
+        ) -> Result<Vec<Named>, A::Error> {
+            let mut list: Vec<Named> = Vec::new();
+            while let Some(named) = map.next_entry::<String, BookEntry>()? {
+                list.push(named);
+            }
+            // Stable: of equal names, the one given last stays last.
+            list.sort_by(|a, b| a.0.cmp(&b.0));
+            list.dedup_by(|later, kept| {
+                if later.0 == kept.0 {
+                    std::mem::swap(later, kept);
+                    true
+                } else {
+                    false
+                }
+            });
+            list.shrink_to_fit();
+            Ok(list)
+        }
     }
 }
 
@@ -242,42 +273,78 @@ impl PositionBook {
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir).map_err(io)?;
         }
-        let text = self.to_text(&shown, crate::files::POSITIONS_LIMIT)?;
         let tmp = temporary_path(path);
-        let mut file = std::fs::File::create(&tmp).map_err(io)?;
-        file.write_all(text.as_bytes()).map_err(io)?;
-        file.write_all(b"\n").map_err(io)?;
-        file.sync_all().map_err(io)?;
-        drop(file);
+        let file = std::fs::File::create(&tmp).map_err(io)?;
+        let mut out = std::io::BufWriter::new(file);
+        let written = self
+            .write_to(&mut out, &shown, crate::files::POSITIONS_LIMIT)
+            .and_then(|()| out.into_inner().map_err(|e| io(e.into_error())))
+            .and_then(|file| file.sync_all().map_err(io));
+        if let Err(e) = written {
+            // The book on disk is untouched; no half-written temporary file is left behind.
+            let _ = std::fs::remove_file(&tmp);
+            return Err(e);
+        }
         std::fs::rename(&tmp, path).map_err(io)?;
         Ok(())
     }
 }
 
 impl PositionBook {
-    /// The file's text (without the final newline): indented for people to read, compact when
-    /// that would not fit in `limit` bytes (a book written must load again), refused when even
-    /// compact does not.
-    fn to_text(&self, path: &str, limit: u64) -> Result<String, BookError> {
-        // The text and its final newline.
-        let fits = |text: &String| (text.len() as u64) < limit;
+    /// Writes the file's text to `out`: indented for people to read, compact when that would
+    /// not fit in `limit` bytes (a book written must load again), refused when even compact does
+    /// not. The sizes are counted first, so a big book is never held as text in memory.
+    fn write_to(&self, out: &mut impl Write, path: &str, limit: u64) -> Result<(), BookError> {
         let failed = |e: serde_json::Error| BookError::Io {
             path: path.to_string(),
             source: std::io::Error::other(e),
         };
-        let text = serde_json::to_string_pretty(self).map_err(failed)?;
-        if fits(&text) {
-            return Ok(text);
+        let size = |pretty: bool| {
+            let mut counter = ByteCounter(0);
+            let result = if pretty {
+                serde_json::to_writer_pretty(&mut counter, self)
+            } else {
+                serde_json::to_writer(&mut counter, self)
+            };
+            // With its final newline.
+            result.map(|()| counter.0 + 1).map_err(failed)
+        };
+        let pretty = if size(true)? <= limit {
+            true
+        } else {
+            let bytes = size(false)?;
+            if bytes > limit {
+                return Err(BookError::TooLarge {
+                    path: path.to_string(),
+                    bytes,
+                    limit,
+                });
+            }
+            false
+        };
+        if pretty {
+            serde_json::to_writer_pretty(&mut *out, self).map_err(failed)?;
+        } else {
+            serde_json::to_writer(&mut *out, self).map_err(failed)?;
         }
-        let text = serde_json::to_string(self).map_err(failed)?;
-        if fits(&text) {
-            return Ok(text);
-        }
-        Err(BookError::TooLarge {
+        out.write_all(b"\n").map_err(|source| BookError::Io {
             path: path.to_string(),
-            bytes: text.len() as u64 + 1,
-            limit,
+            source,
         })
+    }
+}
+
+/// Counts the bytes written to it.
+struct ByteCounter(u64);
+
+impl Write for ByteCounter {
+    fn write(&mut self, bytes: &[u8]) -> std::io::Result<usize> {
+        self.0 += bytes.len() as u64;
+        Ok(bytes.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
     }
 }
 
@@ -348,19 +415,27 @@ mod tests {
         for i in 0..100 {
             book.entry(&format!("p{i:03}")).cartesian = Some([i, 0, 0]);
         }
-        let pretty = book.to_text("b.json", u64::MAX).unwrap();
-        let compact = serde_json::to_string(&book).unwrap();
+        let text = |limit: u64| {
+            let mut out = Vec::new();
+            book.write_to(&mut out, "b.json", limit).map(|()| out)
+        };
+        let pretty = text(u64::MAX).unwrap();
+        assert_eq!(
+            pretty,
+            format!("{}\n", serde_json::to_string_pretty(&book).unwrap()).into_bytes()
+        );
+        let compact = format!("{}\n", serde_json::to_string(&book).unwrap()).into_bytes();
         assert!(
             pretty.len() > compact.len() + 100,
             "the test needs a difference"
         );
-        let limit = compact.len() as u64 + 1;
-        assert_eq!(book.to_text("b.json", limit).unwrap(), compact);
-        let parsed: PositionBook = serde_json::from_str(&compact).unwrap();
+        let limit = compact.len() as u64;
+        assert_eq!(text(limit).unwrap(), compact);
+        let parsed: PositionBook = serde_json::from_slice(&compact).unwrap();
         assert_eq!(parsed, book);
-        let err = book.to_text("b.json", limit - 1).unwrap_err().to_string();
+        let err = text(limit - 1).unwrap_err().to_string();
         assert!(err.starts_with("b.json: not written"), "{err}");
-        assert!(err.contains(&format!("{limit} bytes")), "{err}");
+        assert!(err.contains(&format!("takes {limit} bytes")), "{err}");
     }
 
     #[test]

@@ -85,7 +85,7 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
         .clone()
         .or_else(|| positions::default_path(&setup.driver.target()));
     // Read off the event loop: the first frame and the keys do not wait for a big book.
-    let mut book = BookFiles::open(book_path);
+    let mut book = BookFiles::open(book_path)?;
     let frames = setup.driver.modbus.is_some() && setup.driver.talos.is_none();
     let positions_on_operator = setup.driver.positions_on_operator();
     let max_jog_speed = setup.driver.max_jog_speed;
