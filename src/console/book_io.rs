@@ -102,6 +102,8 @@ pub struct BookFiles {
     pub loading: Option<oneshot::Receiver<Loaded>>,
     saver: Option<Saver>,
     pub save_errors: mpsc::UnboundedReceiver<String>,
+    /// Changes made while the book was loading, still to be merged into it and written.
+    held: Option<PositionBook>,
 }
 
 impl BookFiles {
@@ -118,6 +120,7 @@ impl BookFiles {
                 loading: None,
                 saver: None,
                 save_errors: mpsc::unbounded_channel().1,
+                held: None,
             });
         };
         let regular_within_limit = match std::fs::metadata(p) {
@@ -138,6 +141,7 @@ impl BookFiles {
             path,
             saver: Some(saver),
             save_errors,
+            held: None,
         })
     }
 
@@ -148,10 +152,38 @@ impl BookFiles {
         }
     }
 
-    /// Writes the book handed over last, waiting at most `within`.
-    pub async fn finish(self, within: Duration) {
+    /// Keeps `changes` made while the book is still loading (the console is quitting): they
+    /// are merged into the book and written by [`BookFiles::finish`].
+    pub fn hold_until_loaded(&mut self, changes: PositionBook) {
+        if self.loading.is_some() && !changes.is_empty() {
+            self.held = Some(changes);
+        }
+    }
+
+    /// Writes the book handed over last (and the held changes, once the book is loaded),
+    /// waiting at most `within`.
+    pub async fn finish(mut self, within: Duration) {
+        let deadline = tokio::time::Instant::now() + within;
+        if let Some(changes) = self.held.take() {
+            match tokio::time::timeout_at(deadline, loaded(&mut self.loading)).await {
+                Ok(Ok(mut book)) => {
+                    book.merge(&changes);
+                    self.save(book);
+                }
+                Ok(Err(error)) => tracing::error!(
+                    "{} changed positions not saved: the book was not loaded ({error})",
+                    changes.len()
+                ),
+                Err(_) => tracing::error!(
+                    "{} changed positions not saved: the book did not load within {within:?}",
+                    changes.len()
+                ),
+            }
+        }
         if let Some(saver) = self.saver {
-            saver.finish(within).await;
+            saver
+                .finish(deadline.saturating_duration_since(tokio::time::Instant::now()))
+                .await;
         }
     }
 }
@@ -224,6 +256,23 @@ mod tests {
         let mut none = BookFiles::open(Some(d.join("missing.json"))).expect("opened");
         assert_eq!(loaded(&mut none.loading).await, Ok(PositionBook::new()));
         files.finish(Duration::from_secs(10)).await;
+    }
+
+    #[tokio::test]
+    async fn changes_held_at_quit_while_loading_are_merged_into_the_book_and_written() {
+        let path = dir().join("book.json");
+        let mut on_disk = PositionBook::new();
+        on_disk.entry("home");
+        on_disk.save(&path).unwrap();
+        let mut files = BookFiles::open(Some(path.clone())).expect("opened");
+        let mut changes = PositionBook::new();
+        changes.entry("pick").anchor = true;
+        files.hold_until_loaded(changes);
+        files.finish(Duration::from_secs(10)).await;
+        let saved = PositionBook::load(&path).unwrap();
+        let names: Vec<&str> = saved.names().collect();
+        assert_eq!(names, ["home", "pick"]);
+        assert!(saved.get("pick").is_some_and(|e| e.anchor));
     }
 
     #[tokio::test]

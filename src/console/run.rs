@@ -16,7 +16,7 @@ use futures::StreamExt;
 use ratatui::Terminal;
 use ratatui::backend::CrosstermBackend;
 
-use super::app::{App, AppConfig, Effect, Input, KeyInput, Severity};
+use super::app::{App, AppConfig, BookState, Effect, Input, KeyInput, Severity};
 use super::book_io::{self, BookFiles};
 use super::jog::{KeyKind, ReleaseMode};
 use super::keymap::{KeyName, Keymap};
@@ -255,7 +255,13 @@ async fn event_loop(
                 }
                 // Written on the writer's thread; a failure comes back as `save_errors`.
                 Effect::SavePositions(positions) => book.save(positions),
-                Effect::Quit => return Ok(()),
+                Effect::Quit => {
+                    // Changes made while the book loads are written once it has loaded.
+                    if matches!(app.book_state, BookState::Loading { .. }) {
+                        book.hold_until_loaded(app.positions.clone());
+                    }
+                    return Ok(());
+                }
             }
         }
         dirty = true;
