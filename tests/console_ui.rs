@@ -402,6 +402,50 @@ fn positions_empty_over_modbus() {
 }
 
 #[test]
+fn positions_while_loading_a_big_book() {
+    let (mut app, _) = bare_app(ReleaseMode::Reported, false);
+    app.begin_loading_positions("/data/book.json");
+    insta::assert_snapshot!(render(ui::positions::draw, &app, 50, 4).backend());
+}
+
+#[test]
+fn positions_that_could_not_be_read_with_one_kept_in_memory() {
+    let (mut app, t0) = bare_app(ReleaseMode::Reported, false);
+    app.begin_loading_positions("/data/book.json");
+    app.positions.entry("pick").cartesian = Some([5000, -1205, 2500]);
+    app.handle(
+        Input::PositionsLoaded(Err("/data/book.json:3:7: expected `:`".into())),
+        t0,
+    );
+    insta::assert_snapshot!(render(ui::positions::draw, &app, 60, 5).backend());
+}
+
+/// The panel scrolled deep into a big book, and the same panel drawn from the painter's
+/// snapshot (a window of the book): identical.
+#[test]
+fn positions_scrolled_in_a_big_book_and_its_snapshot_draw_the_same() {
+    let (mut app, t0) = bare_app(ReleaseMode::Reported, false);
+    app = sized(app, 80, 24, t0);
+    for i in 0..5000 {
+        app.positions.entry(&format!("pos-{i:05}")).cartesian = Some([i, 0, 0]);
+    }
+    app.selected = 3210;
+    let whole = render(ui::positions::draw, &app, 50, 8);
+    let snapshot = app.snapshot();
+    assert!(
+        snapshot.positions.len() <= 2 * 24 + 1,
+        "a window, not the book"
+    );
+    assert_eq!(
+        render(ui::positions::draw, &snapshot, 50, 8)
+            .backend()
+            .buffer(),
+        whole.backend().buffer()
+    );
+    insta::assert_snapshot!(whole.backend());
+}
+
+#[test]
 fn log_with_a_failure() {
     let (app, _) = live_app(ReleaseMode::Reported);
     insta::assert_snapshot!(render(ui::log::draw, &app, 80, 7).backend());

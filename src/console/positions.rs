@@ -5,9 +5,9 @@
 //! live, with their full pose. Writes are atomic (temporary file, fsync, rename), so a crash
 //! never leaves a half-written book.
 
-use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
@@ -33,12 +33,78 @@ pub struct BookEntry {
     pub unknown_to_operator: bool,
 }
 
-/// The named positions of one arm.
+/// One named position and its name; the book keeps them sorted by name.
+type Named = (String, BookEntry);
+
+/// The named positions of one arm, in name order.
+///
+/// Kept as a sorted list, so the `i`-th name (the selection, the rows on the screen) is found
+/// at once and a name in a few steps however big the book: no frame walks the whole book.
+/// Cloning is cheap (the list is shared, copied on the first change to a shared book): the
+/// runtime hands the book to the writer without copying a big book each time.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PositionBook {
     format: u32,
-    positions: BTreeMap<String, BookEntry>,
+    #[serde(with = "sorted_map")]
+    positions: Arc<Vec<Named>>,
+}
+
+/// Serde for the shared sorted list: the file holds a map from name to entry.
+mod sorted_map {
+    use super::*;
+    use serde::ser::SerializeMap;
+
+    pub fn serialize<S: serde::Serializer>(
+        list: &Arc<Vec<Named>>,
+        serializer: S,
+    ) -> Result<S::Ok, S::Error> {
+        let mut map = serializer.serialize_map(Some(list.len()))?;
+        for (name, entry) in list.iter() {
+            map.serialize_entry(name, entry)?;
+        }
+        map.end()
+    }
+
+    pub fn deserialize<'de, D: serde::Deserializer<'de>>(
+        deserializer: D,
+    ) -> Result<Arc<Vec<Named>>, D::Error> {
+        deserializer.deserialize_map(ListVisitor).map(Arc::new)
+    }
+
+    /// Reads the map straight into the list (no map built on the side), then sorts it and keeps
+    /// the last of a name given twice, as a map would.
+    struct ListVisitor;
+
+    impl<'de> serde::de::Visitor<'de> for ListVisitor {
+        type Value = Vec<Named>;
+
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str("a map from position names to positions")
+        }
+
+        fn visit_map<A: serde::de::MapAccess<'de>>(
+            self,
+            mut map: A,
+        ) -> Result<Vec<Named>, A::Error> {
+            let mut list: Vec<Named> = Vec::new();
+            while let Some(named) = map.next_entry::<String, BookEntry>()? {
+                list.push(named);
+            }
+            // Stable: of equal names, the one given last stays last.
+            list.sort_by(|a, b| a.0.cmp(&b.0));
+            list.dedup_by(|later, kept| {
+                if later.0 == kept.0 {
+                    std::mem::swap(later, kept);
+                    true
+                } else {
+                    false
+                }
+            });
+            list.shrink_to_fit();
+            Ok(list)
+        }
+    }
 }
 
 /// Why the book could not be read or written. Names the file.
@@ -58,18 +124,44 @@ pub enum BookError {
     },
     #[error("{path}: format {found} is newer than this armjog understands ({FORMAT})")]
     Format { path: String, found: u32 },
+    /// Writing it would make a file too large to be read back.
+    #[error(
+        "{path}: not written: the book takes {bytes} bytes, over the limit of {limit} bytes \
+         that armjog reads back"
+    )]
+    TooLarge {
+        path: String,
+        bytes: u64,
+        limit: u64,
+    },
 }
 
 impl PositionBook {
     pub fn new() -> Self {
         PositionBook {
             format: FORMAT,
-            positions: BTreeMap::new(),
+            positions: Arc::new(Vec::new()),
         }
     }
 
+    /// Where `name` is in the list, or where it would go.
+    fn find(&self, name: &str) -> Result<usize, usize> {
+        self.positions
+            .binary_search_by(|(n, _)| n.as_str().cmp(name))
+    }
+
     pub fn names(&self) -> impl Iterator<Item = &str> {
-        self.positions.keys().map(String::as_str)
+        self.positions.iter().map(|(n, _)| n.as_str())
+    }
+
+    /// The `index`-th name in name order.
+    pub fn name_at(&self, index: usize) -> Option<&str> {
+        self.positions.get(index).map(|(n, _)| n.as_str())
+    }
+
+    /// Where `name` is in name order.
+    pub fn index_of(&self, name: &str) -> Option<usize> {
+        self.find(name).ok()
     }
 
     pub fn len(&self) -> usize {
@@ -81,20 +173,66 @@ impl PositionBook {
     }
 
     pub fn get(&self, name: &str) -> Option<&BookEntry> {
-        self.positions.get(name)
+        let index = self.find(name).ok()?;
+        self.positions.get(index).map(|(_, e)| e)
     }
 
     pub fn entries(&self) -> impl Iterator<Item = (&str, &BookEntry)> {
-        self.positions.iter().map(|(n, e)| (n.as_str(), e))
+        self.entries_from(0)
+    }
+
+    /// The entries from the `start`-th on, in name order (none past the end).
+    pub fn entries_from(&self, start: usize) -> impl Iterator<Item = (&str, &BookEntry)> {
+        self.positions
+            .get(start..)
+            .unwrap_or_default()
+            .iter()
+            .map(|(n, e)| (n.as_str(), e))
     }
 
     /// The entry for `name`, created empty if new.
     pub fn entry(&mut self, name: &str) -> &mut BookEntry {
-        self.positions.entry(name.to_string()).or_default()
+        let index = match self.find(name) {
+            Ok(index) => index,
+            Err(index) => {
+                Arc::make_mut(&mut self.positions)
+                    .insert(index, (name.to_string(), BookEntry::default()));
+                index
+            }
+        };
+        &mut Arc::make_mut(&mut self.positions)[index].1
     }
 
     pub fn remove(&mut self, name: &str) -> Option<BookEntry> {
-        self.positions.remove(name)
+        let index = self.find(name).ok()?;
+        Some(Arc::make_mut(&mut self.positions).remove(index).1)
+    }
+
+    /// Up to `count` entries from the `start`-th, in name order: a window of a big book, built
+    /// without copying the rest of it.
+    pub fn window(&self, start: usize, count: usize) -> PositionBook {
+        PositionBook {
+            format: self.format,
+            positions: Arc::new(
+                self.positions
+                    .get(start..)
+                    .unwrap_or_default()
+                    .iter()
+                    .take(count)
+                    .cloned()
+                    .collect(),
+            ),
+        }
+    }
+
+    /// Adds every entry of `other` to this book, replacing those of the same name.
+    pub fn merge(&mut self, other: &PositionBook) {
+        if other.is_empty() {
+            return;
+        }
+        for (name, entry) in other.positions.iter() {
+            *self.entry(name) = entry.clone();
+        }
     }
 
     /// Reads a book; a missing file is an empty book.
@@ -135,14 +273,77 @@ impl PositionBook {
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir).map_err(io)?;
         }
-        let text = serde_json::to_string_pretty(self).map_err(|e| io(std::io::Error::other(e)))?;
         let tmp = temporary_path(path);
-        let mut file = std::fs::File::create(&tmp).map_err(io)?;
-        file.write_all(text.as_bytes()).map_err(io)?;
-        file.write_all(b"\n").map_err(io)?;
-        file.sync_all().map_err(io)?;
-        drop(file);
+        let file = std::fs::File::create(&tmp).map_err(io)?;
+        let mut out = std::io::BufWriter::new(file);
+        let written = self
+            .write_to(&mut out, &shown, crate::files::POSITIONS_LIMIT)
+            .and_then(|()| out.into_inner().map_err(|e| io(e.into_error())))
+            .and_then(|file| file.sync_all().map_err(io));
+        if let Err(e) = written {
+            // The book on disk is untouched; no half-written temporary file is left behind.
+            let _ = std::fs::remove_file(&tmp);
+            return Err(e);
+        }
         std::fs::rename(&tmp, path).map_err(io)?;
+        Ok(())
+    }
+}
+
+impl PositionBook {
+    /// Writes the file's text to `out`: indented for people to read, compact when that would
+    /// not fit in `limit` bytes (a book written must load again), refused when even compact does
+    /// not. The sizes are counted first, so a big book is never held as text in memory.
+    fn write_to(&self, out: &mut impl Write, path: &str, limit: u64) -> Result<(), BookError> {
+        let failed = |e: serde_json::Error| BookError::Io {
+            path: path.to_string(),
+            source: std::io::Error::other(e),
+        };
+        let size = |pretty: bool| {
+            let mut counter = ByteCounter(0);
+            let result = if pretty {
+                serde_json::to_writer_pretty(&mut counter, self)
+            } else {
+                serde_json::to_writer(&mut counter, self)
+            };
+            // With its final newline.
+            result.map(|()| counter.0 + 1).map_err(failed)
+        };
+        let pretty = if size(true)? <= limit {
+            true
+        } else {
+            let bytes = size(false)?;
+            if bytes > limit {
+                return Err(BookError::TooLarge {
+                    path: path.to_string(),
+                    bytes,
+                    limit,
+                });
+            }
+            false
+        };
+        if pretty {
+            serde_json::to_writer_pretty(&mut *out, self).map_err(failed)?;
+        } else {
+            serde_json::to_writer(&mut *out, self).map_err(failed)?;
+        }
+        out.write_all(b"\n").map_err(|source| BookError::Io {
+            path: path.to_string(),
+            source,
+        })
+    }
+}
+
+/// Counts the bytes written to it.
+struct ByteCounter(u64);
+
+impl Write for ByteCounter {
+    fn write(&mut self, bytes: &[u8]) -> std::io::Result<usize> {
+        self.0 += bytes.len() as u64;
+        Ok(bytes.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
         Ok(())
     }
 }
@@ -206,6 +407,66 @@ mod tests {
         assert_eq!(PositionBook::load(&path).unwrap(), book);
         let files: Vec<_> = std::fs::read_dir(&d).unwrap().collect();
         assert_eq!(files.len(), 1, "only the book itself");
+    }
+
+    #[test]
+    fn a_book_too_big_to_indent_is_written_compact_and_one_too_big_for_that_is_refused() {
+        let mut book = PositionBook::new();
+        for i in 0..100 {
+            book.entry(&format!("p{i:03}")).cartesian = Some([i, 0, 0]);
+        }
+        let text = |limit: u64| {
+            let mut out = Vec::new();
+            book.write_to(&mut out, "b.json", limit).map(|()| out)
+        };
+        let pretty = text(u64::MAX).unwrap();
+        assert_eq!(
+            pretty,
+            format!("{}\n", serde_json::to_string_pretty(&book).unwrap()).into_bytes()
+        );
+        let compact = format!("{}\n", serde_json::to_string(&book).unwrap()).into_bytes();
+        assert!(
+            pretty.len() > compact.len() + 100,
+            "the test needs a difference"
+        );
+        let limit = compact.len() as u64;
+        assert_eq!(text(limit).unwrap(), compact);
+        let parsed: PositionBook = serde_json::from_slice(&compact).unwrap();
+        assert_eq!(parsed, book);
+        let err = text(limit - 1).unwrap_err().to_string();
+        assert!(err.starts_with("b.json: not written"), "{err}");
+        assert!(err.contains(&format!("takes {limit} bytes")), "{err}");
+    }
+
+    #[test]
+    fn names_stay_in_order_through_changes_and_are_found_by_index_and_by_name() {
+        let mut book = PositionBook::new();
+        for name in ["pick", "bench", "table", "home"] {
+            book.entry(name);
+        }
+        book.entry("pick").anchor = true;
+        assert_eq!(book.remove("table").map(|e| e.anchor), Some(false));
+        assert_eq!(book.remove("table"), None);
+        let names: Vec<&str> = book.names().collect();
+        assert_eq!(names, ["bench", "home", "pick"]);
+        assert_eq!(book.name_at(2), Some("pick"));
+        assert_eq!(book.name_at(3), None);
+        assert_eq!(book.index_of("home"), Some(1));
+        assert_eq!(book.index_of("nope"), None);
+        assert!(book.get("pick").is_some_and(|e| e.anchor));
+        let tail: Vec<&str> = book.entries_from(1).map(|(n, _)| n).collect();
+        assert_eq!(tail, ["home", "pick"]);
+        assert_eq!(book.entries_from(9).count(), 0);
+        let window: Vec<String> = book.window(1, 1).names().map(String::from).collect();
+        assert_eq!(window, ["home"]);
+        // A file in any order, a name given twice: sorted, the last one kept.
+        let parsed: PositionBook = serde_json::from_str(
+            r#"{"format":1,"positions":{"b":{},"a":{"anchor":true},"b":{"anchor":true}}}"#,
+        )
+        .unwrap();
+        let names: Vec<&str> = parsed.names().collect();
+        assert_eq!(names, ["a", "b"]);
+        assert!(parsed.get("b").is_some_and(|e| e.anchor));
     }
 
     #[test]

@@ -16,7 +16,8 @@ use futures::StreamExt;
 use ratatui::Terminal;
 use ratatui::backend::CrosstermBackend;
 
-use super::app::{App, AppConfig, Effect, Input, KeyInput, Severity};
+use super::app::{App, AppConfig, BookState, Effect, Input, KeyInput, Severity};
+use super::book_io::{self, BookFiles};
 use super::jog::{KeyKind, ReleaseMode};
 use super::keymap::{KeyName, Keymap};
 use super::painter::Painter;
@@ -83,10 +84,8 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
         .positions_file
         .clone()
         .or_else(|| positions::default_path(&setup.driver.target()));
-    let book = match &book_path {
-        Some(path) => PositionBook::load(path)?,
-        None => PositionBook::new(),
-    };
+    // Read off the event loop: the first frame and the keys do not wait for a big book.
+    let mut book = BookFiles::open(book_path)?;
     let frames = setup.driver.modbus.is_some() && setup.driver.talos.is_none();
     let positions_on_operator = setup.driver.positions_on_operator();
     let max_jog_speed = setup.driver.max_jog_speed;
@@ -110,8 +109,7 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
                     max_jog_speed,
                     frames,
                 },
-                book,
-                book_path,
+                &mut book,
                 &driver,
                 &mut arm_events,
                 Screen {
@@ -131,6 +129,8 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
     // Whatever happened, the arm is told to stop before the terminal is given back.
     driver.send(ArmCommand::Stop);
     terminal::restore(release_events);
+    // A change saved just before quitting is written before the process ends.
+    book.finish(Duration::from_secs(10)).await;
     driver.shutdown().await;
     result
 }
@@ -182,13 +182,15 @@ fn install_panic_hook(stop: StopHandle, release_events: bool, drawing: Arc<Atomi
 
 async fn event_loop(
     config: AppConfig,
-    book: PositionBook,
-    book_path: Option<PathBuf>,
+    book: &mut BookFiles,
     driver: &Driver,
     arm_events: &mut tokio::sync::mpsc::UnboundedReceiver<crate::link::arm::ArmEvent>,
     mut screen: Screen<'_>,
 ) -> Result<(), ConsoleError> {
-    let mut app = App::new(config, book);
+    let mut app = App::new(config, PositionBook::new());
+    if let Some(path) = &book.path {
+        app.begin_loading_positions(path.display().to_string());
+    }
     app.handle(
         Input::Resize {
             width: screen.size.0,
@@ -220,13 +222,20 @@ async fn event_loop(
                 Some(event) => Some(Input::Arm(event)),
                 None => Some(Input::Signal("arm driver ended")),
             },
+            loaded = book_io::loaded(&mut book.loading) => Some(Input::PositionsLoaded(loaded)),
             _ = sleep_until(deadline) => Some(Input::Tick),
+            Some(error) = book.save_errors.recv() => {
+                app.say(format!("positions not saved: {error}"), Severity::Error, Instant::now());
+                dirty = true;
+                urgent = true;
+                None
+            }
             Some(e) = screen.errors.recv() => return Err(ConsoleError::Terminal(e)),
             _ = render.tick() => {
                 let due = urgent || app.jog.is_jogging() || last_draw.elapsed() >= IDLE_FRAME;
                 if dirty && due {
                     // A snapshot for the drawing thread: this task goes straight back to keys.
-                    screen.painter.paint(app.clone());
+                    screen.painter.paint(app.snapshot());
                     last_draw = Instant::now();
                     dirty = false;
                     urgent = false;
@@ -244,15 +253,15 @@ async fn event_loop(
                         app.say("the arm driver has stopped", Severity::Error, now);
                     }
                 }
-                Effect::SavePositions(book) => {
-                    if let Some(path) = &book_path
-                        && let Err(e) = book.save(path)
-                    {
-                        tracing::error!("saving positions: {e}");
-                        app.say(format!("positions not saved: {e}"), Severity::Error, now);
+                // Written on the writer's thread; a failure comes back as `save_errors`.
+                Effect::SavePositions(positions) => book.save(positions),
+                Effect::Quit => {
+                    // Changes made while the book loads are written once it has loaded.
+                    if matches!(app.book_state, BookState::Loading { .. }) {
+                        book.hold_until_loaded(app.positions.clone());
                     }
+                    return Ok(());
                 }
-                Effect::Quit => return Ok(()),
             }
         }
         dirty = true;

@@ -8,12 +8,14 @@
 //! all stop it.
 
 mod arm_state;
+mod book_load;
 mod coords;
 mod jog_keys;
 mod motion_truth;
 mod named;
 
 pub use arm_state::{abort_reason, age_text, at_rest, fault_reason};
+pub use book_load::{BookState, CHECKED_ON_CONNECT};
 pub use coords::{cartesian_of, describe_motion, polar_of};
 pub use jog_keys::TAP_STEP_LIMIT;
 pub use motion_truth::{
@@ -71,6 +73,9 @@ pub enum Input {
     Arm(ArmEvent),
     /// SIGINT, SIGTERM or SIGHUP.
     Signal(&'static str),
+    /// The position book was read off the event loop, or could not be (the error names the file
+    /// and what was wrong). See [`App::begin_loading_positions`].
+    PositionsLoaded(Result<PositionBook, String>),
 }
 
 /// What the runtime must do.
@@ -152,6 +157,8 @@ pub struct App {
     pub frame: ReferenceFrame,
     pub step: Step,
     pub positions: PositionBook,
+    /// Whether the book is loaded, still loading, or could not be read.
+    pub book_state: BookState,
     pub selected: usize,
     pub log: VecDeque<LogEntry>,
     pub hex: bool,
@@ -187,6 +194,7 @@ impl App {
                 index: 2,
             },
             positions,
+            book_state: BookState::Ready,
             selected: 0,
             log: VecDeque::new(),
             hex: false,
@@ -205,7 +213,7 @@ impl App {
     }
 
     pub fn selected_name(&self) -> Option<&str> {
-        self.positions.names().nth(self.selected)
+        self.positions.name_at(self.selected)
     }
 
     /// When the runtime must next send [`Input::Tick`].
@@ -254,8 +262,10 @@ impl App {
                 );
                 self.quit(now, &mut effects);
             }
+            Input::PositionsLoaded(result) => self.on_positions_loaded(result, now, &mut effects),
         }
         self.truth_after(goto, now, &mut effects);
+        self.hold_saves_until_loaded(now, &mut effects);
         effects
     }
 
@@ -612,14 +622,10 @@ impl App {
                     && !matches!(self.link, LinkStatus::Up { .. });
                 self.link = status;
                 if came_up && self.config.positions_on_operator {
-                    // The ICD cannot list positions: ask about each remembered name, so the
-                    // panel marks the ones this operator does not know (and shows where the
-                    // others are now).
-                    for name in self.positions.names() {
-                        effects.push(Effect::Arm(ArmCommand::GetPosition {
-                            name: name.to_string(),
-                        }));
-                    }
+                    // The ICD cannot list positions: ask about remembered names, so the panel
+                    // marks the ones this operator does not know (and shows where the others
+                    // are now).
+                    self.check_names_on_operator(effects);
                 }
             }
             ArmEvent::Telemetry(t) => self.telemetry = Some(*t),

@@ -165,7 +165,7 @@ impl App {
     }
 
     pub(super) fn select(&mut self, name: &str) {
-        if let Some(i) = self.positions.names().position(|n| n == name) {
+        if let Some(i) = self.positions.index_of(name) {
             self.selected = i;
         }
     }

@@ -1,0 +1,126 @@
+//! The position book while it loads: the runtime parses the file off the event loop (a book of
+//! up to 16 MB takes a second or more) and hands it over as [`super::Input::PositionsLoaded`];
+//! meanwhile the console draws, jogs and stops as usual.
+//!
+//! Nothing is lost and nothing is overwritten: a change made while the book loads is kept in
+//! memory and merged into the loaded book, which is then saved; a book that could not be read is
+//! never saved over (the file may only need a fix).
+
+use std::time::Instant;
+
+use super::{App, Effect, Severity};
+use crate::console::positions::PositionBook;
+use crate::link::arm::ArmCommand;
+
+/// How many remembered names are checked with the operator when the link comes up: each costs
+/// a request, and a big book would flood the operator (and the console) for minutes. The others
+/// are checked when shown or gone to.
+pub const CHECKED_ON_CONNECT: usize = 100;
+
+/// Where the position book stands.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum BookState {
+    /// Loaded (or there is no file): changes are saved.
+    Ready,
+    /// The file is being read and parsed. `file` names it.
+    Loading { file: String },
+    /// The file could not be read: it is never saved over. `error` names the file and the cause.
+    Failed { error: String },
+}
+
+impl App {
+    /// The runtime started loading the book from `file`.
+    pub fn begin_loading_positions(&mut self, file: impl Into<String>) {
+        self.book_state = BookState::Loading { file: file.into() };
+    }
+
+    /// The book arrived (or could not be read: the error names the file and what was wrong).
+    pub(super) fn on_positions_loaded(
+        &mut self,
+        result: Result<PositionBook, String>,
+        now: Instant,
+        effects: &mut Vec<Effect>,
+    ) {
+        match result {
+            Ok(mut book) => {
+                let changed_meanwhile = !self.positions.is_empty();
+                let selected = self.selected_name().map(str::to_string);
+                book.merge(&self.positions);
+                self.positions = book;
+                self.book_state = BookState::Ready;
+                match selected {
+                    Some(name) => self.select(&name),
+                    None => self.selected = 0,
+                }
+                self.clamp_selection();
+                if changed_meanwhile {
+                    effects.push(Effect::SavePositions(self.positions.clone()));
+                }
+                if self.config.positions_on_operator && self.link_is_up() {
+                    self.check_names_on_operator(effects);
+                }
+            }
+            Err(error) => {
+                tracing::error!("positions not loaded: {error}");
+                self.say(
+                    format!("positions not loaded: {error}"),
+                    Severity::Error,
+                    now,
+                );
+                self.book_state = BookState::Failed { error };
+            }
+        }
+    }
+
+    /// Asks the operator about the first [`CHECKED_ON_CONNECT`] remembered names, so the panel
+    /// marks the ones it does not know.
+    pub(super) fn check_names_on_operator(&self, effects: &mut Vec<Effect>) {
+        for name in self.positions.names().take(CHECKED_ON_CONNECT) {
+            effects.push(Effect::Arm(ArmCommand::GetPosition {
+                name: name.to_string(),
+            }));
+        }
+        if self.positions.len() > CHECKED_ON_CONNECT {
+            tracing::info!(
+                "checked the first {CHECKED_ON_CONNECT} of {} positions with the operator",
+                self.positions.len()
+            );
+        }
+    }
+
+    /// Holds back saving while the book is not loaded: saving then would write a partial book
+    /// over the file.
+    pub(super) fn hold_saves_until_loaded(&mut self, now: Instant, effects: &mut Vec<Effect>) {
+        let text = match &self.book_state {
+            BookState::Ready => return,
+            BookState::Loading { file } => {
+                format!("positions still loading from {file}: the change is saved once loaded")
+            }
+            BookState::Failed { error } => {
+                format!("positions not saved: the file could not be read ({error})")
+            }
+        };
+        let before = effects.len();
+        effects.retain(|e| !matches!(e, Effect::SavePositions(_)));
+        if effects.len() != before {
+            let severity = match self.book_state {
+                BookState::Loading { .. } => Severity::Warning,
+                _ => Severity::Error,
+            };
+            self.say(text, severity, now);
+        }
+    }
+
+    /// A copy of the app for the drawing thread, with only the part of the book a screen can
+    /// show: drawing costs the same whatever the book's size.
+    pub fn snapshot(&self) -> App {
+        let mut snapshot = self.clone();
+        // No panel is taller than the terminal: `rows` entries either side of the selection
+        // fill any of them the same way the whole book would.
+        let rows = usize::from(self.size.1);
+        let start = self.selected.saturating_sub(rows);
+        snapshot.positions = self.positions.window(start, 2 * rows + 1);
+        snapshot.selected = self.selected - start;
+        snapshot
+    }
+}

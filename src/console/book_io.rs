@@ -1,0 +1,295 @@
+//! Reading and writing the position book off the event loop: parsing a 16 MB book takes a
+//! second or more and writing one (with its fsync) a good part of one, and the task that reads
+//! keys and sends their STOPs must not wait for either.
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use tokio::sync::{mpsc, oneshot};
+
+use super::positions::{BookError, PositionBook};
+
+/// What the loader hands back: the book, or the error naming the file and what was wrong.
+pub type Loaded = Result<PositionBook, String>;
+
+/// Starts reading the book at `path` on a blocking thread.
+pub fn load(path: &Path) -> oneshot::Receiver<Loaded> {
+    let (tx, rx) = oneshot::channel();
+    let path = path.to_path_buf();
+    tokio::task::spawn_blocking(move || {
+        let started = std::time::Instant::now();
+        let result = PositionBook::load(&path).map_err(|e| e.to_string());
+        if let Ok(book) = &result {
+            tracing::info!(
+                "loaded {} positions from {} in {:?}",
+                book.len(),
+                path.display(),
+                started.elapsed()
+            );
+        }
+        // The console may have quit meanwhile: nobody wants the book then.
+        let _ = tx.send(result);
+    });
+    rx
+}
+
+/// Waits for the loader's answer; never ends when there is none to wait for (`None`: loaded
+/// already, or no file). A loader that ended without answering is an error.
+pub async fn loaded(loading: &mut Option<oneshot::Receiver<Loaded>>) -> Loaded {
+    let Some(rx) = loading.as_mut() else {
+        return std::future::pending().await;
+    };
+    let result = rx
+        .await
+        .unwrap_or_else(|_| Err("the positions loader ended without a book".to_string()));
+    *loading = None;
+    result
+}
+
+/// The thread of writes: books are written one at a time, in order; a book handed over while
+/// another is written replaces any not written yet (only the newest matters).
+pub struct Saver {
+    next: mpsc::UnboundedSender<PositionBook>,
+    task: tokio::task::JoinHandle<()>,
+}
+
+impl Saver {
+    /// Starts the writer for `path`; a failed write is reported on the returned receiver.
+    pub fn start(path: PathBuf) -> (Saver, mpsc::UnboundedReceiver<String>) {
+        let (next, mut books) = mpsc::unbounded_channel::<PositionBook>();
+        let (errors_tx, errors) = mpsc::unbounded_channel();
+        let task = tokio::spawn(async move {
+            // Books are taken out of the channel, not copied: once written, the app's book is
+            // no longer shared and changing it copies nothing.
+            while let Some(mut book) = books.recv().await {
+                while let Ok(newer) = books.try_recv() {
+                    book = newer;
+                }
+                let path = path.clone();
+                let written = tokio::task::spawn_blocking(move || book.save(&path)).await;
+                let error = match written {
+                    Ok(Ok(())) => continue,
+                    Ok(Err(e)) => e.to_string(),
+                    Err(e) => format!("the positions writer failed: {e}"),
+                };
+                tracing::error!("saving positions: {error}");
+                let _ = errors_tx.send(error);
+            }
+        });
+        (Saver { next, task }, errors)
+    }
+
+    /// Hands a book over to be written. Never waits for a write.
+    pub fn save(&self, book: PositionBook) {
+        if self.next.send(book).is_err() {
+            tracing::error!("the positions writer has ended: positions not saved");
+        }
+    }
+
+    /// Writes the book handed over last, if not written yet, waiting at most `within`.
+    pub async fn finish(self, within: Duration) {
+        drop(self.next);
+        if tokio::time::timeout(within, self.task).await.is_err() {
+            tracing::error!("the positions file was not written within {within:?}");
+        }
+    }
+}
+
+/// The book's file as the event loop sees it: the load in progress, the writer, its errors.
+pub struct BookFiles {
+    /// Where the book lives; `None`: nowhere (nothing is loaded or saved).
+    pub path: Option<PathBuf>,
+    pub loading: Option<oneshot::Receiver<Loaded>>,
+    saver: Option<Saver>,
+    pub save_errors: mpsc::UnboundedReceiver<String>,
+    /// Changes made while the book was loading, still to be merged into it and written.
+    held: Option<PositionBook>,
+}
+
+impl BookFiles {
+    /// Starts loading the book at `path` and the writer for it.
+    ///
+    /// A regular file within the size limit (or none) is read off the event loop. Anything else
+    /// (a file over the limit, a device such as `/dev/zero`, a FIFO, a file that cannot be
+    /// opened) is read here, at most to the limit, and refused at once with the file's name and
+    /// what was wrong, before the console takes the terminal.
+    pub fn open(path: Option<PathBuf>) -> Result<BookFiles, BookError> {
+        let Some(p) = &path else {
+            return Ok(BookFiles {
+                path,
+                loading: None,
+                saver: None,
+                save_errors: mpsc::unbounded_channel().1,
+                held: None,
+            });
+        };
+        let regular_within_limit = match std::fs::metadata(p) {
+            Ok(meta) => meta.is_file() && meta.len() <= crate::files::POSITIONS_LIMIT,
+            Err(e) => e.kind() == std::io::ErrorKind::NotFound,
+        };
+        let loading = if regular_within_limit {
+            load(p)
+        } else {
+            let book = PositionBook::load(p)?;
+            let (tx, rx) = oneshot::channel();
+            let _ = tx.send(Ok(book));
+            rx
+        };
+        let (saver, save_errors) = Saver::start(p.clone());
+        Ok(BookFiles {
+            loading: Some(loading),
+            path,
+            saver: Some(saver),
+            save_errors,
+            held: None,
+        })
+    }
+
+    /// Hands a book over to be written (nothing happens without a file).
+    pub fn save(&self, book: PositionBook) {
+        if let Some(saver) = &self.saver {
+            saver.save(book);
+        }
+    }
+
+    /// Keeps `changes` made while the book is still loading (the console is quitting): they
+    /// are merged into the book and written by [`BookFiles::finish`].
+    pub fn hold_until_loaded(&mut self, changes: PositionBook) {
+        if self.loading.is_some() && !changes.is_empty() {
+            self.held = Some(changes);
+        }
+    }
+
+    /// Writes the book handed over last (and the held changes, once the book is loaded),
+    /// waiting at most `within`.
+    pub async fn finish(mut self, within: Duration) {
+        let deadline = tokio::time::Instant::now() + within;
+        if let Some(changes) = self.held.take() {
+            match tokio::time::timeout_at(deadline, loaded(&mut self.loading)).await {
+                Ok(Ok(mut book)) => {
+                    book.merge(&changes);
+                    self.save(book);
+                }
+                Ok(Err(error)) => tracing::error!(
+                    "{} changed positions not saved: the book was not loaded ({error})",
+                    changes.len()
+                ),
+                Err(_) => tracing::error!(
+                    "{} changed positions not saved: the book did not load within {within:?}",
+                    changes.len()
+                ),
+            }
+        }
+        if let Some(saver) = self.saver {
+            saver
+                .finish(deadline.saturating_duration_since(tokio::time::Instant::now()))
+                .await;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn dir() -> PathBuf {
+        let d = std::env::temp_dir().join(format!(
+            "armjog-book-io-{}-{}",
+            std::process::id(),
+            std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map(|d| d.as_nanos())
+                .unwrap_or(0)
+        ));
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    #[tokio::test]
+    async fn the_last_book_handed_over_is_written_before_finish_returns() {
+        let path = dir().join("book.json");
+        let (saver, _errors) = Saver::start(path.clone());
+        let mut book = PositionBook::new();
+        for i in 0..5 {
+            book.entry(&format!("p{i}")).cartesian = Some([i, 0, 0]);
+            saver.save(book.clone());
+        }
+        saver.finish(Duration::from_secs(10)).await;
+        assert_eq!(PositionBook::load(&path).unwrap(), book);
+    }
+
+    #[tokio::test]
+    async fn a_failed_write_is_reported_with_the_file() {
+        let blocker = dir().join("not-a-dir");
+        std::fs::write(&blocker, "x").unwrap();
+        let path = blocker.join("book.json");
+        let (saver, mut errors) = Saver::start(path.clone());
+        saver.save(PositionBook::new());
+        let error = tokio::time::timeout(Duration::from_secs(10), errors.recv())
+            .await
+            .expect("reported in time")
+            .expect("an error");
+        assert!(error.contains(&path.display().to_string()), "{error}");
+        saver.finish(Duration::from_secs(10)).await;
+    }
+
+    #[tokio::test]
+    async fn a_file_over_the_limit_or_a_device_is_refused_at_once_and_a_book_loads_later() {
+        let d = dir();
+        let big = d.join("big.json");
+        std::fs::write(&big, vec![b' '; 17 * 1024 * 1024]).unwrap();
+        let error = BookFiles::open(Some(big.clone())).err().expect("refused");
+        assert!(error.to_string().contains("16 MB"), "{error}");
+        #[cfg(unix)]
+        {
+            let error = BookFiles::open(Some("/dev/zero".into()))
+                .err()
+                .expect("refused");
+            assert!(error.to_string().starts_with("/dev/zero"), "{error}");
+        }
+        let path = d.join("book.json");
+        let mut book = PositionBook::new();
+        book.entry("pick");
+        book.save(&path).unwrap();
+        let mut files = BookFiles::open(Some(path)).expect("opened");
+        assert_eq!(loaded(&mut files.loading).await, Ok(book));
+        let mut none = BookFiles::open(Some(d.join("missing.json"))).expect("opened");
+        assert_eq!(loaded(&mut none.loading).await, Ok(PositionBook::new()));
+        files.finish(Duration::from_secs(10)).await;
+    }
+
+    #[tokio::test]
+    async fn changes_held_at_quit_while_loading_are_merged_into_the_book_and_written() {
+        let path = dir().join("book.json");
+        let mut on_disk = PositionBook::new();
+        on_disk.entry("home");
+        on_disk.save(&path).unwrap();
+        let mut files = BookFiles::open(Some(path.clone())).expect("opened");
+        let mut changes = PositionBook::new();
+        changes.entry("pick").anchor = true;
+        files.hold_until_loaded(changes);
+        files.finish(Duration::from_secs(10)).await;
+        let saved = PositionBook::load(&path).unwrap();
+        let names: Vec<&str> = saved.names().collect();
+        assert_eq!(names, ["home", "pick"]);
+        assert!(saved.get("pick").is_some_and(|e| e.anchor));
+    }
+
+    #[tokio::test]
+    async fn a_book_loads_off_the_loop_and_an_unreadable_one_names_its_file() {
+        let d = dir();
+        let path = d.join("book.json");
+        let mut book = PositionBook::new();
+        book.entry("pick").cartesian = Some([1, 2, 3]);
+        book.save(&path).unwrap();
+        let mut loading = Some(load(&path));
+        assert_eq!(loaded(&mut loading).await, Ok(book));
+        assert!(loading.is_none(), "nothing left to wait for");
+
+        let bad = d.join("bad.json");
+        std::fs::write(&bad, "{ not json").unwrap();
+        let mut loading = Some(load(&bad));
+        let error = loaded(&mut loading).await.unwrap_err();
+        assert!(error.starts_with(&bad.display().to_string()), "{error}");
+    }
+}
