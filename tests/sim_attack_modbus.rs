@@ -22,7 +22,7 @@ use attack_support::{
     modbus_state_answered,
 };
 
-const CASES: u32 = 64;
+const CASES: u32 = 128;
 /// Transaction ids of the valid reads; garbage uses lower ones.
 const VALID_TRANSACTIONS: u16 = 0xF000;
 /// Longest MBAP length field Modbus TCP allows: unit id + a 253-byte PDU.
@@ -207,7 +207,16 @@ fn framing(stream: &[u8], valid_start: usize) -> Framing {
     }
 }
 
-async fn case(sim: &Simulator, pieces: &[Piece], chunk: usize, n: u32) -> Result<(), String> {
+/// How the valid read after the garbage fared (all allowed; counted so the test shows it
+/// exercised each).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Fate {
+    Answered,
+    Closed,
+    Swallowed,
+}
+
+async fn case(sim: &Simulator, pieces: &[Piece], chunk: usize, n: u32) -> Result<Fate, String> {
     let addr = sim.modbus_addr.ok_or("the Modbus server is not running")?;
     let transaction = VALID_TRANSACTIONS + (n % 0x0800) as u16;
     let mut input: Vec<u8> = pieces.iter().flat_map(render).collect();
@@ -217,6 +226,7 @@ async fn case(sim: &Simulator, pieces: &[Piece], chunk: usize, n: u32) -> Result
     let mut stream = TcpStream::connect(addr)
         .await
         .map_err(|e| format!("connect: {e}"))?;
+    let mut fate = Fate::Closed;
     let mut sent = true;
     for part in input.chunks(chunk.max(1)) {
         if stream.write_all(part).await.is_err() {
@@ -232,14 +242,14 @@ async fn case(sim: &Simulator, pieces: &[Piece], chunk: usize, n: u32) -> Result
             _ => REPLY_BOUND,
         };
         match modbus_reply_to(&mut stream, transaction, bound).await {
-            ModbusOutcome::Reply(pdu) if is_state_reply(&pdu) => {}
+            ModbusOutcome::Reply(pdu) if is_state_reply(&pdu) => fate = Fate::Answered,
             ModbusOutcome::Reply(pdu) => {
                 return Err(format!(
                     "wrong reply to the valid read: {pdu:02x?} ({expected:?})"
                 ));
             }
             ModbusOutcome::Closed => {}
-            ModbusOutcome::Silent if expected == Framing::SwallowedToEnd => {}
+            ModbusOutcome::Silent if expected == Framing::SwallowedToEnd => fate = Fate::Swallowed,
             ModbusOutcome::Silent => {
                 return Err(format!(
                     "neither a reply nor a close within {bound:?} ({expected:?})"
@@ -255,7 +265,7 @@ async fn case(sim: &Simulator, pieces: &[Piece], chunk: usize, n: u32) -> Result
         .snapshot()
         .await
         .map_err(|e| format!("the arm task is gone: {e:?}"))?;
-    Ok(())
+    Ok(fate)
 }
 
 #[test]
@@ -276,6 +286,7 @@ fn the_modbus_server_answers_or_closes_after_any_garbage_and_keeps_serving() {
         ..Config::default()
     });
     let counter = Cell::new(0u32);
+    let fates = std::cell::RefCell::new(Vec::new());
     let strategy = (
         prop::collection::vec(piece(), 0..5),
         prop_oneof![Just(usize::MAX), 1..64usize],
@@ -283,11 +294,27 @@ fn the_modbus_server_answers_or_closes_after_any_garbage_and_keeps_serving() {
     let result = runner.run(&strategy, |(pieces, chunk)| {
         let n = counter.get();
         counter.set(n + 1);
-        runtime
+        let fate = runtime
             .block_on(case(&sim, &pieces, chunk, n))
-            .map_err(TestCaseError::fail)
+            .map_err(TestCaseError::fail)?;
+        fates.borrow_mut().push(fate);
+        Ok(())
     });
     if let Err(e) = result {
         panic!("{e}");
     }
+    let fates = fates.into_inner();
+    let count = |f: Fate| fates.iter().filter(|&&x| x == f).count();
+    let answered = count(Fate::Answered);
+    eprintln!(
+        "modbus: {} cases: valid read answered {answered}, connection closed {}, read swallowed by a lying length {}",
+        fates.len(),
+        count(Fate::Closed),
+        count(Fate::Swallowed)
+    );
+    assert!(
+        answered * 10 >= fates.len(),
+        "only {answered} of {} valid reads answered: the garbage hardly ever lets one through",
+        fates.len()
+    );
 }

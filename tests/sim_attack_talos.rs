@@ -2,21 +2,28 @@
 //! garbage and near-frames, then one valid handshake on the same connection. The server must
 //! answer the handshake within a bound, keep accepting connections, and keep its arm task alive.
 //! (`fuzz/` holds the cargo-fuzz target for the decoder alone, which needs nightly.)
+//!
+//! Until the server has a per-frame read deadline, garbage whose last plausible header announces
+//! more bytes than follow leaves the decoder waiting, and the valid frame unanswered, until more
+//! bytes come (issue 9, item 6). Such cases are recognised by running the server's own decoder
+//! over the input, and only their reply is not awaited; see [`SERVER_HAS_FRAME_DEADLINE`].
 
 mod attack_support;
 
 use std::cell::Cell;
 
+use bytes::BytesMut;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestCaseError, TestRunner};
 use tokio::io::AsyncWriteExt;
 use tokio::net::TcpStream;
+use tokio_util::codec::Decoder;
 
 use armjog::sim::talos_server::TalosServerConfig;
 use armjog::sim::{SimConfig, Simulator};
 use armjog::talos::command::REPLY_BIT;
-use armjog::talos::frame::{DEFAULT_MAX_PAYLOAD, HEADER_LEN};
-use armjog::talos::{Checksum, CommandValue, Frame};
+use armjog::talos::frame::{DEFAULT_MAX_PAYLOAD, Decoded, HEADER_LEN};
+use armjog::talos::{Checksum, CommandValue, Frame, FrameCodec};
 
 use attack_support::{
     REPLY_BOUND, check_handshake_reply, distinctive_id, talos_handshake, talos_handshake_answered,
@@ -25,6 +32,10 @@ use attack_support::{
 
 /// Cases per checksum dialect: each opens two connections; most take milliseconds.
 const CASES: u32 = 64;
+
+/// Whether the Talos server gives up on a frame that stops arriving (then every case's valid
+/// frame must be answered). Set it once the per-frame read deadline is in the server.
+const SERVER_HAS_FRAME_DEADLINE: bool = false;
 
 /// One piece of hostile input.
 #[derive(Debug, Clone)]
@@ -143,8 +154,8 @@ fn frame_bytes(id: u32, command: u16, payload: &[u8], checksum: Checksum) -> Vec
         .expect("a garbage payload of at most 41 bytes fits a frame")
 }
 
-/// The bytes of one piece. `valid_len` is the length of the handshake that follows all pieces.
-fn render(piece: &Piece, checksum: Checksum, valid_len: usize) -> Vec<u8> {
+/// The bytes of one piece.
+fn render(piece: &Piece, checksum: Checksum) -> Vec<u8> {
     match piece {
         Piece::Random(bytes) => bytes.clone(),
         Piece::BadChecksum {
@@ -195,32 +206,64 @@ fn render(piece: &Piece, checksum: Checksum, valid_len: usize) -> Vec<u8> {
             missing,
         } => {
             let mut bytes = frame_bytes(*id, *command, payload, checksum);
-            // The decoder in this tree waits, without a deadline, for the rest of a plausible
-            // frame: only cut as much as the bytes that follow can fill, so the valid frame is
-            // not held back indefinitely (a longer cut is the per-frame deadline's test).
-            let missing = (*missing).min(valid_len).min(bytes.len() - 1);
-            bytes.truncate(bytes.len() - missing);
+            bytes.truncate(bytes.len() - (*missing).min(bytes.len() - 1));
             bytes
         }
     }
 }
 
+/// Whether the server's decoder, fed `input` in reads of `chunk` bytes with no more to come,
+/// gets to the frame with id `id`.
+fn decoder_reaches(input: &[u8], checksum: Checksum, id: u32, chunk: usize) -> bool {
+    let mut codec = FrameCodec::new(checksum);
+    let mut buf = BytesMut::new();
+    for part in input.chunks(chunk) {
+        buf.extend_from_slice(part);
+        while let Ok(Some(item)) = codec.decode(&mut buf) {
+            if let Decoded::Frame(frame) = item
+                && frame.id == id
+            {
+                return true;
+            }
+        }
+    }
+    false
+}
+
+/// Whether the valid frame at the end of `input` may wait for bytes that never come: the
+/// decoder stops short of it with the input read at once, byte by byte, or as the test writes it.
+fn may_stall(input: &[u8], checksum: Checksum, id: u32, chunk: usize) -> bool {
+    [input.len(), 1, chunk]
+        .into_iter()
+        .any(|c| !decoder_reaches(input, checksum, id, c.clamp(1, input.len().max(1))))
+}
+
+/// What a case showed.
+enum Checked {
+    /// The valid frame after the garbage was answered.
+    Answered,
+    /// The decoder would wait for bytes that never come: the reply was not awaited.
+    StallNotAwaited,
+}
+
 /// One case: connect, send the garbage (in writes of `chunk` bytes), then a handshake; its reply
-/// must come; then a fresh connection's handshake must be answered too.
+/// must come (unless [`may_stall`]); then a fresh connection's handshake must be answered too.
 async fn case(
     sim: &Simulator,
     checksum: Checksum,
     pieces: &[Piece],
     chunk: usize,
     n: u32,
-) -> Result<(), String> {
+) -> Result<Checked, String> {
     let id = distinctive_id(2 * n);
     let valid = talos_handshake(id, checksum);
-    let mut input: Vec<u8> = pieces
-        .iter()
-        .flat_map(|p| render(p, checksum, valid.len()))
-        .collect();
+    let mut input: Vec<u8> = pieces.iter().flat_map(|p| render(p, checksum)).collect();
     input.extend(&valid);
+    let checked = if !SERVER_HAS_FRAME_DEADLINE && may_stall(&input, checksum, id, chunk) {
+        Checked::StallNotAwaited
+    } else {
+        Checked::Answered
+    };
     let mut stream = TcpStream::connect(sim.talos_addr)
         .await
         .map_err(|e| format!("connect: {e}"))?;
@@ -230,8 +273,10 @@ async fn case(
             .await
             .map_err(|e| format!("the server stopped reading: {e}"))?;
     }
-    let reply = talos_reply_to(&mut stream, checksum, id, REPLY_BOUND).await?;
-    check_handshake_reply(&reply)?;
+    if let Checked::Answered = checked {
+        let reply = talos_reply_to(&mut stream, checksum, id, REPLY_BOUND).await?;
+        check_handshake_reply(&reply)?;
+    }
     drop(stream);
     talos_handshake_answered(sim.talos_addr, checksum, distinctive_id(2 * n + 1))
         .await
@@ -240,7 +285,7 @@ async fn case(
         .snapshot()
         .await
         .map_err(|e| format!("the arm task is gone: {e:?}"))?;
-    Ok(())
+    Ok(checked)
 }
 
 fn fuzz_server(checksum: Checksum) {
@@ -267,6 +312,7 @@ fn fuzz_server(checksum: Checksum) {
         ..Config::default()
     });
     let counter = Cell::new(0u32);
+    let not_awaited = Cell::new(0u32);
     let strategy = (
         prop::collection::vec(piece(), 0..5),
         prop_oneof![Just(usize::MAX), 1..64usize],
@@ -274,13 +320,28 @@ fn fuzz_server(checksum: Checksum) {
     let result = runner.run(&strategy, |(pieces, chunk)| {
         let n = counter.get();
         counter.set(n + 1);
-        runtime
-            .block_on(case(&sim, checksum, &pieces, chunk, n))
-            .map_err(TestCaseError::fail)
+        match runtime.block_on(case(&sim, checksum, &pieces, chunk, n)) {
+            Ok(Checked::Answered) => Ok(()),
+            Ok(Checked::StallNotAwaited) => {
+                not_awaited.set(not_awaited.get() + 1);
+                Ok(())
+            }
+            Err(e) => Err(TestCaseError::fail(e)),
+        }
     });
     if let Err(e) = result {
         panic!("{checksum:?}: {e}");
     }
+    let skipped = not_awaited.get();
+    eprintln!(
+        "{checksum:?}: {} cases, the reply of {skipped} not awaited (the decoder waits for bytes that never come)",
+        counter.get()
+    );
+    assert!(
+        skipped * 4 < counter.get(),
+        "{checksum:?}: {skipped} of {} cases not checked",
+        counter.get()
+    );
 }
 
 #[test]
