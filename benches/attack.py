@@ -346,7 +346,8 @@ def flood(addr, stop, tally, proto):
                 tally.add((proto, "flood", "connections"))
                 while not stop.is_set():
                     sock.sendall(chunk)
-                    tally.add((proto, "flood", "bytes"), len(chunk))
+                    # Accepted by the kernel: a server that closed may never have read them.
+                    tally.add((proto, "flood", "bytes written"), len(chunk))
         except OSError:
             pass
 
@@ -480,8 +481,15 @@ def main():
         except subprocess.TimeoutExpired:
             proc.kill()
 
+    totals = collections.Counter()
+    for (proto, kind, what), value in tally.counts.items():
+        if what == "inputs":
+            totals["%s inputs tried" % proto] += value
+        elif what.startswith("REPLY MISSING"):
+            totals["%s replies missing" % proto] += value
     report = {
         "seconds": round(elapsed, 1),
+        "totals": dict(totals),
         "inputs": {"%s %s: %s" % k: v for k, v in sorted(tally.counts.items())},
         "health": dict(checks),
         "process alive at the end": alive,
@@ -496,6 +504,8 @@ def main():
     print("attack on %s for %.1f s, %d attacking threads per protocol, %d idle connections per server"
           % (args.bin, elapsed, args.threads, args.idle))
     for key, value in report["inputs"].items():
+        print("  %-80s %d" % (key, value))
+    for key, value in sorted(totals.items()):
         print("  %-80s %d" % (key, value))
     for key, value in report["health"].items():
         print("  %-80s %d" % (key, value))
