@@ -6,10 +6,6 @@
 
 mod attack_support;
 
-use std::io::{BufRead, BufReader};
-use std::net::SocketAddr;
-use std::process::{Child, Command, Stdio};
-use std::sync::mpsc;
 use std::time::Duration;
 
 use tokio::io::AsyncWriteExt;
@@ -17,6 +13,7 @@ use tokio::net::TcpStream;
 
 use armjog::talos::Checksum;
 
+use attack_support::process::SimProcess;
 use attack_support::{
     distinctive_id, modbus_read_state, modbus_state_answered, talos_handshake,
     talos_handshake_answered,
@@ -26,109 +23,6 @@ const WARM_UP: u32 = 200;
 const CYCLES: u32 = 2_000;
 /// Generous: allocator arenas and tokio's worker caches may settle a little after the warm-up.
 const MAX_GROWTH_KB: u64 = 4 * 1024;
-
-/// `armjog sim` on ephemeral ports, killed on drop.
-struct SimProcess {
-    child: Child,
-    talos: SocketAddr,
-    modbus: SocketAddr,
-}
-
-impl SimProcess {
-    fn spawn() -> SimProcess {
-        let log_dir = std::env::temp_dir().join(format!("armjog-attack-{}", std::process::id()));
-        let mut child = Command::new(env!("CARGO_BIN_EXE_armjog"))
-            .args([
-                "sim",
-                "--talos-listen",
-                "127.0.0.1:0",
-                "--modbus-listen",
-                "127.0.0.1:0",
-            ])
-            .env("ARMJOG_LOG_DIR", log_dir)
-            .stdin(Stdio::null())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("spawn armjog sim");
-        let stdout = child.stdout.take().expect("piped stdout");
-        let (tx, rx) = mpsc::channel();
-        std::thread::spawn(move || {
-            for line in BufReader::new(stdout).lines().map_while(Result::ok) {
-                if tx.send(line).is_err() {
-                    break;
-                }
-            }
-        });
-        let mut talos = None;
-        let mut modbus = None;
-        while talos.is_none() || modbus.is_none() {
-            let line = rx
-                .recv_timeout(Duration::from_secs(20))
-                .expect("armjog sim prints its addresses");
-            let address = || {
-                line.split_whitespace()
-                    .nth(2)
-                    .and_then(|a| a.parse::<SocketAddr>().ok())
-            };
-            if line.contains("talos operator") {
-                talos = address();
-            } else if line.contains("kinova modbus") {
-                modbus = address();
-            }
-        }
-        SimProcess {
-            child,
-            talos: talos.expect("talos address"),
-            modbus: modbus.expect("modbus address"),
-        }
-    }
-
-    fn pid(&self) -> u32 {
-        self.child.id()
-    }
-
-    fn rss_kb(&self) -> u64 {
-        let status = std::fs::read_to_string(format!("/proc/{}/status", self.pid()))
-            .expect("the sim process lives");
-        status
-            .lines()
-            .find_map(|l| l.strip_prefix("VmRSS:"))
-            .and_then(|v| v.trim().trim_end_matches("kB").trim().parse().ok())
-            .expect("VmRSS in /proc/PID/status")
-    }
-
-    fn open_fds(&self) -> usize {
-        std::fs::read_dir(format!("/proc/{}/fd", self.pid()))
-            .expect("the sim process lives")
-            .count()
-    }
-
-    /// Waits (up to 10 s) for the server to finish closing connections: the descriptor count
-    /// falls back to `baseline`. Returns the last count seen.
-    async fn settle_fds(&self, baseline: usize) -> usize {
-        let mut fds = self.open_fds();
-        for _ in 0..100 {
-            if fds <= baseline {
-                break;
-            }
-            tokio::time::sleep(Duration::from_millis(100)).await;
-            fds = self.open_fds();
-        }
-        fds
-    }
-
-    fn alive(&mut self) -> bool {
-        matches!(self.child.try_wait(), Ok(None))
-    }
-}
-
-impl Drop for SimProcess {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
 
 #[derive(Clone, Copy)]
 enum Protocol {
@@ -172,7 +66,7 @@ async fn cycle(sim: &SimProcess, protocol: Protocol, n: u32) {
 }
 
 async fn flat_over_cycles(protocol: Protocol, name: &str) {
-    let mut sim = SimProcess::spawn();
+    let mut sim = SimProcess::spawn(None);
     for n in 0..WARM_UP {
         cycle(&sim, protocol, n).await;
     }

@@ -2,6 +2,8 @@
 //! bounded time for the reply to one of them.
 #![allow(dead_code)]
 
+pub mod process;
+
 use std::time::Duration;
 
 use bytes::BytesMut;
