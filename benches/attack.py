@@ -60,9 +60,28 @@ def rand_bytes(rng, n):
 
 
 def talos_garbage(kind, rng, valid_len):
+    """(bytes, the tail a truncated frame lacks: empty for other kinds)."""
     gid = rng.getrandbits(31)
     if kind == "random":
-        return rand_bytes(rng, rng.randrange(1, 512))
+        return rand_bytes(rng, rng.randrange(1, 512)), b""
+    return talos_near_frame(kind, rng, valid_len, gid)
+
+
+def talos_near_frame(kind, rng, valid_len, gid):
+    if kind == "truncated_short":
+        # A plausible frame missing no more bytes than the valid frame after it supplies.
+        command = rng.choice([0x0000, 0x0002, 0x0003, 0x000A])
+        frame = talos_frame(gid, command, rand_bytes(rng, FIXED_LENGTHS[command]))
+        cut = len(frame) - rng.randrange(1, min(valid_len, len(frame) - HEADER_LEN) + 1)
+        return frame[:cut], frame[cut:]
+    if kind == "truncated_long":
+        # A hardware operation announcing 500 payload bytes, of which 20 come (issue 9 item 6).
+        frame = talos_frame(gid, 0x0008, bytes(500))
+        return frame[:HEADER_LEN + 20], frame[HEADER_LEN + 20:]
+    return talos_whole_near_frame(kind, rng, gid), b""
+
+
+def talos_whole_near_frame(kind, rng, gid):
     if kind == "bad_checksum":
         command = rng.choice(list(FIXED_LENGTHS))
         payload = rand_bytes(rng, FIXED_LENGTHS[command])
@@ -78,14 +97,6 @@ def talos_garbage(kind, rng, valid_len):
         return talos_frame(gid, rng.randrange(0x12, 0x8000), rand_bytes(rng, rng.randrange(41)))
     if kind == "reply_frame":
         return talos_frame(gid, 0x8000 | rng.getrandbits(15), rand_bytes(rng, rng.randrange(41)))
-    if kind == "truncated_short":
-        # A plausible frame missing no more bytes than the valid frame after it supplies.
-        command = rng.choice([0x0000, 0x0002, 0x0003, 0x000A])
-        frame = talos_frame(gid, command, rand_bytes(rng, FIXED_LENGTHS[command]))
-        return frame[: len(frame) - rng.randrange(1, min(valid_len, len(frame) - HEADER_LEN) + 1)]
-    if kind == "truncated_long":
-        # A hardware operation announcing 500 payload bytes, of which 20 come (issue 9 item 6).
-        return talos_frame(gid, 0x0008, bytes(500))[: HEADER_LEN + 20]
     raise ValueError(kind)
 
 
@@ -264,15 +275,19 @@ def connect(addr):
     return sock
 
 
-def send_all(sock, data, rng):
-    """Sends `data` in one write or in random pieces; False if the server closed first."""
+def send_all(sock, data, rng, writes=None):
+    """Sends `data` in one write or in random pieces (their sizes appended to `writes`); False if
+    the server closed first."""
+    writes = [] if writes is None else writes
     try:
         if rng.random() < 0.5:
+            writes.append(len(data))
             sock.sendall(data)
         else:
             at = 0
             while at < len(data):
                 step = rng.randrange(1, 64)
+                writes.append(min(step, len(data) - at))
                 sock.sendall(data[at:at + step])
                 at += step
         return True
@@ -280,20 +295,49 @@ def send_all(sock, data, rng):
         return False
 
 
+MISSING_LOG = None  # a file to which inputs whose valid request went unanswered are appended
+
+
+def log_missing(proto, kind, data, writes, outcome):
+    if MISSING_LOG is None:
+        return
+    with MISSING_LOG_LOCK:
+        with open(MISSING_LOG, "a") as f:
+            f.write(json.dumps({"protocol": proto, "kind": kind, "outcome": outcome,
+                                "writes": writes, "input": data.hex()}) + "\n")
+
+
+MISSING_LOG_LOCK = threading.Lock()
+
+
 def talos_round(addr, rng, tally, ident):
     kind = rng.choice(TALOS_KINDS)
     valid = handshake(ident)
-    garbage = b"".join(talos_garbage(kind, rng, len(valid)) for _ in range(rng.randrange(1, 4)))
+    while True:
+        pieces = [talos_garbage(kind, rng, len(valid)) for _ in range(rng.randrange(1, 4))]
+        garbage = b"".join(piece for piece, _ in pieces)
+        stream, at = garbage + valid, 0
+        # A truncated frame whose missing tail the next bytes happen to supply is a valid frame
+        # (the server rightly carries it out, and the valid one loses its head): draw again.
+        completed = False
+        for piece, tail in pieces:
+            at += len(piece)
+            completed |= bool(tail) and stream[at:at + len(tail)] == tail
+        if not completed:
+            break
     tally.add(("talos", kind, "inputs"))
+    writes = []
     with connect(addr) as sock:
-        if not send_all(sock, garbage + valid, rng):
+        if not send_all(sock, garbage + valid, rng, writes):
             tally.add(("talos", kind, "closed before the valid frame was sent"))
             return
         reply = read_talos_reply(sock, ident, REPLY_BOUND)
     if handshake_ok(reply):
         tally.add(("talos", kind, "valid frame answered"))
     else:
-        tally.add(("talos", kind, "REPLY MISSING (%s)" % (reply if isinstance(reply, str) else "wrong")))
+        outcome = reply if isinstance(reply, str) else "wrong"
+        tally.add(("talos", kind, "REPLY MISSING (%s)" % outcome))
+        log_missing("talos", kind, garbage + valid, writes, outcome)
 
 
 def modbus_round(addr, rng, tally, tid):
@@ -302,8 +346,9 @@ def modbus_round(addr, rng, tally, tid):
     stream = garbage + read_state(tid)
     swallowed = mbap_swallows_to_end(stream, len(garbage))
     tally.add(("modbus", kind, "inputs"))
+    writes = []
     with connect(addr) as sock:
-        if not send_all(sock, stream, rng):
+        if not send_all(sock, stream, rng, writes):
             tally.add(("modbus", kind, "closed on the garbage"))
             return
         reply = read_modbus_reply(sock, tid, 1.5 if swallowed else REPLY_BOUND)
@@ -314,7 +359,9 @@ def modbus_round(addr, rng, tally, tid):
     elif reply == "silent" and swallowed:
         tally.add(("modbus", kind, "valid read swallowed by a lying length (no reply due)"))
     else:
-        tally.add(("modbus", kind, "REPLY MISSING (%s)" % (reply if isinstance(reply, str) else "wrong: " + reply.hex())))
+        outcome = reply if isinstance(reply, str) else "wrong: " + reply.hex()
+        tally.add(("modbus", kind, "REPLY MISSING (%s)" % outcome))
+        log_missing("modbus", kind, stream, writes, outcome)
 
 
 def health_check(talos, modbus, ident, tid):
@@ -406,7 +453,10 @@ def main():
     parser.add_argument("--idle", type=int, default=50, help="idle connections held per server")
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--json", action="store_true")
+    parser.add_argument("--missing-log", help="append each unanswered input (hex, write sizes) here")
     args = parser.parse_args()
+    global MISSING_LOG
+    MISSING_LOG = args.missing_log
 
     log_dir = "/tmp/armjog-attack-logs"
     proc, talos, modbus = start_sim(args.bin, log_dir)
