@@ -425,10 +425,14 @@ def proc_status(pid):
     return out
 
 
-def start_sim(binary, log_dir):
+def start_sim(binary, log_dir, fd_limit=None):
     env = dict(os.environ, ARMJOG_LOG_DIR=log_dir)
+    command = [binary, "sim", "--talos-listen", "127.0.0.1:0", "--modbus-listen", "127.0.0.1:0"]
+    if fd_limit:
+        # The shell lowers the limit, then becomes the sim: the child pid is the sim's.
+        command = ["sh", "-c", 'ulimit -n %d && exec "$0" "$@"' % fd_limit] + command
     proc = subprocess.Popen(
-        [binary, "sim", "--talos-listen", "127.0.0.1:0", "--modbus-listen", "127.0.0.1:0"],
+        command,
         stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, stdin=subprocess.DEVNULL, env=env,
         text=True)
     talos = modbus = None
@@ -452,6 +456,8 @@ def main():
     parser.add_argument("--threads", type=int, default=6, help="attacking threads per protocol")
     parser.add_argument("--idle", type=int, default=50, help="idle connections held per server")
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--fd-limit", type=int,
+                        help="run the sim with this open-file limit (below 2 x --idle + ~20 exhausts it)")
     parser.add_argument("--json", action="store_true")
     parser.add_argument("--missing-log", help="append each unanswered input (hex, write sizes) here")
     args = parser.parse_args()
@@ -459,7 +465,7 @@ def main():
     MISSING_LOG = args.missing_log
 
     log_dir = "/tmp/armjog-attack-logs"
-    proc, talos, modbus = start_sim(args.bin, log_dir)
+    proc, talos, modbus = start_sim(args.bin, log_dir, args.fd_limit)
     tally = Tally()
     try:
         # Warm up, then the baseline.
@@ -498,6 +504,7 @@ def main():
         started = time.monotonic()
         checks = collections.Counter()
         peak = dict(before)
+        rss_series = []
         n = 0
         while time.monotonic() - started < args.seconds:
             n += 1
@@ -508,6 +515,7 @@ def main():
             checks["arm task dead"] += not arm_ok
             status = proc_status(proc.pid)
             peak = {k: max(peak[k], status[k]) for k in peak}
+            rss_series.append((time.monotonic() - started, status["VmRSS"]))
             time.sleep(0.5)
         stop.set()
         for w in workers:
@@ -547,6 +555,10 @@ def main():
         "before (after warm-up)": before,
         "peak during": peak,
         "after": after,
+        # A leak grows with the run; a plateau is the allocator keeping its peak.
+        "VmRSS by quarter of the run (kB)": [
+            next((kb for t, kb in rss_series if t >= elapsed * q / 4), rss_series[-1][1] if rss_series else 0)
+            for q in (1, 2, 3, 4)],
     }
     if args.json:
         print(json.dumps(report, indent=1))
@@ -560,6 +572,7 @@ def main():
     for key, value in report["health"].items():
         print("  %-80s %d" % (key, value))
     print("  process alive at the end: %s; final check talos/modbus/arm: %s" % (alive, final))
+    print("  VmRSS by quarter of the run: %s kB" % report["VmRSS by quarter of the run (kB)"])
     for label in ("before (after warm-up)", "peak during", "after"):
         s = report[label]
         print("  %-24s VmRSS %6d kB  VmHWM %6d kB  threads %3d  fds %4d"
