@@ -2,6 +2,14 @@
 //! requests (FC 15 with more coils than its data bytes hold; FC 16 and 23 with a quantity whose
 //! doubling overflows a u16). Frames are checked here, and a connection that sends one is
 //! closed, as the decoder does for the malformed frames it does catch.
+//!
+//! The guard also closes a connection whose MBAP header no Modbus TCP frame has (a length over
+//! 254 or under 2, a protocol id other than 0), or whose frame does not complete within
+//! [`FRAME_DEADLINE`] of its first byte: tokio-modbus would wait for up to 64 KiB that may never
+//! come, so the next request on the connection would hang unanswered. MBAP has no sync marker to
+//! resynchronise on, so closing is the only way out.
+
+use std::time::Duration;
 
 use tokio::io::{AsyncRead, AsyncReadExt, AsyncWrite, AsyncWriteExt, DuplexStream};
 use tokio::net::TcpStream;
@@ -9,6 +17,10 @@ use tokio::task::JoinHandle;
 
 /// MBAP header: transaction, protocol, length (unit id + PDU), unit id.
 const HEADER_LEN: usize = 7;
+/// Largest MBAP length field: the unit id and a 253-byte PDU (Modbus application protocol).
+const MAX_LENGTH: u16 = 254;
+/// How long a frame may take to arrive once its first byte has.
+pub const FRAME_DEADLINE: Duration = Duration::from_secs(1);
 
 /// Aborts the relay tasks when the connection's service is dropped.
 pub struct Relay {
@@ -66,21 +78,46 @@ pub fn guard(client: TcpStream) -> (DuplexStream, Relay) {
     )
 }
 
-/// Forwards checked frames until the client goes away or sends a malformed one.
+/// Why an MBAP header cannot start a Modbus TCP frame, if it cannot.
+pub fn bad_header(header: &[u8; HEADER_LEN]) -> Option<String> {
+    let protocol = u16::from_be_bytes([header[2], header[3]]);
+    let length = u16::from_be_bytes([header[4], header[5]]);
+    if protocol != 0 {
+        Some(format!("protocol id {protocol}, not 0 (Modbus)"))
+    } else if !(2..=MAX_LENGTH).contains(&length) {
+        Some(format!("length {length} outside 2-{MAX_LENGTH}"))
+    } else {
+        None
+    }
+}
+
+/// Forwards checked frames until the client goes away or sends a malformed, impossible or
+/// stalled one.
 async fn relay_requests(
     from_client: &mut (impl AsyncRead + Unpin),
     to_server: &mut (impl AsyncWrite + Unpin),
 ) {
     let mut header = [0u8; HEADER_LEN];
     loop {
-        if from_client.read_exact(&mut header).await.is_err() {
+        // An idle connection may wait for its next frame as long as it likes.
+        if from_client.read_exact(&mut header[..1]).await.is_err() {
             return;
         }
-        let length = usize::from(u16::from_be_bytes([header[4], header[5]]));
-        let mut pdu = vec![0u8; length.saturating_sub(1)];
-        if from_client.read_exact(&mut pdu).await.is_err() {
-            return;
-        }
+        let pdu = match tokio::time::timeout(
+            FRAME_DEADLINE,
+            rest_of_frame(from_client, &mut header),
+        )
+        .await
+        {
+            Ok(Ok(pdu)) => pdu,
+            Ok(Err(Ended)) => return,
+            Err(_) => {
+                tracing::warn!(
+                    "sim modbus: a frame did not complete within {FRAME_DEADLINE:?} of its first byte; closing the connection"
+                );
+                return;
+            }
+        };
         if let Some(why) = malformed(&pdu) {
             tracing::warn!("sim modbus: malformed request ({why}); closing the connection");
             return;
@@ -89,6 +126,28 @@ async fn relay_requests(
             return;
         }
     }
+}
+
+/// The connection ended, or its header was refused (and logged).
+struct Ended;
+
+/// Reads the rest of a frame whose first byte is in `header[0]`; returns its PDU.
+async fn rest_of_frame(
+    from_client: &mut (impl AsyncRead + Unpin),
+    header: &mut [u8; HEADER_LEN],
+) -> Result<Vec<u8>, Ended> {
+    from_client
+        .read_exact(&mut header[1..])
+        .await
+        .map_err(|_| Ended)?;
+    if let Some(why) = bad_header(header) {
+        tracing::warn!("sim modbus: not a Modbus TCP header ({why}); closing the connection");
+        return Err(Ended);
+    }
+    let length = usize::from(u16::from_be_bytes([header[4], header[5]]));
+    let mut pdu = vec![0u8; length - 1];
+    from_client.read_exact(&mut pdu).await.map_err(|_| Ended)?;
+    Ok(pdu)
 }
 
 #[cfg(test)]
@@ -105,10 +164,92 @@ mod tests {
     }
 
     #[test]
+    fn headers_no_modbus_tcp_frame_has_are_caught() {
+        let header = |protocol: u16, length: u16| {
+            let [p0, p1] = protocol.to_be_bytes();
+            let [l0, l1] = length.to_be_bytes();
+            [0, 1, p0, p1, l0, l1, 1]
+        };
+        assert_eq!(bad_header(&header(0, 6)), None);
+        assert_eq!(bad_header(&header(0, 2)), None);
+        assert_eq!(bad_header(&header(0, 254)), None);
+        assert!(bad_header(&header(0, 255)).is_some_and(|why| why.contains("length 255")));
+        assert!(bad_header(&header(0, 65535)).is_some());
+        assert!(bad_header(&header(0, 0)).is_some());
+        assert!(bad_header(&header(0, 1)).is_some());
+        assert!(bad_header(&header(1, 6)).is_some_and(|why| why.contains("protocol id 1")));
+    }
+
+    #[test]
     fn well_formed_frames_pass() {
         assert_eq!(malformed(&[0x0F, 0, 0, 0, 3, 1, 0b101]), None);
         assert_eq!(malformed(&[0x10, 0, 200, 0, 1, 2, 0, 2]), None);
         assert_eq!(malformed(&[0x04, 0xFF, 0xFF, 0, 1]), None);
         assert_eq!(malformed(&[]), None);
+    }
+
+    /// Runs the request relay over in-memory pipes; returns the client's writer, the bytes the
+    /// server side receives, and the relay task.
+    fn relay() -> (DuplexStream, DuplexStream, JoinHandle<()>) {
+        let (client, mut from_client) = tokio::io::duplex(4096);
+        let (mut to_server, server) = tokio::io::duplex(4096);
+        let task = tokio::spawn(async move {
+            relay_requests(&mut from_client, &mut to_server).await;
+        });
+        (client, server, task)
+    }
+
+    const READ_STATE: [u8; 12] = [0, 1, 0, 0, 0, 6, 1, 4, 0, 0, 0, 1];
+
+    // Real time (the crate has no tokio test-util): the bounds only say "not before the
+    // deadline" and "well before several deadlines".
+    #[tokio::test]
+    async fn a_frame_that_stops_arriving_ends_the_relay_at_the_deadline() {
+        let (mut client, mut server, task) = relay();
+        client.write_all(&READ_STATE).await.expect("write");
+        let mut forwarded = [0u8; 12];
+        server.read_exact(&mut forwarded).await.expect("forwarded");
+        assert_eq!(forwarded, READ_STATE);
+        // A header announcing 200 bytes, then a trickle of one byte per 300 ms: the trickle
+        // must not extend the deadline, counted from the frame's first byte.
+        let started = tokio::time::Instant::now();
+        client
+            .write_all(&[0, 2, 0, 0, 0, 200, 1])
+            .await
+            .expect("write");
+        while !task.is_finished() && started.elapsed() < FRAME_DEADLINE * 3 {
+            let _ = client.write_all(&[0]).await;
+            tokio::time::sleep(Duration::from_millis(300)).await;
+        }
+        assert!(task.is_finished(), "the relay still waits");
+        let waited = started.elapsed();
+        assert!(
+            waited >= FRAME_DEADLINE && waited < FRAME_DEADLINE * 5,
+            "ended after {waited:?}"
+        );
+    }
+
+    #[tokio::test]
+    async fn an_idle_connection_is_not_timed_out() {
+        let (mut client, mut server, task) = relay();
+        tokio::time::sleep(FRAME_DEADLINE * 3 / 2).await;
+        assert!(!task.is_finished(), "idle between frames is allowed");
+        client.write_all(&READ_STATE).await.expect("write");
+        let mut forwarded = [0u8; 12];
+        server.read_exact(&mut forwarded).await.expect("forwarded");
+        assert_eq!(forwarded, READ_STATE);
+    }
+
+    #[tokio::test]
+    async fn an_impossible_header_ends_the_relay_without_forwarding_it() {
+        let (mut client, mut server, task) = relay();
+        client
+            .write_all(&[0, 1, 0, 0, 0xFF, 0xFF, 1, 4])
+            .await
+            .expect("write");
+        task.await.expect("the relay ends");
+        let mut rest = Vec::new();
+        server.read_to_end(&mut rest).await.expect("read");
+        assert!(rest.is_empty(), "forwarded {rest:02x?}");
     }
 }

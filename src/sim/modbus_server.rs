@@ -5,6 +5,7 @@ use std::net::SocketAddr;
 use std::pin::Pin;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Duration;
 
 use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::watch;
@@ -24,6 +25,9 @@ const MAX_READ_REGISTERS: u16 = 125;
 const MAX_READ_BITS: u16 = 2000;
 const MAX_WRITE_REGISTERS: u16 = 123;
 const MAX_WRITE_COILS: u16 = 1968;
+
+/// Pause after a failed accept before accepting again.
+const ACCEPT_RETRY: Duration = Duration::from_millis(50);
 
 type Reply = Pin<Box<dyn Future<Output = Result<Option<Response>, ExceptionCode>> + Send>>;
 
@@ -148,7 +152,16 @@ pub async fn serve_on(listener: TcpListener, arm: SimArm, faults: watch::Receive
         async move { Ok(Some((service, stream))) }
     };
     let on_error = |e| tracing::warn!("sim modbus: {e}");
-    if let Err(e) = Server::new(listener).serve(&on_connected, on_error).await {
-        tracing::error!("sim modbus: server stopped: {e}");
+    let server = Server::new(listener);
+    // tokio-modbus's `serve` returns on the first failed accept (e.g. "too many open files" while
+    // a client holds every descriptor), closing its open connections: serve again after a pause
+    // rather than leave the port dead.
+    loop {
+        if let Err(e) = server.serve(&on_connected, on_error).await {
+            tracing::warn!(
+                "sim modbus: accepting failed ({e}); its open connections were closed; serving again in {ACCEPT_RETRY:?}"
+            );
+        }
+        tokio::time::sleep(ACCEPT_RETRY).await;
     }
 }
