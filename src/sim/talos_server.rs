@@ -153,15 +153,12 @@ async fn connection(
     faults: watch::Receiver<NetworkFaults>,
     replies: Arc<AtomicU64>,
 ) {
-    let peer = stream
-        .peer_addr()
-        .map_or_else(|_| "an unknown peer".to_string(), |addr| addr.to_string());
     let (read_half, write_half) = stream.into_split();
     let mut frames = FrameReader::new(
         read_half,
         FrameCodec::new(config.checksum),
         config.frame_deadline,
-        format!("sim talos client {peer}"),
+        format!("sim talos client {}", client.peer),
     );
     let mut writer = FramedWrite::new(write_half, FrameCodec::new(config.checksum));
     let mut seen: u32 = 0;
