@@ -14,7 +14,7 @@
 //! command or a wrong payload length reaches the server (which answers "unknown command" or
 //! "malformed payload") however TCP split it into reads. A header that announces more than ever
 //! comes is not the codec's to time out: the reader gives each frame a deadline and calls
-//! [`FrameCodec::expire`] (see `crate::net::FrameReader`).
+//! [`FrameCodec::expire`] (see `FrameReader` in `src/net/`).
 
 use bytes::{Buf, BytesMut};
 use std::fmt;
