@@ -11,7 +11,7 @@ use armjog::console::jog::ReleaseMode;
 use armjog::console::keymap::Keymap;
 use armjog::console::positions::PositionBook;
 use armjog::console::ui::{self, Theme};
-use armjog::link::arm::{ArmEvent, LinkStatus, LogEntry};
+use armjog::link::arm::{ArmEvent, LinkStatus, LogEntry, Traffic};
 use armjog::link::driver::hw_telemetry;
 use armjog::sim::arm::Arm;
 use armjog::sim::telemetry::{actuator_feedback, arm_state};
@@ -53,8 +53,16 @@ fn busy_app() -> App {
             outcome: "OK".into(),
             ok: true,
             latency: Some(Duration::from_micros(400)),
-            sent_hex: Some("00 00 00 02 00 00 00 06 00 03 01 00 00 4A 9D".into()),
-            received_hex: Some("00 00 00 03 00 00 80 06 00 02 00 00 55 21".into()),
+            traffic: Traffic::Talos {
+                request: vec![
+                    0x00, 0x00, 0x00, 0x02, 0x00, 0x00, 0x00, 0x06, 0x00, 0x03, 0x01, 0x00, 0x00,
+                    0x4A, 0x9D,
+                ],
+                reply: Some(vec![
+                    0x00, 0x00, 0x00, 0x03, 0x00, 0x00, 0x80, 0x06, 0x00, 0x02, 0x00, 0x00, 0x55,
+                    0x21,
+                ]),
+            },
         };
         app.handle(Input::Arm(ArmEvent::Log(entry)), now);
     }

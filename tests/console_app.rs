@@ -7,7 +7,7 @@ use armjog::console::app::{App, AppConfig, Effect, Input, Overlay};
 use armjog::console::jog::{JogMotion, KeyKind, ReleaseMode};
 use armjog::console::keymap::Keymap;
 use armjog::console::positions::PositionBook;
-use armjog::link::arm::{ArmCommand, ArmEvent, LinkStatus, StepMove};
+use armjog::link::arm::{ArmCommand, ArmError, ArmEvent, CommandKind, LinkStatus, StepMove};
 
 mod app_support;
 
@@ -149,11 +149,55 @@ fn a_failed_jog_stops_and_forgets_the_held_keys() {
     let (mut app, t0) = app(ReleaseMode::Reported, true);
     press(&mut app, "w", t0);
     let failed = Input::Arm(ArmEvent::Failed {
-        command: "jog",
-        reason: "timeout".into(),
+        command: CommandKind::Jog,
+        error: ArmError::Talos("cart_start (id 7): no reply within 500ms".into()),
     });
     assert_eq!(app.handle(failed, t0 + ms(10)), [STOP]);
     assert!(app.handle(Input::Tick, t0 + ms(200)).is_empty());
+}
+
+#[test]
+fn the_guard_stopping_the_arm_counts_as_a_failed_jog() {
+    let (mut app, t0) = app(ReleaseMode::Reported, false);
+    press(&mut app, "w", t0);
+    let stopped = Input::Arm(ArmEvent::Failed {
+        command: CommandKind::Jog,
+        error: ArmError::GuardStoppedArm("no heartbeat for 500 ms".into()),
+    });
+    assert_eq!(app.handle(stopped, t0 + ms(10)), [STOP]);
+    assert!(
+        app.handle(Input::Tick, t0 + ms(200)).is_empty(),
+        "held keys latched"
+    );
+    let said = app.message.as_ref().map(|m| m.0.as_str());
+    assert_eq!(
+        said,
+        Some("jog failed: the stop guard stopped the arm: no heartbeat for 500 ms")
+    );
+}
+
+#[test]
+fn a_failure_of_another_command_leaves_the_held_jog_alone() {
+    let (mut app, t0) = app(ReleaseMode::Reported, true);
+    press(&mut app, "w", t0);
+    let failed = Input::Arm(ArmEvent::Failed {
+        command: CommandKind::SetSpeed,
+        error: ArmError::SpeedOutOfRange {
+            requested: 0,
+            in_force: 40,
+        },
+    });
+    assert!(app.handle(failed, t0 + ms(10)).is_empty());
+    assert_eq!(
+        app.handle(Input::Tick, t0 + ms(100)),
+        [jog(1, 0, 0)],
+        "still refreshed"
+    );
+    let said = app.message.as_ref().map(|m| m.0.as_str());
+    assert_eq!(
+        said,
+        Some("set speed failed: speed 0 % is outside 1-100: 40 % stays in force")
+    );
 }
 
 #[test]

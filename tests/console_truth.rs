@@ -14,7 +14,9 @@ use armjog::kortex::{
     ActionState, ActionStatus, Coded, Flag, FlagSet, JointState, MoveType, Pose, RobotState,
     SpeedLimits, Telemetry, ToolState, Twist, Wrench,
 };
-use armjog::link::arm::{ArmCommand, ArmEvent, LinkStatus, LogEntry, TelemetrySource};
+use armjog::link::arm::{
+    ArmCommand, ArmError, ArmEvent, CommandKind, LinkStatus, LogEntry, TelemetrySource,
+};
 
 const STOP: Effect = Effect::Arm(ArmCommand::Stop);
 
@@ -488,8 +490,8 @@ fn a_failed_home_command_stops_and_reports() {
     press(&mut app, "h", t0);
     press(&mut app, "y", t0);
     let failed = ArmEvent::Failed {
-        command: "home",
-        reason: "BUSY".into(),
+        command: CommandKind::Home,
+        error: ArmError::Modbus("BUSY".into()),
     };
     assert_eq!(app.handle(Input::Arm(failed), t0 + ms(5)), [STOP]);
     assert_eq!(message(&app), "home failed: BUSY");
@@ -528,8 +530,8 @@ fn a_go_to_the_link_cannot_carry_ends_its_tracking_and_stops() {
     press(&mut app, "o", t0);
     press(&mut app, "y", t0);
     let failed = ArmEvent::Failed {
-        command: "move to pose",
-        reason: "not possible over this link".into(),
+        command: CommandKind::MoveToPose,
+        error: ArmError::NoLinkCarriesIt,
     };
     assert_eq!(app.handle(Input::Arm(failed), t0 + ms(2)), [STOP]);
     assert!(app.truth.action.is_none());

@@ -13,11 +13,13 @@ use armjog::console::positions::PositionBook;
 use armjog::console::ui::{self, Theme};
 use armjog::kortex::{
     ActionState, ActionStatus, ArmHealth, Coded, ControlCoil, Flag, FlagSet, JointState, MoveType,
-    Pose, RobotState, SpeedLimits, Telemetry, ToolState, Twist, Wrench,
+    Pose, RobotState, SpeedLimits, Telemetry, ToolState, Twist, Wrench, Write,
 };
 use armjog::link::arm::{
-    ArmCommand, ArmEvent, LinkStatus, LogEntry, PositionCoordinates, TelemetrySource,
+    ArmCommand, ArmError, ArmEvent, CommandKind, LinkStatus, LogEntry, PositionCoordinates,
+    TelemetrySource, Traffic,
 };
+use armjog::talos::ReturnCode;
 use ratatui::Frame;
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
@@ -93,11 +95,23 @@ fn log_entry(id: u32, name: &str, outcome: &str, ok: bool, micros: u64) -> LogEn
         outcome: outcome.into(),
         ok,
         latency: Some(Duration::from_micros(micros)),
-        sent_hex: Some(format!("a5 5a 00 {id:02x} 00 06 00 03 01 00 00")),
-        received_hex: Some(format!(
-            "a5 5a 00 {id:02x} 80 06 00 02 00 {:02x}",
-            u8::from(!ok) * 4
-        )),
+        traffic: Traffic::Talos {
+            request: vec![
+                0xa5, 0x5a, 0x00, id as u8, 0x00, 0x06, 0x00, 0x03, 0x01, 0x00, 0x00,
+            ],
+            reply: Some(vec![
+                0xa5,
+                0x5a,
+                0x00,
+                id as u8,
+                0x80,
+                0x06,
+                0x00,
+                0x02,
+                0x00,
+                u8::from(!ok) * 4,
+            ]),
+        },
     }
 }
 
@@ -137,8 +151,10 @@ fn live_app(mode: ReleaseMode) -> (App, Instant) {
             outcome: "no reply within 500 ms".into(),
             ok: false,
             latency: None,
-            sent_hex: Some("a5 5a 00 05 00 07 00 00".into()),
-            received_hex: None,
+            traffic: Traffic::Talos {
+                request: vec![0xa5, 0x5a, 0x00, 0x05, 0x00, 0x07, 0x00, 0x00],
+                reply: None,
+            },
         }),
     ];
     for event in events {
@@ -332,8 +348,16 @@ fn log_over_modbus_has_no_ids() {
             outcome: "OK (3 writes)".into(),
             ok: true,
             latency: Some(Duration::from_micros(2150)),
-            sent_hex: Some("hr 200 = 1; hr 203 = 3".into()),
-            received_hex: None,
+            traffic: Traffic::Modbus(vec![
+                Write::Registers {
+                    addr: 200,
+                    values: vec![1],
+                },
+                Write::Coil {
+                    addr: 203,
+                    value: true,
+                },
+            ]),
         },
         LogEntry {
             poll: false,
@@ -343,13 +367,59 @@ fn log_over_modbus_has_no_ids() {
             outcome: "Modbus exception: illegal data address".into(),
             ok: false,
             latency: None,
-            sent_hex: None,
-            received_hex: None,
+            traffic: Traffic::None,
         },
     ] {
         app.handle(Input::Arm(ArmEvent::Log(entry)), t0);
     }
     insta::assert_snapshot!(render(ui::log::draw, &app, 80, 4).backend());
+}
+
+#[test]
+fn log_in_hex_formats_talos_frames_and_modbus_writes() {
+    let talos = Traffic::Talos {
+        request: vec![0xA5, 0x5A, 0x00, 0x07],
+        reply: Some(vec![0xA5, 0x5A, 0x80, 0x0f]),
+    };
+    assert_eq!(
+        ui::log::traffic_lines(&talos),
+        ["  > A5 5A 00 07", "  < A5 5A 80 0F"]
+    );
+    let unanswered = Traffic::Talos {
+        request: vec![0x01],
+        reply: None,
+    };
+    assert_eq!(ui::log::traffic_lines(&unanswered), ["  > 01"]);
+    let writes = Traffic::Modbus(vec![
+        Write::Registers {
+            addr: 200,
+            values: vec![1, 0xFFFF],
+        },
+        Write::Coil {
+            addr: 203,
+            value: true,
+        },
+    ]);
+    assert_eq!(
+        ui::log::traffic_lines(&writes),
+        ["  > write holding registers 200-201 = [0x0001, 0xFFFF] (FC16); write coil 203 on (FC05)"]
+    );
+    assert!(ui::log::traffic_lines(&Traffic::None).is_empty());
+    assert!(ui::log::traffic_lines(&Traffic::Modbus(Vec::new())).is_empty());
+
+    let (mut app, t0) = bare_app(ReleaseMode::Reported, false);
+    let entry = LogEntry {
+        count: 1,
+        name: "jog".into(),
+        outcome: "OK (2 writes)".into(),
+        ok: true,
+        latency: Some(Duration::from_micros(2150)),
+        traffic: writes,
+        ..LogEntry::default()
+    };
+    app.handle(Input::Arm(ArmEvent::Log(entry)), t0);
+    press(&mut app, "H", t0);
+    insta::assert_snapshot!(render(ui::log::draw, &app, 100, 4).backend());
 }
 
 #[test]
@@ -537,8 +607,8 @@ fn hints_keys_and_a_message() {
     let (mut app, t0) = live_app(ReleaseMode::Reported);
     app.handle(
         Input::Arm(ArmEvent::Failed {
-            command: "go to position",
-            reason: "UNKNOWN_POSITION".into(),
+            command: CommandKind::GoToPosition,
+            error: ArmError::ReturnCode(ReturnCode::UNKNOWN_POSITION),
         }),
         t0,
     );

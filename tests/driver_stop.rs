@@ -13,7 +13,7 @@ use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::mpsc;
 
-use armjog::link::arm::{ArmCommand, ArmEvent, LinkStatus};
+use armjog::link::arm::{ArmCommand, ArmEvent, CommandKind, LinkStatus};
 use armjog::link::driver::{Driver, DriverConfig};
 use armjog::link::{Dialect, ModbusConfig, TalosConfig};
 use armjog::talos::{Checksum, Frame};
@@ -310,7 +310,8 @@ async fn a_talos_operator_that_stalls_the_first_handshake_is_retried() {
         |e| match e {
             ArmEvent::Done { command } if command.is_stop() => Some(true),
             ArmEvent::Failed {
-                command: "stop", ..
+                command: CommandKind::Stop,
+                ..
             } => Some(false),
             _ => None,
         },

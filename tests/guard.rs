@@ -19,7 +19,7 @@ use tokio::time::Instant;
 
 use armjog::kortex::{ReferenceFrame, Twist};
 use armjog::link::ModbusConfig;
-use armjog::link::arm::{ArmCommand, ArmEvent, GuardStatus};
+use armjog::link::arm::{ArmCommand, ArmError, ArmEvent, CommandKind, GuardStatus};
 use armjog::link::driver::{Driver, DriverConfig};
 use armjog::link::guard::GuardPolicy;
 use armjog::sim::Simulator;
@@ -253,11 +253,23 @@ async fn the_console_refuses_modbus_jogs_when_its_guard_cannot_start() {
         &mut events,
         Duration::from_secs(5),
         "the jog refused",
-        |e| matches!(e, ArmEvent::Failed { command: "jog", .. }),
+        |e| {
+            matches!(
+                e,
+                ArmEvent::Failed {
+                    command: CommandKind::Jog,
+                    ..
+                }
+            )
+        },
     )
     .await;
-    let ArmEvent::Failed { reason, .. } = failed else {
-        unreachable!()
+    let ArmEvent::Failed {
+        error: ArmError::GuardNotRunning(reason),
+        ..
+    } = failed
+    else {
+        panic!("refused for want of the guard: {failed:?}")
     };
     assert!(
         reason.starts_with("stop guard not running:"),
@@ -268,7 +280,7 @@ async fn the_console_refuses_modbus_jogs_when_its_guard_cannot_start() {
     // Home is motion too.
     assert!(driver.send(ArmCommand::Home));
     wait_event(&mut events, Duration::from_secs(5), "home refused", |e| {
-        matches!(e, ArmEvent::Failed { command: "home", reason } if reason.contains("stop guard"))
+        matches!(e, ArmEvent::Failed { command: CommandKind::Home, error: ArmError::GuardNotRunning(reason) } if reason.contains("stop guard"))
     })
     .await;
     driver.shutdown().await;
@@ -364,7 +376,7 @@ async fn a_guard_that_stops_answering_is_replaced() {
     );
     assert!(driver.send(jog_x()));
     wait_event(&mut events, Duration::from_secs(5), "the jog refused", |e| {
-        matches!(e, ArmEvent::Failed { command: "jog", reason } if reason.contains("stop guard not running"))
+        matches!(e, ArmEvent::Failed { command: CommandKind::Jog, error: ArmError::GuardNotRunning(reason) } if reason.contains("stop guard not running"))
     })
     .await;
     let ArmEvent::Guard(GuardStatus::Ready { pid: again }) =

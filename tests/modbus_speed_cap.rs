@@ -78,8 +78,8 @@ impl Rig {
     async fn wait_event(&mut self, wanted: impl Fn(&ArmEvent) -> bool) -> ArmEvent {
         let wait = async {
             while let Some(e) = self.events.recv().await {
-                if let ArmEvent::Failed { command, reason } = &e {
-                    panic!("{command} failed: {reason}");
+                if let ArmEvent::Failed { command, error } = &e {
+                    panic!("{command} failed: {error}");
                 }
                 if wanted(&e) {
                     return e;

@@ -8,7 +8,7 @@ use std::time::Duration;
 
 use tokio::sync::mpsc::UnboundedReceiver;
 
-use armjog::link::arm::{ArmCommand, ArmEvent, LinkStatus};
+use armjog::link::arm::{ArmCommand, ArmError, ArmEvent, CommandKind, LinkStatus};
 use armjog::link::driver::{Driver, DriverConfig};
 use armjog::link::{ModbusConfig, TalosConfig};
 use armjog::sim::{SimConfig, Simulator};
@@ -115,13 +115,17 @@ async fn a_speed_outside_1_to_100_over_modbus_is_refused_and_the_old_one_stays()
         let (failed, before) =
             until_event(&mut events, |e| matches!(e, ArmEvent::Failed { .. })).await;
         assert!(speed_events(&before).is_empty(), "{before:?}");
-        let ArmEvent::Failed { command, reason } = failed else {
+        let ArmEvent::Failed { command, error } = failed else {
             unreachable!()
         };
-        assert_eq!(command, "set speed");
-        assert!(
-            reason.contains("30 %"),
-            "names the speed in force: {reason}"
+        assert_eq!(command, CommandKind::SetSpeed);
+        assert_eq!(
+            error,
+            ArmError::SpeedOutOfRange {
+                requested: bad,
+                in_force: 30
+            },
+            "names the speed in force"
         );
     }
     // The speed in force is still 30: a jog refresh now sends a 30 % twist (75 mm/s).
@@ -163,7 +167,13 @@ async fn a_set_speed_the_simulated_operator_refuses_leaves_the_speed_unchanged()
     let (failed, before) = until_event(&mut events, |e| matches!(e, ArmEvent::Failed { .. })).await;
     assert!(speed_events(&before).is_empty(), "{before:?}");
     assert!(
-        matches!(&failed, ArmEvent::Failed { command: "set speed", reason } if reason.contains("OUT_OF_RANGE")),
+        matches!(
+            &failed,
+            ArmEvent::Failed {
+                command: CommandKind::SetSpeed,
+                error: ArmError::ReturnCode(ReturnCode::OUT_OF_RANGE)
+            }
+        ),
         "{failed:?}"
     );
     // Joint jogs still run at 50 % of 20 deg/s (a refused 0 % adopted would not move at all).
@@ -242,7 +252,13 @@ async fn a_set_speed_answered_with_an_error_is_not_adopted() {
             until_event(&mut events, |e| matches!(e, ArmEvent::Failed { .. })).await;
         assert!(speed_events(&before).is_empty(), "{before:?}");
         assert!(
-            matches!(&failed, ArmEvent::Failed { command: "set speed", reason } if reason.contains("INTERNAL_ERROR")),
+            matches!(
+                &failed,
+                ArmEvent::Failed {
+                    command: CommandKind::SetSpeed,
+                    error: ArmError::ReturnCode(ReturnCode::INTERNAL_ERROR)
+                }
+            ),
             "{failed:?}"
         );
     }

@@ -5,7 +5,9 @@
 
 use std::time::Duration;
 
-use crate::kortex::{Pose, ReferenceFrame, Telemetry};
+use crate::kortex::{Pose, ReferenceFrame, Telemetry, Write};
+
+pub use super::failure::{ArmError, CommandKind};
 
 /// A continuous motion (a jog): what the held keys ask for. Directions are -1, 0 or 1.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -88,24 +90,29 @@ impl ArmCommand {
         matches!(self, ArmCommand::Stop | ArmCommand::QuickStop)
     }
 
-    pub fn label(&self) -> &'static str {
+    /// Which kind of command this is: what a failure of it names.
+    pub fn kind(&self) -> CommandKind {
         match self {
-            ArmCommand::Jog(_) => "jog",
-            ArmCommand::Stop => "stop",
-            ArmCommand::Step(_) => "step",
-            ArmCommand::MoveToPose(_) => "move to pose",
-            ArmCommand::Home => "home",
-            ArmCommand::SetSpeed(_) => "set speed",
-            ArmCommand::SetFrame(_) => "set frame",
-            ArmCommand::QuickStop => "quick stop",
-            ArmCommand::FaultReset => "fault reset",
-            ArmCommand::SavePosition { .. } => "save position",
-            ArmCommand::DeletePosition { .. } => "delete position",
-            ArmCommand::GoToPosition { .. } => "go to position",
-            ArmCommand::SetPolarPosition { .. } => "set polar position",
-            ArmCommand::SetCartesianPosition { .. } => "set cartesian position",
-            ArmCommand::GetPosition { .. } => "get position",
+            ArmCommand::Jog(_) => CommandKind::Jog,
+            ArmCommand::Stop => CommandKind::Stop,
+            ArmCommand::Step(_) => CommandKind::Step,
+            ArmCommand::MoveToPose(_) => CommandKind::MoveToPose,
+            ArmCommand::Home => CommandKind::Home,
+            ArmCommand::SetSpeed(_) => CommandKind::SetSpeed,
+            ArmCommand::SetFrame(_) => CommandKind::SetFrame,
+            ArmCommand::QuickStop => CommandKind::QuickStop,
+            ArmCommand::FaultReset => CommandKind::FaultReset,
+            ArmCommand::SavePosition { .. } => CommandKind::SavePosition,
+            ArmCommand::DeletePosition { .. } => CommandKind::DeletePosition,
+            ArmCommand::GoToPosition { .. } => CommandKind::GoToPosition,
+            ArmCommand::SetPolarPosition { .. } => CommandKind::SetPolarPosition,
+            ArmCommand::SetCartesianPosition { .. } => CommandKind::SetCartesianPosition,
+            ArmCommand::GetPosition { .. } => CommandKind::GetPosition,
         }
+    }
+
+    pub fn label(&self) -> &'static str {
+        self.kind().label()
     }
 }
 
@@ -154,8 +161,23 @@ pub struct LogEntry {
     pub outcome: String,
     pub ok: bool,
     pub latency: Option<Duration>,
-    pub sent_hex: Option<String>,
-    pub received_hex: Option<String>,
+    /// What went over the wire, raw: the log panel formats it.
+    pub traffic: Traffic,
+}
+
+/// The raw exchange behind a log line.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub enum Traffic {
+    /// Nothing went out, or what did is not known (a request that was never answered).
+    #[default]
+    None,
+    /// A Talos request frame and, if one came, the reply frame, whole.
+    Talos {
+        request: Vec<u8>,
+        reply: Option<Vec<u8>>,
+    },
+    /// The Modbus writes a command made, in order.
+    Modbus(Vec<Write>),
 }
 
 /// The stop guard: a separate process with its own Modbus connection that stops the arm when the
@@ -189,8 +211,8 @@ pub enum ArmEvent {
     Log(LogEntry),
     /// A command failed: shown on the status line.
     Failed {
-        command: &'static str,
-        reason: String,
+        command: CommandKind,
+        error: ArmError,
     },
     /// A position's coordinates, answering `GetPosition`.
     Position {

@@ -30,7 +30,7 @@ use tokio::io::{AsyncBufReadExt, AsyncWriteExt, BufReader};
 use tokio::process::{Child, ChildStdin, Command};
 use tokio::sync::{mpsc, oneshot, watch};
 
-use super::arm::{ArmCommand, ArmEvent, GuardStatus};
+use super::arm::{ArmCommand, ArmError, ArmEvent, CommandKind, GuardStatus};
 
 /// The byte the console writes to keep the guard from stopping the arm.
 pub const HEARTBEAT: u8 = b'.';
@@ -98,8 +98,8 @@ impl GuardReport {
             GuardReport::Status(status) => ArmEvent::Guard(status),
             // As a failed jog: the console stops and forgets the held keys.
             GuardReport::StoppedArm { reason } => ArmEvent::Failed {
-                command: "jog",
-                reason: format!("the stop guard stopped the arm: {reason}"),
+                command: CommandKind::Jog,
+                error: ArmError::GuardStoppedArm(reason),
             },
         }
     }
@@ -392,7 +392,10 @@ mod tests {
         assert!(stopped.stops_motion());
         assert!(matches!(
             stopped.into_event(),
-            ArmEvent::Failed { command: "jog", reason } if reason.contains("no heartbeat")
+            ArmEvent::Failed {
+                command: CommandKind::Jog,
+                error: ArmError::GuardStoppedArm(reason),
+            } if reason.contains("no heartbeat")
         ));
     }
 }

@@ -3,6 +3,7 @@
 
 pub mod arm;
 pub mod driver;
+pub mod failure;
 pub mod guard;
 pub mod modbus;
 pub mod talos;

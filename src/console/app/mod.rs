@@ -653,13 +653,13 @@ impl App {
                     ..entry
                 });
             }
-            ArmEvent::Failed { command, reason } => {
+            ArmEvent::Failed { command, error } => {
                 // A jog the arm did not take must not be left to the watchdog: stop and latch
                 // the held keys, so only a new press moves again.
-                if command == "jog" {
+                if command == crate::link::arm::CommandKind::Jog {
                     self.stop_jog(now, effects);
                 }
-                self.say(format!("{command} failed: {reason}"), Severity::Error, now);
+                self.say(format!("{command} failed: {error}"), Severity::Error, now);
             }
             ArmEvent::Position { name, coordinates } => {
                 let entry = self.positions.entry(&name);

@@ -26,7 +26,7 @@ use super::{App, Effect, Overlay, Severity};
 use crate::console::form::Confirm;
 use crate::console::jog::JogMotion;
 use crate::kortex::{ActionStatus, Coded, Flag, Telemetry};
-use crate::link::arm::{ArmCommand, ArmEvent, LinkStatus, TelemetrySource};
+use crate::link::arm::{ArmCommand, ArmEvent, CommandKind, LinkStatus, TelemetrySource};
 
 /// Silence after which a link is stale and telemetry is drawn as old.
 pub const STALE_AFTER: Duration = Duration::from_millis(500);
@@ -74,13 +74,17 @@ impl ActionKind {
         }
     }
 
-    /// Whether a failure of the command labelled `label` is this action's.
-    fn failed_by(&self, label: &str) -> bool {
-        match self {
-            ActionKind::Home => label == ArmCommand::Home.label(),
-            ActionKind::GoTo(_) => label == "go to position" || label == "move to pose",
-            ActionKind::Step => label == "step",
-        }
+    /// Whether a failure of a `kind` command is this action's.
+    fn failed_by(&self, kind: CommandKind) -> bool {
+        matches!(
+            (self, kind),
+            (ActionKind::Home, CommandKind::Home)
+                | (
+                    ActionKind::GoTo(_),
+                    CommandKind::GoToPosition | CommandKind::MoveToPose
+                )
+                | (ActionKind::Step, CommandKind::Step)
+        )
     }
 
     fn answers(&self, command: &ArmCommand) -> bool {
@@ -403,7 +407,7 @@ impl App {
                     .truth
                     .action
                     .as_ref()
-                    .is_some_and(|a| a.kind.failed_by(command)) =>
+                    .is_some_and(|a| a.kind.failed_by(*command)) =>
             {
                 // The failure itself is said by the caller; a STOP settles the doubt.
                 self.truth.action = None;

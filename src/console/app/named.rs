@@ -217,10 +217,6 @@ impl App {
                 effects.push(Effect::SavePositions(self.positions.clone()));
                 return;
             }
-            ArmCommand::SetSpeed(speed) => {
-                self.speed = Some(*speed);
-                return;
-            }
             _ => return,
         };
         self.select(&name);

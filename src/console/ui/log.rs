@@ -1,5 +1,5 @@
 //! The command log: every request and reply with id, name, outcome and latency; frames in hex
-//! when toggled.
+//! when toggled (formatted here from the raw bytes and writes the driver logs).
 
 use ratatui::Frame;
 use ratatui::layout::Rect;
@@ -8,6 +8,8 @@ use ratatui::widgets::{Block, Borders, Paragraph};
 
 use super::theme::Theme;
 use crate::console::app::App;
+use crate::link::arm::Traffic;
+use crate::talos::hex::spaced_hex;
 
 pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
     let title = if app.hex {
@@ -51,10 +53,8 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
             ),
         ])];
         if app.hex {
-            for (arrow, hex) in [("  > ", &entry.sent_hex), ("  < ", &entry.received_hex)] {
-                if let Some(hex) = hex {
-                    entry_lines.push(Line::styled(format!("{arrow}{hex}"), theme.dim()));
-                }
+            for text in traffic_lines(&entry.traffic) {
+                entry_lines.push(Line::styled(text, theme.dim()));
             }
         }
         // Newest at the bottom: collect newest first, then reverse.
@@ -68,4 +68,24 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
     lines.truncate(rows);
     lines.reverse();
     frame.render_widget(Paragraph::new(lines).block(block), area);
+}
+
+/// The lines under a log entry in hex mode: a Talos request (`>`) and its reply (`<`) as hex
+/// bytes; a Modbus command's writes on one line, in order.
+pub fn traffic_lines(traffic: &Traffic) -> Vec<String> {
+    match traffic {
+        Traffic::None => Vec::new(),
+        Traffic::Talos { request, reply } => {
+            let mut lines = vec![format!("  > {}", spaced_hex(request))];
+            if let Some(reply) = reply {
+                lines.push(format!("  < {}", spaced_hex(reply)));
+            }
+            lines
+        }
+        Traffic::Modbus(writes) if writes.is_empty() => Vec::new(),
+        Traffic::Modbus(writes) => {
+            let writes: Vec<String> = writes.iter().map(ToString::to_string).collect();
+            vec![format!("  > {}", writes.join("; "))]
+        }
+    }
 }

@@ -11,6 +11,7 @@
 mod connect;
 pub mod hw_telemetry;
 mod modbus_worker;
+mod speed;
 mod stop_outcome;
 mod talos_side;
 
@@ -19,7 +20,7 @@ use std::time::Duration;
 use tokio::sync::mpsc;
 
 use super::Dialect;
-use super::arm::{ArmCommand, ArmEvent, LinkStatus, TelemetrySource};
+use super::arm::{ArmCommand, ArmError, ArmEvent, CommandKind, LinkStatus, TelemetrySource};
 use super::guard::{self, GuardPolicy, GuardReport, GuardSupervisor};
 use super::modbus::{ModbusConfig, ModbusEvent, StopReason};
 use super::talos::{TalosConfig, TalosEvent};
@@ -199,11 +200,13 @@ async fn run(
     let _ = events.send(ArmEvent::Status(LinkStatus::Connecting));
     let mut links = Links::default();
     let joints: JointPositions = std::sync::Arc::new(tokio::sync::watch::Sender::new(None));
+    // The one speed in force, whichever link sets it and whichever carries the motion.
+    let speed = speed::SpeedInForce::default();
     // Each side's events pass through here, so every STOP gets one outcome from all links.
     let mut stops = stop_outcome::StopOutcomes::default();
     let (talos_tx, mut talos_rx) = mpsc::unbounded_channel::<ArmEvent>();
     let (modbus_tx, mut modbus_rx) = mpsc::unbounded_channel::<ArmEvent>();
-    let mut talos = talos_side::TalosSide::new(&config, talos_tx, joints.clone());
+    let mut talos = talos_side::TalosSide::new(&config, talos_tx, joints.clone(), speed.clone());
     let (modbus_events_tx, mut modbus_events) = mpsc::unbounded_channel::<ModbusEvent>();
     let mut modbus: Option<modbus_worker::ModbusWorker> = None;
     let (guard_reports_tx, mut guard_reports) = mpsc::unbounded_channel::<GuardReport>();
@@ -257,8 +260,8 @@ async fn run(
                         talos.command(command).await
                     }
                     (Some(m), false) => match guard_refusal(&config, guard.as_ref(), &command) {
-                        Some(reason) => {
-                            let _ = events.send(ArmEvent::Failed { command: command.label(), reason });
+                        Some(error) => {
+                            let _ = events.send(ArmEvent::Failed { command: command.kind(), error });
                         }
                         None => {
                             stops.motion(&command, stop_outcome::Side::Modbus);
@@ -267,12 +270,12 @@ async fn run(
                     },
                     (None, false) => {
                         // A missing guard is the reason that outlives the connect.
-                        let reason = match (&config.modbus, guard_refusal(&config, guard.as_ref(), &command)) {
-                            (_, Some(reason)) => reason,
-                            (Some(mc), None) => format!("the Modbus link to {} is not up", mc.addr),
-                            (None, None) => "not possible over this link".into(),
+                        let error = match (&config.modbus, guard_refusal(&config, guard.as_ref(), &command)) {
+                            (_, Some(error)) => error,
+                            (Some(mc), None) => ArmError::ModbusLinkDown { addr: mc.addr.clone() },
+                            (None, None) => ArmError::NoLinkCarriesIt,
                         };
-                        let _ = events.send(ArmEvent::Failed { command: command.label(), reason });
+                        let _ = events.send(ArmEvent::Failed { command: command.kind(), error });
                     }
                 }
             }
@@ -312,10 +315,11 @@ async fn run(
                         &config,
                         modbus_tx.clone(),
                         joints.clone(),
+                        speed.clone(),
                     ));
                     if config.talos.is_none() {
-                        // Jog twists start at half the jog speed until the technician changes it.
-                        let _ = events.send(ArmEvent::Speed(modbus_worker::INITIAL_SPEED));
+                        // Without an operator to report one, the speed in force is the driver's.
+                        let _ = events.send(ArmEvent::Speed(speed.percent()));
                     }
                     let _ = events.send(ArmEvent::Status(links.status(&config)));
                 }
@@ -350,8 +354,8 @@ async fn run(
                     }
                     ModbusEvent::StopFailed { error, reason } => {
                         let _ = events.send(ArmEvent::Failed {
-                            command: "stop",
-                            reason: format!("STOP COULD NOT BE WRITTEN: {error}"),
+                            command: CommandKind::Stop,
+                            error: ArmError::StopNotWritten(error.clone()),
                         });
                         // A stop the console asked for gets its outcome from the worker's
                         // answer; one the link made on its own is reported here.
@@ -363,11 +367,12 @@ async fn run(
                     }
                     ModbusEvent::SpeedLimitsNotRestored { limits, error } => {
                         let _ = events.send(ArmEvent::Failed {
-                            command: "restore speed limits",
-                            reason: format!(
-                                "the arm keeps the lowered limits; set {} m/s, {} deg/s again: {error}",
-                                limits.linear, limits.angular
-                            ),
+                            command: CommandKind::RestoreSpeedLimits,
+                            error: ArmError::SpeedLimitsNotRestored {
+                                linear: limits.linear,
+                                angular: limits.angular,
+                                error,
+                            },
                         });
                     }
                     other => tracing::info!("modbus: {other:?}"),
@@ -433,14 +438,15 @@ fn guard_refusal(
     config: &DriverConfig,
     guard: Option<&GuardSupervisor>,
     command: &ArmCommand,
-) -> Option<String> {
+) -> Option<ArmError> {
     if config.guard == GuardPolicy::NotNeeded || !guard::is_motion(command) {
         return None;
     }
-    match guard {
+    let refusal = match guard {
         Some(g) => g.refusal(),
         None => Some("stop guard not running: none was started for this link".into()),
-    }
+    };
+    refusal.map(ArmError::GuardNotRunning)
 }
 
 /// Passes one side's event on, and the STOP outcome it completes after it.

@@ -6,13 +6,11 @@ use std::time::Duration;
 use tokio::sync::mpsc;
 use tokio::task::JoinHandle;
 
+use super::speed::SpeedInForce;
 use super::{DriverConfig, JointPositions};
 use crate::kortex::{PolarPanSettings, Pose, ReferenceFrame, Twist};
-use crate::link::arm::{ArmCommand, ArmEvent, JogMotion, LogEntry, StepMove};
+use crate::link::arm::{ArmCommand, ArmError, ArmEvent, JogMotion, LogEntry, StepMove, Traffic};
 use crate::link::modbus::{ModbusError, ModbusLink, WriteReport};
-
-/// Percent of the jog speed twists use until the technician changes it.
-pub const INITIAL_SPEED: u8 = 50;
 
 pub struct ModbusWorker {
     commands: mpsc::UnboundedSender<ArmCommand>,
@@ -24,7 +22,8 @@ struct State {
     link: ModbusLink,
     events: mpsc::UnboundedSender<ArmEvent>,
     max_jog_speed: f64,
-    speed: u8,
+    /// The driver's speed in force: twists and capped moves scale with it.
+    speed: SpeedInForce,
     frame: ReferenceFrame,
 }
 
@@ -34,6 +33,7 @@ impl ModbusWorker {
         config: &DriverConfig,
         events: mpsc::UnboundedSender<ArmEvent>,
         joints: JointPositions,
+        speed: SpeedInForce,
     ) -> ModbusWorker {
         forward_telemetry(&link, events.clone(), joints);
         let (commands, rx) = mpsc::unbounded_channel();
@@ -41,7 +41,7 @@ impl ModbusWorker {
             link: link.clone(),
             events,
             max_jog_speed: config.max_jog_speed,
-            speed: INITIAL_SPEED,
+            speed,
             frame: ReferenceFrame::Base,
         };
         let task = tokio::spawn(run(state, rx));
@@ -133,7 +133,7 @@ impl State {
     }
 
     fn fraction(&self) -> f64 {
-        f64::from(self.speed) / 100.0
+        self.speed.fraction()
     }
 
     /// The tool speed at the speed in force, m/s: the one cap every motion keeps.
@@ -153,7 +153,7 @@ impl State {
     }
 
     async fn execute(&mut self, command: ArmCommand) {
-        let result: Result<Option<WriteReport>, String> = match &command {
+        let result: Result<Option<WriteReport>, ArmError> = match &command {
             ArmCommand::Jog(JogMotion::Cartesian { x, y, z }) => {
                 let d = [f64::from(*x), f64::from(*y), f64::from(*z)];
                 let norm = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt().max(1.0);
@@ -176,9 +176,9 @@ impl State {
                     )
                     .await,
             ),
-            ArmCommand::Jog(JogMotion::Joint { .. }) => {
-                Err("single-joint jog needs a Talos operator: Modbus cannot command joints".into())
-            }
+            ArmCommand::Jog(JogMotion::Joint { .. }) => Err(ArmError::Unsupported(
+                "single-joint jog needs a Talos operator: Modbus cannot command joints",
+            )),
             ArmCommand::Stop => wrap(self.link.stop().await),
             ArmCommand::QuickStop => wrap(self.link.quick_stop().await),
             ArmCommand::FaultReset => wrap(self.link.fault_reset().await),
@@ -200,36 +200,37 @@ impl State {
                             .await,
                     )
                 }
-                None => Err("no telemetry yet: the step needs the current pose".into()),
+                None => Err(ArmError::NoPose),
             },
             // The jog speed is the console's own setting: it scales the twists this worker
             // computes and is never written to the arm's configured limits (216-219), which
             // belong to `armjog modbus speed-limit`.
             ArmCommand::SetSpeed(speed) if (1..=100).contains(speed) => {
-                self.speed = *speed;
-                let _ = self.events.send(ArmEvent::Speed(self.speed));
+                self.speed.set(*speed);
+                let _ = self.events.send(ArmEvent::Speed(*speed));
                 Ok(None)
             }
-            ArmCommand::SetSpeed(speed) => Err(format!(
-                "speed {speed} % is outside 1-100: {} % stays in force",
-                self.speed
-            )),
+            ArmCommand::SetSpeed(speed) => Err(ArmError::SpeedOutOfRange {
+                requested: *speed,
+                in_force: self.speed.percent(),
+            }),
             ArmCommand::SetFrame(frame) => {
                 self.frame = *frame;
                 Ok(None)
             }
-            _ => Err("named positions over Modbus are kept by the console".into()),
+            _ => Err(ArmError::Unsupported(
+                "named positions over Modbus are kept by the console",
+            )),
         };
         self.report(command, result);
     }
 
-    fn report(&self, command: ArmCommand, result: Result<Option<WriteReport>, String>) {
+    fn report(&self, command: ArmCommand, result: Result<Option<WriteReport>, ArmError>) {
         let label = command.label();
         match result {
             Ok(report) => {
                 // A jog refresh that wrote nothing is not worth a log line.
                 if let Some(report) = report.filter(|r| !r.writes.is_empty()) {
-                    let writes: Vec<String> = report.writes.iter().map(|w| w.to_string()).collect();
                     // An action's writes only start it: how it ends shows in the telemetry.
                     let starts = matches!(
                         command,
@@ -247,35 +248,35 @@ impl State {
                         ),
                         ok: true,
                         latency: Some(report.elapsed),
-                        sent_hex: Some(writes.join("; ")),
-                        received_hex: None,
+                        traffic: Traffic::Modbus(report.writes),
                     }));
                 }
                 let _ = self.events.send(ArmEvent::Done { command });
             }
-            Err(reason) => {
+            Err(error) => {
                 let _ = self.events.send(ArmEvent::Log(LogEntry {
                     id: None,
                     poll: false,
                     count: 1,
                     name: label.to_string(),
-                    outcome: reason.clone(),
+                    outcome: error.to_string(),
                     ok: false,
                     latency: None,
-                    sent_hex: None,
-                    received_hex: None,
+                    traffic: Traffic::None,
                 }));
                 let _ = self.events.send(ArmEvent::Failed {
-                    command: label,
-                    reason,
+                    command: command.kind(),
+                    error,
                 });
             }
         }
     }
 }
 
-fn wrap(result: Result<WriteReport, ModbusError>) -> Result<Option<WriteReport>, String> {
-    result.map(Some).map_err(|e| e.to_string())
+fn wrap(result: Result<WriteReport, ModbusError>) -> Result<Option<WriteReport>, ArmError> {
+    result
+        .map(Some)
+        .map_err(|e| ArmError::Modbus(e.to_string()))
 }
 
 /// The pose a step moves to. Polar steps turn the position about the base Z axis (and the tool

@@ -107,12 +107,7 @@ impl Pending {
 pub fn stop_answer(event: &ArmEvent) -> Option<Result<(), String>> {
     match event {
         ArmEvent::Done { command } if command.is_stop() => Some(Ok(())),
-        ArmEvent::Failed { command, reason }
-            if *command == ArmCommand::Stop.label()
-                || *command == ArmCommand::QuickStop.label() =>
-        {
-            Some(Err(reason.clone()))
-        }
+        ArmEvent::Failed { command, error } if command.is_stop() => Some(Err(error.to_string())),
         _ => None,
     }
 }
@@ -120,7 +115,7 @@ pub fn stop_answer(event: &ArmEvent) -> Option<Result<(), String>> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::link::arm::StepMove;
+    use crate::link::arm::{ArmError, CommandKind, StepMove};
 
     const STEP: ArmCommand = ArmCommand::Step(StepMove::Polar {
         azimuth: 1,
@@ -169,6 +164,23 @@ mod tests {
             idle.stop(&[], &[Side::Talos]),
             Some(ArmEvent::StopConfirmed)
         );
+    }
+
+    #[test]
+    fn only_a_stop_kind_failure_answers_a_stop() {
+        let failed = |command| ArmEvent::Failed {
+            command,
+            error: ArmError::StopNotWritten("timeout".into()),
+        };
+        assert_eq!(
+            stop_answer(&failed(CommandKind::QuickStop)),
+            Some(Err("STOP COULD NOT BE WRITTEN: timeout".into()))
+        );
+        assert!(matches!(
+            stop_answer(&failed(CommandKind::Stop)),
+            Some(Err(_))
+        ));
+        assert_eq!(stop_answer(&failed(CommandKind::Jog)), None);
     }
 
     #[test]

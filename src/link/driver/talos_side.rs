@@ -2,14 +2,17 @@
 //! companion ICD, reconnection.
 
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicU8, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use tokio::sync::mpsc;
 
 use super::hw_telemetry;
+use super::speed::SpeedInForce;
 use super::{DriverConfig, JointPositions};
-use crate::link::arm::{ArmCommand, ArmEvent, JogMotion, LogEntry, PositionCoordinates, StepMove};
+use crate::link::arm::{
+    ArmCommand, ArmError, ArmEvent, JogMotion, LogEntry, PositionCoordinates, StepMove, Traffic,
+};
 use crate::link::talos::{Answer, Exchange, PendingReply, TalosConfig, TalosError, TalosEvent};
 use crate::link::{Dialect, TalosLink};
 use crate::talos::hardware::{ActuatorCommand, HwReply, HwRequest};
@@ -65,9 +68,9 @@ pub struct TalosSide {
     link: Option<TalosLink>,
     link_events: Option<mpsc::UnboundedReceiver<TalosEvent>>,
     events: mpsc::UnboundedSender<ArmEvent>,
-    /// The speed in force, percent: changed only by the operator's answers (Get Speed, or an
-    /// acknowledged Set Speed), never by the request alone.
-    speed: Arc<AtomicU8>,
+    /// The driver's speed in force: this side changes it only on the operator's answers (Get
+    /// Speed, or an acknowledged Set Speed), never on the request alone.
+    speed: SpeedInForce,
     polling: Arc<AtomicBool>,
     /// Joint positions from the latest telemetry, for joint jog commands.
     joints: JointPositions,
@@ -78,6 +81,7 @@ impl TalosSide {
         config: &DriverConfig,
         events: mpsc::UnboundedSender<ArmEvent>,
         joints: JointPositions,
+        speed: SpeedInForce,
     ) -> TalosSide {
         TalosSide {
             config: config.talos.clone(),
@@ -87,7 +91,7 @@ impl TalosSide {
             link: None,
             link_events: None,
             events,
-            speed: Arc::new(AtomicU8::new(50)),
+            speed,
             polling: Arc::new(AtomicBool::new(false)),
             joints,
         }
@@ -119,7 +123,7 @@ impl TalosSide {
     /// Takes a link that connected; returns its description for the status bar.
     pub fn attach(&mut self, connected: TalosConnected) -> String {
         if let Some(speed) = connected.speed {
-            self.speed.store(speed, Ordering::Release);
+            self.speed.set(speed);
             let _ = self.events.send(ArmEvent::Speed(speed));
         }
         self.link = Some(connected.link);
@@ -159,7 +163,7 @@ impl TalosSide {
     /// tool, from the reported angles), until the jog's next refresh or the operator's 500 ms
     /// watchdog.
     fn joint_rate(&self, positions: &[f32; 7], joint: u8) -> f32 {
-        let fraction = f64::from(self.speed.load(Ordering::Acquire)) / 100.0;
+        let fraction = self.speed.fraction();
         let by_tool = crate::kortex::gen3::joint_rate_for_tool_speed(
             positions,
             joint,
@@ -170,13 +174,15 @@ impl TalosSide {
     }
 
     /// The requests that carry out `command`, in order.
-    fn requests(&mut self, command: &ArmCommand) -> Result<Vec<Request>, String> {
+    fn requests(&mut self, command: &ArmCommand) -> Result<Vec<Request>, ArmError> {
         let icd = self.dialect() == Dialect::Icd;
-        let hw = |request: HwRequest| -> Result<Request, String> {
+        let hw = |request: HwRequest| -> Result<Request, ArmError> {
             Ok(Request::HardwareOperation {
                 subcommand: request.subcommand(),
                 reserved: 0,
-                payload: request.encode_payload().map_err(|e| e.to_string())?,
+                payload: request
+                    .encode_payload()
+                    .map_err(|e| ArmError::Encode(e.to_string()))?,
             })
         };
         Ok(match command {
@@ -195,11 +201,11 @@ impl TalosSide {
             }
             ArmCommand::Jog(JogMotion::Joint { joint, direction }) => {
                 if !icd {
-                    return Err("joint jog needs the icd dialect".into());
+                    return Err(ArmError::Unsupported("joint jog needs the icd dialect"));
                 }
                 // The command carries the joint's last reported position: none is invented.
                 let Some(positions) = *self.joints.borrow() else {
-                    return Err("no joint position reported yet: wait for telemetry".into());
+                    return Err(ArmError::NoJointPosition);
                 };
                 let index = usize::from(joint.saturating_sub(1)).min(6);
                 let velocity = f32::from(*direction) * self.joint_rate(&positions, *joint);
@@ -270,7 +276,7 @@ impl TalosSide {
                 Request::GetPolarPosition { name: name.clone() },
             ],
             ArmCommand::MoveToPose(_) | ArmCommand::SetFrame(_) => {
-                return Err("not available over Talos".into());
+                return Err(ArmError::Unsupported("not available over Talos"));
             }
         })
     }
@@ -280,18 +286,18 @@ impl TalosSide {
         let Some(link) = self.link.clone() else {
             if !command.is_stop() {
                 let _ = self.events.send(ArmEvent::Failed {
-                    command: command.label(),
-                    reason: "no link to the Talos operator".into(),
+                    command: command.kind(),
+                    error: ArmError::NoTalosLink,
                 });
             }
             return;
         };
         let requests = match self.requests(&command) {
             Ok(requests) => requests,
-            Err(reason) => {
+            Err(error) => {
                 let _ = self.events.send(ArmEvent::Failed {
-                    command: command.label(),
-                    reason,
+                    command: command.kind(),
+                    error,
                 });
                 return;
             }
@@ -420,8 +426,10 @@ fn log_entry(exchange: &Exchange) -> LogEntry {
         },
         ok: code.is_ok(),
         latency: Some(exchange.latency),
-        sent_hex: Some(crate::talos::hex::spaced_hex(&exchange.request_bytes)),
-        received_hex: Some(crate::talos::hex::spaced_hex(&exchange.reply_bytes)),
+        traffic: Traffic::Talos {
+            request: exchange.request_bytes.clone(),
+            reply: Some(exchange.reply_bytes.clone()),
+        },
     }
 }
 
@@ -450,15 +458,15 @@ fn report_error(
         return;
     }
     let _ = events.send(ArmEvent::Failed {
-        command: command.label(),
-        reason: failure_reason(error),
+        command: command.kind(),
+        error: failure_reason(error),
     });
 }
 
-fn failure_reason(error: &TalosError) -> String {
+fn failure_reason(error: &TalosError) -> ArmError {
     match error {
-        TalosError::ReturnCode { exchange } => exchange.return_code().to_string(),
-        other => other.to_string(),
+        TalosError::ReturnCode { exchange } => ArmError::ReturnCode(exchange.return_code()),
+        other => ArmError::Talos(other.to_string()),
     }
 }
 
@@ -485,8 +493,7 @@ fn log_error(
             outcome: error.to_string(),
             ok: false,
             latency: None,
-            sent_hex: None,
-            received_hex: None,
+            traffic: Traffic::None,
             ..LogEntry::default()
         }));
     }
@@ -508,9 +515,9 @@ fn position_name(command: &ArmCommand) -> Option<String> {
 async fn answers(
     command: ArmCommand,
     pending: Vec<PendingReply>,
-    mut stop_failure: Option<String>,
+    mut stop_failure: Option<ArmError>,
     events: mpsc::UnboundedSender<ArmEvent>,
-    speed_in_force: Arc<AtomicU8>,
+    speed_in_force: SpeedInForce,
 ) {
     let all_ok = !pending.is_empty();
     let mut coordinates = PositionCoordinates {
@@ -548,10 +555,10 @@ async fn answers(
             }
         }
     }
-    if let Some(reason) = stop_failure {
+    if let Some(error) = stop_failure {
         let _ = events.send(ArmEvent::Failed {
-            command: command.label(),
-            reason,
+            command: command.kind(),
+            error,
         });
         return;
     }
@@ -565,7 +572,7 @@ async fn answers(
         });
     }
     if let ArmCommand::SetSpeed(speed) = command {
-        speed_in_force.store(speed, Ordering::Release);
+        speed_in_force.set(speed);
         let _ = events.send(ArmEvent::Speed(speed));
     }
     let _ = events.send(ArmEvent::Done { command });

@@ -1,0 +1,144 @@
+//! Why a command failed, typed: which kind of command ([`CommandKind`]) and what went wrong
+//! ([`ArmError`]), so the console decides by value what a failure means (a failed jog stops
+//! and latches the held keys) and shows the text only to people.
+
+use crate::talos::ReturnCode;
+
+/// What kind of command failed: an [`ArmCommand`](super::arm::ArmCommand)'s variant, or work
+/// the driver or a link does on its own behalf.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum CommandKind {
+    Jog,
+    Stop,
+    Step,
+    MoveToPose,
+    Home,
+    SetSpeed,
+    SetFrame,
+    QuickStop,
+    FaultReset,
+    SavePosition,
+    DeletePosition,
+    GoToPosition,
+    SetPolarPosition,
+    SetCartesianPosition,
+    GetPosition,
+    /// The Modbus link putting back the speed limits a capped move lowered.
+    RestoreSpeedLimits,
+}
+
+impl CommandKind {
+    /// Words for the status line and the log: "jog", "go to position".
+    pub fn label(self) -> &'static str {
+        match self {
+            CommandKind::Jog => "jog",
+            CommandKind::Stop => "stop",
+            CommandKind::Step => "step",
+            CommandKind::MoveToPose => "move to pose",
+            CommandKind::Home => "home",
+            CommandKind::SetSpeed => "set speed",
+            CommandKind::SetFrame => "set frame",
+            CommandKind::QuickStop => "quick stop",
+            CommandKind::FaultReset => "fault reset",
+            CommandKind::SavePosition => "save position",
+            CommandKind::DeletePosition => "delete position",
+            CommandKind::GoToPosition => "go to position",
+            CommandKind::SetPolarPosition => "set polar position",
+            CommandKind::SetCartesianPosition => "set cartesian position",
+            CommandKind::GetPosition => "get position",
+            CommandKind::RestoreSpeedLimits => "restore speed limits",
+        }
+    }
+
+    /// Whether this kind stops motion (a failure of it may leave the arm moving).
+    pub fn is_stop(self) -> bool {
+        matches!(self, CommandKind::Stop | CommandKind::QuickStop)
+    }
+}
+
+impl std::fmt::Display for CommandKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.label())
+    }
+}
+
+/// What went wrong carrying out a command. The link errors themselves hold sockets' errors
+/// (neither `Clone` nor comparable), so their text is kept; the kinds the console or the
+/// driver act on are variants of their own.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ArmError {
+    /// The operator answered with a failing return code.
+    #[error("{0}")]
+    ReturnCode(ReturnCode),
+    /// The Talos exchange failed: not sent, no reply, a rejected or malformed reply.
+    #[error("{0}")]
+    Talos(String),
+    /// The Modbus link refused or failed the writes.
+    #[error("{0}")]
+    Modbus(String),
+    #[error("no link to the Talos operator")]
+    NoTalosLink,
+    #[error("the Modbus link to {addr} is not up")]
+    ModbusLinkDown { addr: String },
+    /// No configured link can carry the command at all.
+    #[error("not possible over this link")]
+    NoLinkCarriesIt,
+    /// The link that would carry it cannot do this: the text says why and what can.
+    #[error("{0}")]
+    Unsupported(&'static str),
+    #[error("no joint position reported yet: wait for telemetry")]
+    NoJointPosition,
+    #[error("no telemetry yet: the step needs the current pose")]
+    NoPose,
+    #[error("speed {requested} % is outside 1-100: {in_force} % stays in force")]
+    SpeedOutOfRange { requested: u8, in_force: u8 },
+    /// A request could not be encoded (a value outside what the wire can carry).
+    #[error("{0}")]
+    Encode(String),
+    /// Modbus motion is refused while the stop guard is not ready: the guard's own words.
+    #[error("{0}")]
+    GuardNotRunning(String),
+    /// The stop guard stopped the arm (the console went quiet, or its link did).
+    #[error("the stop guard stopped the arm: {0}")]
+    GuardStoppedArm(String),
+    /// The Modbus link could not write a STOP: the arm may still move.
+    #[error("STOP COULD NOT BE WRITTEN: {0}")]
+    StopNotWritten(String),
+    /// A capped move's lowered speed limits could not be put back.
+    #[error("the arm keeps the lowered limits; set {linear} m/s, {angular} deg/s again: {error}")]
+    SpeedLimitsNotRestored {
+        linear: f32,
+        angular: f32,
+        error: String,
+    },
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_text_is_what_the_status_line_showed_before_the_types() {
+        assert_eq!(
+            ArmError::ReturnCode(ReturnCode::UNKNOWN_POSITION).to_string(),
+            ReturnCode::UNKNOWN_POSITION.to_string()
+        );
+        assert_eq!(
+            ArmError::ModbusLinkDown {
+                addr: "10.0.0.2:502".into()
+            }
+            .to_string(),
+            "the Modbus link to 10.0.0.2:502 is not up"
+        );
+        assert_eq!(
+            ArmError::SpeedOutOfRange {
+                requested: 0,
+                in_force: 40
+            }
+            .to_string(),
+            "speed 0 % is outside 1-100: 40 % stays in force"
+        );
+        assert_eq!(CommandKind::GoToPosition.to_string(), "go to position");
+        assert!(CommandKind::QuickStop.is_stop() && !CommandKind::Jog.is_stop());
+    }
+}
