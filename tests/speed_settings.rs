@@ -355,3 +355,52 @@ fn the_status_bar_shows_the_jog_speed_from_the_cap_and_the_percent() {
         assert_eq!(speed_text(&app), text);
     }
 }
+
+#[tokio::test]
+async fn a_speed_the_operator_accepted_also_bounds_moves_over_modbus() {
+    // Jogs through the operator, go-to of the console's own poses over Modbus: one speed in
+    // force for both, whichever link set it.
+    let sim = Simulator::start(SimConfig::ephemeral())
+        .await
+        .expect("simulator");
+    sim.arm
+        .with(|arm, _| arm.set_speed_limits(0.3, 80.0))
+        .await
+        .expect("sim alive")
+        .expect("limits accepted");
+    let talos = TalosConfig::new(sim.talos_addr.to_string());
+    let modbus = ModbusConfig::new(sim.modbus_addr.expect("modbus").to_string());
+    let mut config = DriverConfig::new(Some(talos), Some(modbus));
+    config.max_jog_speed = 0.1;
+    let (driver, mut events) = Driver::spawn(config);
+    link_up(&mut events).await;
+    assert!(driver.send(ArmCommand::SetSpeed(20)));
+    let (event, before) = until_event(&mut events, is_speed).await;
+    assert_eq!(event, ArmEvent::Speed(20), "{before:?}");
+
+    let (telemetry, _) = until_event(&mut events, |e| matches!(e, ArmEvent::Telemetry(_))).await;
+    let ArmEvent::Telemetry(telemetry) = telemetry else {
+        unreachable!()
+    };
+    let mut target = telemetry.tcp.pose;
+    target.x += 0.01;
+    assert!(driver.send(ArmCommand::MoveToPose(target)));
+    // The link lowers the arm's linear limit to the tool speed for the move: 20 % of 100 mm/s.
+    let lowest = async {
+        loop {
+            let s = sim.arm.snapshot().await.expect("sim alive");
+            if s.speed_limit_linear < 0.29 {
+                return s.speed_limit_linear;
+            }
+            tokio::time::sleep(Duration::from_millis(2)).await;
+        }
+    };
+    let lowered = tokio::time::timeout(Duration::from_secs(10), lowest)
+        .await
+        .expect("the move lowered the limit within 10 s");
+    assert!(
+        (lowered - 0.02).abs() < 1e-4,
+        "moved at a limit of {lowered} m/s, not the 0.02 m/s the speed in force gives"
+    );
+    driver.shutdown().await;
+}
