@@ -29,7 +29,7 @@ use std::time::{Duration, Instant};
 use super::action::Action;
 use super::form::{Confirm, Form, FormKind};
 use super::jog::{JogEngine, KeyKind, MAX_ONSET, ReleaseMode};
-use super::keymap::{KeyName, Keymap};
+use super::keymap::{BaseKey, KeyName, Keymap, NamedKey};
 use super::positions::PositionBook;
 use crate::kortex::{ReferenceFrame, Telemetry};
 use crate::link::arm::{
@@ -48,6 +48,19 @@ const MESSAGE_TIME: Duration = Duration::from_secs(6);
 const CARTESIAN_STEPS: [i32; 6] = [1, 10, 50, 100, 500, 1000];
 const POLAR_STEPS: [i32; 5] = [1, 2, 5, 10, 30];
 const SPEED_STEP: u8 = 10;
+
+/// The keys the console knows whatever the keymap: ctrl+c quits, and dialogs and forms answer
+/// these.
+const CTRL_C: KeyName = KeyName::char('c').with_ctrl();
+const YES: KeyName = KeyName::char('y');
+const YES_SHIFTED: KeyName = KeyName::char('Y');
+const ENTER: KeyName = KeyName::named(NamedKey::Enter);
+const ESC: KeyName = KeyName::named(NamedKey::Esc);
+const TAB: KeyName = KeyName::named(NamedKey::Tab);
+const BACKTAB: KeyName = KeyName::named(NamedKey::Tab).with_shift();
+const UP: KeyName = KeyName::named(NamedKey::Up);
+const DOWN: KeyName = KeyName::named(NamedKey::Down);
+const BACKSPACE: KeyName = KeyName::named(NamedKey::Backspace);
 
 /// One key event as the console needs it.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -295,7 +308,7 @@ impl App {
     fn on_key(&mut self, key: KeyInput, now: Instant, effects: &mut Vec<Effect>) {
         // Ctrl-C always stops and quits, whatever the keymap or overlay (raw mode turns it
         // into a key instead of SIGINT).
-        if key.kind == KeyKind::Press && key.key.to_string() == "ctrl+c" {
+        if key.kind == KeyKind::Press && key.key == CTRL_C {
             self.quit(now, effects);
             return;
         }
@@ -342,13 +355,12 @@ impl App {
         repeating
     }
 
+    /// A press or repeat (releases are handled before this).
     fn dispatch_key(&mut self, key: KeyInput, now: Instant, effects: &mut Vec<Effect>) {
         if self.overlay != Overlay::None {
-            if key.kind != KeyKind::Release {
-                self.stop_jog(now, effects);
-                self.latch_jog_key(&key, now, effects);
-                self.on_overlay_key(key, now, effects);
-            }
+            self.stop_jog(now, effects);
+            self.latch_jog_key(&key, now, effects);
+            self.on_overlay_key(key, now, effects);
             return;
         }
         let action = self.config.keymap.action(&key.key);
@@ -375,18 +387,17 @@ impl App {
                     }
                 }
             }
-            (_, KeyKind::Release) => {}
-            (Some(action), KeyKind::Repeat) => {
-                // A held non-jog key: keep everything stopped, do not repeat the action.
-                self.stop_jog(now, effects);
-                let _ = action;
-            }
             (Some(action), KeyKind::Press) => {
                 // Stop, quick stop and quit send their own stop.
                 if !matches!(action, Action::Stop | Action::QuickStop | Action::Quit) {
                     self.stop_jog(now, effects);
                 }
                 self.on_action(action, now, effects);
+            }
+            (Some(_), _) => {
+                // A held non-jog key (a repeat): keep everything stopped, do not repeat the
+                // action.
+                self.stop_jog(now, effects);
             }
             (None, _) => {
                 self.stop_jog(now, effects);
@@ -402,18 +413,19 @@ impl App {
     /// The jog actions bound to `key`, to the key without modifiers, and to the other case of
     /// a letter.
     fn release_candidates(&self, key: &KeyName) -> Vec<Action> {
-        let mut names = vec![key.to_string(), key.without_modifiers().to_string()];
-        for name in names.clone() {
-            let mut chars = name.chars();
-            if let (Some(c), None) = (chars.next(), chars.next()) {
-                names.push(c.to_lowercase().to_string());
-                names.push(c.to_uppercase().to_string());
-            }
+        let bare = key.without_modifiers();
+        let mut keys = vec![*key, bare];
+        if let BaseKey::Char(c) = bare.base() {
+            keys.extend(
+                [single_char(c.to_lowercase()), single_char(c.to_uppercase())]
+                    .into_iter()
+                    .flatten()
+                    .map(KeyName::char),
+            );
         }
-        let mut actions: Vec<Action> = names
+        let mut actions: Vec<Action> = keys
             .iter()
-            .filter_map(|n| n.parse::<KeyName>().ok())
-            .filter_map(|k| self.config.keymap.action(&k))
+            .filter_map(|k| self.config.keymap.action(k))
             .filter(|a| a.jog().is_some())
             .collect();
         actions.sort();
@@ -571,32 +583,31 @@ impl App {
     }
 
     fn on_overlay_key(&mut self, key: KeyInput, now: Instant, effects: &mut Vec<Effect>) {
-        let named = key.key.to_string();
         match std::mem::replace(&mut self.overlay, Overlay::None) {
             Overlay::None => {}
             Overlay::Help | Overlay::Position { .. } => {}
             Overlay::Confirm(confirm) => {
-                if named == "y" || named == "Y" || named == "enter" {
+                if matches!(key.key, YES | YES_SHIFTED | ENTER) {
                     self.confirmed(confirm, now, effects);
                 } else {
                     self.say("cancelled", Severity::Info, now);
                 }
             }
             Overlay::Form(mut form) => {
-                match named.as_str() {
-                    "esc" => {
+                match key.key {
+                    ESC => {
                         self.say("cancelled", Severity::Info, now);
                         return;
                     }
-                    "enter" => {
+                    ENTER => {
                         if let Some(result) = form.submit() {
                             self.form_done(result, now, effects);
                             return;
                         }
                     }
-                    "tab" | "down" => form.next_field(),
-                    "shift+tab" | "up" => form.previous_field(),
-                    "backspace" => form.backspace(),
+                    TAB | DOWN => form.next_field(),
+                    BACKTAB | UP => form.previous_field(),
+                    BACKSPACE => form.backspace(),
                     _ => {
                         if let Some(c) = key.text.filter(|c| !c.is_control()) {
                             form.type_char(c);
@@ -708,4 +719,10 @@ impl App {
             ArmEvent::StopConfirmed | ArmEvent::StopUnconfirmed { .. } => {}
         }
     }
+}
+
+/// The one character of a case mapping, if it is one (not "SS" for "ß"): only that is a key.
+fn single_char(mut chars: impl Iterator<Item = char>) -> Option<char> {
+    let first = chars.next()?;
+    chars.next().is_none().then_some(first)
 }
