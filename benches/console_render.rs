@@ -59,7 +59,7 @@ fn busy_app() -> App {
         app.handle(Input::Arm(ArmEvent::Log(entry)), now);
     }
     for name in ["bench", "pick", "place", "home2", "camera"] {
-        app.positions.entry(name).cartesian = Some([4566, 10, 4338]);
+        app.positions.get_or_insert(name).cartesian = Some([4566, 10, 4338]);
     }
     app.hex = true;
     app

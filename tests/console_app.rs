@@ -7,7 +7,7 @@ use armjog::console::app::{App, AppConfig, Effect, Input, Overlay};
 use armjog::console::jog::{JogMotion, KeyKind, ReleaseMode};
 use armjog::console::keymap::Keymap;
 use armjog::console::positions::PositionBook;
-use armjog::link::arm::{ArmCommand, ArmEvent, LinkStatus, StepMove};
+use armjog::link::arm::{ArmCommand, ArmEvent, LinkStatus, PositionCoordinates, StepMove};
 
 mod app_support;
 
@@ -307,7 +307,7 @@ fn an_invalid_name_keeps_the_form_open_and_sends_nothing() {
 #[test]
 fn go_to_and_delete_ask_first_and_unknown_names_are_marked() {
     let (mut app, t0) = app(ReleaseMode::Reported, true);
-    app.positions.entry("bench");
+    app.positions.get_or_insert("bench");
     press(&mut app, "o", t0);
     assert_eq!(
         press(&mut app, "y", t0),
@@ -367,7 +367,7 @@ fn remembered_names_are_checked_with_the_operator_when_the_link_comes_up() {
         frames: false,
     };
     let mut book = PositionBook::new();
-    book.entry("ghost");
+    book.get_or_insert("ghost");
     let mut app = App::new(config, book);
     let t0 = Instant::now();
     let up = Input::Arm(ArmEvent::Status(LinkStatus::Up {
@@ -392,6 +392,61 @@ fn remembered_names_are_checked_with_the_operator_when_the_link_comes_up() {
             .is_some_and(|e| e.unknown_to_operator)
     );
     assert!(app.message.is_none(), "marked in the panel, not shouted");
+}
+
+#[test]
+fn an_answer_about_a_name_not_in_the_book_adds_nothing_and_leaves_the_selection() {
+    let config = AppConfig {
+        keymap: Keymap::builtin("default").expect("default keymap"),
+        release_mode: ReleaseMode::Reported,
+        refresh: Duration::from_millis(100),
+        positions_on_operator: true,
+        max_jog_speed: 0.25,
+        frames: false,
+    };
+    let mut book = PositionBook::new();
+    book.get_or_insert("bench");
+    book.get_or_insert("table");
+    let mut app = App::new(config, book);
+    let t0 = Instant::now();
+    press(&mut app, "pagedown", t0);
+    assert_eq!(app.selected_name(), Some("table"));
+    // Replies about a name deleted meanwhile; "apple" would sort before the selection.
+    app.handle(
+        Input::Arm(ArmEvent::Position {
+            name: "apple".into(),
+            coordinates: PositionCoordinates {
+                cartesian: Some([1, 2, 3]),
+                polar: None,
+            },
+        }),
+        t0,
+    );
+    app.handle(
+        Input::Arm(ArmEvent::UnknownPosition {
+            name: "apple".into(),
+        }),
+        t0,
+    );
+    let names: Vec<&str> = app.positions.names().collect();
+    assert_eq!(names, ["bench", "table"], "nothing added");
+    assert_eq!(app.selected_name(), Some("table"), "the selection stays");
+    // A name in the book is still updated.
+    app.handle(
+        Input::Arm(ArmEvent::Position {
+            name: "bench".into(),
+            coordinates: PositionCoordinates {
+                cartesian: Some([4, 5, 6]),
+                polar: None,
+            },
+        }),
+        t0,
+    );
+    assert_eq!(
+        app.positions.get("bench").and_then(|e| e.cartesian),
+        Some([4, 5, 6])
+    );
+    assert_eq!(app.selected_name(), Some("table"));
 }
 
 #[test]

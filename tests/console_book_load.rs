@@ -26,7 +26,7 @@ fn temp_book(name: &str) -> std::path::PathBuf {
 fn book_of(names: &[&str]) -> PositionBook {
     let mut book = PositionBook::new();
     for (i, name) in names.iter().enumerate() {
-        book.entry(name).cartesian = Some([i as i32 * 100, 0, 1000]);
+        book.get_or_insert(name).cartesian = Some([i as i32 * 100, 0, 1000]);
     }
     book
 }

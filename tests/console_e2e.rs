@@ -46,7 +46,7 @@ impl Console {
         };
         let mut book = PositionBook::new();
         // A name remembered from an earlier run that this (fresh) operator does not know.
-        book.entry("ghost");
+        book.get_or_insert("ghost");
         let app = App::new(
             AppConfig {
                 keymap: Keymap::builtin("default").expect("keymap"),

@@ -500,7 +500,7 @@ fn a_failed_home_command_stops_and_reports() {
 fn go_to_over_modbus_shows_the_position_name() {
     let (mut app, t0) = app(TelemetrySource::Modbus);
     feed(&mut app, at_rest(), t0);
-    let bench = app.positions.entry("bench");
+    let bench = app.positions.get_or_insert("bench");
     bench.cartesian = Some([4000, 1000, 3000]);
     bench.orientation = Some([90.0, 0.0, 90.0]);
     press(&mut app, "o", t0);
@@ -522,7 +522,7 @@ fn go_to_over_modbus_shows_the_position_name() {
 fn a_go_to_the_link_cannot_carry_ends_its_tracking_and_stops() {
     let (mut app, t0) = app(TelemetrySource::Modbus);
     feed(&mut app, at_rest(), t0);
-    let bench = app.positions.entry("bench");
+    let bench = app.positions.get_or_insert("bench");
     bench.cartesian = Some([4000, 1000, 3000]);
     bench.orientation = Some([90.0, 0.0, 90.0]);
     press(&mut app, "o", t0);
@@ -598,7 +598,7 @@ fn a_stale_link_starts_no_home_step_or_go_to() {
     press(&mut app, "h", stale);
     assert!(press(&mut app, "y", stale).is_empty(), "no home");
     assert_eq!(message(&app), "link stale: not moving");
-    app.positions.entry("bench");
+    app.positions.get_or_insert("bench");
     press(&mut app, "o", stale);
     assert!(press(&mut app, "y", stale).is_empty(), "no go-to");
     press(&mut app, "t", stale);

@@ -396,7 +396,7 @@ async fn a_go_to_aborted_at_a_joint_limit_is_a_failure_over_modbus() {
     let from = console.sim.arm.snapshot().await.expect("sim").tcp_position;
     // 100 mm along +X, in the tool's current orientation: the step's target.
     let tenths = |m: f64| (m * 10_000.0).round() as i32;
-    console.app.positions.entry("beyond").cartesian =
+    console.app.positions.get_or_insert("beyond").cartesian =
         Some([tenths(from[0] + 0.1), tenths(from[1]), tenths(from[2])]);
     assert_eq!(console.app.selected_name(), Some("beyond"));
     console.said.clear();

@@ -168,7 +168,7 @@ fn status_moving_home_and_go_to() {
         render(ui::status::draw, &app, 80, 2).backend()
     );
     let (mut app, t0) = modbus_app();
-    let bench = app.positions.entry("bench");
+    let bench = app.positions.get_or_insert("bench");
     bench.cartesian = Some([4000, 1000, 3000]);
     press(&mut app, "o", t0);
     press(&mut app, "y", t0);
@@ -239,7 +239,7 @@ fn stale_panels_are_grey_and_show_their_age() {
 #[test]
 fn a_go_to_command_is_named_the_position_it_goes_to() {
     let (mut app, t0) = modbus_app();
-    app.positions.entry("bench").cartesian = Some([4000, 1000, 3000]);
+    app.positions.get_or_insert("bench").cartesian = Some([4000, 1000, 3000]);
     press(&mut app, "o", t0);
     press(&mut app, "y", t0);
     assert!(matches!(

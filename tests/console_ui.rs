@@ -145,13 +145,13 @@ fn live_app(mode: ReleaseMode) -> (App, Instant) {
         app.handle(Input::Arm(event), t0);
     }
     let book = &mut app.positions;
-    book.entry("home").cartesian = Some([4566, 10, 4338]);
-    let pick = book.entry("pick");
+    book.get_or_insert("home").cartesian = Some([4566, 10, 4338]);
+    let pick = book.get_or_insert("pick");
     pick.cartesian = Some([5000, -1205, 2500]);
     pick.anchor = true;
     pick.parent = Some("table".into());
-    book.entry("table").cartesian = Some([6000, 0, 1000]);
-    let bench = book.entry("bench");
+    book.get_or_insert("table").cartesian = Some([6000, 0, 1000]);
+    let bench = book.get_or_insert("bench");
     bench.cartesian = Some([3000, 3000, 800]);
     bench.unknown_to_operator = true;
     // Sorted: bench, home, pick, table; "pick" selected.
@@ -412,7 +412,7 @@ fn positions_while_loading_a_big_book() {
 fn positions_that_could_not_be_read_with_one_kept_in_memory() {
     let (mut app, t0) = bare_app(ReleaseMode::Reported, false);
     app.begin_loading_positions("/data/book.json");
-    app.positions.entry("pick").cartesian = Some([5000, -1205, 2500]);
+    app.positions.get_or_insert("pick").cartesian = Some([5000, -1205, 2500]);
     app.handle(
         Input::PositionsLoaded(Err("/data/book.json:3:7: expected `:`".into())),
         t0,
@@ -427,7 +427,9 @@ fn positions_scrolled_in_a_big_book_and_its_snapshot_draw_the_same() {
     let (mut app, t0) = bare_app(ReleaseMode::Reported, false);
     app = sized(app, 80, 24, t0);
     for i in 0..5000 {
-        app.positions.entry(&format!("pos-{i:05}")).cartesian = Some([i, 0, 0]);
+        app.positions
+            .get_or_insert(&format!("pos-{i:05}"))
+            .cartesian = Some([i, 0, 0]);
     }
     app.selected = 3210;
     let whole = render(ui::positions::draw, &app, 50, 8);

@@ -673,10 +673,13 @@ impl App {
                 self.say(format!("{command} failed: {reason}"), Severity::Error, now);
             }
             ArmEvent::Position { name, coordinates } => {
-                let entry = self.positions.entry(&name);
-                entry.unknown_to_operator = false;
-                if let Some(c) = coordinates.cartesian {
-                    entry.cartesian = Some(c);
+                // A reply about a name no longer in the book (deleted meanwhile) adds nothing:
+                // a new name would move the rows and the selection under the technician.
+                if let Some(entry) = self.positions.get_mut(&name) {
+                    entry.unknown_to_operator = false;
+                    if let Some(c) = coordinates.cartesian {
+                        entry.cartesian = Some(c);
+                    }
                 }
                 if matches!(&self.overlay, Overlay::Position { name: shown, .. } if *shown == name)
                 {
@@ -687,7 +690,9 @@ impl App {
                 }
             }
             ArmEvent::UnknownPosition { name } => {
-                self.positions.entry(&name).unknown_to_operator = true;
+                if let Some(entry) = self.positions.get_mut(&name) {
+                    entry.unknown_to_operator = true;
+                }
                 // Said only when the technician is looking at it; otherwise the panel marks it.
                 if matches!(&self.overlay, Overlay::Position { name: shown, .. } if *shown == name)
                 {
