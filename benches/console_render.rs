@@ -11,6 +11,7 @@ use armjog::console::jog::ReleaseMode;
 use armjog::console::keymap::Keymap;
 use armjog::console::positions::PositionBook;
 use armjog::console::ui::{self, Theme};
+use armjog::console::view::View;
 use armjog::link::arm::{ArmEvent, LinkStatus, LogEntry};
 use armjog::link::driver::hw_telemetry;
 use armjog::sim::arm::Arm;
@@ -73,7 +74,7 @@ fn render(c: &mut Criterion) {
         c.bench_function(&format!("render full frame {w}x{h}"), |b| {
             b.iter(|| {
                 terminal
-                    .draw(|frame| ui::draw(frame, &app, &theme))
+                    .draw(|frame| ui::draw(frame, &View::new(&app), &theme))
                     .expect("draw");
             })
         });

@@ -321,7 +321,8 @@ fn with_release_events_a_second_press_without_release_switches_to_the_fallback()
         .map(|m| m.0.clone())
         .unwrap_or_default();
     assert!(message.contains("auto-repeat fallback"), "{message}");
-    let status = armjog::console::ui::status::release_mode_text(&app);
+    let status =
+        armjog::console::ui::status::release_mode_text(&armjog::console::view::View::new(&app));
     assert!(
         status.contains("auto-repeat fallback"),
         "the status bar follows: {status}"

@@ -9,6 +9,7 @@ use armjog::console::jog::{KeyKind, ReleaseMode};
 use armjog::console::keymap::{KeyName, Keymap};
 use armjog::console::positions::PositionBook;
 use armjog::console::ui::{self, Theme};
+use armjog::console::view::View;
 use armjog::kortex::{
     ActionState, ActionStatus, Coded, FlagSet, JointState, MoveType, Pose, RobotState, SpeedLimits,
     Telemetry, ToolState, Twist, Wrench,
@@ -102,12 +103,12 @@ fn press(app: &mut App, name: &str, now: Instant) {
     );
 }
 
-type Panel = fn(&mut Frame, Rect, &App, &Theme);
+type Panel = fn(&mut Frame, Rect, &View, &Theme);
 
 fn render(panel: Panel, app: &App, width: u16, height: u16) -> Terminal<TestBackend> {
     let mut terminal = Terminal::new(TestBackend::new(width, height)).expect("terminal");
     terminal
-        .draw(|f| panel(f, f.area(), app, &Theme { color: true }))
+        .draw(|f| panel(f, f.area(), &View::new(app), &Theme { color: true }))
         .expect("draw");
     terminal
 }

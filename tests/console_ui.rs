@@ -11,6 +11,7 @@ use armjog::console::jog::{JogMotion, KeyKind, ReleaseMode};
 use armjog::console::keymap::{KeyName, Keymap};
 use armjog::console::positions::PositionBook;
 use armjog::console::ui::{self, Theme};
+use armjog::console::view::View;
 use armjog::kortex::{
     ActionState, ActionStatus, ArmHealth, Coded, ControlCoil, Flag, FlagSet, JointState, MoveType,
     Pose, RobotState, SpeedLimits, Telemetry, ToolState, Twist, Wrench,
@@ -203,7 +204,7 @@ fn auto_repeat_app() -> (App, Instant) {
     (app, t0)
 }
 
-type Panel = fn(&mut Frame, Rect, &App, &Theme);
+type Panel = fn(&mut Frame, Rect, &View, &Theme);
 
 /// One panel alone on a `width` x `height` terminal.
 fn render(panel: Panel, app: &App, width: u16, height: u16) -> Terminal<TestBackend> {
@@ -217,9 +218,19 @@ fn render_with(
     height: u16,
     theme: Theme,
 ) -> Terminal<TestBackend> {
+    draw_view(panel, &View::new(app), width, height, theme)
+}
+
+fn draw_view(
+    panel: Panel,
+    view: &View,
+    width: u16,
+    height: u16,
+    theme: Theme,
+) -> Terminal<TestBackend> {
     let mut terminal = Terminal::new(TestBackend::new(width, height)).expect("terminal");
     terminal
-        .draw(|f| panel(f, f.area(), app, &theme))
+        .draw(|f| panel(f, f.area(), view, &theme))
         .expect("draw");
     terminal
 }
@@ -227,7 +238,9 @@ fn render_with(
 /// The whole screen.
 fn screen(app: &App, width: u16, height: u16, theme: Theme) -> Terminal<TestBackend> {
     let mut terminal = Terminal::new(TestBackend::new(width, height)).expect("terminal");
-    terminal.draw(|f| ui::draw(f, app, &theme)).expect("draw");
+    terminal
+        .draw(|f| ui::draw(f, &View::new(app), &theme))
+        .expect("draw");
     terminal
 }
 
@@ -420,10 +433,10 @@ fn positions_that_could_not_be_read_with_one_kept_in_memory() {
     insta::assert_snapshot!(render(ui::positions::draw, &app, 60, 5).backend());
 }
 
-/// The panel scrolled deep into a big book, and the same panel drawn from the painter's
-/// snapshot (a window of the book): identical.
+/// The panel scrolled deep into a big book, drawn from the view (a window of the book) and
+/// from the whole book: identical.
 #[test]
-fn positions_scrolled_in_a_big_book_and_its_snapshot_draw_the_same() {
+fn positions_scrolled_in_a_big_book_and_its_view_draw_the_same() {
     let (mut app, t0) = bare_app(ReleaseMode::Reported, false);
     app = sized(app, 80, 24, t0);
     for i in 0..5000 {
@@ -432,16 +445,20 @@ fn positions_scrolled_in_a_big_book_and_its_snapshot_draw_the_same() {
             .cartesian = Some([i, 0, 0]);
     }
     app.selected = 3210;
-    let whole = render(ui::positions::draw, &app, 50, 8);
-    let snapshot = app.snapshot();
-    assert!(
-        snapshot.positions.len() <= 2 * 24 + 1,
-        "a window, not the book"
+    let view = View::new(&app);
+    assert!(view.positions.len() <= 2 * 24 + 1, "a window, not the book");
+    let mut whole_book = view.clone();
+    whole_book.positions = app.positions.clone();
+    whole_book.selected = app.selected;
+    let whole = draw_view(
+        ui::positions::draw,
+        &whole_book,
+        50,
+        8,
+        Theme { color: true },
     );
     assert_eq!(
-        render(ui::positions::draw, &snapshot, 50, 8)
-            .backend()
-            .buffer(),
+        render(ui::positions::draw, &app, 50, 8).backend().buffer(),
         whole.backend().buffer()
     );
     insta::assert_snapshot!(whole.backend());

@@ -7,6 +7,7 @@
 //! focus loss, a link problem, a terminal too small to show the status, a signal and quitting
 //! all stop it.
 
+mod access;
 mod arm_events;
 mod arm_state;
 mod book_load;
@@ -26,6 +27,7 @@ pub use motion_truth::{
 };
 
 use std::collections::VecDeque;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use super::form::{Confirm, Form};
@@ -170,11 +172,14 @@ pub struct App {
     /// The key that closed an overlay and when it was last seen: its auto-repeat must not be
     /// taken for new presses (and start a jog) once the overlay is gone.
     swallowed: Option<(KeyName, Instant)>,
+    /// `config.keymap`, shared with each frame's view.
+    shared_keymap: Arc<Keymap>,
 }
 
 impl App {
     pub fn new(config: AppConfig, positions: PositionBook) -> App {
         let jog = JogEngine::new(config.release_mode, config.refresh);
+        let shared_keymap = Arc::new(config.keymap.clone());
         App {
             config,
             jog,
@@ -201,6 +206,7 @@ impl App {
             truth: MotionTruth::default(),
             now: None,
             swallowed: None,
+            shared_keymap,
         }
     }
 
