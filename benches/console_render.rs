@@ -6,9 +6,9 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
 
-use armjog::console::app::{App, AppConfig, Input};
-use armjog::console::jog::ReleaseMode;
-use armjog::console::keymap::Keymap;
+use armjog::console::app::{App, AppConfig, Input, KeyInput};
+use armjog::console::jog::{KeyKind, ReleaseMode};
+use armjog::console::keymap::{KeyName, Keymap};
 use armjog::console::positions::PositionBook;
 use armjog::console::ui::{self, Theme};
 use armjog::console::view::View;
@@ -59,10 +59,20 @@ fn busy_app() -> App {
         };
         app.handle(Input::Arm(ArmEvent::Log(entry)), now);
     }
+    let mut book = PositionBook::new();
     for name in ["bench", "pick", "place", "home2", "camera"] {
-        app.positions.get_or_insert(name).cartesian = Some([4566, 10, 4338]);
+        book.get_or_insert(name).cartesian = Some([4566, 10, 4338]);
     }
-    app.hex = true;
+    app.handle(Input::PositionsLoaded(Ok(book)), now);
+    app.handle(
+        Input::Key(KeyInput {
+            key: KeyName::char('H'),
+            text: Some('H'),
+            kind: KeyKind::Press,
+        }),
+        now,
+    );
+    assert!(app.hex());
     app
 }
 

@@ -133,7 +133,7 @@ fn frozen_mid_jog() -> (App, Instant) {
 #[test]
 fn status_link_stale_and_may_be_moving() {
     let (app, _) = frozen_mid_jog();
-    assert!(!app.jog.is_jogging(), "the stale link stopped the jog");
+    assert!(!app.jog().is_jogging(), "the stale link stopped the jog");
     insta::assert_snapshot!(
         "status_stale_80",
         render(ui::status::draw, &app, 80, 2).backend()
@@ -169,8 +169,9 @@ fn status_moving_home_and_go_to() {
         render(ui::status::draw, &app, 80, 2).backend()
     );
     let (mut app, t0) = modbus_app();
-    let bench = app.positions.get_or_insert("bench");
-    bench.cartesian = Some([4000, 1000, 3000]);
+    let mut book = PositionBook::new();
+    book.get_or_insert("bench").cartesian = Some([4000, 1000, 3000]);
+    app.handle(Input::PositionsLoaded(Ok(book)), t0);
     press(&mut app, "o", t0);
     press(&mut app, "y", t0);
     insta::assert_snapshot!(
@@ -240,11 +241,13 @@ fn stale_panels_are_grey_and_show_their_age() {
 #[test]
 fn a_go_to_command_is_named_the_position_it_goes_to() {
     let (mut app, t0) = modbus_app();
-    app.positions.get_or_insert("bench").cartesian = Some([4000, 1000, 3000]);
+    let mut book = PositionBook::new();
+    book.get_or_insert("bench").cartesian = Some([4000, 1000, 3000]);
+    app.handle(Input::PositionsLoaded(Ok(book)), t0);
     press(&mut app, "o", t0);
     press(&mut app, "y", t0);
     assert!(matches!(
-        app.truth.action.as_ref().map(|a| a.kind.label()),
+        app.truth().action.as_ref().map(|a| a.kind.label()),
         Some(label) if label == "GOTO bench"
     ));
 }

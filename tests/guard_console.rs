@@ -292,8 +292,8 @@ fn the_console_stops_and_says_so_when_its_guard_goes_down_and_shows_its_state() 
         effects.contains(&Effect::Arm(ArmCommand::Stop)),
         "stopped: {effects:?}"
     );
-    assert!(app.jog.active().is_none(), "nothing held any more");
-    let (message, severity, _) = app.message.clone().expect("a message");
+    assert!(app.jog().active().is_none(), "nothing held any more");
+    let (message, severity) = app.message().expect("a message");
     assert_eq!(severity, Severity::Error);
     assert!(
         message.contains("stop guard down") && message.contains("exited"),

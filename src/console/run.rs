@@ -233,7 +233,7 @@ async fn event_loop(
             }
             Some(e) = screen.errors.recv() => return Err(ConsoleError::Terminal(e)),
             _ = render.tick() => {
-                let due = urgent || app.jog.is_jogging() || last_draw.elapsed() >= IDLE_FRAME;
+                let due = urgent || app.jog().is_jogging() || last_draw.elapsed() >= IDLE_FRAME;
                 if dirty && due {
                     // Built once for the drawing thread: this task goes straight back to keys.
                     screen.painter.paint(View::new(&app));
@@ -258,8 +258,8 @@ async fn event_loop(
                 Effect::SavePositions(positions) => book.save(positions),
                 Effect::Quit => {
                     // Changes made while the book loads are written once it has loaded.
-                    if matches!(app.book_state, BookState::Loading { .. }) {
-                        book.hold_until_loaded(app.positions.clone());
+                    if matches!(app.book_state(), BookState::Loading { .. }) {
+                        book.hold_until_loaded(app.positions().clone());
                     }
                     return Ok(());
                 }

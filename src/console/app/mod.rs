@@ -141,32 +141,32 @@ pub struct AppConfig {
     pub frames: bool,
 }
 
-/// The console's whole state.
+/// The console's whole state. Private: only inputs change it; [`App`]'s accessors read it.
 #[derive(Debug, Clone)]
 pub struct App {
-    pub config: AppConfig,
-    pub jog: JogEngine,
-    pub overlay: Overlay,
-    pub message: Option<(String, Severity, Instant)>,
-    pub link: LinkStatus,
-    pub telemetry: Option<Telemetry>,
-    pub telemetry_source: TelemetrySource,
-    pub latency: Option<Duration>,
-    pub speed: Option<u8>,
-    pub frame: ReferenceFrame,
-    pub step: Step,
-    pub positions: PositionBook,
+    config: AppConfig,
+    jog: JogEngine,
+    overlay: Overlay,
+    message: Option<(String, Severity, Instant)>,
+    link: LinkStatus,
+    telemetry: Option<Telemetry>,
+    telemetry_source: TelemetrySource,
+    latency: Option<Duration>,
+    speed: Option<u8>,
+    frame: ReferenceFrame,
+    step: Step,
+    positions: PositionBook,
     /// Whether the book is loaded, still loading, or could not be read.
-    pub book_state: BookState,
-    pub selected: usize,
-    pub log: VecDeque<LogEntry>,
-    pub hex: bool,
-    pub size: (u16, u16),
-    pub quitting: bool,
+    book_state: BookState,
+    selected: usize,
+    log: VecDeque<LogEntry>,
+    hex: bool,
+    size: (u16, u16),
+    quitting: bool,
     /// The stop guard's state, once the driver says one is required (Modbus motion).
-    pub guard: Option<GuardStatus>,
+    guard: Option<GuardStatus>,
     /// Link health and motion evidence (LINK STALE, MAY BE MOVING, MOVING: HOME).
-    pub truth: MotionTruth,
+    truth: MotionTruth,
     /// The latest input's `now`: the panels draw ages against it.
     now: Option<Instant>,
     /// The key that closed an overlay and when it was last seen: its auto-repeat must not be
