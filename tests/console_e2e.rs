@@ -256,22 +256,12 @@ async fn jogging_through_talos_shows_in_modbus_telemetry() {
     console
         .run_until(Duration::from_secs(2), |c| c.app.telemetry().is_some())
         .await;
-    let before = console
-        .app
-        .telemetry()
-        .as_ref()
-        .map(|t| t.tcp.pose.y)
-        .unwrap_or(0.0);
+    let before = console.app.telemetry().map(|t| t.tcp.pose.y).unwrap_or(0.0);
     console.key("a", KeyKind::Press);
     console.run_for(Duration::from_millis(400)).await;
     console.key("a", KeyKind::Release);
     console.run_for(Duration::from_millis(200)).await;
-    let after = console
-        .app
-        .telemetry()
-        .as_ref()
-        .map(|t| t.tcp.pose.y)
-        .unwrap_or(0.0);
+    let after = console.app.telemetry().map(|t| t.tcp.pose.y).unwrap_or(0.0);
     assert!(after > before + 0.02, "panel y {before} -> {after}");
 }
 
