@@ -11,6 +11,7 @@ use crate::console::keymap::{BaseKey, KeyName, NamedKey};
 use crate::kortex::ReferenceFrame;
 use crate::link::arm::{ArmCommand, StepMove};
 
+/// How much one speed key changes the speed, percent.
 const SPEED_STEP: u8 = 10;
 
 /// The keys the console knows whatever the keymap: ctrl+c quits, and dialogs and forms answer

@@ -1,4 +1,4 @@
-//! Rendering: a pure function of the view state, one file per panel.
+//! Rendering: a pure function of the frame's [`View`](super::view::View), one file per panel.
 
 pub mod arm;
 pub mod dialog;
