@@ -6,11 +6,12 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
 
-use armjog::console::app::{App, AppConfig, Input};
-use armjog::console::jog::ReleaseMode;
-use armjog::console::keymap::Keymap;
+use armjog::console::app::{App, AppConfig, Input, KeyInput};
+use armjog::console::jog::{KeyKind, ReleaseMode};
+use armjog::console::keymap::{KeyName, Keymap};
 use armjog::console::positions::PositionBook;
 use armjog::console::ui::{self, Theme};
+use armjog::console::view::View;
 use armjog::link::arm::{ArmEvent, LinkStatus, LogEntry, Traffic};
 use armjog::link::driver::hw_telemetry;
 use armjog::sim::arm::Arm;
@@ -66,10 +67,20 @@ fn busy_app() -> App {
         };
         app.handle(Input::Arm(ArmEvent::Log(entry)), now);
     }
+    let mut book = PositionBook::new();
     for name in ["bench", "pick", "place", "home2", "camera"] {
-        app.positions.entry(name).cartesian = Some([4566, 10, 4338]);
+        book.get_or_insert(name).cartesian = Some([4566, 10, 4338]);
     }
-    app.hex = true;
+    app.handle(Input::PositionsLoaded(Ok(book)), now);
+    app.handle(
+        Input::Key(KeyInput {
+            key: KeyName::char('H'),
+            text: Some('H'),
+            kind: KeyKind::Press,
+        }),
+        now,
+    );
+    assert!(app.hex());
     app
 }
 
@@ -81,7 +92,7 @@ fn render(c: &mut Criterion) {
         c.bench_function(&format!("render full frame {w}x{h}"), |b| {
             b.iter(|| {
                 terminal
-                    .draw(|frame| ui::draw(frame, &app, &theme))
+                    .draw(|frame| ui::draw(frame, &View::new(&app), &theme))
                     .expect("draw");
             })
         });

@@ -7,7 +7,9 @@ use armjog::console::app::{App, AppConfig, Effect, Input, Overlay};
 use armjog::console::jog::{JogMotion, KeyKind, ReleaseMode};
 use armjog::console::keymap::Keymap;
 use armjog::console::positions::PositionBook;
-use armjog::link::arm::{ArmCommand, ArmError, ArmEvent, CommandKind, LinkStatus, StepMove};
+use armjog::link::arm::{
+    ArmCommand, ArmError, ArmEvent, CommandKind, LinkStatus, PositionCoordinates, StepMove,
+};
 
 mod app_support;
 
@@ -56,7 +58,7 @@ fn any_other_key_stops_the_motion() {
     let effects = press(&mut app, "h", t0 + ms(10));
     assert_eq!(effects, [STOP]);
     assert!(
-        matches!(app.overlay, Overlay::Confirm(_)),
+        matches!(app.overlay(), Overlay::Confirm(_)),
         "home asks first"
     );
     press(&mut app, "n", t0 + ms(20));
@@ -78,7 +80,7 @@ fn space_always_sends_stop() {
     );
     press(&mut app, "r", t0);
     assert_eq!(press(&mut app, "space", t0 + ms(5)), [STOP]);
-    assert!(app.jog.active().is_none());
+    assert!(app.jog().active().is_none());
 }
 
 #[test]
@@ -169,7 +171,7 @@ fn the_guard_stopping_the_arm_counts_as_a_failed_jog() {
         app.handle(Input::Tick, t0 + ms(200)).is_empty(),
         "held keys latched"
     );
-    let said = app.message.as_ref().map(|m| m.0.as_str());
+    let said = app.message().map(|m| m.0);
     assert_eq!(
         said,
         Some("jog failed: the stop guard stopped the arm: no heartbeat for 500 ms")
@@ -193,7 +195,7 @@ fn a_failure_of_another_command_leaves_the_held_jog_alone() {
         [jog(1, 0, 0)],
         "still refreshed"
     );
-    let said = app.message.as_ref().map(|m| m.0.as_str());
+    let said = app.message().map(|m| m.0);
     assert_eq!(
         said,
         Some("set speed failed: speed 0 % is outside 1-100: 40 % stays in force")
@@ -212,7 +214,7 @@ fn quit_signal_and_ctrl_c_stop_then_quit() {
         let effects = app.handle(input, t0 + ms(5));
         assert_eq!(effects.first(), Some(&STOP));
         assert_eq!(effects.last(), Some(&Effect::Quit));
-        assert!(app.quitting);
+        assert!(app.quitting());
     }
 }
 
@@ -244,12 +246,12 @@ fn fallback_mode_stops_when_the_repeats_stop() {
 fn overlays_take_keys_and_never_jog() {
     let (mut app, t0) = app(ReleaseMode::Reported, true);
     press(&mut app, "?", t0);
-    assert_eq!(app.overlay, Overlay::Help);
+    assert_eq!(*app.overlay(), Overlay::Help);
     assert!(
         press(&mut app, "w", t0 + ms(5)).is_empty(),
         "w closes help, does not jog"
     );
-    assert_eq!(app.overlay, Overlay::None);
+    assert_eq!(*app.overlay(), Overlay::None);
 }
 
 #[test]
@@ -321,7 +323,7 @@ fn type_text(app: &mut App, text: &str, now: Instant) {
 fn saving_a_position_on_the_operator_goes_through_a_form() {
     let (mut app, t0) = app(ReleaseMode::Reported, true);
     press(&mut app, "p", t0);
-    assert!(matches!(app.overlay, Overlay::Form(_)));
+    assert!(matches!(app.overlay(), Overlay::Form(_)));
     type_text(&mut app, "pick", t0);
     let effects = press(&mut app, "enter", t0);
     let save = ArmCommand::SavePosition {
@@ -342,7 +344,7 @@ fn an_invalid_name_keeps_the_form_open_and_sends_nothing() {
     let (mut app, t0) = app(ReleaseMode::Reported, true);
     press(&mut app, "p", t0);
     assert!(press(&mut app, "enter", t0).is_empty());
-    let Overlay::Form(form) = &app.overlay else {
+    let Overlay::Form(form) = &app.overlay() else {
         panic!("form closed")
     };
     assert!(form.error.as_deref().unwrap_or("").contains("empty"));
@@ -351,7 +353,9 @@ fn an_invalid_name_keeps_the_form_open_and_sends_nothing() {
 #[test]
 fn go_to_and_delete_ask_first_and_unknown_names_are_marked() {
     let (mut app, t0) = app(ReleaseMode::Reported, true);
-    app.positions.entry("bench");
+    let mut book = PositionBook::new();
+    book.get_or_insert("bench");
+    app.handle(Input::PositionsLoaded(Ok(book)), t0);
     press(&mut app, "o", t0);
     assert_eq!(
         press(&mut app, "y", t0),
@@ -366,7 +370,7 @@ fn go_to_and_delete_ask_first_and_unknown_names_are_marked() {
         t0,
     );
     assert!(
-        app.positions
+        app.positions()
             .get("bench")
             .is_some_and(|e| e.unknown_to_operator)
     );
@@ -392,7 +396,7 @@ fn over_modbus_the_console_keeps_positions_and_go_to_moves_to_the_stored_pose() 
     let effects = press(&mut app, "enter", t0);
     assert!(matches!(effects.as_slice(), [Effect::SavePositions(_)]));
     assert_eq!(
-        app.positions.get("spot").and_then(|e| e.cartesian),
+        app.positions().get("spot").and_then(|e| e.cartesian),
         Some([4000, -1000, 3000])
     );
     // With no telemetry there is no orientation to keep: go-to refuses rather than guess.
@@ -411,7 +415,7 @@ fn remembered_names_are_checked_with_the_operator_when_the_link_comes_up() {
         frames: false,
     };
     let mut book = PositionBook::new();
-    book.entry("ghost");
+    book.get_or_insert("ghost");
     let mut app = App::new(config, book);
     let t0 = Instant::now();
     let up = Input::Arm(ArmEvent::Status(LinkStatus::Up {
@@ -431,11 +435,66 @@ fn remembered_names_are_checked_with_the_operator_when_the_link_comes_up() {
         t0,
     );
     assert!(
-        app.positions
+        app.positions()
             .get("ghost")
             .is_some_and(|e| e.unknown_to_operator)
     );
-    assert!(app.message.is_none(), "marked in the panel, not shouted");
+    assert!(app.message().is_none(), "marked in the panel, not shouted");
+}
+
+#[test]
+fn an_answer_about_a_name_not_in_the_book_adds_nothing_and_leaves_the_selection() {
+    let config = AppConfig {
+        keymap: Keymap::builtin("default").expect("default keymap"),
+        release_mode: ReleaseMode::Reported,
+        refresh: Duration::from_millis(100),
+        positions_on_operator: true,
+        max_jog_speed: 0.25,
+        frames: false,
+    };
+    let mut book = PositionBook::new();
+    book.get_or_insert("bench");
+    book.get_or_insert("table");
+    let mut app = App::new(config, book);
+    let t0 = Instant::now();
+    press(&mut app, "pagedown", t0);
+    assert_eq!(app.selected_name(), Some("table"));
+    // Replies about a name deleted meanwhile; "apple" would sort before the selection.
+    app.handle(
+        Input::Arm(ArmEvent::Position {
+            name: "apple".into(),
+            coordinates: PositionCoordinates {
+                cartesian: Some([1, 2, 3]),
+                polar: None,
+            },
+        }),
+        t0,
+    );
+    app.handle(
+        Input::Arm(ArmEvent::UnknownPosition {
+            name: "apple".into(),
+        }),
+        t0,
+    );
+    let names: Vec<&str> = app.positions().names().collect();
+    assert_eq!(names, ["bench", "table"], "nothing added");
+    assert_eq!(app.selected_name(), Some("table"), "the selection stays");
+    // A name in the book is still updated.
+    app.handle(
+        Input::Arm(ArmEvent::Position {
+            name: "bench".into(),
+            coordinates: PositionCoordinates {
+                cartesian: Some([4, 5, 6]),
+                polar: None,
+            },
+        }),
+        t0,
+    );
+    assert_eq!(
+        app.positions().get("bench").and_then(|e| e.cartesian),
+        Some([4, 5, 6])
+    );
+    assert_eq!(app.selected_name(), Some("table"));
 }
 
 #[test]
@@ -465,7 +524,7 @@ fn holding_the_key_that_opened_a_question_does_not_answer_it() {
     for t in [500, 533, 566] {
         press(&mut app, "h", t0 + ms(t));
     }
-    assert!(matches!(app.overlay, Overlay::Confirm(_)), "still asking");
+    assert!(matches!(app.overlay(), Overlay::Confirm(_)), "still asking");
     assert_eq!(
         press(&mut app, "y", t0 + ms(900)),
         [Effect::Arm(ArmCommand::Home)]
@@ -480,7 +539,7 @@ fn with_reported_events_a_repeat_never_answers_an_overlay() {
         app.handle(key("h", KeyKind::Repeat), t0 + ms(500))
             .is_empty()
     );
-    assert!(matches!(app.overlay, Overlay::Confirm(_)));
+    assert!(matches!(app.overlay(), Overlay::Confirm(_)));
 }
 
 #[test]
@@ -509,6 +568,6 @@ fn telemetry_polls_share_one_counted_log_line() {
     };
     app.handle(Input::Arm(ArmEvent::Log(command)), t0);
     app.handle(Input::Arm(ArmEvent::Log(poll(10))), t0);
-    let lines: Vec<(Option<u32>, u32)> = app.log.iter().map(|e| (e.id, e.count)).collect();
+    let lines: Vec<(Option<u32>, u32)> = app.log().iter().map(|e| (e.id, e.count)).collect();
     assert_eq!(lines, [(Some(6), 3), (Some(8), 1), (Some(10), 1)]);
 }

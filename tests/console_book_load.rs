@@ -26,7 +26,7 @@ fn temp_book(name: &str) -> std::path::PathBuf {
 fn book_of(names: &[&str]) -> PositionBook {
     let mut book = PositionBook::new();
     for (i, name) in names.iter().enumerate() {
-        book.entry(name).cartesian = Some([i as i32 * 100, 0, 1000]);
+        book.get_or_insert(name).cartesian = Some([i as i32 * 100, 0, 1000]);
     }
     book
 }
@@ -48,12 +48,12 @@ fn a_loaded_book_fills_the_panel_and_the_selection_starts_on_its_first_name() {
     let (mut app, t0) = app(ReleaseMode::Reported, false);
     app.begin_loading_positions("book.json");
     assert_eq!(
-        app.book_state,
+        *app.book_state(),
         BookState::Loading {
             file: "book.json".into()
         }
     );
-    assert!(app.positions.is_empty());
+    assert!(app.positions().is_empty());
     let effects = app.handle(
         Input::PositionsLoaded(Ok(book_of(&["bench", "home", "pick"]))),
         t0 + ms(1500),
@@ -63,8 +63,8 @@ fn a_loaded_book_fills_the_panel_and_the_selection_starts_on_its_first_name() {
         vec![],
         "nothing changed meanwhile: nothing to save"
     );
-    assert_eq!(app.book_state, BookState::Ready);
-    assert_eq!(app.positions.len(), 3);
+    assert_eq!(*app.book_state(), BookState::Ready);
+    assert_eq!(app.positions().len(), 3);
     assert_eq!(app.selected_name(), Some("bench"));
     press(&mut app, "pagedown", t0 + ms(1600));
     assert_eq!(app.selected_name(), Some("home"));
@@ -80,7 +80,7 @@ fn jog_release_stop_and_quit_work_while_the_book_loads() {
     let quit = press(&mut app, "q", t0 + ms(400));
     assert!(quit.contains(&STOP), "{quit:?}");
     assert!(quit.contains(&Effect::Quit), "{quit:?}");
-    assert!(matches!(app.book_state, BookState::Loading { .. }));
+    assert!(matches!(app.book_state(), BookState::Loading { .. }));
 }
 
 #[test]
@@ -105,7 +105,7 @@ fn a_save_while_loading_leaves_the_file_intact_and_lands_in_the_loaded_book() {
         before,
         "file untouched"
     );
-    let (message, _, _) = app.message.clone().expect("a message");
+    let (message, _) = app.message().expect("a message");
     assert!(message.contains("still loading"), "{message}");
 
     let loaded = PositionBook::load(&path).expect("load");
@@ -132,12 +132,12 @@ fn a_book_that_cannot_be_read_is_named_and_never_saved_over() {
     app.begin_loading_positions(path.display().to_string());
     app.handle(Input::PositionsLoaded(Err(error.clone())), t0);
     assert_eq!(
-        app.book_state,
+        *app.book_state(),
         BookState::Failed {
             error: error.clone()
         }
     );
-    let (message, _, _) = app.message.clone().expect("a message");
+    let (message, _) = app.message().expect("a message");
     assert!(message.contains(&path.display().to_string()), "{message}");
 
     // Jogging still works; a change is refused a place in the file.
@@ -151,7 +151,7 @@ fn a_book_that_cannot_be_read_is_named_and_never_saved_over() {
         before,
         "file untouched"
     );
-    let (message, _, _) = app.message.clone().expect("a message");
+    let (message, _) = app.message().expect("a message");
     assert!(message.contains("not saved"), "{message}");
 }
 

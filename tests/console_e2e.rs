@@ -46,7 +46,7 @@ impl Console {
         };
         let mut book = PositionBook::new();
         // A name remembered from an earlier run that this (fresh) operator does not know.
-        book.entry("ghost");
+        book.get_or_insert("ghost");
         let app = App::new(
             AppConfig {
                 keymap: Keymap::builtin("default").expect("keymap"),
@@ -69,7 +69,7 @@ impl Console {
         // and refuse to jog.
         console
             .run_until(Duration::from_secs(5), |c| {
-                matches!(c.app.link, LinkStatus::Up { .. }) && c.app.telemetry.is_some()
+                matches!(c.app.link(), LinkStatus::Up { .. }) && c.app.telemetry().is_some()
             })
             .await;
         console
@@ -104,7 +104,7 @@ impl Console {
         assert!(
             self.run_until_instant(until, done).await,
             "condition not met within {within:?}; link {:?}",
-            self.app.link
+            self.app.link()
         );
     }
 
@@ -254,24 +254,14 @@ async fn modbus_twist_jog_moves_and_stops() {
 async fn jogging_through_talos_shows_in_modbus_telemetry() {
     let mut console = Console::start(Links::Both).await;
     console
-        .run_until(Duration::from_secs(2), |c| c.app.telemetry.is_some())
+        .run_until(Duration::from_secs(2), |c| c.app.telemetry().is_some())
         .await;
-    let before = console
-        .app
-        .telemetry
-        .as_ref()
-        .map(|t| t.tcp.pose.y)
-        .unwrap_or(0.0);
+    let before = console.app.telemetry().map(|t| t.tcp.pose.y).unwrap_or(0.0);
     console.key("a", KeyKind::Press);
     console.run_for(Duration::from_millis(400)).await;
     console.key("a", KeyKind::Release);
     console.run_for(Duration::from_millis(200)).await;
-    let after = console
-        .app
-        .telemetry
-        .as_ref()
-        .map(|t| t.tcp.pose.y)
-        .unwrap_or(0.0);
+    let after = console.app.telemetry().map(|t| t.tcp.pose.y).unwrap_or(0.0);
     assert!(after > before + 0.02, "panel y {before} -> {after}");
 }
 
@@ -288,11 +278,11 @@ async fn link_loss_mid_jog_stops_the_arm_and_nothing_moves_after_reconnect() {
     });
     console
         .run_until(Duration::from_secs(1), |c| {
-            matches!(c.app.link, LinkStatus::Down { .. })
+            matches!(c.app.link(), LinkStatus::Down { .. })
         })
         .await;
     assert!(
-        console.app.jog.active().is_none(),
+        console.app.jog().active().is_none(),
         "the console forgot the held key"
     );
     tokio::time::sleep(Duration::from_millis(600)).await;
@@ -304,7 +294,7 @@ async fn link_loss_mid_jog_stops_the_arm_and_nothing_moves_after_reconnect() {
     console.sim.set_faults(NetworkFaults::default());
     console
         .run_until(Duration::from_secs(4), |c| {
-            matches!(c.app.link, LinkStatus::Up { .. })
+            matches!(c.app.link(), LinkStatus::Up { .. })
         })
         .await;
     console.key("w", KeyKind::Repeat);
@@ -359,7 +349,7 @@ async fn save_and_recall_a_named_position_on_the_operator() {
     console.key("enter", KeyKind::Press);
     console
         .run_until(Duration::from_secs(1), |c| {
-            c.app.positions.get("bench").is_some()
+            c.app.positions().get("bench").is_some()
         })
         .await;
     let home = console.tcp().await;
@@ -382,7 +372,7 @@ async fn names_the_operator_does_not_know_are_marked() {
     console
         .run_until(Duration::from_secs(2), |c| {
             c.app
-                .positions
+                .positions()
                 .get("ghost")
                 .is_some_and(|e| e.unknown_to_operator)
         })
@@ -394,7 +384,7 @@ async fn a_joint_jog_turns_the_selected_joint_over_talos() {
     let mut console = Console::start(Links::Talos).await;
     // The jog command carries the joint's reported position: wait for telemetry first.
     console
-        .run_until(Duration::from_secs(2), |c| c.app.telemetry.is_some())
+        .run_until(Duration::from_secs(2), |c| c.app.telemetry().is_some())
         .await;
     console.key("]", KeyKind::Press); // J1 -> J2
     console.key("]", KeyKind::Press); // J2 -> J3

@@ -40,7 +40,7 @@ fn start_hold(app: &mut App, mode: ReleaseMode, t0: Instant) -> Instant {
     for t in times {
         app.handle(key("w", KeyKind::Press), t0 + ms(*t));
     }
-    assert!(app.jog.is_jogging(), "{mode:?}: w jogs");
+    assert!(app.jog().is_jogging(), "{mode:?}: w jogs");
     t0 + ms(*times.last().unwrap_or(&0))
 }
 
@@ -108,7 +108,7 @@ fn interruptions() -> Vec<(&'static str, Step, Step)> {
             |app, t| press(app, "?", t),
             |app, t| {
                 let effects = press(app, "esc", t);
-                assert_eq!(app.overlay, Overlay::None);
+                assert_eq!(*app.overlay(), Overlay::None);
                 effects
             },
         ),
@@ -159,7 +159,7 @@ fn a_key_held_through_any_stop_does_not_move_again_until_pressed_anew() {
             }
             assert!(!moves(&allowed), "{mode:?} {name}: resuming: {allowed:?}");
             assert!(!moves(&after), "{mode:?} {name}: held on: {after:?}");
-            assert!(!app.jog.is_jogging());
+            assert!(!app.jog().is_jogging());
             fresh_press_moves(&mut app, mode, t + ms(3400));
         }
     }
@@ -214,7 +214,7 @@ fn holding_the_key_that_closes_an_overlay_never_jogs_in_either_mode() {
         let (mut app, t0) = app(mode, true);
         press(&mut app, "?", t0);
         let mut effects = press(&mut app, "w", t0 + ms(100));
-        assert_eq!(app.overlay, Overlay::None, "w closed the help");
+        assert_eq!(*app.overlay(), Overlay::None, "w closed the help");
         effects.extend(keep_holding(&mut app, mode, t0 + ms(600), ms(3000)));
         assert!(!moves(&effects), "{mode:?}: {effects:?}");
         fresh_press_moves(&mut app, mode, t0 + ms(3700));
@@ -277,9 +277,8 @@ fn fallback_an_arrow_tap_moves_nothing_and_says_a_hold_is_needed() {
     effects.extend(app.handle(Input::Tick, deadline));
     assert!(!moves(&effects), "{effects:?}");
     let message = app
-        .message
-        .as_ref()
-        .map(|m| m.0.clone())
+        .message()
+        .map(|(text, _)| text.to_string())
         .unwrap_or_default();
     assert!(message.contains("only while held"), "{message}");
 }
@@ -300,9 +299,8 @@ fn with_release_events_a_hold_with_no_key_event_for_a_second_stops_and_says_so()
     }
     assert_eq!(stopped_at, Some(t0 + ms(1000)));
     let message = app
-        .message
-        .as_ref()
-        .map(|m| m.0.clone())
+        .message()
+        .map(|(text, _)| text.to_string())
         .unwrap_or_default();
     assert!(message.contains("no key event for 1 s"), "{message}");
     assert!(message.contains("report key releases"), "{message}");
@@ -314,14 +312,14 @@ fn with_release_events_a_second_press_without_release_switches_to_the_fallback()
     press(&mut app, "w", t0);
     // The terminal claimed the protocol, but its auto-repeat arrives as presses.
     assert_eq!(press(&mut app, "w", t0 + ms(500)), [STOP]);
-    assert_eq!(app.jog.mode(), ReleaseMode::AutoRepeat);
+    assert_eq!(app.jog().mode(), ReleaseMode::AutoRepeat);
     let message = app
-        .message
-        .as_ref()
-        .map(|m| m.0.clone())
+        .message()
+        .map(|(text, _)| text.to_string())
         .unwrap_or_default();
     assert!(message.contains("auto-repeat fallback"), "{message}");
-    let status = armjog::console::ui::status::release_mode_text(&app);
+    let status =
+        armjog::console::ui::status::release_mode_text(&armjog::console::view::View::new(&app));
     assert!(
         status.contains("auto-repeat fallback"),
         "the status bar follows: {status}"

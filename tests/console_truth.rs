@@ -107,9 +107,8 @@ fn press(app: &mut App, name: &str, now: Instant) -> Vec<Effect> {
 }
 
 fn message(app: &App) -> String {
-    app.message
-        .as_ref()
-        .map(|(text, _, _)| text.clone())
+    app.message()
+        .map(|(text, _)| text.to_string())
         .unwrap_or_default()
 }
 
@@ -186,7 +185,7 @@ fn a_stale_link_while_jogging_stops_the_jog_and_starts_nothing_new() {
     }
     assert!(effects.contains(&STOP), "stopped by the stale link");
     assert!(now <= t0 + ms(540 + 1), "at the stale onset, {now:?}");
-    assert!(!app.jog.is_jogging());
+    assert!(!app.jog().is_jogging());
     assert!(message(&app).contains("link stale"), "{}", message(&app));
     assert!(
         may_be_moving(&app),
@@ -215,7 +214,7 @@ fn an_ack_link_without_telemetry_is_stale_only_while_something_waits_for_an_answ
         app.handle(Input::Tick, start + ms(100 * n));
     }
     assert_eq!(app.link_stale(), None);
-    assert!(app.jog.is_jogging(), "ACKed refreshes keep it going");
+    assert!(app.jog().is_jogging(), "ACKed refreshes keep it going");
     // The ACKs stop: stale half a second after the first unanswered START (sent at 1000 ms).
     let mut stopped = None;
     for n in 11..=20 {
@@ -249,7 +248,7 @@ fn an_unconfirmed_stop_says_may_be_moving_on_screen_until_a_confirmed_stop_and_r
         panic!("{:?}", app.motion_shown());
     };
     assert!(why.contains("stop not confirmed"), "{why}");
-    let (text, severity, _) = app.message.clone().expect("said on the message line");
+    let (text, severity) = app.message().expect("said on the message line");
     assert!(
         text.contains("STOP NOT CONFIRMED") && text.contains("500ms"),
         "{text}"
@@ -411,10 +410,10 @@ fn a_home_aborted_at_a_joint_limit_names_the_joint_and_is_never_ok() {
     let mut stopped = telemetry(near, 0.0, Coded::Known(ActionStatus::Aborted));
     stopped.warnings = FlagSet::from_bits(Flag::JointFault.bit());
     assert_eq!(feed(&mut app, stopped, t0 + ms(90)), [STOP]);
-    let (text, severity, _) = app.message.clone().expect("a message");
+    let (text, severity) = app.message().expect("a message");
     assert_eq!(text, "home failed: aborted, J4 at its limit");
     assert_eq!(severity, Severity::Error);
-    assert!(!app.log.iter().any(|e| e.name == "home" && e.ok));
+    assert!(!app.log().iter().any(|e| e.name == "home" && e.ok));
     // The STOP is confirmed and the arm at rest: settled.
     app.handle(Input::Arm(ArmEvent::StopConfirmed), t0 + ms(100));
     feed(&mut app, at_rest(), t0 + ms(130));
@@ -433,7 +432,7 @@ fn a_home_on_an_arm_in_fault_fails() {
         message(&app),
         "home failed: the arm is in fault: emergency_stop"
     );
-    assert!(app.truth.action.is_none());
+    assert!(app.truth().action.is_none());
 }
 
 #[test]
@@ -495,16 +494,18 @@ fn a_failed_home_command_stops_and_reports() {
     };
     assert_eq!(app.handle(Input::Arm(failed), t0 + ms(5)), [STOP]);
     assert_eq!(message(&app), "home failed: BUSY");
-    assert!(app.truth.action.is_none());
+    assert!(app.truth().action.is_none());
 }
 
 #[test]
 fn go_to_over_modbus_shows_the_position_name() {
     let (mut app, t0) = app(TelemetrySource::Modbus);
     feed(&mut app, at_rest(), t0);
-    let bench = app.positions.entry("bench");
+    let mut book = PositionBook::new();
+    let bench = book.get_or_insert("bench");
     bench.cartesian = Some([4000, 1000, 3000]);
     bench.orientation = Some([90.0, 0.0, 90.0]);
+    app.handle(Input::PositionsLoaded(Ok(book)), t0);
     press(&mut app, "o", t0);
     let effects = press(&mut app, "y", t0);
     assert!(
@@ -524,9 +525,11 @@ fn go_to_over_modbus_shows_the_position_name() {
 fn a_go_to_the_link_cannot_carry_ends_its_tracking_and_stops() {
     let (mut app, t0) = app(TelemetrySource::Modbus);
     feed(&mut app, at_rest(), t0);
-    let bench = app.positions.entry("bench");
+    let mut book = PositionBook::new();
+    let bench = book.get_or_insert("bench");
     bench.cartesian = Some([4000, 1000, 3000]);
     bench.orientation = Some([90.0, 0.0, 90.0]);
+    app.handle(Input::PositionsLoaded(Ok(book)), t0);
     press(&mut app, "o", t0);
     press(&mut app, "y", t0);
     let failed = ArmEvent::Failed {
@@ -534,7 +537,7 @@ fn a_go_to_the_link_cannot_carry_ends_its_tracking_and_stops() {
         error: ArmError::NoLinkCarriesIt,
     };
     assert_eq!(app.handle(Input::Arm(failed), t0 + ms(2)), [STOP]);
-    assert!(app.truth.action.is_none());
+    assert!(app.truth().action.is_none());
     assert_eq!(
         message(&app),
         "move to pose failed: not possible over this link"
@@ -600,12 +603,11 @@ fn a_stale_link_starts_no_home_step_or_go_to() {
     press(&mut app, "h", stale);
     assert!(press(&mut app, "y", stale).is_empty(), "no home");
     assert_eq!(message(&app), "link stale: not moving");
-    app.positions.entry("bench");
     press(&mut app, "o", stale);
     assert!(press(&mut app, "y", stale).is_empty(), "no go-to");
     press(&mut app, "t", stale);
     assert!(press(&mut app, "w", stale).is_empty(), "no step");
-    assert!(app.truth.action.is_none());
+    assert!(app.truth().action.is_none());
     // Fresh again: a new press moves.
     app.handle(key("w", KeyKind::Release), stale + ms(5));
     feed(&mut app, at_rest(), stale + ms(10));

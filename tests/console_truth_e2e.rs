@@ -124,7 +124,7 @@ impl Console {
         };
         console
             .run_until(Duration::from_secs(5), |c| {
-                matches!(c.app.link, LinkStatus::Up { .. }) && c.app.telemetry.is_some()
+                matches!(c.app.link(), LinkStatus::Up { .. }) && c.app.telemetry().is_some()
             })
             .await;
         console
@@ -166,7 +166,7 @@ impl Console {
             assert!(
                 tokio::time::Instant::now() < until,
                 "not within {within:?}: link {:?}, stale {:?}, shown {:?}",
-                self.app.link,
+                self.app.link(),
                 self.app.link_stale(),
                 self.seen
             );
@@ -218,7 +218,7 @@ async fn a_network_that_freezes_mid_jog_shows_link_stale_and_may_be_moving() {
     console.seen.clear();
     console
         .run_until(Duration::from_secs(10), |c| {
-            c.seen_stale && !c.app.jog.is_jogging() && may_be_moving(c)
+            c.seen_stale && !c.app.jog().is_jogging() && may_be_moving(c)
         })
         .await;
     // The key is still held: only the stale link stopped the jog.
@@ -246,7 +246,7 @@ async fn a_network_that_freezes_mid_jog_shows_link_stale_and_may_be_moving() {
     console.relay.freeze(false);
     console
         .run_until(Duration::from_secs(10), |c| {
-            matches!(c.app.link, LinkStatus::Up { .. }) && c.app.link_stale().is_none()
+            matches!(c.app.link(), LinkStatus::Up { .. }) && c.app.link_stale().is_none()
         })
         .await;
     console.key("space", KeyKind::Press);
@@ -260,9 +260,8 @@ async fn a_network_that_freezes_mid_jog_shows_link_stale_and_may_be_moving() {
 
 fn message(c: &Console) -> String {
     c.app
-        .message
-        .as_ref()
-        .map(|(text, _, _)| text.clone())
+        .message()
+        .map(|(text, _)| text.to_string())
         .unwrap_or_default()
 }
 
@@ -314,7 +313,7 @@ fn step_plus_x(console: &mut Console) {
     for _ in 0..3 {
         console.key(".", KeyKind::Press);
     }
-    assert_eq!(console.app.step.cartesian(), 1000, "100 mm, in tenths");
+    assert_eq!(console.app.step().cartesian(), 1000, "100 mm, in tenths");
     console.key("w", KeyKind::Press);
     console.key("w", KeyKind::Release);
 }
@@ -349,12 +348,12 @@ async fn assert_aborted_at_j4(console: &mut Console, label: &str, verb: &str, fr
     let done = format!("{verb} done");
     assert!(!console.said.contains(&done), "{:?}", console.said);
     assert!(
-        !console.app.log.iter().any(|e| {
+        !console.app.log().iter().any(|e| {
             ["step", "cart_move", "move to pose"].contains(&e.name.as_str())
                 && e.outcome.contains("OK")
         }),
         "{:?}",
-        console.app.log
+        console.app.log()
     );
     // The arm really moved and really stopped at J4's limit, short of the target.
     let s = console.sim.arm.snapshot().await.expect("sim");
@@ -396,8 +395,12 @@ async fn a_go_to_aborted_at_a_joint_limit_is_a_failure_over_modbus() {
     let from = console.sim.arm.snapshot().await.expect("sim").tcp_position;
     // 100 mm along +X, in the tool's current orientation: the step's target.
     let tenths = |m: f64| (m * 10_000.0).round() as i32;
-    console.app.positions.entry("beyond").cartesian =
+    let mut book = PositionBook::new();
+    book.get_or_insert("beyond").cartesian =
         Some([tenths(from[0] + 0.1), tenths(from[1]), tenths(from[2])]);
+    console
+        .app
+        .handle(Input::PositionsLoaded(Ok(book)), Instant::now());
     assert_eq!(console.app.selected_name(), Some("beyond"));
     console.said.clear();
     console.key("o", KeyKind::Press);

@@ -9,6 +9,7 @@ use armjog::console::jog::{KeyKind, ReleaseMode};
 use armjog::console::keymap::{KeyName, Keymap};
 use armjog::console::positions::PositionBook;
 use armjog::console::ui::{self, Theme};
+use armjog::console::view::View;
 use armjog::kortex::{
     ActionState, ActionStatus, Coded, FlagSet, JointState, MoveType, Pose, RobotState, SpeedLimits,
     Telemetry, ToolState, Twist, Wrench,
@@ -102,12 +103,12 @@ fn press(app: &mut App, name: &str, now: Instant) {
     );
 }
 
-type Panel = fn(&mut Frame, Rect, &App, &Theme);
+type Panel = fn(&mut Frame, Rect, &View, &Theme);
 
 fn render(panel: Panel, app: &App, width: u16, height: u16) -> Terminal<TestBackend> {
     let mut terminal = Terminal::new(TestBackend::new(width, height)).expect("terminal");
     terminal
-        .draw(|f| panel(f, f.area(), app, &Theme { color: true }))
+        .draw(|f| panel(f, f.area(), &View::new(app), &Theme { color: true }))
         .expect("draw");
     terminal
 }
@@ -132,7 +133,7 @@ fn frozen_mid_jog() -> (App, Instant) {
 #[test]
 fn status_link_stale_and_may_be_moving() {
     let (app, _) = frozen_mid_jog();
-    assert!(!app.jog.is_jogging(), "the stale link stopped the jog");
+    assert!(!app.jog().is_jogging(), "the stale link stopped the jog");
     insta::assert_snapshot!(
         "status_stale_80",
         render(ui::status::draw, &app, 80, 2).backend()
@@ -168,8 +169,9 @@ fn status_moving_home_and_go_to() {
         render(ui::status::draw, &app, 80, 2).backend()
     );
     let (mut app, t0) = modbus_app();
-    let bench = app.positions.entry("bench");
-    bench.cartesian = Some([4000, 1000, 3000]);
+    let mut book = PositionBook::new();
+    book.get_or_insert("bench").cartesian = Some([4000, 1000, 3000]);
+    app.handle(Input::PositionsLoaded(Ok(book)), t0);
     press(&mut app, "o", t0);
     press(&mut app, "y", t0);
     insta::assert_snapshot!(
@@ -239,11 +241,13 @@ fn stale_panels_are_grey_and_show_their_age() {
 #[test]
 fn a_go_to_command_is_named_the_position_it_goes_to() {
     let (mut app, t0) = modbus_app();
-    app.positions.entry("bench").cartesian = Some([4000, 1000, 3000]);
+    let mut book = PositionBook::new();
+    book.get_or_insert("bench").cartesian = Some([4000, 1000, 3000]);
+    app.handle(Input::PositionsLoaded(Ok(book)), t0);
     press(&mut app, "o", t0);
     press(&mut app, "y", t0);
     assert!(matches!(
-        app.truth.action.as_ref().map(|a| a.kind.label()),
+        app.truth().action.as_ref().map(|a| a.kind.label()),
         Some(label) if label == "GOTO bench"
     ));
 }

@@ -11,6 +11,7 @@ use armjog::console::jog::{JogMotion, KeyKind, ReleaseMode};
 use armjog::console::keymap::{KeyName, Keymap};
 use armjog::console::positions::PositionBook;
 use armjog::console::ui::{self, Theme};
+use armjog::console::view::View;
 use armjog::kortex::{
     ActionState, ActionStatus, ArmHealth, Coded, ControlCoil, Flag, FlagSet, JointState, MoveType,
     Pose, RobotState, SpeedLimits, Telemetry, ToolState, Twist, Wrench, Write,
@@ -157,21 +158,29 @@ fn live_app(mode: ReleaseMode) -> (App, Instant) {
             },
         }),
     ];
-    for event in events {
-        app.handle(Input::Arm(event), t0);
-    }
-    let book = &mut app.positions;
-    book.entry("home").cartesian = Some([4566, 10, 4338]);
-    let pick = book.entry("pick");
+    // The book as read from its file, before the link comes up.
+    let mut book = PositionBook::new();
+    book.get_or_insert("home").cartesian = Some([4566, 10, 4338]);
+    let pick = book.get_or_insert("pick");
     pick.cartesian = Some([5000, -1205, 2500]);
     pick.anchor = true;
     pick.parent = Some("table".into());
-    book.entry("table").cartesian = Some([6000, 0, 1000]);
-    let bench = book.entry("bench");
-    bench.cartesian = Some([3000, 3000, 800]);
-    bench.unknown_to_operator = true;
+    book.get_or_insert("table").cartesian = Some([6000, 0, 1000]);
+    book.get_or_insert("bench").cartesian = Some([3000, 3000, 800]);
+    app.handle(Input::PositionsLoaded(Ok(book)), t0);
+    for event in events {
+        app.handle(Input::Arm(event), t0);
+    }
+    app.handle(
+        Input::Arm(ArmEvent::UnknownPosition {
+            name: "bench".into(),
+        }),
+        t0,
+    );
     // Sorted: bench, home, pick, table; "pick" selected.
-    app.selected = 2;
+    press(&mut app, "pagedown", t0);
+    press(&mut app, "pagedown", t0);
+    assert_eq!(app.selected_name(), Some("pick"));
     (app, t0)
 }
 
@@ -219,7 +228,7 @@ fn auto_repeat_app() -> (App, Instant) {
     (app, t0)
 }
 
-type Panel = fn(&mut Frame, Rect, &App, &Theme);
+type Panel = fn(&mut Frame, Rect, &View, &Theme);
 
 /// One panel alone on a `width` x `height` terminal.
 fn render(panel: Panel, app: &App, width: u16, height: u16) -> Terminal<TestBackend> {
@@ -233,9 +242,19 @@ fn render_with(
     height: u16,
     theme: Theme,
 ) -> Terminal<TestBackend> {
+    draw_view(panel, &View::new(app), width, height, theme)
+}
+
+fn draw_view(
+    panel: Panel,
+    view: &View,
+    width: u16,
+    height: u16,
+    theme: Theme,
+) -> Terminal<TestBackend> {
     let mut terminal = Terminal::new(TestBackend::new(width, height)).expect("terminal");
     terminal
-        .draw(|f| panel(f, f.area(), app, &theme))
+        .draw(|f| panel(f, f.area(), view, &theme))
         .expect("draw");
     terminal
 }
@@ -243,7 +262,9 @@ fn render_with(
 /// The whole screen.
 fn screen(app: &App, width: u16, height: u16, theme: Theme) -> Terminal<TestBackend> {
     let mut terminal = Terminal::new(TestBackend::new(width, height)).expect("terminal");
-    terminal.draw(|f| ui::draw(f, app, &theme)).expect("draw");
+    terminal
+        .draw(|f| ui::draw(f, &View::new(app), &theme))
+        .expect("draw");
     terminal
 }
 
@@ -263,7 +284,7 @@ fn status_jogging_with_release_events() {
 #[test]
 fn status_jogging_with_the_auto_repeat_fallback() {
     let (app, _) = auto_repeat_app();
-    assert!(app.jog.is_jogging());
+    assert!(app.jog().is_jogging());
     insta::assert_snapshot!(render(ui::status::draw, &app, 80, 2).backend());
 }
 
@@ -317,7 +338,7 @@ fn status_step_mode_with_measured_auto_repeat_fits_80_columns() {
         press(&mut app, "w", t0 + ms(at));
     }
     app.handle(Input::Tick, t0 + ms(2000));
-    assert!(!app.jog.is_jogging());
+    assert!(!app.jog().is_jogging());
     // The driver confirms the STOP, or the status would say STOPPING.
     app.handle(Input::Arm(ArmEvent::StopConfirmed), t0 + ms(2000));
     press(&mut app, "g", t0 + ms(2000));
@@ -451,11 +472,12 @@ fn arm_with_a_fault_and_a_warning() {
 
 #[test]
 fn arm_all_clear() {
-    let (mut app, _) = live_app(ReleaseMode::Reported);
-    let t = app.telemetry.as_mut().expect("telemetry");
+    let (mut app, t0) = live_app(ReleaseMode::Reported);
+    let mut t = home_telemetry();
     t.robot_state = Coded::Known(RobotState::Ready);
     t.faults = FlagSet::EMPTY;
     t.warnings = FlagSet::EMPTY;
+    app.handle(Input::Arm(ArmEvent::Telemetry(Box::new(t))), t0);
     insta::assert_snapshot!(render(ui::arm::draw, &app, 60, 7).backend());
 }
 
@@ -482,7 +504,18 @@ fn positions_while_loading_a_big_book() {
 fn positions_that_could_not_be_read_with_one_kept_in_memory() {
     let (mut app, t0) = bare_app(ReleaseMode::Reported, false);
     app.begin_loading_positions("/data/book.json");
-    app.positions.entry("pick").cartesian = Some([5000, -1205, 2500]);
+    // Set while the book loads: kept in memory.
+    app.handle(
+        Input::Arm(ArmEvent::Done {
+            command: ArmCommand::SetCartesianPosition {
+                name: "pick".into(),
+                x: 5000,
+                y: -1205,
+                z: 2500,
+            },
+        }),
+        t0,
+    );
     app.handle(
         Input::PositionsLoaded(Err("/data/book.json:3:7: expected `:`".into())),
         t0,
@@ -490,26 +523,35 @@ fn positions_that_could_not_be_read_with_one_kept_in_memory() {
     insta::assert_snapshot!(render(ui::positions::draw, &app, 60, 5).backend());
 }
 
-/// The panel scrolled deep into a big book, and the same panel drawn from the painter's
-/// snapshot (a window of the book): identical.
+/// The panel scrolled deep into a big book, drawn from the view (a window of the book) and
+/// from the whole book: identical.
 #[test]
-fn positions_scrolled_in_a_big_book_and_its_snapshot_draw_the_same() {
+fn positions_scrolled_in_a_big_book_and_its_view_draw_the_same() {
     let (mut app, t0) = bare_app(ReleaseMode::Reported, false);
     app = sized(app, 80, 24, t0);
+    let mut book = PositionBook::new();
     for i in 0..5000 {
-        app.positions.entry(&format!("pos-{i:05}")).cartesian = Some([i, 0, 0]);
+        book.get_or_insert(&format!("pos-{i:05}")).cartesian = Some([i, 0, 0]);
     }
-    app.selected = 3210;
-    let whole = render(ui::positions::draw, &app, 50, 8);
-    let snapshot = app.snapshot();
-    assert!(
-        snapshot.positions.len() <= 2 * 24 + 1,
-        "a window, not the book"
+    app.handle(Input::PositionsLoaded(Ok(book)), t0);
+    for _ in 0..3210 {
+        press(&mut app, "pagedown", t0);
+    }
+    assert_eq!(app.selected(), 3210);
+    let view = View::new(&app);
+    assert!(view.positions.len() <= 2 * 24 + 1, "a window, not the book");
+    let mut whole_book = view.clone();
+    whole_book.positions = app.positions().clone();
+    whole_book.selected = app.selected();
+    let whole = draw_view(
+        ui::positions::draw,
+        &whole_book,
+        50,
+        8,
+        Theme { color: true },
     );
     assert_eq!(
-        render(ui::positions::draw, &snapshot, 50, 8)
-            .backend()
-            .buffer(),
+        render(ui::positions::draw, &app, 50, 8).backend().buffer(),
         whole.backend().buffer()
     );
     insta::assert_snapshot!(whole.backend());
@@ -525,7 +567,7 @@ fn log_with_a_failure() {
 fn log_in_hex_keeps_the_newest_lines() {
     let (mut app, t0) = live_app(ReleaseMode::Reported);
     press(&mut app, "H", t0);
-    assert!(app.hex);
+    assert!(app.hex());
     insta::assert_snapshot!(render(ui::log::draw, &app, 80, 7).backend());
 }
 
@@ -545,7 +587,7 @@ fn help_two_columns() {
 fn dialog_confirm_go_to() {
     let (mut app, t0) = live_app(ReleaseMode::Reported);
     press(&mut app, "o", t0);
-    assert!(matches!(app.overlay, Overlay::Confirm(_)));
+    assert!(matches!(app.overlay(), Overlay::Confirm(_)));
     insta::assert_snapshot!(render(ui::dialog::draw, &app, 80, 9).backend());
 }
 
@@ -558,7 +600,7 @@ fn dialog_form_with_an_error() {
         type_text(&mut app, value, t0);
     }
     press(&mut app, "enter", t0);
-    let Overlay::Form(form) = &app.overlay else {
+    let Overlay::Form(form) = &app.overlay() else {
         panic!("the form closed")
     };
     assert!(form.error.is_some());
@@ -666,7 +708,7 @@ fn the_ack_dialect_says_there_is_no_telemetry() {
 fn screen_80x24_jogging() {
     let (app, t0) = jogging_app();
     let app = sized(app, 80, 24, t0);
-    assert!(app.jog.is_jogging());
+    assert!(app.jog().is_jogging());
     insta::assert_snapshot!(screen(&app, 80, 24, Theme { color: true }).backend());
 }
 
@@ -695,7 +737,7 @@ fn screen_80x24_with_a_form() {
 fn screen_too_small() {
     let (app, t0) = jogging_app();
     let app = sized(app, 30, 8, t0);
-    assert!(!app.jog.is_jogging(), "too small stops the jog");
+    assert!(!app.jog().is_jogging(), "too small stops the jog");
     insta::assert_snapshot!(screen(&app, 30, 8, Theme { color: true }).backend());
 }
 

@@ -213,10 +213,11 @@ async fn killing_the_console_with_sigkill_mid_jog_stops_the_arm() {
 /// The status bar's two lines as text, 80 columns wide.
 fn status_text(app: &armjog::console::app::App) -> (String, ratatui::buffer::Buffer) {
     use armjog::console::ui::{Theme, status};
+    use armjog::console::view::View;
     let mut terminal =
         ratatui::Terminal::new(ratatui::backend::TestBackend::new(80, 2)).expect("terminal");
     terminal
-        .draw(|f| status::draw(f, f.area(), app, &Theme { color: true }))
+        .draw(|f| status::draw(f, f.area(), &View::new(app), &Theme { color: true }))
         .expect("draw");
     let buffer = terminal.backend().buffer().clone();
     let text: String = buffer.content().iter().map(|c| c.symbol()).collect();
@@ -291,8 +292,8 @@ fn the_console_stops_and_says_so_when_its_guard_goes_down_and_shows_its_state() 
         effects.contains(&Effect::Arm(ArmCommand::Stop)),
         "stopped: {effects:?}"
     );
-    assert!(app.jog.active().is_none(), "nothing held any more");
-    let (message, severity, _) = app.message.clone().expect("a message");
+    assert!(app.jog().active().is_none(), "nothing held any more");
+    let (message, severity) = app.message().expect("a message");
     assert_eq!(severity, Severity::Error);
     assert!(
         message.contains("stop guard down") && message.contains("exited"),

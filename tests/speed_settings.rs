@@ -332,6 +332,7 @@ fn the_status_bar_shows_the_jog_speed_from_the_cap_and_the_percent() {
     use armjog::console::keymap::Keymap;
     use armjog::console::positions::PositionBook;
     use armjog::console::ui::status::speed_text;
+    use armjog::console::view::View;
 
     let mut app = App::new(
         AppConfig {
@@ -344,7 +345,11 @@ fn the_status_bar_shows_the_jog_speed_from_the_cap_and_the_percent() {
         },
         PositionBook::new(),
     );
-    assert_eq!(speed_text(&app), "?", "unknown until the arm reports it");
+    assert_eq!(
+        speed_text(&View::new(&app)),
+        "?",
+        "unknown until the arm reports it"
+    );
     let now = std::time::Instant::now();
     for (percent, text) in [
         (100, "100% (50 mm/s)"),
@@ -352,7 +357,7 @@ fn the_status_bar_shows_the_jog_speed_from_the_cap_and_the_percent() {
         (1, "1% (0.5 mm/s)"),
     ] {
         app.handle(Input::Arm(ArmEvent::Speed(percent)), now);
-        assert_eq!(speed_text(&app), text);
+        assert_eq!(speed_text(&View::new(&app)), text);
     }
 }
 

@@ -211,7 +211,7 @@ mod tests {
         let (saver, _errors) = Saver::start(path.clone());
         let mut book = PositionBook::new();
         for i in 0..5 {
-            book.entry(&format!("p{i}")).cartesian = Some([i, 0, 0]);
+            book.get_or_insert(&format!("p{i}")).cartesian = Some([i, 0, 0]);
             saver.save(book.clone());
         }
         saver.finish(Duration::from_secs(10)).await;
@@ -249,7 +249,7 @@ mod tests {
         }
         let path = d.join("book.json");
         let mut book = PositionBook::new();
-        book.entry("pick");
+        book.get_or_insert("pick");
         book.save(&path).unwrap();
         let mut files = BookFiles::open(Some(path)).expect("opened");
         assert_eq!(loaded(&mut files.loading).await, Ok(book));
@@ -262,11 +262,11 @@ mod tests {
     async fn changes_held_at_quit_while_loading_are_merged_into_the_book_and_written() {
         let path = dir().join("book.json");
         let mut on_disk = PositionBook::new();
-        on_disk.entry("home");
+        on_disk.get_or_insert("home");
         on_disk.save(&path).unwrap();
         let mut files = BookFiles::open(Some(path.clone())).expect("opened");
         let mut changes = PositionBook::new();
-        changes.entry("pick").anchor = true;
+        changes.get_or_insert("pick").anchor = true;
         files.hold_until_loaded(changes);
         files.finish(Duration::from_secs(10)).await;
         let saved = PositionBook::load(&path).unwrap();
@@ -280,7 +280,7 @@ mod tests {
         let d = dir();
         let path = d.join("book.json");
         let mut book = PositionBook::new();
-        book.entry("pick").cartesian = Some([1, 2, 3]);
+        book.get_or_insert("pick").cartesian = Some([1, 2, 3]);
         book.save(&path).unwrap();
         let mut loading = Some(load(&path));
         assert_eq!(loaded(&mut loading).await, Ok(book));

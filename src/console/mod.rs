@@ -11,3 +11,4 @@ pub mod positions;
 pub mod run;
 pub mod terminal;
 pub mod ui;
+pub mod view;

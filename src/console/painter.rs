@@ -1,8 +1,8 @@
-//! The drawing thread: it owns the terminal's output and draws snapshots of the app, so the
+//! The drawing thread: it owns the terminal's output and draws [`View`]s of the app, so the
 //! task that reads keys never waits for a frame to be drawn (a release's STOP goes out while a
 //! frame is being written).
 //!
-//! Only the newest snapshot is kept: a slow draw skips frames rather than queueing them, and
+//! Only the newest view is kept: a slow draw skips frames rather than queueing them, and
 //! the thread rests after each draw in proportion to its cost.
 
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -11,11 +11,11 @@ use std::time::{Duration, Instant};
 
 use tokio::sync::mpsc;
 
-use super::app::App;
+use super::view::View;
 
 #[derive(Default)]
 struct Slot {
-    next: Option<Box<App>>,
+    next: Option<Box<View>>,
     closing: bool,
 }
 
@@ -29,10 +29,10 @@ pub struct Painter {
 }
 
 impl Painter {
-    /// Starts the thread that calls `draw` with each snapshot (the console's: a ratatui draw
+    /// Starts the thread that calls `draw` with each view (the console's: a ratatui draw
     /// on the terminal). A draw that fails is reported on the returned receiver and ends it.
     pub fn start(
-        draw: impl FnMut(&App) -> std::io::Result<()> + Send + 'static,
+        draw: impl FnMut(&View) -> std::io::Result<()> + Send + 'static,
         allowed: Arc<AtomicBool>,
     ) -> std::io::Result<(Painter, mpsc::UnboundedReceiver<std::io::Error>)> {
         let slot = Arc::new((Mutex::new(Slot::default()), Condvar::new()));
@@ -56,11 +56,11 @@ impl Painter {
         ))
     }
 
-    /// Hands the thread a snapshot to draw; replaces one not drawn yet. Never waits for a draw.
-    pub fn paint(&self, app: App) {
+    /// Hands the thread a view to draw; replaces one not drawn yet. Never waits for a draw.
+    pub fn paint(&self, view: View) {
         let (lock, ready) = &*self.slot;
         if let Ok(mut slot) = lock.lock() {
-            slot.next = Some(Box::new(app));
+            slot.next = Some(Box::new(view));
             ready.notify_one();
         }
     }
@@ -96,7 +96,7 @@ const REST_FACTOR: u32 = 2;
 const MAX_REST: Duration = Duration::from_millis(200);
 
 fn paint(
-    mut draw: impl FnMut(&App) -> std::io::Result<()>,
+    mut draw: impl FnMut(&View) -> std::io::Result<()>,
     slot: &(Mutex<Slot>, Condvar),
     allowed: &AtomicBool,
     errors: &mpsc::UnboundedSender<std::io::Error>,
@@ -145,12 +145,12 @@ fn paint(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::console::app::AppConfig;
+    use crate::console::app::{App, AppConfig, Input};
     use crate::console::jog::ReleaseMode;
     use crate::console::keymap::Keymap;
     use crate::console::positions::PositionBook;
 
-    fn app(width: u16) -> App {
+    fn view(width: u16) -> View {
         let mut app = App::new(
             AppConfig {
                 keymap: Keymap::builtin("default").expect("keymap"),
@@ -162,33 +162,33 @@ mod tests {
             },
             PositionBook::new(),
         );
-        app.size = (width, 40);
-        app
+        app.handle(Input::Resize { width, height: 40 }, Instant::now());
+        View::new(&app)
     }
 
     #[test]
-    fn handing_over_a_snapshot_never_waits_for_a_draw_and_the_newest_is_drawn() {
+    fn handing_over_a_view_never_waits_for_a_draw_and_the_newest_is_drawn() {
         let drawn = Arc::new(Mutex::new(Vec::new()));
         let seen = drawn.clone();
         let (started_tx, started) = std::sync::mpsc::channel();
         // Each draw holds until the test lets it finish.
         let (finish, finish_rx) = std::sync::mpsc::channel::<()>();
-        let draw = move |app: &App| {
+        let draw = move |view: &View| {
             let _ = started_tx.send(());
             let _ = finish_rx.recv_timeout(Duration::from_secs(5));
-            seen.lock().expect("lock").push(app.size.0);
+            seen.lock().expect("lock").push(view.size.0);
             Ok(())
         };
         let (mut painter, _errors) =
             Painter::start(draw, Arc::new(AtomicBool::new(true))).expect("thread");
-        painter.paint(app(1));
+        painter.paint(view(1));
         started
             .recv_timeout(Duration::from_secs(5))
             .expect("the first draw began");
-        // While that draw runs, two more snapshots: handing them over does not wait for it.
+        // While that draw runs, two more views: handing them over does not wait for it.
         let handed = Instant::now();
-        painter.paint(app(2));
-        painter.paint(app(3));
+        painter.paint(view(2));
+        painter.paint(view(3));
         let took = handed.elapsed();
         assert!(took < Duration::from_millis(100), "paint waited {took:?}");
         finish.send(()).expect("draw 1");
@@ -200,7 +200,7 @@ mod tests {
         assert_eq!(
             *drawn.lock().expect("lock"),
             [1, 3],
-            "the snapshot overtaken before it was drawn is skipped"
+            "the view overtaken before it was drawn is skipped"
         );
     }
 
@@ -208,13 +208,13 @@ mod tests {
     fn a_failed_draw_is_reported_and_nothing_is_drawn_once_drawing_is_halted() {
         let draws = Arc::new(Mutex::new(0));
         let count = draws.clone();
-        let draw = move |_: &App| {
+        let draw = move |_: &View| {
             *count.lock().expect("lock") += 1;
             Err(std::io::Error::other("terminal gone"))
         };
         let (mut painter, mut errors) =
             Painter::start(draw, Arc::new(AtomicBool::new(true))).expect("thread");
-        painter.paint(app(1));
+        painter.paint(view(1));
         let error = errors.blocking_recv().expect("the error is reported");
         assert_eq!(error.to_string(), "terminal gone");
         painter.close(Duration::from_secs(5));
@@ -222,14 +222,14 @@ mod tests {
 
         let halted_draws = Arc::new(Mutex::new(0));
         let count = halted_draws.clone();
-        let draw = move |_: &App| {
+        let draw = move |_: &View| {
             *count.lock().expect("lock") += 1;
             Ok(())
         };
         let (mut painter, _errors) =
             Painter::start(draw, Arc::new(AtomicBool::new(false))).expect("thread");
-        painter.paint(app(1));
-        // Time for the thread to take the snapshot before it is told to close.
+        painter.paint(view(1));
+        // Time for the thread to take the view before it is told to close.
         std::thread::sleep(Duration::from_millis(50));
         painter.close(Duration::from_secs(5));
         assert_eq!(

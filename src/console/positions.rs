@@ -190,8 +190,18 @@ impl PositionBook {
             .map(|(n, e)| (n.as_str(), e))
     }
 
-    /// The entry for `name`, created empty if new.
-    pub fn entry(&mut self, name: &str) -> &mut BookEntry {
+    /// The entry for `name`, to change it; `None` (and nothing added) if the book has no such
+    /// name. Looking a name up never adds it, so it never moves the rows after it.
+    pub fn get_mut(&mut self, name: &str) -> Option<&mut BookEntry> {
+        let index = self.find(name).ok()?;
+        Arc::make_mut(&mut self.positions)
+            .get_mut(index)
+            .map(|(_, e)| e)
+    }
+
+    /// The entry for `name`, added empty if new: for a name the technician saved (or a book
+    /// being built). Adding a name moves the names after it down a row.
+    pub fn get_or_insert(&mut self, name: &str) -> &mut BookEntry {
         let index = match self.find(name) {
             Ok(index) => index,
             Err(index) => {
@@ -231,7 +241,7 @@ impl PositionBook {
             return;
         }
         for (name, entry) in other.positions.iter() {
-            *self.entry(name) = entry.clone();
+            *self.get_or_insert(name) = entry.clone();
         }
     }
 
@@ -398,11 +408,11 @@ mod tests {
         let d = dir();
         let path = d.join("book.json");
         let mut book = PositionBook::new();
-        let e = book.entry("pick");
+        let e = book.get_or_insert("pick");
         e.cartesian = Some([4566, 10, 4338]);
         e.anchor = true;
         e.parent = Some("table".into());
-        book.entry("table");
+        book.get_or_insert("table");
         book.save(&path).unwrap();
         assert_eq!(PositionBook::load(&path).unwrap(), book);
         let files: Vec<_> = std::fs::read_dir(&d).unwrap().collect();
@@ -413,7 +423,7 @@ mod tests {
     fn a_book_too_big_to_indent_is_written_compact_and_one_too_big_for_that_is_refused() {
         let mut book = PositionBook::new();
         for i in 0..100 {
-            book.entry(&format!("p{i:03}")).cartesian = Some([i, 0, 0]);
+            book.get_or_insert(&format!("p{i:03}")).cartesian = Some([i, 0, 0]);
         }
         let text = |limit: u64| {
             let mut out = Vec::new();
@@ -442,9 +452,9 @@ mod tests {
     fn names_stay_in_order_through_changes_and_are_found_by_index_and_by_name() {
         let mut book = PositionBook::new();
         for name in ["pick", "bench", "table", "home"] {
-            book.entry(name);
+            book.get_or_insert(name);
         }
-        book.entry("pick").anchor = true;
+        book.get_or_insert("pick").anchor = true;
         assert_eq!(book.remove("table").map(|e| e.anchor), Some(false));
         assert_eq!(book.remove("table"), None);
         let names: Vec<&str> = book.names().collect();
@@ -467,6 +477,22 @@ mod tests {
         let names: Vec<&str> = parsed.names().collect();
         assert_eq!(names, ["a", "b"]);
         assert!(parsed.get("b").is_some_and(|e| e.anchor));
+    }
+
+    #[test]
+    fn looking_a_name_up_adds_nothing() {
+        let mut book = PositionBook::new();
+        book.get_or_insert("bench");
+        book.get_or_insert("table");
+        assert!(book.get_mut("apple").is_none());
+        assert!(book.get_mut("zebra").is_none());
+        let names: Vec<&str> = book.names().collect();
+        assert_eq!(names, ["bench", "table"]);
+        if let Some(bench) = book.get_mut("bench") {
+            bench.anchor = true;
+        }
+        assert!(book.get("bench").is_some_and(|e| e.anchor));
+        assert_eq!(book.len(), 2);
     }
 
     #[test]

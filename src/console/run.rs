@@ -1,7 +1,7 @@
 //! The console's runtime: terminal, event loop, and the IO the state machine asks for.
 //!
 //! One `select!` over terminal events, arm events, the state machine's deadline, a render tick
-//! and signals. Frames are drawn on their own thread from a snapshot of the app (see
+//! and signals. Frames are drawn on their own thread from a [`View`] of the app (see
 //! [`super::painter`]): the task that reads keys and sends their STOPs never waits for a draw.
 //! The terminal is restored on quit, error, panic and signal; the arm is told to stop first on
 //! every one of those paths.
@@ -24,6 +24,7 @@ use super::painter::Painter;
 use super::positions::{self, PositionBook};
 use super::terminal;
 use super::ui::{self, Theme};
+use super::view::View;
 use crate::link::arm::ArmCommand;
 use crate::link::driver::{Driver, DriverConfig, StopHandle};
 
@@ -147,9 +148,9 @@ fn start_painter(drawing: Arc<AtomicBool>) -> Result<PainterStart, ConsoleError>
     let size = terminal.size()?;
     let theme = Theme::from_env();
     let mut terminal = terminal;
-    let draw = move |app: &App| {
+    let draw = move |view: &View| {
         terminal
-            .draw(|frame| ui::draw(frame, app, &theme))
+            .draw(|frame| ui::draw(frame, view, &theme))
             .map(|_| ())
     };
     let (painter, errors) = Painter::start(draw, drawing)?;
@@ -232,10 +233,10 @@ async fn event_loop(
             }
             Some(e) = screen.errors.recv() => return Err(ConsoleError::Terminal(e)),
             _ = render.tick() => {
-                let due = urgent || app.jog.is_jogging() || last_draw.elapsed() >= IDLE_FRAME;
+                let due = urgent || app.jog().is_jogging() || last_draw.elapsed() >= IDLE_FRAME;
                 if dirty && due {
-                    // A snapshot for the drawing thread: this task goes straight back to keys.
-                    screen.painter.paint(app.snapshot());
+                    // Built once for the drawing thread: this task goes straight back to keys.
+                    screen.painter.paint(View::new(&app));
                     last_draw = Instant::now();
                     dirty = false;
                     urgent = false;
@@ -257,8 +258,8 @@ async fn event_loop(
                 Effect::SavePositions(positions) => book.save(positions),
                 Effect::Quit => {
                     // Changes made while the book loads are written once it has loaded.
-                    if matches!(app.book_state, BookState::Loading { .. }) {
-                        book.hold_until_loaded(app.positions.clone());
+                    if matches!(app.book_state(), BookState::Loading { .. }) {
+                        book.hold_until_loaded(app.positions().clone());
                     }
                     return Ok(());
                 }

@@ -110,17 +110,4 @@ impl App {
             self.say(text, severity, now);
         }
     }
-
-    /// A copy of the app for the drawing thread, with only the part of the book a screen can
-    /// show: drawing costs the same whatever the book's size.
-    pub fn snapshot(&self) -> App {
-        let mut snapshot = self.clone();
-        // No panel is taller than the terminal: `rows` entries either side of the selection
-        // fill any of them the same way the whole book would.
-        let rows = usize::from(self.size.1);
-        let start = self.selected.saturating_sub(rows);
-        snapshot.positions = self.positions.window(start, 2 * rows + 1);
-        snapshot.selected = self.selected - start;
-        snapshot
-    }
 }

@@ -7,10 +7,13 @@
 //! focus loss, a link problem, a terminal too small to show the status, a signal and quitting
 //! all stop it.
 
+mod access;
+mod arm_events;
 mod arm_state;
 mod book_load;
 mod coords;
 mod jog_keys;
+mod keys;
 mod motion_truth;
 mod named;
 
@@ -24,30 +27,26 @@ pub use motion_truth::{
 };
 
 use std::collections::VecDeque;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use super::action::Action;
-use super::form::{Confirm, Form, FormKind};
-use super::jog::{JogEngine, KeyKind, MAX_ONSET, ReleaseMode};
+use super::form::{Confirm, Form};
+use super::jog::{JogEngine, KeyKind, ReleaseMode};
 use super::keymap::{KeyName, Keymap};
 use super::positions::PositionBook;
 use crate::kortex::{ReferenceFrame, Telemetry};
 use crate::link::arm::{
-    ArmCommand, ArmEvent, GuardStatus, LinkStatus, LogEntry, PositionCoordinates, StepMove,
-    TelemetrySource,
+    ArmCommand, ArmEvent, GuardStatus, LinkStatus, LogEntry, PositionCoordinates, TelemetrySource,
 };
 
 /// Below this the status bar cannot be shown: motion stops and the screen says so.
 pub const MIN_WIDTH: u16 = 40;
 pub const MIN_HEIGHT: u16 = 10;
-/// Command log lines kept.
-const LOG_CAPACITY: usize = 500;
 /// How long a status message stays.
 const MESSAGE_TIME: Duration = Duration::from_secs(6);
 /// Cartesian steps, tenths of millimetres; polar steps, degrees.
 const CARTESIAN_STEPS: [i32; 6] = [1, 10, 50, 100, 500, 1000];
 const POLAR_STEPS: [i32; 5] = [1, 2, 5, 10, 30];
-const SPEED_STEP: u8 = 10;
 
 /// One key event as the console needs it.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -142,42 +141,45 @@ pub struct AppConfig {
     pub frames: bool,
 }
 
-/// The console's whole state.
+/// The console's whole state. Private: only inputs change it; [`App`]'s accessors read it.
 #[derive(Debug, Clone)]
 pub struct App {
-    pub config: AppConfig,
-    pub jog: JogEngine,
-    pub overlay: Overlay,
-    pub message: Option<(String, Severity, Instant)>,
-    pub link: LinkStatus,
-    pub telemetry: Option<Telemetry>,
-    pub telemetry_source: TelemetrySource,
-    pub latency: Option<Duration>,
-    pub speed: Option<u8>,
-    pub frame: ReferenceFrame,
-    pub step: Step,
-    pub positions: PositionBook,
+    config: AppConfig,
+    jog: JogEngine,
+    overlay: Overlay,
+    message: Option<(String, Severity, Instant)>,
+    link: LinkStatus,
+    telemetry: Option<Telemetry>,
+    telemetry_source: TelemetrySource,
+    latency: Option<Duration>,
+    speed: Option<u8>,
+    frame: ReferenceFrame,
+    step: Step,
+    positions: PositionBook,
     /// Whether the book is loaded, still loading, or could not be read.
-    pub book_state: BookState,
-    pub selected: usize,
-    pub log: VecDeque<LogEntry>,
-    pub hex: bool,
-    pub size: (u16, u16),
-    pub quitting: bool,
+    book_state: BookState,
+    selected: usize,
+    log: VecDeque<LogEntry>,
+    hex: bool,
+    size: (u16, u16),
+    quitting: bool,
     /// The stop guard's state, once the driver says one is required (Modbus motion).
-    pub guard: Option<GuardStatus>,
+    guard: Option<GuardStatus>,
     /// Link health and motion evidence (LINK STALE, MAY BE MOVING, MOVING: HOME).
-    pub truth: MotionTruth,
+    truth: MotionTruth,
     /// The latest input's `now`: the panels draw ages against it.
     now: Option<Instant>,
     /// The key that closed an overlay and when it was last seen: its auto-repeat must not be
     /// taken for new presses (and start a jog) once the overlay is gone.
     swallowed: Option<(KeyName, Instant)>,
+    /// `config.keymap`, shared with each frame's view.
+    shared_keymap: Arc<Keymap>,
 }
 
 impl App {
     pub fn new(config: AppConfig, positions: PositionBook) -> App {
         let jog = JogEngine::new(config.release_mode, config.refresh);
+        let shared_keymap = Arc::new(config.keymap.clone());
         App {
             config,
             jog,
@@ -204,6 +206,7 @@ impl App {
             truth: MotionTruth::default(),
             now: None,
             swallowed: None,
+            shared_keymap,
         }
     }
 
@@ -292,420 +295,8 @@ impl App {
         effects.push(Effect::Quit);
     }
 
-    fn on_key(&mut self, key: KeyInput, now: Instant, effects: &mut Vec<Effect>) {
-        // Ctrl-C always stops and quits, whatever the keymap or overlay (raw mode turns it
-        // into a key instead of SIGINT).
-        if key.kind == KeyKind::Press && key.key.to_string() == "ctrl+c" {
-            self.quit(now, effects);
-            return;
-        }
-        if key.kind == KeyKind::Release {
-            self.release_jog_keys(&key, now, effects);
-            return;
-        }
-        if !self.fits() {
-            // Nothing is shown: every key only stops.
-            if key.kind == KeyKind::Press {
-                self.stop_jog(now, effects);
-            }
-            self.latch_jog_key(&key, now, effects);
-            return;
-        }
-        if self.auto_repeat_of_overlay_key(&key, now) {
-            // Keep still, but let the repeat neither answer the overlay nor start a jog.
-            self.stop_jog(now, effects);
-            self.latch_jog_key(&key, now, effects);
-            return;
-        }
-        let overlay_was_open = self.overlay != Overlay::None;
-        self.dispatch_key(key.clone(), now, effects);
-        if key.kind == KeyKind::Press && overlay_was_open != (self.overlay != Overlay::None) {
-            self.swallowed = Some((key.key, now));
-        }
-    }
-
-    /// Whether `key` is the auto-repeat of the key that just opened or closed an overlay:
-    /// holding `h` must not cancel the home question it opened, nor holding `w` to close the
-    /// help start a jog. With reported key events a repeat says so itself.
-    fn auto_repeat_of_overlay_key(&mut self, key: &KeyInput, now: Instant) -> bool {
-        if key.kind == KeyKind::Repeat && self.overlay != Overlay::None {
-            return true;
-        }
-        let Some((held, seen)) = self.swallowed else {
-            return false;
-        };
-        let repeating = held == key.key
-            && key.kind == KeyKind::Press
-            && self.jog.mode() == ReleaseMode::AutoRepeat
-            && now.saturating_duration_since(seen) < MAX_ONSET;
-        self.swallowed = repeating.then_some((held, now));
-        repeating
-    }
-
-    fn dispatch_key(&mut self, key: KeyInput, now: Instant, effects: &mut Vec<Effect>) {
-        if self.overlay != Overlay::None {
-            if key.kind != KeyKind::Release {
-                self.stop_jog(now, effects);
-                self.latch_jog_key(&key, now, effects);
-                self.on_overlay_key(key, now, effects);
-            }
-            return;
-        }
-        let action = self.config.keymap.action(&key.key);
-        match (action, key.kind) {
-            (Some(action), kind) if action.jog().is_some() => {
-                if self.step.enabled {
-                    // One step per press: a held key's auto-repeat steps no further.
-                    let (fresh, jog) = self.jog.latch_press(action, kind, now);
-                    self.apply_jog(jog, now, effects);
-                    if fresh {
-                        self.step_move(action, now, effects);
-                    }
-                } else if self.link_is_up() {
-                    let jog = self.jog.key(action, kind, now);
-                    self.apply_jog(jog, now, effects);
-                } else {
-                    self.latch_jog_key(&key, now, effects);
-                    if kind == KeyKind::Press {
-                        let text = match self.link_stale() {
-                            Some(_) => "link stale: not moving",
-                            None => "no link to the arm: not moving",
-                        };
-                        self.say(text, Severity::Warning, now);
-                    }
-                }
-            }
-            (_, KeyKind::Release) => {}
-            (Some(action), KeyKind::Repeat) => {
-                // A held non-jog key: keep everything stopped, do not repeat the action.
-                self.stop_jog(now, effects);
-                let _ = action;
-            }
-            (Some(action), KeyKind::Press) => {
-                // Stop, quick stop and quit send their own stop.
-                if !matches!(action, Action::Stop | Action::QuickStop | Action::Quit) {
-                    self.stop_jog(now, effects);
-                }
-                self.on_action(action, now, effects);
-            }
-            (None, _) => {
-                self.stop_jog(now, effects);
-                self.say(
-                    format!("'{}' is not bound: press ? for help", key.key),
-                    Severity::Info,
-                    now,
-                );
-            }
-        }
-    }
-
-    /// The jog actions bound to `key`, to the key without modifiers, and to the other case of
-    /// a letter.
-    fn release_candidates(&self, key: &KeyName) -> Vec<Action> {
-        let mut names = vec![key.to_string(), key.without_modifiers().to_string()];
-        for name in names.clone() {
-            let mut chars = name.chars();
-            if let (Some(c), None) = (chars.next(), chars.next()) {
-                names.push(c.to_lowercase().to_string());
-                names.push(c.to_uppercase().to_string());
-            }
-        }
-        let mut actions: Vec<Action> = names
-            .iter()
-            .filter_map(|n| n.parse::<KeyName>().ok())
-            .filter_map(|k| self.config.keymap.action(&k))
-            .filter(|a| a.jog().is_some())
-            .collect();
-        actions.sort();
-        actions.dedup();
-        actions
-    }
-
     /// Up and heard from: a stale link starts no motion.
     fn link_is_up(&self) -> bool {
         matches!(self.link, LinkStatus::Up { .. }) && self.link_stale().is_none()
-    }
-
-    fn step_move(&mut self, action: Action, now: Instant, effects: &mut Vec<Effect>) {
-        let Some((axis, sign)) = action.jog() else {
-            return;
-        };
-        use super::action::JogAxis as A;
-        let s = i32::from(sign.value());
-        let (c, p) = (self.step.cartesian() * s, self.step.polar() * s);
-        let step = match axis {
-            A::X => StepMove::Cartesian {
-                dx: c,
-                dy: 0,
-                dz: 0,
-            },
-            A::Y => StepMove::Cartesian {
-                dx: 0,
-                dy: c,
-                dz: 0,
-            },
-            A::Z => StepMove::Cartesian {
-                dx: 0,
-                dy: 0,
-                dz: c,
-            },
-            A::Azimuth => StepMove::Polar {
-                azimuth: p,
-                altitude: 0,
-            },
-            A::Altitude => StepMove::Polar {
-                azimuth: 0,
-                altitude: p,
-            },
-            A::Joint => {
-                self.say(
-                    "step mode has no joint steps: hold to jog a joint",
-                    Severity::Info,
-                    now,
-                );
-                return;
-            }
-        };
-        effects.push(Effect::Arm(ArmCommand::Step(step)));
-    }
-
-    fn on_action(&mut self, action: Action, now: Instant, effects: &mut Vec<Effect>) {
-        use Action as A;
-        match action {
-            A::Stop => {
-                self.stop_everything(now, effects);
-                self.say("stopped", Severity::Info, now);
-            }
-            A::QuickStop => {
-                self.jog.stop_all(now);
-                effects.push(Effect::Arm(ArmCommand::QuickStop));
-                self.say(
-                    "quick stop: reset the fault before moving again",
-                    Severity::Warning,
-                    now,
-                );
-            }
-            A::FaultReset => effects.push(Effect::Arm(ArmCommand::FaultReset)),
-            A::Home => self.overlay = Overlay::Confirm(Confirm::Home),
-            A::StepMode => {
-                self.step.enabled = !self.step.enabled;
-                let text = if self.step.enabled {
-                    "step mode: each press moves one step"
-                } else {
-                    "jog mode: hold a key to move"
-                };
-                self.say(text, Severity::Info, now);
-            }
-            A::StepBigger => self.step.index = (self.step.index + 1).min(CARTESIAN_STEPS.len() - 1),
-            A::StepSmaller => self.step.index = self.step.index.saturating_sub(1),
-            A::SpeedUp | A::SpeedDown => {
-                let current = self.speed.unwrap_or(50);
-                let speed = if action == A::SpeedUp {
-                    current.saturating_add(SPEED_STEP).min(100)
-                } else {
-                    current.saturating_sub(SPEED_STEP).max(1)
-                };
-                effects.push(Effect::Arm(ArmCommand::SetSpeed(speed)));
-            }
-            A::FrameCycle => {
-                if !self.config.frames {
-                    self.say(
-                        "the Talos link jogs in the base frame only",
-                        Severity::Info,
-                        now,
-                    );
-                    return;
-                }
-                self.frame = match self.frame {
-                    ReferenceFrame::Base => ReferenceFrame::Tool,
-                    ReferenceFrame::Tool => ReferenceFrame::Mixed,
-                    ReferenceFrame::Mixed => ReferenceFrame::Base,
-                };
-                effects.push(Effect::Arm(ArmCommand::SetFrame(self.frame)));
-            }
-            A::JointNext | A::JointPrevious => {
-                let j = self.jog.joint();
-                let next = if action == A::JointNext {
-                    j % 7 + 1
-                } else {
-                    (j + 5) % 7 + 1
-                };
-                let jog = self.jog.select_joint(next, now);
-                self.apply_jog(jog, now, effects);
-            }
-            // Starts empty: a saved pose must not overwrite the selected one by accident.
-            A::SavePosition => self.overlay = Overlay::Form(Form::new(FormKind::Save, "")),
-            A::SetPolarPosition | A::SetCartesianPosition => {
-                let kind = if action == A::SetPolarPosition {
-                    FormKind::SetPolar
-                } else {
-                    FormKind::SetCartesian
-                };
-                let name = self.selected_name().unwrap_or("").to_string();
-                self.overlay = Overlay::Form(Form::new(kind, &name));
-            }
-            A::GoToPosition | A::DeletePosition | A::ShowPosition => {
-                let Some(name) = self.selected_name().map(str::to_string) else {
-                    self.say("no position selected: save one first", Severity::Info, now);
-                    return;
-                };
-                match action {
-                    A::GoToPosition => self.overlay = Overlay::Confirm(Confirm::GoTo(name)),
-                    A::DeletePosition => self.overlay = Overlay::Confirm(Confirm::Delete(name)),
-                    _ => self.show_position(name, effects),
-                }
-            }
-            A::PositionNext if !self.positions.is_empty() => {
-                self.selected = (self.selected + 1) % self.positions.len();
-            }
-            A::PositionPrevious if !self.positions.is_empty() => {
-                let n = self.positions.len();
-                self.selected = (self.selected + n - 1) % n;
-            }
-            A::ToggleHex => self.hex = !self.hex,
-            A::Help => self.overlay = Overlay::Help,
-            A::Quit => self.quit(now, effects),
-            // Jog actions are handled before this.
-            _ => {}
-        }
-    }
-
-    fn on_overlay_key(&mut self, key: KeyInput, now: Instant, effects: &mut Vec<Effect>) {
-        let named = key.key.to_string();
-        match std::mem::replace(&mut self.overlay, Overlay::None) {
-            Overlay::None => {}
-            Overlay::Help | Overlay::Position { .. } => {}
-            Overlay::Confirm(confirm) => {
-                if named == "y" || named == "Y" || named == "enter" {
-                    self.confirmed(confirm, now, effects);
-                } else {
-                    self.say("cancelled", Severity::Info, now);
-                }
-            }
-            Overlay::Form(mut form) => {
-                match named.as_str() {
-                    "esc" => {
-                        self.say("cancelled", Severity::Info, now);
-                        return;
-                    }
-                    "enter" => {
-                        if let Some(result) = form.submit() {
-                            self.form_done(result, now, effects);
-                            return;
-                        }
-                    }
-                    "tab" | "down" => form.next_field(),
-                    "shift+tab" | "up" => form.previous_field(),
-                    "backspace" => form.backspace(),
-                    _ => {
-                        if let Some(c) = key.text.filter(|c| !c.is_control()) {
-                            form.type_char(c);
-                        }
-                    }
-                }
-                self.overlay = Overlay::Form(form);
-            }
-        }
-    }
-
-    fn on_arm(&mut self, event: ArmEvent, now: Instant, effects: &mut Vec<Effect>) {
-        self.truth_on_arm(&event, now);
-        match event {
-            ArmEvent::Status(status) => {
-                if let LinkStatus::Down { reason } = &status {
-                    // Stop through whatever link is left; the held keys stay latched so nothing
-                    // restarts when the link comes back.
-                    self.stop_jog(now, effects);
-                    self.say(format!("link lost: {reason}"), Severity::Error, now);
-                }
-                let came_up = matches!(status, LinkStatus::Up { .. })
-                    && !matches!(self.link, LinkStatus::Up { .. });
-                self.link = status;
-                if came_up && self.config.positions_on_operator {
-                    // The ICD cannot list positions: ask about remembered names, so the panel
-                    // marks the ones this operator does not know (and shows where the others
-                    // are now).
-                    self.check_names_on_operator(effects);
-                }
-            }
-            ArmEvent::Telemetry(t) => self.telemetry = Some(*t),
-            ArmEvent::TelemetrySource(source) => self.telemetry_source = source,
-            ArmEvent::Latency(latency) => self.latency = Some(latency),
-            ArmEvent::Speed(speed) => self.speed = Some(speed),
-            ArmEvent::Log(entry) => {
-                // Telemetry polls with the same outcome in a row share one counted line, so
-                // they are logged without drowning the technician's own commands.
-                if let Some(last) = self.log.back_mut()
-                    && entry.poll
-                    && last.poll
-                    && last.name == entry.name
-                    && last.outcome == entry.outcome
-                {
-                    let count = last.count.saturating_add(entry.count.max(1));
-                    *last = LogEntry { count, ..entry };
-                    return;
-                }
-                if self.log.len() >= LOG_CAPACITY {
-                    self.log.pop_front();
-                }
-                self.log.push_back(LogEntry {
-                    count: entry.count.max(1),
-                    ..entry
-                });
-            }
-            ArmEvent::Failed { command, error } => {
-                // A jog the arm did not take must not be left to the watchdog: stop and latch
-                // the held keys, so only a new press moves again.
-                if command == crate::link::arm::CommandKind::Jog {
-                    self.stop_jog(now, effects);
-                }
-                self.say(format!("{command} failed: {error}"), Severity::Error, now);
-            }
-            ArmEvent::Position { name, coordinates } => {
-                let entry = self.positions.entry(&name);
-                entry.unknown_to_operator = false;
-                if let Some(c) = coordinates.cartesian {
-                    entry.cartesian = Some(c);
-                }
-                if matches!(&self.overlay, Overlay::Position { name: shown, .. } if *shown == name)
-                {
-                    self.overlay = Overlay::Position {
-                        name,
-                        coordinates: Some(coordinates),
-                    };
-                }
-            }
-            ArmEvent::UnknownPosition { name } => {
-                self.positions.entry(&name).unknown_to_operator = true;
-                // Said only when the technician is looking at it; otherwise the panel marks it.
-                if matches!(&self.overlay, Overlay::Position { name: shown, .. } if *shown == name)
-                {
-                    self.overlay = Overlay::None;
-                    self.say(
-                        format!("the operator does not know '{name}'"),
-                        Severity::Warning,
-                        now,
-                    );
-                }
-            }
-            ArmEvent::Done { command } => self.on_done(command, now, effects),
-            ArmEvent::Guard(status) => {
-                // Without a ready guard the driver refuses Modbus motion and stops any: forget
-                // the held keys so nothing restarts when the guard is back.
-                if !matches!(status, GuardStatus::Ready { .. }) {
-                    self.stop_jog(now, effects);
-                }
-                if let GuardStatus::Down { reason } = &status {
-                    self.say(
-                        format!("stop guard down, no motion until it is back: {reason}"),
-                        Severity::Error,
-                        now,
-                    );
-                }
-                self.guard = Some(status);
-            }
-            // Evidence only: see `truth_on_arm`.
-            ArmEvent::StopConfirmed | ArmEvent::StopUnconfirmed { .. } => {}
-        }
     }
 }

@@ -154,7 +154,7 @@ impl App {
                 now,
             );
         }
-        let entry = self.positions.entry(&name);
+        let entry = self.positions.get_or_insert(&name);
         entry.cartesian = Some(cartesian);
         entry.orientation = orientation.or(entry.orientation);
         entry.anchor = false;
@@ -183,7 +183,7 @@ impl App {
                 parent,
             } => {
                 let pose = self.telemetry.as_ref().map(|t| t.tcp.pose);
-                let entry = self.positions.entry(name);
+                let entry = self.positions.get_or_insert(name);
                 entry.anchor = *anchor;
                 entry.parent = parent.clone();
                 entry.unknown_to_operator = false;
@@ -194,7 +194,7 @@ impl App {
                 name.clone()
             }
             ArmCommand::SetCartesianPosition { name, x, y, z } => {
-                let entry = self.positions.entry(name);
+                let entry = self.positions.get_or_insert(name);
                 entry.cartesian = Some([*x, *y, *z]);
                 entry.unknown_to_operator = false;
                 name.clone()
@@ -205,7 +205,7 @@ impl App {
                 azimuth,
                 radius,
             } => {
-                let entry = self.positions.entry(name);
+                let entry = self.positions.get_or_insert(name);
                 entry.cartesian = Some(cartesian_of([*delta, *azimuth, *radius]));
                 entry.unknown_to_operator = false;
                 name.clone()

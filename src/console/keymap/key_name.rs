@@ -147,7 +147,7 @@ pub enum BaseKey {
 impl BaseKey {
     /// Whether the key types a character, so that shift is part of its identity and never a
     /// prefix.
-    fn is_character(self) -> bool {
+    const fn is_character(self) -> bool {
         matches!(
             self,
             BaseKey::Char(_)
@@ -247,6 +247,42 @@ impl KeyName {
             modifiers.shift = false;
         }
         Some(KeyName { modifiers, key })
+    }
+
+    /// An unmodified character key: `KeyName::char('y')` is `"y"`, `KeyName::char(' ')` is
+    /// `"space"`.
+    pub const fn char(character: char) -> KeyName {
+        let key = match character {
+            ' ' => BaseKey::Named(NamedKey::Space),
+            _ => BaseKey::Char(character),
+        };
+        KeyName {
+            modifiers: Modifiers::NONE,
+            key,
+        }
+    }
+
+    /// An unmodified named key: `KeyName::named(NamedKey::Enter)` is `"enter"`.
+    pub const fn named(key: NamedKey) -> KeyName {
+        KeyName {
+            modifiers: Modifiers::NONE,
+            key: BaseKey::Named(key),
+        }
+    }
+
+    /// The same key with ctrl held: `KeyName::char('c').with_ctrl()` is `"ctrl+c"`.
+    pub const fn with_ctrl(mut self) -> KeyName {
+        self.modifiers.ctrl = true;
+        self
+    }
+
+    /// The same key with shift held: `"shift+tab"`. A character key is left as it is: shift
+    /// is part of the character it types (see the module docs).
+    pub const fn with_shift(mut self) -> KeyName {
+        if !self.key.is_character() {
+            self.modifiers.shift = true;
+        }
+        self
     }
 
     /// The key without modifiers.
@@ -488,6 +524,19 @@ mod tests {
 
     fn name_of(event: KeyEvent) -> Option<String> {
         KeyName::from_event(&event).map(|key| key.to_string())
+    }
+
+    #[test]
+    fn built_names_equal_the_parsed_ones() {
+        assert_eq!(KeyName::char('y'), key("y"));
+        assert_eq!(KeyName::char('Y'), key("Y"));
+        assert_eq!(KeyName::char(' '), key("space"));
+        assert_eq!(KeyName::named(NamedKey::Enter), key("enter"));
+        assert_eq!(KeyName::char('c').with_ctrl(), key("ctrl+c"));
+        assert_eq!(KeyName::named(NamedKey::Tab).with_shift(), key("shift+tab"));
+        // Shift is part of a character: "shift+a" is no name, "A" is.
+        assert_eq!(KeyName::char('a').with_shift(), key("a"));
+        assert_ne!(KeyName::named(NamedKey::Enter), key("kpenter"));
     }
 
     #[test]

@@ -6,13 +6,13 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Paragraph, Wrap};
 
 use super::theme::Theme;
-use crate::console::app::App;
+use crate::console::view::View;
 use crate::kortex::{Coded, RobotState};
 
-pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
-    let block = super::panel(&super::telemetry_title("Arm", app), theme);
-    let Some(t) = &app.telemetry else {
-        return super::draw_no_telemetry(frame, area, block, app);
+pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
+    let block = super::panel(&super::telemetry_title("Arm", view), theme);
+    let Some(t) = &view.telemetry else {
+        return super::draw_no_telemetry(frame, area, block, view);
     };
     let in_fault = matches!(t.robot_state, Coded::Known(RobotState::InFault));
     let state_style = if in_fault { theme.alarm() } else { theme.ok() };
@@ -76,5 +76,5 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         Paragraph::new(lines).block(block).wrap(Wrap { trim: true }),
         area,
     );
-    super::grey_if_stale(frame, area, app, theme);
+    super::grey_if_stale(frame, area, view, theme);
 }

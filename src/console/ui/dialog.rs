@@ -6,10 +6,11 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Clear, Paragraph, Wrap};
 
 use super::theme::Theme;
-use crate::console::app::{App, Overlay, polar_of};
+use crate::console::app::{Overlay, polar_of};
+use crate::console::view::View;
 
-pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
-    let (title, lines) = match &app.overlay {
+pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
+    let (title, lines) = match &view.overlay {
         Overlay::Confirm(confirm) => (
             " Confirm ".to_string(),
             vec![

@@ -7,10 +7,10 @@ use ratatui::widgets::{Block, Borders, Clear, Paragraph};
 
 use super::theme::Theme;
 use crate::console::action::Action;
-use crate::console::app::App;
+use crate::console::view::View;
 
-pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
-    let keymap = &app.config.keymap;
+pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
+    let keymap = &view.keymap;
     let mut lines = vec![
         Line::styled(
             "Hold a jog key to move; release it to stop. Space stops everything.",

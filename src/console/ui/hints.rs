@@ -7,20 +7,20 @@ use ratatui::widgets::Paragraph;
 
 use super::theme::Theme;
 use crate::console::action::Action;
-use crate::console::app::{App, Severity};
+use crate::console::app::Severity;
+use crate::console::view::View;
 
-fn keys(app: &App, action: Action) -> String {
-    app.config
-        .keymap
+fn keys(view: &View, action: Action) -> String {
+    view.keymap
         .keys_for(action)
         .first()
         .map(|k| k.to_string())
         .unwrap_or_else(|| "-".into())
 }
 
-pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
-    let line = match &app.message {
-        Some((text, severity, _)) => {
+pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
+    let line = match &view.message {
+        Some((text, severity)) => {
             let style = match severity {
                 Severity::Info => theme.accent(),
                 Severity::Warning => theme.warning(),
@@ -31,17 +31,17 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         None => Line::styled(
             format!(
                 "{}{}{}{}{}{} jog  arrows pan  {} stop  {} home  {} save  {} help  {} quit",
-                keys(app, Action::JogXPlus),
-                keys(app, Action::JogXMinus),
-                keys(app, Action::JogYPlus),
-                keys(app, Action::JogYMinus),
-                keys(app, Action::JogZPlus),
-                keys(app, Action::JogZMinus),
-                keys(app, Action::Stop),
-                keys(app, Action::Home),
-                keys(app, Action::SavePosition),
-                keys(app, Action::Help),
-                keys(app, Action::Quit),
+                keys(view, Action::JogXPlus),
+                keys(view, Action::JogXMinus),
+                keys(view, Action::JogYPlus),
+                keys(view, Action::JogYMinus),
+                keys(view, Action::JogZPlus),
+                keys(view, Action::JogZMinus),
+                keys(view, Action::Stop),
+                keys(view, Action::Home),
+                keys(view, Action::SavePosition),
+                keys(view, Action::Help),
+                keys(view, Action::Quit),
             ),
             theme.dim(),
         ),

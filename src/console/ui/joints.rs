@@ -7,7 +7,7 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Cell, Row, Table};
 
 use super::theme::Theme;
-use crate::console::app::App;
+use crate::console::view::View;
 use crate::kortex::gen3::JOINT_LIMITS_DEG;
 
 /// Joint `joint`'s limit in degrees (Gen3: J2, J4, J6 limited; the others turn continuously).
@@ -36,10 +36,10 @@ fn gauge(position: f32, limit: f32, width: usize) -> String {
         .collect()
 }
 
-pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
-    let block = super::panel(&super::telemetry_title("Joints", app), theme);
-    let Some(t) = &app.telemetry else {
-        return super::draw_no_telemetry(frame, area, block, app);
+pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
+    let block = super::panel(&super::telemetry_title("Joints", view), theme);
+    let Some(t) = &view.telemetry else {
+        return super::draw_no_telemetry(frame, area, block, view);
     };
     let wide = area.width >= 70;
     let header = if wide {
@@ -67,7 +67,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         .collect();
     let rows = t.joints.iter().enumerate().map(|(i, j)| {
         let near = limit(i).is_some_and(|l| l - signed(j.position).abs() < NEAR_LIMIT);
-        let selected = usize::from(app.jog.joint()) == i + 1;
+        let selected = usize::from(view.joint) == i + 1;
         let name = Cell::from(Span::styled(
             format!("J{}", i + 1),
             if selected {
@@ -126,5 +126,5 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         .header(Row::new(header).style(theme.dim()))
         .block(block);
     frame.render_widget(table, area);
-    super::grey_if_stale(frame, area, app, theme);
+    super::grey_if_stale(frame, area, view, theme);
 }

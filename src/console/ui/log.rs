@@ -7,11 +7,11 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Paragraph};
 
 use super::theme::Theme;
-use crate::console::app::App;
+use crate::console::view::View;
 use crate::link::arm::Traffic;
 use crate::talos::hex::spaced_hex;
 
-pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
+pub fn draw(frame: &mut Frame, area: Rect, app: &View, theme: &Theme) {
     let title = if app.hex {
         " Command log (hex) "
     } else {

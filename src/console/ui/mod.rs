@@ -1,4 +1,4 @@
-//! Rendering: a pure function of the app state, one file per panel.
+//! Rendering: a pure function of the frame's [`View`](super::view::View), one file per panel.
 
 pub mod arm;
 pub mod dialog;
@@ -16,29 +16,30 @@ use ratatui::layout::{Constraint, Direction, Layout, Rect};
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Paragraph, Wrap};
 
-use super::app::{App, MIN_HEIGHT, MIN_WIDTH, Overlay};
+use super::app::{MIN_HEIGHT, MIN_WIDTH, Overlay};
+use super::view::View;
 use crate::link::arm::TelemetrySource;
 pub use theme::Theme;
 
 /// What a telemetry panel says when it has nothing to show.
-pub fn no_telemetry_text(app: &App) -> &'static str {
-    match app.telemetry_source {
+pub fn no_telemetry_text(view: &View) -> &'static str {
+    match view.telemetry_source {
         TelemetrySource::None => "no telemetry: the ack-dialect operator sends none back",
         _ => "waiting for telemetry...",
     }
 }
 
 /// A telemetry panel's title, with the telemetry's age when it is old.
-pub fn telemetry_title(title: &str, app: &App) -> String {
-    match app.telemetry_stale() {
+pub fn telemetry_title(title: &str, view: &View) -> String {
+    match view.telemetry_stale {
         Some(age) => format!("{title} (stale {})", super::app::age_text(age)),
         None => title.to_string(),
     }
 }
 
 /// Greys out the inside of a telemetry panel whose values are old (call after drawing it).
-pub fn grey_if_stale(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
-    if app.telemetry_stale().is_some() {
+pub fn grey_if_stale(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
+    if view.telemetry_stale.is_some() {
         let inner = Block::default().borders(Borders::ALL).inner(area);
         frame.buffer_mut().set_style(inner, theme.stale());
     }
@@ -52,9 +53,9 @@ pub fn panel(title: &str, theme: &Theme) -> Block<'static> {
 }
 
 /// Draws a telemetry panel's notice when there is no telemetry to show.
-pub fn draw_no_telemetry(frame: &mut Frame, area: Rect, block: Block, app: &App) {
+pub fn draw_no_telemetry(frame: &mut Frame, area: Rect, block: Block, view: &View) {
     frame.render_widget(
-        Paragraph::new(no_telemetry_text(app))
+        Paragraph::new(no_telemetry_text(view))
             .block(block)
             .wrap(Wrap { trim: true }),
         area,
@@ -62,7 +63,7 @@ pub fn draw_no_telemetry(frame: &mut Frame, area: Rect, block: Block, app: &App)
 }
 
 /// Draws the whole screen.
-pub fn draw(frame: &mut Frame, app: &App, theme: &Theme) {
+pub fn draw(frame: &mut Frame, view: &View, theme: &Theme) {
     let area = frame.area();
     if area.width < MIN_WIDTH || area.height < MIN_HEIGHT {
         let text = format!(
@@ -87,19 +88,19 @@ pub fn draw(frame: &mut Frame, app: &App, theme: &Theme) {
             Constraint::Length(1),
         ])
         .split(area);
-    status::draw(frame, rows[0], app, theme);
+    status::draw(frame, rows[0], view, theme);
     let top = split_columns(rows[1], 58);
-    joints::draw(frame, top[0], app, theme);
-    tcp::draw(frame, top[1], app, theme);
+    joints::draw(frame, top[0], view, theme);
+    tcp::draw(frame, top[1], view, theme);
     let middle = split_columns(rows[2], 55);
-    arm::draw(frame, middle[0], app, theme);
-    positions::draw(frame, middle[1], app, theme);
-    log::draw(frame, rows[3], app, theme);
-    hints::draw(frame, rows[4], app, theme);
-    match &app.overlay {
+    arm::draw(frame, middle[0], view, theme);
+    positions::draw(frame, middle[1], view, theme);
+    log::draw(frame, rows[3], view, theme);
+    hints::draw(frame, rows[4], view, theme);
+    match &view.overlay {
         Overlay::None => {}
-        Overlay::Help => help::draw(frame, centered(area, 96, 30), app, theme),
-        _ => dialog::draw(frame, area, app, theme),
+        Overlay::Help => help::draw(frame, centered(area, 96, 30), view, theme),
+        _ => dialog::draw(frame, area, view, theme),
     }
 }
 

@@ -9,11 +9,12 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, List, ListItem, ListState};
 
 use super::theme::Theme;
-use crate::console::app::{App, BookState};
+use crate::console::app::BookState;
 use crate::console::positions::BookEntry;
+use crate::console::view::View;
 
-pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
-    let where_ = if app.config.positions_on_operator {
+pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
+    let where_ = if view.positions_on_operator {
         "operator"
     } else {
         "console"
@@ -24,7 +25,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
     ));
     // The book's state first: while it loads, or when it could not be read, the list below
     // holds only what was changed meanwhile.
-    let state = match &app.book_state {
+    let state = match &view.book_state {
         BookState::Ready => None,
         BookState::Loading { file } => Some(Line::styled(
             format!("loading positions from {file}…"),
@@ -35,7 +36,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
             theme.alarm(),
         )),
     };
-    if app.positions.is_empty() {
+    if view.positions.is_empty() {
         let line = state
             .unwrap_or_else(|| Line::styled("none yet: p saves the current pose", theme.dim()));
         frame.render_widget(List::new([ListItem::new(line)]).block(block), area);
@@ -46,15 +47,15 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
     let rows = usize::from(inner.height).saturating_sub(header).max(1);
     // The same scrolling as a list drawn whole: the selection on the last row once past the
     // first screen.
-    let first = (app.selected + 1).saturating_sub(rows);
+    let first = (view.selected + 1).saturating_sub(rows);
     let mut items: Vec<ListItem> = state.into_iter().map(ListItem::new).collect();
     items.extend(
-        app.positions
+        view.positions
             .entries_from(first)
             .take(rows)
             .map(|(name, entry)| ListItem::new(row(name, entry, theme))),
     );
-    let selected = header + app.selected - first;
+    let selected = header + view.selected - first;
     let mut list_state = ListState::default().with_selected(Some(selected));
     let list = List::new(items)
         .block(block)

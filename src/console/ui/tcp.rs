@@ -6,15 +6,15 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 
 use super::theme::Theme;
-use crate::console::app::App;
+use crate::console::view::View;
 
-pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
+pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     let block = super::panel(
-        &super::telemetry_title("Tool (TCP, base frame)", app),
+        &super::telemetry_title("Tool (TCP, base frame)", view),
         theme,
     );
-    let Some(t) = &app.telemetry else {
-        return super::draw_no_telemetry(frame, area, block, app);
+    let Some(t) = &view.telemetry else {
+        return super::draw_no_telemetry(frame, area, block, view);
     };
     let p = t.tcp.pose;
     let v = t.tcp.twist;
@@ -52,5 +52,5 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, theme: &Theme) {
         row("torque Nm", [w.torque_x, w.torque_y, w.torque_z], 2),
     ];
     frame.render_widget(Paragraph::new(lines).block(block), area);
-    super::grey_if_stale(frame, area, app, theme);
+    super::grey_if_stale(frame, area, view, theme);
 }

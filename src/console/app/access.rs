@@ -1,0 +1,106 @@
+//! Read access to the app's state, for the view and for tests: the fields stay private, so only
+//! inputs change them.
+
+use std::collections::VecDeque;
+use std::sync::Arc;
+
+use super::{App, AppConfig, BookState, MotionTruth, Overlay, Severity, Step};
+use crate::console::jog::JogEngine;
+use crate::console::keymap::Keymap;
+use crate::console::positions::PositionBook;
+use crate::kortex::{ReferenceFrame, Telemetry};
+use crate::link::arm::{GuardStatus, LinkStatus, LogEntry, TelemetrySource};
+
+impl App {
+    pub fn config(&self) -> &AppConfig {
+        &self.config
+    }
+
+    /// The keymap, shared with each frame's view (it never changes during a session).
+    pub fn shared_keymap(&self) -> Arc<Keymap> {
+        self.shared_keymap.clone()
+    }
+
+    pub fn jog(&self) -> &JogEngine {
+        &self.jog
+    }
+
+    pub fn overlay(&self) -> &Overlay {
+        &self.overlay
+    }
+
+    /// The message on the bottom line and how bad it is.
+    pub fn message(&self) -> Option<(&str, Severity)> {
+        self.message
+            .as_ref()
+            .map(|(text, severity, _)| (text.as_str(), *severity))
+    }
+
+    pub fn link(&self) -> &LinkStatus {
+        &self.link
+    }
+
+    pub fn telemetry(&self) -> Option<&Telemetry> {
+        self.telemetry.as_ref()
+    }
+
+    pub fn telemetry_source(&self) -> TelemetrySource {
+        self.telemetry_source
+    }
+
+    pub fn latency(&self) -> Option<std::time::Duration> {
+        self.latency
+    }
+
+    /// The speed in force, percent, once the arm has said it.
+    pub fn speed(&self) -> Option<u8> {
+        self.speed
+    }
+
+    pub fn frame(&self) -> ReferenceFrame {
+        self.frame
+    }
+
+    pub fn step(&self) -> Step {
+        self.step
+    }
+
+    pub fn positions(&self) -> &PositionBook {
+        &self.positions
+    }
+
+    pub fn book_state(&self) -> &BookState {
+        &self.book_state
+    }
+
+    /// The selected position's index in name order.
+    pub fn selected(&self) -> usize {
+        self.selected
+    }
+
+    pub fn log(&self) -> &VecDeque<LogEntry> {
+        &self.log
+    }
+
+    /// The log shows frames in hex.
+    pub fn hex(&self) -> bool {
+        self.hex
+    }
+
+    /// The terminal's size as last heard.
+    pub fn size(&self) -> (u16, u16) {
+        self.size
+    }
+
+    pub fn quitting(&self) -> bool {
+        self.quitting
+    }
+
+    pub fn guard(&self) -> Option<&GuardStatus> {
+        self.guard.as_ref()
+    }
+
+    pub fn truth(&self) -> &MotionTruth {
+        &self.truth
+    }
+}

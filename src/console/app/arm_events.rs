@@ -1,0 +1,118 @@
+//! Arm events in the state machine: link status, telemetry, the command log, failures,
+//! positions the operator knows or not, commands done and the stop guard.
+
+use std::time::Instant;
+
+use super::{App, Effect, Overlay, Severity};
+use crate::link::arm::{ArmEvent, CommandKind, GuardStatus, LinkStatus, LogEntry};
+
+/// Command log lines kept.
+const LOG_CAPACITY: usize = 500;
+
+impl App {
+    pub(super) fn on_arm(&mut self, event: ArmEvent, now: Instant, effects: &mut Vec<Effect>) {
+        self.truth_on_arm(&event, now);
+        match event {
+            ArmEvent::Status(status) => {
+                if let LinkStatus::Down { reason } = &status {
+                    // Stop through whatever link is left; the held keys stay latched so nothing
+                    // restarts when the link comes back.
+                    self.stop_jog(now, effects);
+                    self.say(format!("link lost: {reason}"), Severity::Error, now);
+                }
+                let came_up = matches!(status, LinkStatus::Up { .. })
+                    && !matches!(self.link, LinkStatus::Up { .. });
+                self.link = status;
+                if came_up && self.config.positions_on_operator {
+                    // The ICD cannot list positions: ask about remembered names, so the panel
+                    // marks the ones this operator does not know (and shows where the others
+                    // are now).
+                    self.check_names_on_operator(effects);
+                }
+            }
+            ArmEvent::Telemetry(t) => self.telemetry = Some(*t),
+            ArmEvent::TelemetrySource(source) => self.telemetry_source = source,
+            ArmEvent::Latency(latency) => self.latency = Some(latency),
+            ArmEvent::Speed(speed) => self.speed = Some(speed),
+            ArmEvent::Log(entry) => {
+                // Telemetry polls with the same outcome in a row share one counted line, so
+                // they are logged without drowning the technician's own commands.
+                if let Some(last) = self.log.back_mut()
+                    && entry.poll
+                    && last.poll
+                    && last.name == entry.name
+                    && last.outcome == entry.outcome
+                {
+                    let count = last.count.saturating_add(entry.count.max(1));
+                    *last = LogEntry { count, ..entry };
+                    return;
+                }
+                if self.log.len() >= LOG_CAPACITY {
+                    self.log.pop_front();
+                }
+                self.log.push_back(LogEntry {
+                    count: entry.count.max(1),
+                    ..entry
+                });
+            }
+            ArmEvent::Failed { command, error } => {
+                // A jog the arm did not take must not be left to the watchdog: stop and latch
+                // the held keys, so only a new press moves again.
+                if command == CommandKind::Jog {
+                    self.stop_jog(now, effects);
+                }
+                self.say(format!("{command} failed: {error}"), Severity::Error, now);
+            }
+            ArmEvent::Position { name, coordinates } => {
+                // A reply about a name no longer in the book (deleted meanwhile) adds nothing:
+                // a new name would move the rows and the selection under the technician.
+                if let Some(entry) = self.positions.get_mut(&name) {
+                    entry.unknown_to_operator = false;
+                    if let Some(c) = coordinates.cartesian {
+                        entry.cartesian = Some(c);
+                    }
+                }
+                if matches!(&self.overlay, Overlay::Position { name: shown, .. } if *shown == name)
+                {
+                    self.overlay = Overlay::Position {
+                        name,
+                        coordinates: Some(coordinates),
+                    };
+                }
+            }
+            ArmEvent::UnknownPosition { name } => {
+                if let Some(entry) = self.positions.get_mut(&name) {
+                    entry.unknown_to_operator = true;
+                }
+                // Said only when the technician is looking at it; otherwise the panel marks it.
+                if matches!(&self.overlay, Overlay::Position { name: shown, .. } if *shown == name)
+                {
+                    self.overlay = Overlay::None;
+                    self.say(
+                        format!("the operator does not know '{name}'"),
+                        Severity::Warning,
+                        now,
+                    );
+                }
+            }
+            ArmEvent::Done { command } => self.on_done(command, now, effects),
+            ArmEvent::Guard(status) => {
+                // Without a ready guard the driver refuses Modbus motion and stops any: forget
+                // the held keys so nothing restarts when the guard is back.
+                if !matches!(status, GuardStatus::Ready { .. }) {
+                    self.stop_jog(now, effects);
+                }
+                if let GuardStatus::Down { reason } = &status {
+                    self.say(
+                        format!("stop guard down, no motion until it is back: {reason}"),
+                        Severity::Error,
+                        now,
+                    );
+                }
+                self.guard = Some(status);
+            }
+            // Evidence only: see `truth_on_arm`.
+            ArmEvent::StopConfirmed | ArmEvent::StopUnconfirmed { .. } => {}
+        }
+    }
+}

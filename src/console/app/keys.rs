@@ -1,0 +1,345 @@
+//! Keys in the state machine: ctrl+c, overlays and their auto-repeat, jog keys, actions,
+//! dialogs and forms.
+
+use std::time::Instant;
+
+use super::{App, CARTESIAN_STEPS, Effect, KeyInput, Overlay, Severity};
+use crate::console::action::Action;
+use crate::console::form::{Confirm, Form, FormKind};
+use crate::console::jog::{KeyKind, MAX_ONSET, ReleaseMode};
+use crate::console::keymap::{BaseKey, KeyName, NamedKey};
+use crate::kortex::ReferenceFrame;
+use crate::link::arm::{ArmCommand, StepMove};
+
+/// How much one speed key changes the speed, percent.
+const SPEED_STEP: u8 = 10;
+
+/// The keys the console knows whatever the keymap: ctrl+c quits, and dialogs and forms answer
+/// these.
+const CTRL_C: KeyName = KeyName::char('c').with_ctrl();
+const YES: KeyName = KeyName::char('y');
+const YES_SHIFTED: KeyName = KeyName::char('Y');
+const ENTER: KeyName = KeyName::named(NamedKey::Enter);
+const ESC: KeyName = KeyName::named(NamedKey::Esc);
+const TAB: KeyName = KeyName::named(NamedKey::Tab);
+const BACKTAB: KeyName = KeyName::named(NamedKey::Tab).with_shift();
+const UP: KeyName = KeyName::named(NamedKey::Up);
+const DOWN: KeyName = KeyName::named(NamedKey::Down);
+const BACKSPACE: KeyName = KeyName::named(NamedKey::Backspace);
+
+impl App {
+    pub(super) fn on_key(&mut self, key: KeyInput, now: Instant, effects: &mut Vec<Effect>) {
+        // Ctrl-C always stops and quits, whatever the keymap or overlay (raw mode turns it
+        // into a key instead of SIGINT).
+        if key.kind == KeyKind::Press && key.key == CTRL_C {
+            self.quit(now, effects);
+            return;
+        }
+        if key.kind == KeyKind::Release {
+            self.release_jog_keys(&key, now, effects);
+            return;
+        }
+        if !self.fits() {
+            // Nothing is shown: every key only stops.
+            if key.kind == KeyKind::Press {
+                self.stop_jog(now, effects);
+            }
+            self.latch_jog_key(&key, now, effects);
+            return;
+        }
+        if self.auto_repeat_of_overlay_key(&key, now) {
+            // Keep still, but let the repeat neither answer the overlay nor start a jog.
+            self.stop_jog(now, effects);
+            self.latch_jog_key(&key, now, effects);
+            return;
+        }
+        let overlay_was_open = self.overlay != Overlay::None;
+        self.dispatch_key(key.clone(), now, effects);
+        if key.kind == KeyKind::Press && overlay_was_open != (self.overlay != Overlay::None) {
+            self.swallowed = Some((key.key, now));
+        }
+    }
+
+    /// Whether `key` is the auto-repeat of the key that just opened or closed an overlay:
+    /// holding `h` must not cancel the home question it opened, nor holding `w` to close the
+    /// help start a jog. With reported key events a repeat says so itself.
+    fn auto_repeat_of_overlay_key(&mut self, key: &KeyInput, now: Instant) -> bool {
+        if key.kind == KeyKind::Repeat && self.overlay != Overlay::None {
+            return true;
+        }
+        let Some((held, seen)) = self.swallowed else {
+            return false;
+        };
+        let repeating = held == key.key
+            && key.kind == KeyKind::Press
+            && self.jog.mode() == ReleaseMode::AutoRepeat
+            && now.saturating_duration_since(seen) < MAX_ONSET;
+        self.swallowed = repeating.then_some((held, now));
+        repeating
+    }
+
+    /// A press or repeat (releases are handled before this).
+    fn dispatch_key(&mut self, key: KeyInput, now: Instant, effects: &mut Vec<Effect>) {
+        if self.overlay != Overlay::None {
+            self.stop_jog(now, effects);
+            self.latch_jog_key(&key, now, effects);
+            self.on_overlay_key(key, now, effects);
+            return;
+        }
+        let action = self.config.keymap.action(&key.key);
+        match (action, key.kind) {
+            (Some(action), kind) if action.jog().is_some() => {
+                if self.step.enabled {
+                    // One step per press: a held key's auto-repeat steps no further.
+                    let (fresh, jog) = self.jog.latch_press(action, kind, now);
+                    self.apply_jog(jog, now, effects);
+                    if fresh {
+                        self.step_move(action, now, effects);
+                    }
+                } else if self.link_is_up() {
+                    let jog = self.jog.key(action, kind, now);
+                    self.apply_jog(jog, now, effects);
+                } else {
+                    self.latch_jog_key(&key, now, effects);
+                    if kind == KeyKind::Press {
+                        let text = match self.link_stale() {
+                            Some(_) => "link stale: not moving",
+                            None => "no link to the arm: not moving",
+                        };
+                        self.say(text, Severity::Warning, now);
+                    }
+                }
+            }
+            (Some(action), KeyKind::Press) => {
+                // Stop, quick stop and quit send their own stop.
+                if !matches!(action, Action::Stop | Action::QuickStop | Action::Quit) {
+                    self.stop_jog(now, effects);
+                }
+                self.on_action(action, now, effects);
+            }
+            (Some(_), _) => {
+                // A held non-jog key (a repeat): keep everything stopped, do not repeat the
+                // action.
+                self.stop_jog(now, effects);
+            }
+            (None, _) => {
+                self.stop_jog(now, effects);
+                self.say(
+                    format!("'{}' is not bound: press ? for help", key.key),
+                    Severity::Info,
+                    now,
+                );
+            }
+        }
+    }
+
+    /// The jog actions bound to `key`, to the key without modifiers, and to the other case of
+    /// a letter.
+    pub(super) fn release_candidates(&self, key: &KeyName) -> Vec<Action> {
+        let bare = key.without_modifiers();
+        let mut keys = vec![*key, bare];
+        if let BaseKey::Char(c) = bare.base() {
+            keys.extend(
+                [single_char(c.to_lowercase()), single_char(c.to_uppercase())]
+                    .into_iter()
+                    .flatten()
+                    .map(KeyName::char),
+            );
+        }
+        let mut actions: Vec<Action> = keys
+            .iter()
+            .filter_map(|k| self.config.keymap.action(k))
+            .filter(|a| a.jog().is_some())
+            .collect();
+        actions.sort();
+        actions.dedup();
+        actions
+    }
+
+    fn step_move(&mut self, action: Action, now: Instant, effects: &mut Vec<Effect>) {
+        let Some((axis, sign)) = action.jog() else {
+            return;
+        };
+        use crate::console::action::JogAxis as A;
+        let s = i32::from(sign.value());
+        let (c, p) = (self.step.cartesian() * s, self.step.polar() * s);
+        let step = match axis {
+            A::X => StepMove::Cartesian {
+                dx: c,
+                dy: 0,
+                dz: 0,
+            },
+            A::Y => StepMove::Cartesian {
+                dx: 0,
+                dy: c,
+                dz: 0,
+            },
+            A::Z => StepMove::Cartesian {
+                dx: 0,
+                dy: 0,
+                dz: c,
+            },
+            A::Azimuth => StepMove::Polar {
+                azimuth: p,
+                altitude: 0,
+            },
+            A::Altitude => StepMove::Polar {
+                azimuth: 0,
+                altitude: p,
+            },
+            A::Joint => {
+                self.say(
+                    "step mode has no joint steps: hold to jog a joint",
+                    Severity::Info,
+                    now,
+                );
+                return;
+            }
+        };
+        effects.push(Effect::Arm(ArmCommand::Step(step)));
+    }
+
+    fn on_action(&mut self, action: Action, now: Instant, effects: &mut Vec<Effect>) {
+        use Action as A;
+        match action {
+            A::Stop => {
+                self.stop_everything(now, effects);
+                self.say("stopped", Severity::Info, now);
+            }
+            A::QuickStop => {
+                self.jog.stop_all(now);
+                effects.push(Effect::Arm(ArmCommand::QuickStop));
+                self.say(
+                    "quick stop: reset the fault before moving again",
+                    Severity::Warning,
+                    now,
+                );
+            }
+            A::FaultReset => effects.push(Effect::Arm(ArmCommand::FaultReset)),
+            A::Home => self.overlay = Overlay::Confirm(Confirm::Home),
+            A::StepMode => {
+                self.step.enabled = !self.step.enabled;
+                let text = if self.step.enabled {
+                    "step mode: each press moves one step"
+                } else {
+                    "jog mode: hold a key to move"
+                };
+                self.say(text, Severity::Info, now);
+            }
+            A::StepBigger => self.step.index = (self.step.index + 1).min(CARTESIAN_STEPS.len() - 1),
+            A::StepSmaller => self.step.index = self.step.index.saturating_sub(1),
+            A::SpeedUp | A::SpeedDown => {
+                let current = self.speed.unwrap_or(50);
+                let speed = if action == A::SpeedUp {
+                    current.saturating_add(SPEED_STEP).min(100)
+                } else {
+                    current.saturating_sub(SPEED_STEP).max(1)
+                };
+                effects.push(Effect::Arm(ArmCommand::SetSpeed(speed)));
+            }
+            A::FrameCycle => {
+                if !self.config.frames {
+                    self.say(
+                        "the Talos link jogs in the base frame only",
+                        Severity::Info,
+                        now,
+                    );
+                    return;
+                }
+                self.frame = match self.frame {
+                    ReferenceFrame::Base => ReferenceFrame::Tool,
+                    ReferenceFrame::Tool => ReferenceFrame::Mixed,
+                    ReferenceFrame::Mixed => ReferenceFrame::Base,
+                };
+                effects.push(Effect::Arm(ArmCommand::SetFrame(self.frame)));
+            }
+            A::JointNext | A::JointPrevious => {
+                let j = self.jog.joint();
+                let next = if action == A::JointNext {
+                    j % 7 + 1
+                } else {
+                    (j + 5) % 7 + 1
+                };
+                let jog = self.jog.select_joint(next, now);
+                self.apply_jog(jog, now, effects);
+            }
+            // Starts empty: a saved pose must not overwrite the selected one by accident.
+            A::SavePosition => self.overlay = Overlay::Form(Form::new(FormKind::Save, "")),
+            A::SetPolarPosition | A::SetCartesianPosition => {
+                let kind = if action == A::SetPolarPosition {
+                    FormKind::SetPolar
+                } else {
+                    FormKind::SetCartesian
+                };
+                let name = self.selected_name().unwrap_or("").to_string();
+                self.overlay = Overlay::Form(Form::new(kind, &name));
+            }
+            A::GoToPosition | A::DeletePosition | A::ShowPosition => {
+                let Some(name) = self.selected_name().map(str::to_string) else {
+                    self.say("no position selected: save one first", Severity::Info, now);
+                    return;
+                };
+                match action {
+                    A::GoToPosition => self.overlay = Overlay::Confirm(Confirm::GoTo(name)),
+                    A::DeletePosition => self.overlay = Overlay::Confirm(Confirm::Delete(name)),
+                    _ => self.show_position(name, effects),
+                }
+            }
+            A::PositionNext if !self.positions.is_empty() => {
+                self.selected = (self.selected + 1) % self.positions.len();
+            }
+            A::PositionPrevious if !self.positions.is_empty() => {
+                let n = self.positions.len();
+                self.selected = (self.selected + n - 1) % n;
+            }
+            A::ToggleHex => self.hex = !self.hex,
+            A::Help => self.overlay = Overlay::Help,
+            A::Quit => self.quit(now, effects),
+            // Jog actions are handled before this.
+            _ => {}
+        }
+    }
+
+    fn on_overlay_key(&mut self, key: KeyInput, now: Instant, effects: &mut Vec<Effect>) {
+        match std::mem::replace(&mut self.overlay, Overlay::None) {
+            Overlay::None => {}
+            Overlay::Help | Overlay::Position { .. } => {}
+            Overlay::Confirm(confirm) => {
+                if matches!(key.key, YES | YES_SHIFTED | ENTER) {
+                    self.confirmed(confirm, now, effects);
+                } else {
+                    self.say("cancelled", Severity::Info, now);
+                }
+            }
+            Overlay::Form(mut form) => {
+                match key.key {
+                    ESC => {
+                        self.say("cancelled", Severity::Info, now);
+                        return;
+                    }
+                    ENTER => {
+                        if let Some(result) = form.submit() {
+                            self.form_done(result, now, effects);
+                            return;
+                        }
+                    }
+                    TAB | DOWN => form.next_field(),
+                    BACKTAB | UP => form.previous_field(),
+                    BACKSPACE => form.backspace(),
+                    _ => {
+                        if let Some(c) = key.text.filter(|c| !c.is_control()) {
+                            form.type_char(c);
+                        }
+                    }
+                }
+                self.overlay = Overlay::Form(form);
+            }
+        }
+    }
+}
+
+/// The one character of a case mapping, if it is one (not "SS" for "ß"): only that is a key.
+fn single_char(mut chars: impl Iterator<Item = char>) -> Option<char> {
+    let first = chars.next()?;
+    chars.next().is_none().then_some(first)
+}

@@ -1,0 +1,109 @@
+//! What one frame shows, built once per frame from the app (oxker's `FrameData`): the panels
+//! draw from it alone, and the drawing thread gets it instead of a copy of the whole app.
+//!
+//! It holds plain values, worked out once (ages, the motion shown) and cut to what a screen can
+//! show (the part of the book around the selection, the newest log lines): building it costs
+//! the same whatever the book's or the log's size.
+
+use std::collections::VecDeque;
+use std::sync::Arc;
+use std::time::Duration;
+
+use super::app::{App, BookState, MotionShown, Overlay, Severity, Step};
+use super::jog::{ReleaseMode, RepeatTiming};
+use super::keymap::Keymap;
+use super::positions::PositionBook;
+use crate::kortex::{ReferenceFrame, Telemetry};
+use crate::link::arm::{GuardStatus, LinkStatus, LogEntry, TelemetrySource};
+
+/// Everything the panels draw.
+#[derive(Debug, Clone)]
+pub struct View {
+    /// The terminal's size as the app last heard it.
+    pub size: (u16, u16),
+    /// Shared with the app: the keymap never changes during a session.
+    pub keymap: Arc<Keymap>,
+    pub release_mode: ReleaseMode,
+    /// The measured auto-repeat timing (auto-repeat fallback).
+    pub repeat_timing: RepeatTiming,
+    /// The joint a single-joint jog moves (1 to 7).
+    pub joint: u8,
+    pub motion: MotionShown,
+    pub link: LinkStatus,
+    /// How long the link has been silent, when that makes it stale.
+    pub link_stale: Option<Duration>,
+    pub latency: Option<Duration>,
+    pub guard: Option<GuardStatus>,
+    pub speed: Option<u8>,
+    /// Cartesian jog speed cap, m/s.
+    pub max_jog_speed: f64,
+    /// Reference frames apply (Modbus jogging).
+    pub frames: bool,
+    pub frame: ReferenceFrame,
+    pub step: Step,
+    pub telemetry: Option<Telemetry>,
+    pub telemetry_source: TelemetrySource,
+    /// The telemetry's age, when it is old enough to be drawn as stale.
+    pub telemetry_stale: Option<Duration>,
+    pub positions_on_operator: bool,
+    pub book_state: BookState,
+    /// The part of the book a screen can show: the selection and up to a screen's height of
+    /// names either side.
+    pub positions: PositionBook,
+    /// The selection's row in `positions`.
+    pub selected: usize,
+    /// The newest log entries, as many as a screen can show (oldest first).
+    pub log: VecDeque<LogEntry>,
+    /// The log shows frames in hex.
+    pub hex: bool,
+    pub message: Option<(String, Severity)>,
+    pub overlay: Overlay,
+}
+
+impl View {
+    pub fn new(app: &App) -> View {
+        // No panel is taller than the terminal: `rows` entries either side of the selection fill
+        // any of them the same way the whole book would, and no log panel shows more than
+        // `rows` entries.
+        let rows = usize::from(app.size().1);
+        let book = app.positions();
+        let selected = app.selected();
+        let start = selected.saturating_sub(rows);
+        let log = app.log();
+        let config = app.config();
+        View {
+            size: app.size(),
+            keymap: app.shared_keymap(),
+            release_mode: app.jog().mode(),
+            repeat_timing: app.jog().timing(),
+            joint: app.jog().joint(),
+            motion: app.motion_shown(),
+            link: app.link().clone(),
+            link_stale: app.link_stale(),
+            latency: app.latency(),
+            guard: app.guard().cloned(),
+            speed: app.speed(),
+            max_jog_speed: config.max_jog_speed,
+            frames: config.frames,
+            frame: app.frame(),
+            step: app.step(),
+            telemetry: app.telemetry().cloned(),
+            telemetry_source: app.telemetry_source(),
+            telemetry_stale: app.telemetry_stale(),
+            positions_on_operator: config.positions_on_operator,
+            book_state: app.book_state().clone(),
+            positions: book.window(start, 2 * rows + 1),
+            selected: selected - start,
+            log: log
+                .iter()
+                .skip(log.len().saturating_sub(rows))
+                .cloned()
+                .collect(),
+            hex: app.hex(),
+            message: app
+                .message()
+                .map(|(text, severity)| (text.to_string(), severity)),
+            overlay: app.overlay().clone(),
+        }
+    }
+}
