@@ -1,4 +1,5 @@
-//! The simulator under attack, each test against its own `armjog sim` process: floods, exhausted file descriptors, memory, neighbours.
+//! The simulator under attack, each test against its own `armjog sim` process: floods, exhausted
+//! file descriptors, memory, neighbours.
 //!
 //! One test binary for several former ones (linking one binary per file cost most of a CI
 //! run): each module is one former `tests/<name>.rs`, so test paths read `<name>::<test>`.

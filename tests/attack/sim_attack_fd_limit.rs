@@ -2,7 +2,7 @@
 //! accepts fail ("too many open files"). Once those connections are gone, both servers must
 //! serve again: an accept error must not end a server.
 
-mod attack_support;
+use crate::attack_support;
 
 use std::time::Duration;
 

@@ -4,7 +4,7 @@
 //! read from /proc after a warm-up and after the cycles; its open descriptors must come back to
 //! their count after the warm-up (no leaked sockets or tasks holding them).
 
-mod attack_support;
+use crate::attack_support;
 
 use std::time::Duration;
 

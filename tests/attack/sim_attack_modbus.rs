@@ -5,7 +5,7 @@
 //! may close the connection; what it must not do is hang, answer the read wrongly, or stop
 //! serving: a fresh connection's read is answered and the arm task lives.
 
-mod attack_support;
+use crate::attack_support;
 
 use std::cell::Cell;
 use std::time::Duration;

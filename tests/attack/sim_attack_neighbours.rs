@@ -2,7 +2,7 @@
 //! connections), another client's requests to the simulator are still answered, over Talos and
 //! over Modbus, on one connection and on fresh ones.
 
-mod attack_support;
+use crate::attack_support;
 
 use std::net::SocketAddr;
 use std::sync::Arc;

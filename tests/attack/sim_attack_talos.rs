@@ -7,7 +7,7 @@
 //! until the server's per-frame read deadline (1 s) gives that header up: every case's reply is
 //! still awaited, within a bound well above the deadline.
 
-mod attack_support;
+use crate::attack_support;
 
 use std::cell::Cell;
 

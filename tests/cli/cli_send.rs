@@ -1,6 +1,6 @@
 //! `armjog send` end to end: the binary against a scripted operator on loopback.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 use std::time::Duration;

@@ -7,7 +7,7 @@
 //! loaded CI; the design target of 300 ms from the console's death to the stop is logged, not
 //! asserted.
 
-mod guard_support;
+use crate::guard_support;
 
 use std::process::Stdio;
 use std::time::Duration;

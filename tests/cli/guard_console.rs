@@ -2,7 +2,7 @@
 //! Modbus in tmux (`.ci/run` installs it) and is killed with SIGKILL; and the console's state
 //! machine and status bar when its guard comes and goes.
 
-mod guard_support;
+use crate::guard_support;
 
 use std::time::Duration;
 

@@ -15,7 +15,7 @@
 //! a byte buffer), `bytes`, `std::io::{Error, ErrorKind, Result}` (the codec traits' error
 //! type) and the `tracing` facade (a log call does no IO of its own).
 
-mod layers_scan;
+use crate::layers_scan;
 
 use std::path::Path;
 

@@ -1,4 +1,5 @@
-//! The command line: `armjog send`, `status`, `modbus`, the file limits, the guard, and the layering rules of the source tree.
+//! The command line: `armjog send`, `status`, `modbus`, the file limits, the guard, and the
+//! layering rules of the source tree.
 //!
 //! One test binary for several former ones (linking one binary per file cost most of a CI
 //! run): each module is one former `tests/<name>.rs`, so test paths read `<name>::<test>`.
@@ -15,8 +16,8 @@ mod modbus_fake;
 
 mod cli_broken_pipe;
 mod cli_send;
-mod modbus_cli;
 mod file_limits;
 mod guard;
 mod guard_console;
 mod layers;
+mod modbus_cli;

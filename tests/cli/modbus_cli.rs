@@ -1,6 +1,6 @@
 //! `armjog status` and `armjog modbus` end to end: the binary against the fake arm on loopback.
 
-mod modbus_fake;
+use crate::modbus_fake;
 
 use std::process::Stdio;
 use std::time::Duration;

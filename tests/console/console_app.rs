@@ -9,7 +9,7 @@ use armjog::console::keymap::Keymap;
 use armjog::console::positions::PositionBook;
 use armjog::link::arm::{ArmCommand, ArmEvent, LinkStatus, StepMove};
 
-mod app_support;
+use crate::app_support;
 
 use app_support::*;
 

@@ -2,7 +2,7 @@
 //! work while it loads, the loaded book fills the panel, and nothing saved meanwhile overwrites
 //! the file or is lost.
 
-mod app_support;
+use crate::app_support;
 
 use app_support::*;
 use armjog::console::app::{BookState, CHECKED_ON_CONNECT, Effect, Input};

@@ -8,7 +8,7 @@ use armjog::console::app::{App, Effect, Input, Overlay};
 use armjog::console::jog::{KeyKind, ReleaseMode};
 use armjog::link::arm::{ArmCommand, ArmEvent, LinkStatus};
 
-mod app_support;
+use crate::app_support;
 
 use app_support::*;
 

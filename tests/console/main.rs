@@ -1,4 +1,5 @@
-//! The console: its state machine, jog engine, keymaps, panels (insta snapshots) and end-to-end runs against the simulator, in a terminal (tmux) and without.
+//! The console: its state machine, jog engine, keymaps, panels (insta snapshots) and end-to-end
+//! runs against the simulator, in a terminal (tmux) and without.
 //!
 //! One test binary for several former ones (linking one binary per file cost most of a CI
 //! run): each module is one former `tests/<name>.rs`, so test paths read `<name>::<test>`.

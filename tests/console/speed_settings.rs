@@ -1,7 +1,7 @@
 //! The console's speed setting through the arm driver: it is adopted only once the arm accepts
 //! it, and over Modbus it is the console's own (it never rewrites the arm's speed limits).
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 use std::time::Duration;

@@ -3,7 +3,7 @@
 //! Real loopback sockets; the Modbus arm is a small recording server that timestamps every
 //! write as it arrives.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};

@@ -1,7 +1,7 @@
 //! Capped moves over Modbus against the fake arm: the exact limit writes around a move, the
 //! limits put back on each way a move ends, and what happens when they cannot be.
 
-mod modbus_fake;
+use crate::modbus_fake;
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};

@@ -1,7 +1,7 @@
 //! The Modbus link against an in-process fake arm on loopback: polls, exact write sequences,
 //! exceptions, timeouts, reconnects, and the stops that keep a twist from running on.
 
-mod modbus_fake;
+use crate::modbus_fake;
 
 use std::time::Duration;
 

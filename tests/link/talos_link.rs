@@ -1,6 +1,6 @@
 //! The operator link against a scripted operator on loopback.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 use std::time::Duration;

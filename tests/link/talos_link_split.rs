@@ -1,7 +1,7 @@
 //! The operator link reading replies split across reads, and a reply that never completes
 //! (issue 9, items 2 and 6).
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 use std::time::{Duration, Instant};

@@ -1,5 +1,10 @@
 //! The simulated Talos operator through real sockets: each command's effect on the arm, the
 //! watchdog, error codes, garbage and injected network faults.
+//!
+//! The tests that time the arm (the watchdog, moves of a given length, the ack dialect) run on
+//! tokio's paused clock: the simulator integrates in tokio time, so their sleeps are exact
+//! however loaded the machine is. The clock only jumps when every task waits, to the next timer
+//! (the simulator's 10 ms tick at the farthest), so a socket round trip costs at most a tick.
 
 use std::time::Duration;
 
@@ -59,7 +64,7 @@ async fn handshake_and_speed_over_tcp() {
     );
 }
 
-#[tokio::test]
+#[tokio::test(start_paused = true)]
 async fn a_continuous_cartesian_start_moves_plus_x_and_stop_halts_it() {
     let sim = sim().await;
     let link = link(&sim).await;
@@ -83,7 +88,7 @@ async fn a_continuous_cartesian_start_moves_plus_x_and_stop_halts_it() {
     assert!((later[0] - stopped[0]).abs() < 1e-6, "no motion after STOP");
 }
 
-#[tokio::test]
+#[tokio::test(start_paused = true)]
 async fn the_watchdog_stops_a_start_that_is_not_refreshed() {
     let sim = sim().await;
     let link = link(&sim).await;
@@ -98,13 +103,13 @@ async fn the_watchdog_stops_a_start_that_is_not_refreshed() {
         sim.arm.snapshot().await.unwrap().moving,
         "still moving at 250 ms"
     );
-    // 500 ms watchdog plus one 1 ms integrator step, plus scheduling slack of the test itself.
+    // 500 ms watchdog plus one 1 ms integrator step, plus the ticks the START's round trip took.
     tokio::time::sleep(Duration::from_millis(300)).await;
     let snapshot = sim.arm.snapshot().await.unwrap();
     assert!(!snapshot.moving, "stopped by the watchdog");
 }
 
-#[tokio::test]
+#[tokio::test(start_paused = true)]
 async fn refreshing_start_keeps_the_motion_alive_past_the_watchdog() {
     let sim = sim().await;
     let link = link(&sim).await;
@@ -124,7 +129,7 @@ async fn refreshing_start_keeps_the_motion_alive_past_the_watchdog() {
     link.request(Request::CartesianMoveStop).await.unwrap();
 }
 
-#[tokio::test]
+#[tokio::test(start_paused = true)]
 async fn a_silent_client_mid_jog_is_stopped_by_the_watchdog() {
     let sim = sim().await;
     // A raw client that freezes without STOP but keeps its connection open (a client that
@@ -340,7 +345,7 @@ async fn an_injected_disconnect_is_seen_by_the_link() {
     assert!(matches!(err, TalosError::Disconnected { .. }), "{err:?}");
 }
 
-#[tokio::test]
+#[tokio::test(start_paused = true)]
 async fn the_ack_dialect_imitates_the_deployed_operator() {
     let mut config = SimConfig::ephemeral();
     config.talos.dialect = Dialect::Ack;

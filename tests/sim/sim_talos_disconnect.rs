@@ -2,7 +2,7 @@
 //! client's connection closes (docs/hardware-icd.md: the server SHALL stop every joint), not at
 //! the watchdog; another client leaving does not stop it.
 
-mod log_capture;
+use crate::log_capture;
 
 use std::time::Duration;
 

@@ -1,7 +1,7 @@
 //! The simulated Talos operator logs every frame it rejects, with the peer and the reason, in
 //! both dialects, and limits that log per connection.
 
-mod log_capture;
+use crate::log_capture;
 
 use std::time::Duration;
 
