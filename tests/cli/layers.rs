@@ -109,7 +109,7 @@ fn judge(layer: &str, path_ref: &PathRef) -> Option<String> {
     }
     if PURE.contains(&layer) && !path_ref.in_docs && is_io(&path_ref.segments) {
         return Some(format!(
-            "{layer} is pure and does no IO (tests/layers.rs says what counts as IO)"
+            "{layer} is pure and does no IO (tests/cli/layers.rs says what counts as IO)"
         ));
     }
     None
@@ -222,7 +222,7 @@ fn no_module_imports_a_layer_above_it() {
     assert!(
         found.is_empty(),
         "{} upward import(s); move the item down to the layer that needs it (or re-export it \
-         from the upper layer), see tests/layers.rs:\n{}",
+         from the upper layer), see tests/cli/layers.rs:\n{}",
         found.len(),
         found.join("\n")
     );
@@ -243,7 +243,7 @@ fn every_top_level_module_has_a_layer() {
         .collect();
     assert!(
         missing.is_empty(),
-        "top-level module(s) {missing:?} have no layer: add a row to LAYERS in tests/layers.rs \
+        "top-level module(s) {missing:?} have no layer: add a row to LAYERS in tests/cli/layers.rs \
          saying what each may import"
     );
 }
