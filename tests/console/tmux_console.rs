@@ -2,13 +2,20 @@
 //! arm. tmux reports no key releases, so this exercises the auto-repeat fallback. `.ci/run`
 //! installs tmux.
 
-use std::process::Command;
+use std::io::Write;
+use std::process::{Child, ChildStdin, Command, Stdio};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 /// One tmux server of our own, killed on drop.
 struct Tmux {
     socket: String,
     session: String,
+    /// A control-mode client of the session, which auto-repeats are typed through: a
+    /// `tmux send-keys` process per repeat lets a loaded machine scatter the repeats until the
+    /// console no longer sees a hold.
+    control: Mutex<Option<(Child, ChildStdin)>>,
 }
 
 impl Tmux {
@@ -22,7 +29,38 @@ impl Tmux {
             .status()
             .expect("tmux must be installed (apt-get install -y tmux)");
         assert!(status.success(), "tmux new-session failed");
-        Tmux { socket, session }
+        Tmux {
+            socket,
+            session,
+            control: Mutex::new(None),
+        }
+    }
+
+    /// Types `key` through the control-mode client (started on first use): no process per key.
+    fn repeat_key(&self, key: &str) {
+        let mut control = self.control.lock().expect("control client lock");
+        if control.is_none() {
+            let mut child = Command::new("tmux")
+                .args([
+                    "-L",
+                    &self.socket,
+                    "-C",
+                    "attach-session",
+                    "-t",
+                    &self.session,
+                ])
+                .stdin(Stdio::piped())
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .spawn()
+                .expect("tmux control client");
+            let stdin = child.stdin.take().expect("control client stdin");
+            *control = Some((child, stdin));
+        }
+        let (_, stdin) = control.as_mut().expect("control client started");
+        writeln!(stdin, "send-keys -t {} {key}", self.session)
+            .and_then(|()| stdin.flush())
+            .expect("tmux control client takes keys");
     }
 
     fn keys(&self, keys: &[&str]) {
@@ -49,21 +87,31 @@ impl Tmux {
         self.repeat_watching(key, interval, span, "");
     }
 
-    /// [`Tmux::repeat`], looking at the screen every few repeats (not after them: the console
-    /// stops a few intervals after the last one); whether `shown` was ever on it.
+    /// [`Tmux::repeat`], looking at the screen while the repeats go on (not after them: the
+    /// console stops a few intervals after the last one); whether `shown` was ever on it. The
+    /// screen is watched from another thread, so that capturing it never delays a repeat.
     fn repeat_watching(&self, key: &str, interval: Duration, span: Duration, shown: &str) -> bool {
         let until = Instant::now() + span;
-        let mut seen = false;
-        let mut sent = 0u32;
-        while Instant::now() < until {
-            self.keys(&[key]);
-            sent += 1;
-            if !shown.is_empty() && !seen && sent.is_multiple_of(4) {
-                seen = self.screen().contains(shown);
+        let repeating = AtomicBool::new(true);
+        std::thread::scope(|scope| {
+            let watcher = scope.spawn(|| {
+                while !shown.is_empty() && repeating.load(Ordering::Relaxed) {
+                    if self.screen().contains(shown) {
+                        return true;
+                    }
+                    std::thread::sleep(Duration::from_millis(50));
+                }
+                false
+            });
+            while Instant::now() < until {
+                let sent = Instant::now();
+                self.repeat_key(key);
+                // No catching up after a stall: a burst of back-to-back repeats is no keyboard's.
+                std::thread::sleep(interval.saturating_sub(sent.elapsed()));
             }
-            std::thread::sleep(interval);
-        }
-        seen
+            repeating.store(false, Ordering::Relaxed);
+            watcher.join().expect("screen watcher")
+        })
     }
 
     /// Waits until the TCP x stops changing (two equal readings 400 ms apart) and returns it.
@@ -119,6 +167,13 @@ impl Tmux {
 
 impl Drop for Tmux {
     fn drop(&mut self) {
+        if let Ok(mut control) = self.control.lock()
+            && let Some((mut child, stdin)) = control.take()
+        {
+            // End of input detaches the control client.
+            drop(stdin);
+            let _ = child.wait();
+        }
         let _ = Command::new("tmux")
             .args(["-L", &self.socket, "kill-server"])
             .status();
