@@ -169,13 +169,26 @@ async fn killing_the_console_with_sigkill_mid_jog_stops_the_arm() {
     let keys = {
         let holding = holding.clone();
         let socket = tmux.socket.clone();
+        // Through one control-mode client, not a `tmux send-keys` process per repeat: on a
+        // loaded machine those scatter the repeats until the console no longer sees a hold.
+        let mut control = std::process::Command::new("tmux")
+            .args(["-L", &socket, "-C", "attach-session", "-t", "console"])
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .expect("tmux control client");
+        let mut stdin = control.stdin.take().expect("control client stdin");
         std::thread::spawn(move || {
+            use std::io::Write;
             while holding.load(std::sync::atomic::Ordering::Relaxed) {
-                let _ = std::process::Command::new("tmux")
-                    .args(["-L", &socket, "send-keys", "-t", "console", "w"])
-                    .output();
-                std::thread::sleep(Duration::from_millis(30));
+                let sent = std::time::Instant::now();
+                let _ = writeln!(stdin, "send-keys -t console w").and_then(|()| stdin.flush());
+                std::thread::sleep(Duration::from_millis(30).saturating_sub(sent.elapsed()));
             }
+            // End of input detaches the control client.
+            drop(stdin);
+            let _ = control.wait();
         })
     };
     let moving = wait_moving(&sim, true, Duration::from_secs(10)).await;
