@@ -384,13 +384,15 @@ async fn any_unit_id_is_answered() {
 // ---------------------------------------------------------------------------------------------
 // Twist
 
-#[tokio::test]
+// Paused clock: the simulator integrates in tokio time, so the move is timed exactly however
+// loaded the machine is (a round trip costs at most the simulator's 10 ms tick).
+#[tokio::test(start_paused = true)]
 async fn a_twist_moves_the_tcp_and_stop_halts_it() {
     let sim = sim().await;
     let mut ctx = client(&sim).await;
     let before = tcp_pose(&mut ctx).await;
 
-    let t0 = Instant::now();
+    let t0 = tokio::time::Instant::now();
     start_twist(&mut ctx, [0.05, 0.0, 0.0]).await;
     tokio::time::sleep(Duration::from_millis(400)).await;
     let moving = tcp_pose(&mut ctx).await;
@@ -714,7 +716,9 @@ async fn a_talos_jog_shows_in_the_modbus_telemetry() {
     );
 }
 
-#[tokio::test]
+// Paused clock: the simulator integrates in tokio time, so the move is timed exactly however
+// loaded the machine is (a round trip costs at most the simulator's 10 ms tick).
+#[tokio::test(start_paused = true)]
 async fn a_modbus_twist_shows_over_talos() {
     let sim = sim().await;
     let link = talos(&sim).await;
