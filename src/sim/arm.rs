@@ -184,6 +184,10 @@ pub struct Arm {
     temperature: Joints,
     torque: Joints,
     current: Joints,
+    /// The joints the effort model last ran the forward kinematics at, and the horizontal reach
+    /// it found: at rest the joints do not change, and the 1 kHz integrator need not redo the
+    /// kinematics every step (they dominate an idle simulator's CPU in a debug build).
+    reach_at: Option<(Joints, f64)>,
 }
 
 impl Default for Arm {
@@ -214,6 +218,7 @@ impl Arm {
             temperature: [30.0; JOINTS],
             torque: [0.0; JOINTS],
             current: [0.0; JOINTS],
+            reach_at: None,
         };
         arm.update_effort();
         arm
@@ -550,9 +555,7 @@ impl Arm {
     /// Torques from a simple gravity model plus viscous friction; currents from the torque
     /// constant; temperatures as a first-order response to copper losses. Deterministic.
     fn update_effort(&mut self) {
-        let pose = self.pose();
-        // Horizontal reach loads the shoulder and elbow like a lever.
-        let reach = (pose.position.x.powi(2) + pose.position.y.powi(2)).sqrt();
+        let reach = self.reach();
         for (i, max_torque) in MAX_JOINT_TORQUE.iter().enumerate() {
             let lever = match i {
                 1 => 18.0 * reach,
@@ -569,6 +572,20 @@ impl Arm {
             let target = 30.0 + 12.0 * current * current;
             self.temperature[i] += (target - self.temperature[i]) * STEP / 120.0;
         }
+    }
+
+    /// The tool's horizontal distance from the base axis, from the cache while the joints stay.
+    fn reach(&mut self) -> f64 {
+        if let Some((q, reach)) = self.reach_at
+            && q == self.q
+        {
+            return reach;
+        }
+        let pose = self.pose();
+        // Horizontal reach loads the shoulder and elbow like a lever.
+        let reach = (pose.position.x.powi(2) + pose.position.y.powi(2)).sqrt();
+        self.reach_at = Some((self.q, reach));
+        reach
     }
 
     pub fn snapshot(&self) -> ArmSnapshot {

@@ -1,0 +1,397 @@
+//! The stop guard: a dead or frozen console cannot leave a Modbus twist running.
+//!
+//! The simulated arm runs in the test (its Modbus twist, like a real Kinova's, has no
+//! watchdog); the guard is the real binary (`armjog guard`), fed through a pipe the test holds
+//! like a console would, or started by the arm driver as the console starts it.
+//! `tests/guard_console.rs` kills the real console binary mid-jog. Bounds are generous for a
+//! loaded CI; the design target of 300 ms from the console's death to the stop is logged, not
+//! asserted.
+
+use crate::guard_support;
+
+use std::process::Stdio;
+use std::time::Duration;
+
+use tokio::io::{AsyncBufReadExt, AsyncWriteExt, BufReader, Lines};
+use tokio::process::{Child, ChildStdin, ChildStdout, Command};
+use tokio::sync::mpsc::UnboundedReceiver;
+use tokio::time::Instant;
+
+use armjog::kortex::{ReferenceFrame, Twist};
+use armjog::link::ModbusConfig;
+use armjog::link::arm::{ArmCommand, ArmError, ArmEvent, CommandKind, GuardStatus};
+use armjog::link::driver::{Driver, DriverConfig};
+use armjog::link::guard::GuardPolicy;
+use armjog::sim::Simulator;
+use guard_support::{
+    BIN, arm_state, assert_still, log_dir, modbus_addr, simulator, start_twist, wait_moving,
+};
+
+/// The guard process, with the pipe a console would hold.
+struct Guard {
+    child: Child,
+    stdin: Option<ChildStdin>,
+    lines: Lines<BufReader<ChildStdout>>,
+}
+
+impl Guard {
+    async fn start(sim: &Simulator) -> Guard {
+        let mut child = Command::new(BIN)
+            .args(["guard", "--modbus", &modbus_addr(sim), "--unit", "1"])
+            .env("ARMJOG_LOG_DIR", log_dir())
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .kill_on_drop(true)
+            .spawn()
+            .expect("start armjog guard");
+        let stdin = child.stdin.take();
+        let lines = BufReader::new(child.stdout.take().expect("stdout")).lines();
+        let mut guard = Guard {
+            child,
+            stdin,
+            lines,
+        };
+        let ready = guard.line(Duration::from_secs(10)).await;
+        assert_eq!(
+            ready.as_deref(),
+            Some("ready"),
+            "the guard says it is ready"
+        );
+        guard
+    }
+
+    async fn beat(&mut self) {
+        let stdin = self.stdin.as_mut().expect("pipe open");
+        stdin.write_all(b".").await.expect("heartbeat");
+        stdin.flush().await.expect("heartbeat");
+    }
+
+    /// Heartbeats every 100 ms for `duration`.
+    async fn beat_for(&mut self, duration: Duration) {
+        let until = Instant::now() + duration;
+        while Instant::now() < until {
+            self.beat().await;
+            tokio::time::sleep(Duration::from_millis(100)).await;
+        }
+    }
+
+    /// The next line other than the guard's periodic `alive`.
+    async fn line(&mut self, within: Duration) -> Option<String> {
+        let until = Instant::now() + within;
+        loop {
+            let line = tokio::time::timeout_at(until, self.lines.next_line())
+                .await
+                .ok()
+                .and_then(|l| l.ok())
+                .flatten()?;
+            if line != "alive" {
+                return Some(line);
+            }
+        }
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_guard_stops_a_running_twist_when_the_console_pipe_closes() {
+    let sim = simulator().await;
+    let mut guard = Guard::start(&sim).await;
+    guard.beat().await;
+    let _console_link = start_twist(&sim).await;
+    guard.beat_for(Duration::from_millis(300)).await;
+    assert!(
+        arm_state(&sim).await.0,
+        "still moving with the console alive"
+    );
+
+    // The console dies: its end of the pipe closes.
+    drop(guard.stdin.take());
+    let took = wait_moving(&sim, false, Duration::from_secs(2))
+        .await
+        .expect("the guard stops the twist within 2 s of the pipe closing");
+    eprintln!(
+        "pipe closed -> arm stopped in {:.1} ms",
+        took.as_secs_f64() * 1000.0
+    );
+    assert_still(&sim).await;
+
+    let said = guard.line(Duration::from_secs(5)).await.unwrap_or_default();
+    assert!(
+        said.starts_with("stopped the console is gone"),
+        "the guard reports its stop: {said:?}"
+    );
+    let status = tokio::time::timeout(Duration::from_secs(5), guard.child.wait())
+        .await
+        .expect("the guard exits after the stop")
+        .expect("exit status");
+    assert!(status.success(), "exit status {status}");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_silent_console_gets_its_twist_stopped_and_the_guard_keeps_watching() {
+    let sim = simulator().await;
+    let mut guard = Guard::start(&sim).await;
+    guard.beat().await;
+    let console_link = start_twist(&sim).await;
+
+    // The pipe stays open but no heartbeat comes: a frozen console.
+    let took = wait_moving(&sim, false, Duration::from_secs(4))
+        .await
+        .expect("the guard stops the twist after the heartbeat timeout (1 s)");
+    eprintln!(
+        "heartbeat lost -> arm stopped after {:.0} ms",
+        took.as_secs_f64() * 1000.0
+    );
+    let said = guard.line(Duration::from_secs(5)).await.unwrap_or_default();
+    assert!(
+        said.starts_with("stopped no heartbeat"),
+        "the guard reports why: {said:?}"
+    );
+    assert!(
+        guard.child.try_wait().expect("guard status").is_none(),
+        "the guard keeps watching"
+    );
+
+    // The console is back: a fresh twist runs while it beats, and the guard leaves it alone.
+    console_link.stop().await.expect("stop");
+    guard.beat().await;
+    let twist = Twist {
+        x: -0.02,
+        ..Twist::default()
+    };
+    console_link
+        .jog_twist(ReferenceFrame::Base, twist)
+        .await
+        .expect("twist");
+    guard.beat_for(Duration::from_millis(1500)).await;
+    assert!(arm_state(&sim).await.0, "a beating console keeps its twist");
+
+    drop(guard.stdin.take());
+    wait_moving(&sim, false, Duration::from_secs(2))
+        .await
+        .expect("stopped when the pipe closes");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_terminated_guard_stops_the_arm_on_its_way_out() {
+    let sim = simulator().await;
+    let mut guard = Guard::start(&sim).await;
+    guard.beat().await;
+    let _console_link = start_twist(&sim).await;
+    guard.beat().await;
+    let pid = guard.child.id().expect("guard pid");
+    let terminated = std::process::Command::new("kill")
+        .args(["-TERM", &pid.to_string()])
+        .status()
+        .expect("kill");
+    assert!(terminated.success());
+    wait_moving(&sim, false, Duration::from_secs(2))
+        .await
+        .expect("the guard stops the twist before it exits");
+    let said = guard.line(Duration::from_secs(5)).await.unwrap_or_default();
+    assert!(said.starts_with("stopped SIGTERM"), "{said:?}");
+    let status = tokio::time::timeout(Duration::from_secs(5), guard.child.wait())
+        .await
+        .expect("the guard exits")
+        .expect("exit status");
+    assert!(status.success(), "exit status {status}");
+}
+
+/// Drives the driver's events until `done` matches one; panics after `within`.
+async fn wait_event(
+    events: &mut UnboundedReceiver<ArmEvent>,
+    within: Duration,
+    what: &str,
+    mut done: impl FnMut(&ArmEvent) -> bool,
+) -> ArmEvent {
+    let until = Instant::now() + within;
+    loop {
+        let event = tokio::time::timeout_at(until, events.recv())
+            .await
+            .unwrap_or_else(|_| panic!("waited {within:?} for {what}"))
+            .expect("driver alive");
+        if done(&event) {
+            return event;
+        }
+    }
+}
+
+fn jog_x() -> ArmCommand {
+    ArmCommand::Jog(armjog::console::jog::JogMotion::Cartesian { x: 1, y: 0, z: 0 })
+}
+
+fn modbus_driver(sim: &Simulator, guard: GuardPolicy) -> (Driver, UnboundedReceiver<ArmEvent>) {
+    let mut config = DriverConfig::new(None, Some(ModbusConfig::new(modbus_addr(sim))));
+    config.guard = guard;
+    // Slow enough to stay far from any limit for the whole test.
+    config.max_jog_speed = 0.04;
+    Driver::spawn(config)
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_console_refuses_modbus_jogs_when_its_guard_cannot_start() {
+    let sim = simulator().await;
+    let missing = std::path::PathBuf::from("/nonexistent/armjog-guard");
+    let (driver, mut events) = modbus_driver(&sim, GuardPolicy::Spawn(missing));
+    let down = wait_event(
+        &mut events,
+        Duration::from_secs(10),
+        "the guard down",
+        |e| matches!(e, ArmEvent::Guard(GuardStatus::Down { .. })),
+    )
+    .await;
+    let ArmEvent::Guard(GuardStatus::Down { reason }) = down else {
+        unreachable!()
+    };
+    assert!(
+        reason.contains("cannot start the stop guard /nonexistent/armjog-guard"),
+        "names the program: {reason}"
+    );
+
+    assert!(driver.send(jog_x()));
+    let failed = wait_event(
+        &mut events,
+        Duration::from_secs(5),
+        "the jog refused",
+        |e| {
+            matches!(
+                e,
+                ArmEvent::Failed {
+                    command: CommandKind::Jog,
+                    ..
+                }
+            )
+        },
+    )
+    .await;
+    let ArmEvent::Failed {
+        error: ArmError::GuardNotRunning(reason),
+        ..
+    } = failed
+    else {
+        panic!("refused for want of the guard: {failed:?}")
+    };
+    assert!(
+        reason.starts_with("stop guard not running:"),
+        "says why: {reason}"
+    );
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    assert!(!arm_state(&sim).await.0, "nothing moved");
+    // Home is motion too.
+    assert!(driver.send(ArmCommand::Home));
+    wait_event(&mut events, Duration::from_secs(5), "home refused", |e| {
+        matches!(e, ArmEvent::Failed { command: CommandKind::Home, error: ArmError::GuardNotRunning(reason) } if reason.contains("stop guard"))
+    })
+    .await;
+    driver.shutdown().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_killed_guard_stops_the_jog_and_is_restarted() {
+    let sim = simulator().await;
+    let (driver, mut events) = modbus_driver(&sim, GuardPolicy::Spawn(BIN.into()));
+    let ready = |e: &ArmEvent| matches!(e, ArmEvent::Guard(GuardStatus::Ready { .. }));
+    let ArmEvent::Guard(GuardStatus::Ready { pid }) = wait_event(
+        &mut events,
+        Duration::from_secs(10),
+        "the guard ready",
+        ready,
+    )
+    .await
+    else {
+        unreachable!()
+    };
+
+    // A held key: the jog is re-sent every 100 ms.
+    let jogging = {
+        let driver = driver.clone();
+        tokio::spawn(async move {
+            while driver.send(jog_x()) {
+                tokio::time::sleep(Duration::from_millis(100)).await;
+            }
+        })
+    };
+    assert!(
+        wait_moving(&sim, true, Duration::from_secs(5))
+            .await
+            .is_some(),
+        "jogs over Modbus with a guard"
+    );
+
+    let killed = std::process::Command::new("kill")
+        .args(["-9", &pid.to_string()])
+        .status()
+        .expect("kill");
+    assert!(killed.success());
+    wait_event(&mut events, Duration::from_secs(5), "the guard down", |e| {
+        matches!(e, ArmEvent::Guard(GuardStatus::Down { .. }))
+    })
+    .await;
+    // The jog goes on being re-sent, but the driver refuses it and stopped the arm.
+    wait_moving(&sim, false, Duration::from_secs(3))
+        .await
+        .expect("the arm stops when its guard dies");
+    let ArmEvent::Guard(GuardStatus::Ready { pid: again }) =
+        wait_event(&mut events, Duration::from_secs(15), "a new guard", ready).await
+    else {
+        unreachable!()
+    };
+    assert_ne!(again, pid, "a fresh guard process");
+    jogging.abort();
+    driver.send(ArmCommand::Stop);
+    driver.shutdown().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_guard_that_stops_answering_is_replaced() {
+    let sim = simulator().await;
+    let (driver, mut events) = modbus_driver(&sim, GuardPolicy::Spawn(BIN.into()));
+    let ready = |e: &ArmEvent| matches!(e, ArmEvent::Guard(GuardStatus::Ready { .. }));
+    let ArmEvent::Guard(GuardStatus::Ready { pid }) = wait_event(
+        &mut events,
+        Duration::from_secs(10),
+        "the guard ready",
+        ready,
+    )
+    .await
+    else {
+        unreachable!()
+    };
+    // A frozen guard: alive as a process, but it would not stop anything.
+    let frozen = std::process::Command::new("kill")
+        .args(["-STOP", &pid.to_string()])
+        .status()
+        .expect("kill");
+    assert!(frozen.success());
+    let down = wait_event(
+        &mut events,
+        Duration::from_secs(15),
+        "the guard down",
+        |e| matches!(e, ArmEvent::Guard(GuardStatus::Down { .. })),
+    )
+    .await;
+    assert!(
+        matches!(&down, ArmEvent::Guard(GuardStatus::Down { reason }) if reason.contains("stopped answering")),
+        "says why: {down:?}"
+    );
+    assert!(driver.send(jog_x()));
+    wait_event(&mut events, Duration::from_secs(5), "the jog refused", |e| {
+        matches!(e, ArmEvent::Failed { command: CommandKind::Jog, error: ArmError::GuardNotRunning(reason) } if reason.contains("stop guard not running"))
+    })
+    .await;
+    let ArmEvent::Guard(GuardStatus::Ready { pid: again }) =
+        wait_event(&mut events, Duration::from_secs(15), "a new guard", ready).await
+    else {
+        unreachable!()
+    };
+    assert_ne!(again, pid, "a fresh guard process");
+    let until = Instant::now() + Duration::from_secs(5);
+    while std::path::Path::new(&format!("/proc/{pid}")).exists() && Instant::now() < until {
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    assert!(
+        !std::path::Path::new(&format!("/proc/{pid}")).exists(),
+        "the frozen guard was ended"
+    );
+    driver.shutdown().await;
+}

@@ -1,0 +1,331 @@
+//! The stop guard end to end: the real console binary jogs the in-test simulated arm over
+//! Modbus in tmux (`.ci/run` installs it) and is killed with SIGKILL; and the console's state
+//! machine and status bar when its guard comes and goes.
+
+use crate::guard_support;
+
+use std::time::Duration;
+
+use tokio::time::Instant;
+
+use armjog::link::arm::{ArmCommand, ArmEvent, GuardStatus};
+use guard_support::{BIN, arm_state, assert_still, log_dir, modbus_addr, simulator, wait_moving};
+
+/// A tmux server of our own for the real console, killed on drop.
+struct Tmux {
+    socket: String,
+}
+
+impl Tmux {
+    /// `name` tells apart the servers of tests running at once.
+    fn start(name: &str, command: &str) -> Tmux {
+        let socket = format!("armjog-guard-{name}-{}", std::process::id());
+        let status = std::process::Command::new("tmux")
+            .args(["-L", &socket, "new-session", "-d", "-s", "console"])
+            .args(["-x", "100", "-y", "30", command])
+            .status()
+            .expect("tmux must be installed (apt-get install -y tmux)");
+        assert!(status.success(), "tmux new-session failed");
+        Tmux { socket }
+    }
+
+    fn tmux(&self, args: &[&str]) -> std::process::Output {
+        std::process::Command::new("tmux")
+            .args(["-L", &self.socket])
+            .args(args)
+            .output()
+            .expect("tmux")
+    }
+
+    fn key(&self, key: &str) -> bool {
+        self.tmux(&["send-keys", "-t", "console", key])
+            .status
+            .success()
+    }
+
+    fn screen(&self) -> String {
+        let out = self.tmux(&["capture-pane", "-p", "-t", "console"]);
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    }
+
+    fn pane_pid(&self) -> u32 {
+        let out = self.tmux(&["display-message", "-p", "-t", "console", "#{pane_pid}"]);
+        let text = String::from_utf8_lossy(&out.stdout);
+        text.trim().parse().expect("pane pid")
+    }
+
+    async fn wait_for(&self, within: Duration, what: &str, done: impl Fn(&str) -> bool) {
+        let until = Instant::now() + within;
+        loop {
+            let screen = self.screen();
+            if done(&screen) {
+                return;
+            }
+            assert!(
+                Instant::now() < until,
+                "waited {within:?} for {what}; screen:\n{screen}"
+            );
+            tokio::time::sleep(Duration::from_millis(50)).await;
+        }
+    }
+}
+
+impl Drop for Tmux {
+    fn drop(&mut self) {
+        let _ = self.tmux(&["kill-server"]);
+    }
+}
+
+/// The console on the simulator's Modbus port, logs in the test's directory.
+fn console_command(addr: &str) -> String {
+    format!(
+        "exec env ARMJOG_DATA_DIR={d} ARMJOG_LOG_DIR={d} {BIN} --modbus {addr} --unit 1 --key-release repeat",
+        d = log_dir().display(),
+    )
+}
+
+/// Whether any of `pids` still runs.
+fn any_alive(pids: &[u32]) -> bool {
+    pids.iter()
+        .any(|pid| std::path::Path::new(&format!("/proc/{pid}")).exists())
+}
+
+/// Waits (10 s at most) for the guard processes to exit; ends any left and fails.
+async fn assert_exit(guards: &[u32], when: &str) {
+    let until = Instant::now() + Duration::from_secs(10);
+    while any_alive(guards) && Instant::now() < until {
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    let alive = any_alive(guards);
+    if alive {
+        for pid in guards {
+            let _ = std::process::Command::new("kill")
+                .arg(pid.to_string())
+                .status();
+        }
+    }
+    assert!(!alive, "the guard exits {when}: {guards:?}");
+}
+
+/// Pids of running processes whose command line has every one of `words`.
+fn pids_with(words: &[&str]) -> Vec<u32> {
+    let Ok(entries) = std::fs::read_dir("/proc") else {
+        return Vec::new();
+    };
+    entries
+        .filter_map(|e| e.ok())
+        .filter_map(|e| e.file_name().to_str()?.parse::<u32>().ok())
+        .filter(|pid| {
+            let cmdline = std::fs::read(format!("/proc/{pid}/cmdline")).unwrap_or_default();
+            let args: Vec<String> = cmdline
+                .split(|b| *b == 0)
+                .map(|a| String::from_utf8_lossy(a).into_owned())
+                .collect();
+            words.iter().all(|w| args.iter().any(|a| a == w))
+        })
+        .collect()
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_guard_exits_when_the_console_quits() {
+    let sim = simulator().await;
+    let addr = modbus_addr(&sim);
+    let tmux = Tmux::start("quit", &console_command(&addr));
+    tmux.wait_for(Duration::from_secs(20), "the guard", |s| {
+        s.contains("GUARD OK")
+    })
+    .await;
+    let guards = pids_with(&["guard", "--modbus", &addr]);
+    assert_eq!(guards.len(), 1, "one guard process runs: {guards:?}");
+    tmux.key("q");
+    assert_exit(&guards, "with the console").await;
+    assert!(!arm_state(&sim).await.0, "nothing moves");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn killing_the_console_with_sigkill_mid_jog_stops_the_arm() {
+    let sim = simulator().await;
+    let addr = modbus_addr(&sim);
+    let tmux = Tmux::start("sigkill", &console_command(&addr));
+    tmux.wait_for(Duration::from_secs(20), "the link and the guard", |s| {
+        s.contains("LINK UP") && s.contains("GUARD OK")
+    })
+    .await;
+    let console_pid = tmux.pane_pid();
+    let guards = pids_with(&["guard", "--modbus", &addr]);
+    assert_eq!(guards.len(), 1, "one guard process runs: {guards:?}");
+
+    // 10 % of 250 mm/s: seconds away from any limit.
+    for speed in ["40%", "30%", "20%", "10%"] {
+        tmux.key("-");
+        let shown = format!("speed {speed}");
+        tmux.wait_for(Duration::from_secs(5), &shown, |s| s.contains(&shown))
+            .await;
+    }
+
+    // Hold w (tmux has no releases: a press, then a repeat every 30 ms), and kill the console
+    // with SIGKILL while the arm moves: no code of the console runs after that.
+    let holding = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(true));
+    let keys = {
+        let holding = holding.clone();
+        let socket = tmux.socket.clone();
+        // Through one control-mode client, not a `tmux send-keys` process per repeat: on a
+        // loaded machine those scatter the repeats until the console no longer sees a hold.
+        let mut control = std::process::Command::new("tmux")
+            .args(["-L", &socket, "-C", "attach-session", "-t", "console"])
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .expect("tmux control client");
+        let mut stdin = control.stdin.take().expect("control client stdin");
+        std::thread::spawn(move || {
+            use std::io::Write;
+            while holding.load(std::sync::atomic::Ordering::Relaxed) {
+                let sent = std::time::Instant::now();
+                let _ = writeln!(stdin, "send-keys -t console w").and_then(|()| stdin.flush());
+                std::thread::sleep(Duration::from_millis(30).saturating_sub(sent.elapsed()));
+            }
+            // End of input detaches the control client.
+            drop(stdin);
+            let _ = control.wait();
+        })
+    };
+    let moving = wait_moving(&sim, true, Duration::from_secs(10)).await;
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    let (still_moving, x_at_kill) = arm_state(&sim).await;
+    let killed = std::process::Command::new("kill")
+        .args(["-9", &console_pid.to_string()])
+        .status()
+        .expect("kill");
+    // `kill` has returned: the signal is delivered.
+    let killed_at = Instant::now();
+    holding.store(false, std::sync::atomic::Ordering::Relaxed);
+    assert!(
+        moving.is_some() && still_moving,
+        "w jogged the arm over Modbus"
+    );
+    assert!(killed.success(), "kill -9 {console_pid}");
+
+    wait_moving(&sim, false, Duration::from_secs(2))
+        .await
+        .expect("the guard stops the twist within 2 s of the console's death");
+    let took = killed_at.elapsed();
+    let (_, x_stopped) = arm_state(&sim).await;
+    let _ = keys.join();
+    eprintln!(
+        "console SIGKILLed -> arm stopped in {:.1} ms ({x_at_kill:.1} -> {x_stopped:.1} mm)",
+        took.as_secs_f64() * 1000.0
+    );
+    assert_still(&sim).await;
+
+    // Its work done, the guard exits.
+    assert_exit(&guards, "after the stop").await;
+}
+
+/// The status bar's two lines as text, 80 columns wide.
+fn status_text(app: &armjog::console::app::App) -> (String, ratatui::buffer::Buffer) {
+    use armjog::console::ui::{Theme, status};
+    use armjog::console::view::View;
+    let mut terminal =
+        ratatui::Terminal::new(ratatui::backend::TestBackend::new(80, 2)).expect("terminal");
+    terminal
+        .draw(|f| status::draw(f, f.area(), &View::new(app), &Theme { color: true }))
+        .expect("draw");
+    let buffer = terminal.backend().buffer().clone();
+    let text: String = buffer.content().iter().map(|c| c.symbol()).collect();
+    (text, buffer)
+}
+
+#[test]
+fn the_console_stops_and_says_so_when_its_guard_goes_down_and_shows_its_state() {
+    use armjog::console::app::{App, AppConfig, Effect, Input, KeyInput, Severity};
+    use armjog::console::jog::{KeyKind, ReleaseMode};
+    use armjog::console::keymap::Keymap;
+    use armjog::console::positions::PositionBook;
+    use armjog::console::ui::Theme;
+    use armjog::link::arm::LinkStatus;
+
+    let t0 = std::time::Instant::now();
+    let mut app = App::new(
+        AppConfig {
+            keymap: Keymap::builtin("default").expect("keymap"),
+            release_mode: ReleaseMode::Reported,
+            refresh: Duration::from_millis(100),
+            positions_on_operator: false,
+            max_jog_speed: 0.25,
+            frames: true,
+        },
+        PositionBook::new(),
+    );
+    let up = LinkStatus::Up {
+        description: "modbus 10.0.0.9:502 unit 1".into(),
+    };
+    app.handle(Input::Arm(ArmEvent::Status(up)), t0);
+    let (text, _) = status_text(&app);
+    assert!(
+        !text.contains("GUARD"),
+        "no badge while none is required: {text}"
+    );
+
+    app.handle(Input::Arm(ArmEvent::Guard(GuardStatus::Starting)), t0);
+    let (text, buffer) = status_text(&app);
+    assert!(text.contains("NO GUARD"), "{text}");
+    let at = text.find("NO GUARD").expect("badge");
+    assert_eq!(
+        buffer.content()[at + 1].style().bg,
+        Theme { color: true }.alarm().bg
+    );
+
+    app.handle(
+        Input::Arm(ArmEvent::Guard(GuardStatus::Ready { pid: 42 })),
+        t0,
+    );
+    assert!(status_text(&app).0.contains("GUARD OK"));
+    let w = KeyInput {
+        key: "w".parse().expect("key"),
+        text: Some('w'),
+        kind: KeyKind::Press,
+    };
+    let effects = app.handle(Input::Key(w), t0);
+    assert!(
+        effects
+            .iter()
+            .any(|e| matches!(e, Effect::Arm(ArmCommand::Jog(_)))),
+        "w jogs with the guard ready: {effects:?}"
+    );
+
+    // The guard dies with w still held: the console stops, forgets the key, says why.
+    let down = GuardStatus::Down {
+        reason: "the stop guard 42 exited (signal: 9)".into(),
+    };
+    let t1 = t0 + Duration::from_millis(50);
+    let effects = app.handle(Input::Arm(ArmEvent::Guard(down)), t1);
+    assert!(
+        effects.contains(&Effect::Arm(ArmCommand::Stop)),
+        "stopped: {effects:?}"
+    );
+    assert!(app.jog().active().is_none(), "nothing held any more");
+    let (message, severity) = app.message().expect("a message");
+    assert_eq!(severity, Severity::Error);
+    assert!(
+        message.contains("stop guard down") && message.contains("exited"),
+        "{message}"
+    );
+    assert!(status_text(&app).0.contains("NO GUARD"));
+
+    // Back again: nothing restarts without a fresh press.
+    let t2 = t1 + Duration::from_millis(500);
+    let effects = app.handle(
+        Input::Arm(ArmEvent::Guard(GuardStatus::Ready { pid: 43 })),
+        t2,
+    );
+    let effects_later = app.handle(Input::Tick, t2 + Duration::from_millis(200));
+    assert!(
+        !effects
+            .iter()
+            .chain(&effects_later)
+            .any(|e| matches!(e, Effect::Arm(ArmCommand::Jog(_)))),
+        "no jog after the guard is back: {effects:?} {effects_later:?}"
+    );
+}

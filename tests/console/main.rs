@@ -1,0 +1,24 @@
+//! The console: its state machine, jog engine, keymaps, panels (insta snapshots) and end-to-end
+//! runs against the simulator, in a terminal (tmux) and without.
+//!
+//! One test binary for several former ones (linking one binary per file cost most of a CI
+//! run): each module is one former `tests/<name>.rs`, so test paths read `<name>::<test>`.
+//! Helpers shared with other binaries stay in `tests/<helper>/` and come in by path.
+
+#[path = "../app_support/mod.rs"]
+mod app_support;
+#[path = "../common/mod.rs"]
+mod common;
+
+mod console_app;
+mod console_book_load;
+mod console_e2e;
+mod console_jog_keys;
+mod console_truth;
+mod console_truth_e2e;
+mod console_truth_ui;
+mod console_ui;
+mod jog_engine;
+mod keymap;
+mod speed_settings;
+mod tmux_console;
