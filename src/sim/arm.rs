@@ -7,7 +7,7 @@
 use nalgebra::{Rotation3, Unit, Vector3, Vector6};
 
 use crate::kortex::Flag;
-pub use crate::kortex::RobotState;
+pub use crate::kortex::{ActionStatus, ReferenceFrame, RobotState};
 
 use super::kinematics::{
     self, HOME_DEG, JOINTS, Joints, MAX_JOINT_SPEED_DEG, MAX_JOINT_TORQUE, Pose,
@@ -26,23 +26,6 @@ pub const MAX_TWIST_ANGULAR_DEG: f64 = 100.0;
 /// The operator's continuous-START watchdog, seconds.
 pub const WATCHDOG: f64 = 0.5;
 
-/// Cartesian reference frames (Modbus holding register 203).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Frame {
-    Mixed,
-    Tool,
-    Base,
-}
-
-/// Status of the last action or trajectory (Modbus holding register 100).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ActionStatus {
-    Started = 0,
-    Completed = 1,
-    Paused = 2,
-    Aborted = 3,
-}
-
 /// What the arm is doing.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Motion {
@@ -51,7 +34,7 @@ pub enum Motion {
     Twist {
         linear: Vector3<f64>,
         angular: Vector3<f64>,
-        frame: Frame,
+        frame: ReferenceFrame,
     },
     /// Orbit about the base Z axis (azimuth) and change of elevation (altitude), rad/s.
     Polar {
@@ -450,9 +433,9 @@ impl Arm {
             } => {
                 let rotation = pose.rotation;
                 let (linear, angular) = match frame {
-                    Frame::Base => (linear, angular),
-                    Frame::Tool => (rotation * linear, rotation * angular),
-                    Frame::Mixed => (linear, rotation * angular),
+                    ReferenceFrame::Base => (linear, angular),
+                    ReferenceFrame::Tool => (rotation * linear, rotation * angular),
+                    ReferenceFrame::Mixed => (linear, rotation * angular),
                 };
                 self.track(j, linear, angular)
             }

@@ -26,7 +26,7 @@ use std::collections::BTreeMap;
 
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 
-use super::arm::{Arm, Frame, Motion, Refusal, polar_target};
+use super::arm::{Arm, Motion, ReferenceFrame, Refusal, polar_target};
 use super::kinematics::{self, HOME_DEG, Joints, Pose};
 use crate::talos::hardware::HwRequest;
 use crate::talos::message::DecodeError;
@@ -260,7 +260,7 @@ impl Operator {
                 let motion = Motion::Twist {
                     linear: direction.normalize() * self.max_jog_linear * self.fraction(),
                     angular: Vector3::zeros(),
-                    frame: Frame::Base,
+                    frame: ReferenceFrame::Base,
                 };
                 self.continuous(arm, motion)?;
                 Ok(done)

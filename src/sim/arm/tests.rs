@@ -20,7 +20,7 @@ fn a_base_twist_moves_the_tcp_along_x_at_the_commanded_speed() {
     let twist = Motion::Twist {
         linear: Vector3::new(0.1, 0.0, 0.0),
         angular: Vector3::zeros(),
-        frame: Frame::Base,
+        frame: ReferenceFrame::Base,
     };
     arm.command(twist, 0.0, false).unwrap();
     arm.advance(0.5);
