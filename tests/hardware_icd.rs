@@ -9,14 +9,7 @@ use proptest::prelude::*;
 /// Bytes from hand-written hex ("02 00000001 ..."); whitespace is ignored.
 fn hex(text: &str) -> Vec<u8> {
     let digits: String = text.chars().filter(|c| !c.is_whitespace()).collect();
-    assert!(
-        digits.len().is_multiple_of(2),
-        "odd hex digit count in {text:?}"
-    );
-    (0..digits.len())
-        .step_by(2)
-        .map(|i| u8::from_str_radix(&digits[i..i + 2], 16).unwrap())
-        .collect()
+    hex::decode(&digits).unwrap_or_else(|e| panic!("bad hex in {text:?}: {e}"))
 }
 
 // Hand-computed IEEE-754 big-endian values used below:

@@ -20,21 +20,11 @@ use tokio_util::codec::Decoder;
 
 /// Hex digits to bytes; spaces and `|` are only for reading.
 fn hex(s: &str) -> Vec<u8> {
-    let digits: Vec<u8> = s
-        .bytes()
-        .filter(|b| !b.is_ascii_whitespace() && *b != b'|')
+    let digits: String = s
+        .chars()
+        .filter(|c| !c.is_ascii_whitespace() && *c != '|')
         .collect();
-    assert!(
-        digits.len().is_multiple_of(2),
-        "odd number of hex digits in {s:?}"
-    );
-    digits
-        .chunks(2)
-        .map(|pair| {
-            let text = std::str::from_utf8(pair).expect("ascii");
-            u8::from_str_radix(text, 16).unwrap_or_else(|_| panic!("bad hex {text:?} in {s:?}"))
-        })
-        .collect()
+    hex::decode(&digits).unwrap_or_else(|e| panic!("bad hex in {s:?}: {e}"))
 }
 
 /// Independent CRC-16/CCITT-FALSE: poly 0x1021, init 0xFFFF, MSB first, no reflection, xorout 0.
