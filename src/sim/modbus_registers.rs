@@ -7,7 +7,7 @@
 use crate::kortex::CodeName;
 use nalgebra::Vector3;
 
-use super::arm::{ArmSnapshot, Motion};
+use super::arm::{ArmSnapshot, SimMotion};
 use super::kinematics::{self, HOME_DEG, Pose};
 use super::world::World;
 use crate::kortex::ReferenceFrame;
@@ -210,7 +210,7 @@ fn execute(world: &mut World) {
                 return;
             }
             let motion = match block[2] {
-                0 if id == HOME_ACTION_ID => Some(Motion::ToJoints {
+                0 if id == HOME_ACTION_ID => Some(SimMotion::ToJoints {
                     target: kinematics::to_radians(&HOME_DEG),
                     fraction: 0.3,
                 }),
@@ -221,7 +221,7 @@ fn execute(world: &mut World) {
                         [v(210), v(212), v(214)],
                     );
                     let (linear, angular) = world.arm.speed_limits();
-                    Some(Motion::ToPose {
+                    Some(SimMotion::ToPose {
                         target: pose,
                         linear_speed: linear,
                         angular_speed: angular.to_radians(),
@@ -231,7 +231,7 @@ fn execute(world: &mut World) {
                     let v = |a: u16| f64::from(float_at(&block, a));
                     // An unknown code falls back to the base frame, as before.
                     let frame = ReferenceFrame::from_code(block[3]).unwrap_or(ReferenceFrame::Base);
-                    Some(Motion::Twist {
+                    Some(SimMotion::Twist {
                         linear: Vector3::new(v(204), v(206), v(208)),
                         angular: Vector3::new(v(210), v(212), v(214)).map(f64::to_radians),
                         frame,
