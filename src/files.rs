@@ -47,24 +47,18 @@ fn describe_size(bytes: u64) -> String {
 mod tests {
     use super::*;
 
-    fn temp_file(contents: &[u8]) -> std::path::PathBuf {
-        let path = std::env::temp_dir().join(format!(
-            "armjog-files-{}-{}",
-            std::process::id(),
-            std::time::SystemTime::now()
-                .duration_since(std::time::UNIX_EPOCH)
-                .map(|d| d.as_nanos())
-                .unwrap_or(0)
-        ));
-        std::fs::write(&path, contents).unwrap();
-        path
+    fn temp_file(contents: &[u8]) -> tempfile::NamedTempFile {
+        let mut file = tempfile::NamedTempFile::new().unwrap();
+        std::io::Write::write_all(&mut file, contents).unwrap();
+        file
     }
 
     #[test]
     fn a_file_at_the_limit_is_read_and_one_byte_more_is_refused() {
-        let path = temp_file(&[b'x'; 10]);
-        assert_eq!(read_to_string_bounded(&path, 10).unwrap().len(), 10);
-        let err = read_to_string_bounded(&path, 9).unwrap_err();
+        let file = temp_file(&[b'x'; 10]);
+        let path = file.path();
+        assert_eq!(read_to_string_bounded(path, 10).unwrap().len(), 10);
+        let err = read_to_string_bounded(path, 9).unwrap_err();
         assert_eq!(err.kind(), std::io::ErrorKind::FileTooLarge);
         assert!(err.to_string().contains("9 bytes"), "{err}");
     }
@@ -78,8 +72,9 @@ mod tests {
 
     #[test]
     fn invalid_utf8_is_refused() {
-        let path = temp_file(&[b'a', 0xff]);
-        let err = read_to_string_bounded(&path, 10).unwrap_err();
+        let file = temp_file(&[b'a', 0xff]);
+        let path = file.path();
+        let err = read_to_string_bounded(path, 10).unwrap_err();
         assert_eq!(err.kind(), std::io::ErrorKind::InvalidData);
     }
 }

@@ -16,14 +16,7 @@ fn main() {
     };
     let code = runtime.block_on(async {
         match cli.command {
-            Some(Command::Send(args)) => {
-                let outcome = armjog::cli::send::run(&args).await;
-                output::report(
-                    &outcome.stdout,
-                    outcome.stderr.as_deref(),
-                    outcome.exit_code,
-                )
-            }
+            Some(Command::Send(args)) => report(armjog::cli::send::run(&args).await),
             Some(Command::Status(args)) => report(armjog::cli::status::run(&args).await),
             Some(Command::Modbus(args)) => report(armjog::cli::modbus::run(&args).await),
             Some(Command::Sim(args)) => armjog::cli::sim::run(&args).await,
@@ -35,7 +28,7 @@ fn main() {
 }
 
 /// Prints a one-shot command's output and returns its exit status.
-fn report(outcome: armjog::cli::modbus::Outcome) -> i32 {
+fn report(outcome: armjog::cli::Outcome) -> i32 {
     output::report(
         &outcome.stdout,
         outcome.stderr.as_deref(),

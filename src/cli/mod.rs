@@ -3,12 +3,15 @@
 pub mod console;
 pub mod guard;
 pub mod modbus;
+mod outcome;
 pub mod output;
 pub mod send;
 pub mod sim;
 pub mod status;
 
 use clap::{Parser, Subcommand};
+
+pub use outcome::Outcome;
 
 /// armjog: jog a robot arm from the keyboard, and talk to it from a shell.
 ///

@@ -6,6 +6,7 @@ use std::time::{Duration, Instant};
 use clap::{Args, Subcommand};
 use serde_json::{Value, json};
 
+use super::Outcome;
 use crate::console::app::{abort_reason, at_rest, fault_reason};
 use crate::kortex::commands::{self, Write};
 use crate::kortex::{ActionStatus, Coded, StoredMotion, Telemetry};
@@ -128,13 +129,6 @@ impl ModbusCommand {
             }
         }
     }
-}
-
-/// What a one-shot command prints and how it exits.
-pub struct Outcome {
-    pub stdout: Vec<String>,
-    pub stderr: Option<String>,
-    pub exit_code: i32,
 }
 
 impl Outcome {

@@ -5,6 +5,7 @@ use std::time::Duration;
 use clap::{Args, Subcommand};
 use serde_json::{Map, Value, json};
 
+use super::Outcome;
 use crate::link::talos::{DEFAULT_PORT, Exchange};
 use crate::link::{Answer, Dialect, TalosConfig, TalosError, TalosLink};
 use crate::talos::hardware::HwReply;
@@ -309,15 +310,8 @@ impl SendCommand {
     }
 }
 
-/// What `armjog send` prints and how it exits.
-pub struct SendOutcome {
-    pub stdout: Vec<String>,
-    pub stderr: Option<String>,
-    pub exit_code: i32,
-}
-
 /// Runs `armjog send`.
-pub async fn run(args: &SendArgs) -> SendOutcome {
+pub async fn run(args: &SendArgs) -> Outcome {
     let mut config = TalosConfig::new(super::with_default_port(&args.talos, DEFAULT_PORT));
     config.dialect = args.dialect;
     config.checksum = args.checksum;
@@ -328,12 +322,12 @@ pub async fn run(args: &SendArgs) -> SendOutcome {
         Err(e) => Err(e),
     };
     match result {
-        Ok(exchange) => SendOutcome {
+        Ok(exchange) => Outcome {
             stdout: render(args, &exchange),
             stderr: None,
             exit_code: 0,
         },
-        Err(TalosError::ReturnCode { exchange }) => SendOutcome {
+        Err(TalosError::ReturnCode { exchange }) => Outcome {
             stdout: render(args, &exchange),
             stderr: Some(format!(
                 "{} (id {}) failed: return code {}",
@@ -343,7 +337,7 @@ pub async fn run(args: &SendArgs) -> SendOutcome {
             )),
             exit_code: EXIT_RETURN_CODE,
         },
-        Err(e) => SendOutcome {
+        Err(e) => Outcome {
             stdout: Vec::new(),
             stderr: Some(e.to_string()),
             exit_code: EXIT_LINK,

@@ -5,7 +5,8 @@ use std::time::Duration;
 
 use clap::Args;
 
-use super::modbus::{ArmAddress, Outcome};
+use super::Outcome;
+use super::modbus::ArmAddress;
 use super::output::{self, Printed};
 use crate::kortex::{CodeName, Flag, FlagSet, Telemetry};
 use crate::link::ModbusLink;

@@ -192,22 +192,14 @@ impl BookFiles {
 mod tests {
     use super::*;
 
-    fn dir() -> PathBuf {
-        let d = std::env::temp_dir().join(format!(
-            "armjog-book-io-{}-{}",
-            std::process::id(),
-            std::time::SystemTime::now()
-                .duration_since(std::time::UNIX_EPOCH)
-                .map(|d| d.as_nanos())
-                .unwrap_or(0)
-        ));
-        std::fs::create_dir_all(&d).unwrap();
-        d
+    fn dir() -> tempfile::TempDir {
+        tempfile::tempdir().unwrap()
     }
 
     #[tokio::test]
     async fn the_last_book_handed_over_is_written_before_finish_returns() {
-        let path = dir().join("book.json");
+        let d = dir();
+        let path = d.path().join("book.json");
         let (saver, _errors) = Saver::start(path.clone());
         let mut book = PositionBook::new();
         for i in 0..5 {
@@ -220,7 +212,8 @@ mod tests {
 
     #[tokio::test]
     async fn a_failed_write_is_reported_with_the_file() {
-        let blocker = dir().join("not-a-dir");
+        let d = dir();
+        let blocker = d.path().join("not-a-dir");
         std::fs::write(&blocker, "x").unwrap();
         let path = blocker.join("book.json");
         let (saver, mut errors) = Saver::start(path.clone());
@@ -236,7 +229,7 @@ mod tests {
     #[tokio::test]
     async fn a_file_over_the_limit_or_a_device_is_refused_at_once_and_a_book_loads_later() {
         let d = dir();
-        let big = d.join("big.json");
+        let big = d.path().join("big.json");
         std::fs::write(&big, vec![b' '; 17 * 1024 * 1024]).unwrap();
         let error = BookFiles::open(Some(big.clone())).err().expect("refused");
         assert!(error.to_string().contains("16 MB"), "{error}");
@@ -247,20 +240,21 @@ mod tests {
                 .expect("refused");
             assert!(error.to_string().starts_with("/dev/zero"), "{error}");
         }
-        let path = d.join("book.json");
+        let path = d.path().join("book.json");
         let mut book = PositionBook::new();
         book.get_or_insert("pick");
         book.save(&path).unwrap();
         let mut files = BookFiles::open(Some(path)).expect("opened");
         assert_eq!(loaded(&mut files.loading).await, Ok(book));
-        let mut none = BookFiles::open(Some(d.join("missing.json"))).expect("opened");
+        let mut none = BookFiles::open(Some(d.path().join("missing.json"))).expect("opened");
         assert_eq!(loaded(&mut none.loading).await, Ok(PositionBook::new()));
         files.finish(Duration::from_secs(10)).await;
     }
 
     #[tokio::test]
     async fn changes_held_at_quit_while_loading_are_merged_into_the_book_and_written() {
-        let path = dir().join("book.json");
+        let d = dir();
+        let path = d.path().join("book.json");
         let mut on_disk = PositionBook::new();
         on_disk.get_or_insert("home");
         on_disk.save(&path).unwrap();
@@ -278,7 +272,7 @@ mod tests {
     #[tokio::test]
     async fn a_book_loads_off_the_loop_and_an_unreadable_one_names_its_file() {
         let d = dir();
-        let path = d.join("book.json");
+        let path = d.path().join("book.json");
         let mut book = PositionBook::new();
         book.get_or_insert("pick").cartesian = Some([1, 2, 3]);
         book.save(&path).unwrap();
@@ -286,7 +280,7 @@ mod tests {
         assert_eq!(loaded(&mut loading).await, Ok(book));
         assert!(loading.is_none(), "nothing left to wait for");
 
-        let bad = d.join("bad.json");
+        let bad = d.path().join("bad.json");
         std::fs::write(&bad, "{ not json").unwrap();
         let mut loading = Some(load(&bad));
         let error = loaded(&mut loading).await.unwrap_err();

@@ -273,31 +273,40 @@ impl PositionBook {
         Ok(book)
     }
 
-    /// Writes the book atomically: a temporary file beside it, flushed to disk, then renamed.
+    /// Writes the book atomically: a temporary file beside it, flushed to disk, renamed over
+    /// the book, then the directory flushed so the rename itself survives a power cut. On any
+    /// failure the book on disk is untouched and the temporary file is removed (when dropped).
     pub fn save(&self, path: &Path) -> Result<(), BookError> {
         let shown = path.display().to_string();
         let io = |source| BookError::Io {
             path: shown.clone(),
             source,
         };
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).map_err(io)?;
-        }
-        let tmp = temporary_path(path);
-        let file = std::fs::File::create(&tmp).map_err(io)?;
-        let mut out = std::io::BufWriter::new(file);
-        let written = self
-            .write_to(&mut out, &shown, crate::files::POSITIONS_LIMIT)
-            .and_then(|()| out.into_inner().map_err(|e| io(e.into_error())))
-            .and_then(|file| file.sync_all().map_err(io));
-        if let Err(e) = written {
-            // The book on disk is untouched; no half-written temporary file is left behind.
-            let _ = std::fs::remove_file(&tmp);
-            return Err(e);
-        }
-        std::fs::rename(&tmp, path).map_err(io)?;
-        Ok(())
+        let dir = match path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            Some(dir) => {
+                std::fs::create_dir_all(dir).map_err(io)?;
+                dir
+            }
+            None => Path::new("."),
+        };
+        let tmp = tempfile::NamedTempFile::new_in(dir).map_err(io)?;
+        let mut out = std::io::BufWriter::new(tmp);
+        self.write_to(&mut out, &shown, crate::files::POSITIONS_LIMIT)?;
+        let tmp = out.into_inner().map_err(|e| io(e.into_error()))?;
+        tmp.as_file().sync_all().map_err(io)?;
+        tmp.persist(path).map_err(|e| io(e.error))?;
+        sync_directory(dir).map_err(io)
     }
+}
+
+/// Flushes a directory's entries (a rename into it) to disk. Only Unix can open a directory
+/// as a file; elsewhere the rename is as durable as the platform makes it.
+fn sync_directory(dir: &Path) -> std::io::Result<()> {
+    #[cfg(unix)]
+    std::fs::File::open(dir)?.sync_all()?;
+    #[cfg(not(unix))]
+    let _ = dir;
+    Ok(())
 }
 
 impl PositionBook {
@@ -358,15 +367,6 @@ impl Write for ByteCounter {
     }
 }
 
-fn temporary_path(path: &Path) -> PathBuf {
-    let mut name = path
-        .file_name()
-        .map(|n| n.to_os_string())
-        .unwrap_or_else(|| "positions.json".into());
-    name.push(format!(".tmp{}", std::process::id()));
-    path.with_file_name(name)
-}
-
 /// Where the book of the arm at `target` lives: `$ARMJOG_DATA_DIR` or the user's data
 /// directory, then `armjog/positions/<target>.json`.
 pub fn default_path(target: &str) -> Option<PathBuf> {
@@ -390,23 +390,14 @@ pub fn default_path(target: &str) -> Option<PathBuf> {
 mod tests {
     use super::*;
 
-    fn dir() -> PathBuf {
-        let d = std::env::temp_dir().join(format!(
-            "armjog-book-{}-{}",
-            std::process::id(),
-            std::time::SystemTime::now()
-                .duration_since(std::time::UNIX_EPOCH)
-                .map(|d| d.as_nanos())
-                .unwrap_or(0)
-        ));
-        std::fs::create_dir_all(&d).unwrap();
-        d
+    fn dir() -> tempfile::TempDir {
+        tempfile::tempdir().unwrap()
     }
 
     #[test]
     fn saves_and_loads_and_leaves_no_temporary_file() {
         let d = dir();
-        let path = d.join("book.json");
+        let path = d.path().join("book.json");
         let mut book = PositionBook::new();
         let e = book.get_or_insert("pick");
         e.cartesian = Some([4566, 10, 4338]);
@@ -415,8 +406,44 @@ mod tests {
         book.get_or_insert("table");
         book.save(&path).unwrap();
         assert_eq!(PositionBook::load(&path).unwrap(), book);
-        let files: Vec<_> = std::fs::read_dir(&d).unwrap().collect();
+        let files: Vec<_> = std::fs::read_dir(d.path()).unwrap().collect();
         assert_eq!(files.len(), 1, "only the book itself");
+    }
+
+    #[test]
+    fn a_save_that_cannot_rename_leaves_no_temporary_file_and_names_the_book() {
+        let d = dir();
+        // A non-empty directory where the book should go: the final rename fails.
+        let path = d.path().join("book.json");
+        std::fs::create_dir_all(path.join("in-the-way")).unwrap();
+        let mut book = PositionBook::new();
+        book.entry("pick");
+        let err = book.save(&path).unwrap_err().to_string();
+        assert!(err.starts_with(&path.display().to_string()), "{err}");
+        let names: Vec<_> = std::fs::read_dir(d.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(names, ["book.json"], "the temporary file is removed");
+        assert!(
+            path.join("in-the-way").is_dir(),
+            "what was there is untouched"
+        );
+    }
+
+    #[test]
+    fn saving_over_an_old_book_replaces_it_whole() {
+        let d = dir();
+        let path = d.path().join("nested").join("book.json");
+        let mut old = PositionBook::new();
+        for i in 0..50 {
+            old.entry(&format!("p{i:02}"));
+        }
+        old.save(&path).unwrap();
+        let mut new = PositionBook::new();
+        new.entry("only");
+        new.save(&path).unwrap();
+        assert_eq!(PositionBook::load(&path).unwrap(), new);
     }
 
     #[test]
@@ -497,13 +524,14 @@ mod tests {
 
     #[test]
     fn a_missing_file_is_an_empty_book() {
-        let book = PositionBook::load(&dir().join("none.json")).unwrap();
+        let book = PositionBook::load(&dir().path().join("none.json")).unwrap();
         assert!(book.is_empty());
     }
 
     #[test]
     fn a_corrupt_file_is_refused_with_its_name_line_and_column() {
-        let path = dir().join("bad.json");
+        let d = dir();
+        let path = d.path().join("bad.json");
         std::fs::write(
             &path,
             "{\n  \"format\": 1,\n  \"positions\": {\n    \"a\": { \"anchr\": true }\n  }\n}\n",

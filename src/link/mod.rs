@@ -9,7 +9,6 @@ pub mod modbus;
 pub mod talos;
 
 pub use modbus::{
-    ModbusConfig, ModbusError, ModbusEvent, ModbusException, ModbusLink, Snapshot, StopReason,
-    WriteReport,
+    ModbusConfig, ModbusError, ModbusEvent, ModbusLink, Snapshot, StopReason, WriteReport,
 };
 pub use talos::{Answer, Dialect, Exchange, TalosConfig, TalosError, TalosEvent, TalosLink};

@@ -78,76 +78,17 @@ impl ModbusConfig {
     }
 }
 
-/// A Modbus exception response, by name.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ModbusException {
-    IllegalFunction,
-    IllegalDataAddress,
-    IllegalDataValue,
-    ServerDeviceFailure,
-    Acknowledge,
-    ServerDeviceBusy,
-    MemoryParityError,
-    GatewayPathUnavailable,
-    GatewayTargetDeviceFailedToRespond,
-    Other(u8),
-}
+/// A Modbus exception response: tokio-modbus's own type, so the link and the simulator agree.
+pub use tokio_modbus::ExceptionCode;
 
-impl ModbusException {
-    pub fn code(self) -> u8 {
-        match self {
-            ModbusException::IllegalFunction => 0x01,
-            ModbusException::IllegalDataAddress => 0x02,
-            ModbusException::IllegalDataValue => 0x03,
-            ModbusException::ServerDeviceFailure => 0x04,
-            ModbusException::Acknowledge => 0x05,
-            ModbusException::ServerDeviceBusy => 0x06,
-            ModbusException::MemoryParityError => 0x08,
-            ModbusException::GatewayPathUnavailable => 0x0A,
-            ModbusException::GatewayTargetDeviceFailedToRespond => 0x0B,
-            ModbusException::Other(code) => code,
-        }
-    }
-
-    pub fn name(self) -> &'static str {
-        match self {
-            ModbusException::IllegalFunction => "illegal function",
-            ModbusException::IllegalDataAddress => "illegal data address",
-            ModbusException::IllegalDataValue => "illegal data value",
-            ModbusException::ServerDeviceFailure => "server device failure",
-            ModbusException::Acknowledge => "acknowledge",
-            ModbusException::ServerDeviceBusy => "server device busy",
-            ModbusException::MemoryParityError => "memory parity error",
-            ModbusException::GatewayPathUnavailable => "gateway path unavailable",
-            ModbusException::GatewayTargetDeviceFailedToRespond => {
-                "gateway target device failed to respond"
-            }
-            ModbusException::Other(_) => "unknown exception",
-        }
-    }
-}
-
-impl From<tokio_modbus::ExceptionCode> for ModbusException {
-    fn from(code: tokio_modbus::ExceptionCode) -> Self {
-        match u8::from(code) {
-            0x01 => ModbusException::IllegalFunction,
-            0x02 => ModbusException::IllegalDataAddress,
-            0x03 => ModbusException::IllegalDataValue,
-            0x04 => ModbusException::ServerDeviceFailure,
-            0x05 => ModbusException::Acknowledge,
-            0x06 => ModbusException::ServerDeviceBusy,
-            0x08 => ModbusException::MemoryParityError,
-            0x0A => ModbusException::GatewayPathUnavailable,
-            0x0B => ModbusException::GatewayTargetDeviceFailedToRespond,
-            other => ModbusException::Other(other),
-        }
-    }
-}
-
-impl fmt::Display for ModbusException {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{} (0x{:02X})", self.name(), self.code())
-    }
+/// An exception as the console and the CLI print it: "illegal data value (0x03)".
+fn exception_text(exception: &ExceptionCode) -> String {
+    let name = match exception {
+        ExceptionCode::Custom(_) => "unknown exception".to_owned(),
+        // tokio-modbus names them in sentence case; messages here keep them lower case.
+        known => known.to_string().to_lowercase(),
+    };
+    format!("{name} (0x{:02X})", u8::from(*exception))
 }
 
 /// One request, named for error messages.
@@ -181,10 +122,10 @@ pub enum ModbusError {
     },
     #[error("no connection to {addr} within {after:?}")]
     ConnectTimeout { addr: String, after: Duration },
-    #[error("{operation}: the arm answered with exception {exception}")]
+    #[error("{operation}: the arm answered with exception {}", exception_text(.exception))]
     Exception {
         operation: Operation,
-        exception: ModbusException,
+        exception: ExceptionCode,
     },
     #[error("{operation}: no reply within {after:?}")]
     Timeout {
@@ -248,7 +189,7 @@ impl ModbusError {
     }
 
     /// The exception the arm answered with, if it answered with one.
-    pub fn exception(&self) -> Option<ModbusException> {
+    pub fn exception(&self) -> Option<ExceptionCode> {
         match self {
             ModbusError::Exception { exception, .. } => Some(*exception),
             ModbusError::StopFailed { stop, .. } => stop.exception(),
@@ -585,5 +526,26 @@ impl ModbusLink {
         let (reply, answer) = oneshot::channel();
         self.jobs.send(job(reply)).await.map_err(|_| gone())?;
         answer.await.map_err(|_| gone())?
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exceptions_print_lower_case_names_with_their_codes() {
+        assert_eq!(
+            exception_text(&ExceptionCode::IllegalDataValue),
+            "illegal data value (0x03)"
+        );
+        assert_eq!(
+            exception_text(&ExceptionCode::GatewayTargetDevice),
+            "gateway target device failed to respond (0x0B)"
+        );
+        assert_eq!(
+            exception_text(&ExceptionCode::new(0x42)),
+            "unknown exception (0x42)"
+        );
     }
 }

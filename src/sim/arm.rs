@@ -1,13 +1,13 @@
 //! The simulated arm: joint state, the motion it is executing, a fixed-step integrator and
 //! plausible, deterministic torques, currents and temperatures.
 //!
-//! Protocol-neutral: the Talos and Modbus servers translate their commands into [`Motion`]s and
+//! Protocol-neutral: the Talos and Modbus servers translate their commands into [`SimMotion`]s and
 //! read [`ArmSnapshot`]s. Time only moves through [`Arm::step`], so tests drive it exactly.
 
 use nalgebra::{Rotation3, Unit, Vector3, Vector6};
 
 use crate::kortex::Flag;
-pub use crate::kortex::RobotState;
+pub use crate::kortex::{ActionStatus, ReferenceFrame, RobotState};
 
 use super::kinematics::{
     self, HOME_DEG, JOINTS, Joints, MAX_JOINT_SPEED_DEG, MAX_JOINT_TORQUE, Pose,
@@ -26,32 +26,15 @@ pub const MAX_TWIST_ANGULAR_DEG: f64 = 100.0;
 /// The operator's continuous-START watchdog, seconds.
 pub const WATCHDOG: f64 = 0.5;
 
-/// Cartesian reference frames (Modbus holding register 203).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Frame {
-    Mixed,
-    Tool,
-    Base,
-}
-
-/// Status of the last action or trajectory (Modbus holding register 100).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ActionStatus {
-    Started = 0,
-    Completed = 1,
-    Paused = 2,
-    Aborted = 3,
-}
-
-/// What the arm is doing.
+/// What the simulated arm is doing (the link and the console have their own motion vocabularies).
 #[derive(Debug, Clone, PartialEq)]
-pub enum Motion {
+pub enum SimMotion {
     Idle,
     /// Linear m/s and angular rad/s, in `frame`.
     Twist {
         linear: Vector3<f64>,
         angular: Vector3<f64>,
-        frame: Frame,
+        frame: ReferenceFrame,
     },
     /// Orbit about the base Z axis (azimuth) and change of elevation (altitude), rad/s.
     Polar {
@@ -76,9 +59,9 @@ pub enum Motion {
     },
 }
 
-impl Motion {
+impl SimMotion {
     pub fn is_idle(&self) -> bool {
-        matches!(self, Motion::Idle)
+        matches!(self, SimMotion::Idle)
     }
 
     /// Whether every number in the motion is finite: a NaN or infinity from a client would
@@ -86,12 +69,12 @@ impl Motion {
     pub fn is_finite(&self) -> bool {
         let finite3 = |v: &Vector3<f64>| v.iter().all(|x| x.is_finite());
         match self {
-            Motion::Idle => true,
-            Motion::Twist {
+            SimMotion::Idle => true,
+            SimMotion::Twist {
                 linear, angular, ..
             } => finite3(linear) && finite3(angular),
-            Motion::Polar { azimuth, altitude } => azimuth.is_finite() && altitude.is_finite(),
-            Motion::ToPose {
+            SimMotion::Polar { azimuth, altitude } => azimuth.is_finite() && altitude.is_finite(),
+            SimMotion::ToPose {
                 target,
                 linear_speed,
                 angular_speed,
@@ -101,10 +84,10 @@ impl Motion {
                     && linear_speed.is_finite()
                     && angular_speed.is_finite()
             }
-            Motion::ToJoints { target, fraction } => {
+            SimMotion::ToJoints { target, fraction } => {
                 target.iter().all(|x| x.is_finite()) && fraction.is_finite()
             }
-            Motion::JointVelocity { velocity, .. } => velocity.is_finite(),
+            SimMotion::JointVelocity { velocity, .. } => velocity.is_finite(),
         }
     }
 }
@@ -164,9 +147,9 @@ pub struct Arm {
     time: f64,
     q: Joints,
     qd: Joints,
-    motion: Motion,
+    motion: SimMotion,
     /// A motion waiting for its start time (Talos Delay), with its tool speed cap.
-    delayed: Option<(f64, Motion, Option<f64>)>,
+    delayed: Option<(f64, SimMotion, Option<f64>)>,
     /// The tool point's speed cap of the running motion, m/s, if its commander set one (the
     /// Talos operator's jog speed); the configured linear limit applies on top.
     tcp_cap: Option<f64>,
@@ -203,7 +186,7 @@ impl Arm {
             time: 0.0,
             q,
             qd: [0.0; JOINTS],
-            motion: Motion::Idle,
+            motion: SimMotion::Idle,
             delayed: None,
             tcp_cap: None,
             watchdog: None,
@@ -236,7 +219,7 @@ impl Arm {
         kinematics::forward(&self.q)
     }
 
-    pub fn motion(&self) -> &Motion {
+    pub fn motion(&self) -> &SimMotion {
         &self.motion
     }
 
@@ -250,7 +233,12 @@ impl Arm {
 
     /// Starts `motion`, after `delay` seconds if non-zero. `watchdog` makes it stop unless
     /// refreshed within [`WATCHDOG`]. Only the configured linear limit bounds the tool speed.
-    pub fn command(&mut self, motion: Motion, delay: f64, watchdog: bool) -> Result<(), Refusal> {
+    pub fn command(
+        &mut self,
+        motion: SimMotion,
+        delay: f64,
+        watchdog: bool,
+    ) -> Result<(), Refusal> {
         self.command_capped(motion, delay, watchdog, None)
     }
 
@@ -259,7 +247,7 @@ impl Arm {
     /// so the path is the same, only slower.
     pub fn command_capped(
         &mut self,
-        motion: Motion,
+        motion: SimMotion,
         delay: f64,
         watchdog: bool,
         max_tcp_speed: Option<f64>,
@@ -276,8 +264,8 @@ impl Arm {
         self.check_reachable(&motion)?;
         self.watchdog = watchdog.then_some(self.time + self.watchdog_period);
         self.move_type = match motion {
-            Motion::ToPose { .. } => 2,
-            Motion::Twist { .. } | Motion::Polar { .. } => 3,
+            SimMotion::ToPose { .. } => 2,
+            SimMotion::Twist { .. } | SimMotion::Polar { .. } => 3,
             _ => self.move_type,
         };
         if delay > 0.0 {
@@ -316,7 +304,7 @@ impl Arm {
         }
     }
 
-    fn start(&mut self, motion: Motion) {
+    fn start(&mut self, motion: SimMotion) {
         if !motion.is_idle() {
             self.action_status = ActionStatus::Started;
         }
@@ -328,7 +316,7 @@ impl Arm {
         if !self.motion.is_idle() {
             self.action_status = ActionStatus::Aborted;
         }
-        self.motion = Motion::Idle;
+        self.motion = SimMotion::Idle;
         self.delayed = None;
         self.watchdog = None;
         self.qd = [0.0; JOINTS];
@@ -378,21 +366,21 @@ impl Arm {
         )
     }
 
-    fn check_reachable(&self, motion: &Motion) -> Result<(), Refusal> {
+    fn check_reachable(&self, motion: &SimMotion) -> Result<(), Refusal> {
         match motion {
-            Motion::ToPose { target, .. } => kinematics::inverse(&self.q, target)
+            SimMotion::ToPose { target, .. } => kinematics::inverse(&self.q, target)
                 .map(|_| ())
                 .map_err(|e| match e {
                     kinematics::IkError::JointLimit { joint } => Refusal::JointLimit(joint),
                     kinematics::IkError::Unreachable { .. } => Refusal::Unreachable,
                 }),
-            Motion::ToJoints { target, .. } => {
+            SimMotion::ToJoints { target, .. } => {
                 match (0..JOINTS).find(|&i| !kinematics::within_limit(i, target[i])) {
                     Some(i) => Err(Refusal::JointLimit(i + 1)),
                     None => Ok(()),
                 }
             }
-            Motion::JointVelocity { joint, .. } if *joint >= JOINTS => Err(Refusal::OutOfRange),
+            SimMotion::JointVelocity { joint, .. } if *joint >= JOINTS => Err(Refusal::OutOfRange),
             _ => Ok(()),
         }
     }
@@ -447,25 +435,25 @@ impl Arm {
     /// Joint velocities the motion asks for at `pose`, whose Jacobian is `j`.
     fn desired_velocity(&mut self, pose: &Pose, j: &Jacobian) -> Joints {
         match self.motion.clone() {
-            Motion::Idle => [0.0; JOINTS],
-            Motion::Twist {
+            SimMotion::Idle => [0.0; JOINTS],
+            SimMotion::Twist {
                 linear,
                 angular,
                 frame,
             } => {
                 let rotation = pose.rotation;
                 let (linear, angular) = match frame {
-                    Frame::Base => (linear, angular),
-                    Frame::Tool => (rotation * linear, rotation * angular),
-                    Frame::Mixed => (linear, rotation * angular),
+                    ReferenceFrame::Base => (linear, angular),
+                    ReferenceFrame::Tool => (rotation * linear, rotation * angular),
+                    ReferenceFrame::Mixed => (linear, rotation * angular),
                 };
                 self.track(j, linear, angular)
             }
-            Motion::Polar { azimuth, altitude } => {
+            SimMotion::Polar { azimuth, altitude } => {
                 let (linear, angular) = polar_twist(pose, azimuth, altitude);
                 self.track(j, linear, angular)
             }
-            Motion::ToPose {
+            SimMotion::ToPose {
                 target,
                 linear_speed,
                 angular_speed,
@@ -482,7 +470,7 @@ impl Arm {
                 let angular = cap(dr * 8.0, angular_speed);
                 self.track(j, linear, angular)
             }
-            Motion::ToJoints { target, fraction } => {
+            SimMotion::ToJoints { target, fraction } => {
                 let delta: Joints = std::array::from_fn(|i| joint_delta(i, self.q[i], target[i]));
                 if delta.iter().all(|d| d.abs() < 1e-5) {
                     self.finish();
@@ -494,7 +482,7 @@ impl Arm {
                     .fold(STEP, f64::max);
                 std::array::from_fn(|i| delta[i] / duration)
             }
-            Motion::JointVelocity { joint, velocity } => {
+            SimMotion::JointVelocity { joint, velocity } => {
                 let mut qd = [0.0; JOINTS];
                 if let Some(v) = qd.get_mut(joint) {
                     *v = velocity;
@@ -529,7 +517,7 @@ impl Arm {
     }
 
     fn finish(&mut self) {
-        self.motion = Motion::Idle;
+        self.motion = SimMotion::Idle;
         self.watchdog = None;
         self.action_status = ActionStatus::Completed;
     }
@@ -601,7 +589,7 @@ impl Arm {
                 RobotState::InFault
             } else if self.motion.is_idle() {
                 RobotState::Ready
-            } else if matches!(self.motion, Motion::ToJoints { .. }) {
+            } else if matches!(self.motion, SimMotion::ToJoints { .. }) {
                 RobotState::ControlledBySequence
             } else {
                 RobotState::ControlledManually

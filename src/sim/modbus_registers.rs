@@ -7,9 +7,10 @@
 use crate::kortex::CodeName;
 use nalgebra::Vector3;
 
-use super::arm::{ArmSnapshot, Frame, Motion};
+use super::arm::{ArmSnapshot, SimMotion};
 use super::kinematics::{self, HOME_DEG, Pose};
 use super::world::World;
+use crate::kortex::ReferenceFrame;
 use crate::kortex::registers::{coil, discrete_input, holding_register, input_register};
 use crate::kortex::words::{f32_to_words, u32_to_words};
 
@@ -118,7 +119,7 @@ pub fn discrete_inputs(s: &ArmSnapshot) -> [bool; 95] {
 /// Holding registers 0-219: action state, speed limits, and the command block as written.
 pub fn holding_registers(s: &ArmSnapshot, command_block: &[u16; 20]) -> [u16; 220] {
     let mut h = [0u16; 220];
-    h[usize::from(holding_register::ACTION_STATUS)] = s.action_status as u16;
+    h[usize::from(holding_register::ACTION_STATUS)] = s.action_status.code();
     h[usize::from(holding_register::ACTION_ID)] = s.action_id;
     h[usize::from(holding_register::ACTION_MOVE_TYPE)] = s.move_type;
     let lin = f32_to_words(s.speed_limit_linear as f32);
@@ -209,7 +210,7 @@ fn execute(world: &mut World) {
                 return;
             }
             let motion = match block[2] {
-                0 if id == HOME_ACTION_ID => Some(Motion::ToJoints {
+                0 if id == HOME_ACTION_ID => Some(SimMotion::ToJoints {
                     target: kinematics::to_radians(&HOME_DEG),
                     fraction: 0.3,
                 }),
@@ -220,7 +221,7 @@ fn execute(world: &mut World) {
                         [v(210), v(212), v(214)],
                     );
                     let (linear, angular) = world.arm.speed_limits();
-                    Some(Motion::ToPose {
+                    Some(SimMotion::ToPose {
                         target: pose,
                         linear_speed: linear,
                         angular_speed: angular.to_radians(),
@@ -228,12 +229,9 @@ fn execute(world: &mut World) {
                 }
                 3 => {
                     let v = |a: u16| f64::from(float_at(&block, a));
-                    let frame = match block[3] {
-                        1 => Frame::Mixed,
-                        2 => Frame::Tool,
-                        _ => Frame::Base,
-                    };
-                    Some(Motion::Twist {
+                    // An unknown code falls back to the base frame, as before.
+                    let frame = ReferenceFrame::from_code(block[3]).unwrap_or(ReferenceFrame::Base);
+                    Some(SimMotion::Twist {
                         linear: Vector3::new(v(204), v(206), v(208)),
                         angular: Vector3::new(v(210), v(212), v(214)).map(f64::to_radians),
                         frame,
@@ -286,8 +284,8 @@ pub fn write_coil(world: &mut World, addr: u16, value: bool) -> Result<(), Refus
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::kortex::ActionStatus;
     use crate::kortex::Flag;
-    use crate::sim::arm::ActionStatus;
 
     #[test]
     fn a_linear_limit_alone_keeps_the_angular_one() {

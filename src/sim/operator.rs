@@ -26,7 +26,7 @@ use std::collections::BTreeMap;
 
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 
-use super::arm::{Arm, Frame, Motion, Refusal, polar_target};
+use super::arm::{Arm, ReferenceFrame, Refusal, SimMotion, polar_target};
 use super::kinematics::{self, HOME_DEG, Joints, Pose};
 use crate::talos::hardware::HwRequest;
 use crate::talos::message::DecodeError;
@@ -185,7 +185,7 @@ impl Operator {
                 let rate = self.timed_speed(angle, time_ms, MAX_JOG_ANGULAR_DEG.to_radians());
                 // Orbiting at `rate` moves the tool at rate × radius.
                 let radius = arm.pose().position.norm().max(0.05);
-                let motion = Motion::ToPose {
+                let motion = SimMotion::ToPose {
                     target,
                     linear_speed: rate * radius,
                     angular_speed: rate,
@@ -194,7 +194,7 @@ impl Operator {
                 Ok(done)
             }
             Request::Home { delay_ms } => {
-                let motion = Motion::ToJoints {
+                let motion = SimMotion::ToJoints {
                     target: kinematics::to_radians(&HOME_DEG),
                     fraction: self.fraction() * MAX_JOINT_FRACTION,
                 };
@@ -210,7 +210,7 @@ impl Operator {
                     return Ok(done);
                 }
                 let rate = MAX_JOG_ANGULAR_DEG.to_radians() * self.fraction();
-                let motion = Motion::Polar {
+                let motion = SimMotion::Polar {
                     azimuth: f64::from(moving_azimuth) * rate,
                     altitude: f64::from(moving_altitude) * rate,
                 };
@@ -234,7 +234,7 @@ impl Operator {
                 let mut target = arm.pose();
                 target.position += delta;
                 let speed = self.timed_speed(delta.norm(), time_ms, self.max_jog_linear);
-                let motion = Motion::ToPose {
+                let motion = SimMotion::ToPose {
                     target,
                     linear_speed: speed,
                     angular_speed: MAX_JOG_ANGULAR_DEG.to_radians(),
@@ -257,10 +257,10 @@ impl Operator {
                     return Ok(done);
                 }
                 // Diagonals are normalised so the TCP never exceeds the jog speed.
-                let motion = Motion::Twist {
+                let motion = SimMotion::Twist {
                     linear: direction.normalize() * self.max_jog_linear * self.fraction(),
                     angular: Vector3::zeros(),
-                    frame: Frame::Base,
+                    frame: ReferenceFrame::Base,
                 };
                 self.continuous(arm, motion)?;
                 Ok(done)
@@ -366,7 +366,7 @@ impl Operator {
     fn command(
         &self,
         arm: &mut Arm,
-        motion: Motion,
+        motion: SimMotion,
         delay_ms: u32,
         watchdog: bool,
         cap: f64,
@@ -376,7 +376,7 @@ impl Operator {
     }
 
     /// A continuous START: a repeat of the running motion only refreshes the watchdog.
-    fn continuous(&self, arm: &mut Arm, motion: Motion) -> Result<(), ReturnCode> {
+    fn continuous(&self, arm: &mut Arm, motion: SimMotion) -> Result<(), ReturnCode> {
         continuous(arm, motion, self.jog_cap())
     }
 
@@ -480,18 +480,18 @@ impl Operator {
         }
     }
 
-    fn go_to(&self, name: &str) -> Result<Motion, ReturnCode> {
+    fn go_to(&self, name: &str) -> Result<SimMotion, ReturnCode> {
         let position = self
             .positions
             .get(name)
             .ok_or(ReturnCode::UNKNOWN_POSITION)?;
         if let (Some(joints), false) = (position.joints, position.anchor) {
-            return Ok(Motion::ToJoints {
+            return Ok(SimMotion::ToJoints {
                 target: joints,
                 fraction: self.fraction() * MAX_JOINT_FRACTION,
             });
         }
-        Ok(Motion::ToPose {
+        Ok(SimMotion::ToPose {
             target: self.absolute(name, 0)?,
             linear_speed: self.max_jog_linear * self.fraction(),
             angular_speed: MAX_JOG_ANGULAR_DEG.to_radians() * self.fraction(),
@@ -550,7 +550,7 @@ fn tenths(value: f64) -> i32 {
 
 /// A continuous motion with the tool point under `cap` m/s: a repeat of the running motion
 /// only refreshes the watchdog (and takes the cap in force).
-fn continuous(arm: &mut Arm, motion: Motion, cap: f64) -> Result<(), ReturnCode> {
+fn continuous(arm: &mut Arm, motion: SimMotion, cap: f64) -> Result<(), ReturnCode> {
     if *arm.motion() == motion {
         arm.refresh_watchdog();
         arm.set_tcp_cap(Some(cap));

@@ -1,6 +1,6 @@
 //! The simulated operator's semantics, driven directly (no sockets).
 
-use super::arm::{Arm, Motion};
+use super::arm::{Arm, SimMotion};
 use super::operator::{MAX_JOG_LINEAR, Operator, VERSION};
 use crate::talos::hardware::{self, ActuatorCommand, HwReply, HwRequest};
 use crate::talos::{Reply, Request, ReturnCode};
@@ -384,7 +384,7 @@ fn hardware_operations_read_feedback_and_jog_one_joint() {
     assert!(rc(&op.handle(&mut arm, hw(jog))).is_ok());
     assert!(matches!(
         arm.motion(),
-        Motion::JointVelocity { joint: 0, .. }
+        SimMotion::JointVelocity { joint: 0, .. }
     ));
     arm.advance(0.4);
     assert!((arm.joints()[0].to_degrees() - 4.0).abs() < 0.1);

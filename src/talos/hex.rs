@@ -2,14 +2,11 @@
 
 /// Bytes as upper-case hex pairs separated by spaces: `[0x00, 0xAB]` is `"00 AB"`.
 pub fn spaced_hex(bytes: &[u8]) -> String {
-    let mut out = String::with_capacity(bytes.len() * 3);
-    for (i, b) in bytes.iter().enumerate() {
-        if i > 0 {
-            out.push(' ');
-        }
-        out.push_str(&format!("{b:02X}"));
-    }
-    out
+    bytes
+        .iter()
+        .map(|b| hex::encode_upper([*b]))
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 #[cfg(test)]

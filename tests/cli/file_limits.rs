@@ -5,17 +5,11 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-fn temp_path(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "armjog-file-limits-{}-{}",
-        std::process::id(),
-        std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map(|d| d.as_nanos())
-            .unwrap_or(0)
-    ));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+/// A path in a fresh directory, removed when the `TempDir` is dropped.
+fn temp_path(name: &str) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join(name);
+    (dir, path)
 }
 
 /// Runs armjog with `args`; it must exit within 10 s (killed otherwise). Returns (status, stderr).
@@ -65,7 +59,7 @@ fn positions_dev_zero_is_refused_at_once() {
 
 #[test]
 fn a_17_mb_positions_file_is_refused_and_left_untouched() {
-    let path = temp_path("book.json");
+    let (_dir, path) = temp_path("book.json");
     let contents = vec![b' '; 17 * 1024 * 1024];
     std::fs::write(&path, &contents).unwrap();
     let shown = path.display().to_string();
@@ -75,7 +69,7 @@ fn a_17_mb_positions_file_is_refused_and_left_untouched() {
 
 #[test]
 fn a_keymap_one_byte_over_1_mb_is_refused() {
-    let path = temp_path("keymap.json");
+    let (_dir, path) = temp_path("keymap.json");
     std::fs::write(&path, vec![b' '; 1024 * 1024 + 1]).unwrap();
     let shown = path.display().to_string();
     assert_refused(&["--keymap", &shown], &shown, "1 MB");
@@ -95,7 +89,7 @@ fn padded_builtin_keymap(path: &Path) {
 
 #[test]
 fn a_keymap_of_exactly_1_mb_still_loads() {
-    let path = temp_path("keymap.json");
+    let (_dir, path) = temp_path("keymap.json");
     padded_builtin_keymap(&path);
     let shown = path.display().to_string();
     armjog::console::keymap::Keymap::load(&shown).unwrap();

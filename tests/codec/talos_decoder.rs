@@ -22,6 +22,9 @@
 //! per candidate position for `crc16`, 1 in 256 for `xor8`). With `none` nothing rejects such a
 //! bogus frame, so some ids and commands after garbage are reliably lost (see the `none_*` tests).
 
+mod common;
+use common::crc16_ccitt_false;
+
 use armjog::talos::ack::{ACK, AckCodec, AckItem};
 use armjog::talos::frame::{DEFAULT_MAX_PAYLOAD, Decoded, FrameHeader, HEADER_LEN, Rejection};
 use armjog::talos::{Checksum, Frame, FrameCodec, RejectReason, Reply, Request, ReturnCode};
@@ -34,21 +37,6 @@ use tokio_util::codec::{Decoder, Encoder, FramedRead};
 const CASES: u32 = 256;
 
 // ---- independent reference pieces ----
-
-fn ref_crc16(bytes: &[u8]) -> u16 {
-    let mut crc: u16 = 0xFFFF;
-    for &byte in bytes {
-        crc ^= u16::from(byte) << 8;
-        for _ in 0..8 {
-            crc = if crc & 0x8000 != 0 {
-                (crc << 1) ^ 0x1021
-            } else {
-                crc << 1
-            };
-        }
-    }
-    crc
-}
 
 fn ref_xor8(bytes: &[u8]) -> u8 {
     bytes.iter().fold(0, |acc, b| acc ^ b)
@@ -118,7 +106,7 @@ fn ref_candidate(
         return None;
     }
     let ok = match checksum {
-        Checksum::Crc16 => ref_crc16(&buf[..body_end]) == be16(body_end),
+        Checksum::Crc16 => crc16_ccitt_false(&buf[..body_end]) == be16(body_end),
         Checksum::Xor8 => ref_xor8(&buf[..body_end]) == buf[body_end],
         Checksum::None => true,
     };
@@ -154,7 +142,7 @@ fn ref_frames(bytes: &[u8], checksum: Checksum, max_payload: usize) -> Vec<Frame
 
 #[test]
 fn the_reference_pieces_are_right() {
-    assert_eq!(ref_crc16(b"123456789"), 0x29B1);
+    assert_eq!(crc16_ccitt_false(b"123456789"), 0x29B1);
     assert_eq!(ref_xor8(&[0x01, 0x02, 0x04, 0x80]), 0x87);
     // Every frame a message encodes to is plausible.
     for frame in [cart_start(0), get_speed(0), save(0), get_cart_reply(0)] {
@@ -563,7 +551,7 @@ fn a_bad_checksum_is_reported_with_its_header_and_the_next_frame_decoded() {
         let covered = &corrupt[..corrupt.len() - checksum.len()];
         let (expected, found) = match checksum {
             Checksum::Crc16 => (
-                ref_crc16(covered),
+                crc16_ccitt_false(covered),
                 u16::from_be_bytes([corrupt[13], corrupt[14]]),
             ),
             _ => (u16::from(ref_xor8(covered)), u16::from(corrupt[13])),

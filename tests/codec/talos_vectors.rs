@@ -8,7 +8,10 @@
 //! Wrapper: Command ID u32 | RESERVED u16 | Command Value u16 | Length u16 | Payload | Checksum.
 //! Most vectors use the `none` checksum (trailing `0000`); a few use `xor8` (one byte, the XOR
 //! of every header and payload byte, worked out in a comment) and `crc16` (CRC-16/CCITT-FALSE,
-//! checked against an independent bit-by-bit implementation below).
+//! checked against an independent bit-by-bit implementation in `tests/common`).
+
+mod common;
+use common::{crc16_ccitt_false, hex};
 
 use armjog::talos::frame::{Decoded, FrameHeader, HEADER_LEN};
 use armjog::talos::message::{DecodeError, EncodeError};
@@ -17,41 +20,6 @@ use armjog::talos::{Checksum, CommandValue, Frame, FrameCodec, Reply, Request, R
 use bytes::BytesMut;
 use std::collections::BTreeSet;
 use tokio_util::codec::Decoder;
-
-/// Hex digits to bytes; spaces and `|` are only for reading.
-fn hex(s: &str) -> Vec<u8> {
-    let digits: Vec<u8> = s
-        .bytes()
-        .filter(|b| !b.is_ascii_whitespace() && *b != b'|')
-        .collect();
-    assert!(
-        digits.len().is_multiple_of(2),
-        "odd number of hex digits in {s:?}"
-    );
-    digits
-        .chunks(2)
-        .map(|pair| {
-            let text = std::str::from_utf8(pair).expect("ascii");
-            u8::from_str_radix(text, 16).unwrap_or_else(|_| panic!("bad hex {text:?} in {s:?}"))
-        })
-        .collect()
-}
-
-/// Independent CRC-16/CCITT-FALSE: poly 0x1021, init 0xFFFF, MSB first, no reflection, xorout 0.
-fn crc16_ccitt_false(bytes: &[u8]) -> u16 {
-    let mut crc: u16 = 0xFFFF;
-    for &byte in bytes {
-        crc ^= u16::from(byte) << 8;
-        for _ in 0..8 {
-            crc = if crc & 0x8000 != 0 {
-                (crc << 1) ^ 0x1021
-            } else {
-                crc << 1
-            };
-        }
-    }
-    crc
-}
 
 /// Decodes exactly one frame from `bytes`, asserting nothing is left over.
 fn decode_one(bytes: &[u8], checksum: Checksum) -> Frame {

@@ -90,3 +90,30 @@ pub fn reply_bytes(reply: &armjog::talos::Reply, request_id: u32, checksum: Chec
         .to_bytes(checksum)
         .expect("reply bytes")
 }
+
+// ---- known-answer helpers shared by the Talos vector and decoder tests ----
+
+/// Hex digits to bytes; spaces and `|` are only for reading.
+pub fn hex(s: &str) -> Vec<u8> {
+    let digits: String = s
+        .chars()
+        .filter(|c| !c.is_ascii_whitespace() && *c != '|')
+        .collect();
+    hex::decode(&digits).unwrap_or_else(|e| panic!("bad hex in {s:?}: {e}"))
+}
+
+/// Independent CRC-16/CCITT-FALSE: poly 0x1021, init 0xFFFF, MSB first, no reflection, xorout 0.
+pub fn crc16_ccitt_false(bytes: &[u8]) -> u16 {
+    let mut crc: u16 = 0xFFFF;
+    for &byte in bytes {
+        crc ^= u16::from(byte) << 8;
+        for _ in 0..8 {
+            crc = if crc & 0x8000 != 0 {
+                (crc << 1) ^ 0x1021
+            } else {
+                crc << 1
+            };
+        }
+    }
+    crc
+}

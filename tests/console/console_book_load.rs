@@ -10,17 +10,11 @@ use armjog::console::jog::ReleaseMode;
 use armjog::console::positions::PositionBook;
 use armjog::link::arm::{ArmCommand, ArmEvent, LinkStatus};
 
-fn temp_book(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "armjog-book-load-{}-{name}-{}",
-        std::process::id(),
-        std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map(|d| d.as_nanos())
-            .unwrap_or(0)
-    ));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir.join("book.json")
+/// A book path in a fresh directory, removed when the `TempDir` is dropped.
+fn temp_book() -> (tempfile::TempDir, std::path::PathBuf) {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("book.json");
+    (dir, path)
 }
 
 fn book_of(names: &[&str]) -> PositionBook {
@@ -85,7 +79,7 @@ fn jog_release_stop_and_quit_work_while_the_book_loads() {
 
 #[test]
 fn a_save_while_loading_leaves_the_file_intact_and_lands_in_the_loaded_book() {
-    let path = temp_book("held");
+    let (_dir, path) = temp_book();
     let on_disk = book_of(&["bench", "home"]);
     on_disk.save(&path).expect("save");
     let before = std::fs::read(&path).expect("read");
@@ -123,7 +117,7 @@ fn a_save_while_loading_leaves_the_file_intact_and_lands_in_the_loaded_book() {
 
 #[test]
 fn a_book_that_cannot_be_read_is_named_and_never_saved_over() {
-    let path = temp_book("bad");
+    let (_dir, path) = temp_book();
     std::fs::write(&path, "{ \"format\": 1, \"positions\": { \"a\" }").expect("write");
     let before = std::fs::read(&path).expect("read");
     let error = PositionBook::load(&path).expect_err("corrupt").to_string();

@@ -2,22 +2,12 @@
 //! `armjog::talos::hardware`: hand-written byte vectors, every rejection, flag and state names,
 //! JSON shape, and property round trips.
 
+mod common;
+use common::hex;
+
 use armjog::kortex::Flag;
 use armjog::talos::hardware::*;
 use proptest::prelude::*;
-
-/// Bytes from hand-written hex ("02 00000001 ..."); whitespace is ignored.
-fn hex(text: &str) -> Vec<u8> {
-    let digits: String = text.chars().filter(|c| !c.is_whitespace()).collect();
-    assert!(
-        digits.len().is_multiple_of(2),
-        "odd hex digit count in {text:?}"
-    );
-    (0..digits.len())
-        .step_by(2)
-        .map(|i| u8::from_str_radix(&digits[i..i + 2], 16).unwrap())
-        .collect()
-}
 
 // Hand-computed IEEE-754 big-endian values used below:
 //   0.125 3E000000   0.25 3E800000   0.5 3F000000   1.0 3F800000   1.5 3FC00000

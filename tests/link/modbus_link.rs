@@ -6,7 +6,6 @@ use crate::modbus_fake;
 use std::time::Duration;
 
 use armjog::kortex::{Pose, ReferenceFrame, RobotState, Twist};
-use armjog::link::ModbusException;
 use armjog::link::modbus::{ModbusConfig, ModbusError, ModbusEvent, ModbusLink, StopReason};
 use modbus_fake::{Behaviour, FakeArm, Written, fill_known_telemetry, from_cdab, stop_write};
 use tokio_modbus::{ExceptionCode, Request};
@@ -292,11 +291,11 @@ async fn exceptions_are_typed_by_name() {
     });
     let (link, _events) = ModbusLink::connect(config(&arm)).await.unwrap();
     let e = link.fault_reset().await.unwrap_err();
-    assert_eq!(e.exception(), Some(ModbusException::IllegalFunction));
+    assert_eq!(e.exception(), Some(ExceptionCode::IllegalFunction));
     assert!(e.to_string().contains("illegal function (0x01)"), "{e}");
     assert!(e.to_string().contains("coil 2"), "{e}");
     let e = link.read_telemetry().await.unwrap_err();
-    assert_eq!(e.exception(), Some(ModbusException::ServerDeviceBusy));
+    assert_eq!(e.exception(), Some(ExceptionCode::ServerDeviceBusy));
     assert!(!e.breaks_connection());
     // The connection is still in use: no reconnect for an exception.
     link.set_speed_limits(0.1, 10.0).await.unwrap();
@@ -432,7 +431,7 @@ async fn a_failed_update_stops_the_twist() {
         .jog_twist(ReferenceFrame::Base, Twist::ZERO.with_x(0.1))
         .await
         .unwrap_err();
-    assert_eq!(e.exception(), Some(ModbusException::IllegalDataValue));
+    assert_eq!(e.exception(), Some(ExceptionCode::IllegalDataValue));
     // The refused block (x 0.1 = 0x3DCCCCCD), then the stop.
     let writes = arm.writes();
     assert_eq!(

@@ -4,7 +4,7 @@
 //! joint limit, over Talos and over Modbus.
 
 use armjog::kortex::Flag;
-use armjog::sim::arm::{ActionStatus, Arm, Motion, STEP};
+use armjog::sim::arm::{ActionStatus, Arm, STEP, SimMotion};
 use armjog::sim::kinematics::{self, HOME_DEG, JOINTS};
 use armjog::sim::modbus_registers::{HOME_ACTION_ID, write_registers};
 use armjog::sim::operator::Operator;
@@ -268,7 +268,7 @@ fn talos_home_is_a_joint_move_within_the_limits_from_any_pose() {
         let mut arm = Arm::at(kinematics::to_radians(&from));
         ok(&mut op, &mut arm, Request::SetSpeed { speed: 100 });
         ok(&mut op, &mut arm, Request::Home { delay_ms: 0 });
-        assert!(matches!(arm.motion(), Motion::ToJoints { .. }));
+        assert!(matches!(arm.motion(), SimMotion::ToJoints { .. }));
         run_home(&mut arm, &from, 60.0);
         assert_home(&arm, &from);
     }
@@ -283,7 +283,7 @@ fn modbus_home_action_is_a_joint_move_within_the_limits_from_any_pose() {
         };
         // 200 <- 1 (start), 201 <- the Home action's id, 202 <- 0 (an action).
         write_registers(&mut world, 200, &[1, HOME_ACTION_ID, 0]).expect("accepted");
-        assert!(matches!(world.arm.motion(), Motion::ToJoints { .. }));
+        assert!(matches!(world.arm.motion(), SimMotion::ToJoints { .. }));
         run_home(&mut world.arm, &from, 60.0);
         assert_home(&world.arm, &from);
     }

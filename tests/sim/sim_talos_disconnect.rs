@@ -11,7 +11,7 @@ use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::TcpStream;
 use tokio_util::codec::Decoder;
 
-use armjog::sim::arm::Motion;
+use armjog::sim::arm::SimMotion;
 use armjog::sim::talos_server::NetworkFaults;
 use armjog::sim::{SimConfig, Simulator};
 use armjog::talos::frame::Decoded;
@@ -109,7 +109,7 @@ async fn a_joint_jog_stops_when_its_connection_closes() {
     let mut a = RawClient::connect(&sim).await;
     assert!(a.request(jog(1, 10.0)).await.return_code().is_ok());
     let motion = sim.arm.with(|arm, _| arm.motion().clone()).await.unwrap();
-    assert!(matches!(motion, Motion::JointVelocity { joint: 0, .. }));
+    assert!(matches!(motion, SimMotion::JointVelocity { joint: 0, .. }));
     let peer = a.addr();
     drop(a);
     wait_until_stopped(&sim).await;

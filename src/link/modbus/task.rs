@@ -11,7 +11,7 @@ use tokio::time::{Instant, MissedTickBehavior};
 use tokio_modbus::client::{Client, Context};
 
 use super::{
-    Job, ModbusConfig, ModbusError, ModbusEvent, ModbusException, Reply, Snapshot, StopReason,
+    ExceptionCode, Job, ModbusConfig, ModbusError, ModbusEvent, Reply, Snapshot, StopReason,
     WriteReport, wire,
 };
 use crate::kortex::commands::{self, Write};
@@ -472,7 +472,7 @@ impl LinkTask {
                 Ok(()) => index += 1,
                 Err(e)
                     if self.plan == PollPlan::Compact
-                        && e.exception() == Some(ModbusException::IllegalDataAddress) =>
+                        && e.exception() == Some(ExceptionCode::IllegalDataAddress) =>
                 {
                     tracing::warn!("{e}; reading the ICD's blocks one by one from now on");
                     self.plan = PollPlan::IcdBlocks;

@@ -8,7 +8,7 @@ use tokio::net::TcpStream;
 use tokio_modbus::client::{Client, Context};
 use tokio_modbus::{Request, Response, Slave};
 
-use super::{ModbusConfig, ModbusError, ModbusException, Operation};
+use super::{ModbusConfig, ModbusError, Operation};
 use crate::kortex::{ReadBlock, RegisterImage, Table, Write};
 
 /// Opens a TCP connection to the arm within the connect timeout (name lookup included), trying
@@ -75,7 +75,7 @@ async fn call(
         }),
         Ok(Ok(Err(exception))) => Err(ModbusError::Exception {
             operation: operation.clone(),
-            exception: ModbusException::from(exception),
+            exception,
         }),
         Ok(Ok(Ok(response))) => Ok(response),
     }

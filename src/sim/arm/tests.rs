@@ -17,10 +17,10 @@ fn starts_at_home_at_rest() {
 fn a_base_twist_moves_the_tcp_along_x_at_the_commanded_speed() {
     let mut arm = Arm::default();
     let x0 = arm.pose().position;
-    let twist = Motion::Twist {
+    let twist = SimMotion::Twist {
         linear: Vector3::new(0.1, 0.0, 0.0),
         angular: Vector3::zeros(),
-        frame: Frame::Base,
+        frame: ReferenceFrame::Base,
     };
     arm.command(twist, 0.0, false).unwrap();
     arm.advance(0.5);
@@ -32,7 +32,7 @@ fn a_base_twist_moves_the_tcp_along_x_at_the_commanded_speed() {
 #[test]
 fn the_watchdog_stops_an_unrefreshed_continuous_motion() {
     let mut arm = Arm::default();
-    let m = Motion::Polar {
+    let m = SimMotion::Polar {
         azimuth: 0.2,
         altitude: 0.0,
     };
@@ -53,7 +53,7 @@ fn the_watchdog_stops_an_unrefreshed_continuous_motion() {
 fn polar_azimuth_orbits_about_z_at_constant_radius_and_height() {
     let mut arm = Arm::default();
     let p0 = arm.pose().position;
-    let m = Motion::Polar {
+    let m = SimMotion::Polar {
         azimuth: 10f64.to_radians(),
         altitude: 0.0,
     };
@@ -77,7 +77,7 @@ fn polar_altitude_raises_the_elevation() {
     let elevation = |p: Vector3<f64>| p.z.atan2((p.x.powi(2) + p.y.powi(2)).sqrt());
     let e0 = elevation(arm.pose().position);
     arm.command(
-        Motion::Polar {
+        SimMotion::Polar {
             azimuth: 0.0,
             altitude: 0.1,
         },
@@ -94,7 +94,7 @@ fn to_pose_reaches_a_reachable_target_and_refuses_an_unreachable_one() {
     let mut arm = Arm::default();
     let mut target = arm.pose();
     target.position += Vector3::new(-0.05, 0.05, 0.05);
-    let m = Motion::ToPose {
+    let m = SimMotion::ToPose {
         target,
         linear_speed: 0.1,
         angular_speed: 0.5,
@@ -107,7 +107,7 @@ fn to_pose_reaches_a_reachable_target_and_refuses_an_unreachable_one() {
 
     let mut far = arm.pose();
     far.position = Vector3::new(1.5, 0.0, 0.4);
-    let m = Motion::ToPose {
+    let m = SimMotion::ToPose {
         target: far,
         linear_speed: 0.1,
         angular_speed: 0.5,
@@ -122,7 +122,7 @@ fn home_returns_every_joint() {
     ]));
     let home = kinematics::to_radians(&HOME_DEG);
     arm.command(
-        Motion::ToJoints {
+        SimMotion::ToJoints {
             target: home,
             fraction: 0.5,
         },
@@ -145,7 +145,7 @@ fn a_joint_limit_stops_the_motion_and_warns() {
     let mut arm = Arm::at(kinematics::to_radians(&[
         0.0, 127.0, 180.0, 230.0, 0.0, 55.0, 90.0,
     ]));
-    let m = Motion::JointVelocity {
+    let m = SimMotion::JointVelocity {
         joint: 1,
         velocity: 20f64.to_radians(),
     };
@@ -161,7 +161,7 @@ fn quick_stop_faults_the_arm_until_reset() {
     let mut arm = Arm::default();
     arm.quick_stop();
     assert_eq!(arm.snapshot().robot_state, RobotState::InFault);
-    let m = Motion::Polar {
+    let m = SimMotion::Polar {
         azimuth: 0.1,
         altitude: 0.0,
     };
@@ -173,7 +173,7 @@ fn quick_stop_faults_the_arm_until_reset() {
 #[test]
 fn a_delayed_motion_waits() {
     let mut arm = Arm::default();
-    let m = Motion::Polar {
+    let m = SimMotion::Polar {
         azimuth: 0.1,
         altitude: 0.0,
     };
@@ -188,7 +188,7 @@ fn a_delayed_motion_waits() {
 fn efforts_are_plausible_and_deterministic() {
     let mut a = Arm::default();
     let mut b = Arm::default();
-    let m = Motion::Polar {
+    let m = SimMotion::Polar {
         azimuth: 0.2,
         altitude: 0.05,
     };
@@ -210,7 +210,7 @@ fn efforts_are_plausible_and_deterministic() {
 fn a_non_finite_motion_is_refused_and_nothing_moves() {
     let mut arm = Arm::default();
     let before = arm.joints();
-    let m = Motion::JointVelocity {
+    let m = SimMotion::JointVelocity {
         joint: 0,
         velocity: f64::NAN,
     };

@@ -1,7 +1,7 @@
 //! The hardware companion ICD's operations (docs/hardware-icd.md) on the simulated arm.
 
 use super::continuous;
-use crate::sim::arm::{Arm, Motion};
+use crate::sim::arm::{Arm, SimMotion};
 use crate::sim::telemetry;
 use crate::talos::ReturnCode;
 use crate::talos::hardware::{self, HwReply, HwRequest};
@@ -37,7 +37,7 @@ pub(super) fn hardware_operation(
             if flags.contains(F::SERVO_ENABLE) {
                 let index = usize::from(joint.saturating_sub(1));
                 let velocity = f64::from(command.velocity_deg_s).to_radians();
-                let motion = Motion::JointVelocity {
+                let motion = SimMotion::JointVelocity {
                     joint: index,
                     velocity,
                 };
