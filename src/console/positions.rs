@@ -417,7 +417,7 @@ mod tests {
         let path = d.path().join("book.json");
         std::fs::create_dir_all(path.join("in-the-way")).unwrap();
         let mut book = PositionBook::new();
-        book.entry("pick");
+        book.get_or_insert("pick");
         let err = book.save(&path).unwrap_err().to_string();
         assert!(err.starts_with(&path.display().to_string()), "{err}");
         let names: Vec<_> = std::fs::read_dir(d.path())
@@ -437,11 +437,11 @@ mod tests {
         let path = d.path().join("nested").join("book.json");
         let mut old = PositionBook::new();
         for i in 0..50 {
-            old.entry(&format!("p{i:02}"));
+            old.get_or_insert(&format!("p{i:02}"));
         }
         old.save(&path).unwrap();
         let mut new = PositionBook::new();
-        new.entry("only");
+        new.get_or_insert("only");
         new.save(&path).unwrap();
         assert_eq!(PositionBook::load(&path).unwrap(), new);
     }

@@ -4,6 +4,9 @@
 //! run): each module is one former `tests/<name>.rs`, so test paths read `<name>::<test>`.
 //! Helpers shared with other binaries stay in `tests/<helper>/` and come in by path.
 
+#[path = "../common/mod.rs"]
+mod common;
+
 mod kortex_codec;
 mod talos_decoder;
 mod talos_props;

@@ -22,7 +22,7 @@
 //! per candidate position for `crc16`, 1 in 256 for `xor8`). With `none` nothing rejects such a
 //! bogus frame, so some ids and commands after garbage are reliably lost (see the `none_*` tests).
 
-mod common;
+use crate::common;
 use common::crc16_ccitt_false;
 
 use armjog::talos::ack::{ACK, AckCodec, AckItem};

@@ -10,7 +10,7 @@
 //! of every header and payload byte, worked out in a comment) and `crc16` (CRC-16/CCITT-FALSE,
 //! checked against an independent bit-by-bit implementation in `tests/common`).
 
-mod common;
+use crate::common;
 use common::{crc16_ccitt_false, hex};
 
 use armjog::talos::frame::{Decoded, FrameHeader, HEADER_LEN};

@@ -2,7 +2,7 @@
 //! `armjog::talos::hardware`: hand-written byte vectors, every rejection, flag and state names,
 //! JSON shape, and property round trips.
 
-mod common;
+use crate::common;
 use common::hex;
 
 use armjog::kortex::Flag;
