@@ -358,6 +358,17 @@ enum Job {
     Close(Reply<()>),
 }
 
+impl From<crate::net::ConnectError> for ModbusError {
+    fn from(e: crate::net::ConnectError) -> Self {
+        use crate::net::ConnectError;
+        match e {
+            ConnectError::Resolve { addr, source } => ModbusError::Resolve { addr, source },
+            ConnectError::Refused { addr, source } => ModbusError::ConnectRefused { addr, source },
+            ConnectError::Timeout { addr, after } => ModbusError::ConnectTimeout { addr, after },
+        }
+    }
+}
+
 /// A connected arm. Cheap to clone; the task ends, stopping any twist, when every clone is gone.
 #[derive(Clone)]
 pub struct ModbusLink {
