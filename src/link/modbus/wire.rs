@@ -18,6 +18,21 @@ pub(super) async fn open(config: &ModbusConfig) -> Result<Context, ModbusError> 
     Ok(attach(stream, config))
 }
 
+/// Opens a fresh connection to the arm: the TCP connect, or in tests an in-memory transport.
+/// The task calls it again for every reconnect.
+pub(super) type Connector = std::sync::Arc<
+    dyn Fn() -> futures::future::BoxFuture<'static, Result<Context, ModbusError>> + Send + Sync,
+>;
+
+/// The connector that dials `config.addr` over TCP.
+pub(super) fn tcp_connector(config: &ModbusConfig) -> Connector {
+    let config = config.clone();
+    std::sync::Arc::new(move || {
+        let config = config.clone();
+        Box::pin(async move { open(&config).await })
+    })
+}
+
 /// Runs the Modbus TCP client over an already connected transport.
 pub(super) fn attach<T>(transport: T, config: &ModbusConfig) -> Context
 where
