@@ -2,8 +2,9 @@
 //!
 //! One task (`task.rs`) owns the transport: TCP, or any `AsyncRead + AsyncWrite`. Requests
 //! reach it over a channel with a oneshot for the answer; it stamps each with the next even
-//! command id, writes it, and pairs the reply (id | 1) when it arrives. Anything it cannot pair (an unknown id, a late reply, a corrupt frame) is reported as
-//! a [`TalosEvent`], never dropped silently.
+//! command id, writes it, and pairs the reply (id | 1) when it arrives. Anything it cannot
+//! pair (an unknown id, a late reply, a corrupt frame) is reported as a [`TalosEvent`], never
+//! dropped silently.
 //!
 //! Safety: while a continuous START is in effect, dropping the link (or the task losing its
 //! callers) sends the matching STOP before closing, rather than leaving it to the operator's
