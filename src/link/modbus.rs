@@ -299,6 +299,17 @@ enum Job {
     Close(Reply<()>),
 }
 
+impl From<crate::net::ConnectError> for ModbusError {
+    fn from(e: crate::net::ConnectError) -> Self {
+        use crate::net::ConnectError;
+        match e {
+            ConnectError::Resolve { addr, source } => ModbusError::Resolve { addr, source },
+            ConnectError::Refused { addr, source } => ModbusError::ConnectRefused { addr, source },
+            ConnectError::Timeout { addr, after } => ModbusError::ConnectTimeout { addr, after },
+        }
+    }
+}
+
 /// A connected arm. Cheap to clone; the task ends, stopping any twist, when every clone is gone.
 #[derive(Clone)]
 pub struct ModbusLink {
@@ -322,6 +333,43 @@ impl ModbusLink {
     pub async fn connect(
         config: ModbusConfig,
     ) -> Result<(ModbusLink, mpsc::UnboundedReceiver<ModbusEvent>), ModbusError> {
+        let connector = wire::tcp_connector(&config);
+        Self::start(config, connector).await
+    }
+
+    /// Like [`connect`](Self::connect), but every connection (the first, and each reconnect)
+    /// comes from `open`: an in-memory transport in tests, or any other stream. An error from
+    /// `open` is reported as a refused connection to `config.addr`.
+    pub async fn connect_via<F, Fut, T>(
+        config: ModbusConfig,
+        open: F,
+    ) -> Result<(ModbusLink, mpsc::UnboundedReceiver<ModbusEvent>), ModbusError>
+    where
+        F: Fn() -> Fut + Send + Sync + 'static,
+        Fut: std::future::Future<Output = std::io::Result<T>> + Send + 'static,
+        T: tokio::io::AsyncRead + tokio::io::AsyncWrite + Send + Unpin + fmt::Debug + 'static,
+    {
+        let open = std::sync::Arc::new(open);
+        let for_connector = config.clone();
+        let connector: wire::Connector = std::sync::Arc::new(move || {
+            let (open, config) = (open.clone(), for_connector.clone());
+            Box::pin(async move {
+                match open().await {
+                    Ok(transport) => Ok(wire::attach(transport, &config)),
+                    Err(source) => Err(ModbusError::ConnectRefused {
+                        addr: config.addr.clone(),
+                        source,
+                    }),
+                }
+            })
+        });
+        Self::start(config, connector).await
+    }
+
+    async fn start(
+        config: ModbusConfig,
+        connector: wire::Connector,
+    ) -> Result<(ModbusLink, mpsc::UnboundedReceiver<ModbusEvent>), ModbusError> {
         if let Some(hz) = config.poll_rate_hz
             && !(hz.is_finite() && hz > 0.0 && hz <= 1000.0)
         {
@@ -329,11 +377,11 @@ impl ModbusLink {
                 reason: format!("poll rate {hz} Hz is outside (0, 1000]"),
             });
         }
-        let context = wire::open(&config).await?;
+        let context = connector().await?;
         let (jobs_tx, jobs_rx) = mpsc::channel(64);
         let (events_tx, events_rx) = mpsc::unbounded_channel();
         let (snapshots_tx, snapshots_rx) = watch::channel(None);
-        let task = task::LinkTask::new(config.clone(), jobs_rx, snapshots_tx, events_tx);
+        let task = task::LinkTask::new(config.clone(), connector, jobs_rx, snapshots_tx, events_tx);
         tokio::spawn(task.run(context));
         let link = ModbusLink {
             jobs: jobs_tx,

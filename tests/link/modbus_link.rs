@@ -520,28 +520,6 @@ async fn a_stop_that_cannot_be_written_is_an_error_and_an_event() {
 }
 
 #[tokio::test]
-async fn an_unrefreshed_twist_is_stopped_after_the_hold() {
-    let arm = FakeArm::start().await;
-    let mut config = config(&arm);
-    config.twist_hold = Some(Duration::from_millis(400));
-    let (link, _events) = ModbusLink::connect(config).await.unwrap();
-    link.jog_twist(ReferenceFrame::Base, sample_twist())
-        .await
-        .unwrap();
-    // Refreshing keeps it going past the first hold...
-    for _ in 0..10 {
-        tokio::time::sleep(Duration::from_millis(60)).await;
-        link.jog_twist(ReferenceFrame::Base, sample_twist())
-            .await
-            .unwrap();
-    }
-    assert_eq!(arm.writes().len(), 3);
-    // ...and silence stops it.
-    arm.wait_for(WAIT, |s| s.writes().len() == 4).await;
-    assert_eq!(arm.writes()[3], stop_write());
-}
-
-#[tokio::test]
 async fn polar_pan_orbits_the_base_from_the_live_pose() {
     let arm = FakeArm::start().await;
     arm.with(|s| {

@@ -49,6 +49,8 @@ enum Wake {
 
 pub(super) struct LinkTask {
     config: ModbusConfig,
+    /// Opens each new connection after a loss.
+    connector: wire::Connector,
     jobs: mpsc::Receiver<Job>,
     jobs_closed: bool,
     snapshots: watch::Sender<Option<Snapshot>>,
@@ -74,6 +76,7 @@ pub(super) struct LinkTask {
 impl LinkTask {
     pub(super) fn new(
         config: ModbusConfig,
+        connector: wire::Connector,
         jobs: mpsc::Receiver<Job>,
         snapshots: watch::Sender<Option<Snapshot>>,
         events: mpsc::UnboundedSender<ModbusEvent>,
@@ -81,6 +84,7 @@ impl LinkTask {
         LinkTask {
             plan: config.plan,
             config,
+            connector,
             jobs,
             jobs_closed: false,
             snapshots,

@@ -4,53 +4,41 @@
 use std::borrow::Cow;
 use std::time::Duration;
 
-use tokio::net::TcpStream;
 use tokio_modbus::client::{Client, Context};
 use tokio_modbus::{Request, Response, Slave};
 
 use super::{ModbusConfig, ModbusError, Operation};
 use crate::kortex::{ReadBlock, RegisterImage, Table, Write};
+use crate::net::connect_with_timeout;
 
 /// Opens a TCP connection to the arm within the connect timeout (name lookup included), trying
 /// every resolved address.
 pub(super) async fn open(config: &ModbusConfig) -> Result<Context, ModbusError> {
-    let addr = config.addr.clone();
-    let connect = async {
-        let addrs: Vec<_> = tokio::net::lookup_host(&addr)
-            .await
-            .map_err(|source| ModbusError::Resolve {
-                addr: addr.clone(),
-                source,
-            })?
-            .collect();
-        let mut last = None;
-        for a in addrs {
-            match TcpStream::connect(a).await {
-                Ok(stream) => return Ok(stream),
-                Err(e) => last = Some(e),
-            }
-        }
-        Err(ModbusError::ConnectRefused {
-            addr: addr.clone(),
-            source: last
-                .unwrap_or_else(|| std::io::Error::other("the name resolved to no address")),
-        })
-    };
-    match tokio::time::timeout(config.connect_timeout, connect).await {
-        Ok(Ok(stream)) => {
-            // Small request/reply pairs: never wait to coalesce.
-            let _ = stream.set_nodelay(true);
-            Ok(tokio_modbus::client::tcp::attach_slave(
-                stream,
-                Slave(config.unit),
-            ))
-        }
-        Ok(Err(e)) => Err(e),
-        Err(_) => Err(ModbusError::ConnectTimeout {
-            addr,
-            after: config.connect_timeout,
-        }),
-    }
+    let stream = connect_with_timeout(&config.addr, config.connect_timeout).await?;
+    Ok(attach(stream, config))
+}
+
+/// Opens a fresh connection to the arm: the TCP connect, or in tests an in-memory transport.
+/// The task calls it again for every reconnect.
+pub(super) type Connector = std::sync::Arc<
+    dyn Fn() -> futures::future::BoxFuture<'static, Result<Context, ModbusError>> + Send + Sync,
+>;
+
+/// The connector that dials `config.addr` over TCP.
+pub(super) fn tcp_connector(config: &ModbusConfig) -> Connector {
+    let config = config.clone();
+    std::sync::Arc::new(move || {
+        let config = config.clone();
+        Box::pin(async move { open(&config).await })
+    })
+}
+
+/// Runs the Modbus TCP client over an already connected transport.
+pub(super) fn attach<T>(transport: T, config: &ModbusConfig) -> Context
+where
+    T: tokio::io::AsyncRead + tokio::io::AsyncWrite + Send + Unpin + std::fmt::Debug + 'static,
+{
+    tokio_modbus::client::tcp::attach_slave(transport, Slave(config.unit))
 }
 
 /// Sends one request and returns its response, or the typed reason there is none.

@@ -9,8 +9,11 @@ use tokio_modbus::client::Context;
 /// Opens a connection and checks that the arm answers on it. A TCP connect alone proves
 /// nothing: a frozen server's kernel still accepts connections into its backlog, and a link
 /// reported up then would hide the freeze from the technician.
-async fn open_answering(config: &ModbusConfig) -> Result<Context, ModbusError> {
-    let mut ctx = wire::open(config).await?;
+async fn open_answering(
+    connector: &wire::Connector,
+    config: &ModbusConfig,
+) -> Result<Context, ModbusError> {
+    let mut ctx = connector().await?;
     let mut scratch = RegisterImage::default();
     if let Some(block) = PollPlan::IcdBlocks.blocks().first() {
         wire::read(&mut ctx, *block, &mut scratch, config.request_timeout).await?;
@@ -46,7 +49,8 @@ impl LinkTask {
             attempts += 1;
             let opened = {
                 let config = self.config.clone();
-                let open = open_answering(&config);
+                let connector = self.connector.clone();
+                let open = open_answering(&connector, &config);
                 tokio::pin!(open);
                 loop {
                     tokio::select! {

@@ -1,399 +1,29 @@
-//! Async client for a Talos operator.
-//!
-//! One task owns the TCP stream. Requests reach it over a channel with a oneshot for the answer;
-//! it stamps each with the next even command id, writes it, and pairs the reply (id | 1) when it
-//! arrives. Anything it cannot pair (an unknown id, a late reply, a corrupt frame) is reported as
-//! a [`TalosEvent`], never dropped silently.
-//!
-//! Safety: while a continuous START is in effect, dropping the link (or the task losing its
-//! callers) sends the matching STOP before closing, rather than leaving it to the operator's
-//! 500 ms watchdog.
-//!
-//! Ack dialect: an ACK carries no id, so one lost ACK would misalign every later pairing. A
-//! request whose ACK has not come within its timeout therefore leaves the in-order queue (a
-//! late ACK for it is then absorbed, not paired with a newer request), and a STOP without an
-//! ACK is re-sent ([`STOP_ACK_TRIES`] frames, [`STOP_ACK_INTERVAL`] apart) before it fails.
+//! The IO task of a [`TalosLink`](super::TalosLink): owns the transport, writes requests in
+//! order, pairs replies, expires ACKs and re-sends STOPs. Generic over the transport so tests
+//! run it over an in-memory stream on a paused clock.
 
 use std::collections::{HashMap, VecDeque};
-use std::fmt;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::{Duration, Instant};
 
 use futures::{SinkExt, StreamExt};
-use tokio::net::TcpStream;
-use tokio::net::tcp::OwnedReadHalf;
-use tokio::sync::{mpsc, oneshot};
+use tokio::io::{AsyncRead, AsyncWrite, ReadHalf, WriteHalf};
+use tokio::sync::mpsc;
 use tokio_util::codec::{FramedRead, FramedWrite};
 
-use crate::net::{DEFAULT_FRAME_DEADLINE, FrameReader};
+use super::{
+    Answer, AnswerTx, CommandIds, Exchange, Job, STOP_ACK_INTERVAL, STOP_ACK_TRIES, TalosError,
+    TalosEvent, ack_deadline, is_stop,
+};
+use crate::net::FrameReader;
 use crate::talos::ack::{ACK, AckCodec, AckItem};
 use crate::talos::frame::{Decoded, Frame, FrameCodec, Rejection};
-use crate::talos::message::{DecodeError, EncodeError};
-use crate::talos::{Checksum, CommandValue, Reply, Request, ReturnCode};
-// Re-exported so the link's callers keep naming it `link::Dialect`.
-pub use crate::talos::Dialect;
-
-/// Default port of the deployed operator.
-pub const DEFAULT_PORT: u16 = 61616;
-
-/// Ack dialect: how many STOP frames are sent before a STOP without an ACK fails.
-pub const STOP_ACK_TRIES: u32 = 3;
-/// Ack dialect: how long a STOP frame waits for its ACK before it is sent again.
-pub const STOP_ACK_INTERVAL: Duration = Duration::from_millis(150);
-/// Extra time a caller waits beyond the link's own ack-dialect deadline, which always answers
-/// first: the caller's clock may start before the frame is written.
-const ACK_CALLER_GRACE: Duration = Duration::from_millis(250);
-
-/// Where and how to reach an operator.
-#[derive(Debug, Clone)]
-pub struct TalosConfig {
-    pub addr: String,
-    pub dialect: Dialect,
-    pub checksum: Checksum,
-    pub connect_timeout: Duration,
-    pub request_timeout: Duration,
-    /// How long a reply may take from its first byte to its last before it is given up.
-    pub frame_deadline: Duration,
-}
-
-impl TalosConfig {
-    pub fn new(addr: impl Into<String>) -> Self {
-        TalosConfig {
-            addr: addr.into(),
-            dialect: Dialect::Icd,
-            checksum: Checksum::Crc16,
-            connect_timeout: Duration::from_secs(2),
-            request_timeout: Duration::from_millis(500),
-            frame_deadline: DEFAULT_FRAME_DEADLINE,
-        }
-    }
-}
-
-/// What came back for a request.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Answer {
-    Reply(Reply),
-    /// The `ack` dialect's "ACK\0": the operator received a frame, nothing more.
-    Ack,
-}
-
-/// One completed request/reply exchange.
-#[derive(Debug, Clone)]
-pub struct Exchange {
-    pub id: u32,
-    pub request: Request,
-    pub answer: Answer,
-    pub request_bytes: Vec<u8>,
-    pub reply_bytes: Vec<u8>,
-    pub latency: Duration,
-}
-
-impl Exchange {
-    pub fn return_code(&self) -> ReturnCode {
-        match &self.answer {
-            Answer::Reply(reply) => reply.return_code(),
-            Answer::Ack => ReturnCode::OK,
-        }
-    }
-}
-
-/// Everything that can go wrong talking to an operator.
-#[derive(Debug, thiserror::Error)]
-pub enum TalosError {
-    #[error("cannot resolve {addr}: {source}")]
-    Resolve {
-        addr: String,
-        source: std::io::Error,
-    },
-    #[error("connection to {addr} refused: {source}")]
-    Refused {
-        addr: String,
-        source: std::io::Error,
-    },
-    #[error("no connection to {addr} within {after:?}")]
-    ConnectTimeout { addr: String, after: Duration },
-    #[error("{command} (id {id}): no reply within {after:?}")]
-    Timeout {
-        command: CommandValue,
-        id: u32,
-        after: Duration,
-    },
-    #[error("{command} (id {id}) failed with return code {code}", command = .exchange.request.command(), id = .exchange.id, code = .exchange.return_code())]
-    ReturnCode { exchange: Box<Exchange> },
-    #[error("{command} (id {id}): reply rejected: {rejection}")]
-    Checksum {
-        command: CommandValue,
-        id: u32,
-        rejection: Rejection,
-    },
-    #[error("{command} (id {id}): malformed reply: {source}")]
-    MalformedReply {
-        command: CommandValue,
-        id: u32,
-        source: DecodeError,
-    },
-    #[error("{command} (id {id}): answered by a {answered} reply")]
-    WrongReply {
-        command: CommandValue,
-        id: u32,
-        answered: CommandValue,
-    },
-    #[error("cannot encode {command}: {source}")]
-    Encode {
-        command: CommandValue,
-        source: EncodeError,
-    },
-    #[error(
-        "{command} needs a typed reply, but the ack dialect's operator only acknowledges commands 0x0000-0x0004"
-    )]
-    NotInDialect { command: CommandValue },
-    #[error("link to the operator lost: {reason}")]
-    Disconnected { reason: String },
-}
-
-/// Things the link noticed that belong to no caller.
-#[derive(Debug, Clone, PartialEq)]
-pub enum TalosEvent {
-    /// A reply whose id matches no request this link sent.
-    UnpairedReply { id: u32, command: u16 },
-    /// A reply that came after its request timed out.
-    LateReply { id: u32, command: CommandValue },
-    /// Bytes the decoder dropped that could not be tied to a pending request.
-    Rejected(Rejection),
-    /// Ack dialect: no ACK came for this frame in time; it left the in-order queue. A STOP is
-    /// sent again as `resent_as` while it has tries left.
-    AckExpired {
-        id: u32,
-        command: CommandValue,
-        resent_as: Option<u32>,
-    },
-    /// An ack-dialect stream carried bytes that were not "ACK\0", or an ACK nobody waited for.
-    UnexpectedAckBytes(usize),
-    /// The connection ended; every pending request failed with `Disconnected`.
-    Disconnected { reason: String },
-}
-
-/// The per-link command id counter: even ids from 0, wrapping after 2^31 requests. The low bit
-/// is the ICD's request/reply marker.
-#[derive(Debug, Default)]
-struct CommandIds(AtomicU32);
-
-impl CommandIds {
-    fn next(&self) -> u32 {
-        self.0.fetch_add(2, Ordering::Relaxed)
-    }
-}
-
-type AnswerTx = oneshot::Sender<Result<Exchange, TalosError>>;
-
-struct Job {
-    id: u32,
-    request: Request,
-    answer: AnswerTx,
-}
-
-/// A connected operator link. Cheap to clone; the socket task ends when every clone is dropped.
-#[derive(Clone)]
-pub struct TalosLink {
-    jobs: mpsc::Sender<Job>,
-    ids: Arc<CommandIds>,
-    config: TalosConfig,
-}
-
-impl fmt::Debug for TalosLink {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.debug_struct("TalosLink")
-            .field("addr", &self.config.addr)
-            .finish()
-    }
-}
-
-impl TalosLink {
-    /// Opens a TCP connection within the connect timeout. Returns the link and the receiver of
-    /// its unsolicited events.
-    pub async fn connect(
-        config: TalosConfig,
-    ) -> Result<(TalosLink, mpsc::UnboundedReceiver<TalosEvent>), TalosError> {
-        let stream = open_stream(&config).await?;
-        let _ = stream.set_nodelay(true);
-        let (jobs_tx, jobs_rx) = mpsc::channel(64);
-        let (events_tx, events_rx) = mpsc::unbounded_channel();
-        let ids = Arc::new(CommandIds::default());
-        let task = LinkTask {
-            dialect: config.dialect,
-            checksum: config.checksum,
-            ids: ids.clone(),
-            pending: HashMap::new(),
-            ack_queue: VecDeque::new(),
-            expired_acks: VecDeque::new(),
-            request_timeout: config.request_timeout,
-            frame_deadline: config.frame_deadline,
-            addr: config.addr.clone(),
-            motion: Motion::default(),
-            events: events_tx,
-        };
-        tokio::spawn(task.run(stream, jobs_rx));
-        Ok((
-            TalosLink {
-                jobs: jobs_tx,
-                ids,
-                config,
-            },
-            events_rx,
-        ))
-    }
-
-    /// Connects, retrying with exponential backoff (100 ms doubling to 2 s) until `attempts`
-    /// connection attempts have failed.
-    pub async fn connect_with_backoff(
-        config: TalosConfig,
-        attempts: u32,
-    ) -> Result<(TalosLink, mpsc::UnboundedReceiver<TalosEvent>), TalosError> {
-        let mut delay = Duration::from_millis(100);
-        let mut tried = 0;
-        loop {
-            tried += 1;
-            match Self::connect(config.clone()).await {
-                Ok(link) => return Ok(link),
-                Err(e) if tried >= attempts.max(1) => return Err(e),
-                Err(e) => tracing::info!("talos connect attempt {tried} failed: {e}"),
-            }
-            tokio::time::sleep(delay).await;
-            delay = (delay * 2).min(Duration::from_secs(2));
-        }
-    }
-
-    pub fn config(&self) -> &TalosConfig {
-        &self.config
-    }
-
-    /// Sends `request` and waits for its answer within the request timeout. A reply with a
-    /// non-zero return code is `Err(TalosError::ReturnCode)`, carrying the whole exchange.
-    pub async fn request(&self, request: Request) -> Result<Exchange, TalosError> {
-        self.submit(request).await?.wait().await
-    }
-
-    /// Queues `request` for sending and returns at once with a handle on its answer. Requests
-    /// go on the wire in the order they were submitted, so a STOP submitted after a START is
-    /// never overtaken by it, while the caller need not wait for the START's reply.
-    pub async fn submit(&self, request: Request) -> Result<PendingReply, TalosError> {
-        let command = request.command();
-        if !self.config.dialect.supports(command) {
-            return Err(TalosError::NotInDialect { command });
-        }
-        let (answer_tx, answer_rx) = oneshot::channel();
-        let id = self.ids.next();
-        let job = Job {
-            id,
-            request,
-            answer: answer_tx,
-        };
-        let after = match self.config.dialect {
-            Dialect::Icd => self.config.request_timeout,
-            // The link task answers by its own deadline (re-sends included); this is a backstop.
-            Dialect::Ack => ack_deadline(command, self.config.request_timeout) + ACK_CALLER_GRACE,
-        };
-        self.jobs.send(job).await.map_err(|_| task_gone())?;
-        Ok(PendingReply {
-            command,
-            id,
-            after,
-            answer: answer_rx,
-        })
-    }
-
-    /// Handshake with `oid`; returns the operator's (major, minor) version, or `None` in the
-    /// ack dialect, which carries no version.
-    pub async fn handshake(&self, oid: u16) -> Result<Option<(u8, u8)>, TalosError> {
-        let exchange = self.request(Request::Handshake { oid }).await?;
-        Ok(match exchange.answer {
-            Answer::Reply(Reply::Handshake {
-                major_version,
-                minor_version,
-                ..
-            }) => Some((major_version, minor_version)),
-            _ => None,
-        })
-    }
-}
-
-fn task_gone() -> TalosError {
-    TalosError::Disconnected {
-        reason: "the link task has ended".into(),
-    }
-}
-
-/// The answer to a submitted request, still to come.
-#[derive(Debug)]
-pub struct PendingReply {
-    command: CommandValue,
-    id: u32,
-    after: Duration,
-    answer: oneshot::Receiver<Result<Exchange, TalosError>>,
-}
-
-impl PendingReply {
-    /// The command id the request went out with.
-    pub fn id(&self) -> u32 {
-        self.id
-    }
-
-    pub fn command(&self) -> CommandValue {
-        self.command
-    }
-
-    /// Waits for the answer within the request timeout, counted from now.
-    pub async fn wait(self) -> Result<Exchange, TalosError> {
-        let (command, id, after) = (self.command, self.id, self.after);
-        let exchange = match tokio::time::timeout(after, self.answer).await {
-            Ok(Ok(result)) => result?,
-            Ok(Err(_)) => return Err(task_gone()),
-            Err(_) => return Err(TalosError::Timeout { command, id, after }),
-        };
-        if exchange.return_code().is_ok() {
-            Ok(exchange)
-        } else {
-            Err(TalosError::ReturnCode {
-                exchange: Box::new(exchange),
-            })
-        }
-    }
-}
+use crate::talos::{Checksum, CommandValue, Dialect, Reply, Request};
 
 async fn sleep_until(deadline: Option<tokio::time::Instant>) {
     match deadline {
         Some(at) => tokio::time::sleep_until(at).await,
         None => std::future::pending().await,
-    }
-}
-
-async fn open_stream(config: &TalosConfig) -> Result<TcpStream, TalosError> {
-    let addr = config.addr.clone();
-    let addrs: Vec<_> = tokio::net::lookup_host(&addr)
-        .await
-        .map_err(|source| TalosError::Resolve {
-            addr: addr.clone(),
-            source,
-        })?
-        .collect();
-    let connect = async {
-        let mut last = None;
-        for a in addrs {
-            match TcpStream::connect(a).await {
-                Ok(s) => return Ok(s),
-                Err(e) => last = Some(e),
-            }
-        }
-        Err(last.unwrap_or_else(|| std::io::Error::other("no address")))
-    };
-    match tokio::time::timeout(config.connect_timeout, connect).await {
-        Ok(Ok(stream)) => Ok(stream),
-        Ok(Err(source)) => Err(TalosError::Refused { addr, source }),
-        Err(_) => Err(TalosError::ConnectTimeout {
-            addr,
-            after: config.connect_timeout,
-        }),
     }
 }
 
@@ -403,22 +33,6 @@ struct Pending {
     request_bytes: Vec<u8>,
     sent: Instant,
     answer: AnswerTx,
-}
-
-fn is_stop(command: CommandValue) -> bool {
-    matches!(
-        command,
-        CommandValue::PolarPanStop | CommandValue::CartesianMoveStop
-    )
-}
-
-/// Ack dialect: how long the link waits for a request's ACK in all, re-sends included.
-fn ack_deadline(command: CommandValue, request_timeout: Duration) -> Duration {
-    if is_stop(command) {
-        STOP_ACK_INTERVAL * STOP_ACK_TRIES
-    } else {
-        request_timeout
-    }
 }
 
 /// Ack dialect: one frame on the wire waiting for its ACK.
@@ -477,7 +91,7 @@ impl Motion {
     }
 }
 
-struct LinkTask {
+pub(super) struct LinkTask {
     dialect: Dialect,
     checksum: Checksum,
     ids: Arc<CommandIds>,
@@ -502,14 +116,14 @@ enum Incoming {
 }
 
 /// Reads replies in the link's dialect. Both readers are cancel-safe, as `select!` needs.
-enum Replies {
+enum Replies<R> {
     /// Frames with a per-frame deadline, so a reply split across reads is kept and one that
     /// never completes is given up.
-    Frames(FrameReader<OwnedReadHalf>),
-    Acks(FramedRead<OwnedReadHalf, AckCodec>),
+    Frames(FrameReader<R>),
+    Acks(FramedRead<R, AckCodec>),
 }
 
-impl Replies {
+impl<R: AsyncRead + Unpin> Replies<R> {
     async fn next(&mut self) -> Option<std::io::Result<Incoming>> {
         match self {
             Replies::Frames(reader) => reader.next().await.map(|r| r.map(Incoming::Frame)),
@@ -519,8 +133,31 @@ impl Replies {
 }
 
 impl LinkTask {
-    async fn run(mut self, stream: TcpStream, mut jobs: mpsc::Receiver<Job>) {
-        let (read_half, write_half) = stream.into_split();
+    pub(super) fn new(
+        config: &super::TalosConfig,
+        ids: Arc<CommandIds>,
+        events: mpsc::UnboundedSender<TalosEvent>,
+    ) -> LinkTask {
+        LinkTask {
+            dialect: config.dialect,
+            checksum: config.checksum,
+            ids,
+            pending: HashMap::new(),
+            ack_queue: VecDeque::new(),
+            expired_acks: VecDeque::new(),
+            request_timeout: config.request_timeout,
+            frame_deadline: config.frame_deadline,
+            addr: config.addr.clone(),
+            motion: Motion::default(),
+            events,
+        }
+    }
+
+    pub(super) async fn run<S>(mut self, stream: S, mut jobs: mpsc::Receiver<Job>)
+    where
+        S: AsyncRead + AsyncWrite + Send + 'static,
+    {
+        let (read_half, write_half): (ReadHalf<S>, WriteHalf<S>) = tokio::io::split(stream);
         let mut writer = FramedWrite::new(write_half, FrameCodec::new(self.checksum));
         let mut reader = match self.dialect {
             Dialect::Icd => Replies::Frames(FrameReader::new(
@@ -595,9 +232,9 @@ impl LinkTask {
         let _ = self.events.send(event);
     }
 
-    async fn send(
+    async fn send<W: AsyncWrite + Unpin>(
         &mut self,
-        writer: &mut FramedWrite<tokio::net::tcp::OwnedWriteHalf, FrameCodec>,
+        writer: &mut FramedWrite<W, FrameCodec>,
         job: Job,
     ) -> std::io::Result<()> {
         let id = job.id;
@@ -650,9 +287,9 @@ impl LinkTask {
 
     /// Takes frames whose ACK is overdue out of the queue, so later ACKs pair with later
     /// frames; sends an overdue STOP again while it has tries left, and fails the rest.
-    async fn expire_acks(
+    async fn expire_acks<W: AsyncWrite + Unpin>(
         &mut self,
-        writer: &mut FramedWrite<tokio::net::tcp::OwnedWriteHalf, FrameCodec>,
+        writer: &mut FramedWrite<W, FrameCodec>,
     ) -> std::io::Result<()> {
         let now = tokio::time::Instant::now();
         let (overdue, waiting): (VecDeque<AckWait>, VecDeque<AckWait>) =

@@ -1,0 +1,88 @@
+//! Opening a TCP connection within a deadline, name lookup included: shared by the Talos and
+//! Modbus links so both report a failure the same way.
+
+use std::time::Duration;
+
+use tokio::net::TcpStream;
+
+/// Why no connection was opened. Each names the address it was for.
+#[derive(Debug, thiserror::Error)]
+pub enum ConnectError {
+    #[error("cannot resolve {addr}: {source}")]
+    Resolve {
+        addr: String,
+        source: std::io::Error,
+    },
+    #[error("connection to {addr} refused: {source}")]
+    Refused {
+        addr: String,
+        source: std::io::Error,
+    },
+    #[error("no connection to {addr} within {after:?}")]
+    Timeout { addr: String, after: Duration },
+}
+
+/// Resolves `addr` and tries every address it names until one accepts, all within `timeout`.
+/// The stream has Nagle off: both links send small request/reply pairs.
+pub async fn connect_with_timeout(
+    addr: &str,
+    timeout: Duration,
+) -> Result<TcpStream, ConnectError> {
+    let connect = async {
+        let addrs: Vec<_> = tokio::net::lookup_host(addr)
+            .await
+            .map_err(|source| ConnectError::Resolve {
+                addr: addr.to_string(),
+                source,
+            })?
+            .collect();
+        let mut last = None;
+        for a in addrs {
+            match TcpStream::connect(a).await {
+                Ok(stream) => return Ok(stream),
+                Err(e) => last = Some(e),
+            }
+        }
+        Err(ConnectError::Refused {
+            addr: addr.to_string(),
+            source: last
+                .unwrap_or_else(|| std::io::Error::other("the name resolved to no address")),
+        })
+    };
+    match tokio::time::timeout(timeout, connect).await {
+        Ok(Ok(stream)) => {
+            let _ = stream.set_nodelay(true);
+            Ok(stream)
+        }
+        Ok(Err(e)) => Err(e),
+        Err(_) => Err(ConnectError::Timeout {
+            addr: addr.to_string(),
+            after: timeout,
+        }),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[tokio::test]
+    async fn a_closed_port_is_refused_naming_the_address() {
+        let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+        let addr = listener.local_addr().unwrap().to_string();
+        drop(listener);
+        let err = connect_with_timeout(&addr, Duration::from_secs(5))
+            .await
+            .unwrap_err();
+        assert!(matches!(err, ConnectError::Refused { .. }), "{err:?}");
+        assert!(err.to_string().contains(&addr), "{err}");
+    }
+
+    #[tokio::test]
+    async fn an_unresolvable_name_says_so() {
+        let err = connect_with_timeout("no-such-host.invalid:1", Duration::from_secs(5))
+            .await
+            .unwrap_err();
+        assert!(err.to_string().contains("no-such-host.invalid:1"), "{err}");
+    }
+}
