@@ -14,6 +14,8 @@ mod driver_stop;
 mod hardware_icd;
 mod modbus_capped_moves;
 mod modbus_link;
+mod modbus_link_paused;
 mod modbus_speed_cap;
 mod talos_link;
+mod talos_link_paused;
 mod talos_link_split;
