@@ -289,7 +289,7 @@ impl PositionBook {
             }
             None => Path::new("."),
         };
-        let tmp = tempfile::NamedTempFile::new_in(dir).map_err(io)?;
+        let tmp = new_book_file(dir, path).map_err(io)?;
         let mut out = std::io::BufWriter::new(tmp);
         self.write_to(&mut out, &shown, crate::files::POSITIONS_LIMIT)?;
         let tmp = out.into_inner().map_err(|e| io(e.into_error()))?;
@@ -297,6 +297,23 @@ impl PositionBook {
         tmp.persist(path).map_err(|e| io(e.error))?;
         sync_directory(dir).map_err(io)
     }
+}
+
+/// The temporary file a save writes, with the permissions the book will keep: those of the
+/// book it replaces, or for a new book the usual 0644 less the umask (tempfile's own default,
+/// 0600, would quietly hide a shared lab book from its other users).
+fn new_book_file(dir: &Path, book: &Path) -> std::io::Result<tempfile::NamedTempFile> {
+    let mut builder = tempfile::Builder::new();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o644));
+    }
+    let tmp = builder.tempfile_in(dir)?;
+    if let Ok(existing) = std::fs::metadata(book) {
+        tmp.as_file().set_permissions(existing.permissions())?;
+    }
+    Ok(tmp)
 }
 
 /// Flushes a directory's entries (a rename into it) to disk. Only Unix can open a directory
@@ -392,6 +409,30 @@ mod tests {
 
     fn dir() -> tempfile::TempDir {
         tempfile::tempdir().unwrap()
+    }
+
+    #[test]
+    #[cfg(unix)]
+    fn a_save_keeps_the_books_permissions_and_a_new_book_is_not_private() {
+        use std::os::unix::fs::{OpenOptionsExt, PermissionsExt};
+        let dir = tempfile::tempdir().expect("temp dir");
+        let path = dir.path().join("book.json");
+        let mut book = PositionBook::default();
+        book.get_or_insert("pick");
+        book.save(&path).expect("saved");
+        let mode = |p: &Path| std::fs::metadata(p).expect("metadata").permissions().mode() & 0o777;
+        // What any new 0644 file gets under this process's umask.
+        let probe = dir.path().join("probe");
+        std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .mode(0o644)
+            .open(&probe)
+            .expect("probe file");
+        assert_eq!(mode(&path), mode(&probe), "a new book follows the umask");
+        std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o640)).expect("chmod");
+        book.save(&path).expect("saved again");
+        assert_eq!(mode(&path), 0o640, "the book keeps its permissions");
     }
 
     #[test]
