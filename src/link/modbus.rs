@@ -30,6 +30,7 @@ use crate::kortex::{
     ControlCoil, PolarPanError, PolarPanSettings, PollPlan, Pose, ReadBlock, ReferenceFrame,
     SpeedLimits, Telemetry, Twist,
 };
+use crate::net::ConnectError;
 
 /// Modbus TCP port of the arm.
 pub const DEFAULT_PORT: u16 = 502;
@@ -110,18 +111,9 @@ impl fmt::Display for Operation {
 /// Everything that can go wrong talking to an arm.
 #[derive(Debug, thiserror::Error)]
 pub enum ModbusError {
-    #[error("cannot resolve {addr}: {source}")]
-    Resolve {
-        addr: String,
-        source: std::io::Error,
-    },
-    #[error("connection to {addr} refused: {source}")]
-    ConnectRefused {
-        addr: String,
-        source: std::io::Error,
-    },
-    #[error("no connection to {addr} within {after:?}")]
-    ConnectTimeout { addr: String, after: Duration },
+    /// No connection was opened; the error names the address.
+    #[error(transparent)]
+    Connect(#[from] ConnectError),
     #[error("{operation}: the arm answered with exception {}", exception_text(.exception))]
     Exception {
         operation: Operation,
@@ -299,17 +291,6 @@ enum Job {
     Close(Reply<()>),
 }
 
-impl From<crate::net::ConnectError> for ModbusError {
-    fn from(e: crate::net::ConnectError) -> Self {
-        use crate::net::ConnectError;
-        match e {
-            ConnectError::Resolve { addr, source } => ModbusError::Resolve { addr, source },
-            ConnectError::Refused { addr, source } => ModbusError::ConnectRefused { addr, source },
-            ConnectError::Timeout { addr, after } => ModbusError::ConnectTimeout { addr, after },
-        }
-    }
-}
-
 /// A connected arm. Cheap to clone; the task ends, stopping any twist, when every clone is gone.
 #[derive(Clone)]
 pub struct ModbusLink {
@@ -356,10 +337,10 @@ impl ModbusLink {
             Box::pin(async move {
                 match open().await {
                     Ok(transport) => Ok(wire::attach(transport, &config)),
-                    Err(source) => Err(ModbusError::ConnectRefused {
+                    Err(source) => Err(ModbusError::Connect(ConnectError::Refused {
                         addr: config.addr.clone(),
                         source,
-                    }),
+                    })),
                 }
             })
         });

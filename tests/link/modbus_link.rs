@@ -602,7 +602,13 @@ async fn connection_refused_is_typed() {
     let e = ModbusLink::connect(ModbusConfig::new(addr))
         .await
         .unwrap_err();
-    assert!(matches!(e, ModbusError::ConnectRefused { .. }), "{e}");
+    assert!(
+        matches!(
+            e,
+            ModbusError::Connect(armjog::net::ConnectError::Refused { .. })
+        ),
+        "{e}"
+    );
 }
 
 /// Builder for the tests above.

@@ -197,7 +197,13 @@ async fn connecting_to_a_closed_port_is_refused() {
     let err = TalosLink::connect(config(&addr, Checksum::Crc16))
         .await
         .unwrap_err();
-    assert!(matches!(err, TalosError::Refused { .. }), "{err:?}");
+    assert!(
+        matches!(
+            err,
+            TalosError::Connect(armjog::net::ConnectError::Refused { .. })
+        ),
+        "{err:?}"
+    );
 }
 
 #[tokio::test]

@@ -100,18 +100,9 @@ impl Exchange {
 /// Everything that can go wrong talking to an operator.
 #[derive(Debug, thiserror::Error)]
 pub enum TalosError {
-    #[error("cannot resolve {addr}: {source}")]
-    Resolve {
-        addr: String,
-        source: std::io::Error,
-    },
-    #[error("connection to {addr} refused: {source}")]
-    Refused {
-        addr: String,
-        source: std::io::Error,
-    },
-    #[error("no connection to {addr} within {after:?}")]
-    ConnectTimeout { addr: String, after: Duration },
+    /// No connection was opened; the error names the address.
+    #[error(transparent)]
+    Connect(#[from] ConnectError),
     #[error("{command} (id {id}): no reply within {after:?}")]
     Timeout {
         command: CommandValue,
@@ -171,16 +162,6 @@ pub enum TalosEvent {
     UnexpectedAckBytes(usize),
     /// The connection ended; every pending request failed with `Disconnected`.
     Disconnected { reason: String },
-}
-
-impl From<ConnectError> for TalosError {
-    fn from(e: ConnectError) -> Self {
-        match e {
-            ConnectError::Resolve { addr, source } => TalosError::Resolve { addr, source },
-            ConnectError::Refused { addr, source } => TalosError::Refused { addr, source },
-            ConnectError::Timeout { addr, after } => TalosError::ConnectTimeout { addr, after },
-        }
-    }
 }
 
 /// The per-link command id counter: even ids from 0, wrapping after 2^31 requests. The low bit
