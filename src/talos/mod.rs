@@ -1,7 +1,9 @@
 //! The Talos API ICD (`shared/icd/talos-api-icd.md`) as a pure library: no IO.
 //!
 //! - [`frame`]: the command wrapper and its checksum dialects, plus a streaming codec.
-//! - [`message`]: one typed [`Request`] per ICD command and one [`Reply`] per reply.
+//! - [`request`] / [`reply`]: one typed [`Request`] per ICD command and one [`Reply`] per reply;
+//!   [`message`] holds their shared errors and field reader.
+//! - [`reader`]: the one big-endian reader, shared with [`hardware`].
 //! - [`return_code`]: the return codes armjog emits and understands.
 //! - [`name`]: position names and the character rule armjog enforces.
 //! - [`hardware`]: armjog's companion ICD for Execute Hardware Operation (0x0008).
@@ -17,12 +19,16 @@ pub mod hardware;
 pub mod hex;
 pub mod message;
 pub mod name;
+pub mod reader;
+pub mod reply;
+pub mod request;
 pub mod return_code;
 
 pub use checksum::Checksum;
 pub use command::CommandValue;
 pub use dialect::Dialect;
 pub use frame::{Frame, FrameCodec, RejectReason, Rejection};
-pub use message::{Reply, Request};
 pub use name::PositionName;
+pub use reply::Reply;
+pub use request::Request;
 pub use return_code::ReturnCode;

@@ -12,7 +12,7 @@
 //!
 //! The code is split by layer: `flags` holds the flag-word newtypes and [`RobotState`],
 //! `payload` the payload structures and their byte layouts, `message` the typed
-//! [`HwRequest`] and [`HwReply`], and `reader` the field checks and the big-endian reader they
+//! [`HwRequest`] and [`HwReply`], and `reader` the field checks and (over `talos::reader`) the reader they
 //! share. Everything public is re-exported here, so paths are `armjog::talos::hardware::...`.
 
 mod flags;

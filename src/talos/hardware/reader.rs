@@ -1,6 +1,8 @@
-//! Field checks and the big-endian payload reader shared by the payload and message layers.
+//! Field checks and the hardware view of the shared big-endian reader, used by the payload and
+//! message layers.
 
 use super::{HwError, JOINT_COUNT};
+use crate::talos::reader::{BeReader, Short};
 
 pub(super) fn check_joint(joint: u8) -> Result<(), HwError> {
     if (1..=JOINT_COUNT).contains(&joint) {
@@ -34,9 +36,10 @@ pub(super) fn check_finite(field: &'static str, value: f32) -> Result<(), HwErro
     }
 }
 
-/// Big-endian reader over a payload whose exact length was checked by [`Reader::exact`].
+/// The shared big-endian reader ([`crate::talos::reader`]) over a payload whose exact length was
+/// checked by [`Reader::exact`].
 pub(super) struct Reader<'a> {
-    rest: &'a [u8],
+    bytes: BeReader<'a>,
     subcommand: u16,
     len: usize,
 }
@@ -63,43 +66,37 @@ impl<'a> Reader<'a> {
             })
         } else {
             Ok(Reader {
-                rest: payload,
+                bytes: BeReader::new(payload),
                 subcommand,
                 len: got,
             })
         }
     }
 
-    fn take<const N: usize>(&mut self) -> Result<[u8; N], HwError> {
-        match self.rest.split_first_chunk::<N>() {
-            Some((head, rest)) => {
-                self.rest = rest;
-                Ok(*head)
-            }
-            // Unreachable after `exact`, but reported rather than assumed.
-            None => Err(HwError::TooShort {
-                subcommand: self.subcommand,
-                expected: self.len - self.rest.len() + N,
-                got: self.len,
-            }),
+    /// Unreachable after `exact`, but reported rather than assumed.
+    fn too_short(&self, short: Short) -> HwError {
+        HwError::TooShort {
+            subcommand: self.subcommand,
+            expected: self.len - short.available + short.needed,
+            got: self.len,
         }
     }
 
     pub(super) fn u8(&mut self) -> Result<u8, HwError> {
-        self.take::<1>().map(|[b]| b)
+        self.bytes.u8("u8").map_err(|s| self.too_short(s))
     }
 
     pub(super) fn u16(&mut self) -> Result<u16, HwError> {
-        self.take().map(u16::from_be_bytes)
+        self.bytes.u16("u16").map_err(|s| self.too_short(s))
     }
 
     pub(super) fn u32(&mut self) -> Result<u32, HwError> {
-        self.take().map(u32::from_be_bytes)
+        self.bytes.u32("u32").map_err(|s| self.too_short(s))
     }
 
     /// A finite big-endian f32.
     pub(super) fn f32(&mut self, field: &'static str) -> Result<f32, HwError> {
-        let value = self.take().map(f32::from_be_bytes)?;
+        let value = self.bytes.f32(field).map_err(|s| self.too_short(s))?;
         check_finite(field, value)?;
         Ok(value)
     }
