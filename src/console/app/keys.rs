@@ -229,7 +229,7 @@ impl App {
             A::StepBigger => self.step.index = (self.step.index + 1).min(CARTESIAN_STEPS.len() - 1),
             A::StepSmaller => self.step.index = self.step.index.saturating_sub(1),
             A::SpeedUp | A::SpeedDown => {
-                let current = self.speed.unwrap_or(50);
+                let current = self.speed.unwrap_or(crate::link::driver::INITIAL_SPEED);
                 let speed = if action == A::SpeedUp {
                     current.saturating_add(SPEED_STEP).min(100)
                 } else {

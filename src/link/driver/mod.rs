@@ -12,6 +12,7 @@ mod connect;
 pub mod hw_telemetry;
 mod modbus_worker;
 mod speed;
+pub use speed::INITIAL_SPEED;
 mod stop_outcome;
 mod talos_side;
 
