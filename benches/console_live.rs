@@ -16,8 +16,8 @@ use armjog::console::jog::{KeyKind, ReleaseMode};
 use armjog::console::keymap::Keymap;
 use armjog::console::positions::PositionBook;
 use armjog::link::TalosConfig;
-use armjog::link::arm::{ArmCommand, ArmEvent, LinkStatus};
 use armjog::link::driver::{Driver, DriverConfig};
+use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus};
 use armjog::sim::{SimConfig, Simulator};
 
 fn percentile(sorted: &[Duration], p: f64) -> Duration {

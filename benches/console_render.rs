@@ -12,9 +12,9 @@ use armjog::console::keymap::{KeyName, Keymap};
 use armjog::console::positions::PositionBook;
 use armjog::console::ui::{self, Theme};
 use armjog::console::view::View;
-use armjog::link::arm::{ArmEvent, LinkStatus, LogEntry, Traffic};
 use armjog::link::driver::hw_telemetry;
-use armjog::sim::arm::Arm;
+use armjog::link::interface::{ArmEvent, LinkStatus, LogEntry, Traffic};
+use armjog::sim::arm_model::Arm;
 use armjog::sim::telemetry::{actuator_feedback, arm_state};
 
 /// A busy console: telemetry, a full log, positions, a jog in progress.

@@ -1,6 +1,6 @@
 //! Encode and decode cost of typical Talos frames.
 //!
-//! - encode: `Request::to_frame` / `Reply::to_frame` + `Frame::encode_into` into a reused `Vec`;
+//! - encode: `Request::to_frame` / `Reply::to_frame` + `TalosFrame::encode_into` into a reused `Vec`;
 //! - decode: `FrameCodec::decode` from a reused `BytesMut` + `Request::from_frame` /
 //!   `Reply::from_frame`;
 //! - round_trip: both, one after the other (the figure to compare with the 200 ns target).
@@ -10,7 +10,7 @@
 use std::hint::black_box;
 
 use armjog::talos::frame::{DEFAULT_MAX_PAYLOAD, Decoded, HEADER_LEN, parse_frame};
-use armjog::talos::{Checksum, Frame, FrameCodec, Reply, Request, ReturnCode};
+use armjog::talos::{Checksum, FrameCodec, Reply, Request, ReturnCode, TalosFrame};
 use bytes::BytesMut;
 use criterion::{Criterion, criterion_group, criterion_main};
 use tokio_util::codec::Decoder;
@@ -23,7 +23,7 @@ enum Message {
 }
 
 impl Message {
-    fn to_frame(&self, id: u32) -> Frame {
+    fn to_frame(&self, id: u32) -> TalosFrame {
         match self {
             Message::Request(r) => r.to_frame(id).expect("valid request"),
             Message::Reply(r) => r.to_frame(id).expect("valid reply"),
@@ -31,7 +31,7 @@ impl Message {
     }
 
     /// Decodes the frame back into a message of the same direction.
-    fn read(&self, frame: &Frame) -> Message {
+    fn read(&self, frame: &TalosFrame) -> Message {
         match self {
             Message::Request(_) => Message::Request(Request::from_frame(frame).expect("request")),
             Message::Reply(_) => Message::Reply(Reply::from_frame(frame).expect("reply")),
@@ -69,9 +69,9 @@ fn typical() -> [(&'static str, Message); 3] {
     ]
 }
 
-fn decode_one(codec: &mut FrameCodec, buf: &mut BytesMut) -> Frame {
+fn decode_one(codec: &mut FrameCodec, buf: &mut BytesMut) -> TalosFrame {
     match codec.decode(buf).expect("decode") {
-        Some(Decoded::Frame(frame)) => frame,
+        Some(Decoded::TalosFrame(frame)) => frame,
         other => panic!("expected a frame, got {other:?}"),
     }
 }

@@ -7,7 +7,7 @@ use clap::Args;
 use super::output;
 
 use crate::link::Dialect;
-use crate::sim::arm::Arm;
+use crate::sim::arm_model::Arm;
 use crate::sim::kinematics::{self, HOME_DEG, JOINT_LIMITS_DEG};
 use crate::sim::talos_server::{NetworkFaults, TalosServerConfig};
 use crate::sim::{DEFAULT_MODBUS_LISTEN, DEFAULT_TALOS_LISTEN, SimConfig, Simulator};

@@ -25,8 +25,8 @@ use super::positions::{self, PositionBook};
 use super::terminal;
 use super::ui::{self, Theme};
 use super::view::View;
-use crate::link::arm::ArmCommand;
 use crate::link::driver::{Driver, DriverConfig, StopHandle};
+use crate::link::interface::ArmCommand;
 
 /// How often the screen is redrawn at most: at 30 fps after a key or while jogging, at 10 fps
 /// when only telemetry changed (it keeps the console under 2 % of a core at rest).
@@ -185,7 +185,7 @@ async fn event_loop(
     config: AppConfig,
     book: &mut BookFiles,
     driver: &Driver,
-    arm_events: &mut tokio::sync::mpsc::UnboundedReceiver<crate::link::arm::ArmEvent>,
+    arm_events: &mut tokio::sync::mpsc::UnboundedReceiver<crate::link::interface::ArmEvent>,
     mut screen: Screen<'_>,
 ) -> Result<(), ConsoleError> {
     let mut app = App::new(config, PositionBook::new());

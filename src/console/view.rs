@@ -14,7 +14,7 @@ use super::jog::{ReleaseMode, RepeatTiming};
 use super::keymap::Keymap;
 use super::positions::PositionBook;
 use crate::kortex::{ReferenceFrame, Telemetry};
-use crate::link::arm::{GuardStatus, LinkStatus, LogEntry, TelemetrySource};
+use crate::link::interface::{GuardStatus, LinkStatus, LogEntry, TelemetrySource};
 
 /// Everything the panels draw.
 #[derive(Debug, Clone)]

@@ -4,7 +4,7 @@
 
 use crate::talos::ReturnCode;
 
-/// What kind of command failed: an [`ArmCommand`](super::arm::ArmCommand)'s variant, or work
+/// What kind of command failed: an [`ArmCommand`](super::interface::ArmCommand)'s variant, or work
 /// the driver or a link does on its own behalf.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum CommandKind {

@@ -30,7 +30,7 @@ use tokio::io::{AsyncBufReadExt, AsyncWriteExt, BufReader};
 use tokio::process::{Child, ChildStdin, Command};
 use tokio::sync::{mpsc, oneshot, watch};
 
-use super::arm::{ArmCommand, ArmError, ArmEvent, CommandKind, GuardStatus};
+use super::interface::{ArmCommand, ArmError, ArmEvent, CommandKind, GuardStatus};
 
 /// The byte the console writes to keep the guard from stopping the arm.
 pub const HEARTBEAT: u8 = b'.';
@@ -334,7 +334,7 @@ fn on_line(line: &str, pid: u32, reporter: &Reporter) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::link::arm::JogMotion;
+    use crate::link::interface::JogMotion;
 
     #[test]
     fn only_commands_that_move_the_arm_need_a_guard() {

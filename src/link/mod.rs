@@ -1,10 +1,10 @@
 //! The arm interfaces the console drives. Each link owns its socket in a task; callers talk to
 //! it over channels.
 
-pub mod arm;
 pub mod driver;
 pub mod failure;
 pub mod guard;
+pub mod interface;
 pub mod modbus;
 pub mod talos;
 

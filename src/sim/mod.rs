@@ -4,7 +4,7 @@
 //! `127.0.0.1:61616`) and the Kinova Modbus server (default `127.0.0.1:5020`) both drive it, so a
 //! jog over one protocol shows in the other's telemetry.
 
-pub mod arm;
+pub mod arm_model;
 pub mod kinematics;
 pub mod modbus_frames;
 pub mod modbus_registers;
@@ -24,7 +24,7 @@ use tokio::net::TcpListener;
 use tokio::sync::watch;
 use tokio::task::JoinHandle;
 
-use arm::Arm;
+use arm_model::Arm;
 use operator::Operator;
 use talos_server::{NetworkFaults, TalosServerConfig};
 use world::SimArm;

@@ -7,7 +7,7 @@
 use crate::kortex::CodeName;
 use nalgebra::Vector3;
 
-use super::arm::{ArmSnapshot, SimMotion};
+use super::arm_model::{ArmSnapshot, SimMotion};
 use super::kinematics::{self, HOME_DEG, Pose};
 use super::world::World;
 use crate::kortex::ReferenceFrame;

@@ -26,7 +26,7 @@ use std::collections::BTreeMap;
 
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 
-use super::arm::{Arm, ReferenceFrame, Refusal, SimMotion, polar_target};
+use super::arm_model::{Arm, ReferenceFrame, Refusal, SimMotion, polar_target};
 use super::kinematics::{self, HOME_DEG, Joints, Pose};
 use crate::talos::hardware::HwRequest;
 use crate::talos::message::DecodeError;

@@ -1,6 +1,6 @@
 //! The simulated operator's semantics, driven directly (no sockets).
 
-use super::arm::{Arm, SimMotion};
+use super::arm_model::{Arm, SimMotion};
 use super::operator::{MAX_JOG_LINEAR, Operator, VERSION};
 use crate::talos::hardware::{self, ActuatorCommand, HwReply, HwRequest};
 use crate::talos::{Reply, Request, ReturnCode};

@@ -37,7 +37,7 @@ use crate::talos::Dialect;
 use crate::talos::ack::ACK;
 use crate::talos::command::REPLY_BIT;
 use crate::talos::frame::{Decoded, RejectReason, Rejection};
-use crate::talos::{Checksum, CommandValue, Frame, FrameCodec, Reply, Request, ReturnCode};
+use crate::talos::{Checksum, CommandValue, FrameCodec, Reply, Request, ReturnCode, TalosFrame};
 
 /// Network misbehaviour to inject, for tests and training. Changes apply at once.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -186,7 +186,7 @@ async fn connection(
         let dropped = nth != 0 && n.is_multiple_of(nth);
         if !dropped {
             let sent = match answer {
-                Answer::Frame(frame) => writer.send(frame).await,
+                Answer::TalosFrame(frame) => writer.send(frame).await,
                 Answer::Ack => writer.get_mut().write_all(&ACK).await,
             };
             if let Err(e) = sent {
@@ -222,13 +222,13 @@ async fn client_gone(arm: &SimArm, client: &mut Client, ending: &Ending) {
 }
 
 enum Answer {
-    Frame(Frame),
+    TalosFrame(TalosFrame),
     Ack,
 }
 
 /// A reply frame for any command value, known or not, carrying only a return code.
-fn bare_reply(id: u32, command: u16, code: ReturnCode) -> Frame {
-    Frame::new(id | 1, command | REPLY_BIT, code.0.to_be_bytes().to_vec())
+fn bare_reply(id: u32, command: u16, code: ReturnCode) -> TalosFrame {
+    TalosFrame::new(id | 1, command | REPLY_BIT, code.0.to_be_bytes().to_vec())
 }
 
 /// Names a frame in the log: its id and command value.
@@ -264,13 +264,13 @@ async fn carry_out(arm: &SimArm, client: &mut Client, id: u32, request: Request)
 async fn answer_icd(arm: &SimArm, item: Decoded, client: &mut Client) -> Option<Answer> {
     client.rejects.poll(now());
     let frame = match item {
-        Decoded::Frame(frame) => frame,
+        Decoded::TalosFrame(frame) => frame,
         Decoded::Rejected(rejection) => {
             client.reject(describe_rejection(&rejection));
             // A frame whose checksum failed still names its exchange: say so.
             return match (rejection.reason, rejection.header) {
                 (RejectReason::BadChecksum { .. }, Some(h)) if h.command & REPLY_BIT == 0 => Some(
-                    Answer::Frame(bare_reply(h.id, h.command, ReturnCode::BAD_CHECKSUM)),
+                    Answer::TalosFrame(bare_reply(h.id, h.command, ReturnCode::BAD_CHECKSUM)),
                 ),
                 _ => None,
             };
@@ -281,7 +281,7 @@ async fn answer_icd(arm: &SimArm, item: Decoded, client: &mut Client) -> Option<
             "{}: a reply value; the operator takes requests",
             label(frame.id, frame.command)
         ));
-        return Some(Answer::Frame(bare_reply(
+        return Some(Answer::TalosFrame(bare_reply(
             frame.id,
             frame.command,
             ReturnCode::UNKNOWN_COMMAND,
@@ -294,12 +294,18 @@ async fn answer_icd(arm: &SimArm, item: Decoded, client: &mut Client) -> Option<
             let code = Operator::reply_to_undecodable(&error);
             match CommandValue::from_request_value(frame.command) {
                 Some(command) => Reply::error(command, code),
-                None => return Some(Answer::Frame(bare_reply(frame.id, frame.command, code))),
+                None => {
+                    return Some(Answer::TalosFrame(bare_reply(
+                        frame.id,
+                        frame.command,
+                        code,
+                    )));
+                }
             }
         }
     };
     match reply.to_frame(frame.id) {
-        Ok(frame) => Some(Answer::Frame(frame)),
+        Ok(frame) => Some(Answer::TalosFrame(frame)),
         Err(e) => {
             tracing::error!("sim talos: cannot encode reply: {e}");
             None
@@ -324,7 +330,7 @@ async fn answer_ack(arm: &SimArm, item: Decoded, client: &mut Client) -> Option<
 /// does nothing with it.
 fn ack_request(item: Decoded) -> Result<(u32, Request), String> {
     let frame = match item {
-        Decoded::Frame(frame) => frame,
+        Decoded::TalosFrame(frame) => frame,
         Decoded::Rejected(rejection) => return Err(describe_rejection(&rejection)),
     };
     let name = label(frame.id, frame.command);

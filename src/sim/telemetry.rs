@@ -1,6 +1,6 @@
 //! The simulated arm's snapshot in the shapes the hardware companion ICD reports.
 
-use super::arm::ArmSnapshot;
+use super::arm_model::ArmSnapshot;
 use crate::kortex::CodeName;
 use crate::talos::hardware::{ActuatorFeedback, ArmFlags, ArmState, RobotState, StatusFlags};
 

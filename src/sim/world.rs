@@ -6,7 +6,7 @@ use std::time::Duration;
 use tokio::sync::{mpsc, oneshot};
 use tokio::time::{Instant, MissedTickBehavior};
 
-use super::arm::{Arm, ArmSnapshot, STEP};
+use super::arm_model::{Arm, ArmSnapshot, STEP};
 use super::operator::Operator;
 
 /// How often the task wakes to advance the arm when nobody asks anything.

@@ -33,7 +33,7 @@ pub const DEFAULT_MAX_PAYLOAD: usize = 1024;
 
 /// One frame, request or reply, as on the wire.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Frame {
+pub struct TalosFrame {
     pub id: u32,
     pub reserved: u16,
     pub command: u16,
@@ -49,9 +49,9 @@ pub struct FrameHeader {
     pub length: u16,
 }
 
-impl Frame {
+impl TalosFrame {
     pub fn new(id: u32, command: u16, payload: Vec<u8>) -> Self {
-        Frame {
+        TalosFrame {
             id,
             reserved: 0,
             command,
@@ -72,7 +72,7 @@ impl Frame {
         }
     }
 
-    /// Number of bytes [`Frame::encode_into`] writes.
+    /// Number of bytes [`TalosFrame::encode_into`] writes.
     pub fn encoded_len(&self, checksum: Checksum) -> usize {
         HEADER_LEN + self.payload.len() + checksum.len()
     }
@@ -187,7 +187,7 @@ impl fmt::Display for Rejection {
 /// What the decoder yields: a frame, or a report of bytes it had to drop.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Decoded {
-    Frame(Frame),
+    TalosFrame(TalosFrame),
     Rejected(Rejection),
 }
 
@@ -195,7 +195,7 @@ pub enum Decoded {
 #[derive(Debug, PartialEq, Eq)]
 pub enum Parse {
     /// A frame and the number of bytes it took.
-    Complete(Frame, usize),
+    Complete(TalosFrame, usize),
     /// Not enough bytes yet; at least this many are needed in all.
     Incomplete(usize),
     /// No frame starts here.
@@ -247,7 +247,7 @@ pub fn parse_frame(buf: &[u8], checksum: Checksum, max_payload: usize, strict: b
         };
         return Parse::Invalid(reason, Some(header));
     }
-    let frame = Frame {
+    let frame = TalosFrame {
         id: header.id,
         reserved: u16::from_be_bytes([buf[4], buf[5]]),
         command: header.command,
@@ -357,7 +357,7 @@ impl FrameCodec {
                     }
                     self.synced = true;
                     src.advance(used);
-                    return Some(Decoded::Frame(frame));
+                    return Some(Decoded::TalosFrame(frame));
                 }
                 Parse::Incomplete(needed) => {
                     if let Some(rejection) = self.take_rejection() {
@@ -428,18 +428,18 @@ impl Decoder for FrameCodec {
     }
 }
 
-impl Encoder<Frame> for FrameCodec {
+impl Encoder<TalosFrame> for FrameCodec {
     type Error = std::io::Error;
 
-    fn encode(&mut self, frame: Frame, dst: &mut BytesMut) -> Result<(), Self::Error> {
+    fn encode(&mut self, frame: TalosFrame, dst: &mut BytesMut) -> Result<(), Self::Error> {
         self.encode(&frame, dst)
     }
 }
 
-impl Encoder<&Frame> for FrameCodec {
+impl Encoder<&TalosFrame> for FrameCodec {
     type Error = std::io::Error;
 
-    fn encode(&mut self, frame: &Frame, dst: &mut BytesMut) -> Result<(), Self::Error> {
+    fn encode(&mut self, frame: &TalosFrame, dst: &mut BytesMut) -> Result<(), Self::Error> {
         let mut bytes = Vec::with_capacity(frame.encoded_len(self.checksum));
         frame
             .encode_into(self.checksum, &mut bytes)

@@ -8,7 +8,7 @@
 use serde::Serialize;
 
 use super::command::CommandValue;
-use super::frame::Frame;
+use super::frame::TalosFrame;
 use super::message::{DecodeError, EncodeError, FieldReader};
 use super::return_code::ReturnCode;
 
@@ -183,7 +183,7 @@ impl Reply {
     }
 
     /// The reply as a frame answering request id `request_id` (its id | 1).
-    pub fn to_frame(&self, request_id: u32) -> Result<Frame, EncodeError> {
+    pub fn to_frame(&self, request_id: u32) -> Result<TalosFrame, EncodeError> {
         let capacity = match self {
             Reply::HardwareOperation { payload, .. } => 4 + payload.len(),
             _ => 14,
@@ -193,7 +193,7 @@ impl Reply {
         if payload.len() > usize::from(u16::MAX) {
             return Err(EncodeError::TooLong(payload.len()));
         }
-        Ok(Frame::new(
+        Ok(TalosFrame::new(
             request_id | 1,
             self.command().reply_value(),
             payload,
@@ -201,7 +201,7 @@ impl Reply {
     }
 
     /// Reads a reply frame. The reply bit must be set.
-    pub fn from_frame(frame: &Frame) -> Result<Reply, DecodeError> {
+    pub fn from_frame(frame: &TalosFrame) -> Result<Reply, DecodeError> {
         let command = CommandValue::from_reply_value(frame.command)
             .ok_or(DecodeError::UnknownCommand(frame.command))?;
         Self::decode_payload(command, &frame.payload)

@@ -4,7 +4,7 @@
 //! came from; decoding applies the same rules, so a server can answer MALFORMED_PAYLOAD.
 
 use super::command::CommandValue;
-use super::frame::Frame;
+use super::frame::TalosFrame;
 use super::message::{DecodeError, EncodeError, FieldReader};
 use super::name::PositionName;
 
@@ -246,17 +246,17 @@ impl Request {
     }
 
     /// The request as a frame with command id `id`.
-    pub fn to_frame(&self, id: u32) -> Result<Frame, EncodeError> {
+    pub fn to_frame(&self, id: u32) -> Result<TalosFrame, EncodeError> {
         let mut payload = Vec::with_capacity(self.payload_capacity());
         self.encode_payload(&mut payload)?;
         if payload.len() > usize::from(u16::MAX) {
             return Err(EncodeError::TooLong(payload.len()));
         }
-        Ok(Frame::new(id, self.command().request_value(), payload))
+        Ok(TalosFrame::new(id, self.command().request_value(), payload))
     }
 
     /// Reads a request frame. The reply bit must be clear.
-    pub fn from_frame(frame: &Frame) -> Result<Request, DecodeError> {
+    pub fn from_frame(frame: &TalosFrame) -> Result<Request, DecodeError> {
         let command = CommandValue::from_request_value(frame.command)
             .ok_or(DecodeError::UnknownCommand(frame.command))?;
         Self::decode_payload(command, &frame.payload)

@@ -8,7 +8,7 @@ use armjog::console::app::{App, AppConfig, Effect, Input, KeyInput};
 use armjog::console::jog::{JogMotion, KeyKind, ReleaseMode};
 use armjog::console::keymap::{KeyName, Keymap};
 use armjog::console::positions::PositionBook;
-use armjog::link::arm::{ArmCommand, ArmEvent, LinkStatus, StepMove};
+use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus, StepMove};
 
 pub fn app(mode: ReleaseMode, on_operator: bool) -> (App, Instant) {
     let config = AppConfig {

@@ -15,7 +15,7 @@ use tokio::task::JoinHandle;
 use tokio::time::Instant;
 
 use armjog::sim::{SimConfig, Simulator};
-use armjog::talos::{Checksum, CommandValue, Frame};
+use armjog::talos::{Checksum, CommandValue, TalosFrame};
 
 use attack_support::{
     ModbusOutcome, REPLY_BOUND, check_handshake_reply, distinctive_id, is_state_reply,
@@ -128,7 +128,7 @@ async fn the_talos_server_answers_others_while_one_client_is_hostile() {
     let sim = sim().await;
     let checksum = Checksum::Crc16;
     // An Execute Hardware Operation announcing 1000 payload bytes: a plausible frame to wait for.
-    let slow = Frame::new(
+    let slow = TalosFrame::new(
         7,
         CommandValue::ExecuteHardwareOperation.request_value(),
         vec![0; 1000],

@@ -22,7 +22,7 @@ use armjog::sim::talos_server::TalosServerConfig;
 use armjog::sim::{SimConfig, Simulator};
 use armjog::talos::command::REPLY_BIT;
 use armjog::talos::frame::{DEFAULT_MAX_PAYLOAD, Decoded, HEADER_LEN};
-use armjog::talos::{Checksum, CommandValue, Frame, FrameCodec};
+use armjog::talos::{Checksum, CommandValue, FrameCodec, TalosFrame};
 
 use attack_support::{
     REPLY_BOUND, check_handshake_reply, distinctive_id, talos_handshake, talos_handshake_answered,
@@ -144,7 +144,7 @@ fn disallowed(command: u16, mut payload: Vec<u8>) -> Vec<u8> {
 }
 
 fn frame_bytes(id: u32, command: u16, payload: &[u8], checksum: Checksum) -> Vec<u8> {
-    Frame::new(id, command, payload.to_vec())
+    TalosFrame::new(id, command, payload.to_vec())
         .to_bytes(checksum)
         .expect("a garbage payload of at most 41 bytes fits a frame")
 }
@@ -215,7 +215,7 @@ fn decoder_finds(input: &[u8], checksum: Checksum, id: u32) -> bool {
     let mut codec = FrameCodec::new(checksum);
     let mut buf = BytesMut::from(input);
     while let Ok(Some(item)) = codec.decode_eof(&mut buf) {
-        if let Decoded::Frame(frame) = item
+        if let Decoded::TalosFrame(frame) = item
             && frame.id == id
         {
             return true;

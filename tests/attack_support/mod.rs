@@ -13,7 +13,7 @@ use tokio::time::{Instant, timeout_at};
 use tokio_util::codec::Decoder;
 
 use armjog::talos::frame::Decoded;
-use armjog::talos::{Checksum, CommandValue, Frame, FrameCodec, Reply, Request, ReturnCode};
+use armjog::talos::{Checksum, CommandValue, FrameCodec, Reply, Request, ReturnCode, TalosFrame};
 
 /// How long a valid request may wait for its reply. Generous: a garbage header may hold the
 /// Talos decoder for its 1 s per-frame deadline, and CI machines are loaded.
@@ -44,7 +44,7 @@ pub async fn talos_reply_to(
     checksum: Checksum,
     id: u32,
     bound: Duration,
-) -> Result<Frame, String> {
+) -> Result<TalosFrame, String> {
     let deadline = Instant::now() + bound;
     let mut codec = FrameCodec::new(checksum);
     let mut buf = BytesMut::new();
@@ -53,7 +53,7 @@ pub async fn talos_reply_to(
             .decode(&mut buf)
             .map_err(|e| format!("client decoder: {e}"))?
         {
-            if let Decoded::Frame(frame) = item
+            if let Decoded::TalosFrame(frame) = item
                 && frame.is_reply()
                 && frame.id == id | 1
             {
@@ -70,7 +70,7 @@ pub async fn talos_reply_to(
 }
 
 /// Checks that `frame` is a successful handshake reply.
-pub fn check_handshake_reply(frame: &Frame) -> Result<(), String> {
+pub fn check_handshake_reply(frame: &TalosFrame) -> Result<(), String> {
     match Reply::from_frame(frame) {
         Ok(Reply::Handshake { return_code, .. }) if return_code == ReturnCode::OK => Ok(()),
         other => Err(format!(

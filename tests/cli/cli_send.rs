@@ -5,7 +5,7 @@ use crate::common;
 use std::sync::Arc;
 use std::time::Duration;
 
-use armjog::talos::{Checksum, Frame, Reply, Request, ReturnCode};
+use armjog::talos::{Checksum, Reply, Request, ReturnCode, TalosFrame};
 use common::{Action, TestOperator, reply_bytes};
 use serde_json::Value;
 
@@ -47,7 +47,7 @@ fn canned_reply(request: &Request) -> Reply {
 }
 
 async fn operator(checksum: Checksum) -> TestOperator {
-    let script: common::Script = Arc::new(move |f: &Frame| {
+    let script: common::Script = Arc::new(move |f: &TalosFrame| {
         let request = Request::from_frame(f).expect("the CLI sent a valid request");
         vec![Action::Write(reply_bytes(
             &canned_reply(&request),
@@ -372,7 +372,7 @@ async fn link_failures_exit_3_with_one_line() {
 
 #[tokio::test(flavor = "multi_thread")]
 async fn ack_dialect_prints_the_acknowledgement() {
-    let script: common::Script = Arc::new(|_: &Frame| vec![Action::Write(b"ACK\0".to_vec())]);
+    let script: common::Script = Arc::new(|_: &TalosFrame| vec![Action::Write(b"ACK\0".to_vec())]);
     let mut op = TestOperator::start(Checksum::Xor8, script).await;
     let run = armjog(&[
         "send",

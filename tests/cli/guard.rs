@@ -19,9 +19,9 @@ use tokio::time::Instant;
 
 use armjog::kortex::{ReferenceFrame, Twist};
 use armjog::link::ModbusConfig;
-use armjog::link::arm::{ArmCommand, ArmError, ArmEvent, CommandKind, GuardStatus};
 use armjog::link::driver::{Driver, DriverConfig};
 use armjog::link::guard::GuardPolicy;
+use armjog::link::interface::{ArmCommand, ArmError, ArmEvent, CommandKind, GuardStatus};
 use armjog::sim::Simulator;
 use guard_support::{
     BIN, arm_state, assert_still, log_dir, modbus_addr, simulator, start_twist, wait_moving,

@@ -8,7 +8,7 @@ use std::time::Duration;
 
 use tokio::time::Instant;
 
-use armjog::link::arm::{ArmCommand, ArmEvent, GuardStatus};
+use armjog::link::interface::{ArmCommand, ArmEvent, GuardStatus};
 use guard_support::{BIN, arm_state, assert_still, log_dir, modbus_addr, simulator, wait_moving};
 
 /// A tmux server of our own for the real console, killed on drop.
@@ -244,7 +244,7 @@ fn the_console_stops_and_says_so_when_its_guard_goes_down_and_shows_its_state() 
     use armjog::console::keymap::Keymap;
     use armjog::console::positions::PositionBook;
     use armjog::console::ui::Theme;
-    use armjog::link::arm::LinkStatus;
+    use armjog::link::interface::LinkStatus;
 
     let t0 = std::time::Instant::now();
     let mut app = App::new(

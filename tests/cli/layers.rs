@@ -131,7 +131,7 @@ fn is_io(segments: &[String]) -> bool {
 }
 
 /// The violations in one file at `rel_path` under `src/`, one line each:
-/// `src/link/arm.rs:8: link imports `crate::console::jog::JogMotion`: ...`.
+/// `src/link/interface.rs:8: link imports `crate::console::jog::JogMotion`: ...`.
 fn violations(rel_path: &str, src: &str) -> Vec<String> {
     let Some(layer) = rel_path
         .split('/')
@@ -256,10 +256,11 @@ fn check(rel_path: &str, src: &str) -> Vec<String> {
 
 #[test]
 fn catches_use_crate() {
-    let found = check("link/arm.rs", "use crate::console::jog::JogMotion;\n");
+    let found = check("link/interface.rs", "use crate::console::jog::JogMotion;\n");
     assert_eq!(found.len(), 1, "{found:?}");
     assert!(
-        found[0].starts_with("src/link/arm.rs:1: link imports `crate::console::jog::JogMotion`"),
+        found[0]
+            .starts_with("src/link/interface.rs:1: link imports `crate::console::jog::JogMotion`"),
         "{found:?}"
     );
     assert!(found[0].contains("console is not below link"), "{found:?}");
@@ -284,9 +285,15 @@ fn catches_crate_paths_in_expressions_and_types() {
 
 #[test]
 fn catches_grouped_imports_item_by_item() {
-    let found = check("link/x.rs", "use crate::{kortex::Pose, sim::arm::Arm};\n");
+    let found = check(
+        "link/x.rs",
+        "use crate::{kortex::Pose, sim::arm_model::Arm};\n",
+    );
     assert_eq!(found.len(), 1, "{found:?}");
-    assert!(found[0].contains("`crate::sim::arm::Arm`"), "{found:?}");
+    assert!(
+        found[0].contains("`crate::sim::arm_model::Arm`"),
+        "{found:?}"
+    );
 
     let src = "use crate::{\n    kortex::Pose,\n    console::{jog::JogMotion, keymap},\n    \
                cli as front,\n};\n";
@@ -314,7 +321,7 @@ fn catches_super_chains_that_climb_out_of_the_layer() {
     // src/link/driver/talos_side.rs is link::driver::talos_side: two supers reach link, three
     // the crate root.
     let file = "link/driver/talos_side.rs";
-    assert!(check(file, "use super::super::arm::JogMotion;\n").is_empty());
+    assert!(check(file, "use super::super::arm_model::JogMotion;\n").is_empty());
     let found = check(file, "use super::super::super::console::jog::JogMotion;\n");
     assert_eq!(found.len(), 1, "{found:?}");
     assert!(
@@ -322,7 +329,7 @@ fn catches_super_chains_that_climb_out_of_the_layer() {
         "{found:?}"
     );
     // A mod.rs is its directory's module: link::driver.
-    assert!(check("link/driver/mod.rs", "use super::arm::ArmCommand;\n").is_empty());
+    assert!(check("link/driver/mod.rs", "use super::arm_model::ArmCommand;\n").is_empty());
     assert_eq!(
         check("link/driver/mod.rs", "use super::super::sim::SimArm;\n").len(),
         1
@@ -331,16 +338,16 @@ fn catches_super_chains_that_climb_out_of_the_layer() {
         check("sim/talos_server.rs", "use super::super::link::Dialect;\n").len(),
         1
     );
-    // An inline module adds a level: inside `mod tests` of link/arm.rs, two supers stay in link.
+    // An inline module adds a level: inside `mod tests` of link/interface.rs, two supers stay in link.
     let inline = "mod tests {\n    use super::super::guard::X;\n}\nuse super::guard::Y;\n";
-    assert!(check("link/arm.rs", inline).is_empty());
+    assert!(check("link/interface.rs", inline).is_empty());
     let inline = "mod tests {\n    use super::super::super::console::X;\n}\n";
-    let found = check("link/arm.rs", inline);
+    let found = check("link/interface.rs", inline);
     assert_eq!(found.len(), 1, "{found:?}");
     assert!(found[0].contains(":2: link imports"), "{found:?}");
     // Once the inline module closes, the level is gone again.
     let after = "mod tests {\n    fn f() { let c = '{'; }\n}\nuse super::super::console::X;\n";
-    assert_eq!(check("link/arm.rs", after).len(), 1);
+    assert_eq!(check("link/interface.rs", after).len(), 1);
     // `use super::*` at the top of a layer globs the crate root.
     assert_eq!(check("talos/mod.rs", "use super::*;\n").len(), 1);
 }
@@ -352,7 +359,7 @@ fn catches_doc_links_but_not_comments_or_strings() {
     assert!(found[0].contains("links in a doc comment to `crate::cli::guard`"));
     assert_eq!(
         check(
-            "link/arm.rs",
+            "link/interface.rs",
             "/// See [App](crate::console::App).\nstruct A;\n"
         )
         .len(),
@@ -363,7 +370,7 @@ fn catches_doc_links_but_not_comments_or_strings() {
                  const B: &str = r#\"use crate::cli::send;\"#;\n\
                  const C: char = '\\'';\n\
                  /* crate::sim::x */\n";
-    assert!(check("link/arm.rs", quiet).is_empty());
+    assert!(check("link/interface.rs", quiet).is_empty());
 }
 
 #[test]
@@ -378,9 +385,15 @@ fn same_and_lower_layers_pass() {
     let fine = "use crate::kortex::{Pose, Telemetry};\n\
                 use crate::talos::Dialect;\n\
                 pub(in crate::link::modbus) struct Hold;\n\
-                use crate::link::arm::JogMotion;\n";
+                use crate::link::interface::JogMotion;\n";
     assert!(check("link/driver/mod.rs", fine).is_empty());
-    assert!(check("console/app/mod.rs", "use crate::link::arm::ArmCommand;\n").is_empty());
+    assert!(
+        check(
+            "console/app/mod.rs",
+            "use crate::link::interface::ArmCommand;\n"
+        )
+        .is_empty()
+    );
     assert!(check("cli/sim.rs", "use crate::{console, sim, link};\n").is_empty());
     assert!(
         check(
@@ -391,7 +404,7 @@ fn same_and_lower_layers_pass() {
     );
     // The register map is the bottom layer.
     assert_eq!(
-        check("kortex/flags.rs", "use crate::talos::Frame;\n").len(),
+        check("kortex/flags.rs", "use crate::talos::TalosFrame;\n").len(),
         1
     );
     // The leaves import nothing of the crate.

@@ -328,7 +328,7 @@ async fn home_aborted_at_a_joint_limit_names_the_joint_and_exits_1() {
 
 mod home {
     use super::{armjog, command};
-    use armjog::sim::arm::Arm;
+    use armjog::sim::arm_model::Arm;
     use armjog::sim::kinematics::to_radians;
     use armjog::sim::{SimConfig, Simulator};
     use std::process::Stdio;

@@ -27,7 +27,7 @@ use common::crc16_ccitt_false;
 
 use armjog::talos::ack::{ACK, AckCodec, AckItem};
 use armjog::talos::frame::{DEFAULT_MAX_PAYLOAD, Decoded, FrameHeader, HEADER_LEN, Rejection};
-use armjog::talos::{Checksum, Frame, FrameCodec, RejectReason, Reply, Request, ReturnCode};
+use armjog::talos::{Checksum, FrameCodec, RejectReason, Reply, Request, ReturnCode, TalosFrame};
 use bytes::BytesMut;
 use futures::StreamExt;
 use proptest::collection::vec;
@@ -86,7 +86,7 @@ fn ref_candidate(
     checksum: Checksum,
     max_payload: usize,
     strict: bool,
-) -> Option<(Frame, usize)> {
+) -> Option<(TalosFrame, usize)> {
     if buf.len() < HEADER_LEN {
         return None;
     }
@@ -111,7 +111,7 @@ fn ref_candidate(
         Checksum::None => true,
     };
     ok.then(|| {
-        let frame = Frame {
+        let frame = TalosFrame {
             id: u32::from_be_bytes([buf[0], buf[1], buf[2], buf[3]]),
             reserved: be16(4),
             command,
@@ -122,7 +122,7 @@ fn ref_candidate(
 }
 
 /// The frames the model finds in a whole stream, however it is split into reads.
-fn ref_frames(bytes: &[u8], checksum: Checksum, max_payload: usize) -> Vec<Frame> {
+fn ref_frames(bytes: &[u8], checksum: Checksum, max_payload: usize) -> Vec<TalosFrame> {
     let (mut pos, mut synced, mut out) = (0, true, Vec::new());
     while pos < bytes.len() {
         match ref_candidate(&bytes[pos..], checksum, max_payload, !synced) {
@@ -188,11 +188,11 @@ fn drain(checksum: Checksum, bytes: &[u8], chunk: usize) -> Vec<Decoded> {
     drain_with(&mut FrameCodec::new(checksum), bytes, chunk)
 }
 
-fn frames_of(items: &[Decoded]) -> Vec<Frame> {
+fn frames_of(items: &[Decoded]) -> Vec<TalosFrame> {
     items
         .iter()
         .filter_map(|d| match d {
-            Decoded::Frame(f) => Some(f.clone()),
+            Decoded::TalosFrame(f) => Some(f.clone()),
             Decoded::Rejected(_) => None,
         })
         .collect()
@@ -203,7 +203,7 @@ fn rejections_of(items: &[Decoded]) -> Vec<Rejection> {
         .iter()
         .filter_map(|d| match d {
             Decoded::Rejected(r) => Some(*r),
-            Decoded::Frame(_) => None,
+            Decoded::TalosFrame(_) => None,
         })
         .collect()
 }
@@ -227,21 +227,21 @@ fn accounted_bytes(items: &[Decoded], checksum: Checksum) -> usize {
     items
         .iter()
         .map(|d| match d {
-            Decoded::Frame(f) => f.encoded_len(checksum),
+            Decoded::TalosFrame(f) => f.encoded_len(checksum),
             Decoded::Rejected(r) => r.discarded,
         })
         .sum()
 }
 
-fn bytes_of(frame: &Frame, checksum: Checksum) -> Vec<u8> {
+fn bytes_of(frame: &TalosFrame, checksum: Checksum) -> Vec<u8> {
     frame.to_bytes(checksum).expect("fits")
 }
 
-fn req(request: Request, id: u32) -> Frame {
+fn req(request: Request, id: u32) -> TalosFrame {
     request.to_frame(id).expect("valid request")
 }
 
-fn cart_start(id: u32) -> Frame {
+fn cart_start(id: u32) -> TalosFrame {
     req(
         Request::CartesianMoveStart {
             moving_x: 1,
@@ -252,11 +252,11 @@ fn cart_start(id: u32) -> Frame {
     )
 }
 
-fn get_speed(id: u32) -> Frame {
+fn get_speed(id: u32) -> TalosFrame {
     req(Request::GetSpeed, id)
 }
 
-fn save(id: u32) -> Frame {
+fn save(id: u32) -> TalosFrame {
     req(
         Request::SavePosition {
             name: "pick".into(),
@@ -267,7 +267,7 @@ fn save(id: u32) -> Frame {
     )
 }
 
-fn get_cart_reply(request_id: u32) -> Frame {
+fn get_cart_reply(request_id: u32) -> TalosFrame {
     Reply::GetCartesianPosition {
         return_code: ReturnCode::OK,
         x: 1200,
@@ -278,7 +278,7 @@ fn get_cart_reply(request_id: u32) -> Frame {
     .expect("valid reply")
 }
 
-fn header_of(frame: &Frame) -> FrameHeader {
+fn header_of(frame: &TalosFrame) -> FrameHeader {
     FrameHeader {
         id: frame.id,
         command: frame.command,
@@ -379,7 +379,7 @@ fn a_frame_is_not_yielded_before_its_last_byte() {
                 assert_eq!(item, None, "{checksum}: yielded after {} bytes", i + 1);
                 assert_eq!(buf.len(), i + 1, "{checksum}: bytes dropped while waiting");
             } else {
-                assert_eq!(item, Some(Decoded::Frame(save(8))), "{checksum}");
+                assert_eq!(item, Some(Decoded::TalosFrame(save(8))), "{checksum}");
                 assert!(buf.is_empty());
             }
         }
@@ -396,7 +396,7 @@ fn several_frames_in_one_read_come_out_in_order() {
         for frame in &frames {
             assert_eq!(
                 codec.decode(&mut buf).unwrap(),
-                Some(Decoded::Frame(frame.clone())),
+                Some(Decoded::TalosFrame(frame.clone())),
                 "{checksum}"
             );
         }
@@ -417,7 +417,7 @@ fn the_encoder_writes_what_to_bytes_writes() {
         assert_eq!(&dst[..], &expected[..], "{checksum}");
     }
     // A payload beyond the u16 Length field cannot be encoded.
-    let huge = Frame::new(2, 0x0008, vec![0; 65_536]);
+    let huge = TalosFrame::new(2, 0x0008, vec![0; 65_536]);
     let mut dst = BytesMut::new();
     let err = FrameCodec::new(Checksum::Crc16)
         .encode(huge, &mut dst)
@@ -445,8 +445,8 @@ fn framed_read_ends_cleanly_after_a_truncated_tail() {
         assert_eq!(
             items,
             [
-                Decoded::Frame(cart_start(2)),
-                Decoded::Frame(get_speed(4)),
+                Decoded::TalosFrame(cart_start(2)),
+                Decoded::TalosFrame(get_speed(4)),
                 Decoded::Rejected(Rejection {
                     reason: RejectReason::Truncated {
                         have: 7,
@@ -530,7 +530,7 @@ fn a_complete_frame_behind_an_unfinishable_one_survives_eof() {
                         discarded: first.len(),
                         header: None,
                     }),
-                    Decoded::Frame(second.clone()),
+                    Decoded::TalosFrame(second.clone()),
                 ],
                 "{checksum}, reads of {chunk}"
             );
@@ -565,7 +565,7 @@ fn a_bad_checksum_is_reported_with_its_header_and_the_next_frame_decoded() {
                         discarded: corrupt.len(),
                         header: Some(header_of(&good)),
                     }),
-                    Decoded::Frame(next.clone()),
+                    Decoded::TalosFrame(next.clone()),
                 ],
                 "{checksum}, chunk {chunk}"
             );
@@ -815,7 +815,7 @@ fn an_oversized_length_is_rejected_at_once_and_the_next_frame_decoded() {
                             length
                         }),
                     }),
-                    Decoded::Frame(next),
+                    Decoded::TalosFrame(next),
                 ],
                 "{checksum}, length {length}"
             );
@@ -836,7 +836,7 @@ fn a_payload_at_the_bound_is_accepted() {
         );
         assert_eq!(frame.payload.len(), DEFAULT_MAX_PAYLOAD);
         let items = drain(checksum, &bytes_of(&frame, checksum), 100);
-        assert_eq!(items, [Decoded::Frame(frame)], "{checksum}");
+        assert_eq!(items, [Decoded::TalosFrame(frame)], "{checksum}");
     }
 }
 
@@ -846,7 +846,7 @@ fn a_payload_at_the_bound_is_accepted() {
 fn an_unknown_command_at_a_clean_boundary_reaches_the_caller_when_checksummed() {
     // A frame with a good checksum is accepted at a clean boundary whatever its command, so a
     // server can answer "unknown command", however it was split into reads.
-    let unknown = Frame::new(2, 0x0042, vec![1, 2]);
+    let unknown = TalosFrame::new(2, 0x0042, vec![1, 2]);
     for checksum in [Checksum::Crc16, Checksum::Xor8] {
         let wire = [
             bytes_of(&unknown, checksum),
@@ -857,8 +857,8 @@ fn an_unknown_command_at_a_clean_boundary_reaches_the_caller_when_checksummed() 
             assert_eq!(
                 drain(checksum, &wire, chunk),
                 [
-                    Decoded::Frame(unknown.clone()),
-                    Decoded::Frame(get_speed(4))
+                    Decoded::TalosFrame(unknown.clone()),
+                    Decoded::TalosFrame(get_speed(4))
                 ],
                 "{checksum}, reads of {chunk}"
             );
@@ -880,7 +880,7 @@ fn an_unknown_command_at_a_clean_boundary_reaches_the_caller_when_checksummed() 
                 discarded: 14,
                 header: None,
             }),
-            Decoded::Frame(next),
+            Decoded::TalosFrame(next),
         ]
     );
 }
@@ -890,15 +890,15 @@ fn an_unknown_command_at_a_clean_boundary_reaches_the_caller_when_checksummed() 
 /// One piece of a generated stream.
 #[derive(Debug, Clone)]
 enum Piece {
-    Valid(Frame),
+    Valid(TalosFrame),
     Garbage(Vec<u8>),
     /// A valid frame with one byte XORed with a non-zero mask.
-    Corrupt(Frame, usize, u8),
+    Corrupt(TalosFrame, usize, u8),
     /// The first bytes of a valid frame.
-    Cut(Frame, usize),
+    Cut(TalosFrame, usize),
 }
 
-fn small_frame() -> impl Strategy<Value = Frame> {
+fn small_frame() -> impl Strategy<Value = TalosFrame> {
     // Small ids, as a real client counting up from 0 produces, are the hardest case: their zero
     // bytes look like ICD command values when read at the wrong offset.
     let id = prop_oneof![3 => (0u32..64).prop_map(|i| i * 2), 1 => any::<u32>()];
@@ -929,7 +929,7 @@ fn piece() -> impl Strategy<Value = Piece> {
     ]
 }
 
-fn render(pieces: &[Piece], checksum: Checksum) -> (Vec<u8>, Vec<Frame>) {
+fn render(pieces: &[Piece], checksum: Checksum) -> (Vec<u8>, Vec<TalosFrame>) {
     let mut wire = Vec::new();
     let mut valid = Vec::new();
     for piece in pieces {
@@ -955,7 +955,7 @@ fn render(pieces: &[Piece], checksum: Checksum) -> (Vec<u8>, Vec<Frame>) {
 }
 
 /// Whether `sent` appears in `got` as a subsequence.
-fn all_present_in_order(sent: &[Frame], got: &[Frame]) -> bool {
+fn all_present_in_order(sent: &[TalosFrame], got: &[TalosFrame]) -> bool {
     let mut it = got.iter();
     sent.iter().all(|s| it.any(|g| g == s))
 }
@@ -1014,7 +1014,7 @@ const PATTERNS: [fn(usize) -> u8; 4] = [
 
 /// (garbage, the two frames that follow it, the decoded items) for every pattern and length,
 /// fed byte by byte and in one read.
-fn sweep(checksum: Checksum) -> Vec<(Vec<u8>, [Frame; 2], Vec<Decoded>)> {
+fn sweep(checksum: Checksum) -> Vec<(Vec<u8>, [TalosFrame; 2], Vec<Decoded>)> {
     let mut out = Vec::new();
     for pattern in PATTERNS {
         for len in 0..=40 {
@@ -1152,7 +1152,7 @@ fn xor8_can_be_fooled_by_garbage_that_completes_a_bogus_frame() {
     bogus_payload.truncate(6);
     assert_eq!(
         got[0],
-        Frame {
+        TalosFrame {
             id: 0,
             reserved: 0x0002,
             command: 0x0000,
@@ -1183,7 +1183,7 @@ fn none_cannot_resynchronise_on_a_frame_right_after_garbage() {
         assert_eq!(
             got,
             [
-                Frame {
+                TalosFrame {
                     id: 0xEEEE_EEEE,
                     reserved: 0x0000,
                     command: 0x0004,

@@ -2,7 +2,7 @@
 //! value -> to_frame -> to_bytes -> FrameCodec::decode -> from_frame -> the same value.
 
 use armjog::talos::frame::{DEFAULT_MAX_PAYLOAD, Decoded, HEADER_LEN};
-use armjog::talos::{Checksum, Frame, FrameCodec, Reply, Request, ReturnCode};
+use armjog::talos::{Checksum, FrameCodec, Reply, Request, ReturnCode, TalosFrame};
 use bytes::BytesMut;
 use proptest::collection::vec;
 use proptest::prelude::*;
@@ -175,7 +175,7 @@ fn reply() -> impl Strategy<Value = Reply> {
 
 /// Encodes `frame`, decodes it back through a fresh codec and checks the codec consumed exactly
 /// the frame's bytes.
-fn through_codec(frame: &Frame, checksum: Checksum) -> Result<Frame, TestCaseError> {
+fn through_codec(frame: &TalosFrame, checksum: Checksum) -> Result<TalosFrame, TestCaseError> {
     let bytes = frame.to_bytes(checksum).expect("fits the length field");
     prop_assert_eq!(
         bytes.len(),
@@ -191,7 +191,7 @@ fn through_codec(frame: &Frame, checksum: Checksum) -> Result<Frame, TestCaseErr
     prop_assert!(buf.is_empty(), "{} bytes left", buf.len());
     prop_assert_eq!(codec.decode_eof(&mut buf).expect("eof"), None);
     match decoded {
-        Some(Decoded::Frame(got)) => Ok(got),
+        Some(Decoded::TalosFrame(got)) => Ok(got),
         other => Err(TestCaseError::fail(format!(
             "{checksum}: expected a frame, got {other:?}"
         ))),
@@ -252,7 +252,7 @@ proptest! {
                 buf.extend_from_slice(piece);
                 while let Some(item) = codec.decode(&mut buf).unwrap() {
                     match item {
-                        Decoded::Frame(f) => got.push(f),
+                        Decoded::TalosFrame(f) => got.push(f),
                         Decoded::Rejected(r) => {
                             return Err(TestCaseError::fail(format!("{checksum}: rejected {r:?}")))
                         }
@@ -277,7 +277,7 @@ proptest! {
         code in 1u16..,
     ) {
         let command = armjog::talos::CommandValue::ALL[index];
-        let frame = Frame::new(1, command.reply_value(), code.to_be_bytes().to_vec());
+        let frame = TalosFrame::new(1, command.reply_value(), code.to_be_bytes().to_vec());
         let got = through_codec(&frame, Checksum::Crc16)?;
         let reply = Reply::from_frame(&got).expect("bare error reply");
         prop_assert_eq!(reply.return_code(), ReturnCode(code));

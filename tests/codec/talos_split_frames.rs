@@ -9,7 +9,7 @@ use std::time::Duration;
 
 use armjog::net::{DEFAULT_FRAME_DEADLINE, FrameReader};
 use armjog::talos::frame::{Decoded, FrameHeader, HEADER_LEN, Rejection};
-use armjog::talos::{Checksum, Frame, FrameCodec, RejectReason, Request};
+use armjog::talos::{Checksum, FrameCodec, RejectReason, Request, TalosFrame};
 use bytes::BytesMut;
 use tokio::io::{AsyncWriteExt, DuplexStream};
 use tokio::time::Instant;
@@ -17,25 +17,25 @@ use tokio_util::codec::Decoder;
 
 const DEADLINE: Duration = DEFAULT_FRAME_DEADLINE;
 
-fn bytes_of(frame: &Frame, checksum: Checksum) -> Vec<u8> {
+fn bytes_of(frame: &TalosFrame, checksum: Checksum) -> Vec<u8> {
     frame.to_bytes(checksum).expect("fits")
 }
 
-fn req(request: Request, id: u32) -> Frame {
+fn req(request: Request, id: u32) -> TalosFrame {
     request.to_frame(id).expect("valid request")
 }
 
 /// Command 0x0042 is not in the ICD.
-fn unknown_command(id: u32) -> Frame {
-    Frame::new(id, 0x0042, vec![1, 2, 3])
+fn unknown_command(id: u32) -> TalosFrame {
+    TalosFrame::new(id, 0x0042, vec![1, 2, 3])
 }
 
 /// Set Speed carries one byte, not two.
-fn wrong_length(id: u32) -> Frame {
-    Frame::new(id, 0x000A, vec![1, 2])
+fn wrong_length(id: u32) -> TalosFrame {
+    TalosFrame::new(id, 0x000A, vec![1, 2])
 }
 
-fn save(id: u32) -> Frame {
+fn save(id: u32) -> TalosFrame {
     req(
         Request::SavePosition {
             name: "pick".into(),
@@ -77,7 +77,7 @@ fn a_frame_split_at_every_offset_is_decoded_as_in_one_read() {
         for frame in frames {
             let wire = bytes_of(&frame, checksum);
             let whole = decode_pieces(checksum, &[&wire]);
-            assert_eq!(whole, [Decoded::Frame(frame.clone())], "{checksum}");
+            assert_eq!(whole, [Decoded::TalosFrame(frame.clone())], "{checksum}");
             for at in 0..=wire.len() {
                 let (a, b) = wire.split_at(at);
                 assert_eq!(
@@ -95,7 +95,7 @@ fn several_split_odd_frames_in_a_row_all_come_out() {
     // The regression of issue 9 item 2: once one split odd frame was dropped, the codec lost
     // sync and dropped every such frame after it. Each frame here is split at a different place.
     for checksum in [Checksum::Crc16, Checksum::Xor8] {
-        let frames: Vec<Frame> = (0..8u32)
+        let frames: Vec<TalosFrame> = (0..8u32)
             .map(|i| {
                 if i % 2 == 0 {
                     unknown_command(2 * i)
@@ -111,7 +111,7 @@ fn several_split_odd_frames_in_a_row_all_come_out() {
             let (a, b) = wire.split_at(HEADER_LEN + i % (wire.len() - HEADER_LEN));
             pieces.extend([a, b]);
         }
-        let expected: Vec<Decoded> = frames.into_iter().map(Decoded::Frame).collect();
+        let expected: Vec<Decoded> = frames.into_iter().map(Decoded::TalosFrame).collect();
         assert_eq!(decode_pieces(checksum, &pieces), expected, "{checksum}");
     }
 }
@@ -146,7 +146,7 @@ fn expire_gives_up_the_waiting_frame_and_finds_the_one_behind_it() {
         );
         assert_eq!(
             codec.decode(&mut buf).unwrap(),
-            Some(Decoded::Frame(next)),
+            Some(Decoded::TalosFrame(next)),
             "{checksum}"
         );
         assert!(buf.is_empty());
@@ -196,7 +196,7 @@ fn assert_stalled(item: &Decoded, have: usize, needed: usize) {
 #[tokio::test(start_paused = true)]
 async fn split_odd_frames_with_pauses_all_come_out_of_the_reader() {
     let (mut reader, mut peer) = reader(Checksum::Crc16);
-    let frames: Vec<Frame> = (0..6u32)
+    let frames: Vec<TalosFrame> = (0..6u32)
         .map(|i| {
             if i % 2 == 0 {
                 unknown_command(2 * i)
@@ -219,7 +219,7 @@ async fn split_odd_frames_with_pauses_all_come_out_of_the_reader() {
         peer
     });
     for frame in frames {
-        assert_eq!(next_item(&mut reader).await, Decoded::Frame(frame));
+        assert_eq!(next_item(&mut reader).await, Decoded::TalosFrame(frame));
     }
     drop(writer.await.unwrap());
     assert!(reader.next().await.is_none(), "the stream has ended");
@@ -241,7 +241,7 @@ async fn a_header_announcing_more_than_comes_releases_the_frame_behind_it_at_the
             "{checksum}: given up after {waited:?}"
         );
         // The frame behind it comes out at once, without another byte from the peer.
-        assert_eq!(next_item(&mut reader).await, Decoded::Frame(next));
+        assert_eq!(next_item(&mut reader).await, Decoded::TalosFrame(next));
         assert!(start.elapsed() < DEADLINE + Duration::from_millis(50));
     }
 }
@@ -287,7 +287,7 @@ async fn a_stalled_frame_with_nothing_behind_it_is_dropped_whole_and_the_reader_
     peer.write_all(&bytes_of(&frame, Checksum::Crc16))
         .await
         .unwrap();
-    assert_eq!(next_item(&mut reader).await, Decoded::Frame(frame));
+    assert_eq!(next_item(&mut reader).await, Decoded::TalosFrame(frame));
 }
 
 #[tokio::test(start_paused = true)]
@@ -308,7 +308,7 @@ async fn a_stray_byte_before_a_stop_holds_it_no_longer_than_the_deadline() {
             ..
         })
     ));
-    assert_eq!(next_item(&mut reader).await, Decoded::Frame(stop));
+    assert_eq!(next_item(&mut reader).await, Decoded::TalosFrame(stop));
     assert!(start.elapsed() < DEADLINE + Duration::from_millis(50));
 }
 
@@ -325,7 +325,7 @@ async fn a_frame_completed_within_the_deadline_is_not_given_up() {
         peer.write_all(&b).await.unwrap();
         peer
     });
-    assert_eq!(next_item(&mut reader).await, Decoded::Frame(frame));
+    assert_eq!(next_item(&mut reader).await, Decoded::TalosFrame(frame));
     drop(writer.await.unwrap());
 }
 
@@ -341,12 +341,12 @@ async fn bytes_that_came_while_the_caller_was_busy_are_not_expired() {
     peer.write_all(&[bytes_of(&first, Checksum::Crc16).as_slice(), a].concat())
         .await
         .unwrap();
-    assert_eq!(next_item(&mut reader).await, Decoded::Frame(first));
+    assert_eq!(next_item(&mut reader).await, Decoded::TalosFrame(first));
     tokio::time::sleep(Duration::from_millis(300)).await;
     peer.write_all(b).await.unwrap();
     // The caller is busy for three deadlines before it asks for the next frame.
     tokio::time::sleep(3 * DEADLINE).await;
-    assert_eq!(next_item(&mut reader).await, Decoded::Frame(second));
+    assert_eq!(next_item(&mut reader).await, Decoded::TalosFrame(second));
 }
 
 #[tokio::test(start_paused = true)]
@@ -357,7 +357,7 @@ async fn the_stream_ending_inside_a_frame_is_reported_truncated() {
     peer.write_all(&wire).await.unwrap();
     peer.write_all(&wire[..7]).await.unwrap();
     drop(peer);
-    assert_eq!(next_item(&mut reader).await, Decoded::Frame(frame));
+    assert_eq!(next_item(&mut reader).await, Decoded::TalosFrame(frame));
     assert!(matches!(
         next_item(&mut reader).await,
         Decoded::Rejected(Rejection {
@@ -391,7 +391,7 @@ proptest::proptest! {
             let mut buf = BytesMut::new();
             let mut accounted = 0;
             let mut account = |item: &Decoded| match item {
-                Decoded::Frame(f) => accounted += f.encoded_len(checksum),
+                Decoded::TalosFrame(f) => accounted += f.encoded_len(checksum),
                 Decoded::Rejected(r) => accounted += r.discarded,
             };
             for (i, piece) in bytes.chunks(chunk).enumerate() {

@@ -16,18 +16,18 @@ use common::{crc16_ccitt_false, hex};
 use armjog::talos::frame::{Decoded, FrameHeader, HEADER_LEN};
 use armjog::talos::message::{DecodeError, EncodeError};
 use armjog::talos::name::NameError;
-use armjog::talos::{Checksum, CommandValue, Frame, FrameCodec, Reply, Request, ReturnCode};
+use armjog::talos::{Checksum, CommandValue, FrameCodec, Reply, Request, ReturnCode, TalosFrame};
 use bytes::BytesMut;
 use std::collections::BTreeSet;
 use tokio_util::codec::Decoder;
 
 /// Decodes exactly one frame from `bytes`, asserting nothing is left over.
-fn decode_one(bytes: &[u8], checksum: Checksum) -> Frame {
+fn decode_one(bytes: &[u8], checksum: Checksum) -> TalosFrame {
     let mut codec = FrameCodec::new(checksum);
     let mut buf = BytesMut::from(bytes);
     let item = codec.decode(&mut buf).expect("decode never errors");
     let frame = match item {
-        Some(Decoded::Frame(frame)) => frame,
+        Some(Decoded::TalosFrame(frame)) => frame,
         other => panic!("expected one frame from {bytes:02X?}, got {other:?}"),
     };
     assert!(buf.is_empty(), "bytes left after the frame: {buf:02X?}");
@@ -38,7 +38,7 @@ fn decode_one(bytes: &[u8], checksum: Checksum) -> Frame {
 /// Splits a `none` frame into its fields without the stream decoder, which (rightly) refuses
 /// to treat a header with a payload length the ICD does not allow as a frame when there is no
 /// checksum to vouch for it. Used for payloads that the message layer must refuse.
-fn raw_frame(bytes: &[u8]) -> Frame {
+fn raw_frame(bytes: &[u8]) -> TalosFrame {
     let be16 = |i: usize| u16::from_be_bytes([bytes[i], bytes[i + 1]]);
     let length = usize::from(be16(8));
     assert_eq!(
@@ -46,7 +46,7 @@ fn raw_frame(bytes: &[u8]) -> Frame {
         HEADER_LEN + length + 2,
         "length field of {bytes:02X?}"
     );
-    Frame {
+    TalosFrame {
         id: u32::from_be_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]),
         reserved: be16(4),
         command: be16(6),
@@ -539,7 +539,7 @@ fn the_wrapper_reserved_field_is_kept_by_the_frame_and_ignored_by_the_message() 
     let frame = decode_one(&bytes, Checksum::None);
     assert_eq!(
         frame,
-        Frame {
+        TalosFrame {
             id: 0x48,
             reserved: 0xABCD,
             command: 0x0009,

@@ -10,7 +10,7 @@ use tokio::sync::mpsc;
 use tokio_util::codec::Decoder;
 
 use armjog::talos::frame::Decoded;
-use armjog::talos::{Checksum, Frame, FrameCodec};
+use armjog::talos::{Checksum, FrameCodec, TalosFrame};
 
 /// What the operator does with one received frame.
 pub enum Action {
@@ -22,7 +22,7 @@ pub enum Action {
     Close,
 }
 
-pub type Script = Arc<dyn Fn(&Frame) -> Vec<Action> + Send + Sync>;
+pub type Script = Arc<dyn Fn(&TalosFrame) -> Vec<Action> + Send + Sync>;
 
 /// A listening test operator. Every frame it decodes is sent on `received`.
 pub struct TestOperator {
@@ -43,7 +43,7 @@ impl TestOperator {
                 'conn: loop {
                     while let Ok(Some(item)) = codec.decode(&mut buf) {
                         let actions = match &item {
-                            Decoded::Frame(f) => script(f),
+                            Decoded::TalosFrame(f) => script(f),
                             Decoded::Rejected(_) => Vec::new(),
                         };
                         let _ = tx.send(item);
@@ -70,13 +70,13 @@ impl TestOperator {
     }
 
     /// The next decoded frame, or panics after a second.
-    pub async fn next_frame(&mut self) -> Frame {
+    pub async fn next_frame(&mut self) -> TalosFrame {
         let item = tokio::time::timeout(std::time::Duration::from_secs(1), self.received.recv())
             .await
             .expect("operator received nothing within 1 s")
             .expect("operator gone");
         match item {
-            Decoded::Frame(f) => f,
+            Decoded::TalosFrame(f) => f,
             Decoded::Rejected(r) => panic!("operator rejected a frame: {r}"),
         }
     }

@@ -7,7 +7,7 @@ use armjog::console::app::{App, AppConfig, Effect, Input, Overlay};
 use armjog::console::jog::{JogMotion, KeyKind, ReleaseMode};
 use armjog::console::keymap::Keymap;
 use armjog::console::positions::PositionBook;
-use armjog::link::arm::{
+use armjog::link::interface::{
     ArmCommand, ArmError, ArmEvent, CommandKind, LinkStatus, PositionCoordinates, StepMove,
 };
 
@@ -544,7 +544,7 @@ fn with_reported_events_a_repeat_never_answers_an_overlay() {
 
 #[test]
 fn telemetry_polls_share_one_counted_log_line() {
-    use armjog::link::arm::LogEntry;
+    use armjog::link::interface::LogEntry;
     let (mut app, t0) = app(ReleaseMode::Reported, true);
     let poll = |id| LogEntry {
         id: Some(id),

@@ -8,7 +8,7 @@ use app_support::*;
 use armjog::console::app::{BookState, CHECKED_ON_CONNECT, Effect, Input};
 use armjog::console::jog::ReleaseMode;
 use armjog::console::positions::PositionBook;
-use armjog::link::arm::{ArmCommand, ArmEvent, LinkStatus};
+use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus};
 
 /// A book path in a fresh directory, removed when the `TempDir` is dropped.
 fn temp_book() -> (tempfile::TempDir, std::path::PathBuf) {

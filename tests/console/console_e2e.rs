@@ -13,10 +13,10 @@ use armjog::console::jog::{KeyKind, ReleaseMode};
 use armjog::console::keymap::{KeyName, Keymap};
 use armjog::console::positions::PositionBook;
 use armjog::console::run::key_input;
-use armjog::link::arm::{ArmEvent, LinkStatus};
 use armjog::link::driver::{Driver, DriverConfig};
+use armjog::link::interface::{ArmEvent, LinkStatus};
 use armjog::link::{ModbusConfig, TalosConfig};
-use armjog::sim::arm::WATCHDOG;
+use armjog::sim::arm_model::WATCHDOG;
 use armjog::sim::talos_server::NetworkFaults;
 use armjog::sim::{SimConfig, Simulator};
 

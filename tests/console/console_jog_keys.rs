@@ -6,7 +6,7 @@ use std::time::{Duration, Instant};
 
 use armjog::console::app::{App, Effect, Input, Overlay};
 use armjog::console::jog::{KeyKind, ReleaseMode};
-use armjog::link::arm::{ArmCommand, ArmEvent, LinkStatus};
+use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus};
 
 use crate::app_support;
 

@@ -14,7 +14,7 @@ use armjog::kortex::{
     ActionState, ActionStatus, Coded, Flag, FlagSet, JointState, MoveType, Pose, RobotState,
     SpeedLimits, Telemetry, ToolState, Twist, Wrench,
 };
-use armjog::link::arm::{
+use armjog::link::interface::{
     ArmCommand, ArmError, ArmEvent, CommandKind, LinkStatus, LogEntry, TelemetrySource,
 };
 
@@ -614,7 +614,7 @@ fn a_stale_link_starts_no_home_step_or_go_to() {
     assert_eq!(
         press(&mut app, "w", stale + ms(20)),
         [Effect::Arm(ArmCommand::Step(
-            armjog::link::arm::StepMove::Cartesian {
+            armjog::link::interface::StepMove::Cartesian {
                 dx: 50,
                 dy: 0,
                 dz: 0

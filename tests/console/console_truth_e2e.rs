@@ -17,10 +17,10 @@ use armjog::console::app::{App, AppConfig, Effect, Input, KeyInput, MotionShown}
 use armjog::console::jog::{KeyKind, ReleaseMode};
 use armjog::console::keymap::{KeyName, Keymap};
 use armjog::console::positions::PositionBook;
-use armjog::link::arm::{ArmEvent, LinkStatus};
 use armjog::link::driver::{Driver, DriverConfig};
+use armjog::link::interface::{ArmEvent, LinkStatus};
 use armjog::link::{ModbusConfig, TalosConfig};
-use armjog::sim::arm::Arm;
+use armjog::sim::arm_model::Arm;
 use armjog::sim::kinematics::to_radians;
 use armjog::sim::{SimConfig, Simulator};
 
@@ -277,7 +277,7 @@ fn away() -> Arm {
 /// J4 2.3 degrees short of its limit, the tool at (-199, -231, 435) mm. A 100 mm step along
 /// +X ends where J4 is within its limit (the arm accepts it), but the straight line there
 /// passes closer to the shoulder than the folded elbow allows: the arm stops at J4's limit
-/// about 58 mm along, with a joint-fault warning. (Found with `sim::arm::Arm` directly; the
+/// about 58 mm along, with a joint-fault warning. (Found with `sim::arm_model::Arm` directly; the
 /// simulator's home is a joint-space move and never passes a limit.)
 fn step_through_j4_limit() -> Arm {
     Arm::at(to_radians(&[0.0, 19.0, 135.0, 145.5, 0.0, -25.0, 90.0]))

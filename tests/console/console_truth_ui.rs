@@ -14,7 +14,7 @@ use armjog::kortex::{
     ActionState, ActionStatus, Coded, FlagSet, JointState, MoveType, Pose, RobotState, SpeedLimits,
     Telemetry, ToolState, Twist, Wrench,
 };
-use armjog::link::arm::{ArmEvent, LinkStatus, TelemetrySource};
+use armjog::link::interface::{ArmEvent, LinkStatus, TelemetrySource};
 use ratatui::Frame;
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;

@@ -16,7 +16,7 @@ use armjog::kortex::{
     ActionState, ActionStatus, ArmHealth, Coded, ControlCoil, Flag, FlagSet, JointState, MoveType,
     Pose, RobotState, SpeedLimits, Telemetry, ToolState, Twist, Wrench, Write,
 };
-use armjog::link::arm::{
+use armjog::link::interface::{
     ArmCommand, ArmError, ArmEvent, CommandKind, LinkStatus, LogEntry, PositionCoordinates,
     TelemetrySource, Traffic,
 };

@@ -8,11 +8,11 @@ use std::time::Duration;
 
 use tokio::sync::mpsc::UnboundedReceiver;
 
-use armjog::link::arm::{ArmCommand, ArmError, ArmEvent, CommandKind, LinkStatus};
 use armjog::link::driver::{Driver, DriverConfig};
+use armjog::link::interface::{ArmCommand, ArmError, ArmEvent, CommandKind, LinkStatus};
 use armjog::link::{ModbusConfig, TalosConfig};
 use armjog::sim::{SimConfig, Simulator};
-use armjog::talos::{Checksum, Frame, Reply, Request, ReturnCode};
+use armjog::talos::{Checksum, Reply, Request, ReturnCode, TalosFrame};
 use common::{Action, TestOperator, reply_bytes};
 
 /// Waits (up to 10 s) for an event that `wanted` picks, returning it and every event before it.
@@ -214,7 +214,7 @@ async fn a_set_speed_the_simulated_operator_refuses_leaves_the_speed_unchanged()
 async fn a_set_speed_answered_with_an_error_is_not_adopted() {
     // A scripted operator: speed 40 at connection, every Set Speed answered INTERNAL_ERROR.
     let checksum = Checksum::Crc16;
-    let script: common::Script = Arc::new(move |f: &Frame| {
+    let script: common::Script = Arc::new(move |f: &TalosFrame| {
         let reply = match Request::from_frame(f) {
             Ok(Request::Handshake { .. }) => Reply::Handshake {
                 return_code: ReturnCode::OK,

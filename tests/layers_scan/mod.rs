@@ -39,7 +39,7 @@ pub fn path_refs(rel_path: &str, src: &str) -> Vec<PathRef> {
 }
 
 /// The module path of a file under `src/`: `link/driver/mod.rs` is `[link, driver]`,
-/// `link/arm.rs` is `[link, arm]`.
+/// `link/interface.rs` is `[link, interface]`.
 pub fn module_path(rel_path: &str) -> Vec<String> {
     let trimmed = rel_path.strip_suffix(".rs").unwrap_or(rel_path);
     let mut parts: Vec<String> = trimmed.split('/').map(str::to_string).collect();

@@ -13,10 +13,10 @@ use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::mpsc;
 
-use armjog::link::arm::{ArmCommand, ArmEvent, CommandKind, LinkStatus};
 use armjog::link::driver::{Driver, DriverConfig};
+use armjog::link::interface::{ArmCommand, ArmEvent, CommandKind, LinkStatus};
 use armjog::link::{Dialect, ModbusConfig, TalosConfig};
-use armjog::talos::{Checksum, Frame};
+use armjog::talos::{Checksum, TalosFrame};
 use common::{Action, TestOperator};
 
 /// The Kinova action command register: 2 is STOP.
@@ -274,7 +274,7 @@ async fn a_talos_operator_that_stalls_the_first_handshake_is_retried() {
     // The first handshake gets no answer; later ones get their ACK.
     let handshakes = Arc::new(AtomicUsize::new(0));
     let seen = handshakes.clone();
-    let script: common::Script = Arc::new(move |f: &Frame| {
+    let script: common::Script = Arc::new(move |f: &TalosFrame| {
         if f.command == 0x0000 && seen.fetch_add(1, Ordering::SeqCst) == 0 {
             return Vec::new();
         }

@@ -13,9 +13,9 @@ use tokio::sync::mpsc::UnboundedReceiver;
 use armjog::console::jog::JogMotion;
 use armjog::kortex::Pose;
 use armjog::link::ModbusConfig;
-use armjog::link::arm::{ArmCommand, ArmEvent, LinkStatus, StepMove};
 use armjog::link::driver::{Driver, DriverConfig};
-use armjog::sim::arm::{ActionStatus, Arm};
+use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus, StepMove};
+use armjog::sim::arm_model::{ActionStatus, Arm};
 use armjog::sim::kinematics;
 use armjog::sim::{SimConfig, Simulator};
 

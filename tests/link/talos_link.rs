@@ -8,10 +8,10 @@ use std::time::Duration;
 
 use armjog::link::talos::TalosEvent;
 use armjog::link::{Answer, Dialect, TalosConfig, TalosError, TalosLink};
-use armjog::talos::{Checksum, CommandValue, Frame, Reply, Request, ReturnCode};
+use armjog::talos::{Checksum, CommandValue, Reply, Request, ReturnCode, TalosFrame};
 use common::{Action, TestOperator, reply_bytes};
 
-fn ok_reply(frame: &Frame) -> Reply {
+fn ok_reply(frame: &TalosFrame) -> Reply {
     let request = Request::from_frame(frame).expect("valid request");
     match request {
         Request::Handshake { .. } => Reply::Handshake {
@@ -28,7 +28,7 @@ fn ok_reply(frame: &Frame) -> Reply {
 }
 
 fn answering(checksum: Checksum) -> common::Script {
-    Arc::new(move |f: &Frame| vec![Action::Write(reply_bytes(&ok_reply(f), f.id, checksum))])
+    Arc::new(move |f: &TalosFrame| vec![Action::Write(reply_bytes(&ok_reply(f), f.id, checksum))])
 }
 
 fn config(addr: &str, checksum: Checksum) -> TalosConfig {
@@ -55,9 +55,9 @@ async fn handshake_reports_the_operators_version_for_every_checksum() {
 #[tokio::test]
 async fn ids_are_even_and_increasing_and_replies_pair_out_of_order() {
     // The operator holds the first reply back and answers the second first.
-    let held = Arc::new(std::sync::Mutex::new(Vec::<Frame>::new()));
+    let held = Arc::new(std::sync::Mutex::new(Vec::<TalosFrame>::new()));
     let held2 = held.clone();
-    let script: common::Script = Arc::new(move |f: &Frame| {
+    let script: common::Script = Arc::new(move |f: &TalosFrame| {
         let mut held = held2.lock().unwrap();
         held.push(f.clone());
         if held.len() == 2 {
@@ -103,7 +103,7 @@ async fn ids_are_even_and_increasing_and_replies_pair_out_of_order() {
 
 #[tokio::test]
 async fn an_error_return_code_is_a_typed_error_carrying_the_reply() {
-    let script: common::Script = Arc::new(|f: &Frame| {
+    let script: common::Script = Arc::new(|f: &TalosFrame| {
         let reply = Reply::error(CommandValue::GoToPosition, ReturnCode::UNKNOWN_POSITION);
         vec![Action::Write(reply_bytes(&reply, f.id, Checksum::Crc16))]
     });
@@ -126,7 +126,7 @@ async fn an_error_return_code_is_a_typed_error_carrying_the_reply() {
 
 #[tokio::test]
 async fn a_corrupt_reply_fails_its_request_as_a_checksum_error() {
-    let script: common::Script = Arc::new(|f: &Frame| {
+    let script: common::Script = Arc::new(|f: &TalosFrame| {
         let mut bytes = reply_bytes(&ok_reply(f), f.id, Checksum::Crc16);
         let last = bytes.len() - 1;
         bytes[last] ^= 0xFF;
@@ -142,7 +142,7 @@ async fn a_corrupt_reply_fails_its_request_as_a_checksum_error() {
 
 #[tokio::test]
 async fn a_reply_to_an_unknown_id_is_reported_not_dropped() {
-    let script: common::Script = Arc::new(|f: &Frame| {
+    let script: common::Script = Arc::new(|f: &TalosFrame| {
         let stray = Reply::error(CommandValue::GetSpeed, ReturnCode::OK);
         vec![
             Action::Write(reply_bytes(&stray, 1000, Checksum::Crc16)),
@@ -168,7 +168,11 @@ async fn a_reply_to_an_unknown_id_is_reported_not_dropped() {
 
 #[tokio::test]
 async fn a_dropped_connection_fails_the_pending_request_and_is_reported() {
-    let op = TestOperator::start(Checksum::Crc16, Arc::new(|_: &Frame| vec![Action::Close])).await;
+    let op = TestOperator::start(
+        Checksum::Crc16,
+        Arc::new(|_: &TalosFrame| vec![Action::Close]),
+    )
+    .await;
     let (link, mut events) = TalosLink::connect(config(&op.addr, Checksum::Crc16))
         .await
         .unwrap();
@@ -224,7 +228,7 @@ async fn reconnect_with_backoff_reaches_an_operator_that_starts_late() {
 
 #[tokio::test]
 async fn ack_dialect_pairs_acks_in_order_and_refuses_typed_commands_locally() {
-    let script: common::Script = Arc::new(|_: &Frame| vec![Action::Write(b"ACK\0".to_vec())]);
+    let script: common::Script = Arc::new(|_: &TalosFrame| vec![Action::Write(b"ACK\0".to_vec())]);
     let mut op = TestOperator::start(Checksum::Xor8, script).await;
     let mut c = config(&op.addr, Checksum::Xor8);
     c.dialect = Dialect::Ack;
@@ -324,9 +328,11 @@ async fn an_invalid_request_is_refused_before_sending_with_the_field_named() {
 
 /// An ack-dialect operator that answers every frame with "ACK\0" except those `drop` picks
 /// (by the frame's position in the connection, from 0, and the frame).
-fn acking_except(drop: impl Fn(usize, &Frame) -> bool + Send + Sync + 'static) -> common::Script {
+fn acking_except(
+    drop: impl Fn(usize, &TalosFrame) -> bool + Send + Sync + 'static,
+) -> common::Script {
     let seen = Arc::new(std::sync::atomic::AtomicUsize::new(0));
-    Arc::new(move |f: &Frame| {
+    Arc::new(move |f: &TalosFrame| {
         let n = seen.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
         if drop(n, f) {
             Vec::new()
@@ -348,10 +354,10 @@ const POLAR_START: Request = Request::PolarPanStart {
 };
 
 /// Every frame the operator received so far, waiting `settle` for stragglers.
-async fn frames_received(op: &mut TestOperator, settle: Duration) -> Vec<Frame> {
+async fn frames_received(op: &mut TestOperator, settle: Duration) -> Vec<TalosFrame> {
     let mut frames = Vec::new();
     while let Ok(Some(item)) = tokio::time::timeout(settle, op.received.recv()).await {
-        if let armjog::talos::frame::Decoded::Frame(f) = item {
+        if let armjog::talos::frame::Decoded::TalosFrame(f) = item {
             frames.push(f);
         }
     }

@@ -11,7 +11,7 @@ use tokio_util::codec::FramedRead;
 use armjog::link::talos::{STOP_ACK_INTERVAL, STOP_ACK_TRIES, TalosEvent};
 use armjog::link::{Answer, Dialect, TalosConfig, TalosError, TalosLink};
 use armjog::talos::frame::Decoded;
-use armjog::talos::{Checksum, CommandValue, Frame, FrameCodec, Reply, Request, ReturnCode};
+use armjog::talos::{Checksum, CommandValue, FrameCodec, Reply, Request, ReturnCode, TalosFrame};
 
 const TIMEOUT: Duration = Duration::from_millis(300);
 
@@ -24,9 +24,9 @@ struct Operator {
 
 impl Operator {
     /// The next frame the link wrote, and when it arrived on the paused clock.
-    async fn next_frame(&mut self) -> (Instant, Frame) {
+    async fn next_frame(&mut self) -> (Instant, TalosFrame) {
         match self.frames.next().await {
-            Some(Ok(Decoded::Frame(frame))) => (Instant::now(), frame),
+            Some(Ok(Decoded::TalosFrame(frame))) => (Instant::now(), frame),
             other => panic!("expected a request frame, got {other:?}"),
         }
     }

@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 
 use armjog::link::{TalosConfig, TalosError, TalosLink};
 use armjog::talos::frame::HEADER_LEN;
-use armjog::talos::{Checksum, Frame, RejectReason, Reply, Request, ReturnCode};
+use armjog::talos::{Checksum, RejectReason, Reply, Request, ReturnCode, TalosFrame};
 use common::{Action, TestOperator, reply_bytes};
 
 fn config(addr: &str) -> TalosConfig {
@@ -20,8 +20,8 @@ fn config(addr: &str) -> TalosConfig {
 
 /// Answers Get Speed normally and a Handshake with `handshake_reply(frame)` written in two
 /// parts, 100 ms apart, split after the header (the second part is empty if there is no more).
-fn operator(handshake_reply: fn(&Frame) -> Vec<u8>) -> common::Script {
-    Arc::new(move |f: &Frame| match Request::from_frame(f) {
+fn operator(handshake_reply: fn(&TalosFrame) -> Vec<u8>) -> common::Script {
+    Arc::new(move |f: &TalosFrame| match Request::from_frame(f) {
         Ok(Request::Handshake { .. }) => {
             let wire = handshake_reply(f);
             let (a, b) = wire.split_at(wire.len().min(HEADER_LEN + 1));
@@ -47,7 +47,7 @@ async fn a_split_wrong_length_handshake_reply_is_a_malformed_reply() {
     let op = TestOperator::start(
         Checksum::Crc16,
         operator(|f| {
-            Frame::new(f.id | 1, 0x8000, vec![0, 0, 1])
+            TalosFrame::new(f.id | 1, 0x8000, vec![0, 0, 1])
                 .to_bytes(Checksum::Crc16)
                 .unwrap()
         }),

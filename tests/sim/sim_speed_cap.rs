@@ -4,7 +4,7 @@
 //! joint limit, over Talos and over Modbus.
 
 use armjog::kortex::Flag;
-use armjog::sim::arm::{ActionStatus, Arm, STEP, SimMotion};
+use armjog::sim::arm_model::{ActionStatus, Arm, STEP, SimMotion};
 use armjog::sim::kinematics::{self, HOME_DEG, JOINTS};
 use armjog::sim::modbus_registers::{HOME_ACTION_ID, write_registers};
 use armjog::sim::operator::Operator;

@@ -14,7 +14,7 @@ use tokio::net::TcpStream;
 use armjog::link::{Answer, Dialect, TalosConfig, TalosError, TalosLink};
 use armjog::sim::talos_server::NetworkFaults;
 use armjog::sim::{SimConfig, Simulator};
-use armjog::talos::{Checksum, Frame, Reply, Request, ReturnCode};
+use armjog::talos::{Checksum, Reply, Request, ReturnCode, TalosFrame};
 
 async fn sim() -> Simulator {
     Simulator::start(SimConfig::ephemeral())
@@ -253,14 +253,14 @@ fn return_code_of(reply: &[u8]) -> u16 {
 async fn unknown_commands_malformed_payloads_and_bad_checksums_get_their_codes() {
     let sim = sim().await;
     // Command 0x0042 does not exist.
-    let unknown = Frame::new(4, 0x0042, vec![])
+    let unknown = TalosFrame::new(4, 0x0042, vec![])
         .to_bytes(Checksum::Crc16)
         .unwrap();
     let reply = raw_exchange(&sim, &unknown, 14).await;
     assert_eq!(&reply[..10], &[0, 0, 0, 5, 0, 0, 0x80, 0x42, 0, 2]);
     assert_eq!(return_code_of(&reply), 0x0001);
     // Set Speed with two payload bytes instead of one.
-    let malformed = Frame::new(6, 0x000A, vec![1, 2])
+    let malformed = TalosFrame::new(6, 0x000A, vec![1, 2])
         .to_bytes(Checksum::Crc16)
         .unwrap();
     let reply = raw_exchange(&sim, &malformed, 14).await;

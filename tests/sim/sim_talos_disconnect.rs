@@ -11,12 +11,12 @@ use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::TcpStream;
 use tokio_util::codec::Decoder;
 
-use armjog::sim::arm::SimMotion;
+use armjog::sim::arm_model::SimMotion;
 use armjog::sim::talos_server::NetworkFaults;
 use armjog::sim::{SimConfig, Simulator};
 use armjog::talos::frame::Decoded;
 use armjog::talos::hardware::{ActuatorCommand, HwRequest};
-use armjog::talos::{Checksum, Frame, FrameCodec, Reply, Request};
+use armjog::talos::{Checksum, FrameCodec, Reply, Request, TalosFrame};
 
 /// A watchdog far longer than any test: whatever stops a motion here, it is not the watchdog.
 const LONG_WATCHDOG_S: f64 = 600.0;
@@ -73,11 +73,11 @@ impl RawClient {
         Reply::from_frame(&reply).unwrap()
     }
 
-    async fn read_frame(&mut self) -> Frame {
+    async fn read_frame(&mut self) -> TalosFrame {
         loop {
             if let Some(item) = self.codec.decode(&mut self.buffer).unwrap() {
                 match item {
-                    Decoded::Frame(frame) => return frame,
+                    Decoded::TalosFrame(frame) => return frame,
                     Decoded::Rejected(r) => panic!("bad reply: {r}"),
                 }
             }

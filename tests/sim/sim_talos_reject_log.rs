@@ -10,7 +10,7 @@ use tokio::net::TcpStream;
 
 use armjog::link::Dialect;
 use armjog::sim::{SimConfig, Simulator};
-use armjog::talos::{Checksum, Frame, Request};
+use armjog::talos::{Checksum, Request, TalosFrame};
 
 async fn sim(dialect: Dialect, checksum: Checksum) -> Simulator {
     let mut config = SimConfig::ephemeral();
@@ -20,7 +20,7 @@ async fn sim(dialect: Dialect, checksum: Checksum) -> Simulator {
     Simulator::start(config).await.expect("simulator starts")
 }
 
-fn bytes(frame: Frame, checksum: Checksum) -> Vec<u8> {
+fn bytes(frame: TalosFrame, checksum: Checksum) -> Vec<u8> {
     frame.to_bytes(checksum).unwrap()
 }
 
@@ -47,7 +47,7 @@ async fn the_ack_dialect_logs_each_ignored_frame_with_its_reason() {
     // Get Speed (0x0009) is in the ICD but not in the deployed operator.
     let unsupported = bytes(Request::GetSpeed.to_frame(4).unwrap(), Checksum::Xor8);
     // Continuous START with an azimuth direction of 5.
-    let malformed = bytes(Frame::new(6, 0x0003, vec![5, 0]), Checksum::Xor8);
+    let malformed = bytes(TalosFrame::new(6, 0x0003, vec![5, 0]), Checksum::Xor8);
     // Pan to a point far out of reach: decoded, supported, refused by the arm.
     let unreachable = bytes(
         Request::PolarPan {
@@ -99,9 +99,9 @@ async fn the_icd_dialect_logs_undecodable_requests_and_reply_values() {
     let mut stream = TcpStream::connect(sim.talos_addr).await.unwrap();
     let peer = stream.local_addr().unwrap().to_string();
     // Set Speed with two payload bytes, then a Get Speed reply value sent to the server.
-    let mut all = bytes(Frame::new(6, 0x000A, vec![1, 2]), Checksum::Crc16);
+    let mut all = bytes(TalosFrame::new(6, 0x000A, vec![1, 2]), Checksum::Crc16);
     all.extend(bytes(
-        Frame::new(8, 0x8009, vec![0, 0, 50]),
+        TalosFrame::new(8, 0x8009, vec![0, 0, 50]),
         Checksum::Crc16,
     ));
     stream.write_all(&all).await.unwrap();

@@ -9,7 +9,7 @@ use tokio::net::TcpStream;
 
 use armjog::sim::{SimConfig, Simulator};
 use armjog::talos::frame::HEADER_LEN;
-use armjog::talos::{Checksum, Frame, Request, ReturnCode};
+use armjog::talos::{Checksum, Request, ReturnCode, TalosFrame};
 
 async fn sim_with_deadline(frame_deadline: Duration) -> Simulator {
     let mut config = SimConfig::ephemeral();
@@ -42,12 +42,12 @@ async fn split_unknown_and_malformed_frames_are_all_answered_on_one_connection()
         // Command 0x0042 is not in the ICD; Set Speed carries one byte, not two.
         let (frame, code) = if i % 2 == 0 {
             (
-                Frame::new(id, 0x0042, vec![7, 7]),
+                TalosFrame::new(id, 0x0042, vec![7, 7]),
                 ReturnCode::UNKNOWN_COMMAND,
             )
         } else {
             (
-                Frame::new(id, 0x000A, vec![1, 2]),
+                TalosFrame::new(id, 0x000A, vec![1, 2]),
                 ReturnCode::MALFORMED_PAYLOAD,
             )
         };
@@ -111,11 +111,14 @@ async fn a_burst_larger_than_the_read_buffer_loses_no_odd_frame() {
         let id = 2 * i;
         let (frame, code) = if i % 2 == 0 {
             let payload = vec![0x5A; (i % 7) as usize];
-            (Frame::new(id, 0x0042, payload), ReturnCode::UNKNOWN_COMMAND)
+            (
+                TalosFrame::new(id, 0x0042, payload),
+                ReturnCode::UNKNOWN_COMMAND,
+            )
         } else {
             let payload = vec![1; 2 + (i % 5) as usize];
             (
-                Frame::new(id, 0x000A, payload),
+                TalosFrame::new(id, 0x000A, payload),
                 ReturnCode::MALFORMED_PAYLOAD,
             )
         };

@@ -9,7 +9,7 @@ use crate::console::jog::JogEngine;
 use crate::console::keymap::Keymap;
 use crate::console::positions::PositionBook;
 use crate::kortex::{ReferenceFrame, Telemetry};
-use crate::link::arm::{GuardStatus, LinkStatus, LogEntry, TelemetrySource};
+use crate::link::interface::{GuardStatus, LinkStatus, LogEntry, TelemetrySource};
 
 impl App {
     pub fn config(&self) -> &AppConfig {

@@ -4,7 +4,7 @@
 use std::time::Instant;
 
 use super::{App, Effect, Overlay, Severity};
-use crate::link::arm::{ArmEvent, CommandKind, GuardStatus, LinkStatus, LogEntry};
+use crate::link::interface::{ArmEvent, CommandKind, GuardStatus, LinkStatus, LogEntry};
 
 /// Command log lines kept.
 const LOG_CAPACITY: usize = 500;

@@ -10,7 +10,7 @@ use std::time::Instant;
 
 use super::{App, Effect, Severity};
 use crate::console::positions::PositionBook;
-use crate::link::arm::ArmCommand;
+use crate::link::interface::ArmCommand;
 
 /// How many remembered names are checked with the operator when the link comes up: each costs
 /// a request, and a big book would flood the operator (and the console) for minutes. The others

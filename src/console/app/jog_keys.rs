@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use super::{App, Effect, KeyInput, Severity};
 use crate::console::jog::{JogEffect, JogMotion, JogNotice};
-use crate::link::arm::{ArmCommand, StepMove};
+use crate::link::interface::{ArmCommand, StepMove};
 
 /// The most a tap moves in the auto-repeat fallback, tenths of millimetres (5 mm): a tap
 /// cannot be told from the start of a hold when it happens, so it must be harmless.

@@ -9,7 +9,7 @@ use crate::console::form::{Confirm, Form, FormKind};
 use crate::console::jog::{KeyKind, MAX_ONSET, ReleaseMode};
 use crate::console::keymap::{BaseKey, KeyName, NamedKey};
 use crate::kortex::ReferenceFrame;
-use crate::link::arm::{ArmCommand, StepMove};
+use crate::link::interface::{ArmCommand, StepMove};
 
 /// How much one speed key changes the speed, percent.
 const SPEED_STEP: u8 = 10;

@@ -35,7 +35,7 @@ use super::jog::{JogEngine, KeyKind, ReleaseMode};
 use super::keymap::{KeyName, Keymap};
 use super::positions::PositionBook;
 use crate::kortex::{ReferenceFrame, Telemetry};
-use crate::link::arm::{
+use crate::link::interface::{
     ArmCommand, ArmEvent, GuardStatus, LinkStatus, LogEntry, PositionCoordinates, TelemetrySource,
 };
 

@@ -26,7 +26,7 @@ use super::{App, Effect, Overlay, Severity};
 use crate::console::form::Confirm;
 use crate::console::jog::JogMotion;
 use crate::kortex::{ActionStatus, Coded, Flag, Telemetry};
-use crate::link::arm::{ArmCommand, ArmEvent, CommandKind, LinkStatus, TelemetrySource};
+use crate::link::interface::{ArmCommand, ArmEvent, CommandKind, LinkStatus, TelemetrySource};
 
 /// Silence after which a link is stale and telemetry is drawn as old.
 pub const STALE_AFTER: Duration = Duration::from_millis(500);

@@ -6,7 +6,7 @@ use std::time::Instant;
 use super::{App, Effect, Overlay, Severity, cartesian_of, polar_of};
 use crate::console::form::{Confirm, FormResult};
 use crate::kortex::Pose;
-use crate::link::arm::{ArmCommand, PositionCoordinates};
+use crate::link::interface::{ArmCommand, PositionCoordinates};
 
 impl App {
     pub(super) fn show_position(&mut self, name: String, effects: &mut Vec<Effect>) {

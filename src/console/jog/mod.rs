@@ -26,7 +26,7 @@ use std::time::{Duration, Instant};
 
 use super::action::{Action, JogAxis, JogFamily};
 // The motion the held keys ask for is the link's vocabulary: re-exported for the console.
-pub use crate::link::arm::JogMotion;
+pub use crate::link::interface::JogMotion;
 pub use held::KEY_EVENT_TIMEOUT;
 use held::{Held, KeyState, expiry};
 pub use timing::{MAX_ONSET, REPEAT_GAP_MAX, RepeatTiming};

@@ -8,7 +8,7 @@ use ratatui::widgets::{Block, Borders, Paragraph};
 
 use super::theme::Theme;
 use crate::console::view::View;
-use crate::link::arm::Traffic;
+use crate::link::interface::Traffic;
 use crate::talos::hex::spaced_hex;
 
 pub fn draw(frame: &mut Frame, area: Rect, app: &View, theme: &Theme) {

@@ -18,7 +18,7 @@ use ratatui::widgets::{Block, Borders, Paragraph, Wrap};
 
 use super::app::{MIN_HEIGHT, MIN_WIDTH, Overlay};
 use super::view::View;
-use crate::link::arm::TelemetrySource;
+use crate::link::interface::TelemetrySource;
 pub use theme::Theme;
 
 /// What a telemetry panel says when it has nothing to show.

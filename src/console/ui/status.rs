@@ -11,7 +11,7 @@ use crate::console::app::{MotionShown, age_text, describe_motion};
 use crate::console::jog::ReleaseMode;
 use crate::console::view::View;
 use crate::kortex::CodeName;
-use crate::link::arm::{GuardStatus, LinkStatus};
+use crate::link::interface::{GuardStatus, LinkStatus};
 
 /// What the key-release mode is, in words: the status bar always shows it.
 pub fn release_mode_text(view: &View) -> String {

@@ -21,8 +21,8 @@ use std::time::Duration;
 use tokio::sync::mpsc;
 
 use super::Dialect;
-use super::arm::{ArmCommand, ArmError, ArmEvent, CommandKind, LinkStatus, TelemetrySource};
 use super::guard::{self, GuardPolicy, GuardReport, GuardSupervisor};
+use super::interface::{ArmCommand, ArmError, ArmEvent, CommandKind, LinkStatus, TelemetrySource};
 use super::modbus::{ModbusConfig, ModbusEvent, StopReason};
 use super::talos::{TalosConfig, TalosEvent};
 use connect::{Attempts, Connected};
@@ -425,7 +425,9 @@ fn start_guard(
     if !config.guard_required() {
         return None;
     }
-    let _ = reports.send(GuardReport::Status(crate::link::arm::GuardStatus::Starting));
+    let _ = reports.send(GuardReport::Status(
+        crate::link::interface::GuardStatus::Starting,
+    ));
     Some(GuardSupervisor::spawn(
         program.clone(),
         mc.addr.clone(),

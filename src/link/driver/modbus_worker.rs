@@ -9,7 +9,9 @@ use tokio::task::JoinHandle;
 use super::speed::SpeedInForce;
 use super::{DriverConfig, JointPositions};
 use crate::kortex::{PolarPanSettings, Pose, ReferenceFrame, Twist};
-use crate::link::arm::{ArmCommand, ArmError, ArmEvent, JogMotion, LogEntry, StepMove, Traffic};
+use crate::link::interface::{
+    ArmCommand, ArmError, ArmEvent, JogMotion, LogEntry, StepMove, Traffic,
+};
 use crate::link::modbus::{ModbusError, ModbusLink, WriteReport};
 
 pub struct ModbusWorker {

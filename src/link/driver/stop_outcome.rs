@@ -7,7 +7,7 @@
 
 use std::collections::VecDeque;
 
-use crate::link::arm::{ArmCommand, ArmEvent};
+use crate::link::interface::{ArmCommand, ArmEvent};
 
 /// The two links the driver may have.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -115,7 +115,7 @@ pub fn stop_answer(event: &ArmEvent) -> Option<Result<(), String>> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::link::arm::{ArmError, CommandKind, StepMove};
+    use crate::link::interface::{ArmError, CommandKind, StepMove};
 
     const STEP: ArmCommand = ArmCommand::Step(StepMove::Polar {
         azimuth: 1,

@@ -10,7 +10,7 @@ use tokio::sync::mpsc;
 use super::hw_telemetry;
 use super::speed::SpeedInForce;
 use super::{DriverConfig, JointPositions};
-use crate::link::arm::{
+use crate::link::interface::{
     ArmCommand, ArmError, ArmEvent, JogMotion, LogEntry, PositionCoordinates, StepMove, Traffic,
 };
 use crate::link::talos::{Answer, Exchange, PendingReply, TalosConfig, TalosError, TalosEvent};

@@ -25,7 +25,7 @@ const CLOSING_ATTEMPTS: u32 = 5;
 
 /// The motion this link keeps running on the arm.
 #[derive(Debug, Clone, Copy, PartialEq)]
-enum Motion {
+enum MotionInForce {
     Idle,
     Twist {
         frame: ReferenceFrame,
@@ -61,7 +61,7 @@ pub(super) struct LinkTask {
     plan: PollPlan,
     image: RegisterImage,
     sequence: u64,
-    motion: Motion,
+    motion: MotionInForce,
     hold_until: Option<Instant>,
     /// A twist may be running on the arm: set before any twist write, cleared by a stop.
     stop_owed: bool,
@@ -93,7 +93,7 @@ impl LinkTask {
             lost_reason: String::new(),
             image: RegisterImage::default(),
             sequence: 0,
-            motion: Motion::Idle,
+            motion: MotionInForce::Idle,
             hold_until: None,
             stop_owed: false,
             closing: false,
@@ -114,7 +114,7 @@ impl LinkTask {
             }
             let reason = std::mem::take(&mut self.lost_reason);
             tracing::warn!("modbus link to {} lost: {reason}", self.config.addr);
-            self.motion = Motion::Idle;
+            self.motion = MotionInForce::Idle;
             self.hold_until = None;
             self.event(ModbusEvent::Disconnected { reason });
         }
@@ -247,7 +247,7 @@ impl LinkTask {
             } => {
                 let result = self.execute(&writes).await;
                 if halts && result.is_ok() {
-                    self.motion = Motion::Idle;
+                    self.motion = MotionInForce::Idle;
                     self.hold_until = None;
                     self.stop_owed = false;
                     self.restore_limits().await;
@@ -269,7 +269,7 @@ impl LinkTask {
         if twist.is_zero() {
             return self.stop(StopReason::Requested).await;
         }
-        let wanted = Motion::Twist { frame, twist };
+        let wanted = MotionInForce::Twist { frame, twist };
         if self.motion == wanted {
             self.refresh_hold();
             return Ok(WriteReport::default());
@@ -291,7 +291,7 @@ impl LinkTask {
         if azimuth == 0.0 && altitude == 0.0 {
             return self.stop(StopReason::Requested).await;
         }
-        if let Motion::Polar {
+        if let MotionInForce::Polar {
             azimuth: a,
             altitude: e,
             settings: s,
@@ -313,13 +313,13 @@ impl LinkTask {
         let twist = match polar_twist(pose, azimuth, altitude, settings) {
             Ok(twist) => twist,
             Err(e) => {
-                if self.motion != Motion::Idle {
+                if self.motion != MotionInForce::Idle {
                     let _ = self.stop(StopReason::PolarPanUndefined).await;
                 }
                 return Err(e.into());
             }
         };
-        self.motion = Motion::Polar {
+        self.motion = MotionInForce::Polar {
             azimuth,
             altitude,
             settings,
@@ -334,7 +334,7 @@ impl LinkTask {
 
     /// Recomputes a running polar pan from the pose just polled.
     async fn refresh_polar(&mut self, pose: Pose) {
-        let Motion::Polar {
+        let MotionInForce::Polar {
             azimuth,
             altitude,
             settings,
@@ -349,7 +349,7 @@ impl LinkTask {
         match writes {
             Ok((twist, _)) if twist == last => {}
             Ok((twist, writes)) => {
-                self.motion = Motion::Polar {
+                self.motion = MotionInForce::Polar {
                     azimuth,
                     altitude,
                     settings,
@@ -376,7 +376,7 @@ impl LinkTask {
             if self.ctx.is_some() {
                 let _ = self.stop(StopReason::WriteFailed).await;
             } else {
-                self.motion = Motion::Idle;
+                self.motion = MotionInForce::Idle;
                 self.hold_until = None;
             }
         }
@@ -386,7 +386,7 @@ impl LinkTask {
     /// The stop sequence (holding register 200 <- 2). If the arm refuses it with an exception,
     /// the abort coil is pulsed instead. Failures are logged as errors and sent as events.
     async fn stop(&mut self, reason: StopReason) -> Result<WriteReport, ModbusError> {
-        self.motion = Motion::Idle;
+        self.motion = MotionInForce::Idle;
         self.hold_until = None;
         let stop_error = match self.execute(&commands::stop()).await {
             Ok(report) => {
@@ -442,7 +442,7 @@ impl LinkTask {
 
     /// A poll failed: a moving arm we cannot see is stopped.
     async fn stop_after_failed_poll(&mut self) {
-        if self.motion != Motion::Idle && self.ctx.is_some() {
+        if self.motion != MotionInForce::Idle && self.ctx.is_some() {
             let _ = self.stop(StopReason::PollFailed).await;
         }
     }

@@ -17,7 +17,7 @@ use super::{
 };
 use crate::net::FrameReader;
 use crate::talos::ack::{ACK, AckCodec, AckItem};
-use crate::talos::frame::{Decoded, Frame, FrameCodec, Rejection};
+use crate::talos::frame::{Decoded, FrameCodec, Rejection, TalosFrame};
 use crate::talos::{Checksum, CommandValue, Dialect, Reply, Request};
 
 async fn sleep_until(deadline: Option<tokio::time::Instant>) {
@@ -56,12 +56,12 @@ struct ExpiredAck {
 
 /// Which continuous motions the operator was last told to run.
 #[derive(Debug, Default, Clone, Copy)]
-struct Motion {
+struct ContinuousMotions {
     polar: bool,
     cartesian: bool,
 }
 
-impl Motion {
+impl ContinuousMotions {
     fn note(&mut self, request: &Request) {
         match request {
             Request::PolarPanStart {
@@ -105,13 +105,13 @@ pub(super) struct LinkTask {
     frame_deadline: Duration,
     /// The operator's address, for the log.
     addr: String,
-    motion: Motion,
+    motion: ContinuousMotions,
     events: mpsc::UnboundedSender<TalosEvent>,
 }
 
 /// What arrives from the operator, in either dialect.
 enum Incoming {
-    Frame(Decoded),
+    TalosFrame(Decoded),
     Ack(AckItem),
 }
 
@@ -126,7 +126,7 @@ enum Replies<R> {
 impl<R: AsyncRead + Unpin> Replies<R> {
     async fn next(&mut self) -> Option<std::io::Result<Incoming>> {
         match self {
-            Replies::Frames(reader) => reader.next().await.map(|r| r.map(Incoming::Frame)),
+            Replies::Frames(reader) => reader.next().await.map(|r| r.map(Incoming::TalosFrame)),
             Replies::Acks(reader) => reader.next().await.map(|r| r.map(Incoming::Ack)),
         }
     }
@@ -148,7 +148,7 @@ impl LinkTask {
             request_timeout: config.request_timeout,
             frame_deadline: config.frame_deadline,
             addr: config.addr.clone(),
-            motion: Motion::default(),
+            motion: ContinuousMotions::default(),
             events,
         }
     }
@@ -189,8 +189,8 @@ impl LinkTask {
                     }
                 },
                 item = reader.next() => match item {
-                    Some(Ok(Incoming::Frame(Decoded::Frame(frame)))) => self.on_frame(frame),
-                    Some(Ok(Incoming::Frame(Decoded::Rejected(r)))) => self.on_rejection(r),
+                    Some(Ok(Incoming::TalosFrame(Decoded::TalosFrame(frame)))) => self.on_frame(frame),
+                    Some(Ok(Incoming::TalosFrame(Decoded::Rejected(r)))) => self.on_rejection(r),
                     Some(Ok(Incoming::Ack(AckItem::Ack))) => self.on_ack(),
                     Some(Ok(Incoming::Ack(AckItem::Garbage(n)))) => {
                         self.event(TalosEvent::UnexpectedAckBytes(n));
@@ -355,7 +355,7 @@ impl LinkTask {
         Ok(())
     }
 
-    fn on_frame(&mut self, frame: Frame) {
+    fn on_frame(&mut self, frame: TalosFrame) {
         let Some(pending) = self
             .pending
             .remove(&(frame.id & !1))

@@ -9,7 +9,7 @@
 //! stopped at once. A motion another client refreshed after it stays bounded by the watchdog.
 
 use super::Operator;
-use crate::sim::arm::Arm;
+use crate::sim::arm_model::Arm;
 use crate::talos::{Reply, Request};
 
 /// A Talos client connection, numbered by the server in accept order.

@@ -1,7 +1,7 @@
 //! The hardware companion ICD's operations (docs/hardware-icd.md) on the simulated arm.
 
 use super::continuous;
-use crate::sim::arm::{Arm, SimMotion};
+use crate::sim::arm_model::{Arm, SimMotion};
 use crate::sim::telemetry;
 use crate::talos::ReturnCode;
 use crate::talos::hardware::{self, HwReply, HwRequest};
