@@ -1,18 +1,20 @@
 //! `armjog` with no subcommand: the jog console, on the built-in simulated arm unless told
 //! where an arm is.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use clap::{Args, ValueEnum};
 
 use crate::console::keymap::Keymap;
+use crate::console::positions::PositionBook;
 use crate::console::run::{ConsoleSetup, run};
 use crate::link::Dialect;
 use crate::link::driver::DriverConfig;
 use crate::link::guard::GuardPolicy;
 use crate::link::modbus::{self, ModbusConfig};
 use crate::link::talos::{self, TalosConfig};
+use crate::sim::operator::RememberedPosition;
 use crate::sim::{SimConfig, Simulator};
 use crate::talos::Checksum;
 
@@ -143,11 +145,22 @@ pub async fn run_console(args: &ConsoleArgs) -> i32 {
         }
     };
     // With no arm named, the console opens on the built-in simulated arm.
+    let on_simulator = args.talos.is_none() && args.modbus.is_none();
+    let positions_file = args.positions.clone().or_else(|| {
+        on_simulator
+            .then(|| crate::console::positions::default_path("simulator"))
+            .flatten()
+    });
     let mut simulator = None;
     let (talos_addr, modbus_addr) = match (&args.talos, &args.modbus) {
         (None, None) => match Simulator::start(SimConfig {
             // The built-in operator honours the console's cap.
             max_jog_speed: args.max_jog_speed / 1000.0,
+            // And knows the positions saved in earlier runs.
+            positions: match &positions_file {
+                Some(path) => read_for_simulator(path).await,
+                None => Vec::new(),
+            },
             ..SimConfig::ephemeral()
         })
         .await
@@ -184,11 +197,7 @@ pub async fn run_console(args: &ConsoleArgs) -> i32 {
             KeyRelease::Events => Some(true),
             KeyRelease::Repeat => Some(false),
         },
-        positions_file: args.positions.clone().or_else(|| {
-            simulator
-                .as_ref()
-                .and_then(|_| crate::console::positions::default_path("simulator"))
-        }),
+        positions_file,
     };
     let code = match run(setup).await {
         Ok(()) => 0,
@@ -199,4 +208,40 @@ pub async fn run_console(args: &ConsoleArgs) -> i32 {
     };
     drop(simulator);
     code
+}
+
+/// The book's positions as the built-in simulator's operator takes them at start: those with
+/// coordinates (a name without any cannot be put back).
+pub fn remembered_for_simulator(book: &PositionBook) -> Vec<RememberedPosition> {
+    book.entries()
+        .filter_map(|(name, entry)| {
+            let cartesian = entry.cartesian?;
+            Some(RememberedPosition {
+                name: name.to_string(),
+                position_m: cartesian.map(|v| f64::from(v) / 10_000.0),
+                orientation_deg: entry.orientation.map(|o| o.map(f64::from)),
+                joints_deg: entry.joints.map(|j| j.map(f64::from)),
+                parent: entry.parent.clone(),
+                anchor: entry.anchor,
+            })
+        })
+        .collect()
+}
+
+/// Reads the book at `path` for the built-in simulator, off the event loop. A book that
+/// cannot be read gives none: the console says why when it loads the book itself.
+pub async fn read_for_simulator(path: &Path) -> Vec<RememberedPosition> {
+    let path = path.to_path_buf();
+    let read = tokio::task::spawn_blocking(move || PositionBook::load(&path)).await;
+    match read {
+        Ok(Ok(book)) => remembered_for_simulator(&book),
+        Ok(Err(e)) => {
+            tracing::warn!("the simulated operator starts without remembered positions: {e}");
+            Vec::new()
+        }
+        Err(e) => {
+            tracing::warn!("the simulated operator starts without remembered positions: {e}");
+            Vec::new()
+        }
+    }
 }

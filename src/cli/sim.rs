@@ -91,6 +91,7 @@ impl SimArgs {
             },
             arm,
             max_jog_speed: self.max_jog_speed / 1000.0,
+            positions: Vec::new(),
         })
     }
 }

@@ -231,6 +231,8 @@ pub enum Confirm {
     Home,
     GoTo(String),
     Delete(String),
+    /// The operator lost this name: re-save it from the remembered coordinates, then go there.
+    Resave(String),
 }
 
 impl Confirm {
@@ -239,6 +241,10 @@ impl Confirm {
             Confirm::Home => "Move the arm to its home pose?".into(),
             Confirm::GoTo(name) => format!("Move the arm to '{name}'?"),
             Confirm::Delete(name) => format!("Delete position '{name}'?"),
+            Confirm::Resave(name) => format!(
+                "'{name}' is unknown to the operator: re-save it from the remembered coordinates \
+                 and move the arm there?"
+            ),
         }
     }
 }

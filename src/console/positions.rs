@@ -25,12 +25,56 @@ pub struct BookEntry {
     /// Tool position in tenths of millimetres, when known.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cartesian: Option<[i32; 3]>,
-    /// Tool orientation in degrees (extrinsic XYZ), when known (stored-pose go-to over Modbus).
+    /// Tool orientation θx, θy, θz in degrees (extrinsic XYZ, as the telemetry gives them),
+    /// when known.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub orientation: Option<[f32; 3]>,
+    /// Joint angles J1-J7 in degrees as the telemetry reported them (0-360) when the pose was
+    /// saved from the arm; dropped once the coordinates change, as they no longer describe it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub joints: Option<[f32; 7]>,
+    /// The frame `cartesian` and `orientation` are in. Books written before it was recorded
+    /// held base-frame coordinates too (the telemetry's and the operator's frame).
+    #[serde(default)]
+    pub frame: PoseFrame,
     /// The operator answered "unknown position" for this name. Not saved: re-checked each run.
     #[serde(skip)]
     pub unknown_to_operator: bool,
+}
+
+impl BookEntry {
+    /// Sets the coordinates (tenths of millimetres). Joint angles taken elsewhere no longer
+    /// describe the position and are dropped; a difference of one tenth is rounding.
+    pub fn set_cartesian(&mut self, cartesian: [i32; 3]) {
+        let moved = self.cartesian.is_none_or(|old| {
+            old.iter()
+                .zip(cartesian)
+                .any(|(before, now)| before.abs_diff(now) > 1)
+        });
+        if moved {
+            self.joints = None;
+        }
+        self.cartesian = Some(cartesian);
+    }
+}
+
+/// The frame a position's coordinates are given in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum PoseFrame {
+    /// The arm's base frame: the frame of the tool pose in telemetry and of the Talos
+    /// operator's cartesian and polar coordinates.
+    #[default]
+    Base,
+}
+
+impl PoseFrame {
+    /// Words for the screen: "base frame".
+    pub fn label(self) -> &'static str {
+        match self {
+            PoseFrame::Base => "base frame",
+        }
+    }
 }
 
 /// One named position and its name; the book keeps them sorted by name.

@@ -44,6 +44,8 @@ pub struct SimConfig {
     pub arm: Arm,
     /// The operator's tool speed cap at 100 %, m/s, for every motion it commands.
     pub max_jog_speed: f64,
+    /// Named positions the operator starts with (remembered from earlier runs).
+    pub positions: Vec<operator::RememberedPosition>,
 }
 
 impl Default for SimConfig {
@@ -55,6 +57,7 @@ impl Default for SimConfig {
             faults: NetworkFaults::default(),
             arm: Arm::default(),
             max_jog_speed: operator::MAX_JOG_LINEAR,
+            positions: Vec::new(),
         }
     }
 }
@@ -113,10 +116,15 @@ impl Simulator {
             }
             None => None,
         };
-        let arm = SimArm::spawn(
-            config.arm,
-            Operator::with_max_jog_linear(config.max_jog_speed),
-        );
+        let mut operator = Operator::with_max_jog_linear(config.max_jog_speed);
+        if !config.positions.is_empty() {
+            let offered = config.positions.len();
+            let restored = operator.restore(&config.arm, config.positions);
+            tracing::info!(
+                "the simulated operator starts with {restored} of {offered} remembered positions"
+            );
+        }
+        let arm = SimArm::spawn(config.arm, operator);
         let (faults, faults_rx) = watch::channel(config.faults);
         let mut tasks = vec![tokio::spawn(talos_server::serve(
             talos_listener,

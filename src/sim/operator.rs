@@ -33,9 +33,11 @@ use crate::talos::message::DecodeError;
 
 mod clients;
 mod hardware;
+mod restore;
 use crate::talos::{Reply, Request, ReturnCode};
 pub use clients::ClientId;
 use hardware::hardware_operation;
+pub use restore::RememberedPosition;
 
 /// The simulated operator's version, reported by Handshake.
 pub const VERSION: (u8, u8) = (1, 0);

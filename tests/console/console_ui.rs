@@ -638,7 +638,7 @@ fn dialog_position_coordinates() {
     );
     insta::assert_snapshot!(
         "dialog_position_coordinates",
-        render(ui::dialog::draw, &app, 80, 8).backend()
+        render(ui::dialog::draw, &app, 80, 12).backend()
     );
 }
 

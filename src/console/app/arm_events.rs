@@ -61,6 +61,9 @@ impl App {
                 if command == CommandKind::Jog {
                     self.stop_jog(now, effects);
                 }
+                if self.position_failed(command, &error, now) {
+                    return;
+                }
                 self.say(format!("{command} failed: {error}"), Severity::Error, now);
             }
             ArmEvent::Position { name, coordinates } => {
@@ -69,7 +72,7 @@ impl App {
                 if let Some(entry) = self.positions.get_mut(&name) {
                     entry.unknown_to_operator = false;
                     if let Some(c) = coordinates.cartesian {
-                        entry.cartesian = Some(c);
+                        entry.set_cartesian(c);
                     }
                 }
                 if matches!(&self.overlay, Overlay::Position { name: shown, .. } if *shown == name)

@@ -280,7 +280,7 @@ impl App {
                     return;
                 };
                 match action {
-                    A::GoToPosition => self.overlay = Overlay::Confirm(Confirm::GoTo(name)),
+                    A::GoToPosition => self.ask_go_to(name, now),
                     A::DeletePosition => self.overlay = Overlay::Confirm(Confirm::Delete(name)),
                     _ => self.show_position(name, effects),
                 }

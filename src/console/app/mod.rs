@@ -16,6 +16,7 @@ mod jog_keys;
 mod keys;
 mod motion_truth;
 mod named;
+mod resave;
 
 pub use arm_state::{abort_reason, age_text, at_rest, fault_reason};
 pub use book_load::{BookState, CHECKED_ON_CONNECT};
@@ -25,6 +26,7 @@ pub use motion_truth::{
     ACTION_TIMEOUT, ActionKind, MotionShown, MotionTruth, NO_TELEMETRY_ACTION_TIME, STALE_AFTER,
     STOP_GRACE, TrackedAction,
 };
+pub use resave::RESAVE_GO_WITHIN;
 
 use std::collections::VecDeque;
 use std::sync::Arc;
@@ -174,6 +176,8 @@ pub struct App {
     swallowed: Option<(KeyName, Instant)>,
     /// `config.keymap`, shared with each frame's view.
     shared_keymap: Arc<Keymap>,
+    /// Re-saving names the operator lost (see `resave`).
+    resave: resave::Resave,
 }
 
 impl App {
@@ -207,6 +211,7 @@ impl App {
             now: None,
             swallowed: None,
             shared_keymap,
+            resave: resave::Resave::default(),
         }
     }
 
@@ -234,6 +239,7 @@ impl App {
     pub fn handle(&mut self, input: Input, now: Instant) -> Vec<Effect> {
         self.now = Some(now);
         let goto = self.goto_in_question();
+        self.resave_watch(&input);
         let mut effects = Vec::new();
         match input {
             Input::Key(key) => self.on_key(key, now, &mut effects),

@@ -5,6 +5,7 @@ use std::time::Instant;
 
 use super::{App, Effect, Overlay, Severity, cartesian_of, polar_of};
 use crate::console::form::{Confirm, FormResult};
+use crate::console::positions::{BookEntry, PoseFrame};
 use crate::kortex::Pose;
 use crate::link::interface::{ArmCommand, PositionCoordinates};
 
@@ -28,8 +29,10 @@ impl App {
     pub(super) fn confirmed(&mut self, confirm: Confirm, now: Instant, effects: &mut Vec<Effect>) {
         match confirm {
             Confirm::Home => effects.push(Effect::Arm(ArmCommand::Home)),
+            Confirm::Resave(name) => self.resave_confirmed(name, now, effects),
             Confirm::GoTo(name) => {
                 if self.config.positions_on_operator {
+                    self.going_to(&name);
                     effects.push(Effect::Arm(ArmCommand::GoToPosition { name }));
                 } else {
                     match self.stored_pose(&name) {
@@ -109,14 +112,13 @@ impl App {
             return;
         }
         // Over Modbus the book is the only store.
-        let pose = self.telemetry.as_ref().map(|t| t.tcp.pose);
-        let (name, cartesian, orientation, anchor, parent) = match result {
+        let (name, pose, anchor, parent) = match result {
             FormResult::Save {
                 name,
                 anchor,
                 parent,
             } => {
-                let Some(p) = pose else {
+                let Some(pose) = self.pose_now() else {
                     self.say(
                         "no telemetry yet: cannot save the pose",
                         Severity::Warning,
@@ -124,16 +126,11 @@ impl App {
                     );
                     return;
                 };
-                let c = [p.x, p.y, p.z].map(|v| (f64::from(v) * 10_000.0).round() as i32);
-                (
-                    name,
-                    c,
-                    Some([p.theta_x, p.theta_y, p.theta_z]),
-                    anchor,
-                    parent,
-                )
+                (name, pose, anchor, parent)
             }
-            FormResult::SetCartesian { name, x, y, z } => (name, [x, y, z], None, false, None),
+            FormResult::SetCartesian { name, x, y, z } => {
+                (name, PoseNow::place([x, y, z]), false, None)
+            }
             FormResult::SetPolar {
                 name,
                 delta,
@@ -141,8 +138,7 @@ impl App {
                 radius,
             } => (
                 name,
-                cartesian_of([delta, azimuth, radius]),
-                None,
+                PoseNow::place(cartesian_of([delta, azimuth, radius])),
                 false,
                 None,
             ),
@@ -155,13 +151,23 @@ impl App {
             );
         }
         let entry = self.positions.get_or_insert(&name);
-        entry.cartesian = Some(cartesian);
-        entry.orientation = orientation.or(entry.orientation);
+        pose.store(entry);
         entry.anchor = false;
         entry.parent = parent;
         self.select(&name);
         self.say(format!("saved '{name}'"), Severity::Info, now);
         effects.push(Effect::SavePositions(self.positions.clone()));
+    }
+
+    /// The whole pose the telemetry shows now.
+    fn pose_now(&self) -> Option<PoseNow> {
+        let t = self.telemetry.as_ref()?;
+        let p = t.tcp.pose;
+        Some(PoseNow {
+            cartesian: Some([p.x, p.y, p.z].map(|v| (f64::from(v) * 10_000.0).round() as i32)),
+            orientation: Some([p.theta_x, p.theta_y, p.theta_z]),
+            joints: Some(t.joints.map(|j| j.position)),
+        })
     }
 
     pub(super) fn select(&mut self, name: &str) {
@@ -182,21 +188,24 @@ impl App {
                 anchor,
                 parent,
             } => {
-                let pose = self.telemetry.as_ref().map(|t| t.tcp.pose);
+                // The operator saved the pose it has now: the telemetry's, when there is some.
+                // Without, whatever was remembered under the name is no longer it.
+                let pose = self.pose_now().unwrap_or_default();
                 let entry = self.positions.get_or_insert(name);
                 entry.anchor = *anchor;
                 entry.parent = parent.clone();
                 entry.unknown_to_operator = false;
-                if let Some(p) = pose {
-                    entry.cartesian =
-                        Some([p.x, p.y, p.z].map(|v| (f64::from(v) * 10_000.0).round() as i32));
-                }
+                entry.cartesian = None;
+                entry.orientation = None;
+                entry.joints = None;
+                pose.store(entry);
                 name.clone()
             }
             ArmCommand::SetCartesianPosition { name, x, y, z } => {
                 let entry = self.positions.get_or_insert(name);
-                entry.cartesian = Some([*x, *y, *z]);
+                entry.set_cartesian([*x, *y, *z]);
                 entry.unknown_to_operator = false;
+                self.after_resave(name, now, effects);
                 name.clone()
             }
             ArmCommand::SetPolarPosition {
@@ -206,7 +215,7 @@ impl App {
                 radius,
             } => {
                 let entry = self.positions.get_or_insert(name);
-                entry.cartesian = Some(cartesian_of([*delta, *azimuth, *radius]));
+                entry.set_cartesian(cartesian_of([*delta, *azimuth, *radius]));
                 entry.unknown_to_operator = false;
                 name.clone()
             }
@@ -222,5 +231,38 @@ impl App {
         self.select(&name);
         self.say(format!("saved '{name}'"), Severity::Info, now);
         effects.push(Effect::SavePositions(self.positions.clone()));
+    }
+}
+
+/// A pose to remember: as much of it as is known.
+#[derive(Debug, Clone, Copy, Default)]
+struct PoseNow {
+    /// Tenths of millimetres, base frame.
+    cartesian: Option<[i32; 3]>,
+    /// θx, θy, θz, degrees.
+    orientation: Option<[f32; 3]>,
+    /// J1-J7 as reported, degrees.
+    joints: Option<[f32; 7]>,
+}
+
+impl PoseNow {
+    /// A place typed in a form: no joint angles, the orientation left as it was.
+    fn place(cartesian: [i32; 3]) -> PoseNow {
+        PoseNow {
+            cartesian: Some(cartesian),
+            ..PoseNow::default()
+        }
+    }
+
+    /// Writes what is known into `entry`, all of it in the base frame.
+    fn store(self, entry: &mut BookEntry) {
+        if let Some(c) = self.cartesian {
+            entry.set_cartesian(c);
+        }
+        entry.orientation = self.orientation.or(entry.orientation);
+        if self.joints.is_some() {
+            entry.joints = self.joints;
+        }
+        entry.frame = PoseFrame::Base;
     }
 }

@@ -6,7 +6,7 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Clear, Paragraph, Wrap};
 
 use super::theme::Theme;
-use crate::console::app::{Overlay, polar_of};
+use crate::console::app::Overlay;
 use crate::console::view::View;
 
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
@@ -53,30 +53,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
             (format!(" {} ", form.title()), lines)
         }
         Overlay::Position { name, coordinates } => {
-            let mut lines = Vec::new();
-            match coordinates {
-                None => lines.push(Line::styled("asking the operator...", theme.dim())),
-                Some(c) => {
-                    match c.cartesian {
-                        Some([x, y, z]) => lines.push(Line::raw(format!(
-                            "cartesian  x {:.1}  y {:.1}  z {:.1} mm",
-                            f64::from(x) / 10.0,
-                            f64::from(y) / 10.0,
-                            f64::from(z) / 10.0
-                        ))),
-                        None => lines.push(Line::raw("cartesian  unknown")),
-                    }
-                    match c.polar.or(c.cartesian.map(polar_of)) {
-                        Some([d, a, r]) => lines.push(Line::raw(format!(
-                            "polar      elevation {:.1}  azimuth {:.1} deg  radius {:.1} mm",
-                            f64::from(d) / 10.0,
-                            f64::from(a) / 10.0,
-                            f64::from(r) / 10.0
-                        ))),
-                        None => lines.push(Line::raw("polar      unknown")),
-                    }
-                }
-            }
+            let mut lines = super::position_pose::lines(view, name, coordinates.as_ref(), theme);
             lines.push(Line::raw(""));
             lines.push(Line::styled("any key closes", theme.dim()));
             (format!(" Position '{name}' "), lines)

@@ -1,0 +1,127 @@
+//! The lines of the `v` dialog: everything known about one named position, with units. Over
+//! Talos the coordinates are the operator's answer; the orientation, joint angles and frame are
+//! what the console remembered when the pose was saved.
+
+use ratatui::text::Line;
+
+use super::theme::Theme;
+use crate::console::app::polar_of;
+use crate::console::positions::BookEntry;
+use crate::console::view::View;
+use crate::link::interface::PositionCoordinates;
+
+/// Label column width, so the values line up.
+const LABEL: usize = 13;
+
+pub fn lines(
+    view: &View,
+    name: &str,
+    coordinates: Option<&PositionCoordinates>,
+    theme: &Theme,
+) -> Vec<Line<'static>> {
+    let entry = view.positions.get(name);
+    let mut lines = Vec::new();
+    let Some(c) = coordinates else {
+        lines.push(Line::styled("asking the operator...", theme.dim()));
+        return lines;
+    };
+    let frame = entry.map_or("base frame", |e| e.frame.label());
+    lines.push(row(
+        "cartesian",
+        match c.cartesian {
+            Some(xyz) => format!("{}  ({frame})", cartesian_text(xyz)),
+            None => "unknown".into(),
+        },
+    ));
+    lines.push(row(
+        "polar",
+        match c.polar.or(c.cartesian.map(polar_of)) {
+            Some([d, a, r]) => format!(
+                "elevation {}  azimuth {} deg  radius {} mm",
+                fixed(tenths(d), 1),
+                fixed(tenths(a), 1),
+                fixed(tenths(r), 1)
+            ),
+            None => "unknown".into(),
+        },
+    ));
+    let Some(entry) = entry else {
+        return lines;
+    };
+    remembered_lines(entry, c, &mut lines);
+    lines
+}
+
+/// The book's part: the remembered place when the operator's differs, orientation, joints,
+/// parent.
+fn remembered_lines(entry: &BookEntry, c: &PositionCoordinates, lines: &mut Vec<Line<'static>>) {
+    if let Some(xyz) = entry.cartesian
+        && c.cartesian.is_some_and(|now| now != xyz)
+    {
+        lines.push(row("remembered", cartesian_text(xyz)));
+    }
+    lines.push(row(
+        "orientation",
+        match entry.orientation {
+            Some([x, y, z]) => format!(
+                "θx {}  θy {}  θz {} deg",
+                fixed(f64::from(x), 2),
+                fixed(f64::from(y), 2),
+                fixed(f64::from(z), 2)
+            ),
+            None => "unknown".into(),
+        },
+    ));
+    match entry.joints {
+        Some(joints) => {
+            let joint = |i: usize| format!("J{} {}", i + 1, fixed(f64::from(joints[i]), 2));
+            let first: Vec<String> = (0..4).map(joint).collect();
+            let rest: Vec<String> = (4..7).map(joint).collect();
+            lines.push(row("joints", format!("{}  deg", first.join("  "))));
+            lines.push(row("", format!("{}  deg", rest.join("  "))));
+        }
+        None => lines.push(row("joints", "not recorded".into())),
+    }
+    if let Some(parent) = &entry.parent {
+        let how = if entry.anchor { ", anchored" } else { "" };
+        lines.push(row("parent", format!("{parent}{how}")));
+    }
+}
+
+fn row(label: &str, value: String) -> Line<'static> {
+    Line::raw(format!("{label:<LABEL$}{value}"))
+}
+
+fn cartesian_text([x, y, z]: [i32; 3]) -> String {
+    format!(
+        "x {}  y {}  z {} mm",
+        fixed(tenths(x), 1),
+        fixed(tenths(y), 1),
+        fixed(tenths(z), 1)
+    )
+}
+
+fn tenths(value: i32) -> f64 {
+    f64::from(value) / 10.0
+}
+
+/// `value` with `decimals` places, never "-0.00".
+fn fixed(value: f64, decimals: usize) -> String {
+    let text = format!("{value:.decimals$}");
+    match text.strip_prefix('-') {
+        Some(unsigned) if unsigned.chars().all(|c| c == '0' || c == '.') => unsigned.to_string(),
+        _ => text,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::fixed;
+
+    #[test]
+    fn no_negative_zero() {
+        assert_eq!(fixed(-0.001, 2), "0.00");
+        assert_eq!(fixed(-0.01, 2), "-0.01");
+        assert_eq!(fixed(359.66, 2), "359.66");
+    }
+}
