@@ -205,7 +205,6 @@ impl App {
                 let entry = self.positions.get_or_insert(name);
                 entry.set_cartesian([*x, *y, *z]);
                 entry.unknown_to_operator = false;
-                self.after_resave(name, now, effects);
                 name.clone()
             }
             ArmCommand::SetPolarPosition {
@@ -231,6 +230,9 @@ impl App {
         self.select(&name);
         self.say(format!("saved '{name}'"), Severity::Info, now);
         effects.push(Effect::SavePositions(self.positions.clone()));
+        if let ArmCommand::SetCartesianPosition { .. } = command {
+            self.after_resave(&name, now, effects);
+        }
     }
 }
 

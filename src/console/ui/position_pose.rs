@@ -74,11 +74,14 @@ fn remembered_lines(entry: &BookEntry, c: &PositionCoordinates, lines: &mut Vec<
     ));
     match entry.joints {
         Some(joints) => {
-            let joint = |i: usize| format!("J{} {}", i + 1, fixed(f64::from(joints[i]), 2));
+            let joint = |i: usize| {
+                let angle = about_zero(f64::from(joints[i]));
+                format!("J{} {}", i + 1, fixed(angle, 2))
+            };
             let first: Vec<String> = (0..4).map(joint).collect();
             let rest: Vec<String> = (4..7).map(joint).collect();
             lines.push(row("joints", format!("{}  deg", first.join("  "))));
-            lines.push(row("", format!("{}  deg", rest.join("  "))));
+            lines.push(row("", format!("{}  deg (-180 to 180)", rest.join("  "))));
         }
         None => lines.push(row("joints", "not recorded".into())),
     }
@@ -105,6 +108,16 @@ fn tenths(value: i32) -> f64 {
     f64::from(value) / 10.0
 }
 
+/// A reported angle (0 to 360 degrees) as a technician reads it: -0.5, not 359.5.
+fn about_zero(degrees: f64) -> f64 {
+    let turned = degrees.rem_euclid(360.0);
+    if turned > 180.0 {
+        turned - 360.0
+    } else {
+        turned
+    }
+}
+
 /// `value` with `decimals` places, never "-0.00".
 fn fixed(value: f64, decimals: usize) -> String {
     let text = format!("{value:.decimals$}");
@@ -116,12 +129,15 @@ fn fixed(value: f64, decimals: usize) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::fixed;
+    use super::{about_zero, fixed};
 
     #[test]
     fn no_negative_zero() {
         assert_eq!(fixed(-0.001, 2), "0.00");
         assert_eq!(fixed(-0.01, 2), "-0.01");
         assert_eq!(fixed(359.66, 2), "359.66");
+        assert_eq!(fixed(about_zero(359.66), 2), "-0.34");
+        assert_eq!(fixed(about_zero(180.0), 2), "180.00");
+        assert_eq!(fixed(about_zero(230.0), 2), "-130.00");
     }
 }
