@@ -20,6 +20,7 @@ mod console_truth_ui;
 mod console_ui;
 mod jog_engine;
 mod keymap;
+mod positions_e2e;
 mod positions_pose;
 mod positions_resave;
 mod speed_settings;
