@@ -200,3 +200,30 @@ fn v_on_the_operator_shows_its_coordinates_and_the_remembered_pose() {
     );
     insta::assert_snapshot!(render_dialog(&app, 80, 12).backend());
 }
+
+#[test]
+fn a_value_the_telemetry_garbled_is_not_kept_and_the_book_still_loads() {
+    let (mut app, t0) = app(ReleaseMode::Reported, true);
+    let mut garbled = telemetry();
+    garbled.tcp.pose.theta_y = f32::NAN;
+    garbled.joints[3].position = f32::INFINITY;
+    app.handle(Input::Arm(ArmEvent::Telemetry(Box::new(garbled))), t0);
+    app.handle(
+        Input::Arm(ArmEvent::Done {
+            command: ArmCommand::SavePosition {
+                name: "pick".into(),
+                anchor: false,
+                parent: None,
+            },
+        }),
+        t0,
+    );
+    let entry = app.positions().get("pick").expect("saved");
+    assert_eq!(entry.cartesian, Some([4566, -12, 4338]));
+    assert_eq!(entry.orientation, None);
+    assert_eq!(entry.joints, None);
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("arm.json");
+    app.positions().save(&path).expect("saved");
+    assert_eq!(&PositionBook::load(&path).expect("loads"), app.positions());
+}

@@ -118,7 +118,7 @@ impl App {
                 anchor,
                 parent,
             } => {
-                let Some(pose) = self.pose_now() else {
+                let Some(pose) = self.pose_now().filter(|p| p.cartesian.is_some()) else {
                     self.say(
                         "no telemetry yet: cannot save the pose",
                         Severity::Warning,
@@ -159,14 +159,20 @@ impl App {
         effects.push(Effect::SavePositions(self.positions.clone()));
     }
 
-    /// The whole pose the telemetry shows now.
+    /// The whole pose the telemetry shows now. A value that is not a finite number is not
+    /// known (and would not load back from the file).
     fn pose_now(&self) -> Option<PoseNow> {
         let t = self.telemetry.as_ref()?;
         let p = t.tcp.pose;
+        let finite = |values: &[f32]| values.iter().all(|v| v.is_finite());
+        let position = [p.x, p.y, p.z];
+        let orientation = [p.theta_x, p.theta_y, p.theta_z];
+        let joints = t.joints.map(|j| j.position);
         Some(PoseNow {
-            cartesian: Some([p.x, p.y, p.z].map(|v| (f64::from(v) * 10_000.0).round() as i32)),
-            orientation: Some([p.theta_x, p.theta_y, p.theta_z]),
-            joints: Some(t.joints.map(|j| j.position)),
+            cartesian: finite(&position)
+                .then(|| position.map(|v| (f64::from(v) * 10_000.0).round() as i32)),
+            orientation: finite(&orientation).then_some(orientation),
+            joints: finite(&joints).then_some(joints),
         })
     }
 
