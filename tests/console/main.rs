@@ -18,6 +18,7 @@ mod console_truth;
 mod console_truth_e2e;
 mod console_truth_ui;
 mod console_ui;
+mod form_keys;
 mod jog_engine;
 mod keymap;
 mod speed_settings;

@@ -35,6 +35,7 @@ impl App {
             self.quit(now, effects);
             return;
         }
+        let repeating = self.trace_key(&key, now);
         if key.kind == KeyKind::Release {
             self.release_jog_keys(&key, now, effects);
             return;
@@ -47,24 +48,30 @@ impl App {
             self.latch_jog_key(&key, now, effects);
             return;
         }
-        if self.auto_repeat_of_overlay_key(&key, now) {
+        if self.repeat_of_form_opener(&key, now) || self.auto_repeat_of_overlay_key(&key, now) {
             // Keep still, but let the repeat neither answer the overlay nor start a jog.
             self.stop_jog(now, effects);
             self.latch_jog_key(&key, now, effects);
             return;
         }
-        let overlay_was_open = self.overlay != Overlay::None;
+        let overlay_before = std::mem::discriminant(&self.overlay);
         self.dispatch_key(key.clone(), now, effects);
-        if key.kind == KeyKind::Press && overlay_was_open != (self.overlay != Overlay::None) {
-            self.swallowed = Some((key.key, now));
+        if key.kind == KeyKind::Press && overlay_before != std::mem::discriminant(&self.overlay) {
+            if matches!(self.overlay, Overlay::Form(_)) {
+                self.form_opened_by(&key, repeating, now);
+            } else {
+                self.swallowed = Some((key.key, now));
+            }
         }
     }
 
     /// Whether `key` is the auto-repeat of the key that just opened or closed an overlay:
     /// holding `h` must not cancel the home question it opened, nor holding `w` to close the
-    /// help start a jog. With reported key events a repeat says so itself.
+    /// help start a jog. With reported key events a repeat says so itself. A form takes
+    /// repeats as text (holding backspace deletes): see `repeat_of_form_opener`.
     fn auto_repeat_of_overlay_key(&mut self, key: &KeyInput, now: Instant) -> bool {
-        if key.kind == KeyKind::Repeat && self.overlay != Overlay::None {
+        let form = matches!(self.overlay, Overlay::Form(_));
+        if key.kind == KeyKind::Repeat && self.overlay != Overlay::None && !form {
             return true;
         }
         let Some((held, seen)) = self.swallowed else {

@@ -12,6 +12,7 @@ mod arm_events;
 mod arm_state;
 mod book_load;
 mod coords;
+mod form_keys;
 mod jog_keys;
 mod keys;
 mod motion_truth;
@@ -172,6 +173,10 @@ pub struct App {
     /// The key that closed an overlay and when it was last seen: its auto-repeat must not be
     /// taken for new presses (and start a jog) once the overlay is gone.
     swallowed: Option<(KeyName, Instant)>,
+    /// The latest key event, and the key that opened the open form while its auto-repeat may
+    /// still come: see `form_keys`.
+    last_key: Option<form_keys::KeyTrace>,
+    form_opener: Option<form_keys::FormOpener>,
     /// `config.keymap`, shared with each frame's view.
     shared_keymap: Arc<Keymap>,
 }
@@ -206,6 +211,8 @@ impl App {
             truth: MotionTruth::default(),
             now: None,
             swallowed: None,
+            last_key: None,
+            form_opener: None,
             shared_keymap,
         }
     }
