@@ -4,6 +4,7 @@
 //! with the reason, and nothing is lost.
 
 use crate::talos::PositionName;
+use crate::talos::name::{MAX_NAME_LEN, NameError};
 
 /// Which form is open.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -23,6 +24,8 @@ pub struct Field {
     pub value: String,
     /// A yes/no field toggled with space instead of typed.
     pub toggle: bool,
+    /// A position name: over [`MAX_NAME_LEN`] bytes it is refused as it is typed, not cut.
+    pub name: bool,
 }
 
 impl Field {
@@ -31,6 +34,14 @@ impl Field {
             label,
             value: value.to_string(),
             toggle: false,
+            name: false,
+        }
+    }
+
+    fn name(label: &'static str, value: &str) -> Field {
+        Field {
+            name: true,
+            ..Field::text(label, value)
         }
     }
 
@@ -39,7 +50,15 @@ impl Field {
             label,
             value: "no".into(),
             toggle: true,
+            name: false,
         }
+    }
+
+    /// Why the text cannot be a name whatever else is typed: it is too long.
+    fn too_long(&self) -> Option<String> {
+        let len = self.value.trim().len();
+        (self.name && len > MAX_NAME_LEN)
+            .then(|| format!("{} {}: delete some", self.label, NameError::TooLong(len)))
     }
 }
 
@@ -80,18 +99,18 @@ impl Form {
     pub fn new(kind: FormKind, name: &str) -> Form {
         let fields = match kind {
             FormKind::Save => vec![
-                Field::text("name", name),
-                Field::text("parent", ""),
+                Field::name("name", name),
+                Field::name("parent", ""),
                 Field::toggle("anchor"),
             ],
             FormKind::SetPolar => vec![
-                Field::text("name", name),
+                Field::name("name", name),
                 Field::text("elevation deg", ""),
                 Field::text("azimuth deg", ""),
                 Field::text("radius mm", ""),
             ],
             FormKind::SetCartesian => vec![
-                Field::text("name", name),
+                Field::name("name", name),
                 Field::text("x mm", ""),
                 Field::text("y mm", ""),
                 Field::text("z mm", ""),
@@ -135,10 +154,11 @@ impl Form {
                 };
                 field.value = if yes { "yes" } else { "no" }.into();
             }
-        } else if field.value.len() < 255 {
+        } else {
+            // Nothing typed is cut: a name too long says so and stays editable.
             field.value.push(c);
         }
-        self.error = None;
+        self.error = field.too_long();
     }
 
     pub fn backspace(&mut self) {
@@ -146,6 +166,7 @@ impl Form {
             && !field.toggle
         {
             field.value.pop();
+            self.error = field.too_long();
         }
     }
 
@@ -293,6 +314,41 @@ mod tests {
         let mut form = typed(FormKind::Save, &["a", "", " "]);
         assert_eq!(form.submit(), None);
         assert_eq!(form.focus, 2);
+    }
+
+    #[test]
+    fn a_name_over_255_bytes_is_refused_with_the_limit_and_nothing_is_cut() {
+        let long = "n".repeat(300);
+        let mut form = typed(FormKind::Save, &[&long, "", ""]);
+        form.focus = 0;
+        assert_eq!(form.fields[0].value, long, "nothing cut");
+        // Said while typing, and again on submit.
+        form.type_char('n');
+        let said = form.error.clone().unwrap_or_default();
+        assert!(
+            said.contains("301 bytes") && said.contains("at most 255"),
+            "{said}"
+        );
+        assert_eq!(form.submit(), None);
+        let refused = form.error.clone().unwrap_or_default();
+        assert!(refused.contains("at most 255"), "{refused}");
+        assert_eq!(
+            form.fields[0].value.len(),
+            301,
+            "still editable, still whole"
+        );
+        for _ in 0..46 {
+            form.backspace();
+        }
+        assert_eq!(form.error, None, "255 bytes is a name");
+        assert_eq!(
+            form.submit(),
+            Some(FormResult::Save {
+                name: "n".repeat(255),
+                anchor: false,
+                parent: None
+            })
+        );
     }
 
     #[test]

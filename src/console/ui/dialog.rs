@@ -9,6 +9,8 @@ use super::theme::Theme;
 use crate::console::app::{Overlay, polar_of};
 use crate::console::view::View;
 
+const DIALOG_WIDTH: u16 = 72;
+
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     let (title, lines) = match &view.overlay {
         Overlay::Confirm(confirm) => (
@@ -21,14 +23,17 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
         ),
         Overlay::Form(form) => {
             let mut lines = Vec::new();
+            // The dialog's width less its borders and the labels.
+            let room = usize::from(DIALOG_WIDTH.min(area.width)).saturating_sub(2 + 16);
             for (i, field) in form.fields.iter().enumerate() {
                 let focused = i == form.focus;
                 let value = if field.toggle {
                     format!("[{}] (space toggles)", field.value)
                 } else if focused {
-                    format!("{}_", field.value)
+                    // The end, where typing goes, stays in view.
+                    format!("{}_", elide_start(&field.value, room.saturating_sub(1)))
                 } else {
-                    field.value.clone()
+                    elide_end(&field.value, room)
                 };
                 lines.push(Line::from(vec![
                     Span::styled(
@@ -84,7 +89,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
         Overlay::None | Overlay::Help => return,
     };
     let height = (lines.len() as u16 + 2).min(area.height);
-    let width = 72.min(area.width);
+    let width = DIALOG_WIDTH.min(area.width);
     let rect = Rect {
         x: area.x + (area.width - width) / 2,
         y: area.y + (area.height - height) / 2,
@@ -101,4 +106,23 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
             .wrap(Wrap { trim: false }),
         rect,
     );
+}
+
+/// `text` in at most `room` characters: its end, after a `…` when it is longer.
+fn elide_start(text: &str, room: usize) -> String {
+    let count = text.chars().count();
+    if count <= room {
+        return text.to_string();
+    }
+    let tail: String = text.chars().skip(count + 1 - room.max(1)).collect();
+    format!("…{tail}")
+}
+
+/// `text` in at most `room` characters: its start, then a `…` when it is longer.
+pub(crate) fn elide_end(text: &str, room: usize) -> String {
+    if text.chars().count() <= room {
+        return text.to_string();
+    }
+    let head: String = text.chars().take(room.saturating_sub(1)).collect();
+    format!("{head}…")
 }
