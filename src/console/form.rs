@@ -15,6 +15,8 @@ pub enum FormKind {
     SetPolar,
     /// Define a position by x, y, z (mm).
     SetCartesian,
+    /// Give a position another name.
+    Rename,
 }
 
 /// One text field.
@@ -70,6 +72,8 @@ pub struct Form {
     pub focus: usize,
     /// Why the last submit was refused.
     pub error: Option<String>,
+    /// The position being renamed (a rename form).
+    pub original: Option<String>,
 }
 
 /// What a completed form asks for. Coordinates in the Talos ICD's tenths.
@@ -92,6 +96,22 @@ pub enum FormResult {
         y: i32,
         z: i32,
     },
+    Rename {
+        from: String,
+        to: String,
+    },
+}
+
+impl FormResult {
+    /// The name the result saves under.
+    pub fn name(&self) -> &str {
+        match self {
+            FormResult::Save { name, .. }
+            | FormResult::SetPolar { name, .. }
+            | FormResult::SetCartesian { name, .. } => name,
+            FormResult::Rename { to, .. } => to,
+        }
+    }
 }
 
 impl Form {
@@ -115,12 +135,22 @@ impl Form {
                 Field::text("y mm", ""),
                 Field::text("z mm", ""),
             ],
+            FormKind::Rename => vec![Field::name("new name", name)],
         };
         Form {
             kind,
             fields,
             focus: 0,
             error: None,
+            original: None,
+        }
+    }
+
+    /// A form renaming `name`, prefilled with it.
+    pub fn rename(name: &str) -> Form {
+        Form {
+            original: Some(name.to_string()),
+            ..Form::new(FormKind::Rename, name)
         }
     }
 
@@ -129,6 +159,7 @@ impl Form {
             FormKind::Save => "Save current pose",
             FormKind::SetPolar => "Set polar position",
             FormKind::SetCartesian => "Set cartesian position",
+            FormKind::Rename => "Rename position",
         }
     }
 
@@ -224,6 +255,13 @@ impl Form {
                 y: tenths(self, 2, -2000.0, 2000.0)?,
                 z: tenths(self, 3, -2000.0, 2000.0)?,
             }),
+            FormKind::Rename => {
+                let from = self.original.clone().unwrap_or_default();
+                if from == name {
+                    return Err((0, format!("'{name}' is its name already")));
+                }
+                Ok(FormResult::Rename { from, to: name })
+            }
         }
     }
 }
@@ -252,6 +290,11 @@ pub enum Confirm {
     Home,
     GoTo(String),
     Delete(String),
+    /// A submitted form would replace the position of that name; `form` comes back on no.
+    Overwrite {
+        result: FormResult,
+        form: Box<Form>,
+    },
 }
 
 impl Confirm {
@@ -260,6 +303,18 @@ impl Confirm {
             Confirm::Home => "Move the arm to its home pose?".into(),
             Confirm::GoTo(name) => format!("Move the arm to '{name}'?"),
             Confirm::Delete(name) => format!("Delete position '{name}'?"),
+            Confirm::Overwrite { result, .. } => format!("overwrite '{}'?", result.name()),
+        }
+    }
+
+    /// The answers, as the dialog shows them.
+    pub fn answers(&self) -> &'static str {
+        match self {
+            // Enter just submitted the form: only y replaces a position.
+            Confirm::Overwrite { .. } => {
+                "y: overwrite    n, esc or any other key: back to the form"
+            }
+            _ => "y or enter: yes    any other key: no",
         }
     }
 }

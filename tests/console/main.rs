@@ -21,5 +21,6 @@ mod console_ui;
 mod form_keys;
 mod jog_engine;
 mod keymap;
+mod position_edits;
 mod speed_settings;
 mod tmux_console;

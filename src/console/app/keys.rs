@@ -281,7 +281,8 @@ impl App {
                 let name = self.selected_name().unwrap_or("").to_string();
                 self.overlay = Overlay::Form(Form::new(kind, &name));
             }
-            A::GoToPosition | A::DeletePosition | A::ShowPosition => {
+            A::UndoDelete => self.undo_delete(now, effects),
+            A::GoToPosition | A::DeletePosition | A::ShowPosition | A::RenamePosition => {
                 let Some(name) = self.selected_name().map(str::to_string) else {
                     self.say("no position selected: save one first", Severity::Info, now);
                     return;
@@ -289,6 +290,7 @@ impl App {
                 match action {
                     A::GoToPosition => self.overlay = Overlay::Confirm(Confirm::GoTo(name)),
                     A::DeletePosition => self.overlay = Overlay::Confirm(Confirm::Delete(name)),
+                    A::RenamePosition => self.overlay = Overlay::Form(Form::rename(&name)),
                     _ => self.show_position(name, effects),
                 }
             }
@@ -312,10 +314,17 @@ impl App {
             Overlay::None => {}
             Overlay::Help | Overlay::Position { .. } => {}
             Overlay::Confirm(confirm) => {
-                if matches!(key.key, YES | YES_SHIFTED | ENTER) {
-                    self.confirmed(confirm, now, effects);
-                } else {
-                    self.say("cancelled", Severity::Info, now);
+                let yes = match confirm {
+                    // Enter just submitted the form: only y replaces a position.
+                    Confirm::Overwrite { .. } => matches!(key.key, YES | YES_SHIFTED),
+                    _ => matches!(key.key, YES | YES_SHIFTED | ENTER),
+                };
+                match confirm {
+                    confirm if yes => self.confirmed(confirm, now, effects),
+                    Confirm::Overwrite { result, form } => {
+                        self.overwrite_declined(&result, *form, now);
+                    }
+                    _ => self.say("cancelled", Severity::Info, now),
                 }
             }
             Overlay::Form(mut form) => {
@@ -326,7 +335,7 @@ impl App {
                     }
                     ENTER => {
                         if let Some(result) = form.submit() {
-                            self.form_done(result, now, effects);
+                            self.form_submitted(result, form, now, effects);
                             return;
                         }
                     }

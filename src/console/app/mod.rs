@@ -12,6 +12,7 @@ mod arm_events;
 mod arm_state;
 mod book_load;
 mod coords;
+mod edits;
 mod form_keys;
 mod jog_keys;
 mod keys;
@@ -177,6 +178,11 @@ pub struct App {
     /// still come: see `form_keys`.
     last_key: Option<form_keys::KeyTrace>,
     form_opener: Option<form_keys::FormOpener>,
+    /// A rename on the operator between its steps, and a restore waiting for its answer.
+    renaming: Option<edits::Renaming>,
+    restoring: Option<edits::Deleted>,
+    /// The last deleted position, for undo (one level).
+    last_deleted: Option<edits::Deleted>,
     /// `config.keymap`, shared with each frame's view.
     shared_keymap: Arc<Keymap>,
 }
@@ -213,6 +219,9 @@ impl App {
             swallowed: None,
             last_key: None,
             form_opener: None,
+            renaming: None,
+            restoring: None,
+            last_deleted: None,
             shared_keymap,
         }
     }

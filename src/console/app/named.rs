@@ -46,11 +46,10 @@ impl App {
                 if self.config.positions_on_operator {
                     effects.push(Effect::Arm(ArmCommand::DeletePosition { name }));
                 } else {
-                    self.positions.remove(&name);
-                    self.clamp_selection();
-                    effects.push(Effect::SavePositions(self.positions.clone()));
+                    self.deleted(name, now, effects);
                 }
             }
+            Confirm::Overwrite { result, .. } => self.form_done(result, now, effects),
         }
     }
 
@@ -79,6 +78,10 @@ impl App {
         now: Instant,
         effects: &mut Vec<Effect>,
     ) {
+        if let FormResult::Rename { from, to } = result {
+            self.rename(from, to, now, effects);
+            return;
+        }
         if self.config.positions_on_operator {
             let command = match result {
                 FormResult::Save {
@@ -104,6 +107,7 @@ impl App {
                 FormResult::SetCartesian { name, x, y, z } => {
                     ArmCommand::SetCartesianPosition { name, x, y, z }
                 }
+                FormResult::Rename { .. } => return,
             };
             effects.push(Effect::Arm(command));
             return;
@@ -134,6 +138,7 @@ impl App {
                 )
             }
             FormResult::SetCartesian { name, x, y, z } => (name, [x, y, z], None, false, None),
+            FormResult::Rename { .. } => return,
             FormResult::SetPolar {
                 name,
                 delta,
@@ -161,6 +166,20 @@ impl App {
         entry.parent = parent;
         self.select(&name);
         self.say(format!("saved '{name}'"), Severity::Info, now);
+        effects.push(Effect::SavePositions(self.positions.clone()));
+    }
+
+    /// `name` is deleted: out of the book, kept for undo.
+    fn deleted(&mut self, name: String, now: Instant, effects: &mut Vec<Effect>) {
+        if let Some(entry) = self.positions.remove(&name) {
+            self.last_deleted = Some((name.clone(), entry));
+        }
+        self.clamp_selection();
+        self.say(
+            format!("deleted '{name}' (undo restores it)"),
+            Severity::Info,
+            now,
+        );
         effects.push(Effect::SavePositions(self.positions.clone()));
     }
 
@@ -211,10 +230,7 @@ impl App {
                 name.clone()
             }
             ArmCommand::DeletePosition { name } => {
-                self.positions.remove(name);
-                self.clamp_selection();
-                self.say(format!("deleted '{name}'"), Severity::Info, now);
-                effects.push(Effect::SavePositions(self.positions.clone()));
+                self.deleted(name.clone(), now, effects);
                 return;
             }
             _ => return,

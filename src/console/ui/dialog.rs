@@ -18,7 +18,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
             vec![
                 Line::styled(confirm.question(), theme.warning()),
                 Line::raw(""),
-                Line::raw("y or enter: yes    any other key: no"),
+                Line::raw(confirm.answers()),
             ],
         ),
         Overlay::Form(form) => {
