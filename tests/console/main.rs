@@ -21,6 +21,7 @@ mod console_ui;
 mod form_keys;
 mod jog_engine;
 mod keymap;
+mod long_names_ui;
 mod position_edits;
 mod speed_settings;
 mod tmux_console;

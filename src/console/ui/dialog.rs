@@ -5,6 +5,7 @@ use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Clear, Paragraph, Wrap};
 
+use super::long_text::{elide_end, elide_start};
 use super::theme::Theme;
 use crate::console::app::{Overlay, polar_of};
 use crate::console::view::View;
@@ -106,23 +107,4 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
             .wrap(Wrap { trim: false }),
         rect,
     );
-}
-
-/// `text` in at most `room` characters: its end, after a `…` when it is longer.
-fn elide_start(text: &str, room: usize) -> String {
-    let count = text.chars().count();
-    if count <= room {
-        return text.to_string();
-    }
-    let tail: String = text.chars().skip(count + 1 - room.max(1)).collect();
-    format!("…{tail}")
-}
-
-/// `text` in at most `room` characters: its start, then a `…` when it is longer.
-pub(crate) fn elide_end(text: &str, room: usize) -> String {
-    if text.chars().count() <= room {
-        return text.to_string();
-    }
-    let head: String = text.chars().take(room.saturating_sub(1)).collect();
-    format!("{head}…")
 }

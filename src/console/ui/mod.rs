@@ -6,6 +6,7 @@ pub mod help;
 pub mod hints;
 pub mod joints;
 pub mod log;
+mod long_text;
 pub mod positions;
 pub mod status;
 pub mod tcp;
