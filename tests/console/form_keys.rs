@@ -191,3 +191,16 @@ fn a_form_keeps_no_motion_for_after_it_closes() {
         assert_eq!(*app.overlay(), Overlay::None);
     }
 }
+
+#[test]
+fn the_key_that_closed_an_earlier_overlay_is_a_keystroke_in_a_form() {
+    // Fallback: enter closes the help, and its auto-repeat is kept from acting for a while.
+    // In a form opened meanwhile, enter pressed again is a keystroke: it submits.
+    let (mut app, t0) = app(ReleaseMode::AutoRepeat, true);
+    press(&mut app, "?", t0);
+    press(&mut app, "enter", t0 + ms(100));
+    assert_eq!(*app.overlay(), Overlay::None, "enter closed the help");
+    press(&mut app, "p", t0 + ms(200));
+    press(&mut app, "a", t0 + ms(250));
+    assert_eq!(press(&mut app, "enter", t0 + ms(300)), [save("a")]);
+}
