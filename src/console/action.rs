@@ -83,6 +83,8 @@ pub enum Action {
     SavePosition,
     GoToPosition,
     DeletePosition,
+    RenamePosition,
+    UndoDelete,
     SetPolarPosition,
     SetCartesianPosition,
     ShowPosition,
@@ -96,7 +98,7 @@ pub enum Action {
 
 impl Action {
     /// Every action, in the order the help overlay lists them.
-    pub const ALL: [Action; 35] = [
+    pub const ALL: [Action; 37] = [
         Action::JogXPlus,
         Action::JogXMinus,
         Action::JogYPlus,
@@ -124,6 +126,8 @@ impl Action {
         Action::SavePosition,
         Action::GoToPosition,
         Action::DeletePosition,
+        Action::RenamePosition,
+        Action::UndoDelete,
         Action::SetPolarPosition,
         Action::SetCartesianPosition,
         Action::ShowPosition,
@@ -193,6 +197,8 @@ impl Action {
             A::SavePosition => "save current pose as...",
             A::GoToPosition => "go to selected position (asks first)",
             A::DeletePosition => "delete selected position (asks first)",
+            A::RenamePosition => "rename selected position",
+            A::UndoDelete => "undo the last delete",
             A::SetPolarPosition => "define a position in polar coordinates",
             A::SetCartesianPosition => "define a position in cartesian coordinates",
             A::ShowPosition => "show selected position's coordinates",

@@ -4,6 +4,7 @@
 //! with the reason, and nothing is lost.
 
 use crate::talos::PositionName;
+use crate::talos::name::{MAX_NAME_LEN, NameError};
 
 /// Which form is open.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -14,6 +15,8 @@ pub enum FormKind {
     SetPolar,
     /// Define a position by x, y, z (mm).
     SetCartesian,
+    /// Give a position another name.
+    Rename,
 }
 
 /// One text field.
@@ -23,6 +26,8 @@ pub struct Field {
     pub value: String,
     /// A yes/no field toggled with space instead of typed.
     pub toggle: bool,
+    /// A position name: over [`MAX_NAME_LEN`] bytes it is refused as it is typed, not cut.
+    pub name: bool,
 }
 
 impl Field {
@@ -31,6 +36,14 @@ impl Field {
             label,
             value: value.to_string(),
             toggle: false,
+            name: false,
+        }
+    }
+
+    fn name(label: &'static str, value: &str) -> Field {
+        Field {
+            name: true,
+            ..Field::text(label, value)
         }
     }
 
@@ -39,7 +52,15 @@ impl Field {
             label,
             value: "no".into(),
             toggle: true,
+            name: false,
         }
+    }
+
+    /// Why the text cannot be a name whatever else is typed: it is too long.
+    fn too_long(&self) -> Option<String> {
+        let len = self.value.trim().len();
+        (self.name && len > MAX_NAME_LEN)
+            .then(|| format!("{} {}: delete some", self.label, NameError::TooLong(len)))
     }
 }
 
@@ -51,6 +72,8 @@ pub struct Form {
     pub focus: usize,
     /// Why the last submit was refused.
     pub error: Option<String>,
+    /// The position being renamed (a rename form).
+    pub original: Option<String>,
 }
 
 /// What a completed form asks for. Coordinates in the Talos ICD's tenths.
@@ -73,6 +96,22 @@ pub enum FormResult {
         y: i32,
         z: i32,
     },
+    Rename {
+        from: String,
+        to: String,
+    },
+}
+
+impl FormResult {
+    /// The name the result saves under.
+    pub fn name(&self) -> &str {
+        match self {
+            FormResult::Save { name, .. }
+            | FormResult::SetPolar { name, .. }
+            | FormResult::SetCartesian { name, .. } => name,
+            FormResult::Rename { to, .. } => to,
+        }
+    }
 }
 
 impl Form {
@@ -80,28 +119,38 @@ impl Form {
     pub fn new(kind: FormKind, name: &str) -> Form {
         let fields = match kind {
             FormKind::Save => vec![
-                Field::text("name", name),
-                Field::text("parent", ""),
+                Field::name("name", name),
+                Field::name("parent", ""),
                 Field::toggle("anchor"),
             ],
             FormKind::SetPolar => vec![
-                Field::text("name", name),
+                Field::name("name", name),
                 Field::text("elevation deg", ""),
                 Field::text("azimuth deg", ""),
                 Field::text("radius mm", ""),
             ],
             FormKind::SetCartesian => vec![
-                Field::text("name", name),
+                Field::name("name", name),
                 Field::text("x mm", ""),
                 Field::text("y mm", ""),
                 Field::text("z mm", ""),
             ],
+            FormKind::Rename => vec![Field::name("new name", name)],
         };
         Form {
             kind,
             fields,
             focus: 0,
             error: None,
+            original: None,
+        }
+    }
+
+    /// A form renaming `name`, prefilled with it.
+    pub fn rename(name: &str) -> Form {
+        Form {
+            original: Some(name.to_string()),
+            ..Form::new(FormKind::Rename, name)
         }
     }
 
@@ -110,6 +159,7 @@ impl Form {
             FormKind::Save => "Save current pose",
             FormKind::SetPolar => "Set polar position",
             FormKind::SetCartesian => "Set cartesian position",
+            FormKind::Rename => "Rename position",
         }
     }
 
@@ -135,10 +185,11 @@ impl Form {
                 };
                 field.value = if yes { "yes" } else { "no" }.into();
             }
-        } else if field.value.len() < 255 {
+        } else {
+            // Nothing typed is cut: a name too long says so and stays editable.
             field.value.push(c);
         }
-        self.error = None;
+        self.error = field.too_long();
     }
 
     pub fn backspace(&mut self) {
@@ -146,6 +197,7 @@ impl Form {
             && !field.toggle
         {
             field.value.pop();
+            self.error = field.too_long();
         }
     }
 
@@ -203,6 +255,13 @@ impl Form {
                 y: tenths(self, 2, -2000.0, 2000.0)?,
                 z: tenths(self, 3, -2000.0, 2000.0)?,
             }),
+            FormKind::Rename => {
+                let from = self.original.clone().unwrap_or_default();
+                if from == name {
+                    return Err((0, format!("'{name}' is its name already")));
+                }
+                Ok(FormResult::Rename { from, to: name })
+            }
         }
     }
 }
@@ -233,6 +292,11 @@ pub enum Confirm {
     Delete(String),
     /// The operator lost this name: re-save it from the remembered coordinates, then go there.
     Resave(String),
+    /// A submitted form would replace the position of that name; `form` comes back on no.
+    Overwrite {
+        result: FormResult,
+        form: Box<Form>,
+    },
 }
 
 impl Confirm {
@@ -245,6 +309,18 @@ impl Confirm {
                 "'{name}' is unknown to the operator: re-save it from the remembered coordinates \
                  and move the arm there?"
             ),
+            Confirm::Overwrite { result, .. } => format!("overwrite '{}'?", result.name()),
+        }
+    }
+
+    /// The answers, as the dialog shows them.
+    pub fn answers(&self) -> &'static str {
+        match self {
+            // Enter just submitted the form: only y replaces a position.
+            Confirm::Overwrite { .. } => {
+                "y: overwrite    n, esc or any other key: back to the form"
+            }
+            _ => "y or enter: yes    any other key: no",
         }
     }
 }
@@ -299,6 +375,41 @@ mod tests {
         let mut form = typed(FormKind::Save, &["a", "", " "]);
         assert_eq!(form.submit(), None);
         assert_eq!(form.focus, 2);
+    }
+
+    #[test]
+    fn a_name_over_255_bytes_is_refused_with_the_limit_and_nothing_is_cut() {
+        let long = "n".repeat(300);
+        let mut form = typed(FormKind::Save, &[&long, "", ""]);
+        form.focus = 0;
+        assert_eq!(form.fields[0].value, long, "nothing cut");
+        // Said while typing, and again on submit.
+        form.type_char('n');
+        let said = form.error.clone().unwrap_or_default();
+        assert!(
+            said.contains("301 bytes") && said.contains("at most 255"),
+            "{said}"
+        );
+        assert_eq!(form.submit(), None);
+        let refused = form.error.clone().unwrap_or_default();
+        assert!(refused.contains("at most 255"), "{refused}");
+        assert_eq!(
+            form.fields[0].value.len(),
+            301,
+            "still editable, still whole"
+        );
+        for _ in 0..46 {
+            form.backspace();
+        }
+        assert_eq!(form.error, None, "255 bytes is a name");
+        assert_eq!(
+            form.submit(),
+            Some(FormResult::Save {
+                name: "n".repeat(255),
+                anchor: false,
+                parent: None
+            })
+        );
     }
 
     #[test]

@@ -12,6 +12,9 @@ const LOG_CAPACITY: usize = 500;
 impl App {
     pub(super) fn on_arm(&mut self, event: ArmEvent, now: Instant, effects: &mut Vec<Effect>) {
         self.truth_on_arm(&event, now);
+        if self.edits_on_arm(&event, now, effects) {
+            return;
+        }
         match event {
             ArmEvent::Status(status) => {
                 if let LinkStatus::Down { reason } = &status {

@@ -35,6 +35,7 @@ impl App {
             self.quit(now, effects);
             return;
         }
+        let repeating = self.trace_key(&key, now);
         if key.kind == KeyKind::Release {
             self.release_jog_keys(&key, now, effects);
             return;
@@ -47,24 +48,30 @@ impl App {
             self.latch_jog_key(&key, now, effects);
             return;
         }
-        if self.auto_repeat_of_overlay_key(&key, now) {
+        if self.repeat_of_form_opener(&key, now) || self.auto_repeat_of_overlay_key(&key, now) {
             // Keep still, but let the repeat neither answer the overlay nor start a jog.
             self.stop_jog(now, effects);
             self.latch_jog_key(&key, now, effects);
             return;
         }
-        let overlay_was_open = self.overlay != Overlay::None;
+        let overlay_before = std::mem::discriminant(&self.overlay);
         self.dispatch_key(key.clone(), now, effects);
-        if key.kind == KeyKind::Press && overlay_was_open != (self.overlay != Overlay::None) {
-            self.swallowed = Some((key.key, now));
+        if key.kind == KeyKind::Press && overlay_before != std::mem::discriminant(&self.overlay) {
+            if matches!(self.overlay, Overlay::Form(_)) {
+                self.form_opened_by(&key, repeating, now);
+            } else {
+                self.swallowed = Some((key.key, now));
+            }
         }
     }
 
     /// Whether `key` is the auto-repeat of the key that just opened or closed an overlay:
     /// holding `h` must not cancel the home question it opened, nor holding `w` to close the
-    /// help start a jog. With reported key events a repeat says so itself.
+    /// help start a jog. With reported key events a repeat says so itself. A form takes
+    /// repeats as text (holding backspace deletes): see `repeat_of_form_opener`.
     fn auto_repeat_of_overlay_key(&mut self, key: &KeyInput, now: Instant) -> bool {
-        if key.kind == KeyKind::Repeat && self.overlay != Overlay::None {
+        let form = matches!(self.overlay, Overlay::Form(_));
+        if key.kind == KeyKind::Repeat && self.overlay != Overlay::None && !form {
             return true;
         }
         let Some((held, seen)) = self.swallowed else {
@@ -274,7 +281,8 @@ impl App {
                 let name = self.selected_name().unwrap_or("").to_string();
                 self.overlay = Overlay::Form(Form::new(kind, &name));
             }
-            A::GoToPosition | A::DeletePosition | A::ShowPosition => {
+            A::UndoDelete => self.undo_delete(now, effects),
+            A::GoToPosition | A::DeletePosition | A::ShowPosition | A::RenamePosition => {
                 let Some(name) = self.selected_name().map(str::to_string) else {
                     self.say("no position selected: save one first", Severity::Info, now);
                     return;
@@ -282,6 +290,7 @@ impl App {
                 match action {
                     A::GoToPosition => self.ask_go_to(name, now),
                     A::DeletePosition => self.overlay = Overlay::Confirm(Confirm::Delete(name)),
+                    A::RenamePosition => self.overlay = Overlay::Form(Form::rename(&name)),
                     _ => self.show_position(name, effects),
                 }
             }
@@ -305,10 +314,17 @@ impl App {
             Overlay::None => {}
             Overlay::Help | Overlay::Position { .. } => {}
             Overlay::Confirm(confirm) => {
-                if matches!(key.key, YES | YES_SHIFTED | ENTER) {
-                    self.confirmed(confirm, now, effects);
-                } else {
-                    self.say("cancelled", Severity::Info, now);
+                let yes = match confirm {
+                    // Enter just submitted the form: only y replaces a position.
+                    Confirm::Overwrite { .. } => matches!(key.key, YES | YES_SHIFTED),
+                    _ => matches!(key.key, YES | YES_SHIFTED | ENTER),
+                };
+                match confirm {
+                    confirm if yes => self.confirmed(confirm, now, effects),
+                    Confirm::Overwrite { result, form } => {
+                        self.overwrite_declined(&result, *form, now);
+                    }
+                    _ => self.say("cancelled", Severity::Info, now),
                 }
             }
             Overlay::Form(mut form) => {
@@ -319,7 +335,7 @@ impl App {
                     }
                     ENTER => {
                         if let Some(result) = form.submit() {
-                            self.form_done(result, now, effects);
+                            self.form_submitted(result, form, now, effects);
                             return;
                         }
                     }

@@ -12,6 +12,8 @@ mod arm_events;
 mod arm_state;
 mod book_load;
 mod coords;
+mod edits;
+mod form_keys;
 mod jog_keys;
 mod keys;
 mod motion_truth;
@@ -174,6 +176,15 @@ pub struct App {
     /// The key that closed an overlay and when it was last seen: its auto-repeat must not be
     /// taken for new presses (and start a jog) once the overlay is gone.
     swallowed: Option<(KeyName, Instant)>,
+    /// The latest key event, and the key that opened the open form while its auto-repeat may
+    /// still come: see `form_keys`.
+    last_key: Option<form_keys::KeyTrace>,
+    form_opener: Option<form_keys::FormOpener>,
+    /// A rename on the operator between its steps, and a restore waiting for its answer.
+    renaming: Option<edits::Renaming>,
+    restoring: Option<edits::Deleted>,
+    /// The last deleted position, for undo (one level).
+    last_deleted: Option<edits::Deleted>,
     /// `config.keymap`, shared with each frame's view.
     shared_keymap: Arc<Keymap>,
     /// Re-saving names the operator lost (see `resave`).
@@ -210,6 +221,11 @@ impl App {
             truth: MotionTruth::default(),
             now: None,
             swallowed: None,
+            last_key: None,
+            form_opener: None,
+            renaming: None,
+            restoring: None,
+            last_deleted: None,
             shared_keymap,
             resave: resave::Resave::default(),
         }

@@ -49,11 +49,10 @@ impl App {
                 if self.config.positions_on_operator {
                     effects.push(Effect::Arm(ArmCommand::DeletePosition { name }));
                 } else {
-                    self.positions.remove(&name);
-                    self.clamp_selection();
-                    effects.push(Effect::SavePositions(self.positions.clone()));
+                    self.deleted(name, now, effects);
                 }
             }
+            Confirm::Overwrite { result, .. } => self.form_done(result, now, effects),
         }
     }
 
@@ -82,6 +81,10 @@ impl App {
         now: Instant,
         effects: &mut Vec<Effect>,
     ) {
+        if let FormResult::Rename { from, to } = result {
+            self.rename(from, to, now, effects);
+            return;
+        }
         if self.config.positions_on_operator {
             let command = match result {
                 FormResult::Save {
@@ -107,6 +110,7 @@ impl App {
                 FormResult::SetCartesian { name, x, y, z } => {
                     ArmCommand::SetCartesianPosition { name, x, y, z }
                 }
+                FormResult::Rename { .. } => return,
             };
             effects.push(Effect::Arm(command));
             return;
@@ -131,6 +135,7 @@ impl App {
             FormResult::SetCartesian { name, x, y, z } => {
                 (name, PoseNow::place([x, y, z]), false, None)
             }
+            FormResult::Rename { .. } => return,
             FormResult::SetPolar {
                 name,
                 delta,
@@ -174,6 +179,20 @@ impl App {
             orientation: finite(&orientation).then_some(orientation),
             joints: finite(&joints).then_some(joints),
         })
+    }
+
+    /// `name` is deleted: out of the book, kept for undo.
+    fn deleted(&mut self, name: String, now: Instant, effects: &mut Vec<Effect>) {
+        if let Some(entry) = self.positions.remove(&name) {
+            self.last_deleted = Some((name.clone(), entry));
+        }
+        self.clamp_selection();
+        self.say(
+            format!("deleted '{name}' (undo restores it)"),
+            Severity::Info,
+            now,
+        );
+        effects.push(Effect::SavePositions(self.positions.clone()));
     }
 
     pub(super) fn select(&mut self, name: &str) {
@@ -225,10 +244,7 @@ impl App {
                 name.clone()
             }
             ArmCommand::DeletePosition { name } => {
-                self.positions.remove(name);
-                self.clamp_selection();
-                self.say(format!("deleted '{name}'"), Severity::Info, now);
-                effects.push(Effect::SavePositions(self.positions.clone()));
+                self.deleted(name.clone(), now, effects);
                 return;
             }
             _ => return,

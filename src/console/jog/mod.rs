@@ -29,7 +29,7 @@ use super::action::{Action, JogAxis, JogFamily};
 pub use crate::link::interface::JogMotion;
 pub use held::KEY_EVENT_TIMEOUT;
 use held::{Held, KeyState, expiry};
-pub use timing::{MAX_ONSET, REPEAT_GAP_MAX, RepeatTiming};
+pub use timing::{DEFAULT_INTERVAL, MAX_ONSET, REPEAT_GAP_MAX, RepeatTiming};
 
 /// How key releases are known.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -12,8 +12,9 @@ pub const REPEAT_GAP_MAX: Duration = Duration::from_millis(125);
 /// A run of events this closely spaced (12.5 Hz), kept up for [`MAX_ONSET`], is a hold even
 /// with no onset pause before it: no finger taps that fast for that long.
 const BURST_GAP_MAX: Duration = Duration::from_millis(80);
-/// Repeat interval assumed before one is measured (Linux console, 11 Hz).
-const DEFAULT_INTERVAL: Duration = Duration::from_millis(91);
+/// Repeat interval assumed before one is measured (Linux console, 11 Hz, the slowest common
+/// repeat: a longer assumed interval errs toward treating events as one held key's repeats).
+pub const DEFAULT_INTERVAL: Duration = Duration::from_millis(91);
 /// Repeats more than this many intervals late mean the key is up.
 const INTERVALS_TO_RELEASE: u32 = 3;
 /// Plausible repeat onsets; a longer pause before a run of repeats is not a hold.
@@ -29,7 +30,8 @@ pub struct RepeatTiming {
 }
 
 impl RepeatTiming {
-    fn interval_or_default(&self) -> Duration {
+    /// The measured repeat interval, or [`DEFAULT_INTERVAL`] before one is measured.
+    pub fn interval_or_default(&self) -> Duration {
         self.interval.unwrap_or(DEFAULT_INTERVAL)
     }
 

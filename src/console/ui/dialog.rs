@@ -5,9 +5,12 @@ use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Clear, Paragraph, Wrap};
 
+use super::long_text::{elide_end, elide_start};
 use super::theme::Theme;
 use crate::console::app::Overlay;
 use crate::console::view::View;
+
+const DIALOG_WIDTH: u16 = 72;
 
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     let (title, lines) = match &view.overlay {
@@ -16,19 +19,22 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
             vec![
                 Line::styled(confirm.question(), theme.warning()),
                 Line::raw(""),
-                Line::raw("y or enter: yes    any other key: no"),
+                Line::raw(confirm.answers()),
             ],
         ),
         Overlay::Form(form) => {
             let mut lines = Vec::new();
+            // The dialog's width less its borders and the labels.
+            let room = usize::from(DIALOG_WIDTH.min(area.width)).saturating_sub(2 + 16);
             for (i, field) in form.fields.iter().enumerate() {
                 let focused = i == form.focus;
                 let value = if field.toggle {
                     format!("[{}] (space toggles)", field.value)
                 } else if focused {
-                    format!("{}_", field.value)
+                    // The end, where typing goes, stays in view.
+                    format!("{}_", elide_start(&field.value, room.saturating_sub(1)))
                 } else {
-                    field.value.clone()
+                    elide_end(&field.value, room)
                 };
                 lines.push(Line::from(vec![
                     Span::styled(
@@ -61,7 +67,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
         Overlay::None | Overlay::Help => return,
     };
     let height = (lines.len() as u16 + 2).min(area.height);
-    let width = 72.min(area.width);
+    let width = DIALOG_WIDTH.min(area.width);
     let rect = Rect {
         x: area.x + (area.width - width) / 2,
         y: area.y + (area.height - height) / 2,

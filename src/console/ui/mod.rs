@@ -7,6 +7,7 @@ pub mod hints;
 pub mod joints;
 pub mod log;
 pub mod position_pose;
+mod long_text;
 pub mod positions;
 pub mod status;
 pub mod tcp;

@@ -1,0 +1,336 @@
+//! Changes to named positions beyond a plain save: saving over a name asks first, renaming,
+//! and undoing the last delete.
+//!
+//! Where positions live in the console's book (Modbus) these are book edits. On a Talos
+//! operator, which has no rename, a rename is "Set Cartesian Position" under the new name at
+//! the old name's coordinates, then "Delete Position" of the old name, in that order, and
+//! stops with a message at the first step that fails; an undone delete is re-saved with
+//! "Set Cartesian Position". The book follows what the operator accepted.
+
+use std::time::Instant;
+
+use super::{App, Effect, Overlay, Severity};
+use crate::console::form::{Confirm, Form, FormResult};
+use crate::console::positions::BookEntry;
+use crate::link::interface::{ArmCommand, ArmError, ArmEvent, CommandKind, LinkStatus};
+
+/// A rename on the operator, between its steps.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Renaming {
+    from: String,
+    to: String,
+    step: RenameStep,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum RenameStep {
+    /// Asked where `from` is.
+    Asking,
+    /// Saving `to` at those coordinates.
+    Saving,
+    /// Deleting `from`.
+    Deleting,
+}
+
+impl RenameStep {
+    fn command(self) -> CommandKind {
+        match self {
+            RenameStep::Asking => CommandKind::GetPosition,
+            RenameStep::Saving => CommandKind::SetCartesianPosition,
+            RenameStep::Deleting => CommandKind::DeletePosition,
+        }
+    }
+}
+
+/// The last deleted position, which undo restores.
+pub(super) type Deleted = (String, BookEntry);
+
+impl App {
+    /// A form was submitted: a name that exists is only replaced after a yes.
+    pub(super) fn form_submitted(
+        &mut self,
+        result: FormResult,
+        form: Form,
+        now: Instant,
+        effects: &mut Vec<Effect>,
+    ) {
+        if self.positions.get(result.name()).is_some() {
+            self.overlay = Overlay::Confirm(Confirm::Overwrite {
+                result,
+                form: Box::new(form),
+            });
+            return;
+        }
+        self.form_done(result, now, effects);
+    }
+
+    /// No to "overwrite?": the form comes back as typed, to change the name or cancel.
+    pub(super) fn overwrite_declined(&mut self, result: &FormResult, mut form: Form, now: Instant) {
+        form.focus = 0;
+        form.error = Some(format!(
+            "'{}' exists: change the name, or esc to cancel",
+            result.name()
+        ));
+        self.overlay = Overlay::Form(form);
+        self.say("not overwritten", Severity::Info, now);
+    }
+
+    pub(super) fn rename(
+        &mut self,
+        from: String,
+        to: String,
+        now: Instant,
+        effects: &mut Vec<Effect>,
+    ) {
+        let Some(entry) = self.positions.get(&from).cloned() else {
+            self.say(
+                format!("'{from}' is gone: not renamed"),
+                Severity::Warning,
+                now,
+            );
+            return;
+        };
+        if !self.config.positions_on_operator {
+            self.positions.remove(&from);
+            *self.positions.get_or_insert(&to) = entry;
+            self.select(&to);
+            self.say(format!("renamed '{from}' to '{to}'"), Severity::Info, now);
+            effects.push(Effect::SavePositions(self.positions.clone()));
+            return;
+        }
+        if let Some(renaming) = &self.renaming {
+            let busy = format!("still renaming '{}': wait for it to finish", renaming.from);
+            self.say(busy, Severity::Warning, now);
+            return;
+        }
+        if let (true, Some(parent)) = (entry.anchor, &entry.parent) {
+            let text = format!(
+                "'{from}' moves with '{parent}': the operator can only save it under a new name \
+                 at fixed coordinates, so it is not renamed"
+            );
+            self.say(text, Severity::Warning, now);
+            return;
+        }
+        // Where the operator has it now (the book's copy may be old).
+        effects.push(Effect::Arm(ArmCommand::GetPosition { name: from.clone() }));
+        self.say(format!("renaming '{from}' to '{to}'…"), Severity::Info, now);
+        self.renaming = Some(Renaming {
+            from,
+            to,
+            step: RenameStep::Asking,
+        });
+    }
+
+    pub(super) fn undo_delete(&mut self, now: Instant, effects: &mut Vec<Effect>) {
+        let Some((name, entry)) = self.last_deleted.clone() else {
+            self.say("nothing deleted to restore", Severity::Info, now);
+            return;
+        };
+        if self.positions.get(&name).is_some() {
+            let text = format!("'{name}' exists again: not restored over it");
+            self.say(text, Severity::Warning, now);
+            return;
+        }
+        if !self.config.positions_on_operator {
+            self.restored(name, entry, now, effects);
+            return;
+        }
+        let Some([x, y, z]) = entry.cartesian else {
+            let text = format!("'{name}' cannot be restored: its coordinates were never known");
+            self.say(text, Severity::Warning, now);
+            return;
+        };
+        effects.push(Effect::Arm(ArmCommand::SetCartesianPosition {
+            name: name.clone(),
+            x,
+            y,
+            z,
+        }));
+        self.say(format!("restoring '{name}'…"), Severity::Info, now);
+        self.restoring = Some((name, entry));
+    }
+
+    /// `entry` is back in the book under `name` (and, on an operator, saved there).
+    fn restored(
+        &mut self,
+        name: String,
+        entry: BookEntry,
+        now: Instant,
+        effects: &mut Vec<Effect>,
+    ) {
+        let unanchored = match (&entry.anchor, &entry.parent) {
+            (true, Some(parent)) if self.config.positions_on_operator => {
+                format!(", no longer moving with '{parent}'")
+            }
+            _ => String::new(),
+        };
+        let at = entry
+            .cartesian
+            .map(|[x, y, z]| {
+                let mm = |v: i32| f64::from(v) / 10.0;
+                format!(" at {:.1} {:.1} {:.1} mm", mm(x), mm(y), mm(z))
+            })
+            .unwrap_or_default();
+        let restored = self.positions.get_or_insert(&name);
+        *restored = entry;
+        if self.config.positions_on_operator {
+            // Saved by coordinates: the operator keeps no anchor for it.
+            restored.anchor = false;
+            restored.unknown_to_operator = false;
+        }
+        self.select(&name);
+        self.last_deleted = None;
+        self.say(
+            format!("restored '{name}'{at}{unanchored}"),
+            Severity::Info,
+            now,
+        );
+        effects.push(Effect::SavePositions(self.positions.clone()));
+    }
+
+    /// Drives a rename or a restore on the operator by its answers. Returns whether the event
+    /// was one of their steps, which needs nothing else done.
+    pub(super) fn edits_on_arm(
+        &mut self,
+        event: &ArmEvent,
+        now: Instant,
+        effects: &mut Vec<Effect>,
+    ) -> bool {
+        if let ArmEvent::Status(LinkStatus::Down { .. }) = event {
+            // Nothing more will be answered; the link's own message says why.
+            self.renaming = None;
+            self.restoring = None;
+            return false;
+        }
+        if let Some((name, entry)) = self.restoring.clone() {
+            match event {
+                ArmEvent::Done {
+                    command: ArmCommand::SetCartesianPosition { name: saved, .. },
+                } if *saved == name => {
+                    self.restoring = None;
+                    self.restored(name, entry, now, effects);
+                    return true;
+                }
+                ArmEvent::Failed {
+                    command: CommandKind::SetCartesianPosition,
+                    error,
+                } => {
+                    self.restoring = None;
+                    let text = format!("restoring '{name}' failed: {error}; undo tries again");
+                    self.say(text, Severity::Error, now);
+                    return true;
+                }
+                _ => {}
+            }
+        }
+        self.rename_on_arm(event, now, effects)
+    }
+
+    fn rename_on_arm(&mut self, event: &ArmEvent, now: Instant, effects: &mut Vec<Effect>) -> bool {
+        let Some(Renaming { from, to, step }) = self.renaming.clone() else {
+            return false;
+        };
+        match (step, event) {
+            (RenameStep::Asking, ArmEvent::Position { name, coordinates }) if *name == from => {
+                // An operator that answers without coordinates (the "ACK" dialect) leaves the
+                // book's.
+                let known = self.positions.get(&from).and_then(|e| e.cartesian);
+                let Some([x, y, z]) = coordinates.cartesian.or(known) else {
+                    self.renaming = None;
+                    let text = format!(
+                        "not renamed: the operator did not say where '{from}' is, and the console \
+                         does not know"
+                    );
+                    self.say(text, Severity::Error, now);
+                    return true;
+                };
+                effects.push(Effect::Arm(ArmCommand::SetCartesianPosition {
+                    name: to.clone(),
+                    x,
+                    y,
+                    z,
+                }));
+                self.set_rename_step(RenameStep::Saving);
+                // The book notes where the old name is, as for any answer.
+                false
+            }
+            (RenameStep::Asking, ArmEvent::UnknownPosition { name }) if *name == from => {
+                self.renaming = None;
+                let text = format!("not renamed: the operator does not know '{from}'");
+                self.say(text, Severity::Error, now);
+                // The book marks the name, as for any answer.
+                false
+            }
+            (
+                RenameStep::Saving,
+                ArmEvent::Done {
+                    command: ArmCommand::SetCartesianPosition { name, x, y, z },
+                },
+            ) if *name == to => {
+                let mut entry = self.positions.get(&from).cloned().unwrap_or_default();
+                entry.cartesian = Some([*x, *y, *z]);
+                entry.unknown_to_operator = false;
+                *self.positions.get_or_insert(&to) = entry;
+                effects.push(Effect::Arm(ArmCommand::DeletePosition {
+                    name: from.clone(),
+                }));
+                self.set_rename_step(RenameStep::Deleting);
+                true
+            }
+            (
+                RenameStep::Deleting,
+                ArmEvent::Done {
+                    command: ArmCommand::DeletePosition { name },
+                },
+            ) if *name == from => {
+                self.renaming = None;
+                self.positions.remove(&from);
+                self.select(&to);
+                self.say(format!("renamed '{from}' to '{to}'"), Severity::Info, now);
+                effects.push(Effect::SavePositions(self.positions.clone()));
+                true
+            }
+            (step, ArmEvent::Failed { command, error }) if *command == step.command() => {
+                self.renaming = None;
+                self.rename_failed(step, &from, &to, error, now, effects);
+                true
+            }
+            _ => false,
+        }
+    }
+
+    fn set_rename_step(&mut self, step: RenameStep) {
+        if let Some(renaming) = &mut self.renaming {
+            renaming.step = step;
+        }
+    }
+
+    fn rename_failed(
+        &mut self,
+        step: RenameStep,
+        from: &str,
+        to: &str,
+        error: &ArmError,
+        now: Instant,
+        effects: &mut Vec<Effect>,
+    ) {
+        let text = match step {
+            RenameStep::Asking => {
+                format!("not renamed: asking where '{from}' is failed: {error}")
+            }
+            RenameStep::Saving => {
+                format!("not renamed: saving '{to}' failed: {error}; '{from}' is unchanged")
+            }
+            RenameStep::Deleting => {
+                // Both names exist on the operator now: the book shows both.
+                self.select(to);
+                effects.push(Effect::SavePositions(self.positions.clone()));
+                format!(
+                    "rename stopped: '{to}' is saved, but deleting '{from}' failed: {error}; \
+                     both names exist"
+                )
+            }
+        };
+        self.say(text, Severity::Error, now);
+    }
+}
