@@ -21,6 +21,10 @@ fn main() {
             Some(Command::Modbus(args)) => report(armjog::cli::modbus::run(&args).await),
             Some(Command::Sim(args)) => armjog::cli::sim::run(&args).await,
             Some(Command::Guard(args)) => armjog::cli::guard::run(&args).await,
+            Some(Command::Completions(args)) => {
+                report(armjog::cli::generate::run_completions(&args))
+            }
+            Some(Command::Man(args)) => report(armjog::cli::generate::run_man(&args)),
             None => armjog::cli::console::run_console(&cli.console).await,
         }
     });

@@ -1,6 +1,7 @@
 //! Command-line front ends: argument definitions and the one-shot commands.
 
 pub mod console;
+pub mod generate;
 pub mod guard;
 pub mod modbus;
 mod outcome;
@@ -8,6 +9,7 @@ pub mod output;
 pub mod send;
 pub mod sim;
 pub mod status;
+pub mod values;
 
 use clap::{Parser, Subcommand};
 
@@ -36,6 +38,10 @@ pub enum Command {
     Modbus(modbus::ModbusArgs),
     /// Run the simulated Kinova Gen3 arm: a Talos operator and a Kinova Modbus server.
     Sim(sim::SimArgs),
+    /// Print a shell completion script (bash, zsh or fish) to stdout.
+    Completions(generate::CompletionsArgs),
+    /// Print the man page (roff) to stdout: armjog(1), or a subcommand's.
+    Man(generate::ManArgs),
     /// The stop guard the console starts for a Modbus arm (internal).
     #[command(hide = true)]
     Guard(guard::GuardArgs),
