@@ -5,7 +5,10 @@ use clap::Parser;
 use armjog::cli::{Cli, Command, output};
 
 fn main() {
-    let cli = Cli::parse();
+    // The shared options of send/status/modbus may also come before the command word.
+    let cli = Cli::parse_from(armjog::cli::options_after_command(
+        std::env::args_os().collect(),
+    ));
     let _log_guard = armjog::logging::init();
     let runtime = match tokio::runtime::Runtime::new() {
         Ok(rt) => rt,

@@ -63,7 +63,9 @@ pub fn man_page(subcommand: Option<&str>) -> std::io::Result<Vec<u8>> {
         }
     };
     let mut out = Vec::new();
-    clap_mangen::Man::new(page).render(&mut out)?;
+    clap_mangen::Man::new(page)
+        .source(format!("armjog {}", env!("CARGO_PKG_VERSION")))
+        .render(&mut out)?;
     Ok(out)
 }
 

@@ -1,5 +1,6 @@
 //! Command-line front ends: argument definitions and the one-shot commands.
 
+mod anywhere;
 pub mod console;
 pub mod generate;
 pub mod guard;
@@ -13,6 +14,7 @@ pub mod values;
 
 use clap::{Parser, Subcommand};
 
+pub use anywhere::options_after_command;
 pub use outcome::Outcome;
 
 /// armjog: jog a robot arm from the keyboard, and talk to it from a shell.

@@ -51,6 +51,28 @@ fn send_options_are_taken_before_or_after_the_command() {
 }
 
 #[test]
+fn shared_options_before_the_command_word_are_taken_too() {
+    let args = [
+        "armjog",
+        "--talos",
+        "arm:4000",
+        "--json",
+        "--checksum=xor8",
+        "send",
+        "get-speed",
+        "--hex",
+    ];
+    let args = armjog::cli::options_after_command(args.map(Into::into).to_vec());
+    let Some(Command::Send(send)) = Cli::try_parse_from(args).expect("parses").command else {
+        panic!("not send");
+    };
+    assert_eq!(send.talos, "arm:4000");
+    assert!(send.json && send.hex);
+    assert_eq!(send.checksum, Checksum::Xor8);
+    assert!(matches!(send.command, SendCommand::GetSpeed));
+}
+
+#[test]
 fn send_options_keep_their_defaults_when_not_given() {
     let Some(Command::Send(send)) = parse(&["send", "get-speed", "--talos", "a"]).command else {
         panic!("not send");
@@ -234,6 +256,10 @@ async fn options_after_the_command_reach_the_simulator() {
 
     let stop = json(&armjog(&["modbus", "quick-stop", "--modbus", &modbus, "--json"]).await);
     assert_eq!(stop["command"], "quick_stop");
+
+    // Before the command word, as `cargo --verbose build`.
+    let reset = json(&armjog(&["--json", "--modbus", &modbus, "modbus", "fault-reset"]).await);
+    assert_eq!(reset["command"], "fault_reset");
 
     let status =
         json(&armjog(&["status", "--json", "--modbus", &modbus, "--timeout", "2000"]).await);
