@@ -100,3 +100,28 @@ pub fn run_man(args: &ManArgs) -> Outcome {
         },
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_visible_subcommand_has_a_page() {
+        let command = Cli::command();
+        let visible: Vec<&str> = command
+            .get_subcommands()
+            .filter(|s| !s.is_hide_set())
+            .map(|s| s.get_name())
+            .collect();
+        assert_eq!(visible, documented_subcommands());
+        for name in visible {
+            let page = man_page(Some(name)).expect("renders");
+            let page = String::from_utf8_lossy(&page);
+            assert!(
+                page.contains(&format!(".TH armjog\\-{name}"))
+                    || page.contains(&format!(".TH armjog-{name}")),
+                "{name}: {page}"
+            );
+        }
+    }
+}
