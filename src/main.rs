@@ -5,7 +5,10 @@ use clap::Parser;
 use armjog::cli::{Cli, Command, output};
 
 fn main() {
-    let cli = Cli::parse();
+    // The shared options of send/status/modbus may also come before the command word.
+    let cli = Cli::parse_from(armjog::cli::options_after_command(
+        std::env::args_os().collect(),
+    ));
     let _log_guard = armjog::logging::init();
     let runtime = match tokio::runtime::Runtime::new() {
         Ok(rt) => rt,
@@ -21,6 +24,10 @@ fn main() {
             Some(Command::Modbus(args)) => report(armjog::cli::modbus::run(&args).await),
             Some(Command::Sim(args)) => armjog::cli::sim::run(&args).await,
             Some(Command::Guard(args)) => armjog::cli::guard::run(&args).await,
+            Some(Command::Completions(args)) => {
+                report(armjog::cli::generate::run_completions(&args))
+            }
+            Some(Command::Man(args)) => report(armjog::cli::generate::run_man(&args)),
             None => armjog::cli::console::run_console(&cli.console).await,
         }
     });

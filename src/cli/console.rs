@@ -39,10 +39,10 @@ pub struct ConsoleArgs {
     #[arg(long, value_name = "HOST:PORT")]
     pub modbus: Option<String>,
     /// Talos reply dialect.
-    #[arg(long, default_value = "icd", value_parser = parse_dialect)]
+    #[arg(long, default_value = "icd", value_parser = super::values::dialect_parser())]
     pub dialect: Dialect,
     /// Talos checksum dialect.
-    #[arg(long, default_value = "crc16", value_parser = parse_checksum)]
+    #[arg(long, default_value = "crc16", value_parser = super::values::checksum_parser())]
     pub checksum: Checksum,
     /// Modbus unit id.
     #[arg(long, default_value_t = modbus::DEFAULT_UNIT)]
@@ -69,14 +69,6 @@ pub struct ConsoleArgs {
     /// Id of the Home action on a Kinova arm (Modbus).
     #[arg(long, default_value_t = modbus::DEFAULT_HOME_ACTION_ID)]
     pub home_action_id: u16,
-}
-
-fn parse_dialect(s: &str) -> Result<Dialect, String> {
-    s.parse()
-}
-
-fn parse_checksum(s: &str) -> Result<Checksum, String> {
-    s.parse()
 }
 
 impl ConsoleArgs {

@@ -1,6 +1,8 @@
 //! Command-line front ends: argument definitions and the one-shot commands.
 
+mod anywhere;
 pub mod console;
+pub mod generate;
 pub mod guard;
 pub mod modbus;
 mod outcome;
@@ -8,9 +10,11 @@ pub mod output;
 pub mod send;
 pub mod sim;
 pub mod status;
+pub mod values;
 
 use clap::{Parser, Subcommand};
 
+pub use anywhere::options_after_command;
 pub use outcome::Outcome;
 
 /// armjog: jog a robot arm from the keyboard, and talk to it from a shell.
@@ -36,6 +40,10 @@ pub enum Command {
     Modbus(modbus::ModbusArgs),
     /// Run the simulated Kinova Gen3 arm: a Talos operator and a Kinova Modbus server.
     Sim(sim::SimArgs),
+    /// Print a shell completion script (bash, zsh or fish) to stdout.
+    Completions(generate::CompletionsArgs),
+    /// Print the man page (roff) to stdout: armjog(1), or a subcommand's.
+    Man(generate::ManArgs),
     /// The stop guard the console starts for a Modbus arm (internal).
     #[command(hide = true)]
     Guard(guard::GuardArgs),

@@ -21,17 +21,19 @@ pub const EXIT_REFUSED: i32 = 2;
 /// Exit status when the arm could not be reached or the link failed.
 pub const EXIT_LINK: i32 = 3;
 
-/// Where the arm is.
+/// Where the arm is. The options are `global`: accepted before or after a nested command
+/// (`armjog modbus quick-stop --modbus A`); clap cannot require a global option, so `--modbus`
+/// is checked when the arguments are read.
 #[derive(Debug, Clone, Args)]
 pub struct ArmAddress {
-    /// The arm, HOST:PORT (port 502 if omitted).
-    #[arg(long, value_name = "HOST:PORT")]
+    /// The arm, HOST:PORT (port 502 if omitted). Required.
+    #[arg(long, value_name = "HOST:PORT", global = true, required = false)]
     pub modbus: String,
     /// Modbus unit id.
-    #[arg(long, default_value_t = crate::link::modbus::DEFAULT_UNIT, value_name = "N")]
+    #[arg(long, default_value_t = crate::link::modbus::DEFAULT_UNIT, value_name = "N", global = true)]
     pub unit: u8,
     /// How long to wait for each reply, in milliseconds.
-    #[arg(long, default_value_t = 500, value_name = "MS")]
+    #[arg(long, default_value_t = 500, value_name = "MS", global = true)]
     pub timeout: u64,
 }
 
@@ -63,7 +65,7 @@ pub struct ModbusArgs {
     #[command(flatten)]
     pub arm: ArmAddress,
     /// Print one JSON object instead of text.
-    #[arg(long)]
+    #[arg(long, global = true)]
     pub json: bool,
     #[command(subcommand)]
     pub command: ModbusCommand,

@@ -5,8 +5,8 @@ use std::time::Duration;
 use clap::{Args, Subcommand};
 use serde_json::{Map, Value, json};
 
-use super::Outcome;
-use crate::link::talos::{DEFAULT_PORT, Exchange};
+use super::{Outcome, values};
+use crate::link::talos::{DEFAULT_PORT, Exchange, first_exchange_error};
 use crate::link::{Answer, Dialect, TalosConfig, TalosError, TalosLink};
 use crate::talos::hardware::HwReply;
 use crate::talos::hex::spaced_hex;
@@ -17,36 +17,31 @@ pub const EXIT_RETURN_CODE: i32 = 1;
 /// Exit status when the operator could not be reached or answered nonsense.
 pub const EXIT_LINK: i32 = 3;
 
+/// Every option is `global`: accepted before or after the command (`armjog send get-speed
+/// --talos A --json`). A global option cannot be `required` in clap, so `--talos` is checked when
+/// the arguments are read instead.
 #[derive(Debug, Args)]
 pub struct SendArgs {
-    /// The operator, HOST:PORT (port 61616 if omitted).
-    #[arg(long, value_name = "HOST:PORT")]
+    /// The operator, HOST:PORT (port 61616 if omitted). Required.
+    #[arg(long, value_name = "HOST:PORT", global = true, required = false)]
     pub talos: String,
     /// How the operator replies: typed ICD replies, or the deployed operator's "ACK\0".
-    #[arg(long, default_value = "icd", value_parser = parse_dialect)]
+    #[arg(long, default_value = "icd", value_parser = values::dialect_parser(), global = true)]
     pub dialect: Dialect,
     /// Checksum dialect of every frame.
-    #[arg(long, default_value = "crc16", value_parser = parse_checksum)]
+    #[arg(long, default_value = "crc16", value_parser = values::checksum_parser(), global = true)]
     pub checksum: Checksum,
     /// Print one JSON object instead of a line of text.
-    #[arg(long)]
+    #[arg(long, global = true)]
     pub json: bool,
     /// Also print the frames sent and received, in hex.
-    #[arg(long)]
+    #[arg(long, global = true)]
     pub hex: bool,
     /// How long to wait for the reply, in milliseconds.
-    #[arg(long, default_value_t = 500, value_name = "MS")]
+    #[arg(long, default_value_t = 500, value_name = "MS", global = true)]
     pub timeout: u64,
     #[command(subcommand)]
     pub command: SendCommand,
-}
-
-fn parse_dialect(s: &str) -> Result<Dialect, String> {
-    s.parse()
-}
-
-fn parse_checksum(s: &str) -> Result<Checksum, String> {
-    s.parse()
 }
 
 fn parse_name(s: &str) -> Result<String, String> {
@@ -316,8 +311,12 @@ pub async fn run(args: &SendArgs) -> Outcome {
     config.dialect = args.dialect;
     config.checksum = args.checksum;
     config.request_timeout = Duration::from_millis(args.timeout);
+    // A reply that never completes under our checksum (an xor8 reply to a crc16 request is a
+    // byte short) is given up before the request times out, so the error can name the checksum
+    // it fits.
+    config.frame_deadline = config.frame_deadline.min(config.request_timeout / 2);
     let request = args.command.to_request();
-    let result = match TalosLink::connect(config).await {
+    let result = match TalosLink::connect(config.clone()).await {
         Ok((link, _events)) => link.request(request).await,
         Err(e) => Err(e),
     };
@@ -339,7 +338,7 @@ pub async fn run(args: &SendArgs) -> Outcome {
         },
         Err(e) => Outcome {
             stdout: Vec::new(),
-            stderr: Some(e.to_string()),
+            stderr: Some(first_exchange_error(&e, &config, None)),
             exit_code: EXIT_LINK,
         },
     }

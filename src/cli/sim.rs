@@ -25,10 +25,10 @@ pub struct SimArgs {
     #[arg(long)]
     pub no_modbus: bool,
     /// The operator's reply dialect: typed ICD replies, or the deployed operator's "ACK\0".
-    #[arg(long, default_value = "icd", value_parser = |s: &str| s.parse::<Dialect>())]
+    #[arg(long, default_value = "icd", value_parser = super::values::dialect_parser())]
     pub dialect: Dialect,
     /// The operator's checksum dialect.
-    #[arg(long, default_value = "crc16", value_parser = |s: &str| s.parse::<Checksum>())]
+    #[arg(long, default_value = "crc16", value_parser = super::values::checksum_parser())]
     pub checksum: Checksum,
     /// The operator's tool speed cap at 100 % speed, mm/s: bounds every motion it commands
     /// (cartesian and polar, continuous and discrete, joint jogs, go to, home).

@@ -124,7 +124,7 @@ pub enum ModbusError {
         operation: Operation,
         after: Duration,
     },
-    #[error("{operation}: connection lost: {source}")]
+    #[error("{operation}: connection lost: {}", crate::net::io_error_words(.source))]
     Transport {
         operation: Operation,
         source: std::io::Error,

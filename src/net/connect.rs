@@ -5,20 +5,24 @@ use std::time::Duration;
 
 use tokio::net::TcpStream;
 
-/// Why no connection was opened. Each names the address it was for.
+use super::io_error_words;
+
+/// Why no connection was opened. Each names the address it was for, and says what went wrong in
+/// words ("connection refused", "no route to host"), never as an OS error number.
 #[derive(Debug, thiserror::Error)]
 pub enum ConnectError {
-    #[error("cannot resolve {addr}: {source}")]
+    #[error("cannot resolve {addr}: {}", io_error_words(.source))]
     Resolve {
         addr: String,
         source: std::io::Error,
     },
-    #[error("connection to {addr} refused: {source}")]
+    /// Every address was tried and none accepted: refused, unreachable, reset, ...
+    #[error("cannot connect to {addr}: {}", io_error_words(.source))]
     Refused {
         addr: String,
         source: std::io::Error,
     },
-    #[error("no connection to {addr} within {after:?}")]
+    #[error("cannot connect to {addr}: timed out after {after:?}")]
     Timeout { addr: String, after: Duration },
 }
 
@@ -76,6 +80,8 @@ mod tests {
             .unwrap_err();
         assert!(matches!(err, ConnectError::Refused { .. }), "{err:?}");
         assert!(err.to_string().contains(&addr), "{err}");
+        assert!(err.to_string().contains("connection refused"), "{err}");
+        assert!(!err.to_string().contains("os error"), "{err}");
     }
 
     #[tokio::test]

@@ -2,6 +2,8 @@
 
 pub mod connect;
 pub mod frame_reader;
+pub mod words;
 
 pub use connect::{ConnectError, connect_with_timeout};
 pub use frame_reader::{DEFAULT_FRAME_DEADLINE, FrameReader};
+pub use words::io_error_words;

@@ -76,7 +76,7 @@ impl SimConfig {
 /// Why the simulator could not start.
 #[derive(Debug, thiserror::Error)]
 pub enum SimError {
-    #[error("cannot listen for {what} on {addr}: {source}{hint}", hint = port_hint(.source))]
+    #[error("cannot listen for {what} on {addr}: {}{hint}", crate::net::io_error_words(.source), hint = port_hint(.source))]
     Bind {
         what: &'static str,
         addr: String,

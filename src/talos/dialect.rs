@@ -17,6 +17,8 @@ pub enum Dialect {
 }
 
 impl Dialect {
+    pub const ALL: [Dialect; 2] = [Dialect::Icd, Dialect::Ack];
+
     /// Whether this dialect can carry `command` at all.
     pub fn supports(self, command: CommandValue) -> bool {
         match self {

@@ -176,12 +176,54 @@ pub struct Rejection {
     pub reason: RejectReason,
     pub discarded: usize,
     pub header: Option<FrameHeader>,
+    /// Another checksum dialect under which the first dropped bytes are one valid frame: what
+    /// the peer most likely speaks. Looked for only at a clean frame boundary.
+    pub fits: Option<ChecksumFit>,
 }
 
 impl fmt::Display for Rejection {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{} ({} bytes discarded)", self.reason, self.discarded)
+        write!(f, "{} ({} bytes discarded)", self.reason, self.discarded)?;
+        if let Some(fit) = self.fits {
+            write!(f, "; {fit}")?;
+        }
+        Ok(())
     }
+}
+
+/// A frame that fails the link's checksum dialect but is valid under another.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ChecksumFit {
+    /// The dialect the decoder was told to use.
+    pub used: Checksum,
+    /// The dialect the bytes fit.
+    pub fits: Checksum,
+}
+
+impl fmt::Display for ChecksumFit {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "checksum fails {} but fits {}",
+            self.used.as_str(),
+            self.fits.as_str()
+        )
+    }
+}
+
+/// Which checksum dialect other than `used` makes `bytes` start with one complete frame whose
+/// checksum field checks out. `none` fits only a field of two zero bytes (it verifies nothing).
+pub fn checksum_that_fits(bytes: &[u8], used: Checksum, max_payload: usize) -> Option<ChecksumFit> {
+    Checksum::ALL
+        .into_iter()
+        .filter(|c| *c != used)
+        .find(|c| match parse_frame(bytes, *c, max_payload, false) {
+            Parse::Complete(_, len) => {
+                *c != Checksum::None || bytes.get(len.saturating_sub(2)..len) == Some(&[0, 0])
+            }
+            _ => false,
+        })
+        .map(|fits| ChecksumFit { used, fits })
 }
 
 /// What the decoder yields: a frame, or a report of bytes it had to drop.
@@ -279,8 +321,9 @@ pub struct FrameCodec {
     synced: bool,
     /// Bytes dropped since the last report.
     discarded: usize,
-    /// The first reason and header of the current run of dropped bytes.
-    first: Option<(RejectReason, Option<FrameHeader>)>,
+    /// The first reason and header of the current run of dropped bytes, and the checksum its
+    /// first bytes fit if not ours.
+    first: Option<(RejectReason, Option<FrameHeader>, Option<ChecksumFit>)>,
 }
 
 impl FrameCodec {
@@ -327,7 +370,10 @@ impl FrameCodec {
             needed,
             after,
         };
-        self.first.get_or_insert((reason, header_at(src)));
+        if self.first.is_none() {
+            let fits = self.synced.then(|| self.fits_other_checksum(src)).flatten();
+            self.first = Some((reason, header_at(src), fits));
+        }
         self.synced = false;
         src.advance(1);
         self.discarded += 1;
@@ -367,8 +413,12 @@ impl FrameCodec {
                     return None;
                 }
                 Parse::Invalid(reason, header) => {
+                    if self.first.is_none() {
+                        // Only a clean frame boundary is worth a second look under the others.
+                        let fits = self.synced.then(|| self.fits_other_checksum(src)).flatten();
+                        self.first = Some((reason, header, fits));
+                    }
                     self.synced = false;
-                    self.first.get_or_insert((reason, header));
                     src.advance(1);
                     self.discarded += 1;
                 }
@@ -377,13 +427,19 @@ impl FrameCodec {
     }
 
     fn take_rejection(&mut self) -> Option<Decoded> {
-        let (reason, header) = self.first.take()?;
+        let (reason, header, fits) = self.first.take()?;
         let discarded = std::mem::take(&mut self.discarded);
         Some(Decoded::Rejected(Rejection {
             reason,
             discarded,
             header,
+            fits,
         }))
+    }
+
+    /// Another checksum dialect under which `src` starts with a valid frame.
+    fn fits_other_checksum(&self, src: &[u8]) -> Option<ChecksumFit> {
+        checksum_that_fits(src, self.checksum, self.max_payload)
     }
 }
 
@@ -424,6 +480,7 @@ impl Decoder for FrameCodec {
             reason: RejectReason::Truncated { have, needed },
             discarded,
             header: None,
+            fits: None,
         })))
     }
 }

@@ -27,7 +27,7 @@ pub mod return_code;
 pub use checksum::Checksum;
 pub use command::CommandValue;
 pub use dialect::Dialect;
-pub use frame::{FrameCodec, RejectReason, Rejection, TalosFrame};
+pub use frame::{ChecksumFit, FrameCodec, RejectReason, Rejection, TalosFrame, checksum_that_fits};
 pub use name::PositionName;
 pub use reply::Reply;
 pub use request::Request;

@@ -15,6 +15,8 @@ mod layers_scan;
 mod modbus_fake;
 
 mod cli_broken_pipe;
+mod cli_errors;
+mod cli_options;
 mod cli_send;
 mod file_limits;
 mod guard;

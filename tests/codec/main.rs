@@ -8,6 +8,7 @@
 mod common;
 
 mod kortex_codec;
+mod talos_checksum_fit;
 mod talos_decoder;
 mod talos_props;
 mod talos_split_frames;

@@ -454,6 +454,7 @@ fn framed_read_ends_cleanly_after_a_truncated_tail() {
                     },
                     discarded: 7,
                     header: None,
+                    fits: None,
                 }),
             ],
             "{checksum}"
@@ -480,6 +481,7 @@ fn a_frame_cut_short_at_eof_is_reported_truncated() {
                 },
                 discarded: n - 1,
                 header: None,
+                fits: None,
             })),
             "{checksum}"
         );
@@ -502,6 +504,7 @@ fn a_header_cut_short_at_eof_is_reported_truncated() {
                 },
                 discarded: 5,
                 header: None,
+                fits: None,
             })],
             "{checksum}"
         );
@@ -529,6 +532,7 @@ fn a_complete_frame_behind_an_unfinishable_one_survives_eof() {
                         },
                         discarded: first.len(),
                         header: None,
+                        fits: None,
                     }),
                     Decoded::TalosFrame(second.clone()),
                 ],
@@ -564,6 +568,7 @@ fn a_bad_checksum_is_reported_with_its_header_and_the_next_frame_decoded() {
                         reason: RejectReason::BadChecksum { expected, found },
                         discarded: corrupt.len(),
                         header: Some(header_of(&good)),
+                        fits: None,
                     }),
                     Decoded::TalosFrame(next.clone()),
                 ],
@@ -814,6 +819,7 @@ fn an_oversized_length_is_rejected_at_once_and_the_next_frame_decoded() {
                             command: 0x0008,
                             length
                         }),
+                        fits: None,
                     }),
                     Decoded::TalosFrame(next),
                 ],
@@ -879,6 +885,7 @@ fn an_unknown_command_at_a_clean_boundary_reaches_the_caller_when_checksummed() 
                 reason: RejectReason::UnknownCommand { value: 0x0042 },
                 discarded: 14,
                 header: None,
+                fits: None,
             }),
             Decoded::TalosFrame(next),
         ]

@@ -141,6 +141,7 @@ fn expire_gives_up_the_waiting_frame_and_finds_the_one_behind_it() {
                     command: 0x0008,
                     length: 500
                 }),
+                fits: None,
             })),
             "{checksum}"
         );

@@ -13,7 +13,9 @@ use super::{DriverConfig, JointPositions};
 use crate::link::interface::{
     ArmCommand, ArmError, ArmEvent, JogMotion, LogEntry, PositionCoordinates, StepMove, Traffic,
 };
-use crate::link::talos::{Answer, Exchange, PendingReply, TalosConfig, TalosError, TalosEvent};
+use crate::link::talos::{
+    self, Answer, Exchange, PendingReply, TalosConfig, TalosError, TalosEvent,
+};
 use crate::link::{Dialect, TalosLink};
 use crate::talos::hardware::{ActuatorCommand, HwReply, HwRequest};
 use crate::talos::{CommandValue, Reply, Request, ReturnCode};
@@ -33,13 +35,23 @@ pub struct TalosConnected {
 
 /// Connects and handshakes; on success, reads the speed (ICD dialect).
 async fn connect(config: TalosConfig, oid: u16) -> Result<TalosConnected, String> {
-    let (link, link_events) = TalosLink::connect(config.clone())
+    let (link, mut link_events) = TalosLink::connect(config.clone())
         .await
         .map_err(|e| format!("talos: {e}"))?;
     let version = match link.handshake(oid).await {
         Ok(Some((major, minor))) => format!(", operator {major}.{minor}"),
         Ok(None) => String::new(),
-        Err(e) => return Err(format!("talos handshake: {e}")),
+        Err(e) => {
+            // A reply that fails our checksum may only be given up after the handshake timed out.
+            let fit = match e {
+                TalosError::Timeout { .. } => {
+                    talos::wait_for_checksum_fit(&mut link_events, config.frame_deadline).await
+                }
+                _ => None,
+            };
+            let words = talos::first_exchange_error(&e, &config, fit);
+            return Err(format!("talos handshake: {words}"));
+        }
     };
     let mut speed = None;
     if config.dialect == Dialect::Icd

@@ -15,6 +15,7 @@
 //! late ACK for it is then absorbed, not paired with a newer request), and a STOP without an
 //! ACK is re-sent ([`STOP_ACK_TRIES`] frames, [`STOP_ACK_INTERVAL`] apart) before it fails.
 
+mod hint;
 mod task;
 
 use std::fmt;
@@ -29,6 +30,8 @@ use crate::net::{ConnectError, DEFAULT_FRAME_DEADLINE, connect_with_timeout};
 use crate::talos::frame::Rejection;
 use crate::talos::message::{DecodeError, EncodeError};
 use crate::talos::{Checksum, CommandValue, Reply, Request, ReturnCode};
+use hint::checksum_hint;
+pub use hint::{first_exchange_error, wait_for_checksum_fit};
 use task::LinkTask;
 // Re-exported so the link's callers keep naming it `link::Dialect`.
 pub use crate::talos::Dialect;
@@ -111,7 +114,7 @@ pub enum TalosError {
     },
     #[error("{command} (id {id}) failed with return code {code}", command = .exchange.request.command(), id = .exchange.id, code = .exchange.return_code())]
     ReturnCode { exchange: Box<Exchange> },
-    #[error("{command} (id {id}): reply rejected: {rejection}")]
+    #[error("{command} (id {id}): reply rejected: {rejection}{}", checksum_hint(.rejection))]
     Checksum {
         command: CommandValue,
         id: u32,

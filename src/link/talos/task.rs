@@ -15,7 +15,7 @@ use super::{
     Answer, AnswerTx, CommandIds, Exchange, Job, STOP_ACK_INTERVAL, STOP_ACK_TRIES, TalosError,
     TalosEvent, ack_deadline, is_stop,
 };
-use crate::net::FrameReader;
+use crate::net::{FrameReader, io_error_words};
 use crate::talos::ack::{ACK, AckCodec, AckItem};
 use crate::talos::frame::{Decoded, FrameCodec, Rejection, TalosFrame};
 use crate::talos::{Checksum, CommandValue, Dialect, Reply, Request};
@@ -174,7 +174,7 @@ impl LinkTask {
                 job = jobs.recv() => match job {
                     Some(job) => {
                         if let Err(e) = self.send(&mut writer, job).await {
-                            break format!("write failed: {e}");
+                            break format!("write failed: {}", io_error_words(&e));
                         }
                     }
                     None => {
@@ -195,12 +195,12 @@ impl LinkTask {
                     Some(Ok(Incoming::Ack(AckItem::Garbage(n)))) => {
                         self.event(TalosEvent::UnexpectedAckBytes(n));
                     }
-                    Some(Err(e)) => break format!("read failed: {e}"),
+                    Some(Err(e)) => break format!("read failed: {}", io_error_words(&e)),
                     None => break "the operator closed the connection".to_string(),
                 },
                 _ = sleep_until(self.next_ack_expiry()) => {
                     if let Err(e) = self.expire_acks(&mut writer).await {
-                        break format!("write failed: {e}");
+                        break format!("write failed: {}", io_error_words(&e));
                     }
                 }
                 _ = sweep.tick() => self.sweep(),
@@ -405,11 +405,16 @@ impl LinkTask {
             Some(pending) => {
                 let command = pending.request.command();
                 let id = rejection.header.map_or(0, |h| h.id & !1);
-                let _ = pending.answer.send(Err(TalosError::Checksum {
+                let failed = pending.answer.send(Err(TalosError::Checksum {
                     command,
                     id,
                     rejection,
                 }));
+                // Its caller gave up (timed out) before the reply was given up on: the rejection
+                // still tells what the operator speaks.
+                if failed.is_err() {
+                    self.event(TalosEvent::Rejected(rejection));
+                }
             }
             None => self.event(TalosEvent::Rejected(rejection)),
         }
