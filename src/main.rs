@@ -6,7 +6,7 @@ use armjog::cli::{Cli, Command, output};
 
 fn main() {
     let cli = Cli::parse();
-    let _log_guard = armjog::logging::init();
+    let _log_guards = armjog::logging::init(log_role(cli.command.as_ref()));
     let runtime = match tokio::runtime::Runtime::new() {
         Ok(rt) => rt,
         Err(e) => {
@@ -25,6 +25,17 @@ fn main() {
         }
     });
     std::process::exit(code);
+}
+
+/// Which log file(s) this run writes.
+fn log_role(command: Option<&Command>) -> armjog::logging::LogRole {
+    use armjog::logging::LogRole;
+    match command {
+        None => LogRole::Console,
+        Some(Command::Sim(_)) => LogRole::Sim,
+        Some(Command::Guard(_)) => LogRole::Guard,
+        Some(Command::Send(_) | Command::Status(_) | Command::Modbus(_)) => LogRole::Cli,
+    }
 }
 
 /// Prints a one-shot command's output and returns its exit status.
