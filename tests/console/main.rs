@@ -11,6 +11,7 @@ mod app_support;
 mod common;
 
 mod console_app;
+mod console_audit;
 mod console_book_load;
 mod console_e2e;
 mod console_jog_keys;
