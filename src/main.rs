@@ -6,7 +6,7 @@ use armjog::cli::{Cli, Command, output};
 
 fn main() {
     let cli = Cli::parse();
-    let _log_guards = armjog::logging::init(log_role(cli.command.as_ref()));
+    let log_guards = armjog::logging::init(log_role(cli.command.as_ref()));
     let runtime = match tokio::runtime::Runtime::new() {
         Ok(rt) => rt,
         Err(e) => {
@@ -24,6 +24,8 @@ fn main() {
             None => armjog::cli::console::run_console(&cli.console).await,
         }
     });
+    // `exit` runs no destructors: the logs are flushed first.
+    drop(log_guards);
     std::process::exit(code);
 }
 

@@ -15,6 +15,7 @@ mod layers_scan;
 mod modbus_fake;
 
 mod cli_broken_pipe;
+mod cli_logs;
 mod cli_send;
 mod file_limits;
 mod guard;
