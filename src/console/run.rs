@@ -261,15 +261,19 @@ async fn event_loop(
         let now = Instant::now();
         audit.input(&input);
         for effect in app.handle(input, now) {
-            audit.effect(&effect, &app);
             match effect {
                 Effect::Arm(command) => {
-                    if !driver.send(command) {
+                    if !driver.send(command.clone()) {
                         app.say("the arm driver has stopped", Severity::Error, now);
                     }
+                    // Recorded once the driver has it: a STOP never waits on the audit.
+                    audit.command(&command, &app);
                 }
                 // Written on the writer's thread; a failure comes back as `save_errors`.
-                Effect::SavePositions(positions) => book.save(positions),
+                Effect::SavePositions(positions) => {
+                    audit.book_saved(&positions);
+                    book.save(positions);
+                }
                 Effect::Quit => {
                     // Changes made while the book loads are written once it has loaded.
                     if matches!(app.book_state(), BookState::Loading { .. }) {

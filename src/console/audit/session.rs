@@ -4,8 +4,9 @@
 use std::time::{Duration, SystemTime};
 
 use super::{AuditDeriver, AuditEvent, AuditLog, AuditRecord};
-use crate::console::app::{App, AppConfig, Effect, Input};
-use crate::link::interface::ArmEvent;
+use crate::console::app::{App, AppConfig, Input};
+use crate::console::positions::PositionBook;
+use crate::link::interface::{ArmCommand, ArmEvent};
 
 pub struct AuditSession {
     deriver: AuditDeriver,
@@ -48,17 +49,20 @@ impl AuditSession {
         }
     }
 
-    /// An effect of the app: the commands it sent and the books it saved.
-    pub fn effect(&mut self, effect: &Effect, app: &App) {
-        let at = SystemTime::now();
-        let records = match effect {
-            Effect::Arm(command) => {
-                self.deriver
-                    .command(command, app.positions(), app.selected_name(), at)
-            }
-            Effect::SavePositions(book) => self.deriver.book_saved(book, at),
-            _ => Vec::new(),
-        };
+    /// A command the app sent to the driver.
+    pub fn command(&mut self, command: &ArmCommand, app: &App) {
+        let records = self.deriver.command(
+            command,
+            app.positions(),
+            app.selected_name(),
+            SystemTime::now(),
+        );
+        self.write(records);
+    }
+
+    /// A book the app is saving (over Modbus, what the technician saved or deleted).
+    pub fn book_saved(&mut self, book: &PositionBook) {
+        let records = self.deriver.book_saved(book, SystemTime::now());
         self.write(records);
     }
 
