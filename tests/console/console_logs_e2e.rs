@@ -3,6 +3,7 @@
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::{Duration, Instant};
 
 /// A tmux server of our own, killed on drop.
@@ -12,7 +13,13 @@ struct Tmux {
 
 impl Tmux {
     fn start(command: &str) -> Tmux {
-        let socket = format!("armjog-logs-{}", std::process::id());
+        // One server per test: the tests of this file run in parallel.
+        static STARTED: AtomicU32 = AtomicU32::new(0);
+        let socket = format!(
+            "armjog-logs-{}-{}",
+            std::process::id(),
+            STARTED.fetch_add(1, Ordering::Relaxed)
+        );
         let status = Command::new("tmux")
             .args(["-L", &socket, "new-session", "-d", "-s", "console"])
             .args(["-x", "100", "-y", "30"])
@@ -151,5 +158,39 @@ fn the_console_starts_quietly_logs_apart_from_its_simulator_and_audits_the_sessi
             None => panic!("{want} missing or out of order in {events:?}"),
         }
     }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn an_audit_file_that_cannot_be_written_is_shown_and_stops_nothing() {
+    let dir = std::env::temp_dir().join(format!("armjog-logs-blocked-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    // A file where the audit directory should be: unwritable even for root.
+    let blocked = dir.join("not-a-dir");
+    std::fs::write(&blocked, "").expect("seed");
+    let command = format!(
+        "ARMJOG_DATA_DIR={d} ARMJOG_LOG_DIR={d} ARMJOG_STATE_DIR={s} {bin} --key-release repeat; \
+         echo ARMJOG-EXITED-$?; sleep 30",
+        d = dir.display(),
+        s = blocked.join("state").display(),
+        bin = env!("CARGO_BIN_EXE_armjog"),
+    );
+    let tmux = Tmux::start(&command);
+    tmux.wait_for("the link and the audit failure", |s| {
+        s.contains("LINK UP") && s.contains("audit log")
+    });
+    // Still at the technician's command: a tap steps, and the console quits cleanly.
+    tmux.keys(&["w"]);
+    std::thread::sleep(Duration::from_millis(300));
+    tmux.keys(&["q"]);
+    let back = tmux.wait_for("the console to exit", |s| s.contains("ARMJOG-EXITED-"));
+    assert!(back.contains("ARMJOG-EXITED-0"), "exit status 0:\n{back}");
+    let console = read(&dir.join("armjog-console.log"));
+    assert_eq!(
+        console.matches("audit log not written").count(),
+        1,
+        "warned once:\n{console}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
