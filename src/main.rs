@@ -9,7 +9,7 @@ fn main() {
     let cli = Cli::parse_from(armjog::cli::options_after_command(
         std::env::args_os().collect(),
     ));
-    let _log_guard = armjog::logging::init();
+    let log_guards = armjog::logging::init(log_role(cli.command.as_ref()));
     let runtime = match tokio::runtime::Runtime::new() {
         Ok(rt) => rt,
         Err(e) => {
@@ -31,7 +31,26 @@ fn main() {
             None => armjog::cli::console::run_console(&cli.console).await,
         }
     });
+    // `exit` runs no destructors: the logs are flushed first.
+    drop(log_guards);
     std::process::exit(code);
+}
+
+/// Which log file(s) this run writes.
+fn log_role(command: Option<&Command>) -> armjog::logging::LogRole {
+    use armjog::logging::LogRole;
+    match command {
+        None => LogRole::Console,
+        Some(Command::Sim(_)) => LogRole::Sim,
+        Some(Command::Guard(_)) => LogRole::Guard,
+        Some(
+            Command::Send(_)
+            | Command::Status(_)
+            | Command::Modbus(_)
+            | Command::Completions(_)
+            | Command::Man(_),
+        ) => LogRole::Cli,
+    }
 }
 
 /// Prints a one-shot command's output and returns its exit status.

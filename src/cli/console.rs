@@ -9,6 +9,7 @@ use clap::{Args, ValueEnum};
 use crate::console::keymap::Keymap;
 use crate::console::positions::PositionBook;
 use crate::console::run::{ConsoleSetup, run};
+use crate::kortex::PollPlan;
 use crate::link::Dialect;
 use crate::link::driver::DriverConfig;
 use crate::link::guard::GuardPolicy;
@@ -171,6 +172,13 @@ pub async fn run_console(args: &ConsoleArgs) -> i32 {
         (t, m) => (t.clone(), m.clone()),
     };
     let mut driver = args.driver_config(talos_addr, modbus_addr);
+    if simulator.is_some()
+        && let Some(modbus) = driver.modbus.as_mut()
+    {
+        // The simulator answers only the ICD's addresses, as a strict arm does: read them
+        // block by block from the start rather than learn it from a refused read.
+        modbus.plan = PollPlan::IcdBlocks;
+    }
     // The built-in simulated arm dies with the console; a real arm over Modbus needs the guard
     // (this same binary) to stop it if the console is killed.
     driver.guard = match &simulator {

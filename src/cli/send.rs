@@ -316,10 +316,12 @@ pub async fn run(args: &SendArgs) -> Outcome {
     // it fits.
     config.frame_deadline = config.frame_deadline.min(config.request_timeout / 2);
     let request = args.command.to_request();
+    let addr = config.addr.clone();
     let result = match TalosLink::connect(config.clone()).await {
         Ok((link, _events)) => link.request(request).await,
         Err(e) => Err(e),
     };
+    log_exchange(&addr, &result);
     match result {
         Ok(exchange) => Outcome {
             stdout: render(args, &exchange),
@@ -342,6 +344,26 @@ pub async fn run(args: &SendArgs) -> Outcome {
             exit_code: EXIT_LINK,
         },
     }
+}
+
+/// The exchange in `armjog-cli.log`: both frames whole, in hex, the answer and the round trip
+/// (a script's record of what it told the arm).
+fn log_exchange(addr: &str, result: &Result<Exchange, TalosError>) {
+    let exchange = match result {
+        Ok(exchange) => exchange,
+        Err(TalosError::ReturnCode { exchange }) => &**exchange,
+        Err(e) => {
+            tracing::info!("send to {addr}: no exchange: {e}");
+            return;
+        }
+    };
+    // `describe` names the command, its id, the answer and the round trip.
+    tracing::info!(
+        "send to {addr}: request [{}], reply [{}]: {}",
+        spaced_hex(&exchange.request_bytes),
+        spaced_hex(&exchange.reply_bytes),
+        describe(exchange)
+    );
 }
 
 fn render(args: &SendArgs, exchange: &Exchange) -> Vec<String> {

@@ -17,6 +17,7 @@ use ratatui::Terminal;
 use ratatui::backend::CrosstermBackend;
 
 use super::app::{App, AppConfig, BookState, Effect, Input, KeyInput, Severity};
+use super::audit::{self, AuditSession};
 use super::book_io::{self, BookFiles};
 use super::jog::{KeyKind, ReleaseMode};
 use super::keymap::{KeyName, Keymap};
@@ -90,6 +91,7 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
     let frames = setup.driver.modbus.is_some() && setup.driver.talos.is_none();
     let positions_on_operator = setup.driver.positions_on_operator();
     let max_jog_speed = setup.driver.max_jog_speed;
+    let arm = setup.driver.target();
     let (driver, mut arm_events) = Driver::spawn(setup.driver);
 
     let release_events = terminal::enter(setup.release_events)?;
@@ -97,20 +99,23 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
     install_panic_hook(driver.stop_handle(), release_events, drawing.clone());
     let result = match start_painter(drawing) {
         Ok((mut painter, size, draw_errors)) => {
-            let result = event_loop(
-                AppConfig {
-                    keymap: setup.keymap,
-                    release_mode: if release_events {
-                        ReleaseMode::Reported
-                    } else {
-                        ReleaseMode::AutoRepeat
-                    },
-                    refresh: setup.refresh,
-                    positions_on_operator,
-                    max_jog_speed,
-                    frames,
+            let config = AppConfig {
+                keymap: setup.keymap,
+                release_mode: if release_events {
+                    ReleaseMode::Reported
+                } else {
+                    ReleaseMode::AutoRepeat
                 },
+                refresh: setup.refresh,
+                positions_on_operator,
+                max_jog_speed,
+                frames,
+            };
+            let mut audit = AuditSession::start(&config, arm, audit::audit_dir());
+            let result = event_loop(
+                config,
                 &mut book,
+                &mut audit,
                 &driver,
                 &mut arm_events,
                 Screen {
@@ -123,6 +128,7 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
             // The arm is told to stop before waiting for the frame in progress.
             driver.send(ArmCommand::Stop);
             painter.close(Duration::from_millis(500));
+            audit.finish(Duration::from_secs(2)).await;
             result
         }
         Err(e) => Err(e),
@@ -184,6 +190,7 @@ fn install_panic_hook(stop: StopHandle, release_events: bool, drawing: Arc<Atomi
 async fn event_loop(
     config: AppConfig,
     book: &mut BookFiles,
+    audit: &mut AuditSession,
     driver: &Driver,
     arm_events: &mut tokio::sync::mpsc::UnboundedReceiver<crate::link::interface::ArmEvent>,
     mut screen: Screen<'_>,
@@ -232,6 +239,11 @@ async fn event_loop(
                 None
             }
             Some(e) = screen.errors.recv() => return Err(ConsoleError::Terminal(e)),
+            // Shown, and kept in the command log; the console goes on.
+            Some(reason) = audit.next_error() => {
+                app.say(reason.clone(), Severity::Warning, Instant::now());
+                Some(Input::Arm(audit::session::failure_log_line(reason)))
+            }
             _ = render.tick() => {
                 let due = urgent || app.jog().is_jogging() || last_draw.elapsed() >= IDLE_FRAME;
                 if dirty && due {
@@ -247,15 +259,21 @@ async fn event_loop(
         let Some(input) = input else { continue };
         urgent |= !matches!(input, Input::Arm(_) | Input::Tick);
         let now = Instant::now();
+        audit.input(&input);
         for effect in app.handle(input, now) {
             match effect {
                 Effect::Arm(command) => {
-                    if !driver.send(command) {
+                    if !driver.send(command.clone()) {
                         app.say("the arm driver has stopped", Severity::Error, now);
                     }
+                    // Recorded once the driver has it: a STOP never waits on the audit.
+                    audit.command(&command, &app);
                 }
                 // Written on the writer's thread; a failure comes back as `save_errors`.
-                Effect::SavePositions(positions) => book.save(positions),
+                Effect::SavePositions(positions) => {
+                    audit.book_saved(&positions);
+                    book.save(positions);
+                }
                 Effect::Quit => {
                     // Changes made while the book loads are written once it has loaded.
                     if matches!(app.book_state(), BookState::Loading { .. }) {
@@ -265,6 +283,7 @@ async fn event_loop(
                 }
             }
         }
+        audit.after(&app);
         dirty = true;
     }
 }

@@ -12,7 +12,7 @@ use std::time::Duration;
 /// `armjog sim` on ephemeral ports, killed on drop.
 pub struct SimProcess {
     child: Child,
-    /// Where the sim writes `armjog.log`.
+    /// Where the sim writes `armjog-sim.log`.
     pub log_dir: PathBuf,
     pub talos: SocketAddr,
     pub modbus: SocketAddr,
@@ -96,7 +96,8 @@ impl SimProcess {
     /// `needle`.
     pub async fn logged(&self, needle: &str) -> bool {
         for _ in 0..100 {
-            let log = std::fs::read_to_string(self.log_dir.join("armjog.log")).unwrap_or_default();
+            let log =
+                std::fs::read_to_string(self.log_dir.join("armjog-sim.log")).unwrap_or_default();
             if log.contains(needle) {
                 return true;
             }

@@ -16,6 +16,7 @@ mod modbus_fake;
 
 mod cli_broken_pipe;
 mod cli_errors;
+mod cli_logs;
 mod cli_options;
 mod cli_send;
 mod file_limits;

@@ -376,6 +376,8 @@ async fn run(
                             },
                         });
                     }
+                    // Logged once by the link itself.
+                    ModbusEvent::PlanFallback { .. } => {}
                     other => tracing::info!("modbus: {other:?}"),
                 }
             }

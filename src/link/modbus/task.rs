@@ -478,7 +478,12 @@ impl LinkTask {
                     if self.plan == PollPlan::Compact
                         && e.exception() == Some(ExceptionCode::IllegalDataAddress) =>
                 {
-                    tracing::warn!("{e}; reading the ICD's blocks one by one from now on");
+                    // Expected of an arm that lists only the ICD's addresses: not a fault,
+                    // so said once (the plan is kept across reconnects), at info.
+                    tracing::info!(
+                        "{e}; this arm refuses reads over unlisted addresses: reading the ICD's \
+                         blocks one by one from now on"
+                    );
                     self.plan = PollPlan::IcdBlocks;
                     self.event(ModbusEvent::PlanFallback { plan: self.plan });
                     index = 0;

@@ -1,0 +1,344 @@
+//! Audit records from what flows between the state machine and the driver: the commands the
+//! app sends, the events the driver reports, the link's staleness and the book saves. Pure:
+//! every call takes the time it happened.
+
+use std::collections::BTreeMap;
+use std::time::{Duration, SystemTime};
+
+use super::{AuditEvent, AuditRecord};
+use crate::console::app::{describe_motion, fault_reason};
+use crate::console::positions::PositionBook;
+use crate::kortex::{CodeName, Pose, ReferenceFrame};
+use crate::link::driver::INITIAL_SPEED;
+use crate::link::interface::{ArmCommand, ArmEvent, GuardStatus, JogMotion, LinkStatus, StepMove};
+
+/// What the deriver remembers between calls, to turn a stream into starts and stops.
+#[derive(Debug, Clone)]
+pub struct AuditDeriver {
+    /// The tool speed at 100 %, mm/s.
+    max_mm_s: f64,
+    /// Whether reference frames apply (Modbus jogs): then jog starts name theirs.
+    frames: bool,
+    /// Positions live on a Talos operator: its commands say what was saved and deleted.
+    /// Otherwise the console's book is the only store, and its saves are compared.
+    positions_on_operator: bool,
+    jog: Option<(JogMotion, SystemTime)>,
+    speed: u8,
+    frame: Option<String>,
+    /// The link status last recorded; `Connecting` records nothing.
+    link: Option<LinkStatus>,
+    stale: bool,
+    fault: Option<String>,
+    /// The local book as last saved or loaded: name to coordinates (tenths of mm).
+    book: BTreeMap<String, Option<[i32; 3]>>,
+}
+
+impl AuditDeriver {
+    /// `max_jog_speed` in m/s, as the app's config has it.
+    pub fn new(max_jog_speed: f64, frames: bool, positions_on_operator: bool) -> AuditDeriver {
+        AuditDeriver {
+            max_mm_s: max_jog_speed * 1000.0,
+            frames,
+            positions_on_operator,
+            jog: None,
+            speed: INITIAL_SPEED,
+            frame: frames.then(|| ReferenceFrame::Base.key().to_string()),
+            link: None,
+            stale: false,
+            fault: None,
+            book: BTreeMap::new(),
+        }
+    }
+
+    fn speed_mm_s(&self, percent: u8) -> f64 {
+        (self.max_mm_s * f64::from(percent) / 100.0 * 10.0).round() / 10.0
+    }
+
+    /// A command the app sent to the driver. `book` and `selected` name a go-to's position,
+    /// which a Modbus move carries only as a pose.
+    pub fn command(
+        &mut self,
+        command: &ArmCommand,
+        book: &PositionBook,
+        selected: Option<&str>,
+        at: SystemTime,
+    ) -> Vec<AuditRecord> {
+        let speed_percent = self.speed;
+        let speed_mm_s = self.speed_mm_s(speed_percent);
+        let event = match command {
+            ArmCommand::Jog(motion) => match self.jog {
+                // A refresh of the same jog.
+                Some((running, _)) if running == *motion => None,
+                Some((running, since)) => {
+                    self.jog = Some((*motion, since));
+                    Some(AuditEvent::JogChange {
+                        axis: describe_motion(*motion),
+                        from: describe_motion(running),
+                        speed_percent,
+                        speed_mm_s,
+                    })
+                }
+                None => {
+                    self.jog = Some((*motion, at));
+                    Some(AuditEvent::JogStart {
+                        axis: describe_motion(*motion),
+                        frame: match motion {
+                            JogMotion::Cartesian { .. } if self.frames => self.frame.clone(),
+                            _ => None,
+                        },
+                        speed_percent,
+                        speed_mm_s,
+                    })
+                }
+            },
+            ArmCommand::Stop => Some(match self.jog.take() {
+                Some((motion, since)) => AuditEvent::JogStop {
+                    axis: describe_motion(motion),
+                    duration_ms: millis(at.duration_since(since).unwrap_or_default()),
+                },
+                None => AuditEvent::Stop,
+            }),
+            ArmCommand::QuickStop => {
+                self.jog = None;
+                Some(AuditEvent::QuickStop)
+            }
+            ArmCommand::Step(step) => Some(step_event(*step, speed_percent, speed_mm_s)),
+            ArmCommand::MoveToPose(pose) => Some(AuditEvent::GoTo {
+                name: name_at_pose(book, selected, pose),
+                position_mm: Some(
+                    [pose.x, pose.y, pose.z].map(|v| round_mm(f64::from(v) * 1000.0)),
+                ),
+                speed_percent,
+                speed_mm_s,
+            }),
+            ArmCommand::GoToPosition { name } => Some(AuditEvent::GoTo {
+                name: Some(name.clone()),
+                position_mm: None,
+                speed_percent,
+                speed_mm_s,
+            }),
+            ArmCommand::Home => Some(AuditEvent::Home {
+                speed_percent,
+                speed_mm_s,
+            }),
+            ArmCommand::SetSpeed(percent) => {
+                self.speed = *percent;
+                Some(AuditEvent::Speed {
+                    percent: *percent,
+                    mm_s: self.speed_mm_s(*percent),
+                })
+            }
+            ArmCommand::SetFrame(frame) => {
+                self.frame = Some(frame.key().to_string());
+                Some(AuditEvent::Frame {
+                    frame: frame.key().to_string(),
+                })
+            }
+            ArmCommand::FaultReset => Some(AuditEvent::FaultReset),
+            ArmCommand::SavePosition {
+                name,
+                anchor,
+                parent,
+            } => Some(AuditEvent::Save {
+                name: name.clone(),
+                position_mm: None,
+                polar: None,
+                anchor: *anchor,
+                parent: parent.clone(),
+            }),
+            ArmCommand::SetCartesianPosition { name, x, y, z } => Some(AuditEvent::Save {
+                name: name.clone(),
+                position_mm: Some(tenths_mm([*x, *y, *z])),
+                polar: None,
+                anchor: false,
+                parent: None,
+            }),
+            ArmCommand::SetPolarPosition {
+                name,
+                delta,
+                azimuth,
+                radius,
+            } => Some(AuditEvent::Save {
+                name: name.clone(),
+                position_mm: None,
+                polar: Some(tenths_mm([*delta, *azimuth, *radius])),
+                anchor: false,
+                parent: None,
+            }),
+            ArmCommand::DeletePosition { name } => Some(AuditEvent::Delete { name: name.clone() }),
+            // Reading a position moves nothing and changes nothing.
+            ArmCommand::GetPosition { .. } => None,
+        };
+        event
+            .into_iter()
+            .map(|event| AuditRecord::new(at, event))
+            .collect()
+    }
+
+    /// An event the driver reported.
+    pub fn arm_event(&mut self, event: &ArmEvent, at: SystemTime) -> Vec<AuditRecord> {
+        let event = match event {
+            ArmEvent::Status(status) => self.link_status(status),
+            ArmEvent::Speed(percent) => {
+                self.speed = *percent;
+                None
+            }
+            ArmEvent::Telemetry(telemetry) => {
+                let reason = fault_reason(telemetry);
+                if reason == self.fault {
+                    None
+                } else {
+                    self.fault = reason.clone();
+                    Some(match reason {
+                        Some(reason) => AuditEvent::Fault { reason },
+                        None => AuditEvent::FaultCleared,
+                    })
+                }
+            }
+            ArmEvent::Failed { command, error } => Some(AuditEvent::CommandFailed {
+                command: command.to_string(),
+                error: error.to_string(),
+            }),
+            ArmEvent::StopUnconfirmed { reason } => Some(AuditEvent::StopUnconfirmed {
+                reason: reason.clone(),
+            }),
+            ArmEvent::Guard(GuardStatus::Down { reason }) => Some(AuditEvent::GuardDown {
+                reason: reason.clone(),
+            }),
+            _ => None,
+        };
+        event
+            .into_iter()
+            .map(|event| AuditRecord::new(at, event))
+            .collect()
+    }
+
+    fn link_status(&mut self, status: &LinkStatus) -> Option<AuditEvent> {
+        let event = match status {
+            LinkStatus::Connecting => return None,
+            _ if self.link.as_ref() == Some(status) => return None,
+            LinkStatus::Up { description } => AuditEvent::LinkUp {
+                description: description.clone(),
+            },
+            LinkStatus::Down { reason } => AuditEvent::LinkDown {
+                reason: reason.clone(),
+            },
+        };
+        self.link = Some(status.clone());
+        self.stale = false;
+        Some(event)
+    }
+
+    /// The link's staleness after an input (`App::link_stale`): recorded when it turns.
+    pub fn link_stale(&mut self, stale: Option<Duration>, at: SystemTime) -> Vec<AuditRecord> {
+        let event = match (stale, self.stale) {
+            (Some(silent), false) => AuditEvent::LinkStale {
+                silent_ms: millis(silent),
+            },
+            (None, true) => AuditEvent::LinkFresh,
+            _ => return Vec::new(),
+        };
+        self.stale = stale.is_some();
+        vec![AuditRecord::new(at, event)]
+    }
+
+    /// The book as read from its file: the baseline later saves are compared with.
+    pub fn book_loaded(&mut self, book: &PositionBook) {
+        self.book = coordinates(book);
+    }
+
+    /// The book about to be written. Over Modbus the book is the only store, so what changed
+    /// since the last save is what the technician saved, saved over or deleted (a rename shows
+    /// as both). With an operator its commands are recorded instead.
+    pub fn book_saved(&mut self, book: &PositionBook, at: SystemTime) -> Vec<AuditRecord> {
+        let now = coordinates(book);
+        let before = std::mem::replace(&mut self.book, now);
+        if self.positions_on_operator {
+            return Vec::new();
+        }
+        let deleted = before
+            .keys()
+            .filter(|name| !self.book.contains_key(*name))
+            .map(|name| AuditEvent::Delete { name: name.clone() });
+        let saved = self
+            .book
+            .iter()
+            .filter(|(name, c)| before.get(*name) != Some(c))
+            .map(|(name, c)| {
+                let entry = book.get(name);
+                AuditEvent::Save {
+                    name: name.clone(),
+                    position_mm: c.map(tenths_mm),
+                    polar: None,
+                    anchor: entry.is_some_and(|e| e.anchor),
+                    parent: entry.and_then(|e| e.parent.clone()),
+                }
+            });
+        deleted
+            .chain(saved)
+            .map(|event| AuditRecord::new(at, event))
+            .collect()
+    }
+}
+
+fn coordinates(book: &PositionBook) -> BTreeMap<String, Option<[i32; 3]>> {
+    book.entries()
+        .map(|(name, entry)| (name.to_string(), entry.cartesian))
+        .collect()
+}
+
+fn step_event(step: StepMove, speed_percent: u8, speed_mm_s: f64) -> AuditEvent {
+    let sign = |v: i32| match v.signum() {
+        1 => 1,
+        -1 => -1,
+        _ => 0,
+    };
+    match step {
+        StepMove::Cartesian { dx, dy, dz } => AuditEvent::Step {
+            axis: describe_motion(JogMotion::Cartesian {
+                x: sign(dx),
+                y: sign(dy),
+                z: sign(dz),
+            }),
+            delta_mm: Some(tenths_mm([dx, dy, dz])),
+            delta_deg: None,
+            speed_percent,
+            speed_mm_s,
+        },
+        StepMove::Polar { azimuth, altitude } => AuditEvent::Step {
+            axis: describe_motion(JogMotion::Polar {
+                azimuth: sign(azimuth),
+                altitude: sign(altitude),
+            }),
+            delta_mm: None,
+            delta_deg: Some([azimuth, altitude]),
+            speed_percent,
+            speed_mm_s,
+        },
+    }
+}
+
+/// The name of the book entry a Modbus go-to's pose came from: the selected one if it is
+/// there (a go-to acts on the selection), else the first stored at that position.
+fn name_at_pose(book: &PositionBook, selected: Option<&str>, pose: &Pose) -> Option<String> {
+    let target = [pose.x, pose.y, pose.z].map(|v| (f64::from(v) * 10_000.0).round() as i32);
+    let at_pose = |name: &str| book.get(name).and_then(|e| e.cartesian) == Some(target);
+    selected
+        .filter(|name| at_pose(name))
+        .or_else(|| book.names().find(|name| at_pose(name)))
+        .map(str::to_string)
+}
+
+/// Tenths (of mm or of degrees) as decimals.
+fn tenths_mm(v: [i32; 3]) -> [f64; 3] {
+    v.map(|t| f64::from(t) / 10.0)
+}
+
+/// To a tenth of a millimetre: an f32 pose in metres has no more to say.
+fn round_mm(mm: f64) -> f64 {
+    (mm * 10.0).round() / 10.0
+}
+
+fn millis(d: Duration) -> u64 {
+    u64::try_from(d.as_millis()).unwrap_or(u64::MAX)
+}

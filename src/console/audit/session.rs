@@ -1,0 +1,99 @@
+//! The audit log of one console session, at the runtime's edge: inputs, effects and the app's
+//! state after each input become records stamped with the wall clock, written off the loop.
+
+use std::time::{Duration, SystemTime};
+
+use super::{AuditDeriver, AuditEvent, AuditLog, AuditRecord};
+use crate::console::app::{App, AppConfig, Input};
+use crate::console::positions::PositionBook;
+use crate::link::interface::{ArmCommand, ArmEvent};
+
+pub struct AuditSession {
+    deriver: AuditDeriver,
+    log: AuditLog,
+}
+
+impl AuditSession {
+    /// Starts the writer for `dir` and records the session's start on `arm`.
+    pub fn start(config: &AppConfig, arm: String, dir: Option<std::path::PathBuf>) -> Self {
+        let session = AuditSession {
+            deriver: AuditDeriver::new(
+                config.max_jog_speed,
+                config.frames,
+                config.positions_on_operator,
+            ),
+            log: AuditLog::start(dir),
+        };
+        session.write(vec![AuditRecord::new(
+            SystemTime::now(),
+            AuditEvent::SessionStart { arm },
+        )]);
+        session
+    }
+
+    fn write(&self, records: Vec<AuditRecord>) {
+        for record in records {
+            self.log.record(record);
+        }
+    }
+
+    /// Before the app sees `input`: what the driver reported, and the book as loaded.
+    pub fn input(&mut self, input: &Input) {
+        match input {
+            Input::Arm(event) => {
+                let records = self.deriver.arm_event(event, SystemTime::now());
+                self.write(records);
+            }
+            Input::PositionsLoaded(Ok(book)) => self.deriver.book_loaded(book),
+            _ => {}
+        }
+    }
+
+    /// A command the app sent to the driver.
+    pub fn command(&mut self, command: &ArmCommand, app: &App) {
+        let records = self.deriver.command(
+            command,
+            app.positions(),
+            app.selected_name(),
+            SystemTime::now(),
+        );
+        self.write(records);
+    }
+
+    /// A book the app is saving (over Modbus, what the technician saved or deleted).
+    pub fn book_saved(&mut self, book: &PositionBook) {
+        let records = self.deriver.book_saved(book, SystemTime::now());
+        self.write(records);
+    }
+
+    /// After each input: whether the link went stale or fresh.
+    pub fn after(&mut self, app: &App) {
+        let records = self.deriver.link_stale(app.link_stale(), SystemTime::now());
+        self.write(records);
+    }
+
+    /// The next write failure to show, in words (cancel safe).
+    pub async fn next_error(&mut self) -> Option<String> {
+        self.log.errors.recv().await
+    }
+
+    /// Records the session's end and writes everything queued (at most `within`).
+    pub async fn finish(self, within: Duration) {
+        self.write(vec![AuditRecord::new(
+            SystemTime::now(),
+            AuditEvent::SessionEnd,
+        )]);
+        self.log.finish(within).await;
+    }
+}
+
+/// The write failure as a command log line, so it stays in view after the message goes.
+pub fn failure_log_line(reason: String) -> ArmEvent {
+    ArmEvent::Log(crate::link::interface::LogEntry {
+        name: "audit log".into(),
+        outcome: reason,
+        ok: false,
+        count: 1,
+        ..Default::default()
+    })
+}

@@ -1,0 +1,339 @@
+//! The audit line format (hand-written expected lines), the deriver's starts and stops, and
+//! the writer's files: one per UTC day, and a failure that stops nothing.
+
+use std::time::{Duration, SystemTime, UNIX_EPOCH};
+
+use super::*;
+use crate::console::positions::PositionBook;
+use crate::kortex::Pose;
+use crate::link::interface::{ArmCommand, ArmEvent, JogMotion, LinkStatus, StepMove};
+
+/// 2026-11-30T22:27:31.853Z.
+fn t0() -> SystemTime {
+    UNIX_EPOCH + Duration::from_millis(1_796_077_651_853)
+}
+
+fn line(event: AuditEvent) -> String {
+    AuditRecord::new(t0(), event).json_line()
+}
+
+#[test]
+fn lines_carry_the_timestamp_first_then_the_event_and_its_fields() {
+    assert_eq!(
+        line(AuditEvent::QuickStop),
+        r#"{"ts":"2026-11-30T22:27:31.853Z","event":"quick_stop"}"#
+    );
+    assert_eq!(
+        line(AuditEvent::JogStart {
+            axis: "+X".into(),
+            frame: Some("base".into()),
+            speed_percent: 50,
+            speed_mm_s: 125.0,
+        }),
+        r#"{"ts":"2026-11-30T22:27:31.853Z","event":"jog_start","axis":"+X","frame":"base","speed_percent":50,"speed_mm_s":125.0}"#
+    );
+    assert_eq!(
+        line(AuditEvent::JogStop {
+            axis: "J3-".into(),
+            duration_ms: 1250,
+        }),
+        r#"{"ts":"2026-11-30T22:27:31.853Z","event":"jog_stop","axis":"J3-","duration_ms":1250}"#
+    );
+    assert_eq!(
+        line(AuditEvent::Save {
+            name: "pick \"A\"".into(),
+            position_mm: Some([456.6, -1.0, 433.8]),
+            polar: None,
+            anchor: false,
+            parent: None,
+        }),
+        r#"{"ts":"2026-11-30T22:27:31.853Z","event":"save","name":"pick \"A\"","position_mm":[456.6,-1.0,433.8]}"#
+    );
+    assert_eq!(
+        line(AuditEvent::LinkDown {
+            reason: "talos: connection refused".into(),
+        }),
+        r#"{"ts":"2026-11-30T22:27:31.853Z","event":"link_down","reason":"talos: connection refused"}"#
+    );
+    assert_eq!(
+        line(AuditEvent::Speed {
+            percent: 10,
+            mm_s: 25.0
+        }),
+        r#"{"ts":"2026-11-30T22:27:31.853Z","event":"speed","percent":10,"mm_s":25.0}"#
+    );
+}
+
+#[test]
+fn the_file_is_named_for_the_records_utc_date() {
+    let record = AuditRecord::new(t0(), AuditEvent::Stop);
+    assert_eq!(record.file_name(), "audit-2026-11-30.jsonl");
+}
+
+fn deriver() -> AuditDeriver {
+    // 250 mm/s at 100 %, Modbus frames, the console's own book.
+    AuditDeriver::new(0.25, true, false)
+}
+
+fn events(records: Vec<AuditRecord>) -> Vec<AuditEvent> {
+    records.into_iter().map(|r| r.event).collect()
+}
+
+const PLUS_X: ArmCommand = ArmCommand::Jog(JogMotion::Cartesian { x: 1, y: 0, z: 0 });
+
+#[test]
+fn a_jog_is_one_start_and_one_stop_whatever_its_refreshes() {
+    let mut d = deriver();
+    let book = PositionBook::new();
+    let mut at = t0();
+    let mut send = |d: &mut AuditDeriver, c: &ArmCommand, after_ms: u64| {
+        at += Duration::from_millis(after_ms);
+        events(d.command(c, &book, None, at))
+    };
+    assert_eq!(
+        send(&mut d, &ArmCommand::SetSpeed(20), 0),
+        [AuditEvent::Speed {
+            percent: 20,
+            mm_s: 50.0
+        }]
+    );
+    assert_eq!(
+        send(&mut d, &PLUS_X, 100),
+        [AuditEvent::JogStart {
+            axis: "+X".into(),
+            frame: Some("base".into()),
+            speed_percent: 20,
+            speed_mm_s: 50.0,
+        }]
+    );
+    for _ in 0..5 {
+        assert_eq!(send(&mut d, &PLUS_X, 100), []);
+    }
+    let diagonal = ArmCommand::Jog(JogMotion::Cartesian { x: 1, y: 0, z: 1 });
+    assert_eq!(
+        send(&mut d, &diagonal, 100),
+        [AuditEvent::JogChange {
+            axis: "+X +Z".into(),
+            from: "+X".into(),
+            speed_percent: 20,
+            speed_mm_s: 50.0,
+        }]
+    );
+    assert_eq!(
+        send(&mut d, &ArmCommand::Stop, 150),
+        [AuditEvent::JogStop {
+            axis: "+X +Z".into(),
+            duration_ms: 750,
+        }]
+    );
+    // A second STOP ends no jog.
+    assert_eq!(send(&mut d, &ArmCommand::Stop, 10), [AuditEvent::Stop]);
+}
+
+#[test]
+fn the_speed_in_force_is_the_one_the_driver_reports() {
+    let mut d = deriver();
+    d.arm_event(&ArmEvent::Speed(75), t0());
+    let step = ArmCommand::Step(StepMove::Polar {
+        azimuth: -10,
+        altitude: 0,
+    });
+    assert_eq!(
+        events(d.command(&step, &PositionBook::new(), None, t0())),
+        [AuditEvent::Step {
+            axis: "az-".into(),
+            delta_mm: None,
+            delta_deg: Some([-10, 0]),
+            speed_percent: 75,
+            speed_mm_s: 187.5,
+        }]
+    );
+}
+
+#[test]
+fn a_quick_stop_ends_the_jog_and_the_next_press_starts_one() {
+    let mut d = deriver();
+    let book = PositionBook::new();
+    d.command(&PLUS_X, &book, None, t0());
+    assert_eq!(
+        events(d.command(&ArmCommand::QuickStop, &book, None, t0())),
+        [AuditEvent::QuickStop]
+    );
+    assert!(matches!(
+        events(d.command(&PLUS_X, &book, None, t0()))[..],
+        [AuditEvent::JogStart { .. }]
+    ));
+}
+
+#[test]
+fn link_changes_are_recorded_once_each() {
+    let mut d = deriver();
+    let up = ArmEvent::Status(LinkStatus::Up {
+        description: "talos 10.0.0.2:61616".into(),
+    });
+    assert!(events(d.arm_event(&ArmEvent::Status(LinkStatus::Connecting), t0())).is_empty());
+    assert_eq!(
+        events(d.arm_event(&up, t0())),
+        [AuditEvent::LinkUp {
+            description: "talos 10.0.0.2:61616".into()
+        }]
+    );
+    assert!(events(d.arm_event(&up, t0())).is_empty());
+    assert_eq!(
+        events(d.link_stale(Some(Duration::from_millis(1500)), t0())),
+        [AuditEvent::LinkStale { silent_ms: 1500 }]
+    );
+    assert!(events(d.link_stale(Some(Duration::from_millis(1600)), t0())).is_empty());
+    assert_eq!(events(d.link_stale(None, t0())), [AuditEvent::LinkFresh]);
+    let down = ArmEvent::Status(LinkStatus::Down {
+        reason: "talos: timed out".into(),
+    });
+    assert_eq!(
+        events(d.arm_event(&down, t0())),
+        [AuditEvent::LinkDown {
+            reason: "talos: timed out".into()
+        }]
+    );
+}
+
+#[test]
+fn local_book_saves_become_save_and_delete_records() {
+    let mut d = deriver();
+    let mut book = PositionBook::new();
+    book.get_or_insert("kept").cartesian = Some([1, 2, 3]);
+    d.book_loaded(&book);
+    book.get_or_insert("pick").cartesian = Some([4566, -10, 4338]);
+    assert_eq!(
+        events(d.book_saved(&book, t0())),
+        [AuditEvent::Save {
+            name: "pick".into(),
+            position_mm: Some([456.6, -1.0, 433.8]),
+            polar: None,
+            anchor: false,
+            parent: None,
+        }]
+    );
+    book.remove("kept");
+    assert_eq!(
+        events(d.book_saved(&book, t0())),
+        [AuditEvent::Delete {
+            name: "kept".into()
+        }]
+    );
+    // A go-to over Modbus names the position its pose came from.
+    let pose = Pose {
+        x: 0.4566,
+        y: -0.001,
+        z: 0.4338,
+        theta_x: 90.0,
+        theta_y: 0.0,
+        theta_z: 90.0,
+    };
+    let go = events(d.command(&ArmCommand::MoveToPose(pose), &book, None, t0()));
+    assert!(
+        matches!(&go[..], [AuditEvent::GoTo { name: Some(n), .. }] if n == "pick"),
+        "{go:?}"
+    );
+}
+
+#[test]
+fn with_an_operator_its_commands_say_what_was_saved_not_the_book() {
+    let mut d = AuditDeriver::new(0.25, false, true);
+    let mut book = PositionBook::new();
+    book.get_or_insert("pick").cartesian = Some([1, 2, 3]);
+    assert!(d.book_saved(&book, t0()).is_empty());
+    let save = ArmCommand::SavePosition {
+        name: "pick".into(),
+        anchor: true,
+        parent: None,
+    };
+    assert_eq!(
+        line(events(d.command(&save, &book, None, t0())).remove(0)),
+        r#"{"ts":"2026-11-30T22:27:31.853Z","event":"save","name":"pick","anchor":true}"#
+    );
+}
+
+fn temp_dir() -> tempfile::TempDir {
+    tempfile::tempdir().expect("temp dir")
+}
+
+/// Writes `records` through the writer thread, waits for it to end, and returns the failures
+/// it reported.
+async fn write_records(dir: std::path::PathBuf, records: Vec<AuditRecord>) -> Vec<String> {
+    let mut log = AuditLog::start(Some(dir));
+    for record in records {
+        log.record(record);
+    }
+    let (_, closed) = tokio::sync::mpsc::unbounded_channel();
+    let mut reported = std::mem::replace(&mut log.errors, closed);
+    log.finish(Duration::from_secs(10)).await;
+    let mut errors = Vec::new();
+    while let Ok(e) = reported.try_recv() {
+        errors.push(e);
+    }
+    errors
+}
+
+#[tokio::test]
+async fn a_session_over_midnight_continues_in_the_next_days_file() {
+    let dir = temp_dir();
+    // 2026-11-30T23:59:59.900Z, then 200 ms later.
+    let before = UNIX_EPOCH + Duration::from_millis(1_796_083_199_900);
+    let after = before + Duration::from_millis(200);
+    let errors = write_records(
+        dir.path().to_path_buf(),
+        vec![
+            AuditRecord::new(before, AuditEvent::QuickStop),
+            AuditRecord::new(after, AuditEvent::FaultReset),
+        ],
+    )
+    .await;
+    assert!(errors.is_empty(), "{errors:?}");
+    let read = |name: &str| std::fs::read_to_string(dir.path().join(name)).expect(name);
+    assert_eq!(
+        read("audit-2026-11-30.jsonl"),
+        "{\"ts\":\"2026-11-30T23:59:59.900Z\",\"event\":\"quick_stop\"}\n"
+    );
+    assert_eq!(
+        read("audit-2026-12-01.jsonl"),
+        "{\"ts\":\"2026-12-01T00:00:00.100Z\",\"event\":\"fault_reset\"}\n"
+    );
+}
+
+#[tokio::test]
+async fn lines_are_appended_to_an_existing_file() {
+    let dir = temp_dir();
+    let path = dir.path().join("audit-2026-11-30.jsonl");
+    std::fs::write(&path, "earlier\n").expect("seed");
+    write_records(
+        dir.path().to_path_buf(),
+        vec![AuditRecord::new(t0(), AuditEvent::Stop)],
+    )
+    .await;
+    let text = std::fs::read_to_string(&path).expect("read");
+    assert_eq!(
+        text,
+        "earlier\n{\"ts\":\"2026-11-30T22:27:31.853Z\",\"event\":\"stop\"}\n"
+    );
+}
+
+#[tokio::test]
+async fn a_write_that_fails_is_reported_once_and_stops_nothing() {
+    let dir = temp_dir();
+    // A file where the directory should be: unwritable even for root (unlike a read-only
+    // directory).
+    let blocked = dir.path().join("not-a-dir");
+    std::fs::write(&blocked, "").expect("seed");
+    let records = (0..5)
+        .map(|i| AuditRecord::new(t0() + Duration::from_secs(i), AuditEvent::Stop))
+        .collect();
+    let started = std::time::Instant::now();
+    let errors = write_records(blocked.join("audit"), records).await;
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert!(
+        errors[0].contains("audit log not written") && errors[0].contains("not-a-dir"),
+        "{}",
+        errors[0]
+    );
+    assert!(started.elapsed() < Duration::from_secs(10));
+}

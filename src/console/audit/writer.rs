@@ -1,0 +1,128 @@
+//! Appends audit records to `audit-YYYY-MM-DD.jsonl` on a thread of its own. Each record goes
+//! to the file of its own UTC date, so a session over midnight continues in the next day's file.
+//! A write that fails is reported once (tracing and the console) and never stops the console;
+//! the next record tries the file again.
+
+use std::fs::{File, OpenOptions};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::mpsc;
+use std::time::Duration;
+
+use tokio::sync::mpsc::{UnboundedReceiver, UnboundedSender, unbounded_channel};
+
+use super::AuditRecord;
+
+/// The console's handle on the writer thread.
+pub struct AuditLog {
+    records: Option<mpsc::Sender<AuditRecord>>,
+    thread: Option<std::thread::JoinHandle<()>>,
+    /// The first write failure (and the first after each recovery), in words.
+    pub errors: UnboundedReceiver<String>,
+}
+
+impl AuditLog {
+    /// Starts the writer for `dir` (`None`: no directory could be named; reported at once).
+    pub fn start(dir: Option<PathBuf>) -> AuditLog {
+        let (records, incoming) = mpsc::channel::<AuditRecord>();
+        let (error_tx, errors) = unbounded_channel();
+        let thread = std::thread::Builder::new()
+            .name("audit-writer".into())
+            .spawn(move || write_all(dir, incoming, error_tx));
+        let thread = match thread {
+            Ok(thread) => Some(thread),
+            Err(e) => {
+                tracing::warn!("audit log off: cannot start its writer thread: {e}");
+                None
+            }
+        };
+        AuditLog {
+            records: thread.as_ref().map(|_| records),
+            thread,
+            errors,
+        }
+    }
+
+    /// Queues a record; never waits for the disk.
+    pub fn record(&self, record: AuditRecord) {
+        if let Some(records) = &self.records {
+            // A writer that ended has already said why.
+            let _ = records.send(record);
+        }
+    }
+
+    /// Writes what is queued and ends the writer, waiting at most `within`.
+    pub async fn finish(mut self, within: Duration) {
+        self.records = None;
+        let Some(thread) = self.thread.take() else {
+            return;
+        };
+        let until = tokio::time::Instant::now() + within;
+        while !thread.is_finished() {
+            if tokio::time::Instant::now() >= until {
+                tracing::warn!("audit log: the last records were not written within {within:?}");
+                return;
+            }
+            tokio::time::sleep(Duration::from_millis(10)).await;
+        }
+        let _ = thread.join();
+    }
+}
+
+/// The open file and the date it is for.
+struct DayFile {
+    name: String,
+    file: File,
+}
+
+fn write_all(
+    dir: Option<PathBuf>,
+    incoming: mpsc::Receiver<AuditRecord>,
+    errors: UnboundedSender<String>,
+) {
+    let Some(dir) = dir else {
+        let reason = "audit log off: no directory for it (set ARMJOG_STATE_DIR)".to_string();
+        tracing::warn!("{reason}");
+        let _ = errors.send(reason);
+        return;
+    };
+    let mut current: Option<DayFile> = None;
+    let mut failing = false;
+    for record in incoming {
+        match append(&dir, &mut current, &record) {
+            Ok(()) => failing = false,
+            Err(e) => {
+                // Opened again for the next record: a disk that was full may have room.
+                current = None;
+                if !failing {
+                    let reason = format!(
+                        "audit log not written to {}: {e}",
+                        dir.join(record.file_name()).display()
+                    );
+                    tracing::warn!("{reason}");
+                    let _ = errors.send(reason);
+                    failing = true;
+                }
+            }
+        }
+    }
+}
+
+fn append(dir: &Path, current: &mut Option<DayFile>, record: &AuditRecord) -> std::io::Result<()> {
+    let name = record.file_name();
+    let file = match current {
+        Some(day) if day.name == name => &mut day.file,
+        _ => {
+            std::fs::create_dir_all(dir)?;
+            let file = OpenOptions::new()
+                .create(true)
+                .append(true)
+                .open(dir.join(&name))?;
+            &mut current.insert(DayFile { name, file }).file
+        }
+    };
+    let mut line = record.json_line();
+    line.push('\n');
+    // One write per line: each line is whole on disk even if the process dies after it.
+    file.write_all(line.as_bytes())
+}

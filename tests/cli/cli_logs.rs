@@ -1,0 +1,107 @@
+//! Each program writes its own log file: `armjog sim` to `armjog-sim.log`, a one-shot `send`
+//! to `armjog-cli.log` with its exchange (both frames in hex, the answer, the round trip).
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+const BIN: &str = env!("CARGO_BIN_EXE_armjog");
+
+fn fresh_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("armjog-logs-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+/// `armjog sim` on ephemeral ports, logging to `log_dir`; its Talos address.
+fn start_sim(log_dir: &Path) -> (Child, String) {
+    let mut child = Command::new(BIN)
+        .args(["sim", "--talos-listen", "127.0.0.1:0", "--no-modbus"])
+        .env("ARMJOG_LOG_DIR", log_dir)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("spawn armjog sim");
+    let stdout = child.stdout.take().expect("piped stdout");
+    let talos = BufReader::new(stdout)
+        .lines()
+        .map_while(Result::ok)
+        .find(|line| line.contains("talos operator"))
+        .and_then(|line| line.split_whitespace().nth(2).map(str::to_string))
+        .expect("armjog sim prints its Talos address");
+    (child, talos)
+}
+
+/// Waits (the logs are written in the background) until `file` contains `needle`.
+fn wait_for_log(file: &Path, needle: &str) -> String {
+    let until = Instant::now() + Duration::from_secs(20);
+    loop {
+        let text = std::fs::read_to_string(file).unwrap_or_default();
+        if text.contains(needle) || Instant::now() > until {
+            return text;
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+fn files_in(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .expect("read dir")
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+#[test]
+fn the_simulator_and_send_log_to_their_own_files_and_send_logs_its_exchange() {
+    let sim_dir = fresh_dir("sim");
+    let cli_dir = fresh_dir("cli");
+    let (mut sim, talos) = start_sim(&sim_dir);
+
+    let out = Command::new(BIN)
+        .args(["send", "--talos", &talos, "get-speed"])
+        .env("ARMJOG_LOG_DIR", &cli_dir)
+        .output()
+        .expect("run armjog send");
+    assert!(
+        out.status.success(),
+        "send: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+
+    // The exchange, in the one-shot's own file (written before the process ended).
+    let cli_log = std::fs::read_to_string(cli_dir.join("armjog-cli.log")).expect("armjog-cli.log");
+    let line = cli_log
+        .lines()
+        .find(|l| l.contains("send to") && l.contains("get_speed"))
+        .unwrap_or_else(|| panic!("no exchange logged:\n{cli_log}"));
+    assert!(line.contains(" INFO "), "{line}");
+    assert!(line.contains(&format!("to {talos}")), "{line}");
+    assert!(
+        line.contains("request [") && line.contains("reply ["),
+        "{line}"
+    );
+    assert!(line.trim_end().ends_with(" ms]"), "the round trip: {line}");
+    assert_eq!(files_in(&cli_dir), ["armjog-cli.log"]);
+
+    // The simulator saw the client, in its file alone.
+    let sim_log = wait_for_log(&sim_dir.join("armjog-sim.log"), "connected");
+    assert!(sim_log.contains("sim talos: client"), "sim log:\n{sim_log}");
+    let _ = Command::new("kill")
+        .args(["-TERM", &sim.id().to_string()])
+        .status();
+    let until = Instant::now() + Duration::from_secs(10);
+    while sim.try_wait().ok().flatten().is_none() && Instant::now() < until {
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let _ = sim.kill();
+    let _ = sim.wait();
+    assert_eq!(files_in(&sim_dir), ["armjog-sim.log"]);
+    let _ = std::fs::remove_dir_all(&sim_dir);
+    let _ = std::fs::remove_dir_all(&cli_dir);
+}

@@ -1,0 +1,196 @@
+//! The real binary in tmux on the built-in simulator: a quiet start (no WARN in the console's
+//! log), the simulator's lines in a file of their own, and the session's audit file.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::time::{Duration, Instant};
+
+/// A tmux server of our own, killed on drop.
+struct Tmux {
+    socket: String,
+}
+
+impl Tmux {
+    fn start(command: &str) -> Tmux {
+        // One server per test: the tests of this file run in parallel.
+        static STARTED: AtomicU32 = AtomicU32::new(0);
+        let socket = format!(
+            "armjog-logs-{}-{}",
+            std::process::id(),
+            STARTED.fetch_add(1, Ordering::Relaxed)
+        );
+        let status = Command::new("tmux")
+            .args(["-L", &socket, "new-session", "-d", "-s", "console"])
+            .args(["-x", "100", "-y", "30"])
+            .arg(command)
+            .status()
+            .expect("tmux must be installed (apt-get install -y tmux)");
+        assert!(status.success(), "tmux new-session failed");
+        Tmux { socket }
+    }
+
+    fn keys(&self, keys: &[&str]) {
+        let status = Command::new("tmux")
+            .args(["-L", &self.socket, "send-keys", "-t", "console"])
+            .args(keys)
+            .status()
+            .expect("tmux send-keys");
+        assert!(status.success());
+    }
+
+    fn screen(&self) -> String {
+        let out = Command::new("tmux")
+            .args(["-L", &self.socket, "capture-pane", "-p", "-t", "console"])
+            .output()
+            .expect("tmux capture-pane");
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    }
+
+    fn wait_for(&self, what: &str, done: impl Fn(&str) -> bool) -> String {
+        let until = Instant::now() + Duration::from_secs(30);
+        loop {
+            let screen = self.screen();
+            if done(&screen) {
+                return screen;
+            }
+            assert!(
+                Instant::now() < until,
+                "waited for {what}; screen:\n{screen}"
+            );
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    }
+}
+
+impl Drop for Tmux {
+    fn drop(&mut self) {
+        let _ = Command::new("tmux")
+            .args(["-L", &self.socket, "kill-server"])
+            .status();
+    }
+}
+
+fn read(path: &Path) -> String {
+    std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// Every audit line of the session, from however many day files it spans.
+fn audit_lines(dir: &Path) -> Vec<serde_json::Value> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .expect("the audit directory was made")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            p.file_name()
+                .and_then(|n| n.to_str())
+                .is_some_and(|n| n.starts_with("audit-") && n.ends_with(".jsonl"))
+        })
+        .collect();
+    files.sort();
+    assert!(!files.is_empty(), "no audit file in {}", dir.display());
+    files
+        .iter()
+        .flat_map(|f| {
+            read(f)
+                .lines()
+                .map(|l| serde_json::from_str(l).unwrap_or_else(|e| panic!("{l}: {e}")))
+                .collect::<Vec<serde_json::Value>>()
+        })
+        .collect()
+}
+
+#[test]
+fn the_console_starts_quietly_logs_apart_from_its_simulator_and_audits_the_session() {
+    let dir = std::env::temp_dir().join(format!("armjog-logs-e2e-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let state = dir.join("state");
+    let command = format!(
+        "ARMJOG_DATA_DIR={d} ARMJOG_LOG_DIR={d} ARMJOG_STATE_DIR={s} {bin} --key-release repeat; \
+         echo ARMJOG-EXITED-$?; sleep 30",
+        d = dir.display(),
+        s = state.display(),
+        bin = env!("CARGO_BIN_EXE_armjog"),
+    );
+    let tmux = Tmux::start(&command);
+    tmux.wait_for("the link to come up", |s| {
+        s.contains("LINK UP") && s.contains("pos mm")
+    });
+    // A few polls on the link, then a speed change and a stop.
+    std::thread::sleep(Duration::from_millis(500));
+    tmux.keys(&["-"]);
+    std::thread::sleep(Duration::from_millis(300));
+    tmux.keys(&["Space"]);
+    std::thread::sleep(Duration::from_millis(300));
+    tmux.keys(&["q"]);
+    let back = tmux.wait_for("the console to exit", |s| s.contains("ARMJOG-EXITED-"));
+    assert!(back.contains("ARMJOG-EXITED-0"), "exit status 0:\n{back}");
+
+    let console = read(&dir.join("armjog-console.log"));
+    for bad in [" WARN ", " ERROR "] {
+        assert!(
+            !console.contains(bad),
+            "the console's log has a{bad}line at a plain start:\n{console}"
+        );
+    }
+    assert!(
+        !console.contains("armjog::sim"),
+        "the simulator's lines are in the console's log:\n{console}"
+    );
+    let sim = read(&dir.join("armjog-sim.log"));
+    assert!(sim.contains("sim talos: client"), "sim log:\n{sim}");
+    assert!(
+        sim.lines().all(|l| l.contains("armjog::sim")),
+        "only the simulator in its log:\n{sim}"
+    );
+
+    let lines = audit_lines(&state);
+    for line in &lines {
+        let ts = line["ts"].as_str().unwrap_or_default();
+        assert!(ts.len() == 24 && ts.ends_with('Z'), "timestamp {line}");
+    }
+    let events: Vec<&str> = lines.iter().filter_map(|l| l["event"].as_str()).collect();
+    let order = ["session_start", "link_up", "speed", "stop", "session_end"];
+    let mut at = 0;
+    for want in order {
+        match events[at..].iter().position(|e| *e == want) {
+            Some(i) => at += i + 1,
+            None => panic!("{want} missing or out of order in {events:?}"),
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn an_audit_file_that_cannot_be_written_is_shown_and_stops_nothing() {
+    let dir = std::env::temp_dir().join(format!("armjog-logs-blocked-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    // A file where the audit directory should be: unwritable even for root.
+    let blocked = dir.join("not-a-dir");
+    std::fs::write(&blocked, "").expect("seed");
+    let command = format!(
+        "ARMJOG_DATA_DIR={d} ARMJOG_LOG_DIR={d} ARMJOG_STATE_DIR={s} {bin} --key-release repeat; \
+         echo ARMJOG-EXITED-$?; sleep 30",
+        d = dir.display(),
+        s = blocked.join("state").display(),
+        bin = env!("CARGO_BIN_EXE_armjog"),
+    );
+    let tmux = Tmux::start(&command);
+    tmux.wait_for("the link and the audit failure", |s| {
+        s.contains("LINK UP") && s.contains("audit log")
+    });
+    // Still at the technician's command: a tap steps, and the console quits cleanly.
+    tmux.keys(&["w"]);
+    std::thread::sleep(Duration::from_millis(300));
+    tmux.keys(&["q"]);
+    let back = tmux.wait_for("the console to exit", |s| s.contains("ARMJOG-EXITED-"));
+    assert!(back.contains("ARMJOG-EXITED-0"), "exit status 0:\n{back}");
+    let console = read(&dir.join("armjog-console.log"));
+    assert_eq!(
+        console.matches("audit log not written").count(),
+        1,
+        "warned once:\n{console}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
