@@ -11,9 +11,6 @@ use crate::console::keymap::{BaseKey, KeyName, NamedKey};
 use crate::kortex::ReferenceFrame;
 use crate::link::interface::{ArmCommand, StepMove};
 
-/// How much one speed key changes the speed, percent.
-const SPEED_STEP: u8 = 10;
-
 /// The keys the console knows whatever the keymap: ctrl+c quits, and dialogs and forms answer
 /// these.
 const CTRL_C: KeyName = KeyName::char('c').with_ctrl();
@@ -230,11 +227,7 @@ impl App {
             A::StepSmaller => self.step.index = self.step.index.saturating_sub(1),
             A::SpeedUp | A::SpeedDown => {
                 let current = self.speed.unwrap_or(crate::link::driver::INITIAL_SPEED);
-                let speed = if action == A::SpeedUp {
-                    current.saturating_add(SPEED_STEP).min(100)
-                } else {
-                    current.saturating_sub(SPEED_STEP).max(1)
-                };
+                let speed = super::next_speed(current, action == A::SpeedUp);
                 effects.push(Effect::Arm(ArmCommand::SetSpeed(speed)));
             }
             A::FrameCycle => {

@@ -16,6 +16,7 @@ mod jog_keys;
 mod keys;
 mod motion_truth;
 mod named;
+mod speed_steps;
 
 pub use arm_state::{abort_reason, age_text, at_rest, fault_reason};
 pub use book_load::{BookState, CHECKED_ON_CONNECT};
@@ -25,6 +26,7 @@ pub use motion_truth::{
     ACTION_TIMEOUT, ActionKind, MotionShown, MotionTruth, NO_TELEMETRY_ACTION_TIME, STALE_AFTER,
     STOP_GRACE, TrackedAction,
 };
+pub use speed_steps::{SPEED_STEPS, next_speed};
 
 use std::collections::VecDeque;
 use std::sync::Arc;
