@@ -14,6 +14,7 @@ mod console_app;
 mod console_book_load;
 mod console_e2e;
 mod console_jog_keys;
+mod console_messages;
 mod console_truth;
 mod console_truth_e2e;
 mod console_truth_ui;

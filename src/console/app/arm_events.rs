@@ -3,6 +3,7 @@
 
 use std::time::Instant;
 
+use super::message::Until;
 use super::{App, Effect, Overlay, Severity};
 use crate::link::interface::{ArmEvent, CommandKind, GuardStatus, LinkStatus, LogEntry};
 
@@ -12,13 +13,15 @@ const LOG_CAPACITY: usize = 500;
 impl App {
     pub(super) fn on_arm(&mut self, event: ArmEvent, now: Instant, effects: &mut Vec<Effect>) {
         self.truth_on_arm(&event, now);
+        self.messages_on_arm(&event);
         match event {
             ArmEvent::Status(status) => {
                 if let LinkStatus::Down { reason } = &status {
                     // Stop through whatever link is left; the held keys stay latched so nothing
                     // restarts when the link comes back.
                     self.stop_jog(now, effects);
-                    self.say(format!("link lost: {reason}"), Severity::Error, now);
+                    let text = format!("link lost: {reason}");
+                    self.say_until(text, Severity::Error, Until::LinkUp, now);
                 }
                 let came_up = matches!(status, LinkStatus::Up { .. })
                     && !matches!(self.link, LinkStatus::Up { .. });
@@ -61,7 +64,9 @@ impl App {
                 if command == CommandKind::Jog {
                     self.stop_jog(now, effects);
                 }
-                self.say(format!("{command} failed: {error}"), Severity::Error, now);
+                let until = Until::failure(command, &error);
+                let text = format!("{command} failed: {error}");
+                self.say_until(text, Severity::Error, until, now);
             }
             ArmEvent::Position { name, coordinates } => {
                 // A reply about a name no longer in the book (deleted meanwhile) adds nothing:
@@ -103,9 +108,10 @@ impl App {
                     self.stop_jog(now, effects);
                 }
                 if let GuardStatus::Down { reason } = &status {
-                    self.say(
+                    self.say_until(
                         format!("stop guard down, no motion until it is back: {reason}"),
                         Severity::Error,
+                        Until::GuardReady,
                         now,
                     );
                 }

@@ -3,6 +3,7 @@
 
 use std::time::Instant;
 
+use super::message::Until;
 use super::{App, CARTESIAN_STEPS, Effect, KeyInput, Overlay, Severity};
 use crate::console::action::Action;
 use crate::console::form::{Confirm, Form, FormKind};
@@ -99,11 +100,11 @@ impl App {
                 } else {
                     self.latch_jog_key(&key, now, effects);
                     if kind == KeyKind::Press {
-                        let text = match self.link_stale() {
-                            Some(_) => "link stale: not moving",
-                            None => "no link to the arm: not moving",
+                        let (text, until) = match self.link_stale() {
+                            Some(_) => ("link stale: not moving", Until::LinkFresh),
+                            None => ("no link to the arm: not moving", Until::LinkUp),
                         };
-                        self.say(text, Severity::Warning, now);
+                        self.say_until(text, Severity::Warning, until, now);
                     }
                 }
             }
@@ -206,9 +207,10 @@ impl App {
             A::QuickStop => {
                 self.jog.stop_all(now);
                 effects.push(Effect::Arm(ArmCommand::QuickStop));
-                self.say(
+                self.say_until(
                     "quick stop: reset the fault before moving again",
                     Severity::Warning,
+                    Until::fault(None, false),
                     now,
                 );
             }

@@ -14,6 +14,7 @@ mod book_load;
 mod coords;
 mod jog_keys;
 mod keys;
+mod message;
 mod motion_truth;
 mod named;
 mod speed_steps;
@@ -44,8 +45,6 @@ use crate::link::interface::{
 /// Below this the status bar cannot be shown: motion stops and the screen says so.
 pub const MIN_WIDTH: u16 = 40;
 pub const MIN_HEIGHT: u16 = 10;
-/// How long a status message stays.
-const MESSAGE_TIME: Duration = Duration::from_secs(6);
 /// Cartesian steps, tenths of millimetres; polar steps, degrees.
 const CARTESIAN_STEPS: [i32; 6] = [1, 10, 50, 100, 500, 1000];
 const POLAR_STEPS: [i32; 5] = [1, 2, 5, 10, 30];
@@ -149,7 +148,8 @@ pub struct App {
     config: AppConfig,
     jog: JogEngine,
     overlay: Overlay,
-    message: Option<(String, Severity, Instant)>,
+    /// The bottom line, each message tied to what ends it.
+    messages: message::Messages,
     link: LinkStatus,
     telemetry: Option<Telemetry>,
     telemetry_source: TelemetrySource,
@@ -186,7 +186,7 @@ impl App {
             config,
             jog,
             overlay: Overlay::None,
-            message: None,
+            messages: message::Messages::default(),
             link: LinkStatus::Connecting,
             telemetry: None,
             telemetry_source: TelemetrySource::None,
@@ -223,7 +223,7 @@ impl App {
 
     /// When the runtime must next send [`Input::Tick`].
     pub fn next_deadline(&self) -> Option<Instant> {
-        let message = self.message.as_ref().map(|(_, _, at)| *at + MESSAGE_TIME);
+        let message = self.messages.deadline();
         self.jog
             .next_deadline()
             .into_iter()
@@ -250,13 +250,6 @@ impl App {
             Input::Tick => {
                 let jog = self.jog.tick(now);
                 self.apply_jog(jog, now, &mut effects);
-                if self
-                    .message
-                    .as_ref()
-                    .is_some_and(|(_, _, at)| now >= *at + MESSAGE_TIME)
-                {
-                    self.message = None;
-                }
             }
             Input::Arm(event) => self.on_arm(event, now, &mut effects),
             Input::Signal(name) => {
@@ -271,12 +264,15 @@ impl App {
         }
         self.truth_after(goto, now, &mut effects);
         self.hold_saves_until_loaded(now, &mut effects);
+        self.settle_messages(now);
         effects
     }
 
-    /// Shows a message on the bottom line (also used by the runtime, e.g. for file errors).
+    /// Shows a notice on the bottom line for a while (also used by the runtime, e.g. for file
+    /// errors). A message about a state uses `say_until` instead.
     pub fn say(&mut self, text: impl Into<String>, severity: Severity, now: Instant) {
-        self.message = Some((text.into(), severity, now));
+        let until = message::Until::TimeOut { done: None };
+        self.say_until(text, severity, until, now);
     }
 
     /// Stops a jog in progress; the jog keys still down stay latched until released.
