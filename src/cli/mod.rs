@@ -2,12 +2,14 @@
 
 pub mod console;
 pub mod guard;
+mod hw_text;
 pub mod modbus;
 mod outcome;
 pub mod output;
 pub mod send;
 pub mod sim;
 pub mod status;
+pub mod units;
 
 use clap::{Parser, Subcommand};
 
