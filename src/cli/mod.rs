@@ -4,12 +4,14 @@ mod anywhere;
 pub mod console;
 pub mod generate;
 pub mod guard;
+mod hw_text;
 pub mod modbus;
 mod outcome;
 pub mod output;
 pub mod send;
 pub mod sim;
 pub mod status;
+pub mod units;
 pub mod values;
 
 use clap::{Parser, Subcommand};

@@ -371,6 +371,9 @@ fn render(args: &SendArgs, exchange: &Exchange) -> Vec<String> {
         return vec![to_json(exchange, args.hex).to_string()];
     }
     let mut lines = vec![describe(exchange)];
+    if let Some(reply) = decoded_hardware_reply(exchange) {
+        lines.extend(super::hw_text::lines(&reply));
+    }
     if args.hex {
         lines.push(format!("sent     {}", spaced_hex(&exchange.request_bytes)));
         lines.push(format!("received {}", spaced_hex(&exchange.reply_bytes)));
@@ -385,13 +388,7 @@ fn reply_fields(exchange: &Exchange) -> Map<String, Value> {
         Answer::Reply(reply) => match serde_json::to_value(reply) {
             Ok(Value::Object(mut map)) => {
                 map.remove("return_code");
-                if let crate::talos::Reply::HardwareOperation {
-                    subcommand,
-                    payload,
-                    return_code,
-                } = reply
-                    && return_code.is_ok()
-                    && let Ok(decoded) = HwReply::decode(*subcommand, payload)
+                if let Some(decoded) = decoded_hardware_reply(exchange)
                     && let Ok(value) = serde_json::to_value(&decoded)
                 {
                     map.insert("decoded".into(), value);
@@ -404,7 +401,20 @@ fn reply_fields(exchange: &Exchange) -> Map<String, Value> {
     }
 }
 
-/// One readable line: command, id, outcome, fields, latency.
+/// A successful hardware operation's reply payload, decoded by the companion ICD.
+fn decoded_hardware_reply(exchange: &Exchange) -> Option<HwReply> {
+    match &exchange.answer {
+        Answer::Reply(crate::talos::Reply::HardwareOperation {
+            subcommand,
+            payload,
+            return_code,
+        }) if return_code.is_ok() => HwReply::decode(*subcommand, payload).ok(),
+        _ => None,
+    }
+}
+
+/// One readable line: command, id, outcome, fields, latency. A decoded hardware reply's payload
+/// is left to the lines under it (see `hw_text`).
 pub fn describe(exchange: &Exchange) -> String {
     let command = exchange.request.command();
     let outcome = match exchange.answer {
@@ -412,7 +422,13 @@ pub fn describe(exchange: &Exchange) -> String {
         Answer::Reply(_) => exchange.return_code().to_string(),
     };
     let mut line = format!("{command} (id {}): {outcome}", exchange.id);
+    let decoded = decoded_hardware_reply(exchange).is_some();
     for (key, value) in reply_fields(exchange) {
+        // An empty payload says nothing; a decoded one is shown on the lines below.
+        let empty = value.as_str().is_some_and(str::is_empty);
+        if empty || (decoded && matches!(key.as_str(), "decoded" | "payload")) {
+            continue;
+        }
         let shown = match value {
             Value::String(s) => s,
             other => other.to_string(),

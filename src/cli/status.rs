@@ -1,13 +1,14 @@
 //! `armjog status`: one complete snapshot of a Kinova arm over Modbus, as a table or JSON, once
 //! or repeatedly.
 
-use std::time::Duration;
+use std::time::{Duration, SystemTime};
 
 use clap::Args;
 
 use super::Outcome;
 use super::modbus::ArmAddress;
 use super::output::{self, Printed};
+use super::units::{fixed, linear_speed, rfc3339_utc};
 use crate::kortex::{CodeName, Flag, FlagSet, Telemetry};
 use crate::link::ModbusLink;
 
@@ -21,7 +22,8 @@ pub struct StatusArgs {
     /// Print one JSON object (one per line with --watch) instead of a table.
     #[arg(long)]
     pub json: bool,
-    /// Keep printing snapshots, HZ a second (1 if no value), until interrupted.
+    /// Keep printing snapshots, HZ a second (1 if no value), until interrupted. Every line
+    /// starts with the time of its snapshot (RFC 3339, UTC); JSON objects get a "time" field.
     #[arg(
         long,
         value_name = "HZ",
@@ -67,7 +69,7 @@ pub async fn run(args: &StatusArgs) -> Outcome {
         }
         match link.read_telemetry().await {
             Ok(telemetry) => {
-                let mut lines = render(&telemetry, args.json);
+                let mut lines = watch_lines(&telemetry, args.json, SystemTime::now());
                 if !args.json {
                     // A blank line between tables.
                     lines.push(String::new());
@@ -106,6 +108,28 @@ pub fn render(telemetry: &Telemetry, json: bool) -> Vec<String> {
     table(telemetry)
 }
 
+/// A `--watch` snapshot taken at `at`: each table line starts with the time, or the JSON object
+/// has a `"time"` field (both RFC 3339, UTC, milliseconds).
+pub fn watch_lines(telemetry: &Telemetry, json: bool, at: SystemTime) -> Vec<String> {
+    let time = rfc3339_utc(at);
+    if json {
+        return match serde_json::to_value(telemetry) {
+            Ok(serde_json::Value::Object(mut object)) => {
+                object.insert("time".into(), serde_json::Value::String(time));
+                vec![serde_json::Value::Object(object).to_string()]
+            }
+            Ok(_) => vec![format!(
+                "{{\"time\":\"{time}\",\"error\":\"not an object\"}}"
+            )],
+            Err(e) => vec![format!("{{\"time\":\"{time}\",\"error\":\"{e}\"}}")],
+        };
+    }
+    table(telemetry)
+        .into_iter()
+        .map(|line| format!("{time}  {line}"))
+        .collect()
+}
+
 fn flag_list(flags: FlagSet) -> String {
     if flags.is_empty() {
         return "none".into();
@@ -131,56 +155,75 @@ pub fn table(t: &Telemetry) -> Vec<String> {
         && t.robot_state.known() != Some(from_inputs)
     {
         lines.push(format!(
-            "              (discrete inputs 0-9 say {from_inputs})"
+            "              but the arm state inputs (discrete inputs 0-9) say {from_inputs}"
         ));
     }
     lines.push(format!("faults        {}", flag_list(t.faults)));
     lines.push(format!("warnings      {}", flag_list(t.warnings)));
+    let f = |v: f32, decimals: usize| fixed(f64::from(v), decimals);
     lines.push(format!(
-        "arm           current {:.3} A   voltage {:.3} V   cpu {:.1} C   ambient {:.1} C",
-        t.arm.current, t.arm.voltage, t.arm.cpu_temperature, t.arm.ambient_temperature
+        "arm           current {} A   voltage {} V   cpu {} C   ambient {} C",
+        f(t.arm.current, 3),
+        f(t.arm.voltage, 3),
+        f(t.arm.cpu_temperature, 1),
+        f(t.arm.ambient_temperature, 1)
     ));
     lines.push(format!(
         "action        {}   id {}   move type {}",
         t.action.status, t.action.id, t.action.move_type
     ));
     lines.push(format!(
-        "speed limits  linear {:.3} m/s   angular {:.1} deg/s",
-        t.speed_limits.linear, t.speed_limits.angular
+        "speed limits  linear {}   angular {} deg/s",
+        linear_speed(f64::from(t.speed_limits.linear)),
+        f(t.speed_limits.angular, 1)
     ));
-    // The ICD gives register 0 no meaning beyond a list of the coils' actions.
-    lines.push(format!(
-        "holding reg 0 {} (the ICD lists 0 quick_stop, 1 abort, 2 fault_reset)",
-        t.control.code()
-    ));
+    // Holding register 0 (`t.control`) is left out: the ICD gives it no meaning beyond a list
+    // of the coils' actions, so no words could say what its value means.
     lines.push(
         "joint  position deg  velocity deg/s  torque N m  current A  temperature C".to_string(),
     );
     for (i, j) in t.joints.iter().enumerate() {
         lines.push(format!(
-            "{:>5}  {:>12.3}  {:>14.3}  {:>10.3}  {:>9.3}  {:>13.1}",
+            "{:>5}  {:>12}  {:>14}  {:>10}  {:>9}  {:>13}",
             i + 1,
-            j.position,
-            j.velocity,
-            j.torque,
-            j.current,
-            j.temperature
+            f(j.position, 3),
+            f(j.velocity, 3),
+            f(j.torque, 3),
+            f(j.current, 3),
+            f(j.temperature, 1)
         ));
     }
     let p = t.tcp.pose;
+    let mm = |m: f32| fixed(f64::from(m) * 1000.0, 1);
     lines.push(format!(
-        "tcp pose      x {:.4} m   y {:.4} m   z {:.4} m   theta x {:.2}   y {:.2}   z {:.2} deg",
-        p.x, p.y, p.z, p.theta_x, p.theta_y, p.theta_z
+        "tcp pose      x {} mm   y {} mm   z {} mm   theta x {}   y {}   z {} deg",
+        mm(p.x),
+        mm(p.y),
+        mm(p.z),
+        f(p.theta_x, 2),
+        f(p.theta_y, 2),
+        f(p.theta_z, 2)
     ));
     let v = t.tcp.twist;
+    let speed = |m_s: f32| linear_speed(f64::from(m_s));
     lines.push(format!(
-        "tcp twist     x {:.4}   y {:.4}   z {:.4} m/s   theta x {:.2}   y {:.2}   z {:.2} deg/s",
-        v.x, v.y, v.z, v.theta_x, v.theta_y, v.theta_z
+        "tcp twist     x {}   y {}   z {}   theta x {}   y {}   z {} deg/s",
+        speed(v.x),
+        speed(v.y),
+        speed(v.z),
+        f(v.theta_x, 2),
+        f(v.theta_y, 2),
+        f(v.theta_z, 2)
     ));
     let w = t.tcp.wrench;
     lines.push(format!(
-        "tcp wrench    force x {:.2}   y {:.2}   z {:.2} N   torque x {:.3}   y {:.3}   z {:.3} N m",
-        w.force_x, w.force_y, w.force_z, w.torque_x, w.torque_y, w.torque_z
+        "tcp wrench    force x {}   y {}   z {} N   torque x {}   y {}   z {} N m",
+        f(w.force_x, 2),
+        f(w.force_y, 2),
+        f(w.force_z, 2),
+        f(w.torque_x, 3),
+        f(w.torque_y, 3),
+        f(w.torque_z, 3)
     ));
     lines
 }

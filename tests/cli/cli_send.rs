@@ -310,6 +310,59 @@ async fn a_hardware_reply_is_decoded_by_the_companion_icd() {
 }
 
 #[tokio::test(flavor = "multi_thread")]
+async fn a_hardware_reply_as_text_is_formatted_with_units() {
+    use armjog::sim::{SimConfig, Simulator};
+    let sim = Simulator::start(SimConfig::ephemeral()).await.unwrap();
+    let addr = sim.talos_addr.to_string();
+    let run = armjog(&["send", "--talos", &addr, "hw-op", "--sub", "3"]).await;
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let out = &run.stdout;
+    let first = out.lines().next().unwrap_or_default();
+    assert!(
+        first.starts_with("hw_op (id 0): 0x0000 OK subcommand=3 ["),
+        "{out}"
+    );
+    assert!(
+        !out.contains('{') && !out.contains("payload="),
+        "no raw JSON or hex: {out}"
+    );
+    assert!(out.contains("  robot state   ready"), "{out}");
+    assert!(
+        out.contains("  tcp pose      x 456.6 mm   y 1.0 mm   z 433.8 mm"),
+        "{out}"
+    );
+    assert!(out.contains("tcp twist     x 0.0 mm/s"), "{out}");
+    // No float printed with more than three decimals.
+    let long_decimals = out
+        .split(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .any(|n| {
+            n.split_once('.')
+                .is_some_and(|(_, decimals)| decimals.len() > 3)
+        });
+    assert!(!long_decimals, "{out}");
+
+    let run = armjog(&[
+        "send",
+        "--talos",
+        &addr,
+        "hw-op",
+        "--sub",
+        "1",
+        "--payload",
+        "00",
+    ])
+    .await;
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let rows: Vec<&str> = run.stdout.lines().skip(2).take(7).collect();
+    assert_eq!(rows.len(), 7, "{}", run.stdout);
+    assert!(
+        rows[1].trim_start().starts_with("2        15.000"),
+        "{}",
+        run.stdout
+    );
+}
+
+#[tokio::test(flavor = "multi_thread")]
 async fn an_error_return_code_exits_non_zero_with_a_reason() {
     let op = operator(Checksum::Crc16).await;
     let run = armjog(&["send", "--talos", &op.addr, "--json", "goto", "missing"]).await;

@@ -57,7 +57,16 @@ async fn status_prints_a_readable_table() {
     );
     assert!(out.contains("voltage 24.000 V"), "{out}");
     assert!(out.contains("action        completed (1)   id 2   move type twist (3)"));
-    assert!(out.contains("x 0.4566 m"), "{out}");
+    assert!(out.contains("x 456.6 mm   y 1.0 mm   z 433.8 mm"), "{out}");
+    // Speeds below 1 m/s in mm/s.
+    assert!(
+        out.contains("tcp twist     x 250.0 mm/s   y -500.0 mm/s   z 125.0 mm/s"),
+        "{out}"
+    );
+    assert!(out.contains("speed limits  linear 500.0 mm/s"), "{out}");
+    // Holding register 0 has no meaning the ICD gives: not shown.
+    assert!(!out.contains("holding reg"), "{out}");
+    assert!(!out.contains("-0.0"), "no negative zero: {out}");
     // Seven joint rows: joint 7's temperature is 56.0.
     let joint7 = out
         .lines()
@@ -117,7 +126,64 @@ async fn status_watch_keeps_printing() {
             .unwrap();
         let v: Value = serde_json::from_str(&line).unwrap();
         assert_eq!(v["robot_state"], "ready");
+        let time = v["time"].as_str().expect("a time field");
+        assert!(is_rfc3339_utc(time), "{time}");
     }
+    child.kill().await.unwrap();
+}
+
+/// `2026-11-30T22:54:05.942Z`: RFC 3339, UTC, milliseconds.
+fn is_rfc3339_utc(text: &str) -> bool {
+    let b = text.as_bytes();
+    let digits = |range: std::ops::Range<usize>| b[range].iter().all(u8::is_ascii_digit);
+    b.len() == 24
+        && digits(0..4)
+        && b[4] == b'-'
+        && digits(5..7)
+        && b[7] == b'-'
+        && digits(8..10)
+        && b[10] == b'T'
+        && digits(11..13)
+        && b[13] == b':'
+        && digits(14..16)
+        && b[16] == b':'
+        && digits(17..19)
+        && b[19] == b'.'
+        && digits(20..23)
+        && b[23] == b'Z'
+}
+
+#[tokio::test]
+async fn every_status_watch_line_starts_with_its_time() {
+    let arm = known_arm().await;
+    let mut child = command(&["status", "--modbus", &arm.addr(), "--watch", "20"])
+        .stdout(Stdio::piped())
+        .kill_on_drop(true)
+        .spawn()
+        .unwrap();
+    let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
+    let mut tables = 0;
+    let mut times = Vec::new();
+    while tables < 2 {
+        let line = tokio::time::timeout(Duration::from_secs(5), lines.next_line())
+            .await
+            .unwrap()
+            .unwrap()
+            .unwrap();
+        if line.is_empty() {
+            // The blank line between tables.
+            tables += 1;
+            continue;
+        }
+        let (time, rest) = line.split_at_checked(24).expect("a time first");
+        assert!(is_rfc3339_utc(time), "{line}");
+        assert!(rest.starts_with("  "), "{line}");
+        times.push(time.to_string());
+        if rest.trim_start().starts_with("robot state") {
+            assert_eq!(rest, "  robot state   ready (7)");
+        }
+    }
+    assert!(times.windows(2).all(|w| w[0] <= w[1]), "{times:?}");
     child.kill().await.unwrap();
 }
 

@@ -295,16 +295,32 @@ fn step_mode_sends_one_discrete_move_per_press() {
 }
 
 #[test]
-fn speed_keys_change_the_speed_in_tens() {
+fn speed_keys_walk_the_speed_steps() {
     let (mut app, t0) = app(ReleaseMode::Reported, true);
     app.handle(Input::Arm(ArmEvent::Speed(50)), t0);
     assert_eq!(
         press(&mut app, "+", t0),
-        [Effect::Arm(ArmCommand::SetSpeed(60))]
+        [Effect::Arm(ArmCommand::SetSpeed(75))]
     );
     assert_eq!(
         press(&mut app, "-", t0),
-        [Effect::Arm(ArmCommand::SetSpeed(40))]
+        [Effect::Arm(ArmCommand::SetSpeed(25))]
+    );
+    // The speed changes only once the arm says so: from 10 % the steps are fine.
+    app.handle(Input::Arm(ArmEvent::Speed(10)), t0);
+    assert_eq!(
+        press(&mut app, "-", t0),
+        [Effect::Arm(ArmCommand::SetSpeed(5))]
+    );
+    // A speed between steps (another client set it) goes to the next step each way.
+    app.handle(Input::Arm(ArmEvent::Speed(33)), t0);
+    assert_eq!(
+        press(&mut app, "+", t0),
+        [Effect::Arm(ArmCommand::SetSpeed(50))]
+    );
+    assert_eq!(
+        press(&mut app, "-", t0),
+        [Effect::Arm(ArmCommand::SetSpeed(25))]
     );
 }
 

@@ -16,6 +16,7 @@ mod console_book_load;
 mod console_e2e;
 mod console_jog_keys;
 mod console_logs_e2e;
+mod console_messages;
 mod console_truth;
 mod console_truth_e2e;
 mod console_truth_ui;

@@ -31,9 +31,10 @@ impl App {
 
     /// The message on the bottom line and how bad it is.
     pub fn message(&self) -> Option<(&str, Severity)> {
-        self.message
+        self.messages
+            .shown
             .as_ref()
-            .map(|(text, severity, _)| (text.as_str(), *severity))
+            .map(|m| (m.text.as_str(), m.severity))
     }
 
     pub fn link(&self) -> &LinkStatus {

@@ -3,6 +3,7 @@
 
 use std::time::Instant;
 
+use super::message::Until;
 use super::{App, Effect, Overlay, Severity};
 use crate::link::interface::{ArmEvent, CommandKind, GuardStatus, LinkStatus, LogEntry};
 
@@ -12,6 +13,7 @@ const LOG_CAPACITY: usize = 500;
 impl App {
     pub(super) fn on_arm(&mut self, event: ArmEvent, now: Instant, effects: &mut Vec<Effect>) {
         self.truth_on_arm(&event, now);
+        self.messages_on_arm(&event);
         if self.edits_on_arm(&event, now, effects) {
             return;
         }
@@ -21,7 +23,8 @@ impl App {
                     // Stop through whatever link is left; the held keys stay latched so nothing
                     // restarts when the link comes back.
                     self.stop_jog(now, effects);
-                    self.say(format!("link lost: {reason}"), Severity::Error, now);
+                    let text = format!("link lost: {reason}");
+                    self.say_until(text, Severity::Error, Until::LinkUp, now);
                 }
                 let came_up = matches!(status, LinkStatus::Up { .. })
                     && !matches!(self.link, LinkStatus::Up { .. });
@@ -67,7 +70,9 @@ impl App {
                 if self.position_failed(command, &error, now) {
                     return;
                 }
-                self.say(format!("{command} failed: {error}"), Severity::Error, now);
+                let until = Until::failure(command, &error);
+                let text = format!("{command} failed: {error}");
+                self.say_until(text, Severity::Error, until, now);
             }
             ArmEvent::Position { name, coordinates } => {
                 // A reply about a name no longer in the book (deleted meanwhile) adds nothing:
@@ -109,9 +114,10 @@ impl App {
                     self.stop_jog(now, effects);
                 }
                 if let GuardStatus::Down { reason } = &status {
-                    self.say(
+                    self.say_until(
                         format!("stop guard down, no motion until it is back: {reason}"),
                         Severity::Error,
+                        Until::GuardReady,
                         now,
                     );
                 }

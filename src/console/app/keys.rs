@@ -3,6 +3,7 @@
 
 use std::time::Instant;
 
+use super::message::Until;
 use super::{App, CARTESIAN_STEPS, Effect, KeyInput, Overlay, Severity};
 use crate::console::action::Action;
 use crate::console::form::{Confirm, Form, FormKind};
@@ -10,9 +11,6 @@ use crate::console::jog::{KeyKind, MAX_ONSET, ReleaseMode};
 use crate::console::keymap::{BaseKey, KeyName, NamedKey};
 use crate::kortex::ReferenceFrame;
 use crate::link::interface::{ArmCommand, StepMove};
-
-/// How much one speed key changes the speed, percent.
-const SPEED_STEP: u8 = 10;
 
 /// The keys the console knows whatever the keymap: ctrl+c quits, and dialogs and forms answer
 /// these.
@@ -109,11 +107,11 @@ impl App {
                 } else {
                     self.latch_jog_key(&key, now, effects);
                     if kind == KeyKind::Press {
-                        let text = match self.link_stale() {
-                            Some(_) => "link stale: not moving",
-                            None => "no link to the arm: not moving",
+                        let (text, until) = match self.link_stale() {
+                            Some(_) => ("link stale: not moving", Until::LinkFresh),
+                            None => ("no link to the arm: not moving", Until::LinkUp),
                         };
-                        self.say(text, Severity::Warning, now);
+                        self.say_until(text, Severity::Warning, until, now);
                     }
                 }
             }
@@ -216,9 +214,10 @@ impl App {
             A::QuickStop => {
                 self.jog.stop_all(now);
                 effects.push(Effect::Arm(ArmCommand::QuickStop));
-                self.say(
+                self.say_until(
                     "quick stop: reset the fault before moving again",
                     Severity::Warning,
+                    Until::fault(None, false),
                     now,
                 );
             }
@@ -237,11 +236,7 @@ impl App {
             A::StepSmaller => self.step.index = self.step.index.saturating_sub(1),
             A::SpeedUp | A::SpeedDown => {
                 let current = self.speed.unwrap_or(crate::link::driver::INITIAL_SPEED);
-                let speed = if action == A::SpeedUp {
-                    current.saturating_add(SPEED_STEP).min(100)
-                } else {
-                    current.saturating_sub(SPEED_STEP).max(1)
-                };
+                let speed = super::next_speed(current, action == A::SpeedUp);
                 effects.push(Effect::Arm(ArmCommand::SetSpeed(speed)));
             }
             A::FrameCycle => {

@@ -16,9 +16,11 @@ mod edits;
 mod form_keys;
 mod jog_keys;
 mod keys;
+mod message;
 mod motion_truth;
 mod named;
 mod resave;
+mod speed_steps;
 
 pub use arm_state::{abort_reason, age_text, at_rest, fault_reason};
 pub use book_load::{BookState, CHECKED_ON_CONNECT};
@@ -29,6 +31,7 @@ pub use motion_truth::{
     STOP_GRACE, TrackedAction,
 };
 pub use resave::RESAVE_GO_WITHIN;
+pub use speed_steps::{SPEED_STEPS, next_speed};
 
 use std::collections::VecDeque;
 use std::sync::Arc;
@@ -46,8 +49,6 @@ use crate::link::interface::{
 /// Below this the status bar cannot be shown: motion stops and the screen says so.
 pub const MIN_WIDTH: u16 = 40;
 pub const MIN_HEIGHT: u16 = 10;
-/// How long a status message stays.
-const MESSAGE_TIME: Duration = Duration::from_secs(6);
 /// Cartesian steps, tenths of millimetres; polar steps, degrees.
 const CARTESIAN_STEPS: [i32; 6] = [1, 10, 50, 100, 500, 1000];
 const POLAR_STEPS: [i32; 5] = [1, 2, 5, 10, 30];
@@ -151,7 +152,8 @@ pub struct App {
     config: AppConfig,
     jog: JogEngine,
     overlay: Overlay,
-    message: Option<(String, Severity, Instant)>,
+    /// The bottom line, each message tied to what ends it.
+    messages: message::Messages,
     link: LinkStatus,
     telemetry: Option<Telemetry>,
     telemetry_source: TelemetrySource,
@@ -199,7 +201,7 @@ impl App {
             config,
             jog,
             overlay: Overlay::None,
-            message: None,
+            messages: message::Messages::default(),
             link: LinkStatus::Connecting,
             telemetry: None,
             telemetry_source: TelemetrySource::None,
@@ -242,7 +244,7 @@ impl App {
 
     /// When the runtime must next send [`Input::Tick`].
     pub fn next_deadline(&self) -> Option<Instant> {
-        let message = self.message.as_ref().map(|(_, _, at)| *at + MESSAGE_TIME);
+        let message = self.messages.deadline();
         self.jog
             .next_deadline()
             .into_iter()
@@ -270,13 +272,6 @@ impl App {
             Input::Tick => {
                 let jog = self.jog.tick(now);
                 self.apply_jog(jog, now, &mut effects);
-                if self
-                    .message
-                    .as_ref()
-                    .is_some_and(|(_, _, at)| now >= *at + MESSAGE_TIME)
-                {
-                    self.message = None;
-                }
             }
             Input::Arm(event) => self.on_arm(event, now, &mut effects),
             Input::Signal(name) => {
@@ -291,12 +286,15 @@ impl App {
         }
         self.truth_after(goto, now, &mut effects);
         self.hold_saves_until_loaded(now, &mut effects);
+        self.settle_messages(now);
         effects
     }
 
-    /// Shows a message on the bottom line (also used by the runtime, e.g. for file errors).
+    /// Shows a notice on the bottom line for a while (also used by the runtime, e.g. for file
+    /// errors). A message about a state uses `say_until` instead.
     pub fn say(&mut self, text: impl Into<String>, severity: Severity, now: Instant) {
-        self.message = Some((text.into(), severity, now));
+        let until = message::Until::TimeOut { done: None };
+        self.say_until(text, severity, until, now);
     }
 
     /// Stops a jog in progress; the jog keys still down stay latched until released.

@@ -22,6 +22,7 @@ use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
 use super::arm_state::{AGE_TENTHS_UNTIL, abort_reason, age_text, at_rest, fault_reason};
+use super::message::Until;
 use super::{App, Effect, Overlay, Severity};
 use crate::console::form::Confirm;
 use crate::console::jog::JogMotion;
@@ -163,6 +164,11 @@ impl MotionTruth {
     pub fn stale_after(&self) -> Duration {
         let period = self.intervals.iter().min().copied().unwrap_or_default();
         STALE_AFTER.max(period * 3)
+    }
+
+    /// The last STOP did not get through and none has been confirmed since.
+    pub(super) fn stop_unconfirmed(&self) -> bool {
+        self.stop_failure.is_some()
     }
 
     fn expects_telemetry(&self) -> bool {
@@ -414,11 +420,12 @@ impl App {
                 self.truth.stop_needed = true;
             }
             ArmEvent::StopUnconfirmed { reason } => {
-                self.say(
+                self.say_until(
                     format!(
                         "STOP NOT CONFIRMED: {reason}. The arm may still be moving: use its e-stop"
                     ),
                     Severity::Error,
+                    Until::StopConfirmed,
                     now,
                 );
             }
@@ -454,11 +461,18 @@ impl App {
             t.warnings.contains(Flag::JointFault) && (action.seen_motion || !action.warned_before);
         let aborted = (status_current && t.action.status == Coded::Known(ActionStatus::Aborted))
             || (rest && joint_fault);
-        let failure = fault_reason(t).or_else(|| aborted.then(|| abort_reason(t)));
+        let fault = fault_reason(t);
+        // A fault's message stays until the fault is gone; an abort's is a notice.
+        let until = match fault {
+            Some(_) => Until::fault(None, true),
+            None => Until::TimeOut { done: None },
+        };
+        let failure = fault.or_else(|| aborted.then(|| abort_reason(t)));
         if let Some(reason) = failure {
             self.truth.action = None;
             self.truth.stop_needed = true;
-            self.say(format!("{verb} failed: {reason}"), Severity::Error, now);
+            let text = format!("{verb} failed: {reason}");
+            self.say_until(text, Severity::Error, until, now);
             return;
         }
         let done = rest
@@ -488,7 +502,8 @@ impl App {
             let asked = effects.len();
             effects.retain(|e| !matches!(e, Effect::Arm(command) if starts_motion(command)));
             if effects.len() != asked {
-                self.say("link stale: not moving", Severity::Warning, now);
+                let text = "link stale: not moving";
+                self.say_until(text, Severity::Warning, Until::LinkFresh, now);
             }
             // An action the console can no longer watch is stopped like a jog: the arm must
             // not go on moving unseen.
@@ -497,12 +512,13 @@ impl App {
             }
             if self.jog.is_jogging() {
                 self.stop_jog(now, effects);
-                self.say(
+                self.say_until(
                     format!(
                         "link stale: no word from the arm for {}: jog stopped",
                         age_text(age)
                     ),
                     Severity::Error,
+                    Until::LinkFresh,
                     now,
                 );
             }

@@ -1,0 +1,206 @@
+//! The bottom line's message, tied to what raised it: a notice ("saved 'pick'") times out, a
+//! message about a state ("link lost", "jog failed: ARM_FAULT", "no link to the arm: not
+//! moving") stays while that state holds and clears when it ends, so the line never contradicts
+//! the status bar.
+//!
+//! A newer message hides an older state message rather than dropping it: once the newer one
+//! has gone, the older one shows again if its state still holds.
+
+use std::time::{Duration, Instant};
+
+use super::{App, Severity, fault_reason};
+use crate::link::interface::{
+    ArmCommand, ArmError, ArmEvent, CommandKind, GuardStatus, LinkStatus, TelemetrySource,
+};
+use crate::talos::ReturnCode;
+
+/// How long a notice stays.
+pub(super) const MESSAGE_TIME: Duration = Duration::from_secs(6);
+
+/// What ends a message.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(super) enum Until {
+    /// A notice: [`MESSAGE_TIME`] after it was said, or sooner once a command of this kind
+    /// goes through (a failure the next attempt made good).
+    TimeOut { done: Option<CommandKind> },
+    /// The link is down or not up yet: ends when it is up.
+    LinkUp,
+    /// The link is stale: ends when the arm is heard from again.
+    LinkFresh,
+    /// The arm is in fault (or quick-stopped): ends when telemetry shows the fault gone after a
+    /// fault was seen or a reset went through; without telemetry, when a reset goes through; or
+    /// when the command that failed for the fault goes through.
+    FaultCleared {
+        failed: Option<CommandKind>,
+        reset_done: bool,
+        fault_seen: bool,
+    },
+    /// The stop guard is down: ends when it is ready.
+    GuardReady,
+    /// A STOP did not get through: ends when a STOP is confirmed.
+    StopConfirmed,
+}
+
+impl Until {
+    /// A fault's message, waiting for the fault to clear.
+    pub(super) fn fault(failed: Option<CommandKind>, fault_seen: bool) -> Until {
+        Until::FaultCleared {
+            failed,
+            reset_done: false,
+            fault_seen,
+        }
+    }
+
+    /// What ends the message of a command that failed with `error`.
+    pub(super) fn failure(command: CommandKind, error: &ArmError) -> Until {
+        match error {
+            ArmError::ReturnCode(ReturnCode::ARM_FAULT) => Until::fault(Some(command), false),
+            _ => Until::TimeOut {
+                done: Some(command),
+            },
+        }
+    }
+
+    fn is_notice(&self) -> bool {
+        matches!(self, Until::TimeOut { .. })
+    }
+}
+
+#[derive(Debug, Clone)]
+pub(super) struct Message {
+    pub(super) text: String,
+    pub(super) severity: Severity,
+    at: Instant,
+    until: Until,
+}
+
+/// The message shown and the state message a newer one hides.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Messages {
+    pub(super) shown: Option<Message>,
+    hidden: Option<Message>,
+}
+
+impl Messages {
+    /// When the shown notice times out.
+    pub(super) fn deadline(&self) -> Option<Instant> {
+        self.shown
+            .as_ref()
+            .filter(|m| m.until.is_notice())
+            .map(|m| m.at + MESSAGE_TIME)
+    }
+
+    fn slots(&mut self) -> impl Iterator<Item = &mut Option<Message>> {
+        [&mut self.shown, &mut self.hidden].into_iter()
+    }
+}
+
+impl App {
+    /// Shows a message that lasts while `until`'s state holds.
+    pub(super) fn say_until(
+        &mut self,
+        text: impl Into<String>,
+        severity: Severity,
+        until: Until,
+        now: Instant,
+    ) {
+        let message = Message {
+            text: text.into(),
+            severity,
+            at: now,
+            until,
+        };
+        let messages = &mut self.messages;
+        if let Some(older) = messages.shown.take()
+            && !older.until.is_notice()
+        {
+            messages.hidden = Some(older);
+        }
+        // One message per state: a newer one about the same state replaces the older.
+        if messages
+            .hidden
+            .as_ref()
+            .is_some_and(|h| h.until == message.until)
+        {
+            messages.hidden = None;
+        }
+        messages.shown = Some(message);
+    }
+
+    /// Arm events that end a message: a command going through, a fault reset, telemetry
+    /// without a fault.
+    pub(super) fn messages_on_arm(&mut self, event: &ArmEvent) {
+        let telemetry_expected = matches!(
+            self.telemetry_source,
+            TelemetrySource::Modbus | TelemetrySource::TalosHardware
+        );
+        for slot in self.messages.slots() {
+            let Some(message) = slot else {
+                continue;
+            };
+            if message_ended(&mut message.until, event, telemetry_expected) {
+                *slot = None;
+            }
+        }
+    }
+
+    /// After every input: messages whose state has ended, and notices past their time, go; a
+    /// hidden state message shows again once nothing newer is shown.
+    pub(super) fn settle_messages(&mut self, now: Instant) {
+        let link_up = matches!(self.link, LinkStatus::Up { .. });
+        let stale = self.link_stale().is_some();
+        let guard_ready = matches!(self.guard, Some(GuardStatus::Ready { .. }));
+        let stop_unconfirmed = self.truth.stop_unconfirmed();
+        let holds = |m: &Message| match m.until {
+            Until::TimeOut { .. } => now < m.at + MESSAGE_TIME,
+            Until::LinkUp => !link_up,
+            Until::LinkFresh => stale,
+            Until::FaultCleared { .. } => true,
+            Until::GuardReady => !guard_ready,
+            Until::StopConfirmed => stop_unconfirmed,
+        };
+        for slot in self.messages.slots() {
+            if slot.as_ref().is_some_and(|m| !holds(m)) {
+                *slot = None;
+            }
+        }
+        if self.messages.shown.is_none() {
+            self.messages.shown = self.messages.hidden.take();
+        }
+    }
+}
+
+/// Whether `event` ends a message waiting for `until` (updating what a fault message has seen).
+fn message_ended(until: &mut Until, event: &ArmEvent, telemetry_expected: bool) -> bool {
+    match (until, event) {
+        (Until::TimeOut { done: Some(kind) }, ArmEvent::Done { command }) => {
+            command.kind() == *kind
+        }
+        (
+            Until::FaultCleared {
+                failed,
+                reset_done,
+                fault_seen,
+            },
+            event,
+        ) => match event {
+            ArmEvent::Done {
+                command: ArmCommand::FaultReset,
+            } => {
+                *reset_done = true;
+                !telemetry_expected
+            }
+            ArmEvent::Done { command } => Some(command.kind()) == *failed,
+            ArmEvent::Telemetry(t) => {
+                if fault_reason(t).is_some() {
+                    *fault_seen = true;
+                    false
+                } else {
+                    *fault_seen || *reset_done
+                }
+            }
+            _ => false,
+        },
+        _ => false,
+    }
+}
