@@ -20,5 +20,6 @@ mod console_truth_ui;
 mod console_ui;
 mod jog_engine;
 mod keymap;
+mod screen_sizes;
 mod speed_settings;
 mod tmux_console;

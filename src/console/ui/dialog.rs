@@ -5,9 +5,15 @@ use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Clear, Paragraph, Wrap};
 
+use super::numbers::fixed;
 use super::theme::Theme;
 use crate::console::app::{Overlay, polar_of};
 use crate::console::view::View;
+
+/// Tenths as a number with one decimal.
+fn tenths(value: i32) -> String {
+    fixed(f64::from(value) / 10.0, 1)
+}
 
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     let (title, lines) = match &view.overlay {
@@ -59,19 +65,19 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
                 Some(c) => {
                     match c.cartesian {
                         Some([x, y, z]) => lines.push(Line::raw(format!(
-                            "cartesian  x {:.1}  y {:.1}  z {:.1} mm",
-                            f64::from(x) / 10.0,
-                            f64::from(y) / 10.0,
-                            f64::from(z) / 10.0
+                            "cartesian  x {}  y {}  z {} mm",
+                            tenths(x),
+                            tenths(y),
+                            tenths(z)
                         ))),
                         None => lines.push(Line::raw("cartesian  unknown")),
                     }
                     match c.polar.or(c.cartesian.map(polar_of)) {
                         Some([d, a, r]) => lines.push(Line::raw(format!(
-                            "polar      elevation {:.1}  azimuth {:.1} deg  radius {:.1} mm",
-                            f64::from(d) / 10.0,
-                            f64::from(a) / 10.0,
-                            f64::from(r) / 10.0
+                            "polar      elevation {}  azimuth {} deg  radius {} mm",
+                            tenths(d),
+                            tenths(a),
+                            tenths(r)
                         ))),
                         None => lines.push(Line::raw("polar      unknown")),
                     }

@@ -8,6 +8,7 @@ use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, List, ListItem, ListState};
 
+use super::numbers;
 use super::theme::Theme;
 use crate::console::app::BookState;
 use crate::console::positions::BookEntry;
@@ -23,26 +24,36 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
         format!(" Positions ({where_}) "),
         theme.title(),
     ));
+    let inner = block.inner(area);
+    // The highlight symbol takes two columns of every row of a list with a selection.
+    let row_width = if view.positions.is_empty() {
+        usize::from(inner.width)
+    } else {
+        usize::from(inner.width).saturating_sub(2)
+    };
     // The book's state first: while it loads, or when it could not be read, the list below
     // holds only what was changed meanwhile.
     let state = match &view.book_state {
         BookState::Ready => None,
         BookState::Loading { file } => Some(Line::styled(
-            format!("loading positions from {file}…"),
+            numbers::elide(&format!("loading positions from {file}…"), row_width),
             theme.dim(),
         )),
         BookState::Failed { error } => Some(Line::styled(
-            format!("not loaded, not saved: {error}"),
+            numbers::elide(&format!("not loaded, not saved: {error}"), row_width),
             theme.alarm(),
         )),
     };
     if view.positions.is_empty() {
-        let line = state
-            .unwrap_or_else(|| Line::styled("none yet: p saves the current pose", theme.dim()));
+        let line = state.unwrap_or_else(|| {
+            Line::styled(
+                numbers::elide("none yet: p saves the current pose", row_width),
+                theme.dim(),
+            )
+        });
         frame.render_widget(List::new([ListItem::new(line)]).block(block), area);
         return;
     }
-    let inner = block.inner(area);
     let header = usize::from(state.is_some());
     let rows = usize::from(inner.height).saturating_sub(header).max(1);
     // The same scrolling as a list drawn whole: the selection on the last row once past the
@@ -53,7 +64,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
         view.positions
             .entries_from(first)
             .take(rows)
-            .map(|(name, entry)| ListItem::new(row(name, entry, theme))),
+            .map(|(name, entry)| ListItem::new(row(name, entry, row_width, theme))),
     );
     let selected = header + view.selected - first;
     let mut list_state = ListState::default().with_selected(Some(selected));
@@ -64,28 +75,61 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     frame.render_stateful_widget(list, area, &mut list_state);
 }
 
-/// One position: the marks first, the coordinates last (a narrow panel cuts the end of the
-/// line).
-fn row<'a>(name: &'a str, entry: &BookEntry, theme: &Theme) -> Line<'a> {
-    let mut spans = vec![Span::raw(name)];
-    if entry.unknown_to_operator {
-        spans.push(Span::styled("  unknown to operator", theme.warning()));
+/// One position in `width` columns: the name, its marks, its coordinates. When that does not
+/// fit, the anchor's parent goes, then the name is elided to keep the coordinates whole, then
+/// the coordinates go whole; the name and a warning that the operator does not know it stay
+/// (elided last of all).
+fn row<'a>(name: &'a str, entry: &BookEntry, width: usize, theme: &Theme) -> Line<'a> {
+    let unknown = entry
+        .unknown_to_operator
+        .then(|| Span::styled(UNKNOWN, theme.warning()));
+    let parent = entry
+        .parent
+        .as_ref()
+        .filter(|_| entry.anchor)
+        .map(|parent| Span::styled(format!("  @{parent}"), theme.accent()));
+    let coordinates = entry.cartesian.map(|[x, y, z]| {
+        let mm = |tenths: i32| numbers::fixed(f64::from(tenths) / 10.0, 0);
+        Span::styled(format!("  {} {} {} mm", mm(x), mm(y), mm(z)), theme.dim())
+    });
+    let name_width = numbers::width(name);
+    let unknown_width = unknown.as_ref().map_or(0, |s| numbers::width(&s.content));
+    let rest = |spans: &[&Option<Span<'static>>]| -> usize {
+        spans
+            .iter()
+            .filter_map(|s| s.as_ref())
+            .map(|s| numbers::width(&s.content))
+            .sum()
+    };
+    let line = |name: String, tail: Vec<Option<Span<'static>>>| {
+        let mut spans = vec![Span::raw(name)];
+        spans.extend(unknown.clone());
+        spans.extend(tail.into_iter().flatten());
+        Line::from(spans)
+    };
+    if name_width + unknown_width + rest(&[&parent, &coordinates]) <= width {
+        return line(name.to_string(), vec![parent, coordinates]);
     }
-    if entry.anchor
-        && let Some(parent) = &entry.parent
-    {
-        spans.push(Span::styled(format!("  @{parent}"), theme.accent()));
+    let coordinates_width = rest(&[&coordinates]);
+    if unknown_width + coordinates_width + NAME_MIN_WIDTH.min(name_width) <= width {
+        let room = width - unknown_width - coordinates_width;
+        return line(numbers::elide_name(name, room), vec![coordinates]);
     }
-    if let Some([x, y, z]) = entry.cartesian {
-        spans.push(Span::styled(
-            format!(
-                "  {:.0} {:.0} {:.0} mm",
-                f64::from(x) / 10.0,
-                f64::from(y) / 10.0,
-                f64::from(z) / 10.0
-            ),
-            theme.dim(),
-        ));
+    if name_width + unknown_width <= width || unknown.is_none() {
+        return line(numbers::elide_name(name, width), Vec::new());
     }
-    Line::from(spans)
+    // The name at its shortest, and as much of the warning as fits.
+    let name = numbers::elide_name(name, NAME_MIN_WIDTH.min(width));
+    let room = width.saturating_sub(numbers::width(&name));
+    let warning = numbers::elide(UNKNOWN, room);
+    Line::from(vec![
+        Span::raw(name),
+        Span::styled(warning, theme.warning()),
+    ])
 }
+
+/// The mark of a name the operator does not know.
+const UNKNOWN: &str = "  unknown to operator";
+
+/// The fewest columns of a name shown beside its coordinates.
+const NAME_MIN_WIDTH: usize = 4;
