@@ -236,7 +236,7 @@ fn numbers_on(rows: &[String]) -> BTreeSet<String> {
 
 /// Every size from the minimum to 200 wide, at a few heights.
 fn sizes() -> impl Iterator<Item = (u16, u16)> {
-    [MIN_HEIGHT, 12, 15, 20, 24, 40, 60]
+    [MIN_HEIGHT, 13, 20, 24, 40]
         .into_iter()
         .flat_map(|h| (MIN_WIDTH..=200).map(move |w| (w, h)))
 }
