@@ -11,7 +11,7 @@ use crate::console::view::View;
 use crate::kortex::{Coded, RobotState};
 
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
-    let titles = super::telemetry_titles("Arm", "", view);
+    let titles = super::telemetry_titles("Arm", &[], view);
     let block = super::fitted_panel(&titles, area.width, theme);
     let Some(t) = &view.telemetry else {
         return super::draw_no_telemetry(frame, area, block, view);

@@ -31,8 +31,8 @@ fn limit(joint: usize) -> Option<f32> {
 const NEAR_LIMIT: f32 = 10.0;
 /// The gauge's width.
 const GAUGE_WIDTH: usize = 11;
-/// How the title states the angle convention.
-const CONVENTION: &str = ", deg in (-180, 180]";
+/// How the title states the angle convention, longest first.
+const CONVENTION: [&str; 2] = [", deg in (-180, 180]", " (-180, 180]"];
 
 /// The columns, in the order they give way last to first: name, position, velocity, torque,
 /// current, temperature, limits gauge.
@@ -168,7 +168,7 @@ fn choose_columns(t: &Telemetry, width: u16) -> (Vec<Column>, bool, u16) {
 }
 
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
-    let titles = super::telemetry_titles("Joints", CONVENTION, view);
+    let titles = super::telemetry_titles("Joints", &CONVENTION, view);
     let block = super::fitted_panel(&titles, area.width, theme);
     let Some(t) = &view.telemetry else {
         return super::draw_no_telemetry(frame, area, block, view);

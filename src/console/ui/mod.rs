@@ -71,14 +71,18 @@ pub fn fitted_panel(titles: &[String], width: u16, theme: &Theme) -> Block<'stat
     panel(&title, theme)
 }
 
-/// A telemetry panel's titles, longest first: `title` with `detail`, then `title` alone; each
-/// with the telemetry's age when it is old (the age goes last of all).
-pub fn telemetry_titles(title: &str, detail: &str, view: &View) -> Vec<String> {
+/// A telemetry panel's titles, longest first: `title` with each of `details` (longest first),
+/// then `title` alone; each with the telemetry's age when it is old (the age goes last).
+pub fn telemetry_titles(title: &str, details: &[&str], view: &View) -> Vec<String> {
     let stale = view
         .telemetry_stale
         .map(|age| format!(" (stale {})", super::app::age_text(age)))
         .unwrap_or_default();
-    let mut titles = vec![format!("{title}{detail}{stale}"), format!("{title}{stale}")];
+    let mut titles: Vec<String> = details
+        .iter()
+        .map(|detail| format!("{title}{detail}{stale}"))
+        .collect();
+    titles.push(format!("{title}{stale}"));
     if !stale.is_empty() {
         titles.push(format!("{title} (stale)"));
     }

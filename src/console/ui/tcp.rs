@@ -73,7 +73,7 @@ pub fn width(view: &View, long_labels: bool) -> u16 {
 }
 
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
-    let titles = super::telemetry_titles("Tool (TCP)", "", view);
+    let titles = super::telemetry_titles("Tool (TCP)", &[], view);
     let block = super::fitted_panel(&titles, area.width, theme);
     let Some(t) = &view.telemetry else {
         return super::draw_no_telemetry(frame, area, block, view);
