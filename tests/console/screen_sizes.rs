@@ -245,7 +245,7 @@ fn sizes() -> impl Iterator<Item = (u16, u16)> {
 /// number is a number the full screen does not show: `80.00` from `180.00`, `447` from
 /// `44718`); the figures of a panel on screen are all there; and the status bar always shows
 /// the motion and the key-release mode.
-fn check_every_size(app: &App, motion: &str, mode: &str) {
+fn check_every_size(app: &App, motion: &str, mode: &str, link: &str) {
     let whole = numbers_on(&rows(screen(app, 200, 60).backend().buffer()));
     for expected in [
         "180.00", "-0.34", "-1234.6", "345.6", "-78.9", "44718", "-4.91",
@@ -292,20 +292,30 @@ fn check_every_size(app: &App, motion: &str, mode: &str) {
         }
         assert!(rows[1].contains(motion), "{width}x{height}: {}", rows[1]);
         assert!(rows[1].contains(mode), "{width}x{height}: {}", rows[1]);
-        assert!(rows[0].contains("LINK UP"), "{width}x{height}: {}", rows[0]);
+        assert!(rows[0].contains(link), "{width}x{height}: {}", rows[0]);
     }
 }
 
 #[test]
 fn no_number_is_cut_at_any_size_while_jogging() {
     let (app, _) = jogging_app();
-    check_every_size(&app, "JOG +X", "auto-repeat");
+    check_every_size(&app, "JOG +X", "auto-repeat", "LINK UP");
 }
 
 #[test]
 fn no_number_is_cut_at_any_size_in_step_mode() {
     let (app, _) = step_app();
-    check_every_size(&app, "STEP 100.0 mm / 30 deg", "auto-repeat");
+    check_every_size(&app, "STEP 100.0 mm / 30 deg", "auto-repeat", "LINK UP");
+}
+
+/// The link went silent mid-jog: the link, the telemetry and the motion are all in doubt, and
+/// every panel title carries an age.
+#[test]
+fn no_number_is_cut_at_any_size_with_a_stale_link() {
+    let (mut app, t) = jogging_app();
+    app.handle(Input::Tick, t + ms(2500));
+    assert!(!app.jog().is_jogging());
+    check_every_size(&app, "MAY BE MOVING", "auto-repeat", "LINK STALE 2.5 s");
 }
 
 #[test]
