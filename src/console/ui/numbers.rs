@@ -6,6 +6,8 @@
 //! - Text too wide for its place is cut at a word boundary and ends in `…`; a word with a digit
 //!   in it (a number, an address, a port) is dropped whole, never shown in part.
 
+use ratatui::text::Span;
+
 /// The ellipsis that ends elided text (one column wide).
 pub const ELLIPSIS: char = '…';
 
@@ -30,9 +32,22 @@ pub fn signed_angle(deg: f32) -> f32 {
     }
 }
 
-/// The width of `text` in terminal columns (every character the console draws is one column).
+/// The width of `text` in terminal columns.
 pub fn width(text: &str) -> usize {
-    text.chars().count()
+    Span::raw(text).width()
+}
+
+/// The columns taken by the first `n` characters of `text`, for every `n` (0 to its length).
+fn prefix_widths(chars: &[char]) -> Vec<usize> {
+    let mut widths = Vec::with_capacity(chars.len() + 1);
+    let mut total = 0;
+    widths.push(0);
+    let mut buf = [0; 4];
+    for c in chars {
+        total += width(c.encode_utf8(&mut buf));
+        widths.push(total);
+    }
+    widths
 }
 
 /// `text` cut to at most `max` columns: whole when it fits; otherwise the words that fit,
@@ -46,9 +61,12 @@ pub fn elide(text: &str, max: usize) -> String {
         return String::new();
     }
     let room = max - 1;
-    // The last word boundary (a space) at or before `room` columns.
     let chars: Vec<char> = text.chars().collect();
-    let boundary = (1..=room.min(chars.len()))
+    let widths = prefix_widths(&chars);
+    // The most characters that fit in `room` columns (fewer than all: the text is too wide).
+    let fitting = widths.iter().rposition(|w| *w <= room).unwrap_or(0);
+    // The last word boundary (a space) within them.
+    let boundary = (1..=fitting)
         .rev()
         .find(|&end| chars[end] == ' ' || chars[end - 1] == ' ');
     let kept: String = match boundary {
@@ -62,7 +80,7 @@ pub fn elide(text: &str, max: usize) -> String {
             if first_word.chars().any(|c| c.is_ascii_digit()) {
                 String::new()
             } else {
-                chars[..room].iter().collect()
+                chars[..fitting].iter().collect()
             }
         }
     };
@@ -75,12 +93,14 @@ pub fn elide_name(name: &str, max: usize) -> String {
     if width(name) <= max {
         return name.to_string();
     }
-    let kept: String = name.chars().take(max.saturating_sub(1)).collect();
     if max == 0 {
-        kept
-    } else {
-        format!("{kept}{ELLIPSIS}")
+        return String::new();
     }
+    let chars: Vec<char> = name.chars().collect();
+    let widths = prefix_widths(&chars);
+    let fitting = widths.iter().rposition(|w| *w < max).unwrap_or(0);
+    let kept: String = chars[..fitting].iter().collect();
+    format!("{kept}{ELLIPSIS}")
 }
 
 #[cfg(test)]
@@ -144,6 +164,13 @@ mod tests {
         assert_eq!(elide_name("pick", 4), "pick");
         assert_eq!(elide_name("pick", 1), "…");
         assert_eq!(elide_name("pick", 0), "");
+    }
+
+    #[test]
+    fn wide_characters_count_double() {
+        assert_eq!(width("位置"), 4);
+        assert_eq!(elide_name("位置位置", 5), "位置…");
+        assert_eq!(elide("位置 12", 5), "位置…");
     }
 
     #[test]
