@@ -214,7 +214,7 @@ fn stale_panels_are_grey_and_show_their_age() {
         "joints_stale",
         render(ui::joints::draw, &app, 60, 10).backend()
     );
-    insta::assert_snapshot!("tcp_stale", render(ui::tcp::draw, &app, 40, 9).backend());
+    insta::assert_snapshot!("tcp_stale", render(ui::tcp::draw, &app, 40, 10).backend());
     insta::assert_snapshot!("arm_stale", render(ui::arm::draw, &app, 60, 7).backend());
     let terminal = render(ui::tcp::draw, &app, 40, 9);
     let cells = terminal.backend().buffer().content();

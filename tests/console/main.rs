@@ -29,5 +29,6 @@ mod position_edits;
 mod positions_e2e;
 mod positions_pose;
 mod positions_resave;
+mod screen_sizes;
 mod speed_settings;
 mod tmux_console;

@@ -5,12 +5,14 @@ use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Paragraph, Wrap};
 
+use super::numbers::fixed;
 use super::theme::Theme;
 use crate::console::view::View;
 use crate::kortex::{Coded, RobotState};
 
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
-    let block = super::panel(&super::telemetry_title("Arm", view), theme);
+    let titles = super::telemetry_titles("Arm", &[], view);
+    let block = super::fitted_panel(&titles, area.width, theme);
     let Some(t) = &view.telemetry else {
         return super::draw_no_telemetry(frame, area, block, view);
     };
@@ -44,6 +46,8 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
             Span::raw(warnings.join(", ")),
         ])
     });
+    // A figure and its unit, and a name and its figure, are joined by no-break spaces: a
+    // narrow panel wraps between them, not inside.
     // The wide lines take 50 columns; the left-hand panel at 80 columns has 42 inside, where
     // a wrapped line would push the last one out of the panel.
     let narrow = area.width < 50 + 2;
@@ -55,8 +59,11 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     lines.push(Line::from(vec![
         Span::styled(power, theme.dim()),
         Span::raw(format!(
-            "{:.1} V {:.2} A  cpu {:.1} C  {ambient} {:.1} C",
-            t.arm.voltage, t.arm.current, t.arm.cpu_temperature, t.arm.ambient_temperature
+            "{}\u{a0}V {}\u{a0}A  cpu\u{a0}{}\u{a0}C  {ambient}\u{a0}{}\u{a0}C",
+            fixed(t.arm.voltage, 1),
+            fixed(t.arm.current, 2),
+            fixed(t.arm.cpu_temperature, 1),
+            fixed(t.arm.ambient_temperature, 1)
         )),
     ]));
     let action = if narrow {
@@ -67,9 +74,9 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     lines.push(Line::from(vec![
         Span::styled(if narrow { "max " } else { "limits " }, theme.dim()),
         Span::raw(format!(
-            "{:.0} mm/s {:.0} deg/s  {action}",
-            t.speed_limits.linear * 1000.0,
-            t.speed_limits.angular,
+            "{}\u{a0}mm/s {}\u{a0}deg/s  {action}",
+            fixed(t.speed_limits.linear * 1000.0, 0),
+            fixed(t.speed_limits.angular, 0),
         )),
     ]));
     frame.render_widget(

@@ -1,13 +1,21 @@
 //! The joints panel: position (against limits), velocity, torque, current and temperature of
 //! all seven joints.
+//!
+//! Angles read in (−180, 180] (the title says so): the Gen3 reports 0 to 360, where a joint
+//! just below zero would read 359.66. Each column is as wide as its widest entry; a panel too
+//! narrow for all of them drops whole columns, the least needed first (limits gauge,
+//! temperature, current, torque, velocity).
 
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Rect};
+use ratatui::style::Style;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Cell, Row, Table};
 
+use super::numbers::{fixed, signed_angle, width as text_width};
 use super::theme::Theme;
 use crate::console::view::View;
+use crate::kortex::Telemetry;
 use crate::kortex::gen3::JOINT_LIMITS_DEG;
 
 /// Joint `joint`'s limit in degrees (Gen3: J2, J4, J6 limited; the others turn continuously).
@@ -21,110 +29,202 @@ fn limit(joint: usize) -> Option<f32> {
 
 /// Within this many degrees of a limit the position is highlighted.
 const NEAR_LIMIT: f32 = 10.0;
+/// The gauge's width.
+const GAUGE_WIDTH: usize = 11;
+/// How the title states the angle convention, longest first.
+const CONVENTION: [&str; 2] = [", deg in (-180, 180]", " (-180, 180]"];
 
-/// A reported 0-360 angle as a signed one, -180..180.
-fn signed(deg: f32) -> f32 {
-    if deg > 180.0 { deg - 360.0 } else { deg }
+/// The columns, in the order they give way last to first: name, position, velocity, torque,
+/// current, temperature, limits gauge.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Column {
+    Name,
+    Position,
+    Velocity,
+    Torque,
+    Current,
+    Temperature,
+    Gauge,
 }
 
-/// "▕====|   ▏" style gauge of a limited joint's position between its limits.
+const BY_PRIORITY: [Column; 7] = [
+    Column::Name,
+    Column::Position,
+    Column::Velocity,
+    Column::Torque,
+    Column::Current,
+    Column::Temperature,
+    Column::Gauge,
+];
+/// Left to right on screen.
+const ON_SCREEN: [Column; 7] = [
+    Column::Name,
+    Column::Position,
+    Column::Gauge,
+    Column::Velocity,
+    Column::Torque,
+    Column::Current,
+    Column::Temperature,
+];
+
+/// The columns counted for the layout: name, position, velocity and torque.
+pub const COMFORTABLE_COLUMNS: usize = 4;
+/// The fewest columns the panel shows: name and position.
+pub const MIN_COLUMNS: usize = 2;
+
+impl Column {
+    fn header(self, wide: bool) -> &'static str {
+        match (self, wide) {
+            (Column::Name, _) => "",
+            (Column::Position, true) => "pos deg",
+            (Column::Position, false) => "pos",
+            (Column::Gauge, _) => "limits",
+            (Column::Velocity, true) => "vel deg/s",
+            (Column::Velocity, false) => "vel",
+            (Column::Torque, true) => "torque Nm",
+            (Column::Torque, false) => "Nm",
+            (Column::Current, true) => "cur A",
+            (Column::Current, false) => "A",
+            (Column::Temperature, true) => "temp C",
+            (Column::Temperature, false) => "C",
+        }
+    }
+
+    /// Joint `i`'s entry in this column.
+    fn text(self, t: &Telemetry, i: usize) -> String {
+        let j = &t.joints[i];
+        match self {
+            Column::Name => format!("J{}", i + 1),
+            Column::Position => fixed(signed_angle(j.position), 2),
+            Column::Gauge => match limit(i) {
+                Some(l) => gauge(j.position, l, GAUGE_WIDTH),
+                None => "continuous".into(),
+            },
+            Column::Velocity => fixed(j.velocity, 2),
+            Column::Torque => fixed(j.torque, 2),
+            Column::Current => fixed(j.current, 2),
+            Column::Temperature => fixed(j.temperature, 1),
+        }
+    }
+
+    /// The column's width: its widest entry or heading. Numbers get at least 4 columns so a
+    /// column does not jump at every change of sign.
+    fn width(self, t: Option<&Telemetry>, wide: bool) -> usize {
+        let entries = t.map_or(0, |t| {
+            (0..t.joints.len())
+                .map(|i| text_width(&self.text(t, i)))
+                .max()
+                .unwrap_or(0)
+        });
+        let floor = match self {
+            Column::Name => 2,
+            Column::Gauge => GAUGE_WIDTH,
+            Column::Position => 7,
+            _ => 4,
+        };
+        entries.max(text_width(self.header(wide))).max(floor)
+    }
+
+    fn right_aligned(self) -> bool {
+        !matches!(self, Column::Name | Column::Gauge)
+    }
+}
+
+/// "-----|-----" gauge of a limited joint's position between its limits.
 fn gauge(position: f32, limit: f32, width: usize) -> String {
-    let fraction = ((signed(position) + limit) / (2.0 * limit)).clamp(0.0, 1.0);
+    let fraction = ((signed_angle(position) + limit) / (2.0 * limit)).clamp(0.0, 1.0);
     let at = ((fraction * (width.saturating_sub(1)) as f32).round() as usize).min(width - 1);
     (0..width)
         .map(|i| if i == at { '|' } else { '-' })
         .collect()
 }
 
+/// The table's width (borders included) with `columns`, `spacing` columns apart.
+fn table_width(t: Option<&Telemetry>, columns: &[Column], wide: bool, spacing: usize) -> usize {
+    let cells: usize = columns.iter().map(|c| c.width(t, wide)).sum();
+    cells + spacing * columns.len().saturating_sub(1) + 2
+}
+
+/// The panel's width (borders included) with its `columns` most needed columns and short
+/// headings.
+pub fn width(view: &View, columns: usize) -> u16 {
+    let columns = &BY_PRIORITY[..columns.clamp(MIN_COLUMNS, BY_PRIORITY.len())];
+    u16::try_from(table_width(view.telemetry.as_ref(), columns, false, 1)).unwrap_or(u16::MAX)
+}
+
+/// The most columns that fit `width`, in screen order; then, where they fit too, two columns
+/// between them and wide headings (headings one column apart run together).
+fn choose_columns(t: &Telemetry, width: u16) -> (Vec<Column>, bool, u16) {
+    for count in (MIN_COLUMNS..=BY_PRIORITY.len()).rev() {
+        let kept = &BY_PRIORITY[..count];
+        for (wide, spacing) in [(true, 2), (false, 2), (true, 1), (false, 1)] {
+            if table_width(Some(t), kept, wide, spacing) <= usize::from(width) {
+                let shown = ON_SCREEN.into_iter().filter(|c| kept.contains(c)).collect();
+                return (shown, wide, spacing as u16);
+            }
+        }
+    }
+    (vec![Column::Name, Column::Position], false, 1)
+}
+
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
-    let block = super::panel(&super::telemetry_title("Joints", view), theme);
+    let titles = super::telemetry_titles("Joints", &CONVENTION, view);
+    let block = super::fitted_panel(&titles, area.width, theme);
     let Some(t) = &view.telemetry else {
         return super::draw_no_telemetry(frame, area, block, view);
     };
-    let wide = area.width >= 70;
-    let header = if wide {
-        vec![
-            "",
-            "pos deg",
-            "limits",
-            "vel deg/s",
-            "torque Nm",
-            "cur A",
-            "temp C",
-        ]
-    } else {
-        vec!["", "pos", "vel", "Nm", "A", "C"]
-    };
-    // Numbers and their headings right-aligned in their columns.
-    let right = |text: String| Cell::from(Line::from(text).right_aligned());
-    let header: Vec<Cell> = header
-        .into_iter()
-        .enumerate()
-        .map(|(i, h)| match (i, wide) {
-            (0, _) | (2, true) => Cell::from(h),
-            _ => right(h.to_string()),
+    let (columns, wide, spacing) = choose_columns(t, area.width);
+    let cell = |column: Column, text: String, style: Style| {
+        let line = Line::from(Span::styled(text, style));
+        Cell::from(if column.right_aligned() {
+            line.right_aligned()
+        } else {
+            line
         })
+    };
+    let header: Vec<Cell> = columns
+        .iter()
+        .map(|c| cell(*c, c.header(wide).to_string(), Style::default()))
         .collect();
-    let rows = t.joints.iter().enumerate().map(|(i, j)| {
-        let near = limit(i).is_some_and(|l| l - signed(j.position).abs() < NEAR_LIMIT);
+    let rows = (0..t.joints.len()).map(|i| {
+        let position = t.joints[i].position;
+        let near = limit(i).is_some_and(|l| l - signed_angle(position).abs() < NEAR_LIMIT);
         let selected = usize::from(view.joint) == i + 1;
-        let name = Cell::from(Span::styled(
-            format!("J{}", i + 1),
-            if selected {
-                theme.selected()
-            } else {
-                theme.title()
-            },
-        ));
-        let pos = Cell::from(
-            Line::from(Span::styled(
-                format!("{:.2}", j.position),
-                if near {
-                    theme.warning()
-                } else {
-                    Default::default()
-                },
-            ))
-            .right_aligned(),
-        );
-        let mut cells = vec![name, pos];
-        if wide {
-            cells.push(Cell::from(match limit(i) {
-                Some(l) => gauge(j.position, l, 11),
-                None => "continuous".into(),
-            }));
-        }
-        cells.extend([
-            right(format!("{:.2}", j.velocity)),
-            right(format!("{:.2}", j.torque)),
-            right(format!("{:.2}", j.current)),
-            right(format!("{:.1}", j.temperature)),
-        ]);
+        let cells: Vec<Cell> = columns
+            .iter()
+            .map(|c| {
+                let style = match c {
+                    Column::Name if selected => theme.selected(),
+                    Column::Name => theme.title(),
+                    Column::Position if near => theme.warning(),
+                    _ => Style::default(),
+                };
+                cell(*c, c.text(t, i), style)
+            })
+            .collect();
         Row::new(cells)
     });
-    let widths: Vec<Constraint> = if wide {
-        vec![
-            Constraint::Length(3),
-            Constraint::Length(8),
-            Constraint::Length(11),
-            Constraint::Length(9),
-            Constraint::Length(9),
-            Constraint::Length(6),
-            Constraint::Length(6),
-        ]
-    } else {
-        vec![
-            Constraint::Length(3),
-            Constraint::Length(7),
-            Constraint::Length(7),
-            Constraint::Length(6),
-            Constraint::Length(5),
-            Constraint::Length(5),
-        ]
-    };
+    let widths: Vec<Constraint> = columns
+        .iter()
+        .map(|c| Constraint::Length(u16::try_from(c.width(Some(t), wide)).unwrap_or(u16::MAX)))
+        .collect();
     let table = Table::new(rows, widths)
+        .column_spacing(spacing)
         .header(Row::new(header).style(theme.dim()))
         .block(block);
     frame.render_widget(table, area);
     super::grey_if_stale(frame, area, view, theme);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_gauge_places_a_limited_joint_between_its_limits() {
+        assert_eq!(gauge(0.0, 100.0, 11), "-----|-----");
+        assert_eq!(gauge(359.0, 100.0, 11), "-----|-----");
+        assert_eq!(gauge(260.0, 100.0, 11), "|----------");
+        assert_eq!(gauge(100.0, 100.0, 11), "----------|");
+    }
 }

@@ -6,6 +6,7 @@ use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Paragraph};
 
+use super::numbers;
 use super::theme::Theme;
 use crate::console::view::View;
 use crate::link::interface::Traffic;
@@ -21,40 +22,46 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &View, theme: &Theme) {
         .borders(Borders::ALL)
         .title(Span::styled(title, theme.title()));
     let rows = usize::from(area.height.saturating_sub(2));
+    let width = usize::from(area.width.saturating_sub(2));
     let mut lines: Vec<Line> = Vec::new();
     for entry in app.log.iter().rev() {
+        let id = match entry.id {
+            Some(id) => format!("{id:>6} "),
+            None => "     - ".into(),
+        };
+        let name = format!("{:<14} ", entry.name);
+        let outcome = if entry.count > 1 {
+            format!("{} x{}", entry.outcome, entry.count)
+        } else {
+            entry.outcome.clone()
+        };
+        let latency = match entry.latency {
+            Some(l) => format!(" {} ms", numbers::fixed(l.as_secs_f64() * 1000.0, 1)),
+            None => String::new(),
+        };
+        // Too wide: the latency goes, then the outcome is elided (never inside a number).
+        let room = width.saturating_sub(numbers::width(&id) + numbers::width(&name));
+        let (outcome, latency) = if numbers::width(&outcome) + numbers::width(&latency) <= room {
+            (outcome, latency)
+        } else {
+            (numbers::elide(&outcome, room), String::new())
+        };
         let mut entry_lines = vec![Line::from(vec![
+            Span::styled(id, theme.dim()),
+            Span::raw(name),
             Span::styled(
-                match entry.id {
-                    Some(id) => format!("{id:>6} "),
-                    None => "     - ".into(),
-                },
-                theme.dim(),
-            ),
-            Span::raw(format!("{:<14} ", entry.name)),
-            Span::styled(
-                if entry.count > 1 {
-                    format!("{} x{}", entry.outcome, entry.count)
-                } else {
-                    entry.outcome.clone()
-                },
+                outcome,
                 if entry.ok {
                     theme.ok()
                 } else {
                     theme.warning()
                 },
             ),
-            Span::styled(
-                match entry.latency {
-                    Some(l) => format!(" {:.1} ms", l.as_secs_f64() * 1000.0),
-                    None => String::new(),
-                },
-                theme.dim(),
-            ),
+            Span::styled(latency, theme.dim()),
         ])];
         if app.hex {
             for text in traffic_lines(&entry.traffic) {
-                entry_lines.push(Line::styled(text, theme.dim()));
+                entry_lines.push(Line::styled(numbers::elide(&text, width), theme.dim()));
             }
         }
         // Newest at the bottom: collect newest first, then reverse.

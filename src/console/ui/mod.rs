@@ -1,12 +1,18 @@
 //! Rendering: a pure function of the frame's [`View`](super::view::View), one file per panel.
+//!
+//! At every size from the minimum up, no number is ever cut: panels give way whole by the
+//! priority documented in [`layout`], columns give way whole inside a panel, and text too
+//! wide for its place ends in `…` before a number rather than inside one ([`numbers`]).
 
 pub mod arm;
 pub mod dialog;
 pub mod help;
 pub mod hints;
 pub mod joints;
+pub mod layout;
 pub mod log;
 mod long_text;
+pub mod numbers;
 pub mod position_pose;
 pub mod positions;
 pub mod status;
@@ -14,7 +20,7 @@ pub mod tcp;
 pub mod theme;
 
 use ratatui::Frame;
-use ratatui::layout::{Constraint, Direction, Layout, Rect};
+use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Paragraph, Wrap};
 
@@ -54,6 +60,37 @@ pub fn panel(title: &str, theme: &Theme) -> Block<'static> {
         .title(Span::styled(format!(" {title} "), theme.title()))
 }
 
+/// A bordered panel `width` columns wide titled by the first of `titles` (longest first) that
+/// fits whole between its corners; the last one elided when none does.
+pub fn fitted_panel(titles: &[String], width: u16, theme: &Theme) -> Block<'static> {
+    // Two corners and a space either side of the title.
+    let room = usize::from(width).saturating_sub(4);
+    let title = titles
+        .iter()
+        .find(|t| numbers::width(t) <= room)
+        .cloned()
+        .unwrap_or_else(|| numbers::elide(titles.last().map_or("", String::as_str), room));
+    panel(&title, theme)
+}
+
+/// A telemetry panel's titles, longest first: `title` with each of `details` (longest first),
+/// then `title` alone; each with the telemetry's age when it is old (the age goes last).
+pub fn telemetry_titles(title: &str, details: &[&str], view: &View) -> Vec<String> {
+    let stale = view
+        .telemetry_stale
+        .map(|age| format!(" (stale {})", super::app::age_text(age)))
+        .unwrap_or_default();
+    let mut titles: Vec<String> = details
+        .iter()
+        .map(|detail| format!("{title}{detail}{stale}"))
+        .collect();
+    titles.push(format!("{title}{stale}"));
+    if !stale.is_empty() {
+        titles.push(format!("{title} (stale)"));
+    }
+    titles
+}
+
 /// Draws a telemetry panel's notice when there is no telemetry to show.
 pub fn draw_no_telemetry(frame: &mut Frame, area: Rect, block: Block, view: &View) {
     frame.render_widget(
@@ -78,27 +115,27 @@ pub fn draw(frame: &mut Frame, view: &View, theme: &Theme) {
         );
         return;
     }
-    // A tall terminal gives half its extra rows to the arm and positions row, half to the log.
-    let extra = area.height.saturating_sub(24) / 2;
-    let rows = Layout::default()
-        .direction(Direction::Vertical)
-        .constraints([
-            Constraint::Length(2),
-            Constraint::Length(10),
-            Constraint::Length(7 + extra),
-            Constraint::Min(3),
-            Constraint::Length(1),
-        ])
-        .split(area);
-    status::draw(frame, rows[0], view, theme);
-    let top = split_columns(rows[1], 58);
-    joints::draw(frame, top[0], view, theme);
-    tcp::draw(frame, top[1], view, theme);
-    let middle = split_columns(rows[2], 55);
-    arm::draw(frame, middle[0], view, theme);
-    positions::draw(frame, middle[1], view, theme);
-    log::draw(frame, rows[3], view, theme);
-    hints::draw(frame, rows[4], view, theme);
+    let widths = layout::TopWidths {
+        tool_long: tcp::width(view, true),
+        tool_short: tcp::width(view, false),
+        joints_comfortable: joints::width(view, joints::COMFORTABLE_COLUMNS),
+        joints_min: joints::width(view, joints::MIN_COLUMNS),
+    };
+    let places = layout::layout(area, widths);
+    status::draw(frame, places.status, view, theme);
+    let panels: [(Option<Rect>, Panel); 5] = [
+        (places.joints, joints::draw),
+        (places.tool, tcp::draw),
+        (places.arm, arm::draw),
+        (places.positions, positions::draw),
+        (places.log, log::draw),
+    ];
+    for (place, draw) in panels {
+        if let Some(place) = place {
+            draw(frame, place, view, theme);
+        }
+    }
+    hints::draw(frame, places.bottom, view, theme);
     match &view.overlay {
         Overlay::None => {}
         Overlay::Help => help::draw(frame, centered(area, 96, 30), view, theme),
@@ -106,15 +143,8 @@ pub fn draw(frame: &mut Frame, view: &View, theme: &Theme) {
     }
 }
 
-fn split_columns(area: Rect, left_percent: u16) -> std::rc::Rc<[Rect]> {
-    Layout::default()
-        .direction(Direction::Horizontal)
-        .constraints([
-            Constraint::Percentage(left_percent),
-            Constraint::Percentage(100 - left_percent),
-        ])
-        .split(area)
-}
+/// A panel's draw function.
+type Panel = fn(&mut Frame, Rect, &View, &Theme);
 
 fn centered(area: Rect, width: u16, height: u16) -> Rect {
     let width = width.min(area.width);

@@ -8,7 +8,7 @@ use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, List, ListItem, ListState};
 
-use super::long_text::elide_end;
+use super::numbers;
 use super::theme::Theme;
 use crate::console::app::BookState;
 use crate::console::positions::BookEntry;
@@ -24,105 +24,112 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
         format!(" Positions ({where_}) "),
         theme.title(),
     ));
+    let inner = block.inner(area);
+    // The highlight symbol takes two columns of every row of a list with a selection.
+    let row_width = if view.positions.is_empty() {
+        usize::from(inner.width)
+    } else {
+        usize::from(inner.width).saturating_sub(2)
+    };
     // The book's state first: while it loads, or when it could not be read, the list below
     // holds only what was changed meanwhile.
     let state = match &view.book_state {
         BookState::Ready => None,
         BookState::Loading { file } => Some(Line::styled(
-            format!("loading positions from {file}…"),
+            numbers::elide(&format!("loading positions from {file}…"), row_width),
             theme.dim(),
         )),
         BookState::Failed { error } => Some(Line::styled(
-            format!("not loaded, not saved: {error}"),
+            numbers::elide(&format!("not loaded, not saved: {error}"), row_width),
             theme.alarm(),
         )),
     };
     if view.positions.is_empty() {
-        let line = state
-            .unwrap_or_else(|| Line::styled("none yet: p saves the current pose", theme.dim()));
+        let line = state.unwrap_or_else(|| {
+            Line::styled(
+                numbers::elide("none yet: p saves the current pose", row_width),
+                theme.dim(),
+            )
+        });
         frame.render_widget(List::new([ListItem::new(line)]).block(block), area);
         return;
     }
-    let inner = block.inner(area);
     let header = usize::from(state.is_some());
     let rows = usize::from(inner.height).saturating_sub(header).max(1);
     // The same scrolling as a list drawn whole: the selection on the last row once past the
     // first screen.
     let first = (view.selected + 1).saturating_sub(rows);
-    let width = usize::from(inner.width).saturating_sub(HIGHLIGHT.len());
     let mut items: Vec<ListItem> = state.into_iter().map(ListItem::new).collect();
     items.extend(
         view.positions
             .entries_from(first)
             .take(rows)
-            .map(|(name, entry)| ListItem::new(row(name, entry, width, theme))),
+            .map(|(name, entry)| ListItem::new(row(name, entry, row_width, theme))),
     );
     let selected = header + view.selected - first;
     let mut list_state = ListState::default().with_selected(Some(selected));
     let list = List::new(items)
         .block(block)
         .highlight_style(theme.selected())
-        .highlight_symbol(HIGHLIGHT);
+        .highlight_symbol("> ");
     frame.render_stateful_widget(list, area, &mut list_state);
 }
 
-/// One position in `width` columns: the name, the marks, the coordinates. Long names (and
-/// parents) are elided with `…` so the coordinates stay in view.
-fn row(name: &str, entry: &BookEntry, width: usize, theme: &Theme) -> Line<'static> {
+/// One position in `width` columns: the name, its marks, its coordinates. When that does not
+/// fit, the anchor's parent goes, then the name is elided to keep the coordinates whole, then
+/// the coordinates go whole; the name and a warning that the operator does not know it stay
+/// (elided last of all).
+fn row<'a>(name: &'a str, entry: &BookEntry, width: usize, theme: &Theme) -> Line<'a> {
+    let unknown = entry
+        .unknown_to_operator
+        .then(|| Span::styled(UNKNOWN, theme.warning()));
+    let parent = entry
+        .parent
+        .as_ref()
+        .filter(|_| entry.anchor)
+        .map(|parent| Span::styled(format!("  @{parent}"), theme.accent()));
     let coordinates = entry.cartesian.map(|[x, y, z]| {
-        format!(
-            "  {:.0} {:.0} {:.0} mm",
-            f64::from(x) / 10.0,
-            f64::from(y) / 10.0,
-            f64::from(z) / 10.0
-        )
+        let mm = |tenths: i32| numbers::fixed(f64::from(tenths) / 10.0, 0);
+        Span::styled(format!("  {} {} {} mm", mm(x), mm(y), mm(z)), theme.dim())
     });
-    let parent = match (entry.anchor, &entry.parent) {
-        (true, Some(parent)) => Some(parent.as_str()),
-        _ => None,
+    let name_width = numbers::width(name);
+    let unknown_width = unknown.as_ref().map_or(0, |s| numbers::width(&s.content));
+    let rest = |spans: &[&Option<Span<'static>>]| -> usize {
+        spans
+            .iter()
+            .filter_map(|s| s.as_ref())
+            .map(|s| numbers::width(&s.content))
+            .sum()
     };
-    let name_len = name.chars().count();
-    let coordinates_len = coordinates.as_ref().map_or(0, |c| c.chars().count());
-    // The longest "unknown" mark that leaves the name some room.
-    let unknown = entry.unknown_to_operator.then(|| {
-        UNKNOWN_MARKS
-            .into_iter()
-            .find(|mark| {
-                width.saturating_sub(coordinates_len + mark.len()) >= name_len.min(NAME_WANTED)
-            })
-            .unwrap_or(UNKNOWN_MARKS[UNKNOWN_MARKS.len() - 1])
-    });
-    let fixed = coordinates_len + unknown.map_or(0, str::len);
-    // What the name and the parent mark ("  @parent") share; the parent gets at most half.
-    let room = width.saturating_sub(fixed);
-    let parent_len = parent.map_or(0, |p| p.chars().count() + 3);
-    let (name_room, parent_room) = if name_len + parent_len <= room {
-        (name_len, parent_len)
-    } else {
-        let parent_room = parent_len.min(room / 2);
-        (room - parent_room, parent_room)
+    let line = |name: String, tail: Vec<Option<Span<'static>>>| {
+        let mut spans = vec![Span::raw(name)];
+        spans.extend(unknown.clone());
+        spans.extend(tail.into_iter().flatten());
+        Line::from(spans)
     };
-    let mut spans = vec![Span::raw(elide_end(name, name_room.max(MIN_NAME)))];
-    if let Some(mark) = unknown {
-        spans.push(Span::styled(mark, theme.warning()));
+    if name_width + unknown_width + rest(&[&parent, &coordinates]) <= width {
+        return line(name.to_string(), vec![parent, coordinates]);
     }
-    if let Some(parent) = parent
-        && parent_room > 3
-    {
-        let shown = elide_end(parent, parent_room - 3);
-        spans.push(Span::styled(format!("  @{shown}"), theme.accent()));
+    let coordinates_width = rest(&[&coordinates]);
+    if unknown_width + coordinates_width + NAME_MIN_WIDTH.min(name_width) <= width {
+        let room = width - unknown_width - coordinates_width;
+        return line(numbers::elide_name(name, room), vec![coordinates]);
     }
-    if let Some(coordinates) = coordinates {
-        spans.push(Span::styled(coordinates, theme.dim()));
+    if name_width + unknown_width <= width || unknown.is_none() {
+        return line(numbers::elide_name(name, width), Vec::new());
     }
-    Line::from(spans)
+    // The name at its shortest, and as much of the warning as fits.
+    let name = numbers::elide_name(name, NAME_MIN_WIDTH.min(width));
+    let room = width.saturating_sub(numbers::width(&name));
+    let warning = numbers::elide(UNKNOWN, room);
+    Line::from(vec![
+        Span::raw(name),
+        Span::styled(warning, theme.warning()),
+    ])
 }
 
-/// The selection's mark, before every row.
-const HIGHLIGHT: &str = "> ";
-/// The mark of a name the operator does not know, shorter as the panel narrows.
-const UNKNOWN_MARKS: [&str; 3] = ["  unknown to operator", "  unknown", "  ?"];
-/// The room a name should keep before its marks are shortened.
-const NAME_WANTED: usize = 10;
-/// A name keeps at least this much (its first letter and the `…`), however narrow the panel.
-const MIN_NAME: usize = 2;
+/// The mark of a name the operator does not know.
+const UNKNOWN: &str = "  unknown to operator";
+
+/// The fewest columns of a name shown beside its coordinates.
+const NAME_MIN_WIDTH: usize = 4;

@@ -3,9 +3,11 @@
 
 use ratatui::Frame;
 use ratatui::layout::Rect;
+use ratatui::style::Style;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 
+use super::numbers;
 use super::theme::Theme;
 use crate::console::app::{MotionShown, age_text, describe_motion};
 use crate::console::jog::ReleaseMode;
@@ -69,35 +71,140 @@ pub fn speed_text(view: &View) -> String {
 }
 
 /// Two lines: the link, then keys, motion and settings (so the key-release mode always shows,
-/// even at 80 columns).
+/// even at the minimum width). Each line uses the whole width: parts give way only when the
+/// line is too wide for the terminal, the least needed first, and none is ever cut inside.
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
-    // The guard goes first: a missing one must show even when a long link line is cut.
-    let mut spans = guard_spans(view, theme);
-    match &view.link {
+    let width = usize::from(area.width);
+    let lines = vec![
+        link_line(view, theme, width),
+        motion_line(view, theme, width),
+    ];
+    frame.render_widget(Paragraph::new(lines), area);
+}
+
+fn spans_width(spans: &[Span]) -> usize {
+    spans.iter().map(|s| numbers::width(&s.content)).sum()
+}
+
+/// The guard, the link's state and what it is, then the latency. The guard goes first: a
+/// missing one must show however narrow the line. The description is elided (never inside a
+/// number) before the state is; the latency goes before the description is elided.
+fn link_line(view: &View, theme: &Theme, width: usize) -> Line<'static> {
+    let mut badges = guard_spans(view, theme);
+    let (detail, detail_style, latency) = match &view.link {
         LinkStatus::Up { description } => {
             // A link that went silent is not shown as healthy.
-            match view.link_stale {
-                Some(age) => spans.push(Span::styled(
-                    format!(" LINK STALE {} ", age_text(age)),
-                    theme.alarm(),
-                )),
-                None => spans.push(Span::styled(" LINK UP ", theme.ok())),
-            }
-            spans.push(Span::raw(description.clone()));
-            if let Some(latency) = view.latency {
-                spans.push(Span::raw(format!(
-                    " {:.1} ms",
-                    latency.as_secs_f64() * 1000.0
-                )));
-            }
+            badges.push(match view.link_stale {
+                Some(age) => Span::styled(format!(" LINK STALE {} ", age_text(age)), theme.alarm()),
+                None => Span::styled(" LINK UP ", theme.ok()),
+            });
+            let latency = view
+                .latency
+                .map(|l| format!(" {} ms", numbers::fixed(l.as_secs_f64() * 1000.0, 1)));
+            (description.clone(), Style::default(), latency)
         }
-        LinkStatus::Connecting => spans.push(Span::styled(" CONNECTING ", theme.warning())),
+        LinkStatus::Connecting => {
+            badges.push(Span::styled(" CONNECTING ", theme.warning()));
+            (String::new(), Style::default(), None)
+        }
         LinkStatus::Down { reason } => {
-            spans.push(Span::styled(" LINK DOWN ", theme.alarm()));
-            spans.push(Span::styled(format!(" {reason}"), theme.warning()));
+            badges.push(Span::styled(" LINK DOWN ", theme.alarm()));
+            (format!(" {reason}"), theme.warning(), None)
         }
+    };
+    let room = width.saturating_sub(spans_width(&badges));
+    let detail_width = numbers::width(&detail);
+    let mut spans = badges;
+    match latency {
+        Some(latency) if detail_width + numbers::width(&latency) <= room => {
+            spans.push(Span::styled(detail, detail_style));
+            spans.push(Span::raw(latency));
+        }
+        _ => spans.push(Span::styled(numbers::elide(&detail, room), detail_style)),
     }
-    let link_line = Line::from(std::mem::take(&mut spans));
+    Line::from(spans)
+}
+
+/// How much of the second line gives way, in order: why the arm may be moving (the message
+/// line says it too), the measured auto-repeat timing, the speed in mm/s, the words around the
+/// key-release mode and the settings, the joint, the frame, the speed; the motion and the
+/// key-release mode never.
+#[derive(Debug, Clone, Copy)]
+struct Cut {
+    reason: bool,
+    timing: bool,
+    mm_s: bool,
+    words: bool,
+    joint: bool,
+    frame: bool,
+    speed: bool,
+}
+
+/// Each line keeps what the one before it keeps, less one more part.
+const CUTS: [Cut; 8] = {
+    let all = Cut {
+        reason: true,
+        timing: true,
+        mm_s: true,
+        words: true,
+        joint: true,
+        frame: true,
+        speed: true,
+    };
+    let no_reason = Cut {
+        reason: false,
+        ..all
+    };
+    let no_timing = Cut {
+        timing: false,
+        ..no_reason
+    };
+    let no_mm_s = Cut {
+        mm_s: false,
+        ..no_timing
+    };
+    let no_words = Cut {
+        words: false,
+        ..no_mm_s
+    };
+    let no_joint = Cut {
+        joint: false,
+        ..no_words
+    };
+    let no_frame = Cut {
+        frame: false,
+        ..no_joint
+    };
+    let no_speed = Cut {
+        speed: false,
+        ..no_frame
+    };
+    [
+        all, no_reason, no_timing, no_mm_s, no_words, no_joint, no_frame, no_speed,
+    ]
+};
+
+/// The motion, the key-release mode and the settings, as much of them as fits `width`.
+fn motion_line(view: &View, theme: &Theme, width: usize) -> Line<'static> {
+    let candidates = CUTS.iter().map(|cut| motion_spans(view, theme, *cut));
+    let mut last = Vec::new();
+    for spans in candidates {
+        if spans_width(&spans) <= width {
+            return Line::from(spans);
+        }
+        last = spans;
+    }
+    // Only the motion and the mode left, and still too wide: the motion's label is elided.
+    let rest = spans_width(last.get(1..).unwrap_or_default());
+    if let Some(first) = last.first_mut() {
+        let room = width.saturating_sub(rest);
+        first.content = numbers::elide(&first.content, room).into();
+    }
+    Line::from(last)
+}
+
+fn motion_spans(view: &View, theme: &Theme, cut: Cut) -> Vec<Span<'static>> {
+    let mut spans = Vec::new();
     let mut reason = None;
     match view.motion.clone() {
         MotionShown::Jog(motion) => spans.push(Span::styled(
@@ -121,47 +228,49 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
             spans.push(Span::styled(" MAY BE MOVING ", theme.alarm()));
             reason = Some(why);
         }
-        // The step size goes with the mode, so it shows even at 80 columns.
+        // The step size goes with the mode, so it shows at any width.
         MotionShown::Idle if view.step.enabled => spans.push(Span::raw(format!(
-            " STEP {:.1} mm / {} deg ",
-            f64::from(view.step.cartesian()) / 10.0,
+            " STEP {} mm / {} deg ",
+            numbers::fixed(f64::from(view.step.cartesian()) / 10.0, 1),
             view.step.polar()
         ))),
         MotionShown::Idle => spans.push(Span::raw(" idle ")),
     }
-    spans.push(Span::raw(" | "));
-    let keys = spans.len();
-    spans.push(Span::styled(release_mode_text(view), theme.accent()));
-    spans.push(Span::raw(" | speed "));
-    let speed = spans.len();
-    spans.push(Span::raw(speed_text(view)));
-    if view.frames {
-        spans.push(Span::raw(format!(" | frame {}", view.frame.key())));
+    // Why the arm may be moving, after the motion (the message line says it too).
+    if let Some(why) = reason.filter(|_| cut.reason) {
+        spans.push(Span::styled(format!("({why}) "), theme.warning()));
+    }
+    let separator = if cut.words { " | " } else { " " };
+    spans.push(Span::raw(separator));
+    let mode = match (cut.timing, cut.words) {
+        (true, _) => release_mode_text(view),
+        (false, true) => release_mode_name(view).to_string(),
+        (false, false) => release_mode_short(view).to_string(),
+    };
+    spans.push(Span::styled(mode, theme.accent()));
+    if cut.speed {
+        let speed = match (cut.mm_s, view.speed) {
+            (true, _) | (_, None) => speed_text(view),
+            (false, Some(s)) => format!("{s}%"),
+        };
+        let label = if cut.words { "speed " } else { "" };
+        spans.push(Span::raw(format!("{separator}{label}{speed}")));
+    }
+    if view.frames && cut.frame {
+        let label = if cut.words { "frame " } else { "" };
+        spans.push(Span::raw(format!("{separator}{label}{}", view.frame.key())));
     }
     // Step mode has no joint steps: the selected joint only matters when jogging.
-    if !view.step.enabled {
-        spans.push(Span::raw(format!(" | J{}", view.joint)));
+    if !view.step.enabled && cut.joint {
+        spans.push(Span::raw(format!("{separator}J{}", view.joint)));
     }
-    // The mode always shows; its measured timing only when the whole line fits.
-    let width: usize = spans.iter().map(|s| s.width()).sum();
-    if width > usize::from(area.width) {
-        spans[keys] = Span::styled(release_mode_name(view), theme.accent());
+    spans
+}
+
+/// The key-release mode in a word.
+fn release_mode_short(view: &View) -> &'static str {
+    match view.release_mode {
+        ReleaseMode::Reported => "release",
+        ReleaseMode::AutoRepeat => "auto-repeat",
     }
-    // Still too wide: the percent alone, so the frame still shows.
-    let width: usize = spans.iter().map(|s| s.width()).sum();
-    if width > usize::from(area.width)
-        && let Some(s) = view.speed
-    {
-        spans[speed] = Span::raw(format!("{s}%"));
-    }
-    // Why the arm may be moving, after the motion, where the line has room (the message line
-    // says it too).
-    if let Some(why) = reason {
-        let why = Span::styled(format!("({why}) "), theme.warning());
-        let width: usize = spans.iter().map(|s| s.width()).sum();
-        if width + why.width() <= usize::from(area.width) {
-            spans.insert(1, why);
-        }
-    }
-    frame.render_widget(Paragraph::new(vec![link_line, Line::from(spans)]), area);
 }

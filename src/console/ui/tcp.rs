@@ -1,56 +1,109 @@
-//! The tool panel: TCP pose, twist and wrench.
+//! The tool panel: TCP pose and twist in the base frame, and the wrench in the tool frame.
+//!
+//! The frames are the truth of the figures, not a guess: the Kinova ICD lists the TCP wrench
+//! (input registers 128-139) without a frame, and the simulator (`sim::arm_model`) gives it as
+//! a wrist sensor measures it, in the tool frame (at home, the tool's weight pulls along its
+//! Y axis). The pose and twist are the base frame's, as everywhere in the ICD.
+//!
+//! Long labels (`pos mm`) where they fit, unit labels (`mm`) otherwise; the numbers keep their
+//! width either way.
 
 use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 
+use super::numbers::{fixed, width as text_width};
 use super::theme::Theme;
 use crate::console::view::View;
+use crate::kortex::Telemetry;
 
-pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
-    let block = super::panel(
-        &super::telemetry_title("Tool (TCP, base frame)", view),
-        theme,
-    );
-    let Some(t) = &view.telemetry else {
-        return super::draw_no_telemetry(frame, area, block, view);
-    };
+/// The fewest columns a number gets: `-1234.5` mm.
+const VALUE_MIN_WIDTH: usize = 7;
+/// Each row's long label, unit label, and decimals.
+const ROWS: [(&str, &str, usize); 6] = [
+    ("pos mm", "mm", 1),
+    ("rot deg", "deg", 2),
+    ("vel mm/s", "mm/s", 1),
+    ("ang deg/s", "deg/s", 1),
+    ("force N", "N", 2),
+    ("torque Nm", "Nm", 2),
+];
+/// Label columns: the longest label and a space.
+const LONG_LABEL: usize = 10;
+const SHORT_LABEL: usize = 6;
+
+/// Every row's three figures, as shown.
+fn figures(t: &Telemetry) -> [[String; 3]; 6] {
     let p = t.tcp.pose;
     let v = t.tcp.twist;
     let w = t.tcp.wrench;
-    let dim = theme.dim();
-    // 36 columns inside the borders; one column less per number where that does not fit (the
-    // right-hand panel at 80 columns has 32).
-    let (label_w, value_w) = if area.width >= 36 + 2 {
-        (10, 8)
-    } else {
-        (9, 7)
+    let mm = |m: f32| m * 1000.0;
+    let values: [[f32; 3]; 6] = [
+        [mm(p.x), mm(p.y), mm(p.z)],
+        [p.theta_x, p.theta_y, p.theta_z],
+        [mm(v.x), mm(v.y), mm(v.z)],
+        [v.theta_x, v.theta_y, v.theta_z],
+        [w.force_x, w.force_y, w.force_z],
+        [w.torque_x, w.torque_y, w.torque_z],
+    ];
+    std::array::from_fn(|row| values[row].map(|v| fixed(v, ROWS[row].2)))
+}
+
+/// The columns each figure gets: the widest one, at least [`VALUE_MIN_WIDTH`].
+fn value_width(view: &View) -> usize {
+    view.telemetry
+        .as_ref()
+        .map(|t| {
+            figures(t)
+                .iter()
+                .flatten()
+                .map(|f| text_width(f))
+                .max()
+                .unwrap_or(0)
+        })
+        .unwrap_or(0)
+        .max(VALUE_MIN_WIDTH)
+}
+
+/// The panel's width (borders included), with long labels or unit labels.
+pub fn width(view: &View, long_labels: bool) -> u16 {
+    let label = if long_labels { LONG_LABEL } else { SHORT_LABEL };
+    u16::try_from(2 + label + 3 * value_width(view) + 2).unwrap_or(u16::MAX)
+}
+
+pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
+    let titles = super::telemetry_titles("Tool (TCP)", &[], view);
+    let block = super::fitted_panel(&titles, area.width, theme);
+    let Some(t) = &view.telemetry else {
+        return super::draw_no_telemetry(frame, area, block, view);
     };
-    let row = |label: &str, values: [f32; 3], precision: usize| {
-        let [a, b, c] = values;
+    let long = area.width >= width(view, true);
+    let label_w = if long { LONG_LABEL } else { SHORT_LABEL };
+    let value_w = value_width(view);
+    let dim = theme.dim();
+    let row = |label: &str, [a, b, c]: &[String; 3]| {
         Line::from(vec![
             Span::styled(format!("{label:<label_w$}"), dim),
-            Span::raw(format!(
-                "{a:>value_w$.precision$} {b:>value_w$.precision$} {c:>value_w$.precision$}"
-            )),
+            Span::raw(format!("{a:>value_w$} {b:>value_w$} {c:>value_w$}")),
         ])
     };
-    let lines = vec![
-        Line::styled(
-            format!(
-                "{:<label_w$}{:>value_w$} {:>value_w$} {:>value_w$}",
-                "", "x", "y", "z"
-            ),
-            dim,
-        ),
-        row("pos mm", [p.x, p.y, p.z].map(|v| v * 1000.0), 1),
-        row("rot deg", [p.theta_x, p.theta_y, p.theta_z], 2),
-        row("vel mm/s", [v.x, v.y, v.z].map(|v| v * 1000.0), 1),
-        row("ang deg/s", [v.theta_x, v.theta_y, v.theta_z], 1),
-        row("force N", [w.force_x, w.force_y, w.force_z], 2),
-        row("torque Nm", [w.torque_x, w.torque_y, w.torque_z], 2),
-    ];
+    // The frame names sit in the label column of the lines above the figures they frame.
+    let frame_line = |name: &str, with_axes: bool| {
+        let name = if long { name } else { &name[..4] };
+        let axes = if with_axes {
+            format!("{:>value_w$} {:>value_w$} {:>value_w$}", "x", "y", "z")
+        } else {
+            String::new()
+        };
+        Line::styled(format!("{name:<label_w$}{axes}"), dim)
+    };
+    let figures = figures(t);
+    let label = |i: usize| if long { ROWS[i].0 } else { ROWS[i].1 };
+    let mut lines = vec![frame_line("base frame", true)];
+    lines.extend((0..4).map(|i| row(label(i), &figures[i])));
+    lines.push(frame_line("tool frame", false));
+    lines.extend((4..6).map(|i| row(label(i), &figures[i])));
     frame.render_widget(Paragraph::new(lines).block(block), area);
     super::grey_if_stale(frame, area, view, theme);
 }

@@ -218,3 +218,32 @@ fn a_non_finite_motion_is_refused_and_nothing_moves() {
     arm.advance(0.3);
     assert_eq!(arm.joints(), before);
 }
+
+/// The wrench is the tool's weight as a wrist sensor measures it: in the tool frame (the
+/// console labels it so). At home the tool's Y axis points down, so gravity shows in Fy; in
+/// any pose it is the base frame's gravity turned by the reported orientation.
+#[test]
+fn the_wrench_is_the_tools_weight_in_the_tool_frame() {
+    let arm = Arm::default();
+    let s = arm.snapshot();
+    let [fx, fy, fz] = s.tcp_force;
+    assert!((fy - -0.5 * 9.81).abs() < 1e-3, "{:?}", s.tcp_force);
+    assert!(fx.abs() < 1e-3 && fz.abs() < 1e-3, "{:?}", s.tcp_force);
+
+    let mut arm = Arm::default();
+    let twist = SimMotion::Twist {
+        linear: Vector3::zeros(),
+        angular: Vector3::new(20.0, 10.0, 0.0),
+        frame: ReferenceFrame::Base,
+    };
+    arm.command(twist, 0.0, false).unwrap();
+    arm.advance(0.5);
+    let s = arm.snapshot();
+    let orientation =
+        kinematics::Pose::from_position_euler_deg(s.tcp_position, s.tcp_orientation).rotation;
+    let in_tool = orientation.inverse() * Vector3::new(0.0, 0.0, -0.5 * 9.81);
+    let force = Vector3::from(s.tcp_force);
+    assert!((force - in_tool).norm() < 1e-3, "{force:?} vs {in_tool:?}");
+    // Turned: no longer all in Fy.
+    assert!(force.x.abs() > 0.1 || force.z.abs() > 0.1, "{force:?}");
+}

@@ -1,0 +1,225 @@
+//! Where each panel goes at a given terminal size, and which panels give way when the terminal
+//! is too small for all of them.
+//!
+//! Drop priority, from the last to go to the first:
+//!
+//! 1. the status bar (two rows) and the bottom line (message or keys): always shown;
+//! 2. the tool panel (TCP pose, twist, wrench);
+//! 3. the joints panel: beside the tool panel when both fit side by side, under it otherwise;
+//!    at a narrow width it drops whole columns (limits gauge, then temperature, current,
+//!    torque, velocity), never a part of one;
+//! 4. the arm panel and the positions panel (side by side), once at least 4 rows are left;
+//! 5. the command log, once at least 3 rows are left.
+//!
+//! A panel that gets fewer rows than it has lines shows its first lines whole; every line that
+//! is too wide for its panel is cut at a word before a number, never inside one (see
+//! [`numbers::elide`](super::numbers::elide)).
+
+use ratatui::layout::Rect;
+
+/// The rows the joints and tool panels want (borders, a header and seven lines).
+pub const TOP_ROWS: u16 = 10;
+/// The rows the arm and positions panels want at 24 rows.
+const MIDDLE_ROWS: u16 = 7;
+/// The fewest rows worth showing for the arm and positions panels (two lines).
+const MIDDLE_MIN_ROWS: u16 = 4;
+/// The fewest rows worth showing for the log (one line).
+const LOG_MIN_ROWS: u16 = 3;
+/// The fewest rows worth showing for the joints panel under the tool panel (one joint).
+const JOINTS_MIN_ROWS: u16 = 4;
+/// The joints panel's share of the top row, in percent, when both panels have room.
+const JOINTS_PERCENT: u16 = 58;
+/// The arm panel's share of the middle row, in percent.
+const ARM_PERCENT: u16 = 55;
+
+/// The widths the top row's panels need (borders included).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TopWidths {
+    /// The tool panel with its long labels (`pos mm`).
+    pub tool_long: u16,
+    /// The tool panel with unit labels (`mm`).
+    pub tool_short: u16,
+    /// The joints panel with its name, position, velocity and torque columns.
+    pub joints_comfortable: u16,
+    /// The joints panel with its name and position columns only.
+    pub joints_min: u16,
+}
+
+/// Every panel's place; `None` for a panel that gave way.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct ScreenLayout {
+    pub status: Rect,
+    pub joints: Option<Rect>,
+    pub tool: Option<Rect>,
+    pub arm: Option<Rect>,
+    pub positions: Option<Rect>,
+    pub log: Option<Rect>,
+    pub bottom: Rect,
+}
+
+/// Places the panels on `area` (at least the minimum size; the caller checks).
+pub fn layout(area: Rect, widths: TopWidths) -> ScreenLayout {
+    let status = Rect {
+        height: area.height.min(2),
+        ..area
+    };
+    let bottom = Rect {
+        y: area.bottom().saturating_sub(1),
+        height: area.height.min(1),
+        ..area
+    };
+    let mut layout = ScreenLayout {
+        status,
+        bottom,
+        ..Default::default()
+    };
+    let mut free = Rect {
+        y: status.bottom(),
+        height: area.height.saturating_sub(3),
+        ..area
+    };
+    let (tool_width, joints_beside) = top_split(area.width, widths);
+    let top = take_rows(&mut free, TOP_ROWS);
+    if joints_beside {
+        let joints_width = area.width - tool_width;
+        layout.joints = Some(Rect {
+            width: joints_width,
+            ..top
+        });
+        layout.tool = Some(Rect {
+            x: top.x + joints_width,
+            width: tool_width,
+            ..top
+        });
+    } else {
+        layout.tool = Some(top);
+        if free.height >= JOINTS_MIN_ROWS {
+            layout.joints = Some(take_rows(&mut free, TOP_ROWS));
+        }
+    }
+    // Half the rows past 24 go to the middle row, the rest to the log.
+    let extra = area.height.saturating_sub(24) / 2;
+    if free.height >= MIDDLE_ROWS + extra + LOG_MIN_ROWS {
+        let middle = take_rows(&mut free, MIDDLE_ROWS + extra);
+        (layout.arm, layout.positions) = split_middle(middle);
+        layout.log = Some(free);
+    } else if free.height >= MIDDLE_MIN_ROWS {
+        (layout.arm, layout.positions) = split_middle(free);
+    }
+    // Fewer rows than another panel needs stay blank.
+    layout
+}
+
+/// The tool panel's width, and whether the joints panel fits beside it.
+fn top_split(width: u16, w: TopWidths) -> (u16, bool) {
+    let by_percent = width - width * JOINTS_PERCENT / 100;
+    if by_percent >= w.tool_long && width - by_percent >= w.joints_comfortable {
+        (by_percent, true)
+    } else if width >= w.tool_long + w.joints_comfortable {
+        (w.tool_long, true)
+    } else if width >= w.tool_short + w.joints_min {
+        (w.tool_short, true)
+    } else {
+        (width, false)
+    }
+}
+
+/// Up to `rows` rows off the top of `free`.
+fn take_rows(free: &mut Rect, rows: u16) -> Rect {
+    let rows = rows.min(free.height);
+    let taken = Rect {
+        height: rows,
+        ..*free
+    };
+    free.y += rows;
+    free.height -= rows;
+    taken
+}
+
+fn split_middle(middle: Rect) -> (Option<Rect>, Option<Rect>) {
+    let arm_width = middle.width * ARM_PERCENT / 100;
+    let arm = Rect {
+        width: arm_width,
+        ..middle
+    };
+    let positions = Rect {
+        x: middle.x + arm_width,
+        width: middle.width - arm_width,
+        ..middle
+    };
+    (Some(arm), Some(positions))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const WIDTHS: TopWidths = TopWidths {
+        tool_long: 35,
+        tool_short: 31,
+        joints_comfortable: 26,
+        joints_min: 14,
+    };
+
+    fn at(width: u16, height: u16) -> ScreenLayout {
+        layout(Rect::new(0, 0, width, height), WIDTHS)
+    }
+
+    #[test]
+    fn at_80x24_every_panel_shows_in_its_usual_place() {
+        let l = at(80, 24);
+        assert_eq!(l.status, Rect::new(0, 0, 80, 2));
+        assert_eq!(l.joints, Some(Rect::new(0, 2, 45, 10)));
+        assert_eq!(l.tool, Some(Rect::new(45, 2, 35, 10)));
+        assert_eq!(l.arm, Some(Rect::new(0, 12, 44, 7)));
+        assert_eq!(l.positions, Some(Rect::new(44, 12, 36, 7)));
+        assert_eq!(l.log, Some(Rect::new(0, 19, 80, 4)));
+        assert_eq!(l.bottom, Rect::new(0, 23, 80, 1));
+    }
+
+    #[test]
+    fn at_20_rows_the_log_gives_way_first() {
+        let l = at(62, 20);
+        assert!(l.log.is_none());
+        assert_eq!(l.arm.map(|r| r.height), Some(7));
+        assert_eq!(l.tool.map(|r| r.width), Some(35));
+    }
+
+    #[test]
+    fn narrow_terminals_stack_the_joints_under_the_tool() {
+        let l = at(44, 24);
+        assert_eq!(l.tool, Some(Rect::new(0, 2, 44, 10)));
+        assert_eq!(l.joints, Some(Rect::new(0, 12, 44, 10)));
+        assert!(l.arm.is_none() && l.log.is_none());
+        assert_eq!(at(45, 24).tool.map(|r| r.width), Some(31));
+    }
+
+    #[test]
+    fn the_smallest_screen_keeps_the_status_the_tool_and_the_bottom_line() {
+        let l = at(40, 10);
+        assert_eq!(l.status, Rect::new(0, 0, 40, 2));
+        assert_eq!(l.tool, Some(Rect::new(0, 2, 40, 7)));
+        assert!(l.joints.is_none() && l.arm.is_none() && l.log.is_none());
+        assert_eq!(l.bottom, Rect::new(0, 9, 40, 1));
+    }
+
+    #[test]
+    fn no_panel_leaves_the_screen() {
+        for width in 40..=200 {
+            for height in 10..=60 {
+                let l = at(width, height);
+                let panels = [l.joints, l.tool, l.arm, l.positions, l.log];
+                for rect in panels.into_iter().flatten().chain([l.status, l.bottom]) {
+                    assert!(
+                        rect.right() <= width && rect.bottom() <= height,
+                        "{width}x{height}"
+                    );
+                    assert!(
+                        rect.y >= 2 || rect == l.status,
+                        "{width}x{height}: {rect:?}"
+                    );
+                }
+            }
+        }
+    }
+}
