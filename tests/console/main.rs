@@ -13,6 +13,7 @@ mod common;
 mod console_app;
 mod console_book_load;
 mod console_e2e;
+mod console_help;
 mod console_jog_keys;
 mod console_truth;
 mod console_truth_e2e;

@@ -12,10 +12,12 @@ mod arm_events;
 mod arm_state;
 mod book_load;
 mod coords;
+mod help_keys;
 mod jog_keys;
 mod keys;
 mod motion_truth;
 mod named;
+mod offers;
 
 pub use arm_state::{abort_reason, age_text, at_rest, fault_reason};
 pub use book_load::{BookState, CHECKED_ON_CONNECT};
@@ -174,6 +176,8 @@ pub struct App {
     swallowed: Option<(KeyName, Instant)>,
     /// `config.keymap`, shared with each frame's view.
     shared_keymap: Arc<Keymap>,
+    /// The help overlay's first shown line.
+    help_scroll: usize,
 }
 
 impl App {
@@ -207,6 +211,7 @@ impl App {
             now: None,
             swallowed: None,
             shared_keymap,
+            help_scroll: 0,
         }
     }
 

@@ -165,6 +165,11 @@ impl MotionTruth {
         STALE_AFTER.max(period * 3)
     }
 
+    /// The telemetry the driver said to expect, once it has said.
+    pub fn expected_telemetry(&self) -> Option<TelemetrySource> {
+        self.expect
+    }
+
     fn expects_telemetry(&self) -> bool {
         matches!(
             self.expect,
