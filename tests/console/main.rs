@@ -21,5 +21,6 @@ mod console_truth_ui;
 mod console_ui;
 mod jog_engine;
 mod keymap;
+mod readme_keys;
 mod speed_settings;
 mod tmux_console;
