@@ -166,47 +166,78 @@ impl Action {
         }
     }
 
-    /// A short description for the help overlay.
+    /// What the action does, in one line (the help overlay and the README's key table).
     pub fn describe(self) -> &'static str {
         use Action as A;
         match self {
-            A::JogXPlus => "jog +X (hold)",
-            A::JogXMinus => "jog -X (hold)",
-            A::JogYPlus => "jog +Y (hold)",
-            A::JogYMinus => "jog -Y (hold)",
-            A::JogZPlus => "jog +Z (hold)",
-            A::JogZMinus => "jog -Z (hold)",
-            A::PanAzimuthPlus => "pan azimuth + (hold)",
-            A::PanAzimuthMinus => "pan azimuth - (hold)",
-            A::PanAltitudePlus => "pan altitude + (hold)",
-            A::PanAltitudeMinus => "pan altitude - (hold)",
-            A::JointPlus => "selected joint + (hold)",
-            A::JointMinus => "selected joint - (hold)",
+            A::JogXPlus => "hold: move the tool +X",
+            A::JogXMinus => "hold: move the tool -X",
+            A::JogYPlus => "hold: move the tool +Y",
+            A::JogYMinus => "hold: move the tool -Y",
+            A::JogZPlus => "hold: move the tool +Z",
+            A::JogZMinus => "hold: move the tool -Z",
+            A::PanAzimuthPlus => "hold: turn about the base, azimuth +",
+            A::PanAzimuthMinus => "hold: turn about the base, azimuth -",
+            A::PanAltitudePlus => "hold: raise the tool, altitude +",
+            A::PanAltitudeMinus => "hold: lower the tool, altitude -",
+            A::JointPlus => "hold: turn the selected joint +",
+            A::JointMinus => "hold: turn the selected joint -",
             A::Stop => "stop all motion",
-            A::QuickStop => "quick stop (arm goes to fault)",
-            A::FaultReset => "reset faults",
-            A::Home => "go home (asks first)",
-            A::StepMode => "toggle step mode",
-            A::StepBigger => "bigger step",
-            A::StepSmaller => "smaller step",
-            A::SpeedUp => "speed up",
-            A::SpeedDown => "speed down",
-            A::FrameCycle => "cycle reference frame",
-            A::JointNext => "select next joint",
-            A::JointPrevious => "select previous joint",
-            A::SavePosition => "save current pose as...",
-            A::GoToPosition => "go to selected position (asks first)",
-            A::DeletePosition => "delete selected position (asks first)",
-            A::RenamePosition => "rename selected position",
-            A::UndoDelete => "undo the last delete",
-            A::SetPolarPosition => "define a position in polar coordinates",
-            A::SetCartesianPosition => "define a position in cartesian coordinates",
-            A::ShowPosition => "show selected position's coordinates",
-            A::PositionNext => "select next position",
-            A::PositionPrevious => "select previous position",
-            A::ToggleHex => "show frames in hex in the log",
-            A::Help => "this help",
-            A::Quit => "quit (stops the arm)",
+            A::QuickStop => "quick stop: the arm faults until reset",
+            A::FaultReset => "reset the arm's faults",
+            A::Home => "go to the home pose (asks first)",
+            A::StepMode => "step mode on/off: one step per press",
+            A::StepBigger => "bigger step (step mode)",
+            A::StepSmaller => "smaller step (step mode)",
+            A::SpeedUp => "faster: next speed step (% of the cap)",
+            A::SpeedDown => "slower: previous speed step",
+            A::FrameCycle => "jog frame: base, tool, mixed (Modbus)",
+            A::JointNext => "select the next joint",
+            A::JointPrevious => "select the previous joint",
+            A::SavePosition => "save the current pose under a name",
+            A::GoToPosition => "go to the selected position (asks first)",
+            A::DeletePosition => "delete the selected position (asks first)",
+            A::RenamePosition => "rename the selected position",
+            A::UndoDelete => "bring back the last deleted position",
+            A::SetPolarPosition => "define a position by elevation, azimuth, radius",
+            A::SetCartesianPosition => "define a position by x, y, z",
+            A::ShowPosition => "show the selected position's coordinates",
+            A::PositionNext => "select the next position",
+            A::PositionPrevious => "select the previous position",
+            A::ToggleHex => "show the log's frames in hex",
+            A::Help => "this help: every key of the keymap",
+            A::Quit => "stop the arm and quit",
+        }
+    }
+
+    /// The help overlay's section for this action.
+    pub fn section(self) -> &'static str {
+        use Action as A;
+        match self {
+            _ if self.jog().is_some() => "Hold to move",
+            A::Stop
+            | A::QuickStop
+            | A::FaultReset
+            | A::Home
+            | A::StepMode
+            | A::StepBigger
+            | A::StepSmaller
+            | A::SpeedUp
+            | A::SpeedDown
+            | A::FrameCycle
+            | A::JointNext
+            | A::JointPrevious => "Motion",
+            A::SavePosition
+            | A::GoToPosition
+            | A::DeletePosition
+            | A::RenamePosition
+            | A::UndoDelete
+            | A::SetPolarPosition
+            | A::SetCartesianPosition
+            | A::ShowPosition
+            | A::PositionNext
+            | A::PositionPrevious => "Named positions",
+            _ => "Screen",
         }
     }
 }
@@ -222,6 +253,18 @@ mod tests {
         for action in Action::ALL {
             let parsed: Action = serde_json::from_value(serde_json::json!(action.name())).unwrap();
             assert_eq!(parsed, action);
+        }
+    }
+
+    #[test]
+    fn every_description_is_one_short_line() {
+        for action in Action::ALL {
+            let text = action.describe();
+            assert!(!text.is_empty() && !text.contains('\n'), "{action:?}");
+            assert!(
+                text.len() <= 48,
+                "{action:?}: {text} is too long for 80 columns"
+            );
         }
     }
 

@@ -58,6 +58,10 @@ pub struct View {
     pub hex: bool,
     pub message: Option<(String, Severity)>,
     pub overlay: Overlay,
+    /// Saving the current pose can work on this link (the footer offers it).
+    pub can_save: bool,
+    /// The help overlay's first shown line.
+    pub help_scroll: usize,
 }
 
 impl View {
@@ -104,6 +108,8 @@ impl View {
                 .message()
                 .map(|(text, severity)| (text.to_string(), severity)),
             overlay: app.overlay().clone(),
+            can_save: app.can_save_position(),
+            help_scroll: app.help_scroll(),
         }
     }
 }

@@ -572,18 +572,6 @@ fn log_in_hex_keeps_the_newest_lines() {
 }
 
 #[test]
-fn help_one_column() {
-    let (app, _) = live_app(ReleaseMode::Reported);
-    insta::assert_snapshot!(render(ui::help::draw, &app, 70, 42).backend());
-}
-
-#[test]
-fn help_two_columns() {
-    let (app, _) = live_app(ReleaseMode::Reported);
-    insta::assert_snapshot!(render(ui::help::draw, &app, 96, 30).backend());
-}
-
-#[test]
 fn dialog_confirm_go_to() {
     let (mut app, t0) = live_app(ReleaseMode::Reported);
     press(&mut app, "o", t0);

@@ -278,7 +278,7 @@ fn the_console_opens_on_the_simulator_jogs_shows_help_and_gives_the_terminal_bac
     let help = tmux.wait_for(Duration::from_secs(2), "help", |s| {
         s.contains("Help: keymap")
     });
-    assert!(help.contains("jog +X (hold)"), "{help}");
+    assert!(help.contains("jog_x_plus"), "{help}");
     tmux.keys(&["Escape"]);
     tmux.wait_for(Duration::from_secs(2), "help to close", |s| {
         !s.contains("Help: keymap")

@@ -266,7 +266,10 @@ impl App {
                 self.apply_jog(jog, now, effects);
             }
             // Starts empty: a saved pose must not overwrite the selected one by accident.
-            A::SavePosition => self.overlay = Overlay::Form(Form::new(FormKind::Save, "")),
+            A::SavePosition => match self.save_refusal() {
+                Some(why) => self.say(why, Severity::Warning, now),
+                None => self.overlay = Overlay::Form(Form::new(FormKind::Save, "")),
+            },
             A::SetPolarPosition | A::SetCartesianPosition => {
                 let kind = if action == A::SetPolarPosition {
                     FormKind::SetPolar
@@ -297,7 +300,7 @@ impl App {
                 self.selected = (self.selected + n - 1) % n;
             }
             A::ToggleHex => self.hex = !self.hex,
-            A::Help => self.overlay = Overlay::Help,
+            A::Help => self.open_help(),
             A::Quit => self.quit(now, effects),
             // Jog actions are handled before this.
             _ => {}
@@ -307,7 +310,12 @@ impl App {
     fn on_overlay_key(&mut self, key: KeyInput, now: Instant, effects: &mut Vec<Effect>) {
         match std::mem::replace(&mut self.overlay, Overlay::None) {
             Overlay::None => {}
-            Overlay::Help | Overlay::Position { .. } => {}
+            Overlay::Help => {
+                if self.scroll_help(&key.key) {
+                    self.overlay = Overlay::Help;
+                }
+            }
+            Overlay::Position { .. } => {}
             Overlay::Confirm(confirm) => {
                 let yes = match confirm {
                     // Enter just submitted the form: only y replaces a position.

@@ -14,11 +14,13 @@ mod book_load;
 mod coords;
 mod edits;
 mod form_keys;
+mod help_keys;
 mod jog_keys;
 mod keys;
 mod message;
 mod motion_truth;
 mod named;
+mod offers;
 mod resave;
 mod speed_steps;
 
@@ -191,6 +193,8 @@ pub struct App {
     shared_keymap: Arc<Keymap>,
     /// Re-saving names the operator lost (see `resave`).
     resave: resave::Resave,
+    /// The help overlay's first shown line.
+    help_scroll: usize,
 }
 
 impl App {
@@ -230,6 +234,7 @@ impl App {
             last_deleted: None,
             shared_keymap,
             resave: resave::Resave::default(),
+            help_scroll: 0,
         }
     }
 

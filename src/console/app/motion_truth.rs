@@ -171,6 +171,11 @@ impl MotionTruth {
         self.stop_failure.is_some()
     }
 
+    /// The telemetry the driver said to expect, once it has said.
+    pub fn expected_telemetry(&self) -> Option<TelemetrySource> {
+        self.expect
+    }
+
     fn expects_telemetry(&self) -> bool {
         matches!(
             self.expect,

@@ -1,4 +1,8 @@
-//! The bottom line: the latest message, or the most used keys.
+//! The bottom line: the latest message, or the most used keys of the active keymap.
+//!
+//! The keys come in groups, one per family of actions (`w/s/a/d/r/f jog`, `arrows pan`,
+//! `space stop`): each key by its keymap name, never run together. A line too narrow for every
+//! group drops whole groups, the least needed first; a key name is never cut.
 
 use ratatui::Frame;
 use ratatui::layout::Rect;
@@ -8,15 +12,98 @@ use ratatui::widgets::Paragraph;
 use super::theme::Theme;
 use crate::console::action::Action;
 use crate::console::app::Severity;
+use crate::console::keymap::{KeyName, Keymap, NamedKey};
 use crate::console::view::View;
 
-fn keys(view: &View, action: Action) -> String {
-    view.keymap
-        .keys_for(action)
-        .first()
-        .map(|k| k.to_string())
-        .unwrap_or_else(|| "-".into())
+/// Between two groups.
+const GROUP_GAP: &str = "  ";
+
+/// One footer group: its label, its actions (one key shown for each) and how much it is needed
+/// (0 first: dropped last).
+struct Group {
+    label: &'static str,
+    actions: &'static [Action],
+    priority: u8,
 }
+
+/// The groups in the order they are shown.
+const GROUPS: [Group; 11] = [
+    Group {
+        label: "jog",
+        actions: &[
+            Action::JogXPlus,
+            Action::JogXMinus,
+            Action::JogYPlus,
+            Action::JogYMinus,
+            Action::JogZPlus,
+            Action::JogZMinus,
+        ],
+        priority: 3,
+    },
+    Group {
+        label: "pan",
+        actions: &[
+            Action::PanAzimuthPlus,
+            Action::PanAzimuthMinus,
+            Action::PanAltitudePlus,
+            Action::PanAltitudeMinus,
+        ],
+        priority: 4,
+    },
+    Group {
+        label: "joint",
+        actions: &[Action::JointPlus, Action::JointMinus],
+        priority: 9,
+    },
+    Group {
+        label: "stop",
+        actions: &[Action::Stop],
+        priority: 0,
+    },
+    Group {
+        label: "speed",
+        actions: &[Action::SpeedUp, Action::SpeedDown],
+        priority: 7,
+    },
+    Group {
+        label: "step",
+        actions: &[Action::StepMode],
+        priority: 8,
+    },
+    Group {
+        label: "home",
+        actions: &[Action::Home],
+        priority: 6,
+    },
+    Group {
+        label: "save",
+        actions: &[Action::SavePosition],
+        priority: 5,
+    },
+    Group {
+        label: "go to",
+        actions: &[Action::GoToPosition],
+        priority: 10,
+    },
+    Group {
+        label: "help",
+        actions: &[Action::Help],
+        priority: 1,
+    },
+    Group {
+        label: "quit",
+        actions: &[Action::Quit],
+        priority: 2,
+    },
+];
+
+/// The four arrow keys, which the footer calls "arrows" when they are a group's keys.
+const ARROWS: [NamedKey; 4] = [
+    NamedKey::Right,
+    NamedKey::Left,
+    NamedKey::Up,
+    NamedKey::Down,
+];
 
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     let line = match &view.message {
@@ -29,22 +116,112 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
             Line::styled(text.clone(), style)
         }
         None => Line::styled(
-            format!(
-                "{}{}{}{}{}{} jog  arrows pan  {} stop  {} home  {} save  {} help  {} quit",
-                keys(view, Action::JogXPlus),
-                keys(view, Action::JogXMinus),
-                keys(view, Action::JogYPlus),
-                keys(view, Action::JogYMinus),
-                keys(view, Action::JogZPlus),
-                keys(view, Action::JogZMinus),
-                keys(view, Action::Stop),
-                keys(view, Action::Home),
-                keys(view, Action::SavePosition),
-                keys(view, Action::Help),
-                keys(view, Action::Quit),
-            ),
+            footer(&view.keymap, view.can_save, usize::from(area.width)),
             theme.dim(),
         ),
     };
     frame.render_widget(Paragraph::new(line), area);
+}
+
+/// The key groups of `keymap` that fit in `width` columns, in display order. `can_save` false
+/// leaves out the save key (a link where saving cannot work).
+pub fn footer(keymap: &Keymap, can_save: bool, width: usize) -> String {
+    let groups: Vec<(u8, String)> = GROUPS
+        .iter()
+        .filter(|group| can_save || group.label != "save")
+        .filter_map(|group| Some((group.priority, group_text(keymap, group)?)))
+        .collect();
+    let mut by_need: Vec<usize> = (0..groups.len()).collect();
+    by_need.sort_by_key(|&i| groups[i].0);
+    let mut shown = vec![false; groups.len()];
+    let mut used = 0;
+    for i in by_need {
+        let gap = if used == 0 { 0 } else { GROUP_GAP.len() };
+        let cost = gap + groups[i].1.chars().count();
+        if used + cost <= width {
+            shown[i] = true;
+            used += cost;
+        }
+    }
+    groups
+        .into_iter()
+        .zip(shown)
+        .filter(|(_, shown)| *shown)
+        .map(|((_, text), _)| text)
+        .collect::<Vec<_>>()
+        .join(GROUP_GAP)
+}
+
+/// `keys label`, e.g. `w/s/a/d/r/f jog`; `None` when the keymap binds none of its actions.
+fn group_text(keymap: &Keymap, group: &Group) -> Option<String> {
+    let keys: Vec<KeyName> = group
+        .actions
+        .iter()
+        .filter_map(|action| keymap.keys_for(*action).first().copied())
+        .collect();
+    if keys.is_empty() {
+        return None;
+    }
+    let arrows = keys.len() == ARROWS.len()
+        && ARROWS
+            .iter()
+            .all(|arrow| keys.contains(&KeyName::named(*arrow)));
+    let spelled = if arrows {
+        "arrows".to_string()
+    } else {
+        let names: Vec<String> = keys.iter().map(KeyName::to_string).collect();
+        // A separator no key name contains: `/` reads best, but not next to `kp/`.
+        let separator = ["/", ",", " "]
+            .into_iter()
+            .find(|sep| !names.iter().any(|name| name.contains(sep)))
+            .unwrap_or(" ");
+        names.join(separator)
+    };
+    Some(format!("{spelled} {}", group.label))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn default_keymap() -> Keymap {
+        match Keymap::builtin("default") {
+            Some(keymap) => keymap,
+            None => panic!("no default keymap"),
+        }
+    }
+
+    #[test]
+    fn a_wide_footer_shows_every_group_in_order() {
+        let text = footer(&default_keymap(), true, 200);
+        assert_eq!(
+            text,
+            "w/s/a/d/r/f jog  arrows pan  k/j joint  space stop  +/- speed  t step  h home  \
+             p save  o go to  ? help  q quit"
+        );
+    }
+
+    #[test]
+    fn a_narrow_footer_drops_whole_groups_least_needed_first() {
+        let keymap = default_keymap();
+        let full = footer(&keymap, true, 200);
+        for width in 0..=full.len() {
+            let text = footer(&keymap, true, width);
+            assert!(text.chars().count() <= width, "{width}: {text}");
+            for group in text.split(GROUP_GAP) {
+                assert!(full.contains(group), "{width}: {group} is cut");
+            }
+            if width >= "space stop".len() {
+                assert!(text.contains("space stop"), "{width}: {text}");
+            }
+        }
+        assert_eq!(footer(&keymap, true, 30), "space stop  ? help  q quit");
+    }
+
+    #[test]
+    fn saving_that_cannot_work_is_not_offered() {
+        let text = footer(&default_keymap(), false, 200);
+        assert!(!text.contains("save"), "{text}");
+        assert!(text.contains("h home  o go to"), "{text}");
+    }
 }

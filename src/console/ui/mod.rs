@@ -138,21 +138,10 @@ pub fn draw(frame: &mut Frame, view: &View, theme: &Theme) {
     hints::draw(frame, places.bottom, view, theme);
     match &view.overlay {
         Overlay::None => {}
-        Overlay::Help => help::draw(frame, centered(area, 96, 30), view, theme),
+        Overlay::Help => help::draw(frame, help::area(area), view, theme),
         _ => dialog::draw(frame, area, view, theme),
     }
 }
 
 /// A panel's draw function.
 type Panel = fn(&mut Frame, Rect, &View, &Theme);
-
-fn centered(area: Rect, width: u16, height: u16) -> Rect {
-    let width = width.min(area.width);
-    let height = height.min(area.height);
-    Rect {
-        x: area.x + (area.width - width) / 2,
-        y: area.y + (area.height - height) / 2,
-        width,
-        height,
-    }
-}

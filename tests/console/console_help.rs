@@ -1,0 +1,293 @@
+//! The footer and the `?` help from any keymap, and what the console does not offer where it
+//! cannot work (saving on an ack-dialect link without telemetry).
+
+use std::time::{Duration, Instant};
+
+use armjog::console::action::Action;
+use armjog::console::app::{App, AppConfig, Effect, Input, Overlay, Severity};
+use armjog::console::jog::{KeyKind, ReleaseMode};
+use armjog::console::keymap::Keymap;
+use armjog::console::positions::PositionBook;
+use armjog::console::ui::{self, Theme};
+use armjog::console::view::View;
+use armjog::link::interface::{ArmEvent, LinkStatus, TelemetrySource};
+use ratatui::Terminal;
+use ratatui::backend::TestBackend;
+
+use crate::app_support::{key, press, release};
+
+/// A custom keymap with keys a footer could run together: named keys, a slash, modifiers.
+const CUSTOM: &str = r#"{ "name": "custom", "bindings": {
+    "i": "jog_x_plus", "space": "jog_x_minus", "-": "jog_y_plus", "kp/": "jog_y_minus",
+    "pageup": "jog_z_plus", "ctrl+down": "jog_z_minus",
+    "h": "pan_azimuth_plus", "l": "pan_azimuth_minus",
+    "esc": "stop", "f10": "quit", "f1": "help", "s": "save_position" } }"#;
+
+/// An ICD-dialect operator's telemetry.
+const TALOS_HW: TelemetrySource = TelemetrySource::TalosHardware;
+
+fn keymap(name: &str) -> Keymap {
+    match name {
+        "custom" => Keymap::from_json("custom.json", CUSTOM).expect("custom keymap"),
+        builtin => Keymap::builtin(builtin).expect("built-in keymap"),
+    }
+}
+
+/// A console on `keymap` with its link up; `telemetry` is what the driver says to expect.
+fn app_with(
+    keymap: Keymap,
+    on_operator: bool,
+    telemetry: TelemetrySource,
+    size: (u16, u16),
+) -> (App, Instant) {
+    let config = AppConfig {
+        keymap,
+        release_mode: ReleaseMode::Reported,
+        refresh: Duration::from_millis(100),
+        positions_on_operator: on_operator,
+        max_jog_speed: 0.25,
+        frames: !on_operator,
+    };
+    let mut app = App::new(config, PositionBook::new());
+    let t0 = Instant::now();
+    for event in [
+        ArmEvent::TelemetrySource(telemetry),
+        ArmEvent::Status(LinkStatus::Up {
+            description: "talos 127.0.0.1:61616 (icd, crc16), operator 1.0".into(),
+        }),
+        ArmEvent::Speed(50),
+    ] {
+        app.handle(Input::Arm(event), t0);
+    }
+    app.handle(
+        Input::Resize {
+            width: size.0,
+            height: size.1,
+        },
+        t0,
+    );
+    (app, t0)
+}
+
+fn screen(app: &App) -> Terminal<TestBackend> {
+    let (width, height) = app.size();
+    let mut terminal = Terminal::new(TestBackend::new(width, height)).expect("terminal");
+    terminal
+        .draw(|f| ui::draw(f, &View::new(app), &Theme { color: false }))
+        .expect("draw");
+    terminal
+}
+
+fn text(terminal: &Terminal<TestBackend>) -> Vec<String> {
+    let buffer = terminal.backend().buffer();
+    let width = usize::from(buffer.area.width);
+    buffer
+        .content()
+        .chunks(width)
+        .map(|row| row.iter().map(|cell| cell.symbol()).collect())
+        .collect()
+}
+
+fn footer(app: &App) -> String {
+    let width = app.size().0;
+    let mut terminal = Terminal::new(TestBackend::new(width, 1)).expect("terminal");
+    terminal
+        .draw(|f| ui::hints::draw(f, f.area(), &View::new(app), &Theme { color: false }))
+        .expect("draw");
+    text(&terminal).concat()
+}
+
+// ---- The footer ----
+
+#[test]
+fn footers_of_every_keymap_at_several_widths() {
+    let mut shown = String::new();
+    for name in ["default", "numpad", "custom"] {
+        for width in [40, 62, 80, 120, 200] {
+            let (app, _) = app_with(keymap(name), true, TALOS_HW, (width, 24));
+            let line = footer(&app);
+            shown.push_str(&format!("{name:>7} {width:>3} |{}|\n", line.trim_end()));
+        }
+    }
+    insta::assert_snapshot!(shown);
+}
+
+#[test]
+fn a_footer_never_cuts_a_key_name_and_keeps_stop_help_and_quit() {
+    for name in ["default", "numpad", "custom"] {
+        let keymap = keymap(name);
+        let full = ui::hints::footer(&keymap, true, 1000);
+        let key_names: Vec<String> = keymap.bindings().keys().map(|k| k.to_string()).collect();
+        for width in 40..=full.len() {
+            let line = ui::hints::footer(&keymap, true, width);
+            assert!(line.chars().count() <= width, "{name} {width}: {line}");
+            for group in line.split("  ") {
+                assert!(full.contains(group), "{name} {width}: {group:?} was cut");
+                let (keys, _) = group.split_once(' ').expect("keys and a label");
+                let whole_names =
+                    |sep: char| keys.split(sep).all(|k| key_names.contains(&k.into()));
+                assert!(
+                    keys == "arrows" || ['/', ',', ' '].into_iter().any(whole_names),
+                    "{name} {width}: {keys:?} is not a list of key names"
+                );
+            }
+            for action in [Action::Stop, Action::Help, Action::Quit] {
+                let Some(first) = keymap.keys_for(action).first().map(|k| k.to_string()) else {
+                    continue;
+                };
+                assert!(line.contains(&first), "{name} {width}: {first} missing");
+            }
+        }
+    }
+}
+
+// ---- The help ----
+
+#[test]
+fn help_at_120x40_and_80x24() {
+    for (width, height) in [(120, 40), (80, 24)] {
+        let (mut app, t0) = app_with(keymap("default"), true, TALOS_HW, (width, height));
+        press(&mut app, "?", t0);
+        assert_eq!(*app.overlay(), Overlay::Help);
+        insta::assert_snapshot!(format!("help_{width}x{height}"), screen(&app).backend());
+    }
+}
+
+#[test]
+fn help_that_fits_on_one_page() {
+    let (mut app, t0) = app_with(keymap("default"), true, TALOS_HW, (100, 60));
+    press(&mut app, "?", t0);
+    press(&mut app, "pagedown", t0);
+    assert_eq!(app.help_scroll(), 0, "nothing to scroll");
+    insta::assert_snapshot!(screen(&app).backend());
+}
+
+#[test]
+fn help_of_the_numpad_keymap_at_80x24_scrolled_to_its_end() {
+    let (mut app, t0) = app_with(keymap("numpad"), true, TALOS_HW, (80, 24));
+    press(&mut app, "?", t0);
+    press(&mut app, "end", t0);
+    insta::assert_snapshot!(screen(&app).backend());
+}
+
+#[test]
+fn the_help_scrolls_to_every_action_and_closes_on_any_other_key() {
+    for name in ["default", "numpad", "custom"] {
+        let keymap = keymap(name);
+        let help_key = keymap.keys_for(Action::Help)[0].to_string();
+        let (mut app, t0) = app_with(keymap, true, TALOS_HW, (80, 24));
+        press(&mut app, &help_key, t0);
+        assert_eq!(
+            *app.overlay(),
+            Overlay::Help,
+            "{name}: {help_key} opens the help"
+        );
+        let mut seen = String::new();
+        let mut last_scroll = None;
+        // Page down until the offset stops growing; the page overlaps by a line.
+        while last_scroll != Some(app.help_scroll()) {
+            last_scroll = Some(app.help_scroll());
+            seen.push_str(&text(&screen(&app)).join("\n"));
+            let effects = press(&mut app, "pagedown", t0);
+            assert!(effects.is_empty(), "{name}: paging moved: {effects:?}");
+            assert_eq!(*app.overlay(), Overlay::Help, "{name}: pagedown closed it");
+        }
+        assert!(
+            app.help_scroll() > 0,
+            "{name}: the help did not scroll at 80x24"
+        );
+        for action in Action::ALL {
+            assert!(
+                seen.contains(&action.name()),
+                "{name}: {action:?} never shown"
+            );
+        }
+        // Up a line, then back to the top.
+        let end = app.help_scroll();
+        press(&mut app, "up", t0);
+        assert_eq!(app.help_scroll(), end - 1);
+        press(&mut app, "pageup", t0);
+        press(&mut app, "home", t0);
+        assert_eq!(app.help_scroll(), 0);
+        press(&mut app, "up", t0);
+        assert_eq!(app.help_scroll(), 0, "no scrolling above the top");
+        // Another key closes it and does nothing else; opening it again starts at the top.
+        let effects = press(&mut app, "x", t0);
+        assert!(
+            effects.is_empty(),
+            "{name}: closing the help did {effects:?}"
+        );
+        assert_eq!(*app.overlay(), Overlay::None);
+    }
+}
+
+#[test]
+fn scrolling_the_help_with_a_jog_key_never_moves_the_arm() {
+    // Down is pan_altitude_minus in the default keymap: in the help it scrolls, and once the
+    // help is closed the key still down moves nothing until it is pressed anew. (An ack
+    // link: idle, it never goes stale, so the clock can run.)
+    let (mut app, t0) = app_with(keymap("default"), true, TelemetrySource::None, (80, 24));
+    press(&mut app, "?", t0);
+    let effects = press(&mut app, "down", t0);
+    assert!(effects.is_empty(), "{effects:?}");
+    assert_eq!(app.help_scroll(), 1);
+    let effects = app.handle(
+        key("down", KeyKind::Repeat),
+        t0 + Duration::from_millis(500),
+    );
+    assert!(effects.is_empty(), "a repeat in the help: {effects:?}");
+    press(&mut app, "esc", t0 + Duration::from_millis(600));
+    assert_eq!(*app.overlay(), Overlay::None);
+    let effects = app.handle(
+        key("down", KeyKind::Repeat),
+        t0 + Duration::from_millis(640),
+    );
+    assert!(
+        !app.jog().is_jogging(),
+        "the held down key jogs after the help closed: {effects:?}"
+    );
+    release(&mut app, "down", t0 + Duration::from_millis(700));
+    press(&mut app, "down", t0 + Duration::from_millis(800));
+    assert!(app.jog().is_jogging(), "a fresh press pans");
+}
+
+// ---- Ack dialect: no saving where it cannot work ----
+
+#[test]
+fn an_ack_link_without_telemetry_does_not_offer_saving() {
+    let (mut app, t0) = app_with(keymap("default"), false, TelemetrySource::None, (120, 40));
+    assert!(!app.can_save_position());
+    let line = footer(&app);
+    assert!(!line.contains("save"), "{line}");
+    assert!(line.contains("h home"), "{line}");
+    let effects = press(&mut app, "p", t0);
+    assert!(effects.is_empty(), "{effects:?}");
+    assert_eq!(*app.overlay(), Overlay::None, "no form opens");
+    let (message, severity) = app.message().expect("a message says why");
+    assert_eq!(severity, Severity::Warning);
+    assert!(message.contains("cannot save"), "{message}");
+    assert!(message.contains("ack dialect"), "{message}");
+    assert!(message.contains("telemetry"), "{message}");
+}
+
+#[test]
+fn saving_is_offered_where_it_can_work() {
+    // An ICD operator saves the pose itself; a Modbus link beside an ack operator gives the
+    // console the pose.
+    for (on_operator, telemetry) in [
+        (true, TelemetrySource::None),
+        (true, TelemetrySource::TalosHardware),
+        (false, TelemetrySource::Modbus),
+    ] {
+        let (mut app, t0) = app_with(keymap("default"), on_operator, telemetry, (120, 40));
+        assert!(app.can_save_position(), "{on_operator} {telemetry:?}");
+        let line = footer(&app);
+        assert!(
+            line.contains("p save"),
+            "{on_operator} {telemetry:?}: {line}"
+        );
+        let effects: Vec<Effect> = press(&mut app, "p", t0);
+        assert!(effects.is_empty(), "{effects:?}");
+        assert!(matches!(app.overlay(), Overlay::Form(_)), "the form opens");
+    }
+}
