@@ -76,7 +76,8 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
 }
 
 /// One position in `width` columns: the name, its marks, its coordinates. When that does not
-/// fit, the anchor's parent goes, then the name is elided to keep the coordinates whole, then
+/// fit, the anchor's parent goes, then the name is elided to keep the coordinates whole (the
+/// unknown-to-operator warning shortened if need be), then
 /// the coordinates go whole; the name and a warning that the operator does not know it stay
 /// (elided last of all).
 fn row<'a>(name: &'a str, entry: &BookEntry, width: usize, theme: &Theme) -> Line<'a> {
@@ -115,6 +116,19 @@ fn row<'a>(name: &'a str, entry: &BookEntry, width: usize, theme: &Theme) -> Lin
         let room = width - unknown_width - coordinates_width;
         return line(numbers::elide_name(name, room), vec![coordinates]);
     }
+    // Then a shorter warning, so that a long name never pushes the coordinates out of view.
+    if unknown.is_some() {
+        for mark in SHORT_UNKNOWN {
+            let mark_width = numbers::width(mark);
+            if mark_width + coordinates_width + NAME_MIN_WIDTH.min(name_width) <= width {
+                let room = width - mark_width - coordinates_width;
+                let mut spans = vec![Span::raw(numbers::elide_name(name, room))];
+                spans.push(Span::styled(mark, theme.warning()));
+                spans.extend(coordinates);
+                return Line::from(spans);
+            }
+        }
+    }
     if name_width + unknown_width <= width || unknown.is_none() {
         return line(numbers::elide_name(name, width), Vec::new());
     }
@@ -130,6 +144,8 @@ fn row<'a>(name: &'a str, entry: &BookEntry, width: usize, theme: &Theme) -> Lin
 
 /// The mark of a name the operator does not know.
 const UNKNOWN: &str = "  unknown to operator";
+/// Shorter forms of [`UNKNOWN`] for a narrow panel.
+const SHORT_UNKNOWN: [&str; 2] = ["  unknown", "  ?"];
 
 /// The fewest columns of a name shown beside its coordinates.
 const NAME_MIN_WIDTH: usize = 4;
