@@ -35,7 +35,8 @@ fn save(op: &mut Operator, arm: &mut Arm, name: &str, anchor: bool, parent: &str
 
 #[test]
 fn handshake_reports_the_version() {
-    let reply = Operator::default().handle(&mut Arm::default(), Request::Handshake { oid: 3 });
+    let reply =
+        Operator::default().handle(&mut Arm::default(), Request::Handshake { oid: Some(3) });
     assert_eq!(
         reply,
         Reply::Handshake {
