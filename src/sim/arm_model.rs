@@ -26,6 +26,18 @@ pub const MAX_TWIST_ANGULAR_DEG: f64 = 100.0;
 /// The operator's continuous-START watchdog, seconds.
 pub const WATCHDOG: f64 = 0.5;
 
+/// A discrete move (to a pose) has arrived when the tool is this close to its target, m and
+/// rad: well inside the 0.1 mm a technician steps by, so a step's length is the one asked for.
+pub const ARRIVED_POSITION: f64 = 5e-6;
+pub const ARRIVED_ROTATION: f64 = 0.01 * std::f64::consts::PI / 180.0;
+
+/// How fast a discrete move approaches its target: proportionally to the distance left (1/s),
+/// but no slower than a floor (m/s, rad/s, within the move's own speed), so the last fraction
+/// of a millimetre takes milliseconds rather than an exponential tail.
+const APPROACH_GAIN: f64 = 8.0;
+const APPROACH_FLOOR_LINEAR: f64 = 0.002;
+const APPROACH_FLOOR_ANGULAR: f64 = 0.2 * std::f64::consts::PI / 180.0;
+
 /// What the simulated arm is doing (the link and the console have their own motion vocabularies).
 #[derive(Debug, Clone, PartialEq)]
 pub enum SimMotion {
@@ -171,6 +183,8 @@ pub struct Arm {
     /// it found: at rest the joints do not change, and the 1 kHz integrator need not redo the
     /// kinematics every step (they dominate an idle simulator's CPU in a debug build).
     reach_at: Option<(Joints, f64)>,
+    /// Where a running twist or polar pan should have the tool (see [`tracking`]).
+    reference: Option<tracking::Reference>,
 }
 
 impl Default for Arm {
@@ -202,6 +216,7 @@ impl Arm {
             torque: [0.0; JOINTS],
             current: [0.0; JOINTS],
             reach_at: None,
+            reference: None,
         };
         arm.update_effort();
         arm
@@ -320,6 +335,7 @@ impl Arm {
         self.delayed = None;
         self.watchdog = None;
         self.qd = [0.0; JOINTS];
+        self.reference = None;
     }
 
     /// Coil 0: stop and go into fault, as Kinova's quick stop does.
@@ -441,17 +457,32 @@ impl Arm {
                 angular,
                 frame,
             } => {
-                let rotation = pose.rotation;
+                // A tool-frame twist turns with the tool the motion commands, not with the
+                // tool's small tracking error.
+                let reference = self.reference_pose(pose);
+                let rotation = reference.rotation;
                 let (linear, angular) = match frame {
                     ReferenceFrame::Base => (linear, angular),
                     ReferenceFrame::Tool => (rotation * linear, rotation * angular),
                     ReferenceFrame::Mixed => (linear, rotation * angular),
                 };
-                self.track(j, linear, angular)
+                let (linear, angular) = self.capped_twist(linear, angular);
+                let next = tracking::advanced(&reference, linear, angular, STEP);
+                self.follow(pose, j, &reference, (linear, angular), next)
             }
             SimMotion::Polar { azimuth, altitude } => {
-                let (linear, angular) = polar_twist(pose, azimuth, altitude);
-                self.track(j, linear, angular)
+                let reference = self.reference_pose(pose);
+                let (linear, angular) = polar_twist(&reference, azimuth, altitude);
+                // The whole pan slows together, so it keeps its shape under either cap.
+                let scale = [
+                    self.linear_cap() / linear.norm(),
+                    self.speed_limit_angular / angular.norm(),
+                ]
+                .into_iter()
+                .fold(1.0, f64::min);
+                let (azimuth, altitude) = (azimuth * scale * STEP, altitude * scale * STEP);
+                let next = polar_target(&reference, azimuth, altitude);
+                self.follow(pose, j, &reference, (linear * scale, angular * scale), next)
             }
             SimMotion::ToPose {
                 target,
@@ -461,13 +492,12 @@ impl Arm {
                 let err = kinematics::pose_error(pose, &target);
                 let dp = err.fixed_rows::<3>(0).into_owned();
                 let dr = err.fixed_rows::<3>(3).into_owned();
-                if dp.norm() < 2e-4 && dr.norm() < 0.05_f64.to_radians() {
+                if dp.norm() < ARRIVED_POSITION && dr.norm() < ARRIVED_ROTATION {
                     self.finish();
                     return [0.0; JOINTS];
                 }
-                // Proportional approach, capped at the requested speeds.
-                let linear = cap(dp * 8.0, linear_speed);
-                let angular = cap(dr * 8.0, angular_speed);
+                let linear = approach(dp, linear_speed, APPROACH_FLOOR_LINEAR);
+                let angular = approach(dr, angular_speed, APPROACH_FLOOR_ANGULAR);
                 self.track(j, linear, angular)
             }
             SimMotion::ToJoints { target, fraction } => {
@@ -518,22 +548,63 @@ impl Arm {
 
     fn finish(&mut self) {
         self.motion = SimMotion::Idle;
+        self.reference = None;
         self.watchdog = None;
         self.action_status = ActionStatus::Completed;
     }
 
-    /// Joint velocities for a base-frame twist, capped at the desired speed limits and the
-    /// motion's tool speed cap. The whole twist is scaled for the linear cap, so a polar pan
-    /// keeps its shape (slower rotation, not a tool turning faster than it orbits).
-    fn track(&self, j: &Jacobian, linear: Vector3<f64>, angular: Vector3<f64>) -> Joints {
+    /// The reference pose of the running continuous motion: a new one, at `pose`, when the
+    /// motion has just begun or changed.
+    fn reference_pose(&mut self, pose: &Pose) -> Pose {
+        match &self.reference {
+            Some(reference) if reference.follows(&self.motion) => reference.pose,
+            _ => {
+                self.reference = Some(tracking::Reference::new(self.motion.clone(), *pose));
+                *pose
+            }
+        }
+    }
+
+    /// Joint velocities that move the tool by the (capped) twist `feed` plus the correction
+    /// towards `reference`; the reference moves on to `next`.
+    fn follow(
+        &mut self,
+        pose: &Pose,
+        j: &Jacobian,
+        reference: &Pose,
+        feed: (Vector3<f64>, Vector3<f64>),
+        next: Pose,
+    ) -> Joints {
+        let (linear, angular) = tracking::correction(pose, reference);
+        if let Some(reference) = &mut self.reference {
+            reference.move_to(next, pose);
+        }
+        self.track(j, feed.0 + linear, feed.1 + angular)
+    }
+
+    /// A base-frame twist capped at the desired speed limits and the motion's tool speed cap.
+    /// The whole twist is scaled for the linear cap (slower rotation too, not a tool turning
+    /// faster than it moves).
+    fn capped_twist(
+        &self,
+        linear: Vector3<f64>,
+        angular: Vector3<f64>,
+    ) -> (Vector3<f64>, Vector3<f64>) {
         let speed = linear.norm();
         let scale = if speed > self.linear_cap() {
             self.linear_cap() / speed
         } else {
             1.0
         };
-        let linear = linear * scale;
-        let angular = cap(angular * scale, self.speed_limit_angular);
+        (
+            linear * scale,
+            cap(angular * scale, self.speed_limit_angular),
+        )
+    }
+
+    /// Joint velocities for a base-frame twist, capped as [`Arm::capped_twist`] says.
+    fn track(&self, j: &Jacobian, linear: Vector3<f64>, angular: Vector3<f64>) -> Joints {
+        let (linear, angular) = self.capped_twist(linear, angular);
         let xdot = Vector6::new(
             linear.x, linear.y, linear.z, angular.x, angular.y, angular.z,
         );
@@ -635,6 +706,17 @@ pub fn joint_delta(i: usize, from: f64, to: f64) -> f64 {
     }
 }
 
+/// The velocity that closes the error `err` of a discrete move: proportional, no slower than
+/// `floor` and no faster than `max`, and never past the target within one step.
+fn approach(err: Vector3<f64>, max: f64, floor: f64) -> Vector3<f64> {
+    let n = err.norm();
+    if n == 0.0 {
+        return err;
+    }
+    let speed = (n * APPROACH_GAIN).max(floor).min(max).min(n / STEP);
+    err * (speed / n)
+}
+
 fn cap(v: Vector3<f64>, max: f64) -> Vector3<f64> {
     let n = v.norm();
     if n > max && n > 0.0 { v * (max / n) } else { v }
@@ -678,5 +760,9 @@ pub fn polar_target(pose: &Pose, azimuth: f64, altitude: f64) -> Pose {
     }
 }
 
+mod tracking;
+
+#[cfg(test)]
+mod path_tests;
 #[cfg(test)]
 mod tests;
