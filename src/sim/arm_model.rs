@@ -426,12 +426,19 @@ impl Arm {
             );
             self.stop();
         }
+        // The tool's horizontal reach for the effort model, from this step's kinematics.
+        let mut reach = None;
         self.qd = if self.motion.is_idle() {
             [0.0; JOINTS]
         } else {
             let (pose, j) = kinematics::pose_and_jacobian(&self.q);
+            reach = Some(horizontal_reach(&pose));
             let desired = self.desired_velocity(&pose, &j);
-            self.limit_tcp_speed(limit_joint_speeds(desired), &j)
+            let (qd, twist) = self.limit_tcp_speed(limit_joint_speeds(desired), &j);
+            if let Some(reference) = &mut self.reference {
+                reference.advance(&pose, twist);
+            }
+            qd
         };
         let next: Joints = std::array::from_fn(|i| self.q[i] + self.qd[i] * STEP);
         if let Some(joint) = (0..JOINTS).find(|&i| !kinematics::within_limit(i, next[i])) {
@@ -444,6 +451,11 @@ impl Arm {
                 self.warnings &= !(Flag::JointFault.bit());
             }
             self.q = next;
+            // A moving arm's reach from the kinematics this step ran anyway (one step old, under
+            // a millimetre): another forward pass per step would cost more than the tracking.
+            if let Some(reach) = reach {
+                self.reach_at = Some((self.q, reach));
+            }
         }
         self.update_effort();
     }
@@ -466,9 +478,8 @@ impl Arm {
                     ReferenceFrame::Tool => (rotation * linear, rotation * angular),
                     ReferenceFrame::Mixed => (linear, rotation * angular),
                 };
-                let (linear, angular) = self.capped_twist(linear, angular);
-                let next = tracking::advanced(&reference, linear, angular, STEP);
-                self.follow(pose, j, &reference, (linear, angular), next)
+                let feed = self.capped_twist(linear, angular);
+                self.follow(pose, j, feed, tracking::Advance::Twist)
             }
             SimMotion::Polar { azimuth, altitude } => {
                 let reference = self.reference_pose(pose);
@@ -480,9 +491,11 @@ impl Arm {
                 ]
                 .into_iter()
                 .fold(1.0, f64::min);
-                let (azimuth, altitude) = (azimuth * scale * STEP, altitude * scale * STEP);
-                let next = polar_target(&reference, azimuth, altitude);
-                self.follow(pose, j, &reference, (linear * scale, angular * scale), next)
+                let advance = tracking::Advance::Polar {
+                    azimuth: azimuth * scale * STEP,
+                    altitude: altitude * scale * STEP,
+                };
+                self.follow(pose, j, (linear * scale, angular * scale), advance)
             }
             SimMotion::ToPose {
                 target,
@@ -532,17 +545,21 @@ impl Arm {
     /// motion's cap and the configured linear limit, measured through the Jacobian: a
     /// cartesian motion is capped before its inverse kinematics too (see [`Arm::track`]), but
     /// damped least squares can trade a little rotation for translation.
-    fn limit_tcp_speed(&self, qd: Joints, j: &Jacobian) -> Joints {
-        if qd.iter().all(|v| *v == 0.0) {
-            return qd;
-        }
-        let cap = self.linear_cap();
+    ///
+    /// Returns the joint velocities and the tool's twist they make (linear m/s, angular rad/s).
+    fn limit_tcp_speed(&self, qd: Joints, j: &Jacobian) -> (Joints, (Vector3<f64>, Vector3<f64>)) {
         let twist = j * nalgebra::SVector::<f64, JOINTS>::from(qd);
-        let speed = twist.fixed_rows::<3>(0).norm();
+        let (linear, angular) = (
+            twist.fixed_rows::<3>(0).into_owned(),
+            twist.fixed_rows::<3>(3).into_owned(),
+        );
+        let cap = self.linear_cap();
+        let speed = linear.norm();
         if speed > cap && speed > 0.0 {
-            qd.map(|v| v * cap / speed)
+            let scale = cap / speed;
+            (qd.map(|v| v * scale), (linear * scale, angular * scale))
         } else {
-            qd
+            (qd, (linear, angular))
         }
     }
 
@@ -565,21 +582,20 @@ impl Arm {
         }
     }
 
-    /// Joint velocities that move the tool by the (capped) twist `feed` plus the correction
-    /// towards `reference`; the reference moves on to `next`.
+    /// Joint velocities that move the tool at `pose` by the (capped) twist `feed` plus the
+    /// correction towards the reference, which moves on by `advance` once the step is done.
     fn follow(
         &mut self,
         pose: &Pose,
         j: &Jacobian,
-        reference: &Pose,
         feed: (Vector3<f64>, Vector3<f64>),
-        next: Pose,
+        advance: tracking::Advance,
     ) -> Joints {
-        let (linear, angular) = tracking::correction(pose, reference);
-        if let Some(reference) = &mut self.reference {
-            reference.move_to(next, pose);
-        }
-        self.track(j, feed.0 + linear, feed.1 + angular)
+        let (linear, angular) = match &mut self.reference {
+            Some(reference) => reference.command(pose, feed, advance),
+            None => feed,
+        };
+        self.track(j, linear, angular)
     }
 
     /// A base-frame twist capped at the desired speed limits and the motion's tool speed cap.
@@ -640,9 +656,7 @@ impl Arm {
         {
             return reach;
         }
-        let pose = self.pose();
-        // Horizontal reach loads the shoulder and elbow like a lever.
-        let reach = (pose.position.x.powi(2) + pose.position.y.powi(2)).sqrt();
+        let reach = horizontal_reach(&self.pose());
         self.reach_at = Some((self.q, reach));
         reach
     }
@@ -694,6 +708,12 @@ impl Arm {
             moving: self.is_moving(),
         }
     }
+}
+
+/// The tool's horizontal distance from the base axis, m: it loads the shoulder and elbow like a
+/// lever.
+fn horizontal_reach(pose: &Pose) -> f64 {
+    pose.position.x.hypot(pose.position.y)
 }
 
 /// How far joint `i` turns from `from` to reach `to` (radians), as a joint-space move does it:

@@ -170,6 +170,34 @@ fn a_new_motion_starts_from_where_the_tool_is() {
     assert!(s.off_line <= 0.0005);
 }
 
+#[test]
+fn a_polar_pan_keeps_its_radius_and_height() {
+    let mut arm = Arm::default();
+    let p0 = arm.pose().position;
+    arm.command(
+        SimMotion::Polar {
+            azimuth: 30f64.to_radians(),
+            altitude: 0.0,
+        },
+        0.0,
+        false,
+    )
+    .unwrap();
+    let radius = |p: Vector3<f64>| p.x.hypot(p.y);
+    for _ in 0..2000 {
+        arm.step();
+        let p = arm.pose().position;
+        assert!((radius(p) - radius(p0)).abs() <= 0.0005, "{p:?}");
+        assert!((p.z - p0.z).abs() <= 0.0005, "{p:?}");
+    }
+    let turned = arm.pose().position.y.atan2(arm.pose().position.x) - p0.y.atan2(p0.x);
+    assert!(
+        (turned.to_degrees() - 60.0).abs() < 0.5,
+        "{}",
+        turned.to_degrees()
+    );
+}
+
 /// Runs a discrete move to `target` until it finishes (at most 5 s).
 fn move_to(arm: &mut Arm, target: Pose, linear_speed: f64) -> f64 {
     arm.command(
