@@ -31,6 +31,11 @@ pub const WATCHDOG: f64 = 0.5;
 pub const ARRIVED_POSITION: f64 = 5e-6;
 pub const ARRIVED_ROTATION: f64 = 0.01 * std::f64::consts::PI / 180.0;
 
+/// A discrete move within these (the tolerance of [`kinematics::inverse`], which found the
+/// target reachable) that the arm can hardly move closer has arrived where it can, m and rad.
+const STALLED_POSITION: f64 = 1e-4;
+const STALLED_ROTATION: f64 = 0.01 * std::f64::consts::PI / 180.0;
+
 /// How fast a discrete move approaches its target: proportionally to the distance left (1/s),
 /// but no slower than a floor (m/s, rad/s, within the move's own speed), so the last fraction
 /// of a millimetre takes milliseconds rather than an exponential tail.
@@ -511,7 +516,17 @@ impl Arm {
                 }
                 let linear = approach(dp, linear_speed, APPROACH_FLOOR_LINEAR);
                 let angular = approach(dr, angular_speed, APPROACH_FLOOR_ANGULAR);
-                self.track(j, linear, angular)
+                let qd = self.track(j, linear, angular);
+                if dp.norm() < STALLED_POSITION
+                    && dr.norm() < STALLED_ROTATION
+                    && !makes_headway(j, &qd, self.capped_twist(linear, angular))
+                {
+                    // As close as the inverse kinematics promised, and a singularity or a
+                    // limit leaves the arm hardly any way closer: it has arrived where it can.
+                    self.finish();
+                    return [0.0; JOINTS];
+                }
+                qd
             }
             SimMotion::ToJoints { target, fraction } => {
                 let delta: Joints = std::array::from_fn(|i| joint_delta(i, self.q[i], target[i]));
@@ -735,6 +750,18 @@ fn approach(err: Vector3<f64>, max: f64, floor: f64) -> Vector3<f64> {
     }
     let speed = (n * APPROACH_GAIN).max(floor).min(max).min(n / STEP);
     err * (speed / n)
+}
+
+/// Whether joint velocities `qd` realise at least a tenth of the twist `wanted` (its linear part,
+/// or its angular part when it has no linear one).
+fn makes_headway(j: &Jacobian, qd: &Joints, wanted: (Vector3<f64>, Vector3<f64>)) -> bool {
+    let twist = j * nalgebra::SVector::<f64, JOINTS>::from(*qd);
+    let (realised, wanted) = if wanted.0.norm_squared() > 0.0 {
+        (twist.fixed_rows::<3>(0).into_owned(), wanted.0)
+    } else {
+        (twist.fixed_rows::<3>(3).into_owned(), wanted.1)
+    };
+    wanted.norm_squared() == 0.0 || realised.dot(&wanted) >= 0.1 * wanted.norm_squared()
 }
 
 fn cap(v: Vector3<f64>, max: f64) -> Vector3<f64> {
