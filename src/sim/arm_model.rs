@@ -4,7 +4,7 @@
 //! Protocol-neutral: the Talos and Modbus servers translate their commands into [`SimMotion`]s and
 //! read [`ArmSnapshot`]s. Time only moves through [`Arm::step`], so tests drive it exactly.
 
-use nalgebra::{Rotation3, Unit, Vector3, Vector6};
+use nalgebra::{Vector3, Vector6};
 
 use crate::kortex::Flag;
 pub use crate::kortex::{ActionStatus, ReferenceFrame, RobotState};
@@ -42,121 +42,6 @@ const STALLED_ROTATION: f64 = 0.01 * std::f64::consts::PI / 180.0;
 const APPROACH_GAIN: f64 = 8.0;
 const APPROACH_FLOOR_LINEAR: f64 = 0.002;
 const APPROACH_FLOOR_ANGULAR: f64 = 0.2 * std::f64::consts::PI / 180.0;
-
-/// What the simulated arm is doing (the link and the console have their own motion vocabularies).
-#[derive(Debug, Clone, PartialEq)]
-pub enum SimMotion {
-    Idle,
-    /// Linear m/s and angular rad/s, in `frame`.
-    Twist {
-        linear: Vector3<f64>,
-        angular: Vector3<f64>,
-        frame: ReferenceFrame,
-    },
-    /// Orbit about the base Z axis (azimuth) and change of elevation (altitude), rad/s.
-    Polar {
-        azimuth: f64,
-        altitude: f64,
-    },
-    /// Straight-line move to a pose at bounded speeds (m/s, rad/s).
-    ToPose {
-        target: Pose,
-        linear_speed: f64,
-        angular_speed: f64,
-    },
-    /// Joint-space move, every joint arriving together, at `fraction` of the joints' top speed.
-    ToJoints {
-        target: Joints,
-        fraction: f64,
-    },
-    /// One joint at a velocity, rad/s (single-joint jog).
-    JointVelocity {
-        joint: usize,
-        velocity: f64,
-    },
-}
-
-impl SimMotion {
-    pub fn is_idle(&self) -> bool {
-        matches!(self, SimMotion::Idle)
-    }
-
-    /// Whether every number in the motion is finite: a NaN or infinity from a client would
-    /// otherwise drive the integrator to an arbitrary pose (or trip a joint fault).
-    pub fn is_finite(&self) -> bool {
-        let finite3 = |v: &Vector3<f64>| v.iter().all(|x| x.is_finite());
-        match self {
-            SimMotion::Idle => true,
-            SimMotion::Twist {
-                linear, angular, ..
-            } => finite3(linear) && finite3(angular),
-            SimMotion::Polar { azimuth, altitude } => azimuth.is_finite() && altitude.is_finite(),
-            SimMotion::ToPose {
-                target,
-                linear_speed,
-                angular_speed,
-            } => {
-                finite3(&target.position)
-                    && target.rotation.matrix().iter().all(|x| x.is_finite())
-                    && linear_speed.is_finite()
-                    && angular_speed.is_finite()
-            }
-            SimMotion::ToJoints { target, fraction } => {
-                target.iter().all(|x| x.is_finite()) && fraction.is_finite()
-            }
-            SimMotion::JointVelocity { velocity, .. } => velocity.is_finite(),
-        }
-    }
-}
-
-/// Why the arm refused a command.
-#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
-pub enum Refusal {
-    #[error("the arm is in fault")]
-    InFault,
-    #[error("the target is unreachable")]
-    Unreachable,
-    #[error("the target passes the limit of joint {0}")]
-    JointLimit(usize),
-    #[error("a value is out of range")]
-    OutOfRange,
-    #[error("a value is NaN or infinite")]
-    NotFinite,
-}
-
-/// Everything the servers report, at one instant.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ArmSnapshot {
-    pub time: f64,
-    pub robot_state: RobotState,
-    pub faults: u32,
-    pub warnings: u32,
-    /// Degrees as Kinova reports them (0-360), deg/s, N·m, A, °C.
-    pub joint_position: Joints,
-    pub joint_velocity: Joints,
-    pub joint_torque: Joints,
-    pub joint_current: Joints,
-    pub joint_temperature: Joints,
-    /// Metres and degrees (extrinsic XYZ).
-    pub tcp_position: [f64; 3],
-    pub tcp_orientation: [f64; 3],
-    /// m/s and deg/s in the base frame.
-    pub tcp_linear_velocity: [f64; 3],
-    pub tcp_angular_velocity: [f64; 3],
-    /// N and N·m.
-    pub tcp_force: [f64; 3],
-    pub tcp_torque: [f64; 3],
-    pub arm_current: f64,
-    pub arm_voltage: f64,
-    pub cpu_temperature: f64,
-    pub ambient_temperature: f64,
-    pub action_status: ActionStatus,
-    pub action_id: u16,
-    pub move_type: u16,
-    pub speed_limit_linear: f64,
-    pub speed_limit_angular_deg: f64,
-    pub moving: bool,
-}
 
 /// The simulated Gen3.
 #[derive(Debug, Clone)]
@@ -675,54 +560,6 @@ impl Arm {
         self.reach_at = Some((self.q, reach));
         reach
     }
-
-    pub fn snapshot(&self) -> ArmSnapshot {
-        let pose = self.pose();
-        let twist = kinematics::jacobian(&self.q) * nalgebra::SVector::<f64, 7>::from(self.qd);
-        let total_current: f64 = self.current.iter().sum();
-        let gravity = Vector3::new(0.0, 0.0, -0.5 * 9.81);
-        // The tool's weight as the wrist sensor sees it, in the tool frame.
-        let force = pose.rotation.inverse() * gravity;
-        ArmSnapshot {
-            time: self.time,
-            robot_state: if self.in_fault() {
-                RobotState::InFault
-            } else if self.motion.is_idle() {
-                RobotState::Ready
-            } else if matches!(self.motion, SimMotion::ToJoints { .. }) {
-                RobotState::ControlledBySequence
-            } else {
-                RobotState::ControlledManually
-            },
-            faults: self.faults,
-            warnings: self.warnings,
-            joint_position: kinematics::reported_deg(&self.q),
-            joint_velocity: self.qd.map(f64::to_degrees),
-            joint_torque: self.torque,
-            joint_current: self.current,
-            joint_temperature: self.temperature,
-            tcp_position: pose.position.into(),
-            tcp_orientation: pose.euler_deg(),
-            tcp_linear_velocity: [twist[0], twist[1], twist[2]],
-            tcp_angular_velocity: [
-                twist[3].to_degrees(),
-                twist[4].to_degrees(),
-                twist[5].to_degrees(),
-            ],
-            tcp_force: force.into(),
-            tcp_torque: [0.0, 0.0, 0.0],
-            arm_current: 0.4 + 0.35 * total_current,
-            arm_voltage: 24.0 - 0.05 * total_current,
-            cpu_temperature: 45.0 + 0.5 * total_current,
-            ambient_temperature: 25.0,
-            action_status: self.action_status,
-            action_id: self.action_id,
-            move_type: self.move_type,
-            speed_limit_linear: self.speed_limit_linear,
-            speed_limit_angular_deg: self.speed_limit_angular.to_degrees(),
-            moving: self.is_moving(),
-        }
-    }
 }
 
 /// The tool's horizontal distance from the base axis, m: it loads the shoulder and elbow like a
@@ -777,37 +614,14 @@ fn limit_joint_speeds(qd: Joints) -> Joints {
     qd.map(|v| v / ratio)
 }
 
-/// The base-frame twist for a polar pan at `azimuth` and `altitude` rad/s: an orbit about the
-/// base Z axis and a change of elevation about the base origin. The tool turns with the motion
-/// so it keeps its bearing relative to the orbit.
-pub fn polar_twist(pose: &Pose, azimuth: f64, altitude: f64) -> (Vector3<f64>, Vector3<f64>) {
-    let p = pose.position;
-    let horizontal = Vector3::new(p.x, p.y, 0.0);
-    let mut omega = Vector3::new(0.0, 0.0, azimuth);
-    if horizontal.norm() > 1e-6 {
-        // Rotating about z × r̂ lowers the point; elevation rises about its opposite.
-        let axis = Unit::new_normalize(Vector3::z().cross(&horizontal));
-        omega -= axis.into_inner() * altitude;
-    }
-    (omega.cross(&p), omega)
-}
-
-/// A pose moved by a polar pan of `azimuth` and `altitude` radians.
-pub fn polar_target(pose: &Pose, azimuth: f64, altitude: f64) -> Pose {
-    let p = pose.position;
-    let horizontal = Vector3::new(p.x, p.y, 0.0);
-    let mut rotation = Rotation3::from_axis_angle(&Vector3::z_axis(), azimuth);
-    if horizontal.norm() > 1e-6 {
-        let axis = Unit::new_normalize(Vector3::z().cross(&horizontal));
-        rotation *= Rotation3::from_axis_angle(&axis, -altitude);
-    }
-    Pose {
-        position: rotation * p,
-        rotation: rotation * pose.rotation,
-    }
-}
-
+mod motion;
+mod polar;
+mod snapshot;
 mod tracking;
+
+pub use motion::{Refusal, SimMotion};
+pub use polar::{polar_target, polar_twist};
+pub use snapshot::ArmSnapshot;
 
 #[cfg(test)]
 mod path_tests;

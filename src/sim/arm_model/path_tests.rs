@@ -1,6 +1,7 @@
 //! Straight jogs stay straight and steps reach their target, stepped exactly (no real time).
 
 use super::*;
+use nalgebra::Rotation3;
 
 /// Degrees between two orientations.
 fn angle_deg(a: &Rotation3<f64>, b: &Rotation3<f64>) -> f64 {
