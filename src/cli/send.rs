@@ -227,7 +227,7 @@ pub enum SendCommand {
 impl SendCommand {
     pub fn to_request(&self) -> Request {
         match self {
-            SendCommand::Handshake { oid } => Request::Handshake { oid: *oid },
+            SendCommand::Handshake { oid } => Request::Handshake { oid: Some(*oid) },
             SendCommand::PolarPan {
                 azimuth,
                 altitude,

@@ -4,7 +4,7 @@
 //! Protocol-neutral: the Talos and Modbus servers translate their commands into [`SimMotion`]s and
 //! read [`ArmSnapshot`]s. Time only moves through [`Arm::step`], so tests drive it exactly.
 
-use nalgebra::{Rotation3, Unit, Vector3, Vector6};
+use nalgebra::{Vector3, Vector6};
 
 use crate::kortex::Flag;
 pub use crate::kortex::{ActionStatus, ReferenceFrame, RobotState};
@@ -26,120 +26,22 @@ pub const MAX_TWIST_ANGULAR_DEG: f64 = 100.0;
 /// The operator's continuous-START watchdog, seconds.
 pub const WATCHDOG: f64 = 0.5;
 
-/// What the simulated arm is doing (the link and the console have their own motion vocabularies).
-#[derive(Debug, Clone, PartialEq)]
-pub enum SimMotion {
-    Idle,
-    /// Linear m/s and angular rad/s, in `frame`.
-    Twist {
-        linear: Vector3<f64>,
-        angular: Vector3<f64>,
-        frame: ReferenceFrame,
-    },
-    /// Orbit about the base Z axis (azimuth) and change of elevation (altitude), rad/s.
-    Polar {
-        azimuth: f64,
-        altitude: f64,
-    },
-    /// Straight-line move to a pose at bounded speeds (m/s, rad/s).
-    ToPose {
-        target: Pose,
-        linear_speed: f64,
-        angular_speed: f64,
-    },
-    /// Joint-space move, every joint arriving together, at `fraction` of the joints' top speed.
-    ToJoints {
-        target: Joints,
-        fraction: f64,
-    },
-    /// One joint at a velocity, rad/s (single-joint jog).
-    JointVelocity {
-        joint: usize,
-        velocity: f64,
-    },
-}
+/// A discrete move (to a pose) has arrived when the tool is this close to its target, m and
+/// rad: well inside the 0.1 mm a technician steps by, so a step's length is the one asked for.
+pub const ARRIVED_POSITION: f64 = 5e-6;
+pub const ARRIVED_ROTATION: f64 = 0.01 * std::f64::consts::PI / 180.0;
 
-impl SimMotion {
-    pub fn is_idle(&self) -> bool {
-        matches!(self, SimMotion::Idle)
-    }
+/// A discrete move within these (the tolerance of [`kinematics::inverse`], which found the
+/// target reachable) that the arm can hardly move closer has arrived where it can, m and rad.
+const STALLED_POSITION: f64 = 1e-4;
+const STALLED_ROTATION: f64 = 0.01 * std::f64::consts::PI / 180.0;
 
-    /// Whether every number in the motion is finite: a NaN or infinity from a client would
-    /// otherwise drive the integrator to an arbitrary pose (or trip a joint fault).
-    pub fn is_finite(&self) -> bool {
-        let finite3 = |v: &Vector3<f64>| v.iter().all(|x| x.is_finite());
-        match self {
-            SimMotion::Idle => true,
-            SimMotion::Twist {
-                linear, angular, ..
-            } => finite3(linear) && finite3(angular),
-            SimMotion::Polar { azimuth, altitude } => azimuth.is_finite() && altitude.is_finite(),
-            SimMotion::ToPose {
-                target,
-                linear_speed,
-                angular_speed,
-            } => {
-                finite3(&target.position)
-                    && target.rotation.matrix().iter().all(|x| x.is_finite())
-                    && linear_speed.is_finite()
-                    && angular_speed.is_finite()
-            }
-            SimMotion::ToJoints { target, fraction } => {
-                target.iter().all(|x| x.is_finite()) && fraction.is_finite()
-            }
-            SimMotion::JointVelocity { velocity, .. } => velocity.is_finite(),
-        }
-    }
-}
-
-/// Why the arm refused a command.
-#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
-pub enum Refusal {
-    #[error("the arm is in fault")]
-    InFault,
-    #[error("the target is unreachable")]
-    Unreachable,
-    #[error("the target passes the limit of joint {0}")]
-    JointLimit(usize),
-    #[error("a value is out of range")]
-    OutOfRange,
-    #[error("a value is NaN or infinite")]
-    NotFinite,
-}
-
-/// Everything the servers report, at one instant.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ArmSnapshot {
-    pub time: f64,
-    pub robot_state: RobotState,
-    pub faults: u32,
-    pub warnings: u32,
-    /// Degrees as Kinova reports them (0-360), deg/s, N·m, A, °C.
-    pub joint_position: Joints,
-    pub joint_velocity: Joints,
-    pub joint_torque: Joints,
-    pub joint_current: Joints,
-    pub joint_temperature: Joints,
-    /// Metres and degrees (extrinsic XYZ).
-    pub tcp_position: [f64; 3],
-    pub tcp_orientation: [f64; 3],
-    /// m/s and deg/s in the base frame.
-    pub tcp_linear_velocity: [f64; 3],
-    pub tcp_angular_velocity: [f64; 3],
-    /// N and N·m.
-    pub tcp_force: [f64; 3],
-    pub tcp_torque: [f64; 3],
-    pub arm_current: f64,
-    pub arm_voltage: f64,
-    pub cpu_temperature: f64,
-    pub ambient_temperature: f64,
-    pub action_status: ActionStatus,
-    pub action_id: u16,
-    pub move_type: u16,
-    pub speed_limit_linear: f64,
-    pub speed_limit_angular_deg: f64,
-    pub moving: bool,
-}
+/// How fast a discrete move approaches its target: proportionally to the distance left (1/s),
+/// but no slower than a floor (m/s, rad/s, within the move's own speed), so the last fraction
+/// of a millimetre takes milliseconds rather than an exponential tail.
+const APPROACH_GAIN: f64 = 8.0;
+const APPROACH_FLOOR_LINEAR: f64 = 0.002;
+const APPROACH_FLOOR_ANGULAR: f64 = 0.2 * std::f64::consts::PI / 180.0;
 
 /// The simulated Gen3.
 #[derive(Debug, Clone)]
@@ -171,6 +73,8 @@ pub struct Arm {
     /// it found: at rest the joints do not change, and the 1 kHz integrator need not redo the
     /// kinematics every step (they dominate an idle simulator's CPU in a debug build).
     reach_at: Option<(Joints, f64)>,
+    /// Where a running twist or polar pan should have the tool (see [`tracking`]).
+    reference: Option<tracking::Reference>,
 }
 
 impl Default for Arm {
@@ -202,6 +106,7 @@ impl Arm {
             torque: [0.0; JOINTS],
             current: [0.0; JOINTS],
             reach_at: None,
+            reference: None,
         };
         arm.update_effort();
         arm
@@ -320,6 +225,7 @@ impl Arm {
         self.delayed = None;
         self.watchdog = None;
         self.qd = [0.0; JOINTS];
+        self.reference = None;
     }
 
     /// Coil 0: stop and go into fault, as Kinova's quick stop does.
@@ -410,12 +316,19 @@ impl Arm {
             );
             self.stop();
         }
+        // The tool's horizontal reach for the effort model, from this step's kinematics.
+        let mut reach = None;
         self.qd = if self.motion.is_idle() {
             [0.0; JOINTS]
         } else {
             let (pose, j) = kinematics::pose_and_jacobian(&self.q);
+            reach = Some(horizontal_reach(&pose));
             let desired = self.desired_velocity(&pose, &j);
-            self.limit_tcp_speed(limit_joint_speeds(desired), &j)
+            let (qd, twist) = self.limit_tcp_speed(limit_joint_speeds(desired), &j);
+            if let Some(reference) = &mut self.reference {
+                reference.advance(&pose, twist);
+            }
+            qd
         };
         let next: Joints = std::array::from_fn(|i| self.q[i] + self.qd[i] * STEP);
         if let Some(joint) = (0..JOINTS).find(|&i| !kinematics::within_limit(i, next[i])) {
@@ -428,6 +341,11 @@ impl Arm {
                 self.warnings &= !(Flag::JointFault.bit());
             }
             self.q = next;
+            // A moving arm's reach from the kinematics this step ran anyway (one step old, under
+            // a millimetre): another forward pass per step would cost more than the tracking.
+            if let Some(reach) = reach {
+                self.reach_at = Some((self.q, reach));
+            }
         }
         self.update_effort();
     }
@@ -441,17 +359,33 @@ impl Arm {
                 angular,
                 frame,
             } => {
-                let rotation = pose.rotation;
+                // A tool-frame twist turns with the tool the motion commands, not with the
+                // tool's small tracking error.
+                let reference = self.reference_pose(pose);
+                let rotation = reference.rotation;
                 let (linear, angular) = match frame {
                     ReferenceFrame::Base => (linear, angular),
                     ReferenceFrame::Tool => (rotation * linear, rotation * angular),
                     ReferenceFrame::Mixed => (linear, rotation * angular),
                 };
-                self.track(j, linear, angular)
+                let feed = self.capped_twist(linear, angular);
+                self.follow(pose, j, feed, tracking::Advance::Twist)
             }
             SimMotion::Polar { azimuth, altitude } => {
-                let (linear, angular) = polar_twist(pose, azimuth, altitude);
-                self.track(j, linear, angular)
+                let reference = self.reference_pose(pose);
+                let (linear, angular) = polar_twist(&reference, azimuth, altitude);
+                // The whole pan slows together, so it keeps its shape under either cap.
+                let scale = [
+                    self.linear_cap() / linear.norm(),
+                    self.speed_limit_angular / angular.norm(),
+                ]
+                .into_iter()
+                .fold(1.0, f64::min);
+                let advance = tracking::Advance::Polar {
+                    azimuth: azimuth * scale * STEP,
+                    altitude: altitude * scale * STEP,
+                };
+                self.follow(pose, j, (linear * scale, angular * scale), advance)
             }
             SimMotion::ToPose {
                 target,
@@ -461,14 +395,23 @@ impl Arm {
                 let err = kinematics::pose_error(pose, &target);
                 let dp = err.fixed_rows::<3>(0).into_owned();
                 let dr = err.fixed_rows::<3>(3).into_owned();
-                if dp.norm() < 2e-4 && dr.norm() < 0.05_f64.to_radians() {
+                if dp.norm() < ARRIVED_POSITION && dr.norm() < ARRIVED_ROTATION {
                     self.finish();
                     return [0.0; JOINTS];
                 }
-                // Proportional approach, capped at the requested speeds.
-                let linear = cap(dp * 8.0, linear_speed);
-                let angular = cap(dr * 8.0, angular_speed);
-                self.track(j, linear, angular)
+                let linear = approach(dp, linear_speed, APPROACH_FLOOR_LINEAR);
+                let angular = approach(dr, angular_speed, APPROACH_FLOOR_ANGULAR);
+                let qd = self.track(j, linear, angular);
+                if dp.norm() < STALLED_POSITION
+                    && dr.norm() < STALLED_ROTATION
+                    && !makes_headway(j, &qd, self.capped_twist(linear, angular))
+                {
+                    // As close as the inverse kinematics promised, and a singularity or a
+                    // limit leaves the arm hardly any way closer: it has arrived where it can.
+                    self.finish();
+                    return [0.0; JOINTS];
+                }
+                qd
             }
             SimMotion::ToJoints { target, fraction } => {
                 let delta: Joints = std::array::from_fn(|i| joint_delta(i, self.q[i], target[i]));
@@ -502,38 +445,82 @@ impl Arm {
     /// motion's cap and the configured linear limit, measured through the Jacobian: a
     /// cartesian motion is capped before its inverse kinematics too (see [`Arm::track`]), but
     /// damped least squares can trade a little rotation for translation.
-    fn limit_tcp_speed(&self, qd: Joints, j: &Jacobian) -> Joints {
-        if qd.iter().all(|v| *v == 0.0) {
-            return qd;
-        }
-        let cap = self.linear_cap();
+    ///
+    /// Returns the joint velocities and the tool's twist they make (linear m/s, angular rad/s).
+    fn limit_tcp_speed(&self, qd: Joints, j: &Jacobian) -> (Joints, (Vector3<f64>, Vector3<f64>)) {
         let twist = j * nalgebra::SVector::<f64, JOINTS>::from(qd);
-        let speed = twist.fixed_rows::<3>(0).norm();
+        let (linear, angular) = (
+            twist.fixed_rows::<3>(0).into_owned(),
+            twist.fixed_rows::<3>(3).into_owned(),
+        );
+        let cap = self.linear_cap();
+        let speed = linear.norm();
         if speed > cap && speed > 0.0 {
-            qd.map(|v| v * cap / speed)
+            let scale = cap / speed;
+            (qd.map(|v| v * scale), (linear * scale, angular * scale))
         } else {
-            qd
+            (qd, (linear, angular))
         }
     }
 
     fn finish(&mut self) {
         self.motion = SimMotion::Idle;
+        self.reference = None;
         self.watchdog = None;
         self.action_status = ActionStatus::Completed;
     }
 
-    /// Joint velocities for a base-frame twist, capped at the desired speed limits and the
-    /// motion's tool speed cap. The whole twist is scaled for the linear cap, so a polar pan
-    /// keeps its shape (slower rotation, not a tool turning faster than it orbits).
-    fn track(&self, j: &Jacobian, linear: Vector3<f64>, angular: Vector3<f64>) -> Joints {
+    /// The reference pose of the running continuous motion: a new one, at `pose`, when the
+    /// motion has just begun or changed.
+    fn reference_pose(&mut self, pose: &Pose) -> Pose {
+        match &self.reference {
+            Some(reference) if reference.follows(&self.motion) => reference.pose,
+            _ => {
+                self.reference = Some(tracking::Reference::new(self.motion.clone(), *pose));
+                *pose
+            }
+        }
+    }
+
+    /// Joint velocities that move the tool at `pose` by the (capped) twist `feed` plus the
+    /// correction towards the reference, which moves on by `advance` once the step is done.
+    fn follow(
+        &mut self,
+        pose: &Pose,
+        j: &Jacobian,
+        feed: (Vector3<f64>, Vector3<f64>),
+        advance: tracking::Advance,
+    ) -> Joints {
+        let (linear, angular) = match &mut self.reference {
+            Some(reference) => reference.command(pose, feed, advance),
+            None => feed,
+        };
+        self.track(j, linear, angular)
+    }
+
+    /// A base-frame twist capped at the desired speed limits and the motion's tool speed cap.
+    /// The whole twist is scaled for the linear cap (slower rotation too, not a tool turning
+    /// faster than it moves).
+    fn capped_twist(
+        &self,
+        linear: Vector3<f64>,
+        angular: Vector3<f64>,
+    ) -> (Vector3<f64>, Vector3<f64>) {
         let speed = linear.norm();
         let scale = if speed > self.linear_cap() {
             self.linear_cap() / speed
         } else {
             1.0
         };
-        let linear = linear * scale;
-        let angular = cap(angular * scale, self.speed_limit_angular);
+        (
+            linear * scale,
+            cap(angular * scale, self.speed_limit_angular),
+        )
+    }
+
+    /// Joint velocities for a base-frame twist, capped as [`Arm::capped_twist`] says.
+    fn track(&self, j: &Jacobian, linear: Vector3<f64>, angular: Vector3<f64>) -> Joints {
+        let (linear, angular) = self.capped_twist(linear, angular);
         let xdot = Vector6::new(
             linear.x, linear.y, linear.z, angular.x, angular.y, angular.z,
         );
@@ -569,60 +556,16 @@ impl Arm {
         {
             return reach;
         }
-        let pose = self.pose();
-        // Horizontal reach loads the shoulder and elbow like a lever.
-        let reach = (pose.position.x.powi(2) + pose.position.y.powi(2)).sqrt();
+        let reach = horizontal_reach(&self.pose());
         self.reach_at = Some((self.q, reach));
         reach
     }
+}
 
-    pub fn snapshot(&self) -> ArmSnapshot {
-        let pose = self.pose();
-        let twist = kinematics::jacobian(&self.q) * nalgebra::SVector::<f64, 7>::from(self.qd);
-        let total_current: f64 = self.current.iter().sum();
-        let gravity = Vector3::new(0.0, 0.0, -0.5 * 9.81);
-        // The tool's weight as the wrist sensor sees it, in the tool frame.
-        let force = pose.rotation.inverse() * gravity;
-        ArmSnapshot {
-            time: self.time,
-            robot_state: if self.in_fault() {
-                RobotState::InFault
-            } else if self.motion.is_idle() {
-                RobotState::Ready
-            } else if matches!(self.motion, SimMotion::ToJoints { .. }) {
-                RobotState::ControlledBySequence
-            } else {
-                RobotState::ControlledManually
-            },
-            faults: self.faults,
-            warnings: self.warnings,
-            joint_position: kinematics::reported_deg(&self.q),
-            joint_velocity: self.qd.map(f64::to_degrees),
-            joint_torque: self.torque,
-            joint_current: self.current,
-            joint_temperature: self.temperature,
-            tcp_position: pose.position.into(),
-            tcp_orientation: pose.euler_deg(),
-            tcp_linear_velocity: [twist[0], twist[1], twist[2]],
-            tcp_angular_velocity: [
-                twist[3].to_degrees(),
-                twist[4].to_degrees(),
-                twist[5].to_degrees(),
-            ],
-            tcp_force: force.into(),
-            tcp_torque: [0.0, 0.0, 0.0],
-            arm_current: 0.4 + 0.35 * total_current,
-            arm_voltage: 24.0 - 0.05 * total_current,
-            cpu_temperature: 45.0 + 0.5 * total_current,
-            ambient_temperature: 25.0,
-            action_status: self.action_status,
-            action_id: self.action_id,
-            move_type: self.move_type,
-            speed_limit_linear: self.speed_limit_linear,
-            speed_limit_angular_deg: self.speed_limit_angular.to_degrees(),
-            moving: self.is_moving(),
-        }
-    }
+/// The tool's horizontal distance from the base axis, m: it loads the shoulder and elbow like a
+/// lever.
+fn horizontal_reach(pose: &Pose) -> f64 {
+    pose.position.x.hypot(pose.position.y)
 }
 
 /// How far joint `i` turns from `from` to reach `to` (radians), as a joint-space move does it:
@@ -633,6 +576,29 @@ pub fn joint_delta(i: usize, from: f64, to: f64) -> f64 {
         Some(_) => kinematics::wrap_pi(to) - kinematics::wrap_pi(from),
         None => kinematics::wrap_pi(to - from),
     }
+}
+
+/// The velocity that closes the error `err` of a discrete move: proportional, no slower than
+/// `floor` and no faster than `max`, and never past the target within one step.
+fn approach(err: Vector3<f64>, max: f64, floor: f64) -> Vector3<f64> {
+    let n = err.norm();
+    if n == 0.0 {
+        return err;
+    }
+    let speed = (n * APPROACH_GAIN).max(floor).min(max).min(n / STEP);
+    err * (speed / n)
+}
+
+/// Whether joint velocities `qd` realise at least a tenth of the twist `wanted` (its linear part,
+/// or its angular part when it has no linear one).
+fn makes_headway(j: &Jacobian, qd: &Joints, wanted: (Vector3<f64>, Vector3<f64>)) -> bool {
+    let twist = j * nalgebra::SVector::<f64, JOINTS>::from(*qd);
+    let (realised, wanted) = if wanted.0.norm_squared() > 0.0 {
+        (twist.fixed_rows::<3>(0).into_owned(), wanted.0)
+    } else {
+        (twist.fixed_rows::<3>(3).into_owned(), wanted.1)
+    };
+    wanted.norm_squared() == 0.0 || realised.dot(&wanted) >= 0.1 * wanted.norm_squared()
 }
 
 fn cap(v: Vector3<f64>, max: f64) -> Vector3<f64> {
@@ -648,35 +614,16 @@ fn limit_joint_speeds(qd: Joints) -> Joints {
     qd.map(|v| v / ratio)
 }
 
-/// The base-frame twist for a polar pan at `azimuth` and `altitude` rad/s: an orbit about the
-/// base Z axis and a change of elevation about the base origin. The tool turns with the motion
-/// so it keeps its bearing relative to the orbit.
-pub fn polar_twist(pose: &Pose, azimuth: f64, altitude: f64) -> (Vector3<f64>, Vector3<f64>) {
-    let p = pose.position;
-    let horizontal = Vector3::new(p.x, p.y, 0.0);
-    let mut omega = Vector3::new(0.0, 0.0, azimuth);
-    if horizontal.norm() > 1e-6 {
-        // Rotating about z × r̂ lowers the point; elevation rises about its opposite.
-        let axis = Unit::new_normalize(Vector3::z().cross(&horizontal));
-        omega -= axis.into_inner() * altitude;
-    }
-    (omega.cross(&p), omega)
-}
+mod motion;
+mod polar;
+mod snapshot;
+mod tracking;
 
-/// A pose moved by a polar pan of `azimuth` and `altitude` radians.
-pub fn polar_target(pose: &Pose, azimuth: f64, altitude: f64) -> Pose {
-    let p = pose.position;
-    let horizontal = Vector3::new(p.x, p.y, 0.0);
-    let mut rotation = Rotation3::from_axis_angle(&Vector3::z_axis(), azimuth);
-    if horizontal.norm() > 1e-6 {
-        let axis = Unit::new_normalize(Vector3::z().cross(&horizontal));
-        rotation *= Rotation3::from_axis_angle(&axis, -altitude);
-    }
-    Pose {
-        position: rotation * p,
-        rotation: rotation * pose.rotation,
-    }
-}
+pub use motion::{Refusal, SimMotion};
+pub use polar::{polar_target, polar_twist};
+pub use snapshot::ArmSnapshot;
 
+#[cfg(test)]
+mod path_tests;
 #[cfg(test)]
 mod tests;

@@ -5,7 +5,7 @@
 //! Joint angles here are radians, positions metres. Orientation is a rotation matrix; Kinova
 //! reports it as extrinsic XYZ Euler angles in degrees (`R = Rz(θz)·Ry(θy)·Rx(θx)`).
 
-use nalgebra::{Matrix4, Matrix6, Rotation3, SMatrix, Vector3, Vector6};
+use nalgebra::{Matrix4, Matrix6, Rotation3, SMatrix, UnitQuaternion, Vector3, Vector6};
 
 pub const JOINTS: usize = 7;
 
@@ -102,8 +102,34 @@ pub fn dls_velocity_with(j: &SMatrix<f64, 6, JOINTS>, xdot: &Vector6<f64>, dampi
 /// The 6-vector error from `from` to `to`: position (m) then rotation vector (rad).
 pub fn pose_error(from: &Pose, to: &Pose) -> Vector6<f64> {
     let dp = to.position - from.position;
-    let dr = (to.rotation * from.rotation.inverse()).scaled_axis();
+    let dr = rotation_vector(&(to.rotation * from.rotation.inverse()));
     Vector6::new(dp.x, dp.y, dp.z, dr.x, dr.y, dr.z)
+}
+
+/// The rotation vector (axis times angle, rad) of `r`, finite and precise down to zero.
+///
+/// nalgebra's `Rotation3::scaled_axis` takes the angle as `acos((trace - 1) / 2)`: rounding
+/// puts the argument just above 1 for a rotation within ~1e-8 rad of identity, and the result
+/// is NaN (it stopped a discrete move that had already arrived). Here the angle comes from
+/// `atan2(sin, cos)` of the matrix's skew and trace parts.
+pub fn rotation_vector(r: &Rotation3<f64>) -> Vector3<f64> {
+    let m = r.matrix();
+    // sin(angle) times the axis.
+    let v = Vector3::new(
+        m[(2, 1)] - m[(1, 2)],
+        m[(0, 2)] - m[(2, 0)],
+        m[(1, 0)] - m[(0, 1)],
+    ) * 0.5;
+    let sin = v.norm();
+    let cos = (m.trace() - 1.0) * 0.5;
+    if cos < -0.99 {
+        // Near a half turn the skew part vanishes and says little about the axis.
+        return UnitQuaternion::from_rotation_matrix(r).scaled_axis();
+    }
+    if sin == 0.0 {
+        return Vector3::zeros();
+    }
+    v * (sin.atan2(cos) / sin)
 }
 
 /// Why inverse kinematics gave up.
@@ -241,6 +267,28 @@ mod tests {
             inverse(&to_radians(&HOME_DEG), &far),
             Err(IkError::Unreachable { .. })
         ));
+    }
+
+    #[test]
+    fn the_rotation_vector_is_finite_and_exact_from_zero_to_a_half_turn() {
+        use std::f64::consts::PI;
+        let axis = Vector3::new(0.3, -0.5, 0.8).normalize();
+        for angle in [0.0, 1e-12, 1e-9, 1e-6, 0.01, 1.0, 3.0, 3.1, PI - 1e-4] {
+            let r = Rotation3::new(axis * angle);
+            let v = rotation_vector(&r);
+            assert!((v - axis * angle).norm() < 1e-9, "{angle}: {v:?}");
+        }
+        // J1 turned by 1e-12 rad near home: the product's trace rounds above 3, and nalgebra's
+        // scaled_axis gives NaN for it (found by search; other tiny turns do it too).
+        let mut q = to_radians(&HOME_DEG);
+        q[0] += 0.07;
+        q[2] += 0.03;
+        let from = forward(&q);
+        q[0] += 1e-12;
+        let near = forward(&q);
+        let e = pose_error(&from, &near);
+        assert!(e.iter().all(|x| x.is_finite()), "{e:?}");
+        assert!(e.fixed_rows::<3>(3).norm() < 1e-9);
     }
 
     #[test]

@@ -97,7 +97,8 @@ impl CommandValue {
                 };
         }
         let range = match self {
-            C::Handshake => 2..=2,
+            // The ICD's 2-byte OID, or the empty payload deployed clients send.
+            C::Handshake => return length == 0 || length == 2,
             C::PolarPanDiscrete => 16..=16,
             C::Home => 4..=4,
             C::PolarPanStart => 2..=2,
@@ -183,5 +184,13 @@ mod tests {
         assert!(CommandValue::is_plausible(0x8011, 2)); // bare error reply
         assert!(!CommandValue::is_plausible(0x8011, 13));
         assert!(!CommandValue::is_plausible(0x0042, 0));
+    }
+
+    #[test]
+    fn a_handshake_may_carry_the_icd_oid_or_nothing() {
+        assert!(CommandValue::is_plausible(0x0000, 2));
+        assert!(CommandValue::is_plausible(0x0000, 0));
+        assert!(!CommandValue::is_plausible(0x0000, 1));
+        assert!(!CommandValue::is_plausible(0x0000, 3));
     }
 }

@@ -11,8 +11,11 @@ use super::name::PositionName;
 /// One request, as the ICD's "Send" tables define it.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Request {
+    /// The ICD sends a 2-byte OID; deployed clients (talos-rit/commander, the old operator's
+    /// interfaces) send an empty payload, decoded as `oid: None`. armjog's client always sends
+    /// `Some` (the ICD layout); `None` encodes as the empty payload it came from.
     Handshake {
-        oid: u16,
+        oid: Option<u16>,
     },
     PolarPan {
         delta_azimuth: i32,
@@ -142,7 +145,11 @@ impl Request {
     /// The payload bytes, validating names and directions.
     pub fn encode_payload(&self, out: &mut Vec<u8>) -> Result<(), EncodeError> {
         match self {
-            Request::Handshake { oid } => out.extend_from_slice(&oid.to_be_bytes()),
+            Request::Handshake { oid } => {
+                if let Some(oid) = oid {
+                    out.extend_from_slice(&oid.to_be_bytes());
+                }
+            }
             Request::PolarPan {
                 delta_azimuth,
                 delta_altitude,
@@ -266,7 +273,14 @@ impl Request {
         use CommandValue as C;
         let mut r = FieldReader::new(command, payload);
         let request = match command {
-            C::Handshake => Request::Handshake { oid: r.u16("oid")? },
+            // Be liberal: the empty handshake of deployed clients is a handshake without an OID.
+            C::Handshake => Request::Handshake {
+                oid: if payload.is_empty() {
+                    None
+                } else {
+                    Some(r.u16("oid")?)
+                },
+            },
             C::PolarPanDiscrete => Request::PolarPan {
                 delta_azimuth: r.i32("delta_azimuth")?,
                 delta_altitude: r.i32("delta_altitude")?,

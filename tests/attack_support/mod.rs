@@ -30,7 +30,7 @@ pub fn distinctive_id(n: u32) -> u32 {
 
 /// A Talos handshake request's bytes.
 pub fn talos_handshake(id: u32, checksum: Checksum) -> Vec<u8> {
-    Request::Handshake { oid: 1 }
+    Request::Handshake { oid: Some(1) }
         .to_frame(id)
         .expect("a handshake encodes")
         .to_bytes(checksum)

@@ -100,7 +100,7 @@ async fn every_command_reaches_the_operator_as_typed() {
     let cases: Vec<(Vec<&str>, Request)> = vec![
         (
             vec!["handshake", "--oid", "7"],
-            Request::Handshake { oid: 7 },
+            Request::Handshake { oid: Some(7) },
         ),
         (
             vec![

@@ -41,7 +41,7 @@ fn hw_bytes(max: usize) -> impl Strategy<Value = Vec<u8>> {
 
 fn request() -> impl Strategy<Value = Request> {
     prop_oneof![
-        any::<u16>().prop_map(|oid| Request::Handshake { oid }),
+        proptest::option::of(any::<u16>()).prop_map(|oid| Request::Handshake { oid }),
         (any::<i32>(), any::<i32>(), any::<u32>(), any::<u32>()).prop_map(
             |(delta_azimuth, delta_altitude, delay_ms, time_ms)| Request::PolarPan {
                 delta_azimuth,

@@ -62,9 +62,15 @@ fn name(s: &str) -> String {
 fn request_vectors() -> Vec<(Request, u32, &'static str)> {
     vec![
         (
-            Request::Handshake { oid: 0x1234 },
+            Request::Handshake { oid: Some(0x1234) },
             0x0000_0010,
             "00000010 0000 0000 0002 | 1234 | 0000",
+        ),
+        (
+            // What deployed clients (talos-rit/commander) send: a handshake with no payload.
+            Request::Handshake { oid: None },
+            0x0000_0000,
+            "00000000 0000 0000 0000 | 0000",
         ),
         (
             // delta_azimuth -10 = 0xFFFFFFF6; time 1000 ms = 0x3E8.
@@ -359,7 +365,8 @@ fn the_vectors_cover_every_icd_command() {
     assert_eq!(all.len(), 18);
     assert_eq!(requests, all);
     assert_eq!(replies, all);
-    assert_eq!(request_vectors().len(), 18);
+    // Handshake twice: with the ICD's OID and empty, as deployed clients send it.
+    assert_eq!(request_vectors().len(), 19);
     assert_eq!(reply_vectors().len(), 18);
 }
 
@@ -442,6 +449,32 @@ fn return_codes_read_from_the_vectors() {
         codes,
         [0, 0, 7, 0, 0, 5, 6, 0, 0, 0, 8, 0x0A, 4, 0, 0, 0, 0x1234, 0]
     );
+}
+
+#[test]
+fn a_handshake_takes_an_oid_or_nothing_but_not_one_byte() {
+    // talos-rit/commander's handshake with its 1-byte XOR checksum (every byte is 0, so is the
+    // XOR).
+    let commander = hex("00000000 0000 0000 0000 | 00");
+    let frame = decode_one(&commander, Checksum::Xor8);
+    assert_eq!(
+        Request::from_frame(&frame),
+        Ok(Request::Handshake { oid: None })
+    );
+    // The client side keeps the ICD's 2-byte OID.
+    assert_eq!(
+        Request::Handshake { oid: Some(7) }
+            .to_frame(0)
+            .unwrap()
+            .to_bytes(Checksum::Xor8)
+            .unwrap(),
+        hex("00000000 0000 0000 0002 | 0007 | 05") // 02 ^ 07 = 05
+    );
+    let one_byte = raw_frame(&hex("00000004 0000 0000 0001 | 07 | 0000"));
+    assert!(matches!(
+        Request::from_frame(&one_byte),
+        Err(DecodeError::Truncated { .. })
+    ));
 }
 
 #[test]
@@ -845,7 +878,7 @@ fn crc16_vectors() {
         ),
         (
             "00000010 0000 0000 0002 | 1234 | AAA1",
-            Request::Handshake { oid: 0x1234 },
+            Request::Handshake { oid: Some(0x1234) },
         ),
         ("00000012 0000 0009 0000 | 2830", Request::GetSpeed),
     ];

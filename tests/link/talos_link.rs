@@ -75,7 +75,7 @@ async fn ids_are_even_and_increasing_and_replies_pair_out_of_order() {
         .unwrap();
     let (a, b) = tokio::join!(link.request(Request::GetSpeed), async {
         tokio::time::sleep(Duration::from_millis(20)).await;
-        link.request(Request::Handshake { oid: 0 }).await
+        link.request(Request::Handshake { oid: Some(0) }).await
     });
     let (a, b) = (a.unwrap(), b.unwrap());
     assert_eq!(a.id, 0);

@@ -12,5 +12,6 @@ mod sim_modbus_hostile;
 mod sim_speed_cap;
 mod sim_talos;
 mod sim_talos_disconnect;
+mod sim_talos_handshake;
 mod sim_talos_reject_log;
 mod sim_talos_split;

@@ -299,7 +299,7 @@ impl TalosLink {
     /// Handshake with `oid`; returns the operator's (major, minor) version, or `None` in the
     /// ack dialect, which carries no version.
     pub async fn handshake(&self, oid: u16) -> Result<Option<(u8, u8)>, TalosError> {
-        let exchange = self.request(Request::Handshake { oid }).await?;
+        let exchange = self.request(Request::Handshake { oid: Some(oid) }).await?;
         Ok(match exchange.answer {
             Answer::Reply(Reply::Handshake {
                 major_version,
