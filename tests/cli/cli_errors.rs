@@ -5,29 +5,9 @@ use crate::common;
 
 use std::sync::Arc;
 
+use crate::armjog_run::armjog;
 use armjog::talos::{Checksum, Reply, ReturnCode, TalosFrame};
 use common::{Action, TestOperator, reply_bytes};
-
-struct Run {
-    code: i32,
-    stderr: String,
-}
-
-async fn armjog(args: &[&str]) -> Run {
-    let out = tokio::process::Command::new(env!("CARGO_BIN_EXE_armjog"))
-        .args(args)
-        .env(
-            "ARMJOG_LOG_DIR",
-            std::env::temp_dir().join("armjog-test-logs"),
-        )
-        .output()
-        .await
-        .expect("run armjog");
-    Run {
-        code: out.status.code().unwrap_or(-1),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-    }
-}
 
 /// A loopback address nothing listens on.
 fn closed_port() -> String {

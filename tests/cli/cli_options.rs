@@ -1,6 +1,7 @@
 //! Options anywhere, their possible values, completions and the man page: parsed through the
 //! clap definition, and a few real runs of the binary against the simulator on loopback.
 
+use crate::armjog_run::{Run, armjog};
 use armjog::cli::modbus::ModbusCommand;
 use armjog::cli::send::SendCommand;
 use armjog::cli::{Cli, Command};
@@ -212,29 +213,6 @@ fn the_man_page_names_the_subcommands_and_options() {
 }
 
 // ---- the binary itself ----
-
-struct Run {
-    code: i32,
-    stdout: String,
-    stderr: String,
-}
-
-async fn armjog(args: &[&str]) -> Run {
-    let out = tokio::process::Command::new(env!("CARGO_BIN_EXE_armjog"))
-        .args(args)
-        .env(
-            "ARMJOG_LOG_DIR",
-            std::env::temp_dir().join("armjog-test-logs"),
-        )
-        .output()
-        .await
-        .expect("run armjog");
-    Run {
-        code: out.status.code().unwrap_or(-1),
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-    }
-}
 
 fn json(run: &Run) -> Value {
     assert_eq!(run.code, 0, "stderr: {}", run.stderr);

@@ -5,6 +5,7 @@ use crate::common;
 use std::sync::Arc;
 use std::time::Duration;
 
+use crate::armjog_run::armjog;
 use armjog::talos::{Checksum, Reply, Request, ReturnCode, TalosFrame};
 use common::{Action, TestOperator, reply_bytes};
 use serde_json::Value;
@@ -56,29 +57,6 @@ async fn operator(checksum: Checksum) -> TestOperator {
         ))]
     });
     TestOperator::start(checksum, script).await
-}
-
-struct Run {
-    code: i32,
-    stdout: String,
-    stderr: String,
-}
-
-async fn armjog(args: &[&str]) -> Run {
-    let out = tokio::process::Command::new(env!("CARGO_BIN_EXE_armjog"))
-        .args(args)
-        .env(
-            "ARMJOG_LOG_DIR",
-            std::env::temp_dir().join("armjog-test-logs"),
-        )
-        .output()
-        .await
-        .expect("run armjog");
-    Run {
-        code: out.status.code().unwrap_or(-1),
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-    }
 }
 
 /// Runs `armjog send --talos ADDR --json <args>` and returns the JSON and the request the operator

@@ -14,6 +14,7 @@ mod layers_scan;
 #[path = "../modbus_fake/mod.rs"]
 mod modbus_fake;
 
+mod armjog_run;
 mod cli_broken_pipe;
 mod cli_errors;
 mod cli_logs;
