@@ -20,6 +20,8 @@ use armjog::sim::arm_model::WATCHDOG;
 use armjog::sim::talos_server::NetworkFaults;
 use armjog::sim::{SimConfig, Simulator};
 
+use crate::event_loop;
+
 struct Console {
     app: App,
     driver: Driver,
@@ -31,6 +33,18 @@ enum Links {
     Talos,
     Modbus,
     Both,
+}
+
+impl event_loop::Drives for Console {
+    fn app(&self) -> &App {
+        &self.app
+    }
+    fn events(&mut self) -> &mut UnboundedReceiver<ArmEvent> {
+        &mut self.events
+    }
+    fn input(&mut self, input: Input) {
+        Console::input(self, input);
+    }
 }
 
 impl Console {
@@ -103,50 +117,17 @@ impl Console {
     /// Runs the event loop (arm events and ticks) for `duration`.
     async fn run_for(&mut self, duration: Duration) {
         let until = tokio::time::Instant::now() + duration;
-        self.run_until_instant(until, |_| false).await;
+        event_loop::run_until_instant(self, until, |_| false).await;
     }
 
     /// Runs the event loop until `done` holds; panics after `within`.
     async fn run_until(&mut self, within: Duration, done: impl Fn(&Console) -> bool) {
         let until = tokio::time::Instant::now() + within;
         assert!(
-            self.run_until_instant(until, done).await,
+            event_loop::run_until_instant(self, until, done).await,
             "condition not met within {within:?}; link {:?}",
             self.app.link()
         );
-    }
-
-    async fn run_until_instant(
-        &mut self,
-        until: tokio::time::Instant,
-        done: impl Fn(&Console) -> bool,
-    ) -> bool {
-        loop {
-            if done(self) {
-                return true;
-            }
-            let deadline = self
-                .app
-                .next_deadline()
-                .map(tokio::time::Instant::from_std)
-                .unwrap_or(until)
-                .min(until);
-            // As the runtime does: events already in before a deadline are taken first, so a
-            // busy machine does not make the link look stale.
-            tokio::select! {
-                biased;
-                event = self.events.recv() => {
-                    let event = event.expect("driver events");
-                    self.input(Input::Arm(event));
-                }
-                _ = tokio::time::sleep_until(deadline) => {
-                    if tokio::time::Instant::now() >= until {
-                        return done(self);
-                    }
-                    self.input(Input::Tick);
-                }
-            }
-        }
     }
 
     async fn tcp(&self) -> [f64; 3] {

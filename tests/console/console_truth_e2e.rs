@@ -24,6 +24,8 @@ use armjog::sim::arm_model::Arm;
 use armjog::sim::kinematics::to_radians;
 use armjog::sim::{SimConfig, Simulator};
 
+use crate::event_loop;
+
 /// Forwards TCP connections to `target` until frozen; frozen, it holds every byte (and keeps
 /// accepting connections it does not serve), like a network that stopped.
 struct Relay {
@@ -79,6 +81,18 @@ struct Console {
     seen_stale: bool,
     /// Every message shown since the last `said.clear()`, in order.
     said: Vec<String>,
+}
+
+impl event_loop::Drives for Console {
+    fn app(&self) -> &App {
+        &self.app
+    }
+    fn events(&mut self) -> &mut UnboundedReceiver<ArmEvent> {
+        &mut self.events
+    }
+    fn input(&mut self, input: Input) {
+        Console::input(self, input);
+    }
 }
 
 impl Console {
@@ -159,34 +173,14 @@ impl Console {
     /// Runs the event loop (arm events and ticks) until `done` holds; panics after `within`.
     async fn run_until(&mut self, within: Duration, done: impl Fn(&Console) -> bool) {
         let until = tokio::time::Instant::now() + within;
-        loop {
-            if done(self) {
-                return;
-            }
-            assert!(
-                tokio::time::Instant::now() < until,
-                "not within {within:?}: link {:?}, stale {:?}, shown {:?}",
-                self.app.link(),
-                self.app.link_stale(),
-                self.seen
-            );
-            let deadline = self
-                .app
-                .next_deadline()
-                .map(tokio::time::Instant::from_std)
-                .unwrap_or(until)
-                .min(until);
-            // As the runtime does: events already in before a deadline are taken first, so a
-            // busy machine does not make the link look stale.
-            tokio::select! {
-                biased;
-                event = self.events.recv() => {
-                    let event = event.expect("driver events");
-                    self.input(Input::Arm(event));
-                }
-                _ = tokio::time::sleep_until(deadline) => self.input(Input::Tick),
-            }
-        }
+        let met = event_loop::run_until_instant(self, until, done).await;
+        assert!(
+            met,
+            "not within {within:?}: link {:?}, stale {:?}, shown {:?}",
+            self.app.link(),
+            self.app.link_stale(),
+            self.seen
+        );
     }
 
     async fn run_for(&mut self, duration: Duration) {

@@ -10,6 +10,8 @@ mod app_support;
 #[path = "../common/mod.rs"]
 mod common;
 
+mod event_loop;
+
 mod console_app;
 mod console_audit;
 mod console_book_load;

@@ -23,6 +23,7 @@ use armjog::sim::{SimConfig, Simulator};
 use armjog::talos::{Checksum, CommandValue, Reply, Request, ReturnCode};
 
 use crate::common::{self, Action, TestOperator};
+use crate::event_loop;
 
 /// The console's state machine and a driver on one Talos operator, with the loop the runtime
 /// runs (arm events and ticks), as in `console_e2e`.
@@ -35,6 +36,18 @@ struct Session {
     /// Names the operator answered for, and names it said it does not know.
     known: Vec<String>,
     unknown: Vec<String>,
+}
+
+impl event_loop::Drives for Session {
+    fn app(&self) -> &App {
+        &self.app
+    }
+    fn events(&mut self) -> &mut UnboundedReceiver<ArmEvent> {
+        &mut self.events
+    }
+    fn input(&mut self, input: Input) {
+        Session::input(self, input);
+    }
 }
 
 impl Session {
@@ -103,7 +116,7 @@ impl Session {
     /// Runs the event loop until `done` holds; panics after `within`.
     async fn run_until(&mut self, within: Duration, what: &str, done: impl Fn(&Session) -> bool) {
         let until = tokio::time::Instant::now() + within;
-        let met = self.run_until_instant(until, done).await;
+        let met = event_loop::run_until_instant(self, until, done).await;
         assert!(
             met,
             "{what}: not within {within:?}; link {:?}, message {:?}",
@@ -115,36 +128,7 @@ impl Session {
     /// Runs the event loop for `duration`.
     async fn run_for(&mut self, duration: Duration) {
         let until = tokio::time::Instant::now() + duration;
-        self.run_until_instant(until, |_| false).await;
-    }
-
-    async fn run_until_instant(
-        &mut self,
-        until: tokio::time::Instant,
-        done: impl Fn(&Session) -> bool,
-    ) -> bool {
-        loop {
-            if done(self) {
-                return true;
-            }
-            if tokio::time::Instant::now() >= until {
-                return false;
-            }
-            let deadline = self
-                .app
-                .next_deadline()
-                .map(tokio::time::Instant::from_std)
-                .unwrap_or(until)
-                .min(until);
-            tokio::select! {
-                biased;
-                event = self.events.recv() => {
-                    let event = event.expect("driver events");
-                    self.input(Input::Arm(event));
-                }
-                _ = tokio::time::sleep_until(deadline) => self.input(Input::Tick),
-            }
-        }
+        event_loop::run_until_instant(self, until, |_| false).await;
     }
 
     async fn until_up(&mut self) {

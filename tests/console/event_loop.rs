@@ -1,0 +1,46 @@
+//! The console runtime's event loop, for tests that drive the state machine with a real arm
+//! driver: arm events and ticks go into the app as the runtime would deliver them.
+
+use tokio::sync::mpsc::UnboundedReceiver;
+use tokio::time::Instant;
+
+use armjog::console::app::{App, Input};
+use armjog::link::interface::ArmEvent;
+
+/// A test console: an app, the driver's events, and what becomes of the app's effects.
+pub trait Drives {
+    fn app(&self) -> &App;
+    fn events(&mut self) -> &mut UnboundedReceiver<ArmEvent>;
+    /// Hands `input` to the app and carries out its effects.
+    fn input(&mut self, input: Input);
+}
+
+/// Runs the loop until `done` holds (true) or `until` passes (false).
+pub async fn run_until_instant<C: Drives>(
+    console: &mut C,
+    until: Instant,
+    done: impl Fn(&C) -> bool,
+) -> bool {
+    loop {
+        if done(console) {
+            return true;
+        }
+        if Instant::now() >= until {
+            return false;
+        }
+        let deadline = console
+            .app()
+            .next_deadline()
+            .map(Instant::from_std)
+            .unwrap_or(until)
+            .min(until);
+        // As the runtime does: events already in before a deadline are taken first, so a busy
+        // machine does not make the link look stale.
+        let input = tokio::select! {
+            biased;
+            event = console.events().recv() => Input::Arm(event.expect("driver events")),
+            _ = tokio::time::sleep_until(deadline) => Input::Tick,
+        };
+        console.input(input);
+    }
+}
