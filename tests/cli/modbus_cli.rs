@@ -490,6 +490,10 @@ mod home {
             assert!(Instant::now() < until, "the home never started");
             tokio::time::sleep(Duration::from_millis(20)).await;
         }
+        // The home process must also have read the action running before the abort, or it
+        // rightly takes an action that ends at once for one the arm does not have. On a loaded
+        // machine its first poll can come late; the home still has well over 15 s to go.
+        tokio::time::sleep(Duration::from_secs(2)).await;
         let abort = armjog(&["modbus", "--modbus", &addr(&sim), "abort"]).await;
         assert_eq!(abort.code, 0, "{}", abort.stderr);
         let out = tokio::time::timeout(Duration::from_secs(20), home.wait_with_output())
