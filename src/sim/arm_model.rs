@@ -626,6 +626,6 @@ pub use snapshot::ArmSnapshot;
 #[cfg(test)]
 mod path_tests;
 #[cfg(test)]
-mod turn_tests;
-#[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod turn_tests;

@@ -30,7 +30,11 @@ fn turn(axis: Vector3<f64>, frame: ReferenceFrame) -> (f64, f64) {
     let mut strayed: f64 = 0.0;
     for _ in 0..(SECONDS / STEP).round() as u64 {
         arm.step();
-        assert!(!arm.motion().is_idle(), "the turn stopped at {:?}", arm.pose());
+        assert!(
+            !arm.motion().is_idle(),
+            "the turn stopped at {:?}",
+            arm.pose()
+        );
         strayed = strayed.max((arm.pose().position - start.position).norm());
     }
     let end = arm.pose();
