@@ -26,6 +26,7 @@ mod form_keys;
 mod jog_engine;
 mod keymap;
 mod long_names_ui;
+mod orientation_e2e;
 mod orientation_jog;
 mod position_edits;
 mod positions_e2e;
