@@ -161,4 +161,12 @@ fn the_status_bar_shows_the_turn_its_rate_in_deg_per_s_and_the_frame() {
         text.contains("turning +Rz 3.0 deg/s (tool frame)"),
         "{text}"
     );
+    // The motion never gives way: at 80 and 50 columns the turn still shows whole.
+    for width in [80, 50] {
+        let text = status_text(&app, width);
+        assert!(
+            text.contains("turning +Rz 3.0 deg/s (tool frame)"),
+            "{width}: {text}"
+        );
+    }
 }
