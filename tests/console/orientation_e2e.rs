@@ -123,19 +123,19 @@ fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
 async fn holding_the_rx_key_turns_the_tool_about_its_point_and_the_release_stops_it() {
     let mut console = Console::start().await;
     let before = console.snapshot().await;
-    console.key("y", KeyKind::Press);
+    console.key("i", KeyKind::Press);
     // About a second of the keyboard's auto-repeat (with release events a hold keeps proving
     // itself), watching the tool point all along.
     let mut strayed: f64 = 0.0;
     let until = Instant::now() + Duration::from_millis(1000);
     while Instant::now() < until {
         console.run_for(Duration::from_millis(33)).await;
-        console.key("y", KeyKind::Repeat);
+        console.key("i", KeyKind::Repeat);
         let now = console.snapshot().await;
         strayed = strayed.max(distance(now.tcp_position, before.tcp_position));
     }
     assert!(console.snapshot().await.moving, "turning while held");
-    console.key("y", KeyKind::Release);
+    console.key("i", KeyKind::Release);
     let stop_by = tokio::time::Instant::now() + STOP_BOUND;
     while console.snapshot().await.moving {
         assert!(

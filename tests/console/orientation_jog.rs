@@ -26,10 +26,10 @@ fn modbus_app() -> (App, std::time::Instant) {
 #[test]
 fn each_turn_key_turns_about_its_axis_with_its_sign() {
     let cases = [
-        ("y", turn(1, 0, 0)),
-        ("n", turn(-1, 0, 0)),
-        ("i", turn(0, 1, 0)),
-        ("m", turn(0, -1, 0)),
+        ("i", turn(1, 0, 0)),
+        ("m", turn(-1, 0, 0)),
+        ("l", turn(0, 1, 0)),
+        ("b", turn(0, -1, 0)),
         ("e", turn(0, 0, 1)),
         ("z", turn(0, 0, -1)),
     ];
@@ -50,13 +50,13 @@ fn each_turn_key_turns_about_its_axis_with_its_sign() {
 #[test]
 fn turn_keys_combine_and_a_change_to_or_from_a_translation_goes_through_a_stop() {
     let (mut app, t0) = modbus_app();
-    assert_eq!(press(&mut app, "y", t0), [turn(1, 0, 0)]);
-    assert_eq!(press(&mut app, "m", t0 + ms(10)), [turn(1, -1, 0)]);
-    assert_eq!(release(&mut app, "y", t0 + ms(20)), [turn(0, -1, 0)]);
+    assert_eq!(press(&mut app, "i", t0), [turn(1, 0, 0)]);
+    assert_eq!(press(&mut app, "b", t0 + ms(10)), [turn(1, -1, 0)]);
+    assert_eq!(release(&mut app, "i", t0 + ms(20)), [turn(0, -1, 0)]);
     // Another family: the turn stops before the translation starts.
     assert_eq!(press(&mut app, "w", t0 + ms(30)), [STOP, jog(1, 0, 0)]);
     assert_eq!(release(&mut app, "w", t0 + ms(40)), [STOP, turn(0, -1, 0)]);
-    assert_eq!(release(&mut app, "m", t0 + ms(50)), [STOP]);
+    assert_eq!(release(&mut app, "b", t0 + ms(50)), [STOP]);
 }
 
 #[test]
@@ -80,7 +80,7 @@ fn a_turn_stops_on_focus_loss_and_moves_again_only_after_a_fresh_press() {
 #[test]
 fn a_turn_the_link_refuses_stops_and_says_why() {
     let (mut app, t0) = modbus_app();
-    assert_eq!(press(&mut app, "i", t0), [turn(0, 1, 0)]);
+    assert_eq!(press(&mut app, "l", t0), [turn(0, 1, 0)]);
     let refused = Input::Arm(ArmEvent::Failed {
         command: CommandKind::Jog,
         error: ArmError::Unsupported(ORIENTATION_NEEDS_MODBUS),
@@ -98,7 +98,7 @@ fn a_turn_the_link_refuses_stops_and_says_why() {
 #[test]
 fn fallback_a_turn_key_tap_moves_nothing_and_says_a_hold_is_needed() {
     let (mut app, t0) = app(ReleaseMode::AutoRepeat, false);
-    assert!(press(&mut app, "y", t0).is_empty());
+    assert!(press(&mut app, "i", t0).is_empty());
     let later = app.handle(Input::Tick, t0 + ms(1000));
     assert!(
         !later
@@ -168,5 +168,21 @@ fn the_status_bar_shows_the_turn_its_rate_in_deg_per_s_and_the_frame() {
             text.contains("turning +Rz 3.0 deg/s (tool frame)"),
             "{width}: {text}"
         );
+    }
+}
+
+#[test]
+fn no_built_in_keymap_moves_the_arm_on_a_dialogs_yes_or_no() {
+    use armjog::console::keymap::{KeyName, Keymap};
+    for name in ["default", "numpad"] {
+        let keymap = Keymap::builtin(name).expect("keymap");
+        for answer in ["y", "n", "Y", "N"] {
+            let key: KeyName = answer.parse().expect("key name");
+            let action = keymap.action(&key);
+            assert!(
+                action.is_none_or(|a| a.jog().is_none()),
+                "{name}: {answer} is {action:?}"
+            );
+        }
     }
 }
