@@ -28,16 +28,21 @@ pub enum JogAxis {
     Altitude,
     /// The selected joint (single-joint jog).
     Joint,
+    /// Turns of the tool about its point, about X, Y, Z of the selected frame.
+    Rx,
+    Ry,
+    Rz,
 }
 
 impl JogAxis {
-    /// Cartesian axes combine with each other; polar axes with each other; a joint jog stands
-    /// alone.
+    /// Cartesian axes combine with each other; polar axes with each other; turns with each
+    /// other; a joint jog stands alone.
     pub fn family(self) -> JogFamily {
         match self {
             JogAxis::X | JogAxis::Y | JogAxis::Z => JogFamily::Cartesian,
             JogAxis::Azimuth | JogAxis::Altitude => JogFamily::Polar,
             JogAxis::Joint => JogFamily::Joint,
+            JogAxis::Rx | JogAxis::Ry | JogAxis::Rz => JogFamily::Orientation,
         }
     }
 }
@@ -47,6 +52,7 @@ pub enum JogFamily {
     Cartesian,
     Polar,
     Joint,
+    Orientation,
 }
 
 /// Everything a key can do.
@@ -66,6 +72,12 @@ pub enum Action {
     PanAltitudeMinus,
     JointPlus,
     JointMinus,
+    JogRxPlus,
+    JogRxMinus,
+    JogRyPlus,
+    JogRyMinus,
+    JogRzPlus,
+    JogRzMinus,
     // Motion control.
     Stop,
     QuickStop,
@@ -98,7 +110,7 @@ pub enum Action {
 
 impl Action {
     /// Every action, in the order the help overlay lists them.
-    pub const ALL: [Action; 37] = [
+    pub const ALL: [Action; 43] = [
         Action::JogXPlus,
         Action::JogXMinus,
         Action::JogYPlus,
@@ -111,6 +123,12 @@ impl Action {
         Action::PanAltitudeMinus,
         Action::JointPlus,
         Action::JointMinus,
+        Action::JogRxPlus,
+        Action::JogRxMinus,
+        Action::JogRyPlus,
+        Action::JogRyMinus,
+        Action::JogRzPlus,
+        Action::JogRzMinus,
         Action::Stop,
         Action::QuickStop,
         Action::FaultReset,
@@ -154,6 +172,12 @@ impl Action {
             A::PanAltitudeMinus => (JogAxis::Altitude, Sign::Minus),
             A::JointPlus => (JogAxis::Joint, Sign::Plus),
             A::JointMinus => (JogAxis::Joint, Sign::Minus),
+            A::JogRxPlus => (JogAxis::Rx, Sign::Plus),
+            A::JogRxMinus => (JogAxis::Rx, Sign::Minus),
+            A::JogRyPlus => (JogAxis::Ry, Sign::Plus),
+            A::JogRyMinus => (JogAxis::Ry, Sign::Minus),
+            A::JogRzPlus => (JogAxis::Rz, Sign::Plus),
+            A::JogRzMinus => (JogAxis::Rz, Sign::Minus),
             _ => return None,
         })
     }
@@ -182,6 +206,12 @@ impl Action {
             A::PanAltitudeMinus => "hold: lower the tool, altitude -",
             A::JointPlus => "hold: turn the selected joint +",
             A::JointMinus => "hold: turn the selected joint -",
+            A::JogRxPlus => "hold: turn the tool about its point, +Rx",
+            A::JogRxMinus => "hold: turn the tool about its point, -Rx",
+            A::JogRyPlus => "hold: turn the tool about its point, +Ry",
+            A::JogRyMinus => "hold: turn the tool about its point, -Ry",
+            A::JogRzPlus => "hold: turn the tool about its point, +Rz",
+            A::JogRzMinus => "hold: turn the tool about its point, -Rz",
             A::Stop => "stop all motion",
             A::QuickStop => "quick stop: the arm faults until reset",
             A::FaultReset => "reset the arm's faults",
@@ -250,6 +280,8 @@ mod tests {
     fn names_are_snake_case_and_round_trip() {
         assert_eq!(Action::JogXPlus.name(), "jog_x_plus");
         assert_eq!(Action::PanAltitudeMinus.name(), "pan_altitude_minus");
+        assert_eq!(Action::JogRxPlus.name(), "jog_rx_plus");
+        assert_eq!(Action::JogRzMinus.name(), "jog_rz_minus");
         for action in Action::ALL {
             let parsed: Action = serde_json::from_value(serde_json::json!(action.name())).unwrap();
             assert_eq!(parsed, action);

@@ -37,6 +37,8 @@ pub struct View {
     pub speed: Option<u8>,
     /// Cartesian jog speed cap, m/s.
     pub max_jog_speed: f64,
+    /// Orientation jog rate at 100 %, deg/s.
+    pub max_angular_jog_speed: f64,
     /// Reference frames apply (Modbus jogging).
     pub frames: bool,
     pub frame: ReferenceFrame,
@@ -88,6 +90,7 @@ impl View {
             guard: app.guard().cloned(),
             speed: app.speed(),
             max_jog_speed: config.max_jog_speed,
+            max_angular_jog_speed: f64::from(crate::link::driver::MAX_ANGULAR_JOG_SPEED),
             frames: config.frames,
             frame: app.frame(),
             step: app.step(),

@@ -367,8 +367,8 @@ mod tests {
         };
         assert!(required(None, modbus(), &spawn), "Modbus-only jogs");
         assert!(
-            !required(talos(Dialect::Icd), modbus(), &spawn),
-            "jogs and go-to through Talos"
+            required(talos(Dialect::Icd), modbus(), &spawn),
+            "orientation jogs over Modbus beside Talos"
         );
         assert!(
             required(talos(Dialect::Ack), modbus(), &spawn),

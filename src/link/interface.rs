@@ -26,6 +26,13 @@ pub enum JogMotion {
         joint: u8,
         direction: i8,
     },
+    /// Turn the tool about its own point (the TCP stays put): about X, Y and Z of the selected
+    /// reference frame (Modbus only: the Talos ICD has no orientation jog).
+    Orientation {
+        rx: i8,
+        ry: i8,
+        rz: i8,
+    },
 }
 
 /// A discrete step move.

@@ -627,3 +627,5 @@ pub use snapshot::ArmSnapshot;
 mod path_tests;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod turn_tests;

@@ -28,6 +28,8 @@ mod form_keys;
 mod jog_engine;
 mod keymap;
 mod long_names_ui;
+mod orientation_e2e;
+mod orientation_jog;
 mod position_edits;
 mod positions_e2e;
 mod positions_pose;

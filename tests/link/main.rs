@@ -16,6 +16,7 @@ mod modbus_capped_moves;
 mod modbus_link;
 mod modbus_link_paused;
 mod modbus_speed_cap;
+mod orientation_jog;
 mod talos_first_exchange;
 mod talos_link;
 mod talos_link_paused;

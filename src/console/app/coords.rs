@@ -55,5 +55,14 @@ pub fn describe_motion(motion: JogMotion) -> String {
             parts.join(" ")
         }
         JogMotion::Joint { joint, direction } => format!("J{joint}{}", sign(direction)),
+        JogMotion::Orientation { rx, ry, rz } => {
+            let mut parts = Vec::new();
+            for (axis, v) in [("Rx", rx), ("Ry", ry), ("Rz", rz)] {
+                if v != 0 {
+                    parts.push(format!("{}{axis}", sign(v)));
+                }
+            }
+            parts.join(" ")
+        }
     }
 }

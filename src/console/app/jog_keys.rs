@@ -102,7 +102,7 @@ fn notice_text(notice: JogNotice) -> (String, Severity) {
             Severity::Warning,
         ),
         JogNotice::TapNeedsHold => (
-            "arrows and joint keys move only while held: a tap has no step".into(),
+            "arrows, joint and turn keys move only while held: a tap has no step".into(),
             Severity::Info,
         ),
     }

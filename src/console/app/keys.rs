@@ -200,6 +200,14 @@ impl App {
                 );
                 return;
             }
+            A::Rx | A::Ry | A::Rz => {
+                self.say(
+                    "step mode has no turn steps: leave it and hold to turn the tool",
+                    Severity::Info,
+                    now,
+                );
+                return;
+            }
         };
         effects.push(Effect::Arm(ArmCommand::Step(step)));
     }

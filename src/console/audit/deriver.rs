@@ -83,7 +83,11 @@ impl AuditDeriver {
                     Some(AuditEvent::JogStart {
                         axis: describe_motion(*motion),
                         frame: match motion {
-                            JogMotion::Cartesian { .. } if self.frames => self.frame.clone(),
+                            JogMotion::Cartesian { .. } | JogMotion::Orientation { .. }
+                                if self.frames =>
+                            {
+                                self.frame.clone()
+                            }
                             _ => None,
                         },
                         speed_percent,

@@ -128,6 +128,21 @@ fn a_jog_is_one_start_and_one_stop_whatever_its_refreshes() {
     );
     // A second STOP ends no jog.
     assert_eq!(send(&mut d, &ArmCommand::Stop, 10), [AuditEvent::Stop]);
+    // A turn of the tool names its axis and the frame it turns in.
+    let turn = ArmCommand::Jog(JogMotion::Orientation {
+        rx: 0,
+        ry: 0,
+        rz: -1,
+    });
+    assert_eq!(
+        send(&mut d, &turn, 10),
+        [AuditEvent::JogStart {
+            axis: "-Rz".into(),
+            frame: Some("base".into()),
+            speed_percent: 20,
+            speed_mm_s: 50.0,
+        }]
+    );
 }
 
 #[test]

@@ -117,6 +117,11 @@ impl Held {
                 joint,
                 direction: self.direction,
             },
+            JogFamily::Orientation => JogMotion::Orientation {
+                rx: along(JogAxis::Rx),
+                ry: along(JogAxis::Ry),
+                rz: along(JogAxis::Rz),
+            },
         }
     }
 }

@@ -68,7 +68,7 @@ pub enum JogNotice {
     /// Release events mode: a held key was pressed again without a release in between. The
     /// terminal does not report releases; the engine switched to the auto-repeat fallback.
     ReleasesMissing,
-    /// Auto-repeat fallback: an arrow or joint key was tapped. Those have no bounded step:
+    /// Auto-repeat fallback: an arrow, joint or turn key was tapped. Those have no bounded step:
     /// only a hold moves them.
     TapNeedsHold,
 }
@@ -451,7 +451,9 @@ impl JogEngine {
                 Some(JogEffect::Step(held.unit_motion(self.joint)))
             }
             JogFamily::Cartesian => None,
-            JogFamily::Polar | JogFamily::Joint => Some(JogEffect::Notice(JogNotice::TapNeedsHold)),
+            JogFamily::Polar | JogFamily::Joint | JogFamily::Orientation => {
+                Some(JogEffect::Notice(JogNotice::TapNeedsHold))
+            }
         }
     }
 
@@ -513,6 +515,11 @@ impl JogEngine {
                 joint: self.joint,
                 direction: sum(JogAxis::Joint),
             },
+            JogFamily::Orientation => JogMotion::Orientation {
+                rx: sum(JogAxis::Rx),
+                ry: sum(JogAxis::Ry),
+                rz: sum(JogAxis::Rz),
+            },
         };
         // Opposite keys cancel: no motion rather than a zero-speed START.
         (!is_zero(motion)).then_some(motion)
@@ -524,6 +531,7 @@ fn is_zero(motion: JogMotion) -> bool {
         JogMotion::Cartesian { x, y, z } => x == 0 && y == 0 && z == 0,
         JogMotion::Polar { azimuth, altitude } => azimuth == 0 && altitude == 0,
         JogMotion::Joint { direction, .. } => direction == 0,
+        JogMotion::Orientation { rx, ry, rz } => rx == 0 && ry == 0 && rz == 0,
     }
 }
 
@@ -532,5 +540,6 @@ fn family_of(motion: JogMotion) -> JogFamily {
         JogMotion::Cartesian { .. } => JogFamily::Cartesian,
         JogMotion::Polar { .. } => JogFamily::Polar,
         JogMotion::Joint { .. } => JogFamily::Joint,
+        JogMotion::Orientation { .. } => JogFamily::Orientation,
     }
 }

@@ -10,7 +10,7 @@ use ratatui::widgets::Paragraph;
 use super::numbers;
 use super::theme::Theme;
 use crate::console::app::{MotionShown, age_text, describe_motion};
-use crate::console::jog::ReleaseMode;
+use crate::console::jog::{JogMotion, ReleaseMode};
 use crate::console::view::View;
 use crate::kortex::CodeName;
 use crate::link::interface::{GuardStatus, LinkStatus};
@@ -68,6 +68,28 @@ pub fn speed_text(view: &View) -> String {
         }
         None => "?".into(),
     }
+}
+
+/// An orientation jog in words, with its rate and frame: `turning +Rz 15.0 deg/s (tool frame)`.
+/// The rate is the one the driver commands: the speed in force of the maximum, at most the
+/// arm's configured angular limit when telemetry reports one.
+pub fn turn_text(view: &View, motion: JogMotion) -> String {
+    let axes = describe_motion(motion);
+    let Some(speed) = view.speed else {
+        return format!("turning {axes} ({} frame)", view.frame.key());
+    };
+    let wanted = view.max_angular_jog_speed * f64::from(speed) / 100.0;
+    let arm_limit = view
+        .telemetry
+        .as_ref()
+        .map(|t| f64::from(t.speed_limits.angular))
+        .filter(|limit| limit.is_finite() && *limit > 0.0);
+    let rate = arm_limit.map_or(wanted, |limit| wanted.min(limit));
+    format!(
+        "turning {axes} {} deg/s ({} frame)",
+        numbers::fixed(rate, 1),
+        view.frame.key()
+    )
 }
 
 /// Two lines: the link, then keys, motion and settings (so the key-release mode always shows,
@@ -207,6 +229,10 @@ fn motion_spans(view: &View, theme: &Theme, cut: Cut) -> Vec<Span<'static>> {
     let mut spans = Vec::new();
     let mut reason = None;
     match view.motion.clone() {
+        MotionShown::Jog(motion @ JogMotion::Orientation { .. }) => spans.push(Span::styled(
+            format!(" JOG {} ", turn_text(view, motion)),
+            theme.moving(),
+        )),
         MotionShown::Jog(motion) => spans.push(Span::styled(
             format!(" JOG {} ", describe_motion(motion)),
             theme.moving(),

@@ -12,7 +12,8 @@ mod connect;
 pub mod hw_telemetry;
 mod modbus_worker;
 mod speed;
-pub use speed::INITIAL_SPEED;
+pub use speed::{INITIAL_SPEED, MAX_ANGULAR_JOG_SPEED};
+pub use talos_side::ORIENTATION_NEEDS_MODBUS;
 mod stop_outcome;
 mod talos_side;
 
@@ -63,10 +64,11 @@ impl DriverConfig {
         }
     }
 
-    /// Whether motion can go over Modbus: jogs on a Modbus-only link, and go-to of the
-    /// console's own positions whenever there is a Modbus link.
+    /// Whether motion can go over Modbus: jogs on a Modbus-only link, go-to of the console's
+    /// own positions, and orientation jogs (which Talos cannot carry) whenever there is a Modbus
+    /// link.
     pub fn modbus_carries_motion(&self) -> bool {
-        self.modbus.is_some() && (self.talos.is_none() || !self.positions_on_operator())
+        self.modbus.is_some()
     }
 
     /// Whether a stop guard must run before motion goes over Modbus.
@@ -274,6 +276,9 @@ async fn run(
                         let error = match (&config.modbus, guard_refusal(&config, guard.as_ref(), &command)) {
                             (_, Some(error)) => error,
                             (Some(mc), None) => ArmError::ModbusLinkDown { addr: mc.addr.clone() },
+                            (None, None) if is_orientation_jog(&command) => {
+                                ArmError::Unsupported(ORIENTATION_NEEDS_MODBUS)
+                            }
                             (None, None) => ArmError::NoLinkCarriesIt,
                         };
                         let _ = events.send(ArmEvent::Failed { command: command.kind(), error });
@@ -414,6 +419,13 @@ async fn run(
     if let Some(m) = modbus {
         m.close().await;
     }
+}
+
+fn is_orientation_jog(command: &ArmCommand) -> bool {
+    matches!(
+        command,
+        ArmCommand::Jog(super::interface::JogMotion::Orientation { .. })
+    )
 }
 
 /// Starts the stop guard when the configuration needs one.

@@ -6,7 +6,7 @@ use std::time::Duration;
 use tokio::sync::mpsc;
 use tokio::task::JoinHandle;
 
-use super::speed::SpeedInForce;
+use super::speed::{MAX_ANGULAR_JOG_SPEED, SpeedInForce};
 use super::{DriverConfig, JointPositions};
 use crate::kortex::{PolarPanSettings, Pose, ReferenceFrame, Twist};
 use crate::link::interface::{
@@ -143,6 +143,21 @@ impl State {
         (self.max_jog_speed * self.fraction()) as f32
     }
 
+    /// An orientation jog's rate at the speed in force, deg/s: [`MAX_ANGULAR_JOG_SPEED`] scaled
+    /// by it, and never above the arm's own configured angular limit once telemetry has reported
+    /// a usable one.
+    fn angular_speed(&self) -> f32 {
+        let wanted = MAX_ANGULAR_JOG_SPEED * self.fraction() as f32;
+        let arm_limit = self
+            .link
+            .subscribe()
+            .borrow()
+            .as_ref()
+            .map(|s| s.telemetry.speed_limits.angular)
+            .filter(|limit| limit.is_finite() && *limit > 0.0);
+        arm_limit.map_or(wanted, |limit| wanted.min(limit))
+    }
+
     /// A polar pan at the speed in force: the rotation rate scaled by it, and the tool point
     /// (azimuth and altitude motion together) at most the tool speed.
     fn polar_settings(&self) -> PolarPanSettings {
@@ -167,6 +182,10 @@ impl State {
                     z: (d[2] * v) as f32,
                     ..Twist::default()
                 };
+                wrap(self.link.jog_twist(self.frame, twist).await)
+            }
+            ArmCommand::Jog(JogMotion::Orientation { rx, ry, rz }) => {
+                let twist = turn_twist([*rx, *ry, *rz], self.angular_speed());
                 wrap(self.link.jog_twist(self.frame, twist).await)
             }
             ArmCommand::Jog(JogMotion::Polar { azimuth, altitude }) => wrap(
@@ -275,6 +294,20 @@ impl State {
     }
 }
 
+/// A turn of the tool about its point: no linear part, the angular part along the held
+/// directions at `rate` deg/s in all (diagonals are normalised, as for cartesian jogs).
+pub fn turn_twist(directions: [i8; 3], rate: f32) -> Twist {
+    let d = directions.map(f32::from);
+    let norm = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt().max(1.0);
+    let w = rate / norm;
+    Twist {
+        theta_x: d[0] * w,
+        theta_y: d[1] * w,
+        theta_z: d[2] * w,
+        ..Twist::ZERO
+    }
+}
+
 fn wrap(result: Result<WriteReport, ModbusError>) -> Result<Option<WriteReport>, ArmError> {
     result
         .map(Some)
@@ -333,6 +366,16 @@ mod tests {
         );
         let after = vec![ArmCommand::Stop, jog.clone()];
         assert_eq!(without_stale_jogs(after.clone()), after);
+    }
+
+    #[test]
+    fn a_turn_has_no_linear_part_and_its_diagonals_keep_the_rate() {
+        let t = turn_twist([0, 0, -1], 15.0);
+        assert_eq!(t.linear_speed(), 0.0);
+        assert_eq!((t.theta_x, t.theta_y, t.theta_z), (0.0, 0.0, -15.0));
+        let d = turn_twist([1, 1, 0], 15.0);
+        assert!((d.angular_speed() - 15.0).abs() < 1e-4);
+        assert!(d.theta_x > 0.0 && (d.theta_x - d.theta_y).abs() < 1e-6);
     }
 
     #[test]

@@ -7,6 +7,12 @@ use std::sync::atomic::{AtomicU8, Ordering};
 /// Percent of the jog speed in force until the technician (or the operator) changes it.
 pub const INITIAL_SPEED: u8 = 50;
 
+/// The angular speed of an orientation jog at 100 %, deg/s: the speed in force scales it as it
+/// scales the tool speed cap (a turn about the tool point moves the point itself not at all).
+/// Never above the arm's configured angular limit (holding registers 218-219) nor the twist's
+/// hard limit (100 deg/s).
+pub const MAX_ANGULAR_JOG_SPEED: f32 = 30.0;
+
 /// See the module docs. Clones share the value.
 #[derive(Debug, Clone)]
 pub struct SpeedInForce(Arc<AtomicU8>);

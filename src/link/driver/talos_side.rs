@@ -24,6 +24,10 @@ use crate::talos::{CommandValue, Reply, Request, ReturnCode};
 /// watchdog, s.
 const JOINT_JOG_HORIZON: f64 = 0.5;
 
+/// Why an orientation jog is refused without a Modbus link: nothing goes over Talos for it.
+pub const ORIENTATION_NEEDS_MODBUS: &str =
+    "orientation jog needs the Modbus link: Talos has no orientation jog";
+
 /// A Talos link that connected and answered the handshake, not yet attached.
 pub struct TalosConnected {
     link: TalosLink,
@@ -163,6 +167,9 @@ impl TalosSide {
             return false;
         }
         match command {
+            // Never over Talos: its ICD has no orientation jog (the driver refuses it when there
+            // is no Modbus link).
+            ArmCommand::Jog(JogMotion::Orientation { .. }) => false,
             ArmCommand::MoveToPose(_) | ArmCommand::SetFrame(_) => false,
             // Over Modbus the coils do it properly; over Talos only the nearest equivalent.
             ArmCommand::FaultReset => !has_modbus,
@@ -226,6 +233,9 @@ impl TalosSide {
                     joint: *joint,
                     command: ActuatorCommand::jog(position, velocity),
                 })?]
+            }
+            ArmCommand::Jog(JogMotion::Orientation { .. }) => {
+                return Err(ArmError::Unsupported(ORIENTATION_NEEDS_MODBUS));
             }
             ArmCommand::Stop | ArmCommand::QuickStop => {
                 let mut stops = vec![Request::PolarPanStop];
