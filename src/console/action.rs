@@ -92,13 +92,14 @@ pub enum Action {
     PositionPrevious,
     // Screen.
     ToggleHex,
+    HistoryCycle,
     Help,
     Quit,
 }
 
 impl Action {
     /// Every action, in the order the help overlay lists them.
-    pub const ALL: [Action; 37] = [
+    pub const ALL: [Action; 38] = [
         Action::JogXPlus,
         Action::JogXMinus,
         Action::JogYPlus,
@@ -134,6 +135,7 @@ impl Action {
         Action::PositionNext,
         Action::PositionPrevious,
         Action::ToggleHex,
+        Action::HistoryCycle,
         Action::Help,
         Action::Quit,
     ];
@@ -205,6 +207,7 @@ impl Action {
             A::PositionNext => "select the next position",
             A::PositionPrevious => "select the previous position",
             A::ToggleHex => "show the log's frames in hex",
+            A::HistoryCycle => "history: plot joint torque or current",
             A::Help => "this help: every key of the keymap",
             A::Quit => "stop the arm and quit",
         }
