@@ -23,6 +23,7 @@ mod console_truth_e2e;
 mod console_truth_ui;
 mod console_ui;
 mod form_keys;
+mod history;
 mod jog_engine;
 mod keymap;
 mod long_names_ui;

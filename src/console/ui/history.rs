@@ -62,6 +62,34 @@ fn cycle_keys(view: &View) -> Option<String> {
     (!keys.is_empty()).then(|| keys.join("/"))
 }
 
+/// The joints' heading, the longest that fits `width`: what is plotted, who works hardest (and
+/// how hard), which key plots the other quantity.
+fn heading(view: &View, width: usize) -> String {
+    let history = &view.history;
+    let quantity = history.quantity;
+    let (name, unit) = (quantity.name(), quantity.unit());
+    let hardest = history.hardest.map(|(joint, mean)| (joint, fixed(mean, 2)));
+    let keys = cycle_keys(view)
+        .map(|keys| format!(", {keys}: {}", quantity.next().name()))
+        .unwrap_or_default();
+    let candidates: Vec<String> = match hardest {
+        Some((joint, mean)) => vec![
+            format!("|{name}| {unit}, hardest J{joint} (mean {mean}){keys}"),
+            format!("{name} {unit}, hardest J{joint} (mean {mean}){keys}"),
+            format!("{name} {unit}, hardest J{joint} {mean}{keys}"),
+            format!("{name} {unit}, hardest J{joint}{keys}"),
+            format!("{name} {unit}, hardest J{joint} {mean}"),
+            format!("{name} {unit}, hardest J{joint}"),
+        ],
+        None => vec![format!("|{name}| {unit}{keys}"), format!("{name} {unit}")],
+    };
+    candidates
+        .iter()
+        .find(|c| numbers::width(c) <= width)
+        .cloned()
+        .unwrap_or_else(|| numbers::elide(candidates.last().map_or("", String::as_str), width))
+}
+
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     let titles = super::telemetry_titles("History", &[", last 30 s"], view);
     let block = super::fitted_panel(&titles, area.width, theme);
@@ -90,15 +118,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     ]));
 
     // The joints' heading: what is plotted, how to change it, who works hardest.
-    let quantity = history.quantity;
-    let mut heading = format!("|{}| {}", quantity.name(), quantity.unit());
-    if let Some((joint, mean)) = history.hardest {
-        heading.push_str(&format!(", hardest J{joint} (mean {})", fixed(mean, 2)));
-    }
-    if let Some(keys) = cycle_keys(view) {
-        heading.push_str(&format!(", {keys}: {}", quantity.next().name()));
-    }
-    lines.push(Line::styled(numbers::elide(&heading, width), theme.dim()));
+    lines.push(Line::styled(heading(view, width), theme.dim()));
 
     // One row per joint, on one scale.
     let joints_peak = history.joints.iter().map(|j| peak(j)).fold(0.0, f64::max);

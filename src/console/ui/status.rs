@@ -252,7 +252,6 @@ fn motion_spans(view: &View, theme: &Theme, cut: Cut) -> Vec<Span<'static>> {
     if cut.limit && !view.near_limits.is_empty() {
         let shown = if cut.words { view.near_limits.len() } else { 1 };
         let text: Vec<String> = view.near_limits[..shown].iter().map(|n| n.text()).collect();
-        spans.push(Span::raw(" "));
         spans.push(Span::styled(
             format!(" {} ", text.join(", ")),
             theme.warning(),
