@@ -27,6 +27,7 @@ mod history;
 mod jog_engine;
 mod keymap;
 mod long_names_ui;
+mod near_limit_e2e;
 mod position_edits;
 mod positions_e2e;
 mod positions_pose;
