@@ -249,6 +249,9 @@ mod tests {
         let l = at(200, 60);
         assert_eq!(l.positions, Some(Rect::new(110, 12, 40, 25)));
         assert_eq!(l.history, Some(Rect::new(150, 12, 50, 25)));
+        // The smallest screen with the history (the README says so).
+        assert!(at(154, 32).history.is_some());
+        assert!(at(153, 32).history.is_none() && at(154, 31).history.is_none());
     }
 
     #[test]
