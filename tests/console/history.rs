@@ -67,6 +67,21 @@ fn the_store_stays_bounded_and_ages_out_after_30_s() {
 }
 
 #[test]
+fn a_sample_from_before_the_newest_bucket_joins_it() {
+    let t0 = Instant::now();
+    let mut h = History::default();
+    h.record(&sample([0.0; 7], [0.0; 7], 0.4, 0.0), t0);
+    h.record(&sample([1.0; 7], [0.0; 7], 0.4, 0.1), t0 + ms(1000));
+    // A clock that went back half a second.
+    h.record(&sample([3.0; 7], [0.0; 7], 0.4, 0.3), t0 + ms(500));
+    assert_eq!(h.len(), 2);
+    let series = h.series(t0 + ms(1000));
+    let newest = |v: &Vec<Option<f64>>| v.last().copied().flatten().unwrap();
+    assert!((newest(&series.speed) - 300.0).abs() < 1e-3);
+    assert!((newest(&series.joints[6]) - 2.0).abs() < 1e-6);
+}
+
+#[test]
 fn the_speed_is_the_twists_or_else_from_successive_positions() {
     let t0 = Instant::now();
     let mut h = History::default();

@@ -111,7 +111,9 @@ impl History {
         let speed = self.speed_of(t, now);
         self.latest_speed = speed;
         let index = self.bucket_index(now);
-        if self.buckets.back().is_none_or(|b| b.index != index) {
+        // A sample older than the newest bucket (a clock that went back) joins that bucket:
+        // the buckets stay in order.
+        if self.buckets.back().is_none_or(|b| b.index < index) {
             self.buckets.push_back(Bucket {
                 index,
                 speed_max: 0.0,
