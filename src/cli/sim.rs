@@ -8,7 +8,7 @@ use super::output;
 
 use crate::link::Dialect;
 use crate::sim::arm_model::Arm;
-use crate::sim::kinematics::{self, HOME_DEG, JOINT_LIMITS_DEG};
+use crate::sim::kinematics::{self, HOME_DEG};
 use crate::sim::talos_server::{NetworkFaults, TalosServerConfig};
 use crate::sim::{DEFAULT_MODBUS_LISTEN, DEFAULT_TALOS_LISTEN, SimConfig, Simulator};
 use crate::talos::Checksum;
@@ -46,7 +46,8 @@ pub struct SimArgs {
     /// Fault injection: start with this Kinova fault bit raised (0-30, e.g. 4 joint fault).
     #[arg(long, value_name = "BIT", value_parser = clap::value_parser!(u32).range(0..=30))]
     pub fault: Option<u32>,
-    /// Fault injection: start with this joint (2, 4 or 6) 2 degrees short of its upper limit.
+    /// Start with this joint (2, 4 or 6; the others turn continuously) 2 degrees short of its
+    /// upper limit, the others at home: the console then names it (`J4 2.0° from limit`).
     #[arg(long, value_name = "JOINT", value_parser = clap::value_parser!(u8).range(1..=7))]
     pub near_limit: Option<u8>,
 }
@@ -62,16 +63,10 @@ impl SimArgs {
                 self.max_jog_speed
             ));
         }
-        let mut q = HOME_DEG;
-        if let Some(joint) = self.near_limit {
-            let i = usize::from(joint - 1);
-            let Some(limit) = JOINT_LIMITS_DEG[i] else {
-                return Err(format!(
-                    "--near-limit {joint}: joint {joint} turns continuously; J2, J4 and J6 have limits"
-                ));
-            };
-            q[i] = limit - 2.0;
-        }
+        let q = match self.near_limit {
+            Some(joint) => kinematics::near_limit_pose_deg(joint)?,
+            None => HOME_DEG,
+        };
         let mut arm = Arm::at(kinematics::to_radians(&q));
         if let Some(bit) = self.fault {
             arm.raise_fault(bit);
@@ -115,7 +110,12 @@ pub async fn run(args: &SimArgs) -> i32 {
     // The simulator serves until signalled even if no one reads its banner (`| head`); a
     // closed stdout only cuts the banner short.
     let banner = [
-        "armjog sim: simulated Kinova Gen3 at the home pose".to_string(),
+        match args.near_limit {
+            Some(joint) => format!(
+                "armjog sim: simulated Kinova Gen3 at the home pose but J{joint}, 2 deg short of its limit"
+            ),
+            None => "armjog sim: simulated Kinova Gen3 at the home pose".to_string(),
+        },
         format!(
             "  talos operator  {} ({}, {})",
             sim.talos_addr, args.dialect, args.checksum

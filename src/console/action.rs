@@ -104,13 +104,14 @@ pub enum Action {
     PositionPrevious,
     // Screen.
     ToggleHex,
+    HistoryCycle,
     Help,
     Quit,
 }
 
 impl Action {
     /// Every action, in the order the help overlay lists them.
-    pub const ALL: [Action; 43] = [
+    pub const ALL: [Action; 44] = [
         Action::JogXPlus,
         Action::JogXMinus,
         Action::JogYPlus,
@@ -152,6 +153,7 @@ impl Action {
         Action::PositionNext,
         Action::PositionPrevious,
         Action::ToggleHex,
+        Action::HistoryCycle,
         Action::Help,
         Action::Quit,
     ];
@@ -235,6 +237,7 @@ impl Action {
             A::PositionNext => "select the next position",
             A::PositionPrevious => "select the previous position",
             A::ToggleHex => "show the log's frames in hex",
+            A::HistoryCycle => "history: plot joint torque or current",
             A::Help => "this help: every key of the keymap",
             A::Quit => "stop the arm and quit",
         }

@@ -9,7 +9,9 @@ use std::collections::VecDeque;
 use std::sync::Arc;
 use std::time::Duration;
 
-use super::app::{App, BookState, MotionShown, Overlay, Severity, Step};
+use super::app::{
+    App, BookState, HistorySeries, MotionShown, NearLimit, Overlay, Severity, Step, near_limits,
+};
 use super::jog::{ReleaseMode, RepeatTiming};
 use super::keymap::Keymap;
 use super::positions::PositionBook;
@@ -64,6 +66,10 @@ pub struct View {
     pub can_save: bool,
     /// The help overlay's first shown line.
     pub help_scroll: usize,
+    /// The last 30 s of telemetry (history panel).
+    pub history: HistorySeries,
+    /// Limited joints within 5 degrees of a limit, the nearest first.
+    pub near_limits: Vec<NearLimit>,
 }
 
 impl View {
@@ -113,6 +119,11 @@ impl View {
             overlay: app.overlay().clone(),
             can_save: app.can_save_position(),
             help_scroll: app.help_scroll(),
+            history: app
+                .now()
+                .map(|now| app.history().series(now))
+                .unwrap_or_default(),
+            near_limits: app.telemetry().map(near_limits).unwrap_or_default(),
         }
     }
 }

@@ -190,6 +190,27 @@ pub fn inverse(q0: &Joints, target: &Pose) -> Result<Joints, IkError> {
     })
 }
 
+/// How far inside its limit `armjog sim --near-limit` places a joint, degrees.
+pub const NEAR_LIMIT_MARGIN_DEG: f64 = 2.0;
+
+/// The home pose (degrees) with joint `joint` (1-7) placed [`NEAR_LIMIT_MARGIN_DEG`] inside
+/// its upper limit, for `armjog sim --near-limit`. Refuses a continuous joint and a number
+/// out of 1-7.
+pub fn near_limit_pose_deg(joint: u8) -> Result<Joints, String> {
+    let index = usize::from(joint)
+        .checked_sub(1)
+        .filter(|i| *i < JOINTS)
+        .ok_or_else(|| format!("--near-limit {joint}: the Gen3 has joints 1 to 7"))?;
+    let Some(limit) = JOINT_LIMITS_DEG[index] else {
+        return Err(format!(
+            "--near-limit {joint}: joint {joint} turns continuously; J2, J4 and J6 have limits"
+        ));
+    };
+    let mut q = HOME_DEG;
+    q[index] = limit - NEAR_LIMIT_MARGIN_DEG;
+    Ok(q)
+}
+
 /// Degrees to radians for a whole joint vector.
 pub fn to_radians(deg: &Joints) -> Joints {
     deg.map(f64::to_radians)
@@ -289,6 +310,29 @@ mod tests {
         let e = pose_error(&from, &near);
         assert!(e.iter().all(|x| x.is_finite()), "{e:?}");
         assert!(e.fixed_rows::<3>(3).norm() < 1e-9);
+    }
+
+    #[test]
+    fn near_limit_poses_sit_two_degrees_inside_the_limit_of_limited_joints_only() {
+        let q = near_limit_pose_deg(4).unwrap();
+        assert!((q[3] - 145.8).abs() < 1e-9, "{q:?}");
+        assert_eq!(q[..3], HOME_DEG[..3]);
+        assert_eq!(q[4..], HOME_DEG[4..]);
+        for joint in [2u8, 6] {
+            let q = near_limit_pose_deg(joint).unwrap();
+            let i = usize::from(joint - 1);
+            let limit = JOINT_LIMITS_DEG[i].unwrap();
+            assert!(within_limit(i, q[i].to_radians()));
+            assert!((limit - q[i] - 2.0).abs() < 1e-9);
+        }
+        for joint in [1u8, 3, 5, 7] {
+            let e = near_limit_pose_deg(joint).unwrap_err();
+            assert!(e.contains("continuously"), "{e}");
+        }
+        for joint in [0u8, 8] {
+            let e = near_limit_pose_deg(joint).unwrap_err();
+            assert!(e.contains("1 to 7"), "{e}");
+        }
     }
 
     #[test]

@@ -25,3 +25,4 @@ mod guard;
 mod guard_console;
 mod layers;
 mod modbus_cli;
+mod sim_near_limit;

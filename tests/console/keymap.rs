@@ -270,7 +270,11 @@ fn unknown_action_is_refused_at_the_action() {
         10,
         "unknown action \"jog_w_plus\" (expected one of: jog_x_plus, jog_x_minus, ",
     );
-    assert!(refused(text).message().ends_with("toggle_hex, help, quit)"));
+    assert!(
+        refused(text)
+            .message()
+            .ends_with("toggle_hex, history_cycle, help, quit)")
+    );
 }
 
 #[test]

@@ -84,6 +84,11 @@ impl App {
     }
 
     /// The log shows frames in hex.
+    /// The last 30 s of telemetry (history panel).
+    pub fn history(&self) -> &super::History {
+        &self.history
+    }
+
     pub fn hex(&self) -> bool {
         self.hex
     }

@@ -308,6 +308,7 @@ impl App {
                 self.selected = (self.selected + n - 1) % n;
             }
             A::ToggleHex => self.hex = !self.hex,
+            A::HistoryCycle => self.history.cycle_quantity(),
             A::Help => self.open_help(),
             A::Quit => self.quit(now, effects),
             // Jog actions are handled before this.

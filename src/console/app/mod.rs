@@ -15,8 +15,10 @@ mod coords;
 mod edits;
 mod form_keys;
 mod help_keys;
+mod history;
 mod jog_keys;
 mod keys;
+mod limits;
 mod message;
 mod motion_truth;
 mod named;
@@ -27,7 +29,9 @@ mod speed_steps;
 pub use arm_state::{abort_reason, age_text, at_rest, fault_reason};
 pub use book_load::{BookState, CHECKED_ON_CONNECT};
 pub use coords::{cartesian_of, describe_motion, polar_of};
+pub use history::{BUCKET, BUCKETS, HISTORY_WINDOW, History, HistorySeries, JointQuantity};
 pub use jog_keys::TAP_STEP_LIMIT;
+pub use limits::{LIMIT_WARNING_DEG, NearLimit, limit_margin, near_limits};
 pub use motion_truth::{
     ACTION_TIMEOUT, ActionKind, MotionShown, MotionTruth, NO_TELEMETRY_ACTION_TIME, STALE_AFTER,
     STOP_GRACE, TrackedAction,
@@ -195,6 +199,8 @@ pub struct App {
     resave: resave::Resave,
     /// The help overlay's first shown line.
     help_scroll: usize,
+    /// The last 30 s of telemetry, for the history panel.
+    history: History,
 }
 
 impl App {
@@ -235,6 +241,7 @@ impl App {
             shared_keymap,
             resave: resave::Resave::default(),
             help_scroll: 0,
+            history: History::default(),
         }
     }
 

@@ -190,6 +190,11 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
         let position = t.joints[i].position;
         let near = limit(i).is_some_and(|l| l - signed_angle(position).abs() < NEAR_LIMIT);
         let selected = usize::from(view.joint) == i + 1;
+        // Within 5 degrees the gauge turns to the warning colour (the status bar names it).
+        let gauge_warns = view
+            .near_limits
+            .iter()
+            .any(|n| usize::from(n.joint) == i + 1);
         let cells: Vec<Cell> = columns
             .iter()
             .map(|c| {
@@ -197,6 +202,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
                     Column::Name if selected => theme.selected(),
                     Column::Name => theme.title(),
                     Column::Position if near => theme.warning(),
+                    Column::Gauge if gauge_warns => theme.warning(),
                     _ => Style::default(),
                 };
                 cell(*c, c.text(t, i), style)

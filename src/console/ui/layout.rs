@@ -9,7 +9,9 @@
 //!    at a narrow width it drops whole columns (limits gauge, then temperature, current,
 //!    torque, velocity), never a part of one;
 //! 4. the arm panel and the positions panel (side by side), once at least 4 rows are left;
-//! 5. the command log, once at least 3 rows are left.
+//! 5. the command log, once at least 3 rows are left;
+//! 6. the history panel (sparklines of the last 30 s): only in spare space, beside the
+//!    positions panel when that is wide and tall enough for both (see [`place_history`]).
 //!
 //! A panel that gets fewer rows than it has lines shows its first lines whole; every line that
 //! is too wide for its panel is cut at a word before a number, never inside one (see
@@ -54,6 +56,7 @@ pub struct ScreenLayout {
     pub arm: Option<Rect>,
     pub positions: Option<Rect>,
     pub log: Option<Rect>,
+    pub history: Option<Rect>,
     pub bottom: Rect,
 }
 
@@ -106,8 +109,42 @@ pub fn layout(area: Rect, widths: TopWidths) -> ScreenLayout {
     } else if free.height >= MIDDLE_MIN_ROWS {
         (layout.arm, layout.positions) = split_middle(free);
     }
+    if let Some(positions) = layout.positions {
+        (layout.positions, layout.history) = place_history(positions);
+    }
     // Fewer rows than another panel needs stay blank.
     layout
+}
+
+/// The positions panel's width at 80x24: it keeps at least this much beside the history.
+const POSITIONS_MIN_WIDTH: u16 = 36;
+/// The history panel's fewest columns (labels, a short sparkline, values).
+const HISTORY_MIN_WIDTH: u16 = 34;
+/// The history panel's rows: borders, the TCP speed, a heading and seven joints.
+pub const HISTORY_ROWS: u16 = 11;
+/// The positions panel's share, in percent, when both have more than their minimum.
+const POSITIONS_PERCENT: u16 = 45;
+
+/// Splits the positions panel's place `positions` into the positions panel and, when there is
+/// room for both, the history panel on its right.
+pub fn place_history(positions: Rect) -> (Option<Rect>, Option<Rect>) {
+    if positions.width < POSITIONS_MIN_WIDTH + HISTORY_MIN_WIDTH || positions.height < HISTORY_ROWS
+    {
+        return (Some(positions), None);
+    }
+    let kept = (positions.width * POSITIONS_PERCENT / 100).max(POSITIONS_MIN_WIDTH);
+    let history = Rect {
+        x: positions.x + kept,
+        width: positions.width - kept,
+        ..positions
+    };
+    (
+        Some(Rect {
+            width: kept,
+            ..positions
+        }),
+        Some(history),
+    )
 }
 
 /// The tool panel's width, and whether the joints panel fits beside it.
@@ -204,11 +241,25 @@ mod tests {
     }
 
     #[test]
+    fn the_history_takes_spare_space_beside_the_positions() {
+        assert!(at(80, 24).history.is_none());
+        let l = at(160, 48);
+        assert_eq!(l.positions, Some(Rect::new(88, 12, 36, 19)));
+        assert_eq!(l.history, Some(Rect::new(124, 12, 36, 19)));
+        let l = at(200, 60);
+        assert_eq!(l.positions, Some(Rect::new(110, 12, 40, 25)));
+        assert_eq!(l.history, Some(Rect::new(150, 12, 50, 25)));
+        // The smallest screen with the history (the README says so).
+        assert!(at(154, 32).history.is_some());
+        assert!(at(153, 32).history.is_none() && at(154, 31).history.is_none());
+    }
+
+    #[test]
     fn no_panel_leaves_the_screen() {
         for width in 40..=200 {
             for height in 10..=60 {
                 let l = at(width, height);
-                let panels = [l.joints, l.tool, l.arm, l.positions, l.log];
+                let panels = [l.joints, l.tool, l.arm, l.positions, l.log, l.history];
                 for rect in panels.into_iter().flatten().chain([l.status, l.bottom]) {
                     assert!(
                         rect.right() <= width && rect.bottom() <= height,

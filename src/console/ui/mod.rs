@@ -8,6 +8,7 @@ pub mod arm;
 pub mod dialog;
 pub mod help;
 pub mod hints;
+pub mod history;
 pub mod joints;
 pub mod layout;
 pub mod log;
@@ -123,12 +124,13 @@ pub fn draw(frame: &mut Frame, view: &View, theme: &Theme) {
     };
     let places = layout::layout(area, widths);
     status::draw(frame, places.status, view, theme);
-    let panels: [(Option<Rect>, Panel); 5] = [
+    let panels: [(Option<Rect>, Panel); 6] = [
         (places.joints, joints::draw),
         (places.tool, tcp::draw),
         (places.arm, arm::draw),
         (places.positions, positions::draw),
         (places.log, log::draw),
+        (places.history, history::draw),
     ];
     for (place, draw) in panels {
         if let Some(place) = place {

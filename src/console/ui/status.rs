@@ -149,8 +149,9 @@ fn link_line(view: &View, theme: &Theme, width: usize) -> Line<'static> {
 
 /// How much of the second line gives way, in order: why the arm may be moving (the message
 /// line says it too), the measured auto-repeat timing, the speed in mm/s, the words around the
-/// key-release mode and the settings, the joint, the frame, the speed; the motion and the
-/// key-release mode never.
+/// key-release mode and the settings (and every joint near a limit but the nearest), the
+/// joint, the frame, the speed, the joint nearest a limit; the motion and the key-release mode
+/// never.
 #[derive(Debug, Clone, Copy)]
 struct Cut {
     reason: bool,
@@ -160,10 +161,11 @@ struct Cut {
     joint: bool,
     frame: bool,
     speed: bool,
+    limit: bool,
 }
 
 /// Each line keeps what the one before it keeps, less one more part.
-const CUTS: [Cut; 8] = {
+const CUTS: [Cut; 9] = {
     let all = Cut {
         reason: true,
         timing: true,
@@ -172,6 +174,7 @@ const CUTS: [Cut; 8] = {
         joint: true,
         frame: true,
         speed: true,
+        limit: true,
     };
     let no_reason = Cut {
         reason: false,
@@ -201,8 +204,12 @@ const CUTS: [Cut; 8] = {
         speed: false,
         ..no_frame
     };
+    let no_limit = Cut {
+        limit: false,
+        ..no_speed
+    };
     [
-        all, no_reason, no_timing, no_mm_s, no_words, no_joint, no_frame, no_speed,
+        all, no_reason, no_timing, no_mm_s, no_words, no_joint, no_frame, no_speed, no_limit,
     ]
 };
 
@@ -267,6 +274,15 @@ fn motion_spans(view: &View, theme: &Theme, cut: Cut) -> Vec<Span<'static>> {
         spans.push(Span::styled(format!("({why}) "), theme.warning()));
     }
     let separator = if cut.words { " | " } else { " " };
+    // A joint near its limit, after the motion: the next jog may be the one that stops on it.
+    if cut.limit && !view.near_limits.is_empty() {
+        let shown = if cut.words { view.near_limits.len() } else { 1 };
+        let text: Vec<String> = view.near_limits[..shown].iter().map(|n| n.text()).collect();
+        spans.push(Span::styled(
+            format!(" {} ", text.join(", ")),
+            theme.warning(),
+        ));
+    }
     spans.push(Span::raw(separator));
     let mode = match (cut.timing, cut.words) {
         (true, _) => release_mode_text(view),

@@ -1,0 +1,227 @@
+//! The last 30 s of telemetry for the history panel: TCP linear speed and each joint's current
+//! and torque, in fixed 250 ms buckets so memory stays bounded whatever the telemetry rate.
+//!
+//! Pure: fed with `now` by the app. A bucket keeps the peak speed (a short burst must show)
+//! and the mean |current| and |torque| of its samples.
+
+use std::collections::VecDeque;
+use std::time::{Duration, Instant};
+
+use crate::kortex::Telemetry;
+
+/// How far back the history goes.
+pub const HISTORY_WINDOW: Duration = Duration::from_secs(30);
+/// One bucket's span.
+pub const BUCKET: Duration = Duration::from_millis(250);
+/// Buckets in the window (30 s / 250 ms).
+pub const BUCKETS: usize = 120;
+const JOINTS: usize = 7;
+
+/// Which joint quantity the panel plots (a key cycles it).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum JointQuantity {
+    #[default]
+    Torque,
+    Current,
+}
+
+impl JointQuantity {
+    pub fn next(self) -> JointQuantity {
+        match self {
+            JointQuantity::Torque => JointQuantity::Current,
+            JointQuantity::Current => JointQuantity::Torque,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            JointQuantity::Torque => "torque",
+            JointQuantity::Current => "current",
+        }
+    }
+
+    pub fn unit(self) -> &'static str {
+        match self {
+            JointQuantity::Torque => "Nm",
+            JointQuantity::Current => "A",
+        }
+    }
+}
+
+/// One 250 ms slice of telemetry.
+#[derive(Debug, Clone, PartialEq)]
+struct Bucket {
+    /// Its index counted from the store's origin.
+    index: u64,
+    /// Peak TCP linear speed, mm/s.
+    speed_max: f64,
+    abs_torque_sum: [f64; JOINTS],
+    abs_current_sum: [f64; JOINTS],
+    samples: u32,
+}
+
+/// The history store.
+#[derive(Debug, Clone, Default)]
+pub struct History {
+    origin: Option<Instant>,
+    buckets: VecDeque<Bucket>,
+    /// The previous sample's TCP position (m) and time, to derive a speed when the telemetry
+    /// carries no twist.
+    last_position: Option<([f64; 3], Instant)>,
+    /// The latest sample's speed, mm/s.
+    latest_speed: f64,
+    quantity: JointQuantity,
+}
+
+/// What the panel draws: oldest first, one entry per bucket of the window (`None` where no
+/// telemetry came).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct HistorySeries {
+    /// TCP linear speed, mm/s (peak per bucket).
+    pub speed: Vec<Option<f64>>,
+    /// The latest speed, mm/s.
+    pub speed_now: Option<f64>,
+    /// Per joint: the mean |quantity| per bucket.
+    pub joints: [Vec<Option<f64>>; JOINTS],
+    pub quantity: JointQuantity,
+    /// The joint (1-7) with the largest mean |quantity| over the window, and that mean.
+    pub hardest: Option<(u8, f64)>,
+}
+
+impl History {
+    pub fn quantity(&self) -> JointQuantity {
+        self.quantity
+    }
+
+    pub fn cycle_quantity(&mut self) {
+        self.quantity = self.quantity.next();
+    }
+
+    /// Buckets held (at most [`BUCKETS`] + 1: the window and the one being filled).
+    pub fn len(&self) -> usize {
+        self.buckets.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.buckets.is_empty()
+    }
+
+    /// Adds one telemetry sample taken at `now`.
+    pub fn record(&mut self, t: &Telemetry, now: Instant) {
+        let speed = self.speed_of(t, now);
+        self.latest_speed = speed;
+        let index = self.bucket_index(now);
+        // A sample older than the newest bucket (a clock that went back) joins that bucket:
+        // the buckets stay in order.
+        if self.buckets.back().is_none_or(|b| b.index < index) {
+            self.buckets.push_back(Bucket {
+                index,
+                speed_max: 0.0,
+                abs_torque_sum: [0.0; JOINTS],
+                abs_current_sum: [0.0; JOINTS],
+                samples: 0,
+            });
+        }
+        if let Some(bucket) = self.buckets.back_mut() {
+            bucket.speed_max = bucket.speed_max.max(speed);
+            for (i, joint) in t.joints.iter().enumerate().take(JOINTS) {
+                bucket.abs_torque_sum[i] += finite_abs(joint.torque);
+                bucket.abs_current_sum[i] += finite_abs(joint.current);
+            }
+            bucket.samples += 1;
+        }
+        self.age_out(now);
+    }
+
+    /// TCP linear speed, mm/s: the twist's, or from the last position when the twist says 0
+    /// (a source that does not fill it in).
+    fn speed_of(&mut self, t: &Telemetry, now: Instant) -> f64 {
+        let twist = &t.tcp.twist;
+        let from_twist = norm([twist.x, twist.y, twist.z].map(f64::from)) * 1000.0;
+        let p = &t.tcp.pose;
+        let position = [p.x, p.y, p.z].map(f64::from);
+        let previous = self.last_position.replace((position, now));
+        if from_twist.is_finite() && from_twist > 0.0 {
+            return from_twist;
+        }
+        let Some((before, then)) = previous else {
+            return 0.0;
+        };
+        let dt = now.saturating_duration_since(then).as_secs_f64();
+        let moved = norm([0, 1, 2].map(|k| position[k] - before[k]));
+        if dt > 0.0 && moved.is_finite() {
+            moved / dt * 1000.0
+        } else {
+            0.0
+        }
+    }
+
+    fn bucket_index(&mut self, now: Instant) -> u64 {
+        let origin = *self.origin.get_or_insert(now);
+        let since = now.saturating_duration_since(origin);
+        (since.as_millis() / BUCKET.as_millis()) as u64
+    }
+
+    /// Drops buckets that ended more than the window ago.
+    fn age_out(&mut self, now: Instant) {
+        let Some(origin) = self.origin else { return };
+        let current =
+            (now.saturating_duration_since(origin).as_millis() / BUCKET.as_millis()) as u64;
+        let oldest = current.saturating_sub(BUCKETS as u64 - 1);
+        while self.buckets.front().is_some_and(|b| b.index < oldest) {
+            self.buckets.pop_front();
+        }
+    }
+
+    /// The window ending at `now`, for drawing.
+    pub fn series(&self, now: Instant) -> HistorySeries {
+        let mut series = HistorySeries {
+            quantity: self.quantity,
+            ..HistorySeries::default()
+        };
+        let Some(origin) = self.origin else {
+            return series;
+        };
+        let current =
+            (now.saturating_duration_since(origin).as_millis() / BUCKET.as_millis()) as u64;
+        let first = current.saturating_sub(BUCKETS as u64 - 1);
+        let mut totals = [0.0; JOINTS];
+        let mut samples = 0u32;
+        let mut held = self.buckets.iter().filter(|b| b.index >= first).peekable();
+        for index in first..=current {
+            let bucket = held.next_if(|b| b.index == index);
+            series.speed.push(bucket.map(|b| b.speed_max));
+            for (i, joint) in series.joints.iter_mut().enumerate() {
+                joint.push(bucket.map(|b| {
+                    let sums = match self.quantity {
+                        JointQuantity::Torque => &b.abs_torque_sum,
+                        JointQuantity::Current => &b.abs_current_sum,
+                    };
+                    totals[i] += sums[i];
+                    sums[i] / f64::from(b.samples.max(1))
+                }));
+            }
+            if let Some(b) = bucket {
+                samples += b.samples;
+                series.speed_now = Some(self.latest_speed);
+            }
+        }
+        if samples > 0 {
+            series.hardest = totals
+                .iter()
+                .enumerate()
+                .map(|(i, total)| (i as u8 + 1, total / f64::from(samples)))
+                .max_by(|a, b| a.1.total_cmp(&b.1));
+        }
+        series
+    }
+}
+
+fn finite_abs(value: f32) -> f64 {
+    let v = f64::from(value).abs();
+    if v.is_finite() { v } else { 0.0 }
+}
+
+fn norm(v: [f64; 3]) -> f64 {
+    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+}
