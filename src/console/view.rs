@@ -62,6 +62,10 @@ pub struct View {
     pub can_save: bool,
     /// The help overlay's first shown line.
     pub help_scroll: usize,
+    /// The tool point's path over the last 10 s (base frame, m) with each point's age, oldest
+    /// first: the arm view's trail. At most [`TRAIL_CAPACITY`](super::app::TRAIL_CAPACITY)
+    /// points.
+    pub trail: Vec<(Duration, [f64; 3])>,
 }
 
 impl View {
@@ -110,6 +114,7 @@ impl View {
             overlay: app.overlay().clone(),
             can_save: app.can_save_position(),
             help_scroll: app.help_scroll(),
+            trail: app.trail(),
         }
     }
 }

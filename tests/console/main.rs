@@ -10,6 +10,7 @@ mod app_support;
 #[path = "../common/mod.rs"]
 mod common;
 
+mod arm_view_ui;
 mod console_app;
 mod console_audit;
 mod console_book_load;

@@ -36,7 +36,10 @@ impl App {
                     self.check_names_on_operator(effects);
                 }
             }
-            ArmEvent::Telemetry(t) => self.telemetry = Some(*t),
+            ArmEvent::Telemetry(t) => {
+                self.trail.record(&t, now);
+                self.telemetry = Some(*t);
+            }
             ArmEvent::TelemetrySource(source) => self.telemetry_source = source,
             ArmEvent::Latency(latency) => self.latency = Some(latency),
             ArmEvent::Speed(speed) => self.speed = Some(speed),

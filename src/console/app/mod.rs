@@ -23,6 +23,7 @@ mod named;
 mod offers;
 mod resave;
 mod speed_steps;
+mod trail;
 
 pub use arm_state::{abort_reason, age_text, at_rest, fault_reason};
 pub use book_load::{BookState, CHECKED_ON_CONNECT};
@@ -34,6 +35,7 @@ pub use motion_truth::{
 };
 pub use resave::RESAVE_GO_WITHIN;
 pub use speed_steps::{SPEED_STEPS, next_speed};
+pub use trail::{TRAIL_CAPACITY, TRAIL_SPACING, TRAIL_SPAN, ToolTrail, TrailPoint};
 
 use std::collections::VecDeque;
 use std::sync::Arc;
@@ -195,6 +197,8 @@ pub struct App {
     resave: resave::Resave,
     /// The help overlay's first shown line.
     help_scroll: usize,
+    /// The tool point's recent path, for the arm view.
+    trail: ToolTrail,
 }
 
 impl App {
@@ -235,6 +239,7 @@ impl App {
             shared_keymap,
             resave: resave::Resave::default(),
             help_scroll: 0,
+            trail: ToolTrail::default(),
         }
     }
 
