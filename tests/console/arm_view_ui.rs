@@ -249,3 +249,22 @@ fn the_full_screen_draws_the_view_on_a_large_terminal() {
     let text: String = buffer.content().iter().map(|c| c.symbol()).collect();
     assert!(text.contains("Arm view"));
 }
+
+/// A joint angle that is not a number draws nothing either: no arm at a made-up place.
+#[test]
+fn a_joint_angle_that_is_not_a_number_draws_no_arm() {
+    let (mut app, t0) = console_at(gen3::HOME_DEG);
+    let mut t = telemetry(gen3::HOME_DEG);
+    t.joints[2].position = f32::NAN;
+    app.handle(Input::Arm(ArmEvent::Telemetry(Box::new(t))), t0 + ms(100));
+    let terminal = panel(&app, WIDTH, HEIGHT, COLOR);
+    let text: String = terminal
+        .backend()
+        .buffer()
+        .content()
+        .iter()
+        .map(|c| c.symbol())
+        .collect();
+    assert!(text.contains("not drawn"), "{text}");
+    assert!(!text.chars().any(|c| ('\u{2801}'..='\u{28ff}').contains(&c)));
+}

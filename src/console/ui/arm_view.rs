@@ -30,6 +30,8 @@ use crate::link::interface::TelemetrySource;
 
 /// What the panel says over a link that sends no telemetry (the ack dialect).
 pub const NO_TELEMETRY: &str = "no telemetry on this link: the arm is not drawn";
+/// What it says when a reported joint angle is not a number.
+pub const NOT_FINITE: &str = "a joint angle is not a number: the arm is not drawn";
 /// What it says until the first telemetry arrives.
 pub const WAITING: &str = "waiting for telemetry: the arm is drawn once its joints are known";
 
@@ -140,9 +142,13 @@ struct Scene {
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     let titles = super::telemetry_titles("Arm view", &[": top X-Y, side X-Z"], view);
     let block = super::fitted_panel(&titles, area.width, theme);
-    let Some(telemetry) = &view.telemetry else {
+    let joints_known =
+        |t: &crate::kortex::Telemetry| t.joints.iter().all(|j| j.position.is_finite());
+    let telemetry = view.telemetry.as_ref().filter(|t| joints_known(t));
+    let Some(telemetry) = telemetry else {
         let text = match view.telemetry_source {
             TelemetrySource::None => NO_TELEMETRY,
+            _ if view.telemetry.is_some() => NOT_FINITE,
             _ => WAITING,
         };
         let paragraph = Paragraph::new(text)
