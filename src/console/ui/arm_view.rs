@@ -120,7 +120,8 @@ fn fitted_bounds(projection: Projection, area: Rect) -> ([f64; 2], [f64; 2]) {
     let (w, h) = (r - l, t - b);
     // Metres per column either way; the larger wins and the other side widens.
     let scale = (w / columns).max(h / rows);
-    let (extra_w, extra_h) = ((scale * columns - w) / 2.0, (scale * rows - h) / 2.0);
+    let extra_w = ((scale * columns - w) / 2.0).max(0.0);
+    let extra_h = ((scale * rows - h) / 2.0).max(0.0);
     ([l - extra_w, r + extra_w], [b - extra_h, t + extra_h])
 }
 
@@ -288,18 +289,21 @@ fn trail(
     for pair in points.windows(2) {
         let (age, to) = pair[1];
         let from = pair[0].1;
-        // Three shades by age: the newest third brightest.
-        let third = crate::console::app::TRAIL_SPAN / 3;
-        let color = if age < third {
-            Color::White
-        } else if age < 2 * third {
-            Color::Gray
-        } else {
-            Color::DarkGray
-        };
         let (x1, y1) = projection.project(&from);
         let (x2, y2) = projection.project(&to);
-        ctx.draw(&Line::new(x1, y1, x2, y2, paint(theme, color)));
+        ctx.draw(&Line::new(x1, y1, x2, y2, paint(theme, shade(age))));
+    }
+}
+
+/// A trail piece's colour by its age: three shades, the newest third brightest.
+fn shade(age: Duration) -> Color {
+    let third = crate::console::app::TRAIL_SPAN / 3;
+    if age < third {
+        Color::White
+    } else if age < 2 * third {
+        Color::Gray
+    } else {
+        Color::DarkGray
     }
 }
 
@@ -426,5 +430,33 @@ fn labels(frame: &mut Frame, drawing: &Drawing, scene: &Scene, theme: &Theme) {
             theme.accent()
         };
         put(frame, x + 1, y, &marker.name, style);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_trail_fades_with_age() {
+        assert_eq!(shade(Duration::from_millis(100)), Color::White);
+        assert_eq!(shade(Duration::from_secs(5)), Color::Gray);
+        assert_eq!(shade(Duration::from_millis(9900)), Color::DarkGray);
+    }
+
+    #[test]
+    fn the_drawings_keep_the_arm_in_proportion() {
+        for (width, height) in [(84, 17), (114, 23), (40, 10)] {
+            for d in drawings(Rect::new(1, 1, width, height)) {
+                // Metres per column the same both ways, a row counting two columns.
+                let per_column = (d.x_bounds[1] - d.x_bounds[0]) / f64::from(d.area.width);
+                let per_row = (d.y_bounds[1] - d.y_bounds[0]) / f64::from(d.area.height);
+                assert!((per_row / per_column - COLUMNS_PER_ROW).abs() < 1e-9);
+                // The whole window of the projection is inside.
+                let ([l, r], [b, t]) = d.projection.bounds();
+                assert!(d.x_bounds[0] <= l && d.x_bounds[1] >= r);
+                assert!(d.y_bounds[0] <= b && d.y_bounds[1] >= t);
+            }
+        }
     }
 }
