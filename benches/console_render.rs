@@ -1,4 +1,5 @@
-//! Render time of a full console frame (target: under 2 ms at 200x60).
+//! Render time of a full console frame (target: under 2 ms at 200x60, the arm view drawn with
+//! a full 10 s trail).
 
 use std::time::{Duration, Instant};
 
@@ -12,10 +13,12 @@ use armjog::console::keymap::{KeyName, Keymap};
 use armjog::console::positions::PositionBook;
 use armjog::console::ui::{self, Theme};
 use armjog::console::view::View;
+use armjog::kortex::ReferenceFrame;
 use armjog::link::driver::hw_telemetry;
 use armjog::link::interface::{ArmEvent, LinkStatus, LogEntry, Traffic};
-use armjog::sim::arm_model::Arm;
+use armjog::sim::arm_model::{Arm, SimMotion};
 use armjog::sim::telemetry::{actuator_feedback, arm_state};
+use nalgebra::Vector3;
 
 /// A busy console: telemetry, a full log, positions, a jog in progress.
 fn busy_app() -> App {
@@ -45,6 +48,23 @@ fn busy_app() -> App {
     for event in events {
         app.handle(Input::Arm(event), now);
     }
+    // 10 s of motion at 20 Hz: the arm view draws a full trail.
+    let mut arm = Arm::default();
+    let twist = SimMotion::Twist {
+        linear: Vector3::new(0.02, 0.03, -0.02),
+        angular: Vector3::zeros(),
+        frame: ReferenceFrame::Base,
+    };
+    arm.command(twist, 0.0, false).expect("a reachable twist");
+    for step in 1..=200u64 {
+        arm.advance(0.05);
+        let snapshot = arm.snapshot();
+        let feedback: Vec<_> = (1..=7).map(|j| actuator_feedback(&snapshot, j)).collect();
+        let telemetry = hw_telemetry::telemetry(&arm_state(&snapshot), &feedback);
+        let at = now + Duration::from_millis(50 * step);
+        app.handle(Input::Arm(ArmEvent::Telemetry(Box::new(telemetry))), at);
+    }
+    let now = now + Duration::from_secs(10);
     for i in 0..200u32 {
         let entry = LogEntry {
             poll: false,
@@ -89,6 +109,23 @@ fn render(c: &mut Criterion) {
     let theme = Theme { color: true };
     for (w, h) in [(200u16, 60u16), (80, 24)] {
         let mut terminal = Terminal::new(TestBackend::new(w, h)).expect("terminal");
+        if w == 200 {
+            terminal
+                .draw(|frame| ui::draw(frame, &View::new(&app), &theme))
+                .expect("draw");
+            let text: String = terminal
+                .backend()
+                .buffer()
+                .content()
+                .iter()
+                .map(|c| c.symbol())
+                .collect();
+            assert!(
+                text.contains("Arm view"),
+                "the 200x60 frame draws the arm view"
+            );
+            assert!(View::new(&app).trail.len() >= 190, "a full trail");
+        }
         c.bench_function(&format!("render full frame {w}x{h}"), |b| {
             b.iter(|| {
                 terminal

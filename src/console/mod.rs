@@ -2,6 +2,7 @@
 
 pub mod action;
 pub mod app;
+pub mod arm_geometry;
 pub mod audit;
 pub mod book_io;
 pub mod form;

@@ -70,6 +70,10 @@ pub struct View {
     pub history: HistorySeries,
     /// Limited joints within 5 degrees of a limit, the nearest first.
     pub near_limits: Vec<NearLimit>,
+    /// The tool point's path over the last 10 s (base frame, m) with each point's age, oldest
+    /// first: the arm view's trail. At most [`TRAIL_CAPACITY`](super::app::TRAIL_CAPACITY)
+    /// points.
+    pub trail: Vec<(Duration, [f64; 3])>,
 }
 
 impl View {
@@ -124,6 +128,7 @@ impl View {
                 .map(|now| app.history().series(now))
                 .unwrap_or_default(),
             near_limits: app.telemetry().map(near_limits).unwrap_or_default(),
+            trail: app.trail(),
         }
     }
 }

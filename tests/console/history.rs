@@ -13,7 +13,6 @@ use armjog::kortex::{RegisterImage, Telemetry};
 use armjog::link::interface::{ArmEvent, TelemetrySource};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
-use ratatui::layout::Rect;
 use ratatui::style::Color;
 
 use crate::app_support::{app, key, ms};
@@ -267,9 +266,19 @@ fn the_history_panel_at_160x48_marks_the_hardest_joint() {
         );
     }
     let terminal = screen(&app, 160, 48);
-    let area = Rect::new(124, 12, 36, 19);
-    let panel: Vec<String> = (area.y..area.y + 11)
-        .map(|y| row(&terminal, y).chars().skip(124).collect())
+    // Wherever the layout put it: the rows from its top border, the columns of its box.
+    let (top, left, width) = (0..48)
+        .find_map(|y| {
+            let line: Vec<char> = row(&terminal, y).chars().collect();
+            let text: String = line.iter().collect();
+            let start = text.find("┌ History")?;
+            let left = text[..start].chars().count();
+            let right = (left + 1..line.len()).find(|&x| line[x] == '┐')?;
+            Some((y, left, right + 1 - left))
+        })
+        .expect("the history panel at 160x48");
+    let panel: Vec<String> = (top..top + 11)
+        .map(|y| row(&terminal, y).chars().skip(left).take(width).collect())
         .collect();
     let panel = panel.join("\n");
     assert!(panel.contains("hardest J2"), "{panel}");

@@ -12,6 +12,7 @@ mod common;
 
 mod event_loop;
 
+mod arm_view_ui;
 mod console_app;
 mod console_audit;
 mod console_book_load;

@@ -38,6 +38,7 @@ impl App {
             }
             ArmEvent::Telemetry(t) => {
                 self.history.record(&t, now);
+                self.trail.record(&t, now);
                 self.telemetry = Some(*t);
             }
             ArmEvent::TelemetrySource(source) => self.telemetry_source = source,

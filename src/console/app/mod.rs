@@ -25,6 +25,7 @@ mod named;
 mod offers;
 mod resave;
 mod speed_steps;
+mod trail;
 
 pub use arm_state::{abort_reason, age_text, at_rest, fault_reason};
 pub use book_load::{BookState, CHECKED_ON_CONNECT};
@@ -38,6 +39,7 @@ pub use motion_truth::{
 };
 pub use resave::RESAVE_GO_WITHIN;
 pub use speed_steps::{SPEED_STEPS, next_speed};
+pub use trail::{TRAIL_CAPACITY, TRAIL_SPACING, TRAIL_SPAN, ToolTrail, TrailPoint};
 
 use std::collections::VecDeque;
 use std::sync::Arc;
@@ -201,6 +203,8 @@ pub struct App {
     help_scroll: usize,
     /// The last 30 s of telemetry, for the history panel.
     history: History,
+    /// The tool point's recent path, for the arm view.
+    trail: ToolTrail,
 }
 
 impl App {
@@ -242,6 +246,7 @@ impl App {
             resave: resave::Resave::default(),
             help_scroll: 0,
             history: History::default(),
+            trail: ToolTrail::default(),
         }
     }
 

@@ -10,7 +10,11 @@
 //!    torque, velocity), never a part of one;
 //! 4. the arm panel and the positions panel (side by side), once at least 4 rows are left;
 //! 5. the command log, once at least 3 rows are left;
-//! 6. the history panel (sparklines of the last 30 s): only in spare space, beside the
+//! 6. the arm view (a drawing of the arm), once the arm and positions row has at least
+//!    [`VIEW_MIN_ROWS`] rows and the screen is wide enough for it beside the arm panel's wide
+//!    lines: it takes the right part of that row, as wide as its drawings want, and the arm
+//!    and positions panels stack in the left part (the arm panel on top).
+//! 7. the history panel (sparklines of the last 30 s): only in spare space, beside the
 //!    positions panel when that is wide and tall enough for both (see [`place_history`]).
 //!
 //! A panel that gets fewer rows than it has lines shows its first lines whole; every line that
@@ -33,6 +37,13 @@ const JOINTS_MIN_ROWS: u16 = 4;
 const JOINTS_PERCENT: u16 = 58;
 /// The arm panel's share of the middle row, in percent.
 const ARM_PERCENT: u16 = 55;
+
+/// The fewest rows of the arm and positions row for the arm view (ten rows of drawing).
+pub const VIEW_MIN_ROWS: u16 = 12;
+/// The fewest columns left of the arm view: the arm panel's wide lines (50) and borders.
+const VIEW_LEFT_MIN_WIDTH: u16 = 52;
+/// The fewest columns of the arm view: below this its drawings are too small to read.
+const VIEW_MIN_WIDTH: u16 = 40;
 
 /// The widths the top row's panels need (borders included).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -57,6 +68,8 @@ pub struct ScreenLayout {
     pub positions: Option<Rect>,
     pub log: Option<Rect>,
     pub history: Option<Rect>,
+    /// The drawing of the arm, last to get room.
+    pub arm_view: Option<Rect>,
     pub bottom: Rect,
 }
 
@@ -104,7 +117,15 @@ pub fn layout(area: Rect, widths: TopWidths) -> ScreenLayout {
     let extra = area.height.saturating_sub(24) / 2;
     if free.height >= MIDDLE_ROWS + extra + LOG_MIN_ROWS {
         let middle = take_rows(&mut free, MIDDLE_ROWS + extra);
-        (layout.arm, layout.positions) = split_middle(middle);
+        match split_off_view(middle) {
+            Some((left, view)) => {
+                let mut left = left;
+                layout.arm = Some(take_rows(&mut left, MIDDLE_ROWS));
+                layout.positions = Some(left);
+                layout.arm_view = Some(view);
+            }
+            None => (layout.arm, layout.positions) = split_middle(middle),
+        }
         layout.log = Some(free);
     } else if free.height >= MIDDLE_MIN_ROWS {
         (layout.arm, layout.positions) = split_middle(free);
@@ -171,6 +192,29 @@ fn take_rows(free: &mut Rect, rows: u16) -> Rect {
     free.y += rows;
     free.height -= rows;
     taken
+}
+
+/// The arm view's place at the right of the middle row, and what is left of the row; `None`
+/// when the row is too low or too narrow for it.
+fn split_off_view(middle: Rect) -> Option<(Rect, Rect)> {
+    if middle.height < VIEW_MIN_ROWS {
+        return None;
+    }
+    let room = middle.width.checked_sub(VIEW_LEFT_MIN_WIDTH)?;
+    let width = super::arm_view::wanted_width(middle.height).min(room);
+    if width < VIEW_MIN_WIDTH {
+        return None;
+    }
+    let left = Rect {
+        width: middle.width - width,
+        ..middle
+    };
+    let view = Rect {
+        x: middle.x + left.width,
+        width,
+        ..middle
+    };
+    Some((left, view))
 }
 
 fn split_middle(middle: Rect) -> (Option<Rect>, Option<Rect>) {
@@ -243,15 +287,47 @@ mod tests {
     #[test]
     fn the_history_takes_spare_space_beside_the_positions() {
         assert!(at(80, 24).history.is_none());
-        let l = at(160, 48);
-        assert_eq!(l.positions, Some(Rect::new(88, 12, 36, 19)));
-        assert_eq!(l.history, Some(Rect::new(124, 12, 36, 19)));
-        let l = at(200, 60);
-        assert_eq!(l.positions, Some(Rect::new(110, 12, 40, 25)));
-        assert_eq!(l.history, Some(Rect::new(150, 12, 50, 25)));
+        for (width, height) in [(160, 48), (200, 60)] {
+            let l = at(width, height);
+            let positions = l.positions.expect("the positions panel");
+            let history = l.history.expect("the history panel");
+            // Beside the positions, as high, and left of the arm view when that shows.
+            assert_eq!((history.x, history.y), (positions.right(), positions.y));
+            assert_eq!(history.height, positions.height);
+            assert!(positions.width >= POSITIONS_MIN_WIDTH && history.width >= HISTORY_MIN_WIDTH);
+            let right_edge = l.arm_view.map_or(width, |view| view.x);
+            assert_eq!(history.right(), right_edge);
+        }
         // The smallest screen with the history (the README says so).
         assert!(at(154, 32).history.is_some());
         assert!(at(153, 32).history.is_none() && at(154, 31).history.is_none());
+    }
+
+    #[test]
+    fn the_arm_view_yields_at_80x24_and_fills_the_middle_row_on_large_screens() {
+        assert!(at(80, 24).arm_view.is_none());
+        assert!(at(200, 30).arm_view.is_none(), "too low");
+        assert!(at(90, 60).arm_view.is_none(), "too narrow");
+        for (width, height) in [(160, 48), (200, 60)] {
+            let l = at(width, height);
+            let view = l.arm_view.expect("the arm view");
+            let arm = l.arm.expect("the arm panel");
+            let positions = l.positions.expect("the positions panel");
+            // The arm panel above the positions, the view at their right, all as high as
+            // the row.
+            assert_eq!(arm.height, MIDDLE_ROWS);
+            assert_eq!(positions.y, arm.bottom());
+            assert_eq!(positions.bottom(), view.bottom());
+            assert_eq!(arm.y, view.y);
+            assert_eq!(view.right(), width);
+            assert_eq!(arm.right(), view.x);
+            assert!(arm.width >= VIEW_LEFT_MIN_WIDTH);
+            assert_eq!(
+                view.width,
+                super::super::arm_view::wanted_width(view.height)
+            );
+            assert!(l.log.is_some());
+        }
     }
 
     #[test]
@@ -259,7 +335,15 @@ mod tests {
         for width in 40..=200 {
             for height in 10..=60 {
                 let l = at(width, height);
-                let panels = [l.joints, l.tool, l.arm, l.positions, l.log, l.history];
+                let panels = [
+                    l.joints,
+                    l.tool,
+                    l.arm,
+                    l.positions,
+                    l.log,
+                    l.history,
+                    l.arm_view,
+                ];
                 for rect in panels.into_iter().flatten().chain([l.status, l.bottom]) {
                     assert!(
                         rect.right() <= width && rect.bottom() <= height,

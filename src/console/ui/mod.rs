@@ -5,6 +5,7 @@
 //! wide for its place ends in `…` before a number rather than inside one ([`numbers`]).
 
 pub mod arm;
+pub mod arm_view;
 pub mod dialog;
 pub mod help;
 pub mod hints;
@@ -124,13 +125,14 @@ pub fn draw(frame: &mut Frame, view: &View, theme: &Theme) {
     };
     let places = layout::layout(area, widths);
     status::draw(frame, places.status, view, theme);
-    let panels: [(Option<Rect>, Panel); 6] = [
+    let panels: [(Option<Rect>, Panel); 7] = [
         (places.joints, joints::draw),
         (places.tool, tcp::draw),
         (places.arm, arm::draw),
         (places.positions, positions::draw),
         (places.log, log::draw),
         (places.history, history::draw),
+        (places.arm_view, arm_view::draw),
     ];
     for (place, draw) in panels {
         if let Some(place) = place {
