@@ -7,6 +7,7 @@ pub mod book_io;
 pub mod form;
 pub mod jog;
 pub mod keymap;
+pub mod pacing;
 pub mod painter;
 pub mod positions;
 pub mod run;
