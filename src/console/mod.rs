@@ -14,3 +14,4 @@ pub mod run;
 pub mod terminal;
 pub mod ui;
 pub mod view;
+pub mod wake_gate;

@@ -15,6 +15,9 @@ use super::view::View;
 pub const FRAME: Duration = Duration::from_millis(33);
 /// Shortest time between frames when only the arm's reports changed.
 pub const IDLE_FRAME: Duration = Duration::from_millis(100);
+/// How long after a change its frame starts at the soonest: the command a key sent (a release's
+/// STOP above all) goes out before a frame's drawing competes with it for the CPU.
+pub const SETTLE: Duration = Duration::from_millis(3);
 
 /// Decides when to hand the painter a frame and whether it is worth drawing.
 #[derive(Debug, Default)]
@@ -23,30 +26,36 @@ pub struct FramePacer {
     changed: bool,
     /// The change came from the technician (a key, a resize, a message of the runtime's own).
     urgent: bool,
+    /// The first change since the last frame was considered.
+    changed_at: Option<Instant>,
     last_paint: Option<Instant>,
     /// The last view handed to the painter.
     shown: Option<View>,
 }
 
 impl FramePacer {
-    /// The app changed; `urgent` when the technician caused it (drawn at the faster rate).
-    pub fn changed(&mut self, urgent: bool) {
+    /// The app changed at `now`; `urgent` when the technician caused it (the faster rate).
+    pub fn changed(&mut self, urgent: bool, now: Instant) {
+        if !self.changed {
+            self.changed_at = Some(now);
+        }
         self.changed = true;
         self.urgent |= urgent;
     }
 
-    /// When the next frame is due (`now` for the first one), or `None` when nothing changed.
-    /// `jogging` draws at the faster rate, so the motion shown keeps up with the arm.
-    pub fn due_at(&self, jogging: bool, now: Instant) -> Option<Instant> {
-        if !self.changed {
-            return None;
-        }
+    /// When the next frame is due, or `None` when nothing changed. `jogging` draws at the
+    /// faster rate, so the motion shown keeps up with the arm.
+    pub fn due_at(&self, jogging: bool) -> Option<Instant> {
+        let settled = self.changed_at.filter(|_| self.changed)? + SETTLE;
         let period = if self.urgent || jogging {
             FRAME
         } else {
             IDLE_FRAME
         };
-        Some(self.last_paint.map_or(now, |last| last + period))
+        Some(
+            self.last_paint
+                .map_or(settled, |last| settled.max(last + period)),
+        )
     }
 
     /// At the due time: the view to paint, or `None` when it shows exactly what the last
@@ -97,12 +106,20 @@ mod tests {
     }
 
     #[test]
-    fn nothing_changed_wakes_nothing_and_the_first_frame_is_due_at_once() {
+    fn nothing_changed_wakes_nothing_and_a_change_is_drawn_once_its_command_is_out() {
         let start = Instant::now();
         let mut pacer = FramePacer::default();
-        assert_eq!(pacer.due_at(false, start), None);
-        pacer.changed(false);
-        assert_eq!(pacer.due_at(false, start), Some(start));
+        assert_eq!(pacer.due_at(false), None);
+        pacer.changed(true, start);
+        assert_eq!(pacer.due_at(false), Some(start + SETTLE));
+        // Later changes before that frame do not put it off.
+        pacer.changed(true, start + Duration::from_millis(2));
+        assert_eq!(pacer.due_at(false), Some(start + SETTLE));
+        assert!(pacer.frame(View::new(&app()), start + SETTLE).is_some());
+        // Long after the last frame, a key's frame comes SETTLE after it.
+        let later = start + Duration::from_secs(1);
+        pacer.changed(true, later);
+        assert_eq!(pacer.due_at(false), Some(later + SETTLE));
     }
 
     #[test]
@@ -110,31 +127,32 @@ mod tests {
         let start = Instant::now();
         let mut app = app();
         let mut pacer = FramePacer::default();
-        pacer.changed(true);
+        pacer.changed(true, start);
         assert!(pacer.frame(View::new(&app), start).is_some());
-        assert_eq!(pacer.due_at(false, start), None, "drawn: nothing due");
+        assert_eq!(pacer.due_at(false), None, "drawn: nothing due");
 
         // The arm's report changes what is shown: due a tenth of a second after the last frame.
         app.handle(Input::Arm(ArmEvent::Speed(40)), start);
-        pacer.changed(false);
-        assert_eq!(pacer.due_at(false, start), Some(start + IDLE_FRAME));
+        pacer.changed(false, start);
+        assert_eq!(pacer.due_at(false), Some(start + IDLE_FRAME));
         // A key (or a jog) brings it forward to the 30 fps rate.
-        assert_eq!(pacer.due_at(true, start), Some(start + FRAME));
-        pacer.changed(true);
-        assert_eq!(pacer.due_at(false, start), Some(start + FRAME));
+        assert_eq!(pacer.due_at(true), Some(start + FRAME));
+        pacer.changed(true, start);
+        assert_eq!(pacer.due_at(false), Some(start + FRAME));
         let at = start + FRAME;
         let painted = pacer.frame(View::new(&app), at).expect("the speed changed");
         assert_eq!(painted.speed, Some(40));
 
         // The same again (an identical report): woken, but nothing is handed to the painter.
         app.handle(Input::Arm(ArmEvent::Speed(40)), at);
-        pacer.changed(false);
+        pacer.changed(false, at);
         assert_eq!(pacer.frame(View::new(&app), at + IDLE_FRAME), None);
-        assert_eq!(pacer.due_at(false, at + IDLE_FRAME), None);
+        assert_eq!(pacer.due_at(false), None);
         // The skipped frame did not count as a drawn one: the next change is due as before.
-        app.handle(Input::Arm(ArmEvent::Speed(60)), at + IDLE_FRAME);
-        pacer.changed(false);
-        assert_eq!(pacer.due_at(false, at + IDLE_FRAME), Some(at + IDLE_FRAME));
+        let next = at + IDLE_FRAME;
+        app.handle(Input::Arm(ArmEvent::Speed(60)), next);
+        pacer.changed(false, next);
+        assert_eq!(pacer.due_at(false), Some(next + SETTLE));
     }
 
     #[test]
@@ -143,14 +161,14 @@ mod tests {
         let mut app = app();
         up(&mut app, start);
         let mut pacer = FramePacer::default();
-        pacer.changed(false);
+        pacer.changed(false, start);
         assert!(pacer.frame(View::new(&app), start).is_some());
         assert_eq!(View::new(&app).link_stale, None);
 
         // A tick before anything is due shows the same: not drawn.
         let early = start + Duration::from_millis(50);
         app.handle(Input::Tick, early);
-        pacer.changed(false);
+        pacer.changed(false, early);
         assert_eq!(pacer.frame(View::new(&app), early), None);
 
         // The silent link's deadline: the tick that wakes the app there makes it stale, and
@@ -160,8 +178,8 @@ mod tests {
             .expect("the link's silence has a deadline");
         assert!(deadline >= start + STALE_AFTER);
         app.handle(Input::Tick, deadline);
-        pacer.changed(false);
-        let due = pacer.due_at(false, deadline).expect("due");
+        pacer.changed(false, deadline);
+        let due = pacer.due_at(false).expect("due");
         let painted = pacer
             .frame(View::new(&app), due.max(deadline))
             .expect("the stale link is drawn");
@@ -170,7 +188,7 @@ mod tests {
         // And its age, as it grows, is drawn again.
         let later = deadline + Duration::from_secs(2);
         app.handle(Input::Tick, later);
-        pacer.changed(false);
+        pacer.changed(false, later);
         assert!(pacer.frame(View::new(&app), later).is_some());
     }
 }

@@ -27,6 +27,7 @@ use super::positions::{self, PositionBook};
 use super::terminal;
 use super::ui::{self, Theme};
 use super::view::View;
+use super::wake_gate::WakeGate;
 use crate::link::driver::{Driver, DriverConfig, StopHandle};
 use crate::link::interface::ArmCommand;
 
@@ -202,17 +203,18 @@ async fn event_loop(
         },
         Instant::now(),
     );
-    let (mut keys, _reader) = terminal_events();
+    // Polled on every arm report: gated, so crossterm's reader is asked only when it has input.
+    let mut keys = WakeGate::new(EventStream::new());
     let mut signals = Signals::new()?;
     let mut pacer = FramePacer::default();
-    pacer.changed(true);
+    pacer.changed(true, Instant::now());
     loop {
         let deadline = app.next_deadline();
-        let paint_at = pacer.due_at(app.jog().is_jogging(), Instant::now());
+        let paint_at = pacer.due_at(app.jog().is_jogging());
         let input = tokio::select! {
             biased;
             signal = signals.next() => Some(Input::Signal(signal)),
-            event = keys.recv() => match event {
+            event = keys.next() => match event {
                 Some(Ok(event)) => terminal_input(event),
                 Some(Err(e)) => {
                     tracing::error!("terminal input failed: {e}");
@@ -228,7 +230,7 @@ async fn event_loop(
             _ = sleep_until(deadline) => Some(Input::Tick),
             Some(error) = book.save_errors.recv() => {
                 app.say(format!("positions not saved: {error}"), Severity::Error, Instant::now());
-                pacer.changed(true);
+                pacer.changed(true, Instant::now());
                 None
             }
             Some(e) = screen.errors.recv() => return Err(ConsoleError::Terminal(e)),
@@ -273,37 +275,7 @@ async fn event_loop(
             }
         }
         audit.after(&app);
-        pacer.changed(urgent);
-    }
-}
-
-/// Terminal events, read by a task of their own and handed over on a channel. Polling
-/// crossterm's `EventStream` while its reader thread waits for input spins on the reader's lock
-/// (a burst of `sched_yield`s on every poll); the event loop polls its inputs on every arm
-/// report, so it polls this channel instead, which costs nothing until an event comes. The task
-/// ends with the returned guard; the channel closes if the stream ends.
-fn terminal_events() -> (
-    tokio::sync::mpsc::UnboundedReceiver<std::io::Result<Event>>,
-    AbortOnDrop,
-) {
-    let (events, received) = tokio::sync::mpsc::unbounded_channel();
-    let reader = tokio::spawn(async move {
-        let mut stream = EventStream::new();
-        while let Some(event) = stream.next().await {
-            if events.send(event).is_err() {
-                return;
-            }
-        }
-    });
-    (received, AbortOnDrop(reader))
-}
-
-/// Ends a task when dropped.
-struct AbortOnDrop(tokio::task::JoinHandle<()>);
-
-impl Drop for AbortOnDrop {
-    fn drop(&mut self) {
-        self.0.abort();
+        pacer.changed(urgent, now);
     }
 }
 
