@@ -1,5 +1,5 @@
 //! When the console draws a frame: at most 30 a second after the technician's own input or
-//! while jogging, at most 10 a second when only the arm's reports changed (it keeps an idle
+//! while jogging, at most 7.5 a second when only the arm's reports changed (it keeps an idle
 //! console under 2 % of a core), and never for a view that shows the same as the one drawn last.
 //!
 //! The runtime sleeps until [`FramePacer::due_at`] rather than waking on a fixed tick, so a
@@ -13,8 +13,9 @@ use super::view::View;
 
 /// Shortest time between frames after a key, a resize or while jogging.
 pub const FRAME: Duration = Duration::from_millis(33);
-/// Shortest time between frames when only the arm's reports changed.
-pub const IDLE_FRAME: Duration = Duration::from_millis(100);
+/// Shortest time between frames when only the arm's reports changed: four fast frames, the
+/// rate the console had when it drew on a fixed 33 ms tick once 100 ms had passed (7.5 fps).
+pub const IDLE_FRAME: Duration = Duration::from_millis(132);
 /// How long after a change its frame starts at the soonest: the command a key sent (a release's
 /// STOP above all) goes out before a frame's drawing competes with it for the CPU.
 pub const SETTLE: Duration = Duration::from_millis(3);
@@ -131,7 +132,7 @@ mod tests {
         assert!(pacer.frame(View::new(&app), start).is_some());
         assert_eq!(pacer.due_at(false), None, "drawn: nothing due");
 
-        // The arm's report changes what is shown: due a tenth of a second after the last frame.
+        // The arm's report changes what is shown: due IDLE_FRAME after the last frame.
         app.handle(Input::Arm(ArmEvent::Speed(40)), start);
         pacer.changed(false, start);
         assert_eq!(pacer.due_at(false), Some(start + IDLE_FRAME));
