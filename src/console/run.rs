@@ -21,18 +21,15 @@ use super::audit::{self, AuditSession};
 use super::book_io::{self, BookFiles};
 use super::jog::{KeyKind, ReleaseMode};
 use super::keymap::{KeyName, Keymap};
+use super::pacing::FramePacer;
 use super::painter::Painter;
 use super::positions::{self, PositionBook};
 use super::terminal;
 use super::ui::{self, Theme};
 use super::view::View;
+use super::wake_gate::WakeGate;
 use crate::link::driver::{Driver, DriverConfig, StopHandle};
 use crate::link::interface::ArmCommand;
-
-/// How often the screen is redrawn at most: at 30 fps after a key or while jogging, at 10 fps
-/// when only telemetry changed (it keeps the console under 2 % of a core at rest).
-const FRAME: Duration = Duration::from_millis(33);
-const IDLE_FRAME: Duration = Duration::from_millis(100);
 
 /// Everything the console needs to start.
 pub struct ConsoleSetup {
@@ -206,15 +203,14 @@ async fn event_loop(
         },
         Instant::now(),
     );
-    let mut keys = EventStream::new();
+    // Polled on every arm report: gated, so crossterm's reader is asked only when it has input.
+    let mut keys = WakeGate::new(EventStream::new());
     let mut signals = Signals::new()?;
-    let mut render = tokio::time::interval(FRAME);
-    render.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
-    let mut dirty = true;
-    let mut urgent = true;
-    let mut last_draw = Instant::now();
+    let mut pacer = FramePacer::default();
+    pacer.changed(true, Instant::now());
     loop {
         let deadline = app.next_deadline();
+        let paint_at = pacer.due_at(app.jog().is_jogging());
         let input = tokio::select! {
             biased;
             signal = signals.next() => Some(Input::Signal(signal)),
@@ -234,8 +230,7 @@ async fn event_loop(
             _ = sleep_until(deadline) => Some(Input::Tick),
             Some(error) = book.save_errors.recv() => {
                 app.say(format!("positions not saved: {error}"), Severity::Error, Instant::now());
-                dirty = true;
-                urgent = true;
+                pacer.changed(true, Instant::now());
                 None
             }
             Some(e) = screen.errors.recv() => return Err(ConsoleError::Terminal(e)),
@@ -244,20 +239,16 @@ async fn event_loop(
                 app.say(reason.clone(), Severity::Warning, Instant::now());
                 Some(Input::Arm(audit::session::failure_log_line(reason)))
             }
-            _ = render.tick() => {
-                let due = urgent || app.jog().is_jogging() || last_draw.elapsed() >= IDLE_FRAME;
-                if dirty && due {
-                    // Built once for the drawing thread: this task goes straight back to keys.
-                    screen.painter.paint(View::new(&app));
-                    last_draw = Instant::now();
-                    dirty = false;
-                    urgent = false;
+            _ = sleep_until(paint_at) => {
+                // Built once for the drawing thread: this task goes straight back to keys.
+                if let Some(view) = pacer.frame(View::new(&app), Instant::now()) {
+                    screen.painter.paint(view);
                 }
                 None
             }
         };
         let Some(input) = input else { continue };
-        urgent |= !matches!(input, Input::Arm(_) | Input::Tick);
+        let urgent = !matches!(input, Input::Arm(_) | Input::Tick);
         let now = Instant::now();
         audit.input(&input);
         for effect in app.handle(input, now) {
@@ -284,7 +275,7 @@ async fn event_loop(
             }
         }
         audit.after(&app);
-        dirty = true;
+        pacer.changed(urgent, now);
     }
 }
 

@@ -18,8 +18,9 @@ use super::positions::PositionBook;
 use crate::kortex::{ReferenceFrame, Telemetry};
 use crate::link::interface::{GuardStatus, LinkStatus, LogEntry, TelemetrySource};
 
-/// Everything the panels draw.
-#[derive(Debug, Clone)]
+/// Everything the panels draw. Compared with the last one drawn to skip a frame that would
+/// show the same (see [`super::pacing`]): every field must take part in `PartialEq`.
+#[derive(Debug, Clone, PartialEq)]
 pub struct View {
     /// The terminal's size as the app last heard it.
     pub size: (u16, u16),

@@ -1,0 +1,195 @@
+//! When the console draws a frame: at most 30 a second after the technician's own input or
+//! while jogging, at most 7.5 a second when only the arm's reports changed (it keeps an idle
+//! console under 2 % of a core), and never for a view that shows the same as the one drawn last.
+//!
+//! The runtime sleeps until [`FramePacer::due_at`] rather than waking on a fixed tick, so a
+//! console with nothing to draw does not wake at all. Everything time-dependent a panel shows
+//! (ages, stale marks) is a value in the [`View`], worked out from the app's clock when an
+//! input or a deadline tick arrives: a view that differs in any of them is drawn.
+
+use std::time::{Duration, Instant};
+
+use super::view::View;
+
+/// Shortest time between frames after a key, a resize or while jogging.
+pub const FRAME: Duration = Duration::from_millis(33);
+/// Shortest time between frames when only the arm's reports changed: four fast frames, the
+/// rate the console had when it drew on a fixed 33 ms tick once 100 ms had passed (7.5 fps).
+pub const IDLE_FRAME: Duration = Duration::from_millis(132);
+/// How long after a change its frame starts at the soonest: the command a key sent (a release's
+/// STOP above all) goes out before a frame's drawing competes with it for the CPU.
+pub const SETTLE: Duration = Duration::from_millis(3);
+
+/// Decides when to hand the painter a frame and whether it is worth drawing.
+#[derive(Debug, Default)]
+pub struct FramePacer {
+    /// Something changed since the last frame was considered.
+    changed: bool,
+    /// The change came from the technician (a key, a resize, a message of the runtime's own).
+    urgent: bool,
+    /// The first change since the last frame was considered.
+    changed_at: Option<Instant>,
+    last_paint: Option<Instant>,
+    /// The last view handed to the painter.
+    shown: Option<View>,
+}
+
+impl FramePacer {
+    /// The app changed at `now`; `urgent` when the technician caused it (the faster rate).
+    pub fn changed(&mut self, urgent: bool, now: Instant) {
+        if !self.changed {
+            self.changed_at = Some(now);
+        }
+        self.changed = true;
+        self.urgent |= urgent;
+    }
+
+    /// When the next frame is due, or `None` when nothing changed. `jogging` draws at the
+    /// faster rate, so the motion shown keeps up with the arm.
+    pub fn due_at(&self, jogging: bool) -> Option<Instant> {
+        let settled = self.changed_at.filter(|_| self.changed)? + SETTLE;
+        let period = if self.urgent || jogging {
+            FRAME
+        } else {
+            IDLE_FRAME
+        };
+        Some(
+            self.last_paint
+                .map_or(settled, |last| settled.max(last + period)),
+        )
+    }
+
+    /// At the due time: the view to paint, or `None` when it shows exactly what the last
+    /// painted one did (the screen is already right).
+    pub fn frame(&mut self, view: View, now: Instant) -> Option<View> {
+        self.changed = false;
+        self.urgent = false;
+        if self.shown.as_ref() == Some(&view) {
+            return None;
+        }
+        self.last_paint = Some(now);
+        self.shown = Some(view.clone());
+        Some(view)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::console::app::{App, AppConfig, Input, STALE_AFTER};
+    use crate::console::jog::ReleaseMode;
+    use crate::console::keymap::Keymap;
+    use crate::console::positions::PositionBook;
+    use crate::link::interface::{ArmEvent, LinkStatus, TelemetrySource};
+
+    fn app() -> App {
+        App::new(
+            AppConfig {
+                keymap: Keymap::builtin("default").expect("keymap"),
+                release_mode: ReleaseMode::Reported,
+                refresh: Duration::from_millis(100),
+                positions_on_operator: true,
+                max_jog_speed: 0.25,
+                frames: false,
+            },
+            PositionBook::new(),
+        )
+    }
+
+    /// A Modbus link up, which promises telemetry (so its silence makes it stale).
+    fn up(app: &mut App, now: Instant) {
+        let source = ArmEvent::TelemetrySource(TelemetrySource::Modbus);
+        app.handle(Input::Arm(source), now);
+        let up = LinkStatus::Up {
+            description: "modbus 127.0.0.1:502".into(),
+        };
+        app.handle(Input::Arm(ArmEvent::Status(up)), now);
+    }
+
+    #[test]
+    fn nothing_changed_wakes_nothing_and_a_change_is_drawn_once_its_command_is_out() {
+        let start = Instant::now();
+        let mut pacer = FramePacer::default();
+        assert_eq!(pacer.due_at(false), None);
+        pacer.changed(true, start);
+        assert_eq!(pacer.due_at(false), Some(start + SETTLE));
+        // Later changes before that frame do not put it off.
+        pacer.changed(true, start + Duration::from_millis(2));
+        assert_eq!(pacer.due_at(false), Some(start + SETTLE));
+        assert!(pacer.frame(View::new(&app()), start + SETTLE).is_some());
+        // Long after the last frame, a key's frame comes SETTLE after it.
+        let later = start + Duration::from_secs(1);
+        pacer.changed(true, later);
+        assert_eq!(pacer.due_at(false), Some(later + SETTLE));
+    }
+
+    #[test]
+    fn a_changed_view_is_drawn_at_its_rate_and_an_identical_one_is_not() {
+        let start = Instant::now();
+        let mut app = app();
+        let mut pacer = FramePacer::default();
+        pacer.changed(true, start);
+        assert!(pacer.frame(View::new(&app), start).is_some());
+        assert_eq!(pacer.due_at(false), None, "drawn: nothing due");
+
+        // The arm's report changes what is shown: due IDLE_FRAME after the last frame.
+        app.handle(Input::Arm(ArmEvent::Speed(40)), start);
+        pacer.changed(false, start);
+        assert_eq!(pacer.due_at(false), Some(start + IDLE_FRAME));
+        // A key (or a jog) brings it forward to the 30 fps rate.
+        assert_eq!(pacer.due_at(true), Some(start + FRAME));
+        pacer.changed(true, start);
+        assert_eq!(pacer.due_at(false), Some(start + FRAME));
+        let at = start + FRAME;
+        let painted = pacer.frame(View::new(&app), at).expect("the speed changed");
+        assert_eq!(painted.speed, Some(40));
+
+        // The same again (an identical report): woken, but nothing is handed to the painter.
+        app.handle(Input::Arm(ArmEvent::Speed(40)), at);
+        pacer.changed(false, at);
+        assert_eq!(pacer.frame(View::new(&app), at + IDLE_FRAME), None);
+        assert_eq!(pacer.due_at(false), None);
+        // The skipped frame did not count as a drawn one: the next change is due as before.
+        let next = at + IDLE_FRAME;
+        app.handle(Input::Arm(ArmEvent::Speed(60)), next);
+        pacer.changed(false, next);
+        assert_eq!(pacer.due_at(false), Some(next + SETTLE));
+    }
+
+    #[test]
+    fn a_due_time_dependent_change_is_drawn_with_no_new_report() {
+        let start = Instant::now();
+        let mut app = app();
+        up(&mut app, start);
+        let mut pacer = FramePacer::default();
+        pacer.changed(false, start);
+        assert!(pacer.frame(View::new(&app), start).is_some());
+        assert_eq!(View::new(&app).link_stale, None);
+
+        // A tick before anything is due shows the same: not drawn.
+        let early = start + Duration::from_millis(50);
+        app.handle(Input::Tick, early);
+        pacer.changed(false, early);
+        assert_eq!(pacer.frame(View::new(&app), early), None);
+
+        // The silent link's deadline: the tick that wakes the app there makes it stale, and
+        // that frame is drawn although no report came.
+        let deadline = app
+            .next_deadline()
+            .expect("the link's silence has a deadline");
+        assert!(deadline >= start + STALE_AFTER);
+        app.handle(Input::Tick, deadline);
+        pacer.changed(false, deadline);
+        let due = pacer.due_at(false).expect("due");
+        let painted = pacer
+            .frame(View::new(&app), due.max(deadline))
+            .expect("the stale link is drawn");
+        assert!(painted.link_stale.is_some());
+
+        // And its age, as it grows, is drawn again.
+        let later = deadline + Duration::from_secs(2);
+        app.handle(Input::Tick, later);
+        pacer.changed(false, later);
+        assert!(pacer.frame(View::new(&app), later).is_some());
+    }
+}
