@@ -17,6 +17,8 @@ use armjog::link::interface::{ArmEvent, LinkStatus};
 use armjog::sim::arm_model::ArmSnapshot;
 use armjog::sim::{SimConfig, Simulator};
 
+use crate::event_loop;
+
 /// Generous for a loaded 2-core CI: the STOP itself takes well under a millisecond.
 const STOP_BOUND: Duration = Duration::from_secs(2);
 
@@ -25,6 +27,18 @@ struct Console {
     driver: Driver,
     events: UnboundedReceiver<ArmEvent>,
     sim: Simulator,
+}
+
+impl event_loop::Drives for Console {
+    fn app(&self) -> &App {
+        &self.app
+    }
+    fn events(&mut self) -> &mut UnboundedReceiver<ArmEvent> {
+        &mut self.events
+    }
+    fn input(&mut self, input: Input) {
+        Console::input(self, input);
+    }
 }
 
 impl Console {
@@ -82,26 +96,7 @@ impl Console {
     /// Runs the event loop (arm events and ticks) for `duration`, as the runtime would.
     async fn run_for(&mut self, duration: Duration) {
         let until = tokio::time::Instant::now() + duration;
-        loop {
-            let deadline = self
-                .app
-                .next_deadline()
-                .map(tokio::time::Instant::from_std)
-                .unwrap_or(until)
-                .min(until);
-            tokio::select! {
-                biased;
-                event = self.events.recv() => {
-                    self.input(Input::Arm(event.expect("driver events")));
-                }
-                _ = tokio::time::sleep_until(deadline) => {
-                    if tokio::time::Instant::now() >= until {
-                        return;
-                    }
-                    self.input(Input::Tick);
-                }
-            }
-        }
+        event_loop::run_until_instant(self, until, |_| false).await;
     }
 
     async fn snapshot(&self) -> ArmSnapshot {
