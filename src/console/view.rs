@@ -10,7 +10,8 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use super::app::{
-    App, BookState, HistorySeries, MotionShown, NearLimit, Overlay, Severity, Step, near_limits,
+    App, BookState, HistorySeries, MotionShown, NearLimit, Overlay, Severity, Step, TrailShade,
+    near_limits,
 };
 use super::jog::{ReleaseMode, RepeatTiming};
 use super::keymap::Keymap;
@@ -71,10 +72,10 @@ pub struct View {
     pub history: HistorySeries,
     /// Limited joints within 5 degrees of a limit, the nearest first.
     pub near_limits: Vec<NearLimit>,
-    /// The tool point's path over the last 10 s (base frame, m) with each point's age, oldest
+    /// The tool point's path over the last 10 s (base frame, m) with each point's shade, oldest
     /// first: the arm view's trail. At most [`TRAIL_CAPACITY`](super::app::TRAIL_CAPACITY)
-    /// points.
-    pub trail: Vec<(Duration, [f64; 3])>,
+    /// points; a still arm's is a few.
+    pub trail: Vec<(TrailShade, [f64; 3])>,
 }
 
 impl View {
@@ -129,7 +130,35 @@ impl View {
                 .map(|now| app.history().series(now))
                 .unwrap_or_default(),
             near_limits: app.telemetry().map(near_limits).unwrap_or_default(),
-            trail: app.trail(),
+            trail: app.trail_shaded(),
         }
+    }
+}
+
+impl View {
+    /// Whether `self` shows the same as `shown` but for what ticks over while the arm is at
+    /// rest: the measured latency, the count and latency of the telemetry polls' log line, and
+    /// temperatures (they creep for minutes after a start, in steps far below the 0.1 °C
+    /// shown). The frame pacer draws those at a slower rate (see [`super::pacing`]).
+    pub fn differs_only_in_background(&self, shown: &View) -> bool {
+        if self.log.len() != shown.log.len() {
+            return false;
+        }
+        let mut same = self.clone();
+        same.latency = shown.latency;
+        if let (Some(now), Some(was)) = (same.telemetry.as_mut(), shown.telemetry.as_ref()) {
+            now.arm.cpu_temperature = was.arm.cpu_temperature;
+            now.arm.ambient_temperature = was.arm.ambient_temperature;
+            for (joint, before) in now.joints.iter_mut().zip(&was.joints) {
+                joint.temperature = before.temperature;
+            }
+        }
+        for (entry, was) in same.log.iter_mut().zip(&shown.log) {
+            if entry.poll && was.poll && entry.name == was.name && entry.outcome == was.outcome {
+                entry.count = was.count;
+                entry.latency = was.latency;
+            }
+        }
+        same == *shown
     }
 }

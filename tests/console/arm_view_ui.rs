@@ -7,7 +7,7 @@
 
 use std::time::{Duration, Instant};
 
-use armjog::console::app::{App, Input, TRAIL_CAPACITY, TRAIL_SPAN};
+use armjog::console::app::{App, Input, TRAIL_CAPACITY, TRAIL_SPAN, TrailShade};
 use armjog::console::jog::ReleaseMode;
 use armjog::console::positions::PositionBook;
 use armjog::console::ui::{self, Theme, arm_view};
@@ -181,7 +181,7 @@ fn the_trail_keeps_the_last_ten_seconds_and_stays_bounded() {
         assert!(app.trail_buffer().len() <= TRAIL_CAPACITY);
     }
     let now = t0 + ms(15_000);
-    let trail = View::new(&app).trail;
+    let trail = app.trail();
     assert!(
         trail.len() >= 190 && trail.len() <= TRAIL_CAPACITY,
         "{}",
@@ -202,10 +202,39 @@ fn the_trail_keeps_the_last_ten_seconds_and_stays_bounded() {
     );
     // Without telemetry, the points age out as time goes by, the last after 10 s.
     app.handle(Input::Tick, now + Duration::from_secs(5));
-    let half = View::new(&app).trail.len();
+    let half = app.trail().len();
     assert!(half > 80 && half < 120, "{half}");
     app.handle(Input::Tick, now + TRAIL_SPAN + ms(1));
     assert!(View::new(&app).trail.is_empty());
+}
+
+#[test]
+fn a_still_arms_trail_reads_the_same_from_one_report_to_the_next() {
+    let (mut app, t0) = console_at(gen3::HOME_DEG);
+    // 12 s of the same report at 30 Hz: the buffer holds 10 s of points, all in one place.
+    let mut views = Vec::new();
+    for step in 1..=360u64 {
+        let report = ArmEvent::Telemetry(Box::new(telemetry(gen3::HOME_DEG)));
+        app.handle(Input::Arm(report), t0 + ms(step * 33));
+        if step > 300 {
+            views.push(View::new(&app).trail);
+        }
+    }
+    assert!(app.trail_buffer().len() > 150);
+    // One point per shade, oldest first, and the same in every frame.
+    let shades: Vec<TrailShade> = views[0].iter().map(|(shade, _)| *shade).collect();
+    assert_eq!(shades, [TrailShade::Old, TrailShade::Mid, TrailShade::New]);
+    assert!(views.iter().all(|trail| *trail == views[0]));
+    // Once the arm moves, the new points are there.
+    let mut moved = gen3::HOME_DEG;
+    moved[0] += 5.0;
+    app.handle(
+        Input::Arm(ArmEvent::Telemetry(Box::new(telemetry(moved)))),
+        t0 + ms(360 * 33 + 50),
+    );
+    let trail = View::new(&app).trail;
+    assert_eq!(trail.len(), 4);
+    assert_ne!(trail[3].1, trail[2].1);
 }
 
 #[test]

@@ -39,7 +39,7 @@ pub use motion_truth::{
 };
 pub use resave::RESAVE_GO_WITHIN;
 pub use speed_steps::{SPEED_STEPS, next_speed};
-pub use trail::{TRAIL_CAPACITY, TRAIL_SPACING, TRAIL_SPAN, ToolTrail, TrailPoint};
+pub use trail::{TRAIL_CAPACITY, TRAIL_SPACING, TRAIL_SPAN, ToolTrail, TrailPoint, TrailShade};
 
 use std::collections::VecDeque;
 use std::sync::Arc;

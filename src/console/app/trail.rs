@@ -15,6 +15,29 @@ pub const TRAIL_SPACING: Duration = Duration::from_millis(50);
 /// The most points the trail holds (one more than the span over the spacing: both ends).
 pub const TRAIL_CAPACITY: usize = 201;
 
+/// How bright a trail point is drawn: its age in thirds of [`TRAIL_SPAN`], newest brightest.
+/// The view holds this rather than the age, so a still arm's trail reads the same from one
+/// frame to the next and is not redrawn for ages that change nothing on screen.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum TrailShade {
+    Old,
+    Mid,
+    New,
+}
+
+impl TrailShade {
+    pub fn of(age: Duration) -> TrailShade {
+        let third = TRAIL_SPAN / 3;
+        if age < third {
+            TrailShade::New
+        } else if age < 2 * third {
+            TrailShade::Mid
+        } else {
+            TrailShade::Old
+        }
+    }
+}
+
 /// One point of the trail: when it was seen and where (base frame, m).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TrailPoint {
@@ -74,6 +97,19 @@ impl ToolTrail {
             .collect()
     }
 
+    /// The points of [`ToolTrail::recent`] as drawn: each with its shade, a run of points
+    /// the same in place and shade given once (the first: the pieces after it have no length).
+    pub fn shaded(&self, now: Instant) -> Vec<(TrailShade, [f64; 3])> {
+        let mut shaded: Vec<(TrailShade, [f64; 3])> = Vec::new();
+        for (age, position) in self.recent(now) {
+            let point = (TrailShade::of(age), position);
+            if shaded.last() != Some(&point) {
+                shaded.push(point);
+            }
+        }
+        shaded
+    }
+
     pub fn len(&self) -> usize {
         self.points.len()
     }
@@ -89,6 +125,13 @@ impl super::App {
     pub fn trail(&self) -> Vec<(Duration, [f64; 3])> {
         self.now
             .map(|now| self.trail.recent(now))
+            .unwrap_or_default()
+    }
+
+    /// The trail as the arm view draws it: see [`ToolTrail::shaded`].
+    pub fn trail_shaded(&self) -> Vec<(TrailShade, [f64; 3])> {
+        self.now
+            .map(|now| self.trail.shaded(now))
             .unwrap_or_default()
     }
 

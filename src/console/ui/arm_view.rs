@@ -10,8 +10,6 @@
 //! Labels are names, written after the canvas: a label that does not fit is elided, one that
 //! would cover another is dropped; none runs past its drawing.
 
-use std::time::Duration;
-
 use nalgebra::Vector3;
 use ratatui::Frame;
 use ratatui::layout::Rect;
@@ -23,6 +21,7 @@ use ratatui::widgets::{Paragraph, Wrap};
 use super::numbers;
 use super::theme::Theme;
 use crate::console::app::MotionShown;
+use crate::console::app::TrailShade;
 pub use crate::console::arm_geometry::Projection;
 use crate::console::arm_geometry::{self, ArmPose, jog_direction};
 use crate::console::view::View;
@@ -135,7 +134,7 @@ struct Marker3 {
 /// Everything the drawings show, worked out once for both.
 struct Scene {
     pose: ArmPose,
-    trail: Vec<(Duration, Vector3<f64>)>,
+    trail: Vec<(TrailShade, Vector3<f64>)>,
     markers: Vec<Marker3>,
     arrow: Option<Vector3<f64>>,
 }
@@ -167,7 +166,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
         trail: view
             .trail
             .iter()
-            .map(|(age, [x, y, z])| (*age, Vector3::new(*x, *y, *z)))
+            .map(|(shade, [x, y, z])| (*shade, Vector3::new(*x, *y, *z)))
             .collect(),
         markers: markers(view),
         arrow: match view.motion {
@@ -283,7 +282,7 @@ const ENVELOPE_SEGMENTS: u16 = 96;
 fn trail(
     ctx: &mut Context,
     projection: Projection,
-    points: &[(Duration, Vector3<f64>)],
+    points: &[(TrailShade, Vector3<f64>)],
     theme: &Theme,
 ) {
     for pair in points.windows(2) {
@@ -296,14 +295,11 @@ fn trail(
 }
 
 /// A trail piece's colour by its age: three shades, the newest third brightest.
-fn shade(age: Duration) -> Color {
-    let third = crate::console::app::TRAIL_SPAN / 3;
-    if age < third {
-        Color::White
-    } else if age < 2 * third {
-        Color::Gray
-    } else {
-        Color::DarkGray
+fn shade(age: TrailShade) -> Color {
+    match age {
+        TrailShade::New => Color::White,
+        TrailShade::Mid => Color::Gray,
+        TrailShade::Old => Color::DarkGray,
     }
 }
 
@@ -436,12 +432,14 @@ fn labels(frame: &mut Frame, drawing: &Drawing, scene: &Scene, theme: &Theme) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::time::Duration;
 
     #[test]
     fn the_trail_fades_with_age() {
-        assert_eq!(shade(Duration::from_millis(100)), Color::White);
-        assert_eq!(shade(Duration::from_secs(5)), Color::Gray);
-        assert_eq!(shade(Duration::from_millis(9900)), Color::DarkGray);
+        let shade_at = |age| shade(TrailShade::of(age));
+        assert_eq!(shade_at(Duration::from_millis(100)), Color::White);
+        assert_eq!(shade_at(Duration::from_secs(5)), Color::Gray);
+        assert_eq!(shade_at(Duration::from_millis(9900)), Color::DarkGray);
     }
 
     #[test]
