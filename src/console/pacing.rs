@@ -1,6 +1,8 @@
 //! When the console draws a frame: at most 30 a second after the technician's own input or
-//! while jogging, at most 7.5 a second when only the arm's reports changed (it keeps an idle
-//! console under 2 % of a core), and never for a view that shows the same as the one drawn last.
+//! while jogging, at most 7.5 a second when only the arm's reports changed, once a second when
+//! only what ticks over at rest changed (the latency, the telemetry polls' count, temperatures:
+//! see [`View::differs_only_in_background`]), and never for a view that shows the same as the
+//! one drawn last. The last two keep an idle console under 2 % of a core.
 //!
 //! The runtime sleeps until [`FramePacer::due_at`] rather than waking on a fixed tick, so a
 //! console with nothing to draw does not wake at all. Everything time-dependent a panel shows
@@ -16,6 +18,8 @@ pub const FRAME: Duration = Duration::from_millis(33);
 /// Shortest time between frames when only the arm's reports changed: four fast frames, the
 /// rate the console had when it drew on a fixed 33 ms tick once 100 ms had passed (7.5 fps).
 pub const IDLE_FRAME: Duration = Duration::from_millis(132);
+/// Shortest time between frames when only what ticks over at rest changed.
+pub const BACKGROUND_FRAME: Duration = Duration::from_secs(1);
 /// How long after a change its frame starts at the soonest: the command a key sent (a release's
 /// STOP above all) goes out before a frame's drawing competes with it for the CPU.
 pub const SETTLE: Duration = Duration::from_millis(3);
@@ -32,6 +36,11 @@ pub struct FramePacer {
     last_paint: Option<Instant>,
     /// The last view handed to the painter.
     shown: Option<View>,
+    /// A frame held back because only what ticks over at rest changed: when it is due.
+    background_due: Option<Instant>,
+    /// When the last frame was held back so: the next change is considered no sooner than a
+    /// frame's period later, as after a drawn frame (views are not built at the report rate).
+    held_at: Option<Instant>,
 }
 
 impl FramePacer {
@@ -47,27 +56,48 @@ impl FramePacer {
     /// When the next frame is due, or `None` when nothing changed. `jogging` draws at the
     /// faster rate, so the motion shown keeps up with the arm.
     pub fn due_at(&self, jogging: bool) -> Option<Instant> {
-        let settled = self.changed_at.filter(|_| self.changed)? + SETTLE;
+        let Some(changed_at) = self.changed_at.filter(|_| self.changed) else {
+            return self.background_due;
+        };
+        let settled = changed_at + SETTLE;
         let period = if self.urgent || jogging {
             FRAME
         } else {
             IDLE_FRAME
         };
+        let last = self.last_paint.max(self.held_at);
+        let due = last.map_or(settled, |last| settled.max(last + period));
         Some(
-            self.last_paint
-                .map_or(settled, |last| settled.max(last + period)),
+            self.background_due
+                .map_or(due, |background| due.min(background)),
         )
     }
 
     /// At the due time: the view to paint, or `None` when it shows exactly what the last
-    /// painted one did (the screen is already right).
+    /// painted one did (the screen is already right). A view that differs only in what ticks
+    /// over at rest waits until [`BACKGROUND_FRAME`] after the last frame, unless the
+    /// technician caused it.
     pub fn frame(&mut self, view: View, now: Instant) -> Option<View> {
+        let urgent = self.urgent;
         self.changed = false;
         self.urgent = false;
-        if self.shown.as_ref() == Some(&view) {
-            return None;
+        self.background_due = None;
+        if let Some(shown) = &self.shown {
+            if *shown == view {
+                return None;
+            }
+            if let Some(last) = self.last_paint
+                && !urgent
+                && now < last + BACKGROUND_FRAME
+                && view.differs_only_in_background(shown)
+            {
+                self.background_due = Some(last + BACKGROUND_FRAME);
+                self.held_at = Some(now);
+                return None;
+            }
         }
         self.last_paint = Some(now);
+        self.held_at = None;
         self.shown = Some(view.clone());
         Some(view)
     }
@@ -191,5 +221,110 @@ mod tests {
         app.handle(Input::Tick, later);
         pacer.changed(false, later);
         assert!(pacer.frame(View::new(&app), later).is_some());
+    }
+
+    fn poll_line(count: u32, latency_ms: u64) -> ArmEvent {
+        ArmEvent::Log(crate::link::interface::LogEntry {
+            name: "modbus poll".into(),
+            outcome: "OK".into(),
+            ok: true,
+            poll: true,
+            count,
+            latency: Some(Duration::from_millis(latency_ms)),
+            ..Default::default()
+        })
+    }
+
+    #[test]
+    fn what_ticks_over_at_rest_is_drawn_once_a_second() {
+        let start = Instant::now();
+        // No link promising telemetry: nothing goes stale in this test.
+        let mut app = app();
+        app.handle(Input::Arm(poll_line(1, 2)), start);
+        let mut pacer = FramePacer::default();
+        pacer.changed(false, start);
+        assert!(pacer.frame(View::new(&app), start).is_some());
+
+        // Another poll and a new latency: held back until a second after the last frame.
+        let t = start + IDLE_FRAME;
+        app.handle(Input::Arm(poll_line(1, 3)), t);
+        app.handle(Input::Arm(ArmEvent::Latency(Duration::from_millis(3))), t);
+        pacer.changed(false, t);
+        assert!(View::new(&app).differs_only_in_background(&pacer.shown.clone().expect("drawn")));
+        assert_eq!(pacer.frame(View::new(&app), t), None);
+        assert_eq!(pacer.due_at(false), Some(start + BACKGROUND_FRAME));
+        // The next poll is looked at a frame's period after the held one, not at once.
+        app.handle(Input::Arm(poll_line(1, 2)), t + FRAME);
+        pacer.changed(false, t + FRAME);
+        assert_eq!(pacer.due_at(false), Some(t + IDLE_FRAME));
+        assert_eq!(pacer.frame(View::new(&app), t + IDLE_FRAME), None);
+        let painted = pacer
+            .frame(View::new(&app), start + BACKGROUND_FRAME)
+            .expect("the counters are drawn a second on");
+        assert_eq!(painted.log.back().map(|e| e.count), Some(3));
+        assert_eq!(pacer.due_at(false), None);
+
+        // A key draws them at once.
+        let k = start + BACKGROUND_FRAME + IDLE_FRAME;
+        app.handle(Input::Arm(poll_line(1, 4)), k);
+        pacer.changed(true, k);
+        assert!(pacer.frame(View::new(&app), k + FRAME).is_some());
+
+        // Anything else the arm reports is drawn at its own rate, counters and all.
+        let r = k + 2 * FRAME;
+        app.handle(Input::Arm(poll_line(1, 5)), r);
+        pacer.changed(false, r);
+        assert_eq!(pacer.frame(View::new(&app), r + IDLE_FRAME), None);
+        app.handle(Input::Arm(ArmEvent::Speed(40)), r + IDLE_FRAME);
+        pacer.changed(false, r + IDLE_FRAME);
+        let at = pacer.due_at(false).expect("due");
+        assert!(at < k + FRAME + BACKGROUND_FRAME);
+        let painted = pacer.frame(View::new(&app), at).expect("the speed changed");
+        assert_eq!(painted.speed, Some(40));
+        assert_eq!(painted.log.back().map(|e| e.count), Some(5));
+
+        // A failed poll is a new line, not a counter: drawn at once.
+        let f = at + IDLE_FRAME;
+        app.handle(
+            Input::Arm(ArmEvent::Log(crate::link::interface::LogEntry {
+                name: "modbus poll".into(),
+                outcome: "timed out".into(),
+                poll: true,
+                ..Default::default()
+            })),
+            f,
+        );
+        pacer.changed(false, f);
+        assert!(pacer.frame(View::new(&app), f).is_some());
+    }
+
+    #[test]
+    fn a_temperature_creeping_is_background_and_a_joint_moving_is_not() {
+        let start = Instant::now();
+        let mut app = app();
+        let mut telemetry = crate::kortex::Telemetry::decode(&Default::default());
+        let report =
+            |t: &crate::kortex::Telemetry| Input::Arm(ArmEvent::Telemetry(Box::new(t.clone())));
+        app.handle(report(&telemetry), start);
+        let mut pacer = FramePacer::default();
+        pacer.changed(false, start);
+        assert!(pacer.frame(View::new(&app), start).is_some());
+
+        let t = start + IDLE_FRAME;
+        telemetry.joints[3].temperature += 0.001;
+        telemetry.arm.cpu_temperature += 0.01;
+        app.handle(report(&telemetry), t);
+        pacer.changed(false, t);
+        assert_eq!(pacer.frame(View::new(&app), t), None);
+        assert_eq!(pacer.due_at(false), Some(start + BACKGROUND_FRAME));
+
+        telemetry.joints[3].position += 0.01;
+        let m = t + IDLE_FRAME;
+        app.handle(report(&telemetry), m);
+        pacer.changed(false, m);
+        let painted = pacer.frame(View::new(&app), m).expect("a joint moved");
+        let shown = painted.telemetry.expect("telemetry");
+        assert_eq!(shown.joints[3].position, telemetry.joints[3].position);
+        assert_eq!(shown.joints[3].temperature, telemetry.joints[3].temperature);
     }
 }
