@@ -58,26 +58,17 @@ pub fn forward(q: &Joints) -> Pose {
     pose_of(&frames(q).1)
 }
 
-/// The geometric Jacobian: rows vx, vy, vz, wx, wy, wz in the base frame.
+/// The geometric Jacobian: rows vx, vy, vz, wx, wy, wz in the base frame (see
+/// [`crate::kortex::gen3::jacobian`]).
 pub fn jacobian(q: &Joints) -> SMatrix<f64, 6, JOINTS> {
-    pose_and_jacobian(q).1
+    crate::kortex::gen3::jacobian(q)
 }
 
 /// The tool pose and the Jacobian from one pass over the DH chain (the integrator needs both
 /// every step).
 pub fn pose_and_jacobian(q: &Joints) -> (Pose, SMatrix<f64, 6, JOINTS>) {
     let (before, tool) = frames(q);
-    let p = Vector3::new(tool[(0, 3)], tool[(1, 3)], tool[(2, 3)]);
-    let mut j = SMatrix::<f64, 6, JOINTS>::zeros();
-    for (i, f) in before.iter().enumerate() {
-        let z = Vector3::new(f[(0, 2)], f[(1, 2)], f[(2, 2)]);
-        let o = Vector3::new(f[(0, 3)], f[(1, 3)], f[(2, 3)]);
-        let v = z.cross(&(p - o));
-        for k in 0..3 {
-            j[(k, i)] = v[k];
-            j[(k + 3, i)] = z[k];
-        }
-    }
+    let j = crate::kortex::gen3::jacobian_of_frames(&before, &tool);
     (pose_of(&tool), j)
 }
 
@@ -257,6 +248,10 @@ mod tests {
                 assert!((j[(k, i)] - d[k]).abs() < 1e-4, "joint {i} row {k}");
             }
         }
+        // One pass gives the same pose and Jacobian as the two separate calls.
+        let (pose, j2) = pose_and_jacobian(&q);
+        assert_eq!(j2, j);
+        assert_eq!(pose, forward(&q));
     }
 
     #[test]
