@@ -202,6 +202,19 @@ pub fn near_limit_pose_deg(joint: u8) -> Result<Joints, String> {
     Ok(q)
 }
 
+/// How far short of a straight elbow `armjog sim --near-singularity` bends J4, degrees.
+pub const NEAR_SINGULARITY_ELBOW_DEG: f64 = 3.0;
+
+/// The home pose (degrees) with J4 [`NEAR_SINGULARITY_ELBOW_DEG`] short of straight, on
+/// home's side (-3°, reported 357°), for `armjog sim --near-singularity`: the Jacobian's
+/// condition number is then about 253, well inside the console's warning
+/// ([`crate::kortex::gen3::SINGULARITY_WARNING`]), and every joint far from its limit.
+pub fn near_singularity_pose_deg() -> Joints {
+    let mut q = HOME_DEG;
+    q[3] = -NEAR_SINGULARITY_ELBOW_DEG;
+    q
+}
+
 /// Degrees to radians for a whole joint vector.
 pub fn to_radians(deg: &Joints) -> Joints {
     deg.map(f64::to_radians)
@@ -328,6 +341,19 @@ mod tests {
             let e = near_limit_pose_deg(joint).unwrap_err();
             assert!(e.contains("1 to 7"), "{e}");
         }
+    }
+
+    #[test]
+    fn the_near_singularity_pose_is_inside_the_warning_and_the_joint_limits() {
+        use crate::kortex::gen3::{SINGULARITY_WARNING, condition_number};
+        let q = to_radians(&near_singularity_pose_deg());
+        let kappa = condition_number(&q);
+        assert!(kappa > 2.0 * SINGULARITY_WARNING && kappa < 1e3, "{kappa}");
+        for (i, a) in q.iter().enumerate() {
+            assert!(within_limit(i, *a), "joint {}", i + 1);
+        }
+        // The tool is still above the table.
+        assert!(forward(&q).position.z > 0.5);
     }
 
     #[test]
