@@ -155,10 +155,14 @@ pub fn condition_number(q: &[f64; 7]) -> f64 {
 /// | J2 60, J4 -20 / -5 | 38.1 / 152 |
 /// | J2 90, J4 -30; J2 60, J4 -60; J2 30, J4 -90 | 25.5; 13.2; 9.4 |
 /// | J2 128, J4 -145 (folded) | 13.6 |
+/// | J2 0 with J6 10 / 2; J2 10 / 2 with J6 0 | 55.6 / 268; 38.3 / 197 |
+/// | J2 and J6 both 10 / 5 / 2 / 1 | 31.9 / 63.5 / 159 / 317 |
 /// | J4 0 (elbow straight), all zero, J2 0 with J6 0 | rank-deficient |
 ///
 /// Near a straight elbow κ is about 760 / |J4| (J4 in degrees, whatever J2): 75 names the arm
-/// from 10.1° short of straight. Every other pose measured stays below 31.
+/// from 10.1° short of straight. The only other poses measured above 31 have J1 in line with
+/// J3 (J2 near 0) and J5 with J7 (J6 near 0) at once, within a few degrees of both: a real
+/// singularity of the 7-joint arm too (either alone the redundant joint makes up for).
 pub const SINGULARITY_WARNING: f64 = 75.0;
 
 /// Below this lever arm (m) a joint barely moves the tool point; its rate is then bounded by
@@ -285,6 +289,15 @@ mod tests {
         q[3] = 0.0;
         let kappa = condition_number(&q.map(f64::to_radians));
         assert!(kappa.is_finite() && kappa > 1e12, "{kappa}");
+        // J2 and J6 at 0: J1 and J3 turn about one line, J5 and J7 about another; two pairs of
+        // equal columns leave rank 5. Either pair alone leaves 6 (the seventh joint).
+        let mut q = HOME_DEG;
+        q[1] = 0.0;
+        q[5] = 0.0;
+        let kappa = condition_number(&q.map(f64::to_radians));
+        assert!(kappa.is_finite() && kappa > 1e12, "{kappa}");
+        q[1] = 15.0;
+        assert!(condition_number(&q.map(f64::to_radians)) < SINGULARITY_WARNING);
         // Angles that are not numbers give no figure that could pass for a safe one.
         let mut q = HOME_DEG.map(f64::to_radians);
         q[1] = f64::NAN;
