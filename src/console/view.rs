@@ -73,7 +73,7 @@ pub struct View {
     /// Limited joints within 5 degrees of a limit, the nearest first.
     pub near_limits: Vec<NearLimit>,
     /// The estimated condition number of the Jacobian at the reported joint angles (Gen3
-    /// model), when above the warning threshold; `None` without telemetry.
+    /// model) when above the warning threshold; `None` below it or without telemetry.
     pub near_singularity: Option<f64>,
     /// The tool point's path over the last 10 s (base frame, m) with each point's age, oldest
     /// first: the arm view's trail. At most [`TRAIL_CAPACITY`](super::app::TRAIL_CAPACITY)
