@@ -50,6 +50,10 @@ pub struct SimArgs {
     /// upper limit, the others at home: the console then names it (`J4 2.0° from limit`).
     #[arg(long, value_name = "JOINT", value_parser = clap::value_parser!(u8).range(1..=7))]
     pub near_limit: Option<u8>,
+    /// Start with the elbow (J4) 3 degrees short of straight, the others at home: the console
+    /// then names the arm as near a singularity (`near singularity (κ 253)`).
+    #[arg(long, conflicts_with = "near_limit")]
+    pub near_singularity: bool,
 }
 
 impl SimArgs {
@@ -63,9 +67,10 @@ impl SimArgs {
                 self.max_jog_speed
             ));
         }
-        let q = match self.near_limit {
-            Some(joint) => kinematics::near_limit_pose_deg(joint)?,
-            None => HOME_DEG,
+        let q = match (self.near_limit, self.near_singularity) {
+            (Some(joint), _) => kinematics::near_limit_pose_deg(joint)?,
+            (None, true) => kinematics::near_singularity_pose_deg(),
+            (None, false) => HOME_DEG,
         };
         let mut arm = Arm::at(kinematics::to_radians(&q));
         if let Some(bit) = self.fault {
@@ -110,11 +115,15 @@ pub async fn run(args: &SimArgs) -> i32 {
     // The simulator serves until signalled even if no one reads its banner (`| head`); a
     // closed stdout only cuts the banner short.
     let banner = [
-        match args.near_limit {
-            Some(joint) => format!(
+        match (args.near_limit, args.near_singularity) {
+            (Some(joint), _) => format!(
                 "armjog sim: simulated Kinova Gen3 at the home pose but J{joint}, 2 deg short of its limit"
             ),
-            None => "armjog sim: simulated Kinova Gen3 at the home pose".to_string(),
+            (None, true) => format!(
+                "armjog sim: simulated Kinova Gen3 at the home pose but J4, {} deg short of straight (near a singularity)",
+                kinematics::NEAR_SINGULARITY_ELBOW_DEG
+            ),
+            (None, false) => "armjog sim: simulated Kinova Gen3 at the home pose".to_string(),
         },
         format!(
             "  talos operator  {} ({}, {})",

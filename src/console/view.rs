@@ -11,7 +11,7 @@ use std::time::Duration;
 
 use super::app::{
     App, BookState, HistorySeries, MotionShown, NearLimit, Overlay, Severity, Step, TrailShade,
-    near_limits,
+    near_limits, near_singularity,
 };
 use super::jog::{ReleaseMode, RepeatTiming};
 use super::keymap::Keymap;
@@ -72,6 +72,9 @@ pub struct View {
     pub history: HistorySeries,
     /// Limited joints within 5 degrees of a limit, the nearest first.
     pub near_limits: Vec<NearLimit>,
+    /// The estimated condition number of the Jacobian at the reported joint angles (Gen3
+    /// model) when above the warning threshold; `None` below it or without telemetry.
+    pub near_singularity: Option<f64>,
     /// The tool point's path over the last 10 s (base frame, m) with each point's shade, oldest
     /// first: the arm view's trail. At most [`TRAIL_CAPACITY`](super::app::TRAIL_CAPACITY)
     /// points; a still arm's is a few.
@@ -130,6 +133,7 @@ impl View {
                 .map(|now| app.history().series(now))
                 .unwrap_or_default(),
             near_limits: app.telemetry().map(near_limits).unwrap_or_default(),
+            near_singularity: app.telemetry().and_then(near_singularity),
             trail: app.trail_shaded(),
         }
     }

@@ -2,7 +2,7 @@
 //! kinematics from the classic DH table, shared by the simulator, the arm driver (joint jog
 //! speed bounds) and the console's panels. Pure: angles in radians unless named `_deg`.
 
-use nalgebra::{Matrix4, Vector3};
+use nalgebra::{Matrix4, SMatrix, Vector3};
 
 /// Joint limits in degrees; `None` for the continuous joints J1, J3, J5, J7.
 pub const JOINT_LIMITS_DEG: [Option<f64>; 7] = [
@@ -82,6 +82,89 @@ pub fn lever_arms(q: &[f64; 7]) -> [f64; 7] {
     before.map(|f| column(&f, 2).cross(&(p - column(&f, 3))).norm())
 }
 
+/// The geometric Jacobian from frames as [`frames`] gives them: column i is joint i+1's
+/// contribution, rows vx, vy, vz (m/s per rad/s) then wx, wy, wz (rad/s per rad/s), base
+/// frame, for the tool interface point.
+pub fn jacobian_of_frames(before: &[Matrix4<f64>; 7], tool: &Matrix4<f64>) -> SMatrix<f64, 6, 7> {
+    let p = column(tool, 3);
+    let mut j = SMatrix::<f64, 6, 7>::zeros();
+    for (i, f) in before.iter().enumerate() {
+        let z = column(f, 2);
+        let v = z.cross(&(p - column(f, 3)));
+        j.fixed_view_mut::<3, 1>(0, i).copy_from(&v);
+        j.fixed_view_mut::<3, 1>(3, i).copy_from(&z);
+    }
+    j
+}
+
+/// The geometric Jacobian for joint angles `q` (radians): see [`jacobian_of_frames`].
+pub fn jacobian(q: &[f64; 7]) -> SMatrix<f64, 6, 7> {
+    let (before, tool) = frames(q);
+    jacobian_of_frames(&before, &tool)
+}
+
+/// The largest condition number [`condition_number`] gives for finite angles: below
+/// `largest · ε` a singular value is rounding noise, so a rank-deficient Jacobian reads as
+/// this (about 4.5e15) rather than infinity.
+pub const MAX_CONDITION_NUMBER: f64 = 1.0 / f64::EPSILON;
+
+/// The Jacobian's condition number at joint angles `q` (radians): its largest singular value
+/// over its smallest. 1 is perfectly conditioned; it grows without bound as the arm nears a
+/// singularity (a direction the tool cannot move or turn in however the joints turn).
+///
+/// Units: the linear rows are m/s and the angular rows rad/s per rad/s of joint rate, so the
+/// figure mixes metres with radians and depends on that choice (in millimetres it would
+/// differ). A warning threshold on it ([`SINGULARITY_WARNING`]) is pinned to this model and
+/// these units.
+///
+/// Never NaN: a rank-deficient pose gives [`MAX_CONDITION_NUMBER`]; a non-finite angle (or an
+/// SVD that does not converge) gives `f64::INFINITY`.
+pub fn condition_number(q: &[f64; 7]) -> f64 {
+    // A NaN in the matrix could keep the SVD iterating: refuse it before.
+    if !q.iter().all(|a| a.is_finite()) {
+        return f64::INFINITY;
+    }
+    let Some(svd) = jacobian(q).try_svd(false, false, f64::EPSILON, 1000) else {
+        return f64::INFINITY;
+    };
+    // The angular rows hold each joint's unit axis: the largest singular value is at least 1.
+    let largest = svd.singular_values.max();
+    let smallest = svd.singular_values.min();
+    let kappa = largest / smallest.max(largest * f64::EPSILON);
+    if kappa.is_finite() {
+        kappa.clamp(1.0, MAX_CONDITION_NUMBER)
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// Above this [`condition_number`] the console names the arm as near a singularity.
+///
+/// Measured on this model (degrees as the arm reports them; `home` is [`HOME_DEG`]):
+///
+/// | pose | κ |
+/// |---|---|
+/// | home | 11.5 |
+/// | home, J6 0 (J5 and J7 aligned; the 7th joint makes up for it) | 25.2 |
+/// | home, J3 90 | 30.1 |
+/// | J2 0 (J1 and J3 aligned) | 13.4 |
+/// | home, J4 ±40 / ±30 / ±20 / ±15 | 19.3 / 25.5 / 38.1 / 50.8 |
+/// | home, J4 ±12 / ±10 / ±8 | 63.4 / 76.0 / 95.0 |
+/// | home, J4 ±5 / ±3 / ±2 / ±1 | 152 / 253 / 380 / 760 |
+/// | J2 60 or 90, J4 -10 (reaching out, 0.92-1.04 m) | 76.0 |
+/// | J2 60, J4 -20 / -5 | 38.1 / 152 |
+/// | J2 90, J4 -30; J2 60, J4 -60; J2 30, J4 -90 | 25.5; 13.2; 9.4 |
+/// | J2 128, J4 -145 (folded) | 13.6 |
+/// | J2 0 with J6 10 / 2; J2 10 / 2 with J6 0 | 55.6 / 268; 38.3 / 197 |
+/// | J2 and J6 both 10 / 5 / 2 / 1 | 31.9 / 63.5 / 159 / 317 |
+/// | J4 0 (elbow straight), all zero, J2 0 with J6 0 | rank-deficient |
+///
+/// Near a straight elbow κ is about 760 / |J4| (J4 in degrees, whatever J2): 75 names the arm
+/// from 10.1° short of straight. The only other poses measured above 31 have J1 in line with
+/// J3 (J2 near 0) and J5 with J7 (J6 near 0) at once, within a few degrees of both: a real
+/// singularity of the 7-joint arm too (either alone the redundant joint makes up for).
+pub const SINGULARITY_WARNING: f64 = 75.0;
+
 /// Below this lever arm (m) a joint barely moves the tool point; its rate is then bounded by
 /// its own jog speed alone.
 pub const MIN_LEVER_ARM: f64 = 0.01;
@@ -155,5 +238,71 @@ mod tests {
         // J7 turns the tool about itself: only the minimum lever bounds it.
         let rate = joint_rate_for_tool_speed(&home, 7, 0.05, 0.0);
         assert!((rate - (0.05 / MIN_LEVER_ARM).to_degrees()).abs() < 1e-6);
+    }
+
+    #[test]
+    fn the_jacobian_matches_finite_differences_and_holds_the_joint_axes() {
+        let q = [10.0, 20.0, 170.0, 240.0, 15.0, 50.0, 80.0].map(f64::to_radians);
+        let j = jacobian(&q);
+        let h = 1e-6;
+        let (before, _) = frames(&q);
+        for i in 0..7 {
+            let mut turned = q;
+            turned[i] += h;
+            let d = (tool_position(&turned) - tool_position(&q)) / h;
+            for k in 0..3 {
+                assert!((j[(k, i)] - d[k]).abs() < 1e-4, "joint {} row {k}", i + 1);
+                // The angular rows are the joint's axis, a unit vector.
+                assert!((j[(k + 3, i)] - before[i][(k, 2)]).abs() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn the_condition_number_grows_as_the_elbow_straightens() {
+        let home = HOME_DEG.map(f64::to_radians);
+        let at_home = condition_number(&home);
+        assert!(at_home < SINGULARITY_WARNING, "{at_home}");
+        assert!((at_home - 11.5).abs() < 0.1, "{at_home}");
+        // J4 from a right angle towards straight (0): ever worse conditioned.
+        let mut last = 0.0;
+        for j4 in [-90.0, -60.0, -40.0, -20.0, -11.0, -10.0, -5.0, -2.0, -0.5] {
+            let mut q = HOME_DEG;
+            q[3] = j4;
+            let kappa = condition_number(&q.map(f64::to_radians));
+            assert!(kappa > last, "J4 {j4}: {kappa} after {last}");
+            last = kappa;
+            // The threshold falls between 11 and 10 degrees short of straight.
+            assert_eq!(kappa > SINGULARITY_WARNING, j4 > -10.5, "J4 {j4}: {kappa}");
+        }
+    }
+
+    #[test]
+    fn a_rank_deficient_jacobian_gives_a_huge_finite_figure_never_nan() {
+        // All zero: every axis is vertical (J1, J3, J5, J7) or along one horizontal (J2, J4,
+        // J6), so no joint turns the tool about the third direction: rank 5 at most.
+        let kappa = condition_number(&[0.0; 7]);
+        assert!(kappa.is_finite() && kappa > 1e12, "{kappa}");
+        assert!(kappa <= MAX_CONDITION_NUMBER);
+        // The elbow exactly straight: the tool cannot move along the arm.
+        let mut q = HOME_DEG;
+        q[3] = 0.0;
+        let kappa = condition_number(&q.map(f64::to_radians));
+        assert!(kappa.is_finite() && kappa > 1e12, "{kappa}");
+        // J2 and J6 at 0: J1 and J3 turn about one line, J5 and J7 about another; two pairs of
+        // equal columns leave rank 5. Either pair alone leaves 6 (the seventh joint).
+        let mut q = HOME_DEG;
+        q[1] = 0.0;
+        q[5] = 0.0;
+        let kappa = condition_number(&q.map(f64::to_radians));
+        assert!(kappa.is_finite() && kappa > 1e12, "{kappa}");
+        q[1] = 15.0;
+        assert!(condition_number(&q.map(f64::to_radians)) < SINGULARITY_WARNING);
+        // Angles that are not numbers give no figure that could pass for a safe one.
+        let mut q = HOME_DEG.map(f64::to_radians);
+        q[1] = f64::NAN;
+        assert_eq!(condition_number(&q), f64::INFINITY);
+        q[1] = f64::INFINITY;
+        assert_eq!(condition_number(&q), f64::INFINITY);
     }
 }

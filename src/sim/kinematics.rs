@@ -58,26 +58,17 @@ pub fn forward(q: &Joints) -> Pose {
     pose_of(&frames(q).1)
 }
 
-/// The geometric Jacobian: rows vx, vy, vz, wx, wy, wz in the base frame.
+/// The geometric Jacobian: rows vx, vy, vz, wx, wy, wz in the base frame (see
+/// [`crate::kortex::gen3::jacobian`]).
 pub fn jacobian(q: &Joints) -> SMatrix<f64, 6, JOINTS> {
-    pose_and_jacobian(q).1
+    crate::kortex::gen3::jacobian(q)
 }
 
 /// The tool pose and the Jacobian from one pass over the DH chain (the integrator needs both
 /// every step).
 pub fn pose_and_jacobian(q: &Joints) -> (Pose, SMatrix<f64, 6, JOINTS>) {
     let (before, tool) = frames(q);
-    let p = Vector3::new(tool[(0, 3)], tool[(1, 3)], tool[(2, 3)]);
-    let mut j = SMatrix::<f64, 6, JOINTS>::zeros();
-    for (i, f) in before.iter().enumerate() {
-        let z = Vector3::new(f[(0, 2)], f[(1, 2)], f[(2, 2)]);
-        let o = Vector3::new(f[(0, 3)], f[(1, 3)], f[(2, 3)]);
-        let v = z.cross(&(p - o));
-        for k in 0..3 {
-            j[(k, i)] = v[k];
-            j[(k + 3, i)] = z[k];
-        }
-    }
+    let j = crate::kortex::gen3::jacobian_of_frames(&before, &tool);
     (pose_of(&tool), j)
 }
 
@@ -211,6 +202,19 @@ pub fn near_limit_pose_deg(joint: u8) -> Result<Joints, String> {
     Ok(q)
 }
 
+/// How far short of a straight elbow `armjog sim --near-singularity` bends J4, degrees.
+pub const NEAR_SINGULARITY_ELBOW_DEG: f64 = 3.0;
+
+/// The home pose (degrees) with J4 [`NEAR_SINGULARITY_ELBOW_DEG`] short of straight, on
+/// home's side (-3°, reported 357°), for `armjog sim --near-singularity`: the Jacobian's
+/// condition number is then about 253, well inside the console's warning
+/// ([`crate::kortex::gen3::SINGULARITY_WARNING`]), and every joint far from its limit.
+pub fn near_singularity_pose_deg() -> Joints {
+    let mut q = HOME_DEG;
+    q[3] = -NEAR_SINGULARITY_ELBOW_DEG;
+    q
+}
+
 /// Degrees to radians for a whole joint vector.
 pub fn to_radians(deg: &Joints) -> Joints {
     deg.map(f64::to_radians)
@@ -257,6 +261,10 @@ mod tests {
                 assert!((j[(k, i)] - d[k]).abs() < 1e-4, "joint {i} row {k}");
             }
         }
+        // One pass gives the same pose and Jacobian as the two separate calls.
+        let (pose, j2) = pose_and_jacobian(&q);
+        assert_eq!(j2, j);
+        assert_eq!(pose, forward(&q));
     }
 
     #[test]
@@ -333,6 +341,19 @@ mod tests {
             let e = near_limit_pose_deg(joint).unwrap_err();
             assert!(e.contains("1 to 7"), "{e}");
         }
+    }
+
+    #[test]
+    fn the_near_singularity_pose_is_inside_the_warning_and_the_joint_limits() {
+        use crate::kortex::gen3::{SINGULARITY_WARNING, condition_number};
+        let q = to_radians(&near_singularity_pose_deg());
+        let kappa = condition_number(&q);
+        assert!(kappa > 2.0 * SINGULARITY_WARNING && kappa < 1e3, "{kappa}");
+        for (i, a) in q.iter().enumerate() {
+            assert!(within_limit(i, *a), "joint {}", i + 1);
+        }
+        // The tool is still above the table.
+        assert!(forward(&q).position.z > 0.5);
     }
 
     #[test]

@@ -26,3 +26,4 @@ mod guard_console;
 mod layers;
 mod modbus_cli;
 mod sim_near_limit;
+mod sim_near_singularity;

@@ -24,6 +24,7 @@ mod motion_truth;
 mod named;
 mod offers;
 mod resave;
+mod singularity;
 mod speed_steps;
 mod trail;
 
@@ -38,6 +39,7 @@ pub use motion_truth::{
     STOP_GRACE, TrackedAction,
 };
 pub use resave::RESAVE_GO_WITHIN;
+pub use singularity::{AT_SINGULARITY, SINGULARITY_WARNING, near_singularity, singularity_text};
 pub use speed_steps::{SPEED_STEPS, next_speed};
 pub use trail::{TRAIL_CAPACITY, TRAIL_SPACING, TRAIL_SPAN, ToolTrail, TrailPoint, TrailShade};
 

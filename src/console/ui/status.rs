@@ -9,7 +9,7 @@ use ratatui::widgets::Paragraph;
 
 use super::numbers;
 use super::theme::Theme;
-use crate::console::app::{MotionShown, age_text, describe_motion};
+use crate::console::app::{MotionShown, age_text, describe_motion, singularity_text};
 use crate::console::jog::{JogMotion, ReleaseMode};
 use crate::console::view::View;
 use crate::kortex::CodeName;
@@ -149,9 +149,9 @@ fn link_line(view: &View, theme: &Theme, width: usize) -> Line<'static> {
 
 /// How much of the second line gives way, in order: why the arm may be moving (the message
 /// line says it too), the measured auto-repeat timing, the speed in mm/s, the words around the
-/// key-release mode and the settings (and every joint near a limit but the nearest), the
-/// joint, the frame, the speed, the joint nearest a limit; the motion and the key-release mode
-/// never.
+/// key-release mode and the settings (and every warning but the first: joints near a limit,
+/// then the singularity), the joint, the frame, the speed, the first warning; the motion and
+/// the key-release mode never.
 #[derive(Debug, Clone, Copy)]
 struct Cut {
     reason: bool,
@@ -274,10 +274,17 @@ fn motion_spans(view: &View, theme: &Theme, cut: Cut) -> Vec<Span<'static>> {
         spans.push(Span::styled(format!("({why}) "), theme.warning()));
     }
     let separator = if cut.words { " | " } else { " " };
-    // A joint near its limit, after the motion: the next jog may be the one that stops on it.
-    if cut.limit && !view.near_limits.is_empty() {
-        let shown = if cut.words { view.near_limits.len() } else { 1 };
-        let text: Vec<String> = view.near_limits[..shown].iter().map(|n| n.text()).collect();
+    // A joint near its limit or a singularity, after the motion: the next jog may be the one
+    // that stops on it or turns a joint fast for little tool motion.
+    let mut text = if cut.limit {
+        warnings(view)
+    } else {
+        Vec::new()
+    };
+    if !text.is_empty() {
+        if !cut.words {
+            text.truncate(1);
+        }
         spans.push(Span::styled(
             format!(" {} ", text.join(", ")),
             theme.warning(),
@@ -307,6 +314,16 @@ fn motion_spans(view: &View, theme: &Theme, cut: Cut) -> Vec<Span<'static>> {
         spans.push(Span::raw(format!("{separator}J{}", view.joint)));
     }
     spans
+}
+
+/// The joints near a limit, the nearest first, then the arm near a singularity: one warning
+/// each. Narrow, only the first shows.
+fn warnings(view: &View) -> Vec<String> {
+    view.near_limits
+        .iter()
+        .map(|n| n.text())
+        .chain(view.near_singularity.map(singularity_text))
+        .collect()
 }
 
 /// The key-release mode in a word.
