@@ -65,6 +65,8 @@ pub struct View {
     pub overlay: Overlay,
     /// Saving the current pose can work on this link (the footer offers it).
     pub can_save: bool,
+    /// The link carries an orientation jog (the footer offers the turn keys).
+    pub can_turn: bool,
     /// The help overlay's first shown line.
     pub help_scroll: usize,
     /// The last 30 s of telemetry (history panel).
@@ -123,6 +125,7 @@ impl View {
                 .map(|(text, severity)| (text.to_string(), severity)),
             overlay: app.overlay().clone(),
             can_save: app.can_save_position(),
+            can_turn: app.can_turn(),
             help_scroll: app.help_scroll(),
             history: app
                 .now()

@@ -116,10 +116,10 @@ fn footers_of_every_keymap_at_several_widths() {
 fn a_footer_never_cuts_a_key_name_and_keeps_stop_help_and_quit() {
     for name in ["default", "numpad", "custom"] {
         let keymap = keymap(name);
-        let full = ui::hints::footer(&keymap, true, 1000);
+        let full = ui::hints::footer(&keymap, ui::hints::Offered::ALL, 1000);
         let key_names: Vec<String> = keymap.bindings().keys().map(|k| k.to_string()).collect();
         for width in 40..=full.len() {
-            let line = ui::hints::footer(&keymap, true, width);
+            let line = ui::hints::footer(&keymap, ui::hints::Offered::ALL, width);
             assert!(line.chars().count() <= width, "{name} {width}: {line}");
             for group in line.split("  ") {
                 assert!(full.contains(group), "{name} {width}: {group:?} was cut");
@@ -249,6 +249,51 @@ fn scrolling_the_help_with_a_jog_key_never_moves_the_arm() {
     release(&mut app, "down", t0 + Duration::from_millis(700));
     press(&mut app, "down", t0 + Duration::from_millis(800));
     assert!(app.jog().is_jogging(), "a fresh press pans");
+}
+
+// ---- Turns: only a Modbus link carries them ----
+
+#[test]
+fn the_turn_keys_are_offered_only_where_a_modbus_link_carries_them() {
+    for (on_operator, telemetry, offered) in [
+        (false, TelemetrySource::Modbus, true),
+        (true, TelemetrySource::Modbus, true),
+        (true, TelemetrySource::TalosHardware, false),
+        (false, TelemetrySource::None, false),
+    ] {
+        let (app, _) = app_with(keymap("default"), on_operator, telemetry, (160, 40));
+        assert_eq!(app.can_turn(), offered, "{telemetry:?}");
+        let line = footer(&app);
+        assert_eq!(
+            line.contains("i/m/l/b/e/z turn"),
+            offered,
+            "{on_operator} {telemetry:?}: {line}"
+        );
+        assert!(line.contains("arrows pan"), "{telemetry:?}: {line}");
+    }
+}
+
+#[test]
+fn the_turn_keys_are_offered_until_the_driver_says_which_link_it_has() {
+    let config = AppConfig {
+        keymap: keymap("default"),
+        release_mode: ReleaseMode::Reported,
+        refresh: Duration::from_millis(100),
+        positions_on_operator: false,
+        max_jog_speed: 0.25,
+        frames: true,
+    };
+    let mut app = App::new(config, PositionBook::new());
+    app.handle(
+        Input::Resize {
+            width: 160,
+            height: 40,
+        },
+        Instant::now(),
+    );
+    assert!(app.can_turn());
+    let line = footer(&app);
+    assert!(line.contains("i/m/l/b/e/z turn"), "{line}");
 }
 
 // ---- Ack dialect: no saving where it cannot work ----

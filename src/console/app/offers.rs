@@ -25,3 +25,18 @@ impl App {
         self.save_refusal().is_none()
     }
 }
+
+impl App {
+    /// Whether this link carries an orientation jog (the footer offers the turn keys).
+    ///
+    /// Only a Modbus link turns the tool (Talos has no orientation jog; the driver refuses it
+    /// with `ORIENTATION_NEEDS_MODBUS`). The driver expects Modbus telemetry exactly when it has
+    /// a Modbus link, so a link that expects other telemetry (or none) cannot turn. Until the
+    /// driver has said, the turn is offered, as saving is.
+    pub fn can_turn(&self) -> bool {
+        !matches!(
+            self.truth.expected_telemetry(),
+            Some(TelemetrySource::TalosHardware | TelemetrySource::None)
+        )
+    }
+}
