@@ -296,6 +296,63 @@ fn the_turn_keys_are_offered_until_the_driver_says_which_link_it_has() {
     assert!(line.contains("i/m/l/b/e/z turn"), "{line}");
 }
 
+// ---- The console's own book: no anchor toggle ----
+
+#[test]
+fn the_save_form_offers_an_anchor_only_where_an_operator_keeps_the_positions() {
+    for (on_operator, telemetry) in [
+        (true, TelemetrySource::TalosHardware),
+        (false, TelemetrySource::Modbus),
+    ] {
+        let (mut app, t0) = app_with(keymap("default"), on_operator, telemetry, (120, 40));
+        press(&mut app, "p", t0);
+        let Overlay::Form(form) = app.overlay() else {
+            panic!("{telemetry:?}: the form did not open")
+        };
+        let has_anchor = form.fields.iter().any(|f| f.label == "anchor");
+        assert_eq!(has_anchor, on_operator, "{telemetry:?}: {form:?}");
+        let shown = screen(&app);
+        let text = text(&shown).join("\n");
+        assert_eq!(text.contains("anchor: ["), on_operator, "{text}");
+        assert_eq!(
+            text.contains("anchors need Talos"),
+            !on_operator,
+            "the form says why: {text}"
+        );
+    }
+}
+
+#[test]
+fn a_pose_saved_to_the_consoles_own_book_keeps_its_parent() {
+    let (mut app, t0) = app_with(keymap("default"), false, TelemetrySource::Modbus, (120, 40));
+    app.handle(
+        Input::Arm(ArmEvent::Telemetry(Box::new(
+            armjog::kortex::Telemetry::decode(&armjog::kortex::RegisterImage::default()),
+        ))),
+        t0,
+    );
+    press(&mut app, "p", t0);
+    for c in "pick".chars() {
+        press(&mut app, &c.to_string(), t0);
+    }
+    press(&mut app, "tab", t0);
+    for c in "table".chars() {
+        press(&mut app, &c.to_string(), t0);
+    }
+    let effects = press(&mut app, "enter", t0);
+    assert!(
+        effects
+            .iter()
+            .any(|e| matches!(e, Effect::SavePositions(_))),
+        "{effects:?}"
+    );
+    let entry = app.positions().get("pick").expect("saved");
+    assert_eq!(entry.parent.as_deref(), Some("table"));
+    assert!(!entry.anchor);
+    let (message, severity) = app.message().expect("said");
+    assert_eq!(severity, Severity::Info, "{message}");
+}
+
 // ---- Ack dialect: no saving where it cannot work ----
 
 #[test]

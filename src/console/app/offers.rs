@@ -1,6 +1,7 @@
 //! What the console offers on this link: a key whose action cannot work here is not shown in
 //! the footer, and pressing it says why instead of opening a form.
 
+use crate::console::form::{Form, FormKind};
 use crate::link::interface::TelemetrySource;
 
 use super::App;
@@ -38,5 +39,17 @@ impl App {
             self.truth.expected_telemetry(),
             Some(TelemetrySource::TalosHardware | TelemetrySource::None)
         )
+    }
+}
+
+impl App {
+    /// The form that saves the current pose on this link: over the console's own book (no
+    /// Talos operator keeps the positions) it has no anchor toggle, which would do nothing.
+    pub(super) fn save_form(&self) -> Form {
+        if self.config.positions_on_operator {
+            Form::new(FormKind::Save, "")
+        } else {
+            Form::save_to_own_book()
+        }
     }
 }
