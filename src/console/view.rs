@@ -67,6 +67,8 @@ pub struct View {
     pub can_save: bool,
     /// The link carries an orientation jog (the footer offers the turn keys).
     pub can_turn: bool,
+    /// Going to a saved position can work on this link (the footer offers it).
+    pub can_go_to: bool,
     /// The help overlay's first shown line.
     pub help_scroll: usize,
     /// The last 30 s of telemetry (history panel).
@@ -126,6 +128,7 @@ impl View {
             overlay: app.overlay().clone(),
             can_save: app.can_save_position(),
             can_turn: app.can_turn(),
+            can_go_to: app.can_go_to(),
             help_scroll: app.help_scroll(),
             history: app
                 .now()

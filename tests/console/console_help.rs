@@ -353,6 +353,94 @@ fn a_pose_saved_to_the_consoles_own_book_keeps_its_parent() {
     assert_eq!(severity, Severity::Info, "{message}");
 }
 
+// ---- Ack dialect: no go-to to the console's own positions ----
+
+/// The footer's keys as the view offers them, at 200 columns, whatever message is shown.
+fn offered_footer(app: &App) -> String {
+    let view = View::new(app);
+    let offered = ui::hints::Offered {
+        save: view.can_save,
+        turn: view.can_turn,
+        go_to: view.can_go_to,
+    };
+    ui::hints::footer(&view.keymap, offered, 200)
+}
+
+/// Defines `name` at (x, y, z) mm with the set-cartesian form (`C`).
+fn define_cartesian(app: &mut App, name: &str, at: [&str; 3], t0: Instant) {
+    press(app, "C", t0);
+    assert!(matches!(app.overlay(), Overlay::Form(_)), "the form opens");
+    for field in std::iter::once(name).chain(at) {
+        for c in field.chars() {
+            press(app, &c.to_string(), t0);
+        }
+        press(app, "tab", t0);
+    }
+    press(app, "enter", t0);
+    assert_eq!(*app.overlay(), Overlay::None, "{:?}", app.message());
+}
+
+#[test]
+fn an_ack_link_says_why_it_cannot_go_to_a_position_the_console_keeps() {
+    let (mut app, t0) = app_with(keymap("default"), false, TelemetrySource::None, (200, 40));
+    define_cartesian(&mut app, "bench", ["400", "0", "300"], t0);
+    assert_eq!(
+        app.positions().get("bench").and_then(|e| e.cartesian),
+        Some([4000, 0, 3000]),
+        "stored locally, with its coordinates"
+    );
+    assert!(!app.can_go_to());
+    let line = offered_footer(&app);
+    assert!(!line.contains("go to"), "{line}");
+    assert!(line.contains("h home"), "{line}");
+    let effects = press(&mut app, "o", t0);
+    assert!(effects.is_empty(), "{effects:?}");
+    assert_eq!(*app.overlay(), Overlay::None, "nothing to confirm");
+    let (message, severity) = app.message().expect("a message says why");
+    assert_eq!(severity, Severity::Warning);
+    assert!(!message.contains("no coordinates"), "{message}");
+    assert!(message.contains("'bench'"), "{message}");
+    assert!(message.contains("Modbus"), "{message}");
+    assert!(message.contains("ack dialect"), "{message}");
+}
+
+#[test]
+fn over_modbus_a_position_the_console_keeps_is_gone_to() {
+    let (mut app, t0) = app_with(keymap("default"), false, TelemetrySource::Modbus, (200, 40));
+    app.handle(
+        Input::Arm(ArmEvent::Telemetry(Box::new(
+            armjog::kortex::Telemetry::decode(&armjog::kortex::RegisterImage::default()),
+        ))),
+        t0,
+    );
+    define_cartesian(&mut app, "bench", ["400", "0", "300"], t0);
+    assert!(app.can_go_to());
+    let line = offered_footer(&app);
+    assert!(line.contains("o go to"), "{line}");
+    press(&mut app, "o", t0);
+    assert!(matches!(app.overlay(), Overlay::Confirm(_)), "asked first");
+    let effects = press(&mut app, "y", t0);
+    assert!(
+        effects.iter().any(|e| matches!(
+            e,
+            Effect::Arm(armjog::link::interface::ArmCommand::MoveToPose(_))
+        )),
+        "{effects:?}"
+    );
+}
+
+#[test]
+fn over_modbus_without_telemetry_a_position_without_orientation_says_so() {
+    let (mut app, t0) = app_with(keymap("default"), false, TelemetrySource::Modbus, (120, 40));
+    define_cartesian(&mut app, "bench", ["400", "0", "300"], t0);
+    let effects = press(&mut app, "o", t0);
+    assert!(effects.is_empty(), "{effects:?}");
+    assert_eq!(*app.overlay(), Overlay::None, "nothing to confirm");
+    let (message, _) = app.message().expect("a message says why");
+    assert!(message.contains("no orientation stored"), "{message}");
+    assert!(message.contains("telemetry"), "{message}");
+}
+
 // ---- Ack dialect: no saving where it cannot work ----
 
 #[test]

@@ -28,6 +28,8 @@ pub struct Offered {
     pub save: bool,
     /// The link carries an orientation jog (a Modbus link).
     pub turn: bool,
+    /// Going to a saved position can work on this link.
+    pub go_to: bool,
 }
 
 impl Offered {
@@ -35,6 +37,7 @@ impl Offered {
     pub const ALL: Offered = Offered {
         save: true,
         turn: true,
+        go_to: true,
     };
 }
 
@@ -154,6 +157,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
                 Offered {
                     save: view.can_save,
                     turn: view.can_turn,
+                    go_to: view.can_go_to,
                 },
                 usize::from(area.width),
             ),
@@ -165,12 +169,13 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
 
 /// The key groups of `keymap` that fit in `width` columns, in display order. A group `offered`
 /// says this link cannot carry is left out (the save key where saving cannot work, the turn keys
-/// without a Modbus link).
+/// without a Modbus link, the go-to key where no link moves to a saved position).
 pub fn footer(keymap: &Keymap, offered: Offered, width: usize) -> String {
     let groups: Vec<(u8, String)> = GROUPS
         .iter()
         .filter(|group| offered.save || group.label != "save")
         .filter(|group| offered.turn || group.label != TURN)
+        .filter(|group| offered.go_to || group.label != "go to")
         .filter_map(|group| Some((group.priority, group_text(keymap, group)?)))
         .collect();
     let mut by_need: Vec<usize> = (0..groups.len()).collect();
@@ -284,8 +289,8 @@ mod tests {
     #[test]
     fn turns_that_the_link_cannot_carry_are_not_offered() {
         let offered = Offered {
-            save: true,
             turn: false,
+            ..Offered::ALL
         };
         let text = footer(&default_keymap(), offered, 200);
         assert!(!text.contains("turn"), "{text}");
@@ -296,10 +301,21 @@ mod tests {
     fn saving_that_cannot_work_is_not_offered() {
         let offered = Offered {
             save: false,
-            turn: true,
+            ..Offered::ALL
         };
         let text = footer(&default_keymap(), offered, 200);
         assert!(!text.contains("save"), "{text}");
         assert!(text.contains("h home  o go to"), "{text}");
+    }
+
+    #[test]
+    fn a_go_to_that_cannot_work_is_not_offered() {
+        let offered = Offered {
+            go_to: false,
+            ..Offered::ALL
+        };
+        let text = footer(&default_keymap(), offered, 200);
+        assert!(!text.contains("go to"), "{text}");
+        assert!(text.contains("p save  ? help"), "{text}");
     }
 }
