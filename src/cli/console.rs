@@ -6,8 +6,9 @@ use std::time::Duration;
 
 use clap::{Args, ValueEnum};
 
+use crate::console::book_io;
 use crate::console::keymap::Keymap;
-use crate::console::positions::PositionBook;
+use crate::console::positions::{BookError, PositionBook};
 use crate::console::run::{ConsoleSetup, run};
 use crate::kortex::PollPlan;
 use crate::link::Dialect;
@@ -144,16 +145,22 @@ pub async fn run_console(args: &ConsoleArgs) -> i32 {
             .then(|| crate::console::positions::default_path("simulator"))
             .flatten()
     });
+    // The built-in operator starts with the book's positions: read once, here, and handed to
+    // the console too.
+    let positions_read = match (&positions_file, on_simulator) {
+        (Some(path), true) => Some(book_io::read(path).await),
+        _ => None,
+    };
     let mut simulator = None;
     let (talos_addr, modbus_addr) = match (&args.talos, &args.modbus) {
         (None, None) => match Simulator::start(SimConfig {
             // The built-in operator honours the console's cap.
             max_jog_speed: args.max_jog_speed / 1000.0,
             // And knows the positions saved in earlier runs.
-            positions: match &positions_file {
-                Some(path) => read_for_simulator(path).await,
-                None => Vec::new(),
-            },
+            positions: positions_read
+                .as_ref()
+                .map(remembered_from_read)
+                .unwrap_or_default(),
             ..SimConfig::ephemeral()
         })
         .await
@@ -198,6 +205,7 @@ pub async fn run_console(args: &ConsoleArgs) -> i32 {
             KeyRelease::Repeat => Some(false),
         },
         positions_file,
+        positions_read,
     };
     let code = match run(setup).await {
         Ok(()) => 0,
@@ -228,17 +236,17 @@ pub fn remembered_for_simulator(book: &PositionBook) -> Vec<RememberedPosition> 
         .collect()
 }
 
-/// Reads the book at `path` for the built-in simulator, off the event loop. A book that
-/// cannot be read gives none: the console says why when it loads the book itself.
+/// Reads the book at `path` for the built-in simulator, off the event loop (see
+/// [`remembered_from_read`]).
 pub async fn read_for_simulator(path: &Path) -> Vec<RememberedPosition> {
-    let path = path.to_path_buf();
-    let read = tokio::task::spawn_blocking(move || PositionBook::load(&path)).await;
+    remembered_from_read(&book_io::read(path).await)
+}
+
+/// The positions the built-in simulator takes from a read of the book. A book that could not
+/// be read gives none: the console says why when it takes the same read.
+pub fn remembered_from_read(read: &Result<PositionBook, BookError>) -> Vec<RememberedPosition> {
     match read {
-        Ok(Ok(book)) => remembered_for_simulator(&book),
-        Ok(Err(e)) => {
-            tracing::warn!("the simulated operator starts without remembered positions: {e}");
-            Vec::new()
-        }
+        Ok(book) => remembered_for_simulator(book),
         Err(e) => {
             tracing::warn!("the simulated operator starts without remembered positions: {e}");
             Vec::new()

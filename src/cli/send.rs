@@ -414,16 +414,25 @@ fn decoded_hardware_reply(exchange: &Exchange) -> Option<HwReply> {
 }
 
 /// One readable line: command, id, outcome, fields, latency. A decoded hardware reply's payload
-/// is left to the lines under it (see `hw_text`).
+/// is left to the lines under it (see `hw_text`). A failed reply shows only its status: its
+/// fields are the zeros the ICD's error reply carries, not values.
 pub fn describe(exchange: &Exchange) -> String {
     let command = exchange.request.command();
-    let outcome = match exchange.answer {
-        Answer::Ack => "ACK".to_string(),
-        Answer::Reply(_) => exchange.return_code().to_string(),
+    let (outcome, failed) = match exchange.answer {
+        Answer::Ack => ("ACK".to_string(), false),
+        Answer::Reply(_) => {
+            let code = exchange.return_code();
+            (code.to_string(), !code.is_ok())
+        }
     };
     let mut line = format!("{command} (id {}): {outcome}", exchange.id);
     let decoded = decoded_hardware_reply(exchange).is_some();
-    for (key, value) in reply_fields(exchange) {
+    let fields = if failed {
+        Map::new()
+    } else {
+        reply_fields(exchange)
+    };
+    for (key, value) in fields {
         // An empty payload says nothing; a decoded one is shown on the lines below.
         let empty = value.as_str().is_some_and(str::is_empty);
         if empty || (decoded && matches!(key.as_str(), "decoded" | "payload")) {

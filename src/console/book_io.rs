@@ -33,6 +33,20 @@ pub fn load(path: &Path) -> oneshot::Receiver<Loaded> {
     rx
 }
 
+/// Reads the book at `path` on a blocking thread and waits for it: for a caller that needs the
+/// book before the console starts (the built-in simulator's operator), which then hands the
+/// same result to [`BookFiles::open_read`] instead of reading the file twice.
+pub async fn read(path: &Path) -> Result<PositionBook, BookError> {
+    let owned = path.to_path_buf();
+    match tokio::task::spawn_blocking(move || PositionBook::load(&owned)).await {
+        Ok(read) => read,
+        Err(e) => Err(BookError::Io {
+            path: path.display().to_string(),
+            source: std::io::Error::other(format!("the positions reader failed: {e}")),
+        }),
+    }
+}
+
 /// Waits for the loader's answer; never ends when there is none to wait for (`None`: loaded
 /// already, or no file). A loader that ended without answering is an error.
 pub async fn loaded(loading: &mut Option<oneshot::Receiver<Loaded>>) -> Loaded {
@@ -114,6 +128,24 @@ impl BookFiles {
     /// opened) is read here, at most to the limit, and refused at once with the file's name and
     /// what was wrong, before the console takes the terminal.
     pub fn open(path: Option<PathBuf>) -> Result<BookFiles, BookError> {
+        BookFiles::open_with(path, None)
+    }
+
+    /// As [`BookFiles::open`], with the book at `path` already `read` (by [`read`]): the file is
+    /// not read again, and the result goes where `open`'s own read would have gone (a file that
+    /// `open` refuses at once is refused with the read's error; any other file's error is
+    /// reported as a failed load).
+    pub fn open_read(
+        path: PathBuf,
+        read: Result<PositionBook, BookError>,
+    ) -> Result<BookFiles, BookError> {
+        BookFiles::open_with(Some(path), Some(read))
+    }
+
+    fn open_with(
+        path: Option<PathBuf>,
+        read: Option<Result<PositionBook, BookError>>,
+    ) -> Result<BookFiles, BookError> {
         let Some(p) = &path else {
             return Ok(BookFiles {
                 path,
@@ -127,13 +159,16 @@ impl BookFiles {
             Ok(meta) => meta.is_file() && meta.len() <= crate::files::POSITIONS_LIMIT,
             Err(e) => e.kind() == std::io::ErrorKind::NotFound,
         };
-        let loading = if regular_within_limit {
-            load(p)
-        } else {
-            let book = PositionBook::load(p)?;
-            let (tx, rx) = oneshot::channel();
-            let _ = tx.send(Ok(book));
-            rx
+        let loading = match (read, regular_within_limit) {
+            (None, true) => load(p),
+            (Some(read), true) => answered(read.map_err(|e| e.to_string())),
+            (read, false) => {
+                let book = match read {
+                    Some(read) => read?,
+                    None => PositionBook::load(p)?,
+                };
+                answered(Ok(book))
+            }
         };
         let (saver, save_errors) = Saver::start(p.clone());
         Ok(BookFiles {
@@ -186,6 +221,13 @@ impl BookFiles {
                 .await;
         }
     }
+}
+
+/// A loader's answer that is already known.
+fn answered(result: Loaded) -> oneshot::Receiver<Loaded> {
+    let (tx, rx) = oneshot::channel();
+    let _ = tx.send(result);
+    rx
 }
 
 #[cfg(test)]
@@ -285,5 +327,53 @@ mod tests {
         let mut loading = Some(load(&bad));
         let error = loaded(&mut loading).await.unwrap_err();
         assert!(error.starts_with(&bad.display().to_string()), "{error}");
+    }
+
+    #[tokio::test]
+    async fn a_book_read_already_is_handed_over_and_not_read_again() {
+        let d = dir();
+        let path = d.path().join("book.json");
+        let mut book = PositionBook::new();
+        book.get_or_insert("pick").cartesian = Some([1, 2, 3]);
+        book.save(&path).unwrap();
+        let read_once = read(&path).await;
+        // Whatever the file holds now, the console gets the book that was read.
+        std::fs::write(&path, "{ not json").unwrap();
+        let mut files = BookFiles::open_read(path, read_once).expect("opened");
+        assert_eq!(loaded(&mut files.loading).await, Ok(book));
+        files.finish(Duration::from_secs(10)).await;
+    }
+
+    #[tokio::test]
+    async fn a_bad_book_read_already_reports_as_opening_it_would() {
+        let d = dir();
+        let bad = d.path().join("bad.json");
+        std::fs::write(&bad, "{ not json").unwrap();
+        let mut opened = BookFiles::open(Some(bad.clone())).expect("opened");
+        let mut handed = BookFiles::open_read(bad.clone(), read(&bad).await).expect("opened");
+        let error = loaded(&mut handed.loading).await.unwrap_err();
+        assert!(error.starts_with(&bad.display().to_string()), "{error}");
+        assert_eq!(loaded(&mut opened.loading).await, Err(error));
+
+        let missing = d.path().join("missing.json");
+        let mut none = BookFiles::open_read(missing.clone(), read(&missing).await).expect("opened");
+        assert_eq!(loaded(&mut none.loading).await, Ok(PositionBook::new()));
+
+        let big = d.path().join("big.json");
+        std::fs::write(&big, vec![b' '; 17 * 1024 * 1024]).unwrap();
+        let refused = BookFiles::open(Some(big.clone())).err().expect("refused");
+        let refused_read = BookFiles::open_read(big.clone(), read(&big).await)
+            .err()
+            .expect("refused");
+        assert_eq!(refused_read.to_string(), refused.to_string());
+        assert!(refused_read.to_string().contains("16 MB"), "{refused_read}");
+        #[cfg(unix)]
+        {
+            let device = PathBuf::from("/dev/zero");
+            let error = BookFiles::open_read(device.clone(), read(&device).await)
+                .err()
+                .expect("refused");
+            assert!(error.to_string().starts_with("/dev/zero"), "{error}");
+        }
     }
 }

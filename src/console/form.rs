@@ -74,7 +74,13 @@ pub struct Form {
     pub error: Option<String>,
     /// The position being renamed (a rename form).
     pub original: Option<String>,
+    /// What this form leaves out on this link and why, shown under its fields.
+    pub note: Option<&'static str>,
 }
+
+/// Why the save form over the console's own book has no anchor toggle.
+/// Within a dialog's 70 columns.
+pub const NO_ANCHOR_NOTE: &str = "no anchor: this book is the console's own; anchors need Talos";
 
 /// What a completed form asks for. Coordinates in the Talos ICD's tenths.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -143,7 +149,18 @@ impl Form {
             focus: 0,
             error: None,
             original: None,
+            note: None,
         }
+    }
+
+    /// The save form for the console's own book (no Talos operator keeps the positions): it has
+    /// no anchor toggle, as an anchor would do nothing there, and its note says why. The parent
+    /// is kept, as the book keeps it.
+    pub fn save_to_own_book() -> Form {
+        let mut form = Form::new(FormKind::Save, "");
+        form.fields.retain(|field| field.label != "anchor");
+        form.note = Some(NO_ANCHOR_NOTE);
+        form
     }
 
     /// A form renaming `name`, prefilled with it.
@@ -348,6 +365,33 @@ mod tests {
             Some(FormResult::Save {
                 name: "pick 1".into(),
                 anchor: true,
+                parent: Some("table".into())
+            })
+        );
+    }
+
+    #[test]
+    fn the_save_form_for_the_consoles_own_book_has_no_anchor_toggle_and_says_why() {
+        let mut form = Form::save_to_own_book();
+        let labels: Vec<&str> = form.fields.iter().map(|f| f.label).collect();
+        assert_eq!(labels, ["name", "parent"]);
+        assert!(form.fields.iter().all(|f| !f.toggle));
+        assert_eq!(form.note, Some(NO_ANCHOR_NOTE));
+        assert_eq!(Form::new(FormKind::Save, "").note, None);
+        for (i, v) in ["pick", "table"].iter().enumerate() {
+            form.focus = i;
+            for c in v.chars() {
+                form.type_char(c);
+            }
+        }
+        // Space in the last field is text, not a toggle.
+        form.next_field();
+        assert_eq!(form.focus, 0, "two fields: tab wraps to the name");
+        assert_eq!(
+            form.submit(),
+            Some(FormResult::Save {
+                name: "pick".into(),
+                anchor: false,
                 parent: Some("table".into())
             })
         );

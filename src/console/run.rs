@@ -40,6 +40,10 @@ pub struct ConsoleSetup {
     /// `Some(true)` / `Some(false)` overrides the key-release probe.
     pub release_events: Option<bool>,
     pub positions_file: Option<PathBuf>,
+    /// The book at `positions_file`, when it was read already (the built-in simulator's
+    /// operator needed it before the console started): the console takes it instead of reading
+    /// the file again.
+    pub positions_read: Option<Result<positions::PositionBook, positions::BookError>>,
 }
 
 /// Why the console could not run.
@@ -84,7 +88,12 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
         .clone()
         .or_else(|| positions::default_path(&setup.driver.target()));
     // Read off the event loop: the first frame and the keys do not wait for a big book.
-    let mut book = BookFiles::open(book_path)?;
+    let mut book = match (book_path, setup.positions_read) {
+        (Some(path), Some(read)) if Some(&path) == setup.positions_file.as_ref() => {
+            BookFiles::open_read(path, read)?
+        }
+        (book_path, _) => BookFiles::open(book_path)?,
+    };
     let frames = setup.driver.modbus.is_some() && setup.driver.talos.is_none();
     let positions_on_operator = setup.driver.positions_on_operator();
     let max_jog_speed = setup.driver.max_jog_speed;

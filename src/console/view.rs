@@ -66,6 +66,10 @@ pub struct View {
     pub overlay: Overlay,
     /// Saving the current pose can work on this link (the footer offers it).
     pub can_save: bool,
+    /// The link carries an orientation jog (the footer offers the turn keys).
+    pub can_turn: bool,
+    /// Going to a saved position can work on this link (the footer offers it).
+    pub can_go_to: bool,
     /// The help overlay's first shown line.
     pub help_scroll: usize,
     /// The last 30 s of telemetry (history panel).
@@ -127,6 +131,8 @@ impl View {
                 .map(|(text, severity)| (text.to_string(), severity)),
             overlay: app.overlay().clone(),
             can_save: app.can_save_position(),
+            can_turn: app.can_turn(),
+            can_go_to: app.can_go_to(),
             help_scroll: app.help_scroll(),
             history: app
                 .now()

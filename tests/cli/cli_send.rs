@@ -29,6 +29,9 @@ fn canned_reply(request: &Request) -> Reply {
             azimuth: 900,
             radius: 1234,
         },
+        Request::GetCartesianPosition { name } if name == "missing" => {
+            Reply::error(request.command(), ReturnCode::UNKNOWN_POSITION)
+        }
         Request::GetCartesianPosition { .. } => Reply::GetCartesianPosition {
             return_code: ok,
             x: 4566,
@@ -350,6 +353,29 @@ async fn an_error_return_code_exits_non_zero_with_a_reason() {
     assert_eq!(json["return_code_name"], "UNKNOWN_POSITION");
     assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
     assert!(run.stderr.contains("UNKNOWN_POSITION"), "{}", run.stderr);
+}
+
+#[tokio::test(flavor = "multi_thread")]
+async fn a_failed_reply_as_text_shows_its_status_and_no_fields() {
+    let op = operator(Checksum::Crc16).await;
+    let run = armjog(&["send", "--talos", &op.addr, "get-cart", "missing"]).await;
+    assert_eq!(run.code, 1, "{}", run.stderr);
+    let line = run.stdout.trim_end();
+    assert_eq!(run.stdout.lines().count(), 1, "{}", run.stdout);
+    assert!(
+        line.starts_with("get_cart (id 0): 0x0004 UNKNOWN_POSITION ["),
+        "{line}"
+    );
+    assert!(line.ends_with(" ms]"), "{line}");
+    assert!(!line.contains('='), "no zero fields: {line}");
+    // A successful reply of the same command still shows its fields.
+    let run = armjog(&["send", "--talos", &op.addr, "get-cart", "pick"]).await;
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(
+        run.stdout.contains("OK x=4566 y=-10 z=4338 ["),
+        "{}",
+        run.stdout
+    );
 }
 
 #[tokio::test(flavor = "multi_thread")]

@@ -116,10 +116,10 @@ fn footers_of_every_keymap_at_several_widths() {
 fn a_footer_never_cuts_a_key_name_and_keeps_stop_help_and_quit() {
     for name in ["default", "numpad", "custom"] {
         let keymap = keymap(name);
-        let full = ui::hints::footer(&keymap, true, 1000);
+        let full = ui::hints::footer(&keymap, ui::hints::Offered::ALL, 1000);
         let key_names: Vec<String> = keymap.bindings().keys().map(|k| k.to_string()).collect();
         for width in 40..=full.len() {
-            let line = ui::hints::footer(&keymap, true, width);
+            let line = ui::hints::footer(&keymap, ui::hints::Offered::ALL, width);
             assert!(line.chars().count() <= width, "{name} {width}: {line}");
             for group in line.split("  ") {
                 assert!(full.contains(group), "{name} {width}: {group:?} was cut");
@@ -249,6 +249,196 @@ fn scrolling_the_help_with_a_jog_key_never_moves_the_arm() {
     release(&mut app, "down", t0 + Duration::from_millis(700));
     press(&mut app, "down", t0 + Duration::from_millis(800));
     assert!(app.jog().is_jogging(), "a fresh press pans");
+}
+
+// ---- Turns: only a Modbus link carries them ----
+
+#[test]
+fn the_turn_keys_are_offered_only_where_a_modbus_link_carries_them() {
+    for (on_operator, telemetry, offered) in [
+        (false, TelemetrySource::Modbus, true),
+        (true, TelemetrySource::Modbus, true),
+        (true, TelemetrySource::TalosHardware, false),
+        (false, TelemetrySource::None, false),
+    ] {
+        let (app, _) = app_with(keymap("default"), on_operator, telemetry, (160, 40));
+        assert_eq!(app.can_turn(), offered, "{telemetry:?}");
+        let line = footer(&app);
+        assert_eq!(
+            line.contains("i/m/l/b/e/z turn"),
+            offered,
+            "{on_operator} {telemetry:?}: {line}"
+        );
+        assert!(line.contains("arrows pan"), "{telemetry:?}: {line}");
+    }
+}
+
+#[test]
+fn the_turn_keys_are_offered_until_the_driver_says_which_link_it_has() {
+    let config = AppConfig {
+        keymap: keymap("default"),
+        release_mode: ReleaseMode::Reported,
+        refresh: Duration::from_millis(100),
+        positions_on_operator: false,
+        max_jog_speed: 0.25,
+        frames: true,
+    };
+    let mut app = App::new(config, PositionBook::new());
+    app.handle(
+        Input::Resize {
+            width: 160,
+            height: 40,
+        },
+        Instant::now(),
+    );
+    assert!(app.can_turn());
+    let line = footer(&app);
+    assert!(line.contains("i/m/l/b/e/z turn"), "{line}");
+}
+
+// ---- The console's own book: no anchor toggle ----
+
+#[test]
+fn the_save_form_offers_an_anchor_only_where_an_operator_keeps_the_positions() {
+    for (on_operator, telemetry) in [
+        (true, TelemetrySource::TalosHardware),
+        (false, TelemetrySource::Modbus),
+    ] {
+        let (mut app, t0) = app_with(keymap("default"), on_operator, telemetry, (120, 40));
+        press(&mut app, "p", t0);
+        let Overlay::Form(form) = app.overlay() else {
+            panic!("{telemetry:?}: the form did not open")
+        };
+        let has_anchor = form.fields.iter().any(|f| f.label == "anchor");
+        assert_eq!(has_anchor, on_operator, "{telemetry:?}: {form:?}");
+        let shown = screen(&app);
+        let text = text(&shown).join("\n");
+        assert_eq!(text.contains("anchor: ["), on_operator, "{text}");
+        assert_eq!(
+            text.contains("anchors need Talos"),
+            !on_operator,
+            "the form says why: {text}"
+        );
+    }
+}
+
+#[test]
+fn a_pose_saved_to_the_consoles_own_book_keeps_its_parent() {
+    let (mut app, t0) = app_with(keymap("default"), false, TelemetrySource::Modbus, (120, 40));
+    app.handle(
+        Input::Arm(ArmEvent::Telemetry(Box::new(
+            armjog::kortex::Telemetry::decode(&armjog::kortex::RegisterImage::default()),
+        ))),
+        t0,
+    );
+    press(&mut app, "p", t0);
+    for c in "pick".chars() {
+        press(&mut app, &c.to_string(), t0);
+    }
+    press(&mut app, "tab", t0);
+    for c in "table".chars() {
+        press(&mut app, &c.to_string(), t0);
+    }
+    let effects = press(&mut app, "enter", t0);
+    assert!(
+        effects
+            .iter()
+            .any(|e| matches!(e, Effect::SavePositions(_))),
+        "{effects:?}"
+    );
+    let entry = app.positions().get("pick").expect("saved");
+    assert_eq!(entry.parent.as_deref(), Some("table"));
+    assert!(!entry.anchor);
+    let (message, severity) = app.message().expect("said");
+    assert_eq!(severity, Severity::Info, "{message}");
+}
+
+// ---- Ack dialect: no go-to to the console's own positions ----
+
+/// The footer's keys as the view offers them, at 200 columns, whatever message is shown.
+fn offered_footer(app: &App) -> String {
+    let view = View::new(app);
+    let offered = ui::hints::Offered {
+        save: view.can_save,
+        turn: view.can_turn,
+        go_to: view.can_go_to,
+    };
+    ui::hints::footer(&view.keymap, offered, 200)
+}
+
+/// Defines `name` at (x, y, z) mm with the set-cartesian form (`C`).
+fn define_cartesian(app: &mut App, name: &str, at: [&str; 3], t0: Instant) {
+    press(app, "C", t0);
+    assert!(matches!(app.overlay(), Overlay::Form(_)), "the form opens");
+    for field in std::iter::once(name).chain(at) {
+        for c in field.chars() {
+            press(app, &c.to_string(), t0);
+        }
+        press(app, "tab", t0);
+    }
+    press(app, "enter", t0);
+    assert_eq!(*app.overlay(), Overlay::None, "{:?}", app.message());
+}
+
+#[test]
+fn an_ack_link_says_why_it_cannot_go_to_a_position_the_console_keeps() {
+    let (mut app, t0) = app_with(keymap("default"), false, TelemetrySource::None, (200, 40));
+    define_cartesian(&mut app, "bench", ["400", "0", "300"], t0);
+    assert_eq!(
+        app.positions().get("bench").and_then(|e| e.cartesian),
+        Some([4000, 0, 3000]),
+        "stored locally, with its coordinates"
+    );
+    assert!(!app.can_go_to());
+    let line = offered_footer(&app);
+    assert!(!line.contains("go to"), "{line}");
+    assert!(line.contains("h home"), "{line}");
+    let effects = press(&mut app, "o", t0);
+    assert!(effects.is_empty(), "{effects:?}");
+    assert_eq!(*app.overlay(), Overlay::None, "nothing to confirm");
+    let (message, severity) = app.message().expect("a message says why");
+    assert_eq!(severity, Severity::Warning);
+    assert!(!message.contains("no coordinates"), "{message}");
+    assert!(message.contains("'bench'"), "{message}");
+    assert!(message.contains("Modbus"), "{message}");
+    assert!(message.contains("ack dialect"), "{message}");
+}
+
+#[test]
+fn over_modbus_a_position_the_console_keeps_is_gone_to() {
+    let (mut app, t0) = app_with(keymap("default"), false, TelemetrySource::Modbus, (200, 40));
+    app.handle(
+        Input::Arm(ArmEvent::Telemetry(Box::new(
+            armjog::kortex::Telemetry::decode(&armjog::kortex::RegisterImage::default()),
+        ))),
+        t0,
+    );
+    define_cartesian(&mut app, "bench", ["400", "0", "300"], t0);
+    assert!(app.can_go_to());
+    let line = offered_footer(&app);
+    assert!(line.contains("o go to"), "{line}");
+    press(&mut app, "o", t0);
+    assert!(matches!(app.overlay(), Overlay::Confirm(_)), "asked first");
+    let effects = press(&mut app, "y", t0);
+    assert!(
+        effects.iter().any(|e| matches!(
+            e,
+            Effect::Arm(armjog::link::interface::ArmCommand::MoveToPose(_))
+        )),
+        "{effects:?}"
+    );
+}
+
+#[test]
+fn over_modbus_without_telemetry_a_position_without_orientation_says_so() {
+    let (mut app, t0) = app_with(keymap("default"), false, TelemetrySource::Modbus, (120, 40));
+    define_cartesian(&mut app, "bench", ["400", "0", "300"], t0);
+    let effects = press(&mut app, "o", t0);
+    assert!(effects.is_empty(), "{effects:?}");
+    assert_eq!(*app.overlay(), Overlay::None, "nothing to confirm");
+    let (message, _) = app.message().expect("a message says why");
+    assert!(message.contains("no orientation stored"), "{message}");
+    assert!(message.contains("telemetry"), "{message}");
 }
 
 // ---- Ack dialect: no saving where it cannot work ----

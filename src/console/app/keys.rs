@@ -276,7 +276,7 @@ impl App {
             // Starts empty: a saved pose must not overwrite the selected one by accident.
             A::SavePosition => match self.save_refusal() {
                 Some(why) => self.say(why, Severity::Warning, now),
-                None => self.overlay = Overlay::Form(Form::new(FormKind::Save, "")),
+                None => self.overlay = Overlay::Form(self.save_form()),
             },
             A::SetPolarPosition | A::SetCartesianPosition => {
                 let kind = if action == A::SetPolarPosition {

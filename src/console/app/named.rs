@@ -35,10 +35,12 @@ impl App {
                     self.going_to(&name);
                     effects.push(Effect::Arm(ArmCommand::GoToPosition { name }));
                 } else {
-                    match self.stored_pose(&name) {
-                        Some(pose) => effects.push(Effect::Arm(ArmCommand::MoveToPose(pose))),
-                        None => self.say(
-                            format!("'{name}' has no coordinates stored"),
+                    match (self.go_to_refusal(&name), self.stored_pose(&name)) {
+                        (None, Some(pose)) => {
+                            effects.push(Effect::Arm(ArmCommand::MoveToPose(pose)))
+                        }
+                        (refusal, _) => self.say(
+                            refusal.unwrap_or_else(|| format!("no position '{name}' is stored")),
                             Severity::Warning,
                             now,
                         ),

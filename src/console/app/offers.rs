@@ -1,6 +1,7 @@
 //! What the console offers on this link: a key whose action cannot work here is not shown in
 //! the footer, and pressing it says why instead of opening a form.
 
+use crate::console::form::{Form, FormKind};
 use crate::link::interface::TelemetrySource;
 
 use super::App;
@@ -23,5 +24,67 @@ impl App {
     /// Whether saving the current pose can work on this link (see [`App::save_refusal`]).
     pub fn can_save_position(&self) -> bool {
         self.save_refusal().is_none()
+    }
+
+    /// Whether this link carries an orientation jog (the footer offers the turn keys).
+    ///
+    /// Only a Modbus link turns the tool (Talos has no orientation jog; the driver refuses it
+    /// with `ORIENTATION_NEEDS_MODBUS`). Until the driver has said which link it has, the turn
+    /// is offered, as saving is.
+    pub fn can_turn(&self) -> bool {
+        !self.without_modbus()
+    }
+
+    /// Why going to the position `name` cannot work on this link, or `None` when it can.
+    ///
+    /// An operator in the ICD dialect goes to its positions itself. Otherwise the console keeps
+    /// the positions and moves the arm to their pose over Modbus: without a Modbus link (a Talos
+    /// operator in the ack dialect) nothing can carry that move, whatever the book holds.
+    pub fn go_to_refusal(&self, name: &str) -> Option<String> {
+        if self.config.positions_on_operator {
+            return None;
+        }
+        if self.without_modbus() {
+            return Some(format!(
+                "cannot go to '{name}': the console keeps this position, and only a Modbus link \
+                 moves the arm to its coordinates (this operator, ack dialect, keeps no \
+                 positions); add --modbus"
+            ));
+        }
+        let entry = self.positions.get(name)?;
+        if entry.cartesian.is_none() {
+            return Some(format!("'{name}' has no coordinates stored"));
+        }
+        (entry.orientation.is_none() && self.telemetry.is_none()).then(|| {
+            format!(
+                "cannot go to '{name}' yet: it has no orientation stored, and no telemetry \
+                 has given the tool's"
+            )
+        })
+    }
+
+    /// Whether going to a saved position can work on this link at all (the footer offers the
+    /// go-to key; see [`App::go_to_refusal`]).
+    pub fn can_go_to(&self) -> bool {
+        self.config.positions_on_operator || !self.without_modbus()
+    }
+
+    /// The driver has said it has no Modbus link: it expects Modbus telemetry exactly when it
+    /// has one.
+    fn without_modbus(&self) -> bool {
+        matches!(
+            self.truth.expected_telemetry(),
+            Some(TelemetrySource::TalosHardware | TelemetrySource::None)
+        )
+    }
+
+    /// The form that saves the current pose on this link: over the console's own book (no
+    /// Talos operator keeps the positions) it has no anchor toggle, which would do nothing.
+    pub(super) fn save_form(&self) -> Form {
+        if self.config.positions_on_operator {
+            Form::new(FormKind::Save, "")
+        } else {
+            Form::save_to_own_book()
+        }
     }
 }

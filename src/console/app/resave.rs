@@ -30,6 +30,11 @@ impl App {
     /// The go-to key on `name`: the usual question, or the re-save offer for a name the operator
     /// is known to have lost.
     pub(super) fn ask_go_to(&mut self, name: String, now: Instant) {
+        // Not asked when the answer could only be that it cannot work.
+        if let Some(why) = self.go_to_refusal(&name) {
+            self.say(why, Severity::Warning, now);
+            return;
+        }
         let lost = self.config.positions_on_operator
             && self
                 .positions

@@ -9,7 +9,7 @@ use super::{AuditEvent, AuditRecord};
 use crate::console::app::{describe_motion, fault_reason};
 use crate::console::positions::PositionBook;
 use crate::kortex::{CodeName, Pose, ReferenceFrame};
-use crate::link::driver::INITIAL_SPEED;
+use crate::link::driver::{INITIAL_SPEED, MAX_ANGULAR_JOG_SPEED};
 use crate::link::interface::{ArmCommand, ArmEvent, GuardStatus, JogMotion, LinkStatus, StepMove};
 
 /// What the deriver remembers between calls, to turn a stream into starts and stops.
@@ -54,6 +54,19 @@ impl AuditDeriver {
         (self.max_mm_s * f64::from(percent) / 100.0 * 10.0).round() / 10.0
     }
 
+    /// A jog's rate cap at `percent`: (mm/s, deg/s), one of them. A turn of the tool moves its
+    /// point not at all, so its cap is the angular rate the driver turns at
+    /// ([`MAX_ANGULAR_JOG_SPEED`] at 100 %); every other jog's is the tool speed.
+    fn jog_rate(&self, motion: &JogMotion, percent: u8) -> (Option<f64>, Option<f64>) {
+        match motion {
+            JogMotion::Orientation { .. } => {
+                let deg_s = f64::from(MAX_ANGULAR_JOG_SPEED) * f64::from(percent) / 100.0;
+                (None, Some((deg_s * 10.0).round() / 10.0))
+            }
+            _ => (Some(self.speed_mm_s(percent)), None),
+        }
+    }
+
     /// A command the app sent to the driver. `book` and `selected` name a go-to's position,
     /// which a Modbus move carries only as a pose.
     pub fn command(
@@ -71,15 +84,18 @@ impl AuditDeriver {
                 Some((running, _)) if running == *motion => None,
                 Some((running, since)) => {
                     self.jog = Some((*motion, since));
+                    let (speed_mm_s, speed_deg_s) = self.jog_rate(motion, speed_percent);
                     Some(AuditEvent::JogChange {
                         axis: describe_motion(*motion),
                         from: describe_motion(running),
                         speed_percent,
                         speed_mm_s,
+                        speed_deg_s,
                     })
                 }
                 None => {
                     self.jog = Some((*motion, at));
+                    let (speed_mm_s, speed_deg_s) = self.jog_rate(motion, speed_percent);
                     Some(AuditEvent::JogStart {
                         axis: describe_motion(*motion),
                         frame: match motion {
@@ -92,6 +108,7 @@ impl AuditDeriver {
                         },
                         speed_percent,
                         speed_mm_s,
+                        speed_deg_s,
                     })
                 }
             },

@@ -32,20 +32,29 @@ pub enum AuditEvent {
     },
     /// The console closed (after its last STOP).
     SessionEnd,
-    /// Continuous motion began: "+X", "-Y +Z", "az+", "alt-", "J3+".
+    /// Continuous motion began: "+X", "-Y +Z", "az+", "alt-", "J3+", "+Rz". A turn of the tool
+    /// records its angular rate cap (`speed_deg_s`); every other jog its tool speed cap
+    /// (`speed_mm_s`).
     JogStart {
         axis: String,
         #[serde(skip_serializing_if = "Option::is_none")]
         frame: Option<String>,
         speed_percent: u8,
-        speed_mm_s: f64,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        speed_mm_s: Option<f64>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        speed_deg_s: Option<f64>,
     },
-    /// A jog changed direction without stopping (another key joined or left).
+    /// A jog changed direction without stopping (another key joined or left); its rate as
+    /// [`AuditEvent::JogStart`]'s, for the new direction.
     JogChange {
         axis: String,
         from: String,
         speed_percent: u8,
-        speed_mm_s: f64,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        speed_mm_s: Option<f64>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        speed_deg_s: Option<f64>,
     },
     /// A jog ended with a STOP, after `duration_ms`.
     JogStop {

@@ -28,7 +28,8 @@ fn lines_carry_the_timestamp_first_then_the_event_and_its_fields() {
             axis: "+X".into(),
             frame: Some("base".into()),
             speed_percent: 50,
-            speed_mm_s: 125.0,
+            speed_mm_s: Some(125.0),
+            speed_deg_s: None,
         }),
         r#"{"ts":"2026-11-30T22:27:31.853Z","event":"jog_start","axis":"+X","frame":"base","speed_percent":50,"speed_mm_s":125.0}"#
     );
@@ -103,7 +104,8 @@ fn a_jog_is_one_start_and_one_stop_whatever_its_refreshes() {
             axis: "+X".into(),
             frame: Some("base".into()),
             speed_percent: 20,
-            speed_mm_s: 50.0,
+            speed_mm_s: Some(50.0),
+            speed_deg_s: None,
         }]
     );
     for _ in 0..5 {
@@ -116,7 +118,8 @@ fn a_jog_is_one_start_and_one_stop_whatever_its_refreshes() {
             axis: "+X +Z".into(),
             from: "+X".into(),
             speed_percent: 20,
-            speed_mm_s: 50.0,
+            speed_mm_s: Some(50.0),
+            speed_deg_s: None,
         }]
     );
     assert_eq!(
@@ -128,7 +131,8 @@ fn a_jog_is_one_start_and_one_stop_whatever_its_refreshes() {
     );
     // A second STOP ends no jog.
     assert_eq!(send(&mut d, &ArmCommand::Stop, 10), [AuditEvent::Stop]);
-    // A turn of the tool names its axis and the frame it turns in.
+    // A turn of the tool names its axis, the frame it turns in and its angular rate: 20 % of
+    // 30 deg/s, and no tool speed (its point stays put).
     let turn = ArmCommand::Jog(JogMotion::Orientation {
         rx: 0,
         ry: 0,
@@ -140,8 +144,43 @@ fn a_jog_is_one_start_and_one_stop_whatever_its_refreshes() {
             axis: "-Rz".into(),
             frame: Some("base".into()),
             speed_percent: 20,
-            speed_mm_s: 50.0,
+            speed_mm_s: None,
+            speed_deg_s: Some(6.0),
         }]
+    );
+    let two_turns = ArmCommand::Jog(JogMotion::Orientation {
+        rx: 1,
+        ry: 0,
+        rz: -1,
+    });
+    assert_eq!(
+        send(&mut d, &two_turns, 100),
+        [AuditEvent::JogChange {
+            axis: "+Rx -Rz".into(),
+            from: "-Rz".into(),
+            speed_percent: 20,
+            speed_mm_s: None,
+            speed_deg_s: Some(6.0),
+        }]
+    );
+}
+
+#[test]
+fn a_turn_records_its_rate_in_degrees_per_second_and_no_tool_speed() {
+    let mut d = deriver();
+    d.arm_event(&ArmEvent::Speed(100), t0());
+    let turn = ArmCommand::Jog(JogMotion::Orientation {
+        rx: 1,
+        ry: 0,
+        rz: 0,
+    });
+    let records = d.command(&turn, &PositionBook::new(), None, t0());
+    let lines: Vec<String> = records.iter().map(AuditRecord::json_line).collect();
+    assert_eq!(
+        lines,
+        [
+            r#"{"ts":"2026-11-30T22:27:31.853Z","event":"jog_start","axis":"+Rx","frame":"base","speed_percent":100,"speed_deg_s":30.0}"#
+        ]
     );
 }
 

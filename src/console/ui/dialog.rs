@@ -48,6 +48,9 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
                     Span::raw(value),
                 ]));
             }
+            if let Some(note) = form.note {
+                lines.push(Line::styled(note, theme.dim()));
+            }
             lines.push(Line::raw(""));
             if let Some(error) = &form.error {
                 lines.push(Line::styled(error.clone(), theme.alarm()));

@@ -18,6 +18,29 @@ use crate::console::view::View;
 /// Between two groups.
 const GROUP_GAP: &str = "  ";
 
+/// The orientation jog's group, left out where the link cannot carry a turn.
+const TURN: &str = "turn";
+
+/// Which groups of actions that only some links carry the footer offers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Offered {
+    /// Saving the current pose can work on this link.
+    pub save: bool,
+    /// The link carries an orientation jog (a Modbus link).
+    pub turn: bool,
+    /// Going to a saved position can work on this link.
+    pub go_to: bool,
+}
+
+impl Offered {
+    /// Every group, as on a link that carries everything.
+    pub const ALL: Offered = Offered {
+        save: true,
+        turn: true,
+        go_to: true,
+    };
+}
+
 /// One footer group: its label, its actions (one key shown for each) and how much it is needed
 /// (0 first: dropped last).
 struct Group {
@@ -27,7 +50,7 @@ struct Group {
 }
 
 /// The groups in the order they are shown.
-const GROUPS: [Group; 11] = [
+const GROUPS: [Group; 12] = [
     Group {
         label: "jog",
         actions: &[
@@ -39,6 +62,19 @@ const GROUPS: [Group; 11] = [
             Action::JogZMinus,
         ],
         priority: 3,
+    },
+    Group {
+        label: TURN,
+        actions: &[
+            Action::JogRxPlus,
+            Action::JogRxMinus,
+            Action::JogRyPlus,
+            Action::JogRyMinus,
+            Action::JogRzPlus,
+            Action::JogRzMinus,
+        ],
+        // Kept after pan: on an arm with both, pan is the older and more used family.
+        priority: 5,
     },
     Group {
         label: "pan",
@@ -53,7 +89,7 @@ const GROUPS: [Group; 11] = [
     Group {
         label: "joint",
         actions: &[Action::JointPlus, Action::JointMinus],
-        priority: 9,
+        priority: 10,
     },
     Group {
         label: "stop",
@@ -63,27 +99,27 @@ const GROUPS: [Group; 11] = [
     Group {
         label: "speed",
         actions: &[Action::SpeedUp, Action::SpeedDown],
-        priority: 7,
+        priority: 8,
     },
     Group {
         label: "step",
         actions: &[Action::StepMode],
-        priority: 8,
+        priority: 9,
     },
     Group {
         label: "home",
         actions: &[Action::Home],
-        priority: 6,
+        priority: 7,
     },
     Group {
         label: "save",
         actions: &[Action::SavePosition],
-        priority: 5,
+        priority: 6,
     },
     Group {
         label: "go to",
         actions: &[Action::GoToPosition],
-        priority: 10,
+        priority: 11,
     },
     Group {
         label: "help",
@@ -116,19 +152,30 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
             Line::styled(text.clone(), style)
         }
         None => Line::styled(
-            footer(&view.keymap, view.can_save, usize::from(area.width)),
+            footer(
+                &view.keymap,
+                Offered {
+                    save: view.can_save,
+                    turn: view.can_turn,
+                    go_to: view.can_go_to,
+                },
+                usize::from(area.width),
+            ),
             theme.dim(),
         ),
     };
     frame.render_widget(Paragraph::new(line), area);
 }
 
-/// The key groups of `keymap` that fit in `width` columns, in display order. `can_save` false
-/// leaves out the save key (a link where saving cannot work).
-pub fn footer(keymap: &Keymap, can_save: bool, width: usize) -> String {
+/// The key groups of `keymap` that fit in `width` columns, in display order. A group `offered`
+/// says this link cannot carry is left out (the save key where saving cannot work, the turn keys
+/// without a Modbus link, the go-to key where no link moves to a saved position).
+pub fn footer(keymap: &Keymap, offered: Offered, width: usize) -> String {
     let groups: Vec<(u8, String)> = GROUPS
         .iter()
-        .filter(|group| can_save || group.label != "save")
+        .filter(|group| offered.save || group.label != "save")
+        .filter(|group| offered.turn || group.label != TURN)
+        .filter(|group| offered.go_to || group.label != "go to")
         .filter_map(|group| Some((group.priority, group_text(keymap, group)?)))
         .collect();
     let mut by_need: Vec<usize> = (0..groups.len()).collect();
@@ -193,20 +240,20 @@ mod tests {
 
     #[test]
     fn a_wide_footer_shows_every_group_in_order() {
-        let text = footer(&default_keymap(), true, 200);
+        let text = footer(&default_keymap(), Offered::ALL, 200);
         assert_eq!(
             text,
-            "w/s/a/d/r/f jog  arrows pan  k/j joint  space stop  +/- speed  t step  h home  \
-             p save  o go to  ? help  q quit"
+            "w/s/a/d/r/f jog  i/m/l/b/e/z turn  arrows pan  k/j joint  space stop  +/- speed  \
+             t step  h home  p save  o go to  ? help  q quit"
         );
     }
 
     #[test]
     fn a_narrow_footer_drops_whole_groups_least_needed_first() {
         let keymap = default_keymap();
-        let full = footer(&keymap, true, 200);
+        let full = footer(&keymap, Offered::ALL, 200);
         for width in 0..=full.len() {
-            let text = footer(&keymap, true, width);
+            let text = footer(&keymap, Offered::ALL, width);
             assert!(text.chars().count() <= width, "{width}: {text}");
             for group in text.split(GROUP_GAP) {
                 assert!(full.contains(group), "{width}: {group} is cut");
@@ -215,13 +262,60 @@ mod tests {
                 assert!(text.contains("space stop"), "{width}: {text}");
             }
         }
-        assert_eq!(footer(&keymap, true, 30), "space stop  ? help  q quit");
+        assert_eq!(
+            footer(&keymap, Offered::ALL, 30),
+            "space stop  ? help  q quit"
+        );
+    }
+
+    #[test]
+    fn the_turn_group_drops_after_pan_and_before_stop_help_and_quit() {
+        let keymap = default_keymap();
+        let essentials = "w/s/a/d/r/f jog  arrows pan  space stop  ? help  q quit";
+        let turn = "  i/m/l/b/e/z turn";
+        // Just wide enough for the turn group beside pan and the essentials: it is shown.
+        assert_eq!(
+            footer(&keymap, Offered::ALL, essentials.len() + turn.len()),
+            "w/s/a/d/r/f jog  i/m/l/b/e/z turn  arrows pan  space stop  ? help  q quit"
+        );
+        // One column less: the turn group goes (smaller groups may fill the room), pan stays.
+        let narrower = footer(&keymap, Offered::ALL, essentials.len() + turn.len() - 1);
+        assert!(!narrower.contains("turn"), "{narrower}");
+        for group in essentials.split(GROUP_GAP) {
+            assert!(narrower.contains(group), "{group} dropped: {narrower}");
+        }
+    }
+
+    #[test]
+    fn turns_that_the_link_cannot_carry_are_not_offered() {
+        let offered = Offered {
+            turn: false,
+            ..Offered::ALL
+        };
+        let text = footer(&default_keymap(), offered, 200);
+        assert!(!text.contains("turn"), "{text}");
+        assert!(text.starts_with("w/s/a/d/r/f jog  arrows pan"), "{text}");
     }
 
     #[test]
     fn saving_that_cannot_work_is_not_offered() {
-        let text = footer(&default_keymap(), false, 200);
+        let offered = Offered {
+            save: false,
+            ..Offered::ALL
+        };
+        let text = footer(&default_keymap(), offered, 200);
         assert!(!text.contains("save"), "{text}");
         assert!(text.contains("h home  o go to"), "{text}");
+    }
+
+    #[test]
+    fn a_go_to_that_cannot_work_is_not_offered() {
+        let offered = Offered {
+            go_to: false,
+            ..Offered::ALL
+        };
+        let text = footer(&default_keymap(), offered, 200);
+        assert!(!text.contains("go to"), "{text}");
+        assert!(text.contains("p save  ? help"), "{text}");
     }
 }
