@@ -10,7 +10,9 @@ use crate::link::Dialect;
 use crate::sim::arm_model::Arm;
 use crate::sim::kinematics::{self, HOME_DEG};
 use crate::sim::talos_server::{NetworkFaults, TalosServerConfig};
-use crate::sim::{DEFAULT_MODBUS_LISTEN, DEFAULT_TALOS_LISTEN, SimConfig, Simulator};
+use crate::sim::{
+    DEFAULT_MODBUS_LISTEN, DEFAULT_TALOS_LISTEN, SimConfig, Simulator, UnlistedReads,
+};
 use crate::talos::Checksum;
 
 #[derive(Debug, Args)]
@@ -54,6 +56,11 @@ pub struct SimArgs {
     /// then names the arm as near a singularity (`near singularity (κ 253)`).
     #[arg(long, conflicts_with = "near_limit")]
     pub near_singularity: bool,
+    /// Answer Modbus reads that span addresses the ICD does not list (zeros there), as many
+    /// Modbus servers do, rather than refuse them ("illegal data address") as a strict arm does.
+    /// The console then reads a snapshot in 4 requests instead of 9.
+    #[arg(long)]
+    pub answer_unlisted_reads: bool,
 }
 
 impl SimArgs {
@@ -92,6 +99,11 @@ impl SimArgs {
             arm,
             max_jog_speed: self.max_jog_speed / 1000.0,
             positions: Vec::new(),
+            unlisted_reads: if self.answer_unlisted_reads {
+                UnlistedReads::Zero
+            } else {
+                UnlistedReads::Refuse
+            },
         })
     }
 }

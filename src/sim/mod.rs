@@ -46,6 +46,21 @@ pub struct SimConfig {
     pub max_jog_speed: f64,
     /// Named positions the operator starts with (remembered from earlier runs).
     pub positions: Vec<operator::RememberedPosition>,
+    /// What a Modbus read over addresses the ICD does not list gets.
+    pub unlisted_reads: UnlistedReads,
+}
+
+/// How the Modbus server answers a read that spans addresses the ICD does not list. A real
+/// arm's behaviour is not documented; the console reads either kind (see `PollPlan`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum UnlistedReads {
+    /// "Illegal data address", as a strict arm does: the console then reads the ICD's blocks
+    /// one by one (9 requests a snapshot).
+    #[default]
+    Refuse,
+    /// Zeros for the unlisted addresses inside the register image, as many Modbus servers do:
+    /// the console's compact plan reads a snapshot in 4 requests.
+    Zero,
 }
 
 impl Default for SimConfig {
@@ -58,6 +73,7 @@ impl Default for SimConfig {
             arm: Arm::default(),
             max_jog_speed: operator::MAX_JOG_LINEAR,
             positions: Vec::new(),
+            unlisted_reads: UnlistedReads::default(),
         }
     }
 }
@@ -137,6 +153,7 @@ impl Simulator {
                 listener,
                 arm.clone(),
                 faults_rx,
+                config.unlisted_reads,
             )));
             local
         });

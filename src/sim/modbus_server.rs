@@ -13,6 +13,7 @@ use tokio_modbus::server::Service;
 use tokio_modbus::server::tcp::Server;
 use tokio_modbus::{ExceptionCode, Request, Response, SlaveRequest};
 
+use super::UnlistedReads;
 use super::modbus_frames::{self, Relay};
 use super::modbus_registers::{
     self as registers, COILS, DISCRETE_INPUTS, HOLDING_REGISTERS, INPUT_REGISTERS, Refused,
@@ -33,6 +34,7 @@ type Reply = Pin<Box<dyn Future<Output = Result<Option<Response>, ExceptionCode>
 
 struct ArmService {
     arm: SimArm,
+    unlisted: UnlistedReads,
     faults: watch::Receiver<NetworkFaults>,
     replies: Arc<AtomicU64>,
     /// Ends the connection's frame relay with the service.
@@ -50,9 +52,10 @@ impl Service for ArmService {
         let faults = self.faults.borrow().clone();
         let n = self.replies.fetch_add(1, Ordering::Relaxed) + 1;
         let request = req.request;
+        let unlisted = self.unlisted;
         Box::pin(async move {
             let answer = arm
-                .with_world(move |world| serve(world, &request))
+                .with_world(move |world| serve(world, &request, unlisted))
                 .await
                 .map_err(|_| ExceptionCode::ServerDeviceFailure)?;
             if !faults.reply_delay.is_zero() {
@@ -75,7 +78,11 @@ fn refused(r: Refused) -> ExceptionCode {
 }
 
 /// One request against the world.
-fn serve(world: &mut World, request: &Request<'static>) -> Result<Response, ExceptionCode> {
+fn serve(
+    world: &mut World,
+    request: &Request<'static>,
+    unlisted: UnlistedReads,
+) -> Result<Response, ExceptionCode> {
     let snapshot = || world.arm.snapshot();
     let check = |ranges: &[(u16, u16)], start: u16, count: u16, max: u16| {
         if count == 0 || count > max {
@@ -86,23 +93,38 @@ fn serve(world: &mut World, request: &Request<'static>) -> Result<Response, Exce
             Ok(usize::from(start)..usize::from(start) + usize::from(count))
         }
     };
+    // A read may span unlisted addresses inside the image when the arm answers them.
+    let check_read = |ranges: &[(u16, u16)], start: u16, count: u16, max: u16| {
+        let image = [(0, ranges.iter().map(|(_, end)| *end).max().unwrap_or(0))];
+        let readable: &[(u16, u16)] = match unlisted {
+            UnlistedReads::Refuse => ranges,
+            UnlistedReads::Zero => &image,
+        };
+        if count == 0 || count > max {
+            Err(ExceptionCode::IllegalDataValue)
+        } else if !registers::listed(readable, start, count) {
+            Err(ExceptionCode::IllegalDataAddress)
+        } else {
+            Ok(usize::from(start)..usize::from(start) + usize::from(count))
+        }
+    };
     match request {
         Request::ReadDiscreteInputs(start, count) => {
-            let range = check(&DISCRETE_INPUTS, *start, *count, MAX_READ_BITS)?;
+            let range = check_read(&DISCRETE_INPUTS, *start, *count, MAX_READ_BITS)?;
             let bits = registers::discrete_inputs(&snapshot());
             Ok(Response::ReadDiscreteInputs(bits[range].to_vec()))
         }
         Request::ReadCoils(start, count) => {
-            let range = check(&COILS, *start, *count, MAX_READ_BITS)?;
+            let range = check_read(&COILS, *start, *count, MAX_READ_BITS)?;
             Ok(Response::ReadCoils(vec![false; range.len()]))
         }
         Request::ReadInputRegisters(start, count) => {
-            let range = check(&INPUT_REGISTERS, *start, *count, MAX_READ_REGISTERS)?;
+            let range = check_read(&INPUT_REGISTERS, *start, *count, MAX_READ_REGISTERS)?;
             let words = registers::input_registers(&snapshot());
             Ok(Response::ReadInputRegisters(words[range].to_vec()))
         }
         Request::ReadHoldingRegisters(start, count) => {
-            let range = check(&HOLDING_REGISTERS, *start, *count, MAX_READ_REGISTERS)?;
+            let range = check_read(&HOLDING_REGISTERS, *start, *count, MAX_READ_REGISTERS)?;
             let words = registers::holding_registers(&snapshot(), &world.command_block);
             Ok(Response::ReadHoldingRegisters(words[range].to_vec()))
         }
@@ -138,13 +160,19 @@ fn serve(world: &mut World, request: &Request<'static>) -> Result<Response, Exce
 }
 
 /// Serves Modbus TCP on `listener` until the task is aborted.
-pub async fn serve_on(listener: TcpListener, arm: SimArm, faults: watch::Receiver<NetworkFaults>) {
+pub async fn serve_on(
+    listener: TcpListener,
+    arm: SimArm,
+    faults: watch::Receiver<NetworkFaults>,
+    unlisted: UnlistedReads,
+) {
     let replies = Arc::new(AtomicU64::new(0));
     let on_connected = move |stream: TcpStream, peer: SocketAddr| {
         tracing::info!("sim modbus: client {peer} connected");
         let (stream, relay) = modbus_frames::guard(stream);
         let service = ArmService {
             arm: arm.clone(),
+            unlisted,
             faults: faults.clone(),
             replies: replies.clone(),
             _relay: relay,

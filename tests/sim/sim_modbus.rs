@@ -15,7 +15,7 @@ use tokio_modbus::{ExceptionCode, Request as MbRequest, Slave};
 
 use armjog::link::{Answer, TalosConfig, TalosLink};
 use armjog::sim::talos_server::NetworkFaults;
-use armjog::sim::{SimConfig, Simulator};
+use armjog::sim::{SimConfig, Simulator, UnlistedReads};
 use armjog::talos::hardware::{HwReply, HwRequest};
 use armjog::talos::{Reply, Request};
 
@@ -345,6 +345,59 @@ async fn unmapped_addresses_answer_illegal_data_address() {
     // The connection survives exceptions, and a refused write changed nothing.
     assert_eq!(robot_state(&mut ctx).await, READY);
     assert_eq!(action(&mut ctx).await.0, COMPLETED);
+}
+
+#[tokio::test]
+async fn an_arm_that_answers_unlisted_reads_gives_zeros_there_and_still_refuses_the_rest() {
+    let sim = Simulator::start(SimConfig {
+        unlisted_reads: UnlistedReads::Zero,
+        ..SimConfig::ephemeral()
+    })
+    .await
+    .expect("simulator starts");
+    let mut ctx = client(&sim).await;
+    let address = ExceptionCode::IllegalDataAddress;
+
+    // Input register 1 is not listed: zero, between the robot state and the fault flags.
+    let words = ctx
+        .read_input_registers(0, 14)
+        .await
+        .expect("transport")
+        .expect("answered");
+    assert_eq!(words.len(), 14);
+    assert_eq!(words[0], READY);
+    assert_eq!(words[1], 0);
+    // Holding registers 1-99 and 103: zeros; the action block still reads through.
+    let words = ctx
+        .read_holding_registers(0, 108)
+        .await
+        .expect("transport")
+        .expect("answered");
+    assert!(words[1..100].iter().all(|w| *w == 0));
+    assert_eq!(words[100], COMPLETED);
+    assert_eq!(words[103], 0);
+    // Unlisted flag inputs 10-31 and 63 read as off.
+    let bits = ctx
+        .read_discrete_inputs(0, 95)
+        .await
+        .expect("transport")
+        .expect("answered");
+    assert!(bits[10..32].iter().all(|b| !b) && !bits[63]);
+
+    // Past the image, and writes outside the command block, are refused as before.
+    let r = ctx.read_input_registers(139, 2).await;
+    assert_eq!(exception_of("input 139+2", r).await, address);
+    let r = ctx.read_holding_registers(220, 1).await;
+    assert_eq!(exception_of("holding 220", r).await, address);
+    let r = ctx.read_coils(3, 1).await;
+    assert_eq!(exception_of("read coil 3", r).await, address);
+    let r = ctx.write_single_register(100, 1).await;
+    assert_eq!(exception_of("write holding 100", r).await, address);
+    let r = ctx.read_input_registers(0, 126).await;
+    assert_eq!(
+        exception_of("126 registers", r).await,
+        ExceptionCode::IllegalDataValue
+    );
 }
 
 #[tokio::test]
