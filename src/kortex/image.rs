@@ -98,7 +98,22 @@ const ICD_BLOCKS: [ReadBlock; 9] = [
     ),
 ];
 
+/// Of the ICD's blocks, those no decision rests on and no other block lacks: the robot-state
+/// flag inputs (input register 0 says the same), the warning flag inputs (input registers 4-5
+/// carry the same warnings) and the control register (not shown). A strict arm's plan reads
+/// them once every [`SLOW_REFRESH`] rather than in each snapshot: 6 reads a snapshot, not 9.
+/// The fault flag inputs are read in every snapshot, as every block the compact plan reads.
+const ICD_SLOW: [ReadBlock; 3] = [ICD_BLOCKS[0], ICD_BLOCKS[2], ICD_BLOCKS[6]];
+
+/// How often the slow blocks are read.
+pub const SLOW_REFRESH: std::time::Duration = std::time::Duration::from_secs(1);
+
 impl PollPlan {
+    /// Whether `block` may be read less often than each snapshot (see [`SLOW_REFRESH`]).
+    pub fn is_slow(self, block: ReadBlock) -> bool {
+        self == PollPlan::IcdBlocks && ICD_SLOW.contains(&block)
+    }
+
     pub fn blocks(self) -> &'static [ReadBlock] {
         match self {
             PollPlan::Compact => &COMPACT,
@@ -260,6 +275,30 @@ mod tests {
             }
         }
         assert_eq!(PollPlan::Compact.blocks().len(), 4);
+    }
+
+    #[test]
+    fn only_the_strict_plans_state_warning_and_control_blocks_are_slow() {
+        assert!(
+            PollPlan::Compact
+                .blocks()
+                .iter()
+                .all(|b| !PollPlan::Compact.is_slow(*b))
+        );
+        let slow: Vec<(Table, u16, u16)> = PollPlan::IcdBlocks
+            .blocks()
+            .iter()
+            .filter(|b| PollPlan::IcdBlocks.is_slow(**b))
+            .map(|b| (b.table, b.start, b.count))
+            .collect();
+        assert_eq!(
+            slow,
+            [
+                (Table::DiscreteInputs, 0, 10),
+                (Table::DiscreteInputs, 64, 31),
+                (Table::HoldingRegisters, 0, 1)
+            ]
+        );
     }
 
     #[test]

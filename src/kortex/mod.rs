@@ -25,7 +25,7 @@ pub use codes::{
 };
 pub use commands::{CommandError, StoredMotion, Write};
 pub use flags::{Flag, FlagSet};
-pub use image::{ImageError, PollPlan, ReadBlock, RegisterImage};
+pub use image::{ImageError, PollPlan, ReadBlock, RegisterImage, SLOW_REFRESH};
 pub use polar::{PolarPanError, PolarPanSettings, check_directions, polar_twist};
 pub use registers::Table;
 pub use telemetry::{ActionState, ArmHealth, JointState, SpeedLimits, Telemetry, ToolState};

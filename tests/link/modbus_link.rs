@@ -5,7 +5,7 @@ use crate::modbus_fake;
 
 use std::time::Duration;
 
-use armjog::kortex::{Pose, ReferenceFrame, RobotState, Twist};
+use armjog::kortex::{Pose, ReferenceFrame, RobotState, SLOW_REFRESH, Twist};
 use armjog::link::modbus::{ModbusConfig, ModbusError, ModbusEvent, ModbusLink, StopReason};
 use modbus_fake::{Behaviour, FakeArm, Written, fill_known_telemetry, from_cdab, stop_write};
 use tokio_modbus::{ExceptionCode, Request};
@@ -122,6 +122,42 @@ async fn an_arm_refusing_unlisted_addresses_is_read_block_by_block() {
         events.recv().await,
         Some(ModbusEvent::PlanFallback { .. })
     ));
+}
+
+#[tokio::test]
+async fn a_strict_arms_state_warning_and_control_blocks_are_read_once_a_second() {
+    let arm = FakeArm::start().await;
+    arm.with(|s| {
+        fill_known_telemetry(s);
+        s.strict_addresses = true;
+    });
+    let (link, _events) = ModbusLink::connect(config(&arm)).await.unwrap();
+    link.read_telemetry().await.unwrap();
+    let first = arm.with(|s| s.reads()).len();
+    // The next snapshots skip the robot-state and warning flag inputs and holding register 0.
+    let telemetry = link.read_telemetry().await.unwrap();
+    let reads = arm.with(|s| s.reads());
+    assert_eq!(
+        reads[first..],
+        [
+            (2, 32, 31),
+            (4, 0, 1),
+            (4, 2, 12),
+            (4, 34, 106),
+            (3, 100, 3),
+            (3, 104, 4)
+        ]
+    );
+    // What they carried is kept from the last read of them.
+    assert_eq!(telemetry.speed_limits.linear, 0.5);
+    assert_eq!(telemetry.tcp.wrench.torque_z, 12.0);
+    // A second on, a snapshot reads them again.
+    tokio::time::sleep(SLOW_REFRESH + Duration::from_millis(50)).await;
+    let before = arm.with(|s| s.reads()).len();
+    link.read_telemetry().await.unwrap();
+    let reads = arm.with(|s| s.reads());
+    assert_eq!(reads[before..].len(), 9, "{:?}", &reads[before..]);
+    assert!(reads[before..].contains(&(2, 0, 10)) && reads[before..].contains(&(3, 0, 1)));
 }
 
 #[tokio::test]

@@ -16,8 +16,8 @@ use super::{
 };
 use crate::kortex::commands::{self, Write};
 use crate::kortex::{
-    ControlCoil, PolarPanSettings, PollPlan, Pose, ReferenceFrame, RegisterImage, Telemetry, Twist,
-    polar_twist,
+    ControlCoil, PolarPanSettings, PollPlan, Pose, ReferenceFrame, RegisterImage, SLOW_REFRESH,
+    Telemetry, Twist, polar_twist,
 };
 
 /// Reconnects tried, once the link is closing, to write a stop that is still owed.
@@ -59,6 +59,8 @@ pub(super) struct LinkTask {
     ctx: Option<Context>,
     lost_reason: String,
     plan: PollPlan,
+    /// When the plan's slow blocks were last read on this connection.
+    slow_read_at: Option<Instant>,
     image: RegisterImage,
     sequence: u64,
     motion: MotionInForce,
@@ -83,6 +85,7 @@ impl LinkTask {
     ) -> LinkTask {
         LinkTask {
             plan: config.plan,
+            slow_read_at: None,
             config,
             connector,
             jobs,
@@ -105,6 +108,7 @@ impl LinkTask {
 
     pub(super) async fn run(mut self, context: Context) {
         self.ctx = Some(context);
+        self.slow_read_at = None;
         loop {
             if self.ctx.is_none() && !self.reconnect().await {
                 return;
@@ -467,8 +471,15 @@ impl LinkTask {
     /// refuses the compact reads.
     async fn poll(&mut self) -> Result<Telemetry, ModbusError> {
         let started = Instant::now();
+        let mut with_slow = self
+            .slow_read_at
+            .is_none_or(|at| started.saturating_duration_since(at) >= SLOW_REFRESH);
         let mut index = 0;
         while let Some(block) = self.plan.blocks().get(index).copied() {
+            if !with_slow && self.plan.is_slow(block) {
+                index += 1;
+                continue;
+            }
             let Some(ctx) = self.ctx.as_mut() else {
                 return Err(self.not_connected());
             };
@@ -487,12 +498,16 @@ impl LinkTask {
                     self.plan = PollPlan::IcdBlocks;
                     self.event(ModbusEvent::PlanFallback { plan: self.plan });
                     index = 0;
+                    with_slow = true;
                 }
                 Err(e) => {
                     self.note_broken(&e);
                     return Err(e);
                 }
             }
+        }
+        if with_slow {
+            self.slow_read_at = Some(started);
         }
         let telemetry = Telemetry::decode(&self.image);
         self.sequence += 1;

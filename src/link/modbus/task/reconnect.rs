@@ -63,6 +63,7 @@ impl LinkTask {
             match opened {
                 Ok(ctx) => {
                     self.ctx = Some(ctx);
+                    self.slow_read_at = None;
                     tracing::info!("modbus link to {} reconnected", self.config.addr);
                     self.event(ModbusEvent::Reconnected { attempts });
                     return true;
