@@ -3,7 +3,8 @@
 //!   loopback, p50 and p99 (target: p99 under 1 ms);
 //! - CPU at rest with telemetry at 30 Hz (target: under 2 % of one core) and resident memory
 //!   (target: under 30 MB) of the real console binary, running in tmux against `armjog sim` in
-//!   another process.
+//!   another process: once against a strict arm (the simulator's default, 6 reads a snapshot)
+//!   and once against one that answers reads over unlisted addresses (4 reads a snapshot).
 //!
 //! Run with `cargo bench --bench console_live`. Needs tmux for the second part.
 
@@ -30,16 +31,18 @@ fn ms(d: Duration) -> f64 {
 }
 
 /// Waits for the driver's `Done` of the command `wanted` picks; false if it did not come
-/// within a second (the command failed or was never sent).
+/// within a second (the command failed or was never sent). Every event goes on to the app, as
+/// the console's runtime does: an app that never hears its STOPs confirmed stops jogging.
 async fn wait_done(
     events: &mut tokio::sync::mpsc::UnboundedReceiver<ArmEvent>,
+    app: &mut App,
     wanted: impl Fn(&ArmCommand) -> bool,
 ) -> bool {
     let done = async {
         while let Some(event) = events.recv().await {
-            if let ArmEvent::Done { command } = &event
-                && wanted(command)
-            {
+            let found = matches!(&event, ArmEvent::Done { command } if wanted(command));
+            app.handle(Input::Arm(event), Instant::now());
+            if found {
                 return true;
             }
         }
@@ -90,7 +93,7 @@ async fn press_release_latency() {
                 driver.send(c);
             }
         }
-        if !wait_done(&mut events, |c| matches!(c, ArmCommand::Jog(_))).await {
+        if !wait_done(&mut events, &mut app, |c| matches!(c, ArmCommand::Jog(_))).await {
             println!(
                 "press {}: no jog acknowledged within 1 s; latency figures cut short",
                 press.len()
@@ -105,7 +108,7 @@ async fn press_release_latency() {
                 driver.send(c);
             }
         }
-        if !wait_done(&mut events, |c| matches!(c, ArmCommand::Stop)).await {
+        if !wait_done(&mut events, &mut app, |c| matches!(c, ArmCommand::Stop)).await {
             println!(
                 "release {}: no STOP acknowledged within 1 s; latency figures cut short",
                 release.len()
@@ -198,7 +201,12 @@ fn cpu_percent(pid: u32, window: Duration) -> Option<f64> {
     Some((after - before) as f64 / 100.0 / window.as_secs_f64() * 100.0)
 }
 
-fn console_at_rest() -> Result<(), String> {
+/// How long the console runs before the window: past the history's 30 s, whose sparklines
+/// grow (and are redrawn) until the window is full.
+const SETTLE: Duration = Duration::from_secs(35);
+
+/// The console at rest against `armjog sim` started with `sim_args`, described as `arm`.
+fn console_at_rest(sim_args: &[&str], arm: &str) -> Result<(), String> {
     let bin = env!("CARGO_BIN_EXE_armjog");
     let dir = std::env::temp_dir().join(format!("armjog-bench-{}", std::process::id()));
     std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
@@ -210,6 +218,7 @@ fn console_at_rest() -> Result<(), String> {
             "--modbus-listen",
             "127.0.0.1:0",
         ])
+        .args(sim_args)
         .env("ARMJOG_LOG_DIR", &dir)
         .stdout(Stdio::piped())
         .spawn()
@@ -263,8 +272,8 @@ fn console_at_rest() -> Result<(), String> {
             .trim()
             .parse()
             .map_err(|_| "no console pid".to_string())?;
-        std::thread::sleep(Duration::from_secs(3));
-        let window = Duration::from_secs(10);
+        std::thread::sleep(SETTLE);
+        let window = Duration::from_secs(20);
         let sim_pid = sim.id();
         let sim_thread = std::thread::spawn(move || cpu_percent(sim_pid, window));
         let threads_before = thread_ns(pid);
@@ -275,7 +284,7 @@ fn console_at_rest() -> Result<(), String> {
         let rss = status_kb(pid, "VmRSS:").unwrap_or(0);
         let hwm = status_kb(pid, "VmHWM:").unwrap_or(0);
         println!(
-            "console at rest, telemetry 30 Hz over Modbus + Talos link: CPU {precise:.2} % of one core over {window:?} (by ticks {console:.1} %)"
+            "console at rest ({arm}), telemetry 30 Hz over Modbus + Talos link: CPU {precise:.2} % of one core over {window:?} after {SETTLE:?} (by ticks {console:.1} %)"
         );
         let threads: Vec<String> = threads
             .iter()
@@ -304,9 +313,18 @@ fn main() {
     if !std::env::args().any(|a| a == "idle") {
         latency();
     }
-    if let Err(e) = console_at_rest() {
-        eprintln!("console_live: {e}");
-        std::process::exit(1);
+    let arms: [(&[&str], &str); 2] = [
+        (&[], "a strict arm: 6 reads a snapshot, 9 once a second"),
+        (
+            &["--answer-unlisted-reads"],
+            "an arm that answers unlisted reads: 4 reads a snapshot",
+        ),
+    ];
+    for (sim_args, arm) in arms {
+        if let Err(e) = console_at_rest(sim_args, arm) {
+            eprintln!("console_live: {e}");
+            std::process::exit(1);
+        }
     }
 }
 
