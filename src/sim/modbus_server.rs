@@ -96,16 +96,9 @@ fn serve(
     // A read may span unlisted addresses inside the image when the arm answers them.
     let check_read = |ranges: &[(u16, u16)], start: u16, count: u16, max: u16| {
         let image = [(0, ranges.iter().map(|(_, end)| *end).max().unwrap_or(0))];
-        let readable: &[(u16, u16)] = match unlisted {
-            UnlistedReads::Refuse => ranges,
-            UnlistedReads::Zero => &image,
-        };
-        if count == 0 || count > max {
-            Err(ExceptionCode::IllegalDataValue)
-        } else if !registers::listed(readable, start, count) {
-            Err(ExceptionCode::IllegalDataAddress)
-        } else {
-            Ok(usize::from(start)..usize::from(start) + usize::from(count))
+        match unlisted {
+            UnlistedReads::Refuse => check(ranges, start, count, max),
+            UnlistedReads::Zero => check(&image, start, count, max),
         }
     };
     match request {

@@ -5,7 +5,7 @@ use armjog::cli::{Cli, Command};
 use armjog::sim::kinematics::{HOME_DEG, JOINT_LIMITS_DEG};
 use clap::{CommandFactory, Parser};
 
-fn sim_args(args: &[&str]) -> Result<armjog::cli::sim::SimArgs, clap::Error> {
+pub(crate) fn sim_args(args: &[&str]) -> Result<armjog::cli::sim::SimArgs, clap::Error> {
     let mut full = vec!["armjog", "sim"];
     full.extend_from_slice(args);
     match Cli::try_parse_from(&full)?.command {

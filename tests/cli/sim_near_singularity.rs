@@ -2,19 +2,11 @@
 //! simulator at (inside the console's singularity warning, inside every joint limit), and its
 //! conflict with `--near-limit`.
 
-use armjog::cli::{Cli, Command};
+use crate::sim_near_limit::sim_args;
+use armjog::cli::Cli;
 use armjog::kortex::gen3::{SINGULARITY_WARNING, condition_number};
 use armjog::sim::kinematics::{HOME_DEG, within_limit};
-use clap::{CommandFactory, Parser};
-
-fn sim_args(args: &[&str]) -> Result<armjog::cli::sim::SimArgs, clap::Error> {
-    let mut full = vec!["armjog", "sim"];
-    full.extend_from_slice(args);
-    match Cli::try_parse_from(&full)?.command {
-        Some(Command::Sim(sim)) => Ok(sim),
-        other => panic!("{args:?}: not sim but {other:?}"),
-    }
-}
+use clap::CommandFactory;
 
 #[test]
 fn near_singularity_bends_the_elbow_to_3_degrees_short_of_straight_and_the_rest_at_home() {

@@ -8,9 +8,9 @@ use std::time::{Duration, Instant};
 use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 use tokio::sync::mpsc::UnboundedReceiver;
 
-use armjog::console::app::{App, AppConfig, Effect, Input, KeyInput};
-use armjog::console::jog::{KeyKind, ReleaseMode};
-use armjog::console::keymap::{KeyName, Keymap};
+use armjog::console::app::{App, Effect, Input, KeyInput};
+use armjog::console::jog::KeyKind;
+use armjog::console::keymap::KeyName;
 use armjog::console::positions::PositionBook;
 use armjog::console::run::key_input;
 use armjog::link::driver::{Driver, DriverConfig};
@@ -69,17 +69,7 @@ impl Console {
         let mut book = PositionBook::new();
         // A name remembered from an earlier run that this (fresh) operator does not know.
         book.get_or_insert("ghost");
-        let app = App::new(
-            AppConfig {
-                keymap: Keymap::builtin("default").expect("keymap"),
-                release_mode: ReleaseMode::Reported,
-                refresh: Duration::from_millis(100),
-                positions_on_operator: config.positions_on_operator(),
-                max_jog_speed: config.max_jog_speed,
-                frames: config.talos.is_none(),
-            },
-            book,
-        );
+        let app = event_loop::app_for(&config, book);
         let (driver, events) = Driver::spawn(config);
         let mut console = Console {
             app,

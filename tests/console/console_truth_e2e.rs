@@ -13,9 +13,9 @@ use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::mpsc::UnboundedReceiver;
 use tokio::sync::watch;
 
-use armjog::console::app::{App, AppConfig, Effect, Input, KeyInput, MotionShown};
-use armjog::console::jog::{KeyKind, ReleaseMode};
-use armjog::console::keymap::{KeyName, Keymap};
+use armjog::console::app::{App, Effect, Input, KeyInput, MotionShown};
+use armjog::console::jog::KeyKind;
+use armjog::console::keymap::KeyName;
 use armjog::console::positions::PositionBook;
 use armjog::link::driver::{Driver, DriverConfig};
 use armjog::link::interface::{ArmEvent, LinkStatus};
@@ -114,17 +114,7 @@ impl Console {
             true => DriverConfig::new(Some(TalosConfig::new(sim.talos_addr.to_string())), None),
             false => DriverConfig::new(None, Some(modbus)),
         };
-        let app = App::new(
-            AppConfig {
-                keymap: Keymap::builtin("default").expect("keymap"),
-                release_mode: ReleaseMode::Reported,
-                refresh: Duration::from_millis(100),
-                positions_on_operator: config.positions_on_operator(),
-                max_jog_speed: config.max_jog_speed,
-                frames: !talos,
-            },
-            PositionBook::new(),
-        );
+        let app = event_loop::app_for(&config, PositionBook::new());
         let (driver, events) = Driver::spawn(config);
         let mut console = Console {
             app,

@@ -4,8 +4,30 @@
 use tokio::sync::mpsc::UnboundedReceiver;
 use tokio::time::Instant;
 
-use armjog::console::app::{App, Input};
+use std::time::Duration;
+
+use armjog::console::app::{App, AppConfig, Input};
+use armjog::console::jog::ReleaseMode;
+use armjog::console::keymap::Keymap;
+use armjog::console::positions::PositionBook;
+use armjog::link::driver::DriverConfig;
 use armjog::link::interface::ArmEvent;
+
+/// The app the console's runtime builds for `config` (default keymap, key releases reported),
+/// starting with `book`.
+pub fn app_for(config: &DriverConfig, book: PositionBook) -> App {
+    App::new(
+        AppConfig {
+            keymap: Keymap::builtin("default").expect("keymap"),
+            release_mode: ReleaseMode::Reported,
+            refresh: Duration::from_millis(100),
+            positions_on_operator: config.positions_on_operator(),
+            max_jog_speed: config.max_jog_speed,
+            frames: config.talos.is_none(),
+        },
+        book,
+    )
+}
 
 /// A test console: an app, the driver's events, and what becomes of the app's effects.
 pub trait Drives {

@@ -1,11 +1,10 @@
 //! `armjog sim --near-limit 4` end to end: the simulator starts with J4 2 degrees inside its
 //! limit, and a console over Modbus names it in the status bar and colours its gauge.
 
+use crate::event_loop;
 use std::time::{Duration, Instant};
 
-use armjog::console::app::{App, AppConfig, Input};
-use armjog::console::jog::ReleaseMode;
-use armjog::console::keymap::Keymap;
+use armjog::console::app::Input;
 use armjog::console::positions::PositionBook;
 use armjog::console::ui::{self, Theme};
 use armjog::console::view::View;
@@ -29,17 +28,7 @@ async fn a_console_over_modbus_names_j4_two_degrees_from_its_limit() {
     .expect("simulator");
     let modbus = ModbusConfig::new(sim.modbus_addr.expect("modbus").to_string());
     let config = DriverConfig::new(None, Some(modbus));
-    let mut app = App::new(
-        AppConfig {
-            keymap: Keymap::builtin("default").expect("keymap"),
-            release_mode: ReleaseMode::Reported,
-            refresh: Duration::from_millis(100),
-            positions_on_operator: config.positions_on_operator(),
-            max_jog_speed: config.max_jog_speed,
-            frames: true,
-        },
-        PositionBook::new(),
-    );
+    let mut app = event_loop::app_for(&config, PositionBook::new());
     let (driver, mut events) = Driver::spawn(config);
     // Generous: a loaded CI machine may take a while to connect and poll.
     let within = tokio::time::Instant::now() + Duration::from_secs(20);

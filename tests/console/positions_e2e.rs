@@ -8,10 +8,10 @@ use std::time::{Duration, Instant};
 
 use tokio::sync::mpsc::UnboundedReceiver;
 
-use armjog::console::app::{App, AppConfig, Effect, Input, KeyInput, Overlay};
+use armjog::console::app::{App, Effect, Input, KeyInput, Overlay};
 use armjog::console::form::Confirm;
-use armjog::console::jog::{KeyKind, ReleaseMode};
-use armjog::console::keymap::{KeyName, Keymap};
+use armjog::console::jog::KeyKind;
+use armjog::console::keymap::KeyName;
 use armjog::console::positions::PositionBook;
 use armjog::link::TalosConfig;
 use armjog::link::driver::{Driver, DriverConfig};
@@ -53,17 +53,7 @@ impl event_loop::Drives for Session {
 impl Session {
     fn start(talos_addr: String, book: PositionBook) -> Session {
         let config = DriverConfig::new(Some(TalosConfig::new(talos_addr)), None);
-        let app = App::new(
-            AppConfig {
-                keymap: Keymap::builtin("default").expect("keymap"),
-                release_mode: ReleaseMode::Reported,
-                refresh: Duration::from_millis(100),
-                positions_on_operator: config.positions_on_operator(),
-                max_jog_speed: config.max_jog_speed,
-                frames: false,
-            },
-            book,
-        );
+        let app = event_loop::app_for(&config, book);
         let (driver, events) = Driver::spawn(config);
         Session {
             app,

@@ -3,11 +3,10 @@
 //! telemetry) names the arm as near a singularity, and one over the ack dialect, which reports
 //! nothing, shows no estimate.
 
+use crate::event_loop;
 use std::time::{Duration, Instant};
 
-use armjog::console::app::{App, AppConfig, Input};
-use armjog::console::jog::ReleaseMode;
-use armjog::console::keymap::Keymap;
+use armjog::console::app::Input;
 use armjog::console::positions::PositionBook;
 use armjog::console::ui::{self, Theme};
 use armjog::console::view::View;
@@ -58,17 +57,7 @@ async fn status_over(link: Link) -> (View, String) {
         Link::TalosHardware | Link::TalosAck => DriverConfig::new(Some(talos), None),
     };
     let expects_telemetry = config.telemetry_source() != TelemetrySource::None;
-    let mut app = App::new(
-        AppConfig {
-            keymap: Keymap::builtin("default").expect("keymap"),
-            release_mode: ReleaseMode::Reported,
-            refresh: Duration::from_millis(100),
-            positions_on_operator: config.positions_on_operator(),
-            max_jog_speed: config.max_jog_speed,
-            frames: config.talos.is_none(),
-        },
-        PositionBook::new(),
-    );
+    let mut app = event_loop::app_for(&config, PositionBook::new());
     let (driver, mut events) = Driver::spawn(config);
     // Generous: a loaded CI machine may take a while to connect and poll.
     let within = tokio::time::Instant::now() + Duration::from_secs(20);
