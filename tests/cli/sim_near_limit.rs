@@ -53,15 +53,20 @@ fn near_limit_refuses_continuous_joints_and_numbers_out_of_range() {
     }
 }
 
-#[test]
-fn sim_help_documents_near_limit() {
+/// `armjog sim --help`, long form.
+pub(crate) fn sim_long_help() -> String {
     let mut command = Cli::command();
     command.build();
-    let help = command
+    command
         .find_subcommand_mut("sim")
         .expect("sim")
         .render_long_help()
-        .to_string();
+        .to_string()
+}
+
+#[test]
+fn sim_help_documents_near_limit() {
+    let help = sim_long_help();
     assert!(help.contains("--near-limit"), "{help}");
     assert!(help.contains("2, 4 or 6"), "{help}");
 }

@@ -2,11 +2,9 @@
 //! simulator at (inside the console's singularity warning, inside every joint limit), and its
 //! conflict with `--near-limit`.
 
-use crate::sim_near_limit::sim_args;
-use armjog::cli::Cli;
+use crate::sim_near_limit::{sim_args, sim_long_help};
 use armjog::kortex::gen3::{SINGULARITY_WARNING, condition_number};
 use armjog::sim::kinematics::{HOME_DEG, within_limit};
-use clap::CommandFactory;
 
 #[test]
 fn near_singularity_bends_the_elbow_to_3_degrees_short_of_straight_and_the_rest_at_home() {
@@ -46,13 +44,7 @@ fn near_singularity_and_near_limit_cannot_both_be_given() {
 
 #[test]
 fn sim_help_documents_near_singularity() {
-    let mut command = Cli::command();
-    command.build();
-    let help = command
-        .find_subcommand_mut("sim")
-        .expect("sim")
-        .render_long_help()
-        .to_string();
+    let help = sim_long_help();
     assert!(help.contains("--near-singularity"), "{help}");
     assert!(help.contains("3 degrees short of straight"), "{help}");
 }

@@ -66,3 +66,15 @@ pub async fn run_until_instant<C: Drives>(
         console.input(input);
     }
 }
+
+/// Row 1 of the whole console drawn at 120x30 from `view`: the status line.
+pub fn status_line(view: &armjog::console::view::View) -> String {
+    use armjog::console::ui::{self, Theme};
+    use ratatui::{Terminal, backend::TestBackend};
+    let mut terminal = Terminal::new(TestBackend::new(120, 30)).expect("terminal");
+    terminal
+        .draw(|f| ui::draw(f, view, &Theme { color: true }))
+        .expect("draw");
+    let buffer = terminal.backend().buffer();
+    (0..120).map(|x| buffer[(x, 1)].symbol()).collect()
+}

@@ -6,7 +6,6 @@ use std::time::{Duration, Instant};
 
 use armjog::console::app::Input;
 use armjog::console::positions::PositionBook;
-use armjog::console::ui::{self, Theme};
 use armjog::console::view::View;
 use armjog::link::ModbusConfig;
 use armjog::link::driver::{Driver, DriverConfig};
@@ -14,8 +13,6 @@ use armjog::link::interface::LinkStatus;
 use armjog::sim::arm_model::Arm;
 use armjog::sim::kinematics::{near_limit_pose_deg, to_radians};
 use armjog::sim::{SimConfig, Simulator};
-use ratatui::Terminal;
-use ratatui::backend::TestBackend;
 
 #[tokio::test]
 async fn a_console_over_modbus_names_j4_two_degrees_from_its_limit() {
@@ -50,12 +47,7 @@ async fn a_console_over_modbus_names_j4_two_degrees_from_its_limit() {
     );
     assert_eq!(view.near_limits.len(), 1, "{:?}", view.near_limits);
 
-    let mut terminal = Terminal::new(TestBackend::new(120, 30)).expect("terminal");
-    terminal
-        .draw(|f| ui::draw(f, &view, &Theme { color: true }))
-        .expect("draw");
-    let buffer = terminal.backend().buffer();
-    let status: String = (0..120).map(|x| buffer[(x, 1)].symbol()).collect();
+    let status = event_loop::status_line(&view);
     assert!(status.contains("J4 2.0° from limit"), "{status}");
     driver.shutdown().await;
 }

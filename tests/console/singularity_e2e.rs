@@ -8,7 +8,6 @@ use std::time::{Duration, Instant};
 
 use armjog::console::app::Input;
 use armjog::console::positions::PositionBook;
-use armjog::console::ui::{self, Theme};
 use armjog::console::view::View;
 use armjog::link::driver::{Driver, DriverConfig};
 use armjog::link::interface::{LinkStatus, TelemetrySource};
@@ -17,8 +16,6 @@ use armjog::sim::arm_model::Arm;
 use armjog::sim::kinematics::{near_singularity_pose_deg, to_radians};
 use armjog::sim::talos_server::TalosServerConfig;
 use armjog::sim::{SimConfig, Simulator};
-use ratatui::Terminal;
-use ratatui::backend::TestBackend;
 
 enum Link {
     Modbus,
@@ -79,12 +76,7 @@ async fn status_over(link: Link) -> (View, String) {
         }
     }
     let view = View::new(&app);
-    let mut terminal = Terminal::new(TestBackend::new(120, 30)).expect("terminal");
-    terminal
-        .draw(|f| ui::draw(f, &view, &Theme { color: true }))
-        .expect("draw");
-    let buffer = terminal.backend().buffer();
-    let status: String = (0..120).map(|x| buffer[(x, 1)].symbol()).collect();
+    let status = event_loop::status_line(&view);
     driver.shutdown().await;
     (view, status)
 }
