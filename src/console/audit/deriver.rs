@@ -99,11 +99,14 @@ impl AuditDeriver {
                     Some(AuditEvent::JogStart {
                         axis: describe_motion(*motion),
                         frame: match motion {
-                            JogMotion::Cartesian { .. } | JogMotion::Orientation { .. }
-                                if self.frames =>
-                            {
-                                self.frame.clone()
-                            }
+                            JogMotion::Cartesian { .. } if self.frames => self.frame.clone(),
+                            // A turn always goes over Modbus in a frame: the one chosen, or
+                            // base when frames are not offered (both links configured).
+                            JogMotion::Orientation { .. } => Some(
+                                self.frame
+                                    .clone()
+                                    .unwrap_or_else(|| ReferenceFrame::Base.key().to_string()),
+                            ),
                             _ => None,
                         },
                         speed_percent,

@@ -185,6 +185,34 @@ fn a_turn_records_its_rate_in_degrees_per_second_and_no_tool_speed() {
 }
 
 #[test]
+fn a_turn_names_its_frame_also_where_frames_are_not_offered() {
+    // Both links: cartesian jogs go over Talos (no frame), turns over Modbus in base.
+    let mut d = AuditDeriver::new(0.25, false, true);
+    let cartesian = ArmCommand::Jog(JogMotion::Cartesian { x: 1, y: 0, z: 0 });
+    let turn = ArmCommand::Jog(JogMotion::Orientation {
+        rx: 0,
+        ry: 0,
+        rz: -1,
+    });
+    let stop = ArmCommand::Stop;
+    let book = PositionBook::new();
+    let starts: Vec<AuditEvent> = [&cartesian, &stop, &turn]
+        .into_iter()
+        .flat_map(|c| d.command(c, &book, None, t0()))
+        .map(|r| r.event)
+        .filter(|e| matches!(e, AuditEvent::JogStart { .. }))
+        .collect();
+    let frames: Vec<Option<String>> = starts
+        .iter()
+        .map(|e| match e {
+            AuditEvent::JogStart { frame, .. } => frame.clone(),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(frames, [None, Some("base".to_string())]);
+}
+
+#[test]
 fn the_speed_in_force_is_the_one_the_driver_reports() {
     let mut d = deriver();
     d.arm_event(&ArmEvent::Speed(75), t0());
