@@ -1,5 +1,5 @@
 //! When the console draws a frame: at most 30 a second after the technician's own input or
-//! while jogging, at most 7.5 a second when only the arm's reports changed, once a second when
+//! while the arm moves (a jog, an action, or joints turning in the telemetry), at most 7.5 a second when only the arm's reports changed, once a second when
 //! only what ticks over at rest changed (the latency, the telemetry polls' count, temperatures:
 //! see [`View::differs_only_in_background`]), and never for a view that shows the same as the
 //! one drawn last. The last two keep an idle console under 2 % of a core.
@@ -53,14 +53,15 @@ impl FramePacer {
         self.urgent |= urgent;
     }
 
-    /// When the next frame is due, or `None` when nothing changed. `jogging` draws at the
-    /// faster rate, so the motion shown keeps up with the arm.
-    pub fn due_at(&self, jogging: bool) -> Option<Instant> {
+    /// When the next frame is due, or `None` when nothing changed. `moving` (a jog, or the arm
+    /// in motion: [`App::arm_in_motion`](super::app::App::arm_in_motion)) draws at the faster
+    /// rate, so the motion shown keeps up with the arm.
+    pub fn due_at(&self, moving: bool) -> Option<Instant> {
         let Some(changed_at) = self.changed_at.filter(|_| self.changed) else {
             return self.background_due;
         };
         let settled = changed_at + SETTLE;
-        let period = if self.urgent || jogging {
+        let period = if self.urgent || moving {
             FRAME
         } else {
             IDLE_FRAME
@@ -326,5 +327,29 @@ mod tests {
         let shown = painted.telemetry.expect("telemetry");
         assert_eq!(shown.joints[3].position, telemetry.joints[3].position);
         assert_eq!(shown.joints[3].temperature, telemetry.joints[3].temperature);
+    }
+
+    #[test]
+    fn a_turning_joint_or_a_motion_shown_draws_at_the_full_rate() {
+        let start = Instant::now();
+        let mut app = app();
+        let mut telemetry = crate::kortex::Telemetry::decode(&Default::default());
+        let report =
+            |t: &crate::kortex::Telemetry| Input::Arm(ArmEvent::Telemetry(Box::new(t.clone())));
+        app.handle(report(&telemetry), start);
+        assert!(!app.arm_in_motion(), "at rest");
+        // Noise below the threshold is rest.
+        telemetry.joints[2].velocity = -0.2;
+        app.handle(report(&telemetry), start);
+        assert!(!app.arm_in_motion());
+        // Another client moves the arm: J1 turns.
+        telemetry.joints[0].velocity = 3.0;
+        app.handle(report(&telemetry), start);
+        assert!(app.arm_in_motion());
+        let mut pacer = FramePacer::default();
+        pacer.changed(false, start);
+        assert!(pacer.frame(View::new(&app), start).is_some());
+        pacer.changed(false, start + Duration::from_millis(1));
+        assert_eq!(pacer.due_at(app.arm_in_motion()), Some(start + FRAME));
     }
 }

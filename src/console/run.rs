@@ -219,7 +219,7 @@ async fn event_loop(
     pacer.changed(true, Instant::now());
     loop {
         let deadline = app.next_deadline();
-        let paint_at = pacer.due_at(app.jog().is_jogging());
+        let paint_at = pacer.due_at(app.arm_in_motion());
         let input = tokio::select! {
             biased;
             signal = signals.next() => Some(Input::Signal(signal)),

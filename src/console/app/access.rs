@@ -11,7 +11,23 @@ use crate::console::positions::PositionBook;
 use crate::kortex::{ReferenceFrame, Telemetry};
 use crate::link::interface::{GuardStatus, LinkStatus, LogEntry, TelemetrySource};
 
+/// A joint turning faster than this (deg/s, reported) counts as the arm moving: below it, a
+/// reading's noise, or motion too slow to need more than the idle frame rate.
+pub const MOVING_JOINT_DEG_S: f32 = 0.5;
+
 impl App {
+    /// The arm moves, or may: a jog, an action, a STOP being confirmed or a doubt is shown, or
+    /// the telemetry has a joint turning (whoever moves the arm). The console then draws at its
+    /// full rate, so the arm view keeps up with the telemetry.
+    pub fn arm_in_motion(&self) -> bool {
+        !matches!(self.motion_shown(), super::MotionShown::Idle)
+            || self.telemetry().is_some_and(|t| {
+                t.joints
+                    .iter()
+                    .any(|j| j.velocity.abs() > MOVING_JOINT_DEG_S)
+            })
+    }
+
     pub fn config(&self) -> &AppConfig {
         &self.config
     }
