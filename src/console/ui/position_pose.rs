@@ -4,6 +4,7 @@
 
 use ratatui::text::Line;
 
+use super::numbers::fixed;
 use super::theme::Theme;
 use crate::console::app::polar_of;
 use crate::console::positions::BookEntry;
@@ -109,21 +110,16 @@ fn tenths(value: i32) -> f64 {
 }
 
 /// A reported angle (0 to 360 degrees) as a technician reads it: -0.5, not 359.5.
+///
+/// In f64, unlike [`numbers::signed_angle`](super::numbers::signed_angle) (f32): for a
+/// negative angle in a book the two round differently (-127.975 reads -127.97 here, -127.98
+/// there).
 fn about_zero(degrees: f64) -> f64 {
     let turned = degrees.rem_euclid(360.0);
     if turned > 180.0 {
         turned - 360.0
     } else {
         turned
-    }
-}
-
-/// `value` with `decimals` places, never "-0.00".
-fn fixed(value: f64, decimals: usize) -> String {
-    let text = format!("{value:.decimals$}");
-    match text.strip_prefix('-') {
-        Some(unsigned) if unsigned.chars().all(|c| c == '0' || c == '.') => unsigned.to_string(),
-        _ => text,
     }
 }
 

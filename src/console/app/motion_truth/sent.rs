@@ -1,0 +1,121 @@
+//! What the console sends, noted after every input: a stale link lets no motion start, a
+//! failed or unwatched action gets a STOP, and each command sent is remembered as evidence
+//! awaited (an answer, a STOP's confirmation, an action's end).
+
+use std::time::Instant;
+
+use super::{ActionKind, TrackedAction};
+use crate::console::app::arm_state::age_text;
+use crate::console::app::message::Until;
+use crate::console::app::{App, Effect, Overlay, Severity};
+use crate::console::form::Confirm;
+use crate::kortex::Flag;
+use crate::link::interface::ArmCommand;
+/// Whether `command` sets the arm moving.
+fn starts_motion(command: &ArmCommand) -> bool {
+    matches!(
+        command,
+        ArmCommand::Jog(_)
+            | ArmCommand::Step(_)
+            | ArmCommand::Home
+            | ArmCommand::GoToPosition { .. }
+            | ArmCommand::MoveToPose(_)
+    )
+}
+
+impl App {
+    /// The name of the position a go-to question asks about, taken before the answer.
+    pub(in crate::console::app) fn goto_in_question(&self) -> Option<String> {
+        match &self.overlay {
+            Overlay::Confirm(Confirm::GoTo(name)) => Some(name.clone()),
+            _ => None,
+        }
+    }
+
+    /// After every input: a stale link starts no motion (a command held up in a frozen network
+    /// could run whenever it thaws) and stops the jog; tracked actions time out; the commands
+    /// just emitted are noted.
+    pub(in crate::console::app) fn truth_after(
+        &mut self,
+        goto: Option<String>,
+        now: Instant,
+        effects: &mut Vec<Effect>,
+    ) {
+        if let Some(age) = self.link_stale() {
+            let asked = effects.len();
+            effects.retain(|e| !matches!(e, Effect::Arm(command) if starts_motion(command)));
+            if effects.len() != asked {
+                let text = "link stale: not moving";
+                self.say_until(text, Severity::Warning, Until::LinkFresh, now);
+            }
+            // An action the console can no longer watch is stopped like a jog: the arm must
+            // not go on moving unseen.
+            if self.truth.action.is_some() {
+                self.truth.stop_needed = true;
+            }
+            if self.jog.is_jogging() {
+                self.stop_jog(now, effects);
+                self.say_until(
+                    format!(
+                        "link stale: no word from the arm for {}: jog stopped",
+                        age_text(age)
+                    ),
+                    Severity::Error,
+                    Until::LinkFresh,
+                    now,
+                );
+            }
+        }
+        self.time_out_action(now);
+        if std::mem::take(&mut self.truth.stop_needed)
+            && !effects
+                .iter()
+                .any(|e| matches!(e, Effect::Arm(c) if c.is_stop()))
+        {
+            effects.push(Effect::Arm(ArmCommand::Stop));
+        }
+        for effect in effects.iter() {
+            let Effect::Arm(command) = effect else {
+                continue;
+            };
+            self.note_sent(command, goto.clone(), now);
+        }
+    }
+
+    fn note_sent(&mut self, command: &ArmCommand, goto: Option<String>, now: Instant) {
+        let truth = &mut self.truth;
+        truth.waiting_since.get_or_insert(now);
+        if command.is_stop() {
+            truth.stop_sent = Some(now);
+            truth.motion_since_stop = false;
+            truth.stop_confirmed_at = None;
+            if let Some(action) = truth.action.take() {
+                let verb = action.kind.verb();
+                self.say(format!("{verb} stopped"), Severity::Info, now);
+            }
+            return;
+        }
+        let kind = match command {
+            ArmCommand::Jog(_) => None,
+            ArmCommand::Home => Some(ActionKind::Home),
+            ArmCommand::GoToPosition { name } => Some(ActionKind::GoTo(name.clone())),
+            ArmCommand::MoveToPose(_) => Some(ActionKind::GoTo(goto.unwrap_or_default())),
+            ArmCommand::Step(_) => Some(ActionKind::Step),
+            _ => return,
+        };
+        truth.unsettled = true;
+        truth.motion_since_stop = true;
+        truth.stop_confirmed_at = None;
+        // A new motion replaces whatever action was running.
+        let last = self.telemetry.as_ref();
+        truth.action = kind.map(|kind| TrackedAction {
+            kind,
+            sent: now,
+            accepted: None,
+            from: last.map(|t| t.joints.map(|j| j.position)),
+            warned_before: last.is_some_and(|t| t.warnings.contains(Flag::JointFault)),
+            seen_motion: false,
+            seen_started: false,
+        });
+    }
+}

@@ -1,0 +1,106 @@
+//! How old the link and the telemetry are, and the next instant the screen changes without
+//! any input (a link turning stale, an age counting up, a grace or an action's time running
+//! out).
+
+use std::time::{Duration, Instant};
+
+use super::{ACTION_TIMEOUT, MotionTruth, NO_TELEMETRY_ACTION_TIME, STALE_AFTER, STOP_GRACE};
+use crate::console::app::App;
+use crate::console::app::arm_state::AGE_TENTHS_UNTIL;
+use crate::link::interface::LinkStatus;
+
+impl MotionTruth {
+    /// The silence after which telemetry is old: 500 ms, or three of the link's shortest recent
+    /// intervals if it polls slower than that allows.
+    pub fn stale_after(&self) -> Duration {
+        let period = self.intervals.iter().min().copied().unwrap_or_default();
+        STALE_AFTER.max(period * 3)
+    }
+
+    /// How long the link has been silent past its limit, if it has.
+    fn stale_for(&self, now: Instant) -> Option<Duration> {
+        self.expect?;
+        let mut age = None;
+        if self.expects_telemetry()
+            && let Some(since) = self.telemetry_at.max(self.link_up_at)
+        {
+            let silent = now.saturating_duration_since(since);
+            age = (silent >= self.stale_after()).then_some(silent);
+        }
+        if let Some(since) = self.waiting_since {
+            let silent = now.saturating_duration_since(since);
+            if silent >= STALE_AFTER {
+                age = age.max(Some(silent));
+            }
+        }
+        age
+    }
+
+    /// The next instant something shown changes without any input.
+    fn next_deadline(&self, now: Instant, link_up: bool) -> Option<Instant> {
+        let mut candidates = Vec::new();
+        if link_up && self.expect.is_some() {
+            if self.expects_telemetry()
+                && let Some(since) = self.telemetry_at.max(self.link_up_at)
+            {
+                candidates.push(since + self.stale_after());
+            }
+            candidates.extend(self.waiting_since.map(|since| since + STALE_AFTER));
+        }
+        // The shown ages count up while anything is old: in tenths, then whole seconds.
+        let telemetry_age = self
+            .telemetry_at
+            .map(|at| now.saturating_duration_since(at))
+            .filter(|age| *age >= self.stale_after());
+        let link_age = self.stale_for(now).filter(|_| link_up);
+        if let Some(age) = telemetry_age.max(link_age) {
+            let step = if age < AGE_TENTHS_UNTIL {
+                Duration::from_millis(100)
+            } else {
+                Duration::from_secs(1)
+            };
+            candidates.push(now + step);
+        }
+        candidates.extend(self.stop_sent.map(|at| at + STOP_GRACE));
+        candidates.extend(self.stop_confirmed_at.map(|at| at + STOP_GRACE));
+        if let Some(action) = &self.action {
+            let limit = if self.expects_telemetry() {
+                ACTION_TIMEOUT
+            } else {
+                NO_TELEMETRY_ACTION_TIME
+            };
+            candidates.push(action.sent + limit);
+        }
+        candidates.into_iter().filter(|at| *at > now).min()
+    }
+}
+
+impl App {
+    /// The instant of the latest input: the clock the panels' ages are drawn with.
+    pub fn now(&self) -> Option<Instant> {
+        self.now
+    }
+
+    /// How long the link has been silent, when that makes it stale (only while it is up).
+    pub fn link_stale(&self) -> Option<Duration> {
+        let now = self.now?;
+        match self.link {
+            LinkStatus::Up { .. } => self.truth.stale_for(now),
+            _ => None,
+        }
+    }
+
+    /// The age of the telemetry shown, when it is old enough to be drawn as stale.
+    pub fn telemetry_stale(&self) -> Option<Duration> {
+        let (now, at) = (self.now?, self.truth.telemetry_at?);
+        let age = now.saturating_duration_since(at);
+        (age >= self.truth.stale_after()).then_some(age)
+    }
+
+    /// The truth's part of [`App::next_deadline`].
+    pub(in crate::console::app) fn truth_deadline(&self) -> Option<Instant> {
+        let now = self.now?;
+        self.truth
+            .next_deadline(now, matches!(self.link, LinkStatus::Up { .. }))
+    }
+}

@@ -1,0 +1,261 @@
+//! The book's file: JSON, versioned, a map from name to entry; read within a size limit and
+//! written atomically, indented when that fits the limit and compact otherwise.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use super::{BookEntry, Named, PositionBook};
+
+/// Version of the file format.
+pub(super) const FORMAT: u32 = 1;
+
+/// Serde for the shared sorted list: the file holds a map from name to entry.
+pub(super) mod sorted_map {
+    use super::*;
+    use serde::ser::SerializeMap;
+
+    pub fn serialize<S: serde::Serializer>(
+        list: &Arc<Vec<Named>>,
+        serializer: S,
+    ) -> Result<S::Ok, S::Error> {
+        let mut map = serializer.serialize_map(Some(list.len()))?;
+        for (name, entry) in list.iter() {
+            map.serialize_entry(name, entry)?;
+        }
+        map.end()
+    }
+
+    pub fn deserialize<'de, D: serde::Deserializer<'de>>(
+        deserializer: D,
+    ) -> Result<Arc<Vec<Named>>, D::Error> {
+        deserializer.deserialize_map(ListVisitor).map(Arc::new)
+    }
+
+    /// Reads the map straight into the list (no map built on the side), then sorts it and keeps
+    /// the last of a name given twice, as a map would.
+    struct ListVisitor;
+
+    impl<'de> serde::de::Visitor<'de> for ListVisitor {
+        type Value = Vec<Named>;
+
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str("a map from position names to positions")
+        }
+
+        fn visit_map<A: serde::de::MapAccess<'de>>(
+            self,
+            mut map: A,
+        ) -> Result<Vec<Named>, A::Error> {
+            let mut list: Vec<Named> = Vec::new();
+            while let Some(named) = map.next_entry::<String, BookEntry>()? {
+                list.push(named);
+            }
+            // Stable: of equal names, the one given last stays last.
+            list.sort_by(|a, b| a.0.cmp(&b.0));
+            list.dedup_by(|later, kept| {
+                if later.0 == kept.0 {
+                    std::mem::swap(later, kept);
+                    true
+                } else {
+                    false
+                }
+            });
+            list.shrink_to_fit();
+            Ok(list)
+        }
+    }
+}
+
+/// Why the book could not be read or written. Names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum BookError {
+    #[error("{path}: {source}")]
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error("{path}:{line}:{column}: {message}")]
+    Parse {
+        path: String,
+        line: usize,
+        column: usize,
+        message: String,
+    },
+    #[error("{path}: format {found} is newer than this armjog understands ({FORMAT})")]
+    Format { path: String, found: u32 },
+    /// Writing it would make a file too large to be read back.
+    #[error(
+        "{path}: not written: the book takes {bytes} bytes, over the limit of {limit} bytes \
+         that armjog reads back"
+    )]
+    TooLarge {
+        path: String,
+        bytes: u64,
+        limit: u64,
+    },
+}
+
+impl PositionBook {
+    /// Reads a book; a missing file is an empty book.
+    pub fn load(path: &Path) -> Result<PositionBook, BookError> {
+        let shown = path.display().to_string();
+        let text = match crate::files::read_to_string_bounded(path, crate::files::POSITIONS_LIMIT) {
+            Ok(text) => text,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(PositionBook::new()),
+            Err(source) => {
+                return Err(BookError::Io {
+                    path: shown,
+                    source,
+                });
+            }
+        };
+        let book: PositionBook = serde_json::from_str(&text).map_err(|e| BookError::Parse {
+            path: shown.clone(),
+            line: e.line(),
+            column: e.column(),
+            message: e.to_string(),
+        })?;
+        if book.format > FORMAT {
+            return Err(BookError::Format {
+                path: shown,
+                found: book.format,
+            });
+        }
+        Ok(book)
+    }
+
+    /// Writes the book atomically: a temporary file beside it, flushed to disk, renamed over
+    /// the book, then the directory flushed so the rename itself survives a power cut. On any
+    /// failure the book on disk is untouched and the temporary file is removed (when dropped).
+    pub fn save(&self, path: &Path) -> Result<(), BookError> {
+        let shown = path.display().to_string();
+        let io = |source| BookError::Io {
+            path: shown.clone(),
+            source,
+        };
+        let dir = match path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            Some(dir) => {
+                std::fs::create_dir_all(dir).map_err(io)?;
+                dir
+            }
+            None => Path::new("."),
+        };
+        let tmp = new_book_file(dir, path).map_err(io)?;
+        let mut out = std::io::BufWriter::new(tmp);
+        self.write_to(&mut out, &shown, crate::files::POSITIONS_LIMIT)?;
+        let tmp = out.into_inner().map_err(|e| io(e.into_error()))?;
+        tmp.as_file().sync_all().map_err(io)?;
+        tmp.persist(path).map_err(|e| io(e.error))?;
+        sync_directory(dir).map_err(io)
+    }
+}
+
+/// The temporary file a save writes, with the permissions the book will keep: those of the
+/// book it replaces, or for a new book the usual 0644 less the umask (tempfile's own default,
+/// 0600, would quietly hide a shared lab book from its other users).
+fn new_book_file(dir: &Path, book: &Path) -> std::io::Result<tempfile::NamedTempFile> {
+    let mut builder = tempfile::Builder::new();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o644));
+    }
+    let tmp = builder.tempfile_in(dir)?;
+    if let Ok(existing) = std::fs::metadata(book) {
+        tmp.as_file().set_permissions(existing.permissions())?;
+    }
+    Ok(tmp)
+}
+
+/// Flushes a directory's entries (a rename into it) to disk. Only Unix can open a directory
+/// as a file; elsewhere the rename is as durable as the platform makes it.
+fn sync_directory(dir: &Path) -> std::io::Result<()> {
+    #[cfg(unix)]
+    std::fs::File::open(dir)?.sync_all()?;
+    #[cfg(not(unix))]
+    let _ = dir;
+    Ok(())
+}
+
+impl PositionBook {
+    /// Writes the file's text to `out`: indented for people to read, compact when that would
+    /// not fit in `limit` bytes (a book written must load again), refused when even compact does
+    /// not. The sizes are counted first, so a big book is never held as text in memory.
+    pub(super) fn write_to(
+        &self,
+        out: &mut impl Write,
+        path: &str,
+        limit: u64,
+    ) -> Result<(), BookError> {
+        let failed = |e: serde_json::Error| BookError::Io {
+            path: path.to_string(),
+            source: std::io::Error::other(e),
+        };
+        let size = |pretty: bool| {
+            let mut counter = ByteCounter(0);
+            let result = if pretty {
+                serde_json::to_writer_pretty(&mut counter, self)
+            } else {
+                serde_json::to_writer(&mut counter, self)
+            };
+            // With its final newline.
+            result.map(|()| counter.0 + 1).map_err(failed)
+        };
+        let pretty = if size(true)? <= limit {
+            true
+        } else {
+            let bytes = size(false)?;
+            if bytes > limit {
+                return Err(BookError::TooLarge {
+                    path: path.to_string(),
+                    bytes,
+                    limit,
+                });
+            }
+            false
+        };
+        if pretty {
+            serde_json::to_writer_pretty(&mut *out, self).map_err(failed)?;
+        } else {
+            serde_json::to_writer(&mut *out, self).map_err(failed)?;
+        }
+        out.write_all(b"\n").map_err(|source| BookError::Io {
+            path: path.to_string(),
+            source,
+        })
+    }
+}
+
+/// Counts the bytes written to it.
+struct ByteCounter(u64);
+
+impl Write for ByteCounter {
+    fn write(&mut self, bytes: &[u8]) -> std::io::Result<usize> {
+        self.0 += bytes.len() as u64;
+        Ok(bytes.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+/// Where the book of the arm at `target` lives: `$ARMJOG_DATA_DIR` or the user's data
+/// directory, then `armjog/positions/<target>.json`.
+pub fn default_path(target: &str) -> Option<PathBuf> {
+    let base = std::env::var_os("ARMJOG_DATA_DIR")
+        .map(PathBuf::from)
+        .or_else(|| dirs::data_dir().map(|d| d.join("armjog")))?;
+    let safe: String = target
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '.' || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    Some(base.join("positions").join(format!("{safe}.json")))
+}
