@@ -117,3 +117,38 @@ fn a_form_with_a_300_character_name_shows_its_end_and_refuses_it_with_the_limit(
     );
     insta::assert_snapshot!(draw(&app, 80, 10, false).backend());
 }
+
+#[test]
+fn a_form_with_a_name_in_wide_characters_keeps_inside_its_border() {
+    let (mut app, t0) = app(ReleaseMode::Reported, true);
+    press(&mut app, "p", t0);
+    // 60 characters two columns wide: 120 columns, wider than the whole screen.
+    let name = "位置".repeat(30);
+    for c in name.chars() {
+        press(&mut app, &c.to_string(), t0);
+    }
+    let Overlay::Form(form) = app.overlay() else {
+        panic!("the form closed")
+    };
+    assert_eq!(form.fields[0].value, name, "nothing cut");
+    let terminal = draw(&app, 80, 10, false);
+    let buffer = terminal.backend().buffer();
+    let row = |y: u16| -> Vec<String> {
+        (0..80)
+            .map(|x| buffer[(x, y)].symbol().to_string())
+            .collect()
+    };
+    // The dialog's right edge, from its top border.
+    let right = (0..10)
+        .find_map(|y| row(y).iter().rposition(|s| s == "┐"))
+        .expect("a dialog");
+    let field = (0..10)
+        .find(|y| row(*y).iter().any(|s| s == "置"))
+        .expect("the name's row");
+    let cells = row(field);
+    assert_eq!(cells[right], "│", "{}", cells.concat());
+    // Cut at its start with a `…`, the typing end and its cursor in view.
+    // (The cell after a wide character holds a space in the test backend.)
+    let text = cells.concat().replace(' ', "");
+    assert!(text.contains("…") && text.contains("置_"), "{text}");
+}

@@ -1,22 +1,34 @@
-//! Text longer than its room: cut with a `…` where it shows, never silently.
+//! Text wider than its room: cut with a `…` where it shows, never silently. Measured in terminal
+//! columns, so a name in wide characters fits its field as an ASCII one does.
 
-/// `text` in at most `room` characters: its end, after a `…` when it is longer.
+use super::numbers::{self, ELLIPSIS};
+
+/// `text` in at most `room` columns: its end, after a `…` when it is wider (the field being
+/// typed into shows where the cursor is).
 pub fn elide_start(text: &str, room: usize) -> String {
-    let count = text.chars().count();
-    if count <= room {
+    if numbers::width(text) <= room {
         return text.to_string();
     }
-    let tail: String = text.chars().skip(count + 1 - room.max(1)).collect();
-    format!("…{tail}")
+    if room == 0 {
+        return String::new();
+    }
+    let mut used = numbers::width(ELLIPSIS.encode_utf8(&mut [0; 4]));
+    let mut tail = Vec::new();
+    for c in text.chars().rev() {
+        let w = numbers::width(c.encode_utf8(&mut [0; 4]));
+        if used + w > room {
+            break;
+        }
+        used += w;
+        tail.push(c);
+    }
+    let tail: String = tail.iter().rev().collect();
+    format!("{ELLIPSIS}{tail}")
 }
 
-/// `text` in at most `room` characters: its start, then a `…` when it is longer.
+/// `text` in at most `room` columns: its start, then a `…` when it is wider.
 pub fn elide_end(text: &str, room: usize) -> String {
-    if text.chars().count() <= room {
-        return text.to_string();
-    }
-    let head: String = text.chars().take(room.saturating_sub(1)).collect();
-    format!("{head}…")
+    numbers::elide_name(text, room)
 }
 
 #[cfg(test)]
@@ -29,5 +41,23 @@ mod tests {
         assert_eq!(elide_end("position", 5), "posi…");
         assert_eq!(elide_start("position", 5), "…tion");
         assert_eq!(elide_start("position", 20), "position");
+    }
+
+    #[test]
+    fn wide_characters_are_counted_in_columns_and_nothing_overflows() {
+        // Four characters two columns wide: 8 columns.
+        let wide = "位置位置";
+        assert_eq!(elide_end(wide, 8), wide);
+        assert_eq!(elide_end(wide, 5), "位置…");
+        assert_eq!(elide_start(wide, 5), "…位置");
+        assert_eq!(elide_start(wide, 4), "…置");
+        for room in 0..10 {
+            assert!(numbers::width(&elide_end(wide, room)) <= room, "{room}");
+            assert!(numbers::width(&elide_start(wide, room)) <= room, "{room}");
+            assert!(
+                numbers::width(&elide_start("position", room)) <= room,
+                "{room}"
+            );
+        }
     }
 }
