@@ -224,6 +224,10 @@ mod tests {
         assert!(pacer.frame(View::new(&app), later).is_some());
     }
 
+    fn report(telemetry: &crate::kortex::Telemetry) -> Input {
+        Input::Arm(ArmEvent::Telemetry(Box::new(telemetry.clone())))
+    }
+
     fn poll_line(count: u32, latency_ms: u64) -> ArmEvent {
         ArmEvent::Log(crate::link::interface::LogEntry {
             name: "modbus poll".into(),
@@ -304,8 +308,6 @@ mod tests {
         let start = Instant::now();
         let mut app = app();
         let mut telemetry = crate::kortex::Telemetry::decode(&Default::default());
-        let report =
-            |t: &crate::kortex::Telemetry| Input::Arm(ArmEvent::Telemetry(Box::new(t.clone())));
         app.handle(report(&telemetry), start);
         let mut pacer = FramePacer::default();
         pacer.changed(false, start);
@@ -334,8 +336,6 @@ mod tests {
         let start = Instant::now();
         let mut app = app();
         let mut telemetry = crate::kortex::Telemetry::decode(&Default::default());
-        let report =
-            |t: &crate::kortex::Telemetry| Input::Arm(ArmEvent::Telemetry(Box::new(t.clone())));
         app.handle(report(&telemetry), start);
         assert!(!app.arm_in_motion(), "at rest");
         // Noise below the threshold is rest.
