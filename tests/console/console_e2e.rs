@@ -8,9 +8,8 @@ use std::time::{Duration, Instant};
 use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 use tokio::sync::mpsc::UnboundedReceiver;
 
-use armjog::console::app::{App, Effect, Input, KeyInput};
+use armjog::console::app::{App, Input, KeyInput};
 use armjog::console::jog::KeyKind;
-use armjog::console::keymap::KeyName;
 use armjog::console::positions::PositionBook;
 use armjog::console::run::key_input;
 use armjog::link::driver::{Driver, DriverConfig};
@@ -20,7 +19,7 @@ use armjog::sim::arm_model::WATCHDOG;
 use armjog::sim::talos_server::NetworkFaults;
 use armjog::sim::{SimConfig, Simulator};
 
-use crate::event_loop;
+use crate::event_loop::{self, Drives};
 
 struct Console {
     app: App,
@@ -88,36 +87,7 @@ impl Console {
     }
 
     fn input(&mut self, input: Input) {
-        for effect in self.app.handle(input, Instant::now()) {
-            if let Effect::Arm(command) = effect {
-                assert!(self.driver.send(command), "driver alive");
-            }
-        }
-    }
-
-    fn key(&mut self, name: &str, kind: KeyKind) {
-        let key: KeyName = name.parse().expect("key name");
-        self.input(Input::Key(KeyInput {
-            key,
-            text: None,
-            kind,
-        }));
-    }
-
-    /// Runs the event loop (arm events and ticks) for `duration`.
-    async fn run_for(&mut self, duration: Duration) {
-        let until = tokio::time::Instant::now() + duration;
-        event_loop::run_until_instant(self, until, |_| false).await;
-    }
-
-    /// Runs the event loop until `done` holds; panics after `within`.
-    async fn run_until(&mut self, within: Duration, done: impl Fn(&Console) -> bool) {
-        let until = tokio::time::Instant::now() + within;
-        assert!(
-            event_loop::run_until_instant(self, until, done).await,
-            "condition not met within {within:?}; link {:?}",
-            self.app.link()
-        );
+        event_loop::carry_out(&mut self.app, &self.driver, input);
     }
 
     async fn tcp(&self) -> [f64; 3] {

@@ -13,9 +13,8 @@ use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::mpsc::UnboundedReceiver;
 use tokio::sync::watch;
 
-use armjog::console::app::{App, Effect, Input, KeyInput, MotionShown};
+use armjog::console::app::{App, Input, MotionShown};
 use armjog::console::jog::KeyKind;
-use armjog::console::keymap::KeyName;
 use armjog::console::positions::PositionBook;
 use armjog::link::driver::{Driver, DriverConfig};
 use armjog::link::interface::{ArmEvent, LinkStatus};
@@ -24,7 +23,7 @@ use armjog::sim::arm_model::Arm;
 use armjog::sim::kinematics::to_radians;
 use armjog::sim::{SimConfig, Simulator};
 
-use crate::event_loop;
+use crate::event_loop::{self, Drives};
 
 /// Forwards TCP connections to `target` until frozen; frozen, it holds every byte (and keeps
 /// accepting connections it does not serve), like a network that stopped.
@@ -135,11 +134,7 @@ impl Console {
     }
 
     fn input(&mut self, input: Input) {
-        for effect in self.app.handle(input, Instant::now()) {
-            if let Effect::Arm(command) = effect {
-                assert!(self.driver.send(command), "driver alive");
-            }
-        }
+        event_loop::carry_out(&mut self.app, &self.driver, input);
         let shown = self.app.motion_shown();
         if self.seen.last() != Some(&shown) {
             self.seen.push(shown);
@@ -149,36 +144,6 @@ impl Console {
         if !text.is_empty() && self.said.last() != Some(&text) {
             self.said.push(text);
         }
-    }
-
-    fn key(&mut self, name: &str, kind: KeyKind) {
-        let key: KeyName = name.parse().expect("key name");
-        self.input(Input::Key(KeyInput {
-            key,
-            text: None,
-            kind,
-        }));
-    }
-
-    /// Runs the event loop (arm events and ticks) until `done` holds; panics after `within`.
-    async fn run_until(&mut self, within: Duration, done: impl Fn(&Console) -> bool) {
-        let until = tokio::time::Instant::now() + within;
-        let met = event_loop::run_until_instant(self, until, done).await;
-        assert!(
-            met,
-            "not within {within:?}: link {:?}, stale {:?}, shown {:?}",
-            self.app.link(),
-            self.app.link_stale(),
-            self.seen
-        );
-    }
-
-    async fn run_for(&mut self, duration: Duration) {
-        let until = Instant::now() + duration;
-        self.run_until(duration + Duration::from_secs(5), |_| {
-            Instant::now() >= until
-        })
-        .await;
     }
 
     async fn moving(&self) -> bool {

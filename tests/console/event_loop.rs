@@ -6,11 +6,11 @@ use tokio::time::Instant;
 
 use std::time::Duration;
 
-use armjog::console::app::{App, AppConfig, Input};
-use armjog::console::jog::ReleaseMode;
-use armjog::console::keymap::Keymap;
+use armjog::console::app::{App, AppConfig, Effect, Input, KeyInput};
+use armjog::console::jog::{KeyKind, ReleaseMode};
+use armjog::console::keymap::{KeyName, Keymap};
 use armjog::console::positions::PositionBook;
-use armjog::link::driver::DriverConfig;
+use armjog::link::driver::{Driver, DriverConfig};
 use armjog::link::interface::ArmEvent;
 
 /// The app the console's runtime builds for `config` (default keymap, key releases reported),
@@ -30,11 +30,47 @@ pub fn app_for(config: &DriverConfig, book: PositionBook) -> App {
 }
 
 /// A test console: an app, the driver's events, and what becomes of the app's effects.
-pub trait Drives {
+pub trait Drives: Sized {
     fn app(&self) -> &App;
     fn events(&mut self) -> &mut UnboundedReceiver<ArmEvent>;
     /// Hands `input` to the app and carries out its effects.
     fn input(&mut self, input: Input);
+
+    /// A key event, by the key's keymap name.
+    fn key(&mut self, name: &str, kind: KeyKind) {
+        let key: KeyName = name.parse().expect("key name");
+        self.input(Input::Key(KeyInput {
+            key,
+            text: None,
+            kind,
+        }));
+    }
+
+    /// Runs the event loop (arm events and ticks) for `duration`, as the runtime would.
+    async fn run_for(&mut self, duration: Duration) {
+        let until = Instant::now() + duration;
+        run_until_instant(self, until, |_| false).await;
+    }
+
+    /// Runs the event loop until `done` holds; panics after `within`.
+    async fn run_until(&mut self, within: Duration, done: impl Fn(&Self) -> bool) {
+        let until = Instant::now() + within;
+        let met = run_until_instant(self, until, done).await;
+        assert!(
+            met,
+            "condition not met within {within:?}; link {:?}",
+            self.app().link()
+        );
+    }
+}
+
+/// Hands `input` to `app` and sends the commands it makes to `driver`, which must be running.
+pub fn carry_out(app: &mut App, driver: &Driver, input: Input) {
+    for effect in app.handle(input, std::time::Instant::now()) {
+        if let Effect::Arm(command) = effect {
+            assert!(driver.send(command), "driver alive");
+        }
+    }
 }
 
 /// Runs the loop until `done` holds (true) or `until` passes (false).

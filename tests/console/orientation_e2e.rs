@@ -7,9 +7,8 @@ use std::time::{Duration, Instant};
 use nalgebra::Rotation3;
 use tokio::sync::mpsc::UnboundedReceiver;
 
-use armjog::console::app::{App, AppConfig, Effect, Input, KeyInput};
-use armjog::console::jog::{KeyKind, ReleaseMode};
-use armjog::console::keymap::{KeyName, Keymap};
+use armjog::console::app::{App, Input};
+use armjog::console::jog::KeyKind;
 use armjog::console::positions::PositionBook;
 use armjog::link::ModbusConfig;
 use armjog::link::driver::{Driver, DriverConfig};
@@ -17,7 +16,7 @@ use armjog::link::interface::{ArmEvent, LinkStatus};
 use armjog::sim::arm_model::ArmSnapshot;
 use armjog::sim::{SimConfig, Simulator};
 
-use crate::event_loop;
+use crate::event_loop::{self, Drives};
 
 /// Generous for a loaded 2-core CI: the STOP itself takes well under a millisecond.
 const STOP_BOUND: Duration = Duration::from_secs(2);
@@ -48,17 +47,7 @@ impl Console {
             .expect("simulator");
         let modbus = ModbusConfig::new(sim.modbus_addr.expect("modbus").to_string());
         let config = DriverConfig::new(None, Some(modbus));
-        let app = App::new(
-            AppConfig {
-                keymap: Keymap::builtin("default").expect("keymap"),
-                release_mode: ReleaseMode::Reported,
-                refresh: Duration::from_millis(100),
-                positions_on_operator: false,
-                max_jog_speed: config.max_jog_speed,
-                frames: true,
-            },
-            PositionBook::new(),
-        );
+        let app = event_loop::app_for(&config, PositionBook::new());
         let (driver, events) = Driver::spawn(config);
         let mut console = Console {
             app,
@@ -77,26 +66,7 @@ impl Console {
     }
 
     fn input(&mut self, input: Input) {
-        for effect in self.app.handle(input, Instant::now()) {
-            if let Effect::Arm(command) = effect {
-                assert!(self.driver.send(command), "driver alive");
-            }
-        }
-    }
-
-    fn key(&mut self, name: &str, kind: KeyKind) {
-        let key: KeyName = name.parse().expect("key name");
-        self.input(Input::Key(KeyInput {
-            key,
-            text: None,
-            kind,
-        }));
-    }
-
-    /// Runs the event loop (arm events and ticks) for `duration`, as the runtime would.
-    async fn run_for(&mut self, duration: Duration) {
-        let until = tokio::time::Instant::now() + duration;
-        event_loop::run_until_instant(self, until, |_| false).await;
+        event_loop::carry_out(&mut self.app, &self.driver, input);
     }
 
     async fn snapshot(&self) -> ArmSnapshot {
