@@ -61,3 +61,8 @@ pub fn step(dx: i32, dy: i32, dz: i32) -> Effect {
 pub fn ms(n: u64) -> Duration {
     Duration::from_millis(n)
 }
+
+/// Every cell's symbol of a drawn buffer, row after row, as one string.
+pub fn buffer_text(buffer: &ratatui::buffer::Buffer) -> String {
+    buffer.content().iter().map(|c| c.symbol()).collect()
+}

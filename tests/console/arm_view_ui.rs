@@ -21,7 +21,7 @@ use ratatui::backend::TestBackend;
 use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;
 
-use crate::app_support::{app, ms, press};
+use crate::app_support::{self, app, ms, press};
 
 /// The panel's size in the snapshots: the arm view's place at 160x48.
 const WIDTH: u16 = 86;
@@ -245,13 +245,7 @@ fn without_telemetry_the_arm_is_not_drawn() {
         t0,
     );
     let terminal = panel(&app, WIDTH, HEIGHT, COLOR);
-    let text: String = terminal
-        .backend()
-        .buffer()
-        .content()
-        .iter()
-        .map(|c| c.symbol())
-        .collect();
+    let text = app_support::buffer_text(terminal.backend().buffer());
     assert!(text.contains(arm_view::NO_TELEMETRY), "{text}");
     assert!(!text.chars().any(|c| ('\u{2801}'..='\u{28ff}').contains(&c)));
     insta::assert_snapshot!("arm_view_no_telemetry", terminal.backend());
@@ -275,7 +269,7 @@ fn the_full_screen_draws_the_view_on_a_large_terminal() {
     let buffer = terminal.backend().buffer();
     let all = Rect::new(0, 0, 200, 60);
     assert_eq!(tool_cells(buffer, all).len(), 2);
-    let text: String = buffer.content().iter().map(|c| c.symbol()).collect();
+    let text = app_support::buffer_text(buffer);
     assert!(text.contains("Arm view"));
 }
 
@@ -287,13 +281,7 @@ fn a_joint_angle_that_is_not_a_number_draws_no_arm() {
     t.joints[2].position = f32::NAN;
     app.handle(Input::Arm(ArmEvent::Telemetry(Box::new(t))), t0 + ms(100));
     let terminal = panel(&app, WIDTH, HEIGHT, COLOR);
-    let text: String = terminal
-        .backend()
-        .buffer()
-        .content()
-        .iter()
-        .map(|c| c.symbol())
-        .collect();
+    let text = app_support::buffer_text(terminal.backend().buffer());
     assert!(text.contains("not drawn"), "{text}");
     assert!(!text.chars().any(|c| ('\u{2801}'..='\u{28ff}').contains(&c)));
 }

@@ -197,13 +197,7 @@ fn status_stopping_then_idle() {
         t0 + ms(30),
     );
     let terminal = render(ui::status::draw, &app, 80, 2);
-    let text: String = terminal
-        .backend()
-        .buffer()
-        .content()
-        .iter()
-        .map(|c| c.symbol())
-        .collect();
+    let text = crate::app_support::buffer_text(terminal.backend().buffer());
     assert!(text.contains(" idle "), "{text}");
 }
 
