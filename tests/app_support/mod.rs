@@ -66,3 +66,17 @@ pub fn ms(n: u64) -> Duration {
 pub fn buffer_text(buffer: &ratatui::buffer::Buffer) -> String {
     buffer.content().iter().map(|c| c.symbol()).collect()
 }
+
+/// A console over Modbus (key releases reported, the console's own book) that has had one
+/// telemetry report, `t`.
+pub fn with_telemetry(t: armjog::kortex::Telemetry) -> (App, Instant) {
+    let (mut app, t0) = app(ReleaseMode::Reported, false);
+    app.handle(
+        Input::Arm(ArmEvent::TelemetrySource(
+            armjog::link::interface::TelemetrySource::Modbus,
+        )),
+        t0,
+    );
+    app.handle(Input::Arm(ArmEvent::Telemetry(Box::new(t))), t0);
+    (app, t0)
+}

@@ -10,11 +10,12 @@ use armjog::console::jog::{KeyKind, ReleaseMode};
 use armjog::console::ui::{self, Theme};
 use armjog::console::view::View;
 use armjog::kortex::{RegisterImage, Telemetry};
-use armjog::link::interface::{ArmEvent, TelemetrySource};
+use armjog::link::interface::ArmEvent;
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
 use ratatui::style::Color;
 
+use crate::app_support::with_telemetry;
 use crate::app_support::{app, key, ms};
 
 /// Telemetry at home with the given torques and currents, the tool at `x` m moving at `vx`
@@ -181,16 +182,6 @@ fn screen(app: &App, width: u16, height: u16) -> Terminal<TestBackend> {
         .draw(|f| ui::draw(f, &view, &Theme { color: true }))
         .expect("draw");
     terminal
-}
-
-fn with_telemetry(t: Telemetry) -> (App, Instant) {
-    let (mut app, t0) = app(ReleaseMode::Reported, false);
-    app.handle(
-        Input::Arm(ArmEvent::TelemetrySource(TelemetrySource::Modbus)),
-        t0,
-    );
-    app.handle(Input::Arm(ArmEvent::Telemetry(Box::new(t))), t0);
-    (app, t0)
 }
 
 fn row(terminal: &Terminal<TestBackend>, y: u16) -> String {

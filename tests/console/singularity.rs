@@ -3,8 +3,6 @@
 //! colour, giving way like them at narrow widths; nothing without telemetry. On a fake clock:
 //! telemetry goes straight into the app.
 
-use std::time::Instant;
-
 use armjog::console::app::{App, Input, SINGULARITY_WARNING};
 use armjog::console::jog::ReleaseMode;
 use armjog::console::ui::{self, Theme};
@@ -18,6 +16,7 @@ use ratatui::backend::TestBackend;
 use ratatui::style::Color;
 
 use crate::app_support::app;
+use crate::app_support::with_telemetry;
 
 /// Telemetry reporting the joint angles `q_deg` (folded into 0-360 as the arm reports them).
 fn reporting(q_deg: [f64; 7]) -> Telemetry {
@@ -26,16 +25,6 @@ fn reporting(q_deg: [f64; 7]) -> Telemetry {
         joint.position = q.rem_euclid(360.0) as f32;
     }
     t
-}
-
-fn with_telemetry(t: Telemetry) -> (App, Instant) {
-    let (mut app, t0) = app(ReleaseMode::Reported, false);
-    app.handle(
-        Input::Arm(ArmEvent::TelemetrySource(TelemetrySource::Modbus)),
-        t0,
-    );
-    app.handle(Input::Arm(ArmEvent::Telemetry(Box::new(t))), t0);
-    (app, t0)
 }
 
 fn screen(app: &App, width: u16, height: u16) -> Terminal<TestBackend> {
