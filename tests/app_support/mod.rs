@@ -80,3 +80,27 @@ pub fn with_telemetry(t: armjog::kortex::Telemetry) -> (App, Instant) {
     app.handle(Input::Arm(ArmEvent::Telemetry(Box::new(t))), t0);
     (app, t0)
 }
+
+/// The whole console drawn from `app`'s view, in colour, at `width` x `height`.
+pub fn screen(
+    app: &App,
+    width: u16,
+    height: u16,
+) -> ratatui::Terminal<ratatui::backend::TestBackend> {
+    use armjog::console::ui::{self, Theme};
+    let mut terminal = ratatui::Terminal::new(ratatui::backend::TestBackend::new(width, height))
+        .expect("terminal");
+    let view = armjog::console::view::View::new(app);
+    terminal
+        .draw(|f| ui::draw(f, &view, &Theme { color: true }))
+        .expect("draw");
+    terminal
+}
+
+/// Row `y` of a drawn terminal.
+pub fn row(terminal: &ratatui::Terminal<ratatui::backend::TestBackend>, y: u16) -> String {
+    let buffer = terminal.backend().buffer();
+    (0..buffer.area.width)
+        .map(|x| buffer[(x, y)].symbol().to_string())
+        .collect()
+}

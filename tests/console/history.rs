@@ -4,19 +4,16 @@
 use std::time::{Duration, Instant};
 
 use armjog::console::app::{
-    App, BUCKETS, History, Input, JointQuantity, LIMIT_WARNING_DEG, near_limits,
+    BUCKETS, History, Input, JointQuantity, LIMIT_WARNING_DEG, near_limits,
 };
 use armjog::console::jog::{KeyKind, ReleaseMode};
-use armjog::console::ui::{self, Theme};
 use armjog::console::view::View;
 use armjog::kortex::{RegisterImage, Telemetry};
 use armjog::link::interface::ArmEvent;
-use ratatui::Terminal;
-use ratatui::backend::TestBackend;
 use ratatui::style::Color;
 
-use crate::app_support::with_telemetry;
 use crate::app_support::{app, key, ms};
+use crate::app_support::{row, screen, with_telemetry};
 
 /// Telemetry at home with the given torques and currents, the tool at `x` m moving at `vx`
 /// m/s.
@@ -173,22 +170,6 @@ fn joints_within_5_degrees_of_a_limit_are_named_nearest_first() {
         90.0,
     ]);
     assert!(near_limits(&t).is_empty());
-}
-
-fn screen(app: &App, width: u16, height: u16) -> Terminal<TestBackend> {
-    let mut terminal = Terminal::new(TestBackend::new(width, height)).expect("terminal");
-    let view = View::new(app);
-    terminal
-        .draw(|f| ui::draw(f, &view, &Theme { color: true }))
-        .expect("draw");
-    terminal
-}
-
-fn row(terminal: &Terminal<TestBackend>, y: u16) -> String {
-    let buffer = terminal.backend().buffer();
-    (0..buffer.area.width)
-        .map(|x| buffer[(x, y)].symbol().to_string())
-        .collect()
 }
 
 #[test]

@@ -3,20 +3,17 @@
 //! colour, giving way like them at narrow widths; nothing without telemetry. On a fake clock:
 //! telemetry goes straight into the app.
 
-use armjog::console::app::{App, Input, SINGULARITY_WARNING};
+use armjog::console::app::{Input, SINGULARITY_WARNING};
 use armjog::console::jog::ReleaseMode;
-use armjog::console::ui::{self, Theme};
 use armjog::console::view::View;
 use armjog::kortex::gen3::HOME_DEG;
 use armjog::kortex::{RegisterImage, Telemetry};
 use armjog::link::interface::{ArmEvent, TelemetrySource};
 use armjog::sim::kinematics::near_singularity_pose_deg;
-use ratatui::Terminal;
-use ratatui::backend::TestBackend;
 use ratatui::style::Color;
 
 use crate::app_support::app;
-use crate::app_support::with_telemetry;
+use crate::app_support::{row, screen, with_telemetry};
 
 /// Telemetry reporting the joint angles `q_deg` (folded into 0-360 as the arm reports them).
 fn reporting(q_deg: [f64; 7]) -> Telemetry {
@@ -25,22 +22,6 @@ fn reporting(q_deg: [f64; 7]) -> Telemetry {
         joint.position = q.rem_euclid(360.0) as f32;
     }
     t
-}
-
-fn screen(app: &App, width: u16, height: u16) -> Terminal<TestBackend> {
-    let mut terminal = Terminal::new(TestBackend::new(width, height)).expect("terminal");
-    let view = View::new(app);
-    terminal
-        .draw(|f| ui::draw(f, &view, &Theme { color: true }))
-        .expect("draw");
-    terminal
-}
-
-fn row(terminal: &Terminal<TestBackend>, y: u16) -> String {
-    let buffer = terminal.backend().buffer();
-    (0..buffer.area.width)
-        .map(|x| buffer[(x, y)].symbol().to_string())
-        .collect()
 }
 
 /// Home with J4 `j4` degrees.
