@@ -92,6 +92,18 @@ pub enum ArmCommand {
 }
 
 impl ArmCommand {
+    /// Whether this command sets the arm moving.
+    pub fn starts_motion(&self) -> bool {
+        matches!(
+            self,
+            ArmCommand::Jog(_)
+                | ArmCommand::Step(_)
+                | ArmCommand::Home
+                | ArmCommand::GoToPosition { .. }
+                | ArmCommand::MoveToPose(_)
+        )
+    }
+
     /// Whether this command stops motion. Stops are never queued behind anything.
     pub fn is_stop(&self) -> bool {
         matches!(self, ArmCommand::Stop | ArmCommand::QuickStop)

@@ -43,14 +43,7 @@ pub struct StopOutcomes {
 impl StopOutcomes {
     /// `side` was given a command that moves the arm.
     pub fn motion(&mut self, command: &ArmCommand, side: Side) {
-        if matches!(
-            command,
-            ArmCommand::Jog(_)
-                | ArmCommand::Step(_)
-                | ArmCommand::Home
-                | ArmCommand::GoToPosition { .. }
-                | ArmCommand::MoveToPose(_)
-        ) {
+        if command.starts_motion() {
             self.carried[side as usize] = true;
         }
     }

@@ -11,18 +11,6 @@ use crate::console::app::{App, Effect, Overlay, Severity};
 use crate::console::form::Confirm;
 use crate::kortex::Flag;
 use crate::link::interface::ArmCommand;
-/// Whether `command` sets the arm moving.
-fn starts_motion(command: &ArmCommand) -> bool {
-    matches!(
-        command,
-        ArmCommand::Jog(_)
-            | ArmCommand::Step(_)
-            | ArmCommand::Home
-            | ArmCommand::GoToPosition { .. }
-            | ArmCommand::MoveToPose(_)
-    )
-}
-
 impl App {
     /// The name of the position a go-to question asks about, taken before the answer.
     pub(in crate::console::app) fn goto_in_question(&self) -> Option<String> {
@@ -43,7 +31,7 @@ impl App {
     ) {
         if let Some(age) = self.link_stale() {
             let asked = effects.len();
-            effects.retain(|e| !matches!(e, Effect::Arm(command) if starts_motion(command)));
+            effects.retain(|e| !matches!(e, Effect::Arm(command) if command.starts_motion()));
             if effects.len() != asked {
                 let text = "link stale: not moving";
                 self.say_until(text, Severity::Warning, Until::LinkFresh, now);
