@@ -36,8 +36,8 @@ fn telemetry(deg: [f64; 7]) -> Telemetry {
     t
 }
 
-/// The simulated arm after a 2 s twist from home: down, forward and to the left.
-fn jogged_joints() -> [f64; 7] {
+/// The simulated arm at home, given a twist down, forward and to the left.
+fn twisted_arm() -> Arm {
     let mut arm = Arm::default();
     let twist = SimMotion::Twist {
         linear: Vector3::new(0.05, 0.08, -0.1),
@@ -45,6 +45,12 @@ fn jogged_joints() -> [f64; 7] {
         frame: ReferenceFrame::Base,
     };
     arm.command(twist, 0.0, false).expect("a reachable twist");
+    arm
+}
+
+/// The simulated arm after 2 s of that twist.
+fn jogged_joints() -> [f64; 7] {
+    let mut arm = twisted_arm();
     arm.advance(2.0);
     arm.joints().map(f64::to_degrees)
 }
@@ -87,13 +93,7 @@ fn at_home() {
 fn at_a_jogged_pose_while_jogging() {
     let (mut app, t0) = console_at(gen3::HOME_DEG);
     // The path there, one telemetry snapshot every 100 ms.
-    let mut arm = Arm::default();
-    let twist = SimMotion::Twist {
-        linear: Vector3::new(0.05, 0.08, -0.1),
-        angular: Vector3::zeros(),
-        frame: ReferenceFrame::Base,
-    };
-    arm.command(twist, 0.0, false).expect("a reachable twist");
+    let mut arm = twisted_arm();
     for step in 1..=20 {
         arm.advance(0.1);
         let deg = arm.joints().map(f64::to_degrees);
