@@ -1,7 +1,7 @@
 //! `armjog` with no subcommand: the jog console, on the built-in simulated arm unless told
 //! where an arm is.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Duration;
 
 use clap::{Args, ValueEnum};
@@ -234,12 +234,6 @@ pub fn remembered_for_simulator(book: &PositionBook) -> Vec<RememberedPosition> 
             })
         })
         .collect()
-}
-
-/// Reads the book at `path` for the built-in simulator, off the event loop (see
-/// [`remembered_from_read`]).
-pub async fn read_for_simulator(path: &Path) -> Vec<RememberedPosition> {
-    remembered_from_read(&book_io::read(path).await)
 }
 
 /// The positions the built-in simulator takes from a read of the book. A book that could not

@@ -177,7 +177,9 @@ async fn positions_saved_in_an_earlier_run_are_known_to_the_built_in_simulator_a
 
     // This run: the simulator starts at home with the book's positions.
     let sim = Simulator::start(SimConfig {
-        positions: armjog::cli::console::read_for_simulator(&file).await,
+        positions: armjog::cli::console::remembered_from_read(
+            &armjog::console::book_io::read(&file).await,
+        ),
         ..SimConfig::ephemeral()
     })
     .await
