@@ -22,8 +22,9 @@ single-threaded select loop (stdlib only):
 
 One cycle: press, wait for the polar START (0x0003), hold 60-140 ms, write the release, and wait
 for the polar STOP (0x0004). Latency = STOP frame received - release bytes written. It prints
-p50, p90, p99 and max, and exits 1 if a cycle saw no STOP within 2 s. With --compare, a second
-binary runs beside the first and the cycles alternate between them, so both see the same
+p50, p90, p99 and max, and the STARTs that came after a release was written (a refresh that
+overtook the release); it exits 1 if a cycle saw no STOP within 2 s or a START after a release.
+With --compare, a second binary runs beside the first and the cycles alternate between them, so both see the same
 machine load (on a shared machine the load, not the binary, dominates the tail otherwise).
 `--compare floor` runs a minimal stand-in instead (a Python child that turns each key event
 into one frame): what is left of the tail there is the machine's and the harness's, not armjog's.
@@ -178,6 +179,9 @@ class Console:
         self.latencies = []
         self.failures = 0
         self.release_ns = 0
+        # STARTs that reached the operator after the release was written: a refresh that
+        # overtook the release (each is a fault; the STOP still follows).
+        self.starts_after_release = []
 
     def fds(self):
         return [self.master, *self.op.sockets()]
@@ -226,7 +230,10 @@ class Console:
             f"{self.binary}: release->STOP over {len(values)} cycles: "
             f"p50 {percentile(values, 0.5):.3f} ms, p90 {percentile(values, 0.9):.3f} ms, "
             f"p99 {percentile(values, 0.99):.3f} ms, max {values[-1]:.3f} ms; "
-            f"{self.failures} without a STOP"
+            f"{self.failures} without a STOP; "
+            f"{len(self.starts_after_release)} STARTs after the release"
+            + (f" ({', '.join(f'{v:.1f}' for v in self.starts_after_release)} ms after it)"
+               if self.starts_after_release else "")
         )
 
 
@@ -306,6 +313,8 @@ def main():
                 elif console.state == "pressed" and command == POLAR_START:
                     console.state = "held"
                     next_at = time.monotonic() + random.uniform(0.06, 0.14)
+                elif console.state == "released" and command == POLAR_START:
+                    console.starts_after_release.append((at_ns - console.release_ns) / 1e6)
                 elif (
                     console.state == "released"
                     and command == POLAR_STOP
@@ -319,7 +328,11 @@ def main():
     for c in consoles:
         c.quit()
         print(c.summary())
-    sys.exit(1 if any(c.failures or not c.latencies for c in consoles) else 0)
+    sys.exit(
+        1
+        if any(c.failures or not c.latencies or c.starts_after_release for c in consoles)
+        else 0
+    )
 
 
 if __name__ == "__main__":

@@ -6,6 +6,7 @@ pub mod arm_geometry;
 pub mod audit;
 pub mod book_io;
 pub mod form;
+pub mod input_first;
 pub mod jog;
 pub mod keymap;
 pub mod pacing;

@@ -19,6 +19,7 @@ use ratatui::backend::CrosstermBackend;
 use super::app::{App, AppConfig, BookState, Effect, Input, KeyInput, Severity};
 use super::audit::{self, AuditSession};
 use super::book_io::{self, BookFiles};
+use super::input_first;
 use super::jog::{KeyKind, ReleaseMode};
 use super::keymap::{KeyName, Keymap};
 use super::pacing::FramePacer;
@@ -44,6 +45,8 @@ pub struct ConsoleSetup {
     /// operator needed it before the console started): the console takes it instead of reading
     /// the file again.
     pub positions_read: Option<Result<positions::PositionBook, positions::BookError>>,
+    /// The arm is the built-in simulator (no arm was named): the status bar says so.
+    pub simulated: bool,
 }
 
 /// Why the console could not run.
@@ -116,6 +119,7 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
                 positions_on_operator,
                 max_jog_speed,
                 frames,
+                simulated: setup.simulated,
             };
             let mut audit = AuditSession::start(&config, arm, audit::audit_dir());
             let result = event_loop(
@@ -223,20 +227,20 @@ async fn event_loop(
         let input = tokio::select! {
             biased;
             signal = signals.next() => Some(Input::Signal(signal)),
-            event = keys.next() => match event {
-                Some(Ok(event)) => terminal_input(event),
-                Some(Err(e)) => {
-                    tracing::error!("terminal input failed: {e}");
-                    Some(Input::Signal("terminal input error"))
-                }
-                None => Some(Input::Signal("terminal closed")),
-            },
+            event = keys.next() => terminal_event(event),
             event = arm_events.recv() => match event {
                 Some(event) => Some(Input::Arm(event)),
                 None => Some(Input::Signal("arm driver ended")),
             },
             loaded = book_io::loaded(&mut book.loading) => Some(Input::PositionsLoaded(loaded)),
-            _ = sleep_until(deadline) => Some(Input::Tick),
+            _ = sleep_until(deadline) => {
+                // A release already typed goes before a refresh decided without it.
+                let refresh_due = app.jog().refresh_due(Instant::now());
+                match input_first::waiting_input(refresh_due, terminal::input_waiting, &mut keys).await {
+                    Some(event) => terminal_event(event),
+                    None => Some(Input::Tick),
+                }
+            }
             Some(error) = book.save_errors.recv() => {
                 app.say(format!("positions not saved: {error}"), Severity::Error, Instant::now());
                 pacer.changed(true, Instant::now());
@@ -285,6 +289,18 @@ async fn event_loop(
         }
         audit.after(&app);
         pacer.changed(urgent, now);
+    }
+}
+
+/// What the terminal's event stream gave, as the state machine's input.
+fn terminal_event(event: Option<std::io::Result<Event>>) -> Option<Input> {
+    match event {
+        Some(Ok(event)) => terminal_input(event),
+        Some(Err(e)) => {
+            tracing::error!("terminal input failed: {e}");
+            Some(Input::Signal("terminal input error"))
+        }
+        None => Some(Input::Signal("terminal closed")),
     }
 }
 

@@ -612,3 +612,18 @@ fn joint_jog_drives_the_selected_joint_and_reselecting_stops_it() {
     assert_eq!(jog.select_joint(4, t0 + ms(10)), [JogEffect::Stop]);
     assert_eq!(jog.joint(), 4);
 }
+
+#[test]
+fn refresh_due_says_exactly_when_a_tick_would_resend_start() {
+    let (mut jog, t0) = reported();
+    assert!(!jog.refresh_due(t0), "nothing held");
+    jog.key(Action::JogXPlus, KeyKind::Press, t0);
+    assert!(!jog.refresh_due(t0 + ms(99)));
+    assert!(jog.refresh_due(t0 + REFRESH));
+    // What refresh_due said is what the tick does.
+    assert_eq!(jog.tick(t0 + REFRESH), [cart(1, 0, 0)]);
+    assert!(!jog.refresh_due(t0 + REFRESH + ms(1)));
+    jog.key(Action::JogXPlus, KeyKind::Release, t0 + REFRESH + ms(50));
+    assert!(!jog.refresh_due(t0 + 3 * REFRESH), "released: no refresh");
+    assert!(jog.tick(t0 + 3 * REFRESH).is_empty());
+}

@@ -224,6 +224,15 @@ impl JogEngine {
         }
     }
 
+    /// Whether [`JogEngine::tick`] at `now` would re-send START: the runtime first handles
+    /// any key input that has already arrived, so a release is never overtaken by a refresh.
+    pub fn refresh_due(&self, now: Instant) -> bool {
+        self.active.is_some()
+            && self
+                .last_start
+                .is_some_and(|last| now >= last + self.refresh)
+    }
+
     /// Time passing: steps for taps, expires keys whose events stopped, and re-sends START
     /// when due.
     pub fn tick(&mut self, now: Instant) -> Vec<JogEffect> {

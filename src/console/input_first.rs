@@ -1,0 +1,94 @@
+//! A START refresh never overtakes a key that has already arrived.
+//!
+//! The refresh is decided on a timer; a release written to the terminal a moment before the
+//! timer fires may still sit unread in the terminal (or in crossterm's reader thread). When a
+//! refresh is due and input is waiting, the event loop takes that input first, for at most
+//! [`INPUT_FIRST`]: a release then stops the arm instead of following a refresh onto the wire.
+
+use std::time::Duration;
+
+use futures::{Stream, StreamExt};
+
+/// How long a due refresh waits for input that is already readable: ample for crossterm's
+/// reader to hand it over, and far inside the operator's 500 ms watchdog.
+pub const INPUT_FIRST: Duration = Duration::from_millis(20);
+
+/// What the event loop handles when its deadline fires: the next terminal event, when a refresh
+/// is due and `input_waiting` says input has arrived (and it comes within [`INPUT_FIRST`]);
+/// otherwise `None`, meaning the tick itself.
+pub async fn waiting_input<S: Stream + Unpin>(
+    refresh_due: bool,
+    input_waiting: impl FnOnce() -> bool,
+    keys: &mut S,
+) -> Option<Option<S::Item>> {
+    if !refresh_due || !input_waiting() {
+        return None;
+    }
+    tokio::time::timeout(INPUT_FIRST, keys.next()).await.ok()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use futures::stream;
+
+    #[tokio::test(start_paused = true)]
+    async fn a_due_refresh_takes_the_waiting_release_first() {
+        let mut keys = stream::iter(["release"]);
+        let got = waiting_input(true, || true, &mut keys).await;
+        assert_eq!(got, Some(Some("release")));
+    }
+
+    #[tokio::test(start_paused = true)]
+    async fn a_release_that_comes_within_the_wait_is_taken() {
+        let (tx, rx) = tokio::sync::mpsc::unbounded_channel();
+        let mut keys = tokio_stream_of(rx);
+        tokio::spawn(async move {
+            tokio::time::sleep(INPUT_FIRST / 2).await;
+            let _ = tx.send("release");
+        });
+        let got = waiting_input(true, || true, &mut keys).await;
+        assert_eq!(got, Some(Some("release")));
+    }
+
+    #[tokio::test(start_paused = true)]
+    async fn readable_bytes_that_make_no_event_delay_the_tick_by_at_most_the_wait() {
+        let mut keys = stream::pending::<&str>();
+        let started = tokio::time::Instant::now();
+        assert_eq!(waiting_input(true, || true, &mut keys).await, None);
+        assert_eq!(started.elapsed(), INPUT_FIRST);
+    }
+
+    #[tokio::test(start_paused = true)]
+    async fn without_a_refresh_due_or_input_waiting_the_tick_goes_at_once() {
+        let started = tokio::time::Instant::now();
+        let mut keys = stream::iter(["press"]);
+        let mut asked = false;
+        assert_eq!(
+            waiting_input(
+                false,
+                || {
+                    asked = true;
+                    true
+                },
+                &mut keys
+            )
+            .await,
+            None
+        );
+        assert!(!asked, "no refresh due: the terminal is not even asked");
+        assert_eq!(waiting_input(true, || false, &mut keys).await, None);
+        assert_eq!(started.elapsed(), Duration::ZERO);
+        assert_eq!(
+            keys.next().await,
+            Some("press"),
+            "the key is left for the loop"
+        );
+    }
+
+    fn tokio_stream_of<T>(
+        mut rx: tokio::sync::mpsc::UnboundedReceiver<T>,
+    ) -> impl Stream<Item = T> + Unpin {
+        Box::pin(stream::poll_fn(move |cx| rx.poll_recv(cx)))
+    }
+}
