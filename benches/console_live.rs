@@ -65,6 +65,7 @@ async fn press_release_latency() {
             positions_on_operator: true,
             max_jog_speed: 0.25,
             frames: false,
+            simulated: false,
         },
         PositionBook::new(),
     );

@@ -75,6 +75,7 @@ impl Scene {
                 positions_on_operator: true,
                 max_jog_speed: 0.25,
                 frames: false,
+                simulated: false,
             },
             PositionBook::new(),
         );

@@ -206,6 +206,7 @@ pub async fn run_console(args: &ConsoleArgs) -> i32 {
         },
         positions_file,
         positions_read,
+        simulated: simulator.is_some(),
     };
     let code = match run(setup).await {
         Ok(()) => 0,

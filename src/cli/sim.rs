@@ -127,16 +127,19 @@ pub async fn run(args: &SimArgs) -> i32 {
     // The simulator serves until signalled even if no one reads its banner (`| head`); a
     // closed stdout only cuts the banner short.
     let banner = [
-        match (args.near_limit, args.near_singularity) {
-            (Some(joint), _) => format!(
-                "armjog sim: simulated Kinova Gen3 at the home pose but J{joint}, 2 deg short of its limit"
-            ),
-            (None, true) => format!(
-                "armjog sim: simulated Kinova Gen3 at the home pose but J4, {} deg short of straight (near a singularity)",
-                kinematics::NEAR_SINGULARITY_ELBOW_DEG
-            ),
-            (None, false) => "armjog sim: simulated Kinova Gen3 at the home pose".to_string(),
-        },
+        // Said first and plainly: whoever reads this terminal must not take it for a real arm.
+        format!(
+            "armjog sim: SIMULATED ARM (no hardware): a Kinova Gen3 model {}",
+            match (args.near_limit, args.near_singularity) {
+                (Some(joint), _) =>
+                    format!("at the home pose but J{joint}, 2 deg short of its limit"),
+                (None, true) => format!(
+                    "at the home pose but J4, {} deg short of straight (near a singularity)",
+                    kinematics::NEAR_SINGULARITY_ELBOW_DEG
+                ),
+                (None, false) => "at the home pose".to_string(),
+            }
+        ),
         format!(
             "  talos operator  {} ({}, {})",
             sim.talos_addr, args.dialect, args.checksum

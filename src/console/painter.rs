@@ -159,6 +159,7 @@ mod tests {
                 positions_on_operator: true,
                 max_jog_speed: 0.25,
                 frames: false,
+                simulated: false,
             },
             PositionBook::new(),
         );

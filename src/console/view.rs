@@ -45,6 +45,8 @@ pub struct View {
     pub max_angular_jog_speed: f64,
     /// Reference frames apply (Modbus jogging).
     pub frames: bool,
+    /// The arm is the built-in simulator.
+    pub simulated: bool,
     pub frame: ReferenceFrame,
     pub step: Step,
     pub telemetry: Option<Telemetry>,
@@ -111,6 +113,7 @@ impl View {
             max_jog_speed: config.max_jog_speed,
             max_angular_jog_speed: f64::from(crate::link::driver::MAX_ANGULAR_JOG_SPEED),
             frames: config.frames,
+            simulated: config.simulated,
             frame: app.frame(),
             step: app.step(),
             telemetry: app.telemetry().cloned(),

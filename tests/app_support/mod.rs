@@ -18,6 +18,7 @@ pub fn app(mode: ReleaseMode, on_operator: bool) -> (App, Instant) {
         positions_on_operator: on_operator,
         max_jog_speed: 0.25,
         frames: !on_operator,
+        simulated: false,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();

@@ -26,9 +26,14 @@ fn start_sim(log_dir: &Path) -> (Child, String) {
         .spawn()
         .expect("spawn armjog sim");
     let stdout = child.stdout.take().expect("piped stdout");
-    let talos = BufReader::new(stdout)
-        .lines()
-        .map_while(Result::ok)
+    let mut lines = BufReader::new(stdout).lines().map_while(Result::ok);
+    // Whoever reads the simulator's terminal is told first that no hardware moves.
+    let first = lines.next().unwrap_or_default();
+    assert!(
+        first.starts_with("armjog sim: SIMULATED ARM (no hardware)"),
+        "banner: {first:?}"
+    );
+    let talos = lines
         .find(|line| line.contains("talos operator"))
         .and_then(|line| line.split_whitespace().nth(2).map(str::to_string))
         .expect("armjog sim prints its Talos address");

@@ -255,6 +255,7 @@ fn the_console_stops_and_says_so_when_its_guard_goes_down_and_shows_its_state() 
             positions_on_operator: false,
             max_jog_speed: 0.25,
             frames: true,
+            simulated: false,
         },
         PositionBook::new(),
     );

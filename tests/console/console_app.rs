@@ -429,6 +429,7 @@ fn remembered_names_are_checked_with_the_operator_when_the_link_comes_up() {
         positions_on_operator: true,
         max_jog_speed: 0.25,
         frames: false,
+        simulated: false,
     };
     let mut book = PositionBook::new();
     book.get_or_insert("ghost");
@@ -467,6 +468,7 @@ fn an_answer_about_a_name_not_in_the_book_adds_nothing_and_leaves_the_selection(
         positions_on_operator: true,
         max_jog_speed: 0.25,
         frames: false,
+        simulated: false,
     };
     let mut book = PositionBook::new();
     book.get_or_insert("bench");

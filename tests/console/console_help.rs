@@ -47,6 +47,7 @@ fn app_with(
         positions_on_operator: on_operator,
         max_jog_speed: 0.25,
         frames: !on_operator,
+        simulated: false,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();
@@ -282,6 +283,7 @@ fn the_turn_keys_are_offered_until_the_driver_says_which_link_it_has() {
         positions_on_operator: false,
         max_jog_speed: 0.25,
         frames: true,
+        simulated: false,
     };
     let mut app = App::new(config, PositionBook::new());
     app.handle(

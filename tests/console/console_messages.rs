@@ -30,6 +30,7 @@ fn app_before_link(source: TelemetrySource) -> (App, Instant) {
         positions_on_operator: source != TelemetrySource::Modbus,
         max_jog_speed: 0.25,
         frames: source == TelemetrySource::Modbus,
+        simulated: false,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();

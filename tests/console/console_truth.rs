@@ -34,6 +34,7 @@ fn app(source: TelemetrySource) -> (App, Instant) {
         positions_on_operator: !over_modbus,
         max_jog_speed: 0.25,
         frames: over_modbus,
+        simulated: false,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();

@@ -74,6 +74,7 @@ fn modbus_app() -> (App, Instant) {
         positions_on_operator: false,
         max_jog_speed: 0.25,
         frames: true,
+        simulated: false,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();

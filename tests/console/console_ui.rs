@@ -125,6 +125,7 @@ fn bare_app(mode: ReleaseMode, on_operator: bool) -> (App, Instant) {
         positions_on_operator: on_operator,
         max_jog_speed: 0.25,
         frames: !on_operator,
+        simulated: false,
     };
     (App::new(config, PositionBook::new()), Instant::now())
 }

@@ -24,6 +24,7 @@ pub fn app_for(config: &DriverConfig, book: PositionBook) -> App {
             positions_on_operator: config.positions_on_operator(),
             max_jog_speed: config.max_jog_speed,
             frames: config.talos.is_none(),
+            simulated: false,
         },
         book,
     )

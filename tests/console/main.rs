@@ -39,6 +39,7 @@ mod positions_pose;
 mod positions_resave;
 mod readme_keys;
 mod screen_sizes;
+mod simulated_arm_ui;
 mod singularity;
 mod singularity_e2e;
 mod speed_settings;

@@ -112,6 +112,7 @@ fn live_app(mode: ReleaseMode, frames: bool) -> (App, Instant) {
         positions_on_operator: !frames,
         max_jog_speed: 0.25,
         frames,
+        simulated: false,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();

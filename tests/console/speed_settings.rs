@@ -342,6 +342,7 @@ fn the_status_bar_shows_the_jog_speed_from_the_cap_and_the_percent() {
             positions_on_operator: false,
             max_jog_speed: 0.05,
             frames: true,
+            simulated: false,
         },
         PositionBook::new(),
     );

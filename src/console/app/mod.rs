@@ -154,6 +154,8 @@ pub struct AppConfig {
     pub max_jog_speed: f64,
     /// Reference frames apply (Modbus jogging).
     pub frames: bool,
+    /// The arm is the console's built-in simulator, not hardware: the status bar says so.
+    pub simulated: bool,
 }
 
 /// The console's whole state. Private: only inputs change it; [`App`]'s accessors read it.

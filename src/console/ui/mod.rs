@@ -107,8 +107,13 @@ pub fn draw_no_telemetry(frame: &mut Frame, area: Rect, block: Block, view: &Vie
 pub fn draw(frame: &mut Frame, view: &View, theme: &Theme) {
     let area = frame.area();
     if area.width < MIN_WIDTH || area.height < MIN_HEIGHT {
+        let arm = if view.simulated {
+            "SIMULATED ARM: "
+        } else {
+            ""
+        };
         let text = format!(
-            "terminal too small ({}x{}): motion stopped. Need {MIN_WIDTH}x{MIN_HEIGHT}.",
+            "{arm}terminal too small ({}x{}): motion stopped. Need {MIN_WIDTH}x{MIN_HEIGHT}.",
             area.width, area.height
         );
         frame.render_widget(

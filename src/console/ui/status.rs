@@ -41,6 +41,15 @@ fn release_mode_name(view: &View) -> &'static str {
     }
 }
 
+/// The built-in simulator's badge; none for a real link, whose address the line shows.
+fn simulated_spans(view: &View, theme: &Theme) -> Vec<Span<'static>> {
+    if view.simulated {
+        vec![Span::styled(" SIMULATED ARM ", theme.simulated())]
+    } else {
+        Vec::new()
+    }
+}
+
 /// The stop guard's badge, when one is required (Modbus motion).
 fn guard_spans(view: &View, theme: &Theme) -> Vec<Span<'static>> {
     match &view.guard {
@@ -108,11 +117,14 @@ fn spans_width(spans: &[Span]) -> usize {
     spans.iter().map(|s| numbers::width(&s.content)).sum()
 }
 
-/// The guard, the link's state and what it is, then the latency. The guard goes first: a
-/// missing one must show however narrow the line. The description is elided (never inside a
-/// number) before the state is; the latency goes before the description is elided.
+/// The simulated-arm badge, the guard, the link's state and what it is, then the latency. The
+/// badges go first: a simulated arm or a missing guard must show however narrow the line. The
+/// description is elided (never inside a number) before the state is; the latency goes before
+/// the description is elided.
 fn link_line(view: &View, theme: &Theme, width: usize) -> Line<'static> {
-    let mut badges = guard_spans(view, theme);
+    // Which arm the keys move comes first of all: a demo must never pass for a real cell.
+    let mut badges = simulated_spans(view, theme);
+    badges.extend(guard_spans(view, theme));
     let (detail, detail_style, latency) = match &view.link {
         LinkStatus::Up { description } => {
             // A link that went silent is not shown as healthy.

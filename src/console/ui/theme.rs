@@ -85,4 +85,16 @@ impl Theme {
     pub fn accent(&self) -> Style {
         self.colored(Color::Cyan)
     }
+
+    /// The built-in simulated arm's badge: plain to see, and unlike any alarm or motion.
+    pub fn simulated(&self) -> Style {
+        if self.color {
+            Style::default()
+                .fg(Color::Black)
+                .bg(Color::Cyan)
+                .add_modifier(Modifier::BOLD)
+        } else {
+            Style::default().add_modifier(Modifier::BOLD | Modifier::REVERSED)
+        }
+    }
 }
