@@ -280,6 +280,11 @@ def main():
                 os.write(c.master, PRESS_RIGHT)
                 c.state, deadline = "pressed", t + 2.0
             elif c.state == "held" and t >= next_at:
+                # Frames the console sent before the release are taken first, so a START
+                # counted after it was sent after the release bytes were on the pty.
+                while select.select(c.op.sockets()[1:], [], [], 0)[0]:
+                    for r in select.select(c.op.sockets()[1:], [], [], 0)[0]:
+                        c.op.on_readable(r, now_ns())
                 c.release_ns = now_ns()
                 os.write(c.master, RELEASE_RIGHT)
                 c.state, deadline = "released", t + 2.0
