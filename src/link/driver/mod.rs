@@ -253,14 +253,14 @@ async fn run(
                     if let Some(outcome) = stops.stop(&sent, &down) {
                         let _ = events.send(outcome);
                     }
-                    talos.command(command).await;
+                    talos.command(command);
                     continue;
                 }
                 let via_talos = talos.handles(&command, modbus.is_some());
                 match (&modbus, via_talos) {
                     (_, true) => {
                         stops.motion(&command, stop_outcome::Side::Talos);
-                        talos.command(command).await
+                        talos.command(command)
                     }
                     (Some(m), false) => match guard_refusal(&config, guard.as_ref(), &command) {
                         Some(error) => {
@@ -404,7 +404,7 @@ async fn run(
                     modbus_attempts.start(connect::modbus(mc.clone()), &connected_tx);
                 }
             }
-            _ = hw_poll.tick(), if hw_telemetry => talos.poll_telemetry().await,
+            _ = hw_poll.tick(), if hw_telemetry => talos.poll_telemetry(),
         }
     }
     // The console is gone: stop everything on the way out. A connect still in flight has
@@ -414,7 +414,6 @@ async fn run(
     if let Some(m) = &modbus {
         m.send(ArmCommand::Stop);
     }
-    talos.command(ArmCommand::Stop).await;
     talos.flush().await;
     if let Some(m) = modbus {
         m.close().await;
