@@ -17,6 +17,7 @@ mod modbus_link;
 mod modbus_link_paused;
 mod modbus_speed_cap;
 mod orientation_jog;
+mod stop_paths;
 mod talos_first_exchange;
 mod talos_link;
 mod talos_link_paused;
