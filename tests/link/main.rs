@@ -10,6 +10,7 @@ mod common;
 #[path = "../modbus_fake/mod.rs"]
 mod modbus_fake;
 
+mod driver_stall;
 mod driver_stop;
 mod hardware_icd;
 mod modbus_capped_moves;
