@@ -23,6 +23,7 @@
 //! ACK is re-sent ([`STOP_ACK_TRIES`] frames, [`STOP_ACK_INTERVAL`] apart) before it fails.
 
 mod hint;
+mod motion;
 mod task;
 
 use std::fmt;

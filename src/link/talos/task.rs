@@ -12,6 +12,7 @@ use tokio::io::{AsyncRead, AsyncWrite, ReadHalf, WriteHalf};
 use tokio::sync::{Notify, mpsc};
 use tokio_util::codec::{FramedRead, FramedWrite};
 
+use super::motion::MotionSinceStop;
 use super::{
     Answer, AnswerTx, CommandIds, Exchange, Job, STOP_ACK_INTERVAL, STOP_ACK_TRIES, TalosError,
     TalosEvent, WRITE_STALL, ack_deadline, is_stop,
@@ -19,7 +20,7 @@ use super::{
 use crate::net::{FrameReader, io_error_words};
 use crate::talos::ack::{ACK, AckCodec, AckItem};
 use crate::talos::frame::{Decoded, FrameCodec, Rejection, TalosFrame};
-use crate::talos::{Checksum, CommandValue, Dialect, Reply, Request, may_move, stop_requests};
+use crate::talos::{Checksum, CommandValue, Dialect, Reply, Request};
 
 async fn sleep_until(deadline: Option<tokio::time::Instant>) {
     match deadline {
@@ -53,45 +54,6 @@ struct ExpiredAck {
     command: CommandValue,
     /// After this an ACK is no longer taken for this frame's.
     forget_at: tokio::time::Instant,
-}
-
-/// Whether anything that may move the arm went out since the last full stop set: what a
-/// dropped or failed link must stop.
-#[derive(Debug)]
-struct MotionSinceStop {
-    /// The dialect's stop set ([`stop_requests`]).
-    stops: Vec<Request>,
-    /// Which of `stops` went out since the last motion.
-    stopped: Vec<bool>,
-    moving: bool,
-}
-
-impl MotionSinceStop {
-    fn new(dialect: Dialect) -> MotionSinceStop {
-        let stops = stop_requests(dialect);
-        MotionSinceStop {
-            stopped: vec![false; stops.len()],
-            stops,
-            moving: false,
-        }
-    }
-
-    fn note(&mut self, request: &Request) {
-        if may_move(request) {
-            self.moving = true;
-            self.stopped.fill(false);
-        } else if let Some(i) = self.stops.iter().position(|stop| stop == request) {
-            self.stopped[i] = true;
-            if self.stopped.iter().all(|s| *s) {
-                self.moving = false;
-            }
-        }
-    }
-
-    /// The whole stop set if anything may be moving, else nothing.
-    fn owed(&self) -> &[Request] {
-        if self.moving { &self.stops } else { &[] }
-    }
 }
 
 /// Why the link ended, and whether its write side may still carry a stop.
