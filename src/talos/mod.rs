@@ -9,6 +9,7 @@
 //! - [`hardware`]: armjog's companion ICD for Execute Hardware Operation (0x0008).
 //! - [`dialect`]: how an operator answers (typed replies or bare ACKs).
 //! - [`hex`]: frames as spaced hex, for logs and `armjog send --hex`.
+//! - [`stop`]: the one set of requests that stops every motion, per dialect.
 
 pub mod ack;
 pub mod checksum;
@@ -23,6 +24,7 @@ pub mod reader;
 pub mod reply;
 pub mod request;
 pub mod return_code;
+pub mod stop;
 
 pub use checksum::Checksum;
 pub use command::CommandValue;
@@ -32,3 +34,4 @@ pub use name::PositionName;
 pub use reply::Reply;
 pub use request::Request;
 pub use return_code::ReturnCode;
+pub use stop::{may_move, stop_requests};

@@ -40,6 +40,9 @@ impl TestOperator {
             while let Ok((mut stream, _)) = listener.accept().await {
                 let mut codec = FrameCodec::new(checksum);
                 let mut buf = BytesMut::new();
+                // A peer that closed cannot take replies, but what it wrote first is still
+                // decoded and reported.
+                let mut writable = true;
                 'conn: loop {
                     while let Ok(Some(item)) = codec.decode(&mut buf) {
                         let actions = match &item {
@@ -50,8 +53,8 @@ impl TestOperator {
                         for action in actions {
                             match action {
                                 Action::Write(bytes) => {
-                                    if stream.write_all(&bytes).await.is_err() {
-                                        break 'conn;
+                                    if writable && stream.write_all(&bytes).await.is_err() {
+                                        writable = false;
                                     }
                                 }
                                 Action::Sleep(d) => tokio::time::sleep(d).await,
@@ -79,6 +82,71 @@ impl TestOperator {
             Decoded::TalosFrame(f) => f,
             Decoded::Rejected(r) => panic!("operator rejected a frame: {r}"),
         }
+    }
+}
+
+impl TestOperator {
+    /// Every frame received until none comes for `settle`.
+    pub async fn frames_until_quiet(&mut self, settle: std::time::Duration) -> Vec<TalosFrame> {
+        let mut frames = Vec::new();
+        while let Ok(Some(item)) = tokio::time::timeout(settle, self.received.recv()).await {
+            if let Decoded::TalosFrame(f) = item {
+                frames.push(f);
+            }
+        }
+        frames
+    }
+}
+
+/// An OK reply of the ICD dialect to `frame`'s request (a version for a handshake, a speed for
+/// Get Speed).
+pub fn ok_reply(frame: &TalosFrame) -> armjog::talos::Reply {
+    use armjog::talos::{Reply, Request, ReturnCode};
+    let request = Request::from_frame(frame).expect("valid request");
+    match request {
+        Request::Handshake { .. } => Reply::Handshake {
+            return_code: ReturnCode::OK,
+            major_version: 1,
+            minor_version: 2,
+        },
+        Request::GetSpeed => Reply::GetSpeed {
+            return_code: ReturnCode::OK,
+            speed: 42,
+        },
+        other => Reply::error(other.command(), ReturnCode::OK),
+    }
+}
+
+/// A script that answers every frame OK in the ICD dialect.
+pub fn answering(checksum: Checksum) -> Script {
+    Arc::new(move |f: &TalosFrame| vec![Action::Write(reply_bytes(&ok_reply(f), f.id, checksum))])
+}
+
+/// A script that answers every frame with the ack dialect's "ACK\0".
+pub fn acking() -> Script {
+    Arc::new(|_: &TalosFrame| vec![Action::Write(b"ACK\0".to_vec())])
+}
+
+/// Command value and payload of each frame, to compare with [`stop_set`].
+pub fn wire(frames: &[TalosFrame]) -> Vec<(u16, Vec<u8>)> {
+    frames
+        .iter()
+        .map(|f| (f.command, f.payload.clone()))
+        .collect()
+}
+
+/// The stop set as it must reach the operator, written by hand from the ICDs. ICD dialect:
+/// Cartesian Move STOP (0x0007), Polar Pan STOP (0x0004), then Execute Hardware Operation
+/// (0x0008) with subcommand STOP_ALL_JOINTS (0x0004), RESERVED 0 and no body
+/// (`docs/hardware-icd.md`). Ack dialect (commands 0x0000-0x0004 only): Polar Pan STOP.
+pub fn stop_set(dialect: armjog::talos::Dialect) -> Vec<(u16, Vec<u8>)> {
+    match dialect {
+        armjog::talos::Dialect::Icd => vec![
+            (0x0007, vec![]),
+            (0x0004, vec![]),
+            (0x0008, vec![0x00, 0x04, 0x00, 0x00, 0x00, 0x00]),
+        ],
+        armjog::talos::Dialect::Ack => vec![(0x0004, vec![])],
     }
 }
 

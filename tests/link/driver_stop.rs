@@ -25,7 +25,7 @@ const ACTION_STOP: u16 = 2;
 
 /// One holding-register write as it reached the arm.
 #[derive(Debug)]
-struct RegisterWrite {
+pub(crate) struct RegisterWrite {
     at: Instant,
     address: u16,
     values: Vec<u16>,
@@ -33,7 +33,7 @@ struct RegisterWrite {
 
 /// A Modbus TCP server that answers every read with zeros and every write with its echo, and
 /// reports each register write with the time it arrived.
-async fn recording_arm(listener: TcpListener) -> mpsc::UnboundedReceiver<RegisterWrite> {
+pub(crate) async fn recording_arm(listener: TcpListener) -> mpsc::UnboundedReceiver<RegisterWrite> {
     let (tx, rx) = mpsc::unbounded_channel();
     tokio::spawn(async move {
         while let Ok((stream, _)) = listener.accept().await {
@@ -125,7 +125,7 @@ async fn stalled_operator() -> (String, Arc<AtomicUsize>) {
 }
 
 /// Waits for the first event `pick` accepts; panics after `within`.
-async fn wait_for<T>(
+pub(crate) async fn wait_for<T>(
     events: &mut mpsc::UnboundedReceiver<ArmEvent>,
     within: Duration,
     what: &str,
@@ -146,7 +146,7 @@ async fn wait_for<T>(
 }
 
 /// The next STOP write (register 200 <- 2); panics after `within`.
-async fn next_stop_write(
+pub(crate) async fn next_stop_write(
     writes: &mut mpsc::UnboundedReceiver<RegisterWrite>,
     within: Duration,
 ) -> Instant {

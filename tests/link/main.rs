@@ -10,6 +10,7 @@ mod common;
 #[path = "../modbus_fake/mod.rs"]
 mod modbus_fake;
 
+mod driver_stall;
 mod driver_stop;
 mod hardware_icd;
 mod modbus_capped_moves;
@@ -17,7 +18,9 @@ mod modbus_link;
 mod modbus_link_paused;
 mod modbus_speed_cap;
 mod orientation_jog;
+mod stop_paths;
 mod talos_first_exchange;
 mod talos_link;
 mod talos_link_paused;
 mod talos_link_split;
+mod talos_link_stall;

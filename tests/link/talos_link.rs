@@ -9,27 +9,7 @@ use std::time::Duration;
 use armjog::link::talos::TalosEvent;
 use armjog::link::{Answer, Dialect, TalosConfig, TalosError, TalosLink};
 use armjog::talos::{Checksum, CommandValue, Reply, Request, ReturnCode, TalosFrame};
-use common::{Action, TestOperator, reply_bytes};
-
-fn ok_reply(frame: &TalosFrame) -> Reply {
-    let request = Request::from_frame(frame).expect("valid request");
-    match request {
-        Request::Handshake { .. } => Reply::Handshake {
-            return_code: ReturnCode::OK,
-            major_version: 1,
-            minor_version: 2,
-        },
-        Request::GetSpeed => Reply::GetSpeed {
-            return_code: ReturnCode::OK,
-            speed: 42,
-        },
-        other => Reply::error(other.command(), ReturnCode::OK),
-    }
-}
-
-fn answering(checksum: Checksum) -> common::Script {
-    Arc::new(move |f: &TalosFrame| vec![Action::Write(reply_bytes(&ok_reply(f), f.id, checksum))])
-}
+use common::{Action, TestOperator, answering, ok_reply, reply_bytes, stop_set, wire};
 
 fn config(addr: &str, checksum: Checksum) -> TalosConfig {
     let mut c = TalosConfig::new(addr);
@@ -261,7 +241,7 @@ async fn ack_dialect_pairs_acks_in_order_and_refuses_typed_commands_locally() {
 }
 
 #[tokio::test]
-async fn dropping_the_link_mid_motion_sends_stop() {
+async fn dropping_the_link_mid_motion_sends_the_whole_stop_set() {
     let mut op = TestOperator::start(Checksum::Crc16, answering(Checksum::Crc16)).await;
     let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16))
         .await
@@ -275,13 +255,43 @@ async fn dropping_the_link_mid_motion_sends_stop() {
     .unwrap();
     assert_eq!(op.next_frame().await.command, 0x0006);
     drop(link);
-    let stop = op.next_frame().await;
-    assert_eq!(stop.command, 0x0007, "a cartesian STOP follows the drop");
-    assert_eq!(stop.id % 2, 0);
+    let stops = op.frames_until_quiet(Duration::from_millis(300)).await;
+    assert_eq!(
+        wire(&stops),
+        stop_set(Dialect::Icd),
+        "the stop set follows the drop"
+    );
+    assert!(stops.iter().all(|f| f.id % 2 == 0));
 }
 
 #[tokio::test]
-async fn dropping_an_idle_link_sends_nothing() {
+async fn dropping_the_link_after_a_partial_stop_sends_the_whole_set() {
+    // A discrete step and a polar STOP: the polar STOP alone stops nothing the step started.
+    let mut op = TestOperator::start(Checksum::Crc16, answering(Checksum::Crc16)).await;
+    let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16))
+        .await
+        .unwrap();
+    for request in [
+        Request::CartesianMove {
+            delta_x: 10,
+            delta_y: 0,
+            delta_z: 0,
+            delay_ms: 0,
+            time_ms: 0,
+        },
+        Request::PolarPanStop,
+    ] {
+        link.request(request).await.unwrap();
+    }
+    assert_eq!(op.next_frame().await.command, 0x0005);
+    assert_eq!(op.next_frame().await.command, 0x0004);
+    drop(link);
+    let stops = op.frames_until_quiet(Duration::from_millis(300)).await;
+    assert_eq!(wire(&stops), stop_set(Dialect::Icd));
+}
+
+#[tokio::test]
+async fn dropping_a_link_stopped_in_full_sends_nothing() {
     let mut op = TestOperator::start(Checksum::Crc16, answering(Checksum::Crc16)).await;
     let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16))
         .await
@@ -292,9 +302,37 @@ async fn dropping_an_idle_link_sends_nothing() {
     })
     .await
     .unwrap();
-    link.request(Request::PolarPanStop).await.unwrap();
-    assert_eq!(op.next_frame().await.command, 0x0003);
-    assert_eq!(op.next_frame().await.command, 0x0004);
+    let stop_all_joints = Request::HardwareOperation {
+        subcommand: 0x0004,
+        reserved: 0,
+        payload: Vec::new(),
+    };
+    for stop in [
+        Request::CartesianMoveStop,
+        Request::PolarPanStop,
+        stop_all_joints,
+    ] {
+        link.request(stop).await.unwrap();
+    }
+    let sent = op.frames_until_quiet(Duration::from_millis(200)).await;
+    assert_eq!(sent.len(), 4);
+    drop(link);
+    assert!(
+        tokio::time::timeout(Duration::from_millis(150), op.received.recv())
+            .await
+            .map(|item| item.is_none())
+            .unwrap_or(true)
+    );
+}
+
+#[tokio::test]
+async fn dropping_an_idle_link_sends_nothing() {
+    let mut op = TestOperator::start(Checksum::Crc16, answering(Checksum::Crc16)).await;
+    let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16))
+        .await
+        .unwrap();
+    link.request(Request::GetSpeed).await.unwrap();
+    assert_eq!(op.next_frame().await.command, 0x0009);
     drop(link);
     assert!(
         tokio::time::timeout(Duration::from_millis(150), op.received.recv())
@@ -354,16 +392,6 @@ const POLAR_START: Request = Request::PolarPanStart {
 };
 
 /// Every frame the operator received so far, waiting `settle` for stragglers.
-async fn frames_received(op: &mut TestOperator, settle: Duration) -> Vec<TalosFrame> {
-    let mut frames = Vec::new();
-    while let Ok(Some(item)) = tokio::time::timeout(settle, op.received.recv()).await {
-        if let armjog::talos::frame::Decoded::TalosFrame(f) = item {
-            frames.push(f);
-        }
-    }
-    frames
-}
-
 #[tokio::test]
 async fn ack_dialect_one_lost_ack_during_refreshes_does_not_fail_the_final_stop() {
     // The second START's ACK is lost while STARTs are refreshed every 100 ms: every later ACK
@@ -372,12 +400,12 @@ async fn ack_dialect_one_lost_ack_during_refreshes_does_not_fail_the_final_stop(
     let (link, _events) = TalosLink::connect(ack_config(&op.addr)).await.unwrap();
     let mut starts = Vec::new();
     for _ in 0..5 {
-        starts.push(link.submit(POLAR_START).await.unwrap());
+        starts.push(link.submit(POLAR_START).unwrap());
         tokio::time::sleep(Duration::from_millis(100)).await;
     }
     let stop = link.request(Request::PolarPanStop).await;
     assert!(stop.is_ok(), "the operator acknowledged the STOP: {stop:?}");
-    let frames = frames_received(&mut op, Duration::from_millis(300)).await;
+    let frames = op.frames_until_quiet(Duration::from_millis(300)).await;
     let stops = frames.iter().filter(|f| f.command == 0x0004).count();
     assert!(
         (1..=2).contains(&stops),
@@ -390,7 +418,7 @@ async fn ack_dialect_one_lost_ack_during_refreshes_does_not_fail_the_final_stop(
 async fn ack_dialect_an_expired_request_leaves_the_queue_so_the_next_stop_pairs_first_time() {
     let mut op = TestOperator::start(Checksum::Xor8, acking_except(|n, _| n == 0)).await;
     let (link, mut events) = TalosLink::connect(ack_config(&op.addr)).await.unwrap();
-    let start = link.submit(POLAR_START).await.unwrap();
+    let start = link.submit(POLAR_START).unwrap();
     let err = start.wait().await.unwrap_err();
     assert!(
         matches!(
@@ -410,7 +438,7 @@ async fn ack_dialect_an_expired_request_leaves_the_queue_so_the_next_stop_pairs_
         "{:?}",
         stop.latency
     );
-    let frames = frames_received(&mut op, Duration::from_millis(300)).await;
+    let frames = op.frames_until_quiet(Duration::from_millis(300)).await;
     assert_eq!(
         frames.iter().map(|f| f.command).collect::<Vec<_>>(),
         [0x0003, 0x0004],

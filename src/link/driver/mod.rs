@@ -3,7 +3,13 @@
 //!
 //! Order is kept: Talos requests are submitted in command order and their replies awaited
 //! apart, so a STOP never waits behind a START's reply; Modbus commands run one after another
-//! in a worker that drops jog refreshes a later STOP makes stale. A STOP goes to every link.
+//! in a worker that drops jog refreshes a later STOP makes stale. A STOP goes to every link;
+//! over Talos it is the one stop set ([`crate::talos::stop_requests`]), on the keys, the panic
+//! hook's [`StopHandle`] and the exit alike.
+//!
+//! The loop awaits nothing a peer controls: Talos submission queues or fails at once (a full
+//! queue, or a write stalled 500 ms, ends that link), Modbus commands go to the worker's
+//! channel. So an operator that stops reading holds up no STOP for the other link.
 //! When a link drops, the driver reports it and reconnects; nothing moves again until the
 //! technician presses a key. Connects and handshakes run off the loop (see [`connect`]), so a
 //! STOP never waits behind one; a link unreachable at start is retried with back-off.
@@ -120,8 +126,8 @@ impl Driver {
         (Driver { commands, task }, events_rx)
     }
 
-    /// Ends the driver: it stops every motion, waits (up to 2 s) for the stops to be answered,
-    /// and closes the links.
+    /// Ends the driver: it stops every motion (the Modbus stop, and the Talos stop set once),
+    /// waits (up to 2 s) for the stops to be answered, and closes the links.
     pub async fn shutdown(self) {
         let task = self.task.lock().ok().and_then(|mut t| t.take());
         drop(self);
@@ -253,14 +259,14 @@ async fn run(
                     if let Some(outcome) = stops.stop(&sent, &down) {
                         let _ = events.send(outcome);
                     }
-                    talos.command(command).await;
+                    talos.command(command);
                     continue;
                 }
                 let via_talos = talos.handles(&command, modbus.is_some());
                 match (&modbus, via_talos) {
                     (_, true) => {
                         stops.motion(&command, stop_outcome::Side::Talos);
-                        talos.command(command).await
+                        talos.command(command)
                     }
                     (Some(m), false) => match guard_refusal(&config, guard.as_ref(), &command) {
                         Some(error) => {
@@ -404,7 +410,7 @@ async fn run(
                     modbus_attempts.start(connect::modbus(mc.clone()), &connected_tx);
                 }
             }
-            _ = hw_poll.tick(), if hw_telemetry => talos.poll_telemetry().await,
+            _ = hw_poll.tick(), if hw_telemetry => talos.poll_telemetry(),
         }
     }
     // The console is gone: stop everything on the way out. A connect still in flight has
@@ -414,7 +420,6 @@ async fn run(
     if let Some(m) = &modbus {
         m.send(ArmCommand::Stop);
     }
-    talos.command(ArmCommand::Stop).await;
     talos.flush().await;
     if let Some(m) = modbus {
         m.close().await;

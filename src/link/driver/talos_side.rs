@@ -18,7 +18,7 @@ use crate::link::talos::{
 };
 use crate::link::{Dialect, TalosLink};
 use crate::talos::hardware::{ActuatorCommand, HwReply, HwRequest};
-use crate::talos::{CommandValue, Reply, Request, ReturnCode};
+use crate::talos::{CommandValue, Reply, Request, ReturnCode, stop_requests};
 
 /// How long a joint jog command may run before it is renewed or stopped: the operator's
 /// watchdog, s.
@@ -195,15 +195,6 @@ impl TalosSide {
     /// The requests that carry out `command`, in order.
     fn requests(&mut self, command: &ArmCommand) -> Result<Vec<Request>, ArmError> {
         let icd = self.dialect() == Dialect::Icd;
-        let hw = |request: HwRequest| -> Result<Request, ArmError> {
-            Ok(Request::HardwareOperation {
-                subcommand: request.subcommand(),
-                reserved: 0,
-                payload: request
-                    .encode_payload()
-                    .map_err(|e| ArmError::Encode(e.to_string()))?,
-            })
-        };
         Ok(match command {
             ArmCommand::Jog(JogMotion::Cartesian { x, y, z }) => {
                 vec![Request::CartesianMoveStart {
@@ -229,7 +220,7 @@ impl TalosSide {
                 let index = usize::from(joint.saturating_sub(1)).min(6);
                 let velocity = f32::from(*direction) * self.joint_rate(&positions, *joint);
                 let position = positions[index];
-                vec![hw(HwRequest::SendActuatorCommand {
+                vec![hw_request(&HwRequest::SendActuatorCommand {
                     joint: *joint,
                     command: ActuatorCommand::jog(position, velocity),
                 })?]
@@ -237,14 +228,7 @@ impl TalosSide {
             ArmCommand::Jog(JogMotion::Orientation { .. }) => {
                 return Err(ArmError::Unsupported(ORIENTATION_NEEDS_MODBUS));
             }
-            ArmCommand::Stop | ArmCommand::QuickStop => {
-                let mut stops = vec![Request::PolarPanStop];
-                if icd {
-                    stops.insert(0, Request::CartesianMoveStop);
-                    stops.push(hw(HwRequest::StopAllJoints)?);
-                }
-                stops
-            }
+            ArmCommand::Stop | ArmCommand::QuickStop => stop_requests(self.dialect()),
             ArmCommand::Step(StepMove::Cartesian { dx, dy, dz }) => vec![Request::CartesianMove {
                 delta_x: *dx,
                 delta_y: *dy,
@@ -260,7 +244,7 @@ impl TalosSide {
             }],
             ArmCommand::Home => vec![Request::Home { delay_ms: 0 }],
             ArmCommand::SetSpeed(speed) => vec![Request::SetSpeed { speed: *speed }],
-            ArmCommand::FaultReset => vec![hw(HwRequest::ClearAllFaults)?],
+            ArmCommand::FaultReset => vec![hw_request(&HwRequest::ClearAllFaults)?],
             ArmCommand::SavePosition {
                 name,
                 anchor,
@@ -303,8 +287,9 @@ impl TalosSide {
         })
     }
 
-    /// Submits the command's requests in order and reports their answers as they come.
-    pub async fn command(&mut self, command: ArmCommand) {
+    /// Submits the command's requests in order and reports their answers as they come. Never
+    /// waits: submission queues or fails at once (a full queue ends the link).
+    pub fn command(&mut self, command: ArmCommand) {
         let Some(link) = self.link.clone() else {
             if !command.is_stop() {
                 let _ = self.events.send(ArmEvent::Failed {
@@ -329,7 +314,7 @@ impl TalosSide {
         let mut stop_failure = None;
         for request in requests {
             let name = request.command();
-            match link.submit(request).await {
+            match link.submit(request) {
                 Ok(p) => pending.push(p),
                 Err(e) if command.is_stop() => {
                     log_error(&self.events, &command, name, None, &e);
@@ -348,22 +333,37 @@ impl TalosSide {
     }
 
     /// Asks for arm state and actuator feedback; skipped while the last poll is outstanding.
-    pub async fn poll_telemetry(&mut self) {
+    /// Never waits, as [`TalosSide::command`].
+    pub fn poll_telemetry(&mut self) {
         let Some(link) = self.link.clone() else {
             return;
+        };
+        let polls = [
+            HwRequest::GetArmState,
+            HwRequest::GetActuatorFeedback { selector: 0 },
+        ]
+        .map(|r| hw_request(&r));
+        let [state, feedback] = match polls {
+            [Ok(state), Ok(feedback)] => [state, feedback],
+            [Err(e), _] | [_, Err(e)] => {
+                tracing::error!("talos telemetry poll not sent: {e}");
+                let _ = self.events.send(ArmEvent::Log(LogEntry {
+                    poll: true,
+                    count: 1,
+                    name: CommandValue::ExecuteHardwareOperation.name().to_string(),
+                    outcome: e.to_string(),
+                    ok: false,
+                    traffic: Traffic::None,
+                    ..LogEntry::default()
+                }));
+                return;
+            }
         };
         if self.polling.swap(true, Ordering::AcqRel) {
             return;
         }
-        let encode = |r: HwRequest| Request::HardwareOperation {
-            subcommand: r.subcommand(),
-            reserved: 0,
-            payload: r.encode_payload().unwrap_or_default(),
-        };
-        let state = link.submit(encode(HwRequest::GetArmState)).await;
-        let feedback = link
-            .submit(encode(HwRequest::GetActuatorFeedback { selector: 0 }))
-            .await;
+        let state = link.submit(state);
+        let feedback = link.submit(feedback);
         let events = self.events.clone();
         let polling = self.polling.clone();
         let joints = self.joints.clone();
@@ -405,19 +405,40 @@ impl TalosSide {
         });
     }
 
-    /// On the way out: stops every motion and waits (briefly) until the stops are answered.
+    /// On the way out (quit, or the console gone): sends the stop set, the same one as the STOP
+    /// key's, and waits (up to 500 ms) until its requests are answered.
     pub async fn flush(&mut self) {
         let Some(link) = self.link.take() else {
             return;
         };
-        let mut stops = vec![Request::PolarPanStop];
-        if self.dialect() == Dialect::Icd {
-            stops.insert(0, Request::CartesianMoveStop);
+        let mut answers = Vec::new();
+        for stop in stop_requests(self.dialect()) {
+            let name = stop.command();
+            match link.submit(stop) {
+                Ok(pending) => answers.push(pending.wait()),
+                Err(e) => tracing::warn!("talos: {name} on the way out: {e}"),
+            }
         }
-        for stop in stops {
-            let _ = tokio::time::timeout(Duration::from_millis(500), link.request(stop)).await;
+        let answered = futures::future::join_all(answers);
+        if let Ok(results) = tokio::time::timeout(FLUSH_WAIT, answered).await {
+            for error in results.into_iter().filter_map(Result::err) {
+                tracing::warn!("talos: a stop on the way out: {error}");
+            }
+        } else {
+            tracing::warn!("talos: the stops on the way out not answered within {FLUSH_WAIT:?}");
         }
     }
+}
+
+/// How long the driver's exit waits for the operator to answer its stops.
+const FLUSH_WAIT: Duration = Duration::from_millis(500);
+
+/// A hardware operation as its Talos request; a field its encoding refuses is the command's
+/// error, never an empty payload.
+fn hw_request(request: &HwRequest) -> Result<Request, ArmError> {
+    request
+        .to_request()
+        .map_err(|e| ArmError::Encode(e.to_string()))
 }
 
 fn hw_reply(exchange: &Exchange) -> Option<HwReply> {

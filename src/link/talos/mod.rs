@@ -6,9 +6,16 @@
 //! pair (an unknown id, a late reply, a corrupt frame) is reported as a [`TalosEvent`], never
 //! dropped silently.
 //!
-//! Safety: while a continuous START is in effect, dropping the link (or the task losing its
-//! callers) sends the matching STOP before closing, rather than leaving it to the operator's
-//! 500 ms watchdog.
+//! Safety: once anything that may move the arm went out (a continuous START, a joint jog, a
+//! discrete step, home, go-to) and no full stop set ([`crate::talos::stop_requests`]) since,
+//! dropping the link (the task losing its callers) sends the whole stop set before closing,
+//! rather than leaving it to the operator's 500 ms watchdog; so does a link that fails on its
+//! read side while it can still write.
+//!
+//! Nothing here waits on the operator for a caller: [`TalosLink::submit`] is a plain function
+//! that queues or fails at once. A full queue ([`QUEUE_DEPTH`] requests unsent) ends the link,
+//! and so does a write that cannot complete within [`WRITE_STALL`] (an operator that stopped
+//! reading): every pending request fails and [`TalosEvent::Disconnected`] says why.
 //!
 //! Ack dialect: an ACK carries no id, so one lost ACK would misalign every later pairing. A
 //! request whose ACK has not come within its timeout therefore leaves the in-order queue (a
@@ -16,6 +23,7 @@
 //! ACK is re-sent ([`STOP_ACK_TRIES`] frames, [`STOP_ACK_INTERVAL`] apart) before it fails.
 
 mod hint;
+mod motion;
 mod task;
 
 use std::fmt;
@@ -24,7 +32,7 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::Duration;
 
 use tokio::io::{AsyncRead, AsyncWrite};
-use tokio::sync::{mpsc, oneshot};
+use tokio::sync::{Notify, mpsc, oneshot};
 
 use crate::net::{ConnectError, DEFAULT_FRAME_DEADLINE, connect_with_timeout};
 use crate::talos::frame::Rejection;
@@ -43,6 +51,10 @@ pub const DEFAULT_PORT: u16 = 61616;
 pub const STOP_ACK_TRIES: u32 = 3;
 /// Ack dialect: how long a STOP frame waits for its ACK before it is sent again.
 pub const STOP_ACK_INTERVAL: Duration = Duration::from_millis(150);
+/// How many requests may wait unsent; one more is a link failure, never a wait.
+pub const QUEUE_DEPTH: usize = 64;
+/// A frame write that cannot complete within this ends the link: the operator is not reading.
+pub const WRITE_STALL: Duration = Duration::from_millis(500);
 /// Extra time a caller waits beyond the link's own ack-dialect deadline, which always answers
 /// first: the caller's clock may start before the frame is written.
 const ACK_CALLER_GRACE: Duration = Duration::from_millis(250);
@@ -190,6 +202,8 @@ struct Job {
 #[derive(Clone)]
 pub struct TalosLink {
     jobs: mpsc::Sender<Job>,
+    /// Told when a request found the queue full: the task then ends the link.
+    overflow: Arc<Notify>,
     ids: Arc<CommandIds>,
     config: TalosConfig,
 }
@@ -222,14 +236,16 @@ impl TalosLink {
     where
         S: AsyncRead + AsyncWrite + Send + 'static,
     {
-        let (jobs_tx, jobs_rx) = mpsc::channel(64);
+        let (jobs_tx, jobs_rx) = mpsc::channel(QUEUE_DEPTH);
         let (events_tx, events_rx) = mpsc::unbounded_channel();
         let ids = Arc::new(CommandIds::default());
-        let task = LinkTask::new(&config, ids.clone(), events_tx);
+        let overflow = Arc::new(Notify::new());
+        let task = LinkTask::new(&config, ids.clone(), events_tx, overflow.clone());
         tokio::spawn(task.run(stream, jobs_rx));
         (
             TalosLink {
                 jobs: jobs_tx,
+                overflow,
                 ids,
                 config,
             },
@@ -264,13 +280,14 @@ impl TalosLink {
     /// Sends `request` and waits for its answer within the request timeout. A reply with a
     /// non-zero return code is `Err(TalosError::ReturnCode)`, carrying the whole exchange.
     pub async fn request(&self, request: Request) -> Result<Exchange, TalosError> {
-        self.submit(request).await?.wait().await
+        self.submit(request)?.wait().await
     }
 
-    /// Queues `request` for sending and returns at once with a handle on its answer. Requests
-    /// go on the wire in the order they were submitted, so a STOP submitted after a START is
-    /// never overtaken by it, while the caller need not wait for the START's reply.
-    pub async fn submit(&self, request: Request) -> Result<PendingReply, TalosError> {
+    /// Queues `request` for sending and returns at once with a handle on its answer; never
+    /// waits. Requests go on the wire in the order they were submitted, so a STOP submitted
+    /// after a START is never overtaken by it, while the caller need not wait for the START's
+    /// reply. A full queue fails the request and ends the link (see the module docs).
+    pub fn submit(&self, request: Request) -> Result<PendingReply, TalosError> {
         let command = request.command();
         if !self.config.dialect.supports(command) {
             return Err(TalosError::NotInDialect { command });
@@ -287,7 +304,16 @@ impl TalosLink {
             // The link task answers by its own deadline (re-sends included); this is a backstop.
             Dialect::Ack => ack_deadline(command, self.config.request_timeout) + ACK_CALLER_GRACE,
         };
-        self.jobs.send(job).await.map_err(|_| task_gone())?;
+        match self.jobs.try_send(job) {
+            Ok(()) => {}
+            Err(mpsc::error::TrySendError::Full(_)) => {
+                self.overflow.notify_one();
+                return Err(TalosError::Disconnected {
+                    reason: queue_full(),
+                });
+            }
+            Err(mpsc::error::TrySendError::Closed(_)) => return Err(task_gone()),
+        }
         Ok(PendingReply {
             command,
             id,
@@ -309,6 +335,11 @@ impl TalosLink {
             _ => None,
         })
     }
+}
+
+/// Why a link whose queue filled was ended.
+fn queue_full() -> String {
+    format!("{QUEUE_DEPTH} requests queued unsent: the operator is not reading")
 }
 
 fn task_gone() -> TalosError {

@@ -1,5 +1,6 @@
 //! The IO task of a [`TalosLink`](super::TalosLink): owns the transport, writes requests in
-//! order, pairs replies, expires ACKs and re-sends STOPs. Generic over the transport so tests
+//! order (each write bounded by [`WRITE_STALL`]), pairs replies, expires ACKs, re-sends STOPs,
+//! and sends the stop set when its callers are gone or its read side fails. Generic over the transport so tests
 //! run it over an in-memory stream on a paused clock.
 
 use std::collections::{HashMap, VecDeque};
@@ -8,12 +9,13 @@ use std::time::{Duration, Instant};
 
 use futures::{SinkExt, StreamExt};
 use tokio::io::{AsyncRead, AsyncWrite, ReadHalf, WriteHalf};
-use tokio::sync::mpsc;
+use tokio::sync::{Notify, mpsc};
 use tokio_util::codec::{FramedRead, FramedWrite};
 
+use super::motion::MotionSinceStop;
 use super::{
     Answer, AnswerTx, CommandIds, Exchange, Job, STOP_ACK_INTERVAL, STOP_ACK_TRIES, TalosError,
-    TalosEvent, ack_deadline, is_stop,
+    TalosEvent, WRITE_STALL, ack_deadline, is_stop,
 };
 use crate::net::{FrameReader, io_error_words};
 use crate::talos::ack::{ACK, AckCodec, AckItem};
@@ -54,40 +56,25 @@ struct ExpiredAck {
     forget_at: tokio::time::Instant,
 }
 
-/// Which continuous motions the operator was last told to run.
-#[derive(Debug, Default, Clone, Copy)]
-struct ContinuousMotions {
-    polar: bool,
-    cartesian: bool,
+/// Why the link ended, and whether its write side may still carry a stop.
+struct End {
+    reason: String,
+    writable: bool,
 }
 
-impl ContinuousMotions {
-    fn note(&mut self, request: &Request) {
-        match request {
-            Request::PolarPanStart {
-                moving_azimuth,
-                moving_altitude,
-            } => self.polar = *moving_azimuth != 0 || *moving_altitude != 0,
-            Request::PolarPanStop => self.polar = false,
-            Request::CartesianMoveStart {
-                moving_x,
-                moving_y,
-                moving_z,
-            } => self.cartesian = *moving_x != 0 || *moving_y != 0 || *moving_z != 0,
-            Request::CartesianMoveStop => self.cartesian = false,
-            _ => {}
+impl End {
+    fn write(reason: String) -> End {
+        End {
+            reason,
+            writable: false,
         }
     }
 
-    fn stops(self) -> Vec<Request> {
-        let mut stops = Vec::new();
-        if self.polar {
-            stops.push(Request::PolarPanStop);
+    fn read(reason: String) -> End {
+        End {
+            reason,
+            writable: true,
         }
-        if self.cartesian {
-            stops.push(Request::CartesianMoveStop);
-        }
-        stops
     }
 }
 
@@ -105,8 +92,10 @@ pub(super) struct LinkTask {
     frame_deadline: Duration,
     /// The operator's address, for the log.
     addr: String,
-    motion: ContinuousMotions,
+    motion: MotionSinceStop,
     events: mpsc::UnboundedSender<TalosEvent>,
+    /// Told by a caller that found the queue full.
+    overflow: Arc<Notify>,
 }
 
 /// What arrives from the operator, in either dialect.
@@ -137,6 +126,7 @@ impl LinkTask {
         config: &super::TalosConfig,
         ids: Arc<CommandIds>,
         events: mpsc::UnboundedSender<TalosEvent>,
+        overflow: Arc<Notify>,
     ) -> LinkTask {
         LinkTask {
             dialect: config.dialect,
@@ -148,8 +138,9 @@ impl LinkTask {
             request_timeout: config.request_timeout,
             frame_deadline: config.frame_deadline,
             addr: config.addr.clone(),
-            motion: ContinuousMotions::default(),
+            motion: MotionSinceStop::new(config.dialect),
             events,
+            overflow,
         }
     }
 
@@ -169,22 +160,17 @@ impl LinkTask {
             Dialect::Ack => Replies::Acks(FramedRead::new(read_half, AckCodec)),
         };
         let mut sweep = tokio::time::interval(Duration::from_secs(1));
-        let reason = loop {
+        let end = loop {
             tokio::select! {
                 job = jobs.recv() => match job {
                     Some(job) => {
-                        if let Err(e) = self.send(&mut writer, job).await {
-                            break format!("write failed: {}", io_error_words(&e));
+                        if let Err(reason) = self.send(&mut writer, job).await {
+                            break End::write(reason);
                         }
                     }
                     None => {
-                        // Every caller is gone: stop what we started, then close.
-                        for stop in self.motion.stops() {
-                            let frame = stop.to_frame(self.ids.next());
-                            if let Ok(frame) = frame {
-                                let _ = writer.send(frame).await;
-                            }
-                        }
+                        // Every caller is gone: stop what may be moving, then close.
+                        let _ = self.write_stops(&mut writer).await;
                         return;
                     }
                 },
@@ -195,17 +181,19 @@ impl LinkTask {
                     Some(Ok(Incoming::Ack(AckItem::Garbage(n)))) => {
                         self.event(TalosEvent::UnexpectedAckBytes(n));
                     }
-                    Some(Err(e)) => break format!("read failed: {}", io_error_words(&e)),
-                    None => break "the operator closed the connection".to_string(),
+                    Some(Err(e)) => break End::read(format!("read failed: {}", io_error_words(&e))),
+                    None => break End::read("the operator closed the connection".to_string()),
                 },
                 _ = sleep_until(self.next_ack_expiry()) => {
-                    if let Err(e) = self.expire_acks(&mut writer).await {
-                        break format!("write failed: {}", io_error_words(&e));
+                    if let Err(reason) = self.expire_acks(&mut writer).await {
+                        break End::write(reason);
                     }
                 }
+                () = self.overflow.notified() => break End::write(super::queue_full()),
                 _ = sweep.tick() => self.sweep(),
             }
         };
+        let reason = end.reason;
         tracing::warn!("talos link lost: {reason}");
         for (_, p) in self.pending.drain() {
             let _ = p.answer.send(Err(TalosError::Disconnected {
@@ -220,10 +208,53 @@ impl LinkTask {
         self.event(TalosEvent::Disconnected { reason });
         // Fail later callers at once rather than letting them time out.
         jobs.close();
+        // A link that failed on its read side may still carry the stop set.
+        if end.writable
+            && let Err(reason) = self.write_stops(&mut writer).await
+        {
+            tracing::warn!("talos: the stop set after the link was lost: {reason}");
+        }
         while let Some(job) = jobs.recv().await {
             let _ = job.answer.send(Err(TalosError::Disconnected {
                 reason: "the link was lost earlier".into(),
             }));
+        }
+    }
+
+    /// Writes the stop set if anything may be moving; the first write that fails ends it.
+    async fn write_stops<W: AsyncWrite + Unpin>(
+        &mut self,
+        writer: &mut FramedWrite<W, FrameCodec>,
+    ) -> Result<(), String> {
+        for stop in self.motion.owed().to_vec() {
+            let id = self.ids.next();
+            match stop.to_frame(id) {
+                Ok(frame) => self.write(writer, frame).await?,
+                // The stop set encodes by construction; say so if that ever changes.
+                Err(e) => tracing::error!("cannot encode {}: {e}", stop.command()),
+            }
+            self.motion.note(&stop);
+        }
+        Ok(())
+    }
+
+    /// Writes one frame, or says why the link must end: a write error, a write that could not
+    /// complete within [`WRITE_STALL`], or a caller that found the queue full meanwhile.
+    async fn write<W: AsyncWrite + Unpin>(
+        &self,
+        writer: &mut FramedWrite<W, FrameCodec>,
+        frame: TalosFrame,
+    ) -> Result<(), String> {
+        tokio::select! {
+            written = tokio::time::timeout(WRITE_STALL, writer.send(frame)) => match written {
+                Ok(Ok(())) => Ok(()),
+                Ok(Err(e)) => Err(format!("write failed: {}", io_error_words(&e))),
+                Err(_) => Err(format!(
+                    "the operator has not read for {} ms (write stalled)",
+                    WRITE_STALL.as_millis()
+                )),
+            },
+            () = self.overflow.notified() => Err(super::queue_full()),
         }
     }
 
@@ -236,7 +267,7 @@ impl LinkTask {
         &mut self,
         writer: &mut FramedWrite<W, FrameCodec>,
         job: Job,
-    ) -> std::io::Result<()> {
+    ) -> Result<(), String> {
         let id = job.id;
         let command = job.request.command();
         let frame = match job.request.to_frame(id) {
@@ -264,7 +295,7 @@ impl LinkTask {
                 self.queue_ack_wait(pending, 1, first_sent);
             }
         }
-        writer.send(frame).await
+        self.write(writer, frame).await
     }
 
     fn queue_ack_wait(&mut self, pending: Pending, tries: u32, first_sent: Instant) {
@@ -290,7 +321,7 @@ impl LinkTask {
     async fn expire_acks<W: AsyncWrite + Unpin>(
         &mut self,
         writer: &mut FramedWrite<W, FrameCodec>,
-    ) -> std::io::Result<()> {
+    ) -> Result<(), String> {
         let now = tokio::time::Instant::now();
         let (overdue, waiting): (VecDeque<AckWait>, VecDeque<AckWait>) =
             self.ack_queue.drain(..).partition(|w| w.expires <= now);
@@ -337,7 +368,7 @@ impl LinkTask {
                     ..pending
                 };
                 self.queue_ack_wait(resent, tries + 1, first_sent);
-                writer.send(frame).await?;
+                self.write(writer, frame).await?;
             } else {
                 tracing::warn!("{command} (id {}) not acknowledged in time", pending.id);
                 self.event(TalosEvent::AckExpired {

@@ -2,6 +2,8 @@
 
 use serde::Serialize;
 
+use crate::talos::Request;
+
 use super::reader::{Reader, check_joint, check_order, check_selector};
 use super::{
     ACTUATOR_COMMAND_LEN, ARM_STATE_LEN, ActuatorCommand, ActuatorFeedback, ArmState, CommandFlags,
@@ -51,6 +53,34 @@ impl HwRequest {
     /// The inner Payload bytes, after [`HwRequest::validate`].
     pub fn encode_payload(&self) -> Result<Vec<u8>, HwError> {
         self.validate()?;
+        Ok(self.payload_bytes())
+    }
+
+    /// The Talos request that carries this operation (Execute Hardware Operation, 0x0008),
+    /// after [`HwRequest::validate`]: the one place a hardware operation becomes a request, so
+    /// none ever goes out with a payload its encoding failed to produce.
+    pub fn to_request(&self) -> Result<Request, HwError> {
+        self.validate()?;
+        Ok(self.carried(self.payload_bytes()))
+    }
+
+    /// STOP_ALL_JOINTS as its Talos request. It has no fields, so there is nothing to validate
+    /// and nothing that can fail: the stop set needs it unconditionally.
+    pub fn stop_all_joints_request() -> Request {
+        let stop = HwRequest::StopAllJoints;
+        stop.carried(stop.payload_bytes())
+    }
+
+    fn carried(&self, payload: Vec<u8>) -> Request {
+        Request::HardwareOperation {
+            subcommand: self.subcommand(),
+            reserved: 0,
+            payload,
+        }
+    }
+
+    /// The payload bytes of a validated request.
+    fn payload_bytes(&self) -> Vec<u8> {
         let mut out = Vec::new();
         match self {
             HwRequest::GetActuatorFeedback { selector } => out.push(*selector),
@@ -68,7 +98,7 @@ impl HwRequest {
             }
             HwRequest::GetArmState | HwRequest::StopAllJoints | HwRequest::ClearAllFaults => {}
         }
-        Ok(out)
+        out
     }
 
     /// Parses and validates the inner Payload of a request with this subcommand.

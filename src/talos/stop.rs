@@ -1,0 +1,118 @@
+//! What "stop" means on a Talos link, said once: the set of requests that stops every motion a
+//! link in a dialect may carry, and which requests may set the arm moving. Every path that
+//! stops the Talos side sends [`stop_requests`]: the STOP key, quit and the driver's exit, a
+//! dropped link, a failed link that can still write, and the panic hook (through the driver).
+
+use super::hardware::{HwRequest, subcommand};
+use super::{Dialect, Request};
+
+/// Every request that stops a motion, in the order they are sent: cartesian, polar, then the
+/// joints (hardware companion ICD STOP_ALL_JOINTS), keeping those `dialect` can carry. The ICD
+/// dialect sends all three; the ack dialect (commands 0x0000-0x0004) only the polar STOP.
+pub fn stop_requests(dialect: Dialect) -> Vec<Request> {
+    [
+        Request::CartesianMoveStop,
+        Request::PolarPanStop,
+        HwRequest::stop_all_joints_request(),
+    ]
+    .into_iter()
+    .filter(|request| dialect.supports(request.command()))
+    .collect()
+}
+
+/// Whether `request` may set the arm moving: continuous starts (even all-zero ones), discrete
+/// steps, home, go-to, a joint command, and any hardware operation not known to be still.
+pub fn may_move(request: &Request) -> bool {
+    match request {
+        Request::PolarPan { .. }
+        | Request::Home { .. }
+        | Request::PolarPanStart { .. }
+        | Request::CartesianMove { .. }
+        | Request::CartesianMoveStart { .. }
+        | Request::GoToPosition { .. } => true,
+        Request::HardwareOperation { subcommand, .. } => !matches!(
+            *subcommand,
+            subcommand::GET_ACTUATOR_FEEDBACK
+                | subcommand::GET_ARM_STATE
+                | subcommand::STOP_ALL_JOINTS
+                | subcommand::CLEAR_ALL_FAULTS
+        ),
+        Request::Handshake { .. }
+        | Request::PolarPanStop
+        | Request::CartesianMoveStop
+        | Request::GetSpeed
+        | Request::SetSpeed { .. }
+        | Request::SavePosition { .. }
+        | Request::DeletePosition { .. }
+        | Request::SetPolarPosition { .. }
+        | Request::GetPolarPosition { .. }
+        | Request::SetCartesianPosition { .. }
+        | Request::GetCartesianPosition { .. } => false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::talos::hardware::ActuatorCommand;
+
+    /// Command value, hardware subcommand (for 0x0008) and payload of each frame the set makes,
+    /// from the Talos ICD (0x0007 cartesian STOP, 0x0004 polar STOP, 0x0008 hardware operation)
+    /// and the hardware companion ICD (0x0004 STOP_ALL_JOINTS, no body).
+    fn wire(requests: &[Request]) -> Vec<(u16, Vec<u8>)> {
+        requests
+            .iter()
+            .map(|r| {
+                let frame = r.to_frame(0).expect("frame");
+                (frame.command, frame.payload)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_icd_set_is_cartesian_polar_and_every_joint() {
+        assert_eq!(
+            wire(&stop_requests(Dialect::Icd)),
+            vec![
+                (0x0007, vec![]),
+                (0x0004, vec![]),
+                // Subcommand 0x0004, RESERVED 0 (4 bytes), no hardware payload.
+                (0x0008, vec![0x00, 0x04, 0, 0, 0, 0]),
+            ]
+        );
+    }
+
+    #[test]
+    fn the_ack_set_is_what_the_dialect_carries() {
+        assert_eq!(wire(&stop_requests(Dialect::Ack)), vec![(0x0004, vec![])]);
+        for dialect in Dialect::ALL {
+            assert!(
+                stop_requests(dialect)
+                    .iter()
+                    .all(|r| dialect.supports(r.command()))
+            );
+        }
+    }
+
+    #[test]
+    fn stops_and_reads_do_not_move_and_every_motion_does() {
+        for stop in stop_requests(Dialect::Icd) {
+            assert!(!may_move(&stop), "{stop:?}");
+        }
+        let jog = HwRequest::SendActuatorCommand {
+            joint: 1,
+            command: ActuatorCommand::jog(0.0, 1.0),
+        };
+        assert!(may_move(&jog.to_request().expect("jog")));
+        assert!(may_move(&Request::Home { delay_ms: 0 }));
+        assert!(may_move(&Request::GoToPosition { name: "a".into() }));
+        assert!(may_move(&Request::PolarPanStart {
+            moving_azimuth: 0,
+            moving_altitude: 0
+        }));
+        assert!(!may_move(
+            &HwRequest::GetArmState.to_request().expect("state")
+        ));
+        assert!(!may_move(&Request::SetSpeed { speed: 50 }));
+    }
+}
