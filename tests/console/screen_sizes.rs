@@ -111,6 +111,7 @@ fn live_app(mode: ReleaseMode, frames: bool) -> (App, Instant) {
         refresh: ms(100),
         positions_on_operator: !frames,
         max_jog_speed: 0.25,
+        joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
         frames,
     };
     let mut app = App::new(config, PositionBook::new());

@@ -341,6 +341,7 @@ fn the_status_bar_shows_the_jog_speed_from_the_cap_and_the_percent() {
             refresh: Duration::from_millis(100),
             positions_on_operator: false,
             max_jog_speed: 0.05,
+            joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
             frames: true,
         },
         PositionBook::new(),
