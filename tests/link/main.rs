@@ -21,3 +21,4 @@ mod talos_first_exchange;
 mod talos_link;
 mod talos_link_paused;
 mod talos_link_split;
+mod talos_speed_scale;

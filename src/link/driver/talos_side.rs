@@ -46,9 +46,9 @@ pub struct TalosConnected {
 async fn connect(
     config: TalosConfig,
     oid: u16,
-    scale: OperatorScale,
-    max_jog_speed: f64,
+    (max_jog_speed, operator_full_speed): (f64, f64),
 ) -> Result<TalosConnected, String> {
+    let scale = OperatorScale::new(max_jog_speed, operator_full_speed);
     let (link, mut link_events) = TalosLink::connect(config.clone())
         .await
         .map_err(|e| format!("talos: {e}"))?;
@@ -82,9 +82,11 @@ async fn connect(
                 Ok(exchange) if exchange.return_code().is_ok() => {
                     speed = Some(INITIAL_SPEED);
                     let cap = max_jog_speed * 1000.0;
+                    let was = operator_full_speed * 1000.0 * f64::from(s) / 100.0;
                     let now = cap * f64::from(INITIAL_SPEED) / 100.0;
                     let text = format!(
-                        "the operator's speed {s}% was over the {cap:.0} mm/s cap: set to {INITIAL_SPEED}% ({now:.0} mm/s)"
+                        "the operator was at {s}% ({was:.0} mm/s), over the {cap:.0} mm/s cap: \
+                         set to {now:.0} mm/s ({INITIAL_SPEED}% of the cap)"
                     );
                     tracing::warn!("{text}");
                     speed_lowered = Some(text);
@@ -121,6 +123,8 @@ pub struct TalosSide {
     joint_jog_speed: f32,
     /// The tool speed cap at 100 %, m/s: bounds joint jog rates by the joint's lever arm.
     max_jog_speed: f64,
+    /// The operator's tool speed at its own 100 %, m/s.
+    operator_full_speed: f64,
     /// The cap's percentages to the operator's and back.
     scale: OperatorScale,
     link: Option<TalosLink>,
@@ -146,6 +150,7 @@ impl TalosSide {
             oid: config.oid,
             joint_jog_speed: config.joint_jog_speed,
             max_jog_speed: config.max_jog_speed,
+            operator_full_speed: config.operator_full_speed,
             scale: OperatorScale::new(config.max_jog_speed, config.operator_full_speed),
             link: None,
             link_events: None,
@@ -176,7 +181,8 @@ impl TalosSide {
         &self,
     ) -> Option<impl Future<Output = Result<TalosConnected, String>> + Send + 'static> {
         let config = self.config.clone()?;
-        Some(connect(config, self.oid, self.scale, self.max_jog_speed))
+        let speeds = (self.max_jog_speed, self.operator_full_speed);
+        Some(connect(config, self.oid, speeds))
     }
 
     /// Takes a link that connected; returns its description for the status bar.
