@@ -337,7 +337,7 @@ fn the_status_bar_uses_the_full_width_in_step_mode() {
     assert_eq!(
         rows[1].trim_end(),
         " STEP 100.0 mm / 30 deg  | keys: auto-repeat fallback (500 ms, 25 Hz) | speed 100% \
-         (250 mm/s) | frame mixed"
+         (≤250 mm/s) | frame mixed"
     );
     assert!(rows[0].contains(&format!("{LINK} 1.2 ms")), "{}", rows[0]);
     insta::assert_snapshot!("screen_160x40_step", terminal.backend());

@@ -353,9 +353,9 @@ fn the_status_bar_shows_the_jog_speed_from_the_cap_and_the_percent() {
     );
     let now = std::time::Instant::now();
     for (percent, text) in [
-        (100, "100% (50 mm/s)"),
-        (40, "40% (20 mm/s)"),
-        (1, "1% (0.5 mm/s)"),
+        (100, "100% (≤50 mm/s)"),
+        (40, "40% (≤20 mm/s)"),
+        (1, "1% (≤0.5 mm/s)"),
     ] {
         app.handle(Input::Arm(ArmEvent::Speed(percent)), now);
         assert_eq!(speed_text(&View::new(&app)), text);

@@ -162,7 +162,8 @@ fn link_line(view: &View, theme: &Theme, width: usize) -> Line<'static> {
 }
 
 /// How much of the second line gives way, in order: why the arm may be moving (the message
-/// line says it too), the measured auto-repeat timing, the speed in mm/s, the words around the
+/// line says it too), the measured auto-repeat timing, the speed's cap in mm/s (`cap not
+/// watched` stays with the percentage), the words around the
 /// key-release mode and the settings (and every warning but the first: joints near a limit,
 /// then the singularity), the joint, the frame, the speed, the first warning; the motion and
 /// the key-release mode never.

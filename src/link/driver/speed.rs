@@ -80,8 +80,13 @@ impl OperatorScale {
         self.ratio >= 0.01 - ROUNDING_SLACK
     }
 
-    /// The operator percentage for `percent` of the console's cap: rounded down, 1-100.
+    /// The operator percentage for `percent` of the console's cap: rounded down, 1-100. A
+    /// percentage outside 1-100 goes on as it is, for the operator to refuse (it is
+    /// OUT_OF_RANGE there too): none is put in force that the operator did not accept.
     pub fn to_operator(&self, percent: u8) -> u8 {
+        if !(1..=100).contains(&percent) {
+            return percent;
+        }
         let exact = f64::from(percent) * self.ratio;
         (exact + ROUNDING_SLACK).floor().clamp(1.0, 100.0) as u8
     }
@@ -116,6 +121,12 @@ mod tests {
         assert_eq!(scale.to_operator(50), 10);
         assert_eq!(scale.to_operator(24), 4, "4.8 % rounds down");
         assert_eq!(scale.to_operator(1), 1, "0.2 % is asked as the least, 1 %");
+        assert_eq!(
+            scale.to_operator(0),
+            0,
+            "out of range: the operator refuses it"
+        );
+        assert_eq!(scale.to_operator(101), 101);
         // A cap that does not divide evenly: 50 of 300 mm/s.
         let scale = OperatorScale::new(50.0, 300.0);
         assert_eq!(scale.to_operator(100), 16, "16.7 % rounds down");
