@@ -274,3 +274,43 @@ pub fn remembered_from_read(read: &Result<PositionBook, BookError>) -> Vec<Remem
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+
+    use super::super::Cli;
+
+    fn validate(args: &[&str]) -> Result<(), String> {
+        let cli = Cli::try_parse_from([&["armjog"], args].concat()).expect("parses");
+        cli.console.validate()
+    }
+
+    #[test]
+    fn the_operators_full_speed_is_checked_like_the_cap_and_against_it() {
+        assert_eq!(validate(&[]), Ok(()));
+        assert_eq!(
+            validate(&["--max-jog-speed", "5", "--operator-full-speed", "500"]),
+            Ok(())
+        );
+        let err = validate(&["--operator-full-speed", "0"]).expect_err("0 mm/s");
+        assert!(err.starts_with("--operator-full-speed 0 mm/s"), "{err}");
+        let err = validate(&["--operator-full-speed", "600"]).expect_err("over 500");
+        assert!(err.contains("at most 500"), "{err}");
+        let err = validate(&["--max-jog-speed", "4", "--operator-full-speed", "500"])
+            .expect_err("below 1 %");
+        assert_eq!(
+            err,
+            "--max-jog-speed 4 mm/s is below 1 % of --operator-full-speed 500 mm/s: the \
+             operator's slowest speed would be over the cap"
+        );
+    }
+
+    #[test]
+    fn the_operators_full_speed_reaches_the_driver() {
+        let cli = Cli::try_parse_from(["armjog", "--operator-full-speed", "400"]).expect("parses");
+        let config = cli.console.driver_config(Some("op".into()), None);
+        assert!((config.operator_full_speed - 0.4).abs() < 1e-12);
+        assert!((config.max_jog_speed - 0.25).abs() < 1e-12);
+    }
+}
