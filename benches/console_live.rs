@@ -64,6 +64,7 @@ async fn press_release_latency() {
             refresh: Duration::from_millis(100),
             positions_on_operator: true,
             max_jog_speed: 0.25,
+            joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
             frames: false,
             simulated: false,
         },

@@ -74,6 +74,7 @@ impl Scene {
                 refresh: Duration::from_millis(100),
                 positions_on_operator: true,
                 max_jog_speed: 0.25,
+                joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
                 frames: false,
                 simulated: false,
             },

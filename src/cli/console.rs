@@ -12,7 +12,7 @@ use crate::console::positions::{BookError, PositionBook};
 use crate::console::run::{ConsoleSetup, run};
 use crate::kortex::PollPlan;
 use crate::link::Dialect;
-use crate::link::driver::DriverConfig;
+use crate::link::driver::{DriverConfig, OperatorScale};
 use crate::link::guard::GuardPolicy;
 use crate::link::modbus::{self, ModbusConfig};
 use crate::link::talos::{self, TalosConfig};
@@ -53,9 +53,18 @@ pub struct ConsoleArgs {
     #[arg(long, default_value = "default", value_name = "NAME|PATH")]
     pub keymap: String,
     /// The tool speed cap at 100 % speed, mm/s: bounds every motion (cartesian and polar jogs,
-    /// joint jogs, steps, go to, home); the speed keys pick a percentage of it.
+    /// joint jogs, steps, go to, home); the speed keys pick a percentage of it. Over Modbus the
+    /// console commands within it; over Talos it sets the operator's speed to the percentage of
+    /// --operator-full-speed that keeps within it. Where there is telemetry, a motion seen more
+    /// than 10 % over it for three samples in a row is stopped.
     #[arg(long, default_value_t = 250.0, value_name = "MM_S")]
     pub max_jog_speed: f64,
+    /// The Talos operator's tool speed at its own 100 %, mm/s (the simulator's default is 250):
+    /// Set Speed asks the operator for the percentage of it that keeps the tool under
+    /// --max-jog-speed. Too low a value lets the operator run over the cap (the console then
+    /// stops the motion where telemetry shows it). The built-in simulator runs at it.
+    #[arg(long, default_value_t = 250.0, value_name = "MM_S")]
+    pub operator_full_speed: f64,
     /// How often a held jog is re-sent, per second (the operator's watchdog is 500 ms).
     #[arg(long, default_value_t = 10.0, value_name = "HZ")]
     pub refresh_hz: f64,
@@ -83,6 +92,22 @@ impl ConsoleArgs {
             return Err(format!(
                 "--max-jog-speed {} mm/s: must be above 0 and at most 500 (the arm's twist limit)",
                 self.max_jog_speed
+            ));
+        }
+        if !(self.operator_full_speed.is_finite()
+            && self.operator_full_speed > 0.0
+            && self.operator_full_speed <= 500.0)
+        {
+            return Err(format!(
+                "--operator-full-speed {} mm/s: must be above 0 and at most 500 (the arm's twist limit)",
+                self.operator_full_speed
+            ));
+        }
+        if !OperatorScale::new(self.max_jog_speed, self.operator_full_speed).allows_one_percent() {
+            return Err(format!(
+                "--max-jog-speed {} mm/s is below 1 % of --operator-full-speed {} mm/s: the \
+                 operator's slowest speed would be over the cap",
+                self.max_jog_speed, self.operator_full_speed
             ));
         }
         if !(self.refresh_hz.is_finite() && (2.5..=100.0).contains(&self.refresh_hz)) {
@@ -121,6 +146,7 @@ impl ConsoleArgs {
         });
         let mut config = DriverConfig::new(talos, modbus);
         config.max_jog_speed = self.max_jog_speed / 1000.0;
+        config.operator_full_speed = self.operator_full_speed / 1000.0;
         config
     }
 }
@@ -154,8 +180,9 @@ pub async fn run_console(args: &ConsoleArgs) -> i32 {
     let mut simulator = None;
     let (talos_addr, modbus_addr) = match (&args.talos, &args.modbus) {
         (None, None) => match Simulator::start(SimConfig {
-            // The built-in operator honours the console's cap.
-            max_jog_speed: args.max_jog_speed / 1000.0,
+            // The built-in operator runs as an external `armjog sim` would: at its own full
+            // speed, which the console scales its Set Speed to.
+            max_jog_speed: args.operator_full_speed / 1000.0,
             // And knows the positions saved in earlier runs.
             positions: positions_read
                 .as_ref()
@@ -246,5 +273,45 @@ pub fn remembered_from_read(read: &Result<PositionBook, BookError>) -> Vec<Remem
             tracing::warn!("the simulated operator starts without remembered positions: {e}");
             Vec::new()
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::Parser;
+
+    use super::super::Cli;
+
+    fn validate(args: &[&str]) -> Result<(), String> {
+        let cli = Cli::try_parse_from([&["armjog"], args].concat()).expect("parses");
+        cli.console.validate()
+    }
+
+    #[test]
+    fn the_operators_full_speed_is_checked_like_the_cap_and_against_it() {
+        assert_eq!(validate(&[]), Ok(()));
+        assert_eq!(
+            validate(&["--max-jog-speed", "5", "--operator-full-speed", "500"]),
+            Ok(())
+        );
+        let err = validate(&["--operator-full-speed", "0"]).expect_err("0 mm/s");
+        assert!(err.starts_with("--operator-full-speed 0 mm/s"), "{err}");
+        let err = validate(&["--operator-full-speed", "600"]).expect_err("over 500");
+        assert!(err.contains("at most 500"), "{err}");
+        let err = validate(&["--max-jog-speed", "4", "--operator-full-speed", "500"])
+            .expect_err("below 1 %");
+        assert_eq!(
+            err,
+            "--max-jog-speed 4 mm/s is below 1 % of --operator-full-speed 500 mm/s: the \
+             operator's slowest speed would be over the cap"
+        );
+    }
+
+    #[test]
+    fn the_operators_full_speed_reaches_the_driver() {
+        let cli = Cli::try_parse_from(["armjog", "--operator-full-speed", "400"]).expect("parses");
+        let config = cli.console.driver_config(Some("op".into()), None);
+        assert!((config.operator_full_speed - 0.4).abs() < 1e-12);
+        assert!((config.max_jog_speed - 0.25).abs() < 1e-12);
     }
 }

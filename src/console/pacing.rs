@@ -121,6 +121,7 @@ mod tests {
                 refresh: Duration::from_millis(100),
                 positions_on_operator: true,
                 max_jog_speed: 0.25,
+                joint_jog_speed: crate::link::driver::JOINT_JOG_SPEED,
                 frames: false,
                 simulated: false,
             },

@@ -100,6 +100,7 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
     let frames = setup.driver.modbus.is_some() && setup.driver.talos.is_none();
     let positions_on_operator = setup.driver.positions_on_operator();
     let max_jog_speed = setup.driver.max_jog_speed;
+    let joint_jog_speed = setup.driver.joint_jog_speed;
     let arm = setup.driver.target();
     let (driver, mut arm_events) = Driver::spawn(setup.driver);
 
@@ -118,6 +119,7 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
                 refresh: setup.refresh,
                 positions_on_operator,
                 max_jog_speed,
+                joint_jog_speed,
                 frames,
                 simulated: setup.simulated,
             };

@@ -41,6 +41,8 @@ pub struct View {
     pub speed: Option<u8>,
     /// Cartesian jog speed cap, m/s.
     pub max_jog_speed: f64,
+    /// Whether the telemetry lets the console watch the cap (`None` until the driver says).
+    pub cap_watched: Option<bool>,
     /// Orientation jog rate at 100 %, deg/s.
     pub max_angular_jog_speed: f64,
     /// Reference frames apply (Modbus jogging).
@@ -111,6 +113,7 @@ impl View {
             guard: app.guard().cloned(),
             speed: app.speed(),
             max_jog_speed: config.max_jog_speed,
+            cap_watched: app.cap_watched(),
             max_angular_jog_speed: f64::from(crate::link::driver::MAX_ANGULAR_JOG_SPEED),
             frames: config.frames,
             simulated: config.simulated,

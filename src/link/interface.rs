@@ -227,6 +227,9 @@ pub enum ArmEvent {
     Latency(Duration),
     /// The speed in force, percent.
     Speed(u8),
+    /// Something the driver did on its own that the technician must be told (the message
+    /// line says it).
+    Notice(String),
     Log(LogEntry),
     /// A command failed: shown on the status line.
     Failed {

@@ -17,6 +17,7 @@ pub fn app(mode: ReleaseMode, on_operator: bool) -> (App, Instant) {
         refresh: Duration::from_millis(100),
         positions_on_operator: on_operator,
         max_jog_speed: 0.25,
+        joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
         frames: !on_operator,
         simulated: false,
     };

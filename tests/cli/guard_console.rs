@@ -254,6 +254,7 @@ fn the_console_stops_and_says_so_when_its_guard_goes_down_and_shows_its_state() 
             refresh: Duration::from_millis(100),
             positions_on_operator: false,
             max_jog_speed: 0.25,
+            joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
             frames: true,
             simulated: false,
         },

@@ -428,6 +428,7 @@ fn remembered_names_are_checked_with_the_operator_when_the_link_comes_up() {
         refresh: Duration::from_millis(100),
         positions_on_operator: true,
         max_jog_speed: 0.25,
+        joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
         frames: false,
         simulated: false,
     };
@@ -467,6 +468,7 @@ fn an_answer_about_a_name_not_in_the_book_adds_nothing_and_leaves_the_selection(
         refresh: Duration::from_millis(100),
         positions_on_operator: true,
         max_jog_speed: 0.25,
+        joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
         frames: false,
         simulated: false,
     };

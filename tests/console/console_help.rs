@@ -46,6 +46,7 @@ fn app_with(
         refresh: Duration::from_millis(100),
         positions_on_operator: on_operator,
         max_jog_speed: 0.25,
+        joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
         frames: !on_operator,
         simulated: false,
     };
@@ -282,6 +283,7 @@ fn the_turn_keys_are_offered_until_the_driver_says_which_link_it_has() {
         refresh: Duration::from_millis(100),
         positions_on_operator: false,
         max_jog_speed: 0.25,
+        joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
         frames: true,
         simulated: false,
     };

@@ -29,6 +29,7 @@ fn app_before_link(source: TelemetrySource) -> (App, Instant) {
         refresh: ms(100),
         positions_on_operator: source != TelemetrySource::Modbus,
         max_jog_speed: 0.25,
+        joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
         frames: source == TelemetrySource::Modbus,
         simulated: false,
     };

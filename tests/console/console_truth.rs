@@ -33,6 +33,7 @@ fn app(source: TelemetrySource) -> (App, Instant) {
         refresh: ms(100),
         positions_on_operator: !over_modbus,
         max_jog_speed: 0.25,
+        joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
         frames: over_modbus,
         simulated: false,
     };

@@ -73,6 +73,7 @@ fn modbus_app() -> (App, Instant) {
         refresh: ms(100),
         positions_on_operator: false,
         max_jog_speed: 0.25,
+        joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
         frames: true,
         simulated: false,
     };

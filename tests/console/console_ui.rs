@@ -124,6 +124,7 @@ fn bare_app(mode: ReleaseMode, on_operator: bool) -> (App, Instant) {
         refresh: ms(100),
         positions_on_operator: on_operator,
         max_jog_speed: 0.25,
+        joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
         frames: !on_operator,
         simulated: false,
     };

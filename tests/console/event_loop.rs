@@ -23,6 +23,7 @@ pub fn app_for(config: &DriverConfig, book: PositionBook) -> App {
             refresh: Duration::from_millis(100),
             positions_on_operator: config.positions_on_operator(),
             max_jog_speed: config.max_jog_speed,
+            joint_jog_speed: config.joint_jog_speed,
             frames: config.talos.is_none(),
             simulated: false,
         },

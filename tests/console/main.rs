@@ -13,6 +13,8 @@ mod common;
 mod event_loop;
 
 mod arm_view_ui;
+mod cap_e2e;
+mod cap_watch;
 mod console_app;
 mod console_audit;
 mod console_book_load;

@@ -111,6 +111,7 @@ fn live_app(mode: ReleaseMode, frames: bool) -> (App, Instant) {
         refresh: ms(100),
         positions_on_operator: !frames,
         max_jog_speed: 0.25,
+        joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
         frames,
         simulated: false,
     };
@@ -337,7 +338,7 @@ fn the_status_bar_uses_the_full_width_in_step_mode() {
     assert_eq!(
         rows[1].trim_end(),
         " STEP 100.0 mm / 30 deg  | keys: auto-repeat fallback (500 ms, 25 Hz) | speed 100% \
-         (250 mm/s) | frame mixed"
+         (≤250 mm/s) | frame mixed"
     );
     assert!(rows[0].contains(&format!("{LINK} 1.2 ms")), "{}", rows[0]);
     insta::assert_snapshot!("screen_160x40_step", terminal.backend());

@@ -24,6 +24,7 @@ fn jogging(simulated: bool) -> (App, Instant) {
         refresh: Duration::from_millis(100),
         positions_on_operator: true,
         max_jog_speed: 0.25,
+        joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
         frames: false,
         simulated,
     };

@@ -341,6 +341,7 @@ fn the_status_bar_shows_the_jog_speed_from_the_cap_and_the_percent() {
             refresh: Duration::from_millis(100),
             positions_on_operator: false,
             max_jog_speed: 0.05,
+            joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
             frames: true,
             simulated: false,
         },
@@ -353,9 +354,9 @@ fn the_status_bar_shows_the_jog_speed_from_the_cap_and_the_percent() {
     );
     let now = std::time::Instant::now();
     for (percent, text) in [
-        (100, "100% (50 mm/s)"),
-        (40, "40% (20 mm/s)"),
-        (1, "1% (0.5 mm/s)"),
+        (100, "100% (≤50 mm/s)"),
+        (40, "40% (≤20 mm/s)"),
+        (1, "1% (≤0.5 mm/s)"),
     ] {
         app.handle(Input::Arm(ArmEvent::Speed(percent)), now);
         assert_eq!(speed_text(&View::new(&app)), text);

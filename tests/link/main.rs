@@ -24,3 +24,4 @@ mod talos_link;
 mod talos_link_paused;
 mod talos_link_split;
 mod talos_link_stall;
+mod talos_speed_scale;

@@ -37,6 +37,7 @@ impl App {
                 }
             }
             ArmEvent::Telemetry(t) => {
+                self.watch_cap(&t, now, effects);
                 self.history.record(&t, now);
                 self.trail.record(&t, now);
                 self.telemetry = Some(*t);
@@ -44,6 +45,7 @@ impl App {
             ArmEvent::TelemetrySource(source) => self.telemetry_source = source,
             ArmEvent::Latency(latency) => self.latency = Some(latency),
             ArmEvent::Speed(speed) => self.speed = Some(speed),
+            ArmEvent::Notice(text) => self.say(text, Severity::Warning, now),
             ArmEvent::Log(entry) => {
                 // Telemetry polls with the same outcome in a row share one counted line, so
                 // they are logged without drowning the technician's own commands.

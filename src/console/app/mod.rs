@@ -11,6 +11,7 @@ mod access;
 mod arm_events;
 mod arm_state;
 mod book_load;
+mod cap_watch;
 mod coords;
 mod edits;
 mod form_keys;
@@ -30,6 +31,7 @@ mod trail;
 
 pub use arm_state::{abort_reason, age_text, at_rest, fault_reason};
 pub use book_load::{BookState, CHECKED_ON_CONNECT};
+pub use cap_watch::{CAP_TOLERANCE, CapWatch, OVER_CAP_SAMPLES};
 pub use coords::{cartesian_of, describe_motion, polar_of};
 pub use history::{BUCKET, BUCKETS, HISTORY_WINDOW, History, HistorySeries, JointQuantity};
 pub use jog_keys::TAP_STEP_LIMIT;
@@ -152,6 +154,9 @@ pub struct AppConfig {
     pub positions_on_operator: bool,
     /// Cartesian jog speed cap, m/s.
     pub max_jog_speed: f64,
+    /// Single-joint jog speed at 100 %, deg/s (the driver's): a joint jog's rate is watched
+    /// against it.
+    pub joint_jog_speed: f32,
     /// Reference frames apply (Modbus jogging).
     pub frames: bool,
     /// The arm is the console's built-in simulator, not hardware: the status bar says so.
@@ -209,6 +214,8 @@ pub struct App {
     history: History,
     /// The tool point's recent path, for the arm view.
     trail: ToolTrail,
+    /// The speed cap as the telemetry shows it kept.
+    cap_watch: CapWatch,
 }
 
 impl App {
@@ -251,6 +258,7 @@ impl App {
             help_scroll: 0,
             history: History::default(),
             trail: ToolTrail::default(),
+            cap_watch: CapWatch::default(),
         }
     }
 

@@ -31,6 +31,8 @@ pub struct AuditDeriver {
     fault: Option<String>,
     /// The local book as last saved or loaded: name to coordinates (tenths of mm).
     book: BTreeMap<String, Option<[i32; 3]>>,
+    /// The cap watch's stops already recorded.
+    cap_stops: u64,
 }
 
 impl AuditDeriver {
@@ -47,6 +49,7 @@ impl AuditDeriver {
             stale: false,
             fault: None,
             book: BTreeMap::new(),
+            cap_stops: 0,
         }
     }
 
@@ -229,6 +232,7 @@ impl AuditDeriver {
             ArmEvent::Guard(GuardStatus::Down { reason }) => Some(AuditEvent::GuardDown {
                 reason: reason.clone(),
             }),
+            ArmEvent::Notice(text) => Some(AuditEvent::DriverNotice { text: text.clone() }),
             _ => None,
         };
         event
@@ -264,6 +268,20 @@ impl AuditDeriver {
         };
         self.stale = stale.is_some();
         vec![AuditRecord::new(at, event)]
+    }
+
+    /// The cap watch's stops after an input (`CapWatch::stops`): each new one recorded once.
+    pub fn cap_stops(
+        &mut self,
+        (stops, reason): (u64, Option<&str>),
+        at: SystemTime,
+    ) -> Vec<AuditRecord> {
+        if stops == self.cap_stops {
+            return Vec::new();
+        }
+        self.cap_stops = stops;
+        let reason = reason.unwrap_or_default().to_string();
+        vec![AuditRecord::new(at, AuditEvent::OverCap { reason })]
     }
 
     /// The book as read from its file: the baseline later saves are compared with.

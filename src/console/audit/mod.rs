@@ -143,6 +143,16 @@ pub enum AuditEvent {
     GuardDown {
         reason: String,
     },
+    /// The telemetry showed a motion over the speed cap and the console stopped it: why, as
+    /// the message line said it.
+    OverCap {
+        reason: String,
+    },
+    /// The driver did something on its own the technician was told of (an operator found over
+    /// the cap brought under it).
+    DriverNotice {
+        text: String,
+    },
 }
 
 /// An event and when it happened.

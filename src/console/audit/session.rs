@@ -66,9 +66,14 @@ impl AuditSession {
         self.write(records);
     }
 
-    /// After each input: whether the link went stale or fresh.
+    /// After each input: whether the link went stale or fresh, and a motion the cap watch
+    /// stopped.
     pub fn after(&mut self, app: &App) {
         let records = self.deriver.link_stale(app.link_stale(), SystemTime::now());
+        self.write(records);
+        let records = self
+            .deriver
+            .cap_stops(app.cap_watch().stops(), SystemTime::now());
         self.write(records);
     }
 

@@ -63,19 +63,33 @@ fn guard_spans(view: &View, theme: &Theme) -> Vec<Span<'static>> {
     }
 }
 
-/// The speed in force and the jog speed it gives (percent of the cap), e.g. `50% (125 mm/s)`.
+/// The speed in force and the tool speed cap it puts in force (percent of the cap), e.g.
+/// `50% (≤125 mm/s)`; where no telemetry lets the console watch the cap, it says so:
+/// `50% (≤125 mm/s, cap not watched)`.
 pub fn speed_text(view: &View) -> String {
-    match view.speed {
-        Some(s) => {
-            let mm_s = view.max_jog_speed * 1000.0 * f64::from(s) / 100.0;
-            // A slow speed keeps a decimal: "0 mm/s" would read as stopped.
-            if mm_s < 10.0 {
-                format!("{s}% ({mm_s:.1} mm/s)")
-            } else {
-                format!("{s}% ({mm_s:.0} mm/s)")
-            }
+    speed_part(view, true)
+}
+
+/// [`speed_text`], with or without the tool speed: `50%`, `50% (cap not watched)`.
+fn speed_part(view: &View, mm_s: bool) -> String {
+    let percent = view
+        .speed
+        .map_or_else(|| "?".to_string(), |s| format!("{s}%"));
+    let cap = view.speed.filter(|_| mm_s).map(|s| {
+        let mm_s = view.max_jog_speed * 1000.0 * f64::from(s) / 100.0;
+        // A slow speed keeps a decimal: "0 mm/s" would read as stopped.
+        if mm_s < 10.0 {
+            format!("≤{mm_s:.1} mm/s")
+        } else {
+            format!("≤{mm_s:.0} mm/s")
         }
-        None => "?".into(),
+    });
+    let unwatched = (view.cap_watched == Some(false)).then_some("cap not watched");
+    match (cap, unwatched) {
+        (Some(cap), Some(unwatched)) => format!("{percent} ({cap}, {unwatched})"),
+        (Some(cap), None) => format!("{percent} ({cap})"),
+        (None, Some(unwatched)) => format!("{percent} ({unwatched})"),
+        (None, None) => percent,
     }
 }
 
@@ -160,7 +174,8 @@ fn link_line(view: &View, theme: &Theme, width: usize) -> Line<'static> {
 }
 
 /// How much of the second line gives way, in order: why the arm may be moving (the message
-/// line says it too), the measured auto-repeat timing, the speed in mm/s, the words around the
+/// line says it too), the measured auto-repeat timing, the speed's cap in mm/s (`cap not
+/// watched` stays with the percentage), the words around the
 /// key-release mode and the settings (and every warning but the first: joints near a limit,
 /// then the singularity), the joint, the frame, the speed, the first warning; the motion and
 /// the key-release mode never.
@@ -310,10 +325,7 @@ fn motion_spans(view: &View, theme: &Theme, cut: Cut) -> Vec<Span<'static>> {
     };
     spans.push(Span::styled(mode, theme.accent()));
     if cut.speed {
-        let speed = match (cut.mm_s, view.speed) {
-            (true, _) | (_, None) => speed_text(view),
-            (false, Some(s)) => format!("{s}%"),
-        };
+        let speed = speed_part(view, cut.mm_s);
         let label = if cut.words { "speed " } else { "" };
         spans.push(Span::raw(format!("{separator}{label}{speed}")));
     }

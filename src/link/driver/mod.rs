@@ -18,7 +18,9 @@ mod connect;
 pub mod hw_telemetry;
 mod modbus_worker;
 mod speed;
-pub use speed::{INITIAL_SPEED, MAX_ANGULAR_JOG_SPEED};
+pub use speed::{
+    INITIAL_SPEED, JOINT_JOG_SPEED, MAX_ANGULAR_JOG_SPEED, OPERATOR_FULL_SPEED, OperatorScale,
+};
 pub use talos_side::ORIENTATION_NEEDS_MODBUS;
 mod stop_outcome;
 mod talos_side;
@@ -46,6 +48,9 @@ pub struct DriverConfig {
     /// The tool speed cap at 100 %, m/s (250 mm/s by default): bounds every motion the driver
     /// commands over Modbus and joint jogs over Talos; the speed in force is a percentage of it.
     pub max_jog_speed: f64,
+    /// The Talos operator's tool speed at its own 100 %, m/s: Set Speed and Get Speed over
+    /// Talos convert through it (see [`OperatorScale`]), so the operator keeps to the cap.
+    pub operator_full_speed: f64,
     /// Single-joint jog speed at 100 %, deg/s.
     pub joint_jog_speed: f32,
     /// Hardware-operation telemetry polls per second on a Talos-only link.
@@ -63,7 +68,8 @@ impl DriverConfig {
             talos,
             modbus,
             max_jog_speed: 0.25,
-            joint_jog_speed: 20.0,
+            operator_full_speed: OPERATOR_FULL_SPEED,
+            joint_jog_speed: JOINT_JOG_SPEED,
             hw_telemetry_hz: 10.0,
             oid: 0,
             guard: GuardPolicy::NotNeeded,

@@ -8,7 +8,7 @@ use std::time::Duration;
 use tokio::sync::mpsc;
 
 use super::hw_telemetry;
-use super::speed::SpeedInForce;
+use super::speed::{INITIAL_SPEED, OperatorScale, SpeedInForce};
 use super::{DriverConfig, JointPositions};
 use crate::link::interface::{
     ArmCommand, ArmError, ArmEvent, JogMotion, LogEntry, PositionCoordinates, StepMove, Traffic,
@@ -32,13 +32,23 @@ pub const ORIENTATION_NEEDS_MODBUS: &str =
 pub struct TalosConnected {
     link: TalosLink,
     link_events: mpsc::UnboundedReceiver<TalosEvent>,
-    /// The operator's speed (ICD dialect), if it answered.
+    /// The operator's speed (ICD dialect), if it answered: percent of the console's cap.
     speed: Option<u8>,
+    /// The operator was over the cap and was brought under it: what to tell the technician.
+    speed_lowered: Option<String>,
     description: String,
 }
 
-/// Connects and handshakes; on success, reads the speed (ICD dialect).
-async fn connect(config: TalosConfig, oid: u16) -> Result<TalosConnected, String> {
+/// Connects and handshakes; on success, reads the speed (ICD dialect). An operator found
+/// running over the console's cap is set to [`INITIAL_SPEED`] of the cap before the link is
+/// attached (so before any motion), and the technician is told; one that will not take it is
+/// not attached at all.
+async fn connect(
+    config: TalosConfig,
+    oid: u16,
+    (max_jog_speed, operator_full_speed): (f64, f64),
+) -> Result<TalosConnected, String> {
+    let scale = OperatorScale::new(max_jog_speed, operator_full_speed);
     let (link, mut link_events) = TalosLink::connect(config.clone())
         .await
         .map_err(|e| format!("talos: {e}"))?;
@@ -58,16 +68,48 @@ async fn connect(config: TalosConfig, oid: u16) -> Result<TalosConnected, String
         }
     };
     let mut speed = None;
+    let mut speed_lowered = None;
     if config.dialect == Dialect::Icd
         && let Ok(exchange) = link.request(Request::GetSpeed).await
         && let Answer::Reply(Reply::GetSpeed { speed: s, .. }) = exchange.answer
     {
-        speed = Some(s);
+        speed = scale.from_operator(s);
+        if speed.is_none() {
+            let lowered = Request::SetSpeed {
+                speed: scale.to_operator(INITIAL_SPEED),
+            };
+            match link.request(lowered).await {
+                Ok(exchange) if exchange.return_code().is_ok() => {
+                    speed = Some(INITIAL_SPEED);
+                    let cap = max_jog_speed * 1000.0;
+                    let was = operator_full_speed * 1000.0 * f64::from(s) / 100.0;
+                    let now = cap * f64::from(INITIAL_SPEED) / 100.0;
+                    let text = format!(
+                        "the operator was at {s}% ({was:.0} mm/s), over the {cap:.0} mm/s cap: \
+                         set to {now:.0} mm/s ({INITIAL_SPEED}% of the cap)"
+                    );
+                    tracing::warn!("{text}");
+                    speed_lowered = Some(text);
+                }
+                Ok(exchange) => {
+                    let code = exchange.return_code();
+                    return Err(format!(
+                        "talos: the operator's speed {s}% is over the cap and it refused Set Speed ({code})"
+                    ));
+                }
+                Err(e) => {
+                    return Err(format!(
+                        "talos: the operator's speed {s}% is over the cap and Set Speed failed: {e}"
+                    ));
+                }
+            }
+        }
     }
     Ok(TalosConnected {
         link,
         link_events,
         speed,
+        speed_lowered,
         description: format!(
             "talos {} ({}, {}){version}",
             config.addr, config.dialect, config.checksum
@@ -81,6 +123,10 @@ pub struct TalosSide {
     joint_jog_speed: f32,
     /// The tool speed cap at 100 %, m/s: bounds joint jog rates by the joint's lever arm.
     max_jog_speed: f64,
+    /// The operator's tool speed at its own 100 %, m/s.
+    operator_full_speed: f64,
+    /// The cap's percentages to the operator's and back.
+    scale: OperatorScale,
     link: Option<TalosLink>,
     link_events: Option<mpsc::UnboundedReceiver<TalosEvent>>,
     events: mpsc::UnboundedSender<ArmEvent>,
@@ -104,6 +150,8 @@ impl TalosSide {
             oid: config.oid,
             joint_jog_speed: config.joint_jog_speed,
             max_jog_speed: config.max_jog_speed,
+            operator_full_speed: config.operator_full_speed,
+            scale: OperatorScale::new(config.max_jog_speed, config.operator_full_speed),
             link: None,
             link_events: None,
             events,
@@ -133,7 +181,8 @@ impl TalosSide {
         &self,
     ) -> Option<impl Future<Output = Result<TalosConnected, String>> + Send + 'static> {
         let config = self.config.clone()?;
-        Some(connect(config, self.oid))
+        let speeds = (self.max_jog_speed, self.operator_full_speed);
+        Some(connect(config, self.oid, speeds))
     }
 
     /// Takes a link that connected; returns its description for the status bar.
@@ -141,6 +190,9 @@ impl TalosSide {
         if let Some(speed) = connected.speed {
             self.speed.set(speed);
             let _ = self.events.send(ArmEvent::Speed(speed));
+        }
+        if let Some(text) = connected.speed_lowered {
+            let _ = self.events.send(ArmEvent::Notice(text));
         }
         self.link = Some(connected.link);
         self.link_events = Some(connected.link_events);
@@ -243,7 +295,9 @@ impl TalosSide {
                 time_ms: 0,
             }],
             ArmCommand::Home => vec![Request::Home { delay_ms: 0 }],
-            ArmCommand::SetSpeed(speed) => vec![Request::SetSpeed { speed: *speed }],
+            ArmCommand::SetSpeed(speed) => vec![Request::SetSpeed {
+                speed: self.scale.to_operator(*speed),
+            }],
             ArmCommand::FaultReset => vec![hw_request(&HwRequest::ClearAllFaults)?],
             ArmCommand::SavePosition {
                 name,
@@ -554,7 +608,10 @@ fn position_name(command: &ArmCommand) -> Option<String> {
 /// Awaits a command's replies in order and reports them. A stop tries every request and
 /// reports exactly one `Done` or `Failed` (`stop_failure`: a request that could not be sent).
 /// A Set Speed takes effect (for later joint jogs and in the status bar) only once the
-/// operator has answered OK.
+/// operator has answered OK, as the percentage of the cap asked for: the operator's own
+/// percentage was rounded down from it, so the operator runs at most that fast. (Reading the
+/// rounded value back would make a speed key step, say 75 % of a 50 mm/s cap on a 300 mm/s
+/// operator, show 72 %, and the next step up land on 75 % again.)
 async fn answers(
     command: ArmCommand,
     pending: Vec<PendingReply>,

@@ -52,6 +52,8 @@ impl App {
             ArmEvent::Latency(_) => {}
             // The console's own guard process speaks, not the arm.
             ArmEvent::Guard(_) => {}
+            // Said by the driver itself, with the answer it reports apart.
+            ArmEvent::Notice(_) => {}
             ArmEvent::Log(entry) if entry.poll => {}
             ArmEvent::Log(_)
             | ArmEvent::Speed(_)

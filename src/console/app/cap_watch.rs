@@ -1,0 +1,126 @@
+//! The speed cap, watched: the console commands every motion under `--max-jog-speed`, and where
+//! there is telemetry it also checks the arm keeps to it. A motion the console started (a jog
+//! of any kind, home, go-to, a step, a move to a pose) that the telemetry shows more than
+//! [`CAP_TOLERANCE`] over the cap for [`OVER_CAP_SAMPLES`] samples in a row is stopped, the
+//! held keys latched like any other stop, and the message line and audit log say why.
+//!
+//! What is compared: the tool point's linear speed (the twist's linear part) with the cap
+//! itself, not with the cap scaled by the speed in force. The cap is the safety rule ("one cap
+//! bounds every motion"); the speed in force is a convenience under it, learnt from the
+//! operator's answers and changed while the arm decelerates, so a scaled bound would stop
+//! motions that are safe. An operator whose 100 % is not the `--operator-full-speed` the
+//! console was told shows at 100 % of the speed, where it matters. A joint jog's joint rate is
+//! compared, likewise, with the joint jog speed at 100 %. The tolerance absorbs the arm's
+//! tracking overshoot and the telemetry's noise; the run of samples, one sample's spike.
+//!
+//! Without telemetry (the Talos ack dialect) nothing can be watched: the status bar says so.
+
+use std::time::Instant;
+
+use super::{App, Effect, Severity};
+use crate::console::jog::JogMotion;
+use crate::kortex::Telemetry;
+use crate::link::interface::TelemetrySource;
+
+/// How far over the cap a sample may be before it counts as over (a factor): 10 %.
+pub const CAP_TOLERANCE: f64 = 1.1;
+/// Over-cap samples in a row that stop the motion: two may be a spike, the third is not.
+pub const OVER_CAP_SAMPLES: u32 = 3;
+
+/// The watch's state: the run of over-cap samples, and the stops it made.
+#[derive(Debug, Clone, Default)]
+pub struct CapWatch {
+    over_in_a_row: u32,
+    stops: u64,
+    last_stop: Option<String>,
+}
+
+impl CapWatch {
+    /// How many motions the watch has stopped, and why it stopped the last one (for the audit
+    /// log, which records each once).
+    pub fn stops(&self) -> (u64, Option<&str>) {
+        (self.stops, self.last_stop.as_deref())
+    }
+}
+
+/// What a telemetry sample shows over its bound, in words, or `None` within it.
+fn over_cap(
+    t: &Telemetry,
+    jog: Option<JogMotion>,
+    cap_mm_s: f64,
+    joint_deg_s: f64,
+) -> Option<String> {
+    let twist = &t.tcp.twist;
+    let tool_mm_s = [twist.x, twist.y, twist.z]
+        .map(f64::from)
+        .iter()
+        .map(|v| v * v)
+        .sum::<f64>()
+        .sqrt()
+        * 1000.0;
+    // A reading that is not a number says nothing either way.
+    if tool_mm_s.is_finite() && tool_mm_s > cap_mm_s * CAP_TOLERANCE {
+        return Some(format!(
+            "tool at {tool_mm_s:.0} mm/s, over the {cap_mm_s:.0} mm/s cap; is --operator-full-speed right?"
+        ));
+    }
+    if matches!(jog, Some(JogMotion::Joint { .. })) {
+        let fastest = t
+            .joints
+            .iter()
+            .enumerate()
+            .map(|(i, j)| (i + 1, f64::from(j.velocity).abs()))
+            .filter(|(_, rate)| rate.is_finite())
+            .max_by(|a, b| a.1.total_cmp(&b.1));
+        if let Some((joint, rate)) = fastest
+            && rate > joint_deg_s * CAP_TOLERANCE
+        {
+            return Some(format!(
+                "J{joint} at {rate:.0} deg/s, over the {joint_deg_s:.0} deg/s joint jog speed"
+            ));
+        }
+    }
+    None
+}
+
+impl App {
+    /// A telemetry sample against the cap, while a motion the console started runs.
+    pub(super) fn watch_cap(&mut self, t: &Telemetry, now: Instant, effects: &mut Vec<Effect>) {
+        let jog = self.jog.active();
+        if jog.is_none() && self.truth.action.is_none() {
+            self.cap_watch.over_in_a_row = 0;
+            return;
+        }
+        let cap_mm_s = self.config.max_jog_speed * 1000.0;
+        let joint_deg_s = f64::from(self.config.joint_jog_speed);
+        let Some(why) = over_cap(t, jog, cap_mm_s, joint_deg_s) else {
+            self.cap_watch.over_in_a_row = 0;
+            return;
+        };
+        self.cap_watch.over_in_a_row += 1;
+        if self.cap_watch.over_in_a_row < OVER_CAP_SAMPLES {
+            return;
+        }
+        self.cap_watch.over_in_a_row = 0;
+        // The action ends here, said once below (not also as "home stopped").
+        self.truth.action = None;
+        self.stop_everything(now, effects);
+        let text = format!("stopped: {why}");
+        tracing::warn!("{text}");
+        self.cap_watch.stops += 1;
+        self.cap_watch.last_stop = Some(text.clone());
+        self.say(text, Severity::Error, now);
+    }
+
+    /// Whether the cap is watched: `Some(false)` once the driver has said there is no
+    /// telemetry, `None` before it has said.
+    pub fn cap_watched(&self) -> Option<bool> {
+        self.truth
+            .expected_telemetry()
+            .map(|source| source != TelemetrySource::None)
+    }
+
+    pub fn cap_watch(&self) -> &CapWatch {
+        &self.cap_watch
+    }
+}
