@@ -21,18 +21,14 @@ fn keymap_with(name: &str, key: &str) -> String {
 
 #[test]
 fn a_keymap_with_a_bidi_or_control_name_or_key_is_refused_naming_it() {
-    let name = Keymap::from_json("bad.json", &keymap_with("evil\u{202E}gpj", "h"))
-        .err()
-        .expect("refused");
+    let name =
+        Keymap::from_json("bad.json", &keymap_with("evil\u{202E}gpj", "h")).expect_err("refused");
     assert_eq!(name.kind(), KeymapErrorKind::InvalidValue);
     assert!(name.to_string().contains("U+202E"), "{name}");
-    let escape = Keymap::from_json("bad.json", &keymap_with("a\u{1b}[2Jb", "h"))
-        .err()
-        .expect("refused");
+    let escape =
+        Keymap::from_json("bad.json", &keymap_with("a\u{1b}[2Jb", "h")).expect_err("refused");
     assert!(escape.to_string().contains("U+001B"), "{escape}");
-    let key = Keymap::from_json("bad.json", &keymap_with("fine", "\u{202E}"))
-        .err()
-        .expect("refused");
+    let key = Keymap::from_json("bad.json", &keymap_with("fine", "\u{202E}")).expect_err("refused");
     assert_eq!(key.kind(), KeymapErrorKind::UnknownKey);
     assert!("\u{2066}".parse::<KeyName>().is_err());
     assert!(Keymap::from_json("ok.json", &keymap_with("fine", "h")).is_ok());
