@@ -10,3 +10,4 @@ pub mod logging;
 pub mod net;
 pub mod sim;
 pub mod talos;
+pub mod text;

@@ -60,42 +60,59 @@ pub async fn loaded(loading: &mut Option<oneshot::Receiver<Loaded>>) -> Loaded {
     result
 }
 
+/// What became of the books handed over up to the `upto`-th (counting from 1): all written
+/// (the newest of them was), or the newest failed with `error` (naming the file).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SaveOutcome {
+    pub upto: u64,
+    pub error: Option<String>,
+}
+
 /// The thread of writes: books are written one at a time, in order; a book handed over while
 /// another is written replaces any not written yet (only the newest matters).
 pub struct Saver {
-    next: mpsc::UnboundedSender<PositionBook>,
+    next: mpsc::UnboundedSender<(u64, PositionBook)>,
+    /// Books handed over so far.
+    handed: std::sync::atomic::AtomicU64,
     task: tokio::task::JoinHandle<()>,
 }
 
 impl Saver {
-    /// Starts the writer for `path`; a failed write is reported on the returned receiver.
-    pub fn start(path: PathBuf) -> (Saver, mpsc::UnboundedReceiver<String>) {
-        let (next, mut books) = mpsc::unbounded_channel::<PositionBook>();
-        let (errors_tx, errors) = mpsc::unbounded_channel();
+    /// Starts the writer for `path`; each write's outcome is reported on the returned receiver.
+    pub fn start(path: PathBuf) -> (Saver, mpsc::UnboundedReceiver<SaveOutcome>) {
+        let (next, mut books) = mpsc::unbounded_channel::<(u64, PositionBook)>();
+        let (outcomes_tx, outcomes) = mpsc::unbounded_channel();
         let task = tokio::spawn(async move {
             // Books are taken out of the channel, not copied: once written, the app's book is
             // no longer shared and changing it copies nothing.
-            while let Some(mut book) = books.recv().await {
+            while let Some(mut handed) = books.recv().await {
                 while let Ok(newer) = books.try_recv() {
-                    book = newer;
+                    handed = newer;
                 }
+                let (upto, book) = handed;
                 let path = path.clone();
                 let written = tokio::task::spawn_blocking(move || book.save(&path)).await;
                 let error = match written {
-                    Ok(Ok(())) => continue,
-                    Ok(Err(e)) => e.to_string(),
-                    Err(e) => format!("the positions writer failed: {e}"),
+                    Ok(Ok(())) => None,
+                    Ok(Err(e)) => Some(e.to_string()),
+                    Err(e) => Some(format!("the positions writer failed: {e}")),
                 };
-                tracing::error!("saving positions: {error}");
-                let _ = errors_tx.send(error);
+                if let Some(error) = &error {
+                    tracing::error!("saving positions: {error}");
+                }
+                let _ = outcomes_tx.send(SaveOutcome { upto, error });
             }
         });
-        (Saver { next, task }, errors)
+        let handed = std::sync::atomic::AtomicU64::new(0);
+        (Saver { next, handed, task }, outcomes)
     }
 
     /// Hands a book over to be written. Never waits for a write.
     pub fn save(&self, book: PositionBook) {
-        if self.next.send(book).is_err() {
+        let upto = 1 + self
+            .handed
+            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        if self.next.send((upto, book)).is_err() {
             tracing::error!("the positions writer has ended: positions not saved");
         }
     }
@@ -115,7 +132,8 @@ pub struct BookFiles {
     pub path: Option<PathBuf>,
     pub loading: Option<oneshot::Receiver<Loaded>>,
     saver: Option<Saver>,
-    pub save_errors: mpsc::UnboundedReceiver<String>,
+    /// Each write's outcome, for the app to mark what was not saved.
+    pub save_outcomes: mpsc::UnboundedReceiver<SaveOutcome>,
     /// Changes made while the book was loading, still to be merged into it and written.
     held: Option<PositionBook>,
 }
@@ -151,7 +169,7 @@ impl BookFiles {
                 path,
                 loading: None,
                 saver: None,
-                save_errors: mpsc::unbounded_channel().1,
+                save_outcomes: mpsc::unbounded_channel().1,
                 held: None,
             });
         };
@@ -170,12 +188,12 @@ impl BookFiles {
                 answered(Ok(book))
             }
         };
-        let (saver, save_errors) = Saver::start(p.clone());
+        let (saver, save_outcomes) = Saver::start(p.clone());
         Ok(BookFiles {
             loading: Some(loading),
             path,
             saver: Some(saver),
-            save_errors,
+            save_outcomes,
             held: None,
         })
     }
@@ -260,10 +278,12 @@ mod tests {
         let path = blocker.join("book.json");
         let (saver, mut errors) = Saver::start(path.clone());
         saver.save(PositionBook::new());
-        let error = tokio::time::timeout(Duration::from_secs(10), errors.recv())
+        let outcome = tokio::time::timeout(Duration::from_secs(10), errors.recv())
             .await
             .expect("reported in time")
-            .expect("an error");
+            .expect("an outcome");
+        assert_eq!(outcome.upto, 1);
+        let error = outcome.error.expect("an error");
         assert!(error.contains(&path.display().to_string()), "{error}");
         saver.finish(Duration::from_secs(10)).await;
     }

@@ -314,6 +314,10 @@ pub enum Confirm {
         result: FormResult,
         form: Box<Form>,
     },
+    /// Quitting while `count` changed positions could not be written.
+    QuitUnsaved {
+        count: usize,
+    },
 }
 
 impl Confirm {
@@ -327,6 +331,10 @@ impl Confirm {
                  and move the arm there?"
             ),
             Confirm::Overwrite { result, .. } => format!("overwrite '{}'?", result.name()),
+            Confirm::QuitUnsaved { count } => format!(
+                "{count} changed position(s) could not be saved: quit anyway? The book is \
+                 written once more as the console quits"
+            ),
         }
     }
 
@@ -337,6 +345,7 @@ impl Confirm {
             Confirm::Overwrite { .. } => {
                 "y: overwrite    n, esc or any other key: back to the form"
             }
+            Confirm::QuitUnsaved { .. } => "y: quit    any other key: stay",
             _ => "y or enter: yes    any other key: no",
         }
     }

@@ -9,6 +9,7 @@
 //! lives).
 
 mod file;
+mod names;
 #[cfg(test)]
 mod tests;
 
@@ -46,6 +47,9 @@ pub struct BookEntry {
     /// The operator answered "unknown position" for this name. Not saved: re-checked each run.
     #[serde(skip)]
     pub unknown_to_operator: bool,
+    /// Its last change could not be written to the file (see `app::saving`). Not saved.
+    #[serde(skip)]
+    pub unsaved: bool,
 }
 
 impl BookEntry {
@@ -98,12 +102,16 @@ pub struct PositionBook {
     format: u32,
     #[serde(with = "sorted_map")]
     positions: Arc<Vec<Named>>,
+    /// What loading the file repaired (names breaking the rule), for the console to tell.
+    #[serde(skip)]
+    load_notes: Vec<String>,
 }
 impl PositionBook {
     pub fn new() -> Self {
         PositionBook {
             format: FORMAT,
             positions: Arc::new(Vec::new()),
+            load_notes: Vec::new(),
         }
     }
 
@@ -195,6 +203,7 @@ impl PositionBook {
                     .cloned()
                     .collect(),
             ),
+            load_notes: Vec::new(),
         }
     }
 

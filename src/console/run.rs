@@ -243,11 +243,7 @@ async fn event_loop(
                     None => Some(Input::Tick),
                 }
             }
-            Some(error) = book.save_errors.recv() => {
-                app.say(format!("positions not saved: {error}"), Severity::Error, Instant::now());
-                pacer.changed(true, Instant::now());
-                None
-            }
+            Some(outcome) = book.save_outcomes.recv() => Some(Input::PositionsSaved(outcome)),
             Some(e) = screen.errors.recv() => return Err(ConsoleError::Terminal(e)),
             // Shown, and kept in the command log; the console goes on.
             Some(reason) = audit.next_error() => {
@@ -275,7 +271,7 @@ async fn event_loop(
                     // Recorded once the driver has it: a STOP never waits on the audit.
                     audit.command(&command, &app);
                 }
-                // Written on the writer's thread; a failure comes back as `save_errors`.
+                // Written on the writer's thread; the outcome comes back as `save_outcomes`.
                 Effect::SavePositions(positions) => {
                     audit.book_saved(&positions);
                     book.save(positions);

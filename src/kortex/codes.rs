@@ -166,8 +166,12 @@ impl<T: CodeName> Coded<T> {
 }
 
 impl<T: CodeName> fmt::Display for Coded<T> {
+    /// `ready (7)`; a number the ICD does not list shows as itself: `unknown (65535)`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{} ({})", self.key(), self.code())
+        match self {
+            Coded::Known(value) => write!(f, "{} ({})", value.key(), value.code()),
+            Coded::Unknown(code) => write!(f, "unknown ({code})"),
+        }
     }
 }
 
@@ -189,6 +193,11 @@ mod tests {
         assert_eq!(RobotState::ALL.len(), 10);
         assert_eq!(Coded::<MoveType>::from_code(3).key(), "twist");
         assert_eq!(Coded::<MoveType>::from_code(9).key(), "unknown_9");
+        assert_eq!(
+            Coded::<RobotState>::from_code(65535).to_string(),
+            "unknown (65535)"
+        );
+        assert_eq!(Coded::<RobotState>::from_code(7).to_string(), "ready (7)");
         assert_eq!("tool".parse::<ReferenceFrame>(), Ok(ReferenceFrame::Tool));
         assert!("world".parse::<ReferenceFrame>().is_err());
     }

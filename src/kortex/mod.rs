@@ -7,6 +7,7 @@
 //! - [`image`], [`telemetry`]: the reads of one poll and the snapshot they decode to.
 //! - [`commands`]: the writes of each command, refusing values that cannot be written.
 //! - [`polar`]: polar pan as a twist computed from the live tool pose.
+//! - [`sanity`]: whether a reported value is physically possible.
 
 pub mod cartesian;
 pub mod codes;
@@ -16,6 +17,7 @@ pub mod gen3;
 pub mod image;
 pub mod polar;
 pub mod registers;
+pub mod sanity;
 pub mod telemetry;
 pub mod words;
 
@@ -28,4 +30,5 @@ pub use flags::{Flag, FlagSet};
 pub use image::{ImageError, PollPlan, ReadBlock, RegisterImage, SLOW_REFRESH};
 pub use polar::{PolarPanError, PolarPanSettings, check_directions, polar_twist};
 pub use registers::Table;
+pub use sanity::InsaneField;
 pub use telemetry::{ActionState, ArmHealth, JointState, SpeedLimits, Telemetry, ToolState};

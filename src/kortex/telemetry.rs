@@ -66,7 +66,7 @@ pub struct SpeedLimits {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Telemetry {
     /// Input register 0; discrete inputs 0-9 stand in when it holds a number the ICD does not
-    /// list.
+    /// list (unless they only say "unspecified": the unknown number then shows).
     pub robot_state: Coded<RobotState>,
     /// Input registers 2-3 and discrete inputs 32-62 together: a flag raised in either shows.
     pub faults: FlagSet,
@@ -104,7 +104,10 @@ impl Telemetry {
             Coded::<RobotState>::from_code(image.input_registers[usize::from(ir::ROBOT_STATE)]),
             state_from_inputs,
         ) {
-            (Coded::Unknown(_), Some(state)) => Coded::Known(state),
+            // "Unspecified" from the inputs says nothing: the register's own number shows.
+            (Coded::Unknown(_), Some(state)) if state != RobotState::Unspecified => {
+                Coded::Known(state)
+            }
             (from_register, _) => from_register,
         };
 

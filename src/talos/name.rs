@@ -7,7 +7,9 @@
 
 use std::fmt;
 
-pub const MAX_NAME_LEN: usize = 255;
+/// The rule's bytes and length are the sanitiser's ([`crate::text`]): one rule for typed names
+/// and names from a file or a peer.
+pub const MAX_NAME_LEN: usize = crate::text::MAX_NAME_BYTES;
 
 /// Why a name is not valid.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -60,7 +62,7 @@ impl PositionName {
         if let Some((offset, &byte)) = bytes
             .iter()
             .enumerate()
-            .find(|&(_, &b)| !(0x20..=0x7E).contains(&b))
+            .find(|&(_, &b)| !crate::text::name_byte(b))
         {
             return Err(NameError::BadByte { byte, offset });
         }

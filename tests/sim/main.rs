@@ -7,6 +7,7 @@
 #[path = "../log_capture/mod.rs"]
 mod log_capture;
 
+mod sim_hostile_names;
 mod sim_modbus;
 mod sim_modbus_hostile;
 mod sim_speed_cap;

@@ -43,6 +43,7 @@ impl App {
     ) {
         match result {
             Ok(mut book) => {
+                self.tell_repaired_names(book.take_load_notes(), now);
                 let changed_meanwhile = !self.positions.is_empty();
                 let selected = self.selected_name().map(str::to_string);
                 book.merge(&self.positions);
@@ -54,7 +55,8 @@ impl App {
                 }
                 self.clamp_selection();
                 if changed_meanwhile {
-                    effects.push(Effect::SavePositions(self.positions.clone()));
+                    // The names changed meanwhile were noted as they changed.
+                    self.save_book::<&str>(&[], effects);
                 }
                 if self.config.positions_on_operator && self.link_is_up() {
                     self.check_names_on_operator(effects);
@@ -70,6 +72,26 @@ impl App {
                 self.book_state = BookState::Failed { error };
             }
         }
+    }
+
+    /// Names in the file that broke the name rule were repaired as it loaded: each is logged,
+    /// and the bottom line says so and shows the first.
+    fn tell_repaired_names(&mut self, notes: Vec<String>, now: Instant) {
+        let Some(first) = notes.first() else {
+            return;
+        };
+        for note in &notes {
+            tracing::warn!("positions: {note}");
+        }
+        let more = match notes.len() {
+            1 => String::new(),
+            n => format!(" (and {} more: see the log)", n - 1),
+        };
+        self.say(
+            format!("positions file: {first}{more}"),
+            Severity::Warning,
+            now,
+        );
     }
 
     /// Asks the operator about the first [`CHECKED_ON_CONNECT`] remembered names, so the panel

@@ -95,7 +95,7 @@ impl App {
             *self.positions.get_or_insert(&to) = entry;
             self.select(&to);
             self.say(format!("renamed '{from}' to '{to}'"), Severity::Info, now);
-            effects.push(Effect::SavePositions(self.positions.clone()));
+            self.save_book(&[&from, &to], effects);
             return;
         }
         if let Some(renaming) = &self.renaming {
@@ -185,7 +185,7 @@ impl App {
             Severity::Info,
             now,
         );
-        effects.push(Effect::SavePositions(self.positions.clone()));
+        self.save_book(&[&name], effects);
     }
 
     /// Drives a rename or a restore on the operator by its answers. Returns whether the event
@@ -287,7 +287,7 @@ impl App {
                 self.positions.remove(&from);
                 self.select(&to);
                 self.say(format!("renamed '{from}' to '{to}'"), Severity::Info, now);
-                effects.push(Effect::SavePositions(self.positions.clone()));
+                self.save_book(&[&from, &to], effects);
                 true
             }
             (step, ArmEvent::Failed { command, error }) if *command == step.command() => {
@@ -324,7 +324,7 @@ impl App {
             RenameStep::Deleting => {
                 // Both names exist on the operator now: the book shows both.
                 self.select(to);
-                effects.push(Effect::SavePositions(self.positions.clone()));
+                self.save_book(&[from, to], effects);
                 format!(
                     "rename stopped: '{to}' is saved, but deleting '{from}' failed: {error}; \
                      both names exist"

@@ -7,7 +7,7 @@
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
-use crate::kortex::Telemetry;
+use crate::kortex::{Telemetry, sanity};
 
 /// How far back the history goes.
 pub const HISTORY_WINDOW: Duration = Duration::from_secs(30);
@@ -58,6 +58,12 @@ struct Bucket {
     abs_torque_sum: [f64; JOINTS],
     abs_current_sum: [f64; JOINTS],
     samples: u32,
+    /// A sample out of physical range (see `kortex::sanity`) fell in this bucket: the speed,
+    /// each joint's torque and current. The bucket then reads as not known (NaN), never as
+    /// the nonsense.
+    speed_insane: bool,
+    torque_insane: [bool; JOINTS],
+    current_insane: [bool; JOINTS],
 }
 
 /// The history store.
@@ -120,13 +126,26 @@ impl History {
                 abs_torque_sum: [0.0; JOINTS],
                 abs_current_sum: [0.0; JOINTS],
                 samples: 0,
+                speed_insane: false,
+                torque_insane: [false; JOINTS],
+                current_insane: [false; JOINTS],
             });
         }
         if let Some(bucket) = self.buckets.back_mut() {
-            bucket.speed_max = bucket.speed_max.max(speed);
+            if speed.is_finite() {
+                bucket.speed_max = bucket.speed_max.max(speed);
+            } else {
+                bucket.speed_insane = true;
+            }
             for (i, joint) in t.joints.iter().enumerate().take(JOINTS) {
-                bucket.abs_torque_sum[i] += finite_abs(joint.torque);
-                bucket.abs_current_sum[i] += finite_abs(joint.current);
+                match sanity::JOINT_TORQUE_NM.sane(joint.torque) {
+                    Some(torque) => bucket.abs_torque_sum[i] += f64::from(torque).abs(),
+                    None => bucket.torque_insane[i] = true,
+                }
+                match sanity::CURRENT_A.sane(joint.current) {
+                    Some(current) => bucket.abs_current_sum[i] += f64::from(current).abs(),
+                    None => bucket.current_insane[i] = true,
+                }
             }
             bucket.samples += 1;
         }
@@ -134,12 +153,25 @@ impl History {
     }
 
     /// TCP linear speed, mm/s: the twist's, or from the last position when the twist says 0
-    /// (a source that does not fill it in).
+    /// (a source that does not fill it in). NaN when the twist or the position is out of
+    /// physical range: not known.
     fn speed_of(&mut self, t: &Telemetry, now: Instant) -> f64 {
         let twist = &t.tcp.twist;
-        let from_twist = norm([twist.x, twist.y, twist.z].map(f64::from)) * 1000.0;
         let p = &t.tcp.pose;
-        let position = [p.x, p.y, p.z].map(f64::from);
+        let linear = [twist.x, twist.y, twist.z];
+        let place = [p.x, p.y, p.z];
+        if !linear
+            .iter()
+            .all(|v| sanity::TOOL_LINEAR_SPEED_M_S.sane(*v).is_some())
+            || !place
+                .iter()
+                .all(|v| sanity::TOOL_POSITION_M.sane(*v).is_some())
+        {
+            self.last_position = None;
+            return f64::NAN;
+        }
+        let from_twist = norm(linear.map(f64::from)) * 1000.0;
+        let position = place.map(f64::from);
         let previous = self.last_position.replace((position, now));
         if from_twist.is_finite() && from_twist > 0.0 {
             return from_twist;
@@ -190,15 +222,25 @@ impl History {
         let mut held = self.buckets.iter().filter(|b| b.index >= first).peekable();
         for index in first..=current {
             let bucket = held.next_if(|b| b.index == index);
-            series.speed.push(bucket.map(|b| b.speed_max));
+            series.speed.push(bucket.map(|b| {
+                if b.speed_insane {
+                    f64::NAN
+                } else {
+                    b.speed_max
+                }
+            }));
             for (i, joint) in series.joints.iter_mut().enumerate() {
                 joint.push(bucket.map(|b| {
-                    let sums = match self.quantity {
-                        JointQuantity::Torque => &b.abs_torque_sum,
-                        JointQuantity::Current => &b.abs_current_sum,
+                    let (sums, insane) = match self.quantity {
+                        JointQuantity::Torque => (&b.abs_torque_sum, &b.torque_insane),
+                        JointQuantity::Current => (&b.abs_current_sum, &b.current_insane),
                     };
                     totals[i] += sums[i];
-                    sums[i] / f64::from(b.samples.max(1))
+                    if insane[i] {
+                        f64::NAN
+                    } else {
+                        sums[i] / f64::from(b.samples.max(1))
+                    }
                 }));
             }
             if let Some(b) = bucket {
@@ -215,11 +257,6 @@ impl History {
         }
         series
     }
-}
-
-fn finite_abs(value: f32) -> f64 {
-    let v = f64::from(value).abs();
-    if v.is_finite() { v } else { 0.0 }
 }
 
 fn norm(v: [f64; 3]) -> f64 {

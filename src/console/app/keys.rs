@@ -310,7 +310,7 @@ impl App {
             A::ToggleHex => self.hex = !self.hex,
             A::HistoryCycle => self.history.cycle_quantity(),
             A::Help => self.open_help(),
-            A::Quit => self.quit(now, effects),
+            A::Quit => self.ask_quit(now, effects),
             // Jog actions are handled before this.
             _ => {}
         }
@@ -328,7 +328,9 @@ impl App {
             Overlay::Confirm(confirm) => {
                 let yes = match confirm {
                     // Enter just submitted the form: only y replaces a position.
-                    Confirm::Overwrite { .. } => matches!(key.key, YES | YES_SHIFTED),
+                    Confirm::Overwrite { .. } | Confirm::QuitUnsaved { .. } => {
+                        matches!(key.key, YES | YES_SHIFTED)
+                    }
                     _ => matches!(key.key, YES | YES_SHIFTED | ENTER),
                 };
                 match confirm {

@@ -39,6 +39,8 @@ pub(super) enum Until {
     GuardReady,
     /// A STOP did not get through: ends when a STOP is confirmed.
     StopConfirmed,
+    /// Positions could not be written: ends when a write holds them.
+    BookSaved,
 }
 
 impl Until {
@@ -151,6 +153,7 @@ impl App {
         let stale = self.link_stale().is_some();
         let guard_ready = matches!(self.guard, Some(GuardStatus::Ready { .. }));
         let stop_unconfirmed = self.truth.stop_unconfirmed();
+        let unsaved = self.unsaved_positions() > 0;
         let holds = |m: &Message| match m.until {
             Until::TimeOut { .. } => now < m.at + MESSAGE_TIME,
             Until::LinkUp => !link_up,
@@ -158,6 +161,7 @@ impl App {
             Until::FaultCleared { .. } => true,
             Until::GuardReady => !guard_ready,
             Until::StopConfirmed => stop_unconfirmed,
+            Until::BookSaved => unsaved,
         };
         for slot in self.messages.slots() {
             if slot.as_ref().is_some_and(|m| !holds(m)) {

@@ -25,6 +25,7 @@ mod motion_truth;
 mod named;
 mod offers;
 mod resave;
+mod saving;
 mod singularity;
 mod speed_steps;
 mod trail;
@@ -49,6 +50,7 @@ use std::collections::VecDeque;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+use super::book_io::SaveOutcome;
 use super::form::{Confirm, Form};
 use super::jog::{JogEngine, KeyKind, ReleaseMode};
 use super::keymap::{KeyName, Keymap};
@@ -92,6 +94,8 @@ pub enum Input {
     /// The position book was read off the event loop, or could not be (the error names the file
     /// and what was wrong). See [`App::begin_loading_positions`].
     PositionsLoaded(Result<PositionBook, String>),
+    /// The writer's outcome for the saves asked for so far (see `saving`).
+    PositionsSaved(SaveOutcome),
 }
 
 /// What the runtime must do.
@@ -208,6 +212,8 @@ pub struct App {
     shared_keymap: Arc<Keymap>,
     /// Re-saving names the operator lost (see `resave`).
     resave: resave::Resave,
+    /// The book's writes and the positions they failed to write.
+    saving: saving::Saving,
     /// The help overlay's first shown line.
     help_scroll: usize,
     /// The last 30 s of telemetry, for the history panel.
@@ -255,6 +261,7 @@ impl App {
             last_deleted: None,
             shared_keymap,
             resave: resave::Resave::default(),
+            saving: saving::Saving::default(),
             help_scroll: 0,
             history: History::default(),
             trail: ToolTrail::default(),
@@ -312,9 +319,11 @@ impl App {
                 self.quit(now, &mut effects);
             }
             Input::PositionsLoaded(result) => self.on_positions_loaded(result, now, &mut effects),
+            Input::PositionsSaved(outcome) => self.on_positions_saved(outcome, now),
         }
         self.truth_after(goto, now, &mut effects);
         self.hold_saves_until_loaded(now, &mut effects);
+        self.count_saves(&effects);
         self.settle_messages(now);
         effects
     }
@@ -340,6 +349,7 @@ impl App {
 
     fn quit(&mut self, now: Instant, effects: &mut Vec<Effect>) {
         self.stop_everything(now, effects);
+        self.retry_save_at_quit(effects);
         self.quitting = true;
         effects.push(Effect::Quit);
     }

@@ -55,6 +55,7 @@ impl App {
                 }
             }
             Confirm::Overwrite { result, .. } => self.form_done(result, now, effects),
+            Confirm::QuitUnsaved { .. } => self.quit(now, effects),
         }
     }
 
@@ -163,7 +164,7 @@ impl App {
         entry.parent = parent;
         self.select(&name);
         self.say(format!("saved '{name}'"), Severity::Info, now);
-        effects.push(Effect::SavePositions(self.positions.clone()));
+        self.save_book(&[&name], effects);
     }
 
     /// The whole pose the telemetry shows now. A value that is not a finite number is not
@@ -194,7 +195,7 @@ impl App {
             Severity::Info,
             now,
         );
-        effects.push(Effect::SavePositions(self.positions.clone()));
+        self.save_book(&[&name], effects);
     }
 
     pub(super) fn select(&mut self, name: &str) {
@@ -253,7 +254,7 @@ impl App {
         };
         self.select(&name);
         self.say(format!("saved '{name}'"), Severity::Info, now);
-        effects.push(Effect::SavePositions(self.positions.clone()));
+        self.save_book(&[&name], effects);
         if let ArmCommand::SetCartesianPosition { .. } = command {
             self.after_resave(&name, now, effects);
         }

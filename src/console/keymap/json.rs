@@ -193,13 +193,13 @@ impl<'de> Visitor<'de> for FileVisitor<'_> {
                     if name.is_some() {
                         return Err(duplicate());
                     }
-                    name = Some(map.next_value()?);
+                    name = Some(shown_text(problem, "name", map.next_value()?)?);
                 }
                 "description" => {
                     if description.is_some() {
                         return Err(duplicate());
                     }
-                    description = Some(map.next_value()?);
+                    description = Some(shown_text(problem, "description", map.next_value()?)?);
                 }
                 "bindings" => {
                     if bindings.is_some() {
@@ -231,6 +231,28 @@ impl<'de> Visitor<'de> for FileVisitor<'_> {
             description: description.unwrap_or_default(),
             bindings,
         })
+    }
+}
+
+/// A keymap's name or description is shown on screen: the same characters are refused there
+/// as in a key name (controls, bidi overrides), naming where.
+fn shown_text<E: de::Error>(
+    problem: ProblemSlot<'_>,
+    field: &str,
+    text: String,
+) -> Result<String, E> {
+    match text
+        .char_indices()
+        .find(|(_, c)| crate::text::is_unsafe(*c))
+    {
+        None => Ok(text),
+        Some((offset, c)) => Err(problem.raise(
+            KeymapErrorKind::InvalidValue,
+            format!(
+                "the keymap's {field} has the control or bidi character U+{:04X} at byte {offset}",
+                u32::from(c)
+            ),
+        )),
     }
 }
 

@@ -205,7 +205,9 @@ impl KeyName {
                 BaseKey::Keypad(KeypadKey::Char(character))
             }
             KeyCode::Char(' ') => BaseKey::Named(NamedKey::Space),
-            KeyCode::Char(character) if character.is_control() || character.is_whitespace() => {
+            KeyCode::Char(character)
+                if crate::text::is_unsafe(character) || character.is_whitespace() =>
+            {
                 return None;
             }
             KeyCode::Char(character) if modifiers.shift => BaseKey::Char(shifted_letter(character)),
@@ -443,8 +445,8 @@ fn parse_base_key(text: &str) -> Result<BaseKey, String> {
     if let (Some(character), None) = (characters.next(), characters.next()) {
         return if character == ' ' {
             Err("write the space bar as \"space\"".to_owned())
-        } else if character.is_control() || character.is_whitespace() {
-            Err("control and whitespace characters have no key name".to_owned())
+        } else if crate::text::is_unsafe(character) || character.is_whitespace() {
+            Err("control, bidi and whitespace characters have no key name".to_owned())
         } else {
             Ok(BaseKey::Char(character))
         };

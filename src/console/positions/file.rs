@@ -110,7 +110,7 @@ impl PositionBook {
                 });
             }
         };
-        let book: PositionBook = serde_json::from_str(&text).map_err(|e| BookError::Parse {
+        let mut book: PositionBook = serde_json::from_str(&text).map_err(|e| BookError::Parse {
             path: shown.clone(),
             line: e.line(),
             column: e.column(),
@@ -122,6 +122,7 @@ impl PositionBook {
                 found: book.format,
             });
         }
+        book.repair_names();
         Ok(book)
     }
 

@@ -5,10 +5,10 @@ use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Paragraph, Wrap};
 
-use super::numbers::fixed;
+use super::numbers::{fixed, fixed_or_unknown};
 use super::theme::Theme;
 use crate::console::view::View;
-use crate::kortex::{Coded, RobotState};
+use crate::kortex::{Coded, RobotState, sanity};
 
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     let titles = super::telemetry_titles("Arm", &[], view);
@@ -17,11 +17,28 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
         return super::draw_no_telemetry(frame, area, block, view);
     };
     let in_fault = matches!(t.robot_state, Coded::Known(RobotState::InFault));
-    let state_style = if in_fault { theme.alarm() } else { theme.ok() };
+    let state_style = match t.robot_state {
+        _ if in_fault => theme.alarm(),
+        // A number the ICD does not list shows as itself: `unknown (65535)`.
+        Coded::Unknown(_) => theme.warning(),
+        Coded::Known(_) => theme.ok(),
+    };
     let mut lines = vec![Line::from(vec![
         Span::styled("state ", theme.dim()),
         Span::styled(format!(" {} ", t.robot_state), state_style),
     ])];
+    // Values out of physical range show as `?` in every panel; this line names them.
+    let insane = t.insane_fields();
+    if let Some(first) = insane.first() {
+        let more = match insane.len() {
+            1 => String::new(),
+            n => format!(" (+{} more)", n - 1),
+        };
+        lines.push(Line::from(vec![
+            Span::styled("NONSENSE ", theme.alarm()),
+            Span::styled(format!("{first}{more}"), theme.warning()),
+        ]));
+    }
     let faults = t.faults.names();
     lines.push(if faults.is_empty() {
         Line::from(vec![
@@ -60,10 +77,10 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
         Span::styled(power, theme.dim()),
         Span::raw(format!(
             "{}\u{a0}V {}\u{a0}A  cpu\u{a0}{}\u{a0}C  {ambient}\u{a0}{}\u{a0}C",
-            fixed(t.arm.voltage, 1),
-            fixed(t.arm.current, 2),
-            fixed(t.arm.cpu_temperature, 1),
-            fixed(t.arm.ambient_temperature, 1)
+            fixed_or_unknown(sanity::VOLTAGE_V.sane(t.arm.voltage), 1),
+            fixed_or_unknown(sanity::CURRENT_A.sane(t.arm.current), 2),
+            fixed_or_unknown(sanity::TEMPERATURE_C.sane(t.arm.cpu_temperature), 1),
+            fixed_or_unknown(sanity::TEMPERATURE_C.sane(t.arm.ambient_temperature), 1)
         )),
     ]));
     let action = if narrow {

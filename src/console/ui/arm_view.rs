@@ -30,7 +30,7 @@ use crate::link::interface::TelemetrySource;
 /// What the panel says over a link that sends no telemetry (the ack dialect).
 pub const NO_TELEMETRY: &str = "no telemetry on this link: the arm is not drawn";
 /// What it says when a reported joint angle is not a number.
-pub const NOT_FINITE: &str = "a joint angle is not a number: the arm is not drawn";
+pub const NOT_FINITE: &str = "a joint angle is not a sane number (?): the arm is not drawn";
 /// What it says until the first telemetry arrives.
 pub const WAITING: &str = "waiting for telemetry: the arm is drawn once its joints are known";
 
@@ -142,8 +142,14 @@ struct Scene {
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     let titles = super::telemetry_titles("Arm view", &[": top X-Y, side X-Z"], view);
     let block = super::fitted_panel(&titles, area.width, theme);
-    let joints_known =
-        |t: &crate::kortex::Telemetry| t.joints.iter().all(|j| j.position.is_finite());
+    // An angle out of physical range (1e9 deg) is not drawn as some other angle.
+    let joints_known = |t: &crate::kortex::Telemetry| {
+        t.joints.iter().all(|j| {
+            crate::kortex::sanity::JOINT_ANGLE_DEG
+                .sane(j.position)
+                .is_some()
+        })
+    };
     let telemetry = view.telemetry.as_ref().filter(|t| joints_known(t));
     let Some(telemetry) = telemetry else {
         let text = match view.telemetry_source {

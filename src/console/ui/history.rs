@@ -33,7 +33,9 @@ pub fn sparkline(values: &[Option<f64>], max: f64, width: usize) -> String {
     let pad = width.saturating_sub(shown.len());
     let bars = shown.iter().map(|v| match v {
         None => ' ',
-        Some(v) if max > 0.0 && v.is_finite() => {
+        // A bucket holding a value out of physical range: not known.
+        Some(v) if !v.is_finite() => '?',
+        Some(v) if max > 0.0 => {
             let level = (v / max * (LEVELS.len() - 1) as f64).round();
             LEVELS[(level.max(0.0) as usize).min(LEVELS.len() - 1)]
         }
@@ -103,7 +105,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
 
     // The TCP speed: the latest value, then the window's peak where it fits.
     let speed_peak = peak(&history.speed);
-    let now = fixed(history.speed_now.unwrap_or(0.0), 1);
+    let now = numbers::fixed_or_unknown(Some(history.speed_now.unwrap_or(0.0)), 1);
     let long = format!(" {now} mm/s, peak {}", fixed(speed_peak, 1));
     let short = format!(" {now} mm/s");
     let value = [long, short]
@@ -125,7 +127,10 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     let latest: Vec<String> = history
         .joints
         .iter()
-        .map(|j| fixed(j.iter().rev().flatten().next().copied().unwrap_or(0.0), 2))
+        .map(|j| {
+            let latest = j.iter().rev().flatten().next().copied().unwrap_or(0.0);
+            numbers::fixed_or_unknown(Some(latest), 2)
+        })
         .collect();
     let value_width = latest.iter().map(|v| numbers::width(v)).max().unwrap_or(0);
     let tail = 1 + value_width + numbers::width(HARDEST);
@@ -161,5 +166,6 @@ mod tests {
         assert_eq!(sparkline(&values, 10.0, 2), " █");
         assert_eq!(sparkline(&values, 10.0, 6), "  ▁▅ █");
         assert_eq!(sparkline(&values, 0.0, 1), "▁");
+        assert_eq!(sparkline(&[Some(f64::NAN), Some(10.0)], 10.0, 2), "?█");
     }
 }

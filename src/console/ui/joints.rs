@@ -12,11 +12,11 @@ use ratatui::style::Style;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Cell, Row, Table};
 
-use super::numbers::{fixed, signed_angle, width as text_width};
+use super::numbers::{NOT_KNOWN, fixed_or_unknown, signed_angle, width as text_width};
 use super::theme::Theme;
 use crate::console::view::View;
-use crate::kortex::Telemetry;
 use crate::kortex::gen3::JOINT_LIMITS_DEG;
+use crate::kortex::{Telemetry, sanity};
 
 /// Joint `joint`'s limit in degrees (Gen3: J2, J4, J6 limited; the others turn continuously).
 fn limit(joint: usize) -> Option<f32> {
@@ -93,17 +93,20 @@ impl Column {
     /// Joint `i`'s entry in this column.
     fn text(self, t: &Telemetry, i: usize) -> String {
         let j = &t.joints[i];
+        // A value out of physical range shows as `?`, never as a number.
+        let position = sanity::JOINT_ANGLE_DEG.sane(j.position);
         match self {
             Column::Name => format!("J{}", i + 1),
-            Column::Position => fixed(signed_angle(j.position), 2),
-            Column::Gauge => match limit(i) {
-                Some(l) => gauge(j.position, l, GAUGE_WIDTH),
-                None => "continuous".into(),
+            Column::Position => fixed_or_unknown(position.map(signed_angle), 2),
+            Column::Gauge => match (limit(i), position) {
+                (Some(l), Some(p)) => gauge(p, l, GAUGE_WIDTH),
+                (Some(_), None) => NOT_KNOWN.into(),
+                (None, _) => "continuous".into(),
             },
-            Column::Velocity => fixed(j.velocity, 2),
-            Column::Torque => fixed(j.torque, 2),
-            Column::Current => fixed(j.current, 2),
-            Column::Temperature => fixed(j.temperature, 1),
+            Column::Velocity => fixed_or_unknown(sanity::JOINT_SPEED_DEG_S.sane(j.velocity), 2),
+            Column::Torque => fixed_or_unknown(sanity::JOINT_TORQUE_NM.sane(j.torque), 2),
+            Column::Current => fixed_or_unknown(sanity::CURRENT_A.sane(j.current), 2),
+            Column::Temperature => fixed_or_unknown(sanity::TEMPERATURE_C.sane(j.temperature), 1),
         }
     }
 

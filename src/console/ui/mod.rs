@@ -103,8 +103,31 @@ pub fn draw_no_telemetry(frame: &mut Frame, area: Rect, block: Block, view: &Vie
     );
 }
 
-/// Draws the whole screen.
+/// Draws the whole screen. Whatever text reached it (a name from a file, a keymap's, an
+/// operator's reply), no control or bidi character reaches the terminal.
 pub fn draw(frame: &mut Frame, view: &View, theme: &Theme) {
+    draw_panels(frame, view, theme);
+    neutralise(frame.buffer_mut());
+}
+
+/// The last guard before the terminal: a cell holding a control or bidi character (text that
+/// reached a panel without [`crate::text::shown`]) keeps only its other characters, or shows
+/// U+FFFD when it had none.
+pub fn neutralise(buffer: &mut ratatui::buffer::Buffer) {
+    for cell in buffer.content.iter_mut() {
+        let symbol = cell.symbol();
+        if !symbol.chars().any(crate::text::is_unsafe) {
+            continue;
+        }
+        let kept: String = symbol
+            .chars()
+            .filter(|c| !crate::text::is_unsafe(*c))
+            .collect();
+        cell.set_symbol(if kept.is_empty() { "\u{FFFD}" } else { &kept });
+    }
+}
+
+fn draw_panels(frame: &mut Frame, view: &View, theme: &Theme) {
     let area = frame.area();
     if area.width < MIN_WIDTH || area.height < MIN_HEIGHT {
         let arm = if view.simulated {

@@ -11,6 +11,18 @@ use ratatui::text::Span;
 /// The ellipsis that ends elided text (one column wide).
 pub const ELLIPSIS: char = '…';
 
+/// How a value that is not known shows: one out of physical range or not a number (the
+/// decision is `kortex::sanity`'s), never as a number.
+pub const NOT_KNOWN: &str = "?";
+
+/// [`fixed`] of a known value, [`NOT_KNOWN`] for none or for one that is not finite.
+pub fn fixed_or_unknown<V: Into<f64>>(value: Option<V>, decimals: usize) -> String {
+    match value.map(Into::into) {
+        Some(v) if v.is_finite() => fixed(v, decimals),
+        _ => NOT_KNOWN.to_string(),
+    }
+}
+
 /// `value` with `decimals` decimals, without the sign of a value that rounds to zero.
 pub fn fixed(value: impl Into<f64>, decimals: usize) -> String {
     let text = format!("{:.decimals$}", value.into());

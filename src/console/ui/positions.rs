@@ -80,10 +80,19 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
 /// unknown-to-operator warning shortened if need be), then
 /// the coordinates go whole; the name and a warning that the operator does not know it stay
 /// (elided last of all).
-fn row<'a>(name: &'a str, entry: &BookEntry, width: usize, theme: &Theme) -> Line<'a> {
-    let unknown = entry
-        .unknown_to_operator
-        .then(|| Span::styled(UNKNOWN, theme.warning()));
+fn row(name: &str, entry: &BookEntry, width: usize, theme: &Theme) -> Line<'static> {
+    // Book names keep the name rule (repaired as the file loads); this keeps the panel safe
+    // whatever a name holds.
+    let shown = crate::text::shown(name);
+    let name: &str = &shown;
+    // A position not saved outranks one the operator does not know: it is lost on quitting.
+    let (mark, short_marks, mark_style) = if entry.unsaved {
+        (UNSAVED, SHORT_UNSAVED, theme.alarm())
+    } else {
+        (UNKNOWN, SHORT_UNKNOWN, theme.warning())
+    };
+    let unknown =
+        (entry.unsaved || entry.unknown_to_operator).then(|| Span::styled(mark, mark_style));
     let parent = entry
         .parent
         .as_ref()
@@ -118,12 +127,12 @@ fn row<'a>(name: &'a str, entry: &BookEntry, width: usize, theme: &Theme) -> Lin
     }
     // Then a shorter warning, so that a long name never pushes the coordinates out of view.
     if unknown.is_some() {
-        for mark in SHORT_UNKNOWN {
-            let mark_width = numbers::width(mark);
+        for short in short_marks {
+            let mark_width = numbers::width(short);
             if mark_width + coordinates_width + NAME_MIN_WIDTH.min(name_width) <= width {
                 let room = width - mark_width - coordinates_width;
                 let mut spans = vec![Span::raw(numbers::elide_name(name, room))];
-                spans.push(Span::styled(mark, theme.warning()));
+                spans.push(Span::styled(short, mark_style));
                 spans.extend(coordinates);
                 return Line::from(spans);
             }
@@ -135,17 +144,17 @@ fn row<'a>(name: &'a str, entry: &BookEntry, width: usize, theme: &Theme) -> Lin
     // The name at its shortest, and as much of the warning as fits.
     let name = numbers::elide_name(name, NAME_MIN_WIDTH.min(width));
     let room = width.saturating_sub(numbers::width(&name));
-    let warning = numbers::elide(UNKNOWN, room);
-    Line::from(vec![
-        Span::raw(name),
-        Span::styled(warning, theme.warning()),
-    ])
+    let warning = numbers::elide(mark, room);
+    Line::from(vec![Span::raw(name), Span::styled(warning, mark_style)])
 }
 
 /// The mark of a name the operator does not know.
 const UNKNOWN: &str = "  unknown to operator";
 /// Shorter forms of [`UNKNOWN`] for a narrow panel.
 const SHORT_UNKNOWN: [&str; 2] = ["  unknown", "  ?"];
+/// The mark of a position whose last change could not be written to the file.
+const UNSAVED: &str = "  NOT SAVED";
+const SHORT_UNSAVED: [&str; 2] = ["  unsaved", "  !"];
 
 /// The fewest columns of a name shown beside its coordinates.
 const NAME_MIN_WIDTH: usize = 4;

@@ -13,7 +13,7 @@ use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 
-use super::numbers::{fixed, width as text_width};
+use super::numbers::{fixed_or_unknown, width as text_width};
 use super::theme::Theme;
 use crate::console::view::View;
 use crate::kortex::Telemetry;
@@ -38,16 +38,29 @@ fn figures(t: &Telemetry) -> [[String; 3]; 6] {
     let p = t.tcp.pose;
     let v = t.tcp.twist;
     let w = t.tcp.wrench;
-    let mm = |m: f32| m * 1000.0;
-    let values: [[f32; 3]; 6] = [
-        [mm(p.x), mm(p.y), mm(p.z)],
-        [p.theta_x, p.theta_y, p.theta_z],
-        [mm(v.x), mm(v.y), mm(v.z)],
-        [v.theta_x, v.theta_y, v.theta_z],
-        [w.force_x, w.force_y, w.force_z],
-        [w.torque_x, w.torque_y, w.torque_z],
+    use crate::kortex::sanity as s;
+    // As reported (m, m/s), each row with its physical range and its scale for the screen.
+    let rows: [([f32; 3], s::Bounds, f32); 6] = [
+        ([p.x, p.y, p.z], s::TOOL_POSITION_M, 1000.0),
+        (
+            [p.theta_x, p.theta_y, p.theta_z],
+            s::TOOL_ORIENTATION_DEG,
+            1.0,
+        ),
+        ([v.x, v.y, v.z], s::TOOL_LINEAR_SPEED_M_S, 1000.0),
+        (
+            [v.theta_x, v.theta_y, v.theta_z],
+            s::TOOL_ANGULAR_SPEED_DEG_S,
+            1.0,
+        ),
+        ([w.force_x, w.force_y, w.force_z], s::TOOL_FORCE_N, 1.0),
+        ([w.torque_x, w.torque_y, w.torque_z], s::TOOL_TORQUE_NM, 1.0),
     ];
-    std::array::from_fn(|row| values[row].map(|v| fixed(v, ROWS[row].2)))
+    std::array::from_fn(|row| {
+        let (values, bounds, scale) = rows[row];
+        // A value out of physical range shows as `?`, never as a number.
+        values.map(|v| fixed_or_unknown(bounds.sane(v).map(|v| v * scale), ROWS[row].2))
+    })
 }
 
 /// The columns each figure gets: the widest one, at least [`VALUE_MIN_WIDTH`].

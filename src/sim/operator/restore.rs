@@ -9,6 +9,7 @@ use super::{Operator, SavedPosition, iso, pose_of};
 use crate::sim::arm_model::Arm;
 use crate::sim::kinematics::{self, JOINTS, Joints, Pose};
 use crate::talos::PositionName;
+use crate::text;
 
 /// Joint angles are kept only if they put the tool this close to the remembered place (m):
 /// otherwise they were taken at another moment than the coordinates.
@@ -39,7 +40,11 @@ impl Operator {
                 Ok(()) => {
                     waiting.insert(position.name.clone(), position);
                 }
-                Err(why) => tracing::warn!("position '{}' not restored: {why}", position.name),
+                // A name from a file: escaped and capped, one log line whatever it holds.
+                Err(why) => tracing::warn!(
+                    "position '{}' not restored: {why}",
+                    text::logged(&position.name)
+                ),
             }
         }
         let mut restored = 0;
@@ -65,7 +70,10 @@ impl Operator {
                     continue;
                 };
                 if cycle {
-                    tracing::warn!("position '{name}': its parents form a cycle: restored alone");
+                    tracing::warn!(
+                        "position '{}': its parents form a cycle: restored alone",
+                        text::logged(&name)
+                    );
                     position.parent = None;
                 }
                 self.restore_one(arm, position);
