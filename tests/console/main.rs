@@ -33,6 +33,7 @@ mod long_names_ui;
 mod near_limit_e2e;
 mod orientation_e2e;
 mod orientation_jog;
+mod pastes;
 mod position_edits;
 mod positions_e2e;
 mod positions_pose;
