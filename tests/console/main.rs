@@ -44,4 +44,5 @@ mod simulated_arm_ui;
 mod singularity;
 mod singularity_e2e;
 mod speed_settings;
+mod terminal_input;
 mod tmux_console;

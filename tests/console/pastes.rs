@@ -16,7 +16,9 @@ fn paste(app: &mut App, text: &str, now: Instant) -> Vec<Effect> {
 }
 
 fn message(app: &App) -> String {
-    app.message().map(|(text, _)| text.to_string()).unwrap_or_default()
+    app.message()
+        .map(|(text, _)| text.to_string())
+        .unwrap_or_default()
 }
 
 fn moves(effects: &[Effect]) -> bool {
@@ -45,13 +47,21 @@ fn without_bracketed_paste_a_typed_burst_why_never_goes_home() {
     // What a terminal without bracketed paste sends for a pasted "why": three keys at once.
     let mut effects = Vec::new();
     for (i, c) in ["w", "h", "y"].into_iter().enumerate() {
-        effects.extend(press(&mut app, c, t0 + ms(0) + BURST_KEY_GAP / 10 * i as u32));
+        effects.extend(press(
+            &mut app,
+            c,
+            t0 + ms(0) + BURST_KEY_GAP / 10 * i as u32,
+        ));
     }
     assert!(
         !effects.contains(&Effect::Arm(ArmCommand::Home)),
         "{effects:?}"
     );
-    assert_eq!(app.overlay(), &Overlay::Confirm(Confirm::Home), "still asking");
+    assert_eq!(
+        app.overlay(),
+        &Overlay::Confirm(Confirm::Home),
+        "still asking"
+    );
     assert_eq!(
         message(&app),
         "key ignored: the question has only just opened"

@@ -124,7 +124,9 @@ impl Decoder {
     /// Input stopped inside a paste or a sequence: the paste is refused, the sequence dropped.
     pub fn stalled(&mut self, out: &mut Vec<Decoded>) {
         self.pending.clear();
-        if let Some(paste) = self.paste.take() {
+        if let Some(mut paste) = self.paste.take() {
+            // What looked like the start of its end is its text.
+            paste.take(&PASTE_END[..paste.matched]);
             out.push(paste.decoded(false));
         }
     }
@@ -156,5 +158,142 @@ impl Decoder {
                 out.push(Decoded::Event(event));
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyEventState, KeyModifiers};
+
+    fn decode(pieces: &[&[u8]]) -> Vec<Decoded> {
+        let mut decoder = Decoder::default();
+        let mut out = Vec::new();
+        for piece in pieces {
+            decoder.feed(piece, &mut out);
+        }
+        decoder.end_of_input(&mut out);
+        out
+    }
+
+    fn key(code: KeyCode, modifiers: KeyModifiers) -> Decoded {
+        Decoded::Event(Event::Key(KeyEvent::new(code, modifiers)))
+    }
+
+    fn char_key(c: char) -> Decoded {
+        key(KeyCode::Char(c), KeyModifiers::NONE)
+    }
+
+    #[test]
+    fn a_bracketed_paste_is_text_whatever_it_holds_and_keys_around_it_stay_keys() {
+        // Written by hand from xterm's bracketed-paste mode: ESC [ 200 ~ text ESC [ 201 ~.
+        let bytes = b"a\x1b[200~why \x1b[A\r\x1b[20 q\x1b[201~ ";
+        assert_eq!(
+            decode(&[bytes]),
+            [
+                char_key('a'),
+                Decoded::Paste("why \x1b[A\r\x1b[20 q".into()),
+                char_key(' '),
+            ]
+        );
+        // In any pieces, cut anywhere, even inside the markers.
+        for cut in 1..bytes.len() {
+            let (first, second) = bytes.split_at(cut);
+            assert_eq!(decode(&[first, second]), decode(&[bytes]), "cut at {cut}");
+        }
+    }
+
+    #[test]
+    fn a_paste_over_the_limit_is_refused_and_never_kept_and_a_key_after_it_is_a_key() {
+        let mut decoder = Decoder::default();
+        let mut out = Vec::new();
+        decoder.feed(b"\x1b[200~", &mut out);
+        let chunk = vec![b'y'; 1024 * 1024];
+        for _ in 0..100 {
+            decoder.feed(&chunk, &mut out);
+        }
+        assert!(out.is_empty(), "nothing before the end");
+        let kept = decoder.paste.as_ref().map(|p| p.text.capacity());
+        assert!(kept.is_some_and(|c| c <= 2 * PASTE_LIMIT), "{kept:?}");
+        decoder.feed(b"\x1b[201~ ", &mut out);
+        assert_eq!(
+            out,
+            [
+                Decoded::PasteRefused {
+                    bytes: 100 * 1024 * 1024,
+                    finished: true
+                },
+                char_key(' ')
+            ]
+        );
+    }
+
+    #[test]
+    fn a_paste_whose_end_never_comes_is_refused_when_it_stalls() {
+        let mut decoder = Decoder::default();
+        let mut out = Vec::new();
+        decoder.feed(b"\x1b[200~hy \x1b[201", &mut out);
+        assert!(decoder.waiting());
+        decoder.stalled(&mut out);
+        assert_eq!(
+            out,
+            [Decoded::PasteRefused {
+                bytes: 8,
+                finished: false
+            }]
+        );
+        decoder.feed(b" ", &mut out);
+        assert_eq!(out.last(), Some(&char_key(' ')), "keys again after it");
+    }
+
+    #[test]
+    fn keys_decode_as_crossterm_reports_them() {
+        // Legacy xterm sequences and the kitty keyboard protocol, by hand from their specs.
+        let kitty_release = Decoded::Event(Event::Key(KeyEvent::new_with_kind(
+            KeyCode::Char('w'),
+            KeyModifiers::NONE,
+            KeyEventKind::Release,
+        )));
+        let keypad_5 = Decoded::Event(Event::Key(KeyEvent::new_with_kind_and_state(
+            KeyCode::Char('5'),
+            KeyModifiers::NONE,
+            KeyEventKind::Press,
+            KeyEventState::KEYPAD,
+        )));
+        let cases: [(&[u8], Vec<Decoded>); 13] = [
+            (b"W", vec![key(KeyCode::Char('W'), KeyModifiers::SHIFT)]),
+            ("é".as_bytes(), vec![char_key('é')]),
+            (b"\x1b", vec![key(KeyCode::Esc, KeyModifiers::NONE)]),
+            (b"\x1bx", vec![key(KeyCode::Char('x'), KeyModifiers::ALT)]),
+            (
+                b"\x03",
+                vec![key(KeyCode::Char('c'), KeyModifiers::CONTROL)],
+            ),
+            (b"\x1b[1;5A", vec![key(KeyCode::Up, KeyModifiers::CONTROL)]),
+            (b"\x1bOP", vec![key(KeyCode::F(1), KeyModifiers::NONE)]),
+            (b"\x1b[5~", vec![key(KeyCode::PageUp, KeyModifiers::NONE)]),
+            (b"\x1b[Z", vec![key(KeyCode::BackTab, KeyModifiers::SHIFT)]),
+            (b"\x1b[119;1:3u", vec![kitty_release]),
+            (
+                b"\x1b[97:65;2u",
+                vec![key(KeyCode::Char('A'), KeyModifiers::NONE)],
+            ),
+            (b"\x1b[57404u", vec![keypad_5]),
+            (
+                b"\x1b[O\x1b[?1u\x1b[12;40R",
+                vec![Decoded::Event(Event::FocusLost)],
+            ),
+        ];
+        for (bytes, want) in cases {
+            assert_eq!(decode(&[bytes]), want, "{bytes:?}");
+        }
+    }
+
+    #[test]
+    fn garbage_is_dropped_and_the_next_key_still_comes() {
+        let mut garbage = b"\x1b[".to_vec();
+        garbage.extend(std::iter::repeat_n(b'1', 200));
+        garbage.extend(b"\xff\xfe ");
+        assert_eq!(decode(&[&garbage]).last(), Some(&char_key(' ')));
     }
 }
