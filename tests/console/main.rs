@@ -46,3 +46,4 @@ mod singularity_e2e;
 mod speed_settings;
 mod terminal_input;
 mod tmux_console;
+mod tmux_paste;
