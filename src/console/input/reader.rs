@@ -151,37 +151,41 @@ impl Reader {
         }
     }
 
-    /// Reads every readable byte (up to the budget) and hands over what they make.
+    /// Reads every readable byte (up to the budget), handing over what each read makes: a
+    /// flood is judged, and its keys dropped, a read at a time, so it is never held.
     fn drain(&mut self, fd: &impl AsFd) -> io::Result<Result<(), Gone>> {
-        let key_bytes_before = self.decoder.key_bytes();
-        let mut decoded = Vec::new();
         let mut total = 0;
-        let mut closed = false;
         while total < READ_BUDGET {
-            match rustix::io::read(fd, &mut self.buffer[..]) {
-                Ok(0) => {
-                    closed = true;
-                    break;
-                }
+            let mut decoded = Vec::new();
+            let key_bytes_before = self.decoder.key_bytes();
+            let closed = match rustix::io::read(fd, &mut self.buffer[..]) {
+                Ok(0) => true,
                 Ok(read) => {
                     self.decoder.feed(&self.buffer[..read], &mut decoded);
                     total += read;
+                    false
                 }
-                Err(rustix::io::Errno::INTR) => {}
+                Err(rustix::io::Errno::INTR) => continue,
                 Err(rustix::io::Errno::AGAIN) => {
                     self.decoder.end_of_input(&mut decoded);
-                    break;
+                    total = READ_BUDGET;
+                    false
                 }
                 Err(e) => return Err(e.into()),
+            };
+            let key_bytes = self.decoder.key_bytes() - key_bytes_before;
+            let verdict = match key_bytes {
+                0 => Verdict::Keys,
+                _ => self.burst.read(key_bytes, Instant::now()),
+            };
+            if let Err(gone) = self.hand_over(decoded, verdict) {
+                return Ok(Err(gone));
+            }
+            if closed {
+                return Ok(Err(Gone));
             }
         }
-        let key_bytes = self.decoder.key_bytes() - key_bytes_before;
-        let verdict = match key_bytes {
-            0 => Verdict::Keys,
-            _ => self.burst.read(key_bytes, Instant::now()),
-        };
-        let handed = self.hand_over(decoded, verdict);
-        Ok(if closed { Err(Gone) } else { handed })
+        Ok(Ok(()))
     }
 
     fn hand_over(&mut self, decoded: Vec<Decoded>, verdict: Verdict) -> Result<(), Gone> {
