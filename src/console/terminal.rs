@@ -45,8 +45,8 @@ pub fn enter(force_release_events: Option<bool>) -> std::io::Result<bool> {
     Ok(supported)
 }
 
-/// Whether key input has arrived that the reader thread (`input`) has not yet taken: bytes readable on
-/// the terminal now. `false` when stdin is not the terminal (the reader then reads /dev/tty,
+/// Whether key input has arrived that the reader thread (`input`) has not yet taken: bytes
+/// readable on the terminal now. `false` when stdin is not the terminal (the reader then reads /dev/tty,
 /// whose readiness is not asked here) or the question fails.
 pub fn input_waiting() -> bool {
     use rustix::event::{PollFd, PollFlags, Timespec, poll};
