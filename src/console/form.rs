@@ -64,6 +64,21 @@ impl Field {
     }
 }
 
+/// The most a number field takes from a paste (a name field takes [`MAX_NAME_LEN`] bytes).
+pub const NUMBER_PASTE_LIMIT: usize = 32;
+
+/// What a paste into a form did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FormPaste {
+    Inserted,
+    /// The field was filled to its limit (bytes) and the rest dropped.
+    Cut {
+        limit: usize,
+    },
+    /// The focused field is a yes/no toggle: nothing was typed.
+    Toggle,
+}
+
 /// An open form.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Form {
@@ -207,6 +222,35 @@ impl Form {
             field.value.push(c);
         }
         self.error = field.too_long();
+    }
+
+    /// Pasted text into the focused field, without its control characters (line breaks
+    /// included), up to the field's limit: unlike typing, a paste is cut, as it may be anything.
+    pub fn paste(&mut self, text: &str) -> FormPaste {
+        let Some(field) = self.fields.get_mut(self.focus) else {
+            return FormPaste::Inserted;
+        };
+        if field.toggle {
+            return FormPaste::Toggle;
+        }
+        let limit = if field.name {
+            MAX_NAME_LEN
+        } else {
+            NUMBER_PASTE_LIMIT
+        };
+        let mut cut = false;
+        for c in text.chars().filter(|c| !c.is_control()) {
+            if field.value.len() + c.len_utf8() > limit {
+                cut = true;
+                break;
+            }
+            field.value.push(c);
+        }
+        self.error = field.too_long();
+        match cut {
+            true => FormPaste::Cut { limit },
+            false => FormPaste::Inserted,
+        }
     }
 
     pub fn backspace(&mut self) {

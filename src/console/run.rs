@@ -11,14 +11,15 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use crossterm::event::{Event, EventStream, KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
+use crossterm::event::{Event, KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 use futures::StreamExt;
 use ratatui::Terminal;
 use ratatui::backend::CrosstermBackend;
 
-use super::app::{App, AppConfig, BookState, Effect, Input, KeyInput, Severity};
+use super::app::{App, AppConfig, BookState, Effect, Input, KeyInput, Pasted, Severity};
 use super::audit::{self, AuditSession};
 use super::book_io::{self, BookFiles};
+use super::input::{self, TerminalEvent};
 use super::input_first;
 use super::jog::{KeyKind, ReleaseMode};
 use super::keymap::{KeyName, Keymap};
@@ -28,7 +29,6 @@ use super::positions::{self, PositionBook};
 use super::terminal;
 use super::ui::{self, Theme};
 use super::view::View;
-use super::wake_gate::WakeGate;
 use crate::link::driver::{Driver, DriverConfig, StopHandle};
 use crate::link::interface::ArmCommand;
 
@@ -218,8 +218,8 @@ async fn event_loop(
         },
         Instant::now(),
     );
-    // Polled on every arm report: gated, so crossterm's reader is asked only when it has input.
-    let mut keys = WakeGate::new(EventStream::new());
+    // Read by the console itself: every readable byte is decoded on each wake (see `input`).
+    let mut keys = input::open()?;
     let mut signals = Signals::new()?;
     let mut pacer = FramePacer::default();
     pacer.changed(true, Instant::now());
@@ -291,9 +291,13 @@ async fn event_loop(
 }
 
 /// What the terminal's event stream gave, as the state machine's input.
-fn terminal_event(event: Option<std::io::Result<Event>>) -> Option<Input> {
+fn terminal_event(event: Option<std::io::Result<TerminalEvent>>) -> Option<Input> {
     match event {
-        Some(Ok(event)) => terminal_input(event),
+        Some(Ok(TerminalEvent::Event(event))) => terminal_input(event),
+        Some(Ok(TerminalEvent::Paste(text))) => Some(Input::Paste(Pasted::Text(text))),
+        Some(Ok(TerminalEvent::Refused(why))) => {
+            Some(Input::Paste(Pasted::Refused(why.to_string())))
+        }
         Some(Err(e)) => {
             tracing::error!("terminal input failed: {e}");
             Some(Input::Signal("terminal input error"))

@@ -3,22 +3,29 @@
 use std::io::{Write, stdout};
 
 use crossterm::event::{
-    DisableFocusChange, EnableFocusChange, KeyboardEnhancementFlags, PopKeyboardEnhancementFlags,
-    PushKeyboardEnhancementFlags,
+    DisableBracketedPaste, DisableFocusChange, EnableBracketedPaste, EnableFocusChange,
+    KeyboardEnhancementFlags, PopKeyboardEnhancementFlags, PushKeyboardEnhancementFlags,
 };
 use crossterm::terminal::{
     EnterAlternateScreen, LeaveAlternateScreen, disable_raw_mode, enable_raw_mode,
 };
 use crossterm::{cursor, execute};
 
-/// Puts the terminal in raw mode on the alternate screen with focus reports. Returns whether the
+/// Puts the terminal in raw mode on the alternate screen with focus reports and bracketed paste
+/// (a paste arrives as text, never as keys). Returns whether the
 /// terminal reports key releases (kitty keyboard protocol), which it then has switched on.
 ///
 /// The probe waits for the terminal's answer; an error or no answer means "unsupported".
 pub fn enter(force_release_events: Option<bool>) -> std::io::Result<bool> {
     enable_raw_mode()?;
     let mut out = stdout();
-    execute!(out, EnterAlternateScreen, EnableFocusChange, cursor::Hide)?;
+    execute!(
+        out,
+        EnterAlternateScreen,
+        EnableFocusChange,
+        EnableBracketedPaste,
+        cursor::Hide
+    )?;
     let supported = match force_release_events {
         Some(forced) => forced,
         None => crossterm::terminal::supports_keyboard_enhancement().unwrap_or(false),
@@ -38,8 +45,8 @@ pub fn enter(force_release_events: Option<bool>) -> std::io::Result<bool> {
     Ok(supported)
 }
 
-/// Whether key input has arrived that crossterm's reader has not yet taken: bytes readable on
-/// the terminal now. `false` when stdin is not the terminal (crossterm then reads /dev/tty,
+/// Whether key input has arrived that the reader thread (`input`) has not yet taken: bytes
+/// readable on the terminal now. `false` when stdin is not the terminal (the reader then reads /dev/tty,
 /// whose readiness is not asked here) or the question fails.
 pub fn input_waiting() -> bool {
     use rustix::event::{PollFd, PollFlags, Timespec, poll};
@@ -63,7 +70,13 @@ pub fn restore(release_events: bool) {
     if release_events {
         let _ = execute!(out, PopKeyboardEnhancementFlags);
     }
-    let _ = execute!(out, DisableFocusChange, LeaveAlternateScreen, cursor::Show);
+    let _ = execute!(
+        out,
+        DisableBracketedPaste,
+        DisableFocusChange,
+        LeaveAlternateScreen,
+        cursor::Show
+    );
     let _ = disable_raw_mode();
     let _ = out.flush();
 }

@@ -1,6 +1,7 @@
 //! The console's state machine on a fake clock: jogging, every stop path, overlays, forms and
 //! named positions. No terminal, no sockets.
 
+use armjog::console::app::QUESTION_QUIET;
 use std::time::{Duration, Instant};
 
 use armjog::console::app::{App, AppConfig, Effect, Input, Overlay};
@@ -61,10 +62,10 @@ fn any_other_key_stops_the_motion() {
         matches!(app.overlay(), Overlay::Confirm(_)),
         "home asks first"
     );
-    press(&mut app, "n", t0 + ms(20));
-    press(&mut app, "d", t0 + ms(30));
+    press(&mut app, "n", t0 + ms(10) + QUESTION_QUIET);
+    press(&mut app, "d", t0 + ms(200));
     assert_eq!(
-        press(&mut app, "F", t0 + ms(40)),
+        press(&mut app, "F", t0 + ms(210)),
         [STOP],
         "an unbound key stops too"
     );
@@ -258,7 +259,10 @@ fn overlays_take_keys_and_never_jog() {
 fn home_asks_for_confirmation() {
     let (mut app, t0) = app(ReleaseMode::Reported, true);
     press(&mut app, "h", t0);
-    assert_eq!(press(&mut app, "y", t0), [Effect::Arm(ArmCommand::Home)]);
+    assert_eq!(
+        press(&mut app, "y", t0 + QUESTION_QUIET),
+        [Effect::Arm(ArmCommand::Home)]
+    );
     press(&mut app, "h", t0);
     assert!(
         press(&mut app, "esc", t0).is_empty(),
@@ -374,7 +378,7 @@ fn go_to_and_delete_ask_first_and_unknown_names_are_marked() {
     app.handle(Input::PositionsLoaded(Ok(book)), t0);
     press(&mut app, "o", t0);
     assert_eq!(
-        press(&mut app, "y", t0),
+        press(&mut app, "y", t0 + QUESTION_QUIET),
         [Effect::Arm(ArmCommand::GoToPosition {
             name: "bench".into()
         })]
@@ -392,7 +396,7 @@ fn go_to_and_delete_ask_first_and_unknown_names_are_marked() {
     );
     press(&mut app, "delete", t0);
     assert_eq!(
-        press(&mut app, "y", t0),
+        press(&mut app, "y", t0 + QUESTION_QUIET),
         [Effect::Arm(ArmCommand::DeletePosition {
             name: "bench".into()
         })]

@@ -3,6 +3,7 @@
 //! nothing moves after a reconnect. No terminal involved: inputs go straight to the state
 //! machine, as the runtime would deliver them.
 
+use armjog::console::app::QUESTION_QUIET;
 use std::time::{Duration, Instant};
 
 use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
@@ -310,6 +311,10 @@ async fn save_and_recall_a_named_position_on_the_operator() {
     let home = console.tcp().await;
     jog(&mut console, "a", Duration::from_millis(400)).await;
     console.key("o", KeyKind::Press);
+    // A question ignores keys for its first moments.
+    console
+        .run_for(QUESTION_QUIET + Duration::from_millis(20))
+        .await;
     console.key("y", KeyKind::Press);
     console.run_for(Duration::from_millis(3000)).await;
     let back = console.tcp().await;

@@ -1,6 +1,7 @@
 //! The footer and the `?` help from any keymap, and what the console does not offer where it
 //! cannot work (saving on an ack-dialect link without telemetry).
 
+use armjog::console::app::QUESTION_QUIET;
 use std::time::{Duration, Instant};
 
 use armjog::console::action::Action;
@@ -423,7 +424,7 @@ fn over_modbus_a_position_the_console_keeps_is_gone_to() {
     assert!(line.contains("o go to"), "{line}");
     press(&mut app, "o", t0);
     assert!(matches!(app.overlay(), Overlay::Confirm(_)), "asked first");
-    let effects = press(&mut app, "y", t0);
+    let effects = press(&mut app, "y", t0 + QUESTION_QUIET);
     assert!(
         effects.iter().any(|e| matches!(
             e,

@@ -4,6 +4,7 @@
 //! STOP cannot get through), never as a healthy idle arm. The state machine gets the real
 //! driver's events, as the runtime would deliver them.
 
+use armjog::console::app::QUESTION_QUIET;
 use std::net::SocketAddr;
 use std::time::{Duration, Instant};
 
@@ -234,6 +235,10 @@ fn step_through_j4_limit() -> Arm {
 
 async fn home(console: &mut Console) {
     console.key("h", KeyKind::Press);
+    // A question ignores keys for its first moments.
+    console
+        .run_for(QUESTION_QUIET + Duration::from_millis(20))
+        .await;
     console.key("y", KeyKind::Press);
     assert!(moving_home(console), "{:?}", console.app.motion_shown());
 }
@@ -353,6 +358,10 @@ async fn a_go_to_aborted_at_a_joint_limit_is_a_failure_over_modbus() {
     assert_eq!(console.app.selected_name(), Some("beyond"));
     console.said.clear();
     console.key("o", KeyKind::Press);
+    // A question ignores keys for its first moments.
+    console
+        .run_for(QUESTION_QUIET + Duration::from_millis(20))
+        .await;
     console.key("y", KeyKind::Press);
     assert_aborted_at_j4(&mut console, "GOTO beyond", "go to 'beyond'", from).await;
 }

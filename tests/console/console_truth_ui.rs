@@ -2,6 +2,7 @@
 //! status bar (LINK STALE, MAY BE MOVING, MOVING: HOME / GOTO) and greyed stale panels. Fake
 //! clock: every age on screen comes from the inputs' `now`.
 
+use armjog::console::app::QUESTION_QUIET;
 use std::time::{Duration, Instant};
 
 use armjog::console::app::{App, AppConfig, Input, KeyInput};
@@ -165,7 +166,7 @@ fn link_stale_and_may_be_moving_are_red() {
 fn status_moving_home_and_go_to() {
     let (mut app, t0) = modbus_app();
     press(&mut app, "h", t0);
-    press(&mut app, "y", t0);
+    press(&mut app, "y", t0 + QUESTION_QUIET);
     insta::assert_snapshot!(
         "status_moving_home",
         render(ui::status::draw, &app, 80, 2).backend()
@@ -175,7 +176,7 @@ fn status_moving_home_and_go_to() {
     book.get_or_insert("bench").cartesian = Some([4000, 1000, 3000]);
     app.handle(Input::PositionsLoaded(Ok(book)), t0);
     press(&mut app, "o", t0);
-    press(&mut app, "y", t0);
+    press(&mut app, "y", t0 + QUESTION_QUIET);
     insta::assert_snapshot!(
         "status_moving_goto",
         render(ui::status::draw, &app, 80, 2).backend()
@@ -241,7 +242,7 @@ fn a_go_to_command_is_named_the_position_it_goes_to() {
     book.get_or_insert("bench").cartesian = Some([4000, 1000, 3000]);
     app.handle(Input::PositionsLoaded(Ok(book)), t0);
     press(&mut app, "o", t0);
-    press(&mut app, "y", t0);
+    press(&mut app, "y", t0 + QUESTION_QUIET);
     assert!(matches!(
         app.truth().action.as_ref().map(|a| a.kind.label()),
         Some(label) if label == "GOTO bench"

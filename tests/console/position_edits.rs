@@ -1,6 +1,7 @@
 //! Saving over a name asks first, renaming, and undoing the last delete, on a fake clock: in
 //! the console's own book (Modbus) and on a Talos operator, step by step with its answers.
 
+use armjog::console::app::QUESTION_QUIET;
 use std::time::Instant;
 
 use armjog::console::action::Action;
@@ -89,8 +90,10 @@ fn saving_over_an_existing_name_asks_and_sends_nothing_before_yes() {
     assert!(matches!(confirm, Confirm::Overwrite { .. }));
     assert_eq!(confirm.question(), "overwrite 'bench'?");
     // Neither a second enter, nor n, nor esc says yes: each goes back to the form as typed.
+    let mut asked = t0;
     for no in ["enter", "n", "esc"] {
-        assert!(press(&mut app, no, t0).is_empty(), "{no}");
+        asked += QUESTION_QUIET;
+        assert!(press(&mut app, no, asked).is_empty(), "{no}");
         let Overlay::Form(form) = app.overlay() else {
             panic!("{no}: the form did not come back: {:?}", app.overlay())
         };
@@ -102,14 +105,20 @@ fn saving_over_an_existing_name_asks_and_sends_nothing_before_yes() {
                 .contains("'bench' exists"),
             "{no}"
         );
-        assert!(press(&mut app, "enter", t0).is_empty(), "{no}: asks again");
+        assert!(
+            press(&mut app, "enter", asked).is_empty(),
+            "{no}: asks again"
+        );
     }
     let save = ArmCommand::SavePosition {
         name: "bench".into(),
         anchor: false,
         parent: None,
     };
-    assert_eq!(press(&mut app, "y", t0), [Effect::Arm(save)]);
+    assert_eq!(
+        press(&mut app, "y", asked + QUESTION_QUIET),
+        [Effect::Arm(save)]
+    );
     assert_eq!(*app.overlay(), Overlay::None);
 }
 
@@ -137,7 +146,7 @@ fn defining_a_position_over_an_existing_name_in_the_book_asks_first() {
         Some([3000, 3000, 800]),
         "unchanged before yes"
     );
-    let effects = press(&mut app, "y", t0);
+    let effects = press(&mut app, "y", t0 + QUESTION_QUIET);
     assert!(matches!(effects.as_slice(), [Effect::SavePositions(_)]));
     assert_eq!(
         app.positions().get("bench").and_then(|e| e.cartesian),
@@ -204,7 +213,7 @@ fn renaming_onto_an_existing_name_asks_first() {
         app.overlay(),
         Overlay::Confirm(Confirm::Overwrite { .. })
     ));
-    press(&mut app, "y", t0);
+    press(&mut app, "y", t0 + QUESTION_QUIET);
     assert_eq!(names(&app), ["bench"]);
     assert_eq!(
         app.positions().get("bench").and_then(|e| e.cartesian),
@@ -339,7 +348,7 @@ fn undo_restores_the_last_delete_in_the_book() {
     press(&mut app, "u", t0);
     assert_eq!(message(&app), "nothing deleted to restore");
     press(&mut app, "delete", t0);
-    press(&mut app, "y", t0);
+    press(&mut app, "y", t0 + QUESTION_QUIET);
     assert_eq!(names(&app), ["bench"]);
     let effects = press(&mut app, "u", t0);
     assert!(
@@ -363,7 +372,10 @@ fn undo_on_the_operator_resaves_the_deleted_position_by_its_coordinates() {
     let delete = ArmCommand::DeletePosition {
         name: "pick".into(),
     };
-    assert_eq!(press(&mut app, "y", t0), [Effect::Arm(delete.clone())]);
+    assert_eq!(
+        press(&mut app, "y", t0 + QUESTION_QUIET),
+        [Effect::Arm(delete.clone())]
+    );
     done(&mut app, delete, t0);
     assert_eq!(names(&app), ["bench"]);
     let coordinates = [5000, -1205, 2500];
@@ -401,7 +413,7 @@ fn undo_on_the_operator_resaves_the_deleted_position_by_its_coordinates() {
 fn undo_does_not_restore_over_a_name_saved_again_meanwhile() {
     let (mut app, t0) = with_book(false);
     press(&mut app, "delete", t0);
-    press(&mut app, "y", t0);
+    press(&mut app, "y", t0 + QUESTION_QUIET);
     press(&mut app, "C", t0);
     clear_field(&mut app, t0);
     type_text(&mut app, "pick", t0);

@@ -3,6 +3,7 @@
 //! there works), and a scripted operator that has lost a name gets it re-saved before the
 //! Go To, never a Go To first.
 
+use armjog::console::app::QUESTION_QUIET;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
@@ -218,6 +219,10 @@ async fn positions_saved_in_an_earlier_run_are_known_to_the_built_in_simulator_a
         console.app.overlay(),
         &Overlay::Confirm(Confirm::GoTo("bench".into()))
     );
+    // A question ignores keys for its first moments.
+    console
+        .run_for(QUESTION_QUIET + Duration::from_millis(20))
+        .await;
     console.key("y");
     let target = to_radians(&bench_deg);
     let deadline = tokio::time::Instant::now() + Duration::from_secs(20);
@@ -279,6 +284,10 @@ async fn an_operator_that_lost_a_name_gets_it_back_before_the_go_to() {
         console.app.overlay(),
         &Overlay::Confirm(Confirm::Resave("pick".into()))
     );
+    // A question ignores keys for its first moments.
+    console
+        .run_for(QUESTION_QUIET + Duration::from_millis(20))
+        .await;
     console.key("y");
     let state = operator.clone();
     console

@@ -2,6 +2,7 @@
 //! re-save the name from the remembered coordinates (Set Cartesian Position) and goes there once
 //! the operator has them, and only then, with nothing in between.
 
+use armjog::console::app::QUESTION_QUIET;
 use std::time::{Duration, Instant};
 
 use armjog::console::app::{App, Effect, Input, Overlay, RESAVE_GO_WITHIN};
@@ -76,7 +77,7 @@ fn going_to_a_lost_name_offers_the_resave_and_goes_there_once_the_operator_has_i
             && question.contains("re-save it from the remembered coordinates"),
         "{question}"
     );
-    let effects = press(&mut app, "y", t0 + ms(10));
+    let effects = press(&mut app, "y", t0 + ms(10) + QUESTION_QUIET);
     assert!(
         effects.contains(&Effect::Arm(resave_of_pick())),
         "{effects:?}"
@@ -103,7 +104,7 @@ fn no_is_no_and_nothing_is_sent() {
     lost(&mut app, "pick", t0);
     select(&mut app, "pick", t0);
     press(&mut app, "o", t0);
-    let effects = press(&mut app, "n", t0 + ms(10));
+    let effects = press(&mut app, "n", t0 + ms(10) + QUESTION_QUIET);
     assert!(
         !effects.iter().any(|e| matches!(e, Effect::Arm(_))),
         "{effects:?}"
@@ -116,7 +117,7 @@ fn resave_confirmed(app: &mut App, t0: Instant) -> Instant {
     lost(app, "pick", t0);
     select(app, "pick", t0);
     press(app, "o", t0);
-    let yes = t0 + ms(10);
+    let yes = t0 + ms(10) + QUESTION_QUIET;
     let effects = press(app, "y", yes);
     assert!(
         effects.contains(&Effect::Arm(resave_of_pick())),
@@ -201,7 +202,7 @@ fn a_go_to_that_fails_with_unknown_position_offers_the_resave() {
         &Overlay::Confirm(Confirm::GoTo("pick".into())),
         "not known to be lost: the usual question"
     );
-    let effects = press(&mut app, "y", t0 + ms(10));
+    let effects = press(&mut app, "y", t0 + ms(10) + QUESTION_QUIET);
     assert!(goes_to(&effects), "{effects:?}");
     // What the driver reports when the operator answers UNKNOWN_POSITION.
     lost(&mut app, "pick", t0 + ms(20));

@@ -9,7 +9,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 /// One tmux server of our own, killed on drop.
-struct Tmux {
+pub(crate) struct Tmux {
     socket: String,
     session: String,
     /// A control-mode client of the session, which auto-repeats are typed through: a
@@ -19,8 +19,11 @@ struct Tmux {
 }
 
 impl Tmux {
-    fn start(command: &str, width: u16, height: u16) -> Tmux {
-        let socket = format!("armjog-test-{}", std::process::id());
+    pub(crate) fn start(command: &str, width: u16, height: u16) -> Tmux {
+        // One server per test: tests of this binary run at once.
+        static SERVERS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+        let server = SERVERS.fetch_add(1, Ordering::Relaxed);
+        let socket = format!("armjog-test-{}-{server}", std::process::id());
         let session = "console".to_string();
         let status = Command::new("tmux")
             .args(["-L", &socket, "new-session", "-d", "-s", &session])
@@ -63,13 +66,30 @@ impl Tmux {
             .expect("tmux control client takes keys");
     }
 
-    fn keys(&self, keys: &[&str]) {
+    pub(crate) fn keys(&self, keys: &[&str]) {
         let status = Command::new("tmux")
             .args(["-L", &self.socket, "send-keys", "-t", &self.session])
             .args(keys)
             .status()
             .expect("tmux send-keys");
         assert!(status.success());
+    }
+
+    /// Pastes `text` as a terminal does: with `bracketed`, inside the bracketed-paste markers
+    /// (tmux adds them only for a pane that asked for them); without, as bare keys.
+    pub(crate) fn paste(&self, text: &str, bracketed: bool) {
+        let set = Command::new("tmux")
+            .args(["-L", &self.socket, "set-buffer", "-b", "armjog", text])
+            .status()
+            .expect("tmux set-buffer");
+        assert!(set.success());
+        let mut paste = Command::new("tmux");
+        paste.args(["-L", &self.socket, "paste-buffer", "-d", "-b", "armjog"]);
+        paste.args(["-t", &self.session]);
+        if bracketed {
+            paste.arg("-p");
+        }
+        assert!(paste.status().expect("tmux paste-buffer").success());
     }
 
     /// Resizes the window, as a technician dragging the terminal smaller or larger.
@@ -115,7 +135,7 @@ impl Tmux {
     }
 
     /// Waits until the TCP x stops changing (two equal readings 400 ms apart) and returns it.
-    fn settled_x(&self, within: Duration) -> f64 {
+    pub(crate) fn settled_x(&self, within: Duration) -> f64 {
         let until = Instant::now() + within;
         let mut last = None;
         loop {
@@ -133,7 +153,7 @@ impl Tmux {
         }
     }
 
-    fn screen(&self) -> String {
+    pub(crate) fn screen(&self) -> String {
         let out = Command::new("tmux")
             .args([
                 "-L",
@@ -149,7 +169,12 @@ impl Tmux {
     }
 
     /// Waits until the screen satisfies `done`; panics with the screen after `within`.
-    fn wait_for(&self, within: Duration, what: &str, done: impl Fn(&str) -> bool) -> String {
+    pub(crate) fn wait_for(
+        &self,
+        within: Duration,
+        what: &str,
+        done: impl Fn(&str) -> bool,
+    ) -> String {
         let until = Instant::now() + within;
         loop {
             let screen = self.screen();
@@ -181,7 +206,7 @@ impl Drop for Tmux {
 }
 
 /// The TCP x in mm from the tool panel's "pos mm" row.
-fn tcp_x(screen: &str) -> Option<f64> {
+pub(crate) fn tcp_x(screen: &str) -> Option<f64> {
     let line = screen.lines().find(|l| l.contains("pos mm"))?;
     let after = line.split("pos mm").nth(1)?;
     after.split_whitespace().next()?.parse().ok()

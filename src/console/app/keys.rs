@@ -38,6 +38,7 @@ impl App {
             self.release_jog_keys(&key, now, effects);
             return;
         }
+        let burst = self.question_guard.key(now);
         if !self.fits() {
             // Nothing is shown: every key only stops.
             if key.kind == KeyKind::Press {
@@ -50,6 +51,11 @@ impl App {
             // Keep still, but let the repeat neither answer the overlay nor start a jog.
             self.stop_jog(now, effects);
             self.latch_jog_key(&key, now, effects);
+            return;
+        }
+        if matches!(self.overlay, Overlay::Confirm(_))
+            && self.question_refuses(&key, burst, now, effects)
+        {
             return;
         }
         let overlay_before = std::mem::discriminant(&self.overlay);

@@ -24,6 +24,8 @@ mod message;
 mod motion_truth;
 mod named;
 mod offers;
+mod paste;
+mod question;
 mod resave;
 mod saving;
 mod singularity;
@@ -41,6 +43,8 @@ pub use motion_truth::{
     ACTION_TIMEOUT, ActionKind, MotionShown, MotionTruth, NO_TELEMETRY_ACTION_TIME, STALE_AFTER,
     STOP_GRACE, TrackedAction,
 };
+pub use paste::Pasted;
+pub use question::{BURST_KEY_GAP, QUESTION_QUIET};
 pub use resave::RESAVE_GO_WITHIN;
 pub use singularity::{AT_SINGULARITY, SINGULARITY_WARNING, near_singularity, singularity_text};
 pub use speed_steps::{SPEED_STEPS, next_speed};
@@ -91,6 +95,8 @@ pub enum Input {
     Arm(ArmEvent),
     /// SIGINT, SIGTERM or SIGHUP.
     Signal(&'static str),
+    /// A bracketed paste, or input the reader dropped (see `paste`).
+    Paste(Pasted),
     /// The position book was read off the event loop, or could not be (the error names the file
     /// and what was wrong). See [`App::begin_loading_positions`].
     PositionsLoaded(Result<PositionBook, String>),
@@ -222,6 +228,8 @@ pub struct App {
     trail: ToolTrail,
     /// The speed cap as the telemetry shows it kept.
     cap_watch: CapWatch,
+    /// Keeps pasted and hasty keys from answering a question.
+    question_guard: question::QuestionGuard,
 }
 
 impl App {
@@ -266,6 +274,7 @@ impl App {
             history: History::default(),
             trail: ToolTrail::default(),
             cap_watch: CapWatch::default(),
+            question_guard: question::QuestionGuard::default(),
         }
     }
 
@@ -320,11 +329,13 @@ impl App {
             }
             Input::PositionsLoaded(result) => self.on_positions_loaded(result, now, &mut effects),
             Input::PositionsSaved(outcome) => self.on_positions_saved(outcome, now),
+            Input::Paste(pasted) => self.on_paste(pasted, now, &mut effects),
         }
         self.truth_after(goto, now, &mut effects);
         self.hold_saves_until_loaded(now, &mut effects);
         self.count_saves(&effects);
         self.settle_messages(now);
+        self.question_guard.note(&self.overlay, now);
         effects
     }
 

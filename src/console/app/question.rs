@@ -1,0 +1,72 @@
+//! A question (home, go to, delete, overwrite) is answered by a person: never by a key typed
+//! within [`QUESTION_QUIET`] of it opening, nor by one of a burst (keys within
+//! [`BURST_KEY_GAP`] of each other, as a paste arrives where bracketed paste is off).
+
+use std::time::{Duration, Instant};
+
+use super::{App, Effect, KeyInput, Overlay, Severity};
+use crate::console::form::Confirm;
+
+/// How long a new question ignores keys.
+pub const QUESTION_QUIET: Duration = Duration::from_millis(150);
+/// Keys this close together were not typed one by one.
+pub const BURST_KEY_GAP: Duration = Duration::from_millis(5);
+
+#[derive(Debug, Clone, Default)]
+pub(super) struct QuestionGuard {
+    /// The question open and when it opened.
+    asked: Option<(Confirm, Instant)>,
+    /// The latest press or repeat.
+    previous_key: Option<Instant>,
+}
+
+impl QuestionGuard {
+    /// After each input: a question that has just opened is timed from now.
+    pub(super) fn note(&mut self, overlay: &Overlay, now: Instant) {
+        self.asked = match (overlay, self.asked.take()) {
+            (Overlay::Confirm(open), Some((asked, at))) if *open == asked => Some((asked, at)),
+            (Overlay::Confirm(open), _) => Some((open.clone(), now)),
+            _ => None,
+        };
+    }
+
+    /// A press or repeat at `now`: whether it came in a burst.
+    pub(super) fn key(&mut self, now: Instant) -> bool {
+        self.previous_key
+            .replace(now)
+            .is_some_and(|previous| now.saturating_duration_since(previous) < BURST_KEY_GAP)
+    }
+
+    /// Why a key at `now` (`burst`: see [`QuestionGuard::key`]) may not answer the open
+    /// question, if it may not.
+    fn refuses(&self, burst: bool, now: Instant) -> Option<&'static str> {
+        let (_, asked) = self.asked.as_ref()?;
+        if now.saturating_duration_since(*asked) < QUESTION_QUIET {
+            Some("key ignored: the question has only just opened")
+        } else if burst {
+            Some("key ignored: keys came too fast to be typed")
+        } else {
+            None
+        }
+    }
+}
+
+impl App {
+    /// Whether `key` (a press or repeat) was kept from answering the question; it stops a jog
+    /// like any key in an overlay.
+    pub(super) fn question_refuses(
+        &mut self,
+        key: &KeyInput,
+        burst: bool,
+        now: Instant,
+        effects: &mut Vec<Effect>,
+    ) -> bool {
+        let Some(why) = self.question_guard.refuses(burst, now) else {
+            return false;
+        };
+        self.stop_jog(now, effects);
+        self.latch_jog_key(key, now, effects);
+        self.say(why, Severity::Warning, now);
+        true
+    }
+}
