@@ -176,8 +176,10 @@ fn home_go_to_and_steps_are_watched_too() {
     // Home, over Talos hardware telemetry.
     let (mut app, t0) = console(TelemetrySource::TalosHardware);
     press(&mut app, "h", t0);
-    assert_eq!(press(&mut app, "y", t0), [Effect::Arm(ArmCommand::Home)]);
-    let (effects, _) = feed_all(&mut app, &three, t0);
+    // Answered as a person answers: after the question's first 150 ms.
+    let answered = t0 + ms(200);
+    assert_eq!(press(&mut app, "y", answered), [Effect::Arm(ArmCommand::Home)]);
+    let (effects, _) = feed_all(&mut app, &three, answered);
     assert_eq!(effects, [STOP], "home");
     assert!(app.truth().action.is_none());
     assert!(
@@ -192,7 +194,8 @@ fn home_go_to_and_steps_are_watched_too() {
     book.get_or_insert("bench").cartesian = Some([4000, 1000, 3000]);
     app.handle(Input::PositionsLoaded(Ok(book)), t0);
     press(&mut app, "o", t0);
-    let effects = press(&mut app, "y", t0);
+    let answered = t0 + ms(200);
+    let effects = press(&mut app, "y", answered);
     assert!(
         matches!(
             effects.as_slice(),
@@ -200,7 +203,7 @@ fn home_go_to_and_steps_are_watched_too() {
         ),
         "{effects:?}"
     );
-    let (effects, _) = feed_all(&mut app, &three, t0);
+    let (effects, _) = feed_all(&mut app, &three, answered);
     assert_eq!(effects, [STOP], "go to");
 
     // A step.

@@ -152,7 +152,8 @@ async fn quitting_anyway_writes_the_book_once_more() {
     app.handle(outcome(&mut files).await, t0);
     press(&mut app, "q", t0);
     std::fs::remove_file(&folder).expect("blocker removed");
-    let effects = press(&mut app, "y", t0);
+    // Answered after the question's first 150 ms, as a person answers.
+    let effects = press(&mut app, "y", t0 + Duration::from_millis(200));
     assert!(
         matches!(
             effects.as_slice(),
