@@ -14,6 +14,7 @@ pub mod commands;
 pub mod flags;
 pub mod gen3;
 pub mod image;
+pub mod motion_plausibility;
 pub mod polar;
 pub mod registers;
 pub mod telemetry;
@@ -25,6 +26,7 @@ pub use codes::{
 };
 pub use commands::{CommandError, StoredMotion, Write};
 pub use flags::{Flag, FlagSet};
+pub use motion_plausibility::implausible_for_motion;
 pub use image::{ImageError, PollPlan, ReadBlock, RegisterImage, SLOW_REFRESH};
 pub use polar::{PolarPanError, PolarPanSettings, check_directions, polar_twist};
 pub use registers::Table;

@@ -21,7 +21,9 @@ mod jog_keys;
 mod keys;
 mod limits;
 mod message;
+mod motion_gate;
 mod motion_truth;
+mod other_client;
 mod named;
 mod offers;
 mod resave;
@@ -35,6 +37,10 @@ pub use cap_watch::{CAP_TOLERANCE, CapWatch, OVER_CAP_SAMPLES};
 pub use coords::{cartesian_of, describe_motion, polar_of};
 pub use history::{BUCKET, BUCKETS, HISTORY_WINDOW, History, HistorySeries, JointQuantity};
 pub use jog_keys::TAP_STEP_LIMIT;
+pub use motion_gate::arm_refusal;
+pub use other_client::{
+    OTHER_CLIENT_GRACE, OTHER_CLIENT_SAMPLES, OTHER_MOTION_JOINT_DEG_S, OTHER_MOTION_M_S, OtherClients,
+};
 pub use limits::{LIMIT_WARNING_DEG, NearLimit, limit_margin, near_limits};
 pub use motion_truth::{
     ACTION_TIMEOUT, ActionKind, MotionShown, MotionTruth, NO_TELEMETRY_ACTION_TIME, STALE_AFTER,
@@ -216,6 +222,8 @@ pub struct App {
     trail: ToolTrail,
     /// The speed cap as the telemetry shows it kept.
     cap_watch: CapWatch,
+    /// Other clients on the same arm: their stops and motions (see `other_client`).
+    others: other_client::OtherClients,
 }
 
 impl App {
@@ -259,6 +267,7 @@ impl App {
             history: History::default(),
             trail: ToolTrail::default(),
             cap_watch: CapWatch::default(),
+            others: other_client::OtherClients::default(),
         }
     }
 
