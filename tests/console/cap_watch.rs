@@ -11,7 +11,7 @@ use armjog::console::keymap::Keymap;
 use armjog::console::positions::PositionBook;
 use armjog::console::ui::status::speed_text;
 use armjog::console::view::View;
-use armjog::kortex::{RegisterImage, Telemetry};
+use armjog::kortex::{Coded, MoveType, RegisterImage, RobotState, Telemetry};
 use armjog::link::driver::JOINT_JOG_SPEED;
 use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus, TelemetrySource};
 
@@ -50,6 +50,9 @@ fn console(source: TelemetrySource) -> (App, Instant) {
 /// The tool moving along X at `mm_s`.
 fn moving_at(mm_s: f32) -> Telemetry {
     let mut t = Telemetry::decode(&RegisterImage::default());
+    // Ready, running a twist: the arm's state lets motion start.
+    t.robot_state = Coded::Known(RobotState::Ready);
+    t.action.move_type = Coded::Known(MoveType::Twist);
     t.tcp.twist.x = mm_s / 1000.0;
     t
 }
