@@ -26,8 +26,8 @@ pub use codes::{
 };
 pub use commands::{CommandError, StoredMotion, Write};
 pub use flags::{Flag, FlagSet};
-pub use motion_plausibility::implausible_for_motion;
 pub use image::{ImageError, PollPlan, ReadBlock, RegisterImage, SLOW_REFRESH};
+pub use motion_plausibility::implausible_for_motion;
 pub use polar::{PolarPanError, PolarPanSettings, check_directions, polar_twist};
 pub use registers::Table;
 pub use telemetry::{ActionState, ArmHealth, JointState, SpeedLimits, Telemetry, ToolState};

@@ -120,7 +120,10 @@ mod tests {
     fn not_a_number_anywhere_checked_is_named() {
         let mut t = telemetry();
         t.joints[2].position = f32::NAN;
-        assert_eq!(implausible_for_motion(&t).as_deref(), Some("J3 position NaN"));
+        assert_eq!(
+            implausible_for_motion(&t).as_deref(),
+            Some("J3 position NaN")
+        );
         let mut t = telemetry();
         t.tcp.twist.y = f32::NAN;
         assert_eq!(implausible_for_motion(&t).as_deref(), Some("twist y NaN"));

@@ -4,9 +4,8 @@
 use std::time::{Duration, Instant};
 
 use armjog::console::app::{
-    Overlay,
-    App, AppConfig, Effect, Input, KeyInput, MotionShown, NO_TELEMETRY_ACTION_TIME, STOP_GRACE,
-    Severity, abort_reason,
+    App, AppConfig, Effect, Input, KeyInput, MotionShown, NO_TELEMETRY_ACTION_TIME, Overlay,
+    STOP_GRACE, Severity, abort_reason,
 };
 use armjog::console::jog::{KeyKind, ReleaseMode};
 use armjog::console::keymap::{KeyName, Keymap};

@@ -23,9 +23,9 @@ mod limits;
 mod message;
 mod motion_gate;
 mod motion_truth;
-mod other_client;
 mod named;
 mod offers;
+mod other_client;
 mod resave;
 mod singularity;
 mod speed_steps;
@@ -37,14 +37,15 @@ pub use cap_watch::{CAP_TOLERANCE, CapWatch, OVER_CAP_SAMPLES};
 pub use coords::{cartesian_of, describe_motion, polar_of};
 pub use history::{BUCKET, BUCKETS, HISTORY_WINDOW, History, HistorySeries, JointQuantity};
 pub use jog_keys::TAP_STEP_LIMIT;
-pub use motion_gate::arm_refusal;
-pub use other_client::{
-    OTHER_CLIENT_GRACE, OTHER_CLIENT_SAMPLES, OTHER_MOTION_JOINT_DEG_S, OTHER_MOTION_M_S, OtherClients,
-};
 pub use limits::{LIMIT_WARNING_DEG, NearLimit, limit_margin, near_limits};
+pub use motion_gate::arm_refusal;
 pub use motion_truth::{
     ACTION_TIMEOUT, ActionKind, MotionShown, MotionTruth, NO_TELEMETRY_ACTION_TIME, STALE_AFTER,
     STOP_GRACE, TrackedAction,
+};
+pub use other_client::{
+    OTHER_CLIENT_GRACE, OTHER_CLIENT_SAMPLES, OTHER_MOTION_JOINT_DEG_S, OTHER_MOTION_M_S,
+    OtherClients,
 };
 pub use resave::RESAVE_GO_WITHIN;
 pub use singularity::{AT_SINGULARITY, SINGULARITY_WARNING, near_singularity, singularity_text};

@@ -21,7 +21,9 @@
 
 use std::time::{Duration, Instant};
 
-use super::arm_state::{REST_ANGULAR_DEG_S, REST_JOINT_DEG_S, REST_LINEAR_M_S, abort_reason, at_rest};
+use super::arm_state::{
+    REST_ANGULAR_DEG_S, REST_JOINT_DEG_S, REST_LINEAR_M_S, abort_reason, at_rest,
+};
 use super::{App, Effect};
 use crate::console::app::coords::describe_motion;
 use crate::console::jog::JogMotion;
@@ -193,8 +195,7 @@ fn fast_motion(t: &Telemetry) -> bool {
     let v = t.tcp.twist;
     let tool = (v.x * v.x + v.y * v.y + v.z * v.z).sqrt();
     tool > OTHER_MOTION_M_S
-        || t
-            .joints
+        || t.joints
             .iter()
             .any(|j| j.velocity.abs() > OTHER_MOTION_JOINT_DEG_S)
 }

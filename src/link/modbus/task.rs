@@ -397,7 +397,8 @@ impl LinkTask {
         let result = self.execute(writes).await;
         if result.is_ok() {
             // A rewrite of the running twist (a new direction, a pan's new pose) keeps its start.
-            self.twist_start.get_or_insert_with(elsewhere::TwistStart::now);
+            self.twist_start
+                .get_or_insert_with(elsewhere::TwistStart::now);
             self.ended_elsewhere = None;
         }
         if result.is_err() {
