@@ -7,6 +7,7 @@
 //! - [`image`], [`telemetry`]: the reads of one poll and the snapshot they decode to.
 //! - [`commands`]: the writes of each command, refusing values that cannot be written.
 //! - [`polar`]: polar pan as a twist computed from the live tool pose.
+//! - [`motion_plausibility`]: whether a snapshot is one a Gen3 can report, before motion.
 
 pub mod cartesian;
 pub mod codes;

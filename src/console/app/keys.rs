@@ -229,11 +229,7 @@ impl App {
                 );
             }
             A::FaultReset => effects.push(Effect::Arm(ArmCommand::FaultReset)),
-            A::Home => {
-                if !self.refuse_motion(now) {
-                    self.overlay = Overlay::Confirm(Confirm::Home);
-                }
-            }
+            A::Home if !self.refuse_motion(now) => self.overlay = Overlay::Confirm(Confirm::Home),
             A::StepMode => {
                 self.step.enabled = !self.step.enabled;
                 let text = if self.step.enabled {

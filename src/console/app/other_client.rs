@@ -73,12 +73,12 @@ impl App {
     pub(super) fn other_client_note_sent(&mut self, command: &ArmCommand, now: Instant) {
         let others = &mut self.others;
         match command {
-            ArmCommand::Jog(motion) => {
-                if others.jog_since.is_none_or(|(m, _)| m != *motion) {
-                    others.jog_since = Some((*motion, now));
-                    others.at_rest_in_a_row = 0;
-                }
+            // A refresh of the same motion keeps its start.
+            ArmCommand::Jog(motion) if others.jog_since.is_none_or(|(m, _)| m != *motion) => {
+                others.jog_since = Some((*motion, now));
+                others.at_rest_in_a_row = 0;
             }
+            ArmCommand::Jog(_) => {}
             c if c.is_stop() || c.starts_motion() => others.jog_since = None,
             _ => {}
         }
