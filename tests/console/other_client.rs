@@ -280,3 +280,14 @@ fn our_own_motion_coasting_after_a_stop_is_not_another_client() {
     run(&mut app, &moving_at(80.0), t0 + ms(320), t0 + ms(600));
     assert_ne!(app.motion_shown(), MotionShown::MovedByAnotherClient);
 }
+
+#[test]
+fn an_arm_that_never_reports_a_twist_move_type_is_not_taken_for_another_client() {
+    let (mut app, t0) = console(TelemetrySource::Modbus);
+    press(&mut app, "w", t0);
+    let mut silent = moving_at(125.0);
+    silent.action.move_type = Coded::Known(MoveType::Action);
+    let effects = run(&mut app, &silent, t0, t0 + ms(2000));
+    assert!(!effects.contains(&STOP), "{effects:?}");
+    assert!(app.jog().is_jogging());
+}

@@ -5,8 +5,8 @@
 //! status read that early may predate the START), any of these means someone else stopped or
 //! replaced it, and the console stops too, latching the held keys so its next refresh does not
 //! restart the arm:
-//! - over Modbus telemetry, the action status reads aborted or completed, or the move type is no
-//!   longer a twist (every jog but a joint jog is one): a register, not a noisy reading, so one
+//! - over Modbus telemetry, the action status reads aborted or completed, or the move type
+//!   changes from twist to another (every jog but a joint jog is a twist): a register, not a noisy reading, so one
 //!   sample is enough;
 //! - the arm at rest for [`OTHER_CLIENT_SAMPLES`] samples in a row, when the jog is fast enough
 //!   that at rest cannot be the jog itself (see [`App::jog_unmistakable_from_rest`]).
@@ -55,6 +55,9 @@ const REST_MARGIN: f64 = 3.0;
 pub struct OtherClients {
     /// The jog motion last sent and when it was first sent (refreshes keep the time).
     jog_since: Option<(JogMotion, Instant)>,
+    /// The arm's move type has read twist since the jog started: only then is another move
+    /// type a change (an arm that never reports it changes nothing).
+    seen_twist: bool,
     at_rest_in_a_row: u32,
     moving_in_a_row: u32,
     /// How many of our jogs another client stopped.
@@ -77,6 +80,7 @@ impl App {
             ArmCommand::Jog(motion) if others.jog_since.is_none_or(|(m, _)| m != *motion) => {
                 others.jog_since = Some((*motion, now));
                 others.at_rest_in_a_row = 0;
+                others.seen_twist = false;
             }
             ArmCommand::Jog(_) => {}
             c if c.is_stop() || c.starts_motion() => others.jog_since = None,
@@ -104,12 +108,14 @@ impl App {
         let Some((_, since)) = self.others.jog_since.filter(|(m, _)| *m == motion) else {
             return;
         };
+        let was_twist = self.others.seen_twist;
+        self.others.seen_twist |= t.action.move_type == Coded::Known(MoveType::Twist);
         if now < since + OTHER_CLIENT_GRACE {
             self.others.at_rest_in_a_row = 0;
             return;
         }
         let modbus = self.truth.expected_telemetry() == Some(TelemetrySource::Modbus);
-        let evidence = if modbus && ended_under_jog(t, motion) {
+        let evidence = if modbus && ended_under_jog(t, motion, was_twist) {
             Some(format!(
                 "the arm's action is {} ({}) under our {} jog",
                 t.action.status.key(),
@@ -177,15 +183,15 @@ impl App {
     }
 }
 
-/// Over Modbus: the arm's action ended while we hold a jog, or is no longer a twist while we
-/// hold a cartesian, polar or orientation jog (a joint jog over Talos is not a twist; over
+/// Over Modbus: the arm's action ended while we hold a jog, or changed from a twist to another
+/// move type while we hold a cartesian, polar or orientation jog (a joint jog over Talos is not a twist; over
 /// Modbus the others always are, and the simulated operator runs them as twists too).
-fn ended_under_jog(t: &Telemetry, motion: JogMotion) -> bool {
+fn ended_under_jog(t: &Telemetry, motion: JogMotion, was_twist: bool) -> bool {
     let ended = matches!(
         t.action.status,
         Coded::Known(ActionStatus::Aborted | ActionStatus::Completed)
     );
-    let twist_expected = !matches!(motion, JogMotion::Joint { .. });
+    let twist_expected = was_twist && !matches!(motion, JogMotion::Joint { .. });
     let not_twist = matches!(t.action.move_type, Coded::Known(m) if m != MoveType::Twist);
     ended || (twist_expected && not_twist)
 }

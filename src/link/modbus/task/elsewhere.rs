@@ -3,8 +3,8 @@
 //! must not restart it. Without this a polar pan, whose twist is rewritten from every poll's
 //! pose, restarted the arm within one poll of another client's STOP.
 //!
-//! Evidence: the action status reads aborted or completed, or the move type is no longer a
-//! twist, while this link has a twist in force. The status is trusted once it has read started
+//! Evidence: the action status reads aborted or completed, or the move type changes from twist
+//! to another, while this link has a twist in force. The status is trusted once it has read started
 //! since our write, or [`STATUS_GRACE`] after it (a read that soon may predate the write).
 //! The motion is then dropped without a write; the same request again (a jog refresh) writes
 //! nothing, until a stop or a different motion. The console sees the same telemetry and stops
@@ -25,6 +25,9 @@ pub(super) const STATUS_GRACE: Duration = Duration::from_millis(500);
 pub(super) struct TwistStart {
     at: Instant,
     seen_started: bool,
+    /// The active move type has read twist since our write: only then is another one a change
+    /// (an arm, or a test double, that never reports the move type changes nothing).
+    seen_twist: bool,
 }
 
 impl TwistStart {
@@ -32,6 +35,7 @@ impl TwistStart {
         TwistStart {
             at: Instant::now(),
             seen_started: false,
+            seen_twist: false,
         }
     }
 }
@@ -49,6 +53,10 @@ impl LinkTask {
         if status == Coded::Known(ActionStatus::Started) {
             start.seen_started = true;
         }
+        let move_type = telemetry.action.move_type;
+        if move_type == Coded::Known(MoveType::Twist) {
+            start.seen_twist = true;
+        }
         if !start.seen_started && start.at.elapsed() < STATUS_GRACE {
             return;
         }
@@ -57,7 +65,7 @@ impl LinkTask {
             Coded::Known(ActionStatus::Aborted | ActionStatus::Completed)
         );
         let replaced =
-            matches!(telemetry.action.move_type, Coded::Known(m) if m != MoveType::Twist);
+            start.seen_twist && matches!(move_type, Coded::Known(m) if m != MoveType::Twist);
         if !(ended || replaced) {
             return;
         }
