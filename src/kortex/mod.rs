@@ -7,7 +7,8 @@
 //! - [`image`], [`telemetry`]: the reads of one poll and the snapshot they decode to.
 //! - [`commands`]: the writes of each command, refusing values that cannot be written.
 //! - [`polar`]: polar pan as a twist computed from the live tool pose.
-//! - [`sanity`]: whether a reported value is physically possible.
+//! - [`sanity`]: whether a reported value is physically possible (the panels' `?` and the
+//!   console's motion gate).
 
 pub mod cartesian;
 pub mod codes;

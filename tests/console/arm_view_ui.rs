@@ -30,6 +30,7 @@ const HEIGHT: u16 = 19;
 /// Telemetry with the joints at `deg` (0-360) and nothing else of note.
 fn telemetry(deg: [f64; 7]) -> Telemetry {
     let mut t = Telemetry::decode(&RegisterImage::default());
+    t.robot_state = armjog::kortex::Coded::Known(armjog::kortex::RobotState::Ready);
     for (joint, angle) in t.joints.iter_mut().zip(deg) {
         joint.position = angle.rem_euclid(360.0) as f32;
     }

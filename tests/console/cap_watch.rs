@@ -11,7 +11,7 @@ use armjog::console::keymap::Keymap;
 use armjog::console::positions::PositionBook;
 use armjog::console::ui::status::speed_text;
 use armjog::console::view::View;
-use armjog::kortex::{RegisterImage, Telemetry};
+use armjog::kortex::{Coded, MoveType, RegisterImage, RobotState, Telemetry};
 use armjog::link::driver::JOINT_JOG_SPEED;
 use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus, TelemetrySource};
 
@@ -50,6 +50,9 @@ fn console(source: TelemetrySource) -> (App, Instant) {
 /// The tool moving along X at `mm_s`.
 fn moving_at(mm_s: f32) -> Telemetry {
     let mut t = Telemetry::decode(&RegisterImage::default());
+    // Ready, running a twist: the arm's state lets motion start.
+    t.robot_state = Coded::Known(RobotState::Ready);
+    t.action.move_type = Coded::Known(MoveType::Twist);
     t.tcp.twist.x = mm_s / 1000.0;
     t
 }
@@ -178,7 +181,10 @@ fn home_go_to_and_steps_are_watched_too() {
     press(&mut app, "h", t0);
     // Answered as a person answers: after the question's first 150 ms.
     let answered = t0 + ms(200);
-    assert_eq!(press(&mut app, "y", answered), [Effect::Arm(ArmCommand::Home)]);
+    assert_eq!(
+        press(&mut app, "y", answered),
+        [Effect::Arm(ArmCommand::Home)]
+    );
     let (effects, _) = feed_all(&mut app, &three, answered);
     assert_eq!(effects, [STOP], "home");
     assert!(app.truth().action.is_none());

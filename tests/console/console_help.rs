@@ -412,12 +412,9 @@ fn an_ack_link_says_why_it_cannot_go_to_a_position_the_console_keeps() {
 #[test]
 fn over_modbus_a_position_the_console_keeps_is_gone_to() {
     let (mut app, t0) = app_with(keymap("default"), false, TelemetrySource::Modbus, (200, 40));
-    app.handle(
-        Input::Arm(ArmEvent::Telemetry(Box::new(
-            armjog::kortex::Telemetry::decode(&armjog::kortex::RegisterImage::default()),
-        ))),
-        t0,
-    );
+    let mut ready = armjog::kortex::Telemetry::decode(&armjog::kortex::RegisterImage::default());
+    ready.robot_state = armjog::kortex::Coded::Known(armjog::kortex::RobotState::Ready);
+    app.handle(Input::Arm(ArmEvent::Telemetry(Box::new(ready))), t0);
     define_cartesian(&mut app, "bench", ["400", "0", "300"], t0);
     assert!(app.can_go_to());
     let line = offered_footer(&app);

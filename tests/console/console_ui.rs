@@ -207,8 +207,25 @@ fn type_text(app: &mut App, text: &str, now: Instant) {
 }
 
 /// `w` held, releases reported: the status says "JOG +X".
+/// [`home_telemetry`] with the fault gone and the arm ready: no motion starts on a faulted arm.
+fn ready_telemetry() -> Telemetry {
+    Telemetry {
+        robot_state: Coded::Known(RobotState::Ready),
+        faults: FlagSet::EMPTY,
+        ..home_telemetry()
+    }
+}
+
+fn ready(app: &mut App, now: Instant) {
+    app.handle(
+        Input::Arm(ArmEvent::Telemetry(Box::new(ready_telemetry()))),
+        now,
+    );
+}
+
 fn jogging_app() -> (App, Instant) {
     let (mut app, t0) = live_app(ReleaseMode::Reported);
+    ready(&mut app, t0);
     press(&mut app, "w", t0);
     (app, t0)
 }
@@ -220,7 +237,7 @@ fn auto_repeat_app() -> (App, Instant) {
     for at in [0, 500, 540, 580, 620] {
         let now = t0 + ms(at);
         app.handle(
-            Input::Arm(ArmEvent::Telemetry(Box::new(home_telemetry()))),
+            Input::Arm(ArmEvent::Telemetry(Box::new(ready_telemetry()))),
             now,
         );
         press(&mut app, "w", now);
@@ -576,6 +593,7 @@ fn log_in_hex_keeps_the_newest_lines() {
 #[test]
 fn dialog_confirm_go_to() {
     let (mut app, t0) = live_app(ReleaseMode::Reported);
+    ready(&mut app, t0);
     press(&mut app, "o", t0);
     assert!(matches!(app.overlay(), Overlay::Confirm(_)));
     insta::assert_snapshot!(render(ui::dialog::draw, &app, 80, 9).backend());

@@ -38,6 +38,8 @@ impl App {
             }
             ArmEvent::Telemetry(t) => {
                 self.watch_cap(&t, now, effects);
+                self.watch_arm_state(&t, now, effects);
+                self.watch_other_clients(&t, now, effects);
                 self.history.record(&t, now);
                 self.trail.record(&t, now);
                 self.telemetry = Some(*t);

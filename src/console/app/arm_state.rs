@@ -8,9 +8,9 @@ use crate::kortex::gen3::JOINT_LIMITS_DEG;
 use crate::kortex::{Coded, Flag, RobotState, Telemetry};
 
 /// Below these the arm is at rest.
-const REST_JOINT_DEG_S: f32 = 0.5;
-const REST_LINEAR_M_S: f32 = 0.002;
-const REST_ANGULAR_DEG_S: f32 = 0.5;
+pub(super) const REST_JOINT_DEG_S: f32 = 0.5;
+pub(super) const REST_LINEAR_M_S: f32 = 0.002;
+pub(super) const REST_ANGULAR_DEG_S: f32 = 0.5;
 /// A joint this close to its limit may be the one an abort stopped at.
 const NEAR_LIMIT_DEG: f32 = 3.0;
 /// A joint this close to its limit is at it.

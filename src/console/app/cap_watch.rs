@@ -102,13 +102,25 @@ impl App {
             return;
         }
         self.cap_watch.over_in_a_row = 0;
+        let text = format!("stopped: {why}");
+        self.cap_watch.stops += 1;
+        self.cap_watch.last_stop = Some(text.clone());
+        self.stop_from_telemetry(text, now, effects);
+    }
+
+    /// Stops a motion the telemetry shows must not go on (over the cap, the arm in fault, another
+    /// client's stop): STOP, the held keys latched like any other stop, and `text` on the
+    /// message line and in the log.
+    pub(super) fn stop_from_telemetry(
+        &mut self,
+        text: String,
+        now: Instant,
+        effects: &mut Vec<Effect>,
+    ) {
         // The action ends here, said once below (not also as "home stopped").
         self.truth.action = None;
         self.stop_everything(now, effects);
-        let text = format!("stopped: {why}");
         tracing::warn!("{text}");
-        self.cap_watch.stops += 1;
-        self.cap_watch.last_stop = Some(text.clone());
         self.say(text, Severity::Error, now);
     }
 

@@ -107,18 +107,14 @@ impl App {
                     if fresh {
                         self.step_move(action, now, effects);
                     }
-                } else if self.link_is_up() {
-                    let jog = self.jog.key(action, kind, now);
-                    self.apply_jog(jog, now, effects);
-                } else {
+                } else if let Some((text, until)) = self.motion_refusal_until() {
                     self.latch_jog_key(&key, now, effects);
                     if kind == KeyKind::Press {
-                        let (text, until) = match self.link_stale() {
-                            Some(_) => ("link stale: not moving", Until::LinkFresh),
-                            None => ("no link to the arm: not moving", Until::LinkUp),
-                        };
                         self.say_until(text, Severity::Warning, until, now);
                     }
+                } else {
+                    let jog = self.jog.key(action, kind, now);
+                    self.apply_jog(jog, now, effects);
                 }
             }
             (Some(action), KeyKind::Press) => {
@@ -215,6 +211,9 @@ impl App {
                 return;
             }
         };
+        if self.refuse_motion(now) {
+            return;
+        }
         effects.push(Effect::Arm(ArmCommand::Step(step)));
     }
 
@@ -236,7 +235,7 @@ impl App {
                 );
             }
             A::FaultReset => effects.push(Effect::Arm(ArmCommand::FaultReset)),
-            A::Home => self.overlay = Overlay::Confirm(Confirm::Home),
+            A::Home if !self.refuse_motion(now) => self.overlay = Overlay::Confirm(Confirm::Home),
             A::StepMode => {
                 self.step.enabled = !self.step.enabled;
                 let text = if self.step.enabled {

@@ -21,9 +21,11 @@ mod jog_keys;
 mod keys;
 mod limits;
 mod message;
+mod motion_gate;
 mod motion_truth;
 mod named;
 mod offers;
+mod other_client;
 mod paste;
 mod question;
 mod resave;
@@ -39,9 +41,14 @@ pub use coords::{cartesian_of, describe_motion, polar_of};
 pub use history::{BUCKET, BUCKETS, HISTORY_WINDOW, History, HistorySeries, JointQuantity};
 pub use jog_keys::TAP_STEP_LIMIT;
 pub use limits::{LIMIT_WARNING_DEG, NearLimit, limit_margin, near_limits};
+pub use motion_gate::arm_refusal;
 pub use motion_truth::{
     ACTION_TIMEOUT, ActionKind, MotionShown, MotionTruth, NO_TELEMETRY_ACTION_TIME, STALE_AFTER,
     STOP_GRACE, TrackedAction,
+};
+pub use other_client::{
+    OTHER_CLIENT_GRACE, OTHER_CLIENT_SAMPLES, OTHER_MOTION_JOINT_DEG_S, OTHER_MOTION_M_S,
+    OtherClients,
 };
 pub use paste::Pasted;
 pub use question::{BURST_KEY_GAP, QUESTION_QUIET};
@@ -230,6 +237,8 @@ pub struct App {
     cap_watch: CapWatch,
     /// Keeps pasted and hasty keys from answering a question.
     question_guard: question::QuestionGuard,
+    /// Other clients on the same arm: their stops and motions (see `other_client`).
+    others: other_client::OtherClients,
 }
 
 impl App {
@@ -275,6 +284,7 @@ impl App {
             trail: ToolTrail::default(),
             cap_watch: CapWatch::default(),
             question_guard: question::QuestionGuard::default(),
+            others: other_client::OtherClients::default(),
         }
     }
 

@@ -134,6 +134,9 @@ pub enum MotionShown {
     Stopping,
     /// The arm may be moving although nothing is commanded; why.
     MayBeMoving(String),
+    /// Telemetry shows motion the console did not command (and nothing of its own is
+    /// unsettled): another client moves the arm.
+    MovedByAnotherClient,
     Idle,
 }
 
@@ -167,6 +170,11 @@ impl MotionTruth {
     /// The last STOP did not get through and none has been confirmed since.
     pub(super) fn stop_unconfirmed(&self) -> bool {
         self.stop_failure.is_some()
+    }
+
+    /// Motion was commanded and is not yet shown to have ended.
+    pub(in crate::console::app) fn is_unsettled(&self) -> bool {
+        self.unsettled
     }
 
     /// The telemetry the driver said to expect, once it has said.

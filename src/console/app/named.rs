@@ -27,6 +27,10 @@ impl App {
     }
 
     pub(super) fn confirmed(&mut self, confirm: Confirm, now: Instant, effects: &mut Vec<Effect>) {
+        // The arm may have faulted (or the link gone) while the question was open.
+        if matches!(confirm, Confirm::Home | Confirm::GoTo(_)) && self.refuse_motion(now) {
+            return;
+        }
         match confirm {
             Confirm::Home => effects.push(Effect::Arm(ArmCommand::Home)),
             Confirm::Resave(name) => self.resave_confirmed(name, now, effects),

@@ -35,6 +35,9 @@ impl App {
             self.say(why, Severity::Warning, now);
             return;
         }
+        if self.refuse_motion(now) {
+            return;
+        }
         let lost = self.config.positions_on_operator
             && self
                 .positions

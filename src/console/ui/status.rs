@@ -284,6 +284,9 @@ fn motion_spans(view: &View, theme: &Theme, cut: Cut) -> Vec<Span<'static>> {
             theme.alarm(),
         )),
         MotionShown::Stopping => spans.push(Span::styled(" STOPPING ", theme.warning())),
+        MotionShown::MovedByAnotherClient => {
+            spans.push(Span::styled(" MOVED BY ANOTHER CLIENT ", theme.alarm()))
+        }
         MotionShown::MayBeMoving(why) => {
             spans.push(Span::styled(" MAY BE MOVING ", theme.alarm()));
             reason = Some(why);

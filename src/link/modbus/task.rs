@@ -1,6 +1,7 @@
 //! The task that owns the connection: polls, runs commands one request at a time, keeps the
 //! twist hold, and reconnects. See the parent module for the safety rules it keeps.
 
+mod elsewhere;
 mod limits;
 mod reconnect;
 
@@ -73,6 +74,10 @@ pub(super) struct LinkTask {
     /// Reconnects tried since closing began, to deliver an owed stop.
     closing_attempts: u32,
     close_replies: Vec<Reply<()>>,
+    /// Our twist's write, until the arm is seen to run it (see `elsewhere`).
+    twist_start: Option<elsewhere::TwistStart>,
+    /// The motion another client stopped or replaced: asked again, it is not restarted.
+    ended_elsewhere: Option<MotionInForce>,
 }
 
 impl LinkTask {
@@ -103,6 +108,8 @@ impl LinkTask {
             limit_hold: None,
             closing_attempts: 0,
             close_replies: Vec::new(),
+            twist_start: None,
+            ended_elsewhere: None,
         }
     }
 
@@ -278,6 +285,9 @@ impl LinkTask {
             self.refresh_hold();
             return Ok(WriteReport::default());
         }
+        if self.ended_elsewhere(&wanted) {
+            return Ok(WriteReport::default());
+        }
         let writes = commands::twist(frame, twist)?;
         self.motion = wanted;
         self.refresh_hold();
@@ -304,6 +314,15 @@ impl LinkTask {
             && (a, e, s) == (azimuth, altitude, settings)
         {
             self.refresh_hold();
+            return Ok(WriteReport::default());
+        }
+        let wanted = MotionInForce::Polar {
+            azimuth,
+            altitude,
+            settings,
+            twist: Twist::ZERO,
+        };
+        if self.ended_elsewhere(&wanted) {
             return Ok(WriteReport::default());
         }
         // A fresh pose, not the last poll's: the new direction starts from where the arm is.
@@ -376,6 +395,12 @@ impl LinkTask {
     async fn write_motion(&mut self, writes: &[Write]) -> Result<WriteReport, ModbusError> {
         self.stop_owed = true;
         let result = self.execute(writes).await;
+        if result.is_ok() {
+            // A rewrite of the running twist (a new direction, a pan's new pose) keeps its start.
+            self.twist_start
+                .get_or_insert_with(elsewhere::TwistStart::now);
+            self.ended_elsewhere = None;
+        }
         if result.is_err() {
             if self.ctx.is_some() {
                 let _ = self.stop(StopReason::WriteFailed).await;
@@ -392,6 +417,8 @@ impl LinkTask {
     async fn stop(&mut self, reason: StopReason) -> Result<WriteReport, ModbusError> {
         self.motion = MotionInForce::Idle;
         self.hold_until = None;
+        self.twist_start = None;
+        self.ended_elsewhere = None;
         let stop_error = match self.execute(&commands::stop()).await {
             Ok(report) => {
                 self.stop_owed = false;
@@ -454,6 +481,7 @@ impl LinkTask {
     async fn tick(&mut self) {
         match self.poll().await {
             Ok(telemetry) => {
+                self.note_motion_ended_elsewhere(&telemetry);
                 self.refresh_polar(telemetry.tcp.pose).await;
                 self.note_action(&telemetry).await;
             }

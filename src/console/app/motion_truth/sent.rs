@@ -29,13 +29,9 @@ impl App {
         now: Instant,
         effects: &mut Vec<Effect>,
     ) {
+        // Whatever emitted it, no motion starts while the gate refuses (a stale link above all).
+        self.gate_effects(now, effects);
         if let Some(age) = self.link_stale() {
-            let asked = effects.len();
-            effects.retain(|e| !matches!(e, Effect::Arm(command) if command.starts_motion()));
-            if effects.len() != asked {
-                let text = "link stale: not moving";
-                self.say_until(text, Severity::Warning, Until::LinkFresh, now);
-            }
             // An action the console can no longer watch is stopped like a jog: the arm must
             // not go on moving unseen.
             if self.truth.action.is_some() {
@@ -67,6 +63,7 @@ impl App {
                 continue;
             };
             self.note_sent(command, goto.clone(), now);
+            self.other_client_note_sent(command, now);
         }
     }
 

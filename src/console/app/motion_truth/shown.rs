@@ -44,6 +44,9 @@ impl App {
             return MotionShown::Stopping;
         }
         let telemetry_fresh = self.telemetry_stale().is_none() && truth.telemetry_at.is_some();
+        if telemetry_fresh && self.moved_by_another_client() {
+            return MotionShown::MovedByAnotherClient;
+        }
         if telemetry_fresh && truth.telemetry_moving {
             return MotionShown::MayBeMoving("telemetry shows motion".into());
         }

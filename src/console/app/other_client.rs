@@ -1,0 +1,207 @@
+//! Another client on the same arm: its STOP is a STOP, and its motion is shown as its own.
+//!
+//! While the console holds a jog, the telemetry shows whether the arm still runs it. After
+//! [`OTHER_CLIENT_GRACE`] from the jog's START (the arm takes a few samples to start, and a
+//! status read that early may predate the START), any of these means someone else stopped or
+//! replaced it, and the console stops too, latching the held keys so its next refresh does not
+//! restart the arm:
+//! - over Modbus telemetry, the action status reads aborted or completed, or the move type
+//!   changes from twist to another (every jog but a joint jog is a twist): a register, not a noisy reading, so one
+//!   sample is enough;
+//! - the arm at rest for [`OTHER_CLIENT_SAMPLES`] samples in a row, when the jog is fast enough
+//!   that at rest cannot be the jog itself (see [`App::jog_unmistakable_from_rest`]).
+//!
+//! A joint-fault warning at such a stop means the arm stopped itself at a limit, and the
+//! message says that instead. A Talos operator's refusal of a jog refresh already stops and
+//! latches (`ArmEvent::Failed`).
+//!
+//! Idle, the console claims no motion of its own: telemetry faster than [`OTHER_MOTION_M_S`] (or
+//! [`OTHER_MOTION_JOINT_DEG_S`] on a joint) for [`OTHER_CLIENT_SAMPLES`] samples, with nothing
+//! of ours unsettled, is `MOVED BY ANOTHER CLIENT`.
+
+use std::time::{Duration, Instant};
+
+use super::arm_state::{
+    REST_ANGULAR_DEG_S, REST_JOINT_DEG_S, REST_LINEAR_M_S, abort_reason, at_rest,
+};
+use super::{App, Effect};
+use crate::console::app::coords::describe_motion;
+use crate::console::jog::JogMotion;
+use crate::kortex::{ActionStatus, Coded, Flag, MoveType, Telemetry};
+use crate::link::driver::{INITIAL_SPEED, MAX_ANGULAR_JOG_SPEED};
+use crate::link::interface::{ArmCommand, TelemetrySource};
+
+/// How long after a jog's START the telemetry may still show the arm as it was before: the
+/// START's trip (a Modbus write, or a Talos frame and the operator's reply, tens of ms), the
+/// arm's own start-up (a Gen3 ramps a twist up over about 100-200 ms) and a poll or two of
+/// telemetry (33 ms at 30 Hz, up to ~100 ms over Talos hardware telemetry). 500 ms is over
+/// twice the sum, and the same grace the console gives an action's first status.
+pub const OTHER_CLIENT_GRACE: Duration = Duration::from_millis(500);
+/// Samples in a row at rest (while jogging) or moving (while idle) before it counts: two may be
+/// a reading's glitch, three at 30 Hz are 100 ms of agreement.
+pub const OTHER_CLIENT_SAMPLES: u32 = 3;
+/// Idle, a tool point faster than this (m/s) is motion someone commanded: five times the
+/// console's at-rest threshold, well over noise.
+pub const OTHER_MOTION_M_S: f32 = 5.0 * REST_LINEAR_M_S;
+/// Idle, a joint faster than this (deg/s) is motion someone commanded (a turn of the tool
+/// moves the joints, not the point).
+pub const OTHER_MOTION_JOINT_DEG_S: f32 = 2.0;
+/// A jog is told from rest only when it should run at least this many times the at-rest
+/// threshold (a 1 % jog creeps at about the threshold itself).
+const REST_MARGIN: f64 = 3.0;
+
+/// What the console watches for other clients.
+#[derive(Debug, Clone, Default)]
+pub struct OtherClients {
+    /// The jog motion last sent and when it was first sent (refreshes keep the time).
+    jog_since: Option<(JogMotion, Instant)>,
+    /// The arm's move type has read twist since the jog started: only then is another move
+    /// type a change (an arm that never reports it changes nothing).
+    seen_twist: bool,
+    at_rest_in_a_row: u32,
+    moving_in_a_row: u32,
+    /// How many of our jogs another client stopped.
+    stops: u64,
+}
+
+impl OtherClients {
+    /// How many of the console's jogs another client stopped.
+    pub fn stops(&self) -> u64 {
+        self.stops
+    }
+}
+
+impl App {
+    /// Notes a command going out: a jog's first START starts the grace, a stop ends the watch.
+    pub(super) fn other_client_note_sent(&mut self, command: &ArmCommand, now: Instant) {
+        let others = &mut self.others;
+        match command {
+            // A refresh of the same motion keeps its start.
+            ArmCommand::Jog(motion) if others.jog_since.is_none_or(|(m, _)| m != *motion) => {
+                others.jog_since = Some((*motion, now));
+                others.at_rest_in_a_row = 0;
+                others.seen_twist = false;
+            }
+            ArmCommand::Jog(_) => {}
+            c if c.is_stop() || c.starts_motion() => others.jog_since = None,
+            _ => {}
+        }
+    }
+
+    /// Fresh telemetry: is our jog still the arm's motion, and is the arm moved by someone else?
+    pub(super) fn watch_other_clients(
+        &mut self,
+        t: &Telemetry,
+        now: Instant,
+        effects: &mut Vec<Effect>,
+    ) {
+        let moving = fast_motion(t);
+        self.others.moving_in_a_row = if moving {
+            self.others.moving_in_a_row.saturating_add(1)
+        } else {
+            0
+        };
+        let Some(motion) = self.jog.active() else {
+            self.others.at_rest_in_a_row = 0;
+            return;
+        };
+        let Some((_, since)) = self.others.jog_since.filter(|(m, _)| *m == motion) else {
+            return;
+        };
+        let was_twist = self.others.seen_twist;
+        self.others.seen_twist |= t.action.move_type == Coded::Known(MoveType::Twist);
+        if now < since + OTHER_CLIENT_GRACE {
+            self.others.at_rest_in_a_row = 0;
+            return;
+        }
+        let modbus = self.truth.expected_telemetry() == Some(TelemetrySource::Modbus);
+        let evidence = if modbus && ended_under_jog(t, motion, was_twist) {
+            Some(format!(
+                "the arm's action is {} ({}) under our {} jog",
+                t.action.status.key(),
+                t.action.move_type.key(),
+                describe_motion(motion)
+            ))
+        } else {
+            let rest = at_rest(t) && self.jog_unmistakable_from_rest(motion);
+            self.others.at_rest_in_a_row = if rest {
+                self.others.at_rest_in_a_row + 1
+            } else {
+                0
+            };
+            (self.others.at_rest_in_a_row >= OTHER_CLIENT_SAMPLES).then(|| {
+                format!(
+                    "the arm is at rest while we jog {}",
+                    describe_motion(motion)
+                )
+            })
+        };
+        let Some(evidence) = evidence else {
+            return;
+        };
+        self.others.at_rest_in_a_row = 0;
+        let text = if t.warnings.contains(Flag::JointFault) {
+            format!("jog stopped by the arm: {}", abort_reason(t))
+        } else {
+            self.others.stops += 1;
+            format!("stopped by another client: {evidence}")
+        };
+        self.stop_from_telemetry(text, now, effects);
+    }
+
+    /// Whether `motion` at the speed in force runs fast enough that telemetry at rest cannot be
+    /// it: at least [`REST_MARGIN`] times the at-rest threshold of what it moves.
+    fn jog_unmistakable_from_rest(&self, motion: JogMotion) -> bool {
+        let fraction = f64::from(self.speed.unwrap_or(INITIAL_SPEED)) / 100.0;
+        let (expected, rest) = match motion {
+            JogMotion::Cartesian { .. } | JogMotion::Polar { .. } => {
+                (self.config.max_jog_speed, f64::from(REST_LINEAR_M_S))
+            }
+            JogMotion::Orientation { .. } => (
+                f64::from(MAX_ANGULAR_JOG_SPEED),
+                f64::from(REST_ANGULAR_DEG_S),
+            ),
+            JogMotion::Joint { .. } => (
+                f64::from(self.config.joint_jog_speed),
+                f64::from(REST_JOINT_DEG_S),
+            ),
+        };
+        expected * fraction >= REST_MARGIN * rest
+    }
+
+    /// Telemetry shows motion none of ours explains: idle, nothing unsettled, and the arm moving
+    /// fast for [`OTHER_CLIENT_SAMPLES`] samples.
+    pub(super) fn moved_by_another_client(&self) -> bool {
+        self.jog.active().is_none()
+            && self.truth.action.is_none()
+            && !self.truth.is_unsettled()
+            && self.others.moving_in_a_row >= OTHER_CLIENT_SAMPLES
+    }
+
+    pub fn other_clients(&self) -> &OtherClients {
+        &self.others
+    }
+}
+
+/// Over Modbus: the arm's action ended while we hold a jog, or changed from a twist to another
+/// move type while we hold a cartesian, polar or orientation jog (a joint jog over Talos is not a twist; over
+/// Modbus the others always are, and the simulated operator runs them as twists too).
+fn ended_under_jog(t: &Telemetry, motion: JogMotion, was_twist: bool) -> bool {
+    let ended = matches!(
+        t.action.status,
+        Coded::Known(ActionStatus::Aborted | ActionStatus::Completed)
+    );
+    let twist_expected = was_twist && !matches!(motion, JogMotion::Joint { .. });
+    let not_twist = matches!(t.action.move_type, Coded::Known(m) if m != MoveType::Twist);
+    ended || (twist_expected && not_twist)
+}
+
+/// The tool point or a joint faster than the idle thresholds (NaN is not fast: it says nothing).
+fn fast_motion(t: &Telemetry) -> bool {
+    let v = t.tcp.twist;
+    let tool = (v.x * v.x + v.y * v.y + v.z * v.z).sqrt();
+    tool > OTHER_MOTION_M_S
+        || t.joints
+            .iter()
+            .any(|j| j.velocity.abs() > OTHER_MOTION_JOINT_DEG_S)
+}
