@@ -6,6 +6,9 @@
 //! prefixes, SS3 and CSI cursor and function keys with modifiers, `CSI … ~` special keys, the
 //! kitty keyboard protocol's `CSI … u` with event types and alternate keys, and focus reports.
 //! Mouse reports, cursor positions and protocol answers are recognised and dropped.
+//!
+//! The ported parts: Copyright (c) 2019 Timon, crossterm, under the MIT License, whose
+//! permission notice ships with the crossterm crate (its `LICENSE` file) and applies to them.
 
 use crossterm::event::{Event, KeyCode, KeyEvent, KeyEventKind, KeyEventState, KeyModifiers};
 
