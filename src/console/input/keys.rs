@@ -8,7 +8,7 @@
 //! Mouse reports, cursor positions and protocol answers are recognised and dropped.
 //!
 //! The ported parts: Copyright (c) 2019 Timon, crossterm, under the MIT License, whose
-//! permission notice ships with the crossterm crate (its `LICENSE` file) and applies to them.
+//! permission notice is `licenses/crossterm-MIT.txt` and applies to them.
 
 use crossterm::event::{Event, KeyCode, KeyEvent, KeyEventKind, KeyEventState, KeyModifiers};
 
