@@ -267,3 +267,35 @@ fn the_stop_guard_not_ready_refuses_with_its_reason() {
         "refused: the stop guard is not connected yet"
     );
 }
+
+#[test]
+fn the_refusal_is_said_while_the_arm_refuses_and_goes_once_it_is_ready() {
+    let mut faulted = ready();
+    faulted.robot_state = Coded::Known(RobotState::InFault);
+    faulted.faults = FlagSet::from_bits(Flag::EmergencyStop.bit());
+    let (mut app, t0) = console(faulted.clone());
+    // The operator answers the read of "bench" the console asked for when the link came up.
+    let bench = ArmCommand::GetPosition {
+        name: "bench".into(),
+    };
+    app.handle(Input::Arm(ArmEvent::Done { command: bench }), t0);
+    let mut effects = press(&mut app, "w", t0);
+    effects.extend(app.handle(key("w", KeyKind::Release), t0 + ms(10)));
+    assert!(moves(&effects).is_empty(), "{effects:?}");
+    // The driver answers the STOPs the console sends on the way.
+    for effect in effects {
+        if let Effect::Arm(command @ ArmCommand::Stop) = effect {
+            app.handle(Input::Arm(ArmEvent::Done { command }), t0 + ms(20));
+            app.handle(Input::Arm(ArmEvent::StopConfirmed), t0 + ms(20));
+        }
+    }
+    // Long after a notice would have gone, the arm still refuses: the reason stays.
+    for n in 1..=200 {
+        feed(&mut app, faulted.clone(), t0 + ms(100 * n));
+    }
+    assert_eq!(message(&app), "refused: the arm reports emergency_stop");
+    // Reset: the arm reports ready, and the refusal is no longer true.
+    feed(&mut app, ready(), t0 + ms(20_100));
+    assert_eq!(message(&app), "");
+    assert_eq!(press(&mut app, "w", t0 + ms(20_150)), [jog(1, 0, 0)]);
+}

@@ -41,6 +41,8 @@ pub(super) enum Until {
     StopConfirmed,
     /// Positions could not be written: ends when a write holds them.
     BookSaved,
+    /// The arm's own report refused a motion: ends when the report would let it start.
+    ArmReady,
 }
 
 impl Until {
@@ -154,6 +156,10 @@ impl App {
         let guard_ready = matches!(self.guard, Some(GuardStatus::Ready { .. }));
         let stop_unconfirmed = self.truth.stop_unconfirmed();
         let unsaved = self.unsaved_positions() > 0;
+        let arm_refuses = self
+            .telemetry
+            .as_ref()
+            .is_some_and(|t| super::arm_refusal(t).is_some());
         let holds = |m: &Message| match m.until {
             Until::TimeOut { .. } => now < m.at + MESSAGE_TIME,
             Until::LinkUp => !link_up,
@@ -162,6 +168,7 @@ impl App {
             Until::GuardReady => !guard_ready,
             Until::StopConfirmed => stop_unconfirmed,
             Until::BookSaved => unsaved,
+            Until::ArmReady => arm_refuses,
         };
         for slot in self.messages.slots() {
             if slot.as_ref().is_some_and(|m| !holds(m)) {

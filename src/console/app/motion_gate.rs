@@ -62,8 +62,7 @@ impl App {
             _ => {}
         }
         let why = self.telemetry.as_ref().and_then(arm_refusal)?;
-        let until = Until::TimeOut { done: None };
-        Some((format!("refused: the arm reports {why}"), until))
+        Some((format!("refused: the arm reports {why}"), Until::ArmReady))
     }
 
     /// Says why a motion may not start and returns true, or returns false when it may.
