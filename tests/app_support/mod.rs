@@ -10,16 +10,28 @@ use armjog::console::keymap::{KeyName, Keymap};
 use armjog::console::positions::PositionBook;
 use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus, StepMove};
 
-pub fn app(mode: ReleaseMode, on_operator: bool) -> (App, Instant) {
-    let config = AppConfig {
+/// The console's session facts as most tests want them: the default keymap, key releases
+/// reported, a 100 ms refresh, positions on the operator, the default caps, a real arm. Tests
+/// change what they are about: `AppConfig { max_jog_speed: 0.05, ..config() }`.
+pub fn config() -> AppConfig {
+    AppConfig {
         keymap: Keymap::builtin("default").expect("default keymap"),
-        release_mode: mode,
+        release_mode: ReleaseMode::Reported,
         refresh: Duration::from_millis(100),
-        positions_on_operator: on_operator,
+        positions_on_operator: true,
         max_jog_speed: 0.25,
         joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
-        frames: !on_operator,
+        frames: false,
         simulated: false,
+    }
+}
+
+pub fn app(mode: ReleaseMode, on_operator: bool) -> (App, Instant) {
+    let config = AppConfig {
+        release_mode: mode,
+        positions_on_operator: on_operator,
+        frames: !on_operator,
+        ..config()
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();

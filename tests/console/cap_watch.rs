@@ -6,8 +6,7 @@
 use std::time::Instant;
 
 use armjog::console::app::{App, AppConfig, Effect, Input};
-use armjog::console::jog::{JogMotion, KeyKind, ReleaseMode};
-use armjog::console::keymap::Keymap;
+use armjog::console::jog::{JogMotion, KeyKind};
 use armjog::console::positions::PositionBook;
 use armjog::console::ui::status::speed_text;
 use armjog::console::view::View;
@@ -15,21 +14,16 @@ use armjog::kortex::{Coded, MoveType, RegisterImage, RobotState, Telemetry};
 use armjog::link::driver::JOINT_JOG_SPEED;
 use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus, TelemetrySource};
 
-use crate::app_support::{STOP, jog, key, ms, press, release};
+use crate::app_support::{STOP, config, jog, key, ms, press, release};
 
 /// The cap of these tests: 50 mm/s.
 const CAP: f64 = 0.05;
 
 fn console(source: TelemetrySource) -> (App, Instant) {
     let config = AppConfig {
-        keymap: Keymap::builtin("default").expect("default keymap"),
-        release_mode: ReleaseMode::Reported,
-        refresh: ms(100),
         positions_on_operator: source != TelemetrySource::Modbus,
         max_jog_speed: CAP,
-        joint_jog_speed: JOINT_JOG_SPEED,
-        frames: false,
-        simulated: false,
+        ..config()
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();

@@ -5,14 +5,13 @@
 
 use std::time::Instant;
 
-use armjog::console::app::{App, AppConfig, Effect, Input, Overlay};
-use armjog::console::jog::{KeyKind, ReleaseMode};
-use armjog::console::keymap::Keymap;
+use armjog::console::app::{App, Effect, Input, Overlay};
+use armjog::console::jog::KeyKind;
 use armjog::console::positions::PositionBook;
 use armjog::kortex::{Coded, Flag, FlagSet, MoveType, RegisterImage, RobotState, Telemetry};
 use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus, TelemetrySource};
 
-use crate::app_support::{STOP, jog, key, ms, press};
+use crate::app_support::{STOP, config, jog, key, ms, press};
 
 /// A ready arm at home, at rest.
 fn ready() -> Telemetry {
@@ -34,16 +33,7 @@ fn ready() -> Telemetry {
 /// A console on a Talos operator (it keeps the positions; "bench" is one) with Modbus
 /// telemetry, link up, fed `t`.
 fn console(t: Telemetry) -> (App, Instant) {
-    let config = AppConfig {
-        keymap: Keymap::builtin("default").expect("default keymap"),
-        release_mode: ReleaseMode::Reported,
-        refresh: ms(100),
-        positions_on_operator: true,
-        max_jog_speed: 0.25,
-        joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
-        frames: false,
-        simulated: false,
-    };
+    let config = config();
     let mut book = PositionBook::new();
     book.get_or_insert("bench").cartesian = Some([4000, 0, 3000]);
     let mut app = App::new(config, book);

@@ -1,32 +1,25 @@
 //! The built-in simulated arm is named on the status bar at every width; a real link is not.
 
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
 
 use armjog::console::app::{App, AppConfig, Input};
-use armjog::console::jog::{KeyKind, ReleaseMode};
-use armjog::console::keymap::Keymap;
+use armjog::console::jog::KeyKind;
 use armjog::console::positions::PositionBook;
 use armjog::console::ui::{self, Theme};
 use armjog::console::view::View;
 use armjog::link::interface::{ArmEvent, LinkStatus};
 
-use crate::app_support::{buffer_text, key};
+use crate::app_support::{buffer_text, config, key};
 
 /// A console jogging +X over both links of an arm at loopback addresses, as the built-in
 /// simulator gives them, or as a real arm's would read.
 fn jogging(simulated: bool) -> (App, Instant) {
     let config = AppConfig {
-        keymap: Keymap::builtin("default").expect("default keymap"),
-        release_mode: ReleaseMode::Reported,
-        refresh: Duration::from_millis(100),
-        positions_on_operator: true,
-        max_jog_speed: 0.25,
-        joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
-        frames: false,
         simulated,
+        ..config()
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();
