@@ -6,10 +6,29 @@
 //! replaced it, and the console stops too, latching the held keys so its next refresh does not
 //! restart the arm:
 //! - over Modbus telemetry, the action status reads aborted or completed, or the move type
-//!   changes from twist to another (every jog but a joint jog is a twist): a register, not a noisy reading, so one
-//!   sample is enough;
-//! - the arm at rest for [`OTHER_CLIENT_SAMPLES`] samples in a row, when the jog is fast enough
-//!   that at rest cannot be the jog itself (see [`App::jog_unmistakable_from_rest`]).
+//!   changes from twist to another (every jog but a joint jog is a twist): a register, not a
+//!   noisy reading, so one sample is enough;
+//! - [`OTHER_CLIENT_SAMPLES`] samples in a row that contradict the jog (see `jog_evidence`),
+//!   or one left standing for [`CONTRADICTED_FOR`]: the arm at rest when the jog is fast enough
+//!   that at rest cannot be it (see [`App::jog_unmistakable_from_rest`]); the jog's progress
+//!   under half its steady speed (the fastest seen since [`OTHER_CLIENT_GRACE`] after its start
+//!   or our last speed change); or, for a cartesian jog in the base frame (every Talos jog, and
+//!   a Modbus jog in the base frame: the telemetry's twist is in it; tool and mixed frames are
+//!   skipped), the tool over [`OTHER_MOTION_M_S`] with under half its speed along our direction
+//!   (`the arm moves +Z, not our +Y`).
+//!
+//! Refreshes (the default link: Talos jogs, Modbus telemetry). The operator takes a refreshed
+//! START as a new START, so a refresh sent just after another client's STOP restarted the arm
+//! before three samples confirmed the stop (about one stop in five, measured). With telemetry,
+//! past the grace, a due refresh is held ([`App::hold_refresh`]) and goes out only on the
+//! [`REFRESH_SAMPLES`]th sample since it fell due that does not contradict the jog (the first may
+//! have been read before it fell due), or after [`REFRESH_WAIT`] with none contradicting (late
+//! telemetry is the staleness rule's business). A contradicting sample withholds it until the
+//! stop is confirmed or the jog is seen running again; [`CONTRADICTED_FOR`] bounds that to two
+//! withheld refreshes, well inside the 500 ms watchdog. What no telemetry can show: a STOP that
+//! reaches an arm that stops and restarts at once (the simulator) between the read of the
+//! sample a refresh went out on and the refresh's arrival, a few ms; measured 0-3 of 30 stops
+//! on the default link (tests/console/other_client_default_e2e.rs), 6 of 30 before.
 //!
 //! A joint-fault warning at such a stop means the arm stopped itself at a limit, and the
 //! message says that instead. A Talos operator's refusal of a jog refresh already stops and
