@@ -46,7 +46,12 @@ impl App {
             }
             ArmEvent::TelemetrySource(source) => self.telemetry_source = source,
             ArmEvent::Latency(latency) => self.latency = Some(latency),
-            ArmEvent::Speed(speed) => self.speed = Some(speed),
+            ArmEvent::Speed(speed) => {
+                if self.speed.is_some_and(|s| s != speed) {
+                    self.other_client_note_speed(now);
+                }
+                self.speed = Some(speed);
+            }
             ArmEvent::Notice(text) => self.say(text, Severity::Warning, now),
             ArmEvent::Log(entry) => {
                 // Telemetry polls with the same outcome in a row share one counted line, so

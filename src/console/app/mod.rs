@@ -17,6 +17,7 @@ mod edits;
 mod form_keys;
 mod help_keys;
 mod history;
+mod jog_evidence;
 mod jog_keys;
 mod keys;
 mod limits;
@@ -39,6 +40,7 @@ pub use book_load::{BookState, CHECKED_ON_CONNECT};
 pub use cap_watch::{CAP_TOLERANCE, CapWatch, OVER_CAP_SAMPLES};
 pub use coords::{cartesian_of, describe_motion, polar_of};
 pub use history::{BUCKET, BUCKETS, HISTORY_WINDOW, History, HistorySeries, JointQuantity};
+pub use jog_evidence::{ALONG_FRACTION, Contradiction, SLOW_FRACTION};
 pub use jog_keys::TAP_STEP_LIMIT;
 pub use limits::{LIMIT_WARNING_DEG, NearLimit, limit_margin, near_limits};
 pub use motion_gate::arm_refusal;
@@ -47,8 +49,8 @@ pub use motion_truth::{
     STOP_GRACE, TrackedAction,
 };
 pub use other_client::{
-    OTHER_CLIENT_GRACE, OTHER_CLIENT_SAMPLES, OTHER_MOTION_JOINT_DEG_S, OTHER_MOTION_M_S,
-    OtherClients,
+    CONTRADICTED_FOR, OTHER_CLIENT_GRACE, OTHER_CLIENT_SAMPLES, OTHER_MOTION_JOINT_DEG_S,
+    OTHER_MOTION_M_S, OtherClients, REFRESH_SAMPLES, REFRESH_WAIT,
 };
 pub use paste::Pasted;
 pub use question::{BURST_KEY_GAP, QUESTION_QUIET};
@@ -305,6 +307,7 @@ impl App {
             .into_iter()
             .chain(message)
             .chain(self.truth_deadline())
+            .chain(self.other_clients_deadline())
             .min()
     }
 
@@ -325,8 +328,11 @@ impl App {
                 }
             }
             Input::Tick => {
-                let jog = self.jog.tick(now);
+                let before = self.jog.active();
+                let mut jog = self.jog.tick(now);
+                self.hold_refresh(before, &mut jog, now);
                 self.apply_jog(jog, now, &mut effects);
+                self.other_clients_on_tick(now, &mut effects);
             }
             Input::Arm(event) => self.on_arm(event, now, &mut effects),
             Input::Signal(name) => {

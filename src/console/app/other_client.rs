@@ -6,10 +6,29 @@
 //! replaced it, and the console stops too, latching the held keys so its next refresh does not
 //! restart the arm:
 //! - over Modbus telemetry, the action status reads aborted or completed, or the move type
-//!   changes from twist to another (every jog but a joint jog is a twist): a register, not a noisy reading, so one
-//!   sample is enough;
-//! - the arm at rest for [`OTHER_CLIENT_SAMPLES`] samples in a row, when the jog is fast enough
-//!   that at rest cannot be the jog itself (see [`App::jog_unmistakable_from_rest`]).
+//!   changes from twist to another (every jog but a joint jog is a twist): a register, not a
+//!   noisy reading, so one sample is enough;
+//! - [`OTHER_CLIENT_SAMPLES`] samples in a row that contradict the jog (see `jog_evidence`),
+//!   or one left standing for [`CONTRADICTED_FOR`]: the arm at rest when the jog is fast enough
+//!   that at rest cannot be it (see [`App::jog_unmistakable_from_rest`]); the jog's progress
+//!   under half its steady speed (the fastest seen since [`OTHER_CLIENT_GRACE`] after its start
+//!   or our last speed change); or, for a cartesian jog in the base frame (every Talos jog, and
+//!   a Modbus jog in the base frame: the telemetry's twist is in it; tool and mixed frames are
+//!   skipped), the tool over [`OTHER_MOTION_M_S`] with under half its speed along our direction
+//!   (`the arm moves +Z, not our +Y`).
+//!
+//! Refreshes (the default link: Talos jogs, Modbus telemetry). The operator takes a refreshed
+//! START as a new START, so a refresh sent just after another client's STOP restarted the arm
+//! before three samples confirmed the stop (about one stop in five, measured). With telemetry,
+//! past the grace, a due refresh is held ([`App::hold_refresh`]) and goes out only on the
+//! [`REFRESH_SAMPLES`]th sample since it fell due that does not contradict the jog (the first may
+//! have been read before it fell due), or after [`REFRESH_WAIT`] with none contradicting (late
+//! telemetry is the staleness rule's business). A contradicting sample withholds it until the
+//! stop is confirmed or the jog is seen running again; [`CONTRADICTED_FOR`] bounds that to two
+//! withheld refreshes, well inside the 500 ms watchdog. What no telemetry can show: a STOP that
+//! reaches an arm that stops and restarts at once (the simulator) between the read of the
+//! sample a refresh went out on and the refresh's arrival, a few ms; measured 0-3 of 30 stops
+//! on the default link (tests/console/other_client_default_e2e.rs), 6 of 30 before.
 //!
 //! A joint-fault warning at such a stop means the arm stopped itself at a limit, and the
 //! message says that instead. A Talos operator's refusal of a jog refresh already stops and
@@ -21,13 +40,12 @@
 
 use std::time::{Duration, Instant};
 
-use super::arm_state::{
-    REST_ANGULAR_DEG_S, REST_JOINT_DEG_S, REST_LINEAR_M_S, abort_reason, at_rest,
-};
+use super::arm_state::{REST_ANGULAR_DEG_S, REST_JOINT_DEG_S, REST_LINEAR_M_S, abort_reason};
+use super::jog_evidence::{Contradiction, contradiction, progress};
 use super::{App, Effect};
 use crate::console::app::coords::describe_motion;
-use crate::console::jog::JogMotion;
-use crate::kortex::{ActionStatus, Coded, Flag, MoveType, Telemetry};
+use crate::console::jog::{JogEffect, JogMotion};
+use crate::kortex::{ActionStatus, Coded, Flag, MoveType, ReferenceFrame, Telemetry};
 use crate::link::driver::{INITIAL_SPEED, MAX_ANGULAR_JOG_SPEED};
 use crate::link::interface::{ArmCommand, TelemetrySource};
 
@@ -49,6 +67,19 @@ pub const OTHER_MOTION_JOINT_DEG_S: f32 = 2.0;
 /// A jog is told from rest only when it should run at least this many times the at-rest
 /// threshold (a 1 % jog creeps at about the threshold itself).
 const REST_MARGIN: f64 = 3.0;
+/// A run of contradicting samples shorter than [`OTHER_CLIENT_SAMPLES`] that has lasted this
+/// long (samples sparse, or gone) is a stop too: the safe side. With the 100 ms refresh it
+/// withholds two refreshes at most, well inside the operator's 500 ms watchdog.
+pub const CONTRADICTED_FOR: Duration = Duration::from_millis(250);
+/// A due refresh goes out on the second sample since it fell due that does not contradict the
+/// jog: the first may have been read before (queued behind a busy event loop); the second was
+/// read a poll later (33 ms at 30 Hz), after it. A STOP from elsewhere must land in the few
+/// milliseconds between that read and the refresh reaching the arm to go unseen.
+pub const REFRESH_SAMPLES: u32 = 2;
+/// A refresh waits this long at most for its samples; with too few (telemetry slow or late, and
+/// none contradicting), it goes out anyway, and the link's own staleness rule watches the
+/// silence. The refresh then comes at most 300 ms after the last, inside the 500 ms watchdog.
+pub const REFRESH_WAIT: Duration = Duration::from_millis(200);
 
 /// What the console watches for other clients.
 #[derive(Debug, Clone, Default)]
@@ -58,7 +89,20 @@ pub struct OtherClients {
     /// The arm's move type has read twist since the jog started: only then is another move
     /// type a change (an arm that never reports it changes nothing).
     seen_twist: bool,
-    at_rest_in_a_row: u32,
+    /// Since when the jog's speed is compared with its steady speed (its start, or our last
+    /// speed change: the arm then slows or speeds up to the new speed), and that steady speed:
+    /// the fastest progress seen after the grace (mm/s or deg/s).
+    baseline_since: Option<Instant>,
+    steady: Option<f64>,
+    /// The run of samples that contradict the jog: how many, since when, and the last.
+    contradicting_in_a_row: u32,
+    contradicting_since: Option<Instant>,
+    last_contradiction: Option<Contradiction>,
+    /// A refresh fell due at this instant and waits for [`REFRESH_SAMPLES`] samples that do not
+    /// contradict the jog: how many came so far.
+    refresh_waiting: Option<(Instant, u32)>,
+    /// Refreshes held back at least once by a contradicting sample.
+    withheld: u64,
     moving_in_a_row: u32,
     /// How many of our jogs another client stopped.
     stops: u64,
@@ -69,26 +113,55 @@ impl OtherClients {
     pub fn stops(&self) -> u64 {
         self.stops
     }
+
+    /// How many refreshes a contradicting sample held back.
+    pub fn withheld(&self) -> u64 {
+        self.withheld
+    }
+
+    fn forget_jog(&mut self) {
+        self.jog_since = None;
+        self.refresh_waiting = None;
+        self.end_contradiction();
+    }
+
+    fn end_contradiction(&mut self) {
+        self.contradicting_in_a_row = 0;
+        self.contradicting_since = None;
+        self.last_contradiction = None;
+    }
 }
 
 impl App {
-    /// Notes a command going out: a jog's first START starts the grace, a stop ends the watch.
+    /// Notes a command going out: a jog's first START starts the grace, a stop ends the watch,
+    /// a speed of ours restarts the steady-speed comparison.
     pub(super) fn other_client_note_sent(&mut self, command: &ArmCommand, now: Instant) {
         let others = &mut self.others;
         match command {
             // A refresh of the same motion keeps its start.
             ArmCommand::Jog(motion) if others.jog_since.is_none_or(|(m, _)| m != *motion) => {
+                others.forget_jog();
                 others.jog_since = Some((*motion, now));
-                others.at_rest_in_a_row = 0;
                 others.seen_twist = false;
+                others.baseline_since = Some(now);
+                others.steady = None;
             }
-            ArmCommand::Jog(_) => {}
-            c if c.is_stop() || c.starts_motion() => others.jog_since = None,
+            ArmCommand::Jog(_) => others.refresh_waiting = None,
+            ArmCommand::SetSpeed(_) => self.other_client_note_speed(now),
+            c if c.is_stop() || c.starts_motion() => others.forget_jog(),
             _ => {}
         }
     }
 
+    /// The speed in force changed (ours or the operator's): the arm slows or speeds up to it,
+    /// so the steady speed is learnt anew after a grace.
+    pub(super) fn other_client_note_speed(&mut self, now: Instant) {
+        self.others.baseline_since = Some(now);
+        self.others.steady = None;
+    }
+
     /// Fresh telemetry: is our jog still the arm's motion, and is the arm moved by someone else?
+    /// A refresh waiting for a sample goes out on one that does not contradict the jog.
     pub(super) fn watch_other_clients(
         &mut self,
         t: &Telemetry,
@@ -102,7 +175,7 @@ impl App {
             0
         };
         let Some(motion) = self.jog.active() else {
-            self.others.at_rest_in_a_row = 0;
+            self.others.end_contradiction();
             return;
         };
         let Some((_, since)) = self.others.jog_since.filter(|(m, _)| *m == motion) else {
@@ -111,35 +184,134 @@ impl App {
         let was_twist = self.others.seen_twist;
         self.others.seen_twist |= t.action.move_type == Coded::Known(MoveType::Twist);
         if now < since + OTHER_CLIENT_GRACE {
-            self.others.at_rest_in_a_row = 0;
+            self.others.end_contradiction();
             return;
         }
         let modbus = self.truth.expected_telemetry() == Some(TelemetrySource::Modbus);
-        let evidence = if modbus && ended_under_jog(t, motion, was_twist) {
-            Some(format!(
+        if modbus && ended_under_jog(t, motion, was_twist) {
+            let evidence = format!(
                 "the arm's action is {} ({}) under our {} jog",
                 t.action.status.key(),
                 t.action.move_type.key(),
                 describe_motion(motion)
-            ))
-        } else {
-            let rest = at_rest(t) && self.jog_unmistakable_from_rest(motion);
-            self.others.at_rest_in_a_row = if rest {
-                self.others.at_rest_in_a_row + 1
-            } else {
-                0
-            };
-            (self.others.at_rest_in_a_row >= OTHER_CLIENT_SAMPLES).then(|| {
-                format!(
-                    "the arm is at rest while we jog {}",
-                    describe_motion(motion)
-                )
-            })
-        };
-        let Some(evidence) = evidence else {
+            );
+            self.stop_for_other_client(t, evidence, now, effects);
+            return;
+        }
+        let base = !self.config.frames || self.frame == ReferenceFrame::Base;
+        let rest_telling = self.jog_unmistakable_from_rest(motion);
+        let slow_ready = self
+            .others
+            .baseline_since
+            .is_some_and(|at| now >= at + OTHER_CLIENT_GRACE);
+        let steady = self.others.steady.filter(|_| slow_ready);
+        let Some(found) = contradiction(t, motion, base, steady, rest_telling) else {
+            self.others.end_contradiction();
+            if slow_ready && let Some((seen, _)) = progress(t, motion, base) {
+                self.others.steady = Some(self.others.steady.map_or(seen, |s| s.max(seen)));
+            }
+            if let Some((_, fine)) = self.others.refresh_waiting.as_mut() {
+                *fine += 1;
+                if *fine >= REFRESH_SAMPLES {
+                    self.others.refresh_waiting = None;
+                    effects.push(Effect::Arm(ArmCommand::Jog(motion)));
+                }
+            }
             return;
         };
-        self.others.at_rest_in_a_row = 0;
+        let others = &mut self.others;
+        others.contradicting_in_a_row += 1;
+        let first = *others.contradicting_since.get_or_insert(now);
+        others.last_contradiction = Some(found.clone());
+        if others.contradicting_in_a_row >= OTHER_CLIENT_SAMPLES || now >= first + CONTRADICTED_FOR
+        {
+            self.stop_for_other_client(t, found.words(motion), now, effects);
+        }
+    }
+
+    /// A refresh the jog engine made at `now` for `before` (the jog held before the tick):
+    /// after the grace, with telemetry to go by, it waits for the next sample, and goes out only
+    /// on one that does not contradict the jog. So a refresh never follows telemetry showing
+    /// the jog stopped, slowed or replaced.
+    pub(super) fn hold_refresh(
+        &mut self,
+        before: Option<JogMotion>,
+        jog: &mut Vec<JogEffect>,
+        now: Instant,
+    ) {
+        let Some(motion) = before else {
+            return;
+        };
+        let watched = matches!(
+            self.truth.expected_telemetry(),
+            Some(TelemetrySource::Modbus | TelemetrySource::TalosHardware)
+        );
+        let past_grace = self
+            .others
+            .jog_since
+            .is_some_and(|(m, since)| m == motion && now >= since + OTHER_CLIENT_GRACE);
+        if !(watched && past_grace) {
+            return;
+        }
+        let asked = jog.len();
+        jog.retain(|e| *e != JogEffect::Start(motion));
+        if jog.len() != asked && self.others.refresh_waiting.is_none() {
+            if self.others.contradicting_in_a_row > 0 {
+                self.others.withheld += 1;
+            }
+            self.others.refresh_waiting = Some((now, 0));
+        }
+    }
+
+    /// Time passing under a held jog: a contradiction that lasted [`CONTRADICTED_FOR`] stops it;
+    /// a refresh that waited [`REFRESH_WAIT`] with no contradiction goes out.
+    pub(super) fn other_clients_on_tick(&mut self, now: Instant, effects: &mut Vec<Effect>) {
+        let Some(motion) = self.jog.active() else {
+            return;
+        };
+        if let (Some(first), Some(found)) = (
+            self.others.contradicting_since,
+            self.others.last_contradiction.clone(),
+        ) && now >= first + CONTRADICTED_FOR
+        {
+            let text = found.words(motion);
+            if let Some(t) = self.telemetry.clone() {
+                self.stop_for_other_client(&t, text, now, effects);
+            }
+            return;
+        }
+        if self.others.contradicting_in_a_row == 0
+            && self
+                .others
+                .refresh_waiting
+                .is_some_and(|(at, _)| now >= at + REFRESH_WAIT)
+        {
+            self.others.refresh_waiting = None;
+            effects.push(Effect::Arm(ArmCommand::Jog(motion)));
+        }
+    }
+
+    /// When [`App::other_clients_on_tick`] has something to do.
+    pub(super) fn other_clients_deadline(&self) -> Option<Instant> {
+        self.jog.active()?;
+        let contradicted = self
+            .others
+            .contradicting_since
+            .map(|at| at + CONTRADICTED_FOR);
+        let waiting = self.others.refresh_waiting.map(|(at, _)| at + REFRESH_WAIT);
+        contradicted.into_iter().chain(waiting).min()
+    }
+
+    /// Stops and latches a jog another client stopped or replaced (or the arm itself, at a
+    /// joint limit), saying which and why.
+    fn stop_for_other_client(
+        &mut self,
+        t: &Telemetry,
+        evidence: String,
+        now: Instant,
+        effects: &mut Vec<Effect>,
+    ) {
+        self.others.forget_jog();
         let text = if t.warnings.contains(Flag::JointFault) {
             format!("jog stopped by the arm: {}", abort_reason(t))
         } else {
