@@ -291,3 +291,44 @@ fn an_arm_that_never_reports_a_twist_move_type_is_not_taken_for_another_client()
     assert!(!effects.contains(&STOP), "{effects:?}");
     assert!(app.jog().is_jogging());
 }
+
+fn stops(effects: &[Effect]) -> usize {
+    effects.iter().filter(|e| **e == STOP).count()
+}
+
+#[test]
+fn the_technicians_stop_is_sent_again_while_the_arm_moves_after_it() {
+    let (mut app, t0) = console(TelemetrySource::Modbus);
+    assert_eq!(stops(&press(&mut app, "space", t0)), 1);
+    // Slowing down under our STOP, and soon after it: nothing more yet.
+    assert_eq!(stops(&feed(&mut app, moving_at(100.0), t0 + ms(60))), 0);
+    // Still moving a poll or three later: the STOP goes again, without a word while the arm
+    // may still be slowing down.
+    assert_eq!(stops(&feed(&mut app, moving_at(100.0), t0 + ms(120))), 1);
+    assert!(
+        !message(&app).contains("another client"),
+        "{}",
+        message(&app)
+    );
+    assert_eq!(stops(&feed(&mut app, moving_at(100.0), t0 + ms(150))), 0);
+    // Moving long after a STOP is someone else's restart: stopped again, and said.
+    assert_eq!(stops(&feed(&mut app, moving_at(100.0), t0 + ms(420))), 1);
+    assert_eq!(
+        message(&app),
+        "the arm moved after our STOP (another client?): stopped again"
+    );
+    assert_eq!(stops(&feed(&mut app, at_rest(), t0 + ms(600))), 0);
+    // The hold is over: the arm's motion is another client's to show, not ours to stop.
+    assert_eq!(stops(&feed(&mut app, moving_at(100.0), t0 + ms(1100))), 0);
+    assert_eq!(app.other_clients().stop_hold().resent(), 2);
+}
+
+#[test]
+fn a_motion_of_our_own_after_the_stop_is_not_stopped_again() {
+    let (mut app, t0) = console(TelemetrySource::Modbus);
+    press(&mut app, "space", t0);
+    app.handle(key("space", KeyKind::Release), t0 + ms(10));
+    assert_eq!(press(&mut app, "w", t0 + ms(50)), [jog(1, 0, 0)]);
+    assert_eq!(stops(&feed(&mut app, moving_at(100.0), t0 + ms(200))), 0);
+    assert_eq!(app.other_clients().stop_hold().resent(), 0);
+}

@@ -222,11 +222,13 @@ impl App {
         match action {
             A::Stop => {
                 self.stop_everything(now, effects);
+                self.hold_stop(now);
                 self.say("stopped", Severity::Info, now);
             }
             A::QuickStop => {
                 self.jog.stop_all(now);
                 effects.push(Effect::Arm(ArmCommand::QuickStop));
+                self.hold_stop(now);
                 self.say_until(
                     "quick stop: reset the fault before moving again",
                     Severity::Warning,

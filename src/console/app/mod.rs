@@ -33,6 +33,7 @@ mod resave;
 mod saving;
 mod singularity;
 mod speed_steps;
+mod stop_hold;
 mod trail;
 
 pub use arm_state::{abort_reason, age_text, at_rest, fault_reason};
@@ -57,6 +58,7 @@ pub use question::{BURST_KEY_GAP, QUESTION_QUIET};
 pub use resave::RESAVE_GO_WITHIN;
 pub use singularity::{AT_SINGULARITY, SINGULARITY_WARNING, near_singularity, singularity_text};
 pub use speed_steps::{SPEED_STEPS, next_speed};
+pub use stop_hold::{RESEND_EVERY, SLOWING_DOWN, STOP_HOLD, StopHold};
 pub use trail::{TRAIL_CAPACITY, TRAIL_SPACING, TRAIL_SPAN, ToolTrail, TrailPoint, TrailShade};
 
 use std::collections::VecDeque;

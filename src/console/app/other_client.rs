@@ -34,6 +34,10 @@
 //! message says that instead. A Talos operator's refusal of a jog refresh already stops and
 //! latches (`ArmEvent::Failed`).
 //!
+//! A STOP from elsewhere that lands between the sample our refresh goes out on and the refresh
+//! leaves no trace here; the console that sent it holds it (see `stop_hold`) and sends it again
+//! once it sees the arm moving.
+//!
 //! Idle, the console claims no motion of its own: telemetry faster than [`OTHER_MOTION_M_S`] (or
 //! [`OTHER_MOTION_JOINT_DEG_S`] on a joint) for [`OTHER_CLIENT_SAMPLES`] samples, with nothing
 //! of ours unsettled, is `MOVED BY ANOTHER CLIENT`.
@@ -106,6 +110,8 @@ pub struct OtherClients {
     moving_in_a_row: u32,
     /// How many of our jogs another client stopped.
     stops: u64,
+    /// The technician's STOP, held against a restart from elsewhere.
+    pub(super) hold: super::stop_hold::StopHold,
 }
 
 impl OtherClients {
@@ -117,6 +123,11 @@ impl OtherClients {
     /// How many refreshes a contradicting sample held back.
     pub fn withheld(&self) -> u64 {
         self.withheld
+    }
+
+    /// The technician's STOP, held against a restart from elsewhere.
+    pub fn stop_hold(&self) -> &super::stop_hold::StopHold {
+        &self.hold
     }
 
     fn forget_jog(&mut self) {
@@ -151,6 +162,9 @@ impl App {
             c if c.is_stop() || c.starts_motion() => others.forget_jog(),
             _ => {}
         }
+        if command.starts_motion() {
+            self.others.hold.release();
+        }
     }
 
     /// The speed in force changed (ours or the operator's): the arm slows or speeds up to it,
@@ -169,6 +183,7 @@ impl App {
         effects: &mut Vec<Effect>,
     ) {
         let moving = fast_motion(t);
+        self.keep_stop(moving, now, effects);
         self.others.moving_in_a_row = if moving {
             self.others.moving_in_a_row.saturating_add(1)
         } else {

@@ -1,0 +1,123 @@
+//! The technician's STOP holds: for [`STOP_HOLD`] after space (or quick stop), telemetry that
+//! shows the arm moving sends STOP again, at most every [`RESEND_EVERY`].
+//!
+//! Another client's refresh or rewritten twist can restart the arm a moment after our STOP
+//! landed: the Talos ICD cannot tell a refresh from a new START, and a Modbus twist update is a
+//! full restart, so a STOP that lands between that client's last look at the arm and its next
+//! write leaves it no trace to see. Sent again once the arm is seen moving, the STOP lands at
+//! another moment, and that client sees it (and, if it is an armjog console, latches its keys).
+//! Right after a STOP the arm may still be slowing down: a second STOP then changes nothing.
+
+use std::time::{Duration, Instant};
+
+use super::{App, Effect, Severity};
+use crate::link::interface::ArmCommand;
+
+/// How long after the technician's STOP motion seen in the telemetry is stopped again.
+pub const STOP_HOLD: Duration = Duration::from_secs(1);
+/// At most one STOP sent again per this: a poll or three at 30 Hz.
+pub const RESEND_EVERY: Duration = Duration::from_millis(100);
+/// Motion this long after the STOP is no longer the arm slowing down under it: the message
+/// line says so (before, the STOP goes again without a word).
+pub const SLOWING_DOWN: Duration = Duration::from_millis(300);
+
+/// See the module docs.
+#[derive(Debug, Clone, Default)]
+pub struct StopHold {
+    /// When the STOP went out, until when it holds, and when a STOP last went out for it.
+    since: Option<Instant>,
+    until: Option<Instant>,
+    last_sent: Option<Instant>,
+    /// STOPs sent again in all, for the tests and the log.
+    resent: u64,
+}
+
+impl StopHold {
+    /// STOPs this console sent again because the arm moved after its STOP.
+    pub fn resent(&self) -> u64 {
+        self.resent
+    }
+
+    fn arm(&mut self, now: Instant) {
+        self.since = Some(now);
+        self.until = Some(now + STOP_HOLD);
+        self.last_sent = Some(now);
+    }
+
+    /// Our own motion starts: the arm moving is then ours.
+    pub(super) fn release(&mut self) {
+        self.until = None;
+    }
+
+    /// Whether a sample showing the arm `moving` at `now` sends STOP again.
+    fn resend(&mut self, moving: bool, now: Instant) -> bool {
+        let held = self.until.is_some_and(|until| now < until);
+        let due = self.last_sent.is_none_or(|at| now >= at + RESEND_EVERY);
+        if !(held && moving && due) {
+            return false;
+        }
+        self.last_sent = Some(now);
+        self.resent += 1;
+        true
+    }
+}
+
+impl App {
+    /// The technician's STOP went out: hold it (see the module docs).
+    pub(super) fn hold_stop(&mut self, now: Instant) {
+        self.others.hold.arm(now);
+    }
+
+    /// A telemetry sample while the STOP holds: moving, it is stopped again.
+    pub(super) fn keep_stop(&mut self, moving: bool, now: Instant, effects: &mut Vec<Effect>) {
+        if !self.others.hold.resend(moving, now) {
+            return;
+        }
+        tracing::warn!("the arm moves after our STOP: sending STOP again");
+        effects.push(Effect::Arm(ArmCommand::Stop));
+        if self
+            .others
+            .hold
+            .since
+            .is_some_and(|since| now >= since + SLOWING_DOWN)
+        {
+            self.say(
+                "the arm moved after our STOP (another client?): stopped again",
+                Severity::Warning,
+                now,
+            );
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn motion_within_the_hold_is_stopped_again_at_most_every_resend_period() {
+        let t0 = Instant::now();
+        let mut hold = StopHold::default();
+        assert!(!hold.resend(true, t0), "no STOP held");
+        hold.arm(t0);
+        assert!(
+            !hold.resend(true, t0 + RESEND_EVERY / 2),
+            "too soon after the STOP"
+        );
+        assert!(hold.resend(true, t0 + RESEND_EVERY));
+        assert!(!hold.resend(true, t0 + RESEND_EVERY + Duration::from_millis(33)));
+        assert!(!hold.resend(false, t0 + 3 * RESEND_EVERY), "at rest");
+        assert!(hold.resend(true, t0 + 3 * RESEND_EVERY));
+        assert!(!hold.resend(true, t0 + STOP_HOLD), "the hold is over");
+        assert_eq!(hold.resent(), 2);
+    }
+
+    #[test]
+    fn our_own_motion_releases_the_hold() {
+        let t0 = Instant::now();
+        let mut hold = StopHold::default();
+        hold.arm(t0);
+        hold.release();
+        assert!(!hold.resend(true, t0 + RESEND_EVERY));
+    }
+}
