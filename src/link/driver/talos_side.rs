@@ -372,9 +372,9 @@ impl TalosSide {
                 Ok(p) => pending.push(p),
                 Err(e) if command.is_stop() => {
                     log_error(&self.events, &command, name, None, &e);
-                    stop_failure.get_or_insert_with(|| failure_reason(&e));
+                    stop_failure.get_or_insert_with(|| failure_reason(e));
                 }
-                Err(e) => report_error(&self.events, &command, name, None, &e),
+                Err(e) => report_error(&self.events, &command, name, None, e),
             }
         }
         tokio::spawn(answers(
@@ -490,9 +490,7 @@ const FLUSH_WAIT: Duration = Duration::from_millis(500);
 /// A hardware operation as its Talos request; a field its encoding refuses is the command's
 /// error, never an empty payload.
 fn hw_request(request: &HwRequest) -> Result<Request, ArmError> {
-    request
-        .to_request()
-        .map_err(|e| ArmError::Encode(e.to_string()))
+    request.to_request().map_err(ArmError::Encode)
 }
 
 fn hw_reply(exchange: &Exchange) -> Option<HwReply> {
@@ -545,12 +543,12 @@ fn report_error(
     command: &ArmCommand,
     name: CommandValue,
     id: Option<u32>,
-    error: &TalosError,
+    error: TalosError,
 ) {
-    log_error(events, command, name, id, error);
+    log_error(events, command, name, id, &error);
     // An unknown name asked about is not a failure of the technician's: the panel marks it.
     let unknown_asked = matches!(command, ArmCommand::GetPosition { .. })
-        && matches!(error, TalosError::ReturnCode { exchange } if exchange.return_code() == ReturnCode::UNKNOWN_POSITION);
+        && matches!(&error, TalosError::ReturnCode { exchange } if exchange.return_code() == ReturnCode::UNKNOWN_POSITION);
     if unknown_asked {
         return;
     }
@@ -560,10 +558,10 @@ fn report_error(
     });
 }
 
-fn failure_reason(error: &TalosError) -> ArmError {
+fn failure_reason(error: TalosError) -> ArmError {
     match error {
         TalosError::ReturnCode { exchange } => ArmError::ReturnCode(exchange.return_code()),
-        other => ArmError::Talos(other.to_string()),
+        other => ArmError::Talos(other.into()),
     }
 }
 
@@ -646,11 +644,11 @@ async fn answers(
             Err(e) if command.is_stop() => {
                 // A Stop still tries every request.
                 log_error(&events, &command, name, Some(id), &e);
-                stop_failure.get_or_insert_with(|| failure_reason(&e));
+                stop_failure.get_or_insert_with(|| failure_reason(e));
             }
             Err(e) => {
                 // One failure is enough to report.
-                report_error(&events, &command, name, Some(id), &e);
+                report_error(&events, &command, name, Some(id), e);
                 return;
             }
         }
