@@ -2,7 +2,12 @@
 //! ([`ArmError`]), so the console decides by value what a failure means (a failed jog stops
 //! and latches the held keys) and shows the text only to people.
 
+use std::sync::Arc;
+
+use super::modbus::ModbusError;
+use super::talos::TalosError;
 use crate::talos::ReturnCode;
+use crate::talos::hardware::HwError;
 
 /// What kind of command failed: an [`ArmCommand`](super::interface::ArmCommand)'s variant, or work
 /// the driver or a link does on its own behalf.
@@ -62,9 +67,8 @@ impl std::fmt::Display for CommandKind {
     }
 }
 
-/// What went wrong carrying out a command. The link errors themselves hold sockets' errors
-/// (neither `Clone` nor comparable), so their text is kept; the kinds the console or the
-/// driver act on are variants of their own.
+/// What went wrong carrying out a command. The link errors are kept whole (see [`Shared`]);
+/// the kinds the console or the driver act on are variants of their own.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ArmError {
     /// The operator answered with a failing return code.
@@ -72,10 +76,10 @@ pub enum ArmError {
     ReturnCode(ReturnCode),
     /// The Talos exchange failed: not sent, no reply, a rejected or malformed reply.
     #[error("{0}")]
-    Talos(String),
+    Talos(Shared<TalosError>),
     /// The Modbus link refused or failed the writes.
     #[error("{0}")]
-    Modbus(String),
+    Modbus(Shared<ModbusError>),
     #[error("no link to the Talos operator")]
     NoTalosLink,
     #[error("the Modbus link to {addr} is not up")]
@@ -94,7 +98,7 @@ pub enum ArmError {
     SpeedOutOfRange { requested: u8, in_force: u8 },
     /// A request could not be encoded (a value outside what the wire can carry).
     #[error("{0}")]
-    Encode(String),
+    Encode(HwError),
     /// Modbus motion is refused while the stop guard is not ready: the guard's own words.
     #[error("{0}")]
     GuardNotRunning(String),
@@ -111,6 +115,41 @@ pub enum ArmError {
         angular: f32,
         error: String,
     },
+}
+
+/// A link's error kept whole for whoever reads it. Link errors hold sockets' errors, neither
+/// `Clone` nor comparable, so the error is shared, and two are equal when they read the same.
+#[derive(Debug)]
+pub struct Shared<E>(Arc<E>);
+
+impl<E> Shared<E> {
+    pub fn get(&self) -> &E {
+        &self.0
+    }
+}
+
+impl<E> From<E> for Shared<E> {
+    fn from(error: E) -> Shared<E> {
+        Shared(Arc::new(error))
+    }
+}
+
+impl<E> Clone for Shared<E> {
+    fn clone(&self) -> Shared<E> {
+        Shared(self.0.clone())
+    }
+}
+
+impl<E: std::fmt::Display> PartialEq for Shared<E> {
+    fn eq(&self, other: &Shared<E>) -> bool {
+        Arc::ptr_eq(&self.0, &other.0) || self.0.to_string() == other.0.to_string()
+    }
+}
+
+impl<E: std::fmt::Display> std::fmt::Display for Shared<E> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.0.fmt(f)
+    }
 }
 
 #[cfg(test)]
@@ -139,6 +178,28 @@ mod tests {
             "speed 0 % is outside 1-100: 40 % stays in force"
         );
         assert_eq!(CommandKind::GoToPosition.to_string(), "go to position");
+        let lost = || TalosError::Disconnected {
+            reason: "reset".into(),
+        };
+        assert_eq!(
+            ArmError::Talos(lost().into()).to_string(),
+            lost().to_string()
+        );
+        assert_eq!(
+            ArmError::Talos(lost().into()),
+            ArmError::Talos(lost().into())
+        );
+        let busy = ModbusError::Disconnected {
+            reason: "reset".into(),
+        };
+        assert_eq!(
+            ArmError::Modbus(busy.into()).to_string(),
+            "not connected to the arm: reset"
+        );
+        assert_eq!(
+            ArmError::Encode(HwError::UnknownSubcommand(0x99)).to_string(),
+            HwError::UnknownSubcommand(0x99).to_string()
+        );
         assert!(CommandKind::QuickStop.is_stop() && !CommandKind::Jog.is_stop());
     }
 }

@@ -17,18 +17,20 @@
 //! A task cancelled by the runtime shutting down can write nothing: await
 //! [`ModbusLink::close`] before leaving the runtime.
 
+mod error;
 mod task;
 mod wire;
+
+pub use error::{ExceptionCode, ModbusError, Operation};
 
 use std::fmt;
 use std::time::{Duration, Instant};
 
 use tokio::sync::{mpsc, oneshot, watch};
 
-use crate::kortex::commands::{self, CommandError, StoredMotion, Write};
+use crate::kortex::commands::{self, StoredMotion, Write};
 use crate::kortex::{
-    ControlCoil, PolarPanError, PolarPanSettings, PollPlan, Pose, ReadBlock, ReferenceFrame,
-    SpeedLimits, Telemetry, Twist,
+    ControlCoil, PolarPanSettings, PollPlan, Pose, ReferenceFrame, SpeedLimits, Telemetry, Twist,
 };
 use crate::net::ConnectError;
 
@@ -75,117 +77,6 @@ impl ModbusConfig {
             polar: PolarPanSettings::default(),
             plan: PollPlan::Compact,
             home_action_id: DEFAULT_HOME_ACTION_ID,
-        }
-    }
-}
-
-/// A Modbus exception response: tokio-modbus's own type, so the link and the simulator agree.
-pub use tokio_modbus::ExceptionCode;
-
-/// An exception as the console and the CLI print it: "illegal data value (0x03)".
-fn exception_text(exception: &ExceptionCode) -> String {
-    let name = match exception {
-        ExceptionCode::Custom(_) => "unknown exception".to_owned(),
-        // tokio-modbus names them in sentence case; messages here keep them lower case.
-        known => known.to_string().to_lowercase(),
-    };
-    format!("{name} (0x{:02X})", u8::from(*exception))
-}
-
-/// One request, named for error messages.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Operation {
-    Read(ReadBlock),
-    Write(Write),
-}
-
-impl fmt::Display for Operation {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Operation::Read(block) => block.fmt(f),
-            Operation::Write(write) => write.fmt(f),
-        }
-    }
-}
-
-/// Everything that can go wrong talking to an arm.
-#[derive(Debug, thiserror::Error)]
-pub enum ModbusError {
-    /// No connection was opened; the error names the address.
-    #[error(transparent)]
-    Connect(#[from] ConnectError),
-    #[error("{operation}: the arm answered with exception {}", exception_text(.exception))]
-    Exception {
-        operation: Operation,
-        exception: ExceptionCode,
-    },
-    #[error("{operation}: no reply within {after:?}")]
-    Timeout {
-        operation: Operation,
-        after: Duration,
-    },
-    #[error("{operation}: connection lost: {}", crate::net::io_error_words(.source))]
-    Transport {
-        operation: Operation,
-        source: std::io::Error,
-    },
-    #[error("{operation}: the reply does not match the request: {detail}")]
-    Protocol {
-        operation: Operation,
-        detail: String,
-    },
-    #[error("refused before anything was sent: {0}")]
-    InvalidCommand(#[from] CommandError),
-    #[error("polar pan refused: {0}")]
-    PolarPan(#[from] PolarPanError),
-    #[error("polar pan needs background polling: the link was made without a poll rate")]
-    NoPolling,
-    #[error("bad link configuration: {reason}")]
-    BadConfig { reason: String },
-    #[error("not connected to the arm: {reason}")]
-    Disconnected { reason: String },
-    #[error(
-        "the arm reports speed limits of {linear} m/s and {angular} deg/s: a move's speed cannot be bounded from them"
-    )]
-    SpeedLimitsUnknown { linear: f32, angular: f32 },
-    #[error("the arm refused the stop ({stop}) and the abort coil ({abort}): it may still move")]
-    StopFailed {
-        stop: Box<ModbusError>,
-        abort: Box<ModbusError>,
-    },
-}
-
-impl ModbusError {
-    /// Whether the connection can no longer be trusted (no reply, a broken stream, or replies
-    /// out of step) and must be reopened.
-    pub fn breaks_connection(&self) -> bool {
-        matches!(
-            self,
-            ModbusError::Timeout { .. }
-                | ModbusError::Transport { .. }
-                | ModbusError::Protocol { .. }
-        )
-    }
-
-    /// Whether nothing was sent because the command itself was refused.
-    pub fn refused_before_sending(&self) -> bool {
-        matches!(
-            self,
-            ModbusError::InvalidCommand(_)
-                | ModbusError::PolarPan(
-                    PolarPanError::BadSettings | PolarPanError::DirectionOutOfRange { .. }
-                )
-                | ModbusError::NoPolling
-                | ModbusError::BadConfig { .. }
-        )
-    }
-
-    /// The exception the arm answered with, if it answered with one.
-    pub fn exception(&self) -> Option<ExceptionCode> {
-        match self {
-            ModbusError::Exception { exception, .. } => Some(*exception),
-            ModbusError::StopFailed { stop, .. } => stop.exception(),
-            _ => None,
         }
     }
 }
@@ -555,26 +446,5 @@ impl ModbusLink {
         let (reply, answer) = oneshot::channel();
         self.jobs.send(job(reply)).await.map_err(|_| gone())?;
         answer.await.map_err(|_| gone())?
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn exceptions_print_lower_case_names_with_their_codes() {
-        assert_eq!(
-            exception_text(&ExceptionCode::IllegalDataValue),
-            "illegal data value (0x03)"
-        );
-        assert_eq!(
-            exception_text(&ExceptionCode::GatewayTargetDevice),
-            "gateway target device failed to respond (0x0B)"
-        );
-        assert_eq!(
-            exception_text(&ExceptionCode::new(0x42)),
-            "unknown exception (0x42)"
-        );
     }
 }

@@ -153,7 +153,14 @@ fn a_failed_jog_stops_and_forgets_the_held_keys() {
     press(&mut app, "w", t0);
     let failed = Input::Arm(ArmEvent::Failed {
         command: CommandKind::Jog,
-        error: ArmError::Talos("cart_start (id 7): no reply within 500ms".into()),
+        error: ArmError::Talos(
+            armjog::link::TalosError::Timeout {
+                command: armjog::talos::CommandValue::CartesianMoveStart,
+                id: 7,
+                after: Duration::from_millis(500),
+            }
+            .into(),
+        ),
     });
     assert_eq!(app.handle(failed, t0 + ms(10)), [STOP]);
     assert!(app.handle(Input::Tick, t0 + ms(200)).is_empty());

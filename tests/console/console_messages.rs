@@ -204,7 +204,14 @@ fn a_failed_jog_clears_when_a_jog_goes_through() {
     app.handle(
         Input::Arm(ArmEvent::Failed {
             command: CommandKind::Jog,
-            error: ArmError::Talos("no reply within 500 ms".into()),
+            error: ArmError::Talos(
+                armjog::link::TalosError::Timeout {
+                    command: armjog::talos::CommandValue::CartesianMoveStart,
+                    id: 3,
+                    after: Duration::from_millis(500),
+                }
+                .into(),
+            ),
         }),
         t0 + ms(10),
     );

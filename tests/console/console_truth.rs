@@ -494,10 +494,18 @@ fn a_failed_home_command_stops_and_reports() {
     press(&mut app, "y", t0 + QUESTION_QUIET);
     let failed = ArmEvent::Failed {
         command: CommandKind::Home,
-        error: ArmError::Modbus("BUSY".into()),
+        error: ArmError::Modbus(
+            armjog::link::modbus::ModbusError::Disconnected {
+                reason: "connection reset".into(),
+            }
+            .into(),
+        ),
     };
     assert_eq!(app.handle(Input::Arm(failed), t0 + ms(5)), [STOP]);
-    assert_eq!(message(&app), "home failed: BUSY");
+    assert_eq!(
+        message(&app),
+        "home failed: not connected to the arm: connection reset"
+    );
     assert!(app.truth().action.is_none());
 }
 

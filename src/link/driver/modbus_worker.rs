@@ -26,6 +26,8 @@ struct State {
     max_jog_speed: f64,
     /// The driver's speed in force: twists and capped moves scale with it.
     speed: SpeedInForce,
+    /// The frame jogs are in: the console's selection, and the driver's one copy of it
+    /// (`SetFrame` comes only here; Talos has no frame to set).
     frame: ReferenceFrame,
 }
 
@@ -309,9 +311,7 @@ pub fn turn_twist(directions: [i8; 3], rate: f32) -> Twist {
 }
 
 fn wrap(result: Result<WriteReport, ModbusError>) -> Result<Option<WriteReport>, ArmError> {
-    result
-        .map(Some)
-        .map_err(|e| ArmError::Modbus(e.to_string()))
+    result.map(Some).map_err(|e| ArmError::Modbus(e.into()))
 }
 
 /// The pose a step moves to. Polar steps turn the position about the base Z axis (and the tool

@@ -8,17 +8,15 @@ use std::time::Duration;
 use tokio::sync::mpsc;
 
 use super::hw_telemetry;
-use super::speed::{INITIAL_SPEED, OperatorScale, SpeedInForce};
+use super::speed::{OperatorScale, SpeedInForce};
 use super::{DriverConfig, JointPositions};
 use crate::link::interface::{
-    ArmCommand, ArmError, ArmEvent, JogMotion, LogEntry, PositionCoordinates, StepMove, Traffic,
+    ArmCommand, ArmError, ArmEvent, JogMotion, LogEntry, StepMove, Traffic,
 };
-use crate::link::talos::{
-    self, Answer, Exchange, PendingReply, TalosConfig, TalosError, TalosEvent,
-};
+use crate::link::talos::{TalosConfig, TalosEvent};
 use crate::link::{Dialect, TalosLink};
 use crate::talos::hardware::{ActuatorCommand, HwReply, HwRequest};
-use crate::talos::{CommandValue, Reply, Request, ReturnCode, stop_requests};
+use crate::talos::{CommandValue, Request, stop_requests};
 
 /// How long a joint jog command may run before it is renewed or stopped: the operator's
 /// watchdog, s.
@@ -28,94 +26,11 @@ const JOINT_JOG_HORIZON: f64 = 0.5;
 pub const ORIENTATION_NEEDS_MODBUS: &str =
     "orientation jog needs the Modbus link: Talos has no orientation jog";
 
-/// A Talos link that connected and answered the handshake, not yet attached.
-pub struct TalosConnected {
-    link: TalosLink,
-    link_events: mpsc::UnboundedReceiver<TalosEvent>,
-    /// The operator's speed (ICD dialect), if it answered: percent of the console's cap.
-    speed: Option<u8>,
-    /// The operator was over the cap and was brought under it: what to tell the technician.
-    speed_lowered: Option<String>,
-    description: String,
-}
+mod answers;
+mod connect;
 
-/// Connects and handshakes; on success, reads the speed (ICD dialect). An operator found
-/// running over the console's cap is set to [`INITIAL_SPEED`] of the cap before the link is
-/// attached (so before any motion), and the technician is told; one that will not take it is
-/// not attached at all.
-async fn connect(
-    config: TalosConfig,
-    oid: u16,
-    (max_jog_speed, operator_full_speed): (f64, f64),
-) -> Result<TalosConnected, String> {
-    let scale = OperatorScale::new(max_jog_speed, operator_full_speed);
-    let (link, mut link_events) = TalosLink::connect(config.clone())
-        .await
-        .map_err(|e| format!("talos: {e}"))?;
-    let version = match link.handshake(oid).await {
-        Ok(Some((major, minor))) => format!(", operator {major}.{minor}"),
-        Ok(None) => String::new(),
-        Err(e) => {
-            // A reply that fails our checksum may only be given up after the handshake timed out.
-            let fit = match e {
-                TalosError::Timeout { .. } => {
-                    talos::wait_for_checksum_fit(&mut link_events, config.frame_deadline).await
-                }
-                _ => None,
-            };
-            let words = talos::first_exchange_error(&e, &config, fit);
-            return Err(format!("talos handshake: {words}"));
-        }
-    };
-    let mut speed = None;
-    let mut speed_lowered = None;
-    if config.dialect == Dialect::Icd
-        && let Ok(exchange) = link.request(Request::GetSpeed).await
-        && let Answer::Reply(Reply::GetSpeed { speed: s, .. }) = exchange.answer
-    {
-        speed = scale.from_operator(s);
-        if speed.is_none() {
-            let lowered = Request::SetSpeed {
-                speed: scale.to_operator(INITIAL_SPEED),
-            };
-            match link.request(lowered).await {
-                Ok(exchange) if exchange.return_code().is_ok() => {
-                    speed = Some(INITIAL_SPEED);
-                    let cap = max_jog_speed * 1000.0;
-                    let was = operator_full_speed * 1000.0 * f64::from(s) / 100.0;
-                    let now = cap * f64::from(INITIAL_SPEED) / 100.0;
-                    let text = format!(
-                        "the operator was at {s}% ({was:.0} mm/s), over the {cap:.0} mm/s cap: \
-                         set to {now:.0} mm/s ({INITIAL_SPEED}% of the cap)"
-                    );
-                    tracing::warn!("{text}");
-                    speed_lowered = Some(text);
-                }
-                Ok(exchange) => {
-                    let code = exchange.return_code();
-                    return Err(format!(
-                        "talos: the operator's speed {s}% is over the cap and it refused Set Speed ({code})"
-                    ));
-                }
-                Err(e) => {
-                    return Err(format!(
-                        "talos: the operator's speed {s}% is over the cap and Set Speed failed: {e}"
-                    ));
-                }
-            }
-        }
-    }
-    Ok(TalosConnected {
-        link,
-        link_events,
-        speed,
-        speed_lowered,
-        description: format!(
-            "talos {} ({}, {}){version}",
-            config.addr, config.dialect, config.checksum
-        ),
-    })
-}
+use answers::{answers, failure_reason, hw_reply, log_entry, log_error, report_error};
+pub use connect::TalosConnected;
 
 pub struct TalosSide {
     config: Option<TalosConfig>,
@@ -182,7 +97,7 @@ impl TalosSide {
     ) -> Option<impl Future<Output = Result<TalosConnected, String>> + Send + 'static> {
         let config = self.config.clone()?;
         let speeds = (self.max_jog_speed, self.operator_full_speed);
-        Some(connect(config, self.oid, speeds))
+        Some(connect::connect(config, self.oid, speeds))
     }
 
     /// Takes a link that connected; returns its description for the status bar.
@@ -372,9 +287,9 @@ impl TalosSide {
                 Ok(p) => pending.push(p),
                 Err(e) if command.is_stop() => {
                     log_error(&self.events, &command, name, None, &e);
-                    stop_failure.get_or_insert_with(|| failure_reason(&e));
+                    stop_failure.get_or_insert_with(|| failure_reason(e));
                 }
-                Err(e) => report_error(&self.events, &command, name, None, &e),
+                Err(e) => report_error(&self.events, &command, name, None, e),
             }
         }
         tokio::spawn(answers(
@@ -490,190 +405,5 @@ const FLUSH_WAIT: Duration = Duration::from_millis(500);
 /// A hardware operation as its Talos request; a field its encoding refuses is the command's
 /// error, never an empty payload.
 fn hw_request(request: &HwRequest) -> Result<Request, ArmError> {
-    request
-        .to_request()
-        .map_err(|e| ArmError::Encode(e.to_string()))
-}
-
-fn hw_reply(exchange: &Exchange) -> Option<HwReply> {
-    match &exchange.answer {
-        Answer::Reply(Reply::HardwareOperation {
-            subcommand,
-            payload,
-            ..
-        }) => HwReply::decode(*subcommand, payload).ok(),
-        _ => None,
-    }
-}
-
-fn log_entry(exchange: &Exchange) -> LogEntry {
-    let code = exchange.return_code();
-    LogEntry {
-        id: Some(exchange.id),
-        poll: false,
-        count: 1,
-        name: exchange.request.command().name().to_string(),
-        outcome: match exchange.answer {
-            Answer::Ack => "ACK".into(),
-            // The operator took the motion; how it ends shows in the telemetry.
-            Answer::Reply(_) if code.is_ok() && starts_motion(exchange.request.command()) => {
-                "accepted".into()
-            }
-            Answer::Reply(_) => code.name().map_or_else(|| code.to_string(), str::to_string),
-        },
-        ok: code.is_ok(),
-        latency: Some(exchange.latency),
-        traffic: Traffic::Talos {
-            request: exchange.request_bytes.clone(),
-            reply: Some(exchange.reply_bytes.clone()),
-        },
-    }
-}
-
-fn starts_motion(command: CommandValue) -> bool {
-    matches!(
-        command,
-        CommandValue::Home
-            | CommandValue::GoToPosition
-            | CommandValue::CartesianMoveDiscrete
-            | CommandValue::PolarPanDiscrete
-    )
-}
-
-fn report_error(
-    events: &mpsc::UnboundedSender<ArmEvent>,
-    command: &ArmCommand,
-    name: CommandValue,
-    id: Option<u32>,
-    error: &TalosError,
-) {
-    log_error(events, command, name, id, error);
-    // An unknown name asked about is not a failure of the technician's: the panel marks it.
-    let unknown_asked = matches!(command, ArmCommand::GetPosition { .. })
-        && matches!(error, TalosError::ReturnCode { exchange } if exchange.return_code() == ReturnCode::UNKNOWN_POSITION);
-    if unknown_asked {
-        return;
-    }
-    let _ = events.send(ArmEvent::Failed {
-        command: command.kind(),
-        error: failure_reason(error),
-    });
-}
-
-fn failure_reason(error: &TalosError) -> ArmError {
-    match error {
-        TalosError::ReturnCode { exchange } => ArmError::ReturnCode(exchange.return_code()),
-        other => ArmError::Talos(other.to_string()),
-    }
-}
-
-/// Logs a failed request (and marks an unknown name), without reporting the command failed.
-fn log_error(
-    events: &mpsc::UnboundedSender<ArmEvent>,
-    command: &ArmCommand,
-    name: CommandValue,
-    id: Option<u32>,
-    error: &TalosError,
-) {
-    if let TalosError::ReturnCode { exchange } = error {
-        let _ = events.send(ArmEvent::Log(log_entry(exchange)));
-        if exchange.return_code() == ReturnCode::UNKNOWN_POSITION
-            && let Some(name) = position_name(command)
-        {
-            let _ = events.send(ArmEvent::UnknownPosition { name });
-        }
-    } else {
-        let _ = events.send(ArmEvent::Log(LogEntry {
-            id,
-            count: 1,
-            name: name.name().to_string(),
-            outcome: error.to_string(),
-            ok: false,
-            latency: None,
-            traffic: Traffic::None,
-            ..LogEntry::default()
-        }));
-    }
-}
-
-fn position_name(command: &ArmCommand) -> Option<String> {
-    match command {
-        ArmCommand::GoToPosition { name }
-        | ArmCommand::DeletePosition { name }
-        | ArmCommand::GetPosition { name } => Some(name.clone()),
-        _ => None,
-    }
-}
-
-/// Awaits a command's replies in order and reports them. A stop tries every request and
-/// reports exactly one `Done` or `Failed` (`stop_failure`: a request that could not be sent).
-/// A Set Speed takes effect (for later joint jogs and in the status bar) only once the
-/// operator has answered OK, as the percentage of the cap asked for: the operator's own
-/// percentage was rounded down from it, so the operator runs at most that fast. (Reading the
-/// rounded value back would make a speed key step, say 75 % of a 50 mm/s cap on a 300 mm/s
-/// operator, show 72 %, and the next step up land on 75 % again.)
-async fn answers(
-    command: ArmCommand,
-    pending: Vec<PendingReply>,
-    mut stop_failure: Option<ArmError>,
-    events: mpsc::UnboundedSender<ArmEvent>,
-    speed_in_force: SpeedInForce,
-) {
-    let all_ok = !pending.is_empty();
-    let mut coordinates = PositionCoordinates {
-        cartesian: None,
-        polar: None,
-    };
-    for p in pending {
-        let (id, name) = (p.id(), p.command());
-        match p.wait().await {
-            Ok(exchange) => {
-                let _ = events.send(ArmEvent::Latency(exchange.latency));
-                let _ = events.send(ArmEvent::Log(log_entry(&exchange)));
-                match exchange.answer {
-                    Answer::Reply(Reply::GetCartesianPosition { x, y, z, .. }) => {
-                        coordinates.cartesian = Some([x, y, z]);
-                    }
-                    Answer::Reply(Reply::GetPolarPosition {
-                        delta,
-                        azimuth,
-                        radius,
-                        ..
-                    }) => coordinates.polar = Some([delta, azimuth, radius]),
-                    _ => {}
-                }
-            }
-            Err(e) if command.is_stop() => {
-                // A Stop still tries every request.
-                log_error(&events, &command, name, Some(id), &e);
-                stop_failure.get_or_insert_with(|| failure_reason(&e));
-            }
-            Err(e) => {
-                // One failure is enough to report.
-                report_error(&events, &command, name, Some(id), &e);
-                return;
-            }
-        }
-    }
-    if let Some(error) = stop_failure {
-        let _ = events.send(ArmEvent::Failed {
-            command: command.kind(),
-            error,
-        });
-        return;
-    }
-    if !all_ok {
-        return;
-    }
-    if let ArmCommand::GetPosition { name } = &command {
-        let _ = events.send(ArmEvent::Position {
-            name: name.clone(),
-            coordinates,
-        });
-    }
-    if let ArmCommand::SetSpeed(speed) = command {
-        speed_in_force.set(speed);
-        let _ = events.send(ArmEvent::Speed(speed));
-    }
-    let _ = events.send(ArmEvent::Done { command });
+    request.to_request().map_err(ArmError::Encode)
 }

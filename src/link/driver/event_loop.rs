@@ -1,0 +1,402 @@
+//! The driver's loop: the `select!` only waits and dispatches, one handler per kind of event
+//! changes the [`DriverState`]. Commands come first (`biased`), so a STOP is never kept
+//! waiting by anything else that is ready, and no handler awaits anything a peer controls.
+
+use std::time::Duration;
+
+use tokio::sync::mpsc;
+
+use super::connect::{self, Attempts, Connected};
+use super::links::{LinkState, Links, LostReason, modbus_description};
+use super::stop_outcome::{self, Side, StopOutcomes};
+use super::talos_side::{ORIENTATION_NEEDS_MODBUS, TalosSide};
+use super::{DriverConfig, JointPositions, modbus_worker::ModbusWorker, speed::SpeedInForce};
+use crate::link::guard::{self, GuardPolicy, GuardReport, GuardSupervisor};
+use crate::link::interface::{
+    ArmCommand, ArmError, ArmEvent, CommandKind, JogMotion, LinkStatus, TelemetrySource,
+};
+use crate::link::modbus::{ModbusEvent, StopReason};
+use crate::link::talos::TalosEvent;
+
+/// Everything the loop waits on that is not part of the driver's state.
+struct Inbox {
+    commands: mpsc::UnboundedReceiver<ArmCommand>,
+    talos_side: mpsc::UnboundedReceiver<ArmEvent>,
+    modbus_side: mpsc::UnboundedReceiver<ArmEvent>,
+    connected: mpsc::UnboundedReceiver<Connected>,
+    modbus_link: mpsc::UnboundedReceiver<ModbusEvent>,
+    guard_reports: mpsc::UnboundedReceiver<GuardReport>,
+    hw_poll: tokio::time::Interval,
+}
+
+/// The driver's state: the links, their workers, and what the console is told.
+struct DriverState {
+    config: DriverConfig,
+    events: mpsc::UnboundedSender<ArmEvent>,
+    links: Links,
+    joints: JointPositions,
+    // The one speed in force, whichever link sets it and whichever carries the motion.
+    speed: SpeedInForce,
+    // Each side's events pass through here, so every STOP gets one outcome from all links.
+    stops: StopOutcomes,
+    talos: TalosSide,
+    modbus: Option<ModbusWorker>,
+    modbus_side_tx: mpsc::UnboundedSender<ArmEvent>,
+    modbus_link_tx: mpsc::UnboundedSender<ModbusEvent>,
+    // Dropped when the driver ends: the guard then stops the arm (once more) and exits.
+    guard: Option<GuardSupervisor>,
+    // Connects and handshakes run as tasks that report here: the loop never waits for one.
+    connected_tx: mpsc::UnboundedSender<Connected>,
+    talos_attempts: Attempts,
+    modbus_attempts: Attempts,
+    hw_telemetry: bool,
+}
+
+pub(super) async fn run(
+    config: DriverConfig,
+    commands: mpsc::UnboundedReceiver<ArmCommand>,
+    events: mpsc::UnboundedSender<ArmEvent>,
+) {
+    let (mut driver, mut inbox) = DriverState::start(config, commands, events);
+    loop {
+        tokio::select! {
+            // Commands first: a STOP is never kept waiting by anything else that is ready.
+            biased;
+            command = inbox.commands.recv() => match command {
+                Some(command) => driver.on_command(command),
+                None => break,
+            },
+            Some(event) = inbox.talos_side.recv() => driver.on_side_event(Side::Talos, event),
+            Some(event) = inbox.modbus_side.recv() => driver.on_side_event(Side::Modbus, event),
+            Some(result) = inbox.connected.recv() => driver.on_connected(result, &mut inbox),
+            Some(event) = driver.talos.next_event() => driver.on_talos_link(event),
+            Some(event) = inbox.modbus_link.recv() => driver.on_modbus_link(event),
+            Some(report) = inbox.guard_reports.recv() => driver.on_guard_report(report),
+            _ = connect::sleep_until(driver.talos_attempts.due_at()) => driver.on_talos_due(),
+            _ = connect::sleep_until(driver.modbus_attempts.due_at()) => driver.on_modbus_due(),
+            _ = inbox.hw_poll.tick(), if driver.hw_telemetry => driver.talos.poll_telemetry(),
+        }
+    }
+    driver.finish().await;
+}
+
+impl DriverState {
+    fn start(
+        config: DriverConfig,
+        commands: mpsc::UnboundedReceiver<ArmCommand>,
+        events: mpsc::UnboundedSender<ArmEvent>,
+    ) -> (DriverState, Inbox) {
+        let _ = events.send(ArmEvent::TelemetrySource(config.telemetry_source()));
+        let _ = events.send(ArmEvent::Status(LinkStatus::Connecting));
+        let joints: JointPositions = std::sync::Arc::new(tokio::sync::watch::Sender::new(None));
+        let speed = SpeedInForce::default();
+        let (talos_side_tx, talos_side) = mpsc::unbounded_channel();
+        let (modbus_side_tx, modbus_side) = mpsc::unbounded_channel();
+        let (modbus_link_tx, modbus_link) = mpsc::unbounded_channel();
+        let (guard_reports_tx, guard_reports) = mpsc::unbounded_channel();
+        let (connected_tx, connected) = mpsc::unbounded_channel();
+        let talos = TalosSide::new(&config, talos_side_tx, joints.clone(), speed.clone());
+        let guard = start_guard(&config, guard_reports_tx);
+        let attempts = |configured: bool| match configured {
+            true => Attempts::due_now(),
+            false => Attempts::never(),
+        };
+        let hz = config.hw_telemetry_hz.clamp(0.5, 50.0);
+        let mut hw_poll = tokio::time::interval(Duration::from_secs_f64(1.0 / hz));
+        hw_poll.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
+        let inbox = Inbox {
+            commands,
+            talos_side,
+            modbus_side,
+            connected,
+            modbus_link,
+            guard_reports,
+            hw_poll,
+        };
+        let driver = DriverState {
+            talos_attempts: attempts(config.talos.is_some()),
+            modbus_attempts: attempts(config.modbus.is_some()),
+            hw_telemetry: config.telemetry_source() == TelemetrySource::TalosHardware,
+            config,
+            events,
+            links: Links::default(),
+            joints,
+            speed,
+            stops: StopOutcomes::default(),
+            talos,
+            modbus: None,
+            modbus_side_tx,
+            modbus_link_tx,
+            guard,
+            connected_tx,
+        };
+        (driver, inbox)
+    }
+
+    fn emit(&self, event: ArmEvent) {
+        let _ = self.events.send(event);
+    }
+
+    fn emit_status(&self) {
+        self.emit(ArmEvent::Status(self.links.status(&self.config)));
+    }
+
+    fn on_command(&mut self, command: ArmCommand) {
+        if command.is_stop() {
+            return self.on_stop(command);
+        }
+        if self.talos.handles(&command, self.modbus.is_some()) {
+            self.stops.motion(&command, Side::Talos);
+            return self.talos.command(command);
+        }
+        let refusal = guard_refusal(&self.config, self.guard.as_ref(), &command);
+        match (&self.modbus, refusal) {
+            (_, Some(error)) => self.refuse(&command, error),
+            (Some(modbus), None) => {
+                self.stops.motion(&command, Side::Modbus);
+                modbus.send(command);
+            }
+            (None, None) => {
+                let error = match &self.config.modbus {
+                    Some(mc) => ArmError::ModbusLinkDown {
+                        addr: mc.addr.clone(),
+                    },
+                    None if is_orientation_jog(&command) => {
+                        ArmError::Unsupported(ORIENTATION_NEEDS_MODBUS)
+                    }
+                    None => ArmError::NoLinkCarriesIt,
+                };
+                self.refuse(&command, error);
+            }
+        }
+    }
+
+    fn refuse(&self, command: &ArmCommand, error: ArmError) {
+        self.emit(ArmEvent::Failed {
+            command: command.kind(),
+            error,
+        });
+    }
+
+    /// Stops go everywhere, whichever link the motion came through.
+    fn on_stop(&mut self, command: ArmCommand) {
+        let (mut sent, mut down) = (Vec::new(), Vec::new());
+        if let Some(modbus) = &self.modbus {
+            modbus.send(command.clone());
+            sent.push(Side::Modbus);
+        }
+        match (self.config.talos.is_some(), self.talos.is_down()) {
+            (true, false) => sent.push(Side::Talos),
+            (true, true) => down.push(Side::Talos),
+            (false, _) => {}
+        }
+        if let Some(outcome) = self.stops.stop(&sent, &down) {
+            self.emit(outcome);
+        }
+        self.talos.command(command);
+    }
+
+    /// Passes one side's event on, and the STOP outcome it completes after it.
+    fn on_side_event(&mut self, side: Side, event: ArmEvent) {
+        let outcome =
+            stop_outcome::stop_answer(&event).and_then(|answer| self.stops.answer(side, answer));
+        self.emit(event);
+        if let Some(outcome) = outcome {
+            self.emit(outcome);
+        }
+    }
+
+    fn on_connected(&mut self, result: Connected, inbox: &mut Inbox) {
+        match result {
+            Connected::Talos(Ok(link)) => {
+                self.talos_attempts.finished(true);
+                self.links.talos = LinkState::Up {
+                    description: self.talos.attach(link),
+                };
+                // The speed the operator reported comes before the link shows up.
+                while let Ok(event) = inbox.talos_side.try_recv() {
+                    self.on_side_event(Side::Talos, event);
+                }
+                self.emit_status();
+            }
+            Connected::Talos(Err(reason)) => {
+                self.talos_attempts.finished(false);
+                tracing::info!("{reason}; trying again");
+                if Links::connect_failed(&mut self.links.talos, reason) {
+                    self.emit_status();
+                }
+            }
+            Connected::Modbus(Ok((link, link_events))) => {
+                self.modbus_attempts.finished(true);
+                forward(link_events, self.modbus_link_tx.clone());
+                self.modbus_up();
+                self.modbus = Some(ModbusWorker::start(
+                    link,
+                    &self.config,
+                    self.modbus_side_tx.clone(),
+                    self.joints.clone(),
+                    self.speed.clone(),
+                ));
+                if self.config.talos.is_none() {
+                    // Without an operator to report one, the speed in force is the driver's.
+                    self.emit(ArmEvent::Speed(self.speed.percent()));
+                }
+                self.emit_status();
+            }
+            Connected::Modbus(Err(reason)) => {
+                self.modbus_attempts.finished(false);
+                tracing::info!("{reason}; trying again");
+                if Links::connect_failed(&mut self.links.modbus, reason) {
+                    self.emit_status();
+                }
+            }
+        }
+    }
+
+    fn modbus_up(&mut self) {
+        if let Some(mc) = &self.config.modbus {
+            self.links.modbus = LinkState::Up {
+                description: modbus_description(mc),
+            };
+        }
+    }
+
+    fn on_talos_link(&mut self, event: TalosEvent) {
+        if let TalosEvent::Disconnected { reason } = event {
+            self.links.talos = LinkState::Lost(LostReason::TalosDisconnected(reason));
+            self.talos.lost();
+            self.talos_attempts.lost();
+            self.emit_status();
+        }
+    }
+
+    fn on_modbus_link(&mut self, event: ModbusEvent) {
+        match event {
+            ModbusEvent::Disconnected { reason } => {
+                self.links.modbus = LinkState::Lost(LostReason::ModbusDisconnected(reason));
+                self.emit_status();
+            }
+            ModbusEvent::Reconnected { .. } => {
+                self.modbus_up();
+                self.emit_status();
+            }
+            ModbusEvent::StopFailed { error, reason } => {
+                self.emit(ArmEvent::Failed {
+                    command: CommandKind::Stop,
+                    error: ArmError::StopNotWritten(error.clone()),
+                });
+                // A stop the console asked for gets its outcome from the worker's answer; one
+                // the link made on its own is reported here.
+                if reason != StopReason::Requested {
+                    self.emit(ArmEvent::StopUnconfirmed {
+                        reason: format!("the Modbus link's own stop ({reason:?}): {error}"),
+                    });
+                }
+            }
+            ModbusEvent::SpeedLimitsNotRestored { limits, error } => {
+                self.emit(ArmEvent::Failed {
+                    command: CommandKind::RestoreSpeedLimits,
+                    error: ArmError::SpeedLimitsNotRestored {
+                        linear: limits.linear,
+                        angular: limits.angular,
+                        error,
+                    },
+                });
+            }
+            // Logged once by the link itself.
+            ModbusEvent::PlanFallback { .. } => {}
+            other => tracing::info!("modbus: {other:?}"),
+        }
+    }
+
+    fn on_guard_report(&mut self, report: GuardReport) {
+        if report.stops_motion()
+            && let Some(modbus) = &self.modbus
+        {
+            modbus.send(ArmCommand::Stop);
+        }
+        self.emit(report.into_event());
+    }
+
+    fn on_talos_due(&mut self) {
+        if let Some(attempt) = self.talos.connect_attempt() {
+            self.talos_attempts.start(
+                async move { Connected::Talos(attempt.await) },
+                &self.connected_tx,
+            );
+        }
+    }
+
+    fn on_modbus_due(&mut self) {
+        if let Some(mc) = &self.config.modbus {
+            self.modbus_attempts
+                .start(connect::modbus(mc.clone()), &self.connected_tx);
+        }
+    }
+
+    /// The console is gone: stop everything on the way out. A connect still in flight has
+    /// started nothing and is given up.
+    async fn finish(mut self) {
+        self.talos_attempts.abort();
+        self.modbus_attempts.abort();
+        if let Some(modbus) = &self.modbus {
+            modbus.send(ArmCommand::Stop);
+        }
+        self.talos.flush().await;
+        if let Some(modbus) = self.modbus.take() {
+            modbus.close().await;
+        }
+    }
+}
+
+fn is_orientation_jog(command: &ArmCommand) -> bool {
+    matches!(command, ArmCommand::Jog(JogMotion::Orientation { .. }))
+}
+
+/// Starts the stop guard when the configuration needs one.
+fn start_guard(
+    config: &DriverConfig,
+    reports: mpsc::UnboundedSender<GuardReport>,
+) -> Option<GuardSupervisor> {
+    let (GuardPolicy::Spawn(program), Some(mc)) = (&config.guard, &config.modbus) else {
+        return None;
+    };
+    if !config.guard_required() {
+        return None;
+    }
+    let _ = reports.send(GuardReport::Status(
+        crate::link::interface::GuardStatus::Starting,
+    ));
+    Some(GuardSupervisor::spawn(
+        program.clone(),
+        mc.addr.clone(),
+        mc.unit,
+        reports,
+    ))
+}
+
+/// Why a command bound for the Modbus link is refused for want of a stop guard, if it is.
+fn guard_refusal(
+    config: &DriverConfig,
+    guard: Option<&GuardSupervisor>,
+    command: &ArmCommand,
+) -> Option<ArmError> {
+    if config.guard == GuardPolicy::NotNeeded || !guard::is_motion(command) {
+        return None;
+    }
+    let refusal = match guard {
+        Some(g) => g.refusal(),
+        None => Some("stop guard not running: none was started for this link".into()),
+    };
+    refusal.map(ArmError::GuardNotRunning)
+}
+
+fn forward<T: Send + 'static>(mut from: mpsc::UnboundedReceiver<T>, to: mpsc::UnboundedSender<T>) {
+    tokio::spawn(async move {
+        while let Some(item) = from.recv().await {
+            if to.send(item).is_err() {
+                break;
+            }
+        }
+    });
+}

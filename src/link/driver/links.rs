@@ -1,0 +1,158 @@
+//! Each link's state as the driver knows it, and the one status the console shows for them.
+//!
+//! The driver knows a link is connecting, up or lost; whether an up link has gone stale is
+//! judged by the console from the telemetry it stops getting, so it is no state here.
+
+use super::DriverConfig;
+use crate::link::interface::LinkStatus;
+use crate::link::modbus::ModbusConfig;
+
+/// One link's state.
+#[derive(Debug, Clone, PartialEq)]
+pub enum LinkState {
+    /// Not connected yet, and no attempt has failed.
+    Connecting,
+    /// Connected: the words the status bar shows for it.
+    Up { description: String },
+    /// Not connected, and why.
+    Lost(LostReason),
+}
+
+/// Why a link is not connected.
+#[derive(Debug, Clone, PartialEq)]
+pub enum LostReason {
+    /// A connect or handshake failed: the connect's own words, naming the link.
+    ConnectFailed(String),
+    /// The Talos link was up and dropped.
+    TalosDisconnected(String),
+    /// The Modbus link was up and dropped.
+    ModbusDisconnected(String),
+}
+
+impl std::fmt::Display for LostReason {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LostReason::ConnectFailed(words) => f.write_str(words),
+            LostReason::TalosDisconnected(reason) => write!(f, "talos: {reason}"),
+            LostReason::ModbusDisconnected(reason) => write!(f, "modbus: {reason}"),
+        }
+    }
+}
+
+/// How the status bar names a Modbus link that is up.
+pub fn modbus_description(config: &ModbusConfig) -> String {
+    format!("modbus {} unit {}", config.addr, config.unit)
+}
+
+/// Both links' states. A link that is not configured stays [`LinkState::Connecting`] and is
+/// left out of the status.
+pub struct Links {
+    pub talos: LinkState,
+    pub modbus: LinkState,
+}
+
+impl Default for Links {
+    fn default() -> Links {
+        Links {
+            talos: LinkState::Connecting,
+            modbus: LinkState::Connecting,
+        }
+    }
+}
+
+impl Links {
+    /// A failed connect: a link already lost keeps the reason it went down with. Returns
+    /// whether the state changed.
+    pub fn connect_failed(state: &mut LinkState, words: String) -> bool {
+        if matches!(state, LinkState::Lost(_)) {
+            return false;
+        }
+        *state = LinkState::Lost(LostReason::ConnectFailed(words));
+        true
+    }
+
+    /// The links combined for the status bar: connecting or lost if any wanted link is (the
+    /// first one's reason), up with every description otherwise.
+    pub fn status(&self, config: &DriverConfig) -> LinkStatus {
+        let parts = [
+            (config.talos.is_some(), &self.talos),
+            (config.modbus.is_some(), &self.modbus),
+        ];
+        let mut up = Vec::new();
+        for (wanted, state) in parts {
+            if !wanted {
+                continue;
+            }
+            match state {
+                LinkState::Connecting => return LinkStatus::Connecting,
+                LinkState::Lost(reason) => {
+                    return LinkStatus::Down {
+                        reason: reason.to_string(),
+                    };
+                }
+                LinkState::Up { description } => up.push(description.clone()),
+            }
+        }
+        if up.is_empty() {
+            return LinkStatus::Down {
+                reason: "no link configured".into(),
+            };
+        }
+        LinkStatus::Up {
+            description: up.join(" + "),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::link::talos::TalosConfig;
+
+    fn both() -> DriverConfig {
+        DriverConfig::new(
+            Some(TalosConfig::new("127.0.0.1:1")),
+            Some(ModbusConfig::new("127.0.0.1:2")),
+        )
+    }
+
+    #[test]
+    fn both_links_show_up_only_when_both_are_and_a_lost_one_says_which() {
+        let config = both();
+        let mut links = Links::default();
+        assert_eq!(links.status(&config), LinkStatus::Connecting);
+        links.talos = LinkState::Up {
+            description: "talos x".into(),
+        };
+        assert_eq!(links.status(&config), LinkStatus::Connecting);
+        links.modbus = LinkState::Up {
+            description: modbus_description(config.modbus.as_ref().unwrap()),
+        };
+        assert_eq!(
+            links.status(&config),
+            LinkStatus::Up {
+                description: "talos x + modbus 127.0.0.1:2 unit 1".into()
+            }
+        );
+        links.modbus = LinkState::Lost(LostReason::ModbusDisconnected("reset".into()));
+        assert_eq!(
+            links.status(&config),
+            LinkStatus::Down {
+                reason: "modbus: reset".into()
+            }
+        );
+    }
+
+    #[test]
+    fn a_failed_reconnect_keeps_the_reason_the_link_went_down_with() {
+        let mut state = LinkState::Connecting;
+        assert!(Links::connect_failed(&mut state, "talos: refused".into()));
+        assert!(!Links::connect_failed(&mut state, "talos: again".into()));
+        assert_eq!(
+            state,
+            LinkState::Lost(LostReason::ConnectFailed("talos: refused".into()))
+        );
+        let mut lost = LinkState::Lost(LostReason::TalosDisconnected("eof".into()));
+        assert!(!Links::connect_failed(&mut lost, "talos: refused".into()));
+    }
+}

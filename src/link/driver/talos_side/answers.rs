@@ -1,0 +1,195 @@
+//! A Talos command's replies: awaited in order off the driver's loop, turned into events, and
+//! its failures into the words the technician reads.
+
+use tokio::sync::mpsc;
+
+use super::super::speed::SpeedInForce;
+use crate::link::interface::{
+    ArmCommand, ArmError, ArmEvent, LogEntry, PositionCoordinates, Traffic,
+};
+use crate::link::talos::{Answer, Exchange, PendingReply, TalosError};
+use crate::talos::hardware::HwReply;
+use crate::talos::{CommandValue, Reply, ReturnCode};
+
+pub(super) fn hw_reply(exchange: &Exchange) -> Option<HwReply> {
+    match &exchange.answer {
+        Answer::Reply(Reply::HardwareOperation {
+            subcommand,
+            payload,
+            ..
+        }) => HwReply::decode(*subcommand, payload).ok(),
+        _ => None,
+    }
+}
+
+pub(super) fn log_entry(exchange: &Exchange) -> LogEntry {
+    let code = exchange.return_code();
+    LogEntry {
+        id: Some(exchange.id),
+        poll: false,
+        count: 1,
+        name: exchange.request.command().name().to_string(),
+        outcome: match exchange.answer {
+            Answer::Ack => "ACK".into(),
+            // The operator took the motion; how it ends shows in the telemetry.
+            Answer::Reply(_) if code.is_ok() && starts_motion(exchange.request.command()) => {
+                "accepted".into()
+            }
+            Answer::Reply(_) => code.name().map_or_else(|| code.to_string(), str::to_string),
+        },
+        ok: code.is_ok(),
+        latency: Some(exchange.latency),
+        traffic: Traffic::Talos {
+            request: exchange.request_bytes.clone(),
+            reply: Some(exchange.reply_bytes.clone()),
+        },
+    }
+}
+
+pub(super) fn starts_motion(command: CommandValue) -> bool {
+    matches!(
+        command,
+        CommandValue::Home
+            | CommandValue::GoToPosition
+            | CommandValue::CartesianMoveDiscrete
+            | CommandValue::PolarPanDiscrete
+    )
+}
+
+pub(super) fn report_error(
+    events: &mpsc::UnboundedSender<ArmEvent>,
+    command: &ArmCommand,
+    name: CommandValue,
+    id: Option<u32>,
+    error: TalosError,
+) {
+    log_error(events, command, name, id, &error);
+    // An unknown name asked about is not a failure of the technician's: the panel marks it.
+    let unknown_asked = matches!(command, ArmCommand::GetPosition { .. })
+        && matches!(&error, TalosError::ReturnCode { exchange } if exchange.return_code() == ReturnCode::UNKNOWN_POSITION);
+    if unknown_asked {
+        return;
+    }
+    let _ = events.send(ArmEvent::Failed {
+        command: command.kind(),
+        error: failure_reason(error),
+    });
+}
+
+pub(super) fn failure_reason(error: TalosError) -> ArmError {
+    match error {
+        TalosError::ReturnCode { exchange } => ArmError::ReturnCode(exchange.return_code()),
+        other => ArmError::Talos(other.into()),
+    }
+}
+
+/// Logs a failed request (and marks an unknown name), without reporting the command failed.
+pub(super) fn log_error(
+    events: &mpsc::UnboundedSender<ArmEvent>,
+    command: &ArmCommand,
+    name: CommandValue,
+    id: Option<u32>,
+    error: &TalosError,
+) {
+    if let TalosError::ReturnCode { exchange } = error {
+        let _ = events.send(ArmEvent::Log(log_entry(exchange)));
+        if exchange.return_code() == ReturnCode::UNKNOWN_POSITION
+            && let Some(name) = position_name(command)
+        {
+            let _ = events.send(ArmEvent::UnknownPosition { name });
+        }
+    } else {
+        let _ = events.send(ArmEvent::Log(LogEntry {
+            id,
+            count: 1,
+            name: name.name().to_string(),
+            outcome: error.to_string(),
+            ok: false,
+            latency: None,
+            traffic: Traffic::None,
+            ..LogEntry::default()
+        }));
+    }
+}
+
+pub(super) fn position_name(command: &ArmCommand) -> Option<String> {
+    match command {
+        ArmCommand::GoToPosition { name }
+        | ArmCommand::DeletePosition { name }
+        | ArmCommand::GetPosition { name } => Some(name.clone()),
+        _ => None,
+    }
+}
+
+/// Awaits a command's replies in order and reports them. A stop tries every request and
+/// reports exactly one `Done` or `Failed` (`stop_failure`: a request that could not be sent).
+/// A Set Speed takes effect (for later joint jogs and in the status bar) only once the
+/// operator has answered OK, as the percentage of the cap asked for: the operator's own
+/// percentage was rounded down from it, so the operator runs at most that fast. (Reading the
+/// rounded value back would make a speed key step, say 75 % of a 50 mm/s cap on a 300 mm/s
+/// operator, show 72 %, and the next step up land on 75 % again.)
+pub(super) async fn answers(
+    command: ArmCommand,
+    pending: Vec<PendingReply>,
+    mut stop_failure: Option<ArmError>,
+    events: mpsc::UnboundedSender<ArmEvent>,
+    speed_in_force: SpeedInForce,
+) {
+    let all_ok = !pending.is_empty();
+    let mut coordinates = PositionCoordinates {
+        cartesian: None,
+        polar: None,
+    };
+    for p in pending {
+        let (id, name) = (p.id(), p.command());
+        match p.wait().await {
+            Ok(exchange) => {
+                let _ = events.send(ArmEvent::Latency(exchange.latency));
+                let _ = events.send(ArmEvent::Log(log_entry(&exchange)));
+                match exchange.answer {
+                    Answer::Reply(Reply::GetCartesianPosition { x, y, z, .. }) => {
+                        coordinates.cartesian = Some([x, y, z]);
+                    }
+                    Answer::Reply(Reply::GetPolarPosition {
+                        delta,
+                        azimuth,
+                        radius,
+                        ..
+                    }) => coordinates.polar = Some([delta, azimuth, radius]),
+                    _ => {}
+                }
+            }
+            Err(e) if command.is_stop() => {
+                // A Stop still tries every request.
+                log_error(&events, &command, name, Some(id), &e);
+                stop_failure.get_or_insert_with(|| failure_reason(e));
+            }
+            Err(e) => {
+                // One failure is enough to report.
+                report_error(&events, &command, name, Some(id), e);
+                return;
+            }
+        }
+    }
+    if let Some(error) = stop_failure {
+        let _ = events.send(ArmEvent::Failed {
+            command: command.kind(),
+            error,
+        });
+        return;
+    }
+    if !all_ok {
+        return;
+    }
+    if let ArmCommand::GetPosition { name } = &command {
+        let _ = events.send(ArmEvent::Position {
+            name: name.clone(),
+            coordinates,
+        });
+    }
+    if let ArmCommand::SetSpeed(speed) = command {
+        speed_in_force.set(speed);
+        let _ = events.send(ArmEvent::Speed(speed));
+    }
+    let _ = events.send(ArmEvent::Done { command });
+}
