@@ -40,11 +40,13 @@
 
 use std::time::{Duration, Instant};
 
-use super::arm_state::{REST_ANGULAR_DEG_S, REST_JOINT_DEG_S, REST_LINEAR_M_S, abort_reason};
 use super::jog_evidence::{Contradiction, contradiction, progress};
 use super::{App, Effect};
-use crate::console::app::coords::describe_motion;
+use crate::console::coords::describe_motion;
 use crate::console::jog::{JogEffect, JogMotion};
+use crate::kortex::arm_state::{
+    REST_ANGULAR_DEG_S, REST_JOINT_DEG_S, REST_LINEAR_M_S, abort_reason,
+};
 use crate::kortex::{ActionStatus, Coded, Flag, MoveType, ReferenceFrame, Telemetry};
 use crate::link::driver::{INITIAL_SPEED, MAX_ANGULAR_JOG_SPEED};
 use crate::link::interface::{ArmCommand, TelemetrySource};

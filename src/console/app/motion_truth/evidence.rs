@@ -4,9 +4,9 @@
 use std::time::Instant;
 
 use super::INTERVALS_KEPT;
-use crate::console::app::arm_state::at_rest;
 use crate::console::app::message::Until;
 use crate::console::app::{App, Severity};
+use crate::kortex::arm_state::at_rest;
 use crate::link::interface::{ArmEvent, LinkStatus};
 
 impl App {

@@ -5,7 +5,7 @@
 use std::time::Instant;
 
 use super::{ActionKind, TrackedAction};
-use crate::console::app::arm_state::age_text;
+use crate::console::app::age::age_text;
 use crate::console::app::message::Until;
 use crate::console::app::{App, Effect, Overlay, Severity};
 use crate::console::form::Confirm;

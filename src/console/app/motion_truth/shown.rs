@@ -4,7 +4,7 @@ use std::time::Instant;
 
 use super::{MotionShown, STOP_GRACE};
 use crate::console::app::App;
-use crate::console::app::arm_state::age_text;
+use crate::console::app::age::age_text;
 use crate::link::interface::LinkStatus;
 
 impl App {

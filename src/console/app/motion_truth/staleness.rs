@@ -6,7 +6,7 @@ use std::time::{Duration, Instant};
 
 use super::{ACTION_TIMEOUT, MotionTruth, NO_TELEMETRY_ACTION_TIME, STALE_AFTER, STOP_GRACE};
 use crate::console::app::App;
-use crate::console::app::arm_state::AGE_TENTHS_UNTIL;
+use crate::console::app::age::AGE_TENTHS_UNTIL;
 use crate::link::interface::LinkStatus;
 
 impl MotionTruth {
