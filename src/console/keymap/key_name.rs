@@ -329,8 +329,10 @@ impl KeyName {
 }
 
 /// The character a shifted key types when the terminal reported the unshifted letter with
-/// SHIFT (kitty protocol): the capital letter. Anything else is already the typed character.
-fn shifted_letter(character: char) -> char {
+/// SHIFT (kitty protocol): the capital letter. Anything else is already the typed character,
+/// and so is a letter whose capital is more than one character (`ß`, `ŉ`): no one character
+/// is its capital. The one rule for the key's name and the text it types (`run::key_input`).
+pub fn shifted_letter(character: char) -> char {
     if !character.is_lowercase() {
         return character;
     }
