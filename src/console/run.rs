@@ -111,7 +111,7 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
     let result = match start_painter(drawing) {
         Ok((mut painter, size, draw_errors)) => {
             let config = AppConfig {
-                keymap: setup.keymap,
+                keymap: setup.keymap.into(),
                 release_mode: if release_events {
                     ReleaseMode::Reported
                 } else {

@@ -34,7 +34,7 @@ impl App {
 
     /// The keymap, shared with each frame's view (it never changes during a session).
     pub fn shared_keymap(&self) -> Arc<Keymap> {
-        self.shared_keymap.clone()
+        self.config.keymap.clone()
     }
 
     pub fn jog(&self) -> &JogEngine {
@@ -61,8 +61,11 @@ impl App {
         self.telemetry.as_ref()
     }
 
+    /// The telemetry the driver said to expect (none until it says).
     pub fn telemetry_source(&self) -> TelemetrySource {
-        self.telemetry_source
+        self.truth
+            .expected_telemetry()
+            .unwrap_or(TelemetrySource::None)
     }
 
     pub fn latency(&self) -> Option<std::time::Duration> {

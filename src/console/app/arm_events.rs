@@ -44,7 +44,8 @@ impl App {
                 self.trail.record(&t, now);
                 self.telemetry = Some(*t);
             }
-            ArmEvent::TelemetrySource(source) => self.telemetry_source = source,
+            // The motion truth keeps the source (see `truth_on_arm`).
+            ArmEvent::TelemetrySource(_) => {}
             ArmEvent::Latency(latency) => self.latency = Some(latency),
             ArmEvent::Speed(speed) => {
                 if self.speed.is_some_and(|s| s != speed) {

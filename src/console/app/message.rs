@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 
 use super::{App, Severity, fault_reason};
 use crate::link::interface::{
-    ArmCommand, ArmError, ArmEvent, CommandKind, GuardStatus, LinkStatus, TelemetrySource,
+    ArmCommand, ArmError, ArmEvent, CommandKind, GuardStatus, LinkStatus,
 };
 use crate::talos::ReturnCode;
 
@@ -134,10 +134,7 @@ impl App {
     /// Arm events that end a message: a command going through, a fault reset, telemetry
     /// without a fault.
     pub(super) fn messages_on_arm(&mut self, event: &ArmEvent) {
-        let telemetry_expected = matches!(
-            self.telemetry_source,
-            TelemetrySource::Modbus | TelemetrySource::TalosHardware
-        );
+        let telemetry_expected = self.truth.expects_telemetry();
         for slot in self.messages.slots() {
             let Some(message) = slot else {
                 continue;

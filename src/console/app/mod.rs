@@ -71,7 +71,7 @@ use super::keymap::{KeyName, Keymap};
 use super::positions::PositionBook;
 use crate::kortex::{ReferenceFrame, Telemetry};
 use crate::link::interface::{
-    ArmCommand, ArmEvent, GuardStatus, LinkStatus, LogEntry, PositionCoordinates, TelemetrySource,
+    ArmCommand, ArmEvent, GuardStatus, LinkStatus, LogEntry, PositionCoordinates,
 };
 
 /// Below this the status bar cannot be shown: motion stops and the screen says so.
@@ -166,7 +166,8 @@ impl Step {
 /// Fixed facts about this console session.
 #[derive(Debug, Clone)]
 pub struct AppConfig {
-    pub keymap: Keymap,
+    /// Shared with each frame's view: it never changes during a session.
+    pub keymap: Arc<Keymap>,
     pub release_mode: ReleaseMode,
     /// START re-send period while a jog key is held.
     pub refresh: Duration,
@@ -193,7 +194,6 @@ pub struct App {
     messages: message::Messages,
     link: LinkStatus,
     telemetry: Option<Telemetry>,
-    telemetry_source: TelemetrySource,
     latency: Option<Duration>,
     speed: Option<u8>,
     frame: ReferenceFrame,
@@ -224,8 +224,6 @@ pub struct App {
     restoring: Option<edits::Deleted>,
     /// The last deleted position, for undo (one level).
     last_deleted: Option<edits::Deleted>,
-    /// `config.keymap`, shared with each frame's view.
-    shared_keymap: Arc<Keymap>,
     /// Re-saving names the operator lost (see `resave`).
     resave: resave::Resave,
     /// The book's writes and the positions they failed to write.
@@ -247,7 +245,6 @@ pub struct App {
 impl App {
     pub fn new(config: AppConfig, positions: PositionBook) -> App {
         let jog = JogEngine::new(config.release_mode, config.refresh);
-        let shared_keymap = Arc::new(config.keymap.clone());
         App {
             config,
             jog,
@@ -255,7 +252,6 @@ impl App {
             messages: message::Messages::default(),
             link: LinkStatus::Connecting,
             telemetry: None,
-            telemetry_source: TelemetrySource::None,
             latency: None,
             speed: None,
             frame: ReferenceFrame::Base,
@@ -279,7 +275,6 @@ impl App {
             renaming: None,
             restoring: None,
             last_deleted: None,
-            shared_keymap,
             resave: resave::Resave::default(),
             saving: saving::Saving::default(),
             help_scroll: 0,

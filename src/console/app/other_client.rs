@@ -244,10 +244,7 @@ impl App {
         let Some(motion) = before else {
             return;
         };
-        let watched = matches!(
-            self.truth.expected_telemetry(),
-            Some(TelemetrySource::Modbus | TelemetrySource::TalosHardware)
-        );
+        let watched = self.truth.expects_telemetry();
         let past_grace = self
             .others
             .jog_since
