@@ -114,7 +114,7 @@ impl App {
             at: now,
             until,
         };
-        let messages = &mut self.messages;
+        let messages = &mut self.screen.messages;
         if let Some(older) = messages.shown.take()
             && !older.until.is_notice()
         {
@@ -135,7 +135,7 @@ impl App {
     /// without a fault.
     pub(super) fn messages_on_arm(&mut self, event: &ArmEvent) {
         let telemetry_expected = self.truth.expects_telemetry();
-        for slot in self.messages.slots() {
+        for slot in self.screen.messages.slots() {
             let Some(message) = slot else {
                 continue;
             };
@@ -148,12 +148,13 @@ impl App {
     /// After every input: messages whose state has ended, and notices past their time, go; a
     /// hidden state message shows again once nothing newer is shown.
     pub(super) fn settle_messages(&mut self, now: Instant) {
-        let link_up = matches!(self.link, LinkStatus::Up { .. });
+        let link_up = matches!(self.arm.link, LinkStatus::Up { .. });
         let stale = self.link_stale().is_some();
-        let guard_ready = matches!(self.guard, Some(GuardStatus::Ready { .. }));
+        let guard_ready = matches!(self.arm.guard, Some(GuardStatus::Ready { .. }));
         let stop_unconfirmed = self.truth.stop_unconfirmed();
         let unsaved = self.unsaved_positions() > 0;
         let arm_refuses = self
+            .arm
             .telemetry
             .as_ref()
             .is_some_and(|t| super::arm_refusal(t).is_some());
@@ -167,13 +168,13 @@ impl App {
             Until::BookSaved => unsaved,
             Until::ArmReady => arm_refuses,
         };
-        for slot in self.messages.slots() {
+        for slot in self.screen.messages.slots() {
             if slot.as_ref().is_some_and(|m| !holds(m)) {
                 *slot = None;
             }
         }
-        if self.messages.shown.is_none() {
-            self.messages.shown = self.messages.hidden.take();
+        if self.screen.messages.shown.is_none() {
+            self.screen.messages.shown = self.screen.messages.hidden.take();
         }
     }
 }
