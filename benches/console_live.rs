@@ -59,7 +59,7 @@ async fn press_release_latency() {
     let (driver, mut events) = Driver::spawn(config);
     let mut app = App::new(
         AppConfig {
-            keymap: Keymap::builtin("default").expect("keymap"),
+            keymap: Keymap::builtin("default").expect("keymap").into(),
             release_mode: ReleaseMode::Reported,
             refresh: Duration::from_millis(100),
             positions_on_operator: true,

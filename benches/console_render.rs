@@ -69,7 +69,7 @@ impl Scene {
     fn new() -> Scene {
         let mut app = App::new(
             AppConfig {
-                keymap: Keymap::builtin("default").expect("keymap"),
+                keymap: Keymap::builtin("default").expect("keymap").into(),
                 release_mode: ReleaseMode::AutoRepeat,
                 refresh: Duration::from_millis(100),
                 positions_on_operator: true,

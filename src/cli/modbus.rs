@@ -7,7 +7,7 @@ use clap::{Args, Subcommand};
 use serde_json::{Value, json};
 
 use super::Outcome;
-use crate::console::app::{abort_reason, at_rest, fault_reason};
+use crate::kortex::arm_state::{abort_reason, at_rest, fault_reason};
 use crate::kortex::commands::{self, Write};
 use crate::kortex::{ActionStatus, Coded, StoredMotion, Telemetry};
 use crate::link::modbus::{DEFAULT_HOME_ACTION_ID, DEFAULT_PORT, ModbusConfig, ModbusError};

@@ -36,6 +36,7 @@ mod key_name;
 
 pub use key_name::{
     BaseKey, KeyName, KeyNameError, KeypadKey, MAX_FUNCTION_KEY, Modifiers, NamedKey,
+    shifted_letter,
 };
 
 use crate::console::action::Action;

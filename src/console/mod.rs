@@ -5,6 +5,7 @@ pub mod app;
 pub mod arm_geometry;
 pub mod audit;
 pub mod book_io;
+pub mod coords;
 pub mod form;
 pub mod input;
 pub mod input_first;

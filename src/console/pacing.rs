@@ -116,7 +116,7 @@ mod tests {
     fn app() -> App {
         App::new(
             AppConfig {
-                keymap: Keymap::builtin("default").expect("keymap"),
+                keymap: Keymap::builtin("default").expect("keymap").into(),
                 release_mode: ReleaseMode::Reported,
                 refresh: Duration::from_millis(100),
                 positions_on_operator: true,

@@ -153,7 +153,7 @@ mod tests {
     fn view(width: u16) -> View {
         let mut app = App::new(
             AppConfig {
-                keymap: Keymap::builtin("default").expect("keymap"),
+                keymap: Keymap::builtin("default").expect("keymap").into(),
                 release_mode: ReleaseMode::Reported,
                 refresh: Duration::from_millis(100),
                 positions_on_operator: true,

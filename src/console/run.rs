@@ -22,7 +22,7 @@ use super::book_io::{self, BookFiles};
 use super::input::{self, TerminalEvent};
 use super::input_first;
 use super::jog::{KeyKind, ReleaseMode};
-use super::keymap::{KeyName, Keymap};
+use super::keymap::{KeyName, Keymap, shifted_letter};
 use super::pacing::FramePacer;
 use super::painter::Painter;
 use super::positions::{self, PositionBook};
@@ -67,9 +67,10 @@ pub fn key_input(event: &KeyEvent) -> Option<KeyInput> {
                 .modifiers
                 .intersects(KeyModifiers::CONTROL | KeyModifiers::ALT) =>
         {
-            // Some kitty-protocol terminals send shift+a as 'a' with SHIFT.
+            // Some kitty-protocol terminals send shift+a as 'a' with SHIFT: the text is the
+            // character the key is named for.
             if event.modifiers.contains(KeyModifiers::SHIFT) {
-                c.to_uppercase().next()
+                Some(shifted_letter(c))
             } else {
                 Some(c)
             }
@@ -110,7 +111,7 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
     let result = match start_painter(drawing) {
         Ok((mut painter, size, draw_errors)) => {
             let config = AppConfig {
-                keymap: setup.keymap,
+                keymap: setup.keymap.into(),
                 release_mode: if release_events {
                     ReleaseMode::Reported
                 } else {
@@ -390,6 +391,18 @@ mod tests {
             shifted.map(|k| (k.key.to_string(), k.text)),
             Some(("A".into(), Some('A')))
         );
+        // A letter whose capital is two characters types itself, and is named for itself.
+        for letter in ['ß', 'ŉ'] {
+            let shifted = key_input(&event(
+                KeyCode::Char(letter),
+                KeyModifiers::SHIFT,
+                KeyEventKind::Press,
+            ));
+            assert_eq!(
+                shifted.map(|k| (k.key.to_string(), k.text)),
+                Some((letter.to_string(), Some(letter)))
+            );
+        }
         let ctrl = key_input(&event(
             KeyCode::Char('c'),
             KeyModifiers::CONTROL,

@@ -10,6 +10,7 @@
 //! - [`sanity`]: whether a reported value is physically possible (the panels' `?` and the
 //!   console's motion gate).
 
+pub mod arm_state;
 pub mod cartesian;
 pub mod codes;
 pub mod commands;
@@ -22,6 +23,7 @@ pub mod sanity;
 pub mod telemetry;
 pub mod words;
 
+pub use arm_state::{abort_reason, at_rest, fault_reason};
 pub use cartesian::{Axis, Pose, Twist, Wrench};
 pub use codes::{
     ActionCommand, ActionStatus, CodeName, Coded, ControlCoil, MoveType, ReferenceFrame, RobotState,

@@ -15,7 +15,7 @@ use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus, StepMove};
 /// change what they are about: `AppConfig { max_jog_speed: 0.05, ..config() }`.
 pub fn config() -> AppConfig {
     AppConfig {
-        keymap: Keymap::builtin("default").expect("default keymap"),
+        keymap: Keymap::builtin("default").expect("default keymap").into(),
         release_mode: ReleaseMode::Reported,
         refresh: Duration::from_millis(100),
         positions_on_operator: true,

@@ -249,7 +249,7 @@ fn the_console_stops_and_says_so_when_its_guard_goes_down_and_shows_its_state() 
     let t0 = std::time::Instant::now();
     let mut app = App::new(
         AppConfig {
-            keymap: Keymap::builtin("default").expect("keymap"),
+            keymap: Keymap::builtin("default").expect("keymap").into(),
             release_mode: ReleaseMode::Reported,
             refresh: Duration::from_millis(100),
             positions_on_operator: false,

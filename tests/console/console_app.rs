@@ -434,7 +434,7 @@ fn over_modbus_the_console_keeps_positions_and_go_to_moves_to_the_stored_pose() 
 #[test]
 fn remembered_names_are_checked_with_the_operator_when_the_link_comes_up() {
     let config = AppConfig {
-        keymap: Keymap::builtin("default").expect("default keymap"),
+        keymap: Keymap::builtin("default").expect("default keymap").into(),
         release_mode: ReleaseMode::Reported,
         refresh: Duration::from_millis(100),
         positions_on_operator: true,
@@ -474,7 +474,7 @@ fn remembered_names_are_checked_with_the_operator_when_the_link_comes_up() {
 #[test]
 fn an_answer_about_a_name_not_in_the_book_adds_nothing_and_leaves_the_selection() {
     let config = AppConfig {
-        keymap: Keymap::builtin("default").expect("default keymap"),
+        keymap: Keymap::builtin("default").expect("default keymap").into(),
         release_mode: ReleaseMode::Reported,
         refresh: Duration::from_millis(100),
         positions_on_operator: true,

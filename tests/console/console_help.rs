@@ -42,7 +42,7 @@ fn app_with(
     size: (u16, u16),
 ) -> (App, Instant) {
     let config = AppConfig {
-        keymap,
+        keymap: keymap.into(),
         release_mode: ReleaseMode::Reported,
         refresh: Duration::from_millis(100),
         positions_on_operator: on_operator,
@@ -279,7 +279,7 @@ fn the_turn_keys_are_offered_only_where_a_modbus_link_carries_them() {
 #[test]
 fn the_turn_keys_are_offered_until_the_driver_says_which_link_it_has() {
     let config = AppConfig {
-        keymap: keymap("default"),
+        keymap: keymap("default").into(),
         release_mode: ReleaseMode::Reported,
         refresh: Duration::from_millis(100),
         positions_on_operator: false,

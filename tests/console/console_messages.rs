@@ -24,7 +24,7 @@ const LONG: Duration = Duration::from_secs(60);
 /// A console whose driver said which telemetry to expect; the link not up yet.
 fn app_before_link(source: TelemetrySource) -> (App, Instant) {
     let config = AppConfig {
-        keymap: Keymap::builtin("default").expect("default keymap"),
+        keymap: Keymap::builtin("default").expect("default keymap").into(),
         release_mode: ReleaseMode::Reported,
         refresh: ms(100),
         positions_on_operator: source != TelemetrySource::Modbus,

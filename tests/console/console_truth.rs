@@ -29,7 +29,7 @@ fn ms(n: u64) -> Duration {
 fn app(source: TelemetrySource) -> (App, Instant) {
     let over_modbus = source == TelemetrySource::Modbus;
     let config = AppConfig {
-        keymap: Keymap::builtin("default").expect("default keymap"),
+        keymap: Keymap::builtin("default").expect("default keymap").into(),
         release_mode: ReleaseMode::Reported,
         refresh: ms(100),
         positions_on_operator: !over_modbus,

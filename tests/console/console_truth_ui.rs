@@ -69,7 +69,7 @@ fn telemetry(velocity: f32, status: ActionStatus) -> Telemetry {
 /// A Modbus console with the link up and telemetry at rest at `t0`.
 fn modbus_app() -> (App, Instant) {
     let config = AppConfig {
-        keymap: Keymap::builtin("default").expect("default keymap"),
+        keymap: Keymap::builtin("default").expect("default keymap").into(),
         release_mode: ReleaseMode::Reported,
         refresh: ms(100),
         positions_on_operator: false,

@@ -119,7 +119,7 @@ fn log_entry(id: u32, name: &str, outcome: &str, ok: bool, micros: u64) -> LogEn
 /// A console with nothing from the arm yet.
 fn bare_app(mode: ReleaseMode, on_operator: bool) -> (App, Instant) {
     let config = AppConfig {
-        keymap: Keymap::builtin("default").expect("default keymap"),
+        keymap: Keymap::builtin("default").expect("default keymap").into(),
         release_mode: mode,
         refresh: ms(100),
         positions_on_operator: on_operator,

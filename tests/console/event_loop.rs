@@ -18,7 +18,7 @@ use armjog::link::interface::ArmEvent;
 pub fn app_for(config: &DriverConfig, book: PositionBook) -> App {
     App::new(
         AppConfig {
-            keymap: Keymap::builtin("default").expect("keymap"),
+            keymap: Keymap::builtin("default").expect("keymap").into(),
             release_mode: ReleaseMode::Reported,
             refresh: Duration::from_millis(100),
             positions_on_operator: config.positions_on_operator(),

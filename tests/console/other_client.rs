@@ -34,7 +34,7 @@ fn at_rest() -> Telemetry {
 
 fn console(source: TelemetrySource) -> (App, Instant) {
     let config = AppConfig {
-        keymap: Keymap::builtin("default").expect("default keymap"),
+        keymap: Keymap::builtin("default").expect("default keymap").into(),
         release_mode: ReleaseMode::Reported,
         refresh: ms(100),
         positions_on_operator: source != TelemetrySource::Modbus,

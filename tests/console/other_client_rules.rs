@@ -39,7 +39,7 @@ fn at_rest() -> Telemetry {
 /// (+Y) since `t0`.
 fn jogging() -> (App, Instant) {
     let config = AppConfig {
-        keymap: Keymap::builtin("default").expect("default keymap"),
+        keymap: Keymap::builtin("default").expect("default keymap").into(),
         release_mode: ReleaseMode::Reported,
         refresh: ms(100),
         positions_on_operator: true,

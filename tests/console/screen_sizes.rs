@@ -106,7 +106,7 @@ fn log_entry(id: u32, name: &str, outcome: &str, ok: bool, micros: Option<u64>) 
 /// A console on a live arm: link up, telemetry, speed, a log and a book of positions.
 fn live_app(mode: ReleaseMode, frames: bool) -> (App, Instant) {
     let config = AppConfig {
-        keymap: Keymap::builtin("default").expect("default keymap"),
+        keymap: Keymap::builtin("default").expect("default keymap").into(),
         release_mode: mode,
         refresh: ms(100),
         positions_on_operator: !frames,

@@ -336,7 +336,7 @@ fn the_status_bar_shows_the_jog_speed_from_the_cap_and_the_percent() {
 
     let mut app = App::new(
         AppConfig {
-            keymap: Keymap::builtin("default").expect("keymap"),
+            keymap: Keymap::builtin("default").expect("keymap").into(),
             release_mode: ReleaseMode::Reported,
             refresh: Duration::from_millis(100),
             positions_on_operator: false,

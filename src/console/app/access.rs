@@ -34,84 +34,88 @@ impl App {
 
     /// The keymap, shared with each frame's view (it never changes during a session).
     pub fn shared_keymap(&self) -> Arc<Keymap> {
-        self.shared_keymap.clone()
+        self.config.keymap.clone()
     }
 
     pub fn jog(&self) -> &JogEngine {
-        &self.jog
+        &self.keys.jog
     }
 
     pub fn overlay(&self) -> &Overlay {
-        &self.overlay
+        &self.screen.overlay
     }
 
     /// The message on the bottom line and how bad it is.
     pub fn message(&self) -> Option<(&str, Severity)> {
-        self.messages
+        self.screen
+            .messages
             .shown
             .as_ref()
             .map(|m| (m.text.as_str(), m.severity))
     }
 
     pub fn link(&self) -> &LinkStatus {
-        &self.link
+        &self.arm.link
     }
 
     pub fn telemetry(&self) -> Option<&Telemetry> {
-        self.telemetry.as_ref()
+        self.arm.telemetry.as_ref()
     }
 
+    /// The telemetry the driver said to expect (none until it says).
     pub fn telemetry_source(&self) -> TelemetrySource {
-        self.telemetry_source
+        self.truth
+            .expected_telemetry()
+            .unwrap_or(TelemetrySource::None)
     }
 
     pub fn latency(&self) -> Option<std::time::Duration> {
-        self.latency
+        self.arm.latency
     }
 
     /// The speed in force, percent, once the arm has said it.
     pub fn speed(&self) -> Option<u8> {
-        self.speed
+        self.arm.speed
     }
 
     pub fn frame(&self) -> ReferenceFrame {
-        self.frame
+        self.arm.frame
     }
 
     pub fn step(&self) -> Step {
-        self.step
+        self.keys.step
     }
 
     pub fn positions(&self) -> &PositionBook {
-        &self.positions
+        &self.book.positions
     }
 
     pub fn book_state(&self) -> &BookState {
-        &self.book_state
+        &self.book.book_state
     }
 
     /// The selected position's index in name order.
     pub fn selected(&self) -> usize {
-        self.selected
+        self.book.selected
     }
 
     pub fn log(&self) -> &VecDeque<LogEntry> {
-        &self.log
+        &self.screen.log
     }
 
     /// The log shows frames in hex.
     /// The last 30 s of telemetry (history panel).
     pub fn history(&self) -> &super::History {
-        &self.history
+        &self.arm.history
     }
 
     pub fn hex(&self) -> bool {
-        self.hex
+        self.screen.hex
     }
 
     /// The terminal's size as last heard.
     pub fn size(&self) -> (u16, u16) {
-        self.size
+        self.screen.size
     }
 
     pub fn quitting(&self) -> bool {
@@ -119,7 +123,7 @@ impl App {
     }
 
     pub fn guard(&self) -> Option<&GuardStatus> {
-        self.guard.as_ref()
+        self.arm.guard.as_ref()
     }
 
     pub fn truth(&self) -> &MotionTruth {

@@ -27,8 +27,8 @@ impl App {
                     self.say_until(text, Severity::Error, Until::LinkUp, now);
                 }
                 let came_up = matches!(status, LinkStatus::Up { .. })
-                    && !matches!(self.link, LinkStatus::Up { .. });
-                self.link = status;
+                    && !matches!(self.arm.link, LinkStatus::Up { .. });
+                self.arm.link = status;
                 if came_up && self.config.positions_on_operator {
                     // The ICD cannot list positions: ask about remembered names, so the panel
                     // marks the ones this operator does not know (and shows where the others
@@ -40,23 +40,24 @@ impl App {
                 self.watch_cap(&t, now, effects);
                 self.watch_arm_state(&t, now, effects);
                 self.watch_other_clients(&t, now, effects);
-                self.history.record(&t, now);
-                self.trail.record(&t, now);
-                self.telemetry = Some(*t);
+                self.arm.history.record(&t, now);
+                self.arm.trail.record(&t, now);
+                self.arm.telemetry = Some(*t);
             }
-            ArmEvent::TelemetrySource(source) => self.telemetry_source = source,
-            ArmEvent::Latency(latency) => self.latency = Some(latency),
+            // The motion truth keeps the source (see `truth_on_arm`).
+            ArmEvent::TelemetrySource(_) => {}
+            ArmEvent::Latency(latency) => self.arm.latency = Some(latency),
             ArmEvent::Speed(speed) => {
-                if self.speed.is_some_and(|s| s != speed) {
+                if self.arm.speed.is_some_and(|s| s != speed) {
                     self.other_client_note_speed(now);
                 }
-                self.speed = Some(speed);
+                self.arm.speed = Some(speed);
             }
             ArmEvent::Notice(text) => self.say(text, Severity::Warning, now),
             ArmEvent::Log(entry) => {
                 // Telemetry polls with the same outcome in a row share one counted line, so
                 // they are logged without drowning the technician's own commands.
-                if let Some(last) = self.log.back_mut()
+                if let Some(last) = self.screen.log.back_mut()
                     && entry.poll
                     && last.poll
                     && last.name == entry.name
@@ -66,10 +67,10 @@ impl App {
                     *last = LogEntry { count, ..entry };
                     return;
                 }
-                if self.log.len() >= LOG_CAPACITY {
-                    self.log.pop_front();
+                if self.screen.log.len() >= LOG_CAPACITY {
+                    self.screen.log.pop_front();
                 }
-                self.log.push_back(LogEntry {
+                self.screen.log.push_back(LogEntry {
                     count: entry.count.max(1),
                     ..entry
                 });
@@ -90,28 +91,28 @@ impl App {
             ArmEvent::Position { name, coordinates } => {
                 // A reply about a name no longer in the book (deleted meanwhile) adds nothing:
                 // a new name would move the rows and the selection under the technician.
-                if let Some(entry) = self.positions.get_mut(&name) {
+                if let Some(entry) = self.book.positions.get_mut(&name) {
                     entry.unknown_to_operator = false;
                     if let Some(c) = coordinates.cartesian {
                         entry.set_cartesian(c);
                     }
                 }
-                if matches!(&self.overlay, Overlay::Position { name: shown, .. } if *shown == name)
+                if matches!(&self.screen.overlay, Overlay::Position { name: shown, .. } if *shown == name)
                 {
-                    self.overlay = Overlay::Position {
+                    self.screen.overlay = Overlay::Position {
                         name,
                         coordinates: Some(coordinates),
                     };
                 }
             }
             ArmEvent::UnknownPosition { name } => {
-                if let Some(entry) = self.positions.get_mut(&name) {
+                if let Some(entry) = self.book.positions.get_mut(&name) {
                     entry.unknown_to_operator = true;
                 }
                 // Said only when the technician is looking at it; otherwise the panel marks it.
-                if matches!(&self.overlay, Overlay::Position { name: shown, .. } if *shown == name)
+                if matches!(&self.screen.overlay, Overlay::Position { name: shown, .. } if *shown == name)
                 {
-                    self.overlay = Overlay::None;
+                    self.screen.overlay = Overlay::None;
                     self.say(
                         format!("the operator does not know '{name}'"),
                         Severity::Warning,
@@ -134,7 +135,7 @@ impl App {
                         now,
                     );
                 }
-                self.guard = Some(status);
+                self.arm.guard = Some(status);
             }
             // Evidence only: see `truth_on_arm`.
             ArmEvent::StopConfirmed | ArmEvent::StopUnconfirmed { .. } => {}

@@ -86,25 +86,25 @@ fn over_cap(
 impl App {
     /// A telemetry sample against the cap, while a motion the console started runs.
     pub(super) fn watch_cap(&mut self, t: &Telemetry, now: Instant, effects: &mut Vec<Effect>) {
-        let jog = self.jog.active();
+        let jog = self.keys.jog.active();
         if jog.is_none() && self.truth.action.is_none() {
-            self.cap_watch.over_in_a_row = 0;
+            self.arm.cap_watch.over_in_a_row = 0;
             return;
         }
         let cap_mm_s = self.config.max_jog_speed * 1000.0;
         let joint_deg_s = f64::from(self.config.joint_jog_speed);
         let Some(why) = over_cap(t, jog, cap_mm_s, joint_deg_s) else {
-            self.cap_watch.over_in_a_row = 0;
+            self.arm.cap_watch.over_in_a_row = 0;
             return;
         };
-        self.cap_watch.over_in_a_row += 1;
-        if self.cap_watch.over_in_a_row < OVER_CAP_SAMPLES {
+        self.arm.cap_watch.over_in_a_row += 1;
+        if self.arm.cap_watch.over_in_a_row < OVER_CAP_SAMPLES {
             return;
         }
-        self.cap_watch.over_in_a_row = 0;
+        self.arm.cap_watch.over_in_a_row = 0;
         let text = format!("stopped: {why}");
-        self.cap_watch.stops += 1;
-        self.cap_watch.last_stop = Some(text.clone());
+        self.arm.cap_watch.stops += 1;
+        self.arm.cap_watch.last_stop = Some(text.clone());
         self.stop_from_telemetry(text, now, effects);
     }
 
@@ -133,6 +133,6 @@ impl App {
     }
 
     pub fn cap_watch(&self) -> &CapWatch {
-        &self.cap_watch
+        &self.arm.cap_watch
     }
 }

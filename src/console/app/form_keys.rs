@@ -35,27 +35,28 @@ impl App {
     /// How close an event of the same key must follow its previous one to continue a run.
     fn run_window(&self) -> Duration {
         let (num, den) = CONTINUES_RUN;
-        self.jog.timing().interval_or_default() * num / den
+        self.keys.jog.timing().interval_or_default() * num / den
     }
 
     /// Records a press or repeat; returns whether it continued the previous event's run of the
     /// same key (a key already repeating).
     pub(super) fn trace_key(&mut self, key: &KeyInput, now: Instant) -> bool {
         if key.kind == KeyKind::Release {
-            if self.last_key.is_some_and(|t| t.key == key.key) {
-                self.last_key = None;
+            if self.keys.last_key.is_some_and(|t| t.key == key.key) {
+                self.keys.last_key = None;
             }
-            if self.form_opener.is_some_and(|o| o.key == key.key) {
-                self.form_opener = None;
+            if self.keys.form_opener.is_some_and(|o| o.key == key.key) {
+                self.keys.form_opener = None;
             }
             return false;
         }
         let window = self.run_window();
         let continues = key.kind == KeyKind::Repeat
             || self
+                .keys
                 .last_key
                 .is_some_and(|t| t.key == key.key && now.saturating_duration_since(t.at) <= window);
-        self.last_key = Some(KeyTrace {
+        self.keys.last_key = Some(KeyTrace {
             key: key.key,
             at: now,
         });
@@ -67,12 +68,12 @@ impl App {
     /// repeating, since a fresh press's next event may be a keystroke.
     pub(super) fn form_opened_by(&mut self, key: &KeyInput, repeating: bool, now: Instant) {
         // A key that closed an earlier overlay has no say in the form: its next press is text.
-        self.swallowed = None;
-        let remember = match self.jog.mode() {
+        self.keys.swallowed = None;
+        let remember = match self.keys.jog.mode() {
             ReleaseMode::Reported => true,
             ReleaseMode::AutoRepeat => repeating,
         };
-        self.form_opener = remember.then_some(FormOpener {
+        self.keys.form_opener = remember.then_some(FormOpener {
             key: key.key,
             last: now,
         });
@@ -81,22 +82,22 @@ impl App {
     /// Whether `key` is the auto-repeat of the key that opened the open form, and so not text.
     /// Any other event ends the opener's run: after it, every keystroke is text.
     pub(super) fn repeat_of_form_opener(&mut self, key: &KeyInput, now: Instant) -> bool {
-        if !matches!(self.overlay, Overlay::Form(_)) {
-            self.form_opener = None;
+        if !matches!(self.screen.overlay, Overlay::Form(_)) {
+            self.keys.form_opener = None;
             return false;
         }
-        let Some(opener) = self.form_opener else {
+        let Some(opener) = self.keys.form_opener else {
             return false;
         };
         let repeat = opener.key == key.key
-            && match (self.jog.mode(), key.kind) {
+            && match (self.keys.jog.mode(), key.kind) {
                 (_, KeyKind::Repeat) => true,
                 (ReleaseMode::AutoRepeat, KeyKind::Press) => {
                     now.saturating_duration_since(opener.last) <= self.run_window()
                 }
                 _ => false,
             };
-        self.form_opener = repeat.then_some(FormOpener {
+        self.keys.form_opener = repeat.then_some(FormOpener {
             key: opener.key,
             last: now,
         });

@@ -15,19 +15,19 @@ const END: KeyName = KeyName::named(NamedKey::End);
 impl App {
     /// The help overlay's first shown line.
     pub fn help_scroll(&self) -> usize {
-        self.help_scroll
+        self.screen.help_scroll
     }
 
     pub(super) fn open_help(&mut self) {
-        self.help_scroll = 0;
-        self.overlay = Overlay::Help;
+        self.screen.help_scroll = 0;
+        self.screen.overlay = Overlay::Help;
     }
 
     /// Scrolls the help for a scrolling key and says whether it was one (the help stays open).
     pub(super) fn scroll_help(&mut self, key: &KeyName) -> bool {
-        let (last, page) = scroll_limits(&self.config.keymap, self.size);
-        let now = self.help_scroll.min(last);
-        self.help_scroll = match *key {
+        let (last, page) = scroll_limits(&self.config.keymap, self.screen.size);
+        let now = self.screen.help_scroll.min(last);
+        self.screen.help_scroll = match *key {
             DOWN => now + 1,
             UP => now.saturating_sub(1),
             PAGE_DOWN => now + page,

@@ -2,10 +2,10 @@
 //! slower than it ran, or moving the tool somewhere else. Pure; see `other_client` for what the
 //! console does with it.
 
-use super::arm_state::at_rest;
-use crate::console::app::coords::describe_motion;
+use crate::console::coords::describe_motion;
 use crate::console::jog::JogMotion;
 use crate::kortex::Telemetry;
+use crate::kortex::arm_state::at_rest;
 
 use super::other_client::OTHER_MOTION_M_S;
 

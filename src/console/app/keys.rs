@@ -38,7 +38,7 @@ impl App {
             self.release_jog_keys(&key, now, effects);
             return;
         }
-        let burst = self.question_guard.key(now);
+        let burst = self.keys.question_guard.key(now);
         if !self.fits() {
             // Nothing is shown: every key only stops.
             if key.kind == KeyKind::Press {
@@ -53,18 +53,20 @@ impl App {
             self.latch_jog_key(&key, now, effects);
             return;
         }
-        if matches!(self.overlay, Overlay::Confirm(_))
+        if matches!(self.screen.overlay, Overlay::Confirm(_))
             && self.question_refuses(&key, burst, now, effects)
         {
             return;
         }
-        let overlay_before = std::mem::discriminant(&self.overlay);
+        let overlay_before = std::mem::discriminant(&self.screen.overlay);
         self.dispatch_key(key.clone(), now, effects);
-        if key.kind == KeyKind::Press && overlay_before != std::mem::discriminant(&self.overlay) {
-            if matches!(self.overlay, Overlay::Form(_)) {
+        if key.kind == KeyKind::Press
+            && overlay_before != std::mem::discriminant(&self.screen.overlay)
+        {
+            if matches!(self.screen.overlay, Overlay::Form(_)) {
                 self.form_opened_by(&key, repeating, now);
             } else {
-                self.swallowed = Some((key.key, now));
+                self.keys.swallowed = Some((key.key, now));
             }
         }
     }
@@ -74,24 +76,24 @@ impl App {
     /// help start a jog. With reported key events a repeat says so itself. A form takes
     /// repeats as text (holding backspace deletes): see `repeat_of_form_opener`.
     fn auto_repeat_of_overlay_key(&mut self, key: &KeyInput, now: Instant) -> bool {
-        let form = matches!(self.overlay, Overlay::Form(_));
-        if key.kind == KeyKind::Repeat && self.overlay != Overlay::None && !form {
+        let form = matches!(self.screen.overlay, Overlay::Form(_));
+        if key.kind == KeyKind::Repeat && self.screen.overlay != Overlay::None && !form {
             return true;
         }
-        let Some((held, seen)) = self.swallowed else {
+        let Some((held, seen)) = self.keys.swallowed else {
             return false;
         };
         let repeating = held == key.key
             && key.kind == KeyKind::Press
-            && self.jog.mode() == ReleaseMode::AutoRepeat
+            && self.keys.jog.mode() == ReleaseMode::AutoRepeat
             && now.saturating_duration_since(seen) < MAX_ONSET;
-        self.swallowed = repeating.then_some((held, now));
+        self.keys.swallowed = repeating.then_some((held, now));
         repeating
     }
 
     /// A press or repeat (releases are handled before this).
     fn dispatch_key(&mut self, key: KeyInput, now: Instant, effects: &mut Vec<Effect>) {
-        if self.overlay != Overlay::None {
+        if self.screen.overlay != Overlay::None {
             self.stop_jog(now, effects);
             self.latch_jog_key(&key, now, effects);
             self.on_overlay_key(key, now, effects);
@@ -100,9 +102,9 @@ impl App {
         let action = self.config.keymap.action(&key.key);
         match (action, key.kind) {
             (Some(action), kind) if action.jog().is_some() => {
-                if self.step.enabled {
+                if self.keys.step.enabled {
                     // One step per press: a held key's auto-repeat steps no further.
-                    let (fresh, jog) = self.jog.latch_press(action, kind, now);
+                    let (fresh, jog) = self.keys.jog.latch_press(action, kind, now);
                     self.apply_jog(jog, now, effects);
                     if fresh {
                         self.step_move(action, now, effects);
@@ -113,7 +115,7 @@ impl App {
                         self.say_until(text, Severity::Warning, until, now);
                     }
                 } else {
-                    let jog = self.jog.key(action, kind, now);
+                    let jog = self.keys.jog.key(action, kind, now);
                     self.apply_jog(jog, now, effects);
                 }
             }
@@ -169,7 +171,7 @@ impl App {
         };
         use crate::console::action::JogAxis as A;
         let s = i32::from(sign.value());
-        let (c, p) = (self.step.cartesian() * s, self.step.polar() * s);
+        let (c, p) = (self.keys.step.cartesian() * s, self.keys.step.polar() * s);
         let step = match axis {
             A::X => StepMove::Cartesian {
                 dx: c,
@@ -226,7 +228,7 @@ impl App {
                 self.say("stopped", Severity::Info, now);
             }
             A::QuickStop => {
-                self.jog.stop_all(now);
+                self.keys.jog.stop_all(now);
                 effects.push(Effect::Arm(ArmCommand::QuickStop));
                 self.hold_stop(now);
                 self.say_until(
@@ -237,20 +239,24 @@ impl App {
                 );
             }
             A::FaultReset => effects.push(Effect::Arm(ArmCommand::FaultReset)),
-            A::Home if !self.refuse_motion(now) => self.overlay = Overlay::Confirm(Confirm::Home),
+            A::Home if !self.refuse_motion(now) => {
+                self.screen.overlay = Overlay::Confirm(Confirm::Home)
+            }
             A::StepMode => {
-                self.step.enabled = !self.step.enabled;
-                let text = if self.step.enabled {
+                self.keys.step.enabled = !self.keys.step.enabled;
+                let text = if self.keys.step.enabled {
                     "step mode: each press moves one step"
                 } else {
                     "jog mode: hold a key to move"
                 };
                 self.say(text, Severity::Info, now);
             }
-            A::StepBigger => self.step.index = (self.step.index + 1).min(CARTESIAN_STEPS.len() - 1),
-            A::StepSmaller => self.step.index = self.step.index.saturating_sub(1),
+            A::StepBigger => {
+                self.keys.step.index = (self.keys.step.index + 1).min(CARTESIAN_STEPS.len() - 1)
+            }
+            A::StepSmaller => self.keys.step.index = self.keys.step.index.saturating_sub(1),
             A::SpeedUp | A::SpeedDown => {
-                let current = self.speed.unwrap_or(crate::link::driver::INITIAL_SPEED);
+                let current = self.arm.speed.unwrap_or(crate::link::driver::INITIAL_SPEED);
                 let speed = super::next_speed(current, action == A::SpeedUp);
                 effects.push(Effect::Arm(ArmCommand::SetSpeed(speed)));
             }
@@ -263,27 +269,27 @@ impl App {
                     );
                     return;
                 }
-                self.frame = match self.frame {
+                self.arm.frame = match self.arm.frame {
                     ReferenceFrame::Base => ReferenceFrame::Tool,
                     ReferenceFrame::Tool => ReferenceFrame::Mixed,
                     ReferenceFrame::Mixed => ReferenceFrame::Base,
                 };
-                effects.push(Effect::Arm(ArmCommand::SetFrame(self.frame)));
+                effects.push(Effect::Arm(ArmCommand::SetFrame(self.arm.frame)));
             }
             A::JointNext | A::JointPrevious => {
-                let j = self.jog.joint();
+                let j = self.keys.jog.joint();
                 let next = if action == A::JointNext {
                     j % 7 + 1
                 } else {
                     (j + 5) % 7 + 1
                 };
-                let jog = self.jog.select_joint(next, now);
+                let jog = self.keys.jog.select_joint(next, now);
                 self.apply_jog(jog, now, effects);
             }
             // Starts empty: a saved pose must not overwrite the selected one by accident.
             A::SavePosition => match self.save_refusal() {
                 Some(why) => self.say(why, Severity::Warning, now),
-                None => self.overlay = Overlay::Form(self.save_form()),
+                None => self.screen.overlay = Overlay::Form(self.save_form()),
             },
             A::SetPolarPosition | A::SetCartesianPosition => {
                 let kind = if action == A::SetPolarPosition {
@@ -292,7 +298,7 @@ impl App {
                     FormKind::SetCartesian
                 };
                 let name = self.selected_name().unwrap_or("").to_string();
-                self.overlay = Overlay::Form(Form::new(kind, &name));
+                self.screen.overlay = Overlay::Form(Form::new(kind, &name));
             }
             A::UndoDelete => self.undo_delete(now, effects),
             A::GoToPosition | A::DeletePosition | A::ShowPosition | A::RenamePosition => {
@@ -302,20 +308,22 @@ impl App {
                 };
                 match action {
                     A::GoToPosition => self.ask_go_to(name, now),
-                    A::DeletePosition => self.overlay = Overlay::Confirm(Confirm::Delete(name)),
-                    A::RenamePosition => self.overlay = Overlay::Form(Form::rename(&name)),
+                    A::DeletePosition => {
+                        self.screen.overlay = Overlay::Confirm(Confirm::Delete(name))
+                    }
+                    A::RenamePosition => self.screen.overlay = Overlay::Form(Form::rename(&name)),
                     _ => self.show_position(name, effects),
                 }
             }
-            A::PositionNext if !self.positions.is_empty() => {
-                self.selected = (self.selected + 1) % self.positions.len();
+            A::PositionNext if !self.book.positions.is_empty() => {
+                self.book.selected = (self.book.selected + 1) % self.book.positions.len();
             }
-            A::PositionPrevious if !self.positions.is_empty() => {
-                let n = self.positions.len();
-                self.selected = (self.selected + n - 1) % n;
+            A::PositionPrevious if !self.book.positions.is_empty() => {
+                let n = self.book.positions.len();
+                self.book.selected = (self.book.selected + n - 1) % n;
             }
-            A::ToggleHex => self.hex = !self.hex,
-            A::HistoryCycle => self.history.cycle_quantity(),
+            A::ToggleHex => self.screen.hex = !self.screen.hex,
+            A::HistoryCycle => self.arm.history.cycle_quantity(),
             A::Help => self.open_help(),
             A::Quit => self.ask_quit(now, effects),
             // Jog actions are handled before this.
@@ -324,11 +332,11 @@ impl App {
     }
 
     fn on_overlay_key(&mut self, key: KeyInput, now: Instant, effects: &mut Vec<Effect>) {
-        match std::mem::replace(&mut self.overlay, Overlay::None) {
+        match std::mem::replace(&mut self.screen.overlay, Overlay::None) {
             Overlay::None => {}
             Overlay::Help => {
                 if self.scroll_help(&key.key) {
-                    self.overlay = Overlay::Help;
+                    self.screen.overlay = Overlay::Help;
                 }
             }
             Overlay::Position { .. } => {}
@@ -369,7 +377,7 @@ impl App {
                         }
                     }
                 }
-                self.overlay = Overlay::Form(form);
+                self.screen.overlay = Overlay::Form(form);
             }
         }
     }

@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 
 use super::{App, Severity, fault_reason};
 use crate::link::interface::{
-    ArmCommand, ArmError, ArmEvent, CommandKind, GuardStatus, LinkStatus, TelemetrySource,
+    ArmCommand, ArmError, ArmEvent, CommandKind, GuardStatus, LinkStatus,
 };
 use crate::talos::ReturnCode;
 
@@ -114,7 +114,7 @@ impl App {
             at: now,
             until,
         };
-        let messages = &mut self.messages;
+        let messages = &mut self.screen.messages;
         if let Some(older) = messages.shown.take()
             && !older.until.is_notice()
         {
@@ -134,11 +134,8 @@ impl App {
     /// Arm events that end a message: a command going through, a fault reset, telemetry
     /// without a fault.
     pub(super) fn messages_on_arm(&mut self, event: &ArmEvent) {
-        let telemetry_expected = matches!(
-            self.telemetry_source,
-            TelemetrySource::Modbus | TelemetrySource::TalosHardware
-        );
-        for slot in self.messages.slots() {
+        let telemetry_expected = self.truth.expects_telemetry();
+        for slot in self.screen.messages.slots() {
             let Some(message) = slot else {
                 continue;
             };
@@ -151,12 +148,13 @@ impl App {
     /// After every input: messages whose state has ended, and notices past their time, go; a
     /// hidden state message shows again once nothing newer is shown.
     pub(super) fn settle_messages(&mut self, now: Instant) {
-        let link_up = matches!(self.link, LinkStatus::Up { .. });
+        let link_up = matches!(self.arm.link, LinkStatus::Up { .. });
         let stale = self.link_stale().is_some();
-        let guard_ready = matches!(self.guard, Some(GuardStatus::Ready { .. }));
+        let guard_ready = matches!(self.arm.guard, Some(GuardStatus::Ready { .. }));
         let stop_unconfirmed = self.truth.stop_unconfirmed();
         let unsaved = self.unsaved_positions() > 0;
         let arm_refuses = self
+            .arm
             .telemetry
             .as_ref()
             .is_some_and(|t| super::arm_refusal(t).is_some());
@@ -170,13 +168,13 @@ impl App {
             Until::BookSaved => unsaved,
             Until::ArmReady => arm_refuses,
         };
-        for slot in self.messages.slots() {
+        for slot in self.screen.messages.slots() {
             if slot.as_ref().is_some_and(|m| !holds(m)) {
                 *slot = None;
             }
         }
-        if self.messages.shown.is_none() {
-            self.messages.shown = self.messages.hidden.take();
+        if self.screen.messages.shown.is_none() {
+            self.screen.messages.shown = self.screen.messages.hidden.take();
         }
     }
 }

@@ -8,11 +8,10 @@
 //! all stop it.
 
 mod access;
+mod age;
 mod arm_events;
-mod arm_state;
 mod book_load;
 mod cap_watch;
-mod coords;
 mod edits;
 mod form_keys;
 mod help_keys;
@@ -27,6 +26,7 @@ mod motion_truth;
 mod named;
 mod offers;
 mod other_client;
+mod parts;
 mod paste;
 mod question;
 mod resave;
@@ -36,10 +36,12 @@ mod speed_steps;
 mod stop_hold;
 mod trail;
 
-pub use arm_state::{abort_reason, age_text, at_rest, fault_reason};
+pub use age::age_text;
 pub use book_load::{BookState, CHECKED_ON_CONNECT};
 pub use cap_watch::{CAP_TOLERANCE, CapWatch, OVER_CAP_SAMPLES};
-pub use coords::{cartesian_of, describe_motion, polar_of};
+// Re-exported for the console's tests and panels; their homes are below the app.
+pub use crate::console::coords::{cartesian_of, describe_motion, polar_of};
+pub use crate::kortex::arm_state::{abort_reason, at_rest, fault_reason};
 pub use history::{BUCKET, BUCKETS, HISTORY_WINDOW, History, HistorySeries, JointQuantity};
 pub use jog_evidence::{ALONG_FRACTION, Contradiction, SLOW_FRACTION};
 pub use jog_keys::TAP_STEP_LIMIT;
@@ -61,19 +63,16 @@ pub use speed_steps::{SPEED_STEPS, next_speed};
 pub use stop_hold::{RESEND_EVERY, SLOWING_DOWN, STOP_HOLD, StopHold};
 pub use trail::{TRAIL_CAPACITY, TRAIL_SPACING, TRAIL_SPAN, ToolTrail, TrailPoint, TrailShade};
 
-use std::collections::VecDeque;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use super::book_io::SaveOutcome;
 use super::form::{Confirm, Form};
-use super::jog::{JogEngine, KeyKind, ReleaseMode};
+use super::jog::{KeyKind, ReleaseMode};
 use super::keymap::{KeyName, Keymap};
 use super::positions::PositionBook;
-use crate::kortex::{ReferenceFrame, Telemetry};
-use crate::link::interface::{
-    ArmCommand, ArmEvent, GuardStatus, LinkStatus, LogEntry, PositionCoordinates, TelemetrySource,
-};
+
+use crate::link::interface::{ArmCommand, ArmEvent, LinkStatus, PositionCoordinates};
 
 /// Below this the status bar cannot be shown: motion stops and the screen says so.
 pub const MIN_WIDTH: u16 = 40;
@@ -152,6 +151,16 @@ pub struct Step {
     index: usize,
 }
 
+impl Default for Step {
+    /// Off, at the middle step.
+    fn default() -> Step {
+        Step {
+            enabled: false,
+            index: 2,
+        }
+    }
+}
+
 impl Step {
     /// Cartesian step in tenths of millimetres.
     pub fn cartesian(&self) -> i32 {
@@ -167,7 +176,8 @@ impl Step {
 /// Fixed facts about this console session.
 #[derive(Debug, Clone)]
 pub struct AppConfig {
-    pub keymap: Keymap,
+    /// Shared with each frame's view: it never changes during a session.
+    pub keymap: Arc<Keymap>,
     pub release_mode: ReleaseMode,
     /// START re-send period while a jog key is held.
     pub refresh: Duration,
@@ -185,126 +195,54 @@ pub struct AppConfig {
 }
 
 /// The console's whole state. Private: only inputs change it; [`App`]'s accessors read it.
+/// It routes each input to its parts (see `parts`).
 #[derive(Debug, Clone)]
 pub struct App {
     config: AppConfig,
-    jog: JogEngine,
-    overlay: Overlay,
-    /// The bottom line, each message tied to what ends it.
-    messages: message::Messages,
-    link: LinkStatus,
-    telemetry: Option<Telemetry>,
-    telemetry_source: TelemetrySource,
-    latency: Option<Duration>,
-    speed: Option<u8>,
-    frame: ReferenceFrame,
-    step: Step,
-    positions: PositionBook,
-    /// Whether the book is loaded, still loading, or could not be read.
-    book_state: BookState,
-    selected: usize,
-    log: VecDeque<LogEntry>,
-    hex: bool,
-    size: (u16, u16),
-    quitting: bool,
-    /// The stop guard's state, once the driver says one is required (Modbus motion).
-    guard: Option<GuardStatus>,
+    /// The jog engine and what the keys have done lately.
+    keys: parts::Keys,
+    /// The positions, their edits and their saves.
+    book: parts::Book,
+    /// What the driver says about the link and the arm.
+    arm: parts::Arm,
     /// Link health and motion evidence (LINK STALE, MAY BE MOVING, MOVING: HOME).
     truth: MotionTruth,
+    /// What is drawn over the panels and on the bottom line, and the terminal's size.
+    screen: parts::Screen,
+    quitting: bool,
     /// The latest input's `now`: the panels draw ages against it.
     now: Option<Instant>,
-    /// The key that closed an overlay and when it was last seen: its auto-repeat must not be
-    /// taken for new presses (and start a jog) once the overlay is gone.
-    swallowed: Option<(KeyName, Instant)>,
-    /// The latest key event, and the key that opened the open form while its auto-repeat may
-    /// still come: see `form_keys`.
-    last_key: Option<form_keys::KeyTrace>,
-    form_opener: Option<form_keys::FormOpener>,
-    /// A rename on the operator between its steps, and a restore waiting for its answer.
-    renaming: Option<edits::Renaming>,
-    restoring: Option<edits::Deleted>,
-    /// The last deleted position, for undo (one level).
-    last_deleted: Option<edits::Deleted>,
-    /// `config.keymap`, shared with each frame's view.
-    shared_keymap: Arc<Keymap>,
-    /// Re-saving names the operator lost (see `resave`).
-    resave: resave::Resave,
-    /// The book's writes and the positions they failed to write.
-    saving: saving::Saving,
-    /// The help overlay's first shown line.
-    help_scroll: usize,
-    /// The last 30 s of telemetry, for the history panel.
-    history: History,
-    /// The tool point's recent path, for the arm view.
-    trail: ToolTrail,
-    /// The speed cap as the telemetry shows it kept.
-    cap_watch: CapWatch,
-    /// Keeps pasted and hasty keys from answering a question.
-    question_guard: question::QuestionGuard,
-    /// Other clients on the same arm: their stops and motions (see `other_client`).
-    others: other_client::OtherClients,
 }
 
 impl App {
     pub fn new(config: AppConfig, positions: PositionBook) -> App {
-        let jog = JogEngine::new(config.release_mode, config.refresh);
-        let shared_keymap = Arc::new(config.keymap.clone());
+        let keys = parts::Keys::new(config.release_mode, config.refresh);
         App {
             config,
-            jog,
-            overlay: Overlay::None,
-            messages: message::Messages::default(),
-            link: LinkStatus::Connecting,
-            telemetry: None,
-            telemetry_source: TelemetrySource::None,
-            latency: None,
-            speed: None,
-            frame: ReferenceFrame::Base,
-            step: Step {
-                enabled: false,
-                index: 2,
-            },
-            positions,
-            book_state: BookState::Ready,
-            selected: 0,
-            log: VecDeque::new(),
-            hex: false,
-            size: (80, 24),
-            quitting: false,
-            guard: None,
+            keys,
+            book: parts::Book::new(positions),
+            arm: parts::Arm::default(),
             truth: MotionTruth::default(),
+            screen: parts::Screen::default(),
+            quitting: false,
             now: None,
-            swallowed: None,
-            last_key: None,
-            form_opener: None,
-            renaming: None,
-            restoring: None,
-            last_deleted: None,
-            shared_keymap,
-            resave: resave::Resave::default(),
-            saving: saving::Saving::default(),
-            help_scroll: 0,
-            history: History::default(),
-            trail: ToolTrail::default(),
-            cap_watch: CapWatch::default(),
-            question_guard: question::QuestionGuard::default(),
-            others: other_client::OtherClients::default(),
         }
     }
 
     /// Whether the terminal is large enough to show the status.
     pub fn fits(&self) -> bool {
-        self.size.0 >= MIN_WIDTH && self.size.1 >= MIN_HEIGHT
+        self.screen.size.0 >= MIN_WIDTH && self.screen.size.1 >= MIN_HEIGHT
     }
 
     pub fn selected_name(&self) -> Option<&str> {
-        self.positions.name_at(self.selected)
+        self.book.positions.name_at(self.book.selected)
     }
 
     /// When the runtime must next send [`Input::Tick`].
     pub fn next_deadline(&self) -> Option<Instant> {
-        let message = self.messages.deadline();
-        self.jog
+        let message = self.screen.messages.deadline();
+        self.keys
+            .jog
             .next_deadline()
             .into_iter()
             .chain(message)
@@ -324,14 +262,14 @@ impl App {
             Input::FocusLost => self.stop_jog(now, &mut effects),
             Input::FocusGained => {}
             Input::Resize { width, height } => {
-                self.size = (width, height);
+                self.screen.size = (width, height);
                 if !self.fits() {
                     self.stop_jog(now, &mut effects);
                 }
             }
             Input::Tick => {
-                let before = self.jog.active();
-                let mut jog = self.jog.tick(now);
+                let before = self.keys.jog.active();
+                let mut jog = self.keys.jog.tick(now);
                 self.hold_refresh(before, &mut jog, now);
                 self.apply_jog(jog, now, &mut effects);
                 self.other_clients_on_tick(now, &mut effects);
@@ -353,7 +291,7 @@ impl App {
         self.hold_saves_until_loaded(now, &mut effects);
         self.count_saves(&effects);
         self.settle_messages(now);
-        self.question_guard.note(&self.overlay, now);
+        self.keys.question_guard.note(&self.screen.overlay, now);
         effects
     }
 
@@ -366,13 +304,13 @@ impl App {
 
     /// Stops a jog in progress; the jog keys still down stay latched until released.
     fn stop_jog(&mut self, now: Instant, effects: &mut Vec<Effect>) {
-        let jog = self.jog.stop_all(now);
+        let jog = self.keys.jog.stop_all(now);
         self.apply_jog(jog, now, effects);
     }
 
     /// Stops everything, jog or not (space, quick paths): STOP is always sent.
     fn stop_everything(&mut self, now: Instant, effects: &mut Vec<Effect>) {
-        self.jog.stop_all(now);
+        self.keys.jog.stop_all(now);
         effects.push(Effect::Arm(ArmCommand::Stop));
     }
 
@@ -385,6 +323,6 @@ impl App {
 
     /// Up and heard from: a stale link starts no motion.
     fn link_is_up(&self) -> bool {
-        matches!(self.link, LinkStatus::Up { .. }) && self.link_stale().is_none()
+        matches!(self.arm.link, LinkStatus::Up { .. }) && self.link_stale().is_none()
     }
 }

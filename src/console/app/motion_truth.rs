@@ -182,7 +182,9 @@ impl MotionTruth {
         self.expect
     }
 
-    fn expects_telemetry(&self) -> bool {
+    /// The driver has said telemetry comes (Modbus or the Talos hardware companion): the one
+    /// answer to "is telemetry expected".
+    pub(in crate::console::app) fn expects_telemetry(&self) -> bool {
         matches!(
             self.expect,
             Some(TelemetrySource::Modbus | TelemetrySource::TalosHardware)

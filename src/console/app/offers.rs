@@ -51,11 +51,11 @@ impl App {
                  positions); add --modbus"
             ));
         }
-        let entry = self.positions.get(name)?;
+        let entry = self.book.positions.get(name)?;
         if entry.cartesian.is_none() {
             return Some(format!("'{name}' has no coordinates stored"));
         }
-        (entry.orientation.is_none() && self.telemetry.is_none()).then(|| {
+        (entry.orientation.is_none() && self.arm.telemetry.is_none()).then(|| {
             format!(
                 "cannot go to '{name}' yet: it has no orientation stored, and no telemetry \
                  has given the tool's"

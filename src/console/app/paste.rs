@@ -25,7 +25,7 @@ impl App {
             }
             Pasted::Text(text) => text,
         };
-        let Overlay::Form(form) = &mut self.overlay else {
+        let Overlay::Form(form) = &mut self.screen.overlay else {
             self.say(
                 "paste ignored: pasted text is never keys",
                 Severity::Info,

@@ -61,7 +61,7 @@ impl App {
         now: Instant,
         effects: &mut Vec<Effect>,
     ) -> bool {
-        let Some(why) = self.question_guard.refuses(burst, now) else {
+        let Some(why) = self.keys.question_guard.refuses(burst, now) else {
             return false;
         };
         self.stop_jog(now, effects);

@@ -40,13 +40,14 @@ impl App {
         }
         let lost = self.config.positions_on_operator
             && self
+                .book
                 .positions
                 .get(&name)
                 .is_some_and(|e| e.unknown_to_operator);
         if !lost {
-            self.overlay = Overlay::Confirm(Confirm::GoTo(name));
+            self.screen.overlay = Overlay::Confirm(Confirm::GoTo(name));
         } else if self.remembered_cartesian(&name).is_some() {
-            self.overlay = Overlay::Confirm(Confirm::Resave(name));
+            self.screen.overlay = Overlay::Confirm(Confirm::Resave(name));
         } else {
             self.say(
                 format!("'{name}' is unknown to the operator and no coordinates are remembered"),
@@ -57,7 +58,7 @@ impl App {
     }
 
     fn remembered_cartesian(&self, name: &str) -> Option<[i32; 3]> {
-        self.positions.get(name).and_then(|e| e.cartesian)
+        self.book.positions.get(name).and_then(|e| e.cartesian)
     }
 
     /// The technician said yes to re-saving `name`.
@@ -86,17 +87,21 @@ impl App {
             Severity::Info,
             now,
         );
-        self.resave.then_go = Some((name, now));
+        self.book.resave.then_go = Some((name, now));
     }
 
     /// A Go To is being sent for `name`.
     pub(super) fn going_to(&mut self, name: &str) {
-        self.resave.goto_sent = Some(name.to_string());
+        self.book.resave.goto_sent = Some(name.to_string());
     }
 
     /// The operator accepted Set Cartesian Position for `name`: the go-to a re-save was for.
     pub(super) fn after_resave(&mut self, name: &str, now: Instant, effects: &mut Vec<Effect>) {
-        let Some((pending, asked)) = self.resave.then_go.take_if(|(n, _)| n.as_str() == name)
+        let Some((pending, asked)) = self
+            .book
+            .resave
+            .then_go
+            .take_if(|(n, _)| n.as_str() == name)
         else {
             return;
         };
@@ -127,7 +132,7 @@ impl App {
             _ => false,
         };
         if interrupts {
-            self.resave.then_go = None;
+            self.book.resave.then_go = None;
         }
     }
 
@@ -141,21 +146,22 @@ impl App {
     ) -> bool {
         match command {
             CommandKind::SetCartesianPosition => {
-                self.resave.then_go = None;
+                self.book.resave.then_go = None;
                 false
             }
             CommandKind::GoToPosition
                 if *error == ArmError::ReturnCode(ReturnCode::UNKNOWN_POSITION) =>
             {
-                let Some(name) = self.resave.goto_sent.take() else {
+                let Some(name) = self.book.resave.goto_sent.take() else {
                     return false;
                 };
-                if let Some(entry) = self.positions.get_mut(&name) {
+                if let Some(entry) = self.book.positions.get_mut(&name) {
                     entry.unknown_to_operator = true;
                 }
                 let can_offer = self.remembered_cartesian(&name).is_some();
-                if can_offer && self.overlay == Overlay::None && !self.jog.is_jogging() {
-                    self.overlay = Overlay::Confirm(Confirm::Resave(name.clone()));
+                if can_offer && self.screen.overlay == Overlay::None && !self.keys.jog.is_jogging()
+                {
+                    self.screen.overlay = Overlay::Confirm(Confirm::Resave(name.clone()));
                     self.say(
                         format!("the operator does not know '{name}'"),
                         Severity::Warning,

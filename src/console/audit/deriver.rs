@@ -6,8 +6,9 @@ use std::collections::BTreeMap;
 use std::time::{Duration, SystemTime};
 
 use super::{AuditEvent, AuditRecord};
-use crate::console::app::{describe_motion, fault_reason};
+use crate::console::coords::describe_motion;
 use crate::console::positions::PositionBook;
+use crate::kortex::arm_state::fault_reason;
 use crate::kortex::{CodeName, Pose, ReferenceFrame};
 use crate::link::driver::{INITIAL_SPEED, MAX_ANGULAR_JOG_SPEED};
 use crate::link::interface::{ArmCommand, ArmEvent, GuardStatus, JogMotion, LinkStatus, StepMove};

@@ -6,7 +6,7 @@ use ratatui::text::Line;
 
 use super::numbers::fixed;
 use super::theme::Theme;
-use crate::console::app::polar_of;
+use crate::console::coords::polar_of;
 use crate::console::positions::BookEntry;
 use crate::console::view::View;
 use crate::link::interface::PositionCoordinates;

@@ -3,9 +3,9 @@
 use std::time::Instant;
 
 use super::{ACTION_GRACE, ACTION_TIMEOUT, MOVED_DEG, NO_MOTION_GRACE, NO_TELEMETRY_ACTION_TIME};
-use crate::console::app::arm_state::{abort_reason, at_rest, fault_reason};
 use crate::console::app::message::Until;
 use crate::console::app::{App, Severity};
+use crate::kortex::arm_state::{abort_reason, at_rest, fault_reason};
 use crate::kortex::{ActionStatus, Coded, Flag, Telemetry};
 
 impl App {

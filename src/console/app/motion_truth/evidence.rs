@@ -4,9 +4,9 @@
 use std::time::Instant;
 
 use super::INTERVALS_KEPT;
-use crate::console::app::arm_state::at_rest;
 use crate::console::app::message::Until;
 use crate::console::app::{App, Severity};
+use crate::kortex::arm_state::at_rest;
 use crate::link::interface::{ArmEvent, LinkStatus};
 
 impl App {
@@ -16,7 +16,7 @@ impl App {
         match event {
             ArmEvent::Status(status) => {
                 let came_up = matches!(status, LinkStatus::Up { .. })
-                    && !matches!(self.link, LinkStatus::Up { .. });
+                    && !matches!(self.arm.link, LinkStatus::Up { .. });
                 if came_up {
                     truth.link_up_at = Some(now);
                     truth.waiting_since = None;

@@ -4,14 +4,14 @@ use std::time::Instant;
 
 use super::{MotionShown, STOP_GRACE};
 use crate::console::app::App;
-use crate::console::app::arm_state::age_text;
+use crate::console::app::age::age_text;
 use crate::link::interface::LinkStatus;
 
 impl App {
     /// What the status bar says about motion, by precedence: a jog, a tracked action, a STOP
     /// being confirmed, any doubt, idle.
     pub fn motion_shown(&self) -> MotionShown {
-        if let Some(motion) = self.jog.active() {
+        if let Some(motion) = self.keys.jog.active() {
             return MotionShown::Jog(motion);
         }
         let truth = &self.truth;
@@ -28,7 +28,7 @@ impl App {
             return MotionShown::MayBeMoving(format!("stop not confirmed: {reason}"));
         }
         if truth.unsettled {
-            match &self.link {
+            match &self.arm.link {
                 LinkStatus::Up { .. } => {}
                 _ => return MotionShown::MayBeMoving("link lost after motion".into()),
             }

@@ -6,7 +6,7 @@ use std::time::{Duration, Instant};
 
 use super::{ACTION_TIMEOUT, MotionTruth, NO_TELEMETRY_ACTION_TIME, STALE_AFTER, STOP_GRACE};
 use crate::console::app::App;
-use crate::console::app::arm_state::AGE_TENTHS_UNTIL;
+use crate::console::app::age::AGE_TENTHS_UNTIL;
 use crate::link::interface::LinkStatus;
 
 impl MotionTruth {
@@ -84,7 +84,7 @@ impl App {
     /// How long the link has been silent, when that makes it stale (only while it is up).
     pub fn link_stale(&self) -> Option<Duration> {
         let now = self.now?;
-        match self.link {
+        match self.arm.link {
             LinkStatus::Up { .. } => self.truth.stale_for(now),
             _ => None,
         }
@@ -101,6 +101,6 @@ impl App {
     pub(in crate::console::app) fn truth_deadline(&self) -> Option<Instant> {
         let now = self.now?;
         self.truth
-            .next_deadline(now, matches!(self.link, LinkStatus::Up { .. }))
+            .next_deadline(now, matches!(self.arm.link, LinkStatus::Up { .. }))
     }
 }

@@ -1,31 +1,17 @@
-//! What telemetry says about the arm, for the console and `armjog modbus home`: at rest or
-//! not, why an action aborted, whether the arm is in fault; and ages as the screen shows them.
-//! Pure.
+//! What telemetry says about the arm, for the console, its audit and `armjog modbus home`: at
+//! rest or not, why an action aborted, whether the arm is in fault. Pure.
 
-use std::time::Duration;
-
-use crate::kortex::gen3::JOINT_LIMITS_DEG;
-use crate::kortex::{Coded, Flag, RobotState, Telemetry};
+use super::gen3::JOINT_LIMITS_DEG;
+use super::{Coded, Flag, RobotState, Telemetry};
 
 /// Below these the arm is at rest.
-pub(super) const REST_JOINT_DEG_S: f32 = 0.5;
-pub(super) const REST_LINEAR_M_S: f32 = 0.002;
-pub(super) const REST_ANGULAR_DEG_S: f32 = 0.5;
+pub const REST_JOINT_DEG_S: f32 = 0.5;
+pub const REST_LINEAR_M_S: f32 = 0.002;
+pub const REST_ANGULAR_DEG_S: f32 = 0.5;
 /// A joint this close to its limit may be the one an abort stopped at.
 const NEAR_LIMIT_DEG: f32 = 3.0;
 /// A joint this close to its limit is at it.
 const AT_LIMIT_DEG: f32 = 0.5;
-/// Ages below this are shown in tenths of a second, above it in whole seconds.
-pub(super) const AGE_TENTHS_UNTIL: Duration = Duration::from_secs(10);
-
-/// An age for the screen: `1.8 s`, or `42 s` once past ten seconds.
-pub fn age_text(age: Duration) -> String {
-    if age < AGE_TENTHS_UNTIL {
-        format!("{:.1} s", age.as_secs_f64())
-    } else {
-        format!("{} s", age.as_secs())
-    }
-}
 
 /// Whether telemetry shows the arm at rest (NaN counts as moving).
 pub fn at_rest(t: &Telemetry) -> bool {
