@@ -239,7 +239,8 @@ async fn event_loop(
             _ = sleep_until(deadline) => {
                 // A release already typed goes before a refresh decided without it.
                 let refresh_due = app.jog().refresh_due(Instant::now());
-                match input_first::waiting_input(refresh_due, terminal::input_waiting, &mut keys).await {
+                let arrived = refresh_due && (keys.input_arrived() || terminal::input_waiting());
+                match input_first::waiting_input(refresh_due, || arrived, &mut keys).await {
                     Some(event) => terminal_event(event),
                     None => Some(Input::Tick),
                 }

@@ -103,3 +103,23 @@ async fn a_closed_terminal_ends_the_stream() {
     let end = tokio::time::timeout(Duration::from_secs(5), input.next()).await;
     assert!(matches!(end, Ok(None)), "{end:?}");
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn input_that_has_arrived_is_told_until_the_event_loop_takes_it() {
+    let (mut typist, mut input) = terminal();
+    assert!(!input.input_arrived(), "nothing typed");
+    typist.write_all(b" ").expect("space");
+    // The thread reads it, then hands it over: from the read until it is taken, it is told.
+    let until = Instant::now() + Duration::from_secs(20);
+    while !input.input_arrived() {
+        assert!(Instant::now() < until, "the space was told within 20 s");
+        tokio::time::sleep(Duration::from_millis(1)).await;
+    }
+    let event = tokio::time::timeout(Duration::from_secs(20), input.next())
+        .await
+        .expect("the space came")
+        .expect("input open")
+        .expect("read");
+    assert!(is_space(&event), "{event:?}");
+    assert!(!input.input_arrived(), "taken: nothing more has arrived");
+}

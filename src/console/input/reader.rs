@@ -7,6 +7,8 @@
 use std::io;
 use std::os::fd::{AsFd, OwnedFd};
 use std::pin::Pin;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::task::{Context, Poll};
 use std::time::{Duration, Instant};
 
@@ -51,6 +53,9 @@ pub enum Refusal {
 pub struct TerminalInput {
     events: mpsc::Receiver<io::Result<TerminalEvent>>,
     window_changes: Option<tokio::signal::unix::Signal>,
+    /// Set by the thread from the moment the terminal is readable until what it read is
+    /// handed over: input that has arrived but is not yet an event.
+    reading: Arc<AtomicBool>,
 }
 
 /// The controlling terminal, opened for reading on its own (non-blocking) file description:
@@ -76,10 +81,12 @@ impl TerminalInput {
     /// Reads `fd` (non-blocking) on a new thread until it ends or the stream is dropped.
     pub fn spawn<F: AsFd + Send + 'static>(fd: F) -> io::Result<TerminalInput> {
         let (sender, events) = mpsc::channel(QUEUE);
+        let reading = Arc::new(AtomicBool::new(false));
+        let flag = reading.clone();
         std::thread::Builder::new()
             .name("terminal input".into())
             .spawn(move || {
-                let mut reader = Reader::new(sender);
+                let mut reader = Reader::new(sender, flag);
                 if let Err(e) = reader.run(fd) {
                     let _ = reader.sender.blocking_send(Err(e));
                 }
@@ -87,7 +94,15 @@ impl TerminalInput {
         Ok(TerminalInput {
             events,
             window_changes: None,
+            reading,
         })
+    }
+
+    /// Whether input has arrived that the event loop has not taken yet: events handed over,
+    /// or bytes the thread is reading and decoding now. (Bytes still unread on the terminal
+    /// are [`crate::console::terminal::input_waiting`]'s to tell.)
+    pub fn input_arrived(&self) -> bool {
+        self.reading.load(Ordering::SeqCst) || !self.events.is_empty()
     }
 }
 
@@ -111,18 +126,21 @@ struct Reader {
     burst: Burst,
     buffer: Box<[u8]>,
     sender: mpsc::Sender<io::Result<TerminalEvent>>,
+    /// [`TerminalInput::input_arrived`]'s flag.
+    reading: Arc<AtomicBool>,
 }
 
 /// The event loop has gone (or the terminal has closed): the thread ends.
 struct Gone;
 
 impl Reader {
-    fn new(sender: mpsc::Sender<io::Result<TerminalEvent>>) -> Reader {
+    fn new(sender: mpsc::Sender<io::Result<TerminalEvent>>, reading: Arc<AtomicBool>) -> Reader {
         Reader {
             decoder: Decoder::default(),
             burst: Burst::default(),
             buffer: vec![0; READ_SIZE].into_boxed_slice(),
             sender,
+            reading,
         }
     }
 
@@ -141,7 +159,13 @@ impl Reader {
                     self.decoder.stalled(&mut decoded);
                     self.hand_over(decoded, Verdict::Keys)
                 }
-                Ok(_) => self.drain(&fd)?,
+                Ok(_) => {
+                    // Set before the bytes leave the terminal, cleared once they are events.
+                    self.reading.store(true, Ordering::SeqCst);
+                    let drained = self.drain(&fd);
+                    self.reading.store(false, Ordering::SeqCst);
+                    drained?
+                }
                 Err(rustix::io::Errno::INTR) => Ok(()),
                 Err(e) => return Err(e.into()),
             };
