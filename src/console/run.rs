@@ -239,7 +239,9 @@ async fn event_loop(
             _ = sleep_until(deadline) => {
                 // A release already typed goes before a refresh decided without it.
                 let refresh_due = app.jog().refresh_due(Instant::now());
-                let arrived = refresh_due && (keys.input_arrived() || terminal::input_waiting());
+                // The terminal first, then the reader: bytes the reader takes in between were
+                // flagged before it read them, so input that has arrived is never missed.
+                let arrived = refresh_due && (terminal::input_waiting() || keys.input_arrived());
                 match input_first::waiting_input(refresh_due, || arrived, &mut keys).await {
                     Some(event) => terminal_event(event),
                     None => Some(Input::Tick),
