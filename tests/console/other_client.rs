@@ -7,15 +7,14 @@ use std::time::Instant;
 use armjog::console::app::{
     App, AppConfig, Effect, Input, MotionShown, OTHER_CLIENT_GRACE, OTHER_CLIENT_SAMPLES,
 };
-use armjog::console::jog::{KeyKind, ReleaseMode};
-use armjog::console::keymap::Keymap;
+use armjog::console::jog::KeyKind;
 use armjog::console::positions::PositionBook;
 use armjog::kortex::{
     ActionStatus, Coded, Flag, FlagSet, MoveType, RegisterImage, RobotState, Telemetry,
 };
 use armjog::link::interface::{ArmEvent, LinkStatus, TelemetrySource};
 
-use crate::app_support::{STOP, buffer_text, jog, key, ms, press, screen};
+use crate::app_support::{STOP, buffer_text, config, jog, key, ms, press, screen};
 
 /// A ready arm; the tool moving along X at `mm_s`, its action started, a twist.
 fn moving_at(mm_s: f32) -> Telemetry {
@@ -34,14 +33,8 @@ fn at_rest() -> Telemetry {
 
 fn console(source: TelemetrySource) -> (App, Instant) {
     let config = AppConfig {
-        keymap: Keymap::builtin("default").expect("default keymap").into(),
-        release_mode: ReleaseMode::Reported,
-        refresh: ms(100),
         positions_on_operator: source != TelemetrySource::Modbus,
-        max_jog_speed: 0.25,
-        joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
-        frames: false,
-        simulated: false,
+        ..config()
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();

@@ -5,16 +5,13 @@
 
 use std::time::{Duration, Instant};
 
-use armjog::console::app::{
-    App, AppConfig, CONTRADICTED_FOR, Effect, Input, MotionShown, REFRESH_WAIT,
-};
-use armjog::console::jog::{JogMotion, KeyKind, ReleaseMode};
-use armjog::console::keymap::Keymap;
+use armjog::console::app::{App, CONTRADICTED_FOR, Effect, Input, MotionShown, REFRESH_WAIT};
+use armjog::console::jog::{JogMotion, KeyKind};
 use armjog::console::positions::PositionBook;
 use armjog::kortex::{ActionStatus, Coded, MoveType, RegisterImage, RobotState, Telemetry};
 use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus, TelemetrySource};
 
-use crate::app_support::{STOP, key, ms};
+use crate::app_support::{STOP, config, key, ms};
 
 const PLUS_Y: JogMotion = JogMotion::Cartesian { x: 0, y: 1, z: 0 };
 
@@ -38,16 +35,7 @@ fn at_rest() -> Telemetry {
 /// A console on the default link shape (Talos jogs, Modbus telemetry) at 50 %, holding `a`
 /// (+Y) since `t0`.
 fn jogging() -> (App, Instant) {
-    let config = AppConfig {
-        keymap: Keymap::builtin("default").expect("default keymap").into(),
-        release_mode: ReleaseMode::Reported,
-        refresh: ms(100),
-        positions_on_operator: true,
-        max_jog_speed: 0.25,
-        joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
-        frames: false,
-        simulated: false,
-    };
+    let config = config();
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();
     for event in [
