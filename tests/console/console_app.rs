@@ -4,9 +4,8 @@
 use armjog::console::app::QUESTION_QUIET;
 use std::time::{Duration, Instant};
 
-use armjog::console::app::{App, AppConfig, Effect, Input, Overlay};
+use armjog::console::app::{App, Effect, Input, Overlay};
 use armjog::console::jog::{JogMotion, KeyKind, ReleaseMode};
-use armjog::console::keymap::Keymap;
 use armjog::console::positions::PositionBook;
 use armjog::link::interface::{
     ArmCommand, ArmError, ArmEvent, CommandKind, LinkStatus, PositionCoordinates, StepMove,
@@ -433,16 +432,7 @@ fn over_modbus_the_console_keeps_positions_and_go_to_moves_to_the_stored_pose() 
 
 #[test]
 fn remembered_names_are_checked_with_the_operator_when_the_link_comes_up() {
-    let config = AppConfig {
-        keymap: Keymap::builtin("default").expect("default keymap").into(),
-        release_mode: ReleaseMode::Reported,
-        refresh: Duration::from_millis(100),
-        positions_on_operator: true,
-        max_jog_speed: 0.25,
-        joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
-        frames: false,
-        simulated: false,
-    };
+    let config = app_support::config();
     let mut book = PositionBook::new();
     book.get_or_insert("ghost");
     let mut app = App::new(config, book);
@@ -473,16 +463,7 @@ fn remembered_names_are_checked_with_the_operator_when_the_link_comes_up() {
 
 #[test]
 fn an_answer_about_a_name_not_in_the_book_adds_nothing_and_leaves_the_selection() {
-    let config = AppConfig {
-        keymap: Keymap::builtin("default").expect("default keymap").into(),
-        release_mode: ReleaseMode::Reported,
-        refresh: Duration::from_millis(100),
-        positions_on_operator: true,
-        max_jog_speed: 0.25,
-        joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
-        frames: false,
-        simulated: false,
-    };
+    let config = app_support::config();
     let mut book = PositionBook::new();
     book.get_or_insert("bench");
     book.get_or_insert("table");

@@ -317,12 +317,7 @@ async fn dropping_a_link_stopped_in_full_sends_nothing() {
     let sent = op.frames_until_quiet(Duration::from_millis(200)).await;
     assert_eq!(sent.len(), 4);
     drop(link);
-    assert!(
-        tokio::time::timeout(Duration::from_millis(150), op.received.recv())
-            .await
-            .map(|item| item.is_none())
-            .unwrap_or(true)
-    );
+    assert_nothing_more(&mut op).await;
 }
 
 #[tokio::test]
@@ -334,12 +329,7 @@ async fn dropping_an_idle_link_sends_nothing() {
     link.request(Request::GetSpeed).await.unwrap();
     assert_eq!(op.next_frame().await.command, 0x0009);
     drop(link);
-    assert!(
-        tokio::time::timeout(Duration::from_millis(150), op.received.recv())
-            .await
-            .map(|item| item.is_none())
-            .unwrap_or(true)
-    );
+    assert_nothing_more(&mut op).await;
 }
 
 #[tokio::test]
@@ -455,5 +445,16 @@ async fn ack_dialect_an_expired_request_leaves_the_queue_so_the_next_stop_pairs_
             }))
         ),
         "{event:?}"
+    );
+}
+
+/// Nothing more reaches the operator within 150 ms (the link closes, or stays quiet).
+async fn assert_nothing_more(op: &mut TestOperator) {
+    assert!(
+        tokio::time::timeout(Duration::from_millis(150), op.received.recv())
+            .await
+            .map(|item| item.is_none())
+            .unwrap_or(true),
+        "a frame after the link was dropped"
     );
 }
