@@ -3,7 +3,7 @@
 //! The simulated arm runs in the test (its Modbus twist, like a real Kinova's, has no
 //! watchdog); the guard is the real binary (`armjog guard`), fed through a pipe the test holds
 //! like a console would, or started by the arm driver as the console starts it.
-//! `tests/guard_console.rs` kills the real console binary mid-jog. Bounds are generous for a
+//! `guard_console.rs` kills the real console binary mid-jog. Bounds are generous for a
 //! loaded CI; the design target of 300 ms from the console's death to the stop is logged, not
 //! asserted.
 

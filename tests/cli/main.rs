@@ -1,29 +1,26 @@
-//! The command line: `armjog send`, `status`, `modbus`, the file limits, the guard, and the
-//! layering rules of the source tree.
+//! The command line: `armjog send`, `status`, `modbus`, `sim`'s options, the file limits and the
+//! guard.
 //!
-//! One test binary for several former ones (linking one binary per file cost most of a CI
-//! run): each module is one former `tests/<name>.rs`, so test paths read `<name>::<test>`.
-//! Helpers shared with other binaries stay in `tests/<helper>/` and come in by path.
+//! One test binary per folder (linking one binary per file cost most of a CI run): each module
+//! is named for what it tests, so test paths read `<module>::<test>`. Helpers shared with other
+//! binaries stay in `tests/<helper>/` and come in by path.
 
 #[path = "../common/mod.rs"]
 mod common;
 #[path = "../guard_support/mod.rs"]
 mod guard_support;
-#[path = "../layers_scan/mod.rs"]
-mod layers_scan;
 #[path = "../modbus_fake/mod.rs"]
 mod modbus_fake;
 
 mod armjog_run;
-mod cli_broken_pipe;
-mod cli_errors;
-mod cli_logs;
-mod cli_options;
-mod cli_send;
+mod broken_pipe;
+mod errors;
 mod file_limits;
 mod guard;
 mod guard_console;
-mod layers;
-mod modbus_cli;
-mod sim_near_limit;
-mod sim_near_singularity;
+mod logs;
+mod modbus;
+mod options;
+mod send;
+mod sim_args_near_limit;
+mod sim_args_near_singularity;

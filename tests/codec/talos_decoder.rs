@@ -12,7 +12,7 @@
 //!   is still taken, if its length is within the bound and the checksum matches: the decoder
 //!   waits for the rest of it like for any other frame. So the outcome never depends on how the
 //!   bytes were split into reads (a header announcing more than comes is the reader's deadline's
-//!   business, see `tests/frame_reader.rs`);
+//!   business, see `talos_split_frames.rs`);
 //! - with `none` (nothing to check) every position must be plausible;
 //! - at end of stream, a frame that can no longer complete is dropped the same way.
 //!
@@ -740,7 +740,7 @@ fn a_stray_byte_does_not_hold_back_the_frame_behind_it_while_resynchronising() {
     // frame here), and always with `none`, only plausible headers are waited for, so the frame
     // comes out without waiting for more bytes. (At a clean boundary with a checksum, the
     // decoder waits for such a header like for any frame; the reader's per-frame deadline then
-    // releases the frame behind it: see tests/frame_reader.rs.)
+    // releases the frame behind it: see talos_split_frames.rs.)
     for checksum in Checksum::ALL {
         let mut corrupt = bytes_of(&get_speed(0x0100_0000), checksum);
         corrupt[3] ^= 0x40;

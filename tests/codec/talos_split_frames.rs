@@ -70,7 +70,7 @@ fn a_frame_split_at_every_offset_is_decoded_as_in_one_read() {
     for checksum in Checksum::ALL {
         let mut frames = vec![save(2), req(Request::PolarPanStop, 4)];
         // With no checksum, nothing vouches for a header the ICD does not allow: those are
-        // refused whole (see tests/talos_decoder.rs).
+        // refused whole (see talos_decoder.rs).
         if checksum != Checksum::None {
             frames.extend([unknown_command(6), wrong_length(8)]);
         }

@@ -4,7 +4,7 @@
 //! after, and the driver goes on taking commands. Real loopback sockets; the operator's receive
 //! buffer is made small before it accepts. On loopback the sending side's buffer takes a
 //! megabyte or more, so a burst fills the link's queue first and that ends the link; the
-//! 500 ms write stall is measured exactly in `talos_link_stall.rs`, on the paused clock.
+//! 500 ms write stall is measured exactly in `talos_stall.rs`, on the paused clock.
 
 use crate::driver_stop::{next_stop_write, recording_arm, wait_for};
 

@@ -1,7 +1,7 @@
 //! Every path that stops the Talos side sends the same stop set, and it is the set written by
 //! hand from the ICDs (`common::stop_set`): the STOP and QUICK STOP keys, the panic hook's
 //! `StopHandle`, quit (a STOP, then the driver's exit), the driver's exit alone, and a dropped
-//! link. (A failed link that can still write is in `talos_link_stall.rs`, on the paused clock.)
+//! link. (A failed link that can still write is in `talos_stall.rs`, on the paused clock.)
 //! Real loopback sockets against the scripted operator, in both dialects.
 
 use crate::common::{self, TestOperator, stop_set, wire};

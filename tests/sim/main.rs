@@ -1,18 +1,18 @@
 //! The simulator's Talos and Modbus servers through real sockets.
 //!
-//! One test binary for several former ones (linking one binary per file cost most of a CI
-//! run): each module is one former `tests/<name>.rs`, so test paths read `<name>::<test>`.
-//! Helpers shared with other binaries stay in `tests/<helper>/` and come in by path.
+//! One test binary per folder (linking one binary per file cost most of a CI run): each module
+//! is named for what it tests, so test paths read `<module>::<test>`. Helpers shared with other
+//! binaries stay in `tests/<helper>/` and come in by path.
 
 #[path = "../log_capture/mod.rs"]
 mod log_capture;
 
-mod sim_hostile_names;
-mod sim_modbus;
-mod sim_modbus_hostile;
-mod sim_speed_cap;
-mod sim_talos;
-mod sim_talos_disconnect;
-mod sim_talos_handshake;
-mod sim_talos_reject_log;
-mod sim_talos_split;
+mod hostile_names;
+mod modbus;
+mod modbus_hostile;
+mod speed_cap;
+mod talos;
+mod talos_disconnect;
+mod talos_handshake;
+mod talos_reject_log;
+mod talos_split;

@@ -28,7 +28,7 @@
 //! withheld refreshes, well inside the 500 ms watchdog. What no telemetry can show: a STOP that
 //! reaches an arm that stops and restarts at once (the simulator) between the read of the
 //! sample a refresh went out on and the refresh's arrival, a few ms; measured 0-3 of 30 stops
-//! on the default link (tests/console/other_client_default_e2e.rs), 6 of 30 before.
+//! on the default link (tests/console/e2e/other_client_default.rs), 6 of 30 before.
 //!
 //! A joint-fault warning at such a stop means the arm stopped itself at a limit, and the
 //! message says that instead. A Talos operator's refusal of a jog refresh already stops and

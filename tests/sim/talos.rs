@@ -133,7 +133,7 @@ async fn refreshing_start_keeps_the_motion_alive_past_the_watchdog() {
 async fn a_silent_client_mid_jog_is_stopped_by_the_watchdog() {
     let sim = sim().await;
     // A raw client that freezes without STOP but keeps its connection open (a client that
-    // closes is stopped at once: tests/sim_talos_disconnect.rs).
+    // closes is stopped at once: talos_disconnect.rs).
     let mut stream = TcpStream::connect(sim.talos_addr).await.unwrap();
     let frame = Request::CartesianMoveStart {
         moving_x: -1,

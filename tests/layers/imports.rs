@@ -15,11 +15,11 @@
 //! a byte buffer), `bytes`, `std::io::{Error, ErrorKind, Result}` (the codec traits' error
 //! type) and the `tracing` facade (a log call does no IO of its own).
 
-use crate::layers_scan;
+use crate::scan;
 
 use std::path::Path;
 
-use layers_scan::{PathRef, path_refs};
+use scan::{PathRef, path_refs};
 
 /// Every top-level module of the library, bottom up, with what it may import from the crate
 /// besides itself. A new module needs a row here (the test says so).
@@ -117,7 +117,7 @@ fn judge(layer: &str, path_ref: &PathRef) -> Option<String> {
     }
     if PURE.contains(&layer) && !path_ref.in_docs && is_io(&path_ref.segments) {
         return Some(format!(
-            "{layer} is pure and does no IO (tests/cli/layers.rs says what counts as IO)"
+            "{layer} is pure and does no IO (tests/layers/imports.rs says what counts as IO)"
         ));
     }
     None
@@ -230,7 +230,7 @@ fn no_module_imports_a_layer_above_it() {
     assert!(
         found.is_empty(),
         "{} upward import(s); move the item down to the layer that needs it (or re-export it \
-         from the upper layer), see tests/cli/layers.rs:\n{}",
+         from the upper layer), see tests/layers/imports.rs:\n{}",
         found.len(),
         found.join("\n")
     );
@@ -251,7 +251,7 @@ fn every_top_level_module_has_a_layer() {
         .collect();
     assert!(
         missing.is_empty(),
-        "top-level module(s) {missing:?} have no layer: add a row to LAYERS in tests/cli/layers.rs \
+        "top-level module(s) {missing:?} have no layer: add a row to LAYERS in tests/layers/imports.rs \
          saying what each may import"
     );
 }

@@ -3,7 +3,7 @@
 
 use std::time::Duration;
 
-use crate::tmux_console::{Tmux, tcp_x};
+use crate::tmux::session::{Tmux, tcp_x};
 
 const HOME_QUESTION: &str = "Move the arm to its home pose?";
 

@@ -1,5 +1,5 @@
 //! The operator link against a scripted operator on loopback. Its exact timing (timeouts,
-//! STOP re-sends, late replies) is tested on the paused clock in `talos_link_paused.rs`.
+//! STOP re-sends, late replies) is tested on the paused clock in `talos_paused.rs`.
 
 use crate::common;
 

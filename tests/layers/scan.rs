@@ -1,4 +1,4 @@
-//! A small Rust source scanner for `tests/cli/layers.rs`: every path a file names, with its line.
+//! A small Rust source scanner for `imports.rs`: every path a file names, with its line.
 //!
 //! Not a parser: enough lexing to be exact about what counts. Plain comments and the contents
 //! of string and char literals are blanked (they name no module); doc comments are kept apart,

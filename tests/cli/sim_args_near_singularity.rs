@@ -2,7 +2,7 @@
 //! simulator at (inside the console's singularity warning, inside every joint limit), and its
 //! conflict with `--near-limit`.
 
-use crate::sim_near_limit::{sim_args, sim_long_help};
+use crate::sim_args_near_limit::{sim_args, sim_long_help};
 use armjog::kortex::gen3::{SINGULARITY_WARNING, condition_number};
 use armjog::sim::kinematics::{HOME_DEG, within_limit};
 

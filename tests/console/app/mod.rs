@@ -1,0 +1,21 @@
+//! The console's state machine (`armjog::console::app`) on a fake clock: inputs in, effects and
+//! view out. No terminal, no sockets.
+
+mod book_load;
+mod cap_watch;
+mod form_keys;
+mod history;
+mod jog_keys;
+mod messages;
+mod motion_gate;
+mod motion_truth;
+mod orientation_keys;
+mod other_client;
+mod other_client_rules;
+mod pastes;
+mod position_edits;
+mod positions_pose;
+mod positions_resave;
+mod positions_unsaved;
+mod singularity;
+mod state_machine;

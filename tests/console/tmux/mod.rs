@@ -1,0 +1,5 @@
+//! The real `armjog` binary in tmux, as a technician sees it (`.ci/run` installs tmux).
+
+mod logs;
+mod paste;
+mod session;
