@@ -74,7 +74,7 @@ async fn a_flood_of_keys_is_dropped_with_one_refusal_and_a_stop_after_a_pause_is
         // 1 MiB of "why", as a terminal without bracketed paste sends a paste.
         let flood: Vec<u8> = b"why".iter().copied().cycle().take(1024 * 1024).collect();
         typist.write_all(&flood).expect("flood");
-        std::thread::sleep(Duration::from_millis(200));
+        std::thread::sleep(Duration::from_millis(500));
         let stop_typed = Instant::now();
         typist.write_all(b" ").expect("stop");
         (typist, stop_typed)

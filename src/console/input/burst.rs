@@ -7,6 +7,10 @@ use std::time::{Duration, Instant};
 pub const BURST_GAP: Duration = Duration::from_millis(20);
 /// More key bytes than this in one burst is a flood: no one types 4 KiB without a pause.
 pub const BURST_LIMIT: usize = 4 * 1024;
+/// A flood ends only after this long without input: a sender (or this reader) descheduled for
+/// a moment on a loaded machine must not split one flood into several, each with its own 4 KiB
+/// of keys let through and its own message.
+pub const FLOOD_QUIET: Duration = Duration::from_millis(100);
 
 /// What a read's keys are.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -29,9 +33,13 @@ pub struct Burst {
 impl Burst {
     /// A read of `key_bytes` key bytes at `now`.
     pub fn read(&mut self, key_bytes: usize, now: Instant) -> Verdict {
+        let gap_ends_it = match self.flooding {
+            true => FLOOD_QUIET,
+            false => BURST_GAP,
+        };
         let continues = self
             .last_read
-            .is_some_and(|last| now.saturating_duration_since(last) <= BURST_GAP);
+            .is_some_and(|last| now.saturating_duration_since(last) <= gap_ends_it);
         if !continues {
             self.bytes = 0;
             self.flooding = false;
@@ -72,12 +80,18 @@ mod tests {
             burst.read(1, t1 + Duration::from_millis(15)),
             Verdict::Flooding
         );
+        let stalled = t1 + Duration::from_millis(15) + BURST_GAP * 3;
         assert_eq!(
-            burst.read(1, t1 + Duration::from_millis(15) + BURST_GAP),
+            burst.read(1, stalled),
             Verdict::Flooding,
-            "a gap of exactly the limit still continues the burst"
+            "a stall longer than a burst's gap does not split a flood"
         );
-        let after = t1 + Duration::from_millis(16) + BURST_GAP * 2;
+        assert_eq!(
+            burst.read(1, stalled + FLOOD_QUIET),
+            Verdict::Flooding,
+            "a gap of exactly the quiet still continues the flood"
+        );
+        let after = stalled + FLOOD_QUIET * 2 + Duration::from_millis(1);
         assert_eq!(burst.read(1, after), Verdict::Keys, "a pause ends it");
     }
 }
