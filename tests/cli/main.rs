@@ -9,6 +9,8 @@
 mod common;
 #[path = "../guard_support/mod.rs"]
 mod guard_support;
+#[path = "../log_files/mod.rs"]
+mod log_files;
 #[path = "../layers_scan/mod.rs"]
 mod layers_scan;
 #[path = "../modbus_fake/mod.rs"]
@@ -27,3 +29,5 @@ mod layers;
 mod modbus_cli;
 mod sim_near_limit;
 mod sim_near_singularity;
+mod version;
+mod doc_links;
