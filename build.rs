@@ -65,13 +65,22 @@ fn git_files_to_watch(root: &Path) -> Vec<String> {
     if !is_checkout(root) {
         return Vec::new();
     }
-    let mut paths = vec!["HEAD".to_string(), "index".to_string(), "packed-refs".to_string()];
+    let mut paths = vec![
+        "HEAD".to_string(),
+        "index".to_string(),
+        "packed-refs".to_string(),
+    ];
     if let Some(reference) = git(root, &["symbolic-ref", "-q", "HEAD"]) {
         paths.push(reference);
     }
     paths
         .iter()
-        .filter_map(|p| git(root, &["rev-parse", "--path-format=absolute", "--git-path", p]))
+        .filter_map(|p| {
+            git(
+                root,
+                &["rev-parse", "--path-format=absolute", "--git-path", p],
+            )
+        })
         .filter(|p| Path::new(p).exists())
         .collect()
 }

@@ -160,8 +160,8 @@ mod tests {
 
     #[test]
     fn each_role_has_its_own_file() {
-        let names =
-            [LogRole::Console, LogRole::Sim, LogRole::Cli, LogRole::Guard].map(LogRole::file_prefix);
+        let names = [LogRole::Console, LogRole::Sim, LogRole::Cli, LogRole::Guard]
+            .map(LogRole::file_prefix);
         // Pruning keeps the newest files whose name starts with a prefix: no prefix may start
         // another, or one program's files would crowd out another's.
         for (i, a) in names.iter().enumerate() {
@@ -214,10 +214,16 @@ mod tests {
             .count();
         assert_eq!(today, 1, "{names:?}");
         // Thirteen old ones (the newest: days 8 to 20) and today's make fourteen.
-        let kept: Vec<&String> = names.iter().filter(|n| n.starts_with("armjog-test.2000-")).collect();
+        let kept: Vec<&String> = names
+            .iter()
+            .filter(|n| n.starts_with("armjog-test.2000-"))
+            .collect();
         assert_eq!(kept, old[7..].iter().collect::<Vec<_>>(), "{names:?}");
         for neighbour in neighbours {
-            assert!(names.iter().any(|n| n == neighbour), "{neighbour} removed: {names:?}");
+            assert!(
+                names.iter().any(|n| n == neighbour),
+                "{neighbour} removed: {names:?}"
+            );
         }
     }
 }

@@ -147,7 +147,10 @@ mod tests {
             let exit = at(".SH \"EXIT STATUS\"\n");
             let env = at(".SH \"ENVIRONMENT\"\n");
             let files = at(".SH \"FILES\"\n");
-            assert!(at(".SH OPTIONS") < exit && exit < env && env < files, "{page}");
+            assert!(
+                at(".SH OPTIONS") < exit && exit < env && env < files,
+                "{page}"
+            );
             if let Some(version) = page.find(".SH VERSION") {
                 assert!(files < version, "{page}");
             }

@@ -62,7 +62,10 @@ const ENVIRONMENT: Section = (
             "XDG_CONFIG_HOME, XDG_STATE_HOME, XDG_DATA_HOME",
             "The base directories of the config file, the logs and audit, and the positions books.",
         ),
-        ("NO_COLOR", "When set and not empty, the console draws without colour."),
+        (
+            "NO_COLOR",
+            "When set and not empty, the console draws without colour.",
+        ),
     ],
 );
 
@@ -112,7 +115,11 @@ pub fn roff() -> String {
     for (title, entries) in [EXIT_STATUS, ENVIRONMENT, FILES] {
         out.push_str(&format!(".SH \"{title}\"\n"));
         for (term, text) in entries {
-            out.push_str(&format!(".TP\n\\fB{}\\fR\n{}\n", roff_text(term), roff_text(text)));
+            out.push_str(&format!(
+                ".TP\n\\fB{}\\fR\n{}\n",
+                roff_text(term),
+                roff_text(text)
+            ));
         }
     }
     out

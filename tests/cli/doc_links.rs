@@ -145,8 +145,14 @@ fn a_link_to_a_missing_file_or_heading_is_reported() {
     .expect("write");
     let broken = broken_links(&page);
     assert_eq!(broken.len(), 2, "{broken:?}");
-    assert!(broken[0].ends_with("missing.md: no such file"), "{broken:?}");
-    assert!(broken[1].ends_with("there.md#nowhere: no such heading"), "{broken:?}");
+    assert!(
+        broken[0].ends_with("missing.md: no such file"),
+        "{broken:?}"
+    );
+    assert!(
+        broken[1].ends_with("there.md#nowhere: no such heading"),
+        "{broken:?}"
+    );
 }
 
 #[test]
@@ -161,5 +167,8 @@ fn every_relative_link_in_the_readme_and_docs_names_a_file_that_exists() {
 fn the_readme_fits_on_a_page() {
     let readme = std::fs::read_to_string(Path::new(ROOT).join("README.md")).expect("README.md");
     let lines = readme.lines().count();
-    assert!(lines <= 250, "README.md has {lines} lines; at most 250 (the rest goes in docs/)");
+    assert!(
+        lines <= 250,
+        "README.md has {lines} lines; at most 250 (the rest goes in docs/)"
+    );
 }

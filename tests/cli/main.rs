@@ -9,10 +9,10 @@
 mod common;
 #[path = "../guard_support/mod.rs"]
 mod guard_support;
-#[path = "../log_files/mod.rs"]
-mod log_files;
 #[path = "../layers_scan/mod.rs"]
 mod layers_scan;
+#[path = "../log_files/mod.rs"]
+mod log_files;
 #[path = "../modbus_fake/mod.rs"]
 mod modbus_fake;
 
@@ -22,6 +22,7 @@ mod cli_errors;
 mod cli_logs;
 mod cli_options;
 mod cli_send;
+mod doc_links;
 mod file_limits;
 mod guard;
 mod guard_console;
@@ -30,4 +31,3 @@ mod modbus_cli;
 mod sim_near_limit;
 mod sim_near_singularity;
 mod version;
-mod doc_links;
