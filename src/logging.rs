@@ -1,10 +1,11 @@
 //! Logs go to a file, never to the terminal (the console owns it). Each part of armjog writes
 //! its own file, so the simulator's chatter never hides the console's story and the reverse.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use tracing::Metadata;
 use tracing_appender::non_blocking::WorkerGuard;
+use tracing_appender::rolling::{RollingFileAppender, Rotation};
 use tracing_subscriber::EnvFilter;
 use tracing_subscriber::filter::{FilterExt, filter_fn};
 use tracing_subscriber::layer::SubscriberExt;
@@ -18,30 +19,39 @@ const SIM_TARGET: &str = "armjog::sim";
 /// Which program this process is: it picks the log file(s).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LogRole {
-    /// The jog console: `armjog-console.log`, and `armjog-sim.log` for its built-in simulator.
+    /// The jog console: `armjog-console.DATE.log`, and `armjog-sim.DATE.log` for its built-in
+    /// simulator.
     Console,
-    /// `armjog sim`: `armjog-sim.log`.
+    /// `armjog sim`: `armjog-sim.DATE.log`.
     Sim,
-    /// One-shot commands (`send`, `status`, `modbus`): `armjog-cli.log`.
+    /// One-shot commands (`send`, `status`, `modbus`): `armjog-cli.DATE.log`.
     Cli,
-    /// The stop guard the console starts: `armjog-guard.log`.
+    /// The stop guard the console starts: `armjog-guard.DATE.log`.
     Guard,
 }
 
 impl LogRole {
-    /// The file everything this role logs goes to, but the simulator's events in the console.
-    pub fn file_name(self) -> &'static str {
+    /// The name the files of everything this role logs start with (all but the simulator's
+    /// events in the console): `PREFIX.YYYY-MM-DD.log`.
+    pub fn file_prefix(self) -> &'static str {
         match self {
-            LogRole::Console => "armjog-console.log",
-            LogRole::Sim => SIM_LOG,
-            LogRole::Cli => "armjog-cli.log",
-            LogRole::Guard => "armjog-guard.log",
+            LogRole::Console => "armjog-console",
+            LogRole::Sim => SIM_LOG_PREFIX,
+            LogRole::Cli => "armjog-cli",
+            LogRole::Guard => "armjog-guard",
         }
     }
 }
 
-/// The simulator's log file, standalone or built into the console.
-pub const SIM_LOG: &str = "armjog-sim.log";
+/// The prefix of the simulator's log files, standalone or built into the console.
+pub const SIM_LOG_PREFIX: &str = "armjog-sim";
+
+/// Every log file ends so: `armjog-cli.2026-12-01.log`.
+pub const LOG_SUFFIX: &str = "log";
+
+/// Log files roll over at UTC midnight; this many of each program's newest are kept (two
+/// weeks of days with a run), older ones deleted as a new one starts.
+pub const KEPT_LOG_FILES: usize = 14;
 
 /// Where logs are written: `$ARMJOG_LOG_DIR`, else the user's state (or local data) directory.
 pub fn log_dir() -> Option<PathBuf> {
@@ -81,11 +91,14 @@ pub struct LogGuards {
 pub fn init(role: LogRole) -> Option<LogGuards> {
     let dir = log_dir()?;
     std::fs::create_dir_all(&dir).ok()?;
-    let file =
-        |name: &str| tracing_appender::non_blocking(tracing_appender::rolling::never(&dir, name));
-    let (own, own_guard) = file(role.file_name());
+    let file = |prefix: &str| {
+        daily_files(&dir, prefix)
+            .ok()
+            .map(tracing_appender::non_blocking)
+    };
+    let (own, own_guard) = file(role.file_prefix())?;
     if role == LogRole::Console {
-        let (sim, sim_guard) = file(SIM_LOG);
+        let (sim, sim_guard) = file(SIM_LOG_PREFIX)?;
         tracing_subscriber::registry()
             .with(
                 fmt::layer()
@@ -119,6 +132,19 @@ pub fn init(role: LogRole) -> Option<LogGuards> {
     })
 }
 
+/// `dir/PREFIX.YYYY-MM-DD.log`, a new file each UTC day, the [`KEPT_LOG_FILES`] newest kept.
+fn daily_files(
+    dir: &Path,
+    prefix: &str,
+) -> Result<RollingFileAppender, tracing_appender::rolling::InitError> {
+    RollingFileAppender::builder()
+        .rotation(Rotation::DAILY)
+        .filename_prefix(prefix)
+        .filename_suffix(LOG_SUFFIX)
+        .max_log_files(KEPT_LOG_FILES)
+        .build(dir)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -134,12 +160,70 @@ mod tests {
 
     #[test]
     fn each_role_has_its_own_file() {
-        let names =
-            [LogRole::Console, LogRole::Sim, LogRole::Cli, LogRole::Guard].map(LogRole::file_name);
+        let names = [LogRole::Console, LogRole::Sim, LogRole::Cli, LogRole::Guard]
+            .map(LogRole::file_prefix);
+        // Pruning keeps the newest files whose name starts with a prefix: no prefix may start
+        // another, or one program's files would crowd out another's.
         for (i, a) in names.iter().enumerate() {
-            for b in &names[i + 1..] {
-                assert_ne!(a, b);
+            for (j, b) in names.iter().enumerate() {
+                assert!(i == j || !b.starts_with(a), "{a} prefixes {b}");
             }
+        }
+    }
+
+    #[test]
+    fn files_roll_daily_under_the_prefix_and_the_fourteen_newest_are_kept() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let before = time::OffsetDateTime::now_utc().date();
+        let mut appender = daily_files(dir.path(), "armjog-test").expect("appender");
+        std::io::Write::write_all(&mut appender, b"a line\n").expect("write");
+        let after = time::OffsetDateTime::now_utc().date();
+        let names: Vec<String> = std::fs::read_dir(dir.path())
+            .expect("read dir")
+            .filter_map(|e| Some(e.ok()?.file_name().to_str()?.to_string()))
+            .collect();
+        // By hand: `PREFIX.YYYY-MM-DD.log`, today's UTC date (either side of a midnight).
+        let expected = [before, after].map(|d| format!("armjog-test.{d}.log"));
+        assert_eq!(names.len(), 1, "{names:?}");
+        assert!(expected.contains(&names[0]), "{names:?} vs {expected:?}");
+    }
+
+    #[test]
+    fn a_start_keeps_the_fourteen_newest_files_of_its_own_prefix_and_nothing_else_is_touched() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        // Twenty days of old files, created oldest first, and the neighbours of the directory.
+        let old: Vec<String> = (1..=20)
+            .map(|day| format!("armjog-test.2000-01-{day:02}.log"))
+            .collect();
+        let neighbours = ["armjog-other.2000-01-01.log", "audit-2000-01-01.jsonl"];
+        for name in old.iter().map(String::as_str).chain(neighbours) {
+            std::fs::write(dir.path().join(name), "x\n").expect("write");
+            // The appender sorts by creation time, which file systems stamp from a coarse
+            // clock (a tick of up to 10 ms).
+            std::thread::sleep(std::time::Duration::from_millis(25));
+        }
+        let _appender = daily_files(dir.path(), "armjog-test").expect("appender");
+        let mut names: Vec<String> = std::fs::read_dir(dir.path())
+            .expect("read dir")
+            .filter_map(|e| Some(e.ok()?.file_name().to_str()?.to_string()))
+            .collect();
+        names.sort();
+        let today = names
+            .iter()
+            .filter(|n| n.starts_with("armjog-test.") && !n.starts_with("armjog-test.2000-"))
+            .count();
+        assert_eq!(today, 1, "{names:?}");
+        // Thirteen old ones (the newest: days 8 to 20) and today's make fourteen.
+        let kept: Vec<&String> = names
+            .iter()
+            .filter(|n| n.starts_with("armjog-test.2000-"))
+            .collect();
+        assert_eq!(kept, old[7..].iter().collect::<Vec<_>>(), "{names:?}");
+        for neighbour in neighbours {
+            assert!(
+                names.iter().any(|n| n == neighbour),
+                "{neighbour} removed: {names:?}"
+            );
         }
     }
 }

@@ -3,7 +3,7 @@
 
 use clap::{Args, CommandFactory, ValueEnum};
 
-use super::{Cli, Outcome};
+use super::{Cli, Outcome, man_sections};
 
 /// Shells completions are generated for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -64,9 +64,20 @@ pub fn man_page(subcommand: Option<&str>) -> std::io::Result<Vec<u8>> {
     };
     let mut out = Vec::new();
     clap_mangen::Man::new(page)
-        .source(format!("armjog {}", env!("CARGO_PKG_VERSION")))
+        .source(format!("armjog {}", super::version::VERSION))
         .render(&mut out)?;
-    Ok(out)
+    Ok(with_sections(out, &man_sections::roff()))
+}
+
+/// `page` with `sections` before its VERSION section (the man convention puts EXIT STATUS,
+/// ENVIRONMENT and FILES after the options), or at its end when it has none.
+fn with_sections(page: Vec<u8>, sections: &str) -> Vec<u8> {
+    let text = String::from_utf8_lossy(&page);
+    match text.find("\n.SH VERSION") {
+        Some(at) => format!("{}\n{sections}{}", &text[..at], &text[at + 1..]).into_bytes(),
+        None if text.ends_with('\n') => format!("{text}{sections}").into_bytes(),
+        None => format!("{text}\n{sections}").into_bytes(),
+    }
 }
 
 /// Runs `armjog completions`.
@@ -122,6 +133,29 @@ mod tests {
                     || page.contains(&format!(".TH armjog-{name}")),
                 "{name}: {page}"
             );
+        }
+    }
+
+    #[test]
+    fn the_pages_have_exit_status_environment_and_files_before_the_version() {
+        for name in [None, Some("send")] {
+            let page = String::from_utf8(man_page(name).expect("renders")).expect("utf-8");
+            let at = |title: &str| {
+                page.find(title)
+                    .unwrap_or_else(|| panic!("{name:?} has no {title}"))
+            };
+            let exit = at(".SH \"EXIT STATUS\"\n");
+            let env = at(".SH \"ENVIRONMENT\"\n");
+            let files = at(".SH \"FILES\"\n");
+            assert!(
+                at(".SH OPTIONS") < exit && exit < env && env < files,
+                "{page}"
+            );
+            if let Some(version) = page.find(".SH VERSION") {
+                assert!(files < version, "{page}");
+            }
+            assert!(page.contains("\\fBARMJOG_LOG_DIR\\fR"), "{page}");
+            assert!(page.contains("audit\\-YYYY\\-MM\\-DD.jsonl"), "{page}");
         }
     }
 }

@@ -5,6 +5,7 @@ pub mod console;
 pub mod generate;
 pub mod guard;
 mod hw_text;
+mod man_sections;
 pub mod modbus;
 mod outcome;
 pub mod output;
@@ -13,6 +14,7 @@ pub mod sim;
 pub mod status;
 pub mod units;
 pub mod values;
+pub mod version;
 
 use clap::{Parser, Subcommand};
 
@@ -24,7 +26,7 @@ pub use outcome::Outcome;
 /// With no subcommand it opens the jog console: on the built-in simulated arm, or on the arm
 /// given with --talos and/or --modbus.
 #[derive(Debug, Parser)]
-#[command(name = "armjog", version, about, long_about = None, args_conflicts_with_subcommands = true)]
+#[command(name = "armjog", version = version::VERSION, about, long_about = None, args_conflicts_with_subcommands = true)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,

@@ -8,7 +8,8 @@ use clap::Args;
 use super::Outcome;
 use super::modbus::ArmAddress;
 use super::output::{self, Printed};
-use super::units::{fixed, linear_speed, rfc3339_utc};
+use super::units::{fixed, linear_speed};
+use crate::console::audit::rfc3339_ms;
 use crate::kortex::{CodeName, Flag, FlagSet, Telemetry};
 use crate::link::ModbusLink;
 
@@ -111,7 +112,7 @@ pub fn render(telemetry: &Telemetry, json: bool) -> Vec<String> {
 /// A `--watch` snapshot taken at `at`: each table line starts with the time, or the JSON object
 /// has a `"time"` field (both RFC 3339, UTC, milliseconds).
 pub fn watch_lines(telemetry: &Telemetry, json: bool, at: SystemTime) -> Vec<String> {
-    let time = rfc3339_utc(at);
+    let time = rfc3339_ms(at);
     if json {
         return match serde_json::to_value(telemetry) {
             Ok(serde_json::Value::Object(mut object)) => {

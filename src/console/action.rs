@@ -192,7 +192,7 @@ impl Action {
         }
     }
 
-    /// What the action does, in one line (the help overlay and the README's key table).
+    /// What the action does, in one line (the help overlay and the key table of docs/user-guide.md).
     pub fn describe(self) -> &'static str {
         use Action as A;
         match self {

@@ -7,6 +7,8 @@
 
 #[path = "../attack_support/mod.rs"]
 mod attack_support;
+#[path = "../log_files/mod.rs"]
+mod log_files;
 
 mod fd_limit;
 mod memory;

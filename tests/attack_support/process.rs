@@ -12,7 +12,7 @@ use std::time::Duration;
 /// `armjog sim` on ephemeral ports, killed on drop.
 pub struct SimProcess {
     child: Child,
-    /// Where the sim writes `armjog-sim.log`.
+    /// Where the sim writes `armjog-sim.DATE.log`.
     pub log_dir: PathBuf,
     pub talos: SocketAddr,
     pub modbus: SocketAddr,
@@ -96,8 +96,7 @@ impl SimProcess {
     /// `needle`.
     pub async fn logged(&self, needle: &str) -> bool {
         for _ in 0..100 {
-            let log =
-                std::fs::read_to_string(self.log_dir.join("armjog-sim.log")).unwrap_or_default();
+            let log = crate::log_files::read_logs(&self.log_dir, "armjog-sim");
             if log.contains(needle) {
                 return true;
             }

@@ -1,10 +1,13 @@
-//! Each program writes its own log file: `armjog sim` to `armjog-sim.log`, a one-shot `send`
-//! to `armjog-cli.log` with its exchange (both frames in hex, the answer, the round trip).
+//! Each program writes its own log files: `armjog sim` to `armjog-sim.DATE.log`, a one-shot
+//! `send` to `armjog-cli.DATE.log` with its exchange (both frames in hex, the answer, the round
+//! trip).
 
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
+
+use crate::log_files::{is_daily_log, read_existing_logs, read_logs};
 
 const BIN: &str = env!("CARGO_BIN_EXE_armjog");
 
@@ -40,16 +43,26 @@ fn start_sim(log_dir: &Path) -> (Child, String) {
     (child, talos)
 }
 
-/// Waits (the logs are written in the background) until `file` contains `needle`.
-fn wait_for_log(file: &Path, needle: &str) -> String {
+/// Waits (the logs are written in the background) until `prefix`'s logs in `dir` contain
+/// `needle`.
+fn wait_for_log(dir: &Path, prefix: &str, needle: &str) -> String {
     let until = Instant::now() + Duration::from_secs(20);
     loop {
-        let text = std::fs::read_to_string(file).unwrap_or_default();
+        let text = read_logs(dir, prefix);
         if text.contains(needle) || Instant::now() > until {
             return text;
         }
         std::thread::sleep(Duration::from_millis(50));
     }
+}
+
+/// `dir` holds `prefix`'s daily log files (one, or two over a midnight) and nothing else.
+fn assert_only_logs_of(dir: &Path, prefix: &str) {
+    let names = files_in(dir);
+    assert!(
+        (1..=2).contains(&names.len()) && names.iter().all(|n| is_daily_log(n, prefix)),
+        "{prefix}'s logs alone: {names:?}"
+    );
 }
 
 fn files_in(dir: &Path) -> Vec<String> {
@@ -80,7 +93,7 @@ fn the_simulator_and_send_log_to_their_own_files_and_send_logs_its_exchange() {
     );
 
     // The exchange, in the one-shot's own file (written before the process ended).
-    let cli_log = std::fs::read_to_string(cli_dir.join("armjog-cli.log")).expect("armjog-cli.log");
+    let cli_log = read_existing_logs(&cli_dir, "armjog-cli");
     let line = cli_log
         .lines()
         .find(|l| l.contains("send to") && l.contains("get_speed"))
@@ -92,10 +105,10 @@ fn the_simulator_and_send_log_to_their_own_files_and_send_logs_its_exchange() {
         "{line}"
     );
     assert!(line.trim_end().ends_with(" ms]"), "the round trip: {line}");
-    assert_eq!(files_in(&cli_dir), ["armjog-cli.log"]);
+    assert_only_logs_of(&cli_dir, "armjog-cli");
 
     // The simulator saw the client, in its file alone.
-    let sim_log = wait_for_log(&sim_dir.join("armjog-sim.log"), "connected");
+    let sim_log = wait_for_log(&sim_dir, "armjog-sim", "connected");
     assert!(sim_log.contains("sim talos: client"), "sim log:\n{sim_log}");
     let _ = Command::new("kill")
         .args(["-TERM", &sim.id().to_string()])
@@ -106,7 +119,7 @@ fn the_simulator_and_send_log_to_their_own_files_and_send_logs_its_exchange() {
     }
     let _ = sim.kill();
     let _ = sim.wait();
-    assert_eq!(files_in(&sim_dir), ["armjog-sim.log"]);
+    assert_only_logs_of(&sim_dir, "armjog-sim");
     let _ = std::fs::remove_dir_all(&sim_dir);
     let _ = std::fs::remove_dir_all(&cli_dir);
 }

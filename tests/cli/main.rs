@@ -9,11 +9,14 @@
 mod common;
 #[path = "../guard_support/mod.rs"]
 mod guard_support;
+#[path = "../log_files/mod.rs"]
+mod log_files;
 #[path = "../modbus_fake/mod.rs"]
 mod modbus_fake;
 
 mod armjog_run;
 mod broken_pipe;
+mod doc_links;
 mod errors;
 mod file_limits;
 mod guard;
@@ -24,3 +27,4 @@ mod options;
 mod send;
 mod sim_args_near_limit;
 mod sim_args_near_singularity;
+mod version;

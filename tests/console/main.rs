@@ -10,6 +10,8 @@
 mod app_support;
 #[path = "../common/mod.rs"]
 mod common;
+#[path = "../log_files/mod.rs"]
+mod log_files;
 
 mod event_loop;
 

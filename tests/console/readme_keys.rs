@@ -1,14 +1,14 @@
-//! The README's table of the default keymap names every key and every action of
-//! `keymaps/default.json`, and its glossary explains the words the console uses.
+//! The user guide's (`docs/user-guide.md`) table of the default keymap names every key and
+//! every action of `keymaps/default.json`, and its glossary explains the words the console uses.
 
 use std::collections::BTreeSet;
 
-/// The rows of the table under the README's "The default keymap" heading: (keys, action,
+/// The rows of the table under the user guide's "The default keymap" heading: (keys, action,
 /// description), each cell as written.
 fn default_keymap_rows(readme: &str) -> Vec<(String, String, String)> {
     let start = readme
         .find("#### The default keymap")
-        .expect("README has a \"The default keymap\" section");
+        .expect("docs/user-guide.md has a \"The default keymap\" section");
     readme[start..]
         .lines()
         .skip_while(|line| !line.starts_with('|'))
@@ -42,7 +42,8 @@ fn code_spans(cell: &str) -> BTreeSet<String> {
 #[test]
 fn the_readme_names_every_default_key_and_action() {
     let root = env!("CARGO_MANIFEST_DIR");
-    let readme = std::fs::read_to_string(format!("{root}/README.md")).expect("README.md");
+    let readme =
+        std::fs::read_to_string(format!("{root}/docs/user-guide.md")).expect("docs/user-guide.md");
     let keymap: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(format!("{root}/keymaps/default.json")).expect("default.json"),
     )
@@ -64,7 +65,7 @@ fn the_readme_names_every_default_key_and_action() {
     }
     assert!(
         missing.is_empty(),
-        "README.md's default keymap table lacks these bindings of keymaps/default.json:\n{}",
+        "docs/user-guide.md's default keymap table lacks these bindings of keymaps/default.json:\n{}",
         missing.join("\n")
     );
     // And lists nothing the keymap does not bind.
@@ -74,7 +75,7 @@ fn the_readme_names_every_default_key_and_action() {
                 assert_eq!(
                     bindings.get(&key).and_then(|a| a.as_str()),
                     Some(action.as_str()),
-                    "README.md binds `{key}` to `{action}`; keymaps/default.json does not"
+                    "docs/user-guide.md binds `{key}` to `{action}`; keymaps/default.json does not"
                 );
             }
         }
@@ -83,23 +84,25 @@ fn the_readme_names_every_default_key_and_action() {
 
 #[test]
 fn every_action_of_the_console_is_in_the_readme() {
-    let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md"))
-        .expect("README.md");
+    let readme =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/user-guide.md"))
+            .expect("docs/user-guide.md");
     let rows = default_keymap_rows(&readme);
     for action in armjog::console::action::Action::ALL {
         let name = action.name();
         assert!(
             rows.iter()
                 .any(|(_, actions, _)| code_spans(actions).contains(&name)),
-            "README.md's default keymap table lacks `{name}`"
+            "docs/user-guide.md's default keymap table lacks `{name}`"
         );
     }
 }
 
 #[test]
 fn one_glossary_explains_anchor_parent_and_the_polar_words() {
-    let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md"))
-        .expect("README.md");
+    let readme =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/user-guide.md"))
+            .expect("docs/user-guide.md");
     assert_eq!(readme.matches("\n## Glossary\n").count(), 1, "one glossary");
     let start = readme.find("\n## Glossary\n").expect("glossary");
     let glossary = readme[start + 1..]

@@ -1,5 +1,5 @@
 //! The audit log: every technician action, and what the arm and its link did meanwhile, as one
-//! JSON line with a UTC timestamp in `audit-YYYY-MM-DD.jsonl` (README, "Audit log").
+//! JSON line with a UTC timestamp in `audit-YYYY-MM-DD.jsonl` (docs/audit.md).
 //!
 //! Records are derived at the runtime's edge ([`deriver`]) from what already flows between the
 //! state machine and the driver, so the state machine stays pure; a thread of its own writes
@@ -20,8 +20,8 @@ pub use session::AuditSession;
 pub use utc::{date, rfc3339_ms};
 pub use writer::AuditLog;
 
-/// One thing worth an entry. The `event` names are stable: scripts read them (README lists
-/// them). Lengths are in mm, angles in degrees, speeds as the cap in force: a percentage of
+/// One thing worth an entry. The `event` names are stable: scripts read them (docs/audit.md
+/// lists them). Lengths are in mm, angles in degrees, speeds as the cap in force: a percentage of
 /// `--max-jog-speed` and the tool speed it stands for.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(tag = "event", rename_all = "snake_case")]

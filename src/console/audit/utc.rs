@@ -1,46 +1,39 @@
-//! UTC calendar dates and RFC 3339 timestamps from a `SystemTime`, without a date crate.
+//! UTC calendar dates and RFC 3339 timestamps from a `SystemTime`: the audit's file names and
+//! line stamps, and the `--watch` lines of `armjog status`.
 
 use std::time::{SystemTime, UNIX_EPOCH};
 
-/// Year, month and day of a count of days since 1970-01-01 (proleptic Gregorian; Howard
-/// Hinnant's `civil_from_days`).
-fn civil_from_days(days: i64) -> (i64, u32, u32) {
-    let z = days + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z.rem_euclid(146_097);
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let day = (doy - (153 * mp + 2) / 5 + 1) as u32;
-    let month = if mp < 10 { mp + 3 } else { mp - 9 } as u32;
-    let year = yoe + era * 400 + i64::from(month <= 2);
-    (year, month, day)
+use time::OffsetDateTime;
+use time::format_description::BorrowedFormatItem;
+use time::macros::format_description;
+
+const DATE: &[BorrowedFormatItem<'_>] = format_description!("[year]-[month]-[day]");
+const RFC3339_MS: &[BorrowedFormatItem<'_>] =
+    format_description!("[year]-[month]-[day]T[hour]:[minute]:[second].[subsecond digits:3]Z");
+
+/// `at` in UTC. A clock set before 1970 counts as the epoch, and one past the year 9999 (beyond
+/// what the format can write) as well.
+fn utc(at: SystemTime) -> OffsetDateTime {
+    let since = at.duration_since(UNIX_EPOCH).unwrap_or_default();
+    OffsetDateTime::from_unix_timestamp_nanos(since.as_nanos().try_into().unwrap_or(i128::MAX))
+        .unwrap_or(OffsetDateTime::UNIX_EPOCH)
 }
 
-/// Milliseconds since the epoch; a clock set before 1970 counts as the epoch.
-fn epoch_ms(at: SystemTime) -> i64 {
-    at.duration_since(UNIX_EPOCH)
-        .map(|d| i64::try_from(d.as_millis()).unwrap_or(i64::MAX))
-        .unwrap_or(0)
+fn format(at: SystemTime, format: &[BorrowedFormatItem<'_>]) -> String {
+    utc(at)
+        .format(format)
+        // Only a component missing from the value fails, and a UTC date and time has them all.
+        .expect("a UTC date and time formats")
 }
 
 /// `YYYY-MM-DD` in UTC.
 pub fn date(at: SystemTime) -> String {
-    let (y, m, d) = civil_from_days(epoch_ms(at).div_euclid(86_400_000));
-    format!("{y:04}-{m:02}-{d:02}")
+    format(at, DATE)
 }
 
-/// `YYYY-MM-DDTHH:MM:SS.mmmZ`.
+/// `YYYY-MM-DDTHH:MM:SS.mmmZ`: RFC 3339 in UTC with milliseconds (truncated, not rounded).
 pub fn rfc3339_ms(at: SystemTime) -> String {
-    let ms = epoch_ms(at);
-    let of_day = ms.rem_euclid(86_400_000);
-    let (h, min, s, milli) = (
-        of_day / 3_600_000,
-        of_day / 60_000 % 60,
-        of_day / 1000 % 60,
-        of_day % 1000,
-    );
-    format!("{}T{h:02}:{min:02}:{s:02}.{milli:03}Z", date(at))
+    format(at, RFC3339_MS)
 }
 
 #[cfg(test)]
@@ -72,6 +65,22 @@ mod tests {
     fn the_date_turns_at_utc_midnight() {
         assert_eq!(date(at(1_796_083_199, 999)), "2026-11-30");
         assert_eq!(date(at(1_796_083_200, 0)), "2026-12-01");
+    }
+
+    #[test]
+    fn timestamps_are_rfc3339_utc_with_milliseconds() {
+        // The `--watch` lines' cases (formerly `cli::units`).
+        assert_eq!(rfc3339_ms(UNIX_EPOCH), "1970-01-01T00:00:00.000Z");
+        let at = UNIX_EPOCH + Duration::from_millis(1_796_078_665_123);
+        assert_eq!(rfc3339_ms(at), "2026-11-30T22:44:25.123Z");
+        // A leap day.
+        let leap = UNIX_EPOCH + Duration::from_secs(951_782_400);
+        assert_eq!(rfc3339_ms(leap), "2000-02-29T00:00:00.000Z");
+        // Milliseconds are cut, never rounded up into the next second.
+        assert_eq!(
+            rfc3339_ms(UNIX_EPOCH + Duration::from_nanos(1_999_999_999)),
+            "1970-01-01T00:00:01.999Z"
+        );
     }
 
     #[test]

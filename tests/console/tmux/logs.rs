@@ -6,6 +6,8 @@ use std::process::Command;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::{Duration, Instant};
 
+use crate::log_files::read_existing_logs;
+
 /// A tmux server of our own, killed on drop.
 struct Tmux {
     socket: String,
@@ -126,7 +128,7 @@ fn the_console_starts_quietly_logs_apart_from_its_simulator_and_audits_the_sessi
     let back = tmux.wait_for("the console to exit", |s| s.contains("ARMJOG-EXITED-"));
     assert!(back.contains("ARMJOG-EXITED-0"), "exit status 0:\n{back}");
 
-    let console = read(&dir.join("armjog-console.log"));
+    let console = read_existing_logs(&dir, "armjog-console");
     for bad in [" WARN ", " ERROR "] {
         assert!(
             !console.contains(bad),
@@ -137,7 +139,7 @@ fn the_console_starts_quietly_logs_apart_from_its_simulator_and_audits_the_sessi
         !console.contains("armjog::sim"),
         "the simulator's lines are in the console's log:\n{console}"
     );
-    let sim = read(&dir.join("armjog-sim.log"));
+    let sim = read_existing_logs(&dir, "armjog-sim");
     assert!(sim.contains("sim talos: client"), "sim log:\n{sim}");
     assert!(
         sim.lines().all(|l| l.contains("armjog::sim")),
@@ -186,7 +188,7 @@ fn an_audit_file_that_cannot_be_written_is_shown_and_stops_nothing() {
     tmux.keys(&["q"]);
     let back = tmux.wait_for("the console to exit", |s| s.contains("ARMJOG-EXITED-"));
     assert!(back.contains("ARMJOG-EXITED-0"), "exit status 0:\n{back}");
-    let console = read(&dir.join("armjog-console.log"));
+    let console = read_existing_logs(&dir, "armjog-console");
     assert_eq!(
         console.matches("audit log not written").count(),
         1,
