@@ -3,7 +3,6 @@
 //! Input is validated here, before anything is sent: a bad name or number keeps the form open
 //! with the reason, and nothing is lost.
 
-use crate::talos::PositionName;
 use crate::talos::name::{MAX_NAME_LEN, NameError};
 
 /// Which form is open.
@@ -273,127 +272,14 @@ impl Form {
             }
         }
     }
-
-    fn parse(&self) -> Result<FormResult, (usize, String)> {
-        let value = |i: usize| self.fields.get(i).map(|f| f.value.trim()).unwrap_or("");
-        let name = PositionName::new(value(0))
-            .map_err(|e| (0, format!("name {e}")))?
-            .as_str()
-            .to_string();
-        match self.kind {
-            FormKind::Save => {
-                let parent = match value(1) {
-                    "" => None,
-                    p => Some(
-                        PositionName::new(p)
-                            .map_err(|e| (1, format!("parent {e}")))?
-                            .as_str()
-                            .to_string(),
-                    ),
-                };
-                if parent.as_deref() == Some(name.as_str()) {
-                    return Err((1, "a position cannot be its own parent".into()));
-                }
-                let anchor = value(2) == "yes";
-                if anchor && parent.is_none() {
-                    return Err((2, "anchor needs a parent to move with".into()));
-                }
-                Ok(FormResult::Save {
-                    name,
-                    anchor,
-                    parent,
-                })
-            }
-            FormKind::SetPolar => Ok(FormResult::SetPolar {
-                name,
-                delta: tenths(self, 1, -90.0, 90.0)?,
-                azimuth: tenths(self, 2, -360.0, 360.0)?,
-                radius: tenths(self, 3, 0.0, 2000.0)?,
-            }),
-            FormKind::SetCartesian => Ok(FormResult::SetCartesian {
-                name,
-                x: tenths(self, 1, -2000.0, 2000.0)?,
-                y: tenths(self, 2, -2000.0, 2000.0)?,
-                z: tenths(self, 3, -2000.0, 2000.0)?,
-            }),
-            FormKind::Rename => {
-                let from = self.original.clone().unwrap_or_default();
-                if from == name {
-                    return Err((0, format!("'{name}' is its name already")));
-                }
-                Ok(FormResult::Rename { from, to: name })
-            }
-        }
-    }
 }
 
-/// Field `i` as a number within `min..=max`, in tenths.
-fn tenths(form: &Form, i: usize, min: f64, max: f64) -> Result<i32, (usize, String)> {
-    let field = &form.fields[i];
-    let text = field.value.trim();
-    let value: f64 = text
-        .parse()
-        .ok()
-        .filter(|v: &f64| v.is_finite())
-        .ok_or_else(|| (i, format!("{}: '{text}' is not a number", field.label)))?;
-    if !(min..=max).contains(&value) {
-        return Err((
-            i,
-            format!("{}: {value} is outside {min} to {max}", field.label),
-        ));
-    }
-    Ok((value * 10.0).round() as i32)
-}
+/// Answers a yes/no question about a position, the home pose or quitting.
+mod confirm;
+/// What a submitted form means, or the field that is wrong and why.
+mod parse;
 
-/// What a yes/no question is about.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Confirm {
-    Home,
-    GoTo(String),
-    Delete(String),
-    /// The operator lost this name: re-save it from the remembered coordinates, then go there.
-    Resave(String),
-    /// A submitted form would replace the position of that name; `form` comes back on no.
-    Overwrite {
-        result: FormResult,
-        form: Box<Form>,
-    },
-    /// Quitting while `count` changed positions could not be written.
-    QuitUnsaved {
-        count: usize,
-    },
-}
-
-impl Confirm {
-    pub fn question(&self) -> String {
-        match self {
-            Confirm::Home => "Move the arm to its home pose?".into(),
-            Confirm::GoTo(name) => format!("Move the arm to '{name}'?"),
-            Confirm::Delete(name) => format!("Delete position '{name}'?"),
-            Confirm::Resave(name) => format!(
-                "'{name}' is unknown to the operator: re-save it from the remembered coordinates \
-                 and move the arm there?"
-            ),
-            Confirm::Overwrite { result, .. } => format!("overwrite '{}'?", result.name()),
-            Confirm::QuitUnsaved { count } => format!(
-                "{count} changed position(s) could not be saved: quit anyway? The book is \
-                 written once more as the console quits"
-            ),
-        }
-    }
-
-    /// The answers, as the dialog shows them.
-    pub fn answers(&self) -> &'static str {
-        match self {
-            // Enter just submitted the form: only y replaces a position.
-            Confirm::Overwrite { .. } => {
-                "y: overwrite    n, esc or any other key: back to the form"
-            }
-            Confirm::QuitUnsaved { .. } => "y: quit    any other key: stay",
-            _ => "y or enter: yes    any other key: no",
-        }
-    }
-}
+pub use confirm::Confirm;
 
 #[cfg(test)]
 mod tests {

@@ -15,9 +15,6 @@ pub mod talos_server;
 pub mod telemetry;
 pub mod world;
 
-#[cfg(test)]
-mod operator_tests;
-
 use std::net::SocketAddr;
 
 use tokio::net::TcpListener;

@@ -24,19 +24,22 @@
 
 use std::collections::BTreeMap;
 
-use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use nalgebra::Vector3;
 
 use super::arm_model::{Arm, ReferenceFrame, Refusal, SimMotion, polar_target};
-use super::kinematics::{self, HOME_DEG, Joints, Pose};
+use super::kinematics::{self, HOME_DEG};
 use crate::talos::hardware::HwRequest;
 use crate::talos::message::DecodeError;
 
 mod clients;
 mod hardware;
+mod positions;
 mod restore;
 use crate::talos::{Reply, Request, ReturnCode};
 pub use clients::ClientId;
 use hardware::hardware_operation;
+pub use positions::SavedPosition;
+use positions::{iso, pose_of};
 pub use restore::RememberedPosition;
 
 /// The simulated operator's version, reported by Handshake.
@@ -49,20 +52,6 @@ pub const MAX_JOG_ANGULAR_DEG: f64 = 30.0;
 /// Joint-space moves (home, go to) at 100 % run at this fraction of the joints' top speed.
 const MAX_JOINT_FRACTION: f64 = 0.5;
 const DEFAULT_SPEED: u8 = 50;
-/// Anchors deeper than this are refused (and cycles are impossible by construction).
-const MAX_ANCHOR_DEPTH: usize = 32;
-
-/// One named position.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SavedPosition {
-    /// Absolute pose, or the pose relative to `parent` when `anchor` is set.
-    pub pose: Pose,
-    /// Joint angles when the position was saved from the arm and is not anchored: going there
-    /// is then a joint move, which needs no IK.
-    pub joints: Option<Joints>,
-    pub anchor: bool,
-    pub parent: Option<String>,
-}
 
 /// The operator's state beyond the arm.
 #[derive(Debug, Clone)]
@@ -92,20 +81,6 @@ fn refusal_code(refusal: Refusal) -> ReturnCode {
         Refusal::Unreachable => ReturnCode::UNREACHABLE,
         Refusal::JointLimit(_) => ReturnCode::JOINT_LIMIT,
         Refusal::OutOfRange | Refusal::NotFinite => ReturnCode::OUT_OF_RANGE,
-    }
-}
-
-fn iso(pose: &Pose) -> Isometry3<f64> {
-    Isometry3::from_parts(
-        Translation3::from(pose.position),
-        UnitQuaternion::from_rotation_matrix(&pose.rotation),
-    )
-}
-
-fn pose_of(iso: &Isometry3<f64>) -> Pose {
-    Pose {
-        position: iso.translation.vector,
-        rotation: iso.rotation.to_rotation_matrix(),
     }
 }
 
@@ -381,167 +356,6 @@ impl Operator {
     fn continuous(&self, arm: &mut Arm, motion: SimMotion) -> Result<(), ReturnCode> {
         continuous(arm, motion, self.jog_cap())
     }
-
-    fn save(
-        &mut self,
-        arm: &Arm,
-        name: String,
-        anchor: bool,
-        parent: String,
-    ) -> Result<(), ReturnCode> {
-        let here = arm.pose();
-        let parent = (!parent.is_empty()).then_some(parent);
-        let anchored_to = match (&parent, anchor) {
-            (Some(p), true) => Some(p.clone()),
-            _ => None,
-        };
-        if let Some(p) = &parent
-            && (!self.positions.contains_key(p) || self.depends_on(p, &name))
-        {
-            return Err(ReturnCode::INVALID_PARENT);
-        }
-        let position = match &anchored_to {
-            Some(p) => {
-                let parent_pose = self.absolute(p, 0)?;
-                SavedPosition {
-                    pose: pose_of(&(iso(&parent_pose).inverse() * iso(&here))),
-                    joints: None,
-                    anchor: true,
-                    parent,
-                }
-            }
-            None => SavedPosition {
-                pose: here,
-                joints: Some(arm.joints()),
-                anchor: false,
-                parent,
-            },
-        };
-        self.positions.insert(name, position);
-        Ok(())
-    }
-
-    /// Whether `name`'s anchor chain passes through `ancestor` (or is it).
-    fn depends_on(&self, name: &str, ancestor: &str) -> bool {
-        let mut current = Some(name.to_string());
-        for _ in 0..=MAX_ANCHOR_DEPTH {
-            let Some(n) = current else { return false };
-            if n == ancestor {
-                return true;
-            }
-            current = self
-                .positions
-                .get(&n)
-                .filter(|p| p.anchor)
-                .and_then(|p| p.parent.clone());
-        }
-        true
-    }
-
-    fn delete(&mut self, name: &str) -> Result<(), ReturnCode> {
-        if !self.positions.contains_key(name) {
-            return Err(ReturnCode::UNKNOWN_POSITION);
-        }
-        // Freeze anchored children where they are now.
-        let children: Vec<String> = self
-            .positions
-            .iter()
-            .filter(|(_, p)| p.anchor && p.parent.as_deref() == Some(name))
-            .map(|(n, _)| n.clone())
-            .collect();
-        for child in children {
-            let pose = self.absolute(&child, 0)?;
-            if let Some(p) = self.positions.get_mut(&child) {
-                *p = SavedPosition {
-                    pose,
-                    joints: None,
-                    anchor: false,
-                    parent: None,
-                };
-            }
-        }
-        self.positions.remove(name);
-        Ok(())
-    }
-
-    /// The absolute pose of a named position, following anchors.
-    fn absolute(&self, name: &str, depth: usize) -> Result<Pose, ReturnCode> {
-        let position = self
-            .positions
-            .get(name)
-            .ok_or(ReturnCode::UNKNOWN_POSITION)?;
-        match (&position.parent, position.anchor) {
-            (Some(parent), true) => {
-                if depth >= MAX_ANCHOR_DEPTH {
-                    return Err(ReturnCode::INVALID_PARENT);
-                }
-                let parent_pose = self.absolute(parent, depth + 1)?;
-                Ok(pose_of(&(iso(&parent_pose) * iso(&position.pose))))
-            }
-            _ => Ok(position.pose),
-        }
-    }
-
-    fn go_to(&self, name: &str) -> Result<SimMotion, ReturnCode> {
-        let position = self
-            .positions
-            .get(name)
-            .ok_or(ReturnCode::UNKNOWN_POSITION)?;
-        if let (Some(joints), false) = (position.joints, position.anchor) {
-            return Ok(SimMotion::ToJoints {
-                target: joints,
-                fraction: self.fraction() * MAX_JOINT_FRACTION,
-            });
-        }
-        Ok(SimMotion::ToPose {
-            target: self.absolute(name, 0)?,
-            linear_speed: self.max_jog_linear * self.fraction(),
-            angular_speed: MAX_JOG_ANGULAR_DEG.to_radians() * self.fraction(),
-        })
-    }
-
-    /// Set Polar / Set Cartesian: the position's absolute place becomes `xyz`; its orientation is
-    /// kept (a new position takes the tool's current orientation). An anchored position stays
-    /// anchored, its offset recomputed.
-    fn set_absolute_position(
-        &mut self,
-        arm: &Arm,
-        name: String,
-        xyz: Vector3<f64>,
-    ) -> Result<(), ReturnCode> {
-        let existing = self.positions.get(&name).cloned();
-        let rotation = match &existing {
-            Some(_) => self.absolute(&name, 0)?.rotation,
-            None => arm.pose().rotation,
-        };
-        let absolute = Pose {
-            position: xyz,
-            rotation,
-        };
-        let position = match existing {
-            Some(SavedPosition {
-                anchor: true,
-                parent: Some(parent),
-                ..
-            }) => {
-                let parent_pose = self.absolute(&parent, 0)?;
-                SavedPosition {
-                    pose: pose_of(&(iso(&parent_pose).inverse() * iso(&absolute))),
-                    joints: None,
-                    anchor: true,
-                    parent: Some(parent),
-                }
-            }
-            other => SavedPosition {
-                pose: absolute,
-                joints: None,
-                anchor: false,
-                parent: other.and_then(|p| p.parent),
-            },
-        };
-        self.positions.insert(name, position);
-        Ok(())
-    }
 }
 
 fn tenths(value: f64) -> i32 {
@@ -561,3 +375,6 @@ fn continuous(arm: &mut Arm, motion: SimMotion, cap: f64) -> Result<(), ReturnCo
     arm.command_capped(motion, 0.0, true, Some(cap))
         .map_err(refusal_code)
 }
+
+#[cfg(test)]
+mod tests;

@@ -15,7 +15,13 @@ fn records(d: &mut AuditDeriver, app: &App, effects: &[Effect], at: SystemTime) 
     effects
         .iter()
         .flat_map(|effect| match effect {
-            Effect::Arm(command) => d.command(command, app.positions(), app.selected_name(), at),
+            Effect::Arm(command) => d.command(
+                command,
+                app.positions(),
+                app.selected_name(),
+                app.frame(),
+                at,
+            ),
             Effect::SavePositions(book) => d.book_saved(book, at),
             _ => Vec::new(),
         })
@@ -124,7 +130,7 @@ fn a_fresh_press_after_a_stop_is_a_new_start() {
         for effect in &effects {
             if let Effect::Arm(command) = effect {
                 events.extend(
-                    d.command(command, app.positions(), None, wall)
+                    d.command(command, app.positions(), None, app.frame(), wall)
                         .into_iter()
                         .map(|r| r.event),
                 );
@@ -140,4 +146,25 @@ fn a_fresh_press_after_a_stop_is_a_new_start() {
         })
         .collect();
     assert_eq!(names, ["start +X", "stop +X", "start -X", "stop -X"]);
+}
+
+#[test]
+fn a_jog_after_a_frame_change_names_the_frame_the_console_selected() {
+    let (mut app, t0) = app(ReleaseMode::Reported, false);
+    let mut d = AuditDeriver::new(0.25, true, false);
+    let wall = UNIX_EPOCH + Duration::from_secs(1_796_077_651);
+    let mut lines = Vec::new();
+    let effects = press(&mut app, "g", t0);
+    lines.extend(records(&mut d, &app, &effects, wall));
+    release(&mut app, "g", t0);
+    let at = t0 + Duration::from_millis(100);
+    let effects = press(&mut app, "w", at);
+    lines.extend(records(&mut d, &app, &effects, wall));
+    assert_eq!(
+        lines,
+        [
+            r#"{"ts":"2026-11-30T22:27:31.000Z","event":"frame","frame":"tool"}"#,
+            r#"{"ts":"2026-11-30T22:27:31.000Z","event":"jog_start","axis":"+X","frame":"tool","speed_percent":50,"speed_mm_s":125.0}"#,
+        ]
+    );
 }

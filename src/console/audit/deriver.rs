@@ -10,7 +10,7 @@ use crate::console::coords::describe_motion;
 use crate::console::positions::PositionBook;
 use crate::kortex::arm_state::fault_reason;
 use crate::kortex::{CodeName, Pose, ReferenceFrame};
-use crate::link::driver::{INITIAL_SPEED, MAX_ANGULAR_JOG_SPEED};
+use crate::link::driver::{INITIAL_SPEED, angular_jog_rate_at, is_settable, tool_speed_at};
 use crate::link::interface::{ArmCommand, ArmEvent, GuardStatus, JogMotion, LinkStatus, StepMove};
 
 /// What the deriver remembers between calls, to turn a stream into starts and stops.
@@ -24,8 +24,10 @@ pub struct AuditDeriver {
     /// Otherwise the console's book is the only store, and its saves are compared.
     positions_on_operator: bool,
     jog: Option<(JogMotion, SystemTime)>,
+    /// The speed the next command runs at: the driver runs commands in order, so a `SetSpeed`
+    /// it can put in force holds for the commands after it, as does a speed the driver reports
+    /// (the driver's own value changes only once it has run the command, after it is recorded).
     speed: u8,
-    frame: Option<String>,
     /// The link status last recorded; `Connecting` records nothing.
     link: Option<LinkStatus>,
     stale: bool,
@@ -45,7 +47,6 @@ impl AuditDeriver {
             positions_on_operator,
             jog: None,
             speed: INITIAL_SPEED,
-            frame: frames.then(|| ReferenceFrame::Base.key().to_string()),
             link: None,
             stale: false,
             fault: None,
@@ -55,29 +56,31 @@ impl AuditDeriver {
     }
 
     fn speed_mm_s(&self, percent: u8) -> f64 {
-        (self.max_mm_s * f64::from(percent) / 100.0 * 10.0).round() / 10.0
+        round_tenth(tool_speed_at(self.max_mm_s, percent))
     }
 
     /// A jog's rate cap at `percent`: (mm/s, deg/s), one of them. A turn of the tool moves its
     /// point not at all, so its cap is the angular rate the driver turns at
-    /// ([`MAX_ANGULAR_JOG_SPEED`] at 100 %); every other jog's is the tool speed.
+    /// ([`angular_jog_rate_at`]); every other jog's is the tool speed.
     fn jog_rate(&self, motion: &JogMotion, percent: u8) -> (Option<f64>, Option<f64>) {
         match motion {
-            JogMotion::Orientation { .. } => {
-                let deg_s = f64::from(MAX_ANGULAR_JOG_SPEED) * f64::from(percent) / 100.0;
-                (None, Some((deg_s * 10.0).round() / 10.0))
-            }
+            JogMotion::Orientation { .. } => (
+                None,
+                Some(round_tenth(f64::from(angular_jog_rate_at(percent)))),
+            ),
             _ => (Some(self.speed_mm_s(percent)), None),
         }
     }
 
     /// A command the app sent to the driver. `book` and `selected` name a go-to's position,
-    /// which a Modbus move carries only as a pose.
+    /// which a Modbus move carries only as a pose; `frame` is the frame jogs are in, as the
+    /// console selected it (`App::frame`, sent to the driver as `SetFrame`).
     pub fn command(
         &mut self,
         command: &ArmCommand,
         book: &PositionBook,
         selected: Option<&str>,
+        frame: ReferenceFrame,
         at: SystemTime,
     ) -> Vec<AuditRecord> {
         let speed_percent = self.speed;
@@ -103,14 +106,12 @@ impl AuditDeriver {
                     Some(AuditEvent::JogStart {
                         axis: describe_motion(*motion),
                         frame: match motion {
-                            JogMotion::Cartesian { .. } if self.frames => self.frame.clone(),
-                            // A turn always goes over Modbus in a frame: the one chosen, or
-                            // base when frames are not offered (both links configured).
-                            JogMotion::Orientation { .. } => Some(
-                                self.frame
-                                    .clone()
-                                    .unwrap_or_else(|| ReferenceFrame::Base.key().to_string()),
-                            ),
+                            JogMotion::Cartesian { .. } if self.frames => {
+                                Some(frame.key().to_string())
+                            }
+                            // A turn always goes over Modbus in a frame: the one chosen (base
+                            // when frames are not offered, both links configured).
+                            JogMotion::Orientation { .. } => Some(frame.key().to_string()),
                             _ => None,
                         },
                         speed_percent,
@@ -150,18 +151,17 @@ impl AuditDeriver {
                 speed_mm_s,
             }),
             ArmCommand::SetSpeed(percent) => {
-                self.speed = *percent;
+                if is_settable(*percent) {
+                    self.speed = *percent;
+                }
                 Some(AuditEvent::Speed {
                     percent: *percent,
                     mm_s: self.speed_mm_s(*percent),
                 })
             }
-            ArmCommand::SetFrame(frame) => {
-                self.frame = Some(frame.key().to_string());
-                Some(AuditEvent::Frame {
-                    frame: frame.key().to_string(),
-                })
-            }
+            ArmCommand::SetFrame(frame) => Some(AuditEvent::Frame {
+                frame: frame.key().to_string(),
+            }),
             ArmCommand::FaultReset => Some(AuditEvent::FaultReset),
             ArmCommand::SavePosition {
                 name,
@@ -379,7 +379,12 @@ fn tenths_mm(v: [i32; 3]) -> [f64; 3] {
 
 /// To a tenth of a millimetre: an f32 pose in metres has no more to say.
 fn round_mm(mm: f64) -> f64 {
-    (mm * 10.0).round() / 10.0
+    round_tenth(mm)
+}
+
+/// To a tenth (of mm/s, of deg/s).
+fn round_tenth(v: f64) -> f64 {
+    (v * 10.0).round() / 10.0
 }
 
 fn millis(d: Duration) -> u64 {

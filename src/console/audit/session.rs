@@ -55,6 +55,7 @@ impl AuditSession {
             command,
             app.positions(),
             app.selected_name(),
+            app.frame(),
             SystemTime::now(),
         );
         self.write(records);

@@ -5,7 +5,7 @@ use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 use super::*;
 use crate::console::positions::PositionBook;
-use crate::kortex::Pose;
+use crate::kortex::{Pose, ReferenceFrame};
 use crate::link::interface::{ArmCommand, ArmEvent, JogMotion, LinkStatus, StepMove};
 
 /// 2026-11-30T22:27:31.853Z.
@@ -80,6 +80,9 @@ fn events(records: Vec<AuditRecord>) -> Vec<AuditEvent> {
     records.into_iter().map(|r| r.event).collect()
 }
 
+/// The frame the console selected, as the runtime passes it (`App::frame`).
+const BASE: ReferenceFrame = ReferenceFrame::Base;
+
 const PLUS_X: ArmCommand = ArmCommand::Jog(JogMotion::Cartesian { x: 1, y: 0, z: 0 });
 
 #[test]
@@ -89,7 +92,7 @@ fn a_jog_is_one_start_and_one_stop_whatever_its_refreshes() {
     let mut at = t0();
     let mut send = |d: &mut AuditDeriver, c: &ArmCommand, after_ms: u64| {
         at += Duration::from_millis(after_ms);
-        events(d.command(c, &book, None, at))
+        events(d.command(c, &book, None, BASE, at))
     };
     assert_eq!(
         send(&mut d, &ArmCommand::SetSpeed(20), 0),
@@ -174,7 +177,7 @@ fn a_turn_records_its_rate_in_degrees_per_second_and_no_tool_speed() {
         ry: 0,
         rz: 0,
     });
-    let records = d.command(&turn, &PositionBook::new(), None, t0());
+    let records = d.command(&turn, &PositionBook::new(), None, BASE, t0());
     let lines: Vec<String> = records.iter().map(AuditRecord::json_line).collect();
     assert_eq!(
         lines,
@@ -198,7 +201,7 @@ fn a_turn_names_its_frame_also_where_frames_are_not_offered() {
     let book = PositionBook::new();
     let starts: Vec<AuditEvent> = [&cartesian, &stop, &turn]
         .into_iter()
-        .flat_map(|c| d.command(c, &book, None, t0()))
+        .flat_map(|c| d.command(c, &book, None, BASE, t0()))
         .map(|r| r.event)
         .filter(|e| matches!(e, AuditEvent::JogStart { .. }))
         .collect();
@@ -221,7 +224,7 @@ fn the_speed_in_force_is_the_one_the_driver_reports() {
         altitude: 0,
     });
     assert_eq!(
-        events(d.command(&step, &PositionBook::new(), None, t0())),
+        events(d.command(&step, &PositionBook::new(), None, BASE, t0())),
         [AuditEvent::Step {
             axis: "az-".into(),
             delta_mm: None,
@@ -233,16 +236,52 @@ fn the_speed_in_force_is_the_one_the_driver_reports() {
 }
 
 #[test]
+fn a_jog_start_names_the_frame_the_console_selected() {
+    let mut d = deriver();
+    let book = PositionBook::new();
+    assert_eq!(
+        events(d.command(&PLUS_X, &book, None, ReferenceFrame::Tool, t0())),
+        [AuditEvent::JogStart {
+            axis: "+X".into(),
+            frame: Some("tool".into()),
+            speed_percent: 50,
+            speed_mm_s: Some(125.0),
+            speed_deg_s: None,
+        }]
+    );
+}
+
+#[test]
+fn a_speed_the_driver_refuses_is_recorded_as_asked_and_not_put_in_force() {
+    let mut d = deriver();
+    let book = PositionBook::new();
+    assert_eq!(
+        events(d.command(&ArmCommand::SetSpeed(0), &book, None, BASE, t0())),
+        [AuditEvent::Speed {
+            percent: 0,
+            mm_s: 0.0
+        }]
+    );
+    assert!(matches!(
+        events(d.command(&PLUS_X, &book, None, BASE, t0()))[..],
+        [AuditEvent::JogStart {
+            speed_percent: 50,
+            ..
+        }]
+    ));
+}
+
+#[test]
 fn a_quick_stop_ends_the_jog_and_the_next_press_starts_one() {
     let mut d = deriver();
     let book = PositionBook::new();
-    d.command(&PLUS_X, &book, None, t0());
+    d.command(&PLUS_X, &book, None, BASE, t0());
     assert_eq!(
-        events(d.command(&ArmCommand::QuickStop, &book, None, t0())),
+        events(d.command(&ArmCommand::QuickStop, &book, None, BASE, t0())),
         [AuditEvent::QuickStop]
     );
     assert!(matches!(
-        events(d.command(&PLUS_X, &book, None, t0()))[..],
+        events(d.command(&PLUS_X, &book, None, BASE, t0()))[..],
         [AuditEvent::JogStart { .. }]
     ));
 }
@@ -311,7 +350,7 @@ fn local_book_saves_become_save_and_delete_records() {
         theta_y: 0.0,
         theta_z: 90.0,
     };
-    let go = events(d.command(&ArmCommand::MoveToPose(pose), &book, None, t0()));
+    let go = events(d.command(&ArmCommand::MoveToPose(pose), &book, None, BASE, t0()));
     assert!(
         matches!(&go[..], [AuditEvent::GoTo { name: Some(n), .. }] if n == "pick"),
         "{go:?}"
@@ -330,7 +369,7 @@ fn with_an_operator_its_commands_say_what_was_saved_not_the_book() {
         parent: None,
     };
     assert_eq!(
-        line(events(d.command(&save, &book, None, t0())).remove(0)),
+        line(events(d.command(&save, &book, None, BASE, t0())).remove(0)),
         r#"{"ts":"2026-11-30T22:27:31.853Z","event":"save","name":"pick","anchor":true}"#
     );
 }

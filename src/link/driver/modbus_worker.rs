@@ -6,7 +6,7 @@ use std::time::Duration;
 use tokio::sync::mpsc;
 use tokio::task::JoinHandle;
 
-use super::speed::{MAX_ANGULAR_JOG_SPEED, SpeedInForce};
+use super::speed::{SpeedInForce, angular_jog_rate_at, is_settable, tool_speed_at};
 use super::{DriverConfig, JointPositions};
 use crate::kortex::{PolarPanSettings, Pose, ReferenceFrame, Twist};
 use crate::link::interface::{
@@ -142,14 +142,13 @@ impl State {
 
     /// The tool speed at the speed in force, m/s: the one cap every motion keeps.
     fn tool_speed(&self) -> f32 {
-        (self.max_jog_speed * self.fraction()) as f32
+        tool_speed_at(self.max_jog_speed, self.speed.percent()) as f32
     }
 
-    /// An orientation jog's rate at the speed in force, deg/s: [`MAX_ANGULAR_JOG_SPEED`] scaled
-    /// by it, and never above the arm's own configured angular limit once telemetry has reported
-    /// a usable one.
+    /// An orientation jog's rate at the speed in force, deg/s ([`angular_jog_rate_at`]), never
+    /// above the arm's own configured angular limit once telemetry has reported a usable one.
     fn angular_speed(&self) -> f32 {
-        let wanted = MAX_ANGULAR_JOG_SPEED * self.fraction() as f32;
+        let wanted = angular_jog_rate_at(self.speed.percent());
         let arm_limit = self
             .link
             .subscribe()
@@ -228,7 +227,7 @@ impl State {
             // The jog speed is the console's own setting: it scales the twists this worker
             // computes and is never written to the arm's configured limits (216-219), which
             // belong to `armjog modbus speed-limit`.
-            ArmCommand::SetSpeed(speed) if (1..=100).contains(speed) => {
+            ArmCommand::SetSpeed(speed) if is_settable(*speed) => {
                 self.speed.set(*speed);
                 let _ = self.events.send(ArmEvent::Speed(*speed));
                 Ok(None)

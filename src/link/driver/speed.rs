@@ -21,6 +21,24 @@ pub const JOINT_JOG_SPEED: f32 = 20.0;
 /// (`--operator-full-speed`): the simulator's default.
 pub const OPERATOR_FULL_SPEED: f64 = 0.25;
 
+/// Whether `percent` can be put in force: 1-100 % of the cap. Another is refused (by the Modbus
+/// worker, or by the operator it is passed on to) and leaves the speed in force as it was.
+pub fn is_settable(percent: u8) -> bool {
+    (1..=100).contains(&percent)
+}
+
+/// The tool speed cap at `percent` of `max_jog_speed`, in its unit: the one cap every motion
+/// keeps (what a cartesian jog moves at, what a move is capped at).
+pub fn tool_speed_at(max_jog_speed: f64, percent: u8) -> f64 {
+    max_jog_speed * f64::from(percent) / 100.0
+}
+
+/// An orientation jog's rate at `percent`, deg/s: [`MAX_ANGULAR_JOG_SPEED`] scaled by it, before
+/// the arm's own configured angular limit (which only the link's telemetry knows).
+pub fn angular_jog_rate_at(percent: u8) -> f32 {
+    MAX_ANGULAR_JOG_SPEED * (f64::from(percent) / 100.0) as f32
+}
+
 /// See the module docs. Clones share the value.
 #[derive(Debug, Clone)]
 pub struct SpeedInForce(Arc<AtomicU8>);
@@ -103,6 +121,15 @@ impl OperatorScale {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_percentage_scales_the_cap_and_the_turn_rate_and_only_1_to_100_is_settable() {
+        assert!((tool_speed_at(0.25, 20) - 0.05).abs() < 1e-12);
+        assert!((tool_speed_at(250.0, 100) - 250.0).abs() < 1e-12);
+        assert!((angular_jog_rate_at(20) - 6.0).abs() < 1e-5);
+        assert!((angular_jog_rate_at(100) - 30.0).abs() < 1e-5);
+        assert!(!is_settable(0) && is_settable(1) && is_settable(100) && !is_settable(101));
+    }
 
     #[test]
     fn the_same_full_speed_is_one_to_one() {

@@ -3,6 +3,13 @@
 #![allow(clippy::needless_range_loop)] // parallel per-joint arrays read clearest by index
 
 use super::*;
+use crate::sim::kinematics::MAX_JOINT_TORQUE;
+use nalgebra::Vector3;
+
+/// Straight jogs and steps.
+mod path;
+/// Orientation jogs.
+mod turn;
 
 #[test]
 fn starts_at_home_at_rest() {

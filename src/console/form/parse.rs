@@ -1,0 +1,77 @@
+//! What a submitted form means: names by the name rule, numbers in range as tenths, and the
+//! form's own rules (no own parent, no anchor without a parent, a rename that renames).
+
+use super::{Form, FormKind, FormResult};
+use crate::talos::PositionName;
+
+impl Form {
+    pub(super) fn parse(&self) -> Result<FormResult, (usize, String)> {
+        let value = |i: usize| self.fields.get(i).map(|f| f.value.trim()).unwrap_or("");
+        let name = PositionName::new(value(0))
+            .map_err(|e| (0, format!("name {e}")))?
+            .as_str()
+            .to_string();
+        match self.kind {
+            FormKind::Save => {
+                let parent = match value(1) {
+                    "" => None,
+                    p => Some(
+                        PositionName::new(p)
+                            .map_err(|e| (1, format!("parent {e}")))?
+                            .as_str()
+                            .to_string(),
+                    ),
+                };
+                if parent.as_deref() == Some(name.as_str()) {
+                    return Err((1, "a position cannot be its own parent".into()));
+                }
+                let anchor = value(2) == "yes";
+                if anchor && parent.is_none() {
+                    return Err((2, "anchor needs a parent to move with".into()));
+                }
+                Ok(FormResult::Save {
+                    name,
+                    anchor,
+                    parent,
+                })
+            }
+            FormKind::SetPolar => Ok(FormResult::SetPolar {
+                name,
+                delta: tenths(self, 1, -90.0, 90.0)?,
+                azimuth: tenths(self, 2, -360.0, 360.0)?,
+                radius: tenths(self, 3, 0.0, 2000.0)?,
+            }),
+            FormKind::SetCartesian => Ok(FormResult::SetCartesian {
+                name,
+                x: tenths(self, 1, -2000.0, 2000.0)?,
+                y: tenths(self, 2, -2000.0, 2000.0)?,
+                z: tenths(self, 3, -2000.0, 2000.0)?,
+            }),
+            FormKind::Rename => {
+                let from = self.original.clone().unwrap_or_default();
+                if from == name {
+                    return Err((0, format!("'{name}' is its name already")));
+                }
+                Ok(FormResult::Rename { from, to: name })
+            }
+        }
+    }
+}
+
+/// Field `i` as a number within `min..=max`, in tenths.
+fn tenths(form: &Form, i: usize, min: f64, max: f64) -> Result<i32, (usize, String)> {
+    let field = &form.fields[i];
+    let text = field.value.trim();
+    let value: f64 = text
+        .parse()
+        .ok()
+        .filter(|v: &f64| v.is_finite())
+        .ok_or_else(|| (i, format!("{}: '{text}' is not a number", field.label)))?;
+    if !(min..=max).contains(&value) {
+        return Err((
+            i,
+            format!("{}: {value} is outside {min} to {max}", field.label),
+        ));
+    }
+    Ok((value * 10.0).round() as i32)
+}

@@ -1,0 +1,242 @@
+//! How the running motion becomes joint velocities: twists and polar pans through the tracked
+//! reference, discrete moves approaching their target, all under the tool speed cap, the
+//! configured limits and each joint's top speed.
+
+use nalgebra::{Vector3, Vector6};
+
+use super::kinematics::{self, JOINTS, Joints, MAX_JOINT_SPEED_DEG, Pose};
+use super::{
+    ARRIVED_POSITION, ARRIVED_ROTATION, ActionStatus, Arm, Jacobian, ReferenceFrame, STEP,
+    SimMotion, joint_delta, polar_twist, tracking,
+};
+
+/// A discrete move within these (the tolerance of [`kinematics::inverse`], which found the
+/// target reachable) that the arm can hardly move closer has arrived where it can, m and rad.
+const STALLED_POSITION: f64 = 1e-4;
+const STALLED_ROTATION: f64 = 0.01 * std::f64::consts::PI / 180.0;
+
+/// How fast a discrete move approaches its target: proportionally to the distance left (1/s),
+/// but no slower than a floor (m/s, rad/s, within the move's own speed), so the last fraction
+/// of a millimetre takes milliseconds rather than an exponential tail.
+const APPROACH_GAIN: f64 = 8.0;
+const APPROACH_FLOOR_LINEAR: f64 = 0.002;
+const APPROACH_FLOOR_ANGULAR: f64 = 0.2 * std::f64::consts::PI / 180.0;
+
+impl Arm {
+    /// Joint velocities the motion asks for at `pose`, whose Jacobian is `j`.
+    pub(super) fn desired_velocity(&mut self, pose: &Pose, j: &Jacobian) -> Joints {
+        match self.motion.clone() {
+            SimMotion::Idle => [0.0; JOINTS],
+            SimMotion::Twist {
+                linear,
+                angular,
+                frame,
+            } => {
+                // A tool-frame twist turns with the tool the motion commands, not with the
+                // tool's small tracking error.
+                let reference = self.reference_pose(pose);
+                let rotation = reference.rotation;
+                let (linear, angular) = match frame {
+                    ReferenceFrame::Base => (linear, angular),
+                    ReferenceFrame::Tool => (rotation * linear, rotation * angular),
+                    ReferenceFrame::Mixed => (linear, rotation * angular),
+                };
+                let feed = self.capped_twist(linear, angular);
+                self.follow(pose, j, feed, tracking::Advance::Twist)
+            }
+            SimMotion::Polar { azimuth, altitude } => {
+                let reference = self.reference_pose(pose);
+                let (linear, angular) = polar_twist(&reference, azimuth, altitude);
+                // The whole pan slows together, so it keeps its shape under either cap.
+                let scale = [
+                    self.linear_cap() / linear.norm(),
+                    self.speed_limit_angular / angular.norm(),
+                ]
+                .into_iter()
+                .fold(1.0, f64::min);
+                let advance = tracking::Advance::Polar {
+                    azimuth: azimuth * scale * STEP,
+                    altitude: altitude * scale * STEP,
+                };
+                self.follow(pose, j, (linear * scale, angular * scale), advance)
+            }
+            SimMotion::ToPose {
+                target,
+                linear_speed,
+                angular_speed,
+            } => {
+                let err = kinematics::pose_error(pose, &target);
+                let dp = err.fixed_rows::<3>(0).into_owned();
+                let dr = err.fixed_rows::<3>(3).into_owned();
+                if dp.norm() < ARRIVED_POSITION && dr.norm() < ARRIVED_ROTATION {
+                    self.finish();
+                    return [0.0; JOINTS];
+                }
+                let linear = approach(dp, linear_speed, APPROACH_FLOOR_LINEAR);
+                let angular = approach(dr, angular_speed, APPROACH_FLOOR_ANGULAR);
+                let qd = self.track(j, linear, angular);
+                if dp.norm() < STALLED_POSITION
+                    && dr.norm() < STALLED_ROTATION
+                    && !makes_headway(j, &qd, self.capped_twist(linear, angular))
+                {
+                    // As close as the inverse kinematics promised, and a singularity or a
+                    // limit leaves the arm hardly any way closer: it has arrived where it can.
+                    self.finish();
+                    return [0.0; JOINTS];
+                }
+                qd
+            }
+            SimMotion::ToJoints { target, fraction } => {
+                let delta: Joints = std::array::from_fn(|i| joint_delta(i, self.q[i], target[i]));
+                if delta.iter().all(|d| d.abs() < 1e-5) {
+                    self.finish();
+                    return [0.0; JOINTS];
+                }
+                // Time for the slowest joint, then every joint moves to arrive together.
+                let duration = (0..JOINTS)
+                    .map(|i| delta[i].abs() / (MAX_JOINT_SPEED_DEG[i].to_radians() * fraction))
+                    .fold(STEP, f64::max);
+                std::array::from_fn(|i| delta[i] / duration)
+            }
+            SimMotion::JointVelocity { joint, velocity } => {
+                let mut qd = [0.0; JOINTS];
+                if let Some(v) = qd.get_mut(joint) {
+                    *v = velocity;
+                }
+                qd
+            }
+        }
+    }
+
+    /// The tool point's speed cap in force, m/s.
+    fn linear_cap(&self) -> f64 {
+        self.tcp_cap
+            .map_or(self.speed_limit_linear, |c| c.min(self.speed_limit_linear))
+    }
+
+    /// Scales joint velocities down (never up) so the tool point moves no faster than the
+    /// motion's cap and the configured linear limit, measured through the Jacobian: a
+    /// cartesian motion is capped before its inverse kinematics too (see [`Arm::track`]), but
+    /// damped least squares can trade a little rotation for translation.
+    ///
+    /// Returns the joint velocities and the tool's twist they make (linear m/s, angular rad/s).
+    pub(super) fn limit_tcp_speed(
+        &self,
+        qd: Joints,
+        j: &Jacobian,
+    ) -> (Joints, (Vector3<f64>, Vector3<f64>)) {
+        let twist = j * nalgebra::SVector::<f64, JOINTS>::from(qd);
+        let (linear, angular) = (
+            twist.fixed_rows::<3>(0).into_owned(),
+            twist.fixed_rows::<3>(3).into_owned(),
+        );
+        let cap = self.linear_cap();
+        let speed = linear.norm();
+        if speed > cap && speed > 0.0 {
+            let scale = cap / speed;
+            (qd.map(|v| v * scale), (linear * scale, angular * scale))
+        } else {
+            (qd, (linear, angular))
+        }
+    }
+
+    fn finish(&mut self) {
+        self.motion = SimMotion::Idle;
+        self.reference = None;
+        self.watchdog = None;
+        self.action_status = ActionStatus::Completed;
+    }
+
+    /// The reference pose of the running continuous motion: a new one, at `pose`, when the
+    /// motion has just begun or changed.
+    fn reference_pose(&mut self, pose: &Pose) -> Pose {
+        match &self.reference {
+            Some(reference) if reference.follows(&self.motion) => reference.pose,
+            _ => {
+                self.reference = Some(tracking::Reference::new(self.motion.clone(), *pose));
+                *pose
+            }
+        }
+    }
+
+    /// Joint velocities that move the tool at `pose` by the (capped) twist `feed` plus the
+    /// correction towards the reference, which moves on by `advance` once the step is done.
+    fn follow(
+        &mut self,
+        pose: &Pose,
+        j: &Jacobian,
+        feed: (Vector3<f64>, Vector3<f64>),
+        advance: tracking::Advance,
+    ) -> Joints {
+        let (linear, angular) = match &mut self.reference {
+            Some(reference) => reference.command(pose, feed, advance),
+            None => feed,
+        };
+        self.track(j, linear, angular)
+    }
+
+    /// A base-frame twist capped at the desired speed limits and the motion's tool speed cap.
+    /// The whole twist is scaled for the linear cap (slower rotation too, not a tool turning
+    /// faster than it moves).
+    fn capped_twist(
+        &self,
+        linear: Vector3<f64>,
+        angular: Vector3<f64>,
+    ) -> (Vector3<f64>, Vector3<f64>) {
+        let speed = linear.norm();
+        let scale = if speed > self.linear_cap() {
+            self.linear_cap() / speed
+        } else {
+            1.0
+        };
+        (
+            linear * scale,
+            cap(angular * scale, self.speed_limit_angular),
+        )
+    }
+
+    /// Joint velocities for a base-frame twist, capped as [`Arm::capped_twist`] says.
+    fn track(&self, j: &Jacobian, linear: Vector3<f64>, angular: Vector3<f64>) -> Joints {
+        let (linear, angular) = self.capped_twist(linear, angular);
+        let xdot = Vector6::new(
+            linear.x, linear.y, linear.z, angular.x, angular.y, angular.z,
+        );
+        kinematics::dls_velocity_with(j, &xdot, 0.05)
+    }
+}
+
+/// The velocity that closes the error `err` of a discrete move: proportional, no slower than
+/// `floor` and no faster than `max`, and never past the target within one step.
+fn approach(err: Vector3<f64>, max: f64, floor: f64) -> Vector3<f64> {
+    let n = err.norm();
+    if n == 0.0 {
+        return err;
+    }
+    let speed = (n * APPROACH_GAIN).max(floor).min(max).min(n / STEP);
+    err * (speed / n)
+}
+
+/// Whether joint velocities `qd` realise at least a tenth of the twist `wanted` (its linear part,
+/// or its angular part when it has no linear one).
+fn makes_headway(j: &Jacobian, qd: &Joints, wanted: (Vector3<f64>, Vector3<f64>)) -> bool {
+    let twist = j * nalgebra::SVector::<f64, JOINTS>::from(*qd);
+    let (realised, wanted) = if wanted.0.norm_squared() > 0.0 {
+        (twist.fixed_rows::<3>(0).into_owned(), wanted.0)
+    } else {
+        (twist.fixed_rows::<3>(3).into_owned(), wanted.1)
+    };
+    wanted.norm_squared() == 0.0 || realised.dot(&wanted) >= 0.1 * wanted.norm_squared()
+}
+
+fn cap(v: Vector3<f64>, max: f64) -> Vector3<f64> {
+    let n = v.norm();
+    if n > max && n > 0.0 { v * (max / n) } else { v }
+}
+
+/// Scales the whole vector so no joint exceeds its top speed (keeps the direction).
+pub(super) fn limit_joint_speeds(qd: Joints) -> Joints {
+    let ratio = (0..JOINTS)
+        .map(|i| qd[i].abs() / MAX_JOINT_SPEED_DEG[i].to_radians())
+        .fold(1.0, f64::max);
+    qd.map(|v| v / ratio)
+}
