@@ -5,9 +5,11 @@
 use std::ffi::OsString;
 
 /// Commands whose shared options may come before their name.
-const COMMANDS: [&str; 3] = ["send", "status", "modbus"];
+const COMMANDS: [&str; 4] = ["send", "status", "modbus", "arms"];
 /// Shared options that take a value.
-const WITH_VALUE: [&str; 6] = [
+const WITH_VALUE: [&str; 8] = [
+    "--arm",
+    "--config",
     "--talos",
     "--modbus",
     "--unit",
