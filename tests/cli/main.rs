@@ -1,5 +1,5 @@
-//! The command line: `armjog send`, `status`, `modbus`, the file limits, the guard, and the
-//! layering rules of the source tree.
+//! The command line: `armjog send`, `status`, `modbus`, arm profiles, the file limits, the
+//! guard, and the layering rules of the source tree.
 //!
 //! One test binary for several former ones (linking one binary per file cost most of a CI
 //! run): each module is one former `tests/<name>.rs`, so test paths read `<name>::<test>`.
@@ -25,5 +25,6 @@ mod guard;
 mod guard_console;
 mod layers;
 mod modbus_cli;
+mod profiles;
 mod sim_near_limit;
 mod sim_near_singularity;

@@ -48,6 +48,7 @@ mod positions_e2e;
 mod positions_pose;
 mod positions_resave;
 mod positions_unsaved;
+mod profile_console_e2e;
 mod readme_keys;
 mod screen_sizes;
 mod simulated_arm_ui;
