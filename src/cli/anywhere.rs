@@ -79,6 +79,14 @@ mod tests {
             moved("armjog --json status --modbus a"),
             "armjog status --json --modbus a"
         );
+        assert_eq!(
+            moved("armjog --arm cell3 modbus home"),
+            "armjog modbus --arm cell3 home"
+        );
+        assert_eq!(
+            moved("armjog --config c.toml arms"),
+            "armjog arms --config c.toml"
+        );
     }
 
     #[test]
