@@ -67,6 +67,7 @@ async fn press_release_latency() {
             joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
             frames: false,
             simulated: false,
+            arm_name: None,
         },
         PositionBook::new(),
     );

@@ -77,6 +77,7 @@ impl Scene {
                 joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
                 frames: false,
                 simulated: false,
+                arm_name: None,
             },
             PositionBook::new(),
         );

@@ -5,9 +5,11 @@
 use std::ffi::OsString;
 
 /// Commands whose shared options may come before their name.
-const COMMANDS: [&str; 3] = ["send", "status", "modbus"];
+const COMMANDS: [&str; 4] = ["send", "status", "modbus", "arms"];
 /// Shared options that take a value.
-const WITH_VALUE: [&str; 6] = [
+const WITH_VALUE: [&str; 8] = [
+    "--arm",
+    "--config",
     "--talos",
     "--modbus",
     "--unit",
@@ -76,6 +78,14 @@ mod tests {
         assert_eq!(
             moved("armjog --json status --modbus a"),
             "armjog status --json --modbus a"
+        );
+        assert_eq!(
+            moved("armjog --arm cell3 modbus home"),
+            "armjog modbus --arm cell3 home"
+        );
+        assert_eq!(
+            moved("armjog --config c.toml arms"),
+            "armjog arms --config c.toml"
         );
     }
 

@@ -151,8 +151,9 @@ impl ConsoleArgs {
     }
 }
 
-/// Runs the console; returns the exit status. Errors are printed as one line.
-pub async fn run_console(args: &ConsoleArgs) -> i32 {
+/// Runs the console; returns the exit status. Errors are printed as one line. `arm_name`: the
+/// profile `args` were completed from, if any.
+pub async fn run_console(args: &ConsoleArgs, arm_name: Option<String>) -> i32 {
     if let Err(reason) = args.validate() {
         eprintln!("armjog: {reason}");
         return 2;
@@ -168,7 +169,12 @@ pub async fn run_console(args: &ConsoleArgs) -> i32 {
     let on_simulator = args.talos.is_none() && args.modbus.is_none();
     let positions_file = args.positions.clone().or_else(|| {
         on_simulator
-            .then(|| crate::console::positions::default_path("simulator"))
+            .then(|| {
+                crate::console::positions::default_path(&crate::console::positions::book_key(
+                    arm_name.as_deref(),
+                    "simulator",
+                ))
+            })
             .flatten()
     });
     // The built-in operator starts with the book's positions: read once, here, and handed to
@@ -234,6 +240,7 @@ pub async fn run_console(args: &ConsoleArgs) -> i32 {
         positions_file,
         positions_read,
         simulated: simulator.is_some(),
+        arm_name,
     };
     let code = match run(setup).await {
         Ok(()) => 0,

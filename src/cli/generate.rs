@@ -42,7 +42,15 @@ pub struct ManArgs {
 
 /// The subcommands with a page of their own: every visible one.
 fn documented_subcommands() -> Vec<&'static str> {
-    vec!["send", "status", "modbus", "sim", "completions", "man"]
+    vec![
+        "send",
+        "status",
+        "modbus",
+        "arms",
+        "sim",
+        "completions",
+        "man",
+    ]
 }
 
 /// A man page in roff: armjog(1), or armjog-SUBCOMMAND(1).

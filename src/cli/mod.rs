@@ -1,6 +1,7 @@
 //! Command-line front ends: argument definitions and the one-shot commands.
 
 mod anywhere;
+pub mod arms;
 pub mod console;
 pub mod generate;
 pub mod guard;
@@ -9,6 +10,7 @@ mod man_sections;
 pub mod modbus;
 mod outcome;
 pub mod output;
+pub mod profiles;
 pub mod send;
 pub mod sim;
 pub mod status;
@@ -24,7 +26,7 @@ pub use outcome::Outcome;
 /// armjog: jog a robot arm from the keyboard, and talk to it from a shell.
 ///
 /// With no subcommand it opens the jog console: on the built-in simulated arm, or on the arm
-/// given with --talos and/or --modbus.
+/// given with --talos and/or --modbus, or by the profile --arm names.
 #[derive(Debug, Parser)]
 #[command(name = "armjog", version = version::VERSION, about, long_about = None, args_conflicts_with_subcommands = true)]
 pub struct Cli {
@@ -32,6 +34,8 @@ pub struct Cli {
     pub command: Option<Command>,
     #[command(flatten)]
     pub console: console::ConsoleArgs,
+    #[command(flatten)]
+    pub profile: profiles::ProfileArgs,
 }
 
 #[derive(Debug, Subcommand)]
@@ -42,6 +46,8 @@ pub enum Command {
     Status(status::StatusArgs),
     /// Write one Kinova Modbus command: quick stop, abort, fault reset, stop, home, speed limit.
     Modbus(modbus::ModbusArgs),
+    /// List the arm profiles of config.toml (`--arm NAME` takes one), with their targets.
+    Arms(arms::ArmsArgs),
     /// Run the simulated Kinova Gen3 arm: a Talos operator and a Kinova Modbus server.
     Sim(sim::SimArgs),
     /// Print a shell completion script (bash, zsh or fish) to stdout.

@@ -161,6 +161,7 @@ mod tests {
                 joint_jog_speed: crate::link::driver::JOINT_JOG_SPEED,
                 frames: false,
                 simulated: false,
+                arm_name: None,
             },
             PositionBook::new(),
         );

@@ -13,7 +13,7 @@ mod names;
 #[cfg(test)]
 mod tests;
 
-pub use file::{BookError, default_path};
+pub use file::{BookError, book_key, default_path};
 
 use std::sync::Arc;
 

@@ -47,6 +47,8 @@ pub struct ConsoleSetup {
     pub positions_read: Option<Result<positions::PositionBook, positions::BookError>>,
     /// The arm is the built-in simulator (no arm was named): the status bar says so.
     pub simulated: bool,
+    /// The arm profile the console was opened with: its book and audit go by its name.
+    pub arm_name: Option<String>,
 }
 
 /// Why the console could not run.
@@ -87,10 +89,12 @@ pub fn key_input(event: &KeyEvent) -> Option<KeyInput> {
 
 /// Runs the console until the technician quits.
 pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
-    let book_path = setup
-        .positions_file
-        .clone()
-        .or_else(|| positions::default_path(&setup.driver.target()));
+    let book_path = setup.positions_file.clone().or_else(|| {
+        positions::default_path(&positions::book_key(
+            setup.arm_name.as_deref(),
+            &setup.driver.target(),
+        ))
+    });
     // Read off the event loop: the first frame and the keys do not wait for a big book.
     let mut book = match (book_path, setup.positions_read) {
         (Some(path), Some(read)) if Some(&path) == setup.positions_file.as_ref() => {
@@ -123,8 +127,9 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
                 joint_jog_speed,
                 frames,
                 simulated: setup.simulated,
+                arm_name: setup.arm_name.clone(),
             };
-            let mut audit = AuditSession::start(&config, arm, audit::audit_dir());
+            let mut audit = AuditSession::start(&config, arm, setup.arm_name, audit::audit_dir());
             let result = event_loop(
                 config,
                 &mut book,

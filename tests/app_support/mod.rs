@@ -23,6 +23,7 @@ pub fn config() -> AppConfig {
         joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
         frames: false,
         simulated: false,
+        arm_name: None,
     }
 }
 

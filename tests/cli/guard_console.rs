@@ -257,6 +257,7 @@ fn the_console_stops_and_says_so_when_its_guard_goes_down_and_shows_its_state() 
             joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
             frames: true,
             simulated: false,
+            arm_name: None,
         },
         PositionBook::new(),
     );

@@ -1,5 +1,5 @@
-//! The command line: `armjog send`, `status`, `modbus`, `sim`'s options, the file limits and the
-//! guard.
+//! The command line: `armjog send`, `status`, `modbus`, arm profiles, `sim`'s options, the file
+//! limits and the guard.
 //!
 //! One test binary per folder (linking one binary per file cost most of a CI run): each module
 //! is named for what it tests, so test paths read `<module>::<test>`. Helpers shared with other
@@ -24,6 +24,7 @@ mod guard_console;
 mod logs;
 mod modbus;
 mod options;
+mod profiles;
 mod send;
 mod sim_args_near_limit;
 mod sim_args_near_singularity;

@@ -26,6 +26,7 @@ pub fn app_for(config: &DriverConfig, book: PositionBook) -> App {
             joint_jog_speed: config.joint_jog_speed,
             frames: config.talos.is_none(),
             simulated: false,
+            arm_name: None,
         },
         book,
     )

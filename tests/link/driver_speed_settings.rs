@@ -344,6 +344,7 @@ fn the_status_bar_shows_the_jog_speed_from_the_cap_and_the_percent() {
             joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
             frames: true,
             simulated: false,
+            arm_name: None,
         },
         PositionBook::new(),
     );

@@ -192,6 +192,8 @@ pub struct AppConfig {
     pub frames: bool,
     /// The arm is the console's built-in simulator, not hardware: the status bar says so.
     pub simulated: bool,
+    /// The arm profile (`--arm NAME`) the console was opened with, for the status bar.
+    pub arm_name: Option<String>,
 }
 
 /// The console's whole state. Private: only inputs change it; [`App`]'s accessors read it.

@@ -26,9 +26,12 @@ pub use writer::AuditLog;
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(tag = "event", rename_all = "snake_case")]
 pub enum AuditEvent {
-    /// The console opened on an arm ("talos-127.0.0.1:61616", ...).
+    /// The console opened on an arm: its profile's name when one was used (`target` then says
+    /// where it was reached), else its target ("talos-127.0.0.1:61616", ...).
     SessionStart {
         arm: String,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        target: Option<String>,
     },
     /// The console closed (after its last STOP).
     SessionEnd,

@@ -15,7 +15,13 @@ pub struct AuditSession {
 
 impl AuditSession {
     /// Starts the writer for `dir` and records the session's start on `arm`.
-    pub fn start(config: &AppConfig, arm: String, dir: Option<std::path::PathBuf>) -> Self {
+    /// `profile`: the name of the arm profile the console was opened with, if any.
+    pub fn start(
+        config: &AppConfig,
+        target: String,
+        profile: Option<String>,
+        dir: Option<std::path::PathBuf>,
+    ) -> Self {
         let session = AuditSession {
             deriver: AuditDeriver::new(
                 config.max_jog_speed,
@@ -26,7 +32,16 @@ impl AuditSession {
         };
         session.write(vec![AuditRecord::new(
             SystemTime::now(),
-            AuditEvent::SessionStart { arm },
+            match profile {
+                Some(arm) => AuditEvent::SessionStart {
+                    arm,
+                    target: Some(target),
+                },
+                None => AuditEvent::SessionStart {
+                    arm: target,
+                    target: None,
+                },
+            },
         )]);
         session
     }

@@ -16,6 +16,7 @@ fn app() -> App {
             joint_jog_speed: crate::link::driver::JOINT_JOG_SPEED,
             frames: false,
             simulated: false,
+            arm_name: None,
         },
         PositionBook::new(),
     )

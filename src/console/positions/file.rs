@@ -242,6 +242,15 @@ impl Write for ByteCounter {
     }
 }
 
+/// The name an arm's book is kept under: its profile's (`arm-cell3`) when it was opened by one,
+/// so one arm has one book whichever address reaches it; else its target.
+pub fn book_key(profile: Option<&str>, target: &str) -> String {
+    match profile {
+        Some(name) => format!("arm-{name}"),
+        None => target.to_string(),
+    }
+}
+
 /// Where the book of the arm at `target` lives: `$ARMJOG_DATA_DIR` or the user's data
 /// directory, then `armjog/positions/<target>.json`.
 pub fn default_path(target: &str) -> Option<PathBuf> {

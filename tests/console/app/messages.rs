@@ -32,6 +32,7 @@ fn app_before_link(source: TelemetrySource) -> (App, Instant) {
         joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
         frames: source == TelemetrySource::Modbus,
         simulated: false,
+        arm_name: None,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();

@@ -37,6 +37,7 @@ fn app(source: TelemetrySource) -> (App, Instant) {
         joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
         frames: over_modbus,
         simulated: false,
+        arm_name: None,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();

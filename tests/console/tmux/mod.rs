@@ -2,4 +2,5 @@
 
 mod logs;
 mod paste;
+mod profile;
 mod session;

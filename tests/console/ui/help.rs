@@ -50,6 +50,7 @@ fn app_with(
         joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
         frames: !on_operator,
         simulated: false,
+        arm_name: None,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();
@@ -287,6 +288,7 @@ fn the_turn_keys_are_offered_until_the_driver_says_which_link_it_has() {
         joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
         frames: true,
         simulated: false,
+        arm_name: None,
     };
     let mut app = App::new(config, PositionBook::new());
     app.handle(

@@ -77,6 +77,7 @@ fn modbus_app() -> (App, Instant) {
         joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
         frames: true,
         simulated: false,
+        arm_name: None,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();

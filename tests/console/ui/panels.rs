@@ -127,6 +127,7 @@ fn bare_app(mode: ReleaseMode, on_operator: bool) -> (App, Instant) {
         joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
         frames: !on_operator,
         simulated: false,
+        arm_name: None,
     };
     (App::new(config, PositionBook::new()), Instant::now())
 }

@@ -114,6 +114,7 @@ fn live_app(mode: ReleaseMode, frames: bool) -> (App, Instant) {
         joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
         frames,
         simulated: false,
+        arm_name: None,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();

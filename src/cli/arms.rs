@@ -1,0 +1,77 @@
+//! `armjog arms`: the arm profiles of config.toml, one line each with its targets.
+
+use clap::Args;
+
+use super::Outcome;
+use super::profiles::{self, EXIT_PROFILE, ProfileError, Profiles};
+
+#[derive(Debug, Args)]
+pub struct ArmsArgs {}
+
+/// Runs `armjog arms`: the file is checked whole, as `--arm` checks it.
+pub fn run(given: Option<&std::path::Path>) -> Outcome {
+    let Some(path) = profiles::config_path(given) else {
+        return refused(&ProfileError::NoPlace);
+    };
+    match profiles::load(&path) {
+        Ok(profiles) => Outcome {
+            stdout: lines(&profiles),
+            stderr: None,
+            exit_code: 0,
+        },
+        Err(ProfileError::NoFile { path }) => Outcome {
+            stdout: vec![format!(
+                "no arm profiles: {} does not exist (each is an [arms.NAME] table; see the README)",
+                path.display()
+            )],
+            stderr: None,
+            exit_code: 0,
+        },
+        Err(e) => refused(&e),
+    }
+}
+
+fn refused(e: &ProfileError) -> Outcome {
+    Outcome {
+        stdout: Vec::new(),
+        stderr: Some(e.to_string()),
+        exit_code: EXIT_PROFILE,
+    }
+}
+
+/// One line a profile: its name, then its Talos and Modbus targets as written.
+pub fn lines(profiles: &Profiles) -> Vec<String> {
+    if profiles.arms.is_empty() {
+        return vec![format!(
+            "no arm profiles in {} (no [arms.NAME] tables)",
+            profiles.file.display()
+        )];
+    }
+    let width = profiles
+        .arms
+        .iter()
+        .map(|p| p.name.len())
+        .max()
+        .unwrap_or(0);
+    profiles
+        .arms
+        .iter()
+        .map(|profile| {
+            let mut targets = Vec::new();
+            if let Some(talos) = profile.value("talos") {
+                targets.push(format!("talos {talos}"));
+            }
+            if let Some(modbus) = profile.value("modbus") {
+                let unit = profile
+                    .value("unit")
+                    .map(|u| format!(" unit {u}"))
+                    .unwrap_or_default();
+                targets.push(format!("modbus {modbus}{unit}"));
+            }
+            if targets.is_empty() {
+                targets.push("the built-in simulated arm".into());
+            }
+            format!("{:<width$}  {}", profile.name, targets.join("  "))
+        })
+        .collect()
+}
