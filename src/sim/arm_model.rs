@@ -59,6 +59,8 @@ pub struct Arm {
     reach_at: Option<(Joints, f64)>,
     /// Where a running twist or polar pan should have the tool (see [`tracking`]).
     reference: Option<tracking::Reference>,
+    /// The moves of a running stored sequence still to come, in order.
+    queued: std::collections::VecDeque<SimMotion>,
 }
 
 impl Default for Arm {
@@ -91,6 +93,7 @@ impl Arm {
             current: [0.0; JOINTS],
             reach_at: None,
             reference: None,
+            queued: std::collections::VecDeque::new(),
         };
         arm.update_effort();
         arm
@@ -151,6 +154,8 @@ impl Arm {
             return Err(Refusal::InFault);
         }
         self.check_reachable(&motion)?;
+        // Any new motion replaces a running sequence.
+        self.queued.clear();
         self.watchdog = watchdog.then_some(self.time + self.watchdog_period);
         self.move_type = match motion {
             SimMotion::ToPose { .. } => 2,
@@ -210,6 +215,7 @@ impl Arm {
         self.watchdog = None;
         self.qd = [0.0; JOINTS];
         self.reference = None;
+        self.queued.clear();
     }
 
     /// Coil 0: stop and go into fault, as Kinova's quick stop does.
@@ -234,9 +240,35 @@ impl Arm {
         self.action_status = ActionStatus::Aborted;
     }
 
-    pub fn set_action(&mut self, id: u16) {
+    /// Names the stored action (move type 0) or sequence (1) the status registers report.
+    pub fn set_action(&mut self, id: u16, move_type: u16) {
         self.action_id = id;
-        self.move_type = 0;
+        self.move_type = move_type;
+    }
+
+    /// Starts a stored action or sequence `id` as its moves `steps`, one after the other. The
+    /// status reports `id` and `move_type` and stays started until the last move arrives.
+    /// Every step is checked before the first moves.
+    pub fn command_stored(
+        &mut self,
+        id: u16,
+        move_type: u16,
+        steps: Vec<SimMotion>,
+    ) -> Result<(), Refusal> {
+        self.set_action(id, move_type);
+        let mut steps = std::collections::VecDeque::from(steps);
+        for step in &steps {
+            if !step.is_finite() {
+                return Err(Refusal::NotFinite);
+            }
+            self.check_reachable(step)?;
+        }
+        let Some(first) = steps.pop_front() else {
+            return Err(Refusal::OutOfRange);
+        };
+        self.command(first, 0.0, false)?;
+        self.queued = steps;
+        Ok(())
     }
 
     /// Desired speed limits (m/s, deg/s), clamped to the hard limits.

@@ -11,6 +11,7 @@ pub mod modbus_registers;
 pub mod modbus_server;
 pub mod operator;
 pub mod reject_log;
+pub mod stored;
 pub mod talos_server;
 pub mod telemetry;
 pub mod world;

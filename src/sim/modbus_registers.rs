@@ -8,14 +8,14 @@ use crate::kortex::CodeName;
 use nalgebra::Vector3;
 
 use super::arm_model::{ArmSnapshot, SimMotion};
-use super::kinematics::{self, HOME_DEG, Pose};
+use super::kinematics::Pose;
+use super::stored;
 use super::world::World;
 use crate::kortex::ReferenceFrame;
 use crate::kortex::registers::{coil, discrete_input, holding_register, input_register};
 use crate::kortex::words::{f32_to_words, u32_to_words};
 
-/// The Home action's id in the simulator (armjog's default `--action-id`).
-pub const HOME_ACTION_ID: u16 = 2;
+pub use super::stored::HOME_ACTION_ID;
 
 /// Listed address ranges (start, end exclusive), per table.
 pub const DISCRETE_INPUTS: [(u16, u16); 3] = [(0, 10), (32, 63), (64, 95)];
@@ -209,11 +209,11 @@ fn execute(world: &mut World) {
                 world.arm.mark_aborted();
                 return;
             }
+            if let move_type @ (stored::MOVE_TYPE_ACTION | stored::MOVE_TYPE_SEQUENCE) = block[2] {
+                start_stored(world, id, move_type);
+                return;
+            }
             let motion = match block[2] {
-                0 if id == HOME_ACTION_ID => Some(SimMotion::ToJoints {
-                    target: kinematics::to_radians(&HOME_DEG),
-                    fraction: 0.3,
-                }),
                 2 => {
                     let v = |a: u16| f64::from(float_at(&block, a));
                     let pose = Pose::from_position_euler_deg(
@@ -237,30 +237,37 @@ fn execute(world: &mut World) {
                         frame,
                     })
                 }
-                // Unknown actions and sequences: nothing to run.
+                // Unknown move types: nothing to run.
                 _ => None,
             };
             match motion {
+                // A refused start (fault, unreachable) shows as an aborted action; like the
+                // real arm, "unable to reach pose" raises no flag.
                 Some(motion) => {
-                    if block[2] == 0 {
-                        world.arm.set_action(id);
-                    }
-                    // A refused start (fault, unreachable) shows as an aborted action; like the
-                    // real arm, "unable to reach pose" raises no flag.
                     if world.arm.command(motion, 0.0, false).is_err() {
                         world.arm.mark_aborted();
                     }
                 }
-                None => {
-                    // The status names the refused id, so its client can tell.
-                    if block[2] == 0 {
-                        world.arm.set_action(id);
-                    }
-                    world.arm.mark_aborted();
-                }
+                None => world.arm.mark_aborted(),
             }
         }
         _ => {}
+    }
+}
+
+/// Starts the stored action (move type 0) or sequence (1) `id`. An id the arm does not have,
+/// or a start it refuses (fault), shows as aborted with the status naming the id and move type,
+/// so its client can tell its own refusal from an earlier action's status.
+fn start_stored(world: &mut World, id: u16, move_type: u16) {
+    let started = match stored::steps(id, move_type) {
+        Some(steps) => world.arm.command_stored(id, move_type, steps).is_ok(),
+        None => {
+            world.arm.set_action(id, move_type);
+            false
+        }
+    };
+    if !started {
+        world.arm.mark_aborted();
     }
 }
 

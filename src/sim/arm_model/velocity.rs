@@ -140,11 +140,18 @@ impl Arm {
         }
     }
 
+    /// The motion arrived: a sequence goes on with its next move (still started), anything
+    /// else has completed.
     fn finish(&mut self) {
-        self.motion = SimMotion::Idle;
         self.reference = None;
         self.watchdog = None;
-        self.action_status = ActionStatus::Completed;
+        match self.queued.pop_front() {
+            Some(next) => self.motion = next,
+            None => {
+                self.motion = SimMotion::Idle;
+                self.action_status = ActionStatus::Completed;
+            }
+        }
     }
 
     /// The reference pose of the running continuous motion: a new one, at `pose`, when the
