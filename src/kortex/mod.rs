@@ -7,6 +7,7 @@
 //! - [`image`], [`telemetry`]: the reads of one poll and the snapshot they decode to.
 //! - [`commands`]: the writes of each command, refusing values that cannot be written.
 //! - [`polar`]: polar pan as a twist computed from the live tool pose.
+//! - [`stored_run`]: how far a stored action or sequence started by id has got.
 //! - [`sanity`]: whether a reported value is physically possible (the panels' `?` and the
 //!   console's motion gate).
 
@@ -20,6 +21,7 @@ pub mod image;
 pub mod polar;
 pub mod registers;
 pub mod sanity;
+pub mod stored_run;
 pub mod telemetry;
 pub mod words;
 
@@ -34,4 +36,5 @@ pub use image::{ImageError, PollPlan, ReadBlock, RegisterImage, SLOW_REFRESH};
 pub use polar::{PolarPanError, PolarPanSettings, check_directions, polar_twist};
 pub use registers::Table;
 pub use sanity::InsaneField;
+pub use stored_run::{Progress, Stored, StoredRun};
 pub use telemetry::{ActionState, ArmHealth, JointState, SpeedLimits, Telemetry, ToolState};
