@@ -82,18 +82,22 @@ pub struct ConsoleArgs {
     pub home_action_id: u16,
 }
 
+/// The tool speed cap's bounds, mm/s: above 0 and at most the arm's twist limit. For the
+/// console and the one-shot commands that move the arm.
+pub fn check_max_jog_speed(mm_s: f64) -> Result<(), String> {
+    if mm_s.is_finite() && mm_s > 0.0 && mm_s <= 500.0 {
+        Ok(())
+    } else {
+        Err(format!(
+            "--max-jog-speed {mm_s} mm/s: must be above 0 and at most 500 (the arm's twist limit)"
+        ))
+    }
+}
+
 impl ConsoleArgs {
     /// Checks the numbers a technician could get wrong, before anything starts.
     fn validate(&self) -> Result<(), String> {
-        if !(self.max_jog_speed.is_finite()
-            && self.max_jog_speed > 0.0
-            && self.max_jog_speed <= 500.0)
-        {
-            return Err(format!(
-                "--max-jog-speed {} mm/s: must be above 0 and at most 500 (the arm's twist limit)",
-                self.max_jog_speed
-            ));
-        }
+        check_max_jog_speed(self.max_jog_speed)?;
         if !(self.operator_full_speed.is_finite()
             && self.operator_full_speed > 0.0
             && self.operator_full_speed <= 500.0)

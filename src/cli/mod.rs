@@ -44,7 +44,8 @@ pub enum Command {
     Send(send::SendArgs),
     /// Print a complete snapshot of a Kinova arm over Modbus TCP.
     Status(status::StatusArgs),
-    /// Write one Kinova Modbus command: quick stop, abort, fault reset, stop, home, speed limit.
+    /// Write one Kinova Modbus command: quick stop, abort, fault reset, stop, home, a stored
+    /// action or sequence by id, speed limit.
     Modbus(modbus::ModbusArgs),
     /// List the arm profiles of config.toml (`--arm NAME` takes one), with their targets.
     Arms(arms::ArmsArgs),

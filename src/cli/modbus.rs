@@ -1,17 +1,20 @@
 //! `armjog modbus`: the writes a technician needs from a shell, and what `armjog status`
 //! shares with it (the connection options and exit codes).
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use clap::{Args, Subcommand};
 use serde_json::{Value, json};
 
 use super::Outcome;
-use crate::kortex::arm_state::{abort_reason, at_rest, fault_reason};
 use crate::kortex::commands::{self, Write};
-use crate::kortex::{ActionStatus, Coded, StoredMotion, Telemetry};
+use crate::kortex::{Stored, StoredMotion};
 use crate::link::modbus::{DEFAULT_HOME_ACTION_ID, DEFAULT_PORT, ModbusConfig, ModbusError};
 use crate::link::{ModbusLink, WriteReport};
+
+mod stored;
+
+pub use stored::StoredOptions;
 
 /// Exit status when the arm answered with a Modbus exception, or an action it was asked for
 /// did not complete (aborted, faulted, never started, timed out).
@@ -86,13 +89,26 @@ pub enum ModbusCommand {
         /// The arm's id of its Home action (see the Kortex Web App).
         #[arg(long, default_value_t = DEFAULT_HOME_ACTION_ID, value_name = "N")]
         action_id: u16,
-        /// Return once the action is started, without waiting for its end.
-        #[arg(long)]
-        no_wait: bool,
-        /// Longest wait for the end, seconds: past it the action is stopped and the exit status
-        /// is 1.
-        #[arg(long, default_value_t = 60.0, value_name = "S")]
-        wait_timeout: f64,
+        #[command(flatten)]
+        options: StoredOptions,
+    },
+    /// Start a stored action by id and wait for its end (holding registers 200-202, move
+    /// type 0). A real arm's ids are on its Web App's Actions page.
+    Action {
+        /// The action's id.
+        #[arg(long, value_name = "N")]
+        id: u16,
+        #[command(flatten)]
+        options: StoredOptions,
+    },
+    /// Start a stored sequence by id and wait for its end (holding registers 200-202, move
+    /// type 1). A real arm's ids are on its Web App's Actions page.
+    Sequence {
+        /// The sequence's id.
+        #[arg(long, value_name = "N")]
+        id: u16,
+        #[command(flatten)]
+        options: StoredOptions,
     },
     /// Set the desired cartesian speed limits (holding registers 216-219).
     SpeedLimit {
@@ -113,6 +129,8 @@ impl ModbusCommand {
             ModbusCommand::FaultReset => "fault_reset",
             ModbusCommand::Stop => "stop",
             ModbusCommand::Home { .. } => "home",
+            ModbusCommand::Action { .. } => "action",
+            ModbusCommand::Sequence { .. } => "sequence",
             ModbusCommand::SpeedLimit { .. } => "speed_limit",
         }
     }
@@ -123,8 +141,18 @@ impl ModbusCommand {
             ModbusCommand::Abort => link.abort().await,
             ModbusCommand::FaultReset => link.fault_reset().await,
             ModbusCommand::Stop => link.stop().await,
-            ModbusCommand::Home { action_id, .. } => {
-                link.start_stored(*action_id, StoredMotion::Action).await
+            // Capped while the link watches them: the limits go back when they end.
+            ModbusCommand::Home {
+                action_id: id,
+                options,
+            }
+            | ModbusCommand::Action { id, options } => {
+                link.start_stored_capped(*id, StoredMotion::Action, options.cap_m_s())
+                    .await
+            }
+            ModbusCommand::Sequence { id, options } => {
+                link.start_stored_capped(*id, StoredMotion::Sequence, options.cap_m_s())
+                    .await
             }
             ModbusCommand::SpeedLimit { linear, angular } => {
                 link.set_speed_limits(*linear, *angular).await
@@ -151,35 +179,25 @@ pub async fn run(args: &ModbusArgs) -> Outcome {
     {
         return Outcome::failed(&e.into());
     }
-    let home = match &args.command {
-        ModbusCommand::Home {
-            action_id,
-            no_wait,
-            wait_timeout,
-        } => {
-            if !(wait_timeout.is_finite() && *wait_timeout > 0.0 && *wait_timeout <= 86_400.0) {
+    let stored = match args.command.stored() {
+        Some((stored, options)) => match options.check() {
+            Ok(()) => Some((stored, options)),
+            Err(why) => {
                 return Outcome {
                     stdout: Vec::new(),
-                    stderr: Some(format!(
-                        "--wait-timeout {wait_timeout}: must be above 0 and at most 86400 s"
-                    )),
+                    stderr: Some(why),
                     exit_code: EXIT_REFUSED,
                 };
             }
-            Some((
-                *action_id,
-                !*no_wait,
-                Duration::from_secs_f64(*wait_timeout),
-            ))
-        }
-        _ => None,
+        },
+        None => None,
     };
     let link = match ModbusLink::connect(args.arm.config()).await {
         Ok((link, _events)) => link,
         Err(e) => return Outcome::failed(&e),
     };
-    let outcome = match home {
-        Some((action_id, wait, timeout)) => run_home(args, &link, action_id, wait, timeout).await,
+    let outcome = match stored {
+        Some((stored, options)) => stored::run(args, &link, stored, options).await,
         None => match args.command.send(&link).await {
             Ok(report) => Outcome {
                 stdout: render(args, &report, None),
@@ -193,131 +211,19 @@ pub async fn run(args: &ModbusArgs) -> Outcome {
     outcome
 }
 
-/// How often a home's end is polled.
-const HOME_POLL: Duration = Duration::from_millis(100);
-/// A status read this soon after the start may still be the previous action's.
-const HOME_STATUS_GRACE: Duration = Duration::from_millis(500);
-/// An arm that has not taken the action id by then does not have it.
-const HOME_START_LIMIT: Duration = Duration::from_secs(2);
-
-/// How a home ended.
-enum HomeEnd {
-    Completed(Duration),
-    Failed(String),
-}
-
-/// `armjog modbus home`: refuses an arm in fault, starts the action and (unless told not to)
-/// waits for its end.
-async fn run_home(
-    args: &ModbusArgs,
-    link: &ModbusLink,
-    action_id: u16,
-    wait: bool,
-    timeout: Duration,
-) -> Outcome {
-    let failed = |reason: String, stdout: Vec<String>| Outcome {
-        stdout,
-        stderr: Some(format!("home failed: {reason}")),
-        exit_code: EXIT_EXCEPTION,
-    };
-    match link.read_telemetry().await {
-        Ok(t) => {
-            if let Some(fault) = fault_reason(&t) {
-                return failed(format!("{fault}; not started"), Vec::new());
+impl ModbusCommand {
+    /// The stored action or sequence a command starts (home is the action with the home id),
+    /// with how it is waited for and capped.
+    fn stored(&self) -> Option<(Stored, &StoredOptions)> {
+        let (motion, id, options) = match self {
+            ModbusCommand::Home { action_id, options } => {
+                (StoredMotion::Action, *action_id, options)
             }
-        }
-        Err(e) => return Outcome::failed(&e),
-    }
-    let report = match args.command.send(link).await {
-        Ok(report) => report,
-        Err(e) => return Outcome::failed(&e),
-    };
-    if !wait {
-        return Outcome {
-            stdout: render(args, &report, Some("started")),
-            stderr: None,
-            exit_code: 0,
+            ModbusCommand::Action { id, options } => (StoredMotion::Action, *id, options),
+            ModbusCommand::Sequence { id, options } => (StoredMotion::Sequence, *id, options),
+            _ => return None,
         };
-    }
-    match wait_for_home(link, action_id, timeout).await {
-        Ok(HomeEnd::Completed(took)) => {
-            let mut stdout = render(args, &report, Some("completed"));
-            if !args.json {
-                stdout.push(format!("home: completed in {:.1} s", took.as_secs_f64()));
-            }
-            Outcome {
-                stdout,
-                stderr: None,
-                exit_code: 0,
-            }
-        }
-        Ok(HomeEnd::Failed(reason)) => failed(reason, render(args, &report, Some("failed"))),
-        Err(e) => Outcome::failed(&e),
-    }
-}
-
-/// Polls the action status and faults until the action `action_id` ends. Past `timeout` it is
-/// stopped.
-async fn wait_for_home(
-    link: &ModbusLink,
-    action_id: u16,
-    timeout: Duration,
-) -> Result<HomeEnd, ModbusError> {
-    let started = Instant::now();
-    let mut seen_started = false;
-    loop {
-        let t = link.read_telemetry().await?;
-        let elapsed = started.elapsed();
-        if let Some(end) = home_end(&t, action_id, elapsed, &mut seen_started) {
-            return Ok(end);
-        }
-        if elapsed >= timeout {
-            let stopped = match link.stop().await {
-                Ok(_) => "stopped",
-                Err(_) => "and the STOP could not be written: the arm may still be moving",
-            };
-            return Ok(HomeEnd::Failed(format!(
-                "no end within {:.1} s; {stopped}",
-                timeout.as_secs_f64()
-            )));
-        }
-        tokio::time::sleep(HOME_POLL).await;
-    }
-}
-
-/// What one poll says about the home, if it ended.
-fn home_end(
-    t: &Telemetry,
-    action_id: u16,
-    elapsed: Duration,
-    seen_started: &mut bool,
-) -> Option<HomeEnd> {
-    if let Some(fault) = fault_reason(t) {
-        return Some(HomeEnd::Failed(fault));
-    }
-    let ours = t.action.id == action_id;
-    if ours && t.action.status == Coded::Known(ActionStatus::Started) {
-        *seen_started = true;
-    }
-    // Right after the start the status may still describe an earlier run of the same action.
-    let current = ours && (*seen_started || elapsed >= HOME_STATUS_GRACE);
-    match t.action.status {
-        Coded::Known(ActionStatus::Aborted) if current => {
-            let reason = abort_reason(t);
-            Some(HomeEnd::Failed(if *seen_started {
-                reason
-            } else {
-                format!("{reason} at once: does the arm have action {action_id}?")
-            }))
-        }
-        Coded::Known(ActionStatus::Completed) if current && at_rest(t) => {
-            Some(HomeEnd::Completed(elapsed))
-        }
-        _ if !ours && elapsed >= HOME_START_LIMIT => Some(HomeEnd::Failed(format!(
-            "the arm did not take action {action_id} (it reports action {}): does it exist?",
-            t.action.id
-        ))),
-        _ => None,
+        Some((Stored { motion, id }, options))
     }
 }
 
@@ -333,6 +239,9 @@ fn render(args: &ModbusArgs, report: &WriteReport, action: Option<&str>) -> Vec<
         });
         if let Some(action) = action {
             object["action"] = json!(action);
+        }
+        if let Some((stored, _)) = args.command.stored() {
+            object["id"] = json!(stored.id);
         }
         return vec![object.to_string()];
     }

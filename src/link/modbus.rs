@@ -12,8 +12,9 @@
 //! all is logged with `tracing::error!`, sent as [`ModbusEvent::StopFailed`] and returned as an
 //! error. Actions and cartesian trajectories end by themselves and are left running on drop,
 //! except a move started under a speed cap ([`ModbusLink::go_to_pose_capped`],
-//! [`ModbusLink::home_capped`]): the link lowered the arm's speed limits for it, so it stops that
-//! move on close and puts the limits back (see `task/limits.rs` for every path and the gap).
+//! [`ModbusLink::home_capped`], [`ModbusLink::start_stored_capped`]): the link lowered the arm's
+//! speed limits for it, so it stops that move on close and puts the limits back (see
+//! `task/limits.rs` for every path and the gap).
 //! A task cancelled by the runtime shutting down can write nothing: await
 //! [`ModbusLink::close`] before leaving the runtime.
 
@@ -384,10 +385,22 @@ impl ModbusLink {
     }
 
     /// The Home action with the arm's linear speed limit lowered to `max_linear` m/s while it
-    /// runs, as [`ModbusLink::go_to_pose_capped`] does. Whether an arm's stored action honours
-    /// its cartesian limit is up to the arm (the simulator's does).
+    /// runs (see [`ModbusLink::start_stored_capped`]).
     pub async fn home_capped(&self, max_linear: f32) -> Result<WriteReport, ModbusError> {
-        let writes = commands::start_stored(self.config.home_action_id, StoredMotion::Action);
+        self.start_stored_capped(self.config.home_action_id, StoredMotion::Action, max_linear)
+            .await
+    }
+
+    /// A stored action or sequence with the arm's linear speed limit lowered to `max_linear`
+    /// m/s while it runs, as [`ModbusLink::go_to_pose_capped`] does. Whether an arm's stored
+    /// action honours its cartesian limit is up to the arm (the simulator's does).
+    pub async fn start_stored_capped(
+        &self,
+        id: u16,
+        motion: StoredMotion,
+        max_linear: f32,
+    ) -> Result<WriteReport, ModbusError> {
+        let writes = commands::start_stored(id, motion);
         commands::speed_limits(max_linear, commands::MAX_ANGULAR_SPEED)?;
         self.ask(|reply| Job::Move {
             writes,

@@ -28,4 +28,5 @@ mod profiles;
 mod send;
 mod sim_args_near_limit;
 mod sim_args_near_singularity;
+mod stored;
 mod version;

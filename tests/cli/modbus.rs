@@ -232,6 +232,11 @@ async fn status_exit_codes() {
 #[tokio::test]
 async fn modbus_commands_write_their_sequences() {
     let arm = FakeArm::start().await;
+    // A start is capped at 250 mm/s: limits already at 0.25 m/s need no write.
+    arm.with(|s| {
+        s.set_holding_f32(104, 0.25);
+        s.set_holding_f32(106, 100.0);
+    });
     let addr = arm.addr();
     for args in [
         vec!["quick-stop"],
@@ -344,6 +349,9 @@ async fn home_aborted_at_a_joint_limit_names_the_joint_and_exits_1() {
             s.set_input_f32(34 + 2 * j, *deg);
         }
         s.holding_registers[100] = 1; // an earlier action completed
+        // Limits the capped home can lower for its run.
+        s.set_holding_f32(104, 0.5);
+        s.set_holding_f32(106, 100.0);
     });
     let home = command(&["modbus", "--modbus", &arm.addr(), "home"])
         .stdout(Stdio::piped())

@@ -1,0 +1,226 @@
+//! `armjog modbus home|action|sequence`: starts a stored action or sequence by id (home is the
+//! action with the home id) under the tool speed cap, and waits for its end. One path for all
+//! three; how far the run has got is [`StoredRun`]'s reading of each poll.
+
+use std::time::{Duration, Instant};
+
+use clap::Args;
+
+use super::{EXIT_EXCEPTION, ModbusArgs, ModbusCommand, render};
+use crate::cli::Outcome;
+use crate::cli::console::check_max_jog_speed;
+use crate::kortex::{Progress, Stored, StoredRun, Telemetry, fault_reason};
+use crate::link::modbus::ModbusError;
+use crate::link::{ModbusLink, WriteReport};
+
+/// How a stored motion is waited for and capped.
+#[derive(Debug, Clone, Args)]
+pub struct StoredOptions {
+    /// Return once it is started, without waiting for its end. Nothing is left to put the arm's
+    /// speed limit back then: it is lowered to --max-jog-speed (if above) and stays so.
+    #[arg(long)]
+    pub no_wait: bool,
+    /// Longest wait for the end, seconds: past it the motion is stopped and the exit status
+    /// is 1.
+    #[arg(long, default_value_t = 60.0, value_name = "S")]
+    pub wait_timeout: f64,
+    /// The tool speed cap, mm/s (the console's): the arm's linear speed limit is lowered to it
+    /// (never raised) while the motion runs and put back at its end.
+    #[arg(long, default_value_t = 250.0, value_name = "MM_S")]
+    pub max_jog_speed: f64,
+}
+
+impl StoredOptions {
+    /// Refuses values a technician could get wrong, before anything connects.
+    pub fn check(&self) -> Result<(), String> {
+        let timeout = self.wait_timeout;
+        if !(timeout.is_finite() && timeout > 0.0 && timeout <= 86_400.0) {
+            return Err(format!(
+                "--wait-timeout {timeout}: must be above 0 and at most 86400 s"
+            ));
+        }
+        check_max_jog_speed(self.max_jog_speed)
+    }
+
+    /// The cap as the arm's linear limit, m/s.
+    pub fn cap_m_s(&self) -> f32 {
+        (self.max_jog_speed / 1000.0) as f32
+    }
+}
+
+/// How often the end is polled.
+const POLL: Duration = Duration::from_millis(100);
+
+/// The run as messages name it: `home`, or `action 5`, `sequence 1`.
+struct Named {
+    stored: Stored,
+    home: bool,
+}
+
+impl Named {
+    fn completed(&self, took: Duration) -> String {
+        let secs = took.as_secs_f64();
+        if self.home {
+            format!("home: completed in {secs:.1} s")
+        } else {
+            format!("{} completed in {secs:.1} s", self.stored)
+        }
+    }
+
+    fn failed(&self, why: &str) -> String {
+        if self.home {
+            format!("home failed: {why}")
+        } else {
+            format!("{} failed: {why}", self.stored)
+        }
+    }
+
+    /// The message of a run that ended other than completed.
+    fn failure(&self, progress: &Progress) -> Option<String> {
+        match progress {
+            // `aborted, J4 at its limit`
+            Progress::Aborted(reason) if !self.home => Some(format!("{} {reason}", self.stored)),
+            // `the arm did not take sequence 9: ...`
+            Progress::NotTaken(sentence) if !self.home => Some(sentence.clone()),
+            Progress::Aborted(why) | Progress::NotTaken(why) | Progress::Fault(why) => {
+                Some(self.failed(why))
+            }
+            Progress::Pending | Progress::Started | Progress::Running | Progress::Completed => None,
+        }
+    }
+}
+
+/// How a waited run ended.
+enum End {
+    Completed(Duration),
+    Failed(String),
+}
+
+/// Refuses an arm in fault, starts the run capped and (unless told not to) waits for its end.
+pub(super) async fn run(
+    args: &ModbusArgs,
+    link: &ModbusLink,
+    stored: Stored,
+    options: &StoredOptions,
+) -> Outcome {
+    let named = Named {
+        stored,
+        home: matches!(args.command, ModbusCommand::Home { .. }),
+    };
+    let failed = |message: String, stdout: Vec<String>| Outcome {
+        stdout,
+        stderr: Some(message),
+        exit_code: EXIT_EXCEPTION,
+    };
+    let t = match link.read_telemetry().await {
+        Ok(t) => t,
+        Err(e) => return Outcome::failed(&e),
+    };
+    if let Some(fault) = fault_reason(&t) {
+        return failed(named.failed(&format!("{fault}; not started")), Vec::new());
+    }
+    if options.no_wait {
+        return start_unwatched(args, link, &named, options, &t).await;
+    }
+    let report = match args.command.send(link).await {
+        Ok(report) => report,
+        Err(e) => return Outcome::failed(&e),
+    };
+    let timeout = Duration::from_secs_f64(options.wait_timeout);
+    match wait_for_end(link, &named, timeout).await {
+        Ok(End::Completed(took)) => {
+            let mut stdout = render(args, &report, Some("completed"));
+            if !args.json {
+                stdout.push(named.completed(took));
+            }
+            Outcome {
+                stdout,
+                stderr: None,
+                exit_code: 0,
+            }
+        }
+        Ok(End::Failed(message)) => failed(message, render(args, &report, Some("failed"))),
+        Err(e) => Outcome::failed(&e),
+    }
+}
+
+/// `--no-wait`: nothing will watch the run end to put a lowered limit back, so the cap is
+/// written for good (only when the arm's limit is above it), then the run is started.
+async fn start_unwatched(
+    args: &ModbusArgs,
+    link: &ModbusLink,
+    named: &Named,
+    options: &StoredOptions,
+    t: &Telemetry,
+) -> Outcome {
+    let cap = options.cap_m_s();
+    let in_force = t.speed_limits;
+    let valid = |v: f32| v.is_finite() && v > 0.0;
+    if !(valid(in_force.linear) && valid(in_force.angular)) {
+        return Outcome::failed(&ModbusError::SpeedLimitsUnknown {
+            linear: in_force.linear,
+            angular: in_force.angular,
+        });
+    }
+    let mut report = WriteReport::default();
+    let lowered = in_force.linear > cap;
+    if lowered {
+        match link.set_speed_limits(cap, in_force.angular).await {
+            Ok(written) => report = written,
+            Err(e) => return Outcome::failed(&e),
+        }
+    }
+    match link
+        .start_stored(named.stored.id, named.stored.motion)
+        .await
+    {
+        Ok(started) => {
+            report.writes.extend(started.writes);
+            report.elapsed += started.elapsed;
+        }
+        Err(e) => return Outcome::failed(&e),
+    }
+    let mut stdout = render(args, &report, Some("started"));
+    if lowered && !args.json {
+        stdout.push(format!(
+            "speed limit lowered to {cap} m/s (was {} m/s) and left so: nothing waits to put it \
+             back (`armjog modbus speed-limit` sets it)",
+            in_force.linear
+        ));
+    }
+    Outcome {
+        stdout,
+        stderr: None,
+        exit_code: 0,
+    }
+}
+
+/// Polls until the run ends. Past `timeout` it is stopped.
+async fn wait_for_end(
+    link: &ModbusLink,
+    named: &Named,
+    timeout: Duration,
+) -> Result<End, ModbusError> {
+    let started = Instant::now();
+    let mut run = StoredRun::new(named.stored);
+    loop {
+        let t = link.read_telemetry().await?;
+        let elapsed = started.elapsed();
+        let progress = run.observe(&t, elapsed);
+        if progress == Progress::Completed {
+            return Ok(End::Completed(elapsed));
+        }
+        if let Some(message) = named.failure(&progress) {
+            return Ok(End::Failed(message));
+        }
+        if elapsed >= timeout {
+            let stopped = match link.stop().await {
+                Ok(_) => "stopped",
+                Err(_) => "and the STOP could not be written: the arm may still be moving",
+            };
+            let why = format!("no end within {:.1} s; {stopped}", timeout.as_secs_f64());
+            return Ok(End::Failed(named.failed(&why)));
+        }
+        tokio::time::sleep(POLL).await;
+    }
+}
