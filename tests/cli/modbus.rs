@@ -551,7 +551,17 @@ mod home {
     async fn home_no_wait_returns_while_the_arm_still_moves() {
         let sim = sim(away()).await;
         let started = Instant::now();
-        let run = armjog(&["modbus", "--modbus", &addr(&sim), "home", "--no-wait"]).await;
+        // The simulator's 0.5 m/s limit keeps a 500 mm/s cap: nothing needs lowering.
+        let run = armjog(&[
+            "modbus",
+            "--modbus",
+            &addr(&sim),
+            "home",
+            "--no-wait",
+            "--max-jog-speed",
+            "500",
+        ])
+        .await;
         assert_eq!(run.code, 0, "{}{}", run.stdout, run.stderr);
         assert!(run.stdout.starts_with("home: started"), "{}", run.stdout);
         assert!(

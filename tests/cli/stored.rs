@@ -237,7 +237,39 @@ async fn an_arm_in_fault_starts_nothing() {
 
 /// Nothing waits to put a lowered limit back, so `--no-wait` leaves the cap written.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn no_wait_returns_at_once_and_leaves_the_cap_in_force() {
+async fn no_wait_returns_at_once_when_the_arms_limit_keeps_the_cap() {
+    let sim = sim(Arm::default()).await;
+    // The simulator's arm is limited to 0.5 m/s: a 500 mm/s cap is kept without lowering it.
+    let run = armjog(&[
+        "modbus",
+        "--modbus",
+        &addr(&sim),
+        "sequence",
+        "--id",
+        "1",
+        "--no-wait",
+        "--max-jog-speed",
+        "500",
+    ])
+    .await;
+    assert_eq!(run.code, 0, "{}{}", run.stdout, run.stderr);
+    assert!(
+        run.stdout.starts_with("sequence: started"),
+        "{}",
+        run.stdout
+    );
+    let s = snapshot(&sim).await;
+    assert!(s.moving, "returned before the end");
+    assert_eq!((s.action_id, s.move_type), (1, 1));
+    assert!(
+        (s.speed_limit_linear - 0.5).abs() < 1e-6,
+        "the arm's limit is left as it was: {}",
+        s.speed_limit_linear
+    );
+}
+
+#[tokio::test]
+async fn no_wait_refuses_a_run_the_arms_limit_would_take_over_the_cap() {
     let sim = sim(Arm::default()).await;
     let run = armjog(&[
         "modbus",
@@ -251,24 +283,19 @@ async fn no_wait_returns_at_once_and_leaves_the_cap_in_force() {
         "100",
     ])
     .await;
-    assert_eq!(run.code, 0, "{}{}", run.stdout, run.stderr);
+    assert_eq!(run.code, 1, "{}{}", run.stdout, run.stderr);
     assert!(
-        run.stdout.starts_with("sequence: started"),
+        run.stderr.contains(
+            "sequence 1 not started: the arm's linear limit is 0.5 m/s, over the 0.1 m/s cap"
+        ),
         "{}",
-        run.stdout
-    );
-    assert!(
-        run.stdout
-            .contains("speed limit lowered to 0.1 m/s (was 0.5 m/s) and left so"),
-        "{}",
-        run.stdout
+        run.stderr
     );
     let s = snapshot(&sim).await;
-    assert!(s.moving, "returned before the end");
-    assert_eq!((s.action_id, s.move_type), (1, 1));
+    assert!(!s.moving, "nothing started");
     assert!(
-        (s.speed_limit_linear - 0.1).abs() < 1e-6,
-        "{}",
+        (s.speed_limit_linear - 0.5).abs() < 1e-6,
+        "the arm's limit is not rewritten: {}",
         s.speed_limit_linear
     );
 }
@@ -311,7 +338,7 @@ async fn a_profiles_cap_and_home_id_reach_the_commands() {
     )
     .expect("write config");
     let config = config.display().to_string();
-    let run = armjog(&[
+    let action_3 = [
         "--config",
         &config,
         "modbus",
@@ -321,8 +348,30 @@ async fn a_profiles_cap_and_home_id_reach_the_commands() {
         "--id",
         "3",
         "--no-wait",
+    ];
+    // The arm's 0.5 m/s limit is over the profile's cap: with nothing left to put a lowered
+    // limit back, the run is refused, naming the profile's cap.
+    let run = armjog(&action_3).await;
+    assert_eq!(run.code, 1, "{}{}", run.stdout, run.stderr);
+    assert!(
+        run.stderr.contains("over the 0.08 m/s cap"),
+        "{}",
+        run.stderr
+    );
+    // An arm limited below the cap keeps it: the run starts, and its limit is left as it was.
+    let lowered = armjog(&[
+        "modbus",
+        "--modbus",
+        &addr(&sim),
+        "speed-limit",
+        "--linear",
+        "0.05",
+        "--angular",
+        "50",
     ])
     .await;
+    assert_eq!(lowered.code, 0, "{}", lowered.stderr);
+    let run = armjog(&action_3).await;
     assert_eq!(run.code, 0, "{}{}", run.stdout, run.stderr);
     let s = snapshot(&sim).await;
     assert_eq!(
@@ -331,7 +380,7 @@ async fn a_profiles_cap_and_home_id_reach_the_commands() {
         "action 3, not the home id"
     );
     assert!(
-        (s.speed_limit_linear - 0.08).abs() < 1e-6,
+        (s.speed_limit_linear - 0.05).abs() < 1e-6,
         "{}",
         s.speed_limit_linear
     );

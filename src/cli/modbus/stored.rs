@@ -144,8 +144,8 @@ pub(super) async fn run(
     }
 }
 
-/// `--no-wait`: nothing will watch the run end to put a lowered limit back, so the cap is
-/// written for good (only when the arm's limit is above it), then the run is started.
+/// `--no-wait`: nothing will watch the run end to put a lowered limit back, so the run starts
+/// only when the arm's own limit already keeps it within the cap.
 async fn start_unwatched(
     args: &ModbusArgs,
     link: &ModbusLink,
@@ -162,32 +162,29 @@ async fn start_unwatched(
             angular: in_force.angular,
         });
     }
-    let mut report = WriteReport::default();
-    let lowered = in_force.linear > cap;
-    if lowered {
-        match link.set_speed_limits(cap, in_force.angular).await {
-            Ok(written) => report = written,
-            Err(e) => return Outcome::failed(&e),
-        }
+    // The arm's own limits belong to the integrator: a run is capped by lowering the limit only
+    // while something waits to put it back. Nothing would here, so a limit above the cap refuses
+    // the run rather than rewrite the limit for good or run it over the cap.
+    if in_force.linear > cap {
+        return Outcome {
+            stdout: Vec::new(),
+            stderr: Some(format!(
+                "{} not started: the arm's linear limit is {} m/s, over the {cap} m/s cap, and \
+                 with --no-wait nothing is left to lower it for the run and put it back; drop \
+                 --no-wait (the command then waits for the end)",
+                named.stored, in_force.linear
+            )),
+            exit_code: 1,
+        };
     }
-    match link
+    let report = match link
         .start_stored(named.stored.id, named.stored.motion)
         .await
     {
-        Ok(started) => {
-            report.writes.extend(started.writes);
-            report.elapsed += started.elapsed;
-        }
+        Ok(started) => started,
         Err(e) => return Outcome::failed(&e),
-    }
-    let mut stdout = render(args, &report, Some("started"));
-    if lowered && !args.json {
-        stdout.push(format!(
-            "speed limit lowered to {cap} m/s (was {} m/s) and left so: nothing waits to put it \
-             back (`armjog modbus speed-limit` sets it)",
-            in_force.linear
-        ));
-    }
+    };
+    let stdout = render(args, &report, Some("started"));
     Outcome {
         stdout,
         stderr: None,
