@@ -42,16 +42,12 @@ impl App {
     }
 
     pub fn overlay(&self) -> &Overlay {
-        &self.screen.overlay
+        self.screen.overlay()
     }
 
     /// The message on the bottom line and how bad it is.
     pub fn message(&self) -> Option<(&str, Severity)> {
-        self.screen
-            .messages
-            .shown
-            .as_ref()
-            .map(|m| (m.text.as_str(), m.severity))
+        self.screen.message()
     }
 
     pub fn link(&self) -> &LinkStatus {
@@ -100,7 +96,7 @@ impl App {
     }
 
     pub fn log(&self) -> &VecDeque<LogEntry> {
-        &self.screen.log
+        self.screen.log()
     }
 
     /// The log shows frames in hex.
@@ -110,12 +106,12 @@ impl App {
     }
 
     pub fn hex(&self) -> bool {
-        self.screen.hex
+        self.screen.hex()
     }
 
     /// The terminal's size as last heard.
     pub fn size(&self) -> (u16, u16) {
-        self.screen.size
+        self.screen.size()
     }
 
     pub fn quitting(&self) -> bool {

@@ -5,10 +5,7 @@ use std::time::Instant;
 
 use super::message::Until;
 use super::{App, Effect, Overlay, Severity};
-use crate::link::interface::{ArmEvent, CommandKind, GuardStatus, LinkStatus, LogEntry};
-
-/// Command log lines kept.
-const LOG_CAPACITY: usize = 500;
+use crate::link::interface::{ArmEvent, CommandKind, GuardStatus, LinkStatus};
 
 impl App {
     pub(super) fn on_arm(&mut self, event: ArmEvent, now: Instant, effects: &mut Vec<Effect>) {
@@ -54,27 +51,7 @@ impl App {
                 self.arm.speed = Some(speed);
             }
             ArmEvent::Notice(text) => self.say(text, Severity::Warning, now),
-            ArmEvent::Log(entry) => {
-                // Telemetry polls with the same outcome in a row share one counted line, so
-                // they are logged without drowning the technician's own commands.
-                if let Some(last) = self.screen.log.back_mut()
-                    && entry.poll
-                    && last.poll
-                    && last.name == entry.name
-                    && last.outcome == entry.outcome
-                {
-                    let count = last.count.saturating_add(entry.count.max(1));
-                    *last = LogEntry { count, ..entry };
-                    return;
-                }
-                if self.screen.log.len() >= LOG_CAPACITY {
-                    self.screen.log.pop_front();
-                }
-                self.screen.log.push_back(LogEntry {
-                    count: entry.count.max(1),
-                    ..entry
-                });
-            }
+            ArmEvent::Log(entry) => self.screen.on_log(entry),
             ArmEvent::Failed { command, error } => {
                 // A jog the arm did not take must not be left to the watchdog: stop and latch
                 // the held keys, so only a new press moves again.
@@ -97,22 +74,15 @@ impl App {
                         entry.set_cartesian(c);
                     }
                 }
-                if matches!(&self.screen.overlay, Overlay::Position { name: shown, .. } if *shown == name)
-                {
-                    self.screen.overlay = Overlay::Position {
-                        name,
-                        coordinates: Some(coordinates),
-                    };
-                }
+                self.screen.on_position(name, coordinates);
             }
             ArmEvent::UnknownPosition { name } => {
                 if let Some(entry) = self.book.positions.get_mut(&name) {
                     entry.unknown_to_operator = true;
                 }
                 // Said only when the technician is looking at it; otherwise the panel marks it.
-                if matches!(&self.screen.overlay, Overlay::Position { name: shown, .. } if *shown == name)
-                {
-                    self.screen.overlay = Overlay::None;
+                if self.screen.shows_position(&name) {
+                    self.screen.show(Overlay::None);
                     self.say(
                         format!("the operator does not know '{name}'"),
                         Severity::Warning,

@@ -55,10 +55,10 @@ impl App {
         effects: &mut Vec<Effect>,
     ) {
         if self.book.positions.get(result.name()).is_some() {
-            self.screen.overlay = Overlay::Confirm(Confirm::Overwrite {
+            self.screen.show(Overlay::Confirm(Confirm::Overwrite {
                 result,
                 form: Box::new(form),
-            });
+            }));
             return;
         }
         self.form_done(result, now, effects);
@@ -71,7 +71,7 @@ impl App {
             "'{}' exists: change the name, or esc to cancel",
             result.name()
         ));
-        self.screen.overlay = Overlay::Form(form);
+        self.screen.show(Overlay::Form(form));
         self.say("not overwritten", Severity::Info, now);
     }
 

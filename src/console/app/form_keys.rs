@@ -8,7 +8,7 @@
 
 use std::time::{Duration, Instant};
 
-use super::{App, KeyInput, Overlay};
+use super::{App, KeyInput};
 use crate::console::jog::{KeyKind, ReleaseMode};
 use crate::console::keymap::KeyName;
 
@@ -82,7 +82,7 @@ impl App {
     /// Whether `key` is the auto-repeat of the key that opened the open form, and so not text.
     /// Any other event ends the opener's run: after it, every keystroke is text.
     pub(super) fn repeat_of_form_opener(&mut self, key: &KeyInput, now: Instant) -> bool {
-        if !matches!(self.screen.overlay, Overlay::Form(_)) {
+        if !self.screen.form_open() {
             self.keys.form_opener = None;
             return false;
         }

@@ -53,17 +53,17 @@ impl App {
             self.latch_jog_key(&key, now, effects);
             return;
         }
-        if matches!(self.screen.overlay, Overlay::Confirm(_))
+        if self.screen.question_open()
             && self.question_refuses(&key, burst, now, effects)
         {
             return;
         }
-        let overlay_before = std::mem::discriminant(&self.screen.overlay);
+        let overlay_before = std::mem::discriminant(self.screen.overlay());
         self.dispatch_key(key.clone(), now, effects);
         if key.kind == KeyKind::Press
-            && overlay_before != std::mem::discriminant(&self.screen.overlay)
+            && overlay_before != std::mem::discriminant(self.screen.overlay())
         {
-            if matches!(self.screen.overlay, Overlay::Form(_)) {
+            if self.screen.form_open() {
                 self.form_opened_by(&key, repeating, now);
             } else {
                 self.keys.swallowed = Some((key.key, now));
@@ -76,8 +76,8 @@ impl App {
     /// help start a jog. With reported key events a repeat says so itself. A form takes
     /// repeats as text (holding backspace deletes): see `repeat_of_form_opener`.
     fn auto_repeat_of_overlay_key(&mut self, key: &KeyInput, now: Instant) -> bool {
-        let form = matches!(self.screen.overlay, Overlay::Form(_));
-        if key.kind == KeyKind::Repeat && self.screen.overlay != Overlay::None && !form {
+        let form = self.screen.form_open();
+        if key.kind == KeyKind::Repeat && !self.screen.overlay_is_none() && !form {
             return true;
         }
         let Some((held, seen)) = self.keys.swallowed else {
@@ -93,7 +93,7 @@ impl App {
 
     /// A press or repeat (releases are handled before this).
     fn dispatch_key(&mut self, key: KeyInput, now: Instant, effects: &mut Vec<Effect>) {
-        if self.screen.overlay != Overlay::None {
+        if !self.screen.overlay_is_none() {
             self.stop_jog(now, effects);
             self.latch_jog_key(&key, now, effects);
             self.on_overlay_key(key, now, effects);
@@ -240,7 +240,7 @@ impl App {
             }
             A::FaultReset => effects.push(Effect::Arm(ArmCommand::FaultReset)),
             A::Home if !self.refuse_motion(now) => {
-                self.screen.overlay = Overlay::Confirm(Confirm::Home)
+                self.screen.show(Overlay::Confirm(Confirm::Home))
             }
             A::StepMode => {
                 self.keys.step.enabled = !self.keys.step.enabled;
@@ -289,7 +289,7 @@ impl App {
             // Starts empty: a saved pose must not overwrite the selected one by accident.
             A::SavePosition => match self.save_refusal() {
                 Some(why) => self.say(why, Severity::Warning, now),
-                None => self.screen.overlay = Overlay::Form(self.save_form()),
+                None => self.screen.show(Overlay::Form(self.save_form())),
             },
             A::SetPolarPosition | A::SetCartesianPosition => {
                 let kind = if action == A::SetPolarPosition {
@@ -298,7 +298,7 @@ impl App {
                     FormKind::SetCartesian
                 };
                 let name = self.selected_name().unwrap_or("").to_string();
-                self.screen.overlay = Overlay::Form(Form::new(kind, &name));
+                self.screen.show(Overlay::Form(Form::new(kind, &name)));
             }
             A::UndoDelete => self.undo_delete(now, effects),
             A::GoToPosition | A::DeletePosition | A::ShowPosition | A::RenamePosition => {
@@ -309,9 +309,9 @@ impl App {
                 match action {
                     A::GoToPosition => self.ask_go_to(name, now),
                     A::DeletePosition => {
-                        self.screen.overlay = Overlay::Confirm(Confirm::Delete(name))
+                        self.screen.show(Overlay::Confirm(Confirm::Delete(name)))
                     }
-                    A::RenamePosition => self.screen.overlay = Overlay::Form(Form::rename(&name)),
+                    A::RenamePosition => self.screen.show(Overlay::Form(Form::rename(&name))),
                     _ => self.show_position(name, effects),
                 }
             }
@@ -322,7 +322,7 @@ impl App {
                 let n = self.book.positions.len();
                 self.book.selected = (self.book.selected + n - 1) % n;
             }
-            A::ToggleHex => self.screen.hex = !self.screen.hex,
+            A::ToggleHex => self.screen.on_toggle_hex(),
             A::HistoryCycle => self.arm.history.cycle_quantity(),
             A::Help => self.open_help(),
             A::Quit => self.ask_quit(now, effects),
@@ -332,11 +332,11 @@ impl App {
     }
 
     fn on_overlay_key(&mut self, key: KeyInput, now: Instant, effects: &mut Vec<Effect>) {
-        match std::mem::replace(&mut self.screen.overlay, Overlay::None) {
+        match self.screen.take_overlay() {
             Overlay::None => {}
             Overlay::Help => {
                 if self.scroll_help(&key.key) {
-                    self.screen.overlay = Overlay::Help;
+                    self.screen.show(Overlay::Help);
                 }
             }
             Overlay::Position { .. } => {}
@@ -377,7 +377,7 @@ impl App {
                         }
                     }
                 }
-                self.screen.overlay = Overlay::Form(form);
+                self.screen.show(Overlay::Form(form));
             }
         }
     }

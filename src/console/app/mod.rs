@@ -231,7 +231,7 @@ impl App {
 
     /// Whether the terminal is large enough to show the status.
     pub fn fits(&self) -> bool {
-        self.screen.size.0 >= MIN_WIDTH && self.screen.size.1 >= MIN_HEIGHT
+        self.screen.fits()
     }
 
     pub fn selected_name(&self) -> Option<&str> {
@@ -240,7 +240,7 @@ impl App {
 
     /// When the runtime must next send [`Input::Tick`].
     pub fn next_deadline(&self) -> Option<Instant> {
-        let message = self.screen.messages.deadline();
+        let message = self.screen.message_deadline();
         self.keys
             .jog
             .next_deadline()
@@ -262,7 +262,7 @@ impl App {
             Input::FocusLost => self.stop_jog(now, &mut effects),
             Input::FocusGained => {}
             Input::Resize { width, height } => {
-                self.screen.size = (width, height);
+                self.screen.on_resize(width, height);
                 if !self.fits() {
                     self.stop_jog(now, &mut effects);
                 }
@@ -291,7 +291,7 @@ impl App {
         self.hold_saves_until_loaded(now, &mut effects);
         self.count_saves(&effects);
         self.settle_messages(now);
-        self.keys.question_guard.note(&self.screen.overlay, now);
+        self.keys.question_guard.note(self.screen.overlay(), now);
         effects
     }
 

@@ -13,16 +13,16 @@ impl App {
     pub(super) fn show_position(&mut self, name: String, effects: &mut Vec<Effect>) {
         if self.config.positions_on_operator {
             effects.push(Effect::Arm(ArmCommand::GetPosition { name: name.clone() }));
-            self.screen.overlay = Overlay::Position {
+            self.screen.show(Overlay::Position {
                 name,
                 coordinates: None,
-            };
+            });
         } else {
             let coordinates = self.book.positions.get(&name).map(|e| PositionCoordinates {
                 cartesian: e.cartesian,
                 polar: e.cartesian.map(polar_of),
             });
-            self.screen.overlay = Overlay::Position { name, coordinates };
+            self.screen.show(Overlay::Position { name, coordinates });
         }
     }
 

@@ -45,9 +45,9 @@ impl App {
                 .get(&name)
                 .is_some_and(|e| e.unknown_to_operator);
         if !lost {
-            self.screen.overlay = Overlay::Confirm(Confirm::GoTo(name));
+            self.screen.show(Overlay::Confirm(Confirm::GoTo(name)));
         } else if self.remembered_cartesian(&name).is_some() {
-            self.screen.overlay = Overlay::Confirm(Confirm::Resave(name));
+            self.screen.show(Overlay::Confirm(Confirm::Resave(name)));
         } else {
             self.say(
                 format!("'{name}' is unknown to the operator and no coordinates are remembered"),
@@ -159,9 +159,9 @@ impl App {
                     entry.unknown_to_operator = true;
                 }
                 let can_offer = self.remembered_cartesian(&name).is_some();
-                if can_offer && self.screen.overlay == Overlay::None && !self.keys.jog.is_jogging()
+                if can_offer && self.screen.overlay_is_none() && !self.keys.jog.is_jogging()
                 {
-                    self.screen.overlay = Overlay::Confirm(Confirm::Resave(name.clone()));
+                    self.screen.show(Overlay::Confirm(Confirm::Resave(name.clone())));
                     self.say(
                         format!("the operator does not know '{name}'"),
                         Severity::Warning,

@@ -125,7 +125,7 @@ impl App {
             return;
         }
         self.stop_everything(now, effects);
-        self.screen.overlay = super::Overlay::Confirm(Confirm::QuitUnsaved { count });
+        self.screen.show(super::Overlay::Confirm(Confirm::QuitUnsaved { count }));
     }
 
     /// Quitting with positions not saved: the book is handed over once more, and written (or

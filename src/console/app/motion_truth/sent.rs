@@ -14,7 +14,7 @@ use crate::link::interface::ArmCommand;
 impl App {
     /// The name of the position a go-to question asks about, taken before the answer.
     pub(in crate::console::app) fn goto_in_question(&self) -> Option<String> {
-        match &self.screen.overlay {
+        match self.screen.overlay() {
             Overlay::Confirm(Confirm::GoTo(name)) => Some(name.clone()),
             _ => None,
         }
