@@ -38,7 +38,7 @@ impl App {
     }
 
     pub fn jog(&self) -> &JogEngine {
-        &self.keys.jog
+        self.keys.jog()
     }
 
     pub fn overlay(&self) -> &Overlay {
@@ -79,7 +79,7 @@ impl App {
     }
 
     pub fn step(&self) -> Step {
-        self.keys.step
+        self.keys.step()
     }
 
     pub fn positions(&self) -> &PositionBook {

@@ -86,7 +86,7 @@ fn over_cap(
 impl App {
     /// A telemetry sample against the cap, while a motion the console started runs.
     pub(super) fn watch_cap(&mut self, t: &Telemetry, now: Instant, effects: &mut Vec<Effect>) {
-        let jog = self.keys.jog.active();
+        let jog = self.keys.jog().active();
         if jog.is_none() && self.truth.action.is_none() {
             self.arm.cap_watch.over_in_a_row = 0;
             return;

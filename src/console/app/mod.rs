@@ -13,7 +13,6 @@ mod arm_events;
 mod book_load;
 mod cap_watch;
 mod edits;
-mod form_keys;
 mod help_keys;
 mod history;
 mod jog_evidence;
@@ -162,6 +161,15 @@ impl Default for Step {
 }
 
 impl Step {
+    /// One step bigger or smaller, within the steps there are.
+    fn resize(&mut self, bigger: bool) {
+        self.index = if bigger {
+            (self.index + 1).min(CARTESIAN_STEPS.len() - 1)
+        } else {
+            self.index.saturating_sub(1)
+        };
+    }
+
     /// Cartesian step in tenths of millimetres.
     pub fn cartesian(&self) -> i32 {
         CARTESIAN_STEPS[self.index.min(CARTESIAN_STEPS.len() - 1)]
@@ -242,7 +250,7 @@ impl App {
     pub fn next_deadline(&self) -> Option<Instant> {
         let message = self.screen.message_deadline();
         self.keys
-            .jog
+            .jog()
             .next_deadline()
             .into_iter()
             .chain(message)
@@ -268,8 +276,8 @@ impl App {
                 }
             }
             Input::Tick => {
-                let before = self.keys.jog.active();
-                let mut jog = self.keys.jog.tick(now);
+                let before = self.keys.jog().active();
+                let mut jog = self.keys.jog_mut().tick(now);
                 self.hold_refresh(before, &mut jog, now);
                 self.apply_jog(jog, now, &mut effects);
                 self.other_clients_on_tick(now, &mut effects);
@@ -291,7 +299,7 @@ impl App {
         self.hold_saves_until_loaded(now, &mut effects);
         self.count_saves(&effects);
         self.settle_messages(now);
-        self.keys.question_guard.note(self.screen.overlay(), now);
+        self.keys.note_overlay(self.screen.overlay(), now);
         effects
     }
 
@@ -304,13 +312,13 @@ impl App {
 
     /// Stops a jog in progress; the jog keys still down stay latched until released.
     fn stop_jog(&mut self, now: Instant, effects: &mut Vec<Effect>) {
-        let jog = self.keys.jog.stop_all(now);
+        let jog = self.keys.jog_mut().stop_all(now);
         self.apply_jog(jog, now, effects);
     }
 
     /// Stops everything, jog or not (space, quick paths): STOP is always sent.
     fn stop_everything(&mut self, now: Instant, effects: &mut Vec<Effect>) {
-        self.keys.jog.stop_all(now);
+        self.keys.jog_mut().stop_all(now);
         effects.push(Effect::Arm(ArmCommand::Stop));
     }
 

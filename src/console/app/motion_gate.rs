@@ -84,7 +84,7 @@ impl App {
         effects.retain(|e| !matches!(e, Effect::Arm(command) if command.starts_motion()));
         if effects.len() != asked {
             self.say_until(text, super::Severity::Warning, until, now);
-            if self.keys.jog.is_jogging() {
+            if self.keys.jog().is_jogging() {
                 self.stop_jog(now, effects);
             }
         }
@@ -98,7 +98,7 @@ impl App {
         now: Instant,
         effects: &mut Vec<Effect>,
     ) {
-        if !self.keys.jog.is_jogging() && self.truth.action.is_none() {
+        if !self.keys.jog().is_jogging() && self.truth.action.is_none() {
             return;
         }
         if let Some(why) = arm_refusal(t) {

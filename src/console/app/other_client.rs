@@ -191,7 +191,7 @@ impl App {
         } else {
             0
         };
-        let Some(motion) = self.keys.jog.active() else {
+        let Some(motion) = self.keys.jog().active() else {
             self.arm.others.end_contradiction();
             return;
         };
@@ -282,7 +282,7 @@ impl App {
     /// Time passing under a held jog: a contradiction that lasted [`CONTRADICTED_FOR`] stops it;
     /// a refresh that waited [`REFRESH_WAIT`] with no contradiction goes out.
     pub(super) fn other_clients_on_tick(&mut self, now: Instant, effects: &mut Vec<Effect>) {
-        let Some(motion) = self.keys.jog.active() else {
+        let Some(motion) = self.keys.jog().active() else {
             return;
         };
         if let (Some(first), Some(found)) = (
@@ -310,7 +310,7 @@ impl App {
 
     /// When [`App::other_clients_on_tick`] has something to do.
     pub(super) fn other_clients_deadline(&self) -> Option<Instant> {
-        self.keys.jog.active()?;
+        self.keys.jog().active()?;
         let contradicted = self
             .arm
             .others
@@ -366,7 +366,7 @@ impl App {
     /// Telemetry shows motion none of ours explains: idle, nothing unsettled, and the arm moving
     /// fast for [`OTHER_CLIENT_SAMPLES`] samples.
     pub(super) fn moved_by_another_client(&self) -> bool {
-        self.keys.jog.active().is_none()
+        self.keys.jog().active().is_none()
             && self.truth.action.is_none()
             && !self.truth.is_unsettled()
             && self.arm.others.moving_in_a_row >= OTHER_CLIENT_SAMPLES

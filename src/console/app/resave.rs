@@ -159,7 +159,7 @@ impl App {
                     entry.unknown_to_operator = true;
                 }
                 let can_offer = self.remembered_cartesian(&name).is_some();
-                if can_offer && self.screen.overlay_is_none() && !self.keys.jog.is_jogging()
+                if can_offer && self.screen.overlay_is_none() && !self.keys.jog().is_jogging()
                 {
                     self.screen.show(Overlay::Confirm(Confirm::Resave(name.clone())));
                     self.say(

@@ -37,7 +37,7 @@ impl App {
             if self.truth.action.is_some() {
                 self.truth.stop_needed = true;
             }
-            if self.keys.jog.is_jogging() {
+            if self.keys.jog().is_jogging() {
                 self.stop_jog(now, effects);
                 self.say_until(
                     format!(

@@ -11,7 +11,7 @@ impl App {
     /// What the status bar says about motion, by precedence: a jog, a tracked action, a STOP
     /// being confirmed, any doubt, idle.
     pub fn motion_shown(&self) -> MotionShown {
-        if let Some(motion) = self.keys.jog.active() {
+        if let Some(motion) = self.keys.jog().active() {
             return MotionShown::Jog(motion);
         }
         let truth = &self.truth;

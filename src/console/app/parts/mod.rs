@@ -13,4 +13,5 @@ pub(super) use arm::Arm;
 pub(super) use book::Book;
 pub(super) use keys::Keys;
 pub(super) use screen::Screen;
+pub use keys::KeysView;
 pub use screen::ScreenView;
