@@ -83,16 +83,16 @@ impl App {
     }
 
     pub fn positions(&self) -> &PositionBook {
-        &self.book.positions
+        self.book.positions()
     }
 
     pub fn book_state(&self) -> &BookState {
-        &self.book.book_state
+        self.book.state()
     }
 
     /// The selected position's index in name order.
     pub fn selected(&self) -> usize {
-        self.book.selected
+        self.book.selected()
     }
 
     pub fn log(&self) -> &VecDeque<LogEntry> {

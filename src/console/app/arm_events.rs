@@ -66,20 +66,11 @@ impl App {
                 self.say_until(text, Severity::Error, until, now);
             }
             ArmEvent::Position { name, coordinates } => {
-                // A reply about a name no longer in the book (deleted meanwhile) adds nothing:
-                // a new name would move the rows and the selection under the technician.
-                if let Some(entry) = self.book.positions.get_mut(&name) {
-                    entry.unknown_to_operator = false;
-                    if let Some(c) = coordinates.cartesian {
-                        entry.set_cartesian(c);
-                    }
-                }
+                self.book.on_operator_knows(&name, coordinates.cartesian);
                 self.screen.on_position(name, coordinates);
             }
             ArmEvent::UnknownPosition { name } => {
-                if let Some(entry) = self.book.positions.get_mut(&name) {
-                    entry.unknown_to_operator = true;
-                }
+                self.book.on_unknown_to_operator(&name);
                 // Said only when the technician is looking at it; otherwise the panel marks it.
                 if self.screen.shows_position(&name) {
                     self.screen.show(Overlay::None);

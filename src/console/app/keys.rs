@@ -294,12 +294,8 @@ impl App {
                     _ => self.show_position(name, effects),
                 }
             }
-            A::PositionNext if !self.book.positions.is_empty() => {
-                self.book.selected = (self.book.selected + 1) % self.book.positions.len();
-            }
-            A::PositionPrevious if !self.book.positions.is_empty() => {
-                let n = self.book.positions.len();
-                self.book.selected = (self.book.selected + n - 1) % n;
+            A::PositionNext | A::PositionPrevious => {
+                self.book.on_select_next(action == A::PositionNext)
             }
             A::ToggleHex => self.screen.on_toggle_hex(),
             A::HistoryCycle => self.arm.history.cycle_quantity(),

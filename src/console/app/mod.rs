@@ -243,7 +243,7 @@ impl App {
     }
 
     pub fn selected_name(&self) -> Option<&str> {
-        self.book.positions.name_at(self.book.selected)
+        self.book.selected_name()
     }
 
     /// When the runtime must next send [`Input::Tick`].

@@ -51,7 +51,7 @@ impl App {
                  positions); add --modbus"
             ));
         }
-        let entry = self.book.positions.get(name)?;
+        let entry = self.book.positions().get(name)?;
         if entry.cartesian.is_none() {
             return Some(format!("'{name}' has no coordinates stored"));
         }

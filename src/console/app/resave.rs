@@ -41,7 +41,7 @@ impl App {
         let lost = self.config.positions_on_operator
             && self
                 .book
-                .positions
+                .positions()
                 .get(&name)
                 .is_some_and(|e| e.unknown_to_operator);
         if !lost {
@@ -58,7 +58,7 @@ impl App {
     }
 
     fn remembered_cartesian(&self, name: &str) -> Option<[i32; 3]> {
-        self.book.positions.get(name).and_then(|e| e.cartesian)
+        self.book.positions().get(name).and_then(|e| e.cartesian)
     }
 
     /// The technician said yes to re-saving `name`.
@@ -87,19 +87,17 @@ impl App {
             Severity::Info,
             now,
         );
-        self.book.resave.then_go = Some((name, now));
+        self.book.resave_mut().then_go = Some((name, now));
     }
 
     /// A Go To is being sent for `name`.
     pub(super) fn going_to(&mut self, name: &str) {
-        self.book.resave.goto_sent = Some(name.to_string());
+        self.book.resave_mut().goto_sent = Some(name.to_string());
     }
 
     /// The operator accepted Set Cartesian Position for `name`: the go-to a re-save was for.
     pub(super) fn after_resave(&mut self, name: &str, now: Instant, effects: &mut Vec<Effect>) {
-        let Some((pending, asked)) = self
-            .book
-            .resave
+        let Some((pending, asked)) = self.book.resave_mut()
             .then_go
             .take_if(|(n, _)| n.as_str() == name)
         else {
@@ -132,7 +130,7 @@ impl App {
             _ => false,
         };
         if interrupts {
-            self.book.resave.then_go = None;
+            self.book.resave_mut().then_go = None;
         }
     }
 
@@ -146,16 +144,16 @@ impl App {
     ) -> bool {
         match command {
             CommandKind::SetCartesianPosition => {
-                self.book.resave.then_go = None;
+                self.book.resave_mut().then_go = None;
                 false
             }
             CommandKind::GoToPosition
                 if *error == ArmError::ReturnCode(ReturnCode::UNKNOWN_POSITION) =>
             {
-                let Some(name) = self.book.resave.goto_sent.take() else {
+                let Some(name) = self.book.resave_mut().goto_sent.take() else {
                     return false;
                 };
-                if let Some(entry) = self.book.positions.get_mut(&name) {
+                if let Some(entry) = self.book.positions_mut().get_mut(&name) {
                     entry.unknown_to_operator = true;
                 }
                 let can_offer = self.remembered_cartesian(&name).is_some();

@@ -32,11 +32,10 @@ pub(super) struct Saving {
 impl App {
     /// Changes to `changed` are to be written: asks for the whole book to be saved.
     pub(super) fn save_book<S: AsRef<str>>(&mut self, changed: &[S], effects: &mut Vec<Effect>) {
-        self.book
-            .saving
+        self.book.saving_mut()
             .touched
             .extend(changed.iter().map(|n| n.as_ref().to_string()));
-        effects.push(Effect::SavePositions(self.book.positions.clone()));
+        effects.push(Effect::SavePositions(self.book.positions().clone()));
     }
 
     /// After every input: the saves that leave `handle` are counted, as the writer counts them.
@@ -47,41 +46,39 @@ impl App {
             .filter(|e| matches!(e, Effect::SavePositions(_)))
             .count() as u64;
         if asked > 0 {
-            self.book.saving.asked += asked;
-            let upto = self.book.saving.asked;
-            for name in std::mem::take(&mut self.book.saving.touched) {
-                self.book.saving.pending.insert(name, upto);
+            self.book.saving_mut().asked += asked;
+            let upto = self.book.saving_mut().asked;
+            for name in std::mem::take(&mut self.book.saving_mut().touched) {
+                self.book.saving_mut().pending.insert(name, upto);
             }
-        } else if matches!(self.book.book_state, BookState::Failed { .. })
-            && !self.book.saving.touched.is_empty()
+        } else if matches!(self.book.state(), BookState::Failed { .. })
+            && !self.book.saving_mut().touched.is_empty()
         {
-            let names = std::mem::take(&mut self.book.saving.touched);
+            let names = std::mem::take(&mut self.book.saving_mut().touched);
             self.mark_unsaved(names);
         }
     }
 
     /// The writer's outcome for the saves up to `outcome.upto`.
     pub(super) fn on_positions_saved(&mut self, outcome: SaveOutcome, now: Instant) {
-        let covered: Vec<String> = self
-            .book
-            .saving
+        let covered: Vec<String> = self.book.saving_mut()
             .pending
             .iter()
             .filter(|(_, upto)| **upto <= outcome.upto)
             .map(|(name, _)| name.clone())
             .collect();
         for name in &covered {
-            self.book.saving.pending.remove(name);
+            self.book.saving_mut().pending.remove(name);
         }
         match outcome.error {
             None => {
                 // The whole book was written: whatever had failed before is on disk now.
-                let failed = std::mem::take(&mut self.book.saving.failed);
+                let failed = std::mem::take(&mut self.book.saving_mut().failed);
                 if failed.is_empty() {
                     return;
                 }
                 for name in &failed {
-                    if let Some(entry) = self.book.positions.get_mut(name) {
+                    if let Some(entry) = self.book.positions_mut().get_mut(name) {
                         entry.unsaved = false;
                     }
                 }
@@ -91,7 +88,7 @@ impl App {
             Some(error) => {
                 tracing::error!("positions not saved: {error}");
                 self.mark_unsaved(covered);
-                let n = self.book.saving.failed.len();
+                let n = self.book.saving().failed.len();
                 let text = format!(
                     "positions not saved: {error}; {n} marked not saved, retried with the next \
                      change"
@@ -103,18 +100,18 @@ impl App {
 
     fn mark_unsaved(&mut self, names: impl IntoIterator<Item = String>) {
         for name in names {
-            if let Some(entry) = self.book.positions.get_mut(&name)
+            if let Some(entry) = self.book.positions_mut().get_mut(&name)
                 && !entry.unsaved
             {
                 entry.unsaved = true;
             }
-            self.book.saving.failed.insert(name);
+            self.book.saving_mut().failed.insert(name);
         }
     }
 
     /// How many changed positions no write has held (their write failed).
     pub fn unsaved_positions(&self) -> usize {
-        self.book.saving.failed.len()
+        self.book.saving().failed.len()
     }
 
     /// The quit key: with positions not saved, asks first (and stops the arm meanwhile).
@@ -131,8 +128,8 @@ impl App {
     /// Quitting with positions not saved: the book is handed over once more, and written (or
     /// its failure logged) before the process ends.
     pub(super) fn retry_save_at_quit(&mut self, effects: &mut Vec<Effect>) {
-        if self.unsaved_positions() > 0 && self.book.book_state == BookState::Ready {
-            let names: Vec<String> = self.book.saving.failed.iter().cloned().collect();
+        if self.unsaved_positions() > 0 && *self.book.state() == BookState::Ready {
+            let names: Vec<String> = self.book.saving_mut().failed.iter().cloned().collect();
             tracing::warn!(
                 "quitting with {} positions not saved: writing the book once more",
                 names.len()

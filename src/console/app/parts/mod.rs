@@ -14,4 +14,5 @@ pub(super) use book::Book;
 pub(super) use keys::Keys;
 pub(super) use screen::Screen;
 pub use keys::KeysView;
+pub use book::BookView;
 pub use screen::ScreenView;
