@@ -51,11 +51,11 @@ impl App {
     }
 
     pub fn link(&self) -> &LinkStatus {
-        &self.arm.link
+        self.arm.link()
     }
 
     pub fn telemetry(&self) -> Option<&Telemetry> {
-        self.arm.telemetry.as_ref()
+        self.arm.telemetry()
     }
 
     /// The telemetry the driver said to expect (none until it says).
@@ -66,16 +66,16 @@ impl App {
     }
 
     pub fn latency(&self) -> Option<std::time::Duration> {
-        self.arm.latency
+        self.arm.latency()
     }
 
     /// The speed in force, percent, once the arm has said it.
     pub fn speed(&self) -> Option<u8> {
-        self.arm.speed
+        self.arm.speed()
     }
 
     pub fn frame(&self) -> ReferenceFrame {
-        self.arm.frame
+        self.arm.frame()
     }
 
     pub fn step(&self) -> Step {
@@ -102,7 +102,7 @@ impl App {
     /// The log shows frames in hex.
     /// The last 30 s of telemetry (history panel).
     pub fn history(&self) -> &super::History {
-        &self.arm.history
+        self.arm.history()
     }
 
     pub fn hex(&self) -> bool {
@@ -119,7 +119,7 @@ impl App {
     }
 
     pub fn guard(&self) -> Option<&GuardStatus> {
-        self.arm.guard.as_ref()
+        self.arm.guard()
     }
 
     pub fn truth(&self) -> &MotionTruth {

@@ -23,9 +23,7 @@ impl App {
                     let text = format!("link lost: {reason}");
                     self.say_until(text, Severity::Error, Until::LinkUp, now);
                 }
-                let came_up = matches!(status, LinkStatus::Up { .. })
-                    && !matches!(self.arm.link, LinkStatus::Up { .. });
-                self.arm.link = status;
+                let came_up = self.arm.on_link(status);
                 if came_up && self.config.positions_on_operator {
                     // The ICD cannot list positions: ask about remembered names, so the panel
                     // marks the ones this operator does not know (and shows where the others
@@ -37,18 +35,15 @@ impl App {
                 self.watch_cap(&t, now, effects);
                 self.watch_arm_state(&t, now, effects);
                 self.watch_other_clients(&t, now, effects);
-                self.arm.history.record(&t, now);
-                self.arm.trail.record(&t, now);
-                self.arm.telemetry = Some(*t);
+                self.arm.on_telemetry(*t, now);
             }
             // The motion truth keeps the source (see `truth_on_arm`).
             ArmEvent::TelemetrySource(_) => {}
-            ArmEvent::Latency(latency) => self.arm.latency = Some(latency),
+            ArmEvent::Latency(latency) => self.arm.on_latency(latency),
             ArmEvent::Speed(speed) => {
-                if self.arm.speed.is_some_and(|s| s != speed) {
+                if self.arm.on_speed(speed) {
                     self.other_client_note_speed(now);
                 }
-                self.arm.speed = Some(speed);
             }
             ArmEvent::Notice(text) => self.say(text, Severity::Warning, now),
             ArmEvent::Log(entry) => self.screen.on_log(entry),
@@ -96,7 +91,7 @@ impl App {
                         now,
                     );
                 }
-                self.arm.guard = Some(status);
+                self.arm.on_guard(status);
             }
             // Evidence only: see `truth_on_arm`.
             ArmEvent::StopConfirmed | ArmEvent::StopUnconfirmed { .. } => {}

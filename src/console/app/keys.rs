@@ -9,7 +9,6 @@ use crate::console::action::Action;
 use crate::console::form::{Confirm, Form, FormKind};
 use crate::console::jog::KeyKind;
 use crate::console::keymap::{BaseKey, KeyName, NamedKey};
-use crate::kortex::ReferenceFrame;
 use crate::link::interface::{ArmCommand, StepMove};
 
 /// The keys the console knows whatever the keymap: ctrl+c quits, and dialogs and forms answer
@@ -235,7 +234,7 @@ impl App {
             }
             A::StepBigger | A::StepSmaller => self.keys.on_step_size(action == A::StepBigger),
             A::SpeedUp | A::SpeedDown => {
-                let current = self.arm.speed.unwrap_or(crate::link::driver::INITIAL_SPEED);
+                let current = self.arm.speed().unwrap_or(crate::link::driver::INITIAL_SPEED);
                 let speed = super::next_speed(current, action == A::SpeedUp);
                 effects.push(Effect::Arm(ArmCommand::SetSpeed(speed)));
             }
@@ -248,12 +247,8 @@ impl App {
                     );
                     return;
                 }
-                self.arm.frame = match self.arm.frame {
-                    ReferenceFrame::Base => ReferenceFrame::Tool,
-                    ReferenceFrame::Tool => ReferenceFrame::Mixed,
-                    ReferenceFrame::Mixed => ReferenceFrame::Base,
-                };
-                effects.push(Effect::Arm(ArmCommand::SetFrame(self.arm.frame)));
+                let frame = self.arm.on_frame_cycle();
+                effects.push(Effect::Arm(ArmCommand::SetFrame(frame)));
             }
             A::JointNext | A::JointPrevious => {
                 let j = self.keys.jog().joint();
@@ -298,7 +293,7 @@ impl App {
                 self.book.on_select_next(action == A::PositionNext)
             }
             A::ToggleHex => self.screen.on_toggle_hex(),
-            A::HistoryCycle => self.arm.history.cycle_quantity(),
+            A::HistoryCycle => self.arm.on_history_cycle(),
             A::Help => self.open_help(),
             A::Quit => self.ask_quit(now, effects),
             // Jog actions are handled before this.

@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 
 use super::{App, Severity, fault_reason};
 use crate::link::interface::{
-    ArmCommand, ArmError, ArmEvent, CommandKind, GuardStatus, LinkStatus,
+    ArmCommand, ArmError, ArmEvent, CommandKind,
 };
 use crate::talos::ReturnCode;
 
@@ -174,15 +174,12 @@ impl App {
     /// After every input: messages whose state has ended, and notices past their time, go; a
     /// hidden state message shows again once nothing newer is shown.
     pub(super) fn settle_messages(&mut self, now: Instant) {
-        let link_up = matches!(self.arm.link, LinkStatus::Up { .. });
+        let link_up = self.arm.link_up();
         let stale = self.link_stale().is_some();
-        let guard_ready = matches!(self.arm.guard, Some(GuardStatus::Ready { .. }));
+        let guard_ready = self.arm.guard_ready();
         let stop_unconfirmed = self.truth.stop_unconfirmed();
         let unsaved = self.unsaved_positions() > 0;
-        let arm_refuses = self
-            .arm
-            .telemetry
-            .as_ref()
+        let arm_refuses = self.arm.telemetry()
             .is_some_and(|t| super::arm_refusal(t).is_some());
         self.screen.settle_messages(|m: &Message| match m.until {
             Until::TimeOut { .. } => now < m.at + MESSAGE_TIME,

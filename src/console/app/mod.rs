@@ -71,7 +71,7 @@ use super::jog::{KeyKind, ReleaseMode};
 use super::keymap::{KeyName, Keymap};
 use super::positions::PositionBook;
 
-use crate::link::interface::{ArmCommand, ArmEvent, LinkStatus, PositionCoordinates};
+use crate::link::interface::{ArmCommand, ArmEvent, PositionCoordinates};
 
 /// Below this the status bar cannot be shown: motion stops and the screen says so.
 pub const MIN_WIDTH: u16 = 40;
@@ -331,6 +331,6 @@ impl App {
 
     /// Up and heard from: a stale link starts no motion.
     fn link_is_up(&self) -> bool {
-        matches!(self.arm.link, LinkStatus::Up { .. }) && self.link_stale().is_none()
+        self.arm.link_up() && self.link_stale().is_none()
     }
 }

@@ -163,10 +163,20 @@ pub struct MotionTruth {
     stop_failure: Option<String>,
     /// A tracked action failed: send a STOP after this input, so its end gets confirmed.
     stop_needed: bool,
-    pub action: Option<TrackedAction>,
+    action: Option<TrackedAction>,
 }
 
 impl MotionTruth {
+    /// The home, go-to or step being watched, if one is.
+    pub fn action(&self) -> Option<&TrackedAction> {
+        self.action.as_ref()
+    }
+
+    /// The watched action ends here (said once by the caller, not also as "home stopped").
+    pub(in crate::console::app) fn forget_action(&mut self) {
+        self.action = None;
+    }
+
     /// The last STOP did not get through and none has been confirmed since.
     pub(super) fn stop_unconfirmed(&self) -> bool {
         self.stop_failure.is_some()

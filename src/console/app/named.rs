@@ -68,7 +68,7 @@ impl App {
     pub(super) fn stored_pose(&self, name: &str) -> Option<Pose> {
         let entry = self.book.positions().get(name)?;
         let [x, y, z] = entry.cartesian?;
-        let current = self.arm.telemetry.as_ref().map(|t| t.tcp.pose);
+        let current = self.arm.telemetry().map(|t| t.tcp.pose);
         let theta = entry
             .orientation
             .or(current.map(|p| [p.theta_x, p.theta_y, p.theta_z]))?;
@@ -174,7 +174,7 @@ impl App {
     /// The whole pose the telemetry shows now. A value that is not a finite number is not
     /// known (and would not load back from the file).
     fn pose_now(&self) -> Option<PoseNow> {
-        let t = self.arm.telemetry.as_ref()?;
+        let t = self.arm.telemetry()?;
         let p = t.tcp.pose;
         let finite = |values: &[f32]| values.iter().all(|v| v.is_finite());
         let position = [p.x, p.y, p.z];

@@ -55,7 +55,7 @@ impl App {
         if entry.cartesian.is_none() {
             return Some(format!("'{name}' has no coordinates stored"));
         }
-        (entry.orientation.is_none() && self.arm.telemetry.is_none()).then(|| {
+        (entry.orientation.is_none() && self.arm.telemetry().is_none()).then(|| {
             format!(
                 "cannot go to '{name}' yet: it has no orientation stored, and no telemetry \
                  has given the tool's"

@@ -16,7 +16,7 @@ impl App {
         match event {
             ArmEvent::Status(status) => {
                 let came_up = matches!(status, LinkStatus::Up { .. })
-                    && !matches!(self.arm.link, LinkStatus::Up { .. });
+                    && !self.arm.link_up();
                 if came_up {
                     truth.link_up_at = Some(now);
                     truth.waiting_since = None;

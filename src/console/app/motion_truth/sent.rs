@@ -92,7 +92,7 @@ impl App {
         truth.motion_since_stop = true;
         truth.stop_confirmed_at = None;
         // A new motion replaces whatever action was running.
-        let last = self.arm.telemetry.as_ref();
+        let last = self.arm.telemetry();
         truth.action = kind.map(|kind| TrackedAction {
             kind,
             sent: now,

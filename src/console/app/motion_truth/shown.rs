@@ -28,7 +28,7 @@ impl App {
             return MotionShown::MayBeMoving(format!("stop not confirmed: {reason}"));
         }
         if truth.unsettled {
-            match &self.arm.link {
+            match self.arm.link() {
                 LinkStatus::Up { .. } => {}
                 _ => return MotionShown::MayBeMoving("link lost after motion".into()),
             }

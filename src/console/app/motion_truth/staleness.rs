@@ -84,7 +84,7 @@ impl App {
     /// How long the link has been silent, when that makes it stale (only while it is up).
     pub fn link_stale(&self) -> Option<Duration> {
         let now = self.now?;
-        match self.arm.link {
+        match self.arm.link() {
             LinkStatus::Up { .. } => self.truth.stale_for(now),
             _ => None,
         }
@@ -101,6 +101,6 @@ impl App {
     pub(in crate::console::app) fn truth_deadline(&self) -> Option<Instant> {
         let now = self.now?;
         self.truth
-            .next_deadline(now, matches!(self.arm.link, LinkStatus::Up { .. }))
+            .next_deadline(now, self.arm.link_up())
     }
 }

@@ -15,4 +15,5 @@ pub(super) use keys::Keys;
 pub(super) use screen::Screen;
 pub use keys::KeysView;
 pub use book::BookView;
+pub use arm::ArmView;
 pub use screen::ScreenView;
