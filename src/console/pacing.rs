@@ -175,7 +175,7 @@ mod tests {
         assert_eq!(pacer.due_at(false), Some(start + FRAME));
         let at = start + FRAME;
         let painted = pacer.frame(View::new(&app), at).expect("the speed changed");
-        assert_eq!(painted.speed, Some(40));
+        assert_eq!(painted.arm.speed, Some(40));
 
         // The same again (an identical report): woken, but nothing is handed to the painter.
         app.handle(Input::Arm(ArmEvent::Speed(40)), at);
@@ -197,7 +197,7 @@ mod tests {
         let mut pacer = FramePacer::default();
         pacer.changed(false, start);
         assert!(pacer.frame(View::new(&app), start).is_some());
-        assert_eq!(View::new(&app).link_stale, None);
+        assert_eq!(View::new(&app).truth.link_stale, None);
 
         // A tick before anything is due shows the same: not drawn.
         let early = start + Duration::from_millis(50);
@@ -217,7 +217,7 @@ mod tests {
         let painted = pacer
             .frame(View::new(&app), due.max(deadline))
             .expect("the stale link is drawn");
-        assert!(painted.link_stale.is_some());
+        assert!(painted.truth.link_stale.is_some());
 
         // And its age, as it grows, is drawn again.
         let later = deadline + Duration::from_secs(2);
@@ -268,7 +268,7 @@ mod tests {
         let painted = pacer
             .frame(View::new(&app), start + BACKGROUND_FRAME)
             .expect("the counters are drawn a second on");
-        assert_eq!(painted.log.back().map(|e| e.count), Some(3));
+        assert_eq!(painted.screen.log.back().map(|e| e.count), Some(3));
         assert_eq!(pacer.due_at(false), None);
 
         // A key draws them at once.
@@ -287,8 +287,8 @@ mod tests {
         let at = pacer.due_at(false).expect("due");
         assert!(at < k + FRAME + BACKGROUND_FRAME);
         let painted = pacer.frame(View::new(&app), at).expect("the speed changed");
-        assert_eq!(painted.speed, Some(40));
-        assert_eq!(painted.log.back().map(|e| e.count), Some(5));
+        assert_eq!(painted.arm.speed, Some(40));
+        assert_eq!(painted.screen.log.back().map(|e| e.count), Some(5));
 
         // A failed poll is a new line, not a counter: drawn at once.
         let f = at + IDLE_FRAME;
@@ -328,7 +328,7 @@ mod tests {
         app.handle(report(&telemetry), m);
         pacer.changed(false, m);
         let painted = pacer.frame(View::new(&app), m).expect("a joint moved");
-        let shown = painted.telemetry.expect("telemetry");
+        let shown = painted.arm.telemetry.expect("telemetry");
         assert_eq!(shown.joints[3].position, telemetry.joints[3].position);
         assert_eq!(shown.joints[3].temperature, telemetry.joints[3].temperature);
     }

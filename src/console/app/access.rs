@@ -8,6 +8,7 @@ use super::{App, AppConfig, BookState, MotionTruth, Overlay, Severity, Step};
 use crate::console::jog::JogEngine;
 use crate::console::keymap::Keymap;
 use crate::console::positions::PositionBook;
+use crate::console::view::View;
 use crate::kortex::{ReferenceFrame, Telemetry};
 use crate::link::interface::{GuardStatus, LinkStatus, LogEntry, TelemetrySource};
 
@@ -16,6 +17,20 @@ use crate::link::interface::{GuardStatus, LinkStatus, LogEntry, TelemetrySource}
 pub const MOVING_JOINT_DEG_S: f32 = 0.5;
 
 impl App {
+    /// What one frame shows, assembled from the parts' own views.
+    pub fn view(&self) -> View {
+        // No panel is taller than the terminal: the book's and the log's views are cut to it.
+        let rows = usize::from(self.screen.size().1);
+        View {
+            session: self.session_view(),
+            keys: self.keys.view(),
+            arm: self.arm.view(self.now),
+            truth: self.truth_view(),
+            book: self.book.view(rows),
+            screen: self.screen.view(rows),
+        }
+    }
+
     /// The arm moves, or may: a jog, an action, a STOP being confirmed or a doubt is shown, or
     /// the telemetry has a joint turning (whoever moves the arm). The console then draws at its
     /// full rate, so the arm view keeps up with the telemetry.

@@ -267,7 +267,12 @@ impl App {
                     command: ArmCommand::SetCartesianPosition { name, x, y, z },
                 },
             ) if *name == to => {
-                let mut entry = self.book.positions().get(&from).cloned().unwrap_or_default();
+                let mut entry = self
+                    .book
+                    .positions()
+                    .get(&from)
+                    .cloned()
+                    .unwrap_or_default();
                 entry.cartesian = Some([*x, *y, *z]);
                 entry.unknown_to_operator = false;
                 *self.book.positions_mut().get_or_insert(&to) = entry;

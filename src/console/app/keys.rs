@@ -48,16 +48,16 @@ impl App {
         }
         let form_open = self.screen.form_open();
         if self.keys.repeat_of_form_opener(&key, form_open, now)
-            || self.keys.auto_repeat_of_overlay_key(&key, self.screen.overlay(), now)
+            || self
+                .keys
+                .auto_repeat_of_overlay_key(&key, self.screen.overlay(), now)
         {
             // Keep still, but let the repeat neither answer the overlay nor start a jog.
             self.stop_jog(now, effects);
             self.latch_jog_key(&key, now, effects);
             return;
         }
-        if self.screen.question_open()
-            && self.question_refuses(&key, burst, now, effects)
-        {
+        if self.screen.question_open() && self.question_refuses(&key, burst, now, effects) {
             return;
         }
         let overlay_before = std::mem::discriminant(self.screen.overlay());
@@ -153,7 +153,10 @@ impl App {
         };
         use crate::console::action::JogAxis as A;
         let s = i32::from(sign.value());
-        let (c, p) = (self.keys.step().cartesian() * s, self.keys.step().polar() * s);
+        let (c, p) = (
+            self.keys.step().cartesian() * s,
+            self.keys.step().polar() * s,
+        );
         let step = match axis {
             A::X => StepMove::Cartesian {
                 dx: c,
@@ -234,7 +237,10 @@ impl App {
             }
             A::StepBigger | A::StepSmaller => self.keys.on_step_size(action == A::StepBigger),
             A::SpeedUp | A::SpeedDown => {
-                let current = self.arm.speed().unwrap_or(crate::link::driver::INITIAL_SPEED);
+                let current = self
+                    .arm
+                    .speed()
+                    .unwrap_or(crate::link::driver::INITIAL_SPEED);
                 let speed = super::next_speed(current, action == A::SpeedUp);
                 effects.push(Effect::Arm(ArmCommand::SetSpeed(speed)));
             }
@@ -282,9 +288,7 @@ impl App {
                 };
                 match action {
                     A::GoToPosition => self.ask_go_to(name, now),
-                    A::DeletePosition => {
-                        self.screen.show(Overlay::Confirm(Confirm::Delete(name)))
-                    }
+                    A::DeletePosition => self.screen.show(Overlay::Confirm(Confirm::Delete(name))),
                     A::RenamePosition => self.screen.show(Overlay::Form(Form::rename(&name))),
                     _ => self.show_position(name, effects),
                 }

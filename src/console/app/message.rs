@@ -9,9 +9,7 @@
 use std::time::{Duration, Instant};
 
 use super::{App, Severity, fault_reason};
-use crate::link::interface::{
-    ArmCommand, ArmError, ArmEvent, CommandKind,
-};
+use crate::link::interface::{ArmCommand, ArmError, ArmEvent, CommandKind};
 use crate::talos::ReturnCode;
 
 /// How long a notice stays.
@@ -179,7 +177,9 @@ impl App {
         let guard_ready = self.arm.guard_ready();
         let stop_unconfirmed = self.truth.stop_unconfirmed();
         let unsaved = self.unsaved_positions() > 0;
-        let arm_refuses = self.arm.telemetry()
+        let arm_refuses = self
+            .arm
+            .telemetry()
             .is_some_and(|t| super::arm_refusal(t).is_some());
         self.screen.settle_messages(|m: &Message| match m.until {
             Until::TimeOut { .. } => now < m.at + MESSAGE_TIME,

@@ -48,12 +48,14 @@ pub use limits::{LIMIT_WARNING_DEG, NearLimit, limit_margin, near_limits};
 pub use motion_gate::arm_refusal;
 pub use motion_truth::{
     ACTION_TIMEOUT, ActionKind, MotionShown, MotionTruth, NO_TELEMETRY_ACTION_TIME, STALE_AFTER,
-    STOP_GRACE, TrackedAction,
+    STOP_GRACE, TrackedAction, TruthView,
 };
+pub use offers::SessionView;
 pub use other_client::{
     CONTRADICTED_FOR, OTHER_CLIENT_GRACE, OTHER_CLIENT_SAMPLES, OTHER_MOTION_JOINT_DEG_S,
     OTHER_MOTION_M_S, OtherClients, REFRESH_SAMPLES, REFRESH_WAIT,
 };
+pub use parts::{ArmView, BookView, KeysView, ScreenView};
 pub use paste::Pasted;
 pub use question::{BURST_KEY_GAP, QUESTION_QUIET};
 pub use resave::RESAVE_GO_WITHIN;

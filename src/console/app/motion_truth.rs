@@ -140,6 +140,19 @@ pub enum MotionShown {
     Idle,
 }
 
+/// What the status bar and the panels show of the motion truth, worked out once per frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TruthView {
+    pub motion: MotionShown,
+    /// How long the link has been silent, when that makes it stale.
+    pub link_stale: Option<Duration>,
+    pub telemetry_source: TelemetrySource,
+    /// The telemetry's age, when it is old enough to be drawn as stale.
+    pub telemetry_stale: Option<Duration>,
+    /// Whether the telemetry lets the console watch the cap (`None` until the driver says).
+    pub cap_watched: Option<bool>,
+}
+
 /// The evidence the console has about the link and the arm's motion.
 #[derive(Debug, Clone, Default)]
 pub struct MotionTruth {

@@ -18,10 +18,14 @@ impl App {
                 coordinates: None,
             });
         } else {
-            let coordinates = self.book.positions().get(&name).map(|e| PositionCoordinates {
-                cartesian: e.cartesian,
-                polar: e.cartesian.map(polar_of),
-            });
+            let coordinates = self
+                .book
+                .positions()
+                .get(&name)
+                .map(|e| PositionCoordinates {
+                    cartesian: e.cartesian,
+                    polar: e.cartesian.map(polar_of),
+                });
             self.screen.show(Overlay::Position { name, coordinates });
         }
     }

@@ -195,7 +195,12 @@ impl App {
             self.arm.others_mut().end_contradiction();
             return;
         };
-        let Some((_, since)) = self.arm.others_mut().jog_since.filter(|(m, _)| *m == motion) else {
+        let Some((_, since)) = self
+            .arm
+            .others_mut()
+            .jog_since
+            .filter(|(m, _)| *m == motion)
+        else {
             return;
         };
         let was_twist = self.arm.others_mut().seen_twist;
@@ -217,14 +222,17 @@ impl App {
         }
         let base = !self.config.frames || self.arm.frame() == ReferenceFrame::Base;
         let rest_telling = self.jog_unmistakable_from_rest(motion);
-        let slow_ready = self.arm.others_mut()
+        let slow_ready = self
+            .arm
+            .others_mut()
             .baseline_since
             .is_some_and(|at| now >= at + OTHER_CLIENT_GRACE);
         let steady = self.arm.others_mut().steady.filter(|_| slow_ready);
         let Some(found) = contradiction(t, motion, base, steady, rest_telling) else {
             self.arm.others_mut().end_contradiction();
             if slow_ready && let Some((seen, _)) = progress(t, motion, base) {
-                self.arm.others_mut().steady = Some(self.arm.others_mut().steady.map_or(seen, |s| s.max(seen)));
+                self.arm.others_mut().steady =
+                    Some(self.arm.others_mut().steady.map_or(seen, |s| s.max(seen)));
             }
             if let Some((_, fine)) = self.arm.others_mut().refresh_waiting.as_mut() {
                 *fine += 1;
@@ -259,7 +267,9 @@ impl App {
             return;
         };
         let watched = self.truth.expects_telemetry();
-        let past_grace = self.arm.others_mut()
+        let past_grace = self
+            .arm
+            .others_mut()
             .jog_since
             .is_some_and(|(m, since)| m == motion && now >= since + OTHER_CLIENT_GRACE);
         if !(watched && past_grace) {
@@ -293,7 +303,9 @@ impl App {
             return;
         }
         if self.arm.others_mut().contradicting_in_a_row == 0
-            && self.arm.others_mut()
+            && self
+                .arm
+                .others_mut()
                 .refresh_waiting
                 .is_some_and(|(at, _)| now >= at + REFRESH_WAIT)
         {
@@ -305,10 +317,14 @@ impl App {
     /// When [`App::other_clients_on_tick`] has something to do.
     pub(super) fn other_clients_deadline(&self) -> Option<Instant> {
         self.keys.jog().active()?;
-        let contradicted = self.arm.others()
+        let contradicted = self
+            .arm
+            .others()
             .contradicting_since
             .map(|at| at + CONTRADICTED_FOR);
-        let waiting = self.arm.others()
+        let waiting = self
+            .arm
+            .others()
             .refresh_waiting
             .map(|(at, _)| at + REFRESH_WAIT);
         contradicted.into_iter().chain(waiting).min()

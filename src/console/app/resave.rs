@@ -97,7 +97,9 @@ impl App {
 
     /// The operator accepted Set Cartesian Position for `name`: the go-to a re-save was for.
     pub(super) fn after_resave(&mut self, name: &str, now: Instant, effects: &mut Vec<Effect>) {
-        let Some((pending, asked)) = self.book.resave_mut()
+        let Some((pending, asked)) = self
+            .book
+            .resave_mut()
             .then_go
             .take_if(|(n, _)| n.as_str() == name)
         else {
@@ -157,9 +159,9 @@ impl App {
                     entry.unknown_to_operator = true;
                 }
                 let can_offer = self.remembered_cartesian(&name).is_some();
-                if can_offer && self.screen.overlay_is_none() && !self.keys.jog().is_jogging()
-                {
-                    self.screen.show(Overlay::Confirm(Confirm::Resave(name.clone())));
+                if can_offer && self.screen.overlay_is_none() && !self.keys.jog().is_jogging() {
+                    self.screen
+                        .show(Overlay::Confirm(Confirm::Resave(name.clone())));
                     self.say(
                         format!("the operator does not know '{name}'"),
                         Severity::Warning,

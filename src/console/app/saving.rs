@@ -32,7 +32,8 @@ pub(super) struct Saving {
 impl App {
     /// Changes to `changed` are to be written: asks for the whole book to be saved.
     pub(super) fn save_book<S: AsRef<str>>(&mut self, changed: &[S], effects: &mut Vec<Effect>) {
-        self.book.saving_mut()
+        self.book
+            .saving_mut()
             .touched
             .extend(changed.iter().map(|n| n.as_ref().to_string()));
         effects.push(Effect::SavePositions(self.book.positions().clone()));
@@ -61,7 +62,9 @@ impl App {
 
     /// The writer's outcome for the saves up to `outcome.upto`.
     pub(super) fn on_positions_saved(&mut self, outcome: SaveOutcome, now: Instant) {
-        let covered: Vec<String> = self.book.saving_mut()
+        let covered: Vec<String> = self
+            .book
+            .saving_mut()
             .pending
             .iter()
             .filter(|(_, upto)| **upto <= outcome.upto)
@@ -122,7 +125,8 @@ impl App {
             return;
         }
         self.stop_everything(now, effects);
-        self.screen.show(super::Overlay::Confirm(Confirm::QuitUnsaved { count }));
+        self.screen
+            .show(super::Overlay::Confirm(Confirm::QuitUnsaved { count }));
     }
 
     /// Quitting with positions not saved: the book is handed over once more, and written (or

@@ -75,7 +75,9 @@ impl App {
         }
         tracing::warn!("the arm moves after our STOP: sending STOP again");
         effects.push(Effect::Arm(ArmCommand::Stop));
-        if self.arm.others_mut()
+        if self
+            .arm
+            .others_mut()
             .hold
             .since
             .is_some_and(|since| now >= since + SLOWING_DOWN)

@@ -100,7 +100,6 @@ impl App {
     /// The truth's part of [`App::next_deadline`].
     pub(in crate::console::app) fn truth_deadline(&self) -> Option<Instant> {
         let now = self.now?;
-        self.truth
-            .next_deadline(now, self.arm.link_up())
+        self.truth.next_deadline(now, self.arm.link_up())
     }
 }

@@ -162,7 +162,10 @@ impl Arm {
 
     /// A sample while a motion the console started runs, `over` the cap in words or within
     /// it: the stop's text once enough samples in a row were over (see `cap_watch`).
-    pub(in crate::console::app) fn on_cap_sample(&mut self, over: Option<String>) -> Option<String> {
+    pub(in crate::console::app) fn on_cap_sample(
+        &mut self,
+        over: Option<String>,
+    ) -> Option<String> {
         self.cap_watch.sample(over)
     }
 

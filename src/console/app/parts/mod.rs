@@ -10,10 +10,10 @@ mod keys;
 mod screen;
 
 pub(super) use arm::Arm;
-pub(super) use book::Book;
-pub(super) use keys::Keys;
-pub(super) use screen::Screen;
-pub use keys::KeysView;
-pub use book::BookView;
 pub use arm::ArmView;
+pub(super) use book::Book;
+pub use book::BookView;
+pub(super) use keys::Keys;
+pub use keys::KeysView;
+pub(super) use screen::Screen;
 pub use screen::ScreenView;
