@@ -2,15 +2,13 @@
 //! inputs change them.
 
 use std::collections::VecDeque;
-use std::sync::Arc;
 
 use super::{App, AppConfig, BookState, MotionTruth, Overlay, Severity, Step};
 use crate::console::jog::JogEngine;
-use crate::console::keymap::Keymap;
 use crate::console::positions::PositionBook;
 use crate::console::view::View;
-use crate::kortex::{ReferenceFrame, Telemetry};
-use crate::link::interface::{GuardStatus, LinkStatus, LogEntry, TelemetrySource};
+use crate::kortex::Telemetry;
+use crate::link::interface::{LinkStatus, LogEntry, TelemetrySource};
 
 /// A joint turning faster than this (deg/s, reported) counts as the arm moving: below it, a
 /// reading's noise, or motion too slow to need more than the idle frame rate.
@@ -47,11 +45,6 @@ impl App {
         &self.config
     }
 
-    /// The keymap, shared with each frame's view (it never changes during a session).
-    pub fn shared_keymap(&self) -> Arc<Keymap> {
-        self.config.keymap.clone()
-    }
-
     pub fn jog(&self) -> &JogEngine {
         self.keys.jog()
     }
@@ -80,17 +73,9 @@ impl App {
             .unwrap_or(TelemetrySource::None)
     }
 
-    pub fn latency(&self) -> Option<std::time::Duration> {
-        self.arm.latency()
-    }
-
     /// The speed in force, percent, once the arm has said it.
     pub fn speed(&self) -> Option<u8> {
         self.arm.speed()
-    }
-
-    pub fn frame(&self) -> ReferenceFrame {
-        self.arm.frame()
     }
 
     pub fn step(&self) -> Step {
@@ -114,12 +99,12 @@ impl App {
         self.screen.log()
     }
 
-    /// The log shows frames in hex.
     /// The last 30 s of telemetry (history panel).
     pub fn history(&self) -> &super::History {
         self.arm.history()
     }
 
+    /// The log shows frames in hex.
     pub fn hex(&self) -> bool {
         self.screen.hex()
     }
@@ -131,10 +116,6 @@ impl App {
 
     pub fn quitting(&self) -> bool {
         self.quitting
-    }
-
-    pub fn guard(&self) -> Option<&GuardStatus> {
-        self.arm.guard()
     }
 
     pub fn truth(&self) -> &MotionTruth {

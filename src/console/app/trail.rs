@@ -128,13 +128,6 @@ impl super::App {
             .unwrap_or_default()
     }
 
-    /// The trail as the arm view draws it: see [`ToolTrail::shaded`].
-    pub fn trail_shaded(&self) -> Vec<(TrailShade, [f64; 3])> {
-        self.now
-            .map(|now| self.arm.trail().shaded(now))
-            .unwrap_or_default()
-    }
-
     /// The trail's buffer, bounded by [`TRAIL_CAPACITY`].
     pub fn trail_buffer(&self) -> &ToolTrail {
         self.arm.trail()

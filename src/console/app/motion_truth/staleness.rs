@@ -76,11 +76,6 @@ impl MotionTruth {
 }
 
 impl App {
-    /// The instant of the latest input: the clock the panels' ages are drawn with.
-    pub fn now(&self) -> Option<Instant> {
-        self.now
-    }
-
     /// How long the link has been silent, when that makes it stale (only while it is up).
     pub fn link_stale(&self) -> Option<Duration> {
         let now = self.now?;

@@ -97,10 +97,6 @@ impl Arm {
         self.telemetry = Some(t);
     }
 
-    pub(in crate::console::app) fn latency(&self) -> Option<Duration> {
-        self.latency
-    }
-
     pub(in crate::console::app) fn on_latency(&mut self, latency: Duration) {
         self.latency = Some(latency);
     }
