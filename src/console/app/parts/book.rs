@@ -1,7 +1,9 @@
 //! The position book: its entries, the selection, edits, undo, re-saves and saves.
 
 use super::super::edits::{Deleted, Renaming};
-use super::super::{BookState, resave, saving};
+use super::super::saving::{self, Saved};
+use super::super::{BookState, resave};
+use crate::console::book_io::SaveOutcome;
 use crate::console::positions::PositionBook;
 
 #[derive(Debug, Clone)]
@@ -181,12 +183,58 @@ impl Book {
         &mut self.resave
     }
 
-    pub(in crate::console::app) fn saving(&self) -> &saving::Saving {
-        &self.saving
+    /// Names changed: the book to hand to the writer (the whole of it, as every save is).
+    pub(in crate::console::app) fn on_changed(
+        &mut self,
+        changed: impl IntoIterator<Item = String>,
+    ) -> PositionBook {
+        self.saving.touch(changed);
+        self.positions.clone()
     }
 
-    pub(in crate::console::app) fn saving_mut(&mut self) -> &mut saving::Saving {
-        &mut self.saving
+    /// `asked` saves left `handle`. A book that could not be read is never saved over: its
+    /// changes are unsaved at once.
+    pub(in crate::console::app) fn on_saves_asked(&mut self, asked: u64) {
+        let unreadable = matches!(self.state, BookState::Failed { .. });
+        let unsaved = self.saving.count(asked, unreadable);
+        saving::mark_unsaved(&mut self.positions, &mut self.saving, unsaved);
+    }
+
+    /// The writer's outcome for the saves up to `outcome.upto`.
+    pub(in crate::console::app) fn on_saved(&mut self, outcome: SaveOutcome) -> Saved {
+        let covered = self.saving.covered(outcome.upto);
+        match outcome.error {
+            None => {
+                let failed = self.saving.take_failed();
+                if failed.is_empty() {
+                    return Saved::Quietly;
+                }
+                for name in &failed {
+                    if let Some(entry) = self.positions.get_mut(name) {
+                        entry.unsaved = false;
+                    }
+                }
+                Saved::Recovered(failed.len())
+            }
+            Some(error) => {
+                saving::mark_unsaved(&mut self.positions, &mut self.saving, covered);
+                Saved::Failed {
+                    error,
+                    unsaved: self.saving.failed().len(),
+                }
+            }
+        }
+    }
+
+    /// How many changed positions no write has held (their write failed).
+    pub(in crate::console::app) fn unsaved(&self) -> usize {
+        self.saving.failed().len()
+    }
+
+    /// At quit: the names no write has held, when the book may be written (it was read).
+    pub(in crate::console::app) fn unsaved_to_retry(&self) -> Option<Vec<String>> {
+        (self.unsaved() > 0 && self.state == BookState::Ready)
+            .then(|| self.saving.failed().iter().cloned().collect())
     }
 
     /// What the book shows: the selection and up to `rows` names either side (no panel is
