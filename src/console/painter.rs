@@ -179,7 +179,7 @@ mod tests {
         let draw = move |view: &View| {
             let _ = started_tx.send(());
             let _ = finish_rx.recv_timeout(Duration::from_secs(5));
-            seen.lock().expect("lock").push(view.size.0);
+            seen.lock().expect("lock").push(view.screen.size.0);
             Ok(())
         };
         let (mut painter, _errors) =

@@ -11,7 +11,7 @@ use crate::cli::Outcome;
 use crate::cli::console::check_max_jog_speed;
 use crate::kortex::{Progress, Stored, StoredRun, Telemetry, fault_reason};
 use crate::link::modbus::ModbusError;
-use crate::link::{ModbusLink, WriteReport};
+use crate::link::ModbusLink;
 
 /// How a stored motion is waited for and capped.
 #[derive(Debug, Clone, Args)]

@@ -2,20 +2,33 @@
 //! inputs change them.
 
 use std::collections::VecDeque;
-use std::sync::Arc;
 
 use super::{App, AppConfig, BookState, MotionTruth, Overlay, Severity, Step};
 use crate::console::jog::JogEngine;
-use crate::console::keymap::Keymap;
 use crate::console::positions::PositionBook;
+use crate::console::view::View;
 use crate::kortex::{ReferenceFrame, Telemetry};
-use crate::link::interface::{GuardStatus, LinkStatus, LogEntry, TelemetrySource};
+use crate::link::interface::{LinkStatus, LogEntry, TelemetrySource};
 
 /// A joint turning faster than this (deg/s, reported) counts as the arm moving: below it, a
 /// reading's noise, or motion too slow to need more than the idle frame rate.
 pub const MOVING_JOINT_DEG_S: f32 = 0.5;
 
 impl App {
+    /// What one frame shows, assembled from the parts' own views.
+    pub fn view(&self) -> View {
+        // No panel is taller than the terminal: the book's and the log's views are cut to it.
+        let rows = usize::from(self.screen.size().1);
+        View {
+            session: self.session_view(),
+            keys: self.keys.view(),
+            arm: self.arm.view(self.now),
+            truth: self.truth_view(),
+            book: self.book.view(rows),
+            screen: self.screen.view(rows),
+        }
+    }
+
     /// The arm moves, or may: a jog, an action, a STOP being confirmed or a doubt is shown, or
     /// the telemetry has a joint turning (whoever moves the arm). The console then draws at its
     /// full rate, so the arm view keeps up with the telemetry.
@@ -32,34 +45,30 @@ impl App {
         &self.config
     }
 
-    /// The keymap, shared with each frame's view (it never changes during a session).
-    pub fn shared_keymap(&self) -> Arc<Keymap> {
-        self.config.keymap.clone()
-    }
-
     pub fn jog(&self) -> &JogEngine {
-        &self.keys.jog
+        self.keys.jog()
     }
 
     pub fn overlay(&self) -> &Overlay {
-        &self.screen.overlay
+        self.screen.overlay()
     }
 
     /// The message on the bottom line and how bad it is.
     pub fn message(&self) -> Option<(&str, Severity)> {
-        self.screen
-            .messages
-            .shown
-            .as_ref()
-            .map(|m| (m.text.as_str(), m.severity))
+        self.screen.message()
     }
 
     pub fn link(&self) -> &LinkStatus {
-        &self.arm.link
+        self.arm.link()
     }
 
     pub fn telemetry(&self) -> Option<&Telemetry> {
-        self.arm.telemetry.as_ref()
+        self.arm.telemetry()
+    }
+
+    /// The reference frame the console selected (the audit names it on each jog).
+    pub fn frame(&self) -> ReferenceFrame {
+        self.arm.frame()
     }
 
     /// The telemetry the driver said to expect (none until it says).
@@ -69,61 +78,49 @@ impl App {
             .unwrap_or(TelemetrySource::None)
     }
 
-    pub fn latency(&self) -> Option<std::time::Duration> {
-        self.arm.latency
-    }
-
     /// The speed in force, percent, once the arm has said it.
     pub fn speed(&self) -> Option<u8> {
-        self.arm.speed
-    }
-
-    pub fn frame(&self) -> ReferenceFrame {
-        self.arm.frame
+        self.arm.speed()
     }
 
     pub fn step(&self) -> Step {
-        self.keys.step
+        self.keys.step()
     }
 
     pub fn positions(&self) -> &PositionBook {
-        &self.book.positions
+        self.book.positions()
     }
 
     pub fn book_state(&self) -> &BookState {
-        &self.book.book_state
+        self.book.state()
     }
 
     /// The selected position's index in name order.
     pub fn selected(&self) -> usize {
-        self.book.selected
+        self.book.selected()
     }
 
     pub fn log(&self) -> &VecDeque<LogEntry> {
-        &self.screen.log
+        self.screen.log()
+    }
+
+    /// The last 30 s of telemetry (history panel).
+    pub fn history(&self) -> &super::History {
+        self.arm.history()
     }
 
     /// The log shows frames in hex.
-    /// The last 30 s of telemetry (history panel).
-    pub fn history(&self) -> &super::History {
-        &self.arm.history
-    }
-
     pub fn hex(&self) -> bool {
-        self.screen.hex
+        self.screen.hex()
     }
 
     /// The terminal's size as last heard.
     pub fn size(&self) -> (u16, u16) {
-        self.screen.size
+        self.screen.size()
     }
 
     pub fn quitting(&self) -> bool {
         self.quitting
-    }
-
-    pub fn guard(&self) -> Option<&GuardStatus> {
-        self.arm.guard.as_ref()
     }
 
     pub fn truth(&self) -> &MotionTruth {

@@ -5,10 +5,7 @@ use std::time::Instant;
 
 use super::message::Until;
 use super::{App, Effect, Overlay, Severity};
-use crate::link::interface::{ArmEvent, CommandKind, GuardStatus, LinkStatus, LogEntry};
-
-/// Command log lines kept.
-const LOG_CAPACITY: usize = 500;
+use crate::link::interface::{ArmEvent, CommandKind, GuardStatus, LinkStatus};
 
 impl App {
     pub(super) fn on_arm(&mut self, event: ArmEvent, now: Instant, effects: &mut Vec<Effect>) {
@@ -26,9 +23,7 @@ impl App {
                     let text = format!("link lost: {reason}");
                     self.say_until(text, Severity::Error, Until::LinkUp, now);
                 }
-                let came_up = matches!(status, LinkStatus::Up { .. })
-                    && !matches!(self.arm.link, LinkStatus::Up { .. });
-                self.arm.link = status;
+                let came_up = self.arm.on_link(status);
                 if came_up && self.config.positions_on_operator {
                     // The ICD cannot list positions: ask about remembered names, so the panel
                     // marks the ones this operator does not know (and shows where the others
@@ -40,41 +35,18 @@ impl App {
                 self.watch_cap(&t, now, effects);
                 self.watch_arm_state(&t, now, effects);
                 self.watch_other_clients(&t, now, effects);
-                self.arm.history.record(&t, now);
-                self.arm.trail.record(&t, now);
-                self.arm.telemetry = Some(*t);
+                self.arm.on_telemetry(*t, now);
             }
             // The motion truth keeps the source (see `truth_on_arm`).
             ArmEvent::TelemetrySource(_) => {}
-            ArmEvent::Latency(latency) => self.arm.latency = Some(latency),
+            ArmEvent::Latency(latency) => self.arm.on_latency(latency),
             ArmEvent::Speed(speed) => {
-                if self.arm.speed.is_some_and(|s| s != speed) {
+                if self.arm.on_speed(speed) {
                     self.other_client_note_speed(now);
                 }
-                self.arm.speed = Some(speed);
             }
             ArmEvent::Notice(text) => self.say(text, Severity::Warning, now),
-            ArmEvent::Log(entry) => {
-                // Telemetry polls with the same outcome in a row share one counted line, so
-                // they are logged without drowning the technician's own commands.
-                if let Some(last) = self.screen.log.back_mut()
-                    && entry.poll
-                    && last.poll
-                    && last.name == entry.name
-                    && last.outcome == entry.outcome
-                {
-                    let count = last.count.saturating_add(entry.count.max(1));
-                    *last = LogEntry { count, ..entry };
-                    return;
-                }
-                if self.screen.log.len() >= LOG_CAPACITY {
-                    self.screen.log.pop_front();
-                }
-                self.screen.log.push_back(LogEntry {
-                    count: entry.count.max(1),
-                    ..entry
-                });
-            }
+            ArmEvent::Log(entry) => self.screen.on_log(entry),
             ArmEvent::Failed { command, error } => {
                 // A jog the arm did not take must not be left to the watchdog: stop and latch
                 // the held keys, so only a new press moves again.
@@ -89,30 +61,14 @@ impl App {
                 self.say_until(text, Severity::Error, until, now);
             }
             ArmEvent::Position { name, coordinates } => {
-                // A reply about a name no longer in the book (deleted meanwhile) adds nothing:
-                // a new name would move the rows and the selection under the technician.
-                if let Some(entry) = self.book.positions.get_mut(&name) {
-                    entry.unknown_to_operator = false;
-                    if let Some(c) = coordinates.cartesian {
-                        entry.set_cartesian(c);
-                    }
-                }
-                if matches!(&self.screen.overlay, Overlay::Position { name: shown, .. } if *shown == name)
-                {
-                    self.screen.overlay = Overlay::Position {
-                        name,
-                        coordinates: Some(coordinates),
-                    };
-                }
+                self.book.on_operator_knows(&name, coordinates.cartesian);
+                self.screen.on_position(name, coordinates);
             }
             ArmEvent::UnknownPosition { name } => {
-                if let Some(entry) = self.book.positions.get_mut(&name) {
-                    entry.unknown_to_operator = true;
-                }
+                self.book.on_unknown_to_operator(&name);
                 // Said only when the technician is looking at it; otherwise the panel marks it.
-                if matches!(&self.screen.overlay, Overlay::Position { name: shown, .. } if *shown == name)
-                {
-                    self.screen.overlay = Overlay::None;
+                if self.screen.shows_position(&name) {
+                    self.screen.show(Overlay::None);
                     self.say(
                         format!("the operator does not know '{name}'"),
                         Severity::Warning,
@@ -135,7 +91,7 @@ impl App {
                         now,
                     );
                 }
-                self.arm.guard = Some(status);
+                self.arm.on_guard(status);
             }
             // Evidence only: see `truth_on_arm`.
             ArmEvent::StopConfirmed | ArmEvent::StopUnconfirmed { .. } => {}

@@ -31,7 +31,7 @@ pub enum BookState {
 impl App {
     /// The runtime started loading the book from `file`.
     pub fn begin_loading_positions(&mut self, file: impl Into<String>) {
-        self.book.book_state = BookState::Loading { file: file.into() };
+        self.book.on_loading(file.into());
     }
 
     /// The book arrived (or could not be read: the error names the file and what was wrong).
@@ -44,16 +44,7 @@ impl App {
         match result {
             Ok(mut book) => {
                 self.tell_repaired_names(book.take_load_notes(), now);
-                let changed_meanwhile = !self.book.positions.is_empty();
-                let selected = self.selected_name().map(str::to_string);
-                book.merge(&self.book.positions);
-                self.book.positions = book;
-                self.book.book_state = BookState::Ready;
-                match selected {
-                    Some(name) => self.select(&name),
-                    None => self.book.selected = 0,
-                }
-                self.clamp_selection();
+                let changed_meanwhile = self.book.on_loaded(book);
                 if changed_meanwhile {
                     // The names changed meanwhile were noted as they changed.
                     self.save_book::<&str>(&[], effects);
@@ -69,7 +60,7 @@ impl App {
                     Severity::Error,
                     now,
                 );
-                self.book.book_state = BookState::Failed { error };
+                self.book.on_load_failed(error);
             }
         }
     }
@@ -97,15 +88,15 @@ impl App {
     /// Asks the operator about the first [`CHECKED_ON_CONNECT`] remembered names, so the panel
     /// marks the ones it does not know.
     pub(super) fn check_names_on_operator(&self, effects: &mut Vec<Effect>) {
-        for name in self.book.positions.names().take(CHECKED_ON_CONNECT) {
+        for name in self.book.positions().names().take(CHECKED_ON_CONNECT) {
             effects.push(Effect::Arm(ArmCommand::GetPosition {
                 name: name.to_string(),
             }));
         }
-        if self.book.positions.len() > CHECKED_ON_CONNECT {
+        if self.book.positions().len() > CHECKED_ON_CONNECT {
             tracing::info!(
                 "checked the first {CHECKED_ON_CONNECT} of {} positions with the operator",
-                self.book.positions.len()
+                self.book.positions().len()
             );
         }
     }
@@ -113,7 +104,7 @@ impl App {
     /// Holds back saving while the book is not loaded: saving then would write a partial book
     /// over the file.
     pub(super) fn hold_saves_until_loaded(&mut self, now: Instant, effects: &mut Vec<Effect>) {
-        let text = match &self.book.book_state {
+        let text = match self.book.state() {
             BookState::Ready => return,
             BookState::Loading { file } => {
                 format!("positions still loading from {file}: the change is saved once loaded")
@@ -125,7 +116,7 @@ impl App {
         let before = effects.len();
         effects.retain(|e| !matches!(e, Effect::SavePositions(_)));
         if effects.len() != before {
-            let severity = match self.book.book_state {
+            let severity = match self.book.state() {
                 BookState::Loading { .. } => Severity::Warning,
                 _ => Severity::Error,
             };

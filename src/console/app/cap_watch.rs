@@ -36,6 +36,24 @@ pub struct CapWatch {
 }
 
 impl CapWatch {
+    /// A sample `over` the cap (in words) or within it: the stop's text once
+    /// [`OVER_CAP_SAMPLES`] in a row were over.
+    pub(super) fn sample(&mut self, over: Option<String>) -> Option<String> {
+        let Some(why) = over else {
+            self.over_in_a_row = 0;
+            return None;
+        };
+        self.over_in_a_row += 1;
+        if self.over_in_a_row < OVER_CAP_SAMPLES {
+            return None;
+        }
+        self.over_in_a_row = 0;
+        let text = format!("stopped: {why}");
+        self.stops += 1;
+        self.last_stop = Some(text.clone());
+        Some(text)
+    }
+
     /// How many motions the watch has stopped, and why it stopped the last one (for the audit
     /// log, which records each once).
     pub fn stops(&self) -> (u64, Option<&str>) {
@@ -86,25 +104,17 @@ fn over_cap(
 impl App {
     /// A telemetry sample against the cap, while a motion the console started runs.
     pub(super) fn watch_cap(&mut self, t: &Telemetry, now: Instant, effects: &mut Vec<Effect>) {
-        let jog = self.keys.jog.active();
-        if jog.is_none() && self.truth.action.is_none() {
-            self.arm.cap_watch.over_in_a_row = 0;
+        let jog = self.keys.jog().active();
+        if jog.is_none() && self.truth.action().is_none() {
+            self.arm.on_cap_idle();
             return;
         }
         let cap_mm_s = self.config.max_jog_speed * 1000.0;
         let joint_deg_s = f64::from(self.config.joint_jog_speed);
-        let Some(why) = over_cap(t, jog, cap_mm_s, joint_deg_s) else {
-            self.arm.cap_watch.over_in_a_row = 0;
+        let over = over_cap(t, jog, cap_mm_s, joint_deg_s);
+        let Some(text) = self.arm.on_cap_sample(over) else {
             return;
         };
-        self.arm.cap_watch.over_in_a_row += 1;
-        if self.arm.cap_watch.over_in_a_row < OVER_CAP_SAMPLES {
-            return;
-        }
-        self.arm.cap_watch.over_in_a_row = 0;
-        let text = format!("stopped: {why}");
-        self.arm.cap_watch.stops += 1;
-        self.arm.cap_watch.last_stop = Some(text.clone());
         self.stop_from_telemetry(text, now, effects);
     }
 
@@ -118,7 +128,7 @@ impl App {
         effects: &mut Vec<Effect>,
     ) {
         // The action ends here, said once below (not also as "home stopped").
-        self.truth.action = None;
+        self.truth.forget_action();
         self.stop_everything(now, effects);
         tracing::warn!("{text}");
         self.say(text, Severity::Error, now);
@@ -133,6 +143,6 @@ impl App {
     }
 
     pub fn cap_watch(&self) -> &CapWatch {
-        &self.arm.cap_watch
+        self.arm.cap_watch()
     }
 }

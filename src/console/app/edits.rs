@@ -54,11 +54,11 @@ impl App {
         now: Instant,
         effects: &mut Vec<Effect>,
     ) {
-        if self.book.positions.get(result.name()).is_some() {
-            self.screen.overlay = Overlay::Confirm(Confirm::Overwrite {
+        if self.book.positions().get(result.name()).is_some() {
+            self.screen.show(Overlay::Confirm(Confirm::Overwrite {
                 result,
                 form: Box::new(form),
-            });
+            }));
             return;
         }
         self.form_done(result, now, effects);
@@ -71,7 +71,7 @@ impl App {
             "'{}' exists: change the name, or esc to cancel",
             result.name()
         ));
-        self.screen.overlay = Overlay::Form(form);
+        self.screen.show(Overlay::Form(form));
         self.say("not overwritten", Severity::Info, now);
     }
 
@@ -82,7 +82,7 @@ impl App {
         now: Instant,
         effects: &mut Vec<Effect>,
     ) {
-        let Some(entry) = self.book.positions.get(&from).cloned() else {
+        let Some(entry) = self.book.positions().get(&from).cloned() else {
             self.say(
                 format!("'{from}' is gone: not renamed"),
                 Severity::Warning,
@@ -91,14 +91,14 @@ impl App {
             return;
         };
         if !self.config.positions_on_operator {
-            self.book.positions.remove(&from);
-            *self.book.positions.get_or_insert(&to) = entry;
-            self.select(&to);
+            self.book.positions_mut().remove(&from);
+            *self.book.positions_mut().get_or_insert(&to) = entry;
+            self.book.select(&to);
             self.say(format!("renamed '{from}' to '{to}'"), Severity::Info, now);
             self.save_book(&[&from, &to], effects);
             return;
         }
-        if let Some(renaming) = &self.book.renaming {
+        if let Some(renaming) = self.book.renaming() {
             let busy = format!("still renaming '{}': wait for it to finish", renaming.from);
             self.say(busy, Severity::Warning, now);
             return;
@@ -114,19 +114,19 @@ impl App {
         // Where the operator has it now (the book's copy may be old).
         effects.push(Effect::Arm(ArmCommand::GetPosition { name: from.clone() }));
         self.say(format!("renaming '{from}' to '{to}'…"), Severity::Info, now);
-        self.book.renaming = Some(Renaming {
+        self.book.set_renaming(Some(Renaming {
             from,
             to,
             step: RenameStep::Asking,
-        });
+        }));
     }
 
     pub(super) fn undo_delete(&mut self, now: Instant, effects: &mut Vec<Effect>) {
-        let Some((name, entry)) = self.book.last_deleted.clone() else {
+        let Some((name, entry)) = self.book.last_deleted().cloned() else {
             self.say("nothing deleted to restore", Severity::Info, now);
             return;
         };
-        if self.book.positions.get(&name).is_some() {
+        if self.book.positions().get(&name).is_some() {
             let text = format!("'{name}' exists again: not restored over it");
             self.say(text, Severity::Warning, now);
             return;
@@ -147,7 +147,7 @@ impl App {
             z,
         }));
         self.say(format!("restoring '{name}'…"), Severity::Info, now);
-        self.book.restoring = Some((name, entry));
+        self.book.set_restoring(Some((name, entry)));
     }
 
     /// `entry` is back in the book under `name` (and, on an operator, saved there).
@@ -171,15 +171,15 @@ impl App {
                 format!(" at {:.1} {:.1} {:.1} mm", mm(x), mm(y), mm(z))
             })
             .unwrap_or_default();
-        let restored = self.book.positions.get_or_insert(&name);
+        let restored = self.book.positions_mut().get_or_insert(&name);
         *restored = entry;
         if self.config.positions_on_operator {
             // Saved by coordinates: the operator keeps no anchor for it.
             restored.anchor = false;
             restored.unknown_to_operator = false;
         }
-        self.select(&name);
-        self.book.last_deleted = None;
+        self.book.select(&name);
+        self.book.forget_deleted();
         self.say(
             format!("restored '{name}'{at}{unanchored}"),
             Severity::Info,
@@ -198,16 +198,16 @@ impl App {
     ) -> bool {
         if let ArmEvent::Status(LinkStatus::Down { .. }) = event {
             // Nothing more will be answered; the link's own message says why.
-            self.book.renaming = None;
-            self.book.restoring = None;
+            self.book.set_renaming(None);
+            self.book.set_restoring(None);
             return false;
         }
-        if let Some((name, entry)) = self.book.restoring.clone() {
+        if let Some((name, entry)) = self.book.restoring().cloned() {
             match event {
                 ArmEvent::Done {
                     command: ArmCommand::SetCartesianPosition { name: saved, .. },
                 } if *saved == name => {
-                    self.book.restoring = None;
+                    self.book.set_restoring(None);
                     self.restored(name, entry, now, effects);
                     return true;
                 }
@@ -215,7 +215,7 @@ impl App {
                     command: CommandKind::SetCartesianPosition,
                     error,
                 } => {
-                    self.book.restoring = None;
+                    self.book.set_restoring(None);
                     let text = format!("restoring '{name}' failed: {error}; undo tries again");
                     self.say(text, Severity::Error, now);
                     return true;
@@ -227,16 +227,16 @@ impl App {
     }
 
     fn rename_on_arm(&mut self, event: &ArmEvent, now: Instant, effects: &mut Vec<Effect>) -> bool {
-        let Some(Renaming { from, to, step }) = self.book.renaming.clone() else {
+        let Some(Renaming { from, to, step }) = self.book.renaming().cloned() else {
             return false;
         };
         match (step, event) {
             (RenameStep::Asking, ArmEvent::Position { name, coordinates }) if *name == from => {
                 // An operator that answers without coordinates (the "ACK" dialect) leaves the
                 // book's.
-                let known = self.book.positions.get(&from).and_then(|e| e.cartesian);
+                let known = self.book.positions().get(&from).and_then(|e| e.cartesian);
                 let Some([x, y, z]) = coordinates.cartesian.or(known) else {
-                    self.book.renaming = None;
+                    self.book.set_renaming(None);
                     let text = format!(
                         "not renamed: the operator did not say where '{from}' is, and the console \
                          does not know"
@@ -255,7 +255,7 @@ impl App {
                 false
             }
             (RenameStep::Asking, ArmEvent::UnknownPosition { name }) if *name == from => {
-                self.book.renaming = None;
+                self.book.set_renaming(None);
                 let text = format!("not renamed: the operator does not know '{from}'");
                 self.say(text, Severity::Error, now);
                 // The book marks the name, as for any answer.
@@ -267,10 +267,15 @@ impl App {
                     command: ArmCommand::SetCartesianPosition { name, x, y, z },
                 },
             ) if *name == to => {
-                let mut entry = self.book.positions.get(&from).cloned().unwrap_or_default();
+                let mut entry = self
+                    .book
+                    .positions()
+                    .get(&from)
+                    .cloned()
+                    .unwrap_or_default();
                 entry.cartesian = Some([*x, *y, *z]);
                 entry.unknown_to_operator = false;
-                *self.book.positions.get_or_insert(&to) = entry;
+                *self.book.positions_mut().get_or_insert(&to) = entry;
                 effects.push(Effect::Arm(ArmCommand::DeletePosition {
                     name: from.clone(),
                 }));
@@ -283,15 +288,15 @@ impl App {
                     command: ArmCommand::DeletePosition { name },
                 },
             ) if *name == from => {
-                self.book.renaming = None;
-                self.book.positions.remove(&from);
-                self.select(&to);
+                self.book.set_renaming(None);
+                self.book.positions_mut().remove(&from);
+                self.book.select(&to);
                 self.say(format!("renamed '{from}' to '{to}'"), Severity::Info, now);
                 self.save_book(&[&from, &to], effects);
                 true
             }
             (step, ArmEvent::Failed { command, error }) if *command == step.command() => {
-                self.book.renaming = None;
+                self.book.set_renaming(None);
                 self.rename_failed(step, &from, &to, error, now, effects);
                 true
             }
@@ -300,7 +305,7 @@ impl App {
     }
 
     fn set_rename_step(&mut self, step: RenameStep) {
-        if let Some(renaming) = &mut self.book.renaming {
+        if let Some(renaming) = self.book.renaming_mut() {
             renaming.step = step;
         }
     }
@@ -323,7 +328,7 @@ impl App {
             }
             RenameStep::Deleting => {
                 // Both names exist on the operator now: the book shows both.
-                self.select(to);
+                self.book.select(to);
                 self.save_book(&[from, to], effects);
                 format!(
                     "rename stopped: '{to}' is saved, but deleting '{from}' failed: {error}; \

@@ -41,7 +41,7 @@ impl App {
         let JogMotion::Cartesian { x, y, z } = motion else {
             return None;
         };
-        let size = self.keys.step.cartesian().clamp(0, TAP_STEP_LIMIT);
+        let size = self.keys.step().cartesian().clamp(0, TAP_STEP_LIMIT);
         Some(StepMove::Cartesian {
             dx: i32::from(x) * size,
             dy: i32::from(y) * size,
@@ -66,7 +66,7 @@ impl App {
         else {
             return;
         };
-        let jog = self.keys.jog.latch(action, key.kind, now);
+        let jog = self.keys.jog_mut().latch(action, key.kind, now);
         self.apply_jog(jog, now, effects);
     }
 
@@ -80,7 +80,7 @@ impl App {
         effects: &mut Vec<Effect>,
     ) {
         for action in self.release_candidates(&key.key) {
-            let jog = self.keys.jog.key(action, key.kind, now);
+            let jog = self.keys.jog_mut().key(action, key.kind, now);
             self.apply_jog(jog, now, effects);
         }
     }

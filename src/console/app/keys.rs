@@ -4,12 +4,11 @@
 use std::time::Instant;
 
 use super::message::Until;
-use super::{App, CARTESIAN_STEPS, Effect, KeyInput, Overlay, Severity};
+use super::{App, Effect, KeyInput, Overlay, Severity};
 use crate::console::action::Action;
 use crate::console::form::{Confirm, Form, FormKind};
-use crate::console::jog::{KeyKind, MAX_ONSET, ReleaseMode};
+use crate::console::jog::KeyKind;
 use crate::console::keymap::{BaseKey, KeyName, NamedKey};
-use crate::kortex::ReferenceFrame;
 use crate::link::interface::{ArmCommand, StepMove};
 
 /// The keys the console knows whatever the keymap: ctrl+c quits, and dialogs and forms answer
@@ -33,12 +32,12 @@ impl App {
             self.quit(now, effects);
             return;
         }
-        let repeating = self.trace_key(&key, now);
+        let repeating = self.keys.trace_key(&key, now);
         if key.kind == KeyKind::Release {
             self.release_jog_keys(&key, now, effects);
             return;
         }
-        let burst = self.keys.question_guard.key(now);
+        let burst = self.keys.burst(now);
         if !self.fits() {
             // Nothing is shown: every key only stops.
             if key.kind == KeyKind::Press {
@@ -47,53 +46,36 @@ impl App {
             self.latch_jog_key(&key, now, effects);
             return;
         }
-        if self.repeat_of_form_opener(&key, now) || self.auto_repeat_of_overlay_key(&key, now) {
+        let form_open = self.screen.form_open();
+        if self.keys.repeat_of_form_opener(&key, form_open, now)
+            || self
+                .keys
+                .auto_repeat_of_overlay_key(&key, self.screen.overlay(), now)
+        {
             // Keep still, but let the repeat neither answer the overlay nor start a jog.
             self.stop_jog(now, effects);
             self.latch_jog_key(&key, now, effects);
             return;
         }
-        if matches!(self.screen.overlay, Overlay::Confirm(_))
-            && self.question_refuses(&key, burst, now, effects)
-        {
+        if self.screen.question_open() && self.question_refuses(&key, burst, now, effects) {
             return;
         }
-        let overlay_before = std::mem::discriminant(&self.screen.overlay);
+        let overlay_before = std::mem::discriminant(self.screen.overlay());
         self.dispatch_key(key.clone(), now, effects);
         if key.kind == KeyKind::Press
-            && overlay_before != std::mem::discriminant(&self.screen.overlay)
+            && overlay_before != std::mem::discriminant(self.screen.overlay())
         {
-            if matches!(self.screen.overlay, Overlay::Form(_)) {
-                self.form_opened_by(&key, repeating, now);
+            if self.screen.form_open() {
+                self.keys.form_opened_by(&key, repeating, now);
             } else {
-                self.keys.swallowed = Some((key.key, now));
+                self.keys.swallow(&key, now);
             }
         }
     }
 
-    /// Whether `key` is the auto-repeat of the key that just opened or closed an overlay:
-    /// holding `h` must not cancel the home question it opened, nor holding `w` to close the
-    /// help start a jog. With reported key events a repeat says so itself. A form takes
-    /// repeats as text (holding backspace deletes): see `repeat_of_form_opener`.
-    fn auto_repeat_of_overlay_key(&mut self, key: &KeyInput, now: Instant) -> bool {
-        let form = matches!(self.screen.overlay, Overlay::Form(_));
-        if key.kind == KeyKind::Repeat && self.screen.overlay != Overlay::None && !form {
-            return true;
-        }
-        let Some((held, seen)) = self.keys.swallowed else {
-            return false;
-        };
-        let repeating = held == key.key
-            && key.kind == KeyKind::Press
-            && self.keys.jog.mode() == ReleaseMode::AutoRepeat
-            && now.saturating_duration_since(seen) < MAX_ONSET;
-        self.keys.swallowed = repeating.then_some((held, now));
-        repeating
-    }
-
     /// A press or repeat (releases are handled before this).
     fn dispatch_key(&mut self, key: KeyInput, now: Instant, effects: &mut Vec<Effect>) {
-        if self.screen.overlay != Overlay::None {
+        if !self.screen.overlay_is_none() {
             self.stop_jog(now, effects);
             self.latch_jog_key(&key, now, effects);
             self.on_overlay_key(key, now, effects);
@@ -102,9 +84,9 @@ impl App {
         let action = self.config.keymap.action(&key.key);
         match (action, key.kind) {
             (Some(action), kind) if action.jog().is_some() => {
-                if self.keys.step.enabled {
+                if self.keys.step().enabled {
                     // One step per press: a held key's auto-repeat steps no further.
-                    let (fresh, jog) = self.keys.jog.latch_press(action, kind, now);
+                    let (fresh, jog) = self.keys.jog_mut().latch_press(action, kind, now);
                     self.apply_jog(jog, now, effects);
                     if fresh {
                         self.step_move(action, now, effects);
@@ -115,7 +97,7 @@ impl App {
                         self.say_until(text, Severity::Warning, until, now);
                     }
                 } else {
-                    let jog = self.keys.jog.key(action, kind, now);
+                    let jog = self.keys.jog_mut().key(action, kind, now);
                     self.apply_jog(jog, now, effects);
                 }
             }
@@ -171,7 +153,10 @@ impl App {
         };
         use crate::console::action::JogAxis as A;
         let s = i32::from(sign.value());
-        let (c, p) = (self.keys.step.cartesian() * s, self.keys.step.polar() * s);
+        let (c, p) = (
+            self.keys.step().cartesian() * s,
+            self.keys.step().polar() * s,
+        );
         let step = match axis {
             A::X => StepMove::Cartesian {
                 dx: c,
@@ -228,7 +213,7 @@ impl App {
                 self.say("stopped", Severity::Info, now);
             }
             A::QuickStop => {
-                self.keys.jog.stop_all(now);
+                self.keys.jog_mut().stop_all(now);
                 effects.push(Effect::Arm(ArmCommand::QuickStop));
                 self.hold_stop(now);
                 self.say_until(
@@ -240,23 +225,22 @@ impl App {
             }
             A::FaultReset => effects.push(Effect::Arm(ArmCommand::FaultReset)),
             A::Home if !self.refuse_motion(now) => {
-                self.screen.overlay = Overlay::Confirm(Confirm::Home)
+                self.screen.show(Overlay::Confirm(Confirm::Home))
             }
             A::StepMode => {
-                self.keys.step.enabled = !self.keys.step.enabled;
-                let text = if self.keys.step.enabled {
+                let text = if self.keys.on_toggle_step() {
                     "step mode: each press moves one step"
                 } else {
                     "jog mode: hold a key to move"
                 };
                 self.say(text, Severity::Info, now);
             }
-            A::StepBigger => {
-                self.keys.step.index = (self.keys.step.index + 1).min(CARTESIAN_STEPS.len() - 1)
-            }
-            A::StepSmaller => self.keys.step.index = self.keys.step.index.saturating_sub(1),
+            A::StepBigger | A::StepSmaller => self.keys.on_step_size(action == A::StepBigger),
             A::SpeedUp | A::SpeedDown => {
-                let current = self.arm.speed.unwrap_or(crate::link::driver::INITIAL_SPEED);
+                let current = self
+                    .arm
+                    .speed()
+                    .unwrap_or(crate::link::driver::INITIAL_SPEED);
                 let speed = super::next_speed(current, action == A::SpeedUp);
                 effects.push(Effect::Arm(ArmCommand::SetSpeed(speed)));
             }
@@ -269,27 +253,23 @@ impl App {
                     );
                     return;
                 }
-                self.arm.frame = match self.arm.frame {
-                    ReferenceFrame::Base => ReferenceFrame::Tool,
-                    ReferenceFrame::Tool => ReferenceFrame::Mixed,
-                    ReferenceFrame::Mixed => ReferenceFrame::Base,
-                };
-                effects.push(Effect::Arm(ArmCommand::SetFrame(self.arm.frame)));
+                let frame = self.arm.on_frame_cycle();
+                effects.push(Effect::Arm(ArmCommand::SetFrame(frame)));
             }
             A::JointNext | A::JointPrevious => {
-                let j = self.keys.jog.joint();
+                let j = self.keys.jog().joint();
                 let next = if action == A::JointNext {
                     j % 7 + 1
                 } else {
                     (j + 5) % 7 + 1
                 };
-                let jog = self.keys.jog.select_joint(next, now);
+                let jog = self.keys.jog_mut().select_joint(next, now);
                 self.apply_jog(jog, now, effects);
             }
             // Starts empty: a saved pose must not overwrite the selected one by accident.
             A::SavePosition => match self.save_refusal() {
                 Some(why) => self.say(why, Severity::Warning, now),
-                None => self.screen.overlay = Overlay::Form(self.save_form()),
+                None => self.screen.show(Overlay::Form(self.save_form())),
             },
             A::SetPolarPosition | A::SetCartesianPosition => {
                 let kind = if action == A::SetPolarPosition {
@@ -298,7 +278,7 @@ impl App {
                     FormKind::SetCartesian
                 };
                 let name = self.selected_name().unwrap_or("").to_string();
-                self.screen.overlay = Overlay::Form(Form::new(kind, &name));
+                self.screen.show(Overlay::Form(Form::new(kind, &name)));
             }
             A::UndoDelete => self.undo_delete(now, effects),
             A::GoToPosition | A::DeletePosition | A::ShowPosition | A::RenamePosition => {
@@ -308,22 +288,16 @@ impl App {
                 };
                 match action {
                     A::GoToPosition => self.ask_go_to(name, now),
-                    A::DeletePosition => {
-                        self.screen.overlay = Overlay::Confirm(Confirm::Delete(name))
-                    }
-                    A::RenamePosition => self.screen.overlay = Overlay::Form(Form::rename(&name)),
+                    A::DeletePosition => self.screen.show(Overlay::Confirm(Confirm::Delete(name))),
+                    A::RenamePosition => self.screen.show(Overlay::Form(Form::rename(&name))),
                     _ => self.show_position(name, effects),
                 }
             }
-            A::PositionNext if !self.book.positions.is_empty() => {
-                self.book.selected = (self.book.selected + 1) % self.book.positions.len();
+            A::PositionNext | A::PositionPrevious => {
+                self.book.on_select_next(action == A::PositionNext)
             }
-            A::PositionPrevious if !self.book.positions.is_empty() => {
-                let n = self.book.positions.len();
-                self.book.selected = (self.book.selected + n - 1) % n;
-            }
-            A::ToggleHex => self.screen.hex = !self.screen.hex,
-            A::HistoryCycle => self.arm.history.cycle_quantity(),
+            A::ToggleHex => self.screen.on_toggle_hex(),
+            A::HistoryCycle => self.arm.on_history_cycle(),
             A::Help => self.open_help(),
             A::Quit => self.ask_quit(now, effects),
             // Jog actions are handled before this.
@@ -332,11 +306,11 @@ impl App {
     }
 
     fn on_overlay_key(&mut self, key: KeyInput, now: Instant, effects: &mut Vec<Effect>) {
-        match std::mem::replace(&mut self.screen.overlay, Overlay::None) {
+        match self.screen.take_overlay() {
             Overlay::None => {}
             Overlay::Help => {
                 if self.scroll_help(&key.key) {
-                    self.screen.overlay = Overlay::Help;
+                    self.screen.show(Overlay::Help);
                 }
             }
             Overlay::Position { .. } => {}
@@ -377,7 +351,7 @@ impl App {
                         }
                     }
                 }
-                self.screen.overlay = Overlay::Form(form);
+                self.screen.show(Overlay::Form(form));
             }
         }
     }

@@ -9,9 +9,7 @@
 use std::time::{Duration, Instant};
 
 use super::{App, Severity, fault_reason};
-use crate::link::interface::{
-    ArmCommand, ArmError, ArmEvent, CommandKind, GuardStatus, LinkStatus,
-};
+use crate::link::interface::{ArmCommand, ArmError, ArmEvent, CommandKind};
 use crate::talos::ReturnCode;
 
 /// How long a notice stays.
@@ -81,7 +79,7 @@ pub(super) struct Message {
 /// The message shown and the state message a newer one hides.
 #[derive(Debug, Clone, Default)]
 pub(super) struct Messages {
-    pub(super) shown: Option<Message>,
+    shown: Option<Message>,
     hidden: Option<Message>,
 }
 
@@ -94,8 +92,62 @@ impl Messages {
             .map(|m| m.at + MESSAGE_TIME)
     }
 
+    pub(super) fn shown(&self) -> Option<&Message> {
+        self.shown.as_ref()
+    }
+
     fn slots(&mut self) -> impl Iterator<Item = &mut Option<Message>> {
         [&mut self.shown, &mut self.hidden].into_iter()
+    }
+
+    /// Shows a message that lasts while `until`'s state holds.
+    pub(super) fn say(&mut self, text: String, severity: Severity, until: Until, now: Instant) {
+        let message = Message {
+            text,
+            severity,
+            at: now,
+            until,
+        };
+        if let Some(older) = self.shown.take()
+            && !older.until.is_notice()
+        {
+            self.hidden = Some(older);
+        }
+        // One message per state: a newer one about the same state replaces the older.
+        if self
+            .hidden
+            .as_ref()
+            .is_some_and(|h| h.until == message.until)
+        {
+            self.hidden = None;
+        }
+        self.shown = Some(message);
+    }
+
+    /// Arm events that end a message: a command going through, a fault reset, telemetry
+    /// without a fault.
+    pub(super) fn on_arm(&mut self, event: &ArmEvent, telemetry_expected: bool) {
+        for slot in self.slots() {
+            let Some(message) = slot else {
+                continue;
+            };
+            if message_ended(&mut message.until, event, telemetry_expected) {
+                *slot = None;
+            }
+        }
+    }
+
+    /// Messages whose state no longer `holds` go; a hidden state message shows again once
+    /// nothing newer is shown.
+    pub(super) fn settle(&mut self, holds: impl Fn(&Message) -> bool) {
+        for slot in self.slots() {
+            if slot.as_ref().is_some_and(|m| !holds(m)) {
+                *slot = None;
+            }
+        }
+        if self.shown.is_none() {
+            self.shown = self.hidden.take();
+        }
     }
 }
 
@@ -108,57 +160,28 @@ impl App {
         until: Until,
         now: Instant,
     ) {
-        let message = Message {
-            text: text.into(),
-            severity,
-            at: now,
-            until,
-        };
-        let messages = &mut self.screen.messages;
-        if let Some(older) = messages.shown.take()
-            && !older.until.is_notice()
-        {
-            messages.hidden = Some(older);
-        }
-        // One message per state: a newer one about the same state replaces the older.
-        if messages
-            .hidden
-            .as_ref()
-            .is_some_and(|h| h.until == message.until)
-        {
-            messages.hidden = None;
-        }
-        messages.shown = Some(message);
+        self.screen.say_until(text.into(), severity, until, now);
     }
 
-    /// Arm events that end a message: a command going through, a fault reset, telemetry
-    /// without a fault.
+    /// Arm events that end a message.
     pub(super) fn messages_on_arm(&mut self, event: &ArmEvent) {
         let telemetry_expected = self.truth.expects_telemetry();
-        for slot in self.screen.messages.slots() {
-            let Some(message) = slot else {
-                continue;
-            };
-            if message_ended(&mut message.until, event, telemetry_expected) {
-                *slot = None;
-            }
-        }
+        self.screen.messages_on_arm(event, telemetry_expected);
     }
 
     /// After every input: messages whose state has ended, and notices past their time, go; a
     /// hidden state message shows again once nothing newer is shown.
     pub(super) fn settle_messages(&mut self, now: Instant) {
-        let link_up = matches!(self.arm.link, LinkStatus::Up { .. });
+        let link_up = self.arm.link_up();
         let stale = self.link_stale().is_some();
-        let guard_ready = matches!(self.arm.guard, Some(GuardStatus::Ready { .. }));
+        let guard_ready = self.arm.guard_ready();
         let stop_unconfirmed = self.truth.stop_unconfirmed();
         let unsaved = self.unsaved_positions() > 0;
         let arm_refuses = self
             .arm
-            .telemetry
-            .as_ref()
+            .telemetry()
             .is_some_and(|t| super::arm_refusal(t).is_some());
-        let holds = |m: &Message| match m.until {
+        self.screen.settle_messages(|m: &Message| match m.until {
             Until::TimeOut { .. } => now < m.at + MESSAGE_TIME,
             Until::LinkUp => !link_up,
             Until::LinkFresh => stale,
@@ -167,15 +190,7 @@ impl App {
             Until::StopConfirmed => stop_unconfirmed,
             Until::BookSaved => unsaved,
             Until::ArmReady => arm_refuses,
-        };
-        for slot in self.screen.messages.slots() {
-            if slot.as_ref().is_some_and(|m| !holds(m)) {
-                *slot = None;
-            }
-        }
-        if self.screen.messages.shown.is_none() {
-            self.screen.messages.shown = self.screen.messages.hidden.take();
-        }
+        });
     }
 }
 

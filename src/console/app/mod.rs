@@ -13,7 +13,6 @@ mod arm_events;
 mod book_load;
 mod cap_watch;
 mod edits;
-mod form_keys;
 mod help_keys;
 mod history;
 mod jog_evidence;
@@ -49,12 +48,14 @@ pub use limits::{LIMIT_WARNING_DEG, NearLimit, limit_margin, near_limits};
 pub use motion_gate::arm_refusal;
 pub use motion_truth::{
     ACTION_TIMEOUT, ActionKind, MotionShown, MotionTruth, NO_TELEMETRY_ACTION_TIME, STALE_AFTER,
-    STOP_GRACE, TrackedAction,
+    STOP_GRACE, TrackedAction, TruthView,
 };
+pub use offers::SessionView;
 pub use other_client::{
     CONTRADICTED_FOR, OTHER_CLIENT_GRACE, OTHER_CLIENT_SAMPLES, OTHER_MOTION_JOINT_DEG_S,
     OTHER_MOTION_M_S, OtherClients, REFRESH_SAMPLES, REFRESH_WAIT,
 };
+pub use parts::{ArmView, BookView, KeysView, ScreenView};
 pub use paste::Pasted;
 pub use question::{BURST_KEY_GAP, QUESTION_QUIET};
 pub use resave::RESAVE_GO_WITHIN;
@@ -72,7 +73,7 @@ use super::jog::{KeyKind, ReleaseMode};
 use super::keymap::{KeyName, Keymap};
 use super::positions::PositionBook;
 
-use crate::link::interface::{ArmCommand, ArmEvent, LinkStatus, PositionCoordinates};
+use crate::link::interface::{ArmCommand, ArmEvent, PositionCoordinates};
 
 /// Below this the status bar cannot be shown: motion stops and the screen says so.
 pub const MIN_WIDTH: u16 = 40;
@@ -162,6 +163,15 @@ impl Default for Step {
 }
 
 impl Step {
+    /// One step bigger or smaller, within the steps there are.
+    fn resize(&mut self, bigger: bool) {
+        self.index = if bigger {
+            (self.index + 1).min(CARTESIAN_STEPS.len() - 1)
+        } else {
+            self.index.saturating_sub(1)
+        };
+    }
+
     /// Cartesian step in tenths of millimetres.
     pub fn cartesian(&self) -> i32 {
         CARTESIAN_STEPS[self.index.min(CARTESIAN_STEPS.len() - 1)]
@@ -233,18 +243,18 @@ impl App {
 
     /// Whether the terminal is large enough to show the status.
     pub fn fits(&self) -> bool {
-        self.screen.size.0 >= MIN_WIDTH && self.screen.size.1 >= MIN_HEIGHT
+        self.screen.fits()
     }
 
     pub fn selected_name(&self) -> Option<&str> {
-        self.book.positions.name_at(self.book.selected)
+        self.book.selected_name()
     }
 
     /// When the runtime must next send [`Input::Tick`].
     pub fn next_deadline(&self) -> Option<Instant> {
-        let message = self.screen.messages.deadline();
+        let message = self.screen.message_deadline();
         self.keys
-            .jog
+            .jog()
             .next_deadline()
             .into_iter()
             .chain(message)
@@ -264,14 +274,14 @@ impl App {
             Input::FocusLost => self.stop_jog(now, &mut effects),
             Input::FocusGained => {}
             Input::Resize { width, height } => {
-                self.screen.size = (width, height);
+                self.screen.on_resize(width, height);
                 if !self.fits() {
                     self.stop_jog(now, &mut effects);
                 }
             }
             Input::Tick => {
-                let before = self.keys.jog.active();
-                let mut jog = self.keys.jog.tick(now);
+                let before = self.keys.jog().active();
+                let mut jog = self.keys.jog_mut().tick(now);
                 self.hold_refresh(before, &mut jog, now);
                 self.apply_jog(jog, now, &mut effects);
                 self.other_clients_on_tick(now, &mut effects);
@@ -293,7 +303,7 @@ impl App {
         self.hold_saves_until_loaded(now, &mut effects);
         self.count_saves(&effects);
         self.settle_messages(now);
-        self.keys.question_guard.note(&self.screen.overlay, now);
+        self.keys.note_overlay(self.screen.overlay(), now);
         effects
     }
 
@@ -306,13 +316,13 @@ impl App {
 
     /// Stops a jog in progress; the jog keys still down stay latched until released.
     fn stop_jog(&mut self, now: Instant, effects: &mut Vec<Effect>) {
-        let jog = self.keys.jog.stop_all(now);
+        let jog = self.keys.jog_mut().stop_all(now);
         self.apply_jog(jog, now, effects);
     }
 
     /// Stops everything, jog or not (space, quick paths): STOP is always sent.
     fn stop_everything(&mut self, now: Instant, effects: &mut Vec<Effect>) {
-        self.keys.jog.stop_all(now);
+        self.keys.jog_mut().stop_all(now);
         effects.push(Effect::Arm(ArmCommand::Stop));
     }
 
@@ -325,6 +335,6 @@ impl App {
 
     /// Up and heard from: a stale link starts no motion.
     fn link_is_up(&self) -> bool {
-        matches!(self.arm.link, LinkStatus::Up { .. }) && self.link_stale().is_none()
+        self.arm.link_up() && self.link_stale().is_none()
     }
 }

@@ -43,14 +43,13 @@ impl App {
 
     /// [`App::motion_refusal`] with what ends its message.
     pub(super) fn motion_refusal_until(&self) -> Option<(String, Until)> {
-        use super::LinkStatus;
-        if !matches!(self.arm.link, LinkStatus::Up { .. }) {
+        if !self.arm.link_up() {
             return Some(("no link to the arm: not moving".into(), Until::LinkUp));
         }
         if self.link_stale().is_some() {
             return Some(("link stale: not moving".into(), Until::LinkFresh));
         }
-        match &self.arm.guard {
+        match self.arm.guard() {
             Some(GuardStatus::Starting) => {
                 let text = "refused: the stop guard is not connected yet";
                 return Some((text.into(), Until::GuardReady));
@@ -61,7 +60,7 @@ impl App {
             }
             _ => {}
         }
-        let why = self.arm.telemetry.as_ref().and_then(arm_refusal)?;
+        let why = self.arm.telemetry().and_then(arm_refusal)?;
         Some((format!("refused: the arm reports {why}"), Until::ArmReady))
     }
 
@@ -84,7 +83,7 @@ impl App {
         effects.retain(|e| !matches!(e, Effect::Arm(command) if command.starts_motion()));
         if effects.len() != asked {
             self.say_until(text, super::Severity::Warning, until, now);
-            if self.keys.jog.is_jogging() {
+            if self.keys.jog().is_jogging() {
                 self.stop_jog(now, effects);
             }
         }
@@ -98,7 +97,7 @@ impl App {
         now: Instant,
         effects: &mut Vec<Effect>,
     ) {
-        if !self.keys.jog.is_jogging() && self.truth.action.is_none() {
+        if !self.keys.jog().is_jogging() && self.truth.action().is_none() {
             return;
         }
         if let Some(why) = arm_refusal(t) {

@@ -140,6 +140,19 @@ pub enum MotionShown {
     Idle,
 }
 
+/// What the status bar and the panels show of the motion truth, worked out once per frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TruthView {
+    pub motion: MotionShown,
+    /// How long the link has been silent, when that makes it stale.
+    pub link_stale: Option<Duration>,
+    pub telemetry_source: TelemetrySource,
+    /// The telemetry's age, when it is old enough to be drawn as stale.
+    pub telemetry_stale: Option<Duration>,
+    /// Whether the telemetry lets the console watch the cap (`None` until the driver says).
+    pub cap_watched: Option<bool>,
+}
+
 /// The evidence the console has about the link and the arm's motion.
 #[derive(Debug, Clone, Default)]
 pub struct MotionTruth {
@@ -163,10 +176,20 @@ pub struct MotionTruth {
     stop_failure: Option<String>,
     /// A tracked action failed: send a STOP after this input, so its end gets confirmed.
     stop_needed: bool,
-    pub action: Option<TrackedAction>,
+    action: Option<TrackedAction>,
 }
 
 impl MotionTruth {
+    /// The home, go-to or step being watched, if one is.
+    pub fn action(&self) -> Option<&TrackedAction> {
+        self.action.as_ref()
+    }
+
+    /// The watched action ends here (said once by the caller, not also as "home stopped").
+    pub(in crate::console::app) fn forget_action(&mut self) {
+        self.action = None;
+    }
+
     /// The last STOP did not get through and none has been confirmed since.
     pub(super) fn stop_unconfirmed(&self) -> bool {
         self.stop_failure.is_some()

@@ -13,16 +13,20 @@ impl App {
     pub(super) fn show_position(&mut self, name: String, effects: &mut Vec<Effect>) {
         if self.config.positions_on_operator {
             effects.push(Effect::Arm(ArmCommand::GetPosition { name: name.clone() }));
-            self.screen.overlay = Overlay::Position {
+            self.screen.show(Overlay::Position {
                 name,
                 coordinates: None,
-            };
-        } else {
-            let coordinates = self.book.positions.get(&name).map(|e| PositionCoordinates {
-                cartesian: e.cartesian,
-                polar: e.cartesian.map(polar_of),
             });
-            self.screen.overlay = Overlay::Position { name, coordinates };
+        } else {
+            let coordinates = self
+                .book
+                .positions()
+                .get(&name)
+                .map(|e| PositionCoordinates {
+                    cartesian: e.cartesian,
+                    polar: e.cartesian.map(polar_of),
+                });
+            self.screen.show(Overlay::Position { name, coordinates });
         }
     }
 
@@ -66,9 +70,9 @@ impl App {
     /// A stored pose for a local (Modbus) go-to: position plus orientation (the current tool
     /// orientation when none was stored).
     pub(super) fn stored_pose(&self, name: &str) -> Option<Pose> {
-        let entry = self.book.positions.get(name)?;
+        let entry = self.book.positions().get(name)?;
         let [x, y, z] = entry.cartesian?;
-        let current = self.arm.telemetry.as_ref().map(|t| t.tcp.pose);
+        let current = self.arm.telemetry().map(|t| t.tcp.pose);
         let theta = entry
             .orientation
             .or(current.map(|p| [p.theta_x, p.theta_y, p.theta_z]))?;
@@ -162,11 +166,11 @@ impl App {
                 now,
             );
         }
-        let entry = self.book.positions.get_or_insert(&name);
+        let entry = self.book.positions_mut().get_or_insert(&name);
         pose.store(entry);
         entry.anchor = false;
         entry.parent = parent;
-        self.select(&name);
+        self.book.select(&name);
         self.say(format!("saved '{name}'"), Severity::Info, now);
         self.save_book(&[&name], effects);
     }
@@ -174,7 +178,7 @@ impl App {
     /// The whole pose the telemetry shows now. A value that is not a finite number is not
     /// known (and would not load back from the file).
     fn pose_now(&self) -> Option<PoseNow> {
-        let t = self.arm.telemetry.as_ref()?;
+        let t = self.arm.telemetry()?;
         let p = t.tcp.pose;
         let finite = |values: &[f32]| values.iter().all(|v| v.is_finite());
         let position = [p.x, p.y, p.z];
@@ -190,29 +194,13 @@ impl App {
 
     /// `name` is deleted: out of the book, kept for undo.
     fn deleted(&mut self, name: String, now: Instant, effects: &mut Vec<Effect>) {
-        if let Some(entry) = self.book.positions.remove(&name) {
-            self.book.last_deleted = Some((name.clone(), entry));
-        }
-        self.clamp_selection();
+        self.book.on_delete(&name);
         self.say(
             format!("deleted '{name}' (undo restores it)"),
             Severity::Info,
             now,
         );
         self.save_book(&[&name], effects);
-    }
-
-    pub(super) fn select(&mut self, name: &str) {
-        if let Some(i) = self.book.positions.index_of(name) {
-            self.book.selected = i;
-        }
-    }
-
-    pub(super) fn clamp_selection(&mut self) {
-        self.book.selected = self
-            .book
-            .selected
-            .min(self.book.positions.len().saturating_sub(1));
     }
 
     /// Keeps the book in step with what the operator accepted.
@@ -226,7 +214,7 @@ impl App {
                 // The operator saved the pose it has now: the telemetry's, when there is some.
                 // Without, whatever was remembered under the name is no longer it.
                 let pose = self.pose_now().unwrap_or_default();
-                let entry = self.book.positions.get_or_insert(name);
+                let entry = self.book.positions_mut().get_or_insert(name);
                 entry.anchor = *anchor;
                 entry.parent = parent.clone();
                 entry.unknown_to_operator = false;
@@ -237,7 +225,7 @@ impl App {
                 name.clone()
             }
             ArmCommand::SetCartesianPosition { name, x, y, z } => {
-                let entry = self.book.positions.get_or_insert(name);
+                let entry = self.book.positions_mut().get_or_insert(name);
                 entry.set_cartesian([*x, *y, *z]);
                 entry.unknown_to_operator = false;
                 name.clone()
@@ -248,7 +236,7 @@ impl App {
                 azimuth,
                 radius,
             } => {
-                let entry = self.book.positions.get_or_insert(name);
+                let entry = self.book.positions_mut().get_or_insert(name);
                 entry.set_cartesian(cartesian_of([*delta, *azimuth, *radius]));
                 entry.unknown_to_operator = false;
                 name.clone()
@@ -259,7 +247,7 @@ impl App {
             }
             _ => return,
         };
-        self.select(&name);
+        self.book.select(&name);
         self.say(format!("saved '{name}'"), Severity::Info, now);
         self.save_book(&[&name], effects);
         if let ArmCommand::SetCartesianPosition { .. } = command {

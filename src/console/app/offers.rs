@@ -1,12 +1,53 @@
 //! What the console offers on this link: a key whose action cannot work here is not shown in
 //! the footer, and pressing it says why instead of opening a form.
 
+use std::sync::Arc;
+
 use crate::console::form::{Form, FormKind};
 use crate::link::interface::TelemetrySource;
 
 use super::App;
+use crate::console::keymap::Keymap;
+
+/// The session's fixed facts and what this link offers, as the status bar and footer show them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SessionView {
+    /// Shared with the app: the keymap never changes during a session.
+    pub keymap: Arc<Keymap>,
+    /// Cartesian jog speed cap, m/s.
+    pub max_jog_speed: f64,
+    /// Orientation jog rate at 100 %, deg/s.
+    pub max_angular_jog_speed: f64,
+    /// Reference frames apply (Modbus jogging).
+    pub frames: bool,
+    /// The arm is the built-in simulator.
+    pub simulated: bool,
+    pub positions_on_operator: bool,
+    /// Saving the current pose can work on this link (the footer offers it).
+    pub can_save: bool,
+    /// The link carries an orientation jog (the footer offers the turn keys).
+    pub can_turn: bool,
+    /// Going to a saved position can work on this link (the footer offers it).
+    pub can_go_to: bool,
+}
 
 impl App {
+    /// The session's part of the view.
+    pub(super) fn session_view(&self) -> SessionView {
+        let config = &self.config;
+        SessionView {
+            keymap: config.keymap.clone(),
+            max_jog_speed: config.max_jog_speed,
+            max_angular_jog_speed: f64::from(crate::link::driver::MAX_ANGULAR_JOG_SPEED),
+            frames: config.frames,
+            simulated: config.simulated,
+            positions_on_operator: config.positions_on_operator,
+            can_save: self.can_save_position(),
+            can_turn: self.can_turn(),
+            can_go_to: self.can_go_to(),
+        }
+    }
+
     /// Why saving the current pose cannot work on this link, or `None` when it can.
     ///
     /// An operator in the ICD dialect saves the pose itself. Otherwise the console stores the
@@ -51,11 +92,11 @@ impl App {
                  positions); add --modbus"
             ));
         }
-        let entry = self.book.positions.get(name)?;
+        let entry = self.book.positions().get(name)?;
         if entry.cartesian.is_none() {
             return Some(format!("'{name}' has no coordinates stored"));
         }
-        (entry.orientation.is_none() && self.arm.telemetry.is_none()).then(|| {
+        (entry.orientation.is_none() && self.arm.telemetry().is_none()).then(|| {
             format!(
                 "cannot go to '{name}' yet: it has no orientation stored, and no telemetry \
                  has given the tool's"

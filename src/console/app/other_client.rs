@@ -149,7 +149,7 @@ impl App {
     /// Notes a command going out: a jog's first START starts the grace, a stop ends the watch,
     /// a speed of ours restarts the steady-speed comparison.
     pub(super) fn other_client_note_sent(&mut self, command: &ArmCommand, now: Instant) {
-        let others = &mut self.arm.others;
+        let others = &mut self.arm.others_mut();
         match command {
             // A refresh of the same motion keeps its start.
             ArmCommand::Jog(motion) if others.jog_since.is_none_or(|(m, _)| m != *motion) => {
@@ -165,15 +165,15 @@ impl App {
             _ => {}
         }
         if command.starts_motion() {
-            self.arm.others.hold.release();
+            self.arm.others_mut().hold.release();
         }
     }
 
     /// The speed in force changed (ours or the operator's): the arm slows or speeds up to it,
     /// so the steady speed is learnt anew after a grace.
     pub(super) fn other_client_note_speed(&mut self, now: Instant) {
-        self.arm.others.baseline_since = Some(now);
-        self.arm.others.steady = None;
+        self.arm.others_mut().baseline_since = Some(now);
+        self.arm.others_mut().steady = None;
     }
 
     /// Fresh telemetry: is our jog still the arm's motion, and is the arm moved by someone else?
@@ -186,22 +186,27 @@ impl App {
     ) {
         let moving = fast_motion(t);
         self.keep_stop(moving, now, effects);
-        self.arm.others.moving_in_a_row = if moving {
-            self.arm.others.moving_in_a_row.saturating_add(1)
+        self.arm.others_mut().moving_in_a_row = if moving {
+            self.arm.others_mut().moving_in_a_row.saturating_add(1)
         } else {
             0
         };
-        let Some(motion) = self.keys.jog.active() else {
-            self.arm.others.end_contradiction();
+        let Some(motion) = self.keys.jog().active() else {
+            self.arm.others_mut().end_contradiction();
             return;
         };
-        let Some((_, since)) = self.arm.others.jog_since.filter(|(m, _)| *m == motion) else {
+        let Some((_, since)) = self
+            .arm
+            .others_mut()
+            .jog_since
+            .filter(|(m, _)| *m == motion)
+        else {
             return;
         };
-        let was_twist = self.arm.others.seen_twist;
-        self.arm.others.seen_twist |= t.action.move_type == Coded::Known(MoveType::Twist);
+        let was_twist = self.arm.others_mut().seen_twist;
+        self.arm.others_mut().seen_twist |= t.action.move_type == Coded::Known(MoveType::Twist);
         if now < since + OTHER_CLIENT_GRACE {
-            self.arm.others.end_contradiction();
+            self.arm.others_mut().end_contradiction();
             return;
         }
         let modbus = self.truth.expected_telemetry() == Some(TelemetrySource::Modbus);
@@ -215,29 +220,30 @@ impl App {
             self.stop_for_other_client(t, evidence, now, effects);
             return;
         }
-        let base = !self.config.frames || self.arm.frame == ReferenceFrame::Base;
+        let base = !self.config.frames || self.arm.frame() == ReferenceFrame::Base;
         let rest_telling = self.jog_unmistakable_from_rest(motion);
         let slow_ready = self
             .arm
-            .others
+            .others_mut()
             .baseline_since
             .is_some_and(|at| now >= at + OTHER_CLIENT_GRACE);
-        let steady = self.arm.others.steady.filter(|_| slow_ready);
+        let steady = self.arm.others_mut().steady.filter(|_| slow_ready);
         let Some(found) = contradiction(t, motion, base, steady, rest_telling) else {
-            self.arm.others.end_contradiction();
+            self.arm.others_mut().end_contradiction();
             if slow_ready && let Some((seen, _)) = progress(t, motion, base) {
-                self.arm.others.steady = Some(self.arm.others.steady.map_or(seen, |s| s.max(seen)));
+                self.arm.others_mut().steady =
+                    Some(self.arm.others_mut().steady.map_or(seen, |s| s.max(seen)));
             }
-            if let Some((_, fine)) = self.arm.others.refresh_waiting.as_mut() {
+            if let Some((_, fine)) = self.arm.others_mut().refresh_waiting.as_mut() {
                 *fine += 1;
                 if *fine >= REFRESH_SAMPLES {
-                    self.arm.others.refresh_waiting = None;
+                    self.arm.others_mut().refresh_waiting = None;
                     effects.push(Effect::Arm(ArmCommand::Jog(motion)));
                 }
             }
             return;
         };
-        let others = &mut self.arm.others;
+        let others = &mut self.arm.others_mut();
         others.contradicting_in_a_row += 1;
         let first = *others.contradicting_since.get_or_insert(now);
         others.last_contradiction = Some(found.clone());
@@ -263,7 +269,7 @@ impl App {
         let watched = self.truth.expects_telemetry();
         let past_grace = self
             .arm
-            .others
+            .others_mut()
             .jog_since
             .is_some_and(|(m, since)| m == motion && now >= since + OTHER_CLIENT_GRACE);
         if !(watched && past_grace) {
@@ -271,54 +277,54 @@ impl App {
         }
         let asked = jog.len();
         jog.retain(|e| *e != JogEffect::Start(motion));
-        if jog.len() != asked && self.arm.others.refresh_waiting.is_none() {
-            if self.arm.others.contradicting_in_a_row > 0 {
-                self.arm.others.withheld += 1;
+        if jog.len() != asked && self.arm.others_mut().refresh_waiting.is_none() {
+            if self.arm.others_mut().contradicting_in_a_row > 0 {
+                self.arm.others_mut().withheld += 1;
             }
-            self.arm.others.refresh_waiting = Some((now, 0));
+            self.arm.others_mut().refresh_waiting = Some((now, 0));
         }
     }
 
     /// Time passing under a held jog: a contradiction that lasted [`CONTRADICTED_FOR`] stops it;
     /// a refresh that waited [`REFRESH_WAIT`] with no contradiction goes out.
     pub(super) fn other_clients_on_tick(&mut self, now: Instant, effects: &mut Vec<Effect>) {
-        let Some(motion) = self.keys.jog.active() else {
+        let Some(motion) = self.keys.jog().active() else {
             return;
         };
         if let (Some(first), Some(found)) = (
-            self.arm.others.contradicting_since,
-            self.arm.others.last_contradiction.clone(),
+            self.arm.others_mut().contradicting_since,
+            self.arm.others_mut().last_contradiction.clone(),
         ) && now >= first + CONTRADICTED_FOR
         {
             let text = found.words(motion);
-            if let Some(t) = self.arm.telemetry.clone() {
+            if let Some(t) = self.arm.telemetry().cloned() {
                 self.stop_for_other_client(&t, text, now, effects);
             }
             return;
         }
-        if self.arm.others.contradicting_in_a_row == 0
+        if self.arm.others_mut().contradicting_in_a_row == 0
             && self
                 .arm
-                .others
+                .others_mut()
                 .refresh_waiting
                 .is_some_and(|(at, _)| now >= at + REFRESH_WAIT)
         {
-            self.arm.others.refresh_waiting = None;
+            self.arm.others_mut().refresh_waiting = None;
             effects.push(Effect::Arm(ArmCommand::Jog(motion)));
         }
     }
 
     /// When [`App::other_clients_on_tick`] has something to do.
     pub(super) fn other_clients_deadline(&self) -> Option<Instant> {
-        self.keys.jog.active()?;
+        self.keys.jog().active()?;
         let contradicted = self
             .arm
-            .others
+            .others()
             .contradicting_since
             .map(|at| at + CONTRADICTED_FOR);
         let waiting = self
             .arm
-            .others
+            .others()
             .refresh_waiting
             .map(|(at, _)| at + REFRESH_WAIT);
         contradicted.into_iter().chain(waiting).min()
@@ -333,11 +339,11 @@ impl App {
         now: Instant,
         effects: &mut Vec<Effect>,
     ) {
-        self.arm.others.forget_jog();
+        self.arm.others_mut().forget_jog();
         let text = if t.warnings.contains(Flag::JointFault) {
             format!("jog stopped by the arm: {}", abort_reason(t))
         } else {
-            self.arm.others.stops += 1;
+            self.arm.others_mut().stops += 1;
             format!("stopped by another client: {evidence}")
         };
         self.stop_from_telemetry(text, now, effects);
@@ -346,7 +352,7 @@ impl App {
     /// Whether `motion` at the speed in force runs fast enough that telemetry at rest cannot be
     /// it: at least [`REST_MARGIN`] times the at-rest threshold of what it moves.
     fn jog_unmistakable_from_rest(&self, motion: JogMotion) -> bool {
-        let fraction = f64::from(self.arm.speed.unwrap_or(INITIAL_SPEED)) / 100.0;
+        let fraction = f64::from(self.arm.speed().unwrap_or(INITIAL_SPEED)) / 100.0;
         let (expected, rest) = match motion {
             JogMotion::Cartesian { .. } | JogMotion::Polar { .. } => {
                 (self.config.max_jog_speed, f64::from(REST_LINEAR_M_S))
@@ -366,14 +372,14 @@ impl App {
     /// Telemetry shows motion none of ours explains: idle, nothing unsettled, and the arm moving
     /// fast for [`OTHER_CLIENT_SAMPLES`] samples.
     pub(super) fn moved_by_another_client(&self) -> bool {
-        self.keys.jog.active().is_none()
-            && self.truth.action.is_none()
+        self.keys.jog().active().is_none()
+            && self.truth.action().is_none()
             && !self.truth.is_unsettled()
-            && self.arm.others.moving_in_a_row >= OTHER_CLIENT_SAMPLES
+            && self.arm.others().moving_in_a_row >= OTHER_CLIENT_SAMPLES
     }
 
     pub fn other_clients(&self) -> &OtherClients {
-        &self.arm.others
+        self.arm.others()
     }
 }
 

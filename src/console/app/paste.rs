@@ -4,7 +4,7 @@
 
 use std::time::Instant;
 
-use super::{App, Effect, Overlay, Severity};
+use super::{App, Effect, Severity};
 use crate::console::form::FormPaste;
 
 /// A bracketed paste, or input dropped unread.
@@ -25,7 +25,7 @@ impl App {
             }
             Pasted::Text(text) => text,
         };
-        let Overlay::Form(form) = &mut self.screen.overlay else {
+        let Some(form) = self.screen.form_mut() else {
             self.say(
                 "paste ignored: pasted text is never keys",
                 Severity::Info,

@@ -39,7 +39,7 @@ impl QuestionGuard {
 
     /// Why a key at `now` (`burst`: see [`QuestionGuard::key`]) may not answer the open
     /// question, if it may not.
-    fn refuses(&self, burst: bool, now: Instant) -> Option<&'static str> {
+    pub(super) fn refuses(&self, burst: bool, now: Instant) -> Option<&'static str> {
         let (_, asked) = self.asked.as_ref()?;
         if now.saturating_duration_since(*asked) < QUESTION_QUIET {
             Some("key ignored: the question has only just opened")
@@ -61,7 +61,7 @@ impl App {
         now: Instant,
         effects: &mut Vec<Effect>,
     ) -> bool {
-        let Some(why) = self.keys.question_guard.refuses(burst, now) else {
+        let Some(why) = self.keys.question_refusal(burst, now) else {
             return false;
         };
         self.stop_jog(now, effects);

@@ -41,13 +41,13 @@ impl App {
         let lost = self.config.positions_on_operator
             && self
                 .book
-                .positions
+                .positions()
                 .get(&name)
                 .is_some_and(|e| e.unknown_to_operator);
         if !lost {
-            self.screen.overlay = Overlay::Confirm(Confirm::GoTo(name));
+            self.screen.show(Overlay::Confirm(Confirm::GoTo(name)));
         } else if self.remembered_cartesian(&name).is_some() {
-            self.screen.overlay = Overlay::Confirm(Confirm::Resave(name));
+            self.screen.show(Overlay::Confirm(Confirm::Resave(name)));
         } else {
             self.say(
                 format!("'{name}' is unknown to the operator and no coordinates are remembered"),
@@ -58,7 +58,7 @@ impl App {
     }
 
     fn remembered_cartesian(&self, name: &str) -> Option<[i32; 3]> {
-        self.book.positions.get(name).and_then(|e| e.cartesian)
+        self.book.positions().get(name).and_then(|e| e.cartesian)
     }
 
     /// The technician said yes to re-saving `name`.
@@ -87,19 +87,19 @@ impl App {
             Severity::Info,
             now,
         );
-        self.book.resave.then_go = Some((name, now));
+        self.book.resave_mut().then_go = Some((name, now));
     }
 
     /// A Go To is being sent for `name`.
     pub(super) fn going_to(&mut self, name: &str) {
-        self.book.resave.goto_sent = Some(name.to_string());
+        self.book.resave_mut().goto_sent = Some(name.to_string());
     }
 
     /// The operator accepted Set Cartesian Position for `name`: the go-to a re-save was for.
     pub(super) fn after_resave(&mut self, name: &str, now: Instant, effects: &mut Vec<Effect>) {
         let Some((pending, asked)) = self
             .book
-            .resave
+            .resave_mut()
             .then_go
             .take_if(|(n, _)| n.as_str() == name)
         else {
@@ -132,7 +132,7 @@ impl App {
             _ => false,
         };
         if interrupts {
-            self.book.resave.then_go = None;
+            self.book.resave_mut().then_go = None;
         }
     }
 
@@ -146,22 +146,22 @@ impl App {
     ) -> bool {
         match command {
             CommandKind::SetCartesianPosition => {
-                self.book.resave.then_go = None;
+                self.book.resave_mut().then_go = None;
                 false
             }
             CommandKind::GoToPosition
                 if *error == ArmError::ReturnCode(ReturnCode::UNKNOWN_POSITION) =>
             {
-                let Some(name) = self.book.resave.goto_sent.take() else {
+                let Some(name) = self.book.resave_mut().goto_sent.take() else {
                     return false;
                 };
-                if let Some(entry) = self.book.positions.get_mut(&name) {
+                if let Some(entry) = self.book.positions_mut().get_mut(&name) {
                     entry.unknown_to_operator = true;
                 }
                 let can_offer = self.remembered_cartesian(&name).is_some();
-                if can_offer && self.screen.overlay == Overlay::None && !self.keys.jog.is_jogging()
-                {
-                    self.screen.overlay = Overlay::Confirm(Confirm::Resave(name.clone()));
+                if can_offer && self.screen.overlay_is_none() && !self.keys.jog().is_jogging() {
+                    self.screen
+                        .show(Overlay::Confirm(Confirm::Resave(name.clone())));
                     self.say(
                         format!("the operator does not know '{name}'"),
                         Severity::Warning,

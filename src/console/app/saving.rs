@@ -12,9 +12,10 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::time::Instant;
 
 use super::message::Until;
-use super::{App, BookState, Effect, Severity};
+use super::{App, Effect, Severity};
 use crate::console::book_io::SaveOutcome;
 use crate::console::form::Confirm;
+use crate::console::positions::PositionBook;
 
 /// What the app knows of its book's writes.
 #[derive(Debug, Clone, Default)]
@@ -29,14 +30,91 @@ pub(super) struct Saving {
     failed: BTreeSet<String>,
 }
 
+/// What a write's outcome comes to, for the message line.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(super) enum Saved {
+    /// Written, and nothing had failed before.
+    Quietly,
+    /// Written, with this many positions whose earlier write had failed.
+    Recovered(usize),
+    /// Not written: the error, and how many positions are now marked not saved.
+    Failed { error: String, unsaved: usize },
+}
+
+impl Saving {
+    /// Names changed, to be held by the next save asked for.
+    pub(super) fn touch(&mut self, changed: impl IntoIterator<Item = String>) {
+        self.touched.extend(changed);
+    }
+
+    /// `asked` saves left `handle` (as the writer counts them). With none asked and the book
+    /// unreadable (never saved over), the names changed are handed back: unsaved at once.
+    pub(super) fn count(&mut self, asked: u64, unreadable: bool) -> BTreeSet<String> {
+        if asked > 0 {
+            self.asked += asked;
+            let upto = self.asked;
+            for name in std::mem::take(&mut self.touched) {
+                self.pending.insert(name, upto);
+            }
+            BTreeSet::new()
+        } else if unreadable {
+            std::mem::take(&mut self.touched)
+        } else {
+            BTreeSet::new()
+        }
+    }
+
+    /// The names the writes up to `upto` held, no longer pending.
+    pub(super) fn covered(&mut self, upto: u64) -> Vec<String> {
+        let covered: Vec<String> = self
+            .pending
+            .iter()
+            .filter(|(_, at)| **at <= upto)
+            .map(|(name, _)| name.clone())
+            .collect();
+        for name in &covered {
+            self.pending.remove(name);
+        }
+        covered
+    }
+
+    /// The whole book was written: whatever had failed is on disk now.
+    pub(super) fn take_failed(&mut self) -> BTreeSet<String> {
+        std::mem::take(&mut self.failed)
+    }
+
+    pub(super) fn mark_failed(&mut self, name: String) {
+        self.failed.insert(name);
+    }
+
+    pub(super) fn failed(&self) -> &BTreeSet<String> {
+        &self.failed
+    }
+}
+
+/// Marks `names` not saved in the panel and in the saves' record.
+pub(super) fn mark_unsaved(
+    positions: &mut PositionBook,
+    saving: &mut Saving,
+    names: impl IntoIterator<Item = String>,
+) {
+    for name in names {
+        if let Some(entry) = positions.get_mut(&name)
+            && !entry.unsaved
+        {
+            entry.unsaved = true;
+        }
+        saving.mark_failed(name);
+    }
+}
+
 impl App {
     /// Changes to `changed` are to be written: asks for the whole book to be saved.
     pub(super) fn save_book<S: AsRef<str>>(&mut self, changed: &[S], effects: &mut Vec<Effect>) {
-        self.book
-            .saving
-            .touched
-            .extend(changed.iter().map(|n| n.as_ref().to_string()));
-        effects.push(Effect::SavePositions(self.book.positions.clone()));
+        let book = self
+            .book
+            .on_changed(changed.iter().map(|n| n.as_ref().to_string()));
+        effects.push(Effect::SavePositions(book));
     }
 
     /// After every input: the saves that leave `handle` are counted, as the writer counts them.
@@ -46,75 +124,31 @@ impl App {
             .iter()
             .filter(|e| matches!(e, Effect::SavePositions(_)))
             .count() as u64;
-        if asked > 0 {
-            self.book.saving.asked += asked;
-            let upto = self.book.saving.asked;
-            for name in std::mem::take(&mut self.book.saving.touched) {
-                self.book.saving.pending.insert(name, upto);
-            }
-        } else if matches!(self.book.book_state, BookState::Failed { .. })
-            && !self.book.saving.touched.is_empty()
-        {
-            let names = std::mem::take(&mut self.book.saving.touched);
-            self.mark_unsaved(names);
-        }
+        self.book.on_saves_asked(asked);
     }
 
     /// The writer's outcome for the saves up to `outcome.upto`.
     pub(super) fn on_positions_saved(&mut self, outcome: SaveOutcome, now: Instant) {
-        let covered: Vec<String> = self
-            .book
-            .saving
-            .pending
-            .iter()
-            .filter(|(_, upto)| **upto <= outcome.upto)
-            .map(|(name, _)| name.clone())
-            .collect();
-        for name in &covered {
-            self.book.saving.pending.remove(name);
-        }
-        match outcome.error {
-            None => {
-                // The whole book was written: whatever had failed before is on disk now.
-                let failed = std::mem::take(&mut self.book.saving.failed);
-                if failed.is_empty() {
-                    return;
-                }
-                for name in &failed {
-                    if let Some(entry) = self.book.positions.get_mut(name) {
-                        entry.unsaved = false;
-                    }
-                }
-                let text = format!("positions saved ({} that had failed)", failed.len());
+        match self.book.on_saved(outcome) {
+            Saved::Quietly => {}
+            Saved::Recovered(n) => {
+                let text = format!("positions saved ({n} that had failed)");
                 self.say(text, Severity::Info, now);
             }
-            Some(error) => {
+            Saved::Failed { error, unsaved } => {
                 tracing::error!("positions not saved: {error}");
-                self.mark_unsaved(covered);
-                let n = self.book.saving.failed.len();
                 let text = format!(
-                    "positions not saved: {error}; {n} marked not saved, retried with the next \
-                     change"
+                    "positions not saved: {error}; {unsaved} marked not saved, retried with the \
+                     next change"
                 );
                 self.say_until(text, Severity::Error, Until::BookSaved, now);
             }
         }
     }
 
-    fn mark_unsaved(&mut self, names: impl IntoIterator<Item = String>) {
-        for name in names {
-            if let Some(entry) = self.book.positions.get_mut(&name)
-                && !entry.unsaved
-            {
-                entry.unsaved = true;
-            }
-            self.book.saving.failed.insert(name);
-        }
-    }
-
     /// How many changed positions no write has held (their write failed).
     pub fn unsaved_positions(&self) -> usize {
-        self.book.saving.failed.len()
+        self.book.unsaved()
     }
 
     /// The quit key: with positions not saved, asks first (and stops the arm meanwhile).
@@ -125,14 +159,14 @@ impl App {
             return;
         }
         self.stop_everything(now, effects);
-        self.screen.overlay = super::Overlay::Confirm(Confirm::QuitUnsaved { count });
+        self.screen
+            .show(super::Overlay::Confirm(Confirm::QuitUnsaved { count }));
     }
 
     /// Quitting with positions not saved: the book is handed over once more, and written (or
     /// its failure logged) before the process ends.
     pub(super) fn retry_save_at_quit(&mut self, effects: &mut Vec<Effect>) {
-        if self.unsaved_positions() > 0 && self.book.book_state == BookState::Ready {
-            let names: Vec<String> = self.book.saving.failed.iter().cloned().collect();
+        if let Some(names) = self.book.unsaved_to_retry() {
             tracing::warn!(
                 "quitting with {} positions not saved: writing the book once more",
                 names.len()

@@ -65,19 +65,19 @@ impl StopHold {
 impl App {
     /// The technician's STOP went out: hold it (see the module docs).
     pub(super) fn hold_stop(&mut self, now: Instant) {
-        self.arm.others.hold.arm(now);
+        self.arm.others_mut().hold.arm(now);
     }
 
     /// A telemetry sample while the STOP holds: moving, it is stopped again.
     pub(super) fn keep_stop(&mut self, moving: bool, now: Instant, effects: &mut Vec<Effect>) {
-        if !self.arm.others.hold.resend(moving, now) {
+        if !self.arm.others_mut().hold.resend(moving, now) {
             return;
         }
         tracing::warn!("the arm moves after our STOP: sending STOP again");
         effects.push(Effect::Arm(ArmCommand::Stop));
         if self
             .arm
-            .others
+            .others_mut()
             .hold
             .since
             .is_some_and(|since| now >= since + SLOWING_DOWN)

@@ -124,19 +124,12 @@ impl super::App {
     /// point's age, oldest first.
     pub fn trail(&self) -> Vec<(Duration, [f64; 3])> {
         self.now
-            .map(|now| self.arm.trail.recent(now))
-            .unwrap_or_default()
-    }
-
-    /// The trail as the arm view draws it: see [`ToolTrail::shaded`].
-    pub fn trail_shaded(&self) -> Vec<(TrailShade, [f64; 3])> {
-        self.now
-            .map(|now| self.arm.trail.shaded(now))
+            .map(|now| self.arm.trail().recent(now))
             .unwrap_or_default()
     }
 
     /// The trail's buffer, bounded by [`TRAIL_CAPACITY`].
     pub fn trail_buffer(&self) -> &ToolTrail {
-        &self.arm.trail
+        self.arm.trail()
     }
 }

@@ -68,7 +68,7 @@ fn a_changed_view_is_drawn_at_its_rate_and_an_identical_one_is_not() {
     assert_eq!(pacer.due_at(false), Some(start + FRAME));
     let at = start + FRAME;
     let painted = pacer.frame(View::new(&app), at).expect("the speed changed");
-    assert_eq!(painted.speed, Some(40));
+    assert_eq!(painted.arm.speed, Some(40));
 
     // The same again (an identical report): woken, but nothing is handed to the painter.
     app.handle(Input::Arm(ArmEvent::Speed(40)), at);
@@ -90,7 +90,7 @@ fn a_due_time_dependent_change_is_drawn_with_no_new_report() {
     let mut pacer = FramePacer::default();
     pacer.changed(false, start);
     assert!(pacer.frame(View::new(&app), start).is_some());
-    assert_eq!(View::new(&app).link_stale, None);
+    assert_eq!(View::new(&app).truth.link_stale, None);
 
     // A tick before anything is due shows the same: not drawn.
     let early = start + Duration::from_millis(50);
@@ -110,7 +110,7 @@ fn a_due_time_dependent_change_is_drawn_with_no_new_report() {
     let painted = pacer
         .frame(View::new(&app), due.max(deadline))
         .expect("the stale link is drawn");
-    assert!(painted.link_stale.is_some());
+    assert!(painted.truth.link_stale.is_some());
 
     // And its age, as it grows, is drawn again.
     let later = deadline + Duration::from_secs(2);
@@ -161,7 +161,7 @@ fn what_ticks_over_at_rest_is_drawn_once_a_second() {
     let painted = pacer
         .frame(View::new(&app), start + BACKGROUND_FRAME)
         .expect("the counters are drawn a second on");
-    assert_eq!(painted.log.back().map(|e| e.count), Some(3));
+    assert_eq!(painted.screen.log.back().map(|e| e.count), Some(3));
     assert_eq!(pacer.due_at(false), None);
 
     // A key draws them at once.
@@ -180,8 +180,8 @@ fn what_ticks_over_at_rest_is_drawn_once_a_second() {
     let at = pacer.due_at(false).expect("due");
     assert!(at < k + FRAME + BACKGROUND_FRAME);
     let painted = pacer.frame(View::new(&app), at).expect("the speed changed");
-    assert_eq!(painted.speed, Some(40));
-    assert_eq!(painted.log.back().map(|e| e.count), Some(5));
+    assert_eq!(painted.arm.speed, Some(40));
+    assert_eq!(painted.screen.log.back().map(|e| e.count), Some(5));
 
     // A failed poll is a new line, not a counter: drawn at once.
     let f = at + IDLE_FRAME;
@@ -221,7 +221,7 @@ fn a_temperature_creeping_is_background_and_a_joint_moving_is_not() {
     app.handle(report(&telemetry), m);
     pacer.changed(false, m);
     let painted = pacer.frame(View::new(&app), m).expect("a joint moved");
-    let shown = painted.telemetry.expect("telemetry");
+    let shown = painted.arm.telemetry.expect("telemetry");
     assert_eq!(shown.joints[3].position, telemetry.joints[3].position);
     assert_eq!(shown.joints[3].temperature, telemetry.joints[3].temperature);
 }

@@ -13,7 +13,7 @@ use crate::kortex::{Coded, RobotState, sanity};
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     let titles = super::telemetry_titles("Arm", &[], view);
     let block = super::fitted_panel(&titles, area.width, theme);
-    let Some(t) = &view.telemetry else {
+    let Some(t) = &view.arm.telemetry else {
         return super::draw_no_telemetry(frame, area, block, view);
     };
     let in_fault = matches!(t.robot_state, Coded::Known(RobotState::InFault));

@@ -150,11 +150,11 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
                 .is_some()
         })
     };
-    let telemetry = view.telemetry.as_ref().filter(|t| joints_known(t));
+    let telemetry = view.arm.telemetry.as_ref().filter(|t| joints_known(t));
     let Some(telemetry) = telemetry else {
-        let text = match view.telemetry_source {
+        let text = match view.truth.telemetry_source {
             TelemetrySource::None => NO_TELEMETRY,
-            _ if view.telemetry.is_some() => NOT_FINITE,
+            _ if view.arm.telemetry.is_some() => NOT_FINITE,
             _ => WAITING,
         };
         let paragraph = Paragraph::new(text)
@@ -170,14 +170,15 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     let scene = Scene {
         pose: arm_geometry::arm_pose(&position_deg),
         trail: view
+            .arm
             .trail
             .iter()
             .map(|(shade, [x, y, z])| (*shade, Vector3::new(*x, *y, *z)))
             .collect(),
         markers: markers(view),
-        arrow: match view.motion {
+        arrow: match view.truth.motion {
             MotionShown::Jog(motion) => {
-                let frame = view.frames.then_some(view.frame);
+                let frame = view.session.frames.then_some(view.arm.frame);
                 jog_direction(motion, frame, &position_deg)
             }
             _ => None,
@@ -193,7 +194,8 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
 }
 
 fn markers(view: &View) -> Vec<Marker3> {
-    view.positions
+    view.book
+        .positions
         .entries()
         .enumerate()
         .filter_map(|(row, (name, entry))| {
@@ -201,7 +203,7 @@ fn markers(view: &View) -> Vec<Marker3> {
             Some(Marker3 {
                 name: name.to_string(),
                 at: Vector3::new(x, y, z),
-                selected: row == view.selected,
+                selected: row == view.book.selected,
             })
         })
         .collect()

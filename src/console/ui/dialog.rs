@@ -13,7 +13,7 @@ use crate::console::view::View;
 const DIALOG_WIDTH: u16 = 72;
 
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
-    let (title, lines) = match &view.overlay {
+    let (title, lines) = match &view.screen.overlay {
         Overlay::Confirm(confirm) => (
             " Confirm ".to_string(),
             vec![

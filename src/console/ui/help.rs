@@ -50,12 +50,12 @@ pub fn scroll_limits(keymap: &Keymap, size: (u16, u16)) -> (usize, usize) {
 }
 
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
-    let keymap = &view.keymap;
+    let keymap = &view.session.keymap;
     let inside = inner(area);
     let lines = content(keymap, usize::from(inside.width), theme);
     let rows = usize::from(inside.height);
     let max_scroll = lines.len().saturating_sub(rows);
-    let scroll = view.help_scroll.min(max_scroll);
+    let scroll = view.screen.help_scroll.min(max_scroll);
     let bottom = if max_scroll == 0 {
         " any key closes this help ".to_string()
     } else {

@@ -142,7 +142,7 @@ const ARROWS: [NamedKey; 4] = [
 ];
 
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
-    let line = match &view.message {
+    let line = match &view.screen.message {
         Some((text, severity)) => {
             let style = match severity {
                 Severity::Info => theme.accent(),
@@ -153,11 +153,11 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
         }
         None => Line::styled(
             footer(
-                &view.keymap,
+                &view.session.keymap,
                 Offered {
-                    save: view.can_save,
-                    turn: view.can_turn,
-                    go_to: view.can_go_to,
+                    save: view.session.can_save,
+                    turn: view.session.can_turn,
+                    go_to: view.session.can_go_to,
                 },
                 usize::from(area.width),
             ),

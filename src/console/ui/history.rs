@@ -56,6 +56,7 @@ fn peak(values: &[Option<f64>]) -> f64 {
 /// The keys bound to cycling the plotted quantity, for the heading.
 fn cycle_keys(view: &View) -> Option<String> {
     let keys: Vec<String> = view
+        .session
         .keymap
         .keys_for(Action::HistoryCycle)
         .into_iter()
@@ -67,7 +68,7 @@ fn cycle_keys(view: &View) -> Option<String> {
 /// The joints' heading, the longest that fits `width`: what is plotted, who works hardest (and
 /// how hard), which key plots the other quantity.
 fn heading(view: &View, width: usize) -> String {
-    let history = &view.history;
+    let history = &view.arm.history;
     let quantity = history.quantity;
     let (name, unit) = (quantity.name(), quantity.unit());
     let hardest = history.hardest.map(|(joint, mean)| (joint, fixed(mean, 2)));
@@ -95,12 +96,12 @@ fn heading(view: &View, width: usize) -> String {
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     let titles = super::telemetry_titles("History", &[", last 30 s"], view);
     let block = super::fitted_panel(&titles, area.width, theme);
-    if view.telemetry.is_none() {
+    if view.arm.telemetry.is_none() {
         return super::draw_no_telemetry(frame, area, block, view);
     }
     let inner = block.inner(area);
     let width = usize::from(inner.width);
-    let history = &view.history;
+    let history = &view.arm.history;
     let mut lines = Vec::with_capacity(9);
 
     // The TCP speed: the latest value, then the window's peak where it fits.

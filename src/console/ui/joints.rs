@@ -152,7 +152,7 @@ fn table_width(t: Option<&Telemetry>, columns: &[Column], wide: bool, spacing: u
 /// headings.
 pub fn width(view: &View, columns: usize) -> u16 {
     let columns = &BY_PRIORITY[..columns.clamp(MIN_COLUMNS, BY_PRIORITY.len())];
-    u16::try_from(table_width(view.telemetry.as_ref(), columns, false, 1)).unwrap_or(u16::MAX)
+    u16::try_from(table_width(view.arm.telemetry.as_ref(), columns, false, 1)).unwrap_or(u16::MAX)
 }
 
 /// The most columns that fit `width`, in screen order; then, where they fit too, two columns
@@ -173,7 +173,7 @@ fn choose_columns(t: &Telemetry, width: u16) -> (Vec<Column>, bool, u16) {
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     let titles = super::telemetry_titles("Joints", &CONVENTION, view);
     let block = super::fitted_panel(&titles, area.width, theme);
-    let Some(t) = &view.telemetry else {
+    let Some(t) = &view.arm.telemetry else {
         return super::draw_no_telemetry(frame, area, block, view);
     };
     let (columns, wide, spacing) = choose_columns(t, area.width);
@@ -192,9 +192,10 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     let rows = (0..t.joints.len()).map(|i| {
         let position = t.joints[i].position;
         let near = limit(i).is_some_and(|l| l - signed_angle(position).abs() < NEAR_LIMIT);
-        let selected = usize::from(view.joint) == i + 1;
+        let selected = usize::from(view.keys.joint) == i + 1;
         // Within 5 degrees the gauge turns to the warning colour (the status bar names it).
         let gauge_warns = view
+            .arm
             .near_limits
             .iter()
             .any(|n| usize::from(n.joint) == i + 1);

@@ -13,7 +13,7 @@ use crate::link::interface::Traffic;
 use crate::talos::hex::spaced_hex;
 
 pub fn draw(frame: &mut Frame, area: Rect, app: &View, theme: &Theme) {
-    let title = if app.hex {
+    let title = if app.screen.hex {
         " Command log (hex) "
     } else {
         " Command log "
@@ -24,7 +24,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &View, theme: &Theme) {
     let rows = usize::from(area.height.saturating_sub(2));
     let width = usize::from(area.width.saturating_sub(2));
     let mut lines: Vec<Line> = Vec::new();
-    for entry in app.log.iter().rev() {
+    for entry in app.screen.log.iter().rev() {
         let id = match entry.id {
             Some(id) => format!("{id:>6} "),
             None => "     - ".into(),
@@ -59,7 +59,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &View, theme: &Theme) {
             ),
             Span::styled(latency, theme.dim()),
         ])];
-        if app.hex {
+        if app.screen.hex {
             for text in traffic_lines(&entry.traffic) {
                 entry_lines.push(Line::styled(numbers::elide(&text, width), theme.dim()));
             }

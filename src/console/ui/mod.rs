@@ -33,7 +33,7 @@ pub use theme::Theme;
 
 /// What a telemetry panel says when it has nothing to show.
 pub fn no_telemetry_text(view: &View) -> &'static str {
-    match view.telemetry_source {
+    match view.truth.telemetry_source {
         TelemetrySource::None => "no telemetry: the ack-dialect operator sends none back",
         _ => "waiting for telemetry...",
     }
@@ -41,7 +41,7 @@ pub fn no_telemetry_text(view: &View) -> &'static str {
 
 /// A telemetry panel's title, with the telemetry's age when it is old.
 pub fn telemetry_title(title: &str, view: &View) -> String {
-    match view.telemetry_stale {
+    match view.truth.telemetry_stale {
         Some(age) => format!("{title} (stale {})", super::app::age_text(age)),
         None => title.to_string(),
     }
@@ -49,7 +49,7 @@ pub fn telemetry_title(title: &str, view: &View) -> String {
 
 /// Greys out the inside of a telemetry panel whose values are old (call after drawing it).
 pub fn grey_if_stale(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
-    if view.telemetry_stale.is_some() {
+    if view.truth.telemetry_stale.is_some() {
         let inner = Block::default().borders(Borders::ALL).inner(area);
         frame.buffer_mut().set_style(inner, theme.stale());
     }
@@ -79,6 +79,7 @@ pub fn fitted_panel(titles: &[String], width: u16, theme: &Theme) -> Block<'stat
 /// then `title` alone; each with the telemetry's age when it is old (the age goes last).
 pub fn telemetry_titles(title: &str, details: &[&str], view: &View) -> Vec<String> {
     let stale = view
+        .truth
         .telemetry_stale
         .map(|age| format!(" (stale {})", super::app::age_text(age)))
         .unwrap_or_default();
@@ -130,7 +131,7 @@ pub fn neutralise(buffer: &mut ratatui::buffer::Buffer) {
 fn draw_panels(frame: &mut Frame, view: &View, theme: &Theme) {
     let area = frame.area();
     if area.width < MIN_WIDTH || area.height < MIN_HEIGHT {
-        let arm = if view.simulated {
+        let arm = if view.session.simulated {
             "SIMULATED ARM: "
         } else {
             ""
@@ -168,7 +169,7 @@ fn draw_panels(frame: &mut Frame, view: &View, theme: &Theme) {
         }
     }
     hints::draw(frame, places.bottom, view, theme);
-    match &view.overlay {
+    match &view.screen.overlay {
         Overlay::None => {}
         Overlay::Help => help::draw(frame, help::area(area), view, theme),
         _ => dialog::draw(frame, area, view, theme),

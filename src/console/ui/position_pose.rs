@@ -20,7 +20,7 @@ pub fn lines(
     coordinates: Option<&PositionCoordinates>,
     theme: &Theme,
 ) -> Vec<Line<'static>> {
-    let entry = view.positions.get(name);
+    let entry = view.book.positions.get(name);
     let mut lines = Vec::new();
     let Some(c) = coordinates else {
         lines.push(Line::styled("asking the operator...", theme.dim()));

@@ -15,7 +15,7 @@ use crate::console::positions::BookEntry;
 use crate::console::view::View;
 
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
-    let where_ = if view.positions_on_operator {
+    let where_ = if view.session.positions_on_operator {
         "operator"
     } else {
         "console"
@@ -26,14 +26,14 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     ));
     let inner = block.inner(area);
     // The highlight symbol takes two columns of every row of a list with a selection.
-    let row_width = if view.positions.is_empty() {
+    let row_width = if view.book.positions.is_empty() {
         usize::from(inner.width)
     } else {
         usize::from(inner.width).saturating_sub(2)
     };
     // The book's state first: while it loads, or when it could not be read, the list below
     // holds only what was changed meanwhile.
-    let state = match &view.book_state {
+    let state = match &view.book.state {
         BookState::Ready => None,
         BookState::Loading { file } => Some(Line::styled(
             numbers::elide(&format!("loading positions from {file}…"), row_width),
@@ -44,7 +44,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
             theme.alarm(),
         )),
     };
-    if view.positions.is_empty() {
+    if view.book.positions.is_empty() {
         let line = state.unwrap_or_else(|| {
             Line::styled(
                 numbers::elide("none yet: p saves the current pose", row_width),
@@ -58,15 +58,16 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     let rows = usize::from(inner.height).saturating_sub(header).max(1);
     // The same scrolling as a list drawn whole: the selection on the last row once past the
     // first screen.
-    let first = (view.selected + 1).saturating_sub(rows);
+    let first = (view.book.selected + 1).saturating_sub(rows);
     let mut items: Vec<ListItem> = state.into_iter().map(ListItem::new).collect();
     items.extend(
-        view.positions
+        view.book
+            .positions
             .entries_from(first)
             .take(rows)
             .map(|(name, entry)| ListItem::new(row(name, entry, row_width, theme))),
     );
-    let selected = header + view.selected - first;
+    let selected = header + view.book.selected - first;
     let mut list_state = ListState::default().with_selected(Some(selected));
     let list = List::new(items)
         .block(block)

@@ -17,10 +17,10 @@ use crate::link::interface::{GuardStatus, LinkStatus};
 
 /// What the key-release mode is, in words: the status bar always shows it.
 pub fn release_mode_text(view: &View) -> String {
-    match view.release_mode {
+    match view.keys.release_mode {
         ReleaseMode::Reported => "keys: release events".into(),
         ReleaseMode::AutoRepeat => {
-            let timing = view.repeat_timing;
+            let timing = view.keys.repeat_timing;
             match (timing.onset, timing.interval) {
                 (Some(onset), Some(interval)) => format!(
                     "keys: auto-repeat fallback ({} ms, {:.0} Hz)",
@@ -35,7 +35,7 @@ pub fn release_mode_text(view: &View) -> String {
 
 /// The key-release mode without its measured timing.
 fn release_mode_name(view: &View) -> &'static str {
-    match view.release_mode {
+    match view.keys.release_mode {
         ReleaseMode::Reported => "keys: release events",
         ReleaseMode::AutoRepeat => "keys: auto-repeat fallback",
     }
@@ -43,7 +43,7 @@ fn release_mode_name(view: &View) -> &'static str {
 
 /// The built-in simulator's badge; none for a real link, whose address the line shows.
 fn simulated_spans(view: &View, theme: &Theme) -> Vec<Span<'static>> {
-    if view.simulated {
+    if view.session.simulated {
         vec![Span::styled(" SIMULATED ARM ", theme.simulated())]
     } else {
         Vec::new()
@@ -52,7 +52,7 @@ fn simulated_spans(view: &View, theme: &Theme) -> Vec<Span<'static>> {
 
 /// The stop guard's badge, when one is required (Modbus motion).
 fn guard_spans(view: &View, theme: &Theme) -> Vec<Span<'static>> {
-    match &view.guard {
+    match &view.arm.guard {
         None => Vec::new(),
         Some(GuardStatus::Ready { .. }) => vec![Span::styled(" GUARD OK ", theme.ok())],
         Some(GuardStatus::Starting) => vec![
@@ -73,10 +73,11 @@ pub fn speed_text(view: &View) -> String {
 /// [`speed_text`], with or without the tool speed: `50%`, `50% (cap not watched)`.
 fn speed_part(view: &View, mm_s: bool) -> String {
     let percent = view
+        .arm
         .speed
         .map_or_else(|| "?".to_string(), |s| format!("{s}%"));
-    let cap = view.speed.filter(|_| mm_s).map(|s| {
-        let mm_s = view.max_jog_speed * 1000.0 * f64::from(s) / 100.0;
+    let cap = view.arm.speed.filter(|_| mm_s).map(|s| {
+        let mm_s = view.session.max_jog_speed * 1000.0 * f64::from(s) / 100.0;
         // A slow speed keeps a decimal: "0 mm/s" would read as stopped.
         if mm_s < 10.0 {
             format!("≤{mm_s:.1} mm/s")
@@ -84,7 +85,7 @@ fn speed_part(view: &View, mm_s: bool) -> String {
             format!("≤{mm_s:.0} mm/s")
         }
     });
-    let unwatched = (view.cap_watched == Some(false)).then_some("cap not watched");
+    let unwatched = (view.truth.cap_watched == Some(false)).then_some("cap not watched");
     match (cap, unwatched) {
         (Some(cap), Some(unwatched)) => format!("{percent} ({cap}, {unwatched})"),
         (Some(cap), None) => format!("{percent} ({cap})"),
@@ -98,11 +99,12 @@ fn speed_part(view: &View, mm_s: bool) -> String {
 /// arm's configured angular limit when telemetry reports one.
 pub fn turn_text(view: &View, motion: JogMotion) -> String {
     let axes = describe_motion(motion);
-    let Some(speed) = view.speed else {
-        return format!("turning {axes} ({} frame)", view.frame.key());
+    let Some(speed) = view.arm.speed else {
+        return format!("turning {axes} ({} frame)", view.arm.frame.key());
     };
-    let wanted = view.max_angular_jog_speed * f64::from(speed) / 100.0;
+    let wanted = view.session.max_angular_jog_speed * f64::from(speed) / 100.0;
     let arm_limit = view
+        .arm
         .telemetry
         .as_ref()
         .map(|t| f64::from(t.speed_limits.angular))
@@ -111,7 +113,7 @@ pub fn turn_text(view: &View, motion: JogMotion) -> String {
     format!(
         "turning {axes} {} deg/s ({} frame)",
         numbers::fixed(rate, 1),
-        view.frame.key()
+        view.arm.frame.key()
     )
 }
 
@@ -139,14 +141,15 @@ fn link_line(view: &View, theme: &Theme, width: usize) -> Line<'static> {
     // Which arm the keys move comes first of all: a demo must never pass for a real cell.
     let mut badges = simulated_spans(view, theme);
     badges.extend(guard_spans(view, theme));
-    let (detail, detail_style, latency) = match &view.link {
+    let (detail, detail_style, latency) = match &view.arm.link {
         LinkStatus::Up { description } => {
             // A link that went silent is not shown as healthy.
-            badges.push(match view.link_stale {
+            badges.push(match view.truth.link_stale {
                 Some(age) => Span::styled(format!(" LINK STALE {} ", age_text(age)), theme.alarm()),
                 None => Span::styled(" LINK UP ", theme.ok()),
             });
             let latency = view
+                .arm
                 .latency
                 .map(|l| format!(" {} ms", numbers::fixed(l.as_secs_f64() * 1000.0, 1)));
             (description.clone(), Style::default(), latency)
@@ -262,7 +265,7 @@ fn motion_line(view: &View, theme: &Theme, width: usize) -> Line<'static> {
 fn motion_spans(view: &View, theme: &Theme, cut: Cut) -> Vec<Span<'static>> {
     let mut spans = Vec::new();
     let mut reason = None;
-    match view.motion.clone() {
+    match view.truth.motion.clone() {
         MotionShown::Jog(motion @ JogMotion::Orientation { .. }) => spans.push(Span::styled(
             format!(" JOG {} ", turn_text(view, motion)),
             theme.moving(),
@@ -292,10 +295,10 @@ fn motion_spans(view: &View, theme: &Theme, cut: Cut) -> Vec<Span<'static>> {
             reason = Some(why);
         }
         // The step size goes with the mode, so it shows at any width.
-        MotionShown::Idle if view.step.enabled => spans.push(Span::raw(format!(
+        MotionShown::Idle if view.keys.step.enabled => spans.push(Span::raw(format!(
             " STEP {} mm / {} deg ",
-            numbers::fixed(f64::from(view.step.cartesian()) / 10.0, 1),
-            view.step.polar()
+            numbers::fixed(f64::from(view.keys.step.cartesian()) / 10.0, 1),
+            view.keys.step.polar()
         ))),
         MotionShown::Idle => spans.push(Span::raw(" idle ")),
     }
@@ -332,13 +335,16 @@ fn motion_spans(view: &View, theme: &Theme, cut: Cut) -> Vec<Span<'static>> {
         let label = if cut.words { "speed " } else { "" };
         spans.push(Span::raw(format!("{separator}{label}{speed}")));
     }
-    if view.frames && cut.frame {
+    if view.session.frames && cut.frame {
         let label = if cut.words { "frame " } else { "" };
-        spans.push(Span::raw(format!("{separator}{label}{}", view.frame.key())));
+        spans.push(Span::raw(format!(
+            "{separator}{label}{}",
+            view.arm.frame.key()
+        )));
     }
     // Step mode has no joint steps: the selected joint only matters when jogging.
-    if !view.step.enabled && cut.joint {
-        spans.push(Span::raw(format!("{separator}J{}", view.joint)));
+    if !view.keys.step.enabled && cut.joint {
+        spans.push(Span::raw(format!("{separator}J{}", view.keys.joint)));
     }
     spans
 }
@@ -346,16 +352,17 @@ fn motion_spans(view: &View, theme: &Theme, cut: Cut) -> Vec<Span<'static>> {
 /// The joints near a limit, the nearest first, then the arm near a singularity: one warning
 /// each. Narrow, only the first shows.
 fn warnings(view: &View) -> Vec<String> {
-    view.near_limits
+    view.arm
+        .near_limits
         .iter()
         .map(|n| n.text())
-        .chain(view.near_singularity.map(singularity_text))
+        .chain(view.arm.near_singularity.map(singularity_text))
         .collect()
 }
 
 /// The key-release mode in a word.
 fn release_mode_short(view: &View) -> &'static str {
-    match view.release_mode {
+    match view.keys.release_mode {
         ReleaseMode::Reported => "release",
         ReleaseMode::AutoRepeat => "auto-repeat",
     }

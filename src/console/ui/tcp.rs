@@ -65,7 +65,8 @@ fn figures(t: &Telemetry) -> [[String; 3]; 6] {
 
 /// The columns each figure gets: the widest one, at least [`VALUE_MIN_WIDTH`].
 fn value_width(view: &View) -> usize {
-    view.telemetry
+    view.arm
+        .telemetry
         .as_ref()
         .map(|t| {
             figures(t)
@@ -88,7 +89,7 @@ pub fn width(view: &View, long_labels: bool) -> u16 {
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     let titles = super::telemetry_titles("Tool (TCP)", &[], view);
     let block = super::fitted_panel(&titles, area.width, theme);
-    let Some(t) = &view.telemetry else {
+    let Some(t) = &view.arm.telemetry else {
         return super::draw_no_telemetry(frame, area, block, view);
     };
     let long = area.width >= width(view, true);

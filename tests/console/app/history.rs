@@ -123,12 +123,12 @@ fn a_key_cycles_torque_and_current() {
     );
     app.handle(Input::Arm(ArmEvent::Telemetry(Box::new(t))), t0);
     assert_eq!(app.history().quantity(), JointQuantity::Torque);
-    assert_eq!(View::new(&app).history.hardest.map(|h| h.0), Some(2));
+    assert_eq!(View::new(&app).arm.history.hardest.map(|h| h.0), Some(2));
     app.handle(key("T", KeyKind::Press), t0 + ms(10));
     assert_eq!(app.history().quantity(), JointQuantity::Current);
     let view = View::new(&app);
-    assert_eq!(view.history.quantity, JointQuantity::Current);
-    assert_eq!(view.history.hardest.map(|h| h.0), Some(1));
+    assert_eq!(view.arm.history.quantity, JointQuantity::Current);
+    assert_eq!(view.arm.history.hardest.map(|h| h.0), Some(1));
     app.handle(key("T", KeyKind::Press), t0 + ms(20));
     assert_eq!(app.history().quantity(), JointQuantity::Torque);
 }

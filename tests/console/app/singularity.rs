@@ -34,12 +34,13 @@ fn elbow(j4: f64) -> [f64; 7] {
 #[test]
 fn near_singular_telemetry_sets_the_view_and_home_does_not() {
     let (app, _) = with_telemetry(reporting(HOME_DEG));
-    assert_eq!(View::new(&app).near_singularity, None);
+    assert_eq!(View::new(&app).arm.near_singularity, None);
     // 11 degrees short of straight: not yet; 9: named.
     let (app, _) = with_telemetry(reporting(elbow(-11.0)));
-    assert_eq!(View::new(&app).near_singularity, None);
+    assert_eq!(View::new(&app).arm.near_singularity, None);
     let (mut app, t0) = with_telemetry(reporting(elbow(-9.0)));
     let kappa = View::new(&app)
+        .arm
         .near_singularity
         .expect("9 deg short of straight");
     assert!(kappa > SINGULARITY_WARNING && kappa < 100.0, "{kappa}");
@@ -48,7 +49,7 @@ fn near_singular_telemetry_sets_the_view_and_home_does_not() {
         Input::Arm(ArmEvent::Telemetry(Box::new(reporting(HOME_DEG)))),
         t0,
     );
-    assert_eq!(View::new(&app).near_singularity, None);
+    assert_eq!(View::new(&app).arm.near_singularity, None);
 }
 
 #[test]
@@ -75,8 +76,8 @@ fn with_a_joint_near_its_limit_too_both_show_and_narrow_the_limit_stays() {
     q[1] = 126.9;
     let (mut app, t0) = with_telemetry(reporting(q));
     let view = View::new(&app);
-    assert_eq!(view.near_limits.len(), 1, "{:?}", view.near_limits);
-    let kappa = view.near_singularity.expect("near a singularity");
+    assert_eq!(view.arm.near_limits.len(), 1, "{:?}", view.arm.near_limits);
+    let kappa = view.arm.near_singularity.expect("near a singularity");
     let singular = format!("near singularity (κ {kappa:.0})");
     let both = format!("J2 2.0° from limit, {singular}");
     let wide = row(&screen(&app, 160, 30), 1);
@@ -132,8 +133,8 @@ fn without_telemetry_nothing_shows() {
         t0,
     );
     let view = View::new(&app);
-    assert_eq!(view.telemetry, None);
-    assert_eq!(view.near_singularity, None);
+    assert_eq!(view.arm.telemetry, None);
+    assert_eq!(view.arm.near_singularity, None);
     let terminal = screen(&app, 120, 30);
     let status = row(&terminal, 1);
     assert!(!status.contains("singularity"), "{status}");

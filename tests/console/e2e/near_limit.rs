@@ -38,14 +38,18 @@ async fn a_console_over_modbus_names_j4_two_degrees_from_its_limit() {
         app.handle(Input::Arm(event), Instant::now());
     }
     let view = View::new(&app);
-    let nearest = view.near_limits.first().expect("a joint near its limit");
-    assert_eq!(nearest.joint, 4, "{:?}", view.near_limits);
+    let nearest = view
+        .arm
+        .near_limits
+        .first()
+        .expect("a joint near its limit");
+    assert_eq!(nearest.joint, 4, "{:?}", view.arm.near_limits);
     assert!(
         (nearest.margin_deg - 2.0).abs() < 0.05,
         "{:?}",
-        view.near_limits
+        view.arm.near_limits
     );
-    assert_eq!(view.near_limits.len(), 1, "{:?}", view.near_limits);
+    assert_eq!(view.arm.near_limits.len(), 1, "{:?}", view.arm.near_limits);
 
     let status = event_loop::status_line(&view);
     assert!(status.contains("J4 2.0° from limit"), "{status}");

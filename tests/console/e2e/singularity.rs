@@ -84,17 +84,21 @@ async fn status_over(link: Link) -> (View, String) {
 #[tokio::test]
 async fn a_console_over_modbus_names_the_singularity() {
     let (view, status) = status_over(Link::Modbus).await;
-    let kappa = view.near_singularity.expect("near a singularity");
+    let kappa = view.arm.near_singularity.expect("near a singularity");
     // The reported angles are f32: the estimate is the model's 253 to within a unit.
     assert!((kappa - 253.3).abs() < 1.0, "{kappa}");
     assert!(status.contains("near singularity (κ 253)"), "{status}");
-    assert!(view.near_limits.is_empty(), "{:?}", view.near_limits);
+    assert!(
+        view.arm.near_limits.is_empty(),
+        "{:?}",
+        view.arm.near_limits
+    );
 }
 
 #[tokio::test]
 async fn a_console_over_talos_hardware_telemetry_names_the_singularity() {
     let (view, status) = status_over(Link::TalosHardware).await;
-    let kappa = view.near_singularity.expect("near a singularity");
+    let kappa = view.arm.near_singularity.expect("near a singularity");
     // Within what the hardware telemetry's angle resolution allows.
     assert!((kappa - 253.3).abs() < 5.0, "{kappa}");
     assert!(
@@ -106,7 +110,7 @@ async fn a_console_over_talos_hardware_telemetry_names_the_singularity() {
 #[tokio::test]
 async fn a_console_over_the_ack_dialect_shows_no_estimate() {
     let (view, status) = status_over(Link::TalosAck).await;
-    assert_eq!(view.telemetry, None);
-    assert_eq!(view.near_singularity, None);
+    assert_eq!(view.arm.telemetry, None);
+    assert_eq!(view.arm.near_singularity, None);
     assert!(!status.contains("singularity"), "{status}");
 }

@@ -105,7 +105,7 @@ fn at_a_jogged_pose_while_jogging() {
     press(&mut app, "w", now);
     press(&mut app, "a", now);
     assert!(app.jog().is_jogging());
-    assert_eq!(View::new(&app).trail.len(), 21);
+    assert_eq!(View::new(&app).arm.trail.len(), 21);
     let terminal = panel(&app, WIDTH, HEIGHT, COLOR);
     insta::assert_snapshot!("arm_view_jogged", terminal.backend());
     // The same pose as the 2 s twist in one go.
@@ -206,7 +206,7 @@ fn the_trail_keeps_the_last_ten_seconds_and_stays_bounded() {
     let half = app.trail().len();
     assert!(half > 80 && half < 120, "{half}");
     app.handle(Input::Tick, now + TRAIL_SPAN + ms(1));
-    assert!(View::new(&app).trail.is_empty());
+    assert!(View::new(&app).arm.trail.is_empty());
 }
 
 #[test]
@@ -218,7 +218,7 @@ fn a_still_arms_trail_reads_the_same_from_one_report_to_the_next() {
         let report = ArmEvent::Telemetry(Box::new(telemetry(gen3::HOME_DEG)));
         app.handle(Input::Arm(report), t0 + ms(step * 33));
         if step > 300 {
-            views.push(View::new(&app).trail);
+            views.push(View::new(&app).arm.trail);
         }
     }
     assert!(app.trail_buffer().len() > 150);
@@ -233,7 +233,7 @@ fn a_still_arms_trail_reads_the_same_from_one_report_to_the_next() {
         Input::Arm(ArmEvent::Telemetry(Box::new(telemetry(moved)))),
         t0 + ms(360 * 33 + 50),
     );
-    let trail = View::new(&app).trail;
+    let trail = View::new(&app).arm.trail;
     assert_eq!(trail.len(), 4);
     assert_ne!(trail[3].1, trail[2].1);
 }

@@ -366,11 +366,11 @@ fn a_pose_saved_to_the_consoles_own_book_keeps_its_parent() {
 fn offered_footer(app: &App) -> String {
     let view = View::new(app);
     let offered = ui::hints::Offered {
-        save: view.can_save,
-        turn: view.can_turn,
-        go_to: view.can_go_to,
+        save: view.session.can_save,
+        turn: view.session.can_turn,
+        go_to: view.session.can_go_to,
     };
-    ui::hints::footer(&view.keymap, offered, 200)
+    ui::hints::footer(&view.session.keymap, offered, 200)
 }
 
 /// Defines `name` at (x, y, z) mm with the set-cartesian form (`C`).

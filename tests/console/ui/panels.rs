@@ -559,10 +559,13 @@ fn positions_scrolled_in_a_big_book_and_its_view_draw_the_same() {
     }
     assert_eq!(app.selected(), 3210);
     let view = View::new(&app);
-    assert!(view.positions.len() <= 2 * 24 + 1, "a window, not the book");
+    assert!(
+        view.book.positions.len() <= 2 * 24 + 1,
+        "a window, not the book"
+    );
     let mut whole_book = view.clone();
-    whole_book.positions = app.positions().clone();
-    whole_book.selected = app.selected();
+    whole_book.book.positions = app.positions().clone();
+    whole_book.book.selected = app.selected();
     let whole = draw_view(
         ui::positions::draw,
         &whole_book,

@@ -15,8 +15,7 @@ impl App {
         let truth = &mut self.truth;
         match event {
             ArmEvent::Status(status) => {
-                let came_up = matches!(status, LinkStatus::Up { .. })
-                    && !matches!(self.arm.link, LinkStatus::Up { .. });
+                let came_up = matches!(status, LinkStatus::Up { .. }) && !self.arm.link_up();
                 if came_up {
                     truth.link_up_at = Some(now);
                     truth.waiting_since = None;

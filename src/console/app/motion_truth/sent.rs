@@ -14,7 +14,7 @@ use crate::link::interface::ArmCommand;
 impl App {
     /// The name of the position a go-to question asks about, taken before the answer.
     pub(in crate::console::app) fn goto_in_question(&self) -> Option<String> {
-        match &self.screen.overlay {
+        match self.screen.overlay() {
             Overlay::Confirm(Confirm::GoTo(name)) => Some(name.clone()),
             _ => None,
         }
@@ -37,7 +37,7 @@ impl App {
             if self.truth.action.is_some() {
                 self.truth.stop_needed = true;
             }
-            if self.keys.jog.is_jogging() {
+            if self.keys.jog().is_jogging() {
                 self.stop_jog(now, effects);
                 self.say_until(
                     format!(
@@ -92,7 +92,7 @@ impl App {
         truth.motion_since_stop = true;
         truth.stop_confirmed_at = None;
         // A new motion replaces whatever action was running.
-        let last = self.arm.telemetry.as_ref();
+        let last = self.arm.telemetry();
         truth.action = kind.map(|kind| TrackedAction {
             kind,
             sent: now,

@@ -2,16 +2,27 @@
 
 use std::time::Instant;
 
-use super::{MotionShown, STOP_GRACE};
+use super::{MotionShown, STOP_GRACE, TruthView};
 use crate::console::app::App;
 use crate::console::app::age::age_text;
 use crate::link::interface::LinkStatus;
 
 impl App {
+    /// The truth's part of the view: the motion shown and the ages that make things stale.
+    pub(in crate::console::app) fn truth_view(&self) -> TruthView {
+        TruthView {
+            motion: self.motion_shown(),
+            link_stale: self.link_stale(),
+            telemetry_source: self.telemetry_source(),
+            telemetry_stale: self.telemetry_stale(),
+            cap_watched: self.cap_watched(),
+        }
+    }
+
     /// What the status bar says about motion, by precedence: a jog, a tracked action, a STOP
     /// being confirmed, any doubt, idle.
     pub fn motion_shown(&self) -> MotionShown {
-        if let Some(motion) = self.keys.jog.active() {
+        if let Some(motion) = self.keys.jog().active() {
             return MotionShown::Jog(motion);
         }
         let truth = &self.truth;
@@ -28,7 +39,7 @@ impl App {
             return MotionShown::MayBeMoving(format!("stop not confirmed: {reason}"));
         }
         if truth.unsettled {
-            match &self.arm.link {
+            match self.arm.link() {
                 LinkStatus::Up { .. } => {}
                 _ => return MotionShown::MayBeMoving("link lost after motion".into()),
             }

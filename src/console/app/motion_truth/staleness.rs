@@ -76,15 +76,10 @@ impl MotionTruth {
 }
 
 impl App {
-    /// The instant of the latest input: the clock the panels' ages are drawn with.
-    pub fn now(&self) -> Option<Instant> {
-        self.now
-    }
-
     /// How long the link has been silent, when that makes it stale (only while it is up).
     pub fn link_stale(&self) -> Option<Duration> {
         let now = self.now?;
-        match self.arm.link {
+        match self.arm.link() {
             LinkStatus::Up { .. } => self.truth.stale_for(now),
             _ => None,
         }
@@ -100,7 +95,6 @@ impl App {
     /// The truth's part of [`App::next_deadline`].
     pub(in crate::console::app) fn truth_deadline(&self) -> Option<Instant> {
         let now = self.now?;
-        self.truth
-            .next_deadline(now, matches!(self.arm.link, LinkStatus::Up { .. }))
+        self.truth.next_deadline(now, self.arm.link_up())
     }
 }

@@ -1,0 +1,197 @@
+//! What the driver says about the link and the arm, and what the console keeps of it.
+
+use std::time::{Duration, Instant};
+
+use super::super::cap_watch::CapWatch;
+use super::super::history::{History, HistorySeries};
+use super::super::limits::{NearLimit, near_limits};
+use super::super::other_client::OtherClients;
+use super::super::singularity::near_singularity;
+use super::super::trail::{ToolTrail, TrailShade};
+use crate::kortex::{ReferenceFrame, Telemetry};
+use crate::link::interface::{GuardStatus, LinkStatus};
+
+#[derive(Debug, Clone)]
+pub(in crate::console::app) struct Arm {
+    link: LinkStatus,
+    telemetry: Option<Telemetry>,
+    latency: Option<Duration>,
+    speed: Option<u8>,
+    frame: ReferenceFrame,
+    /// The stop guard's state, once the driver says one is required (Modbus motion).
+    guard: Option<GuardStatus>,
+    /// The last 30 s of telemetry, for the history panel.
+    history: History,
+    /// The tool point's recent path, for the arm view.
+    trail: ToolTrail,
+    /// The speed cap as the telemetry shows it kept.
+    cap_watch: CapWatch,
+    /// Other clients on the same arm: their stops and motions (see `other_client`).
+    others: OtherClients,
+}
+
+/// What the arm's panels show of it, worked out once per frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ArmView {
+    pub link: LinkStatus,
+    pub latency: Option<Duration>,
+    pub guard: Option<GuardStatus>,
+    pub speed: Option<u8>,
+    pub frame: ReferenceFrame,
+    pub telemetry: Option<Telemetry>,
+    /// The last 30 s of telemetry (history panel).
+    pub history: HistorySeries,
+    /// Limited joints within 5 degrees of a limit, the nearest first.
+    pub near_limits: Vec<NearLimit>,
+    /// The estimated condition number of the Jacobian at the reported joint angles (Gen3
+    /// model) when above the warning threshold; `None` below it or without telemetry.
+    pub near_singularity: Option<f64>,
+    /// The tool point's path over the last 10 s (base frame, m) with each point's shade, oldest
+    /// first: the arm view's trail. At most [`TRAIL_CAPACITY`](super::super::TRAIL_CAPACITY)
+    /// points; a still arm's is a few.
+    pub trail: Vec<(TrailShade, [f64; 3])>,
+}
+
+impl Default for Arm {
+    fn default() -> Arm {
+        Arm {
+            link: LinkStatus::Connecting,
+            telemetry: None,
+            latency: None,
+            speed: None,
+            frame: ReferenceFrame::Base,
+            guard: None,
+            history: History::default(),
+            trail: ToolTrail::default(),
+            cap_watch: CapWatch::default(),
+            others: OtherClients::default(),
+        }
+    }
+}
+
+impl Arm {
+    pub(in crate::console::app) fn link(&self) -> &LinkStatus {
+        &self.link
+    }
+
+    /// Up, as the driver last said (stale or not: see the motion truth).
+    pub(in crate::console::app) fn link_up(&self) -> bool {
+        matches!(self.link, LinkStatus::Up { .. })
+    }
+
+    /// The driver's link status; whether the link has just come up.
+    pub(in crate::console::app) fn on_link(&mut self, status: LinkStatus) -> bool {
+        let came_up = matches!(status, LinkStatus::Up { .. }) && !self.link_up();
+        self.link = status;
+        came_up
+    }
+
+    pub(in crate::console::app) fn telemetry(&self) -> Option<&Telemetry> {
+        self.telemetry.as_ref()
+    }
+
+    /// A telemetry sample into the history, the trail and the panels.
+    pub(in crate::console::app) fn on_telemetry(&mut self, t: Telemetry, now: Instant) {
+        self.history.record(&t, now);
+        self.trail.record(&t, now);
+        self.telemetry = Some(t);
+    }
+
+    pub(in crate::console::app) fn on_latency(&mut self, latency: Duration) {
+        self.latency = Some(latency);
+    }
+
+    /// The speed in force, percent, once the arm has said it.
+    pub(in crate::console::app) fn speed(&self) -> Option<u8> {
+        self.speed
+    }
+
+    /// The speed the arm says; whether it changed from one it had said.
+    pub(in crate::console::app) fn on_speed(&mut self, speed: u8) -> bool {
+        let changed = self.speed.is_some_and(|s| s != speed);
+        self.speed = Some(speed);
+        changed
+    }
+
+    pub(in crate::console::app) fn frame(&self) -> ReferenceFrame {
+        self.frame
+    }
+
+    /// The next reference frame: base, tool, mixed, base again.
+    pub(in crate::console::app) fn on_frame_cycle(&mut self) -> ReferenceFrame {
+        self.frame = match self.frame {
+            ReferenceFrame::Base => ReferenceFrame::Tool,
+            ReferenceFrame::Tool => ReferenceFrame::Mixed,
+            ReferenceFrame::Mixed => ReferenceFrame::Base,
+        };
+        self.frame
+    }
+
+    pub(in crate::console::app) fn guard(&self) -> Option<&GuardStatus> {
+        self.guard.as_ref()
+    }
+
+    pub(in crate::console::app) fn guard_ready(&self) -> bool {
+        matches!(self.guard, Some(GuardStatus::Ready { .. }))
+    }
+
+    pub(in crate::console::app) fn on_guard(&mut self, status: GuardStatus) {
+        self.guard = Some(status);
+    }
+
+    pub(in crate::console::app) fn history(&self) -> &History {
+        &self.history
+    }
+
+    /// The history panel shows its next quantity.
+    pub(in crate::console::app) fn on_history_cycle(&mut self) {
+        self.history.cycle_quantity();
+    }
+
+    pub(in crate::console::app) fn trail(&self) -> &ToolTrail {
+        &self.trail
+    }
+
+    pub(in crate::console::app) fn cap_watch(&self) -> &CapWatch {
+        &self.cap_watch
+    }
+
+    /// A sample while a motion the console started runs, `over` the cap in words or within
+    /// it: the stop's text once enough samples in a row were over (see `cap_watch`).
+    pub(in crate::console::app) fn on_cap_sample(
+        &mut self,
+        over: Option<String>,
+    ) -> Option<String> {
+        self.cap_watch.sample(over)
+    }
+
+    /// No motion of the console's runs: a run of over-cap samples starts again.
+    pub(in crate::console::app) fn on_cap_idle(&mut self) {
+        self.cap_watch.sample(None);
+    }
+
+    pub(in crate::console::app) fn others(&self) -> &OtherClients {
+        &self.others
+    }
+
+    /// Other clients' watch, to feed it (it keeps its own state: see `other_client`).
+    pub(in crate::console::app) fn others_mut(&mut self) -> &mut OtherClients {
+        &mut self.others
+    }
+
+    /// What the panels show; `now` is the latest input's (ages are drawn against it).
+    pub(in crate::console::app) fn view(&self, now: Option<Instant>) -> ArmView {
+        ArmView {
+            link: self.link.clone(),
+            latency: self.latency,
+            guard: self.guard.clone(),
+            speed: self.speed,
+            frame: self.frame,
+            telemetry: self.telemetry.clone(),
+            history: now.map(|now| self.history.series(now)).unwrap_or_default(),
+            near_limits: self.telemetry.as_ref().map(near_limits).unwrap_or_default(),
+            near_singularity: self.telemetry.as_ref().and_then(near_singularity),
+            trail: now.map(|now| self.trail.shaded(now)).unwrap_or_default(),
+        }
+    }
+}

@@ -1,0 +1,250 @@
+//! The position book: its entries, the selection, edits, undo, re-saves and saves.
+
+use super::super::edits::{Deleted, Renaming};
+use super::super::saving::{self, Saved};
+use super::super::{BookState, resave};
+use crate::console::book_io::SaveOutcome;
+use crate::console::positions::PositionBook;
+
+#[derive(Debug, Clone)]
+pub(in crate::console::app) struct Book {
+    positions: PositionBook,
+    /// Whether the book is loaded, still loading, or could not be read.
+    state: BookState,
+    selected: usize,
+    /// A rename on the operator between its steps, and a restore waiting for its answer.
+    renaming: Option<Renaming>,
+    restoring: Option<Deleted>,
+    /// The last deleted position, for undo (one level).
+    last_deleted: Option<Deleted>,
+    /// Re-saving names the operator lost (see `resave`).
+    resave: resave::Resave,
+    /// The book's writes and the positions they failed to write (see `saving`).
+    saving: saving::Saving,
+}
+
+/// What the book shows: the part of it a screen can show.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BookView {
+    pub state: BookState,
+    /// The part of the book a screen can show: the selection and up to a screen's height of
+    /// names either side.
+    pub positions: PositionBook,
+    /// The selection's row in `positions`.
+    pub selected: usize,
+}
+
+impl Book {
+    pub(in crate::console::app) fn new(positions: PositionBook) -> Book {
+        Book {
+            positions,
+            state: BookState::Ready,
+            selected: 0,
+            renaming: None,
+            restoring: None,
+            last_deleted: None,
+            resave: resave::Resave::default(),
+            saving: saving::Saving::default(),
+        }
+    }
+
+    pub(in crate::console::app) fn positions(&self) -> &PositionBook {
+        &self.positions
+    }
+
+    /// The entries, to edit (the caller asks for the save: see `saving`).
+    pub(in crate::console::app) fn positions_mut(&mut self) -> &mut PositionBook {
+        &mut self.positions
+    }
+
+    pub(in crate::console::app) fn state(&self) -> &BookState {
+        &self.state
+    }
+
+    pub(in crate::console::app) fn on_loading(&mut self, file: String) {
+        self.state = BookState::Loading { file };
+    }
+
+    /// The file's book arrived: the entries changed meanwhile are merged into it, the selection
+    /// stays on its name. Returns whether anything had changed meanwhile.
+    pub(in crate::console::app) fn on_loaded(&mut self, mut book: PositionBook) -> bool {
+        let changed_meanwhile = !self.positions.is_empty();
+        let selected = self.selected_name().map(str::to_string);
+        book.merge(&self.positions);
+        self.positions = book;
+        self.state = BookState::Ready;
+        match selected {
+            Some(name) => self.select(&name),
+            None => self.selected = 0,
+        }
+        self.keep_selection();
+        changed_meanwhile
+    }
+
+    pub(in crate::console::app) fn on_load_failed(&mut self, error: String) {
+        self.state = BookState::Failed { error };
+    }
+
+    /// The selected position's index in name order.
+    pub(in crate::console::app) fn selected(&self) -> usize {
+        self.selected
+    }
+
+    pub(in crate::console::app) fn selected_name(&self) -> Option<&str> {
+        self.positions.name_at(self.selected)
+    }
+
+    /// The selection one down or up, round the ends.
+    pub(in crate::console::app) fn on_select_next(&mut self, forward: bool) {
+        let n = self.positions.len();
+        if n == 0 {
+            return;
+        }
+        self.selected = if forward {
+            (self.selected + 1) % n
+        } else {
+            (self.selected + n - 1) % n
+        };
+    }
+
+    pub(in crate::console::app) fn select(&mut self, name: &str) {
+        if let Some(i) = self.positions.index_of(name) {
+            self.selected = i;
+        }
+    }
+
+    /// The selection kept within the book after it shrank.
+    pub(in crate::console::app) fn keep_selection(&mut self) {
+        self.selected = self.selected.min(self.positions.len().saturating_sub(1));
+    }
+
+    /// The operator answered about `name`: it knows it (and where it is, when it says).
+    pub(in crate::console::app) fn on_operator_knows(
+        &mut self,
+        name: &str,
+        cartesian: Option<[i32; 3]>,
+    ) {
+        // A reply about a name no longer in the book (deleted meanwhile) adds nothing: a new
+        // name would move the rows and the selection under the technician.
+        if let Some(entry) = self.positions.get_mut(name) {
+            entry.unknown_to_operator = false;
+            if let Some(c) = cartesian {
+                entry.set_cartesian(c);
+            }
+        }
+    }
+
+    pub(in crate::console::app) fn on_unknown_to_operator(&mut self, name: &str) {
+        if let Some(entry) = self.positions.get_mut(name) {
+            entry.unknown_to_operator = true;
+        }
+    }
+
+    /// `name` out of the book, kept for undo (one level).
+    pub(in crate::console::app) fn on_delete(&mut self, name: &str) {
+        if let Some(entry) = self.positions.remove(name) {
+            self.last_deleted = Some((name.to_string(), entry));
+        }
+        self.keep_selection();
+    }
+
+    pub(in crate::console::app) fn last_deleted(&self) -> Option<&Deleted> {
+        self.last_deleted.as_ref()
+    }
+
+    /// The undo was used (or its position is back another way).
+    pub(in crate::console::app) fn forget_deleted(&mut self) {
+        self.last_deleted = None;
+    }
+
+    pub(in crate::console::app) fn renaming(&self) -> Option<&Renaming> {
+        self.renaming.as_ref()
+    }
+
+    pub(in crate::console::app) fn renaming_mut(&mut self) -> Option<&mut Renaming> {
+        self.renaming.as_mut()
+    }
+
+    /// A rename on the operator starts its steps, or (`None`) has ended.
+    pub(in crate::console::app) fn set_renaming(&mut self, renaming: Option<Renaming>) {
+        self.renaming = renaming;
+    }
+
+    pub(in crate::console::app) fn restoring(&self) -> Option<&Deleted> {
+        self.restoring.as_ref()
+    }
+
+    /// A restore waits for the operator's answer, or (`None`) has had it.
+    pub(in crate::console::app) fn set_restoring(&mut self, restoring: Option<Deleted>) {
+        self.restoring = restoring;
+    }
+
+    pub(in crate::console::app) fn resave_mut(&mut self) -> &mut resave::Resave {
+        &mut self.resave
+    }
+
+    /// Names changed: the book to hand to the writer (the whole of it, as every save is).
+    pub(in crate::console::app) fn on_changed(
+        &mut self,
+        changed: impl IntoIterator<Item = String>,
+    ) -> PositionBook {
+        self.saving.touch(changed);
+        self.positions.clone()
+    }
+
+    /// `asked` saves left `handle`. A book that could not be read is never saved over: its
+    /// changes are unsaved at once.
+    pub(in crate::console::app) fn on_saves_asked(&mut self, asked: u64) {
+        let unreadable = matches!(self.state, BookState::Failed { .. });
+        let unsaved = self.saving.count(asked, unreadable);
+        saving::mark_unsaved(&mut self.positions, &mut self.saving, unsaved);
+    }
+
+    /// The writer's outcome for the saves up to `outcome.upto`.
+    pub(in crate::console::app) fn on_saved(&mut self, outcome: SaveOutcome) -> Saved {
+        let covered = self.saving.covered(outcome.upto);
+        match outcome.error {
+            None => {
+                let failed = self.saving.take_failed();
+                if failed.is_empty() {
+                    return Saved::Quietly;
+                }
+                for name in &failed {
+                    if let Some(entry) = self.positions.get_mut(name) {
+                        entry.unsaved = false;
+                    }
+                }
+                Saved::Recovered(failed.len())
+            }
+            Some(error) => {
+                saving::mark_unsaved(&mut self.positions, &mut self.saving, covered);
+                Saved::Failed {
+                    error,
+                    unsaved: self.saving.failed().len(),
+                }
+            }
+        }
+    }
+
+    /// How many changed positions no write has held (their write failed).
+    pub(in crate::console::app) fn unsaved(&self) -> usize {
+        self.saving.failed().len()
+    }
+
+    /// At quit: the names no write has held, when the book may be written (it was read).
+    pub(in crate::console::app) fn unsaved_to_retry(&self) -> Option<Vec<String>> {
+        (self.unsaved() > 0 && self.state == BookState::Ready)
+            .then(|| self.saving.failed().iter().cloned().collect())
+    }
+
+    /// What the book shows: the selection and up to `rows` names either side (no panel is
+    /// taller than the terminal, so they fill any of them as the whole book would).
+    pub(in crate::console::app) fn view(&self, rows: usize) -> BookView {
+        let start = self.selected.saturating_sub(rows);
+        BookView {
+            state: self.state.clone(),
+            positions: self.positions.window(start, 2 * rows + 1),
+            selected: self.selected - start,
+        }
+    }
+}

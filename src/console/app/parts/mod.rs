@@ -1,0 +1,19 @@
+//! The parts the console's state is made of, each owning one concern's facts behind private
+//! fields, with its own handlers and its own part of the view. [`App`] holds one of each and
+//! routes inputs to them.
+//!
+//! [`App`]: super::App
+
+mod arm;
+mod book;
+mod keys;
+mod screen;
+
+pub(super) use arm::Arm;
+pub use arm::ArmView;
+pub(super) use book::Book;
+pub use book::BookView;
+pub(super) use keys::Keys;
+pub use keys::KeysView;
+pub(super) use screen::Screen;
+pub use screen::ScreenView;
