@@ -10,8 +10,8 @@ use super::{EXIT_EXCEPTION, ModbusArgs, ModbusCommand, render};
 use crate::cli::Outcome;
 use crate::cli::console::check_max_jog_speed;
 use crate::kortex::{Progress, Stored, StoredRun, Telemetry, fault_reason};
-use crate::link::modbus::ModbusError;
 use crate::link::ModbusLink;
+use crate::link::modbus::ModbusError;
 
 /// How a stored motion is waited for and capped.
 #[derive(Debug, Clone, Args)]
