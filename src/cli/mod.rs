@@ -10,6 +10,7 @@ mod outcome;
 pub mod output;
 pub mod send;
 pub mod sim;
+mod sim_thread;
 pub mod status;
 pub mod units;
 pub mod values;
