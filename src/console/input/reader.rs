@@ -118,10 +118,10 @@ impl TerminalInput {
             }
             match self.fd.poll_read_ready(cx) {
                 Poll::Ready(Ok(())) => {
-                    // A read that finds nothing clears the readiness; after the budget it
-                    // stays, and the next poll reads on.
+                    // A read that finds nothing clears the readiness; otherwise it stays, and
+                    // the next poll reads on.
                     match self.reader.drain(&self.fd, &mut self.events) {
-                        Drained::Empty | Drained::Budget => {}
+                        Drained::Empty | Drained::More => {}
                         Drained::Closed => self.closed = true,
                         Drained::Failed(e) => {
                             self.events.push_back(Err(e));
@@ -180,8 +180,9 @@ struct Reader {
 enum Drained {
     /// Everything readable was read.
     Empty,
-    /// The budget was read; more may be readable.
-    Budget,
+    /// The budget was read, or a read made events before the terminal was found empty: more
+    /// may be readable, and is read at the next poll.
+    More,
     /// The terminal closed.
     Closed,
     Failed(io::Error),
@@ -196,8 +197,9 @@ impl Reader {
         }
     }
 
-    /// Reads every readable byte (up to the budget), handing over what each read makes: a
-    /// flood is judged, and its keys dropped, a read at a time, so it is never held.
+    /// Reads every readable byte (up to the budget: a read shorter than the buffer took all
+    /// there was), handing over what each read makes: a flood is judged, and its keys dropped,
+    /// a read at a time, so it is never held.
     fn drain(
         &mut self,
         fd: &pipe::Receiver,
@@ -212,7 +214,9 @@ impl Reader {
                 Ok(read) => {
                     self.decoder.feed(&self.buffer[..read], &mut decoded);
                     total += read;
-                    None
+                    // A key typed goes to the event loop now, not after one more read to
+                    // find the terminal empty (the next poll makes it).
+                    (read < self.buffer.len() && !decoded.is_empty()).then_some(Drained::More)
                 }
                 Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
                 Err(e) if e.kind() == io::ErrorKind::WouldBlock => {
@@ -231,7 +235,7 @@ impl Reader {
                 return drained;
             }
         }
-        Drained::Budget
+        Drained::More
     }
 
     fn hand_over(
