@@ -6,7 +6,10 @@
 //!   another process: once against a strict arm (the simulator's default, 6 reads a snapshot)
 //!   and once against one that answers reads over unlisted addresses (4 reads a snapshot).
 //!
-//! Run with `cargo bench --bench console_live`. Needs tmux for the second part.
+//! Run with `cargo bench --bench console_live` (`-- idle` for the second part only). Needs tmux
+//! for the second part. `ARMJOG_BIN=/path/to/armjog` measures another build of the console at
+//! rest (before/after), `ARMJOG_BENCH_SIZE=COLSxROWS` another terminal (160x48 by default).
+//! Wake-ups are context switches (voluntary and not) of all the console's threads, per second.
 
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
@@ -191,6 +194,52 @@ fn thread_shares(
     shares
 }
 
+/// Each thread's context switches so far (voluntary + involuntary: each one a wake-up), by
+/// thread id and name.
+fn thread_switches(pid: u32) -> Vec<(String, String, u64)> {
+    let Ok(tasks) = std::fs::read_dir(format!("/proc/{pid}/task")) else {
+        return Vec::new();
+    };
+    let mut threads: Vec<_> = tasks
+        .flatten()
+        .filter_map(|task| {
+            let tid = task.file_name().to_string_lossy().into_owned();
+            let name = std::fs::read_to_string(task.path().join("comm")).ok()?;
+            let status = std::fs::read_to_string(task.path().join("status")).ok()?;
+            let switches: u64 = status
+                .lines()
+                .filter(|l| l.contains("ctxt_switches:"))
+                .filter_map(|l| l.split_whitespace().nth(1)?.parse::<u64>().ok())
+                .sum();
+            Some((tid, name.trim().to_string(), switches))
+        })
+        .collect();
+    threads.sort();
+    threads
+}
+
+/// Wake-ups per second over a window, in all and by thread (busiest first).
+fn wakeups(
+    before: &[(String, String, u64)],
+    after: &[(String, String, u64)],
+    window: Duration,
+) -> (f64, Vec<(String, f64)>) {
+    let mut rates: Vec<(String, f64)> = after
+        .iter()
+        .map(|(tid, name, n)| {
+            let start = before
+                .iter()
+                .find(|(t, _, _)| t == tid)
+                .map_or(0, |(_, _, b)| *b);
+            let rate = (n - start.min(*n)) as f64 / window.as_secs_f64();
+            (format!("{name}[{tid}]"), rate)
+        })
+        .filter(|(_, rate)| *rate > 0.0)
+        .collect();
+    rates.sort_by(|a, b| b.1.total_cmp(&a.1));
+    (rates.iter().map(|(_, r)| r).sum(), rates)
+}
+
 fn status_kb(pid: u32, key: &str) -> Option<u64> {
     let status = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
     let line = status.lines().find(|l| l.starts_with(key))?;
@@ -210,10 +259,15 @@ const SETTLE: Duration = Duration::from_secs(35);
 
 /// The console at rest against `armjog sim` started with `sim_args`, described as `arm`.
 fn console_at_rest(sim_args: &[&str], arm: &str) -> Result<(), String> {
-    let bin = env!("CARGO_BIN_EXE_armjog");
+    let bin = std::env::var("ARMJOG_BIN").unwrap_or_else(|_| env!("CARGO_BIN_EXE_armjog").into());
+    let size = std::env::var("ARMJOG_BENCH_SIZE").unwrap_or_else(|_| "160x48".into());
+    let (cols, rows) = size
+        .split_once('x')
+        .ok_or("ARMJOG_BENCH_SIZE is COLSxROWS")?;
     let dir = std::env::temp_dir().join(format!("armjog-bench-{}", std::process::id()));
     std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
-    let mut sim = Command::new(bin)
+    // The simulator is this build's, whichever console is measured.
+    let mut sim = Command::new(env!("CARGO_BIN_EXE_armjog"))
         .args([
             "sim",
             "--talos-listen",
@@ -255,9 +309,9 @@ fn console_at_rest(sim_args: &[&str], arm: &str) -> Result<(), String> {
             "-s",
             "b",
             "-x",
-            "120",
+            cols,
             "-y",
-            "40",
+            rows,
             &command,
         ])
         .status()
@@ -280,8 +334,11 @@ fn console_at_rest(sim_args: &[&str], arm: &str) -> Result<(), String> {
         let sim_pid = sim.id();
         let sim_thread = std::thread::spawn(move || cpu_percent(sim_pid, window));
         let threads_before = thread_ns(pid);
+        let switches_before = thread_switches(pid);
         let console = cpu_percent(pid, window).ok_or("console exited early")?;
         let threads = thread_shares(&threads_before, &thread_ns(pid), window);
+        let (wakeups_total, wakeups_by_thread) =
+            wakeups(&switches_before, &thread_switches(pid), window);
         let precise: f64 = threads.iter().map(|(_, share)| share).sum();
         let sim_cpu = sim_thread.join().ok().flatten();
         let rss = status_kb(pid, "VmRSS:").unwrap_or(0);
@@ -294,6 +351,14 @@ fn console_at_rest(sim_args: &[&str], arm: &str) -> Result<(), String> {
             .map(|(name, share)| format!("{name} {share:.2} %"))
             .collect();
         println!("  by thread: {}", threads.join(", "));
+        let wakeups_by_thread: Vec<String> = wakeups_by_thread
+            .iter()
+            .map(|(name, rate)| format!("{name} {rate:.1}"))
+            .collect();
+        println!(
+            "  wake-ups: {wakeups_total:.1}/s ({bin}, {size}); by thread: {}",
+            wakeups_by_thread.join(", ")
+        );
         println!(
             "console resident memory: {:.1} MB (peak {:.1} MB)",
             rss as f64 / 1024.0,

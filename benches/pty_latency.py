@@ -3,12 +3,16 @@
 
 Usage (from the repository root, after `cargo build --release`):
 
+    python3 benches/pty_latency.py --table            # THE table: armjog vs both floors, at rest
+                                                      # and under `stress --cpu 2` (started here)
+    python3 benches/pty_latency.py --table --compare /work/armjog-baseline  # before/after too
     python3 benches/pty_latency.py                    # 200 cycles, idle machine
     stress --cpu 2 & python3 benches/pty_latency.py   # the same with both cores busy
     python3 benches/pty_latency.py --cycles 500 --binary target/release/armjog
     python3 benches/pty_latency.py --size 400x120     # costly frames: does a key wait for one?
     python3 benches/pty_latency.py --compare /tmp/armjog-old  # A/B, cycles alternate
     python3 benches/pty_latency.py --compare floor    # against the machine's own floor
+    python3 benches/pty_latency.py --compare floor-rs # against the compiled floor
 
 The script starts `armjog --talos 127.0.0.1:PORT --dialect ack --checksum xor8
 --key-release events` on a pseudo-terminal and plays both of its peers itself, in one
@@ -30,6 +34,14 @@ With --compare, a second binary runs beside the first and the cycles alternate b
 machine load (on a shared machine the load, not the binary, dominates the tail otherwise).
 `--compare floor` runs a minimal stand-in instead (a Python child that turns each key event
 into one frame): what is left of the tail there is the machine's and the harness's, not armjog's.
+`--compare floor-rs` runs the compiled stand-in (`benches/pty_floor/floor.rs`, built here with
+rustc into target/pty_floor/): one blocking read of the pty, one frame written, no runtime.
+`--compare` may be given more than once.
+
+`--table` runs every console side by side (the binary, any `--compare`s, and both floors) in
+two phases, at rest and under `stress --cpu 2` (the script starts and ends stress itself; it
+must be installed), and prints p50/p90/p99/max of release->STOP and press->START with each
+console's ratio to each floor, p50 and p99.
 """
 
 import argparse
@@ -39,7 +51,9 @@ import pty
 import random
 import select
 import signal
+import shutil
 import socket
+import subprocess
 import struct
 import sys
 import tempfile
@@ -113,6 +127,20 @@ class Operator:
 
 
 FLOOR = "floor"
+FLOOR_RS = "floor-rs"
+FLOOR_SOURCE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "pty_floor", "floor.rs")
+
+
+def compiled_floor():
+    """The compiled floor's program, built (again, when its source is newer) with rustc."""
+    out_dir = os.path.join("target", "pty_floor")
+    program = os.path.join(out_dir, "floor")
+    if not os.path.exists(program) or os.path.getmtime(program) < os.path.getmtime(FLOOR_SOURCE):
+        os.makedirs(out_dir, exist_ok=True)
+        subprocess.run(
+            ["rustc", "-O", "--edition", "2024", FLOOR_SOURCE, "-o", program], check=True
+        )
+    return os.path.abspath(program)
 
 
 def frame(command):
@@ -157,6 +185,7 @@ class Console:
 
     def __init__(self, binary, size, log_dir):
         self.binary = binary
+        floor_program = compiled_floor() if binary == FLOOR_RS else None
         self.op = Operator()
         argv = [
             binary,
@@ -170,6 +199,11 @@ class Console:
         if self.pid == 0:
             if binary == FLOOR:
                 floor_console(self.op.port)
+            if binary == FLOOR_RS:
+                import tty
+
+                tty.setraw(0)
+                os.execv(floor_program, [floor_program, str(self.op.port)])
             os.environ["ARMJOG_LOG_DIR"] = log_dir
             os.environ["TERM"] = "xterm-256color"
             os.execv(binary, argv)
@@ -254,23 +288,11 @@ class Console:
         return [v for v in self.starts_after_release if v > fastest]
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--binary", default="target/release/armjog")
-    parser.add_argument("--compare", help="a second binary; cycles alternate between the two")
-    parser.add_argument("--cycles", type=int, default=200, help="cycles per binary")
-    parser.add_argument("--seed", type=int, default=1)
-    parser.add_argument(
-        "--size", default="120x40", help="terminal COLSxROWS; a large one makes frames costly"
-    )
-    args = parser.parse_args()
-    binaries = [args.binary] + ([args.compare] if args.compare else [])
-    for binary in binaries:
-        if binary != FLOOR and not os.access(binary, os.X_OK):
-            sys.exit(f"{binary} not found: run `cargo build --release` first")
-    random.seed(args.seed)
+def run_cycles(binaries, cycles, size, seed):
+    """Runs `cycles` press/release cycles on each binary, alternating; returns the consoles."""
+    random.seed(seed)
     log_dir = tempfile.mkdtemp(prefix="armjog-pty-")
-    consoles = [Console(b, args.size, log_dir) for b in binaries]
+    consoles = [Console(b, size, log_dir) for b in binaries]
     owner = {}
     turn = 0  # index of the console whose cycle runs
     next_at = 0.0
@@ -278,7 +300,7 @@ def main():
     started = time.monotonic()
 
     def done():
-        return all(len(c.latencies) + c.failures >= args.cycles for c in consoles)
+        return all(len(c.latencies) + c.failures >= cycles for c in consoles)
 
     while True:
         t = time.monotonic()
@@ -351,12 +373,113 @@ def main():
 
     for c in consoles:
         c.quit()
-        print(c.summary())
-    sys.exit(
-        1
-        if any(c.failures or not c.latencies or c.starts_decided_after_release() for c in consoles)
-        else 0
+    return consoles
+
+
+def failed(consoles):
+    return any(c.failures or not c.latencies or c.starts_decided_after_release() for c in consoles)
+
+
+def stats(values):
+    values = sorted(values)
+    if not values:
+        return None
+    return [percentile(values, 0.5), percentile(values, 0.9), percentile(values, 0.99), values[-1]]
+
+
+def print_table(title, consoles):
+    """One phase's table: each console's percentiles and its ratio to each floor."""
+    floors = [c for c in consoles if c.binary in (FLOOR, FLOOR_RS)]
+    print(f"\n{title}")
+    for metric, values_of in (
+        ("release->STOP", lambda c: c.latencies),
+        ("press->START", lambda c: c.press_to_start),
+    ):
+        ratio_heads = "".join(f" {'p50/' + f.binary:>12} {'p99/' + f.binary:>12}" for f in floors)
+        print(f"  {metric + ' (ms)':<32} {'n':>4} {'p50':>7} {'p90':>7} {'p99':>7} {'max':>7}{ratio_heads}")
+        for c in consoles:
+            row = stats(values_of(c))
+            if row is None:
+                print(f"  {c.binary:<32} no cycle completed")
+                continue
+            ratios = ""
+            for f in floors:
+                base = stats(values_of(f))
+                ratios += "".join(
+                    f" {row[i] / base[i]:>11.2f}x" if base and base[i] > 0 else f" {'-':>12}"
+                    for i in (0, 2)
+                )
+            print(
+                f"  {c.binary:<32} {len(values_of(c)):>4} "
+                + " ".join(f"{v:>7.3f}" for v in row)
+                + ratios
+            )
+
+
+def table(args, binaries):
+    """Both phases, each with every console and both floors; exit 1 if any cycle failed."""
+    consoles_in = binaries + [FLOOR_RS, FLOOR]
+    cpus = os.cpu_count()
+    phases = [("at rest", None), ("under stress --cpu 2", ["stress", "--cpu", "2"])]
+    any_failed = False
+    for name, load in phases:
+        stress = None
+        if load:
+            if not shutil.which(load[0]):
+                sys.exit("stress not found: apt-get install stress")
+            # Its own session, so its workers end with it (by its process group).
+            stress = subprocess.Popen(
+                load, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True
+            )
+            time.sleep(1.0)
+        try:
+            consoles = run_cycles(consoles_in, args.cycles, args.size, args.seed)
+        finally:
+            if stress:
+                os.killpg(stress.pid, signal.SIGTERM)
+                stress.wait()
+        load_avg = os.getloadavg()[0]
+        print_table(
+            f"{name}: {args.cycles} cycles each, alternating, {args.size}, {cpus} cores, "
+            f"load average {load_avg:.2f} at the end",
+            consoles,
+        )
+        for c in consoles:
+            print(f"    {c.summary()}")
+        any_failed |= failed(consoles)
+    sys.exit(1 if any_failed else 0)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--binary", default="target/release/armjog")
+    parser.add_argument(
+        "--compare",
+        action="append",
+        default=[],
+        help="another binary, or floor / floor-rs; cycles alternate between them (repeatable)",
     )
+    parser.add_argument("--cycles", type=int, default=200, help="cycles per binary")
+    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument(
+        "--size", default="120x40", help="terminal COLSxROWS; a large one makes frames costly"
+    )
+    parser.add_argument(
+        "--table",
+        action="store_true",
+        help="at rest and under stress --cpu 2, against both floors: the whole table",
+    )
+    args = parser.parse_args()
+    binaries = [args.binary] + args.compare
+    for binary in binaries:
+        if binary not in (FLOOR, FLOOR_RS) and not os.access(binary, os.X_OK):
+            sys.exit(f"{binary} not found: run `cargo build --release` first")
+    if args.table:
+        table(args, [b for b in binaries if b not in (FLOOR, FLOOR_RS)])
+    consoles = run_cycles(binaries, args.cycles, args.size, args.seed)
+    for c in consoles:
+        print(c.summary())
+    sys.exit(1 if failed(consoles) else 0)
 
 
 if __name__ == "__main__":

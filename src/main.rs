@@ -1,7 +1,7 @@
 #![forbid(unsafe_code)]
 
 use armjog::cli::profiles::{ArgsError, EXIT_PROFILE, Parsed, parse_args};
-use armjog::cli::{Command, output};
+use armjog::cli::{Cli, Command, output};
 
 fn main() {
     // The shared options of send/status/modbus may also come before the command word.
@@ -16,7 +16,14 @@ fn main() {
         }
     };
     let log_guards = armjog::logging::init(log_role(cli.command.as_ref()));
-    let runtime = match tokio::runtime::Runtime::new() {
+    // One thread carries the key path: the tty is read, the app decides, the driver and the
+    // links write, all as tasks of this runtime, so a key becomes a frame on the socket without
+    // waking another thread (a reader thread and a multi-threaded runtime handed it across up
+    // to three). Drawing, the audit log and the built-in simulator have threads of their own.
+    let runtime = match tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+    {
         Ok(rt) => rt,
         Err(e) => {
             output::print_error(&format!("cannot start the async runtime: {e}"));
@@ -24,23 +31,39 @@ fn main() {
         }
     };
     let code = runtime.block_on(async {
-        match cli.command {
-            Some(Command::Send(args)) => report(armjog::cli::send::run(&args).await),
-            Some(Command::Status(args)) => report(armjog::cli::status::run(&args).await),
-            Some(Command::Modbus(args)) => report(armjog::cli::modbus::run(&args).await),
-            Some(Command::Arms(_)) => report(armjog::cli::arms::run(cli.profile.config.as_deref())),
-            Some(Command::Sim(args)) => armjog::cli::sim::run(&args).await,
-            Some(Command::Guard(args)) => armjog::cli::guard::run(&args).await,
-            Some(Command::Completions(args)) => {
-                report(armjog::cli::generate::run_completions(&args))
+        // Run as a task, not in place: a panic in it ends at the task's edge and the runtime
+        // goes on, so the driver still carries the STOP the console's panic hook asked for
+        // while the hook's own thread ends the process.
+        match tokio::spawn(run(cli, arm)).await {
+            Ok(code) => code,
+            Err(e) if e.is_panic() => {
+                tokio::time::sleep(PANIC_GRACE).await;
+                101
             }
-            Some(Command::Man(args)) => report(armjog::cli::generate::run_man(&args)),
-            None => armjog::cli::console::run_console(&cli.console, arm).await,
+            Err(_) => 1,
         }
     });
     // `exit` runs no destructors: the logs are flushed first.
     drop(log_guards);
     std::process::exit(code);
+}
+
+/// How long the runtime goes on after a command panicked: the console's panic hook ends the
+/// process sooner (see `console::run`), once the stop it asked for has gone out.
+const PANIC_GRACE: std::time::Duration = std::time::Duration::from_secs(1);
+
+async fn run(cli: Cli, arm: Option<String>) -> i32 {
+    match cli.command {
+        Some(Command::Send(args)) => report(armjog::cli::send::run(&args).await),
+        Some(Command::Status(args)) => report(armjog::cli::status::run(&args).await),
+        Some(Command::Modbus(args)) => report(armjog::cli::modbus::run(&args).await),
+        Some(Command::Arms(_)) => report(armjog::cli::arms::run(cli.profile.config.as_deref())),
+        Some(Command::Sim(args)) => armjog::cli::sim::run(&args).await,
+        Some(Command::Guard(args)) => armjog::cli::guard::run(&args).await,
+        Some(Command::Completions(args)) => report(armjog::cli::generate::run_completions(&args)),
+        Some(Command::Man(args)) => report(armjog::cli::generate::run_man(&args)),
+        None => armjog::cli::console::run_console(&cli.console, arm).await,
+    }
 }
 
 /// Which log file(s) this run writes.

@@ -16,8 +16,8 @@ use crate::link::driver::{DriverConfig, OperatorScale};
 use crate::link::guard::GuardPolicy;
 use crate::link::modbus::{self, ModbusConfig};
 use crate::link::talos::{self, TalosConfig};
+use crate::sim::SimConfig;
 use crate::sim::operator::RememberedPosition;
-use crate::sim::{SimConfig, Simulator};
 use crate::talos::Checksum;
 
 /// How key releases are detected.
@@ -189,7 +189,7 @@ pub async fn run_console(args: &ConsoleArgs, arm_name: Option<String>) -> i32 {
     };
     let mut simulator = None;
     let (talos_addr, modbus_addr) = match (&args.talos, &args.modbus) {
-        (None, None) => match Simulator::start(SimConfig {
+        (None, None) => match super::sim_thread::start(SimConfig {
             // The built-in operator runs as an external `armjog sim` would: at its own full
             // speed, which the console scales its Set Speed to.
             max_jog_speed: args.operator_full_speed / 1000.0,

@@ -13,6 +13,7 @@ pub mod output;
 pub mod profiles;
 pub mod send;
 pub mod sim;
+mod sim_thread;
 pub mod status;
 pub mod units;
 pub mod values;

@@ -1,16 +1,18 @@
 //! A START refresh never overtakes a key that has already arrived.
 //!
 //! The refresh is decided on a timer; a release written to the terminal a moment before the
-//! timer fires may still sit unread in the terminal (or in the console's reader thread, see
-//! `input`). When a refresh is due and input is waiting, the event loop takes that input first, for at most
-//! [`INPUT_FIRST`]: a release then stops the arm instead of following a refresh onto the wire.
+//! timer fires may still sit unread in the terminal (or read and not yet taken, see `input`).
+//! When a refresh is due and input is waiting, the event loop takes that input first, for at
+//! most [`INPUT_FIRST`]: a release then stops the arm instead of following a refresh onto the
+//! wire.
 
 use std::time::Duration;
 
 use futures::{Stream, StreamExt};
 
-/// How long a due refresh waits for input that is already readable: ample for the reader thread
-/// to hand it over, and far inside the operator's 500 ms watchdog.
+/// How long a due refresh waits for input that is already readable: ample for it to be read
+/// and decoded (the reader reads it as it is polled), and far inside the operator's 500 ms
+/// watchdog.
 pub const INPUT_FIRST: Duration = Duration::from_millis(20);
 
 /// What the event loop handles when its deadline fires: the next terminal event, when a refresh

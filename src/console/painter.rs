@@ -25,7 +25,9 @@ pub struct Painter {
     /// Whether drawing is still allowed: cleared by the panic hook before it restores the
     /// terminal, so no frame lands on the restored screen.
     allowed: Arc<AtomicBool>,
-    done: Option<std::sync::mpsc::Receiver<()>>,
+    /// Told when the thread ends. In a mutex only so the painter can be shared with the
+    /// runtime's tasks (a receiver is not `Sync`); only `close` takes it.
+    done: Mutex<Option<std::sync::mpsc::Receiver<()>>>,
 }
 
 impl Painter {
@@ -50,7 +52,7 @@ impl Painter {
             Painter {
                 slot,
                 allowed,
-                done: Some(done),
+                done: Mutex::new(Some(done)),
             },
             errors,
         ))
@@ -73,7 +75,8 @@ impl Painter {
             slot.next = None;
             ready.notify_one();
         }
-        if let Some(done) = self.done.take()
+        let done = self.done.get_mut().ok().and_then(Option::take);
+        if let Some(done) = done
             && done.recv_timeout(within).is_err()
         {
             // A terminal that does not take output: stop drawing and go on restoring it.

@@ -145,7 +145,12 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
             .await;
             // The arm is told to stop before waiting for the frame in progress.
             driver.send(ArmCommand::Stop);
-            painter.close(Duration::from_millis(500));
+            // Waited for off this thread: the driver and the links run on it, and carry the
+            // stop meanwhile.
+            let closed = tokio::task::spawn_blocking(move || {
+                painter.close(Duration::from_millis(500));
+            });
+            let _ = closed.await;
             audit.finish(Duration::from_secs(2)).await;
             result
         }
@@ -190,20 +195,34 @@ struct Screen<'a> {
 
 /// On a panic anywhere (the event loop or any task): stop the arm, give the terminal back, report,
 /// and end the process. A console that lost part of itself must not go on driving an arm.
+///
+/// The driver runs on the runtime's one thread, which may be the one panicking: the hook does
+/// not wait there. It asks for the stop, leaves the rest to a thread of its own, and returns,
+/// so the panic ends at its task's edge and the runtime carries the stop while that thread waits.
 fn install_panic_hook(stop: StopHandle, release_events: bool, drawing: Arc<AtomicBool>) {
-    let previous = std::panic::take_hook();
     std::panic::set_hook(Box::new(move |info| {
-        // Stop first: the driver runs on another thread and sends it while this one waits.
         stop.stop();
         // No frame starts after this; one in progress ends within the wait.
         drawing.store(false, Ordering::SeqCst);
-        std::thread::sleep(Duration::from_millis(200));
-        terminal::restore(release_events);
-        tracing::error!("panic: {info}");
-        previous(info);
-        std::process::exit(101);
+        let report = format!("armjog: {info}");
+        let end = move || {
+            std::thread::sleep(PANIC_STOP_WAIT);
+            terminal::restore(release_events);
+            tracing::error!("panic: {report}");
+            eprintln!("{report}");
+            std::process::exit(101);
+        };
+        let started = std::thread::Builder::new()
+            .name("armjog-panic".into())
+            .spawn(end.clone());
+        if started.is_err() {
+            end();
+        }
     }));
 }
+
+/// How long a panic waits for the stop before the terminal is restored and the process ends.
+const PANIC_STOP_WAIT: Duration = Duration::from_millis(200);
 
 async fn event_loop(
     config: AppConfig,
@@ -244,9 +263,8 @@ async fn event_loop(
             _ = sleep_until(deadline) => {
                 // A release already typed goes before a refresh decided without it.
                 let refresh_due = app.jog().refresh_due(Instant::now());
-                // The terminal first, then the reader: bytes the reader takes in between were
-                // flagged before it read them, so input that has arrived is never missed.
-                let arrived = refresh_due && (terminal::input_waiting() || keys.input_arrived());
+                // Read and not yet taken, or readable on the terminal now.
+                let arrived = refresh_due && keys.input_arrived();
                 match input_first::waiting_input(refresh_due, || arrived, &mut keys).await {
                     Some(event) => terminal_event(event),
                     None => Some(Input::Tick),
@@ -271,14 +289,14 @@ async fn event_loop(
         let urgent = !matches!(input, Input::Arm(_) | Input::Tick);
         let now = Instant::now();
         audit.input(&input);
+        let mut sent = Vec::new();
         for effect in app.handle(input, now) {
             match effect {
                 Effect::Arm(command) => {
                     if !driver.send(command.clone()) {
                         app.say("the arm driver has stopped", Severity::Error, now);
                     }
-                    // Recorded once the driver has it: a STOP never waits on the audit.
-                    audit.command(&command, &app);
+                    sent.push(command);
                 }
                 // Written on the writer's thread; the outcome comes back as `save_outcomes`.
                 Effect::SavePositions(positions) => {
@@ -286,6 +304,7 @@ async fn event_loop(
                     book.save(positions);
                 }
                 Effect::Quit => {
+                    record_commands(audit, &sent, &app);
                     // Changes made while the book loads are written once it has loaded.
                     if matches!(app.book_state(), BookState::Loading { .. }) {
                         book.hold_until_loaded(app.positions().clone());
@@ -294,8 +313,21 @@ async fn event_loop(
                 }
             }
         }
+        if !sent.is_empty() {
+            // The driver and the links run on this thread: they write the commands' frames
+            // before anything else this input asks for (the audit wakes its writer thread).
+            tokio::task::yield_now().await;
+            record_commands(audit, &sent, &app);
+        }
         audit.after(&app);
         pacer.changed(urgent, now);
+    }
+}
+
+/// Recorded once the driver has carried them: a STOP never waits on the audit.
+fn record_commands(audit: &mut AuditSession, sent: &[ArmCommand], app: &App) {
+    for command in sent {
+        audit.command(command, app);
     }
 }
 

@@ -45,24 +45,6 @@ pub fn enter(force_release_events: Option<bool>) -> std::io::Result<bool> {
     Ok(supported)
 }
 
-/// Whether key input has arrived that the reader thread (`input`) has not yet taken: bytes
-/// readable on the terminal now. `false` when stdin is not the terminal (the reader then reads /dev/tty,
-/// whose readiness is not asked here) or the question fails.
-pub fn input_waiting() -> bool {
-    use rustix::event::{PollFd, PollFlags, Timespec, poll};
-    use std::io::IsTerminal;
-    let stdin = std::io::stdin();
-    if !stdin.is_terminal() {
-        return false;
-    }
-    let mut fds = [PollFd::new(&stdin, PollFlags::IN)];
-    let now = Timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    matches!(poll(&mut fds, Some(&now)), Ok(n) if n > 0) && fds[0].revents().contains(PollFlags::IN)
-}
-
 /// Gives the terminal back. Safe to call more than once and from the panic hook; errors are
 /// ignored because there is nothing better to do with them on the way out.
 pub fn restore(release_events: bool) {

@@ -16,7 +16,7 @@ const STOP_WITHIN: Duration = Duration::from_millis(500);
 fn terminal() -> (UnixStream, TerminalInput) {
     let (typist, console) = UnixStream::pair().expect("socket pair");
     console.set_nonblocking(true).expect("non-blocking");
-    (typist, TerminalInput::spawn(console).expect("reader"))
+    (typist, TerminalInput::new(console.into()).expect("reader"))
 }
 
 fn is_space(event: &TerminalEvent) -> bool {

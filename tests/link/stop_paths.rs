@@ -121,6 +121,31 @@ async fn the_panic_hooks_stop_handle_sends_the_stop_set() {
     }
 }
 
+/// The console runs on one thread (`main.rs`): its panic hook asks for the stop and returns, the
+/// panic ends at the console task's edge, and the driver, on that same thread, still carries
+/// the stop set (a hook that waited in place would hold the only thread the driver has).
+#[tokio::test(flavor = "current_thread")]
+async fn a_task_panicking_on_the_drivers_thread_still_gets_the_stop_set_out() {
+    for dialect in Dialect::ALL {
+        let (driver, _events, mut op) = driver_up(dialect).await;
+        let console = tokio::spawn(async move {
+            // What the hook calls, before the panic unwinds through the task holding the driver.
+            driver.stop_handle().stop();
+            std::panic::resume_unwind(Box::new("the console's task panicked"));
+        });
+        let ended = console.await;
+        assert!(ended.is_err_and(|e| e.is_panic()), "{dialect}");
+        // The hook's stop, then the driver's exit (its last handle dropped in the unwinding).
+        let frames = frames_after(&mut op).await;
+        let twice: Vec<_> = stop_set(dialect)
+            .into_iter()
+            .cycle()
+            .take(2 * stop_set(dialect).len())
+            .collect();
+        assert_eq!(wire(&frames), twice, "{dialect}");
+    }
+}
+
 #[tokio::test]
 async fn the_drivers_exit_sends_the_stop_set_once() {
     for dialect in Dialect::ALL {

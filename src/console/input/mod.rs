@@ -5,9 +5,9 @@
 //! backlog in the terminal until new bytes make a new edge (the next key press). After a paste
 //! every key then read one more block, and waited behind it. It also keeps a whole bracketed
 //! paste in memory, however large, and an unended one swallows every later key. So the
-//! console reads the terminal itself, on its own file description and thread ([`reader`]:
-//! tokio's `AsyncFd` would need `unsafe` to register the descriptor), decodes keys with a port of crossterm's key parser ([`keys`]) and pastes
-//! with a bounded decoder ([`decoder`]), and drops floods of keys ([`burst`]).
+//! console reads the terminal itself, on its own file description, on the runtime's thread
+//! ([`reader`]), decodes keys with a port of crossterm's key parser ([`keys`]) and pastes with
+//! a bounded decoder ([`decoder`]), and drops floods of keys ([`burst`]).
 
 pub mod burst;
 pub mod decoder;

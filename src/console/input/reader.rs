@@ -1,21 +1,25 @@
-//! The terminal, read by the console itself on a thread of its own: on each wake every readable
-//! byte is read and decoded at once (up to [`READ_BUDGET`]), so a key waits behind nothing that
-//! came before it. The thread hands events to the event loop over a bounded channel: when the
-//! loop falls behind, the thread waits and the terminal holds the rest, never this process.
-//! (tokio's `AsyncFd` would need `unsafe` to register the descriptor.)
+//! The terminal, read by the console itself on the runtime's own thread: on each wake every
+//! readable byte is read and decoded at once (up to [`READ_BUDGET`]), so a key waits behind
+//! nothing that came before it, and is handled (its frame written) by the thread that read it:
+//! no other thread is woken between a key and its frame. The terminal is read only once the
+//! event loop has taken what was read before: when the loop falls behind, the terminal holds
+//! the rest, never this process.
+//!
+//! The descriptor is registered with the runtime's reactor through tokio's pipe receiver, whose
+//! unchecked constructor skips only its is-a-FIFO check: a tty (or a socket, in the tests)
+//! polls and reads the same way. (`AsyncFd` would need `unsafe` to register it.)
 
+use std::collections::VecDeque;
 use std::io;
 use std::os::fd::{AsFd, OwnedFd};
 use std::pin::Pin;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::task::{Context, Poll};
+use std::task::{Context, Poll, ready};
 use std::time::{Duration, Instant};
 
 use crossterm::event::Event;
 use futures::Stream;
 use rustix::event::{PollFd, PollFlags, Timespec};
-use tokio::sync::mpsc;
+use tokio::net::unix::pipe;
 
 use super::burst::{BURST_LIMIT, Burst, Verdict};
 use super::decoder::{Decoded, Decoder, PASTE_LIMIT};
@@ -25,8 +29,6 @@ pub const READ_BUDGET: usize = 1024 * 1024;
 /// A paste or sequence that has begun and gets no more bytes for this long has stalled.
 pub const STALL: Duration = Duration::from_millis(300);
 const READ_SIZE: usize = 64 * 1024;
-/// Events handed over and not yet taken, at most.
-const QUEUE: usize = 1024;
 
 /// What the terminal gave.
 #[derive(Debug, Clone, PartialEq)]
@@ -51,11 +53,15 @@ pub enum Refusal {
 
 /// The terminal's input as a stream of [`TerminalEvent`]s.
 pub struct TerminalInput {
-    events: mpsc::Receiver<io::Result<TerminalEvent>>,
+    fd: pipe::Receiver,
+    reader: Reader,
+    /// Events read and not yet taken: what one wake's reads made.
+    events: VecDeque<io::Result<TerminalEvent>>,
+    /// While a paste or sequence is unfinished: when it has stalled.
+    stall: Option<Pin<Box<tokio::time::Sleep>>>,
     window_changes: Option<tokio::signal::unix::Signal>,
-    /// Set by the thread from the moment the terminal is readable until what it read is
-    /// handed over: input that has arrived but is not yet an event.
-    reading: Arc<AtomicBool>,
+    /// The terminal closed (or failed): the stream ends once `events` is empty.
+    closed: bool,
 }
 
 /// The controlling terminal, opened for reading on its own (non-blocking) file description:
@@ -72,37 +78,79 @@ pub fn open() -> io::Result<TerminalInput> {
     let fd: OwnedFd = rustix::fs::open(path.as_c_str(), flags, Mode::empty())?;
     let window_changes =
         tokio::signal::unix::signal(tokio::signal::unix::SignalKind::window_change())?;
-    let mut input = TerminalInput::spawn(fd)?;
+    let mut input = TerminalInput::new(fd)?;
     input.window_changes = Some(window_changes);
     Ok(input)
 }
 
 impl TerminalInput {
-    /// Reads `fd` (non-blocking) on a new thread until it ends or the stream is dropped.
-    pub fn spawn<F: AsFd + Send + 'static>(fd: F) -> io::Result<TerminalInput> {
-        let (sender, events) = mpsc::channel(QUEUE);
-        let reading = Arc::new(AtomicBool::new(false));
-        let flag = reading.clone();
-        std::thread::Builder::new()
-            .name("terminal input".into())
-            .spawn(move || {
-                let mut reader = Reader::new(sender, flag);
-                if let Err(e) = reader.run(fd) {
-                    let _ = reader.sender.blocking_send(Err(e));
-                }
-            })?;
+    /// Reads `fd` (non-blocking) as the stream is polled, until it ends. Needs the runtime.
+    pub fn new(fd: OwnedFd) -> io::Result<TerminalInput> {
         Ok(TerminalInput {
-            events,
+            fd: pipe::Receiver::from_owned_fd_unchecked(fd)?,
+            reader: Reader::new(),
+            events: VecDeque::new(),
+            stall: None,
             window_changes: None,
-            reading,
+            closed: false,
         })
     }
 
-    /// Whether input has arrived that the event loop has not taken yet: events handed over,
-    /// or bytes the thread is reading and decoding now. (Bytes still unread on the terminal
-    /// are [`crate::console::terminal::input_waiting`]'s to tell.)
+    /// Whether input has arrived that the event loop has not taken yet: events read, or bytes
+    /// readable on the terminal now.
     pub fn input_arrived(&self) -> bool {
-        self.reading.load(Ordering::SeqCst) || !self.events.is_empty()
+        if !self.events.is_empty() {
+            return true;
+        }
+        let now = Timespec {
+            tv_sec: 0,
+            tv_nsec: 0,
+        };
+        let mut fds = [PollFd::new(&self.fd, PollFlags::IN)];
+        matches!(rustix::event::poll(&mut fds, Some(&now)), Ok(n) if n > 0)
+    }
+
+    /// Reads and decodes what the terminal has, once the events read before are taken.
+    fn poll_read(&mut self, cx: &mut Context<'_>) -> Poll<()> {
+        loop {
+            if !self.events.is_empty() || self.closed {
+                return Poll::Ready(());
+            }
+            match self.fd.poll_read_ready(cx) {
+                Poll::Ready(Ok(())) => {
+                    // A read that finds nothing clears the readiness; otherwise it stays, and
+                    // the next poll reads on.
+                    match self.reader.drain(&self.fd, &mut self.events) {
+                        Drained::Empty | Drained::More => {}
+                        Drained::Closed => self.closed = true,
+                        Drained::Failed(e) => {
+                            self.events.push_back(Err(e));
+                            self.closed = true;
+                        }
+                    }
+                    self.stall = self
+                        .reader
+                        .decoder
+                        .waiting()
+                        .then(|| Box::pin(tokio::time::sleep(STALL)));
+                }
+                Poll::Ready(Err(e)) => {
+                    self.events.push_back(Err(e));
+                    self.closed = true;
+                }
+                Poll::Pending => {
+                    let Some(stall) = &mut self.stall else {
+                        return Poll::Pending;
+                    };
+                    ready!(stall.as_mut().poll(cx));
+                    self.stall = None;
+                    let mut decoded = Vec::new();
+                    self.reader.decoder.stalled(&mut decoded);
+                    self.reader
+                        .hand_over(decoded, Verdict::Keys, &mut self.events);
+                }
+            }
+        }
     }
 }
 
@@ -116,105 +164,88 @@ impl Stream for TerminalInput {
         {
             return Poll::Ready(Some(Ok(TerminalEvent::Event(Event::Resize(width, height)))));
         }
-        self.events.poll_recv(cx)
+        ready!(self.poll_read(cx));
+        Poll::Ready(self.events.pop_front())
     }
 }
 
-/// The reading thread's state.
+/// The decoding state.
 struct Reader {
     decoder: Decoder,
     burst: Burst,
     buffer: Box<[u8]>,
-    sender: mpsc::Sender<io::Result<TerminalEvent>>,
-    /// [`TerminalInput::input_arrived`]'s flag.
-    reading: Arc<AtomicBool>,
 }
 
-/// The event loop has gone (or the terminal has closed): the thread ends.
-struct Gone;
+/// What one wake's reads came to.
+enum Drained {
+    /// Everything readable was read.
+    Empty,
+    /// The budget was read, or a read made events before the terminal was found empty: more
+    /// may be readable, and is read at the next poll.
+    More,
+    /// The terminal closed.
+    Closed,
+    Failed(io::Error),
+}
 
 impl Reader {
-    fn new(sender: mpsc::Sender<io::Result<TerminalEvent>>, reading: Arc<AtomicBool>) -> Reader {
+    fn new() -> Reader {
         Reader {
             decoder: Decoder::default(),
             burst: Burst::default(),
             buffer: vec![0; READ_SIZE].into_boxed_slice(),
-            sender,
-            reading,
         }
     }
 
-    fn run(&mut self, fd: impl AsFd) -> io::Result<()> {
-        loop {
-            // Inside a paste or sequence the rest comes at once, or it has stalled.
-            let stall = Timespec {
-                tv_sec: 0,
-                tv_nsec: STALL.as_nanos() as i64,
-            };
-            let timeout = self.decoder.waiting().then_some(&stall);
-            let mut fds = [PollFd::new(&fd, PollFlags::IN)];
-            let handed = match rustix::event::poll(&mut fds, timeout) {
-                Ok(0) => {
-                    let mut decoded = Vec::new();
-                    self.decoder.stalled(&mut decoded);
-                    self.hand_over(decoded, Verdict::Keys)
-                }
-                Ok(_) => {
-                    // Set before the bytes leave the terminal, cleared once they are events.
-                    self.reading.store(true, Ordering::SeqCst);
-                    let drained = self.drain(&fd);
-                    self.reading.store(false, Ordering::SeqCst);
-                    drained?
-                }
-                Err(rustix::io::Errno::INTR) => Ok(()),
-                Err(e) => return Err(e.into()),
-            };
-            if handed.is_err() {
-                return Ok(());
-            }
-        }
-    }
-
-    /// Reads every readable byte (up to the budget), handing over what each read makes: a
-    /// flood is judged, and its keys dropped, a read at a time, so it is never held.
-    fn drain(&mut self, fd: &impl AsFd) -> io::Result<Result<(), Gone>> {
+    /// Reads every readable byte (up to the budget: a read shorter than the buffer took all
+    /// there was), handing over what each read makes: a flood is judged, and its keys dropped,
+    /// a read at a time, so it is never held.
+    fn drain(
+        &mut self,
+        fd: &pipe::Receiver,
+        out: &mut VecDeque<io::Result<TerminalEvent>>,
+    ) -> Drained {
         let mut total = 0;
         while total < READ_BUDGET {
             let mut decoded = Vec::new();
             let key_bytes_before = self.decoder.key_bytes();
-            let closed = match rustix::io::read(fd, &mut self.buffer[..]) {
-                Ok(0) => true,
+            let drained = match fd.try_read(&mut self.buffer[..]) {
+                Ok(0) => Some(Drained::Closed),
                 Ok(read) => {
                     self.decoder.feed(&self.buffer[..read], &mut decoded);
                     total += read;
-                    false
+                    // A key typed goes to the event loop now, not after one more read to
+                    // find the terminal empty (the next poll makes it).
+                    (read < self.buffer.len() && !decoded.is_empty()).then_some(Drained::More)
                 }
-                Err(rustix::io::Errno::INTR) => continue,
-                Err(rustix::io::Errno::AGAIN) => {
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
+                Err(e) if e.kind() == io::ErrorKind::WouldBlock => {
                     self.decoder.end_of_input(&mut decoded);
-                    total = READ_BUDGET;
-                    false
+                    Some(Drained::Empty)
                 }
-                Err(e) => return Err(e.into()),
+                Err(e) => Some(Drained::Failed(e)),
             };
             let key_bytes = self.decoder.key_bytes() - key_bytes_before;
             let verdict = match key_bytes {
                 0 => Verdict::Keys,
                 _ => self.burst.read(key_bytes, Instant::now()),
             };
-            if let Err(gone) = self.hand_over(decoded, verdict) {
-                return Ok(Err(gone));
-            }
-            if closed {
-                return Ok(Err(Gone));
+            self.hand_over(decoded, verdict, out);
+            if let Some(drained) = drained {
+                return drained;
             }
         }
-        Ok(Ok(()))
+        Drained::More
     }
 
-    fn hand_over(&mut self, decoded: Vec<Decoded>, verdict: Verdict) -> Result<(), Gone> {
+    fn hand_over(
+        &mut self,
+        decoded: Vec<Decoded>,
+        verdict: Verdict,
+        out: &mut VecDeque<io::Result<TerminalEvent>>,
+    ) {
         if verdict == Verdict::FloodBegins {
-            self.send(TerminalEvent::Refused(Refusal::Flood))?;
+            out.push_back(Ok(TerminalEvent::Refused(Refusal::Flood)));
         }
         for item in decoded {
             let event = match item {
@@ -229,12 +260,7 @@ impl Reader {
                     })
                 }
             };
-            self.send(event)?;
+            out.push_back(Ok(event));
         }
-        Ok(())
-    }
-
-    fn send(&self, event: TerminalEvent) -> Result<(), Gone> {
-        self.sender.blocking_send(Ok(event)).map_err(|_| Gone)
     }
 }

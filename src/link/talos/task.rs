@@ -7,20 +7,21 @@ use std::collections::{HashMap, VecDeque};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use futures::{SinkExt, StreamExt};
-use tokio::io::{AsyncRead, AsyncWrite, ReadHalf, WriteHalf};
+use futures::StreamExt;
+use tokio::io::{AsyncRead, AsyncWrite, AsyncWriteExt, ReadHalf, WriteHalf};
 use tokio::sync::{Notify, mpsc};
-use tokio_util::codec::{FramedRead, FramedWrite};
+use tokio_util::codec::FramedRead;
 
 use super::motion::MotionSinceStop;
-use super::{
-    Answer, AnswerTx, CommandIds, Exchange, Job, STOP_ACK_INTERVAL, STOP_ACK_TRIES, TalosError,
-    TalosEvent, WRITE_STALL, ack_deadline, is_stop,
-};
+use super::{Answer, AnswerTx, CommandIds, Exchange, Job, TalosError, TalosEvent, WRITE_STALL};
 use crate::net::{FrameReader, io_error_words};
-use crate::talos::ack::{ACK, AckCodec, AckItem};
+use crate::talos::ack::{AckCodec, AckItem};
 use crate::talos::frame::{Decoded, FrameCodec, Rejection, TalosFrame};
-use crate::talos::{Checksum, CommandValue, Dialect, Reply, Request};
+use crate::talos::{Checksum, Dialect, Reply, Request};
+
+mod ack;
+
+use ack::{AckWait, ExpiredAck};
 
 async fn sleep_until(deadline: Option<tokio::time::Instant>) {
     match deadline {
@@ -35,25 +36,6 @@ struct Pending {
     request_bytes: Vec<u8>,
     sent: Instant,
     answer: AnswerTx,
-}
-
-/// Ack dialect: one frame on the wire waiting for its ACK.
-struct AckWait {
-    pending: Pending,
-    /// When the frame is given up (and a STOP sent again).
-    expires: tokio::time::Instant,
-    /// Frames sent for this request so far.
-    tries: u32,
-    /// When the request's first frame went out, for the latency.
-    first_sent: Instant,
-}
-
-/// Ack dialect: a frame whose ACK did not come in time and may still arrive.
-struct ExpiredAck {
-    id: u32,
-    command: CommandValue,
-    /// After this an ACK is no longer taken for this frame's.
-    forget_at: tokio::time::Instant,
 }
 
 /// Why the link ended, and whether its write side may still carry a stop.
@@ -149,7 +131,8 @@ impl LinkTask {
         S: AsyncRead + AsyncWrite + Send + 'static,
     {
         let (read_half, write_half): (ReadHalf<S>, WriteHalf<S>) = tokio::io::split(stream);
-        let mut writer = FramedWrite::new(write_half, FrameCodec::new(self.checksum));
+        // Frames are encoded once, by the task, and their bytes written as they are.
+        let mut writer = write_half;
         let mut reader = match self.dialect {
             Dialect::Icd => Replies::Frames(FrameReader::new(
                 read_half,
@@ -222,14 +205,11 @@ impl LinkTask {
     }
 
     /// Writes the stop set if anything may be moving; the first write that fails ends it.
-    async fn write_stops<W: AsyncWrite + Unpin>(
-        &mut self,
-        writer: &mut FramedWrite<W, FrameCodec>,
-    ) -> Result<(), String> {
+    async fn write_stops<W: AsyncWrite + Unpin>(&mut self, writer: &mut W) -> Result<(), String> {
         for stop in self.motion.owed().to_vec() {
             let id = self.ids.next();
             match stop.to_frame(id) {
-                Ok(frame) => self.write(writer, frame).await?,
+                Ok(frame) => self.write(writer, &self.encode(&frame)?).await?,
                 // The stop set encodes by construction; say so if that ever changes.
                 Err(e) => tracing::error!("cannot encode {}: {e}", stop.command()),
             }
@@ -238,15 +218,27 @@ impl LinkTask {
         Ok(())
     }
 
-    /// Writes one frame, or says why the link must end: a write error, a write that could not
-    /// complete within [`WRITE_STALL`], or a caller that found the queue full meanwhile.
+    /// The frame's bytes, or why the link must end (a payload too long for its length field).
+    fn encode(&self, frame: &TalosFrame) -> Result<Vec<u8>, String> {
+        frame
+            .to_bytes(self.checksum)
+            .map_err(|e| format!("write failed: {e}"))
+    }
+
+    /// Writes one frame's bytes, or says why the link must end: a write error, a write that
+    /// could not complete within [`WRITE_STALL`], or a caller that found the queue full
+    /// meanwhile.
     async fn write<W: AsyncWrite + Unpin>(
         &self,
-        writer: &mut FramedWrite<W, FrameCodec>,
-        frame: TalosFrame,
+        writer: &mut W,
+        bytes: &[u8],
     ) -> Result<(), String> {
+        let written = async {
+            writer.write_all(bytes).await?;
+            writer.flush().await
+        };
         tokio::select! {
-            written = tokio::time::timeout(WRITE_STALL, writer.send(frame)) => match written {
+            written = tokio::time::timeout(WRITE_STALL, written) => match written {
                 Ok(Ok(())) => Ok(()),
                 Ok(Err(e)) => Err(format!("write failed: {}", io_error_words(&e))),
                 Err(_) => Err(format!(
@@ -265,7 +257,7 @@ impl LinkTask {
 
     async fn send<W: AsyncWrite + Unpin>(
         &mut self,
-        writer: &mut FramedWrite<W, FrameCodec>,
+        writer: &mut W,
         job: Job,
     ) -> Result<(), String> {
         let id = job.id;
@@ -277,11 +269,13 @@ impl LinkTask {
                 return Ok(());
             }
         };
-        let request_bytes = frame.to_bytes(self.checksum).unwrap_or_default();
+        // A frame that cannot be encoded ends the link once its request is pending, so its
+        // caller is answered with the link's end.
+        let request_bytes = self.encode(&frame);
         let pending = Pending {
             id,
             request: job.request,
-            request_bytes,
+            request_bytes: request_bytes.clone().unwrap_or_default(),
             sent: Instant::now(),
             answer: job.answer,
         };
@@ -295,95 +289,7 @@ impl LinkTask {
                 self.queue_ack_wait(pending, 1, first_sent);
             }
         }
-        self.write(writer, frame).await
-    }
-
-    fn queue_ack_wait(&mut self, pending: Pending, tries: u32, first_sent: Instant) {
-        let wait = if is_stop(pending.request.command()) {
-            STOP_ACK_INTERVAL
-        } else {
-            self.request_timeout
-        };
-        self.ack_queue.push_back(AckWait {
-            pending,
-            expires: tokio::time::Instant::now() + wait,
-            tries,
-            first_sent,
-        });
-    }
-
-    fn next_ack_expiry(&self) -> Option<tokio::time::Instant> {
-        self.ack_queue.iter().map(|w| w.expires).min()
-    }
-
-    /// Takes frames whose ACK is overdue out of the queue, so later ACKs pair with later
-    /// frames; sends an overdue STOP again while it has tries left, and fails the rest.
-    async fn expire_acks<W: AsyncWrite + Unpin>(
-        &mut self,
-        writer: &mut FramedWrite<W, FrameCodec>,
-    ) -> Result<(), String> {
-        let now = tokio::time::Instant::now();
-        let (overdue, waiting): (VecDeque<AckWait>, VecDeque<AckWait>) =
-            self.ack_queue.drain(..).partition(|w| w.expires <= now);
-        self.ack_queue = waiting;
-        let forget_after = self.request_timeout.max(Duration::from_secs(1));
-        for wait in overdue {
-            let AckWait {
-                pending,
-                tries,
-                first_sent,
-                ..
-            } = wait;
-            let command = pending.request.command();
-            self.expired_acks.push_back(ExpiredAck {
-                id: pending.id,
-                command,
-                forget_at: now + forget_after,
-            });
-            if is_stop(command) && tries < STOP_ACK_TRIES {
-                let id = self.ids.next();
-                tracing::warn!(
-                    "{command} (id {}) not acknowledged within {STOP_ACK_INTERVAL:?}: sending it again as id {id}",
-                    pending.id
-                );
-                self.event(TalosEvent::AckExpired {
-                    id: pending.id,
-                    command,
-                    resent_as: Some(id),
-                });
-                let frame = match pending.request.to_frame(id) {
-                    Ok(frame) => frame,
-                    Err(source) => {
-                        let _ = pending
-                            .answer
-                            .send(Err(TalosError::Encode { command, source }));
-                        continue;
-                    }
-                };
-                let request_bytes = frame.to_bytes(self.checksum).unwrap_or_default();
-                let resent = Pending {
-                    id,
-                    request_bytes,
-                    sent: Instant::now(),
-                    ..pending
-                };
-                self.queue_ack_wait(resent, tries + 1, first_sent);
-                self.write(writer, frame).await?;
-            } else {
-                tracing::warn!("{command} (id {}) not acknowledged in time", pending.id);
-                self.event(TalosEvent::AckExpired {
-                    id: pending.id,
-                    command,
-                    resent_as: None,
-                });
-                let _ = pending.answer.send(Err(TalosError::Timeout {
-                    command,
-                    id: pending.id,
-                    after: ack_deadline(command, self.request_timeout),
-                }));
-            }
-        }
-        Ok(())
+        self.write(writer, &request_bytes?).await
     }
 
     fn on_frame(&mut self, frame: TalosFrame) {
@@ -448,43 +354,6 @@ impl LinkTask {
                 }
             }
             None => self.event(TalosEvent::Rejected(rejection)),
-        }
-    }
-
-    /// Pairs an ACK with the oldest frame still waiting. With none waiting it belongs to a
-    /// frame given up on (reported late), or to nothing (reported unexpected).
-    fn on_ack(&mut self) {
-        let Some(wait) = self.ack_queue.pop_front() else {
-            let now = tokio::time::Instant::now();
-            while self
-                .expired_acks
-                .front()
-                .is_some_and(|e| e.forget_at <= now)
-            {
-                self.expired_acks.pop_front();
-            }
-            match self.expired_acks.pop_front() {
-                Some(late) => self.event(TalosEvent::LateReply {
-                    id: late.id,
-                    command: late.command,
-                }),
-                None => self.event(TalosEvent::UnexpectedAckBytes(ACK.len())),
-            }
-            return;
-        };
-        let pending = wait.pending;
-        let id = pending.id;
-        let exchange = Exchange {
-            id,
-            request: pending.request,
-            answer: Answer::Ack,
-            request_bytes: pending.request_bytes,
-            reply_bytes: ACK.to_vec(),
-            latency: wait.first_sent.elapsed(),
-        };
-        let command = exchange.request.command();
-        if pending.answer.send(Ok(exchange)).is_err() {
-            self.event(TalosEvent::LateReply { id, command });
         }
     }
 

@@ -1,0 +1,61 @@
+//! The console's built-in simulated arm, on a thread and runtime of its own: the console's
+//! runtime carries the key path on one thread, and the simulator's work (its physics, its two
+//! servers' replies) must not run between a key and its frame.
+
+use std::net::SocketAddr;
+
+use tokio::sync::oneshot;
+
+use crate::sim::{SimConfig, Simulator};
+
+/// The running simulator's addresses; dropping it ends the simulator.
+pub struct SimThread {
+    pub talos_addr: SocketAddr,
+    pub modbus_addr: Option<SocketAddr>,
+    /// Dropped with this: the thread's runtime then ends, and the simulator with it.
+    _stop: oneshot::Sender<()>,
+}
+
+type Started = Result<(SocketAddr, Option<SocketAddr>), String>;
+
+/// Starts the simulator on its own thread; returns once it listens (or why it cannot).
+pub async fn start(config: SimConfig) -> Result<SimThread, String> {
+    let (ready_tx, ready) = oneshot::channel::<Started>();
+    let (stop, stopped) = oneshot::channel::<()>();
+    std::thread::Builder::new()
+        .name("armjog-sim".into())
+        .spawn(move || {
+            let runtime = match tokio::runtime::Builder::new_current_thread()
+                .enable_all()
+                .build()
+            {
+                Ok(runtime) => runtime,
+                Err(e) => {
+                    let _ = ready_tx.send(Err(format!("its runtime: {e}")));
+                    return;
+                }
+            };
+            runtime.block_on(async move {
+                match Simulator::start(config).await {
+                    Ok(sim) => {
+                        let _ = ready_tx.send(Ok((sim.talos_addr, sim.modbus_addr)));
+                        // Until the console drops its handle (or ends).
+                        let _ = stopped.await;
+                        drop(sim);
+                    }
+                    Err(e) => {
+                        let _ = ready_tx.send(Err(e.to_string()));
+                    }
+                }
+            });
+        })
+        .map_err(|e| format!("its thread: {e}"))?;
+    let (talos_addr, modbus_addr) = ready
+        .await
+        .map_err(|_| "its thread ended before it listened".to_string())??;
+    Ok(SimThread {
+        talos_addr,
+        modbus_addr,
+        _stop: stop,
+    })
+}
