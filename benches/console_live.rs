@@ -152,9 +152,9 @@ fn cpu_ticks(pid: u32) -> Option<u64> {
     Some(fields.get(11)?.parse::<u64>().ok()? + fields.get(12)?.parse::<u64>().ok()?)
 }
 
-/// CPU time of each of a process's threads so far, ns (`schedstat`: finer than the 10 ms ticks
-/// of `stat`, which make a 10 s window's figure move in steps of 0.1 %), by thread id and name.
-fn thread_ns(pid: u32) -> Vec<(String, String, u64)> {
+/// One counter of each of a process's threads so far, by thread id and name: `read` takes the
+/// thread's `/proc/PID/task/TID` folder.
+fn per_thread(pid: u32, read: fn(&std::path::Path) -> Option<u64>) -> Vec<(String, String, u64)> {
     let Ok(tasks) = std::fs::read_dir(format!("/proc/{pid}/task")) else {
         return Vec::new();
     };
@@ -163,67 +163,42 @@ fn thread_ns(pid: u32) -> Vec<(String, String, u64)> {
         .filter_map(|task| {
             let tid = task.file_name().to_string_lossy().into_owned();
             let name = std::fs::read_to_string(task.path().join("comm")).ok()?;
-            let schedstat = std::fs::read_to_string(task.path().join("schedstat")).ok()?;
-            let ns = schedstat.split_whitespace().next()?.parse::<u64>().ok()?;
-            Some((tid, name.trim().to_string(), ns))
+            Some((tid, name.trim().to_string(), read(&task.path())?))
         })
         .collect();
     threads.sort();
     threads
 }
 
-/// Where a process's CPU went over a window: each thread's share of one core, busiest first.
-fn thread_shares(
+/// CPU time of each thread so far, ns (`schedstat`: finer than the 10 ms ticks of `stat`, which
+/// make a 10 s window's figure move in steps of 0.1 %).
+fn thread_ns(pid: u32) -> Vec<(String, String, u64)> {
+    per_thread(pid, |task| {
+        let schedstat = std::fs::read_to_string(task.join("schedstat")).ok()?;
+        schedstat.split_whitespace().next()?.parse::<u64>().ok()
+    })
+}
+
+/// Each thread's context switches so far (voluntary + involuntary: each one a wake-up).
+fn thread_switches(pid: u32) -> Vec<(String, String, u64)> {
+    per_thread(pid, |task| {
+        let status = std::fs::read_to_string(task.join("status")).ok()?;
+        Some(
+            status
+                .lines()
+                .filter(|l| l.contains("ctxt_switches:"))
+                .filter_map(|l| l.split_whitespace().nth(1)?.parse::<u64>().ok())
+                .sum(),
+        )
+    })
+}
+
+/// How much of each counter a window added, per second, busiest thread first.
+fn rates(
     before: &[(String, String, u64)],
     after: &[(String, String, u64)],
     window: Duration,
 ) -> Vec<(String, f64)> {
-    let mut shares: Vec<(String, f64)> = after
-        .iter()
-        .map(|(tid, name, ns)| {
-            let start = before
-                .iter()
-                .find(|(t, _, _)| t == tid)
-                .map_or(0, |(_, _, b)| *b);
-            let share = (ns - start.min(*ns)) as f64 / 1e9 / window.as_secs_f64() * 100.0;
-            (format!("{name}[{tid}]"), share)
-        })
-        .filter(|(_, share)| *share > 0.0)
-        .collect();
-    shares.sort_by(|a, b| b.1.total_cmp(&a.1));
-    shares
-}
-
-/// Each thread's context switches so far (voluntary + involuntary: each one a wake-up), by
-/// thread id and name.
-fn thread_switches(pid: u32) -> Vec<(String, String, u64)> {
-    let Ok(tasks) = std::fs::read_dir(format!("/proc/{pid}/task")) else {
-        return Vec::new();
-    };
-    let mut threads: Vec<_> = tasks
-        .flatten()
-        .filter_map(|task| {
-            let tid = task.file_name().to_string_lossy().into_owned();
-            let name = std::fs::read_to_string(task.path().join("comm")).ok()?;
-            let status = std::fs::read_to_string(task.path().join("status")).ok()?;
-            let switches: u64 = status
-                .lines()
-                .filter(|l| l.contains("ctxt_switches:"))
-                .filter_map(|l| l.split_whitespace().nth(1)?.parse::<u64>().ok())
-                .sum();
-            Some((tid, name.trim().to_string(), switches))
-        })
-        .collect();
-    threads.sort();
-    threads
-}
-
-/// Wake-ups per second over a window, in all and by thread (busiest first).
-fn wakeups(
-    before: &[(String, String, u64)],
-    after: &[(String, String, u64)],
-    window: Duration,
-) -> (f64, Vec<(String, f64)>) {
     let mut rates: Vec<(String, f64)> = after
         .iter()
         .map(|(tid, name, n)| {
@@ -237,6 +212,30 @@ fn wakeups(
         .filter(|(_, rate)| *rate > 0.0)
         .collect();
     rates.sort_by(|a, b| b.1.total_cmp(&a.1));
+    rates
+}
+
+/// Where a process's CPU went over a window: each thread's share of one core, busiest first.
+fn thread_shares(
+    before: &[(String, String, u64)],
+    after: &[(String, String, u64)],
+    window: Duration,
+) -> Vec<(String, f64)> {
+    let mut shares = rates(before, after, window);
+    // ns per second, as a percentage of one core.
+    for (_, share) in &mut shares {
+        *share /= 1e7;
+    }
+    shares
+}
+
+/// Wake-ups per second over a window, in all and by thread (busiest first).
+fn wakeups(
+    before: &[(String, String, u64)],
+    after: &[(String, String, u64)],
+    window: Duration,
+) -> (f64, Vec<(String, f64)>) {
+    let rates = rates(before, after, window);
     (rates.iter().map(|(_, r)| r).sum(), rates)
 }
 
