@@ -218,6 +218,14 @@ impl App {
         }
     }
 
+    /// Stops the current leg: the tour's message says so, not "go to 'bench' stopped".
+    fn stop_leg(&mut self, effects: &mut Vec<Effect>) {
+        self.truth.forget_action();
+        if !effects.iter().any(is_stop) {
+            effects.push(Effect::Arm(ArmCommand::Stop));
+        }
+    }
+
     fn tour_over(&mut self, text: String, now: Instant) {
         self.tours.end();
         self.say(text, Severity::Warning, now);
@@ -251,8 +259,8 @@ impl App {
         self.latch_jog_key(key, now, effects);
         // A quick stop and quit still do what they do; every other key only stops.
         let own_stop = matches!(action, Some(Action::QuickStop | Action::Quit));
-        if phase != Leg::Waiting && !own_stop && !effects.iter().any(is_stop) {
-            effects.push(Effect::Arm(ArmCommand::Stop));
+        if phase != Leg::Waiting && !own_stop {
+            self.stop_leg(effects);
         }
         self.tour_over(
             format!("{leg}: stopped by a key; play it again to go on"),
@@ -279,8 +287,8 @@ impl App {
             .or_else(|| (!self.fits()).then(|| "terminal too small".to_string()))
             .or_else(|| self.motion_refusal());
         if let Some(why) = why {
-            if phase != Leg::Waiting && !effects.iter().any(is_stop) {
-                effects.push(Effect::Arm(ArmCommand::Stop));
+            if phase != Leg::Waiting {
+                self.stop_leg(effects);
             }
             self.tour_over(format!("{leg} stopped: {why}"), now);
             return;
