@@ -117,4 +117,48 @@ mod tests {
         assert_eq!(book.remove_tour("a").map(|t| t.name), Some("a".into()));
         assert!(book.tour("a").is_none());
     }
+
+    #[test]
+    fn tours_round_trip_through_the_file_and_an_old_book_without_them_loads() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let path = dir.path().join("book.json");
+        let mut book = PositionBook::new();
+        book.get_or_insert("bench").cartesian = Some([4000, 0, 3000]);
+        book.set_tour(tour("rounds", &["bench", "gone"]));
+        book.save(&path).expect("saved");
+        let text = std::fs::read_to_string(&path).expect("read");
+        assert!(text.contains("\"tours\""), "{text}");
+        assert_eq!(PositionBook::load(&path).expect("loaded"), book);
+        // Written before tours: no "tours" key at all.
+        let old = r#"{"format": 1, "positions": {"bench": {"cartesian": [4000, 0, 3000]}}}"#;
+        std::fs::write(&path, old).expect("write");
+        let loaded = PositionBook::load(&path).expect("an old book loads");
+        assert!(loaded.tours().is_empty());
+        assert_eq!(
+            loaded.get("bench").and_then(|e| e.cartesian),
+            Some([4000, 0, 3000])
+        );
+        // And a book without tours writes no "tours" key.
+        loaded.save(&path).expect("saved");
+        let text = std::fs::read_to_string(&path).expect("read");
+        assert!(!text.contains("tours"), "{text}");
+    }
+
+    #[test]
+    fn a_tour_with_a_name_breaking_the_rule_is_dropped_with_a_note() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let path = dir.path().join("book.json");
+        let text = r#"{"format": 1, "positions": {}, "tours": [
+            {"name": "ok", "positions": ["a"]},
+            {"name": "bad", "positions": ["\u202e"]}]}"#;
+        std::fs::write(&path, text).expect("write");
+        let mut book = PositionBook::load(&path).expect("loaded");
+        let names: Vec<&str> = book.tours().iter().map(|t| t.name.as_str()).collect();
+        assert_eq!(names, ["ok"]);
+        let notes = book.take_load_notes();
+        assert_eq!(
+            notes,
+            ["tour 'bad' dropped: a name in it breaks the name rule"]
+        );
+    }
 }

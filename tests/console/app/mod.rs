@@ -19,4 +19,4 @@ mod positions_resave;
 mod positions_unsaved;
 mod singularity;
 mod state_machine;
-mod tours;
+pub(crate) mod tours;

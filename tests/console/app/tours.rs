@@ -63,16 +63,23 @@ fn telemetry(velocity: f32, status: ActionStatus) -> Telemetry {
 
 /// A console over Modbus (`on_operator` false) or a Talos operator with hardware telemetry,
 /// its book holding bench, pick and place and the tour `rounds` of the three.
-struct Bench {
-    app: App,
+pub(crate) struct Bench {
+    pub(crate) app: App,
     now: Instant,
 }
 
 impl Bench {
     fn new(on_operator: bool) -> Bench {
+        Bench::with(on_operator, None, &["bench", "pick", "place"])
+    }
+
+    /// A console as [`Bench::new`], opened as the profile `arm`, whose tour `rounds` visits
+    /// `names` (each saved in the book).
+    pub(crate) fn with(on_operator: bool, arm: Option<&str>, names: &[&str]) -> Bench {
         let config = AppConfig {
             positions_on_operator: on_operator,
             frames: !on_operator,
+            arm_name: arm.map(str::to_string),
             ..app_support::config()
         };
         let mut app = App::new(config, PositionBook::new());
@@ -92,14 +99,14 @@ impl Bench {
         let mut bench = Bench { app, now };
         bench.feed(0.0, ActionStatus::Completed);
         let mut book = PositionBook::new();
-        for (i, name) in ["bench", "pick", "place"].iter().enumerate() {
+        for (i, name) in names.iter().enumerate() {
             let entry = book.get_or_insert(name);
             entry.cartesian = Some([4000 + 100 * i as i32, 1000, 3000]);
             entry.orientation = Some([90.0, 0.0, 90.0]);
         }
         book.set_tour(Tour {
             name: "rounds".into(),
-            positions: vec!["bench".into(), "pick".into(), "place".into()],
+            positions: names.iter().map(|n| n.to_string()).collect(),
         });
         bench
             .app
@@ -145,7 +152,7 @@ impl Bench {
     }
 
     /// Opens the play form (`O` or `N`), takes the tour offered and says yes.
-    fn play(&mut self, key: &str) -> Vec<Effect> {
+    pub(crate) fn play(&mut self, key: &str) -> Vec<Effect> {
         self.press(key);
         assert!(
             matches!(self.app.overlay(), Overlay::Form(_)),
@@ -162,7 +169,7 @@ impl Bench {
     }
 
     /// The arm takes the leg's command, moves and reports it completed at rest.
-    fn finish_leg(&mut self, command: ArmCommand) -> Vec<Effect> {
+    pub(crate) fn finish_leg(&mut self, command: ArmCommand) -> Vec<Effect> {
         self.event(ArmEvent::Done { command });
         self.feed(12.0, ActionStatus::Started);
         self.feed(0.0, ActionStatus::Completed)
@@ -189,7 +196,7 @@ impl Bench {
 }
 
 /// The one motion command in `effects`, which must be a leg's.
-fn leg(effects: &[Effect]) -> ArmCommand {
+pub(crate) fn leg(effects: &[Effect]) -> ArmCommand {
     let legs: Vec<&ArmCommand> = effects
         .iter()
         .filter_map(|e| match e {
