@@ -107,11 +107,15 @@ pub enum Action {
     HistoryCycle,
     Help,
     Quit,
+    // Tours of named positions.
+    MakeTour,
+    PlayTour,
+    TourLeg,
 }
 
 impl Action {
     /// Every action, in the order the help overlay lists them.
-    pub const ALL: [Action; 44] = [
+    pub const ALL: [Action; 47] = [
         Action::JogXPlus,
         Action::JogXMinus,
         Action::JogYPlus,
@@ -156,6 +160,9 @@ impl Action {
         Action::HistoryCycle,
         Action::Help,
         Action::Quit,
+        Action::MakeTour,
+        Action::PlayTour,
+        Action::TourLeg,
     ];
 
     /// The axis and direction of a hold-to-jog action.
@@ -240,6 +247,9 @@ impl Action {
             A::HistoryCycle => "history: plot joint torque or current",
             A::Help => "this help: every key of the keymap",
             A::Quit => "stop the arm and quit",
+            A::MakeTour => "make a tour of the positions (a form)",
+            A::PlayTour => "play a tour straight through (asks first)",
+            A::TourLeg => "play a tour one leg at a time; next leg",
         }
     }
 
@@ -270,6 +280,7 @@ impl Action {
             | A::ShowPosition
             | A::PositionNext
             | A::PositionPrevious => "Named positions",
+            A::MakeTour | A::PlayTour | A::TourLeg => "Tours",
             _ => "Screen",
         }
     }

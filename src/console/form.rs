@@ -16,6 +16,10 @@ pub enum FormKind {
     SetCartesian,
     /// Give a position another name.
     Rename,
+    /// Make (or replace) a tour: its name and its positions in order (see `form/tour.rs`).
+    MakeTour,
+    /// Play a tour, straight through or one leg at a time.
+    PlayTour { one_leg: bool },
 }
 
 /// One text field.
@@ -30,6 +34,10 @@ pub struct Field {
 }
 
 impl Field {
+    fn list(label: &'static str, value: &str) -> Field {
+        Field::text(label, value)
+    }
+
     fn text(label: &'static str, value: &str) -> Field {
         Field {
             label,
@@ -120,6 +128,14 @@ pub enum FormResult {
         from: String,
         to: String,
     },
+    MakeTour {
+        name: String,
+        positions: Vec<String>,
+    },
+    PlayTour {
+        name: String,
+        one_leg: bool,
+    },
 }
 
 impl FormResult {
@@ -130,6 +146,7 @@ impl FormResult {
             | FormResult::SetPolar { name, .. }
             | FormResult::SetCartesian { name, .. } => name,
             FormResult::Rename { to, .. } => to,
+            FormResult::MakeTour { name, .. } | FormResult::PlayTour { name, .. } => name,
         }
     }
 }
@@ -156,6 +173,8 @@ impl Form {
                 Field::text("z mm", ""),
             ],
             FormKind::Rename => vec![Field::name("new name", name)],
+            FormKind::MakeTour => tour::make_fields(name, ""),
+            FormKind::PlayTour { .. } => vec![Field::name("tour", name)],
         };
         Form {
             kind,
@@ -191,6 +210,9 @@ impl Form {
             FormKind::SetPolar => "Set polar position",
             FormKind::SetCartesian => "Set cartesian position",
             FormKind::Rename => "Rename position",
+            FormKind::MakeTour => "Make a tour",
+            FormKind::PlayTour { one_leg: false } => "Play a tour straight through",
+            FormKind::PlayTour { one_leg: true } => "Play a tour one leg at a time",
         }
     }
 
@@ -234,6 +256,8 @@ impl Form {
         }
         let limit = if field.name {
             MAX_NAME_LEN
+        } else if field.label == tour::LEGS_LABEL {
+            tour::LEGS_PASTE_LIMIT
         } else {
             NUMBER_PASTE_LIMIT
         };
@@ -278,8 +302,11 @@ impl Form {
 mod confirm;
 /// What a submitted form means, or the field that is wrong and why.
 mod parse;
+/// The tour forms: making one, playing one.
+mod tour;
 
 pub use confirm::Confirm;
+pub use tour::TourQuestion;
 
 #[cfg(test)]
 mod tests {

@@ -12,8 +12,10 @@ mod file;
 mod names;
 #[cfg(test)]
 mod tests;
+mod tours;
 
 pub use file::{BookError, book_key, default_path};
+pub use tours::Tour;
 
 use std::sync::Arc;
 
@@ -105,6 +107,9 @@ pub struct PositionBook {
     /// What loading the file repaired (names breaking the rule), for the console to tell.
     #[serde(skip)]
     load_notes: Vec<String>,
+    /// Ordered lists of positions to visit (see `tours`); absent from older books.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    tours: Vec<Tour>,
 }
 impl PositionBook {
     pub fn new() -> Self {
@@ -112,6 +117,7 @@ impl PositionBook {
             format: FORMAT,
             positions: Arc::new(Vec::new()),
             load_notes: Vec::new(),
+            tours: Vec::new(),
         }
     }
 
@@ -204,11 +210,13 @@ impl PositionBook {
                     .collect(),
             ),
             load_notes: Vec::new(),
+            tours: Vec::new(),
         }
     }
 
-    /// Adds every entry of `other` to this book, replacing those of the same name.
+    /// Adds every entry and tour of `other` to this book, replacing those of the same name.
     pub fn merge(&mut self, other: &PositionBook) {
+        self.merge_tours(other);
         if other.is_empty() {
             return;
         }

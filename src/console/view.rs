@@ -6,7 +6,7 @@
 //! selection, the newest log lines), so building it costs the same whatever the book's or the
 //! log's size. A new panel value is written in its part's view and drawn in its panel.
 
-use super::app::{App, ArmView, BookView, KeysView, ScreenView, SessionView, TruthView};
+use super::app::{App, ArmView, BookView, KeysView, ScreenView, SessionView, TourView, TruthView};
 
 /// Everything the panels draw. Compared with the last one drawn to skip a frame that would
 /// show the same (see [`super::pacing`]): every field must take part in `PartialEq`.
@@ -24,6 +24,8 @@ pub struct View {
     pub book: BookView,
     /// The overlay, the bottom line, the newest log lines, the size.
     pub screen: ScreenView,
+    /// The tour being played: `TOUR 2/5 → bench`.
+    pub tour: Option<TourView>,
 }
 
 impl View {

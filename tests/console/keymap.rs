@@ -273,7 +273,7 @@ fn unknown_action_is_refused_at_the_action() {
     assert!(
         refused(text)
             .message()
-            .ends_with("toggle_hex, history_cycle, help, quit)")
+            .ends_with("help, quit, make_tour, play_tour, tour_leg)")
     );
 }
 

@@ -26,6 +26,7 @@ impl App {
             truth: self.truth_view(),
             book: self.book.view(rows),
             screen: self.screen.view(rows),
+            tour: self.tours.view(),
         }
     }
 

@@ -54,6 +54,13 @@ impl App {
         now: Instant,
         effects: &mut Vec<Effect>,
     ) {
+        if matches!(
+            result,
+            FormResult::MakeTour { .. } | FormResult::PlayTour { .. }
+        ) {
+            self.tour_form_submitted(result, form, now, effects);
+            return;
+        }
         if self.book.positions().get(result.name()).is_some() {
             self.screen.show(Overlay::Confirm(Confirm::Overwrite {
                 result,

@@ -60,6 +60,9 @@ impl App {
         if self.screen.question_open() && self.question_refuses(&key, burst, now, effects) {
             return;
         }
+        if self.tour_key(&key, now, effects) {
+            return;
+        }
         let overlay_before = std::mem::discriminant(self.screen.overlay());
         self.dispatch_key(key.clone(), now, effects);
         if key.kind == KeyKind::Press
@@ -300,6 +303,7 @@ impl App {
             A::HistoryCycle => self.arm.on_history_cycle(),
             A::Help => self.open_help(),
             A::Quit => self.ask_quit(now, effects),
+            A::MakeTour | A::PlayTour | A::TourLeg => self.on_tour_action(action, now),
             // Jog actions are handled before this.
             _ => {}
         }

@@ -33,6 +33,7 @@ mod saving;
 mod singularity;
 mod speed_steps;
 mod stop_hold;
+mod tour;
 mod trail;
 
 pub use age::age_text;
@@ -55,7 +56,7 @@ pub use other_client::{
     CONTRADICTED_FOR, OTHER_CLIENT_GRACE, OTHER_CLIENT_SAMPLES, OTHER_MOTION_JOINT_DEG_S,
     OTHER_MOTION_M_S, OtherClients, REFRESH_SAMPLES, REFRESH_WAIT,
 };
-pub use parts::{ArmView, BookView, KeysView, ScreenView};
+pub use parts::{ArmView, BookView, KeysView, ScreenView, TourView};
 pub use paste::Pasted;
 pub use question::{BURST_KEY_GAP, QUESTION_QUIET};
 pub use resave::RESAVE_GO_WITHIN;
@@ -221,6 +222,8 @@ pub struct App {
     truth: MotionTruth,
     /// What is drawn over the panels and on the bottom line, and the terminal's size.
     screen: parts::Screen,
+    /// The tour being played, if one is.
+    tours: parts::Tours,
     quitting: bool,
     /// The latest input's `now`: the panels draw ages against it.
     now: Option<Instant>,
@@ -236,6 +239,7 @@ impl App {
             arm: parts::Arm::default(),
             truth: MotionTruth::default(),
             screen: parts::Screen::default(),
+            tours: parts::Tours::default(),
             quitting: false,
             now: None,
         }
@@ -268,6 +272,7 @@ impl App {
         self.now = Some(now);
         let goto = self.goto_in_question();
         self.resave_watch(&input);
+        let interrupted = tour::interruption(&input);
         let mut effects = Vec::new();
         match input {
             Input::Key(key) => self.on_key(key, now, &mut effects),
@@ -299,7 +304,10 @@ impl App {
             Input::PositionsSaved(outcome) => self.on_positions_saved(outcome, now),
             Input::Paste(pasted) => self.on_paste(pasted, now, &mut effects),
         }
+        self.tour_before_truth(interrupted, now, &mut effects);
+        let goto = goto.or_else(|| self.tour_leg_starting());
         self.truth_after(goto, now, &mut effects);
+        self.tour_after_truth(now);
         self.hold_saves_until_loaded(now, &mut effects);
         self.count_saves(&effects);
         self.settle_messages(now);

@@ -32,29 +32,20 @@ impl App {
 
     pub(super) fn confirmed(&mut self, confirm: Confirm, now: Instant, effects: &mut Vec<Effect>) {
         // The arm may have faulted (or the link gone) while the question was open.
-        if matches!(confirm, Confirm::Home | Confirm::GoTo(_)) && self.refuse_motion(now) {
+        if matches!(confirm, Confirm::Home | Confirm::GoTo(_) | Confirm::Tour(_))
+            && self.refuse_motion(now)
+        {
             return;
         }
         match confirm {
             Confirm::Home => effects.push(Effect::Arm(ArmCommand::Home)),
             Confirm::Resave(name) => self.resave_confirmed(name, now, effects),
             Confirm::GoTo(name) => {
-                if self.config.positions_on_operator {
-                    self.going_to(&name);
-                    effects.push(Effect::Arm(ArmCommand::GoToPosition { name }));
-                } else {
-                    match (self.go_to_refusal(&name), self.stored_pose(&name)) {
-                        (None, Some(pose)) => {
-                            effects.push(Effect::Arm(ArmCommand::MoveToPose(pose)))
-                        }
-                        (refusal, _) => self.say(
-                            refusal.unwrap_or_else(|| format!("no position '{name}' is stored")),
-                            Severity::Warning,
-                            now,
-                        ),
-                    }
+                if let Err(why) = self.go_to(name, effects) {
+                    self.say(why, Severity::Warning, now);
                 }
             }
+            Confirm::Tour(question) => self.tour_confirmed(question, now, effects),
             Confirm::Delete(name) => {
                 if self.config.positions_on_operator {
                     effects.push(Effect::Arm(ArmCommand::DeletePosition { name }));
@@ -64,6 +55,26 @@ impl App {
             }
             Confirm::Overwrite { result, .. } => self.form_done(result, now, effects),
             Confirm::QuitUnsaved { .. } => self.quit(now, effects),
+        }
+    }
+
+    /// The one go-to path (a single go-to and each leg of a tour): a Go To to the operator that
+    /// keeps the positions, or a cartesian move to the pose the book stores. `Err` says why
+    /// nothing was sent.
+    pub(super) fn go_to(&mut self, name: String, effects: &mut Vec<Effect>) -> Result<(), String> {
+        if self.config.positions_on_operator {
+            self.going_to(&name);
+            effects.push(Effect::Arm(ArmCommand::GoToPosition { name }));
+            return Ok(());
+        }
+        match (self.go_to_refusal(&name), self.stored_pose(&name)) {
+            (None, Some(pose)) => {
+                effects.push(Effect::Arm(ArmCommand::MoveToPose(pose)));
+                Ok(())
+            }
+            (refusal, _) => {
+                Err(refusal.unwrap_or_else(|| format!("no position '{name}' is stored")))
+            }
         }
     }
 
@@ -121,7 +132,9 @@ impl App {
                 FormResult::SetCartesian { name, x, y, z } => {
                     ArmCommand::SetCartesianPosition { name, x, y, z }
                 }
-                FormResult::Rename { .. } => return,
+                FormResult::Rename { .. }
+                | FormResult::MakeTour { .. }
+                | FormResult::PlayTour { .. } => return,
             };
             effects.push(Effect::Arm(command));
             return;
@@ -146,7 +159,9 @@ impl App {
             FormResult::SetCartesian { name, x, y, z } => {
                 (name, PoseNow::place([x, y, z]), false, None)
             }
-            FormResult::Rename { .. } => return,
+            FormResult::Rename { .. }
+            | FormResult::MakeTour { .. }
+            | FormResult::PlayTour { .. } => return,
             FormResult::SetPolar {
                 name,
                 delta,

@@ -29,6 +29,8 @@ pub struct SessionView {
     pub can_turn: bool,
     /// Going to a saved position can work on this link (the footer offers it).
     pub can_go_to: bool,
+    /// The arm profile the console was opened with (`--arm cell3`).
+    pub arm_name: Option<String>,
 }
 
 impl App {
@@ -45,6 +47,7 @@ impl App {
             can_save: self.can_save_position(),
             can_turn: self.can_turn(),
             can_go_to: self.can_go_to(),
+            arm_name: config.arm_name.clone(),
         }
     }
 

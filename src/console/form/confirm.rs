@@ -1,6 +1,6 @@
 //! The yes/no questions the console asks before it moves the arm, deletes, replaces or quits.
 
-use super::{Form, FormResult};
+use super::{Form, FormResult, TourQuestion};
 
 /// What a yes/no question is about.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -19,6 +19,8 @@ pub enum Confirm {
     QuitUnsaved {
         count: usize,
     },
+    /// Play a tour: it names the tour and its legs.
+    Tour(TourQuestion),
 }
 
 impl Confirm {
@@ -36,6 +38,7 @@ impl Confirm {
                 "{count} changed position(s) could not be saved: quit anyway? The book is \
                  written once more as the console quits"
             ),
+            Confirm::Tour(tour) => tour.question(),
         }
     }
 

@@ -47,6 +47,11 @@ impl Form {
                 y: tenths(self, 2, -2000.0, 2000.0)?,
                 z: tenths(self, 3, -2000.0, 2000.0)?,
             }),
+            FormKind::MakeTour => Ok(FormResult::MakeTour {
+                name,
+                positions: self.tour_legs()?,
+            }),
+            FormKind::PlayTour { one_leg } => Ok(FormResult::PlayTour { name, one_leg }),
             FormKind::Rename => {
                 let from = self.original.clone().unwrap_or_default();
                 if from == name {

@@ -123,6 +123,7 @@ impl PositionBook {
             });
         }
         book.repair_names();
+        book.repair_tours();
         Ok(book)
     }
 

@@ -63,6 +63,37 @@ fn guard_spans(view: &View, theme: &Theme) -> Vec<Span<'static>> {
     }
 }
 
+/// The arm profile's name (`--arm cell3`), before the link: which cell the keys move.
+fn arm_name_spans(view: &View) -> Vec<Span<'static>> {
+    const ARM_NAME_WIDTH: usize = 16;
+    match &view.session.arm_name {
+        Some(name) => {
+            let shown = crate::text::shown(name);
+            vec![Span::raw(format!(
+                " arm {} ",
+                numbers::elide(&shown, ARM_NAME_WIDTH)
+            ))]
+        }
+        None => Vec::new(),
+    }
+}
+
+/// The tour being played, after the motion: `TOUR 2/5 → bench`, or `TOUR 2/5 at bench: next
+/// leg` when one leg at a time waits for its key; narrow, `TOUR 2/5`.
+fn tour_spans(view: &View, theme: &Theme, cut: Cut) -> Vec<Span<'static>> {
+    let Some(tour) = &view.tour else {
+        return Vec::new();
+    };
+    let count = format!("TOUR {}/{}", tour.leg, tour.legs);
+    let to = crate::text::shown(&tour.to);
+    let text = match (cut.words, tour.waiting) {
+        (false, _) => format!(" {count} "),
+        (true, false) => format!(" {count} → {to} "),
+        (true, true) => format!(" {count} at {to}: next leg "),
+    };
+    vec![Span::styled(text, theme.accent())]
+}
+
 /// The speed in force and the tool speed cap it puts in force (percent of the cap), e.g.
 /// `50% (≤125 mm/s)`; where no telemetry lets the console watch the cap, it says so:
 /// `50% (≤125 mm/s, cap not watched)`.
@@ -141,6 +172,7 @@ fn link_line(view: &View, theme: &Theme, width: usize) -> Line<'static> {
     // Which arm the keys move comes first of all: a demo must never pass for a real cell.
     let mut badges = simulated_spans(view, theme);
     badges.extend(guard_spans(view, theme));
+    badges.extend(arm_name_spans(view));
     let (detail, detail_style, latency) = match &view.arm.link {
         LinkStatus::Up { description } => {
             // A link that went silent is not shown as healthy.
@@ -306,6 +338,7 @@ fn motion_spans(view: &View, theme: &Theme, cut: Cut) -> Vec<Span<'static>> {
     if let Some(why) = reason.filter(|_| cut.reason) {
         spans.push(Span::styled(format!("({why}) "), theme.warning()));
     }
+    spans.extend(tour_spans(view, theme, cut));
     let separator = if cut.words { " | " } else { " " };
     // A joint near its limit or a singularity, after the motion: the next jog may be the one
     // that stops on it or turns a joint fast for little tool motion.

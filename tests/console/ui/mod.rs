@@ -10,3 +10,4 @@ mod nonsense;
 mod panels;
 mod screen_sizes;
 mod simulated_arm;
+mod tours;

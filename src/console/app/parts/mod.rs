@@ -8,6 +8,7 @@ mod arm;
 mod book;
 mod keys;
 mod screen;
+mod tour;
 
 pub(super) use arm::Arm;
 pub use arm::ArmView;
@@ -17,3 +18,5 @@ pub(super) use keys::Keys;
 pub use keys::KeysView;
 pub(super) use screen::Screen;
 pub use screen::ScreenView;
+pub use tour::TourView;
+pub(super) use tour::{Leg, Tours};

@@ -1,0 +1,453 @@
+//! Tours of named positions in the state machine, on a fake clock: made from the positions
+//! list and checked against the book, confirmed once, played one leg at a time or straight
+//! through on the go-to path, each next leg only after the last one's end at rest, and over on
+//! any key, a failed leg, a stale or lost link, with nothing resumed after a reconnect.
+
+use std::time::{Duration, Instant};
+
+use armjog::console::app::{
+    App, AppConfig, Effect, Input, KeyInput, MotionShown, Overlay, QUESTION_QUIET, STALE_AFTER,
+};
+use armjog::console::form::Confirm;
+use armjog::console::jog::KeyKind;
+use armjog::console::keymap::KeyName;
+use armjog::console::positions::{PositionBook, Tour};
+use armjog::kortex::{
+    ActionState, ActionStatus, Coded, FlagSet, JointState, MoveType, Pose, RobotState, SpeedLimits,
+    Telemetry, ToolState, Twist, Wrench,
+};
+use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus, TelemetrySource};
+
+use crate::app_support;
+
+const STOP: Effect = Effect::Arm(ArmCommand::Stop);
+const HOME: [f32; 7] = [0.0, 15.0, 180.0, 230.0, 0.0, 55.0, 90.0];
+
+fn ms(n: u64) -> Duration {
+    Duration::from_millis(n)
+}
+
+fn telemetry(velocity: f32, status: ActionStatus) -> Telemetry {
+    Telemetry {
+        robot_state: Coded::Known(RobotState::Ready),
+        faults: FlagSet::from_bits(0),
+        warnings: FlagSet::from_bits(0),
+        arm: Default::default(),
+        joints: HOME.map(|position| JointState {
+            position,
+            velocity,
+            ..JointState::default()
+        }),
+        tcp: ToolState {
+            pose: Pose {
+                x: 0.4566,
+                y: 0.001,
+                z: 0.4338,
+                theta_x: 90.0,
+                theta_y: 0.0,
+                theta_z: 90.0,
+            },
+            twist: Twist::ZERO,
+            wrench: Wrench::default(),
+        },
+        action: ActionState {
+            status: Coded::Known(status),
+            id: 0,
+            move_type: Coded::Known(MoveType::Action),
+        },
+        speed_limits: SpeedLimits::default(),
+        control: Coded::Unknown(u16::MAX),
+        state_from_inputs: None,
+    }
+}
+
+/// A console over Modbus (`on_operator` false) or a Talos operator with hardware telemetry,
+/// its book holding bench, pick and place and the tour `rounds` of the three.
+pub(crate) struct Bench {
+    pub(crate) app: App,
+    now: Instant,
+}
+
+impl Bench {
+    fn new(on_operator: bool) -> Bench {
+        Bench::with(on_operator, None, &["bench", "pick", "place"])
+    }
+
+    /// A console as [`Bench::new`], opened as the profile `arm`, whose tour `rounds` visits
+    /// `names` (each saved in the book).
+    pub(crate) fn with(on_operator: bool, arm: Option<&str>, names: &[&str]) -> Bench {
+        let config = AppConfig {
+            positions_on_operator: on_operator,
+            frames: !on_operator,
+            arm_name: arm.map(str::to_string),
+            ..app_support::config()
+        };
+        let mut app = App::new(config, PositionBook::new());
+        let now = Instant::now();
+        let source = if on_operator {
+            TelemetrySource::TalosHardware
+        } else {
+            TelemetrySource::Modbus
+        };
+        app.handle(Input::Arm(ArmEvent::TelemetrySource(source)), now);
+        app.handle(
+            Input::Arm(ArmEvent::Status(LinkStatus::Up {
+                description: "test".into(),
+            })),
+            now,
+        );
+        let mut bench = Bench { app, now };
+        bench.feed(0.0, ActionStatus::Completed);
+        let mut book = PositionBook::new();
+        for (i, name) in names.iter().enumerate() {
+            let entry = book.get_or_insert(name);
+            entry.cartesian = Some([4000 + 100 * i as i32, 1000, 3000]);
+            entry.orientation = Some([90.0, 0.0, 90.0]);
+        }
+        book.set_tour(Tour {
+            name: "rounds".into(),
+            positions: names.iter().map(|n| n.to_string()).collect(),
+        });
+        bench
+            .app
+            .handle(Input::PositionsLoaded(Ok(book)), bench.now);
+        bench
+    }
+
+    fn at(&mut self, after: Duration) -> Instant {
+        self.now += after;
+        self.now
+    }
+
+    fn press(&mut self, name: &str) -> Vec<Effect> {
+        let now = self.at(ms(20));
+        let key: KeyName = name.parse().expect("key name");
+        let text = name.chars().next().filter(|_| name.chars().count() == 1);
+        self.app.handle(
+            Input::Key(KeyInput {
+                key,
+                text,
+                kind: KeyKind::Press,
+            }),
+            now,
+        )
+    }
+
+    fn type_text(&mut self, text: &str) {
+        for c in text.chars() {
+            self.press(&c.to_string());
+        }
+    }
+
+    fn feed(&mut self, velocity: f32, status: ActionStatus) -> Vec<Effect> {
+        let now = self.at(ms(100));
+        let t = telemetry(velocity, status);
+        self.app
+            .handle(Input::Arm(ArmEvent::Telemetry(Box::new(t))), now)
+    }
+
+    fn event(&mut self, event: ArmEvent) -> Vec<Effect> {
+        let now = self.at(ms(5));
+        self.app.handle(Input::Arm(event), now)
+    }
+
+    /// Opens the play form (`O` or `N`), takes the tour offered and says yes.
+    pub(crate) fn play(&mut self, key: &str) -> Vec<Effect> {
+        self.press(key);
+        assert!(
+            matches!(self.app.overlay(), Overlay::Form(_)),
+            "{:?}",
+            self.app.overlay()
+        );
+        self.press("enter");
+        assert!(matches!(
+            self.app.overlay(),
+            Overlay::Confirm(Confirm::Tour(_))
+        ));
+        self.at(QUESTION_QUIET);
+        self.press("y")
+    }
+
+    /// The arm takes the leg's command, moves and reports it completed at rest.
+    pub(crate) fn finish_leg(&mut self, command: ArmCommand) -> Vec<Effect> {
+        self.event(ArmEvent::Done { command });
+        self.feed(12.0, ActionStatus::Started);
+        self.feed(0.0, ActionStatus::Completed)
+    }
+
+    fn message(&self) -> String {
+        self.app
+            .message()
+            .map(|(text, _)| text.to_string())
+            .unwrap_or_default()
+    }
+
+    fn tour_label(&self) -> Option<String> {
+        self.app.view().tour.map(|t| {
+            format!(
+                "TOUR {}/{} → {}{}",
+                t.leg,
+                t.legs,
+                t.to,
+                if t.waiting { " (waiting)" } else { "" }
+            )
+        })
+    }
+}
+
+/// The one motion command in `effects`, which must be a leg's.
+pub(crate) fn leg(effects: &[Effect]) -> ArmCommand {
+    let legs: Vec<&ArmCommand> = effects
+        .iter()
+        .filter_map(|e| match e {
+            Effect::Arm(c @ (ArmCommand::MoveToPose(_) | ArmCommand::GoToPosition { .. })) => {
+                Some(c)
+            }
+            _ => None,
+        })
+        .collect();
+    match legs.as_slice() {
+        [one] => (*one).clone(),
+        other => panic!("expected one leg's command, got {other:?} in {effects:?}"),
+    }
+}
+
+fn no_motion(effects: &[Effect]) -> bool {
+    !effects
+        .iter()
+        .any(|e| matches!(e, Effect::Arm(c) if c.starts_motion()))
+}
+
+fn pose_x(command: &ArmCommand) -> f32 {
+    match command {
+        ArmCommand::MoveToPose(pose) => pose.x,
+        other => panic!("not a move to pose: {other:?}"),
+    }
+}
+
+#[test]
+fn a_tour_is_made_from_the_list_in_order_and_an_unknown_name_is_refused_by_name() {
+    let mut b = Bench::new(false);
+    b.press("M");
+    let Overlay::Form(form) = b.app.overlay().clone() else {
+        panic!("no form: {:?}", b.app.overlay());
+    };
+    assert_eq!(
+        form.fields[1].value, "bench, pick, place",
+        "the list, in order"
+    );
+    b.type_text("loop");
+    b.press("tab");
+    for _ in 0..30 {
+        b.press("backspace");
+    }
+    b.type_text("place,nowhere,bench");
+    let effects = b.press("enter");
+    assert!(effects.is_empty(), "nothing saved: {effects:?}");
+    let Overlay::Form(form) = b.app.overlay().clone() else {
+        panic!("the form closed on an unknown name");
+    };
+    assert_eq!(
+        form.error.as_deref(),
+        Some("position 2 'nowhere' is not in the book")
+    );
+    for _ in 0..13 {
+        b.press("backspace");
+    }
+    b.type_text("pick");
+    let effects = b.press("enter");
+    let saved = effects.iter().find_map(|e| match e {
+        Effect::SavePositions(book) => Some(book.clone()),
+        _ => None,
+    });
+    let saved = saved.expect("the book is written");
+    assert_eq!(
+        saved.tour("loop").map(|t| t.positions.clone()),
+        Some(vec!["place".to_string(), "pick".to_string()])
+    );
+    assert_eq!(b.app.overlay(), &Overlay::None);
+    assert_eq!(b.message(), "tour 'loop' saved: 2 leg(s)");
+}
+
+#[test]
+fn straight_through_over_modbus_each_leg_starts_only_after_the_last_ended_at_rest() {
+    let mut b = Bench::new(false);
+    b.press("O");
+    b.press("enter");
+    let Overlay::Confirm(question) = b.app.overlay().clone() else {
+        panic!("no question");
+    };
+    assert_eq!(
+        question.question(),
+        "Play tour 'rounds' straight through, 3 legs: bench → pick → place?"
+    );
+    // The question guard: a key typed as it opens answers nothing.
+    let early = b.press("y");
+    assert!(no_motion(&early), "{early:?}");
+    assert!(matches!(b.app.overlay(), Overlay::Confirm(_)));
+    b.at(QUESTION_QUIET);
+    let first = leg(&b.press("y"));
+    assert_eq!(pose_x(&first), 0.4);
+    assert_eq!(b.tour_label().as_deref(), Some("TOUR 1/3 → bench"));
+    assert_eq!(
+        b.app.motion_shown(),
+        MotionShown::Action {
+            label: "GOTO bench".into(),
+            confirmed: true
+        }
+    );
+    // Moving, and not yet at rest: no second leg.
+    b.event(ArmEvent::Done {
+        command: first.clone(),
+    });
+    assert!(no_motion(&b.feed(12.0, ActionStatus::Started)));
+    let second = leg(&b.feed(0.0, ActionStatus::Completed));
+    assert!((pose_x(&second) - 0.41).abs() < 1e-6);
+    assert_eq!(b.tour_label().as_deref(), Some("TOUR 2/3 → pick"));
+    let third = leg(&b.finish_leg(second));
+    assert_eq!(b.tour_label().as_deref(), Some("TOUR 3/3 → place"));
+    let end = b.finish_leg(third);
+    assert!(no_motion(&end), "{end:?}");
+    assert_eq!(b.tour_label(), None);
+    assert_eq!(b.message(), "tour 'rounds' leg 3/3 → place: tour done");
+    assert!(no_motion(&b.feed(0.0, ActionStatus::Completed)));
+}
+
+#[test]
+fn one_leg_at_a_time_waits_for_the_next_leg_key_and_any_other_key_ends_it() {
+    let mut b = Bench::new(false);
+    let first = leg(&b.play("N"));
+    let waiting = b.finish_leg(first);
+    assert!(no_motion(&waiting), "nothing starts by itself: {waiting:?}");
+    assert_eq!(
+        b.tour_label().as_deref(),
+        Some("TOUR 1/3 → bench (waiting)")
+    );
+    assert!(no_motion(&b.feed(0.0, ActionStatus::Completed)));
+    let second = leg(&b.press("N"));
+    assert!((pose_x(&second) - 0.41).abs() < 1e-6);
+    assert_eq!(b.tour_label().as_deref(), Some("TOUR 2/3 → pick"));
+    b.finish_leg(second);
+    // Waiting for leg 3: another key ends the tour, with no STOP needed (nothing moves).
+    let effects = b.press("v");
+    assert!(no_motion(&effects));
+    assert_eq!(b.tour_label(), None);
+    assert!(b.message().contains("leg 2/3 → pick"), "{}", b.message());
+    // The next-leg key now asks which tour to play: it does not go on.
+    let effects = b.press("N");
+    assert!(no_motion(&effects));
+    assert!(matches!(b.app.overlay(), Overlay::Form(_)));
+}
+
+#[test]
+fn any_key_mid_leg_stops_the_arm_and_ends_the_tour_naming_the_leg() {
+    for key in ["v", "space", "w"] {
+        let mut b = Bench::new(false);
+        let first = leg(&b.play("O"));
+        let second = leg(&b.finish_leg(first));
+        b.event(ArmEvent::Done { command: second });
+        b.feed(12.0, ActionStatus::Started);
+        let effects = b.press(key);
+        assert_eq!(effects, [STOP], "{key}");
+        assert_eq!(b.tour_label(), None, "{key}");
+        assert_eq!(
+            b.message(),
+            "tour 'rounds' leg 2/3 → pick: stopped by a key; play it again to go on",
+            "{key}"
+        );
+        // The arm stops at rest: no third leg.
+        assert!(no_motion(&b.feed(0.0, ActionStatus::Completed)), "{key}");
+        assert!(no_motion(&b.feed(0.0, ActionStatus::Completed)), "{key}");
+    }
+}
+
+#[test]
+fn a_failed_leg_ends_the_tour_with_its_reason_and_the_leg() {
+    let mut b = Bench::new(false);
+    let first = leg(&b.play("O"));
+    b.event(ArmEvent::Done { command: first });
+    b.feed(12.0, ActionStatus::Started);
+    let effects = b.feed(0.0, ActionStatus::Aborted);
+    assert!(effects.contains(&STOP), "{effects:?}");
+    assert!(no_motion(&effects), "{effects:?}");
+    assert_eq!(b.tour_label(), None);
+    let said = b.message();
+    assert!(
+        said.starts_with("tour 'rounds' leg 1/3 → bench ended the tour: go to 'bench' failed"),
+        "{said}"
+    );
+}
+
+#[test]
+fn a_stale_link_mid_tour_stops_it_and_nothing_resumes_when_the_arm_is_heard_again() {
+    let mut b = Bench::new(false);
+    let first = leg(&b.play("O"));
+    b.event(ArmEvent::Done { command: first });
+    b.feed(12.0, ActionStatus::Started);
+    // Three of its (slow, here) poll intervals, at least STALE_AFTER.
+    let now = b.at(STALE_AFTER * 4);
+    let effects = b.app.handle(Input::Tick, now);
+    assert_eq!(effects, [STOP]);
+    assert_eq!(b.tour_label(), None);
+    assert!(b.message().contains("leg 1/3 → bench"), "{}", b.message());
+    assert!(no_motion(&b.feed(0.0, ActionStatus::Completed)));
+    assert!(no_motion(&b.feed(0.0, ActionStatus::Completed)));
+}
+
+#[test]
+fn a_link_lost_mid_leg_ends_the_tour_and_a_reconnect_resumes_nothing() {
+    let mut b = Bench::new(true);
+    let first = leg(&b.play("O"));
+    assert_eq!(
+        first,
+        ArmCommand::GoToPosition {
+            name: "bench".into()
+        },
+        "over Talos a leg is a Go To"
+    );
+    b.event(ArmEvent::Done { command: first });
+    b.feed(12.0, ActionStatus::Started);
+    b.event(ArmEvent::Status(LinkStatus::Down {
+        reason: "reset".into(),
+    }));
+    assert_eq!(b.tour_label(), None);
+    let back = b.event(ArmEvent::Status(LinkStatus::Up {
+        description: "test".into(),
+    }));
+    assert!(no_motion(&back), "{back:?}");
+    assert!(no_motion(&b.feed(0.0, ActionStatus::Completed)));
+    assert!(no_motion(&b.feed(0.0, ActionStatus::Completed)));
+}
+
+#[test]
+fn a_tour_naming_a_deleted_position_is_refused_with_its_name_before_any_question() {
+    let mut b = Bench::new(false);
+    b.press("pagedown");
+    assert_eq!(b.app.selected_name(), Some("pick"));
+    b.press("delete");
+    b.at(QUESTION_QUIET);
+    b.press("y");
+    assert!(b.app.positions().get("pick").is_none());
+    b.press("O");
+    let effects = b.press("enter");
+    assert!(no_motion(&effects));
+    assert_eq!(b.app.overlay(), &Overlay::None, "no question");
+    assert_eq!(
+        b.message(),
+        "tour 'rounds' cannot be played: leg 2/3: 'pick' is not in the book"
+    );
+}
+
+#[test]
+fn the_gate_is_asked_before_each_leg() {
+    let mut b = Bench::new(false);
+    let first = leg(&b.play("N"));
+    b.finish_leg(first);
+    // The guard goes down between legs: the next-leg key starts nothing.
+    b.event(ArmEvent::Guard(
+        armjog::link::interface::GuardStatus::Starting,
+    ));
+    let effects = b.press("N");
+    assert!(no_motion(&effects), "{effects:?}");
+    assert_eq!(b.tour_label(), None);
+}

@@ -1,0 +1,217 @@
+//! A tour of three positions against the simulator over both links, in real time: over Modbus
+//! each leg a cartesian move to the stored pose, over Talos a Go To; each next leg only once the
+//! last is seen done at rest; a key mid-leg stops the arm and ends the tour, and nothing of it
+//! goes on afterwards.
+
+use std::time::Duration;
+
+use tokio::sync::mpsc::UnboundedReceiver;
+
+use armjog::console::app::{App, Input, MotionShown, Overlay, QUESTION_QUIET};
+use armjog::console::form::Confirm;
+use armjog::console::jog::KeyKind;
+use armjog::console::positions::{PositionBook, Tour};
+use armjog::link::driver::{Driver, DriverConfig};
+use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus};
+use armjog::link::{ModbusConfig, TalosConfig};
+use armjog::sim::{SimConfig, Simulator};
+
+use crate::event_loop::{self, Drives};
+
+struct Console {
+    app: App,
+    driver: Driver,
+    events: UnboundedReceiver<ArmEvent>,
+    sim: Simulator,
+    /// Every tour label shown, in order (`2/3 pick`).
+    legs_seen: Vec<String>,
+}
+
+impl Drives for Console {
+    fn app(&self) -> &App {
+        &self.app
+    }
+    fn events(&mut self) -> &mut UnboundedReceiver<ArmEvent> {
+        &mut self.events
+    }
+    fn input(&mut self, input: Input) {
+        event_loop::carry_out(&mut self.app, &self.driver, input);
+        if let Some(t) = self.app.view().tour {
+            let label = format!("{}/{} {}", t.leg, t.legs, t.to);
+            if self.legs_seen.last() != Some(&label) {
+                self.legs_seen.push(label);
+            }
+        }
+    }
+}
+
+/// Three places a few centimetres from home (tenths of mm), the tool as at home.
+const PLACES: [(&str, [i32; 3]); 3] = [
+    ("bench", [4866, 10, 4338]),
+    ("pick", [4566, 400, 4338]),
+    ("place", [4566, 10, 4038]),
+];
+
+impl Console {
+    async fn start(talos: bool) -> Console {
+        let sim = Simulator::start(SimConfig::ephemeral())
+            .await
+            .expect("simulator");
+        let config = if talos {
+            DriverConfig::new(Some(TalosConfig::new(sim.talos_addr.to_string())), None)
+        } else {
+            let modbus = ModbusConfig::new(sim.modbus_addr.expect("modbus").to_string());
+            DriverConfig::new(None, Some(modbus))
+        };
+        let app = event_loop::app_for(&config, PositionBook::new());
+        let (driver, events) = Driver::spawn(config);
+        let mut console = Console {
+            app,
+            driver,
+            events,
+            sim,
+            legs_seen: Vec::new(),
+        };
+        console
+            .run_until(Duration::from_secs(10), |c| {
+                matches!(c.app.link(), LinkStatus::Up { .. }) && c.app.telemetry().is_some()
+            })
+            .await;
+        let mut book = PositionBook::new();
+        for (name, [x, y, z]) in PLACES {
+            if talos {
+                // The operator keeps the positions: it is given them as a console would.
+                let name = name.to_string();
+                assert!(
+                    console
+                        .driver
+                        .send(ArmCommand::SetCartesianPosition { name, x, y, z })
+                );
+            }
+            let entry = book.get_or_insert(name);
+            entry.cartesian = Some([x, y, z]);
+            let home = console.app.telemetry().expect("telemetry").tcp.pose;
+            entry.orientation = Some([home.theta_x, home.theta_y, home.theta_z]);
+        }
+        book.set_tour(Tour {
+            name: "rounds".into(),
+            positions: PLACES.iter().map(|(n, _)| n.to_string()).collect(),
+        });
+        console.input(Input::PositionsLoaded(Ok(book)));
+        console.run_for(Duration::from_millis(300)).await;
+        console
+    }
+
+    fn press(&mut self, name: &str) {
+        self.key(name, KeyKind::Press);
+        self.key(name, KeyKind::Release);
+    }
+
+    async fn play(&mut self) {
+        self.press("O");
+        self.press("enter");
+        assert!(
+            matches!(self.app.overlay(), Overlay::Confirm(Confirm::Tour(_))),
+            "{:?} {:?}",
+            self.app.overlay(),
+            self.app.message()
+        );
+        self.run_for(QUESTION_QUIET + Duration::from_millis(50))
+            .await;
+        self.press("y");
+    }
+
+    async fn tool_mm(&self) -> [f64; 3] {
+        let t = self.app.telemetry().expect("telemetry").tcp.pose;
+        [t.x, t.y, t.z].map(|v| f64::from(v) * 1000.0)
+    }
+
+    async fn sim_moving(&self) -> bool {
+        self.sim.arm.snapshot().await.expect("sim").moving
+    }
+}
+
+fn near(mm: [f64; 3], tenths: [i32; 3], within_mm: f64) -> bool {
+    mm.iter()
+        .zip(tenths)
+        .all(|(a, b)| (a - f64::from(b) / 10.0).abs() <= within_mm)
+}
+
+async fn full_tour(talos: bool) {
+    let mut c = Console::start(talos).await;
+    c.play().await;
+    c.run_until(Duration::from_secs(60), |c| {
+        c.app.view().tour.is_none() && c.app.motion_shown() == MotionShown::Idle
+    })
+    .await;
+    assert_eq!(c.legs_seen, ["1/3 bench", "2/3 pick", "3/3 place"]);
+    let said = c
+        .app
+        .message()
+        .map(|(t, _)| t.to_string())
+        .unwrap_or_default();
+    assert_eq!(said, "tour 'rounds' leg 3/3 → place: tour done");
+    let at = c.tool_mm().await;
+    assert!(near(at, PLACES[2].1, 3.0), "ended at place: {at:?}");
+}
+
+async fn stopped_mid_leg(talos: bool) {
+    let mut c = Console::start(talos).await;
+    c.play().await;
+    c.run_until(Duration::from_secs(30), |c| {
+        c.legs_seen.last().map(String::as_str) == Some("2/3 pick")
+            && matches!(c.app.motion_shown(), MotionShown::Action { .. })
+    })
+    .await;
+    c.run_for(Duration::from_millis(150)).await;
+    assert!(c.sim_moving().await, "leg 2 under way");
+    c.press("v");
+    let said = c
+        .app
+        .message()
+        .map(|(t, _)| t.to_string())
+        .unwrap_or_default();
+    assert_eq!(
+        said,
+        "tour 'rounds' leg 2/3 → pick: stopped by a key; play it again to go on"
+    );
+    assert!(c.app.view().tour.is_none());
+    c.run_until(Duration::from_secs(10), |c| {
+        c.app.motion_shown() == MotionShown::Idle
+    })
+    .await;
+    assert!(!c.sim_moving().await, "the arm stopped");
+    let stopped_at = c.tool_mm().await;
+    assert!(!near(stopped_at, PLACES[1].1, 1.0), "stopped short of pick");
+    // Nothing goes on by itself.
+    c.run_for(Duration::from_secs(2)).await;
+    assert!(!c.sim_moving().await);
+    assert_eq!(c.legs_seen, ["1/3 bench", "2/3 pick"]);
+    let still = c.tool_mm().await;
+    let drift = still
+        .iter()
+        .zip(stopped_at)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(drift <= 1.5, "{still:?} vs {stopped_at:?}");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_tour_of_three_positions_over_modbus_visits_each_in_order() {
+    full_tour(false).await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_tour_of_three_positions_over_talos_visits_each_in_order() {
+    full_tour(true).await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_key_mid_leg_over_modbus_stops_the_arm_and_the_tour() {
+    stopped_mid_leg(false).await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_key_mid_leg_over_talos_stops_the_arm_and_the_tour() {
+    stopped_mid_leg(true).await;
+}
