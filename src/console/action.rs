@@ -107,11 +107,13 @@ pub enum Action {
     HistoryCycle,
     Help,
     Quit,
+    // Motion, added last.
+    StoredAction,
 }
 
 impl Action {
     /// Every action, in the order the help overlay lists them.
-    pub const ALL: [Action; 44] = [
+    pub const ALL: [Action; 45] = [
         Action::JogXPlus,
         Action::JogXMinus,
         Action::JogYPlus,
@@ -156,6 +158,7 @@ impl Action {
         Action::HistoryCycle,
         Action::Help,
         Action::Quit,
+        Action::StoredAction,
     ];
 
     /// The axis and direction of a hold-to-jog action.
@@ -240,6 +243,7 @@ impl Action {
             A::HistoryCycle => "history: plot joint torque or current",
             A::Help => "this help: every key of the keymap",
             A::Quit => "stop the arm and quit",
+            A::StoredAction => "run a stored action or sequence by id (Modbus)",
         }
     }
 
@@ -259,7 +263,8 @@ impl Action {
             | A::SpeedDown
             | A::FrameCycle
             | A::JointNext
-            | A::JointPrevious => "Motion",
+            | A::JointPrevious
+            | A::StoredAction => "Motion",
             A::SavePosition
             | A::GoToPosition
             | A::DeletePosition

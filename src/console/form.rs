@@ -3,6 +3,7 @@
 //! Input is validated here, before anything is sent: a bad name or number keeps the form open
 //! with the reason, and nothing is lost.
 
+use crate::kortex::Stored;
 use crate::talos::name::{MAX_NAME_LEN, NameError};
 
 /// Which form is open.
@@ -16,6 +17,8 @@ pub enum FormKind {
     SetCartesian,
     /// Give a position another name.
     Rename,
+    /// Start a stored action or sequence by id (`form/stored.rs`).
+    Stored,
 }
 
 /// One text field.
@@ -120,6 +123,8 @@ pub enum FormResult {
         from: String,
         to: String,
     },
+    /// A stored action or sequence to run (asked before it moves).
+    Stored(Stored),
 }
 
 impl FormResult {
@@ -130,6 +135,8 @@ impl FormResult {
             | FormResult::SetPolar { name, .. }
             | FormResult::SetCartesian { name, .. } => name,
             FormResult::Rename { to, .. } => to,
+            // Names no position: nothing is overwritten.
+            FormResult::Stored(_) => "",
         }
     }
 }
@@ -156,6 +163,7 @@ impl Form {
                 Field::text("z mm", ""),
             ],
             FormKind::Rename => vec![Field::name("new name", name)],
+            FormKind::Stored => return Form::stored(),
         };
         Form {
             kind,
@@ -191,6 +199,7 @@ impl Form {
             FormKind::SetPolar => "Set polar position",
             FormKind::SetCartesian => "Set cartesian position",
             FormKind::Rename => "Rename position",
+            FormKind::Stored => "Run a stored action or sequence",
         }
     }
 
@@ -278,8 +287,11 @@ impl Form {
 mod confirm;
 /// What a submitted form means, or the field that is wrong and why.
 mod parse;
+/// The stored action form: kind and id.
+mod stored;
 
 pub use confirm::Confirm;
+pub use stored::STORED_NOTE;
 
 #[cfg(test)]
 mod tests {

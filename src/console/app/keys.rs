@@ -37,6 +37,9 @@ impl App {
             self.release_jog_keys(&key, now, effects);
             return;
         }
+        if self.key_stops_stored_run(&key, now, effects) {
+            return;
+        }
         let burst = self.keys.burst(now);
         if !self.fits() {
             // Nothing is shown: every key only stops.
@@ -300,6 +303,7 @@ impl App {
             A::HistoryCycle => self.arm.on_history_cycle(),
             A::Help => self.open_help(),
             A::Quit => self.ask_quit(now, effects),
+            A::StoredAction => self.open_stored_form(now),
             // Jog actions are handled before this.
             _ => {}
         }

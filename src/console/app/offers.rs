@@ -29,6 +29,8 @@ pub struct SessionView {
     pub can_turn: bool,
     /// Going to a saved position can work on this link (the footer offers it).
     pub can_go_to: bool,
+    /// A stored action or sequence by id can run on this link (the footer offers its key).
+    pub can_run_stored: bool,
 }
 
 impl App {
@@ -45,6 +47,7 @@ impl App {
             can_save: self.can_save_position(),
             can_turn: self.can_turn(),
             can_go_to: self.can_go_to(),
+            can_run_stored: self.can_run_stored(),
         }
     }
 
@@ -112,7 +115,7 @@ impl App {
 
     /// The driver has said it has no Modbus link: it expects Modbus telemetry exactly when it
     /// has one.
-    fn without_modbus(&self) -> bool {
+    pub(super) fn without_modbus(&self) -> bool {
         matches!(
             self.truth.expected_telemetry(),
             Some(TelemetrySource::TalosHardware | TelemetrySource::None)

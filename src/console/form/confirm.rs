@@ -1,6 +1,7 @@
 //! The yes/no questions the console asks before it moves the arm, deletes, replaces or quits.
 
 use super::{Form, FormResult};
+use crate::kortex::Stored;
 
 /// What a yes/no question is about.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -19,6 +20,8 @@ pub enum Confirm {
     QuitUnsaved {
         count: usize,
     },
+    /// Running a stored action or sequence by id.
+    Stored(Stored),
 }
 
 impl Confirm {
@@ -36,6 +39,7 @@ impl Confirm {
                 "{count} changed position(s) could not be saved: quit anyway? The book is \
                  written once more as the console quits"
             ),
+            Confirm::Stored(stored) => format!("Run {stored} on the arm?"),
         }
     }
 

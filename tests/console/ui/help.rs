@@ -369,6 +369,7 @@ fn offered_footer(app: &App) -> String {
         save: view.session.can_save,
         turn: view.session.can_turn,
         go_to: view.session.can_go_to,
+        stored: view.session.can_run_stored,
     };
     ui::hints::footer(&view.session.keymap, offered, 200)
 }
