@@ -107,7 +107,7 @@ pub enum Action {
     HistoryCycle,
     Help,
     Quit,
-    // Motion, added last.
+    // Motion (listed after home in `ALL`).
     StoredAction,
 }
 
@@ -136,6 +136,7 @@ impl Action {
         Action::QuickStop,
         Action::FaultReset,
         Action::Home,
+        Action::StoredAction,
         Action::StepMode,
         Action::StepBigger,
         Action::StepSmaller,
@@ -158,7 +159,6 @@ impl Action {
         Action::HistoryCycle,
         Action::Help,
         Action::Quit,
-        Action::StoredAction,
     ];
 
     /// The axis and direction of a hold-to-jog action.

@@ -159,7 +159,7 @@ fn help_at_120x40_and_80x24() {
 
 #[test]
 fn help_that_fits_on_one_page() {
-    let (mut app, t0) = app_with(keymap("default"), true, TALOS_HW, (100, 60));
+    let (mut app, t0) = app_with(keymap("default"), true, TALOS_HW, (100, 62));
     press(&mut app, "?", t0);
     press(&mut app, "pagedown", t0);
     assert_eq!(app.help_scroll(), 0, "nothing to scroll");
