@@ -19,3 +19,4 @@ mod positions_resave;
 mod positions_unsaved;
 mod singularity;
 mod state_machine;
+mod stored_actions;
