@@ -11,3 +11,4 @@ mod other_client;
 mod other_client_default;
 mod positions;
 mod singularity;
+mod stored_actions;
