@@ -320,7 +320,7 @@ mod tests {
         };
         let text = footer(&default_keymap(), offered, 200);
         assert!(!text.contains("save"), "{text}");
-        assert!(text.contains("h home  o go to"), "{text}");
+        assert!(text.contains("h home  A stored  o go to"), "{text}");
     }
 
     #[test]
@@ -332,5 +332,20 @@ mod tests {
         let text = footer(&default_keymap(), offered, 200);
         assert!(!text.contains("go to"), "{text}");
         assert!(text.contains("p save  ? help"), "{text}");
+    }
+
+    #[test]
+    fn stored_actions_that_the_link_cannot_run_are_not_offered() {
+        let offered = Offered {
+            stored: false,
+            ..Offered::ALL
+        };
+        let text = footer(&default_keymap(), offered, 200);
+        assert!(!text.contains("stored"), "{text}");
+        assert!(text.contains("h home  p save"), "{text}");
+        // The least needed group: the first dropped when the line is short.
+        let full = footer(&default_keymap(), Offered::ALL, 200);
+        let short = footer(&default_keymap(), Offered::ALL, full.len() - 1);
+        assert!(full.contains("A stored") && !short.contains("A stored"), "{short}");
     }
 }
