@@ -346,6 +346,9 @@ mod tests {
         // The least needed group: the first dropped when the line is short.
         let full = footer(&default_keymap(), Offered::ALL, 200);
         let short = footer(&default_keymap(), Offered::ALL, full.len() - 1);
-        assert!(full.contains("A stored") && !short.contains("A stored"), "{short}");
+        assert!(
+            full.contains("A stored") && !short.contains("A stored"),
+            "{short}"
+        );
     }
 }
