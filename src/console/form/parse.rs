@@ -6,6 +6,7 @@ use crate::talos::PositionName;
 
 impl Form {
     pub(super) fn parse(&self) -> Result<FormResult, (usize, String)> {
+        // Its first field is a kind, not a name.
         if self.kind == FormKind::Stored {
             return self.parse_stored();
         }
@@ -57,6 +58,7 @@ impl Form {
                 }
                 Ok(FormResult::Rename { from, to: name })
             }
+            // Taken above, before the name.
             FormKind::Stored => self.parse_stored(),
         }
     }

@@ -22,8 +22,8 @@ enum End {
 
 impl App {
     /// Watches a tracked action's end in fresh telemetry: a stored run of a known id by the
-    /// arm's action status for that run ([`crate::kortex::StoredRun::observe`], as `armjog modbus action`
-    /// reads it), any other by [`heuristic_end`]. Either way one end is said the same way.
+    /// arm's action status for that run ([`crate::kortex::StoredRun::observe`], as `armjog
+    /// modbus action` reads it), any other by [`heuristic_end`]. Either end is said one way.
     pub(super) fn watch_action(&mut self, t: &Telemetry, now: Instant) {
         let Some(action) = self.truth.action.as_mut() else {
             return;
