@@ -111,11 +111,13 @@ pub enum Action {
     MakeTour,
     PlayTour,
     TourLeg,
+    // Motion (listed after home in `ALL`).
+    StoredAction,
 }
 
 impl Action {
     /// Every action, in the order the help overlay lists them.
-    pub const ALL: [Action; 47] = [
+    pub const ALL: [Action; 48] = [
         Action::JogXPlus,
         Action::JogXMinus,
         Action::JogYPlus,
@@ -138,6 +140,7 @@ impl Action {
         Action::QuickStop,
         Action::FaultReset,
         Action::Home,
+        Action::StoredAction,
         Action::StepMode,
         Action::StepBigger,
         Action::StepSmaller,
@@ -250,6 +253,7 @@ impl Action {
             A::MakeTour => "make a tour of the positions (a form)",
             A::PlayTour => "play a tour straight through (asks first)",
             A::TourLeg => "play a tour one leg at a time; next leg",
+            A::StoredAction => "run a stored action or sequence by id (Modbus)",
         }
     }
 
@@ -269,7 +273,8 @@ impl Action {
             | A::SpeedDown
             | A::FrameCycle
             | A::JointNext
-            | A::JointPrevious => "Motion",
+            | A::JointPrevious
+            | A::StoredAction => "Motion",
             A::SavePosition
             | A::GoToPosition
             | A::DeletePosition

@@ -3,6 +3,7 @@
 //! Input is validated here, before anything is sent: a bad name or number keeps the form open
 //! with the reason, and nothing is lost.
 
+use crate::kortex::Stored;
 use crate::talos::name::{MAX_NAME_LEN, NameError};
 
 /// Which form is open.
@@ -20,6 +21,8 @@ pub enum FormKind {
     MakeTour,
     /// Play a tour, straight through or one leg at a time.
     PlayTour { one_leg: bool },
+    /// Start a stored action or sequence by id (`form/stored.rs`).
+    Stored,
 }
 
 /// One text field.
@@ -136,6 +139,8 @@ pub enum FormResult {
         name: String,
         one_leg: bool,
     },
+    /// A stored action or sequence to run (asked before it moves).
+    Stored(Stored),
 }
 
 impl FormResult {
@@ -147,6 +152,8 @@ impl FormResult {
             | FormResult::SetCartesian { name, .. } => name,
             FormResult::Rename { to, .. } => to,
             FormResult::MakeTour { name, .. } | FormResult::PlayTour { name, .. } => name,
+            // Names no position: nothing is overwritten.
+            FormResult::Stored(_) => "",
         }
     }
 }
@@ -175,6 +182,7 @@ impl Form {
             FormKind::Rename => vec![Field::name("new name", name)],
             FormKind::MakeTour => tour::make_fields(name, ""),
             FormKind::PlayTour { .. } => vec![Field::name("tour", name)],
+            FormKind::Stored => return Form::stored(),
         };
         Form {
             kind,
@@ -213,6 +221,7 @@ impl Form {
             FormKind::MakeTour => "Make a tour",
             FormKind::PlayTour { one_leg: false } => "Play a tour straight through",
             FormKind::PlayTour { one_leg: true } => "Play a tour one leg at a time",
+            FormKind::Stored => "Run a stored action or sequence",
         }
     }
 
@@ -304,8 +313,11 @@ mod confirm;
 mod parse;
 /// The tour forms: making one, playing one.
 mod tour;
+/// The stored action form: kind and id.
+mod stored;
 
 pub use confirm::Confirm;
+pub use stored::STORED_NOTE;
 pub use tour::TourQuestion;
 
 #[cfg(test)]

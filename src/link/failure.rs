@@ -30,6 +30,8 @@ pub enum CommandKind {
     GetPosition,
     /// The Modbus link putting back the speed limits a capped move lowered.
     RestoreSpeedLimits,
+    /// A stored action or sequence started by id.
+    StartStored,
 }
 
 impl CommandKind {
@@ -52,6 +54,7 @@ impl CommandKind {
             CommandKind::SetCartesianPosition => "set cartesian position",
             CommandKind::GetPosition => "get position",
             CommandKind::RestoreSpeedLimits => "restore speed limits",
+            CommandKind::StartStored => "stored action",
         }
     }
 

@@ -66,7 +66,11 @@ pub enum GuardPolicy {
 pub fn is_motion(command: &ArmCommand) -> bool {
     matches!(
         command,
-        ArmCommand::Jog(_) | ArmCommand::Step(_) | ArmCommand::MoveToPose(_) | ArmCommand::Home
+        ArmCommand::Jog(_)
+            | ArmCommand::Step(_)
+            | ArmCommand::MoveToPose(_)
+            | ArmCommand::Home
+            | ArmCommand::StartStored(_)
     )
 }
 
@@ -344,6 +348,10 @@ mod tests {
             z: 0
         })));
         assert!(is_motion(&ArmCommand::Home));
+        assert!(is_motion(&ArmCommand::StartStored(crate::kortex::Stored {
+            motion: crate::kortex::StoredMotion::Sequence,
+            id: 1,
+        })));
         assert!(!is_motion(&ArmCommand::Stop));
         assert!(!is_motion(&ArmCommand::QuickStop));
         assert!(!is_motion(&ArmCommand::SetSpeed(10)));

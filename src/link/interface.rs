@@ -5,7 +5,7 @@
 
 use std::time::Duration;
 
-use crate::kortex::{Pose, ReferenceFrame, Telemetry, Write};
+use crate::kortex::{Pose, ReferenceFrame, Stored, Telemetry, Write};
 
 pub use super::failure::{ArmError, CommandKind};
 
@@ -89,6 +89,9 @@ pub enum ArmCommand {
     GetPosition {
         name: String,
     },
+    /// Start a stored action or sequence by its id on the arm (Modbus only), capped as home is;
+    /// home over Modbus is this with the home action's id.
+    StartStored(Stored),
 }
 
 impl ArmCommand {
@@ -101,6 +104,7 @@ impl ArmCommand {
                 | ArmCommand::Home
                 | ArmCommand::GoToPosition { .. }
                 | ArmCommand::MoveToPose(_)
+                | ArmCommand::StartStored(_)
         )
     }
 
@@ -127,6 +131,7 @@ impl ArmCommand {
             ArmCommand::SetPolarPosition { .. } => CommandKind::SetPolarPosition,
             ArmCommand::SetCartesianPosition { .. } => CommandKind::SetCartesianPosition,
             ArmCommand::GetPosition { .. } => CommandKind::GetPosition,
+            ArmCommand::StartStored(_) => CommandKind::StartStored,
         }
     }
 

@@ -14,6 +14,7 @@ mod driver_orientation;
 mod driver_speed_settings;
 mod driver_stall;
 mod driver_stop;
+mod driver_stored;
 mod modbus;
 mod modbus_capped_moves;
 mod modbus_paused;

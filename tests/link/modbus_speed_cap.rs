@@ -1,6 +1,7 @@
 //! One speed cap for every motion over Modbus, measured on the simulated arm through the arm
 //! driver: jogs (cartesian, polar) are twists the console bounds itself; moves (go to, step,
-//! home) run at the arm's limit, which the link lowers for the move and puts back afterwards.
+//! home, a stored action or sequence by id) run at the arm's limit, which the link lowers for the
+//! move and puts back afterwards.
 //!
 //! Speeds are the simulator's own tool velocity (Jacobian times joint velocities), sampled
 //! while the motion runs, so a loaded machine changes how many samples there are, not their
@@ -284,4 +285,37 @@ async fn a_stopped_or_abandoned_capped_move_gives_the_limits_back() {
         s.speed_limit_angular_deg as f32,
     );
     assert_eq!(limits, ARM_LIMITS);
+}
+
+#[tokio::test]
+async fn stored_actions_and_sequences_by_id_run_under_the_cap_as_home_does() {
+    use armjog::kortex::{Stored, StoredMotion};
+    // Zero (action 5) from a few degrees off it; sequence 1 (Retract, then Home) from Retract.
+    for (from, stored) in [
+        (
+            [0.0, 20.0, 10.0, 25.0, 0.0, 20.0, 0.0],
+            Stored {
+                motion: StoredMotion::Action,
+                id: 5,
+            },
+        ),
+        (
+            armjog::sim::stored::RETRACT_DEG,
+            Stored {
+                motion: StoredMotion::Sequence,
+                id: 1,
+            },
+        ),
+    ] {
+        let mut rig = rig(Arm::at(kinematics::to_radians(&from))).await;
+        rig.command(ArmCommand::StartStored(stored)).await;
+        let (top, lowest) = rig.follow_move().await;
+        assert_capped(&stored.to_string(), top, CAP);
+        assert!(
+            (lowest - CAP).abs() < 1e-6,
+            "{stored}: lowered to the cap: {lowest}"
+        );
+        rig.limits_restored().await;
+        rig.driver.shutdown().await;
+    }
 }

@@ -37,6 +37,9 @@ impl App {
             self.release_jog_keys(&key, now, effects);
             return;
         }
+        if self.key_stops_stored_run(&key, now, effects) {
+            return;
+        }
         let burst = self.keys.burst(now);
         if !self.fits() {
             // Nothing is shown: every key only stops.
@@ -304,6 +307,7 @@ impl App {
             A::Help => self.open_help(),
             A::Quit => self.ask_quit(now, effects),
             A::MakeTour | A::PlayTour | A::TourLeg => self.on_tour_action(action, now),
+            A::StoredAction => self.open_stored_form(now),
             // Jog actions are handled before this.
             _ => {}
         }

@@ -34,6 +34,7 @@ mod singularity;
 mod speed_steps;
 mod stop_hold;
 mod tour;
+mod stored;
 mod trail;
 
 pub use age::age_text;
@@ -49,7 +50,7 @@ pub use limits::{LIMIT_WARNING_DEG, NearLimit, limit_margin, near_limits};
 pub use motion_gate::arm_refusal;
 pub use motion_truth::{
     ACTION_TIMEOUT, ActionKind, MotionShown, MotionTruth, NO_TELEMETRY_ACTION_TIME, STALE_AFTER,
-    STOP_GRACE, TrackedAction, TruthView,
+    STOP_GRACE, StoredAction, TrackedAction, TruthView,
 };
 pub use offers::SessionView;
 pub use other_client::{
@@ -63,6 +64,7 @@ pub use resave::RESAVE_GO_WITHIN;
 pub use singularity::{AT_SINGULARITY, SINGULARITY_WARNING, near_singularity, singularity_text};
 pub use speed_steps::{SPEED_STEPS, next_speed};
 pub use stop_hold::{RESEND_EVERY, SLOWING_DOWN, STOP_HOLD, StopHold};
+pub use stored::STORED_REFUSAL;
 pub use trail::{TRAIL_CAPACITY, TRAIL_SPACING, TRAIL_SPAN, ToolTrail, TrailPoint, TrailShade};
 
 use std::sync::Arc;

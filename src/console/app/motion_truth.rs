@@ -32,6 +32,7 @@ use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
 use crate::console::jog::JogMotion;
+use crate::kortex::{Stored, StoredRun};
 use crate::link::interface::{ArmCommand, CommandKind, TelemetrySource};
 
 /// Silence after which a link is stale and telemetry is drawn as old.
@@ -56,25 +57,40 @@ const INTERVALS_KEPT: usize = 8;
 /// An action the console started and watches until it ends.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum ActionKind {
-    Home,
+    /// A stored action or sequence the arm runs: home, or one started by id.
+    Stored(StoredAction),
     GoTo(String),
     Step,
 }
 
+/// Which stored action or sequence: home keeps its own key and words; the others are named by
+/// kind and id.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StoredAction {
+    /// The Talos Home command, or over Modbus the home action's id (which the driver knows).
+    Home,
+    ById(Stored),
+}
+
 impl ActionKind {
-    /// For the status bar: `HOME`, `GOTO bench`, `STEP`.
+    /// Home, as the tracked action.
+    pub const HOME: ActionKind = ActionKind::Stored(StoredAction::Home);
+
+    /// For the status bar: `HOME`, `ACTION 5`, `SEQUENCE 1`, `GOTO bench`, `STEP`.
     pub fn label(&self) -> String {
         match self {
-            ActionKind::Home => "HOME".into(),
+            ActionKind::Stored(StoredAction::Home) => "HOME".into(),
+            ActionKind::Stored(StoredAction::ById(stored)) => stored.to_string().to_uppercase(),
             ActionKind::GoTo(name) => format!("GOTO {name}"),
             ActionKind::Step => "STEP".into(),
         }
     }
 
-    /// For messages: `home`, `go to 'bench'`, `step`.
+    /// For messages: `home`, `action 5`, `go to 'bench'`, `step`.
     pub fn verb(&self) -> String {
         match self {
-            ActionKind::Home => "home".into(),
+            ActionKind::Stored(StoredAction::Home) => "home".into(),
+            ActionKind::Stored(StoredAction::ById(stored)) => stored.to_string(),
             ActionKind::GoTo(name) => format!("go to '{name}'"),
             ActionKind::Step => "step".into(),
         }
@@ -84,7 +100,11 @@ impl ActionKind {
     fn failed_by(&self, kind: CommandKind) -> bool {
         matches!(
             (self, kind),
-            (ActionKind::Home, CommandKind::Home)
+            (ActionKind::Stored(StoredAction::Home), CommandKind::Home)
+                | (
+                    ActionKind::Stored(StoredAction::ById(_)),
+                    CommandKind::StartStored
+                )
                 | (
                     ActionKind::GoTo(_),
                     CommandKind::GoToPosition | CommandKind::MoveToPose
@@ -94,22 +114,35 @@ impl ActionKind {
     }
 
     fn answers(&self, command: &ArmCommand) -> bool {
-        matches!(
-            (self, command),
-            (ActionKind::Home, ArmCommand::Home)
-                | (
-                    ActionKind::GoTo(_),
-                    ArmCommand::GoToPosition { .. } | ArmCommand::MoveToPose(_)
-                )
-                | (ActionKind::Step, ArmCommand::Step(_))
-        )
+        match (self, command) {
+            (ActionKind::Stored(StoredAction::ById(ours)), ArmCommand::StartStored(done)) => {
+                ours == done
+            }
+            _ => matches!(
+                (self, command),
+                (ActionKind::Stored(StoredAction::Home), ArmCommand::Home)
+                    | (
+                        ActionKind::GoTo(_),
+                        ArmCommand::GoToPosition { .. } | ArmCommand::MoveToPose(_)
+                    )
+                    | (ActionKind::Step, ArmCommand::Step(_))
+            ),
+        }
+    }
+
+    /// A stored action or sequence runs until it ends on its own: any key stops it.
+    pub(in crate::console::app) fn stops_on_any_key(&self) -> bool {
+        matches!(self, ActionKind::Stored(_))
     }
 }
 
-/// A home, go-to or step in progress.
+/// A home, stored action, go-to or step in progress.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TrackedAction {
     pub kind: ActionKind,
+    /// A stored run the console knows the id of: its progress is the arm's action status for
+    /// that id and move type (`kortex::stored_run`, as `armjog modbus action` reads it).
+    run: Option<StoredRun>,
     sent: Instant,
     /// When the link reported the command taken.
     accepted: Option<Instant>,

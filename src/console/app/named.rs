@@ -32,13 +32,16 @@ impl App {
 
     pub(super) fn confirmed(&mut self, confirm: Confirm, now: Instant, effects: &mut Vec<Effect>) {
         // The arm may have faulted (or the link gone) while the question was open.
-        if matches!(confirm, Confirm::Home | Confirm::GoTo(_) | Confirm::Tour(_))
-            && self.refuse_motion(now)
-        {
+        let moves = matches!(
+            confirm,
+            Confirm::Home | Confirm::GoTo(_) | Confirm::Tour(_) | Confirm::Stored(_)
+        );
+        if moves && self.refuse_motion(now) {
             return;
         }
         match confirm {
             Confirm::Home => effects.push(Effect::Arm(ArmCommand::Home)),
+            Confirm::Stored(stored) => self.run_stored(stored, now, effects),
             Confirm::Resave(name) => self.resave_confirmed(name, now, effects),
             Confirm::GoTo(name) => {
                 if let Err(why) = self.go_to(name, effects) {
@@ -103,9 +106,10 @@ impl App {
         now: Instant,
         effects: &mut Vec<Effect>,
     ) {
-        if let FormResult::Rename { from, to } = result {
-            self.rename(from, to, now, effects);
-            return;
+        match result {
+            FormResult::Rename { from, to } => return self.rename(from, to, now, effects),
+            FormResult::Stored(stored) => return self.ask_stored(stored),
+            _ => {}
         }
         if self.config.positions_on_operator {
             let command = match result {
@@ -134,7 +138,8 @@ impl App {
                 }
                 FormResult::Rename { .. }
                 | FormResult::MakeTour { .. }
-                | FormResult::PlayTour { .. } => return,
+                | FormResult::PlayTour { .. }
+                | FormResult::Stored(_) => return,
             };
             effects.push(Effect::Arm(command));
             return;
@@ -161,7 +166,8 @@ impl App {
             }
             FormResult::Rename { .. }
             | FormResult::MakeTour { .. }
-            | FormResult::PlayTour { .. } => return,
+            | FormResult::PlayTour { .. }
+            | FormResult::Stored(_) => return,
             FormResult::SetPolar {
                 name,
                 delta,

@@ -31,6 +31,8 @@ pub struct SessionView {
     pub can_go_to: bool,
     /// The arm profile the console was opened with (`--arm cell3`).
     pub arm_name: Option<String>,
+    /// A stored action or sequence by id can run on this link (the footer offers its key).
+    pub can_run_stored: bool,
 }
 
 impl App {
@@ -48,6 +50,7 @@ impl App {
             can_turn: self.can_turn(),
             can_go_to: self.can_go_to(),
             arm_name: config.arm_name.clone(),
+            can_run_stored: self.can_run_stored(),
         }
     }
 
@@ -115,7 +118,7 @@ impl App {
 
     /// The driver has said it has no Modbus link: it expects Modbus telemetry exactly when it
     /// has one.
-    fn without_modbus(&self) -> bool {
+    pub(super) fn without_modbus(&self) -> bool {
         matches!(
             self.truth.expected_telemetry(),
             Some(TelemetrySource::TalosHardware | TelemetrySource::None)

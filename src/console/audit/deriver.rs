@@ -150,6 +150,12 @@ impl AuditDeriver {
                 speed_percent,
                 speed_mm_s,
             }),
+            ArmCommand::StartStored(stored) => Some(AuditEvent::Stored {
+                kind: stored.motion.name().to_string(),
+                id: stored.id,
+                speed_percent,
+                speed_mm_s,
+            }),
             ArmCommand::SetSpeed(percent) => {
                 if is_settable(*percent) {
                     self.speed = *percent;

@@ -156,6 +156,14 @@ pub enum AuditEvent {
     DriverNotice {
         text: String,
     },
+    /// A stored action or sequence started by id (`kind` is `action` or `sequence`), capped
+    /// as home is.
+    Stored {
+        kind: String,
+        id: u16,
+        speed_percent: u8,
+        speed_mm_s: f64,
+    },
 }
 
 /// An event and when it happened.

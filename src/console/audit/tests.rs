@@ -458,3 +458,19 @@ async fn a_write_that_fails_is_reported_once_and_stops_nothing() {
     );
     assert!(started.elapsed() < Duration::from_secs(10));
 }
+
+#[test]
+fn a_stored_run_by_id_is_recorded_with_its_kind_id_and_cap_as_home_is() {
+    let mut d = deriver();
+    d.arm_event(&ArmEvent::Speed(40), t0());
+    let run = ArmCommand::StartStored(crate::kortex::Stored {
+        motion: crate::kortex::StoredMotion::Sequence,
+        id: 1,
+    });
+    let recorded = d.command(&run, &PositionBook::new(), None, BASE, t0());
+    assert_eq!(recorded.len(), 1);
+    assert_eq!(
+        recorded[0].json_line(),
+        r#"{"ts":"2026-11-30T22:27:31.853Z","event":"stored","kind":"sequence","id":1,"speed_percent":40,"speed_mm_s":100.0}"#
+    );
+}

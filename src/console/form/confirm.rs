@@ -1,6 +1,7 @@
 //! The yes/no questions the console asks before it moves the arm, deletes, replaces or quits.
 
 use super::{Form, FormResult, TourQuestion};
+use crate::kortex::Stored;
 
 /// What a yes/no question is about.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -21,6 +22,8 @@ pub enum Confirm {
     },
     /// Play a tour: it names the tour and its legs.
     Tour(TourQuestion),
+    /// Running a stored action or sequence by id.
+    Stored(Stored),
 }
 
 impl Confirm {
@@ -39,6 +42,7 @@ impl Confirm {
                  written once more as the console quits"
             ),
             Confirm::Tour(tour) => tour.question(),
+            Confirm::Stored(stored) => format!("Run {stored} on the arm?"),
         }
     }
 

@@ -6,6 +6,10 @@ use crate::talos::PositionName;
 
 impl Form {
     pub(super) fn parse(&self) -> Result<FormResult, (usize, String)> {
+        // Its first field is a kind, not a name.
+        if self.kind == FormKind::Stored {
+            return self.parse_stored();
+        }
         let value = |i: usize| self.fields.get(i).map(|f| f.value.trim()).unwrap_or("");
         let name = PositionName::new(value(0))
             .map_err(|e| (0, format!("name {e}")))?
@@ -59,6 +63,8 @@ impl Form {
                 }
                 Ok(FormResult::Rename { from, to: name })
             }
+            // Taken above, before the name.
+            FormKind::Stored => self.parse_stored(),
         }
     }
 }

@@ -21,6 +21,9 @@ const GROUP_GAP: &str = "  ";
 /// The orientation jog's group, left out where the link cannot carry a turn.
 const TURN: &str = "turn";
 
+/// The stored action key's group, left out where no Modbus link can run one by id.
+const STORED: &str = "stored";
+
 /// Which groups of actions that only some links carry the footer offers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Offered {
@@ -30,6 +33,8 @@ pub struct Offered {
     pub turn: bool,
     /// Going to a saved position can work on this link.
     pub go_to: bool,
+    /// A stored action or sequence by id can run on this link (a Modbus link).
+    pub stored: bool,
 }
 
 impl Offered {
@@ -38,6 +43,7 @@ impl Offered {
         save: true,
         turn: true,
         go_to: true,
+        stored: true,
     };
 }
 
@@ -50,7 +56,7 @@ struct Group {
 }
 
 /// The groups in the order they are shown.
-const GROUPS: [Group; 12] = [
+const GROUPS: [Group; 13] = [
     Group {
         label: "jog",
         actions: &[
@@ -112,6 +118,12 @@ const GROUPS: [Group; 12] = [
         priority: 7,
     },
     Group {
+        label: STORED,
+        actions: &[Action::StoredAction],
+        // The least needed: dropped first.
+        priority: 12,
+    },
+    Group {
         label: "save",
         actions: &[Action::SavePosition],
         priority: 6,
@@ -158,6 +170,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
                     save: view.session.can_save,
                     turn: view.session.can_turn,
                     go_to: view.session.can_go_to,
+                    stored: view.session.can_run_stored,
                 },
                 usize::from(area.width),
             ),
@@ -169,13 +182,15 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
 
 /// The key groups of `keymap` that fit in `width` columns, in display order. A group `offered`
 /// says this link cannot carry is left out (the save key where saving cannot work, the turn keys
-/// without a Modbus link, the go-to key where no link moves to a saved position).
+/// and the stored action key without a Modbus link, the go-to key where no link moves to a
+/// saved position).
 pub fn footer(keymap: &Keymap, offered: Offered, width: usize) -> String {
     let groups: Vec<(u8, String)> = GROUPS
         .iter()
         .filter(|group| offered.save || group.label != "save")
         .filter(|group| offered.turn || group.label != TURN)
         .filter(|group| offered.go_to || group.label != "go to")
+        .filter(|group| offered.stored || group.label != STORED)
         .filter_map(|group| Some((group.priority, group_text(keymap, group)?)))
         .collect();
     let mut by_need: Vec<usize> = (0..groups.len()).collect();
@@ -244,7 +259,7 @@ mod tests {
         assert_eq!(
             text,
             "w/s/a/d/r/f jog  i/m/l/b/e/z turn  arrows pan  k/j joint  space stop  +/- speed  \
-             t step  h home  p save  o go to  ? help  q quit"
+             t step  h home  A stored  p save  o go to  ? help  q quit"
         );
     }
 
@@ -305,7 +320,7 @@ mod tests {
         };
         let text = footer(&default_keymap(), offered, 200);
         assert!(!text.contains("save"), "{text}");
-        assert!(text.contains("h home  o go to"), "{text}");
+        assert!(text.contains("h home  A stored  o go to"), "{text}");
     }
 
     #[test]
@@ -317,5 +332,23 @@ mod tests {
         let text = footer(&default_keymap(), offered, 200);
         assert!(!text.contains("go to"), "{text}");
         assert!(text.contains("p save  ? help"), "{text}");
+    }
+
+    #[test]
+    fn stored_actions_that_the_link_cannot_run_are_not_offered() {
+        let offered = Offered {
+            stored: false,
+            ..Offered::ALL
+        };
+        let text = footer(&default_keymap(), offered, 200);
+        assert!(!text.contains("stored"), "{text}");
+        assert!(text.contains("h home  p save"), "{text}");
+        // The least needed group: the first dropped when the line is short.
+        let full = footer(&default_keymap(), Offered::ALL, 200);
+        let short = footer(&default_keymap(), Offered::ALL, full.len() - 1);
+        assert!(
+            full.contains("A stored") && !short.contains("A stored"),
+            "{short}"
+        );
     }
 }

@@ -9,7 +9,7 @@ use tokio::sync::mpsc;
 use super::connect::{self, Attempts, Connected};
 use super::links::{LinkState, Links, LostReason, modbus_description};
 use super::stop_outcome::{self, Side, StopOutcomes};
-use super::talos_side::{ORIENTATION_NEEDS_MODBUS, TalosSide};
+use super::talos_side::{ORIENTATION_NEEDS_MODBUS, STORED_NEEDS_MODBUS, TalosSide};
 use super::{DriverConfig, JointPositions, modbus_worker::ModbusWorker, speed::SpeedInForce};
 use crate::link::guard::{self, GuardPolicy, GuardReport, GuardSupervisor};
 use crate::link::interface::{
@@ -163,6 +163,9 @@ impl DriverState {
                     },
                     None if is_orientation_jog(&command) => {
                         ArmError::Unsupported(ORIENTATION_NEEDS_MODBUS)
+                    }
+                    None if matches!(command, ArmCommand::StartStored(_)) => {
+                        ArmError::Unsupported(STORED_NEEDS_MODBUS)
                     }
                     None => ArmError::NoLinkCarriesIt,
                 };

@@ -24,7 +24,7 @@ pub use speed::{
     INITIAL_SPEED, JOINT_JOG_SPEED, MAX_ANGULAR_JOG_SPEED, OPERATOR_FULL_SPEED, OperatorScale,
     angular_jog_rate_at, is_settable, tool_speed_at,
 };
-pub use talos_side::ORIENTATION_NEEDS_MODBUS;
+pub use talos_side::{ORIENTATION_NEEDS_MODBUS, STORED_NEEDS_MODBUS};
 mod stop_outcome;
 mod talos_side;
 

@@ -8,7 +8,7 @@ use tokio::task::JoinHandle;
 
 use super::speed::{SpeedInForce, angular_jog_rate_at, is_settable, tool_speed_at};
 use super::{DriverConfig, JointPositions};
-use crate::kortex::{PolarPanSettings, Pose, ReferenceFrame, Twist};
+use crate::kortex::{PolarPanSettings, Pose, ReferenceFrame, Stored, StoredMotion, Twist};
 use crate::link::interface::{
     ArmCommand, ArmError, ArmEvent, JogMotion, LogEntry, StepMove, Traffic,
 };
@@ -145,6 +145,14 @@ impl State {
         tool_speed_at(self.max_jog_speed, self.speed.percent()) as f32
     }
 
+    /// Starts a stored action or sequence (home among them) at the arm's configured limit,
+    /// lowered to the tool speed while it runs, as every move here is.
+    async fn start_stored(&self, stored: Stored) -> Result<WriteReport, ModbusError> {
+        self.link
+            .start_stored_capped(stored.id, stored.motion, self.tool_speed())
+            .await
+    }
+
     /// An orientation jog's rate at the speed in force, deg/s ([`angular_jog_rate_at`]), never
     /// above the arm's own configured angular limit once telemetry has reported a usable one.
     fn angular_speed(&self) -> f32 {
@@ -207,7 +215,15 @@ impl State {
             // Moves run at the arm's configured limit: the link lowers it to the tool speed for
             // the move and restores it afterwards (a twist servo would leave the arm's own
             // trajectory planning, and its final accuracy, behind).
-            ArmCommand::Home => wrap(self.link.home_capped(self.tool_speed()).await),
+            // Home is the stored action of the configured id, on the one path of them all.
+            ArmCommand::Home => {
+                let home = Stored {
+                    motion: StoredMotion::Action,
+                    id: self.link.config().home_action_id,
+                };
+                wrap(self.start_stored(home).await)
+            }
+            ArmCommand::StartStored(stored) => wrap(self.start_stored(*stored).await),
             ArmCommand::MoveToPose(pose) => wrap(
                 self.link
                     .go_to_pose_capped(ReferenceFrame::Base, *pose, self.tool_speed())
@@ -256,7 +272,10 @@ impl State {
                     // An action's writes only start it: how it ends shows in the telemetry.
                     let starts = matches!(
                         command,
-                        ArmCommand::Home | ArmCommand::MoveToPose(_) | ArmCommand::Step(_)
+                        ArmCommand::Home
+                            | ArmCommand::StartStored(_)
+                            | ArmCommand::MoveToPose(_)
+                            | ArmCommand::Step(_)
                     );
                     let _ = self.events.send(ArmEvent::Log(LogEntry {
                         id: None,

@@ -20,3 +20,4 @@ mod positions_unsaved;
 mod singularity;
 mod state_machine;
 pub(crate) mod tours;
+mod stored_actions;

@@ -12,3 +12,4 @@ mod other_client_default;
 mod positions;
 mod singularity;
 mod tours;
+mod stored_actions;

@@ -159,7 +159,7 @@ fn help_at_120x40_and_80x24() {
 
 #[test]
 fn help_that_fits_on_one_page() {
-    let (mut app, t0) = app_with(keymap("default"), true, TALOS_HW, (100, 66));
+    let (mut app, t0) = app_with(keymap("default"), true, TALOS_HW, (100, 68));
     press(&mut app, "?", t0);
     press(&mut app, "pagedown", t0);
     assert_eq!(app.help_scroll(), 0, "nothing to scroll");
@@ -369,6 +369,7 @@ fn offered_footer(app: &App) -> String {
         save: view.session.can_save,
         turn: view.session.can_turn,
         go_to: view.session.can_go_to,
+        stored: view.session.can_run_stored,
     };
     ui::hints::footer(&view.session.keymap, offered, 200)
 }

@@ -4,12 +4,13 @@
 
 use std::time::Instant;
 
-use super::{ActionKind, TrackedAction};
+use super::{ActionKind, StoredAction, TrackedAction};
 use crate::console::app::age::age_text;
 use crate::console::app::message::Until;
 use crate::console::app::{App, Effect, Overlay, Severity};
 use crate::console::form::Confirm;
 use crate::kortex::Flag;
+use crate::kortex::StoredRun;
 use crate::link::interface::ArmCommand;
 impl App {
     /// The name of the position a go-to question asks about, taken before the answer.
@@ -82,7 +83,10 @@ impl App {
         }
         let kind = match command {
             ArmCommand::Jog(_) => None,
-            ArmCommand::Home => Some(ActionKind::Home),
+            ArmCommand::Home => Some(ActionKind::HOME),
+            ArmCommand::StartStored(stored) => {
+                Some(ActionKind::Stored(StoredAction::ById(*stored)))
+            }
             ArmCommand::GoToPosition { name } => Some(ActionKind::GoTo(name.clone())),
             ArmCommand::MoveToPose(_) => Some(ActionKind::GoTo(goto.unwrap_or_default())),
             ArmCommand::Step(_) => Some(ActionKind::Step),
@@ -94,6 +98,10 @@ impl App {
         // A new motion replaces whatever action was running.
         let last = self.arm.telemetry();
         truth.action = kind.map(|kind| TrackedAction {
+            run: match kind {
+                ActionKind::Stored(StoredAction::ById(stored)) => Some(StoredRun::new(stored)),
+                _ => None,
+            },
             kind,
             sent: now,
             accepted: None,

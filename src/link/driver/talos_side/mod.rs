@@ -26,6 +26,11 @@ const JOINT_JOG_HORIZON: f64 = 0.5;
 pub const ORIENTATION_NEEDS_MODBUS: &str =
     "orientation jog needs the Modbus link: Talos has no orientation jog";
 
+/// Why a stored action or sequence by id is refused without a Modbus link: Talos starts only
+/// its Home, by no id.
+pub const STORED_NEEDS_MODBUS: &str = "stored actions and sequences by id need the Modbus link: \
+     Talos runs only home (add --modbus)";
+
 mod answers;
 mod connect;
 
@@ -137,7 +142,9 @@ impl TalosSide {
             // Never over Talos: its ICD has no orientation jog (the driver refuses it when there
             // is no Modbus link).
             ArmCommand::Jog(JogMotion::Orientation { .. }) => false,
-            ArmCommand::MoveToPose(_) | ArmCommand::SetFrame(_) => false,
+            ArmCommand::MoveToPose(_) | ArmCommand::SetFrame(_) | ArmCommand::StartStored(_) => {
+                false
+            }
             // Over Modbus the coils do it properly; over Talos only the nearest equivalent.
             ArmCommand::FaultReset => !has_modbus,
             _ => true,
@@ -253,6 +260,7 @@ impl TalosSide {
             ArmCommand::MoveToPose(_) | ArmCommand::SetFrame(_) => {
                 return Err(ArmError::Unsupported("not available over Talos"));
             }
+            ArmCommand::StartStored(_) => return Err(ArmError::Unsupported(STORED_NEEDS_MODBUS)),
         })
     }
 
