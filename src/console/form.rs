@@ -311,10 +311,10 @@ impl Form {
 mod confirm;
 /// What a submitted form means, or the field that is wrong and why.
 mod parse;
-/// The tour forms: making one, playing one.
-mod tour;
 /// The stored action form: kind and id.
 mod stored;
+/// The tour forms: making one, playing one.
+mod tour;
 
 pub use confirm::Confirm;
 pub use stored::STORED_NOTE;

@@ -33,8 +33,8 @@ mod saving;
 mod singularity;
 mod speed_steps;
 mod stop_hold;
-mod tour;
 mod stored;
+mod tour;
 mod trail;
 
 pub use age::age_text;

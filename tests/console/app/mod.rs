@@ -19,5 +19,5 @@ mod positions_resave;
 mod positions_unsaved;
 mod singularity;
 mod state_machine;
-pub(crate) mod tours;
 mod stored_actions;
+pub(crate) mod tours;

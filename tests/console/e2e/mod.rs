@@ -11,5 +11,5 @@ mod other_client;
 mod other_client_default;
 mod positions;
 mod singularity;
-mod tours;
 mod stored_actions;
+mod tours;
