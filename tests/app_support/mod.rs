@@ -119,3 +119,46 @@ pub fn row(terminal: &ratatui::Terminal<ratatui::backend::TestBackend>, y: u16) 
         .map(|x| buffer[(x, y)].symbol().to_string())
         .collect()
 }
+
+/// The Gen3's home pose, degrees (the simulator's Home action, id 2).
+pub const HOME_JOINTS: [f32; 7] = [0.0, 15.0, 180.0, 230.0, 0.0, 55.0, 90.0];
+
+/// A ready arm without faults at `joints` (every joint turning at `velocity` deg/s), the tool at
+/// the home pose, its action registers reporting `action`.
+pub fn arm_telemetry(
+    joints: [f32; 7],
+    velocity: f32,
+    action: armjog::kortex::ActionState,
+) -> armjog::kortex::Telemetry {
+    use armjog::kortex::{
+        Coded, FlagSet, JointState, Pose, RobotState, SpeedLimits, Telemetry, ToolState, Twist,
+        Wrench,
+    };
+    Telemetry {
+        robot_state: Coded::Known(RobotState::Ready),
+        faults: FlagSet::from_bits(0),
+        warnings: FlagSet::from_bits(0),
+        arm: Default::default(),
+        joints: joints.map(|position| JointState {
+            position,
+            velocity,
+            ..JointState::default()
+        }),
+        tcp: ToolState {
+            pose: Pose {
+                x: 0.4566,
+                y: 0.001,
+                z: 0.4338,
+                theta_x: 90.0,
+                theta_y: 0.0,
+                theta_z: 90.0,
+            },
+            twist: Twist::ZERO,
+            wrench: Wrench::default(),
+        },
+        action,
+        speed_limits: SpeedLimits::default(),
+        control: Coded::Unknown(u16::MAX),
+        state_from_inputs: None,
+    }
+}

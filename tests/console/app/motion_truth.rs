@@ -12,8 +12,7 @@ use armjog::console::jog::{KeyKind, ReleaseMode};
 use armjog::console::keymap::{KeyName, Keymap};
 use armjog::console::positions::PositionBook;
 use armjog::kortex::{
-    ActionState, ActionStatus, Coded, Flag, FlagSet, JointState, MoveType, Pose, RobotState,
-    SpeedLimits, Telemetry, ToolState, Twist, Wrench,
+    ActionState, ActionStatus, Coded, Flag, FlagSet, MoveType, RobotState, Telemetry,
 };
 use armjog::link::interface::{
     ArmCommand, ArmError, ArmEvent, CommandKind, LinkStatus, LogEntry, TelemetrySource,
@@ -53,37 +52,12 @@ fn app(source: TelemetrySource) -> (App, Instant) {
 
 /// The arm at `positions` (deg), every joint turning at `velocity` deg/s, action `status`.
 fn telemetry(positions: [f32; 7], velocity: f32, status: Coded<ActionStatus>) -> Telemetry {
-    Telemetry {
-        robot_state: Coded::Known(RobotState::Ready),
-        faults: FlagSet::from_bits(0),
-        warnings: FlagSet::from_bits(0),
-        arm: Default::default(),
-        joints: positions.map(|position| JointState {
-            position,
-            velocity,
-            ..JointState::default()
-        }),
-        tcp: ToolState {
-            pose: Pose {
-                x: 0.4566,
-                y: 0.001,
-                z: 0.4338,
-                theta_x: 90.0,
-                theta_y: 0.0,
-                theta_z: 90.0,
-            },
-            twist: Twist::ZERO,
-            wrench: Wrench::default(),
-        },
-        action: ActionState {
-            status,
-            id: 2,
-            move_type: Coded::Known(MoveType::Action),
-        },
-        speed_limits: SpeedLimits::default(),
-        control: Coded::Unknown(u16::MAX),
-        state_from_inputs: None,
-    }
+    let action = ActionState {
+        status,
+        id: 2,
+        move_type: Coded::Known(MoveType::Action),
+    };
+    crate::app_support::arm_telemetry(positions, velocity, action)
 }
 
 const HOME: [f32; 7] = [0.0, 15.0, 180.0, 230.0, 0.0, 55.0, 90.0];

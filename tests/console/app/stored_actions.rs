@@ -12,8 +12,8 @@ use armjog::console::form::{Confirm, FormKind};
 use armjog::console::view::View;
 use armjog::console::{keymap::Keymap, positions::PositionBook, ui};
 use armjog::kortex::{
-    ActionState, ActionStatus, Coded, FlagSet, JointState, MoveType, Pose, RobotState, SpeedLimits,
-    Stored, StoredMotion, Telemetry, ToolState, Twist, Wrench,
+    ActionState, ActionStatus, Coded, FlagSet, MoveType, RobotState, Stored, StoredMotion,
+    Telemetry,
 };
 use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus, TelemetrySource};
 
@@ -71,38 +71,12 @@ fn console(source: TelemetrySource) -> (App, Instant) {
 /// The arm at rest (or turning every joint at `velocity` deg/s), its status registers
 /// reporting run `id` of `move_type` as `status`.
 fn last_run(id: u16, move_type: MoveType, status: ActionStatus, velocity: f32) -> Telemetry {
-    let home = [0.0, 15.0, 180.0, 230.0, 0.0, 55.0, 90.0];
-    Telemetry {
-        robot_state: Coded::Known(RobotState::Ready),
-        faults: FlagSet::from_bits(0),
-        warnings: FlagSet::from_bits(0),
-        arm: Default::default(),
-        joints: home.map(|position| JointState {
-            position,
-            velocity,
-            ..JointState::default()
-        }),
-        tcp: ToolState {
-            pose: Pose {
-                x: 0.4566,
-                y: 0.001,
-                z: 0.4338,
-                theta_x: 90.0,
-                theta_y: 0.0,
-                theta_z: 90.0,
-            },
-            twist: Twist::ZERO,
-            wrench: Wrench::default(),
-        },
-        action: ActionState {
-            status: Coded::Known(status),
-            id,
-            move_type: Coded::Known(move_type),
-        },
-        speed_limits: SpeedLimits::default(),
-        control: Coded::Unknown(u16::MAX),
-        state_from_inputs: None,
-    }
+    let action = ActionState {
+        status: Coded::Known(status),
+        id,
+        move_type: Coded::Known(move_type),
+    };
+    crate::app_support::arm_telemetry(crate::app_support::HOME_JOINTS, velocity, action)
 }
 
 fn running(stored: Stored, velocity: f32) -> Telemetry {

@@ -12,10 +12,7 @@ use armjog::console::form::Confirm;
 use armjog::console::jog::KeyKind;
 use armjog::console::keymap::KeyName;
 use armjog::console::positions::{PositionBook, Tour};
-use armjog::kortex::{
-    ActionState, ActionStatus, Coded, FlagSet, JointState, MoveType, Pose, RobotState, SpeedLimits,
-    Telemetry, ToolState, Twist, Wrench,
-};
+use armjog::kortex::{ActionState, ActionStatus, Coded, MoveType, Telemetry};
 use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus, TelemetrySource};
 
 use crate::app_support;
@@ -28,37 +25,12 @@ fn ms(n: u64) -> Duration {
 }
 
 fn telemetry(velocity: f32, status: ActionStatus) -> Telemetry {
-    Telemetry {
-        robot_state: Coded::Known(RobotState::Ready),
-        faults: FlagSet::from_bits(0),
-        warnings: FlagSet::from_bits(0),
-        arm: Default::default(),
-        joints: HOME.map(|position| JointState {
-            position,
-            velocity,
-            ..JointState::default()
-        }),
-        tcp: ToolState {
-            pose: Pose {
-                x: 0.4566,
-                y: 0.001,
-                z: 0.4338,
-                theta_x: 90.0,
-                theta_y: 0.0,
-                theta_z: 90.0,
-            },
-            twist: Twist::ZERO,
-            wrench: Wrench::default(),
-        },
-        action: ActionState {
-            status: Coded::Known(status),
-            id: 0,
-            move_type: Coded::Known(MoveType::Action),
-        },
-        speed_limits: SpeedLimits::default(),
-        control: Coded::Unknown(u16::MAX),
-        state_from_inputs: None,
-    }
+    let action = ActionState {
+        status: Coded::Known(status),
+        id: 0,
+        move_type: Coded::Known(MoveType::Action),
+    };
+    crate::app_support::arm_telemetry(HOME, velocity, action)
 }
 
 /// A console over Modbus (`on_operator` false) or a Talos operator with hardware telemetry,
