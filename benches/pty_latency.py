@@ -270,11 +270,22 @@ class Console:
             f"p50 {percentile(values, 0.5):.3f} ms, p90 {percentile(values, 0.9):.3f} ms, "
             f"p99 {percentile(values, 0.99):.3f} ms, max {values[-1]:.3f} ms; "
             f"{self.failures} without a STOP; "
+            + self.press_summary()
+            + "; "
             f"{len(self.starts_after_release)} STARTs after the release"
             + (f" ({', '.join(f'{v:.1f}' for v in self.starts_after_release)} ms after it)"
                if self.starts_after_release else "")
             + f", {len(self.starts_decided_after_release())} of them decided after it"
             f" (later than the fastest press->START, {self.fastest_press_to_start():.3f} ms)"
+        )
+
+    def press_summary(self):
+        values = sorted(self.press_to_start)
+        if not values:
+            return "no press->START"
+        return (
+            f"press->START p50 {percentile(values, 0.5):.3f} ms, "
+            f"p99 {percentile(values, 0.99):.3f} ms"
         )
 
     def fastest_press_to_start(self):
