@@ -3,6 +3,14 @@
 use armjog::cli::profiles::{ArgsError, EXIT_PROFILE, Parsed, parse_args};
 use armjog::cli::{Cli, Command, output};
 
+/// mimalloc rather than glibc's allocator: the console at rest wakes some 250 times a second
+/// (Modbus replies, reports, frames), each time with caches gone cold; with mimalloc it spends
+/// 7-23 % less CPU there than with glibc's (`benches/idle_ab.py`, both side by side). Its
+/// transparent huge pages are left off: with them it saved 15-41 %, but the console's resident
+/// memory went from 18 to 30-32 MB.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn main() {
     // The shared options of send/status/modbus may also come before the command word.
     let args = armjog::cli::options_after_command(std::env::args_os().collect());
