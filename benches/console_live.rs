@@ -1,9 +1,9 @@
 //! Live console figures (a bench binary, not criterion):
 //! - press-to-START and release-to-STOP latency through the real Talos link to the simulator on
 //!   loopback, p50 and p99 (target: p99 under 1 ms);
-//! - CPU at rest with telemetry at 30 Hz (target: under 2 % of one core) and resident memory
+//! - CPU at rest with telemetry at 30 Hz (target: under 1 % of one core) and resident memory
 //!   (target: under 30 MB) of the real console binary, running in tmux against `armjog sim` in
-//!   another process: once against a strict arm (the simulator's default, 6 reads a snapshot)
+//!   another process: once against a strict arm (the simulator's default, 5 reads a snapshot)
 //!   and once against one that answers reads over unlisted addresses (4 reads a snapshot).
 //!
 //! Run with `cargo bench --bench console_live` (`-- idle` for the second part only). Needs tmux
@@ -381,7 +381,7 @@ fn main() {
         latency();
     }
     let arms: [(&[&str], &str); 2] = [
-        (&[], "a strict arm: 6 reads a snapshot, 9 once a second"),
+        (&[], "a strict arm: 5 reads a snapshot, 9 once a second"),
         (
             &["--answer-unlisted-reads"],
             "an arm that answers unlisted reads: 4 reads a snapshot",

@@ -9,7 +9,7 @@ Usage (from the repository root, after `cargo build --release`):
 On a shared machine the console's CPU at rest moves by half from one minute to the next, more
 than most changes move it: `console_live -- idle` measures one build after another, so its
 figures for two builds are not comparable. Here every build runs at the same time, each in its
-own tmux (160x48) against its own `armjog sim` (this build's, strict: 6 reads a snapshot) with
+own tmux (160x48) against its own `armjog sim` (this build's, strict: 5 reads a snapshot) with
 telemetry at 30 Hz over Modbus and a Talos link beside it, and each round measures all of them
 over the same window: the load is the same for all, so their ratio is the figure to read.
 

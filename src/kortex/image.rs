@@ -98,12 +98,15 @@ const ICD_BLOCKS: [ReadBlock; 9] = [
     ),
 ];
 
-/// Of the ICD's blocks, those no decision rests on and no other block lacks: the robot-state
-/// flag inputs (input register 0 says the same), the warning flag inputs (input registers 4-5
-/// carry the same warnings) and the control register (not shown). A strict arm's plan reads
-/// them once every [`SLOW_REFRESH`] rather than in each snapshot: 6 reads a snapshot, not 9.
-/// The fault flag inputs are read in every snapshot, as every block the compact plan reads.
-const ICD_SLOW: [ReadBlock; 3] = [ICD_BLOCKS[0], ICD_BLOCKS[2], ICD_BLOCKS[6]];
+/// Of the ICD's blocks, those that need not be read in every snapshot: the robot-state flag
+/// inputs (input register 0 says the same), the warning flag inputs (input registers 4-5 carry
+/// the same warnings), the control register (not shown), and the arm's speed limits (the
+/// integrator's settings, which change only when someone sets them: the link reads them afresh
+/// before it lowers them for a capped move, and again after it writes them). A strict
+/// arm's plan reads them once every [`SLOW_REFRESH`] rather than in each snapshot: 5 reads a
+/// snapshot, not 9. The fault flag inputs are read in every snapshot, as every block the compact
+/// plan reads.
+const ICD_SLOW: [ReadBlock; 4] = [ICD_BLOCKS[0], ICD_BLOCKS[2], ICD_BLOCKS[6], ICD_BLOCKS[8]];
 
 /// How often the slow blocks are read.
 pub const SLOW_REFRESH: std::time::Duration = std::time::Duration::from_secs(1);
@@ -278,7 +281,7 @@ mod tests {
     }
 
     #[test]
-    fn only_the_strict_plans_state_warning_and_control_blocks_are_slow() {
+    fn only_the_strict_plans_state_warning_control_and_limit_blocks_are_slow() {
         assert!(
             PollPlan::Compact
                 .blocks()
@@ -296,7 +299,8 @@ mod tests {
             [
                 (Table::DiscreteInputs, 0, 10),
                 (Table::DiscreteInputs, 64, 31),
-                (Table::HoldingRegisters, 0, 1)
+                (Table::HoldingRegisters, 0, 1),
+                (Table::HoldingRegisters, 104, 4)
             ]
         );
     }

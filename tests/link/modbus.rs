@@ -125,7 +125,7 @@ async fn an_arm_refusing_unlisted_addresses_is_read_block_by_block() {
 }
 
 #[tokio::test]
-async fn a_strict_arms_state_warning_and_control_blocks_are_read_once_a_second() {
+async fn a_strict_arms_state_warning_control_and_limit_blocks_are_read_once_a_second() {
     let arm = FakeArm::start().await;
     arm.with(|s| {
         fill_known_telemetry(s);
@@ -134,7 +134,8 @@ async fn a_strict_arms_state_warning_and_control_blocks_are_read_once_a_second()
     let (link, _events) = ModbusLink::connect(config(&arm)).await.unwrap();
     link.read_telemetry().await.unwrap();
     let first = arm.with(|s| s.reads()).len();
-    // The next snapshots skip the robot-state and warning flag inputs and holding register 0.
+    // The next snapshots skip the robot-state and warning flag inputs, holding register 0 and
+    // the speed limits (holding registers 104-107).
     let telemetry = link.read_telemetry().await.unwrap();
     let reads = arm.with(|s| s.reads());
     assert_eq!(
@@ -144,8 +145,7 @@ async fn a_strict_arms_state_warning_and_control_blocks_are_read_once_a_second()
             (4, 0, 1),
             (4, 2, 12),
             (4, 34, 106),
-            (3, 100, 3),
-            (3, 104, 4)
+            (3, 100, 3)
         ]
     );
     // What they carried is kept from the last read of them.
@@ -158,6 +158,57 @@ async fn a_strict_arms_state_warning_and_control_blocks_are_read_once_a_second()
     let reads = arm.with(|s| s.reads());
     assert_eq!(reads[before..].len(), 9, "{:?}", &reads[before..]);
     assert!(reads[before..].contains(&(2, 0, 10)) && reads[before..].contains(&(3, 0, 1)));
+}
+
+#[tokio::test]
+async fn a_strict_arms_speed_limits_are_read_afresh_before_a_capped_move_and_after_a_write() {
+    let arm = FakeArm::start().await;
+    arm.with(|s| {
+        fill_known_telemetry(s);
+        s.strict_addresses = true;
+    });
+    let (link, _events) = ModbusLink::connect(config(&arm)).await.unwrap();
+    link.read_telemetry().await.unwrap();
+    link.read_telemetry().await.unwrap();
+    // The integrator lowers the arm's limit to 0.2 m/s within the second the limits are not
+    // polled: a move capped at 0.25 m/s must see it, or it would raise the limit to the cap.
+    arm.with(|s| s.set_holding_f32(104, 0.2));
+    let before = arm.with(|s| s.reads()).len();
+    let pose = Pose {
+        x: 0.4566,
+        y: 0.001,
+        z: 0.4338,
+        theta_x: 90.0,
+        theta_y: 0.0,
+        theta_z: 90.0,
+    };
+    link.go_to_pose_capped(ReferenceFrame::Base, pose, 0.25)
+        .await
+        .unwrap();
+    let reads = arm.with(|s| s.reads());
+    assert!(
+        reads[before..].contains(&(3, 104, 4)),
+        "{:?}",
+        &reads[before..]
+    );
+    assert!(
+        !arm.writes()
+            .iter()
+            .any(|w| matches!(w, Written::Registers(216, _))),
+        "the limits were written: {:?}",
+        arm.writes()
+    );
+    // A limit the console writes is read back in the next snapshot, within the second too.
+    link.read_telemetry().await.unwrap();
+    link.set_speed_limits(0.1, 10.0).await.unwrap();
+    let before = arm.with(|s| s.reads()).len();
+    link.read_telemetry().await.unwrap();
+    let reads = arm.with(|s| s.reads());
+    assert!(
+        reads[before..].contains(&(3, 104, 4)),
+        "{:?}",
+        &reads[before..]
+    );
 }
 
 #[tokio::test]

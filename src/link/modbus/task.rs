@@ -81,6 +81,15 @@ pub(super) struct LinkTask {
     ended_elsewhere: Option<MotionInForce>,
 }
 
+/// Which of a strict arm's blocks a snapshot reads (see [`PollPlan::is_slow`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum PollScope {
+    /// The slow blocks only once [`SLOW_REFRESH`] has passed since they were last read.
+    Due,
+    /// Every block: for a decision that rests on a slow one (the arm's speed limits).
+    Everything,
+}
+
 impl LinkTask {
     pub(super) fn new(
         config: ModbusConfig,
@@ -258,6 +267,9 @@ impl LinkTask {
                 reply,
             } => {
                 let result = self.execute(&writes).await;
+                // What they wrote (speed limits above all) is read back in the next snapshot,
+                // slow blocks included.
+                self.slow_read_at = None;
                 if halts && result.is_ok() {
                     self.motion = MotionInForce::Idle;
                     self.hold_until = None;
@@ -377,13 +389,19 @@ impl LinkTask {
         }
     }
 
+    /// Reads one complete snapshot (the slow blocks when due) and publishes it.
+    async fn poll(&mut self) -> Result<Telemetry, ModbusError> {
+        self.poll_scoped(PollScope::Due).await
+    }
+
     /// Reads one complete snapshot and publishes it. Falls back to the ICD's blocks if the arm
     /// refuses the compact reads.
-    async fn poll(&mut self) -> Result<Telemetry, ModbusError> {
+    async fn poll_scoped(&mut self, scope: PollScope) -> Result<Telemetry, ModbusError> {
         let started = Instant::now();
-        let mut with_slow = self
-            .slow_read_at
-            .is_none_or(|at| started.saturating_duration_since(at) >= SLOW_REFRESH);
+        let mut with_slow = scope == PollScope::Everything
+            || self
+                .slow_read_at
+                .is_none_or(|at| started.saturating_duration_since(at) >= SLOW_REFRESH);
         let mut index = 0;
         while let Some(block) = self.plan.blocks().get(index).copied() {
             if !with_slow && self.plan.is_slow(block) {

@@ -21,7 +21,7 @@ use std::time::Duration;
 
 use tokio::time::Instant;
 
-use super::{LinkTask, ModbusError, ModbusEvent, StopReason, WriteReport};
+use super::{LinkTask, ModbusError, ModbusEvent, PollScope, StopReason, WriteReport};
 use crate::kortex::commands::{self, Write};
 use crate::kortex::{ActionStatus, Coded, SpeedLimits, Telemetry};
 
@@ -63,7 +63,7 @@ impl LinkTask {
     /// notes what to restore. Writes nothing when the limit in force is already right.
     async fn lower_limits(&mut self, max_linear: f32) -> Result<WriteReport, ModbusError> {
         // A fresh read: the limits may have been changed by someone else since the last poll.
-        let in_force = self.poll().await?.speed_limits;
+        let in_force = self.poll_scoped(PollScope::Everything).await?.speed_limits;
         let original = self.limit_hold.map_or(in_force, |h| h.original);
         let valid = |v: f32| v.is_finite() && v > 0.0;
         if !(valid(original.linear) && valid(original.angular)) {
@@ -82,7 +82,7 @@ impl LinkTask {
             let writes = commands::speed_limits(wanted.linear, wanted.angular)?;
             // Owed back from the moment the write may have landed.
             self.hold(original);
-            report = self.execute(&writes).await?;
+            report = self.limits_written(&writes).await?;
             if linear < original.linear {
                 tracing::info!(
                     "speed limit lowered to {linear} m/s for a capped move (was {} m/s)",
@@ -103,6 +103,14 @@ impl LinkTask {
         Ok(report)
     }
 
+    /// Writes new speed limits; the next snapshot reads them back, slow block or not, so what
+    /// the console shows is what the arm has.
+    async fn limits_written(&mut self, writes: &[Write]) -> Result<WriteReport, ModbusError> {
+        let written = self.execute(writes).await;
+        self.slow_read_at = None;
+        written
+    }
+
     fn hold(&mut self, original: SpeedLimits) {
         self.limit_hold = Some(LimitHold {
             original,
@@ -119,7 +127,7 @@ impl LinkTask {
         };
         let limits = hold.original;
         let result = match commands::speed_limits(limits.linear, limits.angular) {
-            Ok(writes) => self.execute(&writes).await.map(|_| ()),
+            Ok(writes) => self.limits_written(&writes).await.map(|_| ()),
             Err(e) => Err(e.into()),
         };
         match result {
