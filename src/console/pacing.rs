@@ -78,7 +78,7 @@ impl FramePacer {
     /// painted one did (the screen is already right). A view that differs only in what ticks
     /// over at rest waits until [`BACKGROUND_FRAME`] after the last frame, unless the
     /// technician caused it.
-    pub fn frame(&mut self, view: View, now: Instant) -> Option<View> {
+    pub fn frame(&mut self, mut view: View, now: Instant) -> Option<View> {
         let urgent = self.urgent;
         self.changed = false;
         self.urgent = false;

@@ -150,7 +150,12 @@ fn what_ticks_over_at_rest_is_drawn_once_a_second() {
     app.handle(Input::Arm(poll_line(1, 3)), t);
     app.handle(Input::Arm(ArmEvent::Latency(Duration::from_millis(3))), t);
     pacer.changed(false, t);
-    assert!(View::new(&app).differs_only_in_background(&pacer.shown.clone().expect("drawn")));
+    let mut view = View::new(&app);
+    let as_built = view.clone();
+    assert!(view.differs_only_in_background(&pacer.shown.clone().expect("drawn")));
+    // Compared in place: the view keeps its own count and latency.
+    assert_eq!(view, as_built);
+    assert_eq!(view.arm.latency, Some(Duration::from_millis(3)));
     assert_eq!(pacer.frame(View::new(&app), t), None);
     assert_eq!(pacer.due_at(false), Some(start + BACKGROUND_FRAME));
     // The next poll is looked at a frame's period after the held one, not at once.
