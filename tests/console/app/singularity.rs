@@ -50,6 +50,13 @@ fn near_singular_telemetry_sets_the_view_and_home_does_not() {
         t0,
     );
     assert_eq!(View::new(&app).arm.near_singularity, None);
+    // Worked out when the joints move: a report with the same angles keeps the estimate, one
+    // that bends the elbow again brings it back.
+    let mut near = reporting(elbow(-9.0));
+    app.handle(Input::Arm(ArmEvent::Telemetry(Box::new(near.clone()))), t0);
+    near.arm.cpu_temperature += 1.0;
+    app.handle(Input::Arm(ArmEvent::Telemetry(Box::new(near))), t0);
+    assert_eq!(View::new(&app).arm.near_singularity, Some(kappa));
 }
 
 #[test]

@@ -15,6 +15,9 @@ use crate::link::interface::{GuardStatus, LinkStatus};
 pub(in crate::console::app) struct Arm {
     link: LinkStatus,
     telemetry: Option<Telemetry>,
+    /// [`near_singularity`] of `telemetry`, worked out when the joints move rather than for
+    /// every view (an SVD, several times a second on an arm at rest).
+    singularity: Option<f64>,
     latency: Option<Duration>,
     speed: Option<u8>,
     frame: ReferenceFrame,
@@ -57,6 +60,7 @@ impl Default for Arm {
         Arm {
             link: LinkStatus::Connecting,
             telemetry: None,
+            singularity: None,
             latency: None,
             speed: None,
             frame: ReferenceFrame::Base,
@@ -94,6 +98,14 @@ impl Arm {
     pub(in crate::console::app) fn on_telemetry(&mut self, t: Telemetry, now: Instant) {
         self.history.record(&t, now);
         self.trail.record(&t, now);
+        let angles = |t: &Telemetry| t.joints.map(|j| j.position.to_bits());
+        if self
+            .telemetry
+            .as_ref()
+            .is_none_or(|was| angles(was) != angles(&t))
+        {
+            self.singularity = near_singularity(&t);
+        }
         self.telemetry = Some(t);
     }
 
@@ -190,7 +202,7 @@ impl Arm {
             telemetry: self.telemetry.clone(),
             history: now.map(|now| self.history.series(now)).unwrap_or_default(),
             near_limits: self.telemetry.as_ref().map(near_limits).unwrap_or_default(),
-            near_singularity: self.telemetry.as_ref().and_then(near_singularity),
+            near_singularity: self.singularity,
             trail: now.map(|now| self.trail.shaded(now)).unwrap_or_default(),
         }
     }
