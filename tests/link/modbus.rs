@@ -33,6 +33,28 @@ fn sample_twist() -> Twist {
 }
 
 /// The twist start sequence for `sample_twist` in the base frame, written out by hand.
+/// The Gen3's tool pose at home (base frame, m and deg), as the fake arm's telemetry has it.
+fn home_tcp() -> Pose {
+    Pose {
+        x: 0.4566,
+        y: 0.001,
+        z: 0.4338,
+        theta_x: 90.0,
+        theta_y: 0.0,
+        theta_z: 90.0,
+    }
+}
+
+/// A fake arm with known telemetry that refuses reads over addresses the ICD does not list.
+async fn strict_arm() -> FakeArm {
+    let arm = FakeArm::start().await;
+    arm.with(|s| {
+        fill_known_telemetry(s);
+        s.strict_addresses = true;
+    });
+    arm
+}
+
 fn sample_twist_writes() -> Vec<Written> {
     vec![
         Written::Registers(200, vec![0]),
@@ -92,11 +114,7 @@ async fn the_unit_id_is_sent_with_every_request() {
 
 #[tokio::test]
 async fn an_arm_refusing_unlisted_addresses_is_read_block_by_block() {
-    let arm = FakeArm::start().await;
-    arm.with(|s| {
-        fill_known_telemetry(s);
-        s.strict_addresses = true;
-    });
+    let arm = strict_arm().await;
     let (link, mut events) = ModbusLink::connect(config(&arm)).await.unwrap();
     let telemetry = link.read_telemetry().await.unwrap();
     assert_eq!(telemetry.speed_limits.linear, 0.5);
@@ -126,11 +144,7 @@ async fn an_arm_refusing_unlisted_addresses_is_read_block_by_block() {
 
 #[tokio::test]
 async fn a_strict_arms_state_warning_control_and_limit_blocks_are_read_once_a_second() {
-    let arm = FakeArm::start().await;
-    arm.with(|s| {
-        fill_known_telemetry(s);
-        s.strict_addresses = true;
-    });
+    let arm = strict_arm().await;
     let (link, _events) = ModbusLink::connect(config(&arm)).await.unwrap();
     link.read_telemetry().await.unwrap();
     let first = arm.with(|s| s.reads()).len();
@@ -162,11 +176,7 @@ async fn a_strict_arms_state_warning_control_and_limit_blocks_are_read_once_a_se
 
 #[tokio::test]
 async fn a_strict_arms_speed_limits_are_read_afresh_before_a_capped_move_and_after_a_write() {
-    let arm = FakeArm::start().await;
-    arm.with(|s| {
-        fill_known_telemetry(s);
-        s.strict_addresses = true;
-    });
+    let arm = strict_arm().await;
     let (link, _events) = ModbusLink::connect(config(&arm)).await.unwrap();
     link.read_telemetry().await.unwrap();
     link.read_telemetry().await.unwrap();
@@ -174,14 +184,7 @@ async fn a_strict_arms_speed_limits_are_read_afresh_before_a_capped_move_and_aft
     // polled: a move capped at 0.25 m/s must see it, or it would raise the limit to the cap.
     arm.with(|s| s.set_holding_f32(104, 0.2));
     let before = arm.with(|s| s.reads()).len();
-    let pose = Pose {
-        x: 0.4566,
-        y: 0.001,
-        z: 0.4338,
-        theta_x: 90.0,
-        theta_y: 0.0,
-        theta_z: 90.0,
-    };
+    let pose = home_tcp();
     link.go_to_pose_capped(ReferenceFrame::Base, pose, 0.25)
         .await
         .unwrap();
@@ -312,14 +315,7 @@ async fn values_that_cannot_be_written_are_refused_before_sending() {
 async fn pose_action_speed_limit_and_coil_sequences() {
     let arm = FakeArm::start().await;
     let (link, _events) = ModbusLink::connect(config(&arm)).await.unwrap();
-    let pose = Pose {
-        x: 0.4566,
-        y: 0.001,
-        z: 0.4338,
-        theta_x: 90.0,
-        theta_y: 0.0,
-        theta_z: 90.0,
-    };
+    let pose = home_tcp();
     link.go_to_pose(ReferenceFrame::Base, pose).await.unwrap();
     link.home().await.unwrap();
     link.start_stored(17, armjog::kortex::StoredMotion::Sequence)
