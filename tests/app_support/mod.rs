@@ -131,8 +131,7 @@ pub fn arm_telemetry(
     action: armjog::kortex::ActionState,
 ) -> armjog::kortex::Telemetry {
     use armjog::kortex::{
-        Coded, FlagSet, JointState, Pose, RobotState, SpeedLimits, Telemetry, ToolState, Twist,
-        Wrench,
+        Coded, FlagSet, JointState, RobotState, SpeedLimits, Telemetry, ToolState, Twist, Wrench,
     };
     Telemetry {
         robot_state: Coded::Known(RobotState::Ready),
@@ -145,14 +144,7 @@ pub fn arm_telemetry(
             ..JointState::default()
         }),
         tcp: ToolState {
-            pose: Pose {
-                x: 0.4566,
-                y: 0.001,
-                z: 0.4338,
-                theta_x: 90.0,
-                theta_y: 0.0,
-                theta_z: 90.0,
-            },
+            pose: crate::common::home_tcp(),
             twist: Twist::ZERO,
             wrench: Wrench::default(),
         },

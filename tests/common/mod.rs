@@ -1,4 +1,5 @@
-//! A scriptable Talos operator on loopback for link and command-line tests.
+//! A scriptable Talos operator on loopback for link and command-line tests, and the tool pose
+//! the tests' arms report at home.
 #![allow(dead_code)]
 
 use std::sync::Arc;
@@ -184,4 +185,16 @@ pub fn crc16_ccitt_false(bytes: &[u8]) -> u16 {
         }
     }
     crc
+}
+
+/// The Gen3's tool pose at home (base frame, m and deg), as the tests' arms report it.
+pub fn home_tcp() -> armjog::kortex::Pose {
+    armjog::kortex::Pose {
+        x: 0.4566,
+        y: 0.001,
+        z: 0.4338,
+        theta_x: 90.0,
+        theta_y: 0.0,
+        theta_z: 90.0,
+    }
 }

@@ -1,6 +1,7 @@
 //! The Modbus link against an in-process fake arm on loopback: polls, exact write sequences,
 //! exceptions, timeouts, reconnects, and the stops that keep a twist from running on.
 
+use crate::common::home_tcp;
 use crate::modbus_fake;
 
 use std::time::Duration;
@@ -33,18 +34,6 @@ fn sample_twist() -> Twist {
 }
 
 /// The twist start sequence for `sample_twist` in the base frame, written out by hand.
-/// The Gen3's tool pose at home (base frame, m and deg), as the fake arm's telemetry has it.
-fn home_tcp() -> Pose {
-    Pose {
-        x: 0.4566,
-        y: 0.001,
-        z: 0.4338,
-        theta_x: 90.0,
-        theta_y: 0.0,
-        theta_z: 90.0,
-    }
-}
-
 /// A fake arm with known telemetry that refuses reads over addresses the ICD does not list.
 async fn strict_arm() -> FakeArm {
     let arm = FakeArm::start().await;

@@ -8,8 +8,8 @@ use armjog::console::jog::{KeyKind, ReleaseMode};
 use armjog::console::keymap::Keymap;
 use armjog::console::positions::PositionBook;
 use armjog::kortex::{
-    ActionState, ActionStatus, Coded, Flag, FlagSet, JointState, MoveType, Pose, RobotState,
-    SpeedLimits, Telemetry, ToolState, Twist, Wrench,
+    ActionState, ActionStatus, Coded, Flag, FlagSet, JointState, MoveType, RobotState, SpeedLimits,
+    Telemetry, ToolState, Twist, Wrench,
 };
 use armjog::link::interface::{
     ArmCommand, ArmError, ArmEvent, CommandKind, GuardStatus, LinkStatus, TelemetrySource,
@@ -85,14 +85,7 @@ fn telemetry(in_fault: bool) -> Input {
             ..JointState::default()
         }),
         tcp: ToolState {
-            pose: Pose {
-                x: 0.4566,
-                y: 0.001,
-                z: 0.4338,
-                theta_x: 90.0,
-                theta_y: 0.0,
-                theta_z: 90.0,
-            },
+            pose: crate::common::home_tcp(),
             twist: Twist::ZERO,
             wrench: Wrench::default(),
         },

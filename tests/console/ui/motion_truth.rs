@@ -12,7 +12,7 @@ use armjog::console::positions::PositionBook;
 use armjog::console::ui::{self, Theme};
 use armjog::console::view::View;
 use armjog::kortex::{
-    ActionState, ActionStatus, Coded, FlagSet, JointState, MoveType, Pose, RobotState, SpeedLimits,
+    ActionState, ActionStatus, Coded, FlagSet, JointState, MoveType, RobotState, SpeedLimits,
     Telemetry, ToolState, Twist, Wrench,
 };
 use armjog::link::interface::{ArmEvent, LinkStatus, TelemetrySource};
@@ -41,14 +41,7 @@ fn telemetry(velocity: f32, status: ActionStatus) -> Telemetry {
             temperature: 31.0,
         }),
         tcp: ToolState {
-            pose: Pose {
-                x: 0.4566,
-                y: 0.001,
-                z: 0.4338,
-                theta_x: 90.0,
-                theta_y: 0.0,
-                theta_z: 90.0,
-            },
+            pose: crate::common::home_tcp(),
             twist: Twist::ZERO,
             wrench: Wrench::default(),
         },
