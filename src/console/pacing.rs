@@ -1,8 +1,9 @@
 //! When the console draws a frame: at most 30 a second after the technician's own input or
-//! while the arm moves (a jog, an action, or joints turning in the telemetry), at most 7.5 a second when only the arm's reports changed, once a second when
-//! only what ticks over at rest changed (the latency, the telemetry polls' count, temperatures:
-//! see [`View::differs_only_in_background`]), and never for a view that shows the same as the
-//! one drawn last. The last two keep an idle console under 2 % of a core.
+//! while the arm moves (a jog, an action, or joints turning in the telemetry), at most 7.5 a
+//! second when only the arm's reports changed, every 2 s when only what ticks over at rest
+//! changed (the latency, the telemetry polls' count, temperatures: see
+//! [`View::differs_only_in_background`]), and never for a view that shows the same as the one
+//! drawn last. The last two keep an idle console's CPU low (`benches/idle_ab.py`).
 //!
 //! The runtime sleeps until [`FramePacer::due_at`] rather than waking on a fixed tick, so a
 //! console with nothing to draw does not wake at all. Everything time-dependent a panel shows
@@ -19,7 +20,11 @@ pub const FRAME: Duration = Duration::from_millis(33);
 /// rate the console had when it drew on a fixed 33 ms tick once 100 ms had passed (7.5 fps).
 pub const IDLE_FRAME: Duration = Duration::from_millis(132);
 /// Shortest time between frames when only what ticks over at rest changed.
-pub const BACKGROUND_FRAME: Duration = Duration::from_secs(1);
+/// A frame at rest costs the console several ms of CPU, its caches gone cold (the view, the
+/// draw, the write): at one a second instead of one every 2 s, a resting console cost 1.3x the
+/// CPU, side by side. What the technician must see at once (faults, stale marks, motion)
+/// changes more than the background, so it is drawn at the faster rates.
+pub const BACKGROUND_FRAME: Duration = Duration::from_secs(2);
 /// How long after a change its frame starts at the soonest: the command a key sent (a release's
 /// STOP above all) goes out before a frame's drawing competes with it for the CPU.
 pub const SETTLE: Duration = Duration::from_millis(3);

@@ -136,7 +136,7 @@ fn poll_line(count: u32, latency_ms: u64) -> ArmEvent {
 }
 
 #[test]
-fn what_ticks_over_at_rest_is_drawn_once_a_second() {
+fn what_ticks_over_at_rest_is_drawn_every_two_seconds() {
     let start = Instant::now();
     // No link promising telemetry: nothing goes stale in this test.
     let mut app = app();
