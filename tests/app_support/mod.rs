@@ -73,6 +73,13 @@ pub fn step(dx: i32, dy: i32, dz: i32) -> Effect {
     Effect::Arm(ArmCommand::Step(StepMove::Cartesian { dx, dy, dz }))
 }
 
+/// The text on the bottom line, or "" when there is none.
+pub fn message(app: &App) -> String {
+    app.message()
+        .map(|(text, _)| text.to_string())
+        .unwrap_or_default()
+}
+
 pub fn ms(n: u64) -> Duration {
     Duration::from_millis(n)
 }

@@ -14,7 +14,7 @@ use armjog::kortex::{Coded, MoveType, RegisterImage, RobotState, Telemetry};
 use armjog::link::driver::JOINT_JOG_SPEED;
 use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus, TelemetrySource};
 
-use crate::app_support::{STOP, config, jog, key, ms, press, release};
+use crate::app_support::{STOP, config, jog, key, message, ms, press, release};
 
 /// The cap of these tests: 50 mm/s.
 const CAP: f64 = 0.05;
@@ -60,12 +60,6 @@ fn joint_at(deg_s: f32) -> Telemetry {
 
 fn feed(app: &mut App, t: Telemetry, now: Instant) -> Vec<Effect> {
     app.handle(Input::Arm(ArmEvent::Telemetry(Box::new(t))), now)
-}
-
-fn message(app: &App) -> String {
-    app.message()
-        .map(|(text, _)| text.to_string())
-        .unwrap_or_default()
 }
 
 /// Feeds `samples` 33 ms apart from `from`; returns every effect and when the last came.

@@ -11,7 +11,7 @@ use armjog::console::positions::PositionBook;
 use armjog::kortex::{Coded, Flag, FlagSet, MoveType, RegisterImage, RobotState, Telemetry};
 use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus, TelemetrySource};
 
-use crate::app_support::{STOP, config, jog, key, ms, press};
+use crate::app_support::{STOP, config, jog, key, message, ms, press};
 
 /// A ready arm at home, at rest.
 fn ready() -> Telemetry {
@@ -52,12 +52,6 @@ fn console(t: Telemetry) -> (App, Instant) {
 
 fn feed(app: &mut App, t: Telemetry, now: Instant) -> Vec<Effect> {
     app.handle(Input::Arm(ArmEvent::Telemetry(Box::new(t))), now)
-}
-
-fn message(app: &App) -> String {
-    app.message()
-        .map(|(text, _)| text.to_string())
-        .unwrap_or_default()
 }
 
 fn moves(effects: &[Effect]) -> Vec<&Effect> {

@@ -1,6 +1,7 @@
 //! The state machine never says stopped when the arm may not be: LINK STALE, STOPPING, MAY BE
 //! MOVING, MOVING: HOME / GOTO and their failures. Fake clock, no sockets.
 
+use crate::app_support::message;
 use armjog::console::app::QUESTION_QUIET;
 use std::time::{Duration, Instant};
 
@@ -82,12 +83,6 @@ fn key(name: &str, kind: KeyKind) -> Input {
 
 fn press(app: &mut App, name: &str, now: Instant) -> Vec<Effect> {
     app.handle(key(name, KeyKind::Press), now)
-}
-
-fn message(app: &App) -> String {
-    app.message()
-        .map(|(text, _)| text.to_string())
-        .unwrap_or_default()
 }
 
 fn may_be_moving(app: &App) -> bool {

@@ -14,7 +14,7 @@ use armjog::kortex::{
 };
 use armjog::link::interface::{ArmEvent, LinkStatus, TelemetrySource};
 
-use crate::app_support::{STOP, buffer_text, config, jog, key, ms, press, screen};
+use crate::app_support::{STOP, buffer_text, config, jog, key, message, ms, press, screen};
 
 /// A ready arm; the tool moving along X at `mm_s`, its action started, a twist.
 fn moving_at(mm_s: f32) -> Telemetry {
@@ -91,12 +91,6 @@ fn answer(app: &mut App, now: Instant) {
             z: 0,
         });
     app.handle(Input::Arm(ArmEvent::Done { command }), now + ms(1));
-}
-
-fn message(app: &App) -> String {
-    app.message()
-        .map(|(text, _)| text.to_string())
-        .unwrap_or_default()
 }
 
 fn starts(effects: &[Effect]) -> usize {

@@ -11,7 +11,7 @@ use armjog::console::positions::PositionBook;
 use armjog::kortex::{ActionStatus, Coded, MoveType, RegisterImage, RobotState, Telemetry};
 use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus, TelemetrySource};
 
-use crate::app_support::{STOP, config, key, ms};
+use crate::app_support::{STOP, config, key, message, ms};
 
 const PLUS_Y: JogMotion = JogMotion::Cartesian { x: 0, y: 1, z: 0 };
 
@@ -97,12 +97,6 @@ fn run(
 
 fn count(effects: &[Effect], wanted: &Effect) -> usize {
     effects.iter().filter(|e| *e == wanted).count()
-}
-
-fn message(app: &App) -> String {
-    app.message()
-        .map(|(text, _)| text.to_string())
-        .unwrap_or_default()
 }
 
 /// A held +Y jog that ran 125 mm/s for a second.

@@ -15,12 +15,6 @@ fn paste(app: &mut App, text: &str, now: Instant) -> Vec<Effect> {
     app.handle(Input::Paste(Pasted::Text(text.into())), now)
 }
 
-fn message(app: &App) -> String {
-    app.message()
-        .map(|(text, _)| text.to_string())
-        .unwrap_or_default()
-}
-
 fn moves(effects: &[Effect]) -> bool {
     effects
         .iter()

@@ -1,6 +1,7 @@
 //! Saving over a name asks first, renaming, and undoing the last delete, on a fake clock: in
 //! the console's own book (Modbus) and on a Talos operator, step by step with its answers.
 
+use crate::app_support::message;
 use armjog::console::app::QUESTION_QUIET;
 use std::time::Instant;
 
@@ -42,12 +43,6 @@ fn clear_field(app: &mut App, now: Instant) {
     for _ in 0..40 {
         press(app, "backspace", now);
     }
-}
-
-fn message(app: &App) -> String {
-    app.message()
-        .map(|(text, _)| text.to_string())
-        .unwrap_or_default()
 }
 
 fn arm(app: &mut App, event: ArmEvent, now: Instant) -> Vec<Effect> {

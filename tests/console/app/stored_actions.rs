@@ -17,7 +17,7 @@ use armjog::kortex::{
 };
 use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus, TelemetrySource};
 
-use crate::app_support::{config, ms, press, row, screen};
+use crate::app_support::{config, message, ms, press, row, screen};
 
 const STOP: Effect = Effect::Arm(ArmCommand::Stop);
 
@@ -103,12 +103,6 @@ fn typed(app: &mut App, text: &str, now: Instant) {
     for c in text.chars() {
         press(app, &c.to_string(), now);
     }
-}
-
-fn message(app: &App) -> String {
-    app.message()
-        .map(|(text, _)| text.to_string())
-        .unwrap_or_default()
 }
 
 fn form_error(app: &App) -> Option<String> {

@@ -148,10 +148,7 @@ impl Bench {
     }
 
     fn message(&self) -> String {
-        self.app
-            .message()
-            .map(|(text, _)| text.to_string())
-            .unwrap_or_default()
+        crate::app_support::message(&self.app)
     }
 
     fn tour_label(&self) -> Option<String> {

@@ -209,10 +209,7 @@ async fn a_network_that_freezes_mid_jog_shows_link_stale_and_may_be_moving() {
 }
 
 fn message(c: &Console) -> String {
-    c.app
-        .message()
-        .map(|(text, _)| text.to_string())
-        .unwrap_or_default()
+    crate::app_support::message(&c.app)
 }
 
 fn moving_home(c: &Console) -> bool {

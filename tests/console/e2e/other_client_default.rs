@@ -60,10 +60,7 @@ impl Console {
     }
 
     fn message(&self) -> String {
-        self.app
-            .message()
-            .map(|(text, _)| text.to_string())
-            .unwrap_or_default()
+        crate::app_support::message(&self.app)
     }
 }
 

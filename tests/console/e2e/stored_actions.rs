@@ -123,10 +123,7 @@ fn type_text(console: &mut Console, text: &str) {
 }
 
 fn message(c: &Console) -> String {
-    c.app
-        .message()
-        .map(|(text, _)| text.to_string())
-        .unwrap_or_default()
+    crate::app_support::message(&c.app)
 }
 
 fn shown(label: &str) -> MotionShown {
