@@ -145,6 +145,12 @@ impl LinkTask {
         let mut sweep = tokio::time::interval(Duration::from_secs(1));
         let end = loop {
             tokio::select! {
+                // In this order, not at random: a full queue ends the link as it did; a job (a
+                // STOP) is written before anything else is polled (a timer polled costs a lock
+                // of the runtime's timer wheel); replies last, so an operator that floods them
+                // never holds up an overdue STOP's re-send or the requests' deadlines.
+                biased;
+                () = self.overflow.notified() => break End::write(super::queue_full()),
                 job = jobs.recv() => match job {
                     Some(job) => {
                         if let Err(reason) = self.send(&mut writer, job).await {
@@ -157,6 +163,12 @@ impl LinkTask {
                         return;
                     }
                 },
+                _ = sleep_until(self.next_ack_expiry()) => {
+                    if let Err(reason) = self.expire_acks(&mut writer).await {
+                        break End::write(reason);
+                    }
+                }
+                _ = sweep.tick() => self.sweep(),
                 item = reader.next() => match item {
                     Some(Ok(Incoming::TalosFrame(Decoded::TalosFrame(frame)))) => self.on_frame(frame),
                     Some(Ok(Incoming::TalosFrame(Decoded::Rejected(r)))) => self.on_rejection(r),
@@ -167,13 +179,6 @@ impl LinkTask {
                     Some(Err(e)) => break End::read(format!("read failed: {}", io_error_words(&e))),
                     None => break End::read("the operator closed the connection".to_string()),
                 },
-                _ = sleep_until(self.next_ack_expiry()) => {
-                    if let Err(reason) = self.expire_acks(&mut writer).await {
-                        break End::write(reason);
-                    }
-                }
-                () = self.overflow.notified() => break End::write(super::queue_full()),
-                _ = sweep.tick() => self.sweep(),
             }
         };
         let reason = end.reason;
