@@ -13,6 +13,7 @@ Usage (from the repository root, after `cargo build --release`):
     python3 benches/pty_latency.py --compare /tmp/armjog-old  # A/B, cycles alternate
     python3 benches/pty_latency.py --compare floor    # against the machine's own floor
     python3 benches/pty_latency.py --compare floor-rs # against the compiled floor
+    python3 benches/pty_latency.py --table --rest 2   # each press after some 2 s at rest
 
 The script starts `armjog --talos 127.0.0.1:PORT --dialect ack --checksum xor8
 --key-release events` on a pseudo-terminal and plays both of its peers itself, in one
@@ -29,7 +30,10 @@ for the polar STOP (0x0004). Latency = STOP frame received - release bytes writt
 p50, p90, p99 and max, and the STARTs that came after a release was written (a refresh that
 overtook the release), with those that came later than the run's fastest press->START (so were
 decided after the release bytes were on the pty); it exits 1 if a cycle saw no STOP within 2 s
-or a START decided after a release.
+or a START decided after a release, or one after the release's STOP (motion again with no
+key down). How long a console rested before a press sets what the press costs: each console
+rests while the others run their cycles, so the more consoles, the colder its caches when its
+key comes; `--rest` adds a technician's pause, and the summary gives the median rest.
 With --compare, a second binary runs beside the first and the cycles alternate between them, so both see the same
 machine load (on a shared machine the load, not the binary, dominates the tail otherwise).
 `--compare floor` runs a minimal stand-in instead (a Python child that turns each key event
@@ -221,6 +225,11 @@ class Console:
         # press->START of every cycle, ms: the least time a key takes to become a frame.
         self.press_ns = 0
         self.press_to_start = []
+        # STARTs after the release's STOP and before the next press.
+        self.starts_after_stop = 0
+        # How long the console was idle (STOP to the next press), ms.
+        self.stop_ns = 0
+        self.idle_before_press = []
 
     def fds(self):
         return [self.master, *self.op.sockets()]
@@ -277,15 +286,18 @@ class Console:
                if self.starts_after_release else "")
             + f", {len(self.starts_decided_after_release())} of them decided after it"
             f" (later than the fastest press->START, {self.fastest_press_to_start():.3f} ms)"
+            f"; {self.starts_after_stop} STARTs after the STOP"
         )
 
     def press_summary(self):
         values = sorted(self.press_to_start)
         if not values:
             return "no press->START"
+        idle = sorted(self.idle_before_press)
         return (
             f"press->START p50 {percentile(values, 0.5):.3f} ms, "
             f"p99 {percentile(values, 0.99):.3f} ms"
+            + (f" (idle {percentile(idle, 0.5):.0f} ms before a press, median)" if idle else "")
         )
 
     def fastest_press_to_start(self):
@@ -299,8 +311,12 @@ class Console:
         return [v for v in self.starts_after_release if v > fastest]
 
 
-def run_cycles(binaries, cycles, size, seed):
-    """Runs `cycles` press/release cycles on each binary, alternating; returns the consoles."""
+def run_cycles(binaries, cycles, size, seed, rest=0.0):
+    """Runs `cycles` press/release cycles on each binary, alternating; returns the consoles.
+    Each turn waits 50-100 ms plus `rest` / the consoles' number after a STOP, so a console
+    rests about `rest` s longer between its STOP and its next press, the other consoles'
+    cycles running meanwhile: how long a console has been idle sets what its press costs (the
+    summary gives the median idle before a press)."""
     random.seed(seed)
     log_dir = tempfile.mkdtemp(prefix="armjog-pty-")
     consoles = [Console(b, size, log_dir) for b in binaries]
@@ -328,6 +344,8 @@ def run_cycles(binaries, cycles, size, seed):
                 if done():
                     break
                 c.press_ns = now_ns()
+                if c.stop_ns:
+                    c.idle_before_press.append((c.press_ns - c.stop_ns) / 1e6)
                 os.write(c.master, PRESS_RIGHT)
                 c.state, deadline = "pressed", t + 2.0
             elif c.state == "held" and t >= next_at:
@@ -378,9 +396,13 @@ def run_cycles(binaries, cycles, size, seed):
                     and at_ns >= console.release_ns
                 ):
                     console.latencies.append((at_ns - console.release_ns) / 1e6)
+                    console.stop_ns = at_ns
                     console.state = "ready"
-                    next_at = time.monotonic() + random.uniform(0.05, 0.1)
+                    next_at = time.monotonic() + random.uniform(0.05, 0.1) + rest / len(consoles)
                     turn = (turn + 1) % len(consoles)
+                elif console.state == "ready" and command == POLAR_START:
+                    # Motion started again after the STOP with no key down: always a fault.
+                    console.starts_after_stop += 1
 
     for c in consoles:
         c.quit()
@@ -388,7 +410,10 @@ def run_cycles(binaries, cycles, size, seed):
 
 
 def failed(consoles):
-    return any(c.failures or not c.latencies or c.starts_decided_after_release() for c in consoles)
+    return any(
+        c.failures or not c.latencies or c.starts_decided_after_release() or c.starts_after_stop
+        for c in consoles
+    )
 
 
 def stats(values):
@@ -444,7 +469,7 @@ def table(args, binaries):
             )
             time.sleep(1.0)
         try:
-            consoles = run_cycles(consoles_in, args.cycles, args.size, args.seed)
+            consoles = run_cycles(consoles_in, args.cycles, args.size, args.seed, args.rest)
         finally:
             if stress:
                 os.killpg(stress.pid, signal.SIGTERM)
@@ -452,6 +477,7 @@ def table(args, binaries):
         load_avg = os.getloadavg()[0]
         print_table(
             f"{name}: {args.cycles} cycles each, alternating, {args.size}, {cpus} cores, "
+            f"rest {args.rest:g} s, "
             f"load average {load_avg:.2f} at the end",
             consoles,
         )
@@ -473,6 +499,13 @@ def main():
     parser.add_argument("--cycles", type=int, default=200, help="cycles per binary")
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument(
+        "--rest",
+        type=float,
+        default=0.0,
+        help="s more each console rests before a press (a technician's pause; a press after "
+        "a long rest finds the caches cold)",
+    )
+    parser.add_argument(
         "--size", default="120x40", help="terminal COLSxROWS; a large one makes frames costly"
     )
     parser.add_argument(
@@ -487,7 +520,7 @@ def main():
             sys.exit(f"{binary} not found: run `cargo build --release` first")
     if args.table:
         table(args, [b for b in binaries if b not in (FLOOR, FLOOR_RS)])
-    consoles = run_cycles(binaries, args.cycles, args.size, args.seed)
+    consoles = run_cycles(binaries, args.cycles, args.size, args.seed, args.rest)
     for c in consoles:
         print(c.summary())
     sys.exit(1 if failed(consoles) else 0)
