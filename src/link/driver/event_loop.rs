@@ -342,15 +342,31 @@ impl DriverState {
     async fn finish(mut self) {
         self.talos_attempts.abort();
         self.modbus_attempts.abort();
-        if let Some(modbus) = &self.modbus {
-            modbus.send(ArmCommand::Stop);
+        // Twice: another console's jog refresh that crossed the first on its way restarts the
+        // arm (an arm takes a new START as a START), and that console saw no stop to latch on.
+        // Sent again once such a refresh has landed, the stop set stops the arm where that
+        // console sees it stop.
+        for round in 0..2 {
+            if round > 0 {
+                tokio::time::sleep(EXIT_STOP_AGAIN).await;
+            }
+            if let Some(modbus) = &self.modbus {
+                modbus.send(ArmCommand::Stop);
+            }
+            self.talos.stop_and_wait().await;
         }
-        self.talos.flush().await;
+        self.talos.close();
         if let Some(modbus) = self.modbus.take() {
             modbus.close().await;
         }
     }
 }
+
+/// How long after its first stop set the driver's exit sends the second: past the trip of a
+/// refresh that crossed the first (a few ms), and about when the other console's next refresh
+/// falls due (refreshes are 100 ms apart), which it sends only on two samples since that do not
+/// contradict its jog (`console/app/other_client.rs`): those show this stop.
+const EXIT_STOP_AGAIN: Duration = Duration::from_millis(100);
 
 fn is_orientation_jog(command: &ArmCommand) -> bool {
     matches!(command, ArmCommand::Jog(JogMotion::Orientation { .. }))

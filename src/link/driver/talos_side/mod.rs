@@ -383,9 +383,10 @@ impl TalosSide {
     }
 
     /// On the way out (quit, or the console gone): sends the stop set, the same one as the STOP
-    /// key's, and waits (up to 500 ms) until its requests are answered.
-    pub async fn flush(&mut self) {
-        let Some(link) = self.link.take() else {
+    /// key's, and waits (up to 500 ms) until its requests are answered. The link stays up (the
+    /// driver's exit sends it twice); [`TalosSide::close`] drops it.
+    pub async fn stop_and_wait(&self) {
+        let Some(link) = &self.link else {
             return;
         };
         let mut answers = Vec::new();
@@ -404,6 +405,11 @@ impl TalosSide {
         } else {
             tracing::warn!("talos: the stops on the way out not answered within {FLUSH_WAIT:?}");
         }
+    }
+
+    /// Drops the link: its task ends once it has written what it was given.
+    pub fn close(&mut self) {
+        self.link = None;
     }
 }
 
