@@ -339,22 +339,24 @@ impl DriverState {
 
     /// The console is gone: stop everything on the way out. A connect still in flight has
     /// started nothing and is given up.
+    /// The exit's stop set over both links: Modbus queued, Talos answered (or 500 ms).
+    async fn stop_everywhere(&self) {
+        if let Some(modbus) = &self.modbus {
+            modbus.send(ArmCommand::Stop);
+        }
+        self.talos.stop_and_wait().await;
+    }
+
     async fn finish(mut self) {
         self.talos_attempts.abort();
         self.modbus_attempts.abort();
-        // Twice: another console's jog refresh that crossed the first on its way restarts the
+        self.stop_everywhere().await;
+        // Again: another console's jog refresh that crossed the first on its way restarts the
         // arm (an arm takes a new START as a START), and that console saw no stop to latch on.
-        // Sent again once such a refresh has landed, the stop set stops the arm where that
-        // console sees it stop.
-        for round in 0..2 {
-            if round > 0 {
-                tokio::time::sleep(EXIT_STOP_AGAIN).await;
-            }
-            if let Some(modbus) = &self.modbus {
-                modbus.send(ArmCommand::Stop);
-            }
-            self.talos.stop_and_wait().await;
-        }
+        // Sent once such a refresh has landed, the stop set stops the arm where that console
+        // sees it stop.
+        tokio::time::sleep(EXIT_STOP_AGAIN).await;
+        self.stop_everywhere().await;
         self.talos.close();
         if let Some(modbus) = self.modbus.take() {
             modbus.close().await;

@@ -266,10 +266,7 @@ impl LinkTask {
                 halts,
                 reply,
             } => {
-                let result = self.execute(&writes).await;
-                // What they wrote (speed limits above all) is read back in the next snapshot,
-                // slow blocks included.
-                self.slow_read_at = None;
+                let result = self.execute_read_back(&writes).await;
                 if halts && result.is_ok() {
                     self.motion = MotionInForce::Idle;
                     self.hold_until = None;
@@ -446,6 +443,15 @@ impl LinkTask {
             poll_time: started.elapsed(),
         }));
         Ok(telemetry)
+    }
+
+    /// Writes what a slow block may show (speed limits above all); the next snapshot reads
+    /// every block back, so what the console shows is what the arm has. Jog and move writes
+    /// use [`LinkTask::execute`]: they never touch a slow block.
+    async fn execute_read_back(&mut self, writes: &[Write]) -> Result<WriteReport, ModbusError> {
+        let written = self.execute(writes).await;
+        self.slow_read_at = None;
+        written
     }
 
     /// Sends writes in order, stopping at the first failure.

@@ -82,7 +82,7 @@ impl LinkTask {
             let writes = commands::speed_limits(wanted.linear, wanted.angular)?;
             // Owed back from the moment the write may have landed.
             self.hold(original);
-            report = self.write_limits(&writes).await?;
+            report = self.execute_read_back(&writes).await?;
             if linear < original.linear {
                 tracing::info!(
                     "speed limit lowered to {linear} m/s for a capped move (was {} m/s)",
@@ -103,14 +103,6 @@ impl LinkTask {
         Ok(report)
     }
 
-    /// Writes new speed limits; the next snapshot reads them back, slow block or not, so what
-    /// the console shows is what the arm has.
-    async fn write_limits(&mut self, writes: &[Write]) -> Result<WriteReport, ModbusError> {
-        let written = self.execute(writes).await;
-        self.slow_read_at = None;
-        written
-    }
-
     fn hold(&mut self, original: SpeedLimits) {
         self.limit_hold = Some(LimitHold {
             original,
@@ -127,7 +119,7 @@ impl LinkTask {
         };
         let limits = hold.original;
         let result = match commands::speed_limits(limits.linear, limits.angular) {
-            Ok(writes) => self.write_limits(&writes).await.map(|_| ()),
+            Ok(writes) => self.execute_read_back(&writes).await.map(|_| ()),
             Err(e) => Err(e.into()),
         };
         match result {
