@@ -3,7 +3,7 @@
 
 Usage (from the repository root, after `cargo build --release`):
 
-    python3 benches/pty_latency.py --table            # THE table: armjog vs both floors, at rest
+    python3 benches/pty_latency.py --table            # THE table: armjog vs the floors, at rest
                                                       # and under `stress --cpu 2` (started here)
     python3 benches/pty_latency.py --table --compare /work/armjog-baseline  # before/after too
     python3 benches/pty_latency.py                    # 200 cycles, idle machine
@@ -13,6 +13,7 @@ Usage (from the repository root, after `cargo build --release`):
     python3 benches/pty_latency.py --compare /tmp/armjog-old  # A/B, cycles alternate
     python3 benches/pty_latency.py --compare floor    # against the machine's own floor
     python3 benches/pty_latency.py --compare floor-rs # against the compiled floor
+    python3 benches/pty_latency.py --compare floor-exec # the Python floor as its own process
     python3 benches/pty_latency.py --table --rest 2   # each press after some 2 s at rest
 
 The script starts `armjog --talos 127.0.0.1:PORT --dialect ack --checksum xor8
@@ -40,9 +41,12 @@ machine load (on a shared machine the load, not the binary, dominates the tail o
 into one frame): what is left of the tail there is the machine's and the harness's, not armjog's.
 `--compare floor-rs` runs the compiled stand-in (`benches/pty_floor/floor.rs`, built here with
 rustc into target/pty_floor/): one blocking read of the pty, one frame written, no runtime.
+`--compare floor-exec` runs the same Python stand-in exec'd as its own interpreter: the forked
+`floor` shares this script's pages, which this script keeps warm, so after a pause it pays
+less to wake than any program started on its own does (see FLOOR_EXEC).
 `--compare` may be given more than once.
 
-`--table` runs every console side by side (the binary, any `--compare`s, and both floors) in
+`--table` runs every console side by side (the binary, any `--compare`s, and the three floors) in
 two phases, at rest and under `stress --cpu 2` (the script starts and ends stress itself; it
 must be installed), and prints p50/p90/p99/max of release->STOP and press->START with each
 console's ratio to each floor, p50 and p99.
@@ -132,6 +136,12 @@ class Operator:
 
 FLOOR = "floor"
 FLOOR_RS = "floor-rs"
+# The Python stand-in again, but exec'd as an interpreter of its own rather than forked from
+# this script: a forked child finds its heap and the interpreter's code warm, since this
+# script keeps touching the same pages (on this VM a page untouched for 0.5 s costs some
+# 10 us to touch again), which no console started on its own enjoys.
+FLOOR_EXEC = "floor-exec"
+FLOORS = (FLOOR, FLOOR_RS, FLOOR_EXEC)
 FLOOR_SOURCE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "pty_floor", "floor.rs")
 
 
@@ -203,6 +213,9 @@ class Console:
         if self.pid == 0:
             if binary == FLOOR:
                 floor_console(self.op.port)
+            if binary == FLOOR_EXEC:
+                script = os.path.abspath(__file__)
+                os.execv(sys.executable, [sys.executable, script, FLOOR_CHILD, str(self.op.port)])
             if binary == FLOOR_RS:
                 import tty
 
@@ -425,7 +438,7 @@ def stats(values):
 
 def print_table(title, consoles):
     """One phase's table: each console's percentiles and its ratio to each floor."""
-    floors = [c for c in consoles if c.binary in (FLOOR, FLOOR_RS)]
+    floors = [c for c in consoles if c.binary in FLOORS]
     print(f"\n{title}")
     for metric, values_of in (
         ("release->STOP", lambda c: c.latencies),
@@ -453,8 +466,8 @@ def print_table(title, consoles):
 
 
 def table(args, binaries):
-    """Both phases, each with every console and both floors; exit 1 if any cycle failed."""
-    consoles_in = binaries + [FLOOR_RS, FLOOR]
+    """Both phases, each with every console and the three floors; exit 1 if any cycle failed."""
+    consoles_in = binaries + [FLOOR_RS, FLOOR, FLOOR_EXEC]
     cpus = os.cpu_count()
     phases = [("at rest", None), ("under stress --cpu 2", ["stress", "--cpu", "2"])]
     any_failed = False
@@ -487,14 +500,21 @@ def table(args, binaries):
     sys.exit(1 if any_failed else 0)
 
 
+# The argument that makes this script the exec'd floor's child: `FLOOR_CHILD PORT`.
+FLOOR_CHILD = "--floor-child"
+
+
 def main():
+    if len(sys.argv) == 3 and sys.argv[1] == FLOOR_CHILD:
+        floor_console(int(sys.argv[2]))
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--binary", default="target/release/armjog")
     parser.add_argument(
         "--compare",
         action="append",
         default=[],
-        help="another binary, or floor / floor-rs; cycles alternate between them (repeatable)",
+        help="another binary, or floor / floor-exec / floor-rs; cycles alternate between them "
+        "(repeatable)",
     )
     parser.add_argument("--cycles", type=int, default=200, help="cycles per binary")
     parser.add_argument("--seed", type=int, default=1)
@@ -511,15 +531,15 @@ def main():
     parser.add_argument(
         "--table",
         action="store_true",
-        help="at rest and under stress --cpu 2, against both floors: the whole table",
+        help="at rest and under stress --cpu 2, against the three floors: the whole table",
     )
     args = parser.parse_args()
     binaries = [args.binary] + args.compare
     for binary in binaries:
-        if binary not in (FLOOR, FLOOR_RS) and not os.access(binary, os.X_OK):
+        if binary not in FLOORS and not os.access(binary, os.X_OK):
             sys.exit(f"{binary} not found: run `cargo build --release` first")
     if args.table:
-        table(args, [b for b in binaries if b not in (FLOOR, FLOOR_RS)])
+        table(args, [b for b in binaries if b not in FLOORS])
     consoles = run_cycles(binaries, args.cycles, args.size, args.seed, args.rest)
     for c in consoles:
         print(c.summary())
