@@ -251,6 +251,7 @@ async fn event_loop(
     loop {
         let deadline = app.next_deadline();
         let paint_at = pacer.due_at(app.arm_in_motion());
+        let audit_at = audit.hand_over_at();
         let input = tokio::select! {
             biased;
             signal = signals.next() => Some(Input::Signal(signal)),
@@ -276,6 +277,11 @@ async fn event_loop(
             Some(reason) = audit.next_error() => {
                 app.say(reason.clone(), Severity::Warning, Instant::now());
                 Some(Input::Arm(audit::session::failure_log_line(reason)))
+            }
+            // Not in a key's burst: its STOP's receiver runs first (see `audit::writer`).
+            _ = sleep_until(audit_at) => {
+                audit.hand_over();
+                None
             }
             _ = sleep_until(paint_at) => {
                 // Built once for the drawing thread: this task goes straight back to keys.
@@ -320,6 +326,10 @@ async fn event_loop(
             record_commands(audit, &sent, &app);
         }
         audit.after(&app);
+        // Inputs that never let the loop rest (a flood) do not hold the records for ever.
+        if audit.hand_over_at().is_some_and(|at| at <= now) {
+            audit.hand_over();
+        }
         pacer.changed(urgent, now);
     }
 }

@@ -18,7 +18,7 @@ use serde::Serialize;
 pub use deriver::AuditDeriver;
 pub use session::AuditSession;
 pub use utc::{date, rfc3339_ms};
-pub use writer::AuditLog;
+pub use writer::{AuditLog, HAND_OVER_AFTER};
 
 /// One thing worth an entry. The `event` names are stable: scripts read them (docs/audit.md
 /// lists them). Lengths are in mm, angles in degrees, speeds as the cap in force: a percentage of

@@ -22,7 +22,7 @@ impl AuditSession {
         profile: Option<String>,
         dir: Option<std::path::PathBuf>,
     ) -> Self {
-        let session = AuditSession {
+        let mut session = AuditSession {
             deriver: AuditDeriver::new(
                 config.max_jog_speed,
                 config.frames,
@@ -46,7 +46,7 @@ impl AuditSession {
         session
     }
 
-    fn write(&self, records: Vec<AuditRecord>) {
+    fn write(&mut self, records: Vec<AuditRecord>) {
         for record in records {
             self.log.record(record);
         }
@@ -98,8 +98,18 @@ impl AuditSession {
         self.log.errors.recv().await
     }
 
+    /// When the records held since the last hand-over are due at the writer.
+    pub fn hand_over_at(&self) -> Option<std::time::Instant> {
+        self.log.hand_over_at()
+    }
+
+    /// Wakes the writer for the records held (see [`AuditLog::hand_over`]).
+    pub fn hand_over(&mut self) {
+        self.log.hand_over();
+    }
+
     /// Records the session's end and writes everything queued (at most `within`).
-    pub async fn finish(self, within: Duration) {
+    pub async fn finish(mut self, within: Duration) {
         self.write(vec![AuditRecord::new(
             SystemTime::now(),
             AuditEvent::SessionEnd,

@@ -438,6 +438,65 @@ async fn lines_are_appended_to_an_existing_file() {
     );
 }
 
+/// The lines of `name` in `dir` once the writer has written `count` of them (at most 10 s).
+fn lines_once_written(dir: &std::path::Path, name: &str, count: usize) -> Vec<String> {
+    let until = std::time::Instant::now() + Duration::from_secs(10);
+    loop {
+        let text = std::fs::read_to_string(dir.join(name)).unwrap_or_default();
+        let lines: Vec<String> = text.lines().map(str::to_string).collect();
+        if lines.len() >= count || std::time::Instant::now() >= until {
+            return lines;
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+#[tokio::test]
+async fn records_are_held_until_handed_over_and_none_is_lost() {
+    let dir = temp_dir();
+    let mut log = AuditLog::start(Some(dir.path().to_path_buf()));
+    assert_eq!(log.hand_over_at(), None, "nothing held yet");
+    let before = std::time::Instant::now();
+    log.record(AuditRecord::new(t0(), AuditEvent::Stop));
+    let due = log.hand_over_at().expect("a record is held");
+    assert!(due >= before + HAND_OVER_AFTER, "{due:?}");
+    assert!(
+        due <= std::time::Instant::now() + HAND_OVER_AFTER,
+        "{due:?}"
+    );
+    // A second record is due with the first, not later.
+    log.record(AuditRecord::new(t0(), AuditEvent::QuickStop));
+    assert_eq!(log.hand_over_at(), Some(due));
+    // The writer has not been given them: nothing is written however long it waits.
+    std::thread::sleep(Duration::from_millis(100));
+    assert!(!dir.path().join("audit-2026-11-30.jsonl").exists());
+    log.hand_over();
+    assert_eq!(log.hand_over_at(), None);
+    let lines = lines_once_written(dir.path(), "audit-2026-11-30.jsonl", 2);
+    assert_eq!(
+        lines,
+        [
+            "{\"ts\":\"2026-11-30T22:27:31.853Z\",\"event\":\"stop\"}",
+            "{\"ts\":\"2026-11-30T22:27:31.853Z\",\"event\":\"quick_stop\"}",
+        ]
+    );
+    log.finish(Duration::from_secs(10)).await;
+}
+
+#[test]
+fn records_held_when_the_log_is_dropped_are_written() {
+    // As when a panic unwinds through the event loop.
+    let dir = temp_dir();
+    let mut log = AuditLog::start(Some(dir.path().to_path_buf()));
+    log.record(AuditRecord::new(t0(), AuditEvent::FaultReset));
+    drop(log);
+    let lines = lines_once_written(dir.path(), "audit-2026-11-30.jsonl", 1);
+    assert_eq!(
+        lines,
+        ["{\"ts\":\"2026-11-30T22:27:31.853Z\",\"event\":\"fault_reset\"}"]
+    );
+}
+
 #[tokio::test]
 async fn a_write_that_fails_is_reported_once_and_stops_nothing() {
     let dir = temp_dir();
