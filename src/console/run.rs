@@ -248,10 +248,11 @@ async fn event_loop(
     let mut signals = Signals::new()?;
     let mut pacer = FramePacer::default();
     pacer.changed(true, Instant::now());
+    let (mut deadline, mut paint_at, mut audit_at) = (Timer::new(), Timer::new(), Timer::new());
     loop {
-        let deadline = app.next_deadline();
-        let paint_at = pacer.due_at(app.arm_in_motion());
-        let audit_at = audit.hand_over_at();
+        deadline.set(app.next_deadline());
+        paint_at.set(pacer.due_at(app.arm_in_motion()));
+        audit_at.set(audit.hand_over_at());
         let input = tokio::select! {
             biased;
             signal = signals.next() => Some(Input::Signal(signal)),
@@ -261,7 +262,7 @@ async fn event_loop(
                 None => Some(Input::Signal("arm driver ended")),
             },
             loaded = book_io::loaded(&mut book.loading) => Some(Input::PositionsLoaded(loaded)),
-            _ = sleep_until(deadline) => {
+            _ = deadline.fired(), if deadline.armed() => {
                 // A release already typed goes before a refresh decided without it.
                 let refresh_due = app.jog().refresh_due(Instant::now());
                 // Read and not yet taken, or readable on the terminal now.
@@ -279,11 +280,11 @@ async fn event_loop(
                 Some(Input::Arm(audit::session::failure_log_line(reason)))
             }
             // Not in a key's burst: its STOP's receiver runs first (see `audit::writer`).
-            _ = sleep_until(audit_at) => {
+            _ = audit_at.fired(), if audit_at.armed() => {
                 audit.hand_over();
                 None
             }
-            _ = sleep_until(paint_at) => {
+            _ = paint_at.fired(), if paint_at.armed() => {
                 // Built once for the drawing thread: this task goes straight back to keys.
                 if let Some(view) = pacer.frame(View::new(&app), Instant::now()) {
                     screen.painter.paint(view);
@@ -367,10 +368,41 @@ fn terminal_input(event: Event) -> Option<Input> {
     }
 }
 
-async fn sleep_until(deadline: Option<Instant>) {
-    match deadline {
-        Some(at) => tokio::time::sleep_until(tokio::time::Instant::from_std(at)).await,
-        None => std::future::pending().await,
+/// A deadline of the event loop, kept from one turn to the next: re-armed only when it moves,
+/// so a turn that leaves it alone does no work in the runtime's timer wheel (a new sleep per
+/// turn was registered and cancelled each time, and could wake the runtime's driver).
+struct Timer {
+    sleep: std::pin::Pin<Box<tokio::time::Sleep>>,
+    at: Option<Instant>,
+}
+
+impl Timer {
+    fn new() -> Timer {
+        Timer {
+            sleep: Box::pin(tokio::time::sleep(Duration::ZERO)),
+            at: None,
+        }
+    }
+
+    /// `None`: the timer is off ([`Timer::armed`] is false).
+    fn set(&mut self, at: Option<Instant>) {
+        if at != self.at {
+            if let Some(at) = at {
+                self.sleep
+                    .as_mut()
+                    .reset(tokio::time::Instant::from_std(at));
+            }
+            self.at = at;
+        }
+    }
+
+    fn armed(&self) -> bool {
+        self.at.is_some()
+    }
+
+    /// Ready once the deadline has passed (at once for one in the past, as often as asked).
+    fn fired(&mut self) -> &mut std::pin::Pin<Box<tokio::time::Sleep>> {
+        &mut self.sleep
     }
 }
 
