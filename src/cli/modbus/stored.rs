@@ -193,6 +193,21 @@ async fn start_unwatched(
 }
 
 /// Polls until the run ends. Past `timeout` it is stopped.
+/// A snapshot is several reads, the fault flags before the action's status: a fault raised
+/// between them shows as an abort with no fault. The next snapshot names the fault, if that is
+/// why the run aborted.
+async fn fault_behind_abort(
+    link: &ModbusLink,
+    named: &Named,
+    progress: &Progress,
+) -> Option<String> {
+    if !matches!(progress, Progress::Aborted(_)) {
+        return None;
+    }
+    let fault = fault_reason(&link.read_telemetry().await.ok()?)?;
+    named.failure(&Progress::Fault(fault))
+}
+
 async fn wait_for_end(
     link: &ModbusLink,
     named: &Named,
@@ -208,7 +223,11 @@ async fn wait_for_end(
             return Ok(End::Completed(elapsed));
         }
         if let Some(message) = named.failure(&progress) {
-            return Ok(End::Failed(message));
+            return Ok(End::Failed(
+                fault_behind_abort(link, named, &progress)
+                    .await
+                    .unwrap_or(message),
+            ));
         }
         if elapsed >= timeout {
             let stopped = match link.stop().await {
