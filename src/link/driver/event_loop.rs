@@ -63,7 +63,11 @@ pub(super) async fn run(
             // Commands first: a STOP is never kept waiting by anything else that is ready.
             biased;
             command = inbox.commands.recv() => match command {
-                Some(command) => driver.on_command(command),
+                Some(command) => {
+                    driver.on_command(command);
+                    let last = inbox.commands.is_empty();
+                    driver.talos.spawn_answers(last).await;
+                }
                 None => break,
             },
             Some(event) = inbox.talos_side.recv() => driver.on_side_event(Side::Talos, event),

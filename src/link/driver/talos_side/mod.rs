@@ -56,6 +56,16 @@ pub struct TalosSide {
     polling: Arc<AtomicBool>,
     /// Joint positions from the latest telemetry, for joint jog commands.
     joints: JointPositions,
+    /// The last command's answers to wait for, once its frames are written
+    /// ([`Self::spawn_answers`]).
+    answers: Option<Submitted>,
+}
+
+/// A command whose requests were submitted: what [`answers`] waits for and reports.
+struct Submitted {
+    command: ArmCommand,
+    pending: Vec<crate::link::talos::PendingReply>,
+    stop_failure: Option<ArmError>,
 }
 
 impl TalosSide {
@@ -78,6 +88,7 @@ impl TalosSide {
             speed,
             polling: Arc::new(AtomicBool::new(false)),
             joints,
+            answers: None,
         }
     }
 
@@ -300,13 +311,35 @@ impl TalosSide {
                 Err(e) => report_error(&self.events, &command, name, None, e),
             }
         }
-        tokio::spawn(answers(
+        // A command that came in the same turn as the last one spawns that one's answers now.
+        self.spawn_answers_now();
+        self.answers = Some(Submitted {
             command,
             pending,
             stop_failure,
-            self.events.clone(),
-            self.speed.clone(),
-        ));
+        });
+    }
+
+    fn spawn_answers_now(&mut self) {
+        if let Some(s) = self.answers.take() {
+            let (events, speed) = (self.events.clone(), self.speed.clone());
+            tokio::spawn(answers(s.command, s.pending, s.stop_failure, events, speed));
+        }
+    }
+
+    /// Spawns the last command's answers, once the link task has written its frames if
+    /// `after_the_write`: spawning them at once made the key wait for the task's allocation and
+    /// its pages (a few to some tens of us, after a pause) before its frame went out. They are
+    /// reported as before: the link task ran first either way. With more commands waiting (a
+    /// flood) they are spawned at once: a yield per command would keep the driver on its
+    /// commands, never letting the link's events (its end) in.
+    pub async fn spawn_answers(&mut self, after_the_write: bool) {
+        if self.answers.is_some() {
+            if after_the_write {
+                tokio::task::yield_now().await;
+            }
+            self.spawn_answers_now();
+        }
     }
 
     /// Asks for arm state and actuator feedback; skipped while the last poll is outstanding.
