@@ -42,8 +42,8 @@ into one frame): what is left of the tail there is the machine's and the harness
 `--compare floor-rs` runs the compiled stand-in (`benches/pty_floor/floor.rs`, built here with
 rustc into target/pty_floor/): one blocking read of the pty, one frame written, no runtime.
 `--compare floor-exec` runs the same Python stand-in exec'd as its own interpreter: the forked
-`floor` shares this script's pages, which this script keeps warm, so after a pause it pays
-less to wake than any program started on its own does (see FLOOR_EXEC).
+`floor` shares this script's pages, which this script keeps warm, so after a pause it may pay
+less to wake than a program started on its own does (see FLOOR_EXEC).
 `--compare` may be given more than once.
 
 `--table` runs every console side by side (the binary, any `--compare`s, and the three floors) in
@@ -137,9 +137,10 @@ class Operator:
 FLOOR = "floor"
 FLOOR_RS = "floor-rs"
 # The Python stand-in again, but exec'd as an interpreter of its own rather than forked from
-# this script: a forked child finds its heap and the interpreter's code warm, since this
-# script keeps touching the same pages (on this VM a page untouched for 0.5 s costs some
-# 10 us to touch again), which no console started on its own enjoys.
+# this script: a forked child shares its heap and the interpreter's code with this script,
+# which keeps touching them (on this VM a page untouched for 0.5 s costs some 10 us to touch
+# again), as no console started on its own does. The gap varies from run to run (see
+# docs/development.md).
 FLOOR_EXEC = "floor-exec"
 FLOORS = (FLOOR, FLOOR_RS, FLOOR_EXEC)
 FLOOR_SOURCE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "pty_floor", "floor.rs")
