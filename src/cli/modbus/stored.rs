@@ -192,7 +192,6 @@ async fn start_unwatched(
     }
 }
 
-/// Polls until the run ends. Past `timeout` it is stopped.
 /// A snapshot is several reads, the fault flags before the action's status: a fault raised
 /// between them shows as an abort with no fault. The next snapshot names the fault, if that is
 /// why the run aborted.
@@ -208,6 +207,7 @@ async fn fault_behind_abort(
     named.failure(&Progress::Fault(fault))
 }
 
+/// Polls until the run ends. Past `timeout` it is stopped.
 async fn wait_for_end(
     link: &ModbusLink,
     named: &Named,
