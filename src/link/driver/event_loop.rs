@@ -341,8 +341,6 @@ impl DriverState {
         }
     }
 
-    /// The console is gone: stop everything on the way out. A connect still in flight has
-    /// started nothing and is given up.
     /// The exit's stop set over both links: Modbus queued, Talos answered (or 500 ms).
     async fn stop_everywhere(&self) {
         if let Some(modbus) = &self.modbus {
@@ -351,6 +349,8 @@ impl DriverState {
         self.talos.stop_and_wait().await;
     }
 
+    /// The console is gone: stop everything on the way out. A connect still in flight has
+    /// started nothing and is given up.
     async fn finish(mut self) {
         self.talos_attempts.abort();
         self.modbus_attempts.abort();
