@@ -118,8 +118,8 @@ impl TerminalInput {
             }
             match self.fd.poll_read_ready(cx) {
                 Poll::Ready(Ok(())) => {
-                    // A read that finds nothing clears the readiness; otherwise it stays, and
-                    // the next poll reads on.
+                    // Emptied (a read short of the buffer, or one that found nothing), the
+                    // readiness is cleared; otherwise it stays, and the next poll reads on.
                     match self.reader.drain(&self.fd, &mut self.events) {
                         Drained::Empty | Drained::More => {}
                         Drained::Closed => self.closed = true,
@@ -169,6 +169,38 @@ impl Stream for TerminalInput {
     }
 }
 
+/// What one read got.
+enum Read {
+    Closed,
+    /// A full buffer: more may be readable.
+    Some(usize),
+    /// Fewer bytes than the buffer holds: all the terminal had.
+    AllThereWas(usize),
+}
+
+/// Reads what the terminal has. A read shorter than the buffer took all there was, and also
+/// clears the reactor's readiness, sparing each key's burst the read that would find the
+/// terminal empty. The readiness cleared is the one seen before the read (`try_io` takes it
+/// first): bytes that came after the read, even ones the reactor has seen meanwhile on
+/// another thread, still wake the stream.
+fn read_all_there_is(fd: &pipe::Receiver, buffer: &mut [u8]) -> io::Result<Read> {
+    let mut short = None;
+    let read = fd.try_io(|| match fd.try_read(buffer) {
+        Ok(read) if read > 0 && read < buffer.len() => {
+            short = Some(read);
+            // Not an error: how `try_io` is told to clear the readiness.
+            Err(io::ErrorKind::WouldBlock.into())
+        }
+        other => other,
+    });
+    match (short, read) {
+        (Some(read), _) => Ok(Read::AllThereWas(read)),
+        (None, Ok(0)) => Ok(Read::Closed),
+        (None, Ok(read)) => Ok(Read::Some(read)),
+        (None, Err(e)) => Err(e),
+    }
+}
+
 /// The decoding state.
 struct Reader {
     decoder: Decoder,
@@ -180,8 +212,7 @@ struct Reader {
 enum Drained {
     /// Everything readable was read.
     Empty,
-    /// The budget was read, or a read made events before the terminal was found empty: more
-    /// may be readable, and is read at the next poll.
+    /// The budget was read: more may be readable, and is read at the next poll.
     More,
     /// The terminal closed.
     Closed,
@@ -209,14 +240,19 @@ impl Reader {
         while total < READ_BUDGET {
             let mut decoded = Vec::new();
             let key_bytes_before = self.decoder.key_bytes();
-            let drained = match fd.try_read(&mut self.buffer[..]) {
-                Ok(0) => Some(Drained::Closed),
-                Ok(read) => {
+            let drained = match read_all_there_is(fd, &mut self.buffer) {
+                Ok(Read::Closed) => Some(Drained::Closed),
+                Ok(Read::Some(read)) => {
                     self.decoder.feed(&self.buffer[..read], &mut decoded);
                     total += read;
-                    // A key typed goes to the event loop now, not after one more read to
-                    // find the terminal empty (the next poll makes it).
-                    (read < self.buffer.len() && !decoded.is_empty()).then_some(Drained::More)
+                    None
+                }
+                // What a read that found the terminal empty would have decided, decided now.
+                Ok(Read::AllThereWas(read)) => {
+                    self.decoder.feed(&self.buffer[..read], &mut decoded);
+                    total += read;
+                    self.decoder.end_of_input(&mut decoded);
+                    Some(Drained::Empty)
                 }
                 Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
                 Err(e) if e.kind() == io::ErrorKind::WouldBlock => {
