@@ -31,6 +31,7 @@ use super::ui::{self, Theme};
 use super::view::View;
 use crate::link::driver::{Driver, DriverConfig, StopHandle};
 use crate::link::interface::ArmCommand;
+use crate::net::Deadline;
 
 /// Everything the console needs to start.
 pub struct ConsoleSetup {
@@ -248,11 +249,15 @@ async fn event_loop(
     let mut signals = Signals::new()?;
     let mut pacer = FramePacer::default();
     pacer.changed(true, Instant::now());
-    let (mut deadline, mut paint_at, mut audit_at) = (Timer::new(), Timer::new(), Timer::new());
+    // One timer for the app's deadline, the next frame and the audit's hand-over: a key moves
+    // two of them, and each timer moved earlier costs the runtime a wake-up of its own.
+    let mut timer = Deadline::new();
     loop {
-        deadline.set(app.next_deadline());
-        paint_at.set(pacer.due_at(app.arm_in_motion()));
-        audit_at.set(audit.hand_over_at());
+        let deadline = app.next_deadline();
+        let paint_at = pacer.due_at(app.arm_in_motion());
+        let audit_at = audit.hand_over_at();
+        let earliest = [deadline, paint_at, audit_at].into_iter().flatten().min();
+        timer.set(earliest.map(tokio::time::Instant::from_std));
         let input = tokio::select! {
             biased;
             signal = signals.next() => Some(Input::Signal(signal)),
@@ -262,14 +267,32 @@ async fn event_loop(
                 None => Some(Input::Signal("arm driver ended")),
             },
             loaded = book_io::loaded(&mut book.loading) => Some(Input::PositionsLoaded(loaded)),
-            _ = deadline.fired(), if deadline.armed() => {
-                // A release already typed goes before a refresh decided without it.
-                let refresh_due = app.jog().refresh_due(Instant::now());
-                // Read and not yet taken, or readable on the terminal now.
-                let arrived = refresh_due && keys.input_arrived();
-                match input_first::waiting_input(refresh_due, || arrived, &mut keys).await {
-                    Some(event) => terminal_event(event),
-                    None => Some(Input::Tick),
+            _ = timer.fired(), if timer.armed() => {
+                let now = Instant::now();
+                // The timer fired for the earliest, whatever the clock's rounding.
+                let fired = earliest.map_or(now, |earliest| now.max(earliest));
+                let due = |at: Option<Instant>| at.is_some_and(|at| at <= fired);
+                if due(deadline) {
+                    // A release already typed goes before a refresh decided without it.
+                    let refresh_due = app.jog().refresh_due(now);
+                    // Read and not yet taken, or readable on the terminal now.
+                    let arrived = refresh_due && keys.input_arrived();
+                    match input_first::waiting_input(refresh_due, || arrived, &mut keys).await {
+                        Some(event) => terminal_event(event),
+                        None => Some(Input::Tick),
+                    }
+                } else {
+                    // Not in a key's burst: its STOP's receiver runs first (see `audit::writer`).
+                    if due(audit_at) {
+                        audit.hand_over();
+                    }
+                    // Built once for the drawing thread: this task goes straight back to keys.
+                    if due(paint_at)
+                        && let Some(view) = pacer.frame(View::new(&app), now)
+                    {
+                        screen.painter.paint(view);
+                    }
+                    None
                 }
             }
             Some(outcome) = book.save_outcomes.recv() => Some(Input::PositionsSaved(outcome)),
@@ -278,18 +301,6 @@ async fn event_loop(
             Some(reason) = audit.next_error() => {
                 app.say(reason.clone(), Severity::Warning, Instant::now());
                 Some(Input::Arm(audit::session::failure_log_line(reason)))
-            }
-            // Not in a key's burst: its STOP's receiver runs first (see `audit::writer`).
-            _ = audit_at.fired(), if audit_at.armed() => {
-                audit.hand_over();
-                None
-            }
-            _ = paint_at.fired(), if paint_at.armed() => {
-                // Built once for the drawing thread: this task goes straight back to keys.
-                if let Some(view) = pacer.frame(View::new(&app), Instant::now()) {
-                    screen.painter.paint(view);
-                }
-                None
             }
         };
         let Some(input) = input else { continue };
@@ -365,44 +376,6 @@ fn terminal_input(event: Event) -> Option<Input> {
         Event::FocusGained => Some(Input::FocusGained),
         Event::Resize(width, height) => Some(Input::Resize { width, height }),
         _ => None,
-    }
-}
-
-/// A deadline of the event loop, kept from one turn to the next: re-armed only when it moves,
-/// so a turn that leaves it alone does no work in the runtime's timer wheel (a new sleep per
-/// turn was registered and cancelled each time, and could wake the runtime's driver).
-struct Timer {
-    sleep: std::pin::Pin<Box<tokio::time::Sleep>>,
-    at: Option<Instant>,
-}
-
-impl Timer {
-    fn new() -> Timer {
-        Timer {
-            sleep: Box::pin(tokio::time::sleep(Duration::ZERO)),
-            at: None,
-        }
-    }
-
-    /// `None`: the timer is off ([`Timer::armed`] is false).
-    fn set(&mut self, at: Option<Instant>) {
-        if at != self.at {
-            if let Some(at) = at {
-                self.sleep
-                    .as_mut()
-                    .reset(tokio::time::Instant::from_std(at));
-            }
-            self.at = at;
-        }
-    }
-
-    fn armed(&self) -> bool {
-        self.at.is_some()
-    }
-
-    /// Ready once the deadline has passed (at once for one in the past, as often as asked).
-    fn fired(&mut self) -> &mut std::pin::Pin<Box<tokio::time::Sleep>> {
-        &mut self.sleep
     }
 }
 

@@ -7,14 +7,14 @@ use std::collections::{HashMap, VecDeque};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use futures::StreamExt;
+use futures::{FutureExt, StreamExt};
 use tokio::io::{AsyncRead, AsyncWrite, AsyncWriteExt, ReadHalf, WriteHalf};
 use tokio::sync::{Notify, mpsc};
 use tokio_util::codec::FramedRead;
 
 use super::motion::MotionSinceStop;
 use super::{Answer, AnswerTx, CommandIds, Exchange, Job, TalosError, TalosEvent, WRITE_STALL};
-use crate::net::{FrameReader, io_error_words};
+use crate::net::{Deadline, FrameReader, io_error_words};
 use crate::talos::ack::{AckCodec, AckItem};
 use crate::talos::frame::{Decoded, FrameCodec, Rejection, TalosFrame};
 use crate::talos::{Checksum, Dialect, Reply, Request};
@@ -22,13 +22,6 @@ use crate::talos::{Checksum, Dialect, Reply, Request};
 mod ack;
 
 use ack::{AckWait, ExpiredAck};
-
-async fn sleep_until(deadline: Option<tokio::time::Instant>) {
-    match deadline {
-        Some(at) => tokio::time::sleep_until(at).await,
-        None => std::future::pending().await,
-    }
-}
 
 struct Pending {
     id: u32,
@@ -143,7 +136,9 @@ impl LinkTask {
             Dialect::Ack => Replies::Acks(FramedRead::new(read_half, AckCodec)),
         };
         let mut sweep = tokio::time::interval(Duration::from_secs(1));
+        let mut ack_expiry = Deadline::new();
         let end = loop {
+            ack_expiry.set(self.next_ack_expiry());
             tokio::select! {
                 // In this order, not at random: a full queue ends the link as it did; a job (a
                 // STOP) is written before anything else is polled (a timer polled costs a lock
@@ -163,7 +158,7 @@ impl LinkTask {
                         return;
                     }
                 },
-                _ = sleep_until(self.next_ack_expiry()) => {
+                _ = ack_expiry.fired(), if ack_expiry.armed() => {
                     if let Err(reason) = self.expire_acks(&mut writer).await {
                         break End::write(reason);
                     }
@@ -238,11 +233,17 @@ impl LinkTask {
         writer: &mut W,
         bytes: &[u8],
     ) -> Result<(), String> {
-        let written = async {
+        let mut written = std::pin::pin!(async {
             writer.write_all(bytes).await?;
             writer.flush().await
-        };
+        });
+        // Most writes complete at once: the stall's timer and the wait for an overflow are
+        // set up only for one that does not (the same future goes on, where it got to).
+        if let Some(done) = written.as_mut().now_or_never() {
+            return done.map_err(|e| format!("write failed: {}", io_error_words(&e)));
+        }
         tokio::select! {
+            biased;
             written = tokio::time::timeout(WRITE_STALL, written) => match written {
                 Ok(Ok(())) => Ok(()),
                 Ok(Err(e)) => Err(format!("write failed: {}", io_error_words(&e))),
