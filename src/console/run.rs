@@ -296,25 +296,32 @@ async fn event_loop(
                 }
             }
             Some(outcome) = book.save_outcomes.recv() => Some(Input::PositionsSaved(outcome)),
-            Some(e) = screen.errors.recv() => return Err(ConsoleError::Terminal(e)),
+            Some(e) = screen.errors.recv() => {
+                audit.record_handled(&app);
+                return Err(ConsoleError::Terminal(e));
+            }
             // Shown, and kept in the command log; the console goes on.
             Some(reason) = audit.next_error() => {
                 app.say(reason.clone(), Severity::Warning, Instant::now());
                 Some(Input::Arm(audit::session::failure_log_line(reason)))
             }
         };
+        // The last input's commands went out while this task waited (the driver and the
+        // links run on this thread): its records are made now, not in its burst.
+        audit.record_handled(&app);
         let Some(input) = input else { continue };
         let urgent = !matches!(input, Input::Arm(_) | Input::Tick);
         let now = Instant::now();
         audit.input(&input);
-        let mut sent = Vec::new();
+        let mut sent = false;
         for effect in app.handle(input, now) {
             match effect {
                 Effect::Arm(command) => {
                     if !driver.send(command.clone()) {
                         app.say("the arm driver has stopped", Severity::Error, now);
                     }
-                    sent.push(command);
+                    audit.command(command);
+                    sent = true;
                 }
                 // Written on the writer's thread; the outcome comes back as `save_outcomes`.
                 Effect::SavePositions(positions) => {
@@ -322,7 +329,8 @@ async fn event_loop(
                     book.save(positions);
                 }
                 Effect::Quit => {
-                    record_commands(audit, &sent, &app);
+                    audit.handled();
+                    audit.record_handled(&app);
                     // Changes made while the book loads are written once it has loaded.
                     if matches!(app.book_state(), BookState::Loading { .. }) {
                         book.hold_until_loaded(app.positions().clone());
@@ -331,25 +339,19 @@ async fn event_loop(
                 }
             }
         }
-        if !sent.is_empty() {
-            // The driver and the links run on this thread: they write the commands' frames
-            // before anything else this input asks for (the audit wakes its writer thread).
+        audit.handled();
+        // The driver and the links run on this thread once this task waits, which it does
+        // next unless more input is waiting (a flood, a batch of arm events): then it yields,
+        // so they write this input's frames before the next input is handled. (A yield polls
+        // the reactor before coming back: a syscall in every key's burst.)
+        if sent && (keys.events_waiting() || !arm_events.is_empty()) {
             tokio::task::yield_now().await;
-            record_commands(audit, &sent, &app);
         }
-        audit.after(&app);
         // Inputs that never let the loop rest (a flood) do not hold the records for ever.
         if audit.hand_over_at().is_some_and(|at| at <= now) {
             audit.hand_over();
         }
         pacer.changed(urgent, now);
-    }
-}
-
-/// Recorded once the driver has carried them: a STOP never waits on the audit.
-fn record_commands(audit: &mut AuditSession, sent: &[ArmCommand], app: &App) {
-    for command in sent {
-        audit.command(command, app);
     }
 }
 

@@ -11,6 +11,10 @@ use crate::link::interface::{ArmCommand, ArmEvent};
 pub struct AuditSession {
     deriver: AuditDeriver,
     log: AuditLog,
+    /// The last input's commands, and when it was handled: recorded at the event loop's next
+    /// turn ([`AuditSession::record_handled`]), so a key's burst ends with its frames.
+    sent: Vec<ArmCommand>,
+    handled_at: Option<SystemTime>,
 }
 
 impl AuditSession {
@@ -29,6 +33,8 @@ impl AuditSession {
                 config.positions_on_operator,
             ),
             log: AuditLog::start(dir),
+            sent: Vec::new(),
+            handled_at: None,
         };
         session.write(vec![AuditRecord::new(
             SystemTime::now(),
@@ -64,32 +70,42 @@ impl AuditSession {
         }
     }
 
-    /// A command the app sent to the driver.
-    pub fn command(&mut self, command: &ArmCommand, app: &App) {
-        let records = self.deriver.command(
-            command,
-            app.positions(),
-            app.selected_name(),
-            app.frame(),
-            SystemTime::now(),
-        );
+    /// A command the app sent to the driver: recorded with the input that sent it.
+    pub fn command(&mut self, command: ArmCommand) {
+        self.sent.push(command);
+    }
+
+    /// The input is handled: its commands, and what the app's state after it says (the link
+    /// gone stale or fresh, a motion the cap watch stopped), are recorded at the event loop's
+    /// next turn, stamped now. Until then the app does not change: no input comes between.
+    pub fn handled(&mut self) {
+        self.handled_at = Some(SystemTime::now());
+    }
+
+    /// Records what the last input sent and left, if not yet recorded.
+    pub fn record_handled(&mut self, app: &App) {
+        let Some(at) = self.handled_at.take() else {
+            return;
+        };
+        for command in std::mem::take(&mut self.sent) {
+            let records = self.deriver.command(
+                &command,
+                app.positions(),
+                app.selected_name(),
+                app.frame(),
+                at,
+            );
+            self.write(records);
+        }
+        let records = self.deriver.link_stale(app.link_stale(), at);
+        self.write(records);
+        let records = self.deriver.cap_stops(app.cap_watch().stops(), at);
         self.write(records);
     }
 
     /// A book the app is saving (over Modbus, what the technician saved or deleted).
     pub fn book_saved(&mut self, book: &PositionBook) {
         let records = self.deriver.book_saved(book, SystemTime::now());
-        self.write(records);
-    }
-
-    /// After each input: whether the link went stale or fresh, and a motion the cap watch
-    /// stopped.
-    pub fn after(&mut self, app: &App) {
-        let records = self.deriver.link_stale(app.link_stale(), SystemTime::now());
-        self.write(records);
-        let records = self
-            .deriver
-            .cap_stops(app.cap_watch().stops(), SystemTime::now());
         self.write(records);
     }
 

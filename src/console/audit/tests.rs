@@ -533,3 +533,79 @@ fn a_stored_run_by_id_is_recorded_with_its_kind_id_and_cap_as_home_is() {
         r#"{"ts":"2026-11-30T22:27:31.853Z","event":"stored","kind":"sequence","id":1,"speed_percent":40,"speed_mm_s":100.0}"#
     );
 }
+
+fn app_config() -> crate::console::app::AppConfig {
+    crate::console::app::AppConfig {
+        keymap: crate::console::keymap::Keymap::builtin("default")
+            .expect("keymap")
+            .into(),
+        release_mode: crate::console::jog::ReleaseMode::Reported,
+        refresh: Duration::from_millis(100),
+        positions_on_operator: true,
+        max_jog_speed: 0.25,
+        joint_jog_speed: crate::link::driver::JOINT_JOG_SPEED,
+        frames: false,
+        simulated: false,
+        arm_name: None,
+    }
+}
+
+/// Every line written in `dir`, whatever its day's file, oldest file first.
+fn all_lines(dir: &std::path::Path) -> Vec<String> {
+    let mut files: Vec<_> = std::fs::read_dir(dir)
+        .expect("dir")
+        .map(|entry| entry.expect("entry").path())
+        .collect();
+    files.sort();
+    files
+        .iter()
+        .flat_map(|file| {
+            let text = std::fs::read_to_string(file).expect("audit file");
+            text.lines().map(str::to_string).collect::<Vec<_>>()
+        })
+        .collect()
+}
+
+#[tokio::test]
+async fn an_inputs_commands_are_recorded_at_the_next_turn_stamped_when_it_was_handled() {
+    let dir = temp_dir();
+    let config = app_config();
+    let app = crate::console::app::App::new(config.clone(), PositionBook::new());
+    let mut session = AuditSession::start(&config, "sim".into(), None, Some(dir.path().into()));
+    session.command(ArmCommand::Jog(JogMotion::Cartesian { x: 1, y: 0, z: 0 }));
+    let before = SystemTime::now();
+    session.handled();
+    let after = SystemTime::now();
+    // The loop's next turn comes later: the record keeps the input's time.
+    std::thread::sleep(Duration::from_millis(50));
+    session.record_handled(&app);
+    // Recorded once, however many turns follow.
+    session.record_handled(&app);
+    session.finish(Duration::from_secs(10)).await;
+    let lines = all_lines(dir.path());
+    let event = |line: &String| {
+        let value: serde_json::Value = serde_json::from_str(line).expect("json");
+        (
+            value["event"].as_str().map(str::to_string),
+            value["ts"].clone(),
+        )
+    };
+    let events: Vec<_> = lines.iter().map(event).collect();
+    let names: Vec<_> = events.iter().map(|(name, _)| name.as_deref()).collect();
+    assert_eq!(
+        names,
+        [
+            Some("session_start"),
+            Some("jog_start"),
+            Some("session_end")
+        ],
+        "{lines:?}"
+    );
+    // The same format, so the strings order as the times do.
+    let stamped = events[1].1.as_str().expect("ts").to_string();
+    let (earliest, latest) = (utc::rfc3339_ms(before), utc::rfc3339_ms(after));
+    assert!(
+        earliest <= stamped && stamped <= latest,
+        "jog_start at {stamped}, handled between {earliest} and {latest}"
+    );
+}

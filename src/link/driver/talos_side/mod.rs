@@ -336,7 +336,7 @@ impl TalosSide {
     pub async fn spawn_answers(&mut self, after_the_write: bool) {
         if self.answers.is_some() {
             if after_the_write {
-                tokio::task::yield_now().await;
+                after_tasks_woken().await;
             }
             self.spawn_answers_now();
         }
@@ -453,4 +453,20 @@ const FLUSH_WAIT: Duration = Duration::from_millis(500);
 /// error, never an empty payload.
 fn hw_request(request: &HwRequest) -> Result<Request, ArmError> {
     request.to_request().map_err(ArmError::Encode)
+}
+
+/// Comes back once the tasks already woken on this thread have run (the link task a command
+/// woke): it wakes itself, so it is queued behind them. tokio's `yield_now` would also poll the
+/// reactor before coming back, a syscall in every key's burst.
+async fn after_tasks_woken() {
+    let mut woken = false;
+    std::future::poll_fn(|cx| {
+        if woken {
+            return std::task::Poll::Ready(());
+        }
+        woken = true;
+        cx.waker().wake_by_ref();
+        std::task::Poll::Pending
+    })
+    .await
 }
