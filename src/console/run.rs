@@ -340,11 +340,12 @@ async fn event_loop(
             }
         }
         audit.handled();
-        // The driver and the links run on this thread once this task waits, which it does
-        // next unless more input is waiting (a flood, a batch of arm events): then it yields,
-        // so they write this input's frames before the next input is handled. (A yield polls
-        // the reactor before coming back: a syscall in every key's burst.)
-        if sent && (keys.events_waiting() || !arm_events.is_empty()) {
+        // The driver and the links run on this thread: they write the commands' frames before
+        // anything else runs here. Without the yield they still wrote them in the key's burst,
+        // but after this loop's next poll of everything it waits on: after a rest that cold
+        // code made a press->START some 10 % slower (under load a little faster: a yield polls
+        // the reactor, a syscall, before coming back).
+        if sent {
             tokio::task::yield_now().await;
         }
         // Inputs that never let the loop rest (a flood) do not hold the records for ever.

@@ -96,15 +96,10 @@ impl TerminalInput {
         })
     }
 
-    /// Whether events have been read that the event loop has not taken yet.
-    pub fn events_waiting(&self) -> bool {
-        !self.events.is_empty()
-    }
-
     /// Whether input has arrived that the event loop has not taken yet: events read, or bytes
     /// readable on the terminal now.
     pub fn input_arrived(&self) -> bool {
-        if self.events_waiting() {
+        if !self.events.is_empty() {
             return true;
         }
         let now = Timespec {
