@@ -149,25 +149,10 @@ fn paint(
 mod tests {
     use super::*;
     use crate::console::app::{App, AppConfig, Input};
-    use crate::console::jog::ReleaseMode;
-    use crate::console::keymap::Keymap;
     use crate::console::positions::PositionBook;
 
     fn view(width: u16) -> View {
-        let mut app = App::new(
-            AppConfig {
-                keymap: Keymap::builtin("default").expect("keymap").into(),
-                release_mode: ReleaseMode::Reported,
-                refresh: Duration::from_millis(100),
-                positions_on_operator: true,
-                max_jog_speed: 0.25,
-                joint_jog_speed: crate::link::driver::JOINT_JOG_SPEED,
-                frames: false,
-                simulated: false,
-                arm_name: None,
-            },
-            PositionBook::new(),
-        );
+        let mut app = App::new(AppConfig::for_tests(), PositionBook::new());
         app.handle(Input::Resize { width, height: 40 }, Instant::now());
         View::new(&app)
     }

@@ -209,6 +209,27 @@ pub struct AppConfig {
     pub arm_name: Option<String>,
 }
 
+#[cfg(test)]
+impl AppConfig {
+    /// The built-in keymap, key releases reported, a Talos operator keeping the positions, the
+    /// default cap: what the crate's unit tests start from.
+    pub(crate) fn for_tests() -> AppConfig {
+        AppConfig {
+            keymap: crate::console::keymap::Keymap::builtin("default")
+                .expect("keymap")
+                .into(),
+            release_mode: crate::console::jog::ReleaseMode::Reported,
+            refresh: Duration::from_millis(100),
+            positions_on_operator: true,
+            max_jog_speed: 0.25,
+            joint_jog_speed: crate::link::driver::JOINT_JOG_SPEED,
+            frames: false,
+            simulated: false,
+            arm_name: None,
+        }
+    }
+}
+
 /// The console's whole state. Private: only inputs change it; [`App`]'s accessors read it.
 /// It routes each input to its parts (see `parts`).
 #[derive(Debug, Clone)]

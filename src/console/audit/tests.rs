@@ -534,22 +534,6 @@ fn a_stored_run_by_id_is_recorded_with_its_kind_id_and_cap_as_home_is() {
     );
 }
 
-fn app_config() -> crate::console::app::AppConfig {
-    crate::console::app::AppConfig {
-        keymap: crate::console::keymap::Keymap::builtin("default")
-            .expect("keymap")
-            .into(),
-        release_mode: crate::console::jog::ReleaseMode::Reported,
-        refresh: Duration::from_millis(100),
-        positions_on_operator: true,
-        max_jog_speed: 0.25,
-        joint_jog_speed: crate::link::driver::JOINT_JOG_SPEED,
-        frames: false,
-        simulated: false,
-        arm_name: None,
-    }
-}
-
 /// Every line written in `dir`, whatever its day's file, oldest file first.
 fn all_lines(dir: &std::path::Path) -> Vec<String> {
     let mut files: Vec<_> = std::fs::read_dir(dir)
@@ -569,7 +553,7 @@ fn all_lines(dir: &std::path::Path) -> Vec<String> {
 #[tokio::test]
 async fn an_inputs_commands_are_recorded_at_the_next_turn_stamped_when_it_was_handled() {
     let dir = temp_dir();
-    let config = app_config();
+    let config = crate::console::app::AppConfig::for_tests();
     let app = crate::console::app::App::new(config.clone(), PositionBook::new());
     let mut session = AuditSession::start(&config, "sim".into(), None, Some(dir.path().into()));
     session.command(ArmCommand::Jog(JogMotion::Cartesian { x: 1, y: 0, z: 0 }));

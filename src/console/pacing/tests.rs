@@ -1,25 +1,10 @@
 use super::*;
 use crate::console::app::{App, AppConfig, Input, STALE_AFTER};
-use crate::console::jog::ReleaseMode;
-use crate::console::keymap::Keymap;
 use crate::console::positions::PositionBook;
 use crate::link::interface::{ArmEvent, LinkStatus, TelemetrySource};
 
 fn app() -> App {
-    App::new(
-        AppConfig {
-            keymap: Keymap::builtin("default").expect("keymap").into(),
-            release_mode: ReleaseMode::Reported,
-            refresh: Duration::from_millis(100),
-            positions_on_operator: true,
-            max_jog_speed: 0.25,
-            joint_jog_speed: crate::link::driver::JOINT_JOG_SPEED,
-            frames: false,
-            simulated: false,
-            arm_name: None,
-        },
-        PositionBook::new(),
-    )
+    App::new(AppConfig::for_tests(), PositionBook::new())
 }
 
 /// A Modbus link up, which promises telemetry (so its silence makes it stale).
