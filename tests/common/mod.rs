@@ -25,7 +25,8 @@ pub enum Action {
 
 pub type Script = Arc<dyn Fn(&TalosFrame) -> Vec<Action> + Send + Sync>;
 
-/// A listening test operator. Every frame it decodes is sent on `received`.
+/// A listening test operator. Every frame it decodes is sent on `received`, before it is
+/// answered.
 pub struct TestOperator {
     pub addr: String,
     pub received: mpsc::UnboundedReceiver<Decoded>,
@@ -46,11 +47,14 @@ impl TestOperator {
                 let mut writable = true;
                 'conn: loop {
                     while let Ok(Some(item)) = codec.decode(&mut buf) {
-                        let actions = match &item {
-                            Decoded::TalosFrame(f) => script(f),
-                            Decoded::Rejected(_) => Vec::new(),
+                        // Reported before the script acts on it: a test that sees what a frame
+                        // did (an arm that moved) finds the frame on `received`.
+                        let frame = match &item {
+                            Decoded::TalosFrame(f) => Some(f.clone()),
+                            Decoded::Rejected(_) => None,
                         };
                         let _ = tx.send(item);
+                        let actions = frame.map(|f| script(&f)).unwrap_or_default();
                         for action in actions {
                             match action {
                                 Action::Write(bytes) => {
