@@ -178,7 +178,7 @@ impl TalosSide {
     }
 
     /// The requests that carry out `command`, in order.
-    fn requests(&mut self, command: &ArmCommand) -> Result<Vec<Request>, ArmError> {
+    fn requests(&self, command: &ArmCommand) -> Result<Vec<Request>, ArmError> {
         let icd = self.dialect() == Dialect::Icd;
         Ok(match command {
             ArmCommand::Jog(JogMotion::Cartesian { x, y, z }) => {
@@ -278,7 +278,8 @@ impl TalosSide {
     /// Submits the command's requests in order and reports their answers as they come. Never
     /// waits: submission queues or fails at once (a full queue ends the link).
     pub fn command(&mut self, command: ArmCommand) {
-        let Some(link) = self.link.clone() else {
+        // Borrowed, not cloned: a clone of the link copies its address, on every key's path.
+        let Some(link) = &self.link else {
             if !command.is_stop() {
                 let _ = self.events.send(ArmEvent::Failed {
                     command: command.kind(),
