@@ -31,6 +31,7 @@ use tokio::process::{Child, ChildStdin, Command};
 use tokio::sync::{mpsc, oneshot, watch};
 
 use super::interface::{ArmCommand, ArmError, ArmEvent, CommandKind, GuardStatus};
+use crate::net::Deadline;
 
 /// The byte the console writes to keep the guard from stopping the arm.
 pub const HEARTBEAT: u8 = b'.';
@@ -240,10 +241,11 @@ async fn run_once(program: &PathBuf, args: &[String], reporter: &Reporter) -> St
     beat.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
     // Armed once the guard is ready: from then on it speaks at least every ALIVE_PERIOD.
     let mut heard: Option<tokio::time::Instant> = None;
+    let mut silent_until = Deadline::new();
     loop {
-        let silent_until = heard.map(|at| at + GUARD_SILENCE);
+        silent_until.set(heard.map(|at| at + GUARD_SILENCE));
         tokio::select! {
-            _ = sleep_until(silent_until) => {
+            _ = silent_until.fired(), if silent_until.armed() => {
                 let silence = format!(
                     "the stop guard {pid} stopped answering for {} s",
                     GUARD_SILENCE.as_secs()
@@ -275,13 +277,6 @@ async fn run_once(program: &PathBuf, args: &[String], reporter: &Reporter) -> St
                 };
             }
         }
-    }
-}
-
-async fn sleep_until(deadline: Option<tokio::time::Instant>) {
-    match deadline {
-        Some(at) => tokio::time::sleep_until(at).await,
-        None => std::future::pending().await,
     }
 }
 

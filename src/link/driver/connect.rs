@@ -104,14 +104,6 @@ pub async fn modbus(config: ModbusConfig) -> Connected {
     )
 }
 
-/// Sleeps until `at`, or forever without one.
-pub async fn sleep_until(at: Option<Instant>) {
-    match at {
-        Some(at) => tokio::time::sleep_until(at).await,
-        None => std::future::pending().await,
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

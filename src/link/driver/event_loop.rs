@@ -17,6 +17,7 @@ use crate::link::interface::{
 };
 use crate::link::modbus::{ModbusEvent, StopReason};
 use crate::link::talos::TalosEvent;
+use crate::net::Deadline;
 
 /// Everything the loop waits on that is not part of the driver's state.
 struct Inbox {
@@ -58,7 +59,10 @@ pub(super) async fn run(
     events: mpsc::UnboundedSender<ArmEvent>,
 ) {
     let (mut driver, mut inbox) = DriverState::start(config, commands, events);
+    let (mut talos_due, mut modbus_due) = (Deadline::new(), Deadline::new());
     loop {
+        talos_due.set(driver.talos_attempts.due_at());
+        modbus_due.set(driver.modbus_attempts.due_at());
         tokio::select! {
             // Commands first: a STOP is never kept waiting by anything else that is ready.
             biased;
@@ -76,8 +80,8 @@ pub(super) async fn run(
             Some(event) = driver.talos.next_event() => driver.on_talos_link(event),
             Some(event) = inbox.modbus_link.recv() => driver.on_modbus_link(event),
             Some(report) = inbox.guard_reports.recv() => driver.on_guard_report(report),
-            _ = connect::sleep_until(driver.talos_attempts.due_at()) => driver.on_talos_due(),
-            _ = connect::sleep_until(driver.modbus_attempts.due_at()) => driver.on_modbus_due(),
+            _ = talos_due.fired(), if talos_due.armed() => driver.on_talos_due(),
+            _ = modbus_due.fired(), if modbus_due.armed() => driver.on_modbus_due(),
             _ = inbox.hw_poll.tick(), if driver.hw_telemetry => driver.talos.poll_telemetry(),
         }
     }
