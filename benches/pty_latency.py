@@ -346,7 +346,7 @@ def run_cycles(binaries, cycles, size, seed, rest=0.0):
     while True:
         t = time.monotonic()
         for c in consoles:
-            if c.state == "connecting" and c.handshake_at and t - c.handshake_at > 1.0:
+            if c.state == "connecting" and c.handshake_at and t - c.handshake_at > 2.0:
                 c.state = "ready"
         if any(c.state == "connecting" for c in consoles):
             if t - started > 10:
@@ -396,7 +396,10 @@ def run_cycles(binaries, cycles, size, seed, rest=0.0):
                     sys.exit(f"{console.binary} exited during the run")
                 continue
             for command in console.on_readable(r, at_ns):
-                if command == 0x0000 and console.handshake_at is None:
+                if command == 0x0000 and console.state == "connecting":
+                    # The last handshake counts, and the console is ready 2 s after it: one
+                    # this script answered too late (busy starting the others) is tried again
+                    # 1.5 s later, and a press before the link is up is rightly refused.
                     console.handshake_at = time.monotonic()
                 elif console.state == "pressed" and command == POLAR_START:
                     console.press_to_start.append((at_ns - console.press_ns) / 1e6)
