@@ -5,6 +5,7 @@ Usage (from the repository root, after `cargo build --release`):
 
     python3 benches/key_burst.py                          # armjog and the Python floor
     python3 benches/key_burst.py --compare /tmp/armjog-old --cycles 80   # before/after too
+    python3 benches/key_burst.py --show 3     # and each console's 3 commonest bursts, call by call
 
 It runs `benches/pty_latency.py` (armjog, any `--compare`s, and `--compare floor-exec`), traces the syscalls of
 each console's thread that reads the keys (`perf record -e raw_syscalls:*`), and cuts the trace
@@ -30,6 +31,10 @@ import tempfile
 import time
 
 READ, WRITE, SENDTO = 0, 1, 44
+# Names for `--show`: the calls a console's key burst makes (x86-64 numbers).
+NAMES = {0: "read", 1: "write", 7: "poll", 20: "writev", 23: "select", 44: "sendto",
+         45: "recvfrom", 202: "futex", 232: "epoll_wait", 270: "pselect6", 281: "epoll_pwait",
+         441: "epoll_pwait2"}
 # A wait that took longer than this slept (the thread was not running through it).
 SLEPT_NS = 20_000
 # The shortest Talos frame (a 10-byte header and a checksum).
@@ -65,7 +70,8 @@ def is_frame_write(call, key_fd):
 
 
 def bursts(calls):
-    """Per key read: (wake->read, read, read->write, write, write->sleep, whole), in ns."""
+    """Per key read: (wake->read, read, read->write, write, write->sleep, whole) in ns, and the
+    calls from the wake to the sleep (names and return values)."""
     out = []
     for i, (nr, fd, start, end, ret) in enumerate(calls):
         if nr != READ or ret <= 0:
@@ -90,6 +96,11 @@ def bursts(calls):
         if sleep is None:
             continue
         read_start = start if wake != end else end
+        first = next(k for k in range(i, -1, -1) if calls[k][3] == wake) if wake != end else i
+        last = calls.index(sleep, i)
+        sequence = " ".join(
+            f"{NAMES.get(c[0], c[0])}={c[4]}" for c in calls[first + 1 : last + 1]
+        )
         out.append(
             (
                 read_start - wake,
@@ -98,6 +109,7 @@ def bursts(calls):
                 write[3] - write[2],
                 sleep[2] - write[3],
                 sleep[2] - wake,
+                sequence,
             )
         )
     return out
@@ -114,6 +126,9 @@ def main():
     parser.add_argument("--compare", action="append", default=[], help="another armjog binary")
     parser.add_argument("--cycles", type=int, default=60)
     parser.add_argument("--trace-seconds", type=float, default=0.0, help="0: the whole run")
+    parser.add_argument(
+        "--show", type=int, default=0, help="print each console's K most common bursts, call by call"
+    )
     args = parser.parse_args()
     here = os.path.dirname(os.path.abspath(__file__))
     bench = subprocess.Popen(
@@ -175,6 +190,11 @@ def main():
             continue
         medians = [statistics.median(r[k] for r in rows) / 1000 for k in range(len(names))]
         print(f"{name[-28:]:28} {len(rows):5} " + " ".join(f"{m:12.1f}" for m in medians))
+        counts = {}
+        for r in rows:
+            counts[r[-1]] = counts.get(r[-1], 0) + 1
+        for sequence, n in sorted(counts.items(), key=lambda kv: -kv[1])[: args.show]:
+            print(f"    {n:4} x  {sequence}")
 
 
 if __name__ == "__main__":
