@@ -297,7 +297,7 @@ async fn event_loop(
             }
             Some(outcome) = book.save_outcomes.recv() => Some(Input::PositionsSaved(outcome)),
             Some(e) = screen.errors.recv() => {
-                audit.record_handled(&app);
+                audit.record_handled();
                 return Err(ConsoleError::Terminal(e));
             }
             // Shown, and kept in the command log; the console goes on.
@@ -308,7 +308,7 @@ async fn event_loop(
         };
         // The last input's commands went out while this task waited (the driver and the
         // links run on this thread): its records are made now, not in its burst.
-        audit.record_handled(&app);
+        audit.record_handled();
         let Some(input) = input else { continue };
         let urgent = !matches!(input, Input::Arm(_) | Input::Tick);
         let now = Instant::now();
@@ -329,8 +329,8 @@ async fn event_loop(
                     book.save(positions);
                 }
                 Effect::Quit => {
-                    audit.handled();
-                    audit.record_handled(&app);
+                    audit.handled(&app);
+                    audit.record_handled();
                     // Changes made while the book loads are written once it has loaded.
                     if matches!(app.book_state(), BookState::Loading { .. }) {
                         book.hold_until_loaded(app.positions().clone());
@@ -339,7 +339,6 @@ async fn event_loop(
                 }
             }
         }
-        audit.handled();
         // The driver and the links run on this thread: they write the commands' frames before
         // anything else runs here. Without the yield they still wrote them in the key's burst,
         // but after this loop's next poll of everything it waits on: after a rest that cold
@@ -348,6 +347,7 @@ async fn event_loop(
         if sent {
             tokio::task::yield_now().await;
         }
+        audit.handled(&app);
         // Inputs that never let the loop rest (a flood) do not hold the records for ever.
         if audit.hand_over_at().is_some_and(|at| at <= now) {
             audit.hand_over();

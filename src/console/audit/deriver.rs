@@ -83,6 +83,18 @@ impl AuditDeriver {
         frame: ReferenceFrame,
         at: SystemTime,
     ) -> Vec<AuditRecord> {
+        let name = go_to_name(command, book, selected);
+        self.command_named(command, name, frame, at)
+    }
+
+    /// [`Self::command`] with a go-to's position already named ([`go_to_name`]).
+    pub fn command_named(
+        &mut self,
+        command: &ArmCommand,
+        go_to_name: Option<String>,
+        frame: ReferenceFrame,
+        at: SystemTime,
+    ) -> Vec<AuditRecord> {
         let speed_percent = self.speed;
         let speed_mm_s = self.speed_mm_s(speed_percent);
         let event = match command {
@@ -133,7 +145,7 @@ impl AuditDeriver {
             }
             ArmCommand::Step(step) => Some(step_event(*step, speed_percent, speed_mm_s)),
             ArmCommand::MoveToPose(pose) => Some(AuditEvent::GoTo {
-                name: name_at_pose(book, selected, pose),
+                name: go_to_name,
                 position_mm: Some(
                     [pose.x, pose.y, pose.z].map(|v| round_mm(f64::from(v) * 1000.0)),
                 ),
@@ -277,6 +289,11 @@ impl AuditDeriver {
         vec![AuditRecord::new(at, event)]
     }
 
+    /// How many of the cap watch's stops have been recorded.
+    pub fn cap_stops_recorded(&self) -> u64 {
+        self.cap_stops
+    }
+
     /// The cap watch's stops after an input (`CapWatch::stops`): each new one recorded once.
     pub fn cap_stops(
         &mut self,
@@ -369,6 +386,19 @@ fn step_event(step: StepMove, speed_percent: u8, speed_mm_s: f64) -> AuditEvent 
 
 /// The name of the book entry a Modbus go-to's pose came from: the selected one if it is
 /// there (a go-to acts on the selection), else the first stored at that position.
+/// The book's name for where `command` goes, when it is a move to a pose (a Modbus go-to
+/// carries no name): the selected position if it is there, else the first that is.
+pub fn go_to_name(
+    command: &ArmCommand,
+    book: &PositionBook,
+    selected: Option<&str>,
+) -> Option<String> {
+    match command {
+        ArmCommand::MoveToPose(pose) => name_at_pose(book, selected, pose),
+        _ => None,
+    }
+}
+
 fn name_at_pose(book: &PositionBook, selected: Option<&str>, pose: &Pose) -> Option<String> {
     let target = [pose.x, pose.y, pose.z].map(|v| (f64::from(v) * 10_000.0).round() as i32);
     let at_pose = |name: &str| book.get(name).and_then(|e| e.cartesian) == Some(target);

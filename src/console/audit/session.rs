@@ -3,18 +3,33 @@
 
 use std::time::{Duration, SystemTime};
 
+use super::deriver::go_to_name;
 use super::{AuditDeriver, AuditEvent, AuditLog, AuditRecord};
 use crate::console::app::{App, AppConfig, Input};
 use crate::console::positions::PositionBook;
+use crate::kortex::ReferenceFrame;
 use crate::link::interface::{ArmCommand, ArmEvent};
 
 pub struct AuditSession {
     deriver: AuditDeriver,
     log: AuditLog,
-    /// The last input's commands, and when it was handled: recorded at the event loop's next
-    /// turn ([`AuditSession::record_handled`]), so a key's burst ends with its frames.
+    /// The last input's commands: recorded at the event loop's next turn
+    /// ([`AuditSession::record_handled`]), so a key's burst ends with its frames.
     sent: Vec<ArmCommand>,
-    handled_at: Option<SystemTime>,
+    handled: Option<Handled>,
+}
+
+/// What the app's state after an input says, for its records. Taken when the input is
+/// handled, so the records need no app: a panic before the next turn still records them
+/// (on drop) after the app is gone.
+struct Handled {
+    at: SystemTime,
+    frame: ReferenceFrame,
+    /// The position each sent command goes to, by name, where a name is known.
+    go_to_names: Vec<Option<String>>,
+    link_stale: Option<Duration>,
+    /// The cap watch's stops, and the reason of the last one when it is new.
+    cap_stops: (u64, Option<String>),
 }
 
 impl AuditSession {
@@ -34,7 +49,7 @@ impl AuditSession {
             ),
             log: AuditLog::start(dir),
             sent: Vec::new(),
-            handled_at: None,
+            handled: None,
         };
         session.write(vec![AuditRecord::new(
             SystemTime::now(),
@@ -77,29 +92,41 @@ impl AuditSession {
 
     /// The input is handled: its commands, and what the app's state after it says (the link
     /// gone stale or fresh, a motion the cap watch stopped), are recorded at the event loop's
-    /// next turn, stamped now. Until then the app does not change: no input comes between.
-    pub fn handled(&mut self) {
-        self.handled_at = Some(SystemTime::now());
+    /// next turn, stamped now.
+    pub fn handled(&mut self, app: &App) {
+        let (stops, reason) = app.cap_watch().stops();
+        let new_stop = stops != self.deriver.cap_stops_recorded();
+        self.handled = Some(Handled {
+            at: SystemTime::now(),
+            frame: app.frame(),
+            go_to_names: self
+                .sent
+                .iter()
+                .map(|command| go_to_name(command, app.positions(), app.selected_name()))
+                .collect(),
+            link_stale: app.link_stale(),
+            cap_stops: (stops, reason.filter(|_| new_stop).map(str::to_string)),
+        });
     }
 
     /// Records what the last input sent and left, if not yet recorded.
-    pub fn record_handled(&mut self, app: &App) {
-        let Some(at) = self.handled_at.take() else {
+    pub fn record_handled(&mut self) {
+        let Some(handled) = self.handled.take() else {
             return;
         };
-        for command in std::mem::take(&mut self.sent) {
-            let records = self.deriver.command(
-                &command,
-                app.positions(),
-                app.selected_name(),
-                app.frame(),
-                at,
-            );
+        let sent = std::mem::take(&mut self.sent);
+        for (command, name) in sent.iter().zip(handled.go_to_names) {
+            let records = self
+                .deriver
+                .command_named(command, name, handled.frame, handled.at);
             self.write(records);
         }
-        let records = self.deriver.link_stale(app.link_stale(), at);
+        let records = self.deriver.link_stale(handled.link_stale, handled.at);
         self.write(records);
-        let records = self.deriver.cap_stops(app.cap_watch().stops(), at);
+        let (stops, reason) = handled.cap_stops;
+        let records = self
+            .deriver
+            .cap_stops((stops, reason.as_deref()), handled.at);
         self.write(records);
     }
 
@@ -126,11 +153,20 @@ impl AuditSession {
 
     /// Records the session's end and writes everything queued (at most `within`).
     pub async fn finish(mut self, within: Duration) {
+        self.record_handled();
         self.write(vec![AuditRecord::new(
             SystemTime::now(),
             AuditEvent::SessionEnd,
         )]);
         self.log.finish(within).await;
+    }
+}
+
+impl Drop for AuditSession {
+    /// An unwinding panic that came between an input and the loop's next turn: the input's
+    /// records are still made (the log hands them to its writer as it is dropped).
+    fn drop(&mut self) {
+        self.record_handled();
     }
 }
 

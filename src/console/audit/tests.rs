@@ -558,13 +558,13 @@ async fn an_inputs_commands_are_recorded_at_the_next_turn_stamped_when_it_was_ha
     let mut session = AuditSession::start(&config, "sim".into(), None, Some(dir.path().into()));
     session.command(ArmCommand::Jog(JogMotion::Cartesian { x: 1, y: 0, z: 0 }));
     let before = SystemTime::now();
-    session.handled();
+    session.handled(&app);
     let after = SystemTime::now();
     // The loop's next turn comes later: the record keeps the input's time.
     std::thread::sleep(Duration::from_millis(50));
-    session.record_handled(&app);
+    session.record_handled();
     // Recorded once, however many turns follow.
-    session.record_handled(&app);
+    session.record_handled();
     session.finish(Duration::from_secs(10)).await;
     let lines = all_lines(dir.path());
     let event = |line: &String| {
@@ -592,4 +592,67 @@ async fn an_inputs_commands_are_recorded_at_the_next_turn_stamped_when_it_was_ha
         earliest <= stamped && stamped <= latest,
         "jog_start at {stamped}, handled between {earliest} and {latest}"
     );
+}
+
+fn event_names(dir: &std::path::Path) -> Vec<String> {
+    all_lines(dir)
+        .iter()
+        .map(|line| {
+            let value: serde_json::Value = serde_json::from_str(line).expect("json");
+            value["event"].as_str().unwrap_or_default().to_string()
+        })
+        .collect()
+}
+
+#[tokio::test]
+async fn an_inputs_records_need_no_app_once_it_is_handled() {
+    let dir = temp_dir();
+    let config = crate::console::app::AppConfig::for_tests();
+    let mut book = PositionBook::new();
+    book.get_or_insert("pick").cartesian = Some([4566, -10, 4338]);
+    let mut session = AuditSession::start(&config, "sim".into(), None, Some(dir.path().into()));
+    let pose = Pose {
+        x: 0.4566,
+        y: -0.001,
+        z: 0.4338,
+        theta_x: 90.0,
+        theta_y: 0.0,
+        theta_z: 90.0,
+    };
+    {
+        let app = crate::console::app::App::new(config.clone(), book);
+        session.command(ArmCommand::MoveToPose(pose));
+        session.handled(&app);
+    }
+    // The app is gone (a panic unwound it): the go-to is still recorded, with its name.
+    session.record_handled();
+    session.finish(Duration::from_secs(10)).await;
+    let lines = all_lines(dir.path());
+    let go_to: Vec<serde_json::Value> = lines
+        .iter()
+        .map(|line| serde_json::from_str(line).expect("json"))
+        .filter(|value: &serde_json::Value| value["event"] == "go_to")
+        .collect();
+    assert_eq!(go_to.len(), 1, "{lines:?}");
+    assert_eq!(go_to[0]["name"], "pick", "{lines:?}");
+}
+
+#[test]
+fn a_session_dropped_between_an_input_and_the_next_turn_records_the_input() {
+    let dir = temp_dir();
+    let config = crate::console::app::AppConfig::for_tests();
+    let app = crate::console::app::App::new(config.clone(), PositionBook::new());
+    let mut session = AuditSession::start(&config, "sim".into(), None, Some(dir.path().into()));
+    session.command(ArmCommand::Jog(JogMotion::Cartesian { x: 0, y: 1, z: 0 }));
+    session.handled(&app);
+    // As an unwinding panic drops it: no next turn, no finish.
+    drop(session);
+    // The writer ends once it has written what it was handed.
+    let until = std::time::Instant::now() + Duration::from_secs(10);
+    let mut names = event_names(dir.path());
+    while !names.iter().any(|name| name == "jog_start") && std::time::Instant::now() < until {
+        std::thread::sleep(Duration::from_millis(20));
+        names = event_names(dir.path());
+    }
+    assert_eq!(names, ["session_start", "jog_start"]);
 }

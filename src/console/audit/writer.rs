@@ -85,8 +85,9 @@ impl AuditLog {
         }
     }
 
-    /// Writes what is queued and ends the writer, waiting at most `within`.
-    pub async fn finish(mut self, within: Duration) {
+    /// Writes what is queued and ends the writer, waiting at most `within`. Records made
+    /// after it are not written.
+    pub async fn finish(&mut self, within: Duration) {
         self.hand_over();
         self.records = None;
         let Some(thread) = self.thread.take() else {
