@@ -306,11 +306,17 @@ async fn event_loop(
                 Some(Input::Arm(audit::session::failure_log_line(reason)))
             }
         };
-        // The last input's commands went out while this task waited (the driver and the
-        // links run on this thread): its records are made now, not in its burst.
-        audit.record_handled();
-        let Some(input) = input else { continue };
+        let Some(input) = input else {
+            // The last input's commands went out while this task waited (the driver and the
+            // links run on this thread): its records are made now, not in its burst.
+            audit.record_handled();
+            continue;
+        };
         let urgent = !matches!(input, Input::Arm(_) | Input::Tick);
+        // A key's frames go out before the records of the input before it (see `handled`).
+        if !urgent {
+            audit.record_handled();
+        }
         let now = Instant::now();
         audit.input(&input);
         let mut sent = false;

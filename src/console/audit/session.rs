@@ -13,10 +13,13 @@ use crate::link::interface::{ArmCommand, ArmEvent};
 pub struct AuditSession {
     deriver: AuditDeriver,
     log: AuditLog,
-    /// The last input's commands: recorded at the event loop's next turn
-    /// ([`AuditSession::record_handled`]), so a key's burst ends with its frames.
+    /// The commands the input being handled has sent so far.
     sent: Vec<ArmCommand>,
+    /// The last input handled and its commands, not yet recorded: they are recorded at the
+    /// event loop's next turn ([`AuditSession::record_handled`]), or once a key's frames are
+    /// out when a key comes first, so a key's frames do not wait for the records.
     handled: Option<Handled>,
+    handled_sent: Vec<ArmCommand>,
 }
 
 /// What the app's state after an input says, for its records. Taken when the input is
@@ -25,8 +28,8 @@ pub struct AuditSession {
 struct Handled {
     at: SystemTime,
     frame: ReferenceFrame,
-    /// The position each sent command goes to, by name, where a name is known.
-    go_to_names: Vec<Option<String>>,
+    /// The book's names for where the commands go (by their index), where one is known.
+    go_to_names: Vec<(usize, String)>,
     link_stale: Option<Duration>,
     /// The cap watch's stops, and the reason of the last one when it is new.
     cap_stops: (u64, Option<String>),
@@ -50,6 +53,7 @@ impl AuditSession {
             log: AuditLog::start(dir),
             sent: Vec::new(),
             handled: None,
+            handled_sent: Vec::new(),
         };
         session.write(vec![AuditRecord::new(
             SystemTime::now(),
@@ -73,14 +77,19 @@ impl AuditSession {
         }
     }
 
-    /// Before the app sees `input`: what the driver reported, and the book as loaded.
+    /// Before the app sees `input`: what the driver reported, and the book as loaded (after
+    /// the records of the input before, so the file keeps their order).
     pub fn input(&mut self, input: &Input) {
         match input {
             Input::Arm(event) => {
+                self.record_handled();
                 let records = self.deriver.arm_event(event, SystemTime::now());
                 self.write(records);
             }
-            Input::PositionsLoaded(Ok(book)) => self.deriver.book_loaded(book),
+            Input::PositionsLoaded(Ok(book)) => {
+                self.record_handled();
+                self.deriver.book_loaded(book);
+            }
             _ => {}
         }
     }
@@ -92,35 +101,45 @@ impl AuditSession {
 
     /// The input is handled: its commands, and what the app's state after it says (the link
     /// gone stale or fresh, a motion the cap watch stopped), are recorded at the event loop's
-    /// next turn, stamped now.
+    /// next turn, stamped now. The input before it is recorded first, if it is not yet.
     pub fn handled(&mut self, app: &App) {
+        self.record_handled();
+        std::mem::swap(&mut self.sent, &mut self.handled_sent);
         let (stops, reason) = app.cap_watch().stops();
         let new_stop = stops != self.deriver.cap_stops_recorded();
+        let named = self
+            .handled_sent
+            .iter()
+            .enumerate()
+            .filter_map(|(i, command)| {
+                go_to_name(command, app.positions(), app.selected_name()).map(|name| (i, name))
+            });
         self.handled = Some(Handled {
             at: SystemTime::now(),
             frame: app.frame(),
-            go_to_names: self
-                .sent
-                .iter()
-                .map(|command| go_to_name(command, app.positions(), app.selected_name()))
-                .collect(),
+            go_to_names: named.collect(),
             link_stale: app.link_stale(),
             cap_stops: (stops, reason.filter(|_| new_stop).map(str::to_string)),
         });
     }
 
-    /// Records what the last input sent and left, if not yet recorded.
+    /// Records what the last input handled sent and left, if not yet recorded.
     pub fn record_handled(&mut self) {
         let Some(handled) = self.handled.take() else {
             return;
         };
-        let sent = std::mem::take(&mut self.sent);
-        for (command, name) in sent.iter().zip(handled.go_to_names) {
+        let mut names = handled.go_to_names.into_iter().peekable();
+        // Kept, with its capacity, for the next input's commands.
+        let mut sent = std::mem::take(&mut self.handled_sent);
+        for (i, command) in sent.iter().enumerate() {
+            let name = names.next_if(|(at, _)| *at == i).map(|(_, name)| name);
             let records = self
                 .deriver
                 .command_named(command, name, handled.frame, handled.at);
             self.write(records);
         }
+        sent.clear();
+        self.handled_sent = sent;
         let records = self.deriver.link_stale(handled.link_stale, handled.at);
         self.write(records);
         let (stops, reason) = handled.cap_stops;
@@ -132,6 +151,7 @@ impl AuditSession {
 
     /// A book the app is saving (over Modbus, what the technician saved or deleted).
     pub fn book_saved(&mut self, book: &PositionBook) {
+        self.record_handled();
         let records = self.deriver.book_saved(book, SystemTime::now());
         self.write(records);
     }

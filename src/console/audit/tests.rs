@@ -656,3 +656,34 @@ fn a_session_dropped_between_an_input_and_the_next_turn_records_the_input() {
     }
     assert_eq!(names, ["session_start", "jog_start"]);
 }
+
+#[tokio::test]
+async fn records_keep_the_order_of_their_inputs_whenever_they_are_made() {
+    let dir = temp_dir();
+    let config = crate::console::app::AppConfig::for_tests();
+    let app = crate::console::app::App::new(config.clone(), PositionBook::new());
+    let mut session = AuditSession::start(&config, "sim".into(), None, Some(dir.path().into()));
+    // A press, then its release before the loop turned again (a key's records wait until
+    // its frames are out): the press is recorded first.
+    session.command(ArmCommand::Jog(JogMotion::Cartesian { x: 1, y: 0, z: 0 }));
+    session.handled(&app);
+    session.command(ArmCommand::Stop);
+    session.handled(&app);
+    // An arm event after: recorded after both.
+    session.input(&crate::console::app::Input::Arm(ArmEvent::Status(
+        LinkStatus::Up {
+            description: "talos 10.0.0.2:61616".into(),
+        },
+    )));
+    session.finish(Duration::from_secs(10)).await;
+    assert_eq!(
+        event_names(dir.path()),
+        [
+            "session_start",
+            "jog_start",
+            "jog_stop",
+            "link_up",
+            "session_end"
+        ]
+    );
+}
