@@ -275,14 +275,20 @@ impl LinkTask {
                 return Ok(());
             }
         };
-        // A frame that cannot be encoded ends the link once its request is pending, so its
-        // caller is answered with the link's end.
-        let request_bytes = self.encode(&frame);
+        let sent = Instant::now();
+        // The frame is written before it is made pending: the bookkeeping costs it nothing, and
+        // no reply can be read before it is done (this task does both).
+        let (written, request_bytes) = match self.encode(&frame) {
+            Ok(bytes) => (self.write(writer, &bytes).await, bytes),
+            // A frame that cannot be encoded ends the link once its request is pending, so
+            // its caller is answered with the link's end.
+            Err(reason) => (Err(reason), Vec::new()),
+        };
         let pending = Pending {
             id,
             request: job.request,
-            request_bytes: request_bytes.clone().unwrap_or_default(),
-            sent: Instant::now(),
+            request_bytes,
+            sent,
             answer: job.answer,
         };
         self.motion.note(&pending.request);
@@ -290,12 +296,9 @@ impl LinkTask {
             Dialect::Icd => {
                 self.pending.insert(id, pending);
             }
-            Dialect::Ack => {
-                let first_sent = pending.sent;
-                self.queue_ack_wait(pending, 1, first_sent);
-            }
+            Dialect::Ack => self.queue_ack_wait(pending, 1, sent),
         }
-        self.write(writer, &request_bytes?).await
+        written
     }
 
     fn on_frame(&mut self, frame: TalosFrame) {
