@@ -159,13 +159,13 @@ impl ConsoleArgs {
 /// profile `args` were completed from, if any.
 pub async fn run_console(args: &ConsoleArgs, arm_name: Option<String>) -> i32 {
     if let Err(reason) = args.validate() {
-        eprintln!("armjog: {reason}");
+        super::output::print_error(&reason);
         return 2;
     }
     let keymap = match Keymap::load(&args.keymap) {
         Ok(keymap) => keymap,
         Err(e) => {
-            eprintln!("armjog: bad keymap: {e}");
+            super::output::print_error(&format!("bad keymap: {e}"));
             return 2;
         }
     };
@@ -209,7 +209,7 @@ pub async fn run_console(args: &ConsoleArgs, arm_name: Option<String>) -> i32 {
                 (Some(talos), modbus)
             }
             Err(e) => {
-                eprintln!("armjog: cannot start the simulated arm: {e}");
+                super::output::print_error(&format!("cannot start the simulated arm: {e}"));
                 return 1;
             }
         },
@@ -249,7 +249,9 @@ pub async fn run_console(args: &ConsoleArgs, arm_name: Option<String>) -> i32 {
     let code = match run(setup).await {
         Ok(()) => 0,
         Err(e) => {
-            eprintln!("armjog: {e}");
+            // Not `eprintln!`: after a hang-up (an SSH session that dropped) stderr is gone,
+            // and `eprintln!` panics on a failed write.
+            super::output::print_error(&e.to_string());
             1
         }
     };

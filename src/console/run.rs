@@ -6,6 +6,7 @@
 //! The terminal is restored on quit, error, panic and signal; the arm is told to stop first on
 //! every one of those paths.
 
+use std::io::Write as _;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -210,7 +211,9 @@ fn install_panic_hook(stop: StopHandle, release_events: bool, drawing: Arc<Atomi
             std::thread::sleep(PANIC_STOP_WAIT);
             terminal::restore(release_events);
             tracing::error!("panic: {report}");
-            eprintln!("{report}");
+            // Not `eprintln!`, which panics when stderr is gone (a terminal that hung up):
+            // this thread must reach the exit.
+            let _ = writeln!(std::io::stderr(), "{report}");
             std::process::exit(101);
         };
         let started = std::thread::Builder::new()

@@ -144,3 +144,35 @@ async fn sim_keeps_serving_with_its_banner_unread_and_stops_quietly() {
     assert!(killed.success(), "kill -TERM {pid}");
     assert_ends_quietly(child, "sim").await;
 }
+
+/// The console's own errors go to a stderr that cannot be written (a terminal that hung up:
+/// an SSH session that dropped): its exit status is still its own, not a panic's.
+#[tokio::test]
+async fn the_console_reports_its_errors_quietly_when_stderr_is_gone() {
+    let cases: [(&[&str], i32); 2] = [
+        (&["--keymap", "/nonexistent/armjog-keymap.json"], 2),
+        (&["--telemetry-hz", "0"], 2),
+    ];
+    for (args, expected) in cases {
+        let full = std::fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/full")
+            .expect("/dev/full");
+        let status = Command::new(env!("CARGO_BIN_EXE_armjog"))
+            .args(args)
+            .env(
+                "ARMJOG_LOG_DIR",
+                std::env::temp_dir().join("armjog-test-logs"),
+            )
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(full)
+            .kill_on_drop(true)
+            .status();
+        let status = tokio::time::timeout(Duration::from_secs(10), status)
+            .await
+            .unwrap_or_else(|_| panic!("{args:?}: still running after 10 s"))
+            .expect("run armjog");
+        assert_eq!(status.code(), Some(expected), "{args:?}: {status}");
+    }
+}

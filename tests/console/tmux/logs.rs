@@ -196,3 +196,77 @@ fn an_audit_file_that_cannot_be_written_is_shown_and_stops_nothing() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Whether process `pid` is still running (not gone, and not a zombie left for its parent).
+fn running(pid: u32) -> bool {
+    std::fs::read_to_string(format!("/proc/{pid}/stat"))
+        .map(|stat| {
+            !stat
+                .rsplit(')')
+                .next()
+                .unwrap_or_default()
+                .trim()
+                .starts_with('Z')
+        })
+        .unwrap_or(false)
+}
+
+#[test]
+fn a_terminal_that_hangs_up_ends_the_console_without_a_panic() {
+    // An SSH session that drops: the terminal goes, and with it stderr.
+    let dir = std::env::temp_dir().join(format!("armjog-hangup-e2e-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let state = dir.join("state");
+    let command = format!(
+        "ARMJOG_DATA_DIR={d} ARMJOG_LOG_DIR={d} ARMJOG_STATE_DIR={s} exec {bin} --key-release repeat",
+        d = dir.display(),
+        s = state.display(),
+        bin = env!("CARGO_BIN_EXE_armjog"),
+    );
+    let tmux = Tmux::start(&command);
+    tmux.wait_for("the link to come up", |s| {
+        s.contains("LINK UP") && s.contains("pos mm")
+    });
+    let shown = Command::new("tmux")
+        .args([
+            "-L",
+            &tmux.socket,
+            "display",
+            "-p",
+            "-t",
+            "console",
+            "#{pane_pid}",
+        ])
+        .output()
+        .expect("tmux display");
+    let pid: u32 = String::from_utf8_lossy(&shown.stdout)
+        .trim()
+        .parse()
+        .expect("the console's pid");
+    // The terminal hangs up while the console draws (a jog's frames).
+    tmux.keys(&["w"]);
+    drop(tmux);
+    let until = Instant::now() + Duration::from_secs(20);
+    while running(pid) {
+        assert!(
+            Instant::now() < until,
+            "the console did not end after the hang-up"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let console = read_existing_logs(&dir, "armjog-console");
+    assert!(
+        !console.contains("panic"),
+        "the console panicked after the hang-up:\n{console}"
+    );
+    let events: Vec<String> = audit_lines(&state)
+        .iter()
+        .filter_map(|l| l["event"].as_str().map(str::to_string))
+        .collect();
+    assert!(
+        events.iter().any(|e| e == "session_end"),
+        "no session_end in {events:?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
