@@ -550,12 +550,21 @@ fn all_lines(dir: &std::path::Path) -> Vec<String> {
         .collect()
 }
 
+/// An app on `book` and an audit session writing to `dir`.
+fn app_and_session(
+    dir: &std::path::Path,
+    book: PositionBook,
+) -> (crate::console::app::App, AuditSession) {
+    let config = crate::console::app::AppConfig::for_tests();
+    let app = crate::console::app::App::new(config.clone(), book);
+    let session = AuditSession::start(&config, "sim".into(), None, Some(dir.into()));
+    (app, session)
+}
+
 #[tokio::test]
 async fn an_inputs_commands_are_recorded_at_the_next_turn_stamped_when_it_was_handled() {
     let dir = temp_dir();
-    let config = crate::console::app::AppConfig::for_tests();
-    let app = crate::console::app::App::new(config.clone(), PositionBook::new());
-    let mut session = AuditSession::start(&config, "sim".into(), None, Some(dir.path().into()));
+    let (app, mut session) = app_and_session(dir.path(), PositionBook::new());
     session.command(ArmCommand::Jog(JogMotion::Cartesian { x: 1, y: 0, z: 0 }));
     let before = SystemTime::now();
     session.handled(&app);
@@ -607,10 +616,9 @@ fn event_names(dir: &std::path::Path) -> Vec<String> {
 #[tokio::test]
 async fn an_inputs_records_need_no_app_once_it_is_handled() {
     let dir = temp_dir();
-    let config = crate::console::app::AppConfig::for_tests();
     let mut book = PositionBook::new();
     book.get_or_insert("pick").cartesian = Some([4566, -10, 4338]);
-    let mut session = AuditSession::start(&config, "sim".into(), None, Some(dir.path().into()));
+    let (app, mut session) = app_and_session(dir.path(), book);
     let pose = Pose {
         x: 0.4566,
         y: -0.001,
@@ -619,11 +627,9 @@ async fn an_inputs_records_need_no_app_once_it_is_handled() {
         theta_y: 0.0,
         theta_z: 90.0,
     };
-    {
-        let app = crate::console::app::App::new(config.clone(), book);
-        session.command(ArmCommand::MoveToPose(pose));
-        session.handled(&app);
-    }
+    session.command(ArmCommand::MoveToPose(pose));
+    session.handled(&app);
+    drop(app);
     // The app is gone (a panic unwound it): the go-to is still recorded, with its name.
     session.record_handled();
     session.finish(Duration::from_secs(10)).await;
@@ -640,9 +646,7 @@ async fn an_inputs_records_need_no_app_once_it_is_handled() {
 #[test]
 fn a_session_dropped_between_an_input_and_the_next_turn_records_the_input() {
     let dir = temp_dir();
-    let config = crate::console::app::AppConfig::for_tests();
-    let app = crate::console::app::App::new(config.clone(), PositionBook::new());
-    let mut session = AuditSession::start(&config, "sim".into(), None, Some(dir.path().into()));
+    let (app, mut session) = app_and_session(dir.path(), PositionBook::new());
     session.command(ArmCommand::Jog(JogMotion::Cartesian { x: 0, y: 1, z: 0 }));
     session.handled(&app);
     // As an unwinding panic drops it: no next turn, no finish.
@@ -660,9 +664,7 @@ fn a_session_dropped_between_an_input_and_the_next_turn_records_the_input() {
 #[tokio::test]
 async fn records_keep_the_order_of_their_inputs_whenever_they_are_made() {
     let dir = temp_dir();
-    let config = crate::console::app::AppConfig::for_tests();
-    let app = crate::console::app::App::new(config.clone(), PositionBook::new());
-    let mut session = AuditSession::start(&config, "sim".into(), None, Some(dir.path().into()));
+    let (app, mut session) = app_and_session(dir.path(), PositionBook::new());
     // A press, then its release before the loop turned again (a key's records wait until
     // its frames are out): the press is recorded first.
     session.command(ArmCommand::Jog(JogMotion::Cartesian { x: 1, y: 0, z: 0 }));

@@ -101,19 +101,30 @@ fn audit_lines(dir: &Path) -> Vec<serde_json::Value> {
         .collect()
 }
 
-#[test]
-fn the_console_starts_quietly_logs_apart_from_its_simulator_and_audits_the_session() {
-    let dir = std::env::temp_dir().join(format!("armjog-logs-e2e-{}", std::process::id()));
+/// A fresh directory for one test's logs and state, named for it.
+fn fresh_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("armjog-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("temp dir");
-    let state = dir.join("state");
-    let command = format!(
-        "ARMJOG_DATA_DIR={d} ARMJOG_LOG_DIR={d} ARMJOG_STATE_DIR={s} {bin} --key-release repeat; \
-         echo ARMJOG-EXITED-$?; sleep 30",
+    dir
+}
+
+/// The console on the built-in simulator, its logs in `dir` and its audit in `state`; `run`
+/// is put before the binary (`exec`, or nothing), `then` after it.
+fn console_command(dir: &Path, state: &Path, run: &str, then: &str) -> String {
+    format!(
+        "ARMJOG_DATA_DIR={d} ARMJOG_LOG_DIR={d} ARMJOG_STATE_DIR={s} {run}{bin} --key-release repeat{then}",
         d = dir.display(),
         s = state.display(),
         bin = env!("CARGO_BIN_EXE_armjog"),
-    );
+    )
+}
+
+#[test]
+fn the_console_starts_quietly_logs_apart_from_its_simulator_and_audits_the_session() {
+    let dir = fresh_dir("logs-e2e");
+    let state = dir.join("state");
+    let command = console_command(&dir, &state, "", "; echo ARMJOG-EXITED-$?; sleep 30");
     let tmux = Tmux::start(&command);
     tmux.wait_for("the link to come up", |s| {
         s.contains("LINK UP") && s.contains("pos mm")
@@ -165,18 +176,15 @@ fn the_console_starts_quietly_logs_apart_from_its_simulator_and_audits_the_sessi
 
 #[test]
 fn an_audit_file_that_cannot_be_written_is_shown_and_stops_nothing() {
-    let dir = std::env::temp_dir().join(format!("armjog-logs-blocked-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    let dir = fresh_dir("logs-blocked");
     // A file where the audit directory should be: unwritable even for root.
     let blocked = dir.join("not-a-dir");
     std::fs::write(&blocked, "").expect("seed");
-    let command = format!(
-        "ARMJOG_DATA_DIR={d} ARMJOG_LOG_DIR={d} ARMJOG_STATE_DIR={s} {bin} --key-release repeat; \
-         echo ARMJOG-EXITED-$?; sleep 30",
-        d = dir.display(),
-        s = blocked.join("state").display(),
-        bin = env!("CARGO_BIN_EXE_armjog"),
+    let command = console_command(
+        &dir,
+        &blocked.join("state"),
+        "",
+        "; echo ARMJOG-EXITED-$?; sleep 30",
     );
     let tmux = Tmux::start(&command);
     tmux.wait_for("the link and the audit failure", |s| {
@@ -214,16 +222,10 @@ fn running(pid: u32) -> bool {
 #[test]
 fn a_terminal_that_hangs_up_ends_the_console_without_a_panic() {
     // An SSH session that drops: the terminal goes, and with it stderr.
-    let dir = std::env::temp_dir().join(format!("armjog-hangup-e2e-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    let dir = fresh_dir("hangup-e2e");
     let state = dir.join("state");
-    let command = format!(
-        "ARMJOG_DATA_DIR={d} ARMJOG_LOG_DIR={d} ARMJOG_STATE_DIR={s} exec {bin} --key-release repeat",
-        d = dir.display(),
-        s = state.display(),
-        bin = env!("CARGO_BIN_EXE_armjog"),
-    );
+    // The console itself in the pane (no shell between), so the hang-up is its own.
+    let command = console_command(&dir, &state, "exec ", "");
     let tmux = Tmux::start(&command);
     tmux.wait_for("the link to come up", |s| {
         s.contains("LINK UP") && s.contains("pos mm")
