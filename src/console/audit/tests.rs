@@ -342,14 +342,7 @@ fn local_book_saves_become_save_and_delete_records() {
         }]
     );
     // A go-to over Modbus names the position its pose came from.
-    let pose = Pose {
-        x: 0.4566,
-        y: -0.001,
-        z: 0.4338,
-        theta_x: 90.0,
-        theta_y: 0.0,
-        theta_z: 90.0,
-    };
+    let pose = pick_pose();
     let go = events(d.command(&ArmCommand::MoveToPose(pose), &book, None, BASE, t0()));
     assert!(
         matches!(&go[..], [AuditEvent::GoTo { name: Some(n), .. }] if n == "pick"),
@@ -550,6 +543,18 @@ fn all_lines(dir: &std::path::Path) -> Vec<String> {
         .collect()
 }
 
+/// Where the book's "pick" (4566, -10, 4338 tenths of mm) is, as a Modbus go-to carries it.
+fn pick_pose() -> Pose {
+    Pose {
+        x: 0.4566,
+        y: -0.001,
+        z: 0.4338,
+        theta_x: 90.0,
+        theta_y: 0.0,
+        theta_z: 90.0,
+    }
+}
+
 /// An app on `book` and an audit session writing to `dir`.
 fn app_and_session(
     dir: &std::path::Path,
@@ -619,14 +624,7 @@ async fn an_inputs_records_need_no_app_once_it_is_handled() {
     let mut book = PositionBook::new();
     book.get_or_insert("pick").cartesian = Some([4566, -10, 4338]);
     let (app, mut session) = app_and_session(dir.path(), book);
-    let pose = Pose {
-        x: 0.4566,
-        y: -0.001,
-        z: 0.4338,
-        theta_x: 90.0,
-        theta_y: 0.0,
-        theta_z: 90.0,
-    };
+    let pose = pick_pose();
     session.command(ArmCommand::MoveToPose(pose));
     session.handled(&app);
     drop(app);
