@@ -315,11 +315,9 @@ async fn event_loop(
             audit.record_handled();
             continue;
         };
+        // The records of the input before this one are made once this one's frames are out
+        // (`handled`), or before anything this one records (`input`, `book_saved`).
         let urgent = !matches!(input, Input::Arm(_) | Input::Tick);
-        // A key's frames go out before the records of the input before it (see `handled`).
-        if !urgent {
-            audit.record_handled();
-        }
         let now = Instant::now();
         audit.input(&input);
         let mut sent = false;
