@@ -5,8 +5,10 @@
 //! [`View::differs_only_in_background`]), and never for a view that shows the same as the one
 //! drawn last. The last two keep an idle console's CPU low (`benches/idle_ab.py`).
 //!
-//! The runtime sleeps until [`FramePacer::due_at`] rather than waking on a fixed tick, so a
-//! console with nothing to draw does not wake at all. Everything time-dependent a panel shows
+//! The runtime sleeps until [`FramePacer::wake_at`] rather than waking on a fixed tick, so a
+//! console with nothing to draw does not wake at all; a frame that only telemetry reports
+//! changed is drawn in the turn of the first report at or after its due time (the console wakes
+//! for those anyway), the timer only a fallback for reports that stop. Everything time-dependent a panel shows
 //! (ages, stale marks) is a value in the [`View`], worked out from the app's clock when an
 //! input or a deadline tick arrives: a view that differs in any of them is drawn.
 
@@ -28,6 +30,11 @@ pub const BACKGROUND_FRAME: Duration = Duration::from_secs(2);
 /// How long after a change its frame starts at the soonest: the command a key sent (a release's
 /// STOP above all) goes out before a frame's drawing competes with it for the CPU.
 pub const SETTLE: Duration = Duration::from_millis(3);
+/// How late a frame that only the arm's telemetry reports changed may be drawn, waiting for
+/// the turn of a report the console wakes for anyway: more than a poll period at the default
+/// 30 Hz (33 ms), so at rest such frames are drawn in a report's turn and the loop keeps no
+/// wake-up of its own for them. With slower reports, or none, the frame comes this much later.
+pub const REPORT_SLACK: Duration = Duration::from_millis(40);
 
 /// Decides when to hand the painter a frame and whether it is worth drawing.
 #[derive(Debug, Default)]
@@ -36,6 +43,9 @@ pub struct FramePacer {
     changed: bool,
     /// The change came from the technician (a key, a resize, a message of the runtime's own).
     urgent: bool,
+    /// Every change since the last frame was considered came in a telemetry report: its frame
+    /// may wait [`REPORT_SLACK`] for a later report's turn.
+    reports_only: bool,
     /// The first change since the last frame was considered.
     changed_at: Option<Instant>,
     last_paint: Option<Instant>,
@@ -51,11 +61,35 @@ pub struct FramePacer {
 impl FramePacer {
     /// The app changed at `now`; `urgent` when the technician caused it (the faster rate).
     pub fn changed(&mut self, urgent: bool, now: Instant) {
+        self.note(urgent, false, now);
+    }
+
+    /// A telemetry report changed the app at `now`: drawn at the rate of [`FramePacer::changed`]
+    /// with `urgent` false, but [`FramePacer::wake_at`] leaves it [`REPORT_SLACK`] for a later
+    /// report's turn.
+    pub fn reported(&mut self, now: Instant) {
+        self.note(false, true, now);
+    }
+
+    fn note(&mut self, urgent: bool, report: bool, now: Instant) {
         if !self.changed {
             self.changed_at = Some(now);
+            self.reports_only = report;
         }
+        self.reports_only &= report;
         self.changed = true;
         self.urgent |= urgent;
+    }
+
+    /// When the runtime must wake for a frame if no input comes first: [`FramePacer::due_at`],
+    /// or [`REPORT_SLACK`] after it for a frame only reports changed (or one held back because
+    /// only the background changed) while nothing moves. Such a frame is drawn in the first
+    /// report's turn at or after its due time instead, so at rest the frames ride the reports'
+    /// wake-ups.
+    pub fn wake_at(&self, moving: bool) -> Option<Instant> {
+        let due = self.due_at(moving)?;
+        let slack = (!self.changed || self.reports_only) && !self.urgent && !moving;
+        Some(if slack { due + REPORT_SLACK } else { due })
     }
 
     /// When the next frame is due, or `None` when nothing changed. `moving` (a jog, or the arm

@@ -31,7 +31,7 @@ use super::terminal;
 use super::ui::{self, Theme};
 use super::view::View;
 use crate::link::driver::{Driver, DriverConfig, StopHandle};
-use crate::link::interface::ArmCommand;
+use crate::link::interface::{ArmCommand, ArmEvent};
 use crate::net::Deadline;
 
 /// Everything the console needs to start.
@@ -233,7 +233,7 @@ async fn event_loop(
     book: &mut BookFiles,
     audit: &mut AuditSession,
     driver: &Driver,
-    arm_events: &mut tokio::sync::mpsc::UnboundedReceiver<crate::link::interface::ArmEvent>,
+    arm_events: &mut tokio::sync::mpsc::UnboundedReceiver<ArmEvent>,
     mut screen: Screen<'_>,
 ) -> Result<(), ConsoleError> {
     let mut app = App::new(config, PositionBook::new());
@@ -257,7 +257,7 @@ async fn event_loop(
     let mut timer = Deadline::new();
     loop {
         let deadline = app.next_deadline();
-        let paint_at = pacer.due_at(app.arm_in_motion());
+        let paint_at = pacer.wake_at(app.arm_in_motion());
         let audit_at = audit.hand_over_at();
         let earliest = [deadline, paint_at, audit_at].into_iter().flatten().min();
         timer.set(earliest.map(tokio::time::Instant::from_std));
@@ -318,6 +318,7 @@ async fn event_loop(
         // The records of the input before this one are made once this one's frames are out
         // (`handled`), or before anything this one records (`input`, `book_saved`).
         let urgent = !matches!(input, Input::Arm(_) | Input::Tick);
+        let report = is_report(&input);
         let now = Instant::now();
         audit.input(&input);
         let mut sent = false;
@@ -359,7 +360,30 @@ async fn event_loop(
         if audit.hand_over_at().is_some_and(|at| at <= now) {
             audit.hand_over();
         }
-        pacer.changed(urgent, now);
+        if !report {
+            pacer.changed(urgent, now);
+            continue;
+        }
+        // A frame due by now is drawn in this report's turn: the loop woke for the report, and
+        // at rest a wake-up of the frame's own would cost as much again (see `REPORT_SLACK`).
+        pacer.reported(now);
+        if pacer
+            .due_at(app.arm_in_motion())
+            .is_some_and(|at| at <= now)
+            && let Some(view) = pacer.frame(View::new(&app), now)
+        {
+            screen.painter.paint(view);
+        }
+    }
+}
+
+/// What a link sends with every telemetry poll: the snapshot, its latency, and its log line
+/// when the poll succeeded. Their frames may wait for a later report's turn (`REPORT_SLACK`).
+fn is_report(input: &Input) -> bool {
+    match input {
+        Input::Arm(ArmEvent::Telemetry(_) | ArmEvent::Latency(_)) => true,
+        Input::Arm(ArmEvent::Log(entry)) => entry.poll && entry.ok,
+        _ => false,
     }
 }
 

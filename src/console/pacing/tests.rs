@@ -237,3 +237,60 @@ fn a_turning_joint_or_a_motion_shown_draws_at_the_full_rate() {
     pacer.changed(false, start + Duration::from_millis(1));
     assert_eq!(pacer.due_at(app.arm_in_motion()), Some(start + FRAME));
 }
+
+#[test]
+fn a_frame_only_reports_changed_may_wait_for_a_later_reports_turn() {
+    let start = Instant::now();
+    let mut app = app();
+    let mut pacer = FramePacer::default();
+    assert_eq!(pacer.wake_at(false), None, "nothing changed: no wake-up");
+
+    // A report: due as any change the arm reported, but the runtime need not wake for it
+    // before REPORT_SLACK has passed (a later report's turn draws it).
+    pacer.reported(start);
+    let due = pacer.due_at(false).expect("due");
+    assert_eq!(due, start + SETTLE);
+    assert_eq!(pacer.wake_at(false), Some(due + REPORT_SLACK));
+    // While anything moves, the frame keeps its time.
+    assert_eq!(pacer.wake_at(true), pacer.due_at(true));
+
+    // Anything else the arm says (a status, a failure) is drawn on time, reports or not.
+    pacer.changed(false, start);
+    assert_eq!(pacer.wake_at(false), Some(due));
+    assert!(pacer.frame(View::new(&app), due).is_some());
+
+    // A key after reports: on time, at the key's rate.
+    let k = start + Duration::from_secs(1);
+    app.handle(Input::Arm(ArmEvent::Speed(40)), k);
+    pacer.reported(k);
+    pacer.changed(true, k);
+    assert_eq!(pacer.wake_at(false), Some(k + SETTLE));
+    assert_eq!(pacer.wake_at(false), pacer.due_at(false));
+    assert!(pacer.frame(View::new(&app), k + SETTLE).is_some());
+
+    // Once a frame was considered, reports alone may wait again.
+    let r = k + Duration::from_secs(1);
+    pacer.reported(r);
+    pacer.reported(r + FRAME);
+    assert_eq!(pacer.wake_at(false), Some(r + SETTLE + REPORT_SLACK));
+}
+
+#[test]
+fn a_frame_held_for_the_background_may_wait_for_a_reports_turn_too() {
+    let start = Instant::now();
+    let mut app = app();
+    app.handle(Input::Arm(poll_line(1, 2)), start);
+    let mut pacer = FramePacer::default();
+    pacer.reported(start);
+    assert!(pacer.frame(View::new(&app), start).is_some());
+    // Only the poll count and the latency changed: held for BACKGROUND_FRAME.
+    let t = start + IDLE_FRAME;
+    app.handle(Input::Arm(poll_line(1, 3)), t);
+    pacer.reported(t);
+    assert_eq!(pacer.frame(View::new(&app), t), None);
+    assert_eq!(pacer.due_at(false), Some(start + BACKGROUND_FRAME));
+    assert_eq!(
+        pacer.wake_at(false),
+        Some(start + BACKGROUND_FRAME + REPORT_SLACK)
+    );
+}
