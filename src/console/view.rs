@@ -6,7 +6,11 @@
 //! selection, the newest log lines), so building it costs the same whatever the book's or the
 //! log's size. A new panel value is written in its part's view and drawn in its panel.
 
+use std::collections::VecDeque;
+use std::sync::Arc;
+
 use super::app::{App, ArmView, BookView, KeysView, ScreenView, SessionView, TourView, TruthView};
+use crate::link::interface::LogEntry;
 
 /// Everything the panels draw. Compared with the last one drawn to skip a frame that would
 /// show the same (see [`super::pacing`]): every field must take part in `PartialEq`.
@@ -44,7 +48,13 @@ impl View {
     /// and back, rather than compared on a copy (a whole view cloned several times a second at
     /// rest, only to be dropped).
     pub fn differs_only_in_background(&mut self, shown: &View) -> bool {
-        if self.screen.log.len() != shown.screen.log.len() {
+        let same_lines = self.screen.log.len() == shown.screen.log.len()
+            && (self.screen.log.iter())
+                .zip(&shown.screen.log)
+                .all(|(line, was)| {
+                    Arc::ptr_eq(line, was) || line == was || same_but_poll_count(line, was)
+                });
+        if !same_lines {
             return false;
         }
         let own = self.take_background_of(shown);
@@ -55,10 +65,11 @@ impl View {
 
     /// Gives `self` the background values `shown` has, and returns its own.
     fn take_background_of(&mut self, shown: &View) -> Background {
+        // The lines were compared already: `shown`'s are put in whole (their `Arc`s, not copies).
         let mut own = Background {
             latency: std::mem::replace(&mut self.arm.latency, shown.arm.latency),
             temperatures: None,
-            polls: Vec::new(),
+            log: std::mem::replace(&mut self.screen.log, shown.screen.log.clone()),
         };
         if let (Some(now), Some(was)) = (self.arm.telemetry.as_mut(), shown.arm.telemetry.as_ref())
         {
@@ -71,19 +82,6 @@ impl View {
                 std::mem::replace(&mut now.joints[j].temperature, was.joints[j].temperature)
             });
             own.temperatures = Some((cpu, ambient, joints));
-        }
-        for (i, (entry, was)) in self
-            .screen
-            .log
-            .iter_mut()
-            .zip(&shown.screen.log)
-            .enumerate()
-        {
-            if entry.poll && was.poll && entry.name == was.name && entry.outcome == was.outcome {
-                let count = std::mem::replace(&mut entry.count, was.count);
-                let latency = std::mem::replace(&mut entry.latency, was.latency);
-                own.polls.push((i, count, latency));
-            }
         }
         own
     }
@@ -100,13 +98,30 @@ impl View {
                 joint.temperature = temperature;
             }
         }
-        for (i, count, latency) in own.polls {
-            if let Some(entry) = self.screen.log.get_mut(i) {
-                entry.count = count;
-                entry.latency = latency;
-            }
-        }
+        self.screen.log = own.log;
     }
+}
+
+/// The same line but for what a telemetry poll's line counts over at rest: its count and
+/// latency. Every field is named, so a new one must be placed here.
+fn same_but_poll_count(line: &LogEntry, was: &LogEntry) -> bool {
+    let LogEntry {
+        id,
+        poll,
+        count: _,
+        name,
+        outcome,
+        ok,
+        latency: _,
+        traffic,
+    } = line;
+    *poll
+        && was.poll
+        && *id == was.id
+        && *name == was.name
+        && *outcome == was.outcome
+        && *ok == was.ok
+        && *traffic == was.traffic
 }
 
 /// A view's own values of what ticks over at rest, while it holds another's for a comparison.
@@ -114,8 +129,8 @@ struct Background {
     latency: Option<std::time::Duration>,
     /// CPU, ambient and joint temperatures.
     temperatures: Option<(f32, f32, [f32; JOINTS])>,
-    /// The poll log lines' index, count and latency.
-    polls: Vec<(usize, u32, Option<std::time::Duration>)>,
+    /// The log lines.
+    log: VecDeque<Arc<LogEntry>>,
 }
 
 const JOINTS: usize = crate::kortex::registers::input_register::JOINTS as usize;

@@ -101,7 +101,7 @@ impl App {
         self.book.selected()
     }
 
-    pub fn log(&self) -> &VecDeque<LogEntry> {
+    pub fn log(&self) -> &VecDeque<std::sync::Arc<LogEntry>> {
         self.screen.log()
     }
 

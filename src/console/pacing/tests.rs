@@ -294,3 +294,35 @@ fn a_frame_held_for_the_background_may_wait_for_a_reports_turn_too() {
         Some(start + BACKGROUND_FRAME + REPORT_SLACK)
     );
 }
+
+#[test]
+fn a_poll_line_is_background_only_in_its_count_and_latency() {
+    let start = Instant::now();
+    let mut app = app();
+    app.handle(Input::Arm(poll_line(1, 2)), start);
+    let shown = View::new(&app);
+    let line = |view: &mut View| {
+        std::sync::Arc::make_mut(view.screen.log.back_mut().expect("the poll's line")).clone()
+    };
+
+    let mut counted = View::new(&app);
+    let mut changed = line(&mut counted);
+    changed.count += 4;
+    changed.latency = Some(Duration::from_millis(9));
+    *counted.screen.log.back_mut().expect("line") = changed.into();
+    assert!(counted.differs_only_in_background(&shown));
+    // Compared, not changed: the view keeps its own count.
+    assert_eq!(counted.screen.log.back().map(|l| l.count), Some(5));
+
+    let mut other = View::new(&app);
+    let mut changed = line(&mut other);
+    changed.id = Some(7);
+    *other.screen.log.back_mut().expect("line") = changed.into();
+    assert!(!other.differs_only_in_background(&shown));
+
+    let mut failed = View::new(&app);
+    let mut changed = line(&mut failed);
+    changed.ok = false;
+    *failed.screen.log.back_mut().expect("line") = changed.into();
+    assert!(!failed.differs_only_in_background(&shown));
+}

@@ -2,6 +2,7 @@
 //! the help's scroll.
 
 use std::collections::VecDeque;
+use std::sync::Arc;
 use std::time::Instant;
 
 use super::super::message::{Message, Messages, Until};
@@ -27,7 +28,8 @@ pub(in crate::console::app) struct Screen {
     overlay: Overlay,
     /// The bottom line, each message tied to what ends it.
     messages: Messages,
-    log: VecDeque<LogEntry>,
+    /// Shared with the views built from it: a view takes its lines without copying them.
+    log: VecDeque<Arc<LogEntry>>,
     hex: bool,
     size: (u16, u16),
     /// The help overlay's first shown line.
@@ -39,8 +41,9 @@ pub(in crate::console::app) struct Screen {
 pub struct ScreenView {
     /// The terminal's size as the app last heard it.
     pub size: (u16, u16),
-    /// The newest log entries, as many as a screen can show (oldest first).
-    pub log: VecDeque<LogEntry>,
+    /// The newest log entries, as many as a screen can show (oldest first), shared with the
+    /// app's log: a frame's view took a copy of each line's strings and frames before.
+    pub log: VecDeque<Arc<LogEntry>>,
     /// The log shows frames in hex.
     pub hex: bool,
     pub message: Option<(String, Severity)>,
@@ -136,7 +139,7 @@ impl Screen {
         self.hex = !self.hex;
     }
 
-    pub(in crate::console::app) fn log(&self) -> &VecDeque<LogEntry> {
+    pub(in crate::console::app) fn log(&self) -> &VecDeque<Arc<LogEntry>> {
         &self.log
     }
 
@@ -150,16 +153,16 @@ impl Screen {
             && last.outcome == entry.outcome
         {
             let count = last.count.saturating_add(entry.count.max(1));
-            *last = LogEntry { count, ..entry };
+            *last = Arc::new(LogEntry { count, ..entry });
             return;
         }
         if self.log.len() >= LOG_CAPACITY {
             self.log.pop_front();
         }
-        self.log.push_back(LogEntry {
+        self.log.push_back(Arc::new(LogEntry {
             count: entry.count.max(1),
             ..entry
-        });
+        }));
     }
 
     pub(in crate::console::app) fn help_scroll(&self) -> usize {
