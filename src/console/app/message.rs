@@ -177,10 +177,7 @@ impl App {
         let guard_ready = self.arm.guard_ready();
         let stop_unconfirmed = self.truth.stop_unconfirmed();
         let unsaved = self.unsaved_positions() > 0;
-        let arm_refuses = self
-            .arm
-            .telemetry()
-            .is_some_and(|t| super::arm_refusal(t).is_some());
+        let arm_refuses = self.arm.refusal().is_some();
         self.screen.settle_messages(|m: &Message| match m.until {
             Until::TimeOut { .. } => now < m.at + MESSAGE_TIME,
             Until::LinkUp => !link_up,

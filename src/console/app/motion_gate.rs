@@ -60,7 +60,7 @@ impl App {
             }
             _ => {}
         }
-        let why = self.arm.telemetry().and_then(arm_refusal)?;
+        let why = self.arm.refusal()?;
         Some((format!("refused: the arm reports {why}"), Until::ArmReady))
     }
 

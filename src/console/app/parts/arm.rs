@@ -5,6 +5,7 @@ use std::time::{Duration, Instant};
 use super::super::cap_watch::CapWatch;
 use super::super::history::{History, HistorySeries};
 use super::super::limits::{NearLimit, near_limits};
+use super::super::motion_gate::arm_refusal;
 use super::super::other_client::OtherClients;
 use super::super::singularity::near_singularity;
 use super::super::trail::{ToolTrail, TrailShade};
@@ -18,6 +19,9 @@ pub(in crate::console::app) struct Arm {
     /// [`near_singularity`] of `telemetry`, worked out when the joints move rather than for
     /// every view (an SVD, several times a second on an arm at rest).
     singularity: Option<f64>,
+    /// [`arm_refusal`] of `telemetry`, worked out when a report comes rather than by the gate
+    /// after every input (a key's among them).
+    refusal: Option<String>,
     latency: Option<Duration>,
     speed: Option<u8>,
     frame: ReferenceFrame,
@@ -61,6 +65,7 @@ impl Default for Arm {
             link: LinkStatus::Connecting,
             telemetry: None,
             singularity: None,
+            refusal: None,
             latency: None,
             speed: None,
             frame: ReferenceFrame::Base,
@@ -106,7 +111,13 @@ impl Arm {
         {
             self.singularity = near_singularity(&t);
         }
+        self.refusal = arm_refusal(&t);
         self.telemetry = Some(t);
+    }
+
+    /// Why the last report forbids motion ([`arm_refusal`]), or `None`: also with no report.
+    pub(in crate::console::app) fn refusal(&self) -> Option<&str> {
+        self.refusal.as_deref()
     }
 
     pub(in crate::console::app) fn on_latency(&mut self, latency: Duration) {
