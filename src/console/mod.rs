@@ -15,6 +15,7 @@ pub mod pacing;
 pub mod painter;
 pub mod positions;
 pub mod run;
+pub mod signals;
 pub mod terminal;
 pub mod ui;
 pub mod view;

@@ -413,39 +413,23 @@ fn terminal_input(event: Event) -> Option<Input> {
     }
 }
 
-/// SIGINT, SIGTERM and SIGHUP as one stream.
-///
-/// A task of their own waits for them and passes each on: the event loop polls one channel
-/// each turn, not three signal receivers (each poll of those re-registers with its watch).
+/// SIGINT, SIGTERM and SIGHUP as one stream (see [`super::signals`]).
 struct Signals {
     received: tokio::sync::mpsc::UnboundedReceiver<&'static str>,
 }
 
 impl Signals {
     fn new() -> std::io::Result<Signals> {
-        use tokio::signal::unix::{SignalKind, signal};
-        let mut interrupt = signal(SignalKind::interrupt())?;
-        let mut terminate = signal(SignalKind::terminate())?;
-        let mut hangup = signal(SignalKind::hangup())?;
-        let (tx, received) = tokio::sync::mpsc::unbounded_channel();
-        tokio::spawn(async move {
-            loop {
-                let name = tokio::select! {
-                    got = interrupt.recv() => got.map(|()| "SIGINT"),
-                    got = terminate.recv() => got.map(|()| "SIGTERM"),
-                    got = hangup.recv() => got.map(|()| "SIGHUP"),
-                };
-                // `None`: the runtime is shutting down and delivers no more signals.
-                let Some(name) = name else { return };
-                if tx.send(name).is_err() {
-                    return;
-                }
-            }
-        });
+        use tokio::signal::unix::SignalKind;
+        let received = super::signals::forward(&[
+            (SignalKind::interrupt(), "SIGINT"),
+            (SignalKind::terminate(), "SIGTERM"),
+            (SignalKind::hangup(), "SIGHUP"),
+        ])?;
         Ok(Signals { received })
     }
 
-    /// The next signal. Never ends: the task that sends them runs as long as the runtime.
+    /// The next signal. Never ends: the tasks that send them run as long as the runtime.
     async fn next(&mut self) -> &'static str {
         match self.received.recv().await {
             Some(name) => name,

@@ -59,7 +59,8 @@ pub struct TerminalInput {
     events: VecDeque<io::Result<TerminalEvent>>,
     /// While a paste or sequence is unfinished: when it has stalled.
     stall: Option<Pin<Box<tokio::time::Sleep>>>,
-    window_changes: Option<tokio::signal::unix::Signal>,
+    /// SIGWINCH, passed on by a task ([`crate::console::signals`]): a turn polls a channel.
+    window_changes: Option<tokio::sync::mpsc::UnboundedReceiver<()>>,
     /// The terminal closed (or failed): the stream ends once `events` is empty.
     closed: bool,
 }
@@ -76,8 +77,10 @@ pub fn open() -> io::Result<TerminalInput> {
         false => c"/dev/tty".into(),
     };
     let fd: OwnedFd = rustix::fs::open(path.as_c_str(), flags, Mode::empty())?;
-    let window_changes =
-        tokio::signal::unix::signal(tokio::signal::unix::SignalKind::window_change())?;
+    let window_changes = crate::console::signals::forward(&[(
+        tokio::signal::unix::SignalKind::window_change(),
+        (),
+    )])?;
     let mut input = TerminalInput::new(fd)?;
     input.window_changes = Some(window_changes);
     Ok(input)
@@ -158,10 +161,14 @@ impl Stream for TerminalInput {
     type Item = io::Result<TerminalEvent>;
 
     fn poll_next(mut self: Pin<&mut Self>, cx: &mut Context<'_>) -> Poll<Option<Self::Item>> {
-        if let Some(changes) = &mut self.window_changes
-            && changes.poll_recv(cx).is_ready()
-            && let Ok((width, height)) = crossterm::terminal::size()
-        {
+        // Several changes waiting are one resize: the size is read once, as it is now.
+        let mut resized = false;
+        if let Some(changes) = &mut self.window_changes {
+            while let Poll::Ready(Some(())) = changes.poll_recv(cx) {
+                resized = true;
+            }
+        }
+        if resized && let Ok((width, height)) = crossterm::terminal::size() {
             return Poll::Ready(Some(Ok(TerminalEvent::Event(Event::Resize(width, height)))));
         }
         ready!(self.poll_read(cx));
