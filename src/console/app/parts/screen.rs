@@ -42,7 +42,7 @@ pub struct ScreenView {
     /// The terminal's size as the app last heard it.
     pub size: (u16, u16),
     /// The newest log entries, as many as a screen can show (oldest first), shared with the
-    /// app's log: a frame's view took a copy of each line's strings and frames before.
+    /// app's log rather than copied: a copy is each line's strings and frames, every frame.
     pub log: VecDeque<Arc<LogEntry>>,
     /// The log shows frames in hex.
     pub hex: bool,
