@@ -38,14 +38,22 @@ impl MotionTruth {
 
     /// The next instant something shown changes without any input.
     fn next_deadline(&self, now: Instant, link_up: bool) -> Option<Instant> {
-        let mut candidates = Vec::new();
+        // The earliest instant after `now` (a fold, not a `Vec`: this runs every turn).
+        let mut next: Option<Instant> = None;
+        let mut candidate = |at: Instant| {
+            if at > now {
+                next = Some(next.map_or(at, |next| next.min(at)));
+            }
+        };
         if link_up && self.expect.is_some() {
             if self.expects_telemetry()
                 && let Some(since) = self.telemetry_at.max(self.link_up_at)
             {
-                candidates.push(since + self.stale_after());
+                candidate(since + self.stale_after());
             }
-            candidates.extend(self.waiting_since.map(|since| since + STALE_AFTER));
+            if let Some(since) = self.waiting_since {
+                candidate(since + STALE_AFTER);
+            }
         }
         // The shown ages count up while anything is old: in tenths, then whole seconds.
         let telemetry_age = self
@@ -59,19 +67,23 @@ impl MotionTruth {
             } else {
                 Duration::from_secs(1)
             };
-            candidates.push(now + step);
+            candidate(now + step);
         }
-        candidates.extend(self.stop_sent.map(|at| at + STOP_GRACE));
-        candidates.extend(self.stop_confirmed_at.map(|at| at + STOP_GRACE));
+        if let Some(at) = self.stop_sent {
+            candidate(at + STOP_GRACE);
+        }
+        if let Some(at) = self.stop_confirmed_at {
+            candidate(at + STOP_GRACE);
+        }
         if let Some(action) = &self.action {
             let limit = if self.expects_telemetry() {
                 ACTION_TIMEOUT
             } else {
                 NO_TELEMETRY_ACTION_TIME
             };
-            candidates.push(action.sent + limit);
+            candidate(action.sent + limit);
         }
-        candidates.into_iter().filter(|at| *at > now).min()
+        next
     }
 }
 
