@@ -6,11 +6,12 @@
 //! drawn last. The last two keep an idle console's CPU low (`benches/idle_ab.py`).
 //!
 //! The runtime sleeps until [`FramePacer::wake_at`] rather than waking on a fixed tick, so a
-//! console with nothing to draw does not wake at all; a frame that only telemetry reports
+//! console with nothing to draw does not wake at all. A frame that only telemetry reports
 //! changed is drawn in the turn of the first report at or after its due time (the console wakes
-//! for those anyway), the timer only a fallback for reports that stop. Everything time-dependent a panel shows
-//! (ages, stale marks) is a value in the [`View`], worked out from the app's clock when an
-//! input or a deadline tick arrives: a view that differs in any of them is drawn.
+//! for those anyway); the timer is only a fallback for reports that stop. Everything
+//! time-dependent a panel shows (ages, stale marks) is a value in the [`View`], worked out from
+//! the app's clock when an input or a deadline tick arrives: a view that differs in any of them
+//! is drawn.
 
 use std::time::{Duration, Instant};
 

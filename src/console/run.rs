@@ -360,7 +360,9 @@ async fn event_loop(
         if audit.hand_over_at().is_some_and(|at| at <= now) {
             audit.hand_over();
         }
-        if !report {
+        // A report that made the app send something (a stop from the cap watch or another
+        // client's motion) is drawn on time, as any other change.
+        if !report || sent {
             pacer.changed(urgent, now);
             continue;
         }
