@@ -117,6 +117,10 @@ pub fn draw(frame: &mut Frame, view: &View, theme: &Theme) {
 pub fn neutralise(buffer: &mut ratatui::buffer::Buffer) {
     for cell in buffer.content.iter_mut() {
         let symbol = cell.symbol();
+        // Most cells hold one printable ASCII character: decided without decoding it.
+        if let [b' '..=b'~'] = symbol.as_bytes() {
+            continue;
+        }
         if !symbol.chars().any(crate::text::is_unsafe) {
             continue;
         }
