@@ -10,14 +10,15 @@
 //! Labels are names, written after the canvas: a label that does not fit is elided, one that
 //! would cover another is dropped; none runs past its drawing.
 
+use std::sync::LazyLock;
+
 use nalgebra::Vector3;
 use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::style::{Color, Style};
-use ratatui::symbols::Marker;
-use ratatui::widgets::canvas::{Canvas, Circle, Context, Line, Painter, Points, Shape};
 use ratatui::widgets::{Paragraph, Wrap};
 
+use super::braille::Braille;
 use super::numbers;
 use super::theme::Theme;
 use crate::console::app::MotionShown;
@@ -217,78 +218,78 @@ fn paint(theme: &Theme, color: Color) -> Color {
 fn draw_one(frame: &mut Frame, drawing: &Drawing, scene: &Scene, theme: &Theme) {
     let projection = drawing.projection;
     let at = |p: &Vector3<f64>| projection.project(p);
-    let canvas = Canvas::default()
-        .marker(Marker::Braille)
-        .x_bounds(drawing.x_bounds)
-        .y_bounds(drawing.y_bounds)
-        .paint(|ctx| {
-            envelope(ctx, projection, theme);
-            ctx.layer();
-            trail(ctx, projection, &scene.trail, theme);
-            ctx.layer();
-            for marker in &scene.markers {
-                let (x, y) = at(&marker.at);
-                let color = if marker.selected {
-                    Color::Yellow
-                } else {
-                    Color::Cyan
-                };
-                let d = 0.015;
-                let coords = [(x, y), (x - d, y), (x + d, y), (x, y - d), (x, y + d)];
-                ctx.draw(&Points::new(&coords, paint(theme, color)));
-            }
-            ctx.layer();
-            arm(ctx, projection, &scene.pose, theme);
-            ctx.layer();
-            if let Some(direction) = scene.arrow {
-                arrow(ctx, projection, &scene.pose.tool(), &direction, theme);
-            }
-            let (x, y) = at(&scene.pose.tool());
-            ctx.layer();
-            ctx.draw(&CellMark {
-                x,
-                y,
-                color: paint(theme, TOOL_COLOR),
-            });
-        });
-    frame.render_widget(canvas, drawing.area);
+    let area = drawing.area;
+    let mut ctx = Braille::new(area.width, area.height, drawing.x_bounds, drawing.y_bounds);
+    envelope(&mut ctx, projection, theme);
+    ctx.layer();
+    trail(&mut ctx, projection, &scene.trail, theme);
+    ctx.layer();
+    for marker in &scene.markers {
+        let (x, y) = at(&marker.at);
+        let color = if marker.selected {
+            Color::Yellow
+        } else {
+            Color::Cyan
+        };
+        let d = 0.015;
+        let coords = [(x, y), (x - d, y), (x + d, y), (x, y - d), (x, y + d)];
+        ctx.points(&coords, paint(theme, color));
+    }
+    ctx.layer();
+    arm(&mut ctx, projection, &scene.pose, theme);
+    ctx.layer();
+    if let Some(direction) = scene.arrow {
+        arrow(&mut ctx, projection, &scene.pose.tool(), &direction, theme);
+    }
+    ctx.layer();
+    cell_mark(&mut ctx, at(&scene.pose.tool()), paint(theme, TOOL_COLOR));
+    ctx.render(area, frame.buffer_mut());
     labels(frame, drawing, scene, theme);
 }
 
 /// The tool point's colour: its cell is filled in it (tests find it by it).
 pub const TOOL_COLOR: Color = Color::LightMagenta;
 
-fn envelope(ctx: &mut Context, projection: Projection, theme: &Theme) {
+fn envelope(ctx: &mut Braille, projection: Projection, theme: &Theme) {
     let grey = paint(theme, Color::DarkGray);
     let reach = arm_geometry::reach();
     let shoulder = arm_geometry::shoulder();
     let (cx, cy) = projection.project(&shoulder);
     // From the side, only the part above the table: the arm cannot reach below it.
-    let arc: Vec<(f64, f64)> = (0..=ENVELOPE_SEGMENTS)
-        .map(|i| {
-            let angle = std::f64::consts::TAU * f64::from(i) / f64::from(ENVELOPE_SEGMENTS);
-            (cx + reach * angle.cos(), cy + reach * angle.sin())
-        })
+    let arc: Vec<(f64, f64)> = ENVELOPE_TURN
+        .iter()
+        .map(|(cos, sin)| (cx + reach * cos, cy + reach * sin))
         .collect();
     for pair in arc.windows(2) {
         let [(x1, y1), (x2, y2)] = [pair[0], pair[1]];
         if projection == Projection::Side && y1.min(y2) < 0.0 {
             continue;
         }
-        ctx.draw(&Line::new(x1, y1, x2, y2, grey));
+        ctx.line((x1, y1), (x2, y2), grey);
     }
     if projection == Projection::Side {
         // The table, as far as the envelope meets it.
         let x = (reach * reach - cy * cy).max(0.0).sqrt();
-        ctx.draw(&Line::new(-x, 0.0, x, 0.0, grey));
+        ctx.line((-x, 0.0), (x, 0.0), grey);
     }
 }
 
 /// Straight pieces of the reach envelope's circle.
 const ENVELOPE_SEGMENTS: u16 = 96;
 
+/// The cosine and sine of the envelope's corners, a whole turn: worked out once, not twice a
+/// frame.
+static ENVELOPE_TURN: LazyLock<Vec<(f64, f64)>> = LazyLock::new(|| {
+    (0..=ENVELOPE_SEGMENTS)
+        .map(|i| {
+            let angle = std::f64::consts::TAU * f64::from(i) / f64::from(ENVELOPE_SEGMENTS);
+            (angle.cos(), angle.sin())
+        })
+        .collect()
+});
+
 fn trail(
-    ctx: &mut Context,
+    ctx: &mut Braille,
     projection: Projection,
     points: &[(TrailShade, Vector3<f64>)],
     theme: &Theme,
@@ -298,7 +299,7 @@ fn trail(
         let from = pair[0].1;
         let (x1, y1) = projection.project(&from);
         let (x2, y2) = projection.project(&to);
-        ctx.draw(&Line::new(x1, y1, x2, y2, paint(theme, shade(age))));
+        ctx.line((x1, y1), (x2, y2), paint(theme, shade(age)));
     }
 }
 
@@ -311,24 +312,24 @@ fn shade(age: TrailShade) -> Color {
     }
 }
 
-fn arm(ctx: &mut Context, projection: Projection, pose: &ArmPose, theme: &Theme) {
+fn arm(ctx: &mut Braille, projection: Projection, pose: &ArmPose, theme: &Theme) {
     let at = |p: &Vector3<f64>| projection.project(p);
     // The base: a disc from above, a block on the table from the side.
     let base = paint(theme, Color::Gray);
     match projection {
-        Projection::Top => ctx.draw(&Circle::new(0.0, 0.0, BASE_RADIUS, base)),
+        Projection::Top => ctx.circle((0.0, 0.0), BASE_RADIUS, base),
         Projection::Side => {
             for x in [-BASE_RADIUS, BASE_RADIUS] {
-                ctx.draw(&Line::new(x, 0.0, x, 0.1, base));
+                ctx.line((x, 0.0), (x, 0.1), base);
             }
-            ctx.draw(&Line::new(-BASE_RADIUS, 0.1, BASE_RADIUS, 0.1, base));
+            ctx.line((-BASE_RADIUS, 0.1), (BASE_RADIUS, 0.1), base);
         }
     }
     let link = paint(theme, Color::White);
     for pair in pose.points.windows(2) {
         let (x1, y1) = at(&pair[0]);
         let (x2, y2) = at(&pair[1]);
-        ctx.draw(&Line::new(x1, y1, x2, y2, link));
+        ctx.line((x1, y1), (x2, y2), link);
     }
     ctx.layer();
     let joints: Vec<(f64, f64)> = pose.points[1..8].iter().map(at).collect();
@@ -336,7 +337,7 @@ fn arm(ctx: &mut Context, projection: Projection, pose: &ArmPose, theme: &Theme)
     for (x, y) in &joints {
         let d = 0.012;
         let coords = [(*x, *y), (x - d, *y), (x + d, *y), (*x, y - d), (*x, y + d)];
-        ctx.draw(&Points::new(&coords, joint));
+        ctx.points(&coords, joint);
     }
     ctx.layer();
     let (tx, ty) = at(&pose.tool());
@@ -346,12 +347,12 @@ fn arm(ctx: &mut Context, projection: Projection, pose: &ArmPose, theme: &Theme)
         .zip([Color::Red, Color::Green, Color::Blue])
     {
         let (ax, ay) = at(&(pose.tool() + axis * AXIS_LENGTH));
-        ctx.draw(&Line::new(tx, ty, ax, ay, paint(theme, color)));
+        ctx.line((tx, ty), (ax, ay), paint(theme, color));
     }
 }
 
 fn arrow(
-    ctx: &mut Context,
+    ctx: &mut Braille,
     projection: Projection,
     tool: &Vector3<f64>,
     direction: &Vector3<f64>,
@@ -366,32 +367,24 @@ fn arrow(
     if length < 0.02 {
         return;
     }
-    ctx.draw(&Line::new(x1, y1, x2, y2, color));
+    ctx.line((x1, y1), (x2, y2), color);
     let head = ARROW_LENGTH * 0.3;
     let angle = dy.atan2(dx);
     for turn in [2.6_f64, -2.6] {
         let (s, c) = (angle + turn).sin_cos();
-        ctx.draw(&Line::new(x2, y2, x2 + head * c, y2 + head * s, color));
+        ctx.line((x2, y2), (x2 + head * c, y2 + head * s), color);
     }
 }
 
 /// A whole braille cell filled at a point: the tool point stands out from the lines through it.
-struct CellMark {
-    x: f64,
-    y: f64,
-    color: Color,
-}
-
-impl Shape for CellMark {
-    fn draw(&self, painter: &mut Painter) {
-        let Some((x, y)) = painter.get_point(self.x, self.y) else {
-            return;
-        };
-        let (left, top) = (x / 2 * 2, y / 4 * 4);
-        for dx in 0..2 {
-            for dy in 0..4 {
-                painter.paint(left + dx, top + dy, self.color);
-            }
+fn cell_mark(ctx: &mut Braille, (x, y): (f64, f64), color: Color) {
+    let Some((x, y)) = ctx.dot(x, y) else {
+        return;
+    };
+    let (left, top) = (x / 2 * 2, y / 4 * 4);
+    for dx in 0..2 {
+        for dy in 0..4 {
+            ctx.paint(left + dx, top + dy, color);
         }
     }
 }

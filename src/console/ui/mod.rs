@@ -6,6 +6,7 @@
 
 pub mod arm;
 pub mod arm_view;
+mod braille;
 pub mod dialog;
 pub mod help;
 pub mod hints;
