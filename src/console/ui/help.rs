@@ -10,7 +10,7 @@ use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::style::Style;
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Block, Borders, Clear, Paragraph};
+use ratatui::widgets::{Block, Borders, Clear};
 
 use super::theme::Theme;
 use crate::console::action::Action;
@@ -81,7 +81,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
         .title_bottom(Span::styled(bottom, theme.dim()));
     let visible: Vec<Line> = lines.into_iter().skip(scroll).take(rows).collect();
     frame.render_widget(Clear, area);
-    frame.render_widget(Paragraph::new(visible).block(block), area);
+    super::lines::draw(frame.buffer_mut(), area, Some(block), &visible);
 }
 
 fn inner(area: Rect) -> Rect {

@@ -7,7 +7,6 @@
 use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::text::Line;
-use ratatui::widgets::Paragraph;
 
 use super::theme::Theme;
 use crate::console::action::Action;
@@ -177,7 +176,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
             theme.dim(),
         ),
     };
-    frame.render_widget(Paragraph::new(line), area);
+    super::lines::draw(frame.buffer_mut(), area, None, &[line]);
 }
 
 /// The key groups of `keymap` that fit in `width` columns, in display order. A group `offered`

@@ -10,7 +10,6 @@
 use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
-use ratatui::widgets::Paragraph;
 
 use super::numbers::{self, fixed};
 use super::theme::Theme;
@@ -152,7 +151,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
             Span::styled(marker, theme.warning()),
         ]));
     }
-    frame.render_widget(Paragraph::new(lines).block(block), area);
+    super::lines::draw(frame.buffer_mut(), area, Some(block), &lines);
     super::grey_if_stale(frame, area, view, theme);
 }
 

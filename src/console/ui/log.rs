@@ -4,7 +4,7 @@
 use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Block, Borders, Paragraph};
+use ratatui::widgets::{Block, Borders};
 
 use super::numbers;
 use super::theme::Theme;
@@ -74,7 +74,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &View, theme: &Theme) {
     }
     lines.truncate(rows);
     lines.reverse();
-    frame.render_widget(Paragraph::new(lines).block(block), area);
+    super::lines::draw(frame.buffer_mut(), area, Some(block), &lines);
 }
 
 /// The lines under a log entry in hex mode: a Talos request (`>`) and its reply (`<`) as hex

@@ -13,6 +13,7 @@ pub mod hints;
 pub mod history;
 pub mod joints;
 pub mod layout;
+mod lines;
 pub mod log;
 mod long_text;
 pub mod numbers;

@@ -5,7 +5,6 @@ use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::style::Style;
 use ratatui::text::{Line, Span};
-use ratatui::widgets::Paragraph;
 
 use super::numbers;
 use super::theme::Theme;
@@ -157,7 +156,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
         link_line(view, theme, width),
         motion_line(view, theme, width),
     ];
-    frame.render_widget(Paragraph::new(lines), area);
+    super::lines::draw(frame.buffer_mut(), area, None, &lines);
 }
 
 fn spans_width(spans: &[Span]) -> usize {

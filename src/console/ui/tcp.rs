@@ -11,7 +11,6 @@
 use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
-use ratatui::widgets::Paragraph;
 
 use super::numbers::{fixed_or_unknown, width as text_width};
 use super::theme::Theme;
@@ -118,6 +117,6 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     lines.extend((0..4).map(|i| row(label(i), &figures[i])));
     lines.push(frame_line("tool frame", false));
     lines.extend((4..6).map(|i| row(label(i), &figures[i])));
-    frame.render_widget(Paragraph::new(lines).block(block), area);
+    super::lines::draw(frame.buffer_mut(), area, Some(block), &lines);
     super::grey_if_stale(frame, area, view, theme);
 }
