@@ -112,13 +112,8 @@ impl Column {
 
     /// The column's width: its widest entry or heading. Numbers get at least 4 columns so a
     /// column does not jump at every change of sign.
-    fn width(self, t: Option<&Telemetry>, wide: bool) -> usize {
-        let entries = t.map_or(0, |t| {
-            (0..t.joints.len())
-                .map(|i| text_width(&self.text(t, i)))
-                .max()
-                .unwrap_or(0)
-        });
+    fn width(self, entries: &EntryWidths, wide: bool) -> usize {
+        let entries = entries.0[self as usize];
         let floor = match self {
             Column::Name => 2,
             Column::Gauge => GAUGE_WIDTH,
@@ -142,9 +137,27 @@ fn gauge(position: f32, limit: f32, width: usize) -> String {
         .collect()
 }
 
+/// Each column's widest entry (by `Column as usize`), worked out once for every layout tried.
+struct EntryWidths([usize; BY_PRIORITY.len()]);
+
+impl EntryWidths {
+    fn of(t: Option<&Telemetry>) -> EntryWidths {
+        let mut widths = [0; BY_PRIORITY.len()];
+        if let Some(t) = t {
+            for column in BY_PRIORITY {
+                widths[column as usize] = (0..t.joints.len())
+                    .map(|i| text_width(&column.text(t, i)))
+                    .max()
+                    .unwrap_or(0);
+            }
+        }
+        EntryWidths(widths)
+    }
+}
+
 /// The table's width (borders included) with `columns`, `spacing` columns apart.
-fn table_width(t: Option<&Telemetry>, columns: &[Column], wide: bool, spacing: usize) -> usize {
-    let cells: usize = columns.iter().map(|c| c.width(t, wide)).sum();
+fn table_width(entries: &EntryWidths, columns: &[Column], wide: bool, spacing: usize) -> usize {
+    let cells: usize = columns.iter().map(|c| c.width(entries, wide)).sum();
     cells + spacing * columns.len().saturating_sub(1) + 2
 }
 
@@ -152,16 +165,17 @@ fn table_width(t: Option<&Telemetry>, columns: &[Column], wide: bool, spacing: u
 /// headings.
 pub fn width(view: &View, columns: usize) -> u16 {
     let columns = &BY_PRIORITY[..columns.clamp(MIN_COLUMNS, BY_PRIORITY.len())];
-    u16::try_from(table_width(view.arm.telemetry.as_ref(), columns, false, 1)).unwrap_or(u16::MAX)
+    let entries = EntryWidths::of(view.arm.telemetry.as_ref());
+    u16::try_from(table_width(&entries, columns, false, 1)).unwrap_or(u16::MAX)
 }
 
 /// The most columns that fit `width`, in screen order; then, where they fit too, two columns
 /// between them and wide headings (headings one column apart run together).
-fn choose_columns(t: &Telemetry, width: u16) -> (Vec<Column>, bool, u16) {
+fn choose_columns(entries: &EntryWidths, width: u16) -> (Vec<Column>, bool, u16) {
     for count in (MIN_COLUMNS..=BY_PRIORITY.len()).rev() {
         let kept = &BY_PRIORITY[..count];
         for (wide, spacing) in [(true, 2), (false, 2), (true, 1), (false, 1)] {
-            if table_width(Some(t), kept, wide, spacing) <= usize::from(width) {
+            if table_width(entries, kept, wide, spacing) <= usize::from(width) {
                 let shown = ON_SCREEN.into_iter().filter(|c| kept.contains(c)).collect();
                 return (shown, wide, spacing as u16);
             }
@@ -176,7 +190,8 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     let Some(t) = &view.arm.telemetry else {
         return super::draw_no_telemetry(frame, area, block, view);
     };
-    let (columns, wide, spacing) = choose_columns(t, area.width);
+    let entries = EntryWidths::of(Some(t));
+    let (columns, wide, spacing) = choose_columns(&entries, area.width);
     let cell = |column: Column, text: String, style: Style| {
         let line = Line::from(Span::styled(text, style));
         Cell::from(if column.right_aligned() {
@@ -216,7 +231,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     });
     let widths: Vec<Constraint> = columns
         .iter()
-        .map(|c| Constraint::Length(u16::try_from(c.width(Some(t), wide)).unwrap_or(u16::MAX)))
+        .map(|c| Constraint::Length(u16::try_from(c.width(&entries, wide)).unwrap_or(u16::MAX)))
         .collect();
     let table = Table::new(rows, widths)
         .column_spacing(spacing)

@@ -63,12 +63,10 @@ fn figures(t: &Telemetry) -> [[String; 3]; 6] {
 }
 
 /// The columns each figure gets: the widest one, at least [`VALUE_MIN_WIDTH`].
-fn value_width(view: &View) -> usize {
-    view.arm
-        .telemetry
-        .as_ref()
-        .map(|t| {
-            figures(t)
+fn value_width(figures: Option<&[[String; 3]; 6]>) -> usize {
+    figures
+        .map(|figures| {
+            figures
                 .iter()
                 .flatten()
                 .map(|f| text_width(f))
@@ -81,8 +79,14 @@ fn value_width(view: &View) -> usize {
 
 /// The panel's width (borders included), with long labels or unit labels.
 pub fn width(view: &View, long_labels: bool) -> u16 {
+    let figures = view.arm.telemetry.as_ref().map(figures);
+    panel_width(value_width(figures.as_ref()), long_labels)
+}
+
+/// The panel's width with figures `value_width` columns wide.
+fn panel_width(value_width: usize, long_labels: bool) -> u16 {
     let label = if long_labels { LONG_LABEL } else { SHORT_LABEL };
-    u16::try_from(2 + label + 3 * value_width(view) + 2).unwrap_or(u16::MAX)
+    u16::try_from(2 + label + 3 * value_width + 2).unwrap_or(u16::MAX)
 }
 
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
@@ -91,9 +95,10 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     let Some(t) = &view.arm.telemetry else {
         return super::draw_no_telemetry(frame, area, block, view);
     };
-    let long = area.width >= width(view, true);
+    let figures = figures(t);
+    let value_w = value_width(Some(&figures));
+    let long = area.width >= panel_width(value_w, true);
     let label_w = if long { LONG_LABEL } else { SHORT_LABEL };
-    let value_w = value_width(view);
     let dim = theme.dim();
     let row = |label: &str, [a, b, c]: &[String; 3]| {
         Line::from(vec![
@@ -111,7 +116,6 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
         };
         Line::styled(format!("{name:<label_w$}{axes}"), dim)
     };
-    let figures = figures(t);
     let label = |i: usize| if long { ROWS[i].0 } else { ROWS[i].1 };
     let mut lines = vec![frame_line("base frame", true)];
     lines.extend((0..4).map(|i| row(label(i), &figures[i])));
