@@ -237,41 +237,46 @@ fn for_each_line_dot(
     } else if dy == 0 {
         (x1.min(x2)..=x1.max(x2)).for_each(|x| dot(x, y1));
     } else if dy < dx {
-        // Mostly across: one dot per column, from the left.
-        let ((x1, y1), (x2, y2)) = if x1 > x2 {
+        // Mostly across: a dot per column, from the left.
+        let (from, to) = if x1 > x2 {
             ((x2, y2), (x1, y1))
         } else {
             ((x1, y1), (x2, y2))
         };
-        let (dx, dy) = (dx as isize, dy as isize);
-        let mut error = 2 * dy - dx;
-        let mut y = y1;
-        for x in x1..=x2 {
-            dot(x, y);
-            if error > 0 {
-                y = if y1 > y2 { y.saturating_sub(1) } else { y + 1 };
-                error -= 2 * dx;
-            }
-            error += 2 * dy;
-        }
+        steps(from, to, &mut dot);
     } else {
-        // Mostly down: one dot per row, from the top.
-        let ((x1, y1), (x2, y2)) = if y1 > y2 {
-            ((x2, y2), (x1, y1))
+        // Mostly down: a dot per row, from the top.
+        let (from, to) = if y1 > y2 {
+            ((y2, x2), (y1, x1))
         } else {
-            ((x1, y1), (x2, y2))
+            ((y1, x1), (y2, x2))
         };
-        let (dx, dy) = (dx as isize, dy as isize);
-        let mut error = 2 * dx - dy;
-        let mut x = x1;
-        for y in y1..=y2 {
-            dot(x, y);
-            if error > 0 {
-                x = if x1 > x2 { x.saturating_sub(1) } else { x + 1 };
-                error -= 2 * dy;
-            }
-            error += 2 * dx;
+        steps(from, to, |y, x| dot(x, y));
+    }
+}
+
+/// Bresenham's steps from `from` to `to`, each `(major, minor)` with `major` increasing one at
+/// a time (its span at least the minor's), `minor` following it to the nearest dot.
+fn steps(
+    (major_from, minor_from): (usize, usize),
+    (major_to, minor_to): (usize, usize),
+    mut dot: impl FnMut(usize, usize),
+) {
+    let major_span = (major_to - major_from) as isize;
+    let minor_span = minor_to.abs_diff(minor_from) as isize;
+    let mut error = 2 * minor_span - major_span;
+    let mut minor = minor_from;
+    for major in major_from..=major_to {
+        dot(major, minor);
+        if error > 0 {
+            minor = if minor_from > minor_to {
+                minor.saturating_sub(1)
+            } else {
+                minor + 1
+            };
+            error -= 2 * major_span;
         }
+        error += 2 * minor_span;
     }
 }
 
