@@ -216,11 +216,20 @@ impl History {
         };
         let current =
             (now.saturating_duration_since(origin).as_millis() / BUCKET.as_millis()) as u64;
-        let first = current.saturating_sub(BUCKETS as u64 - 1);
+        // The bucket being filled joins the window with its first sample: until then the window
+        // ends at the one before. Otherwise the newest column read "no telemetry" for the first
+        // poll period of every bucket, and a console at rest redrew four times a second for that
+        // blink alone (telemetry that stops still ages out, a bucket behind).
+        let newest = if self.buckets.back().is_some_and(|b| b.index >= current) {
+            current
+        } else {
+            current.saturating_sub(1)
+        };
+        let first = newest.saturating_sub(BUCKETS as u64 - 1);
         let mut totals = [0.0; JOINTS];
         let mut samples = 0u32;
         let mut held = self.buckets.iter().filter(|b| b.index >= first).peekable();
-        for index in first..=current {
+        for index in first..=newest {
             let bucket = held.next_if(|b| b.index == index);
             series.speed.push(bucket.map(|b| {
                 if b.speed_insane {

@@ -64,6 +64,38 @@ fn the_store_stays_bounded_and_ages_out_after_30_s() {
 }
 
 #[test]
+fn a_bucket_joins_the_window_with_its_first_sample_so_a_still_arm_shows_the_same_series() {
+    let mut h = History::default();
+    let t0 = Instant::now();
+    let t = sample([2.5; 7], [0.75; 7], 0.4, 0.0);
+    // 30 Hz for 40 s, every sample alike: an arm at rest.
+    let period = ms(33);
+    let mut at = t0;
+    while at < t0 + Duration::from_secs(40) {
+        h.record(&t, at);
+        at += period;
+    }
+    let last_sample = at - period;
+    let shown = h.series(last_sample);
+    assert!(shown.speed.iter().all(Option::is_some), "{shown:?}");
+    // The next bucket begins before the next sample: the window waits for that sample rather
+    // than showing an empty newest column.
+    let next_bucket = t0 + ms(250 * ((last_sample - t0).as_millis() as u64 / 250 + 1));
+    assert!(next_bucket < at, "a bucket begins between two samples");
+    assert_eq!(h.series(next_bucket), shown);
+    // Its first sample moves the window on, and a still arm's series reads the same.
+    h.record(&t, at);
+    assert_eq!(h.series(at), shown);
+    assert_eq!(h.series(at).joints[3].last(), Some(&Some(2.5)));
+    // Telemetry that stops ages out all the same, a bucket behind.
+    let silent = h.series(at + ms(250 * 3));
+    assert_eq!(
+        silent.speed.iter().rev().take(2).collect::<Vec<_>>(),
+        [&None, &None]
+    );
+}
+
+#[test]
 fn a_sample_from_before_the_newest_bucket_joins_it() {
     let t0 = Instant::now();
     let mut h = History::default();
