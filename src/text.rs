@@ -17,6 +17,12 @@ use std::fmt::{self, Write};
 /// A logged field longer than this many characters is cut.
 pub const LOG_FIELD_CHARS: usize = 200;
 
+/// Whether `text` is all printable ASCII: safe as it is, one terminal cell a byte. Decided
+/// from the bytes, without decoding (the screen's fast paths).
+pub fn is_printable_ascii(text: &str) -> bool {
+    text.bytes().all(|b| matches!(b, b' '..=b'~'))
+}
+
 /// Whether `c` must not reach a terminal or a log as it is.
 pub fn is_unsafe(c: char) -> bool {
     c.is_control() || is_bidi_control(c)

@@ -12,6 +12,8 @@ use ratatui::layout::Rect;
 use ratatui::text::Line;
 use ratatui::widgets::{Block, Paragraph, Widget};
 
+use crate::text::is_printable_ascii;
+
 /// Draws `lines` inside `block` (when given) in `area`, the first on the top row; lines
 /// beyond the last row are not drawn, and each line is cut at the right edge.
 pub fn draw(buffer: &mut Buffer, area: Rect, block: Option<Block>, lines: &[Line]) {
@@ -39,12 +41,16 @@ pub fn draw(buffer: &mut Buffer, area: Rect, block: Option<Block>, lines: &[Line
 /// Writes a left-aligned line of printable ASCII along `row`, a character a cell; `false`
 /// (nothing written) for any other line.
 fn write_ascii(buffer: &mut Buffer, row: Rect, line: &Line) -> bool {
-    let printable = |text: &str| text.bytes().all(|b| matches!(b, b' '..=b'~'));
     let aligned_left = matches!(
         line.alignment,
         None | Some(ratatui::layout::Alignment::Left)
     );
-    if !aligned_left || !line.spans.iter().all(|span| printable(&span.content)) {
+    if !aligned_left
+        || !line
+            .spans
+            .iter()
+            .all(|span| is_printable_ascii(&span.content))
+    {
         return false;
     }
     let mut x = row.left();

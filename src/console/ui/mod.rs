@@ -120,10 +120,7 @@ pub fn neutralise(buffer: &mut ratatui::buffer::Buffer) {
     for cell in buffer.content.iter_mut() {
         let symbol = cell.symbol();
         // Most cells hold one printable ASCII character: decided without decoding it.
-        if let [b' '..=b'~'] = symbol.as_bytes() {
-            continue;
-        }
-        if !symbol.chars().any(crate::text::is_unsafe) {
+        if crate::text::is_printable_ascii(symbol) || !symbol.chars().any(crate::text::is_unsafe) {
             continue;
         }
         let kept: String = symbol
