@@ -4,6 +4,7 @@
 pub mod cli;
 pub mod console;
 pub mod files;
+pub mod key_stages;
 pub mod kortex;
 pub mod link;
 pub mod logging;

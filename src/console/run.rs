@@ -30,6 +30,7 @@ use super::positions::{self, PositionBook};
 use super::terminal;
 use super::ui::{self, Theme};
 use super::view::View;
+use crate::key_stages::{self, Stage};
 use crate::link::driver::{Driver, DriverConfig, StopHandle};
 use crate::link::interface::{ArmCommand, ArmEvent};
 use crate::net::Deadline;
@@ -317,12 +318,17 @@ async fn event_loop(
         };
         // The records of the input before this one are made once this one's frames are out
         // (`handled`), or before anything this one records (`input`, `book_saved`).
+        if matches!(input, Input::Key(_)) {
+            key_stages::mark(Stage::Input);
+        }
         let urgent = !matches!(input, Input::Arm(_) | Input::Tick);
         let report = is_report(&input);
         let now = Instant::now();
         audit.input(&input);
         let mut sent = false;
-        for effect in app.handle(input, now) {
+        let effects = app.handle(input, now);
+        key_stages::mark(Stage::Decided);
+        for effect in effects {
             match effect {
                 Effect::Arm(command) => {
                     if !driver.send(command.clone()) {
@@ -352,8 +358,10 @@ async fn event_loop(
         // but after this loop's next poll of everything it waits on: after a rest that cold
         // code made a press->START some 10 % slower (under load a little faster: a yield polls
         // the reactor, a syscall, before coming back).
+        key_stages::mark(Stage::Handed);
         if sent {
             tokio::task::yield_now().await;
+            key_stages::mark(Stage::Resumed);
         }
         audit.handled(&app);
         // Inputs that never let the loop rest (a flood) do not hold the records for ever.

@@ -21,6 +21,8 @@ use futures::Stream;
 use rustix::event::{PollFd, PollFlags, Timespec};
 use tokio::net::unix::pipe;
 
+use crate::key_stages::{self, Stage};
+
 use super::burst::{BURST_LIMIT, Burst, Verdict};
 use super::decoder::{Decoded, Decoder, PASTE_LIMIT};
 
@@ -200,6 +202,7 @@ fn read_all_there_is(fd: &pipe::Receiver, buffer: &mut [u8]) -> io::Result<Read>
         }
         other => other,
     });
+    key_stages::mark(Stage::Read);
     match (short, read) {
         (Some(read), _) => Ok(Read::AllThereWas(read)),
         (None, Ok(0)) => Ok(Read::Closed),

@@ -14,6 +14,7 @@ use tokio_util::codec::FramedRead;
 
 use super::motion::MotionSinceStop;
 use super::{Answer, AnswerTx, CommandIds, Exchange, Job, TalosError, TalosEvent, WRITE_STALL};
+use crate::key_stages::{self, Stage};
 use crate::net::{Deadline, FrameReader, io_error_words};
 use crate::talos::ack::{AckCodec, AckItem};
 use crate::talos::frame::{Decoded, FrameCodec, Rejection, TalosFrame};
@@ -266,6 +267,7 @@ impl LinkTask {
         writer: &mut W,
         job: Job,
     ) -> Result<(), String> {
+        key_stages::mark(Stage::LinkTook);
         let id = job.id;
         let command = job.request.command();
         let frame = match job.request.to_frame(id) {
@@ -279,7 +281,12 @@ impl LinkTask {
         // The frame is written before it is made pending: the bookkeeping costs it nothing, and
         // no reply can be read before it is done (this task does both).
         let (written, request_bytes) = match self.encode(&frame) {
-            Ok(bytes) => (self.write(writer, &bytes).await, bytes),
+            Ok(bytes) => {
+                key_stages::mark(Stage::Encoded);
+                let written = self.write(writer, &bytes).await;
+                key_stages::mark(Stage::Written);
+                (written, bytes)
+            }
             // A frame that cannot be encoded ends the link once its request is pending, so
             // its caller is answered with the link's end.
             Err(reason) => (Err(reason), Vec::new()),
