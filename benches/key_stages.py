@@ -81,7 +81,7 @@ def print_steps(title, keys):
         )
 
 
-def run(binary, cycles, load):
+def run(binary, cycles, size, load):
     marks_file = tempfile.NamedTemporaryFile(prefix="armjog-key-stages-", delete=False).name
     env = dict(os.environ, ARMJOG_KEY_STAGES=marks_file)
     stress = None
@@ -96,7 +96,7 @@ def run(binary, cycles, load):
     try:
         done = subprocess.run(
             [sys.executable, os.path.join(HERE, "pty_latency.py"), "--binary", binary,
-             "--cycles", str(cycles)],
+             "--cycles", str(cycles), "--size", size],
             env=env, capture_output=True, text=True,
         )
     finally:
@@ -118,6 +118,9 @@ def main():
     parser.add_argument("--binary", default="target/key-stages/release/armjog")
     parser.add_argument("--cycles", type=int, default=150)
     parser.add_argument("--stress", action="store_true", help="also under stress --cpu 2")
+    parser.add_argument(
+        "--size", default="120x40", help="terminal COLSxROWS; a large one makes frames costly"
+    )
     args = parser.parse_args()
     if not os.access(args.binary, os.X_OK):
         sys.exit(f"{args.binary} not found: see the usage at the top of this file")
@@ -125,7 +128,7 @@ def main():
         sys.exit("stress not found: apt-get install stress")
     phases = [("at rest", False)] + ([("under stress --cpu 2", True)] if args.stress else [])
     for name, load in phases:
-        keys, summary = run(args.binary, args.cycles, load)
+        keys, summary = run(args.binary, args.cycles, args.size, load)
         print(f"{name}: {summary}")
         # A cycle is a press then its release.
         print_steps("press", keys[0::2])
