@@ -81,7 +81,7 @@ def print_steps(title, keys):
         )
 
 
-def run(binary, cycles, size, load):
+def run(binary, cycles, size, rest, load):
     marks_file = tempfile.NamedTemporaryFile(prefix="armjog-key-stages-", delete=False).name
     env = dict(os.environ, ARMJOG_KEY_STAGES=marks_file)
     stress = None
@@ -96,7 +96,7 @@ def run(binary, cycles, size, load):
     try:
         done = subprocess.run(
             [sys.executable, os.path.join(HERE, "pty_latency.py"), "--binary", binary,
-             "--cycles", str(cycles), "--size", size],
+             "--cycles", str(cycles), "--size", size, "--rest", str(rest)],
             env=env, capture_output=True, text=True,
         )
     finally:
@@ -119,6 +119,13 @@ def main():
     parser.add_argument("--cycles", type=int, default=150)
     parser.add_argument("--stress", action="store_true", help="also under stress --cpu 2")
     parser.add_argument(
+        "--rest",
+        type=float,
+        default=0.0,
+        help="s more the console rests before each press: a press after a pause finds the "
+        "caches cold, and this shows which steps pay for it",
+    )
+    parser.add_argument(
         "--size", default="120x40", help="terminal COLSxROWS; a large one makes frames costly"
     )
     args = parser.parse_args()
@@ -128,7 +135,7 @@ def main():
         sys.exit("stress not found: apt-get install stress")
     phases = [("at rest", False)] + ([("under stress --cpu 2", True)] if args.stress else [])
     for name, load in phases:
-        keys, summary = run(args.binary, args.cycles, args.size, load)
+        keys, summary = run(args.binary, args.cycles, args.size, args.rest, load)
         print(f"{name}: {summary}")
         # A cycle is a press then its release.
         print_steps("press", keys[0::2])
