@@ -316,11 +316,11 @@ async fn event_loop(
             audit.record_handled();
             continue;
         };
-        // The records of the input before this one are made once this one's frames are out
-        // (`handled`), or before anything this one records (`input`, `book_saved`).
         if matches!(input, Input::Key(_)) {
             key_stages::mark(Stage::Input);
         }
+        // The records of the input before this one are made once this one's frames are out
+        // (`handled`), or before anything this one records (`input`, `book_saved`).
         let urgent = !matches!(input, Input::Arm(_) | Input::Tick);
         let report = is_report(&input);
         let now = Instant::now();
