@@ -3,9 +3,11 @@
 pub mod connect;
 pub mod deadline;
 pub mod frame_reader;
+pub mod hand_off;
 pub mod words;
 
 pub use connect::{ConnectError, connect_with_timeout};
 pub use deadline::Deadline;
 pub use frame_reader::{DEFAULT_FRAME_DEADLINE, FrameReader};
+pub use hand_off::HandOffStream;
 pub use words::io_error_words;

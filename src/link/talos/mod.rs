@@ -34,7 +34,7 @@ use std::time::Duration;
 use tokio::io::{AsyncRead, AsyncWrite};
 use tokio::sync::{Notify, mpsc, oneshot};
 
-use crate::net::{ConnectError, DEFAULT_FRAME_DEADLINE, connect_with_timeout};
+use crate::net::{ConnectError, DEFAULT_FRAME_DEADLINE, HandOffStream, connect_with_timeout};
 use crate::talos::frame::Rejection;
 use crate::talos::message::{DecodeError, EncodeError};
 use crate::talos::{Checksum, CommandValue, Reply, Request, ReturnCode};
@@ -218,12 +218,13 @@ impl fmt::Debug for TalosLink {
 
 impl TalosLink {
     /// Opens a TCP connection within the connect timeout. Returns the link and the receiver of
-    /// its unsolicited events.
+    /// its unsolicited events. An operator on this machine gets the CPU after each frame
+    /// (see [`HandOffStream`]).
     pub async fn connect(
         config: TalosConfig,
     ) -> Result<(TalosLink, mpsc::UnboundedReceiver<TalosEvent>), TalosError> {
         let stream = connect_with_timeout(&config.addr, config.connect_timeout).await?;
-        Ok(Self::over(stream, config))
+        Ok(Self::over(HandOffStream::new(stream), config))
     }
 
     /// Runs a link over an already connected transport (a TCP stream, or an in-memory one in
