@@ -99,7 +99,7 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
         ))
     });
     // Read off the event loop: the first frame and the keys do not wait for a big book.
-    let mut book = match (book_path, setup.positions_read) {
+    let book = match (book_path, setup.positions_read) {
         (Some(path), Some(read)) if Some(&path) == setup.positions_file.as_ref() => {
             BookFiles::open_read(path, read)?
         }
@@ -110,13 +110,13 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
     let max_jog_speed = setup.driver.max_jog_speed;
     let joint_jog_speed = setup.driver.joint_jog_speed;
     let arm = setup.driver.target();
-    let (driver, mut arm_events) = Driver::spawn(setup.driver);
+    let (driver, arm_events) = Driver::spawn(setup.driver);
 
     let release_events = terminal::enter(setup.release_events)?;
     let drawing = Arc::new(AtomicBool::new(true));
     install_panic_hook(driver.stop_handle(), release_events, drawing.clone());
-    let result = match start_painter(drawing) {
-        Ok((mut painter, size, draw_errors)) => {
+    let (result, book) = match start_painter(drawing) {
+        Ok((painter, size, draw_errors)) => {
             let config = AppConfig {
                 keymap: setup.keymap.into(),
                 release_mode: if release_events {
@@ -132,40 +132,87 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
                 simulated: setup.simulated,
                 arm_name: setup.arm_name.clone(),
             };
-            let mut audit = AuditSession::start(&config, arm, setup.arm_name, audit::audit_dir());
-            let result = event_loop(
-                config,
-                &mut book,
-                &mut audit,
-                &driver,
-                &mut arm_events,
-                Screen {
-                    painter: &painter,
-                    size,
-                    errors: draw_errors,
-                },
-            )
-            .await;
-            // The arm is told to stop before waiting for the frame in progress.
-            driver.send(ArmCommand::Stop);
-            // Waited for off this thread: the driver and the links run on it, and carry the
-            // stop meanwhile.
-            let closed = tokio::task::spawn_blocking(move || {
-                painter.close(Duration::from_millis(500));
-            });
-            let _ = closed.await;
-            audit.finish(Duration::from_secs(2)).await;
-            result
+            let audit = AuditSession::start(&config, arm, setup.arm_name, audit::audit_dir());
+            let parts = LoopParts {
+                book,
+                audit,
+                driver: driver.clone(),
+                arm_events,
+                painter,
+            };
+            // A task of its own, boxed: a key's wake-up polls the loop straight from the
+            // runtime, not through this set-up and the command dispatch above it. Every page
+            // of each poll's stack frame is touched on each poll, and after a pause each one
+            // costs the key a fault (`benches/key_pages.py`).
+            let looped = tokio::spawn(Box::pin(loop_task(config, parts, size, draw_errors)));
+            match looped.await {
+                Ok((result, parts)) => {
+                    // The arm is told to stop before waiting for the frame in progress.
+                    driver.send(ArmCommand::Stop);
+                    // Waited for off this thread: the driver and the links run on it, and
+                    // carry the stop meanwhile.
+                    let mut painter = parts.painter;
+                    let closed = tokio::task::spawn_blocking(move || {
+                        painter.close(Duration::from_millis(500));
+                    });
+                    let _ = closed.await;
+                    parts.audit.finish(Duration::from_secs(2)).await;
+                    (result, Some(parts.book))
+                }
+                // The panic hook has stopped the arm and ends the process: the panic goes on
+                // here as it would have in this task.
+                Err(ended) if ended.is_panic() => std::panic::resume_unwind(ended.into_panic()),
+                // Only a runtime shutting down cancels it; the book went with it.
+                Err(ended) => (
+                    Err(ConsoleError::Terminal(std::io::Error::other(format!(
+                        "the console's loop ended early: {ended}"
+                    )))),
+                    None,
+                ),
+            }
         }
-        Err(e) => Err(e),
+        Err(e) => (Err(e), Some(book)),
     };
     // Whatever happened, the arm is told to stop before the terminal is given back.
     driver.send(ArmCommand::Stop);
     terminal::restore(release_events);
     // A change saved just before quitting is written before the process ends.
-    book.finish(Duration::from_secs(10)).await;
+    if let Some(book) = book {
+        book.finish(Duration::from_secs(10)).await;
+    }
     driver.shutdown().await;
     result
+}
+
+/// What the event loop's task owns while it runs, and gives back when it ends.
+struct LoopParts {
+    book: BookFiles,
+    audit: AuditSession,
+    driver: Driver,
+    arm_events: tokio::sync::mpsc::UnboundedReceiver<ArmEvent>,
+    painter: Painter,
+}
+
+async fn loop_task(
+    config: AppConfig,
+    mut parts: LoopParts,
+    size: (u16, u16),
+    errors: tokio::sync::mpsc::UnboundedReceiver<std::io::Error>,
+) -> (Result<(), ConsoleError>, LoopParts) {
+    let result = event_loop(
+        config,
+        &mut parts.book,
+        &mut parts.audit,
+        &parts.driver,
+        &mut parts.arm_events,
+        Screen {
+            painter: &parts.painter,
+            size,
+            errors,
+        },
+    )
+    .await;
+    (result, parts)
 }
 
 /// The drawing thread, the terminal's size, and the thread's draw errors.

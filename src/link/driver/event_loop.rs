@@ -54,12 +54,34 @@ struct DriverState {
     hw_telemetry: bool,
 }
 
-pub(super) async fn run(
+/// The driver's state and what its loop waits on, made before the loop's task starts: the
+/// task's future then holds neither the set-up nor room for it (see [`run`]).
+pub(super) struct Started {
+    driver: Box<DriverState>,
+    inbox: Inbox,
+}
+
+pub(super) fn start(
     config: DriverConfig,
     commands: mpsc::UnboundedReceiver<ArmCommand>,
     events: mpsc::UnboundedSender<ArmEvent>,
-) {
-    let (mut driver, mut inbox) = DriverState::start(config, commands, events);
+) -> Started {
+    let (driver, inbox) = DriverState::start(config, commands, events);
+    Started {
+        driver: Box::new(driver),
+        inbox,
+    }
+}
+
+/// The loop runs on the key path (a key's command passes through it): its poll is kept small.
+/// Set-up happens before it (`start`), the exit and the connect attempts in functions and
+/// futures of their own, so a poll's stack frame does not hold room for them (a frame's every
+/// page is touched on each poll, and after a pause each costs the key a fault).
+pub(super) async fn run(started: Started) {
+    let Started {
+        mut driver,
+        mut inbox,
+    } = started;
     let (mut talos_due, mut modbus_due) = (Deadline::new(), Deadline::new());
     loop {
         talos_due.set(driver.talos_attempts.due_at());
@@ -88,7 +110,9 @@ pub(super) async fn run(
             _ = inbox.hw_poll.tick(), if driver.hw_telemetry => driver.talos.poll_telemetry(),
         }
     }
-    driver.finish().await;
+    // Behind a box and a vtable, so it is not inlined into the loop's poll (see above).
+    let finish: std::pin::Pin<Box<dyn Future<Output = ()> + Send>> = Box::pin(driver.finish());
+    finish.await;
 }
 
 impl DriverState {
@@ -220,6 +244,7 @@ impl DriverState {
         }
     }
 
+    #[inline(never)]
     fn on_connected(&mut self, result: Connected, inbox: &mut Inbox) {
         match result {
             Connected::Talos(Ok(link)) => {
@@ -332,6 +357,7 @@ impl DriverState {
         self.emit(report.into_event());
     }
 
+    #[inline(never)]
     fn on_talos_due(&mut self) {
         if let Some(attempt) = self.talos.connect_attempt() {
             self.talos_attempts.start(
@@ -341,6 +367,7 @@ impl DriverState {
         }
     }
 
+    #[inline(never)]
     fn on_modbus_due(&mut self) {
         if let Some(mc) = &self.config.modbus {
             self.modbus_attempts
@@ -358,7 +385,7 @@ impl DriverState {
 
     /// The console is gone: stop everything on the way out. A connect still in flight has
     /// started nothing and is given up.
-    async fn finish(mut self) {
+    async fn finish(mut self: Box<Self>) {
         self.talos_attempts.abort();
         self.modbus_attempts.abort();
         self.stop_everywhere().await;

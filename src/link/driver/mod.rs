@@ -126,10 +126,15 @@ pub struct Driver {
 
 impl Driver {
     /// Starts the driver; it connects in the background and reports through the events.
+    /// Not inlined: its set-up stays out of its caller's stack frame.
+    #[inline(never)]
     pub fn spawn(config: DriverConfig) -> (Driver, mpsc::UnboundedReceiver<ArmEvent>) {
         let (commands, rx) = mpsc::unbounded_channel();
         let (events, events_rx) = mpsc::unbounded_channel();
-        let task = tokio::spawn(event_loop::run(config, rx, events));
+        let started = event_loop::start(config, rx, events);
+        // Boxed: tokio keeps a future under 16 KB inside its task, and the task's poll then
+        // holds room for it on the stack (see `event_loop::run`).
+        let task = tokio::spawn(Box::pin(event_loop::run(started)));
         let task = std::sync::Arc::new(std::sync::Mutex::new(Some(task)));
         (Driver { commands, task }, events_rx)
     }

@@ -242,7 +242,8 @@ impl TalosLink {
         let ids = Arc::new(CommandIds::default());
         let overflow = Arc::new(Notify::new());
         let task = LinkTask::new(&config, ids.clone(), events_tx, overflow.clone());
-        tokio::spawn(task.run(stream, jobs_rx));
+        // Boxed: the task is on the key path (see `Driver::spawn`).
+        tokio::spawn(Box::pin(task.run(stream, jobs_rx)));
         (
             TalosLink {
                 jobs: jobs_tx,
