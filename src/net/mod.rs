@@ -9,5 +9,4 @@ pub mod words;
 pub use connect::{ConnectError, connect_with_timeout};
 pub use deadline::Deadline;
 pub use frame_reader::{DEFAULT_FRAME_DEADLINE, FrameReader};
-pub use hand_off::HandOffStream;
 pub use words::io_error_words;

@@ -34,7 +34,7 @@ use std::time::Duration;
 use tokio::io::{AsyncRead, AsyncWrite};
 use tokio::sync::{Notify, mpsc, oneshot};
 
-use crate::net::{ConnectError, DEFAULT_FRAME_DEADLINE, HandOffStream, connect_with_timeout};
+use crate::net::{ConnectError, DEFAULT_FRAME_DEADLINE, connect_with_timeout, hand_off};
 use crate::talos::frame::Rejection;
 use crate::talos::message::{DecodeError, EncodeError};
 use crate::talos::{Checksum, CommandValue, Reply, Request, ReturnCode};
@@ -218,13 +218,14 @@ impl fmt::Debug for TalosLink {
 
 impl TalosLink {
     /// Opens a TCP connection within the connect timeout. Returns the link and the receiver of
-    /// its unsolicited events. An operator on this machine gets the CPU after each frame
-    /// (see [`HandOffStream`]).
+    /// its unsolicited events. An operator on this machine gets the CPU once the frames queued
+    /// are written (see [`hand_off`]).
     pub async fn connect(
         config: TalosConfig,
     ) -> Result<(TalosLink, mpsc::UnboundedReceiver<TalosEvent>), TalosError> {
         let stream = connect_with_timeout(&config.addr, config.connect_timeout).await?;
-        Ok(Self::over(HandOffStream::new(stream), config))
+        let local_peer = hand_off::peer_on_this_host(&stream);
+        Ok(Self::start(stream, config, local_peer))
     }
 
     /// Runs a link over an already connected transport (a TCP stream, or an in-memory one in
@@ -237,11 +238,30 @@ impl TalosLink {
     where
         S: AsyncRead + AsyncWrite + Send + 'static,
     {
+        Self::start(stream, config, false)
+    }
+
+    /// `local_peer`: the operator runs on this machine, and is given the CPU after a burst of
+    /// frames (see [`hand_off`]).
+    fn start<S>(
+        stream: S,
+        config: TalosConfig,
+        local_peer: bool,
+    ) -> (TalosLink, mpsc::UnboundedReceiver<TalosEvent>)
+    where
+        S: AsyncRead + AsyncWrite + Send + 'static,
+    {
         let (jobs_tx, jobs_rx) = mpsc::channel(QUEUE_DEPTH);
         let (events_tx, events_rx) = mpsc::unbounded_channel();
         let ids = Arc::new(CommandIds::default());
         let overflow = Arc::new(Notify::new());
-        let task = LinkTask::new(&config, ids.clone(), events_tx, overflow.clone());
+        let task = LinkTask::new(
+            &config,
+            ids.clone(),
+            events_tx,
+            overflow.clone(),
+            local_peer,
+        );
         // Boxed: the task is on the key path (see `Driver::spawn`).
         tokio::spawn(Box::pin(task.run(stream, jobs_rx)));
         (

@@ -72,6 +72,8 @@ pub(super) struct LinkTask {
     events: mpsc::UnboundedSender<TalosEvent>,
     /// Told by a caller that found the queue full.
     overflow: Arc<Notify>,
+    /// The operator runs on this machine: it gets the CPU once the queued frames are written.
+    local_peer: bool,
 }
 
 /// What arrives from the operator, in either dialect.
@@ -103,6 +105,7 @@ impl LinkTask {
         ids: Arc<CommandIds>,
         events: mpsc::UnboundedSender<TalosEvent>,
         overflow: Arc<Notify>,
+        local_peer: bool,
     ) -> LinkTask {
         LinkTask {
             dialect: config.dialect,
@@ -117,6 +120,7 @@ impl LinkTask {
             motion: MotionSinceStop::new(config.dialect),
             events,
             overflow,
+            local_peer,
         }
     }
 
@@ -151,6 +155,11 @@ impl LinkTask {
                     Some(job) => {
                         if let Err(reason) = self.send(&mut writer, job).await {
                             break End::write(reason);
+                        }
+                        // The operator on this machine reads the frames now, not after the rest
+                        // of this thread's burst; a stop set's frames go out together first.
+                        if self.local_peer && jobs.is_empty() {
+                            std::thread::yield_now();
                         }
                     }
                     None => {
