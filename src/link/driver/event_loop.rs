@@ -66,11 +66,51 @@ pub(super) fn start(
     commands: mpsc::UnboundedReceiver<ArmCommand>,
     events: mpsc::UnboundedSender<ArmEvent>,
 ) -> Started {
-    let (driver, inbox) = DriverState::start(config, commands, events);
-    Started {
-        driver: Box::new(driver),
-        inbox,
-    }
+    let _ = events.send(ArmEvent::TelemetrySource(config.telemetry_source()));
+    let _ = events.send(ArmEvent::Status(LinkStatus::Connecting));
+    let joints: JointPositions = std::sync::Arc::new(tokio::sync::watch::Sender::new(None));
+    let speed = SpeedInForce::default();
+    let (talos_side_tx, talos_side) = mpsc::unbounded_channel();
+    let (modbus_side_tx, modbus_side) = mpsc::unbounded_channel();
+    let (modbus_link_tx, modbus_link) = mpsc::unbounded_channel();
+    let (guard_reports_tx, guard_reports) = mpsc::unbounded_channel();
+    let (connected_tx, connected) = mpsc::unbounded_channel();
+    let talos = TalosSide::new(&config, talos_side_tx, joints.clone(), speed.clone());
+    let guard = start_guard(&config, guard_reports_tx);
+    let attempts = |configured: bool| match configured {
+        true => Attempts::due_now(),
+        false => Attempts::never(),
+    };
+    let hz = config.hw_telemetry_hz.clamp(0.5, 50.0);
+    let mut hw_poll = tokio::time::interval(Duration::from_secs_f64(1.0 / hz));
+    hw_poll.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
+    let inbox = Inbox {
+        commands,
+        talos_side,
+        modbus_side,
+        connected,
+        modbus_link,
+        guard_reports,
+        hw_poll,
+    };
+    let driver = Box::new(DriverState {
+        talos_attempts: attempts(config.talos.is_some()),
+        modbus_attempts: attempts(config.modbus.is_some()),
+        hw_telemetry: config.telemetry_source() == TelemetrySource::TalosHardware,
+        config,
+        events,
+        links: Links::default(),
+        joints,
+        speed,
+        stops: StopOutcomes::default(),
+        talos,
+        modbus: None,
+        modbus_side_tx,
+        modbus_link_tx,
+        guard,
+        connected_tx,
+    });
+    Started { driver, inbox }
 }
 
 /// The loop runs on the key path (a key's command passes through it): its poll is kept small.
@@ -116,58 +156,6 @@ pub(super) async fn run(started: Started) {
 }
 
 impl DriverState {
-    fn start(
-        config: DriverConfig,
-        commands: mpsc::UnboundedReceiver<ArmCommand>,
-        events: mpsc::UnboundedSender<ArmEvent>,
-    ) -> (DriverState, Inbox) {
-        let _ = events.send(ArmEvent::TelemetrySource(config.telemetry_source()));
-        let _ = events.send(ArmEvent::Status(LinkStatus::Connecting));
-        let joints: JointPositions = std::sync::Arc::new(tokio::sync::watch::Sender::new(None));
-        let speed = SpeedInForce::default();
-        let (talos_side_tx, talos_side) = mpsc::unbounded_channel();
-        let (modbus_side_tx, modbus_side) = mpsc::unbounded_channel();
-        let (modbus_link_tx, modbus_link) = mpsc::unbounded_channel();
-        let (guard_reports_tx, guard_reports) = mpsc::unbounded_channel();
-        let (connected_tx, connected) = mpsc::unbounded_channel();
-        let talos = TalosSide::new(&config, talos_side_tx, joints.clone(), speed.clone());
-        let guard = start_guard(&config, guard_reports_tx);
-        let attempts = |configured: bool| match configured {
-            true => Attempts::due_now(),
-            false => Attempts::never(),
-        };
-        let hz = config.hw_telemetry_hz.clamp(0.5, 50.0);
-        let mut hw_poll = tokio::time::interval(Duration::from_secs_f64(1.0 / hz));
-        hw_poll.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
-        let inbox = Inbox {
-            commands,
-            talos_side,
-            modbus_side,
-            connected,
-            modbus_link,
-            guard_reports,
-            hw_poll,
-        };
-        let driver = DriverState {
-            talos_attempts: attempts(config.talos.is_some()),
-            modbus_attempts: attempts(config.modbus.is_some()),
-            hw_telemetry: config.telemetry_source() == TelemetrySource::TalosHardware,
-            config,
-            events,
-            links: Links::default(),
-            joints,
-            speed,
-            stops: StopOutcomes::default(),
-            talos,
-            modbus: None,
-            modbus_side_tx,
-            modbus_link_tx,
-            guard,
-            connected_tx,
-        };
-        (driver, inbox)
-    }
-
     fn emit(&self, event: ArmEvent) {
         let _ = self.events.send(event);
     }
