@@ -1,24 +1,57 @@
 //! Whether a link's peer is a process on this machine (the built-in simulator, `armjog sim`, an
-//! operator run beside the console): the Talos link then gives it the CPU once its frames are
-//! written (`link/talos/task.rs`).
+//! operator run beside the console), and how the Talos link gives it the CPU once a START or
+//! STOP is written (`link/talos/task.rs`).
 //!
 //! Why: a loopback write wakes its reader on the writer's core (the kernel's wake-up is a sync
 //! one: it expects the writer to sleep soon), and the reader then runs only once the console's
 //! thread sleeps: after everything else a key's burst does (`perf sched timehist` shows the
-//! operator stand-in running right after the console's burst, on its core). Measured on the
-//! 2-core VM with `benches/pty_latency.py --compare`, 300 cycles, without and with a yield after
-//! the write: release->STOP p50 0.331 -> 0.297 ms at rest (p99 0.660 -> 0.615), and under
-//! `stress --cpu 2` p50 0.129 both, p90 0.292 -> 0.260, p99 4.06 -> 2.17 ms; press->START p50
-//! 0.374 -> 0.356 ms at rest and 0.220 -> 0.215 under stress (p99 4.69 -> 3.53 ms).
-//! A reader on another machine gains nothing from it, so the link yields only for one on this
+//! operator stand-in running right after the console's burst, on its core).
+//!
+//! How ([`give_way`]): the thread yields, and when the yield came straight back (nobody else ran:
+//! on a busy core the kernel's scheduler, EEVDF, lets a thread it just woke run on until it
+//! sleeps or its slice ends, and picks it again at the yield), it sleeps for the shortest time
+//! it can. That sleep lasts the thread's timer slack (50 us by default; 68 us measured on the
+//! 2-core VM), and the console does nothing meanwhile: so only a START or STOP earns it, not the
+//! telemetry polls. At rest the yield hands over (the operator, woken on this core, runs), and
+//! a sleep then cost the tail: with the sleep alone press->START p99 was 0.59-0.63 ms against
+//! 0.47-0.57 for the yield alone.
+//! Measured with `benches/pty_latency.py --compare`, 300 cycles, the yield alone against this
+//! (and the Python floor), same run: under `stress --cpu 2` release->STOP p50 0.098 / 0.104 ms
+//! (0.046), p99 1.84 / **0.245** ms (0.228); press->START p50 0.183 / **0.144** ms (0.124), p99
+//! 4.06 / **0.243** ms (4.88). At rest release->STOP p50 0.254 / 0.255 ms (0.310), p99 0.479 /
+//! 0.521 (0.561); press->START p50 0.313 / 0.316 (0.304), p99 0.506 / 0.523 (0.525).
+//!
+//! A reader on another machine gains nothing from it, so the link gives way only to one on this
 //! machine, and only once the frames queued are all written: a stop set is several frames (the
 //! ICD dialect's three), and its polar STOP must not wait for the operator's turn on the first.
-//! The Modbus link does not yield: in a stop set the driver hands the Modbus worker its STOP
-//! first, and its write must not wait for the operator's turn either.
+//! The Modbus link does not give way, and a Talos link does not either when the console also has
+//! a Modbus link (`TalosConfig::give_way`, set by the driver): in a stop set the Modbus STOP is
+//! written by a task that may come after the Talos link's, and must not wait for the operator's
+//! turn.
 
 use std::net::SocketAddr;
+use std::time::{Duration, Instant};
 
 use tokio::net::TcpStream;
+
+/// What the thread asks to sleep when it gives way: the least there is. It sleeps its timer slack.
+const GIVE_WAY: Duration = Duration::from_nanos(1);
+
+/// A yield shorter than this gave nobody the CPU: on the VM one that switches to nobody comes
+/// back in 0.2-0.4 us (p50, at rest and under load), and one that let another process run lasts
+/// that process's turn (the harness's: 15 us and more, `perf sched timehist`).
+const YIELD_HANDED_OVER: Duration = Duration::from_micros(8);
+
+/// Gives the CPU to the local process a write just woke: this thread yields, and sleeps for a
+/// moment if nobody ran (see the module's notes). It blocks the runtime's thread: call it only
+/// after a START or STOP, and only where no other link's STOP waits on this thread.
+pub fn give_way() {
+    let yielded = Instant::now();
+    std::thread::yield_now();
+    if yielded.elapsed() < YIELD_HANDED_OVER {
+        std::thread::sleep(GIVE_WAY);
+    }
+}
 
 /// Whether `stream`'s peer is on this machine. A stream whose addresses cannot be read (one
 /// already reset) is taken as remote: its writes fail anyway.

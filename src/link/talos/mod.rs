@@ -69,6 +69,10 @@ pub struct TalosConfig {
     pub request_timeout: Duration,
     /// How long a reply may take from its first byte to its last before it is given up.
     pub frame_deadline: Duration,
+    /// Whether the link may give an operator on this machine the CPU once a START or STOP is
+    /// written ([`hand_off`]). Off when another link's STOP is carried by the same thread: it
+    /// must not wait for the operator's turn.
+    pub give_way: bool,
 }
 
 impl TalosConfig {
@@ -80,6 +84,7 @@ impl TalosConfig {
             connect_timeout: Duration::from_secs(2),
             request_timeout: Duration::from_millis(500),
             frame_deadline: DEFAULT_FRAME_DEADLINE,
+            give_way: true,
         }
     }
 }
@@ -218,13 +223,13 @@ impl fmt::Debug for TalosLink {
 
 impl TalosLink {
     /// Opens a TCP connection within the connect timeout. Returns the link and the receiver of
-    /// its unsolicited events. An operator on this machine gets the CPU once the frames queued
-    /// are written (see [`hand_off`]).
+    /// its unsolicited events. An operator on this machine gets the CPU once a START or STOP
+    /// is written (see [`hand_off`]).
     pub async fn connect(
         config: TalosConfig,
     ) -> Result<(TalosLink, mpsc::UnboundedReceiver<TalosEvent>), TalosError> {
         let stream = connect_with_timeout(&config.addr, config.connect_timeout).await?;
-        let local_peer = hand_off::peer_on_this_host(&stream);
+        let local_peer = config.give_way && hand_off::peer_on_this_host(&stream);
         Ok(Self::start(stream, config, local_peer))
     }
 
@@ -241,8 +246,8 @@ impl TalosLink {
         Self::start(stream, config, false)
     }
 
-    /// `local_peer`: the operator runs on this machine, and is given the CPU after a burst of
-    /// frames (see [`hand_off`]).
+    /// `local_peer`: the operator runs on this machine, and is given the CPU once a START or
+    /// STOP is written (see [`hand_off`]).
     fn start<S>(
         stream: S,
         config: TalosConfig,

@@ -36,6 +36,12 @@ impl MotionSinceStop {
         }
     }
 
+    /// Whether `request` sets the arm moving or is one of the stop set's: what the operator
+    /// should read at once.
+    pub(super) fn moves_or_stops(&self, request: &Request) -> bool {
+        may_move(request) || self.stops.contains(request)
+    }
+
     /// The whole stop set if anything may be moving, else nothing.
     pub(super) fn owed(&self) -> &[Request] {
         if self.moving { &self.stops } else { &[] }
@@ -69,5 +75,27 @@ mod tests {
         motion.note(&Request::Home { delay_ms: 0 });
         motion.note(&HwRequest::stop_all_joints_request());
         assert_eq!(motion.owed().len(), 3);
+    }
+
+    #[test]
+    fn starts_and_the_stop_set_are_urgent_polls_and_settings_are_not() {
+        let motion = MotionSinceStop::new(Dialect::Icd);
+        let urgent = [
+            Request::PolarPanStart {
+                moving_azimuth: 1,
+                moving_altitude: 0,
+            },
+            Request::Home { delay_ms: 0 },
+            Request::PolarPanStop,
+            Request::CartesianMoveStop,
+            HwRequest::stop_all_joints_request(),
+        ];
+        for request in &urgent {
+            assert!(motion.moves_or_stops(request), "{request:?}");
+        }
+        let routine = [Request::GetSpeed, Request::SetSpeed { speed: 10 }];
+        for request in &routine {
+            assert!(!motion.moves_or_stops(request), "{request:?}");
+        }
     }
 }

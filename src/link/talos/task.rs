@@ -15,7 +15,7 @@ use tokio_util::codec::FramedRead;
 use super::motion::MotionSinceStop;
 use super::{Answer, AnswerTx, CommandIds, Exchange, Job, TalosError, TalosEvent, WRITE_STALL};
 use crate::key_stages::{self, Stage};
-use crate::net::{Deadline, FrameReader, io_error_words};
+use crate::net::{Deadline, FrameReader, hand_off, io_error_words};
 use crate::talos::ack::{AckCodec, AckItem};
 use crate::talos::frame::{Decoded, FrameCodec, Rejection, TalosFrame};
 use crate::talos::{Checksum, Dialect, Reply, Request};
@@ -72,7 +72,7 @@ pub(super) struct LinkTask {
     events: mpsc::UnboundedSender<TalosEvent>,
     /// Told by a caller that found the queue full.
     overflow: Arc<Notify>,
-    /// The operator runs on this machine: it gets the CPU once the queued frames are written.
+    /// The operator runs on this machine: it gets the CPU once a START or STOP is written.
     local_peer: bool,
 }
 
@@ -153,13 +153,14 @@ impl LinkTask {
                 () = self.overflow.notified() => break End::write(super::queue_full()),
                 job = jobs.recv() => match job {
                     Some(job) => {
+                        let urgent = self.motion.moves_or_stops(&job.request);
                         if let Err(reason) = self.send(&mut writer, job).await {
                             break End::write(reason);
                         }
-                        // The operator on this machine reads the frames now, not after the rest
-                        // of this thread's burst; a stop set's frames go out together first.
-                        if self.local_peer && jobs.is_empty() {
-                            std::thread::yield_now();
+                        // The operator on this machine reads a START or STOP now, not after the
+                        // rest of this thread's burst; a stop set's frames go out together first.
+                        if urgent && self.local_peer && jobs.is_empty() {
+                            hand_off::give_way();
                         }
                     }
                     None => {
