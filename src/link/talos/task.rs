@@ -24,6 +24,9 @@ mod ack;
 
 use ack::{AckWait, ExpiredAck};
 
+/// The most requests written together: what was queued when the task took the first, up to this.
+const BATCH_MAX: usize = 16;
+
 struct Pending {
     id: u32,
     request: Request,
@@ -153,8 +156,15 @@ impl LinkTask {
                 () = self.overflow.notified() => break End::write(super::queue_full()),
                 job = jobs.recv() => match job {
                     Some(job) => {
-                        let urgent = self.motion.moves_or_stops(&job.request);
-                        if let Err(reason) = self.send(&mut writer, job).await {
+                        // What else is queued goes in the same write: a stop set is one segment.
+                        let mut batch = vec![job];
+                        while batch.len() < BATCH_MAX
+                            && let Ok(job) = jobs.try_recv()
+                        {
+                            batch.push(job);
+                        }
+                        let urgent = batch.iter().any(|job| self.motion.moves_or_stops(&job.request));
+                        if let Err(reason) = self.send(&mut writer, batch).await {
                             break End::write(reason);
                         }
                         // The operator on this machine reads a START or STOP now, not after the
@@ -272,50 +282,82 @@ impl LinkTask {
         let _ = self.events.send(event);
     }
 
+    /// Writes the jobs' frames in one write, in their order, then makes them pending. A request
+    /// that cannot be framed is answered at once; a frame that cannot be encoded ends the link
+    /// (its job and those after it are made pending unsent, so their callers are answered with
+    /// the link's end).
     async fn send<W: AsyncWrite + Unpin>(
         &mut self,
         writer: &mut W,
-        job: Job,
+        batch: Vec<Job>,
     ) -> Result<(), String> {
         key_stages::mark(Stage::LinkTook);
-        let id = job.id;
-        let command = job.request.command();
-        let frame = match job.request.to_frame(id) {
-            Ok(frame) => frame,
-            Err(source) => {
-                let _ = job.answer.send(Err(TalosError::Encode { command, source }));
-                return Ok(());
-            }
-        };
         let sent = Instant::now();
-        // The frame is written before it is made pending: the bookkeeping costs it nothing, and
-        // no reply can be read before it is done (this task does both).
-        let (written, request_bytes) = match self.encode(&frame) {
-            Ok(bytes) => {
-                key_stages::mark(Stage::Encoded);
-                let written = self.write(writer, &bytes).await;
-                key_stages::mark(Stage::Written);
-                (written, bytes)
+        let mut bytes = Vec::new();
+        let mut encoded = Vec::with_capacity(batch.len());
+        let mut unsent = Vec::new();
+        let mut failed = None;
+        for job in batch {
+            if failed.is_some() {
+                unsent.push(job);
+                continue;
             }
-            // A frame that cannot be encoded ends the link once its request is pending, so
-            // its caller is answered with the link's end.
-            Err(reason) => (Err(reason), Vec::new()),
+            let command = job.request.command();
+            let frame = match job.request.to_frame(job.id) {
+                Ok(frame) => frame,
+                Err(source) => {
+                    let _ = job.answer.send(Err(TalosError::Encode { command, source }));
+                    continue;
+                }
+            };
+            match self.encode(&frame) {
+                Ok(frame_bytes) => {
+                    bytes.extend_from_slice(&frame_bytes);
+                    encoded.push((job, frame_bytes));
+                }
+                Err(reason) => {
+                    failed = Some(reason);
+                    unsent.push(job);
+                }
+            }
+        }
+        // The frames are written before they are made pending: the bookkeeping costs them
+        // nothing, and no reply can be read before it is done (this task does both).
+        let written = if bytes.is_empty() {
+            Ok(())
+        } else {
+            key_stages::mark(Stage::Encoded);
+            let written = self.write(writer, &bytes).await;
+            key_stages::mark(Stage::Written);
+            written
         };
+        for (job, request_bytes) in encoded {
+            self.motion.note(&job.request);
+            self.make_pending(job, request_bytes, sent);
+        }
+        for job in unsent {
+            self.make_pending(job, Vec::new(), sent);
+        }
+        match failed {
+            Some(reason) => Err(reason),
+            None => written,
+        }
+    }
+
+    fn make_pending(&mut self, job: Job, request_bytes: Vec<u8>, sent: Instant) {
         let pending = Pending {
-            id,
+            id: job.id,
             request: job.request,
             request_bytes,
             sent,
             answer: job.answer,
         };
-        self.motion.note(&pending.request);
         match self.dialect {
             Dialect::Icd => {
-                self.pending.insert(id, pending);
+                self.pending.insert(pending.id, pending);
             }
             Dialect::Ack => self.queue_ack_wait(pending, 1, sent),
         }
-        written
     }
 
     fn on_frame(&mut self, frame: TalosFrame) {
