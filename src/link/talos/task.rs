@@ -293,8 +293,7 @@ impl LinkTask {
     ) -> Result<(), String> {
         key_stages::mark(Stage::LinkTook);
         let sent = Instant::now();
-        let mut bytes = Vec::new();
-        let mut encoded = Vec::with_capacity(batch.len());
+        let mut encoded: Vec<(Job, Vec<u8>)> = Vec::with_capacity(batch.len());
         let mut unsent = Vec::new();
         let mut failed = None;
         for job in batch {
@@ -311,10 +310,7 @@ impl LinkTask {
                 }
             };
             match self.encode(&frame) {
-                Ok(frame_bytes) => {
-                    bytes.extend_from_slice(&frame_bytes);
-                    encoded.push((job, frame_bytes));
-                }
+                Ok(frame_bytes) => encoded.push((job, frame_bytes)),
                 Err(reason) => {
                     failed = Some(reason);
                     unsent.push(job);
@@ -323,13 +319,14 @@ impl LinkTask {
         }
         // The frames are written before they are made pending: the bookkeeping costs them
         // nothing, and no reply can be read before it is done (this task does both).
-        let written = if bytes.is_empty() {
-            Ok(())
-        } else {
-            key_stages::mark(Stage::Encoded);
-            let written = self.write(writer, &bytes).await;
-            key_stages::mark(Stage::Written);
-            written
+        let written = match encoded.as_slice() {
+            [] => Ok(()),
+            // One frame (a key's START or STOP): its bytes as they are, not copied.
+            [(_, bytes)] => self.write_marked(writer, bytes).await,
+            frames => {
+                let bytes: Vec<u8> = frames.iter().flat_map(|(_, b)| b.iter().copied()).collect();
+                self.write_marked(writer, &bytes).await
+            }
         };
         for (job, request_bytes) in encoded {
             self.motion.note(&job.request);
@@ -342,6 +339,18 @@ impl LinkTask {
             Some(reason) => Err(reason),
             None => written,
         }
+    }
+
+    /// [`Self::write`], with the key path's stages marked around it.
+    async fn write_marked<W: AsyncWrite + Unpin>(
+        &self,
+        writer: &mut W,
+        bytes: &[u8],
+    ) -> Result<(), String> {
+        key_stages::mark(Stage::Encoded);
+        let written = self.write(writer, bytes).await;
+        key_stages::mark(Stage::Written);
+        written
     }
 
     fn make_pending(&mut self, job: Job, request_bytes: Vec<u8>, sent: Instant) {
