@@ -13,7 +13,7 @@
 //! it can. That sleep lasts the thread's timer slack (50 us by default; 68 us measured on the
 //! 2-core VM), and the console does nothing meanwhile: so only a START or STOP earns it, not the
 //! telemetry polls. At rest the yield hands over (the operator, woken on this core, runs), and
-//! a sleep then cost the tail: with the sleep alone press->START p99 was 0.59-0.63 ms against
+//! a sleep then cost the tail: with the sleep alone press->START p99 was 0.57-0.63 ms against
 //! 0.47-0.57 for the yield alone.
 //! Measured with `benches/pty_latency.py --compare`, 300 cycles, the yield alone against this
 //! (and the Python floor), same run: under `stress --cpu 2` release->STOP p50 0.098 / 0.104 ms
