@@ -229,8 +229,8 @@ impl TalosLink {
         config: TalosConfig,
     ) -> Result<(TalosLink, mpsc::UnboundedReceiver<TalosEvent>), TalosError> {
         let stream = connect_with_timeout(&config.addr, config.connect_timeout).await?;
-        let local_peer = config.give_way && hand_off::peer_on_this_host(&stream);
-        Ok(Self::start(stream, config, local_peer))
+        let give_way = config.give_way && hand_off::peer_on_this_host(&stream);
+        Ok(Self::start(stream, config, give_way))
     }
 
     /// Runs a link over an already connected transport (a TCP stream, or an in-memory one in
@@ -246,12 +246,12 @@ impl TalosLink {
         Self::start(stream, config, false)
     }
 
-    /// `local_peer`: the operator runs on this machine, and is given the CPU once a START or
+    /// `give_way`: the operator runs on this machine and may be given the CPU once a START or
     /// STOP is written (see [`hand_off`]).
     fn start<S>(
         stream: S,
         config: TalosConfig,
-        local_peer: bool,
+        give_way: bool,
     ) -> (TalosLink, mpsc::UnboundedReceiver<TalosEvent>)
     where
         S: AsyncRead + AsyncWrite + Send + 'static,
@@ -260,13 +260,7 @@ impl TalosLink {
         let (events_tx, events_rx) = mpsc::unbounded_channel();
         let ids = Arc::new(CommandIds::default());
         let overflow = Arc::new(Notify::new());
-        let task = LinkTask::new(
-            &config,
-            ids.clone(),
-            events_tx,
-            overflow.clone(),
-            local_peer,
-        );
+        let task = LinkTask::new(&config, ids.clone(), events_tx, overflow.clone(), give_way);
         // Boxed: the task is on the key path (see `Driver::spawn`).
         tokio::spawn(Box::pin(task.run(stream, jobs_rx)));
         (

@@ -75,8 +75,9 @@ pub(super) struct LinkTask {
     events: mpsc::UnboundedSender<TalosEvent>,
     /// Told by a caller that found the queue full.
     overflow: Arc<Notify>,
-    /// The operator runs on this machine: it gets the CPU once a START or STOP is written.
-    local_peer: bool,
+    /// The operator runs on this machine and the console allows it: the operator gets the CPU
+    /// once a START or STOP is written ([`hand_off`]).
+    give_way: bool,
 }
 
 /// What arrives from the operator, in either dialect.
@@ -108,7 +109,7 @@ impl LinkTask {
         ids: Arc<CommandIds>,
         events: mpsc::UnboundedSender<TalosEvent>,
         overflow: Arc<Notify>,
-        local_peer: bool,
+        give_way: bool,
     ) -> LinkTask {
         LinkTask {
             dialect: config.dialect,
@@ -123,7 +124,7 @@ impl LinkTask {
             motion: MotionSinceStop::new(config.dialect),
             events,
             overflow,
-            local_peer,
+            give_way,
         }
     }
 
@@ -169,7 +170,7 @@ impl LinkTask {
                         }
                         // The operator on this machine reads a START or STOP now, not after the
                         // rest of this thread's burst; a stop set's frames go out together first.
-                        if urgent && self.local_peer && jobs.is_empty() {
+                        if urgent && self.give_way && jobs.is_empty() {
                             hand_off::give_way();
                         }
                     }
