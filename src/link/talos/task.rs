@@ -226,16 +226,23 @@ impl LinkTask {
         }
     }
 
-    /// Writes the stop set if anything may be moving; the first write that fails ends it.
+    /// Writes the stop set, in one write as a key's is, if anything may be moving.
     async fn write_stops<W: AsyncWrite + Unpin>(&mut self, writer: &mut W) -> Result<(), String> {
-        for stop in self.motion.owed().to_vec() {
+        let owed = self.motion.owed().to_vec();
+        let mut bytes = Vec::new();
+        for stop in &owed {
             let id = self.ids.next();
             match stop.to_frame(id) {
-                Ok(frame) => self.write(writer, &self.encode(&frame)?).await?,
+                Ok(frame) => bytes.extend_from_slice(&self.encode(&frame)?),
                 // The stop set encodes by construction; say so if that ever changes.
                 Err(e) => tracing::error!("cannot encode {}: {e}", stop.command()),
             }
-            self.motion.note(&stop);
+        }
+        if !bytes.is_empty() {
+            self.write(writer, &bytes).await?;
+        }
+        for stop in &owed {
+            self.motion.note(stop);
         }
         Ok(())
     }
