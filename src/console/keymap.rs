@@ -137,6 +137,30 @@ impl Keymap {
         })
     }
 
+    /// The jog actions a release of `key` ends: those bound to `key`, to the key without
+    /// modifiers, and to the other case of a letter (a release may carry other modifiers than
+    /// its press: shift pressed mid-hold turns the release of "w" into "W").
+    pub fn release_candidates(&self, key: &KeyName) -> Vec<Action> {
+        let bare = key.without_modifiers();
+        let mut keys = vec![*key, bare];
+        if let BaseKey::Char(c) = bare.base() {
+            keys.extend(
+                [single_char(c.to_lowercase()), single_char(c.to_uppercase())]
+                    .into_iter()
+                    .flatten()
+                    .map(KeyName::char),
+            );
+        }
+        let mut actions: Vec<Action> = keys
+            .iter()
+            .filter_map(|k| self.action(k))
+            .filter(|a| a.jog().is_some())
+            .collect();
+        actions.sort();
+        actions.dedup();
+        actions
+    }
+
     /// The keys bound to an action, unmodified keys first (for the help overlay and hints).
     pub fn keys_for(&self, action: Action) -> Vec<KeyName> {
         self.bindings
@@ -271,6 +295,12 @@ impl fmt::Display for KeymapError {
 }
 
 impl std::error::Error for KeymapError {}
+
+/// The one char of a case mapping, if it is one.
+fn single_char(mut chars: impl Iterator<Item = char>) -> Option<char> {
+    let first = chars.next()?;
+    chars.next().is_none().then_some(first)
+}
 
 #[cfg(test)]
 mod tests {

@@ -79,7 +79,7 @@ impl App {
         now: Instant,
         effects: &mut Vec<Effect>,
     ) {
-        for action in self.release_candidates(&key.key) {
+        for action in self.config.keymap.release_candidates(&key.key) {
             let jog = self.keys.jog_mut().key(action, key.kind, now);
             self.apply_jog(jog, now, effects);
         }

@@ -8,7 +8,7 @@ use super::{App, Effect, KeyInput, Overlay, Severity};
 use crate::console::action::Action;
 use crate::console::form::{Confirm, Form, FormKind};
 use crate::console::jog::KeyKind;
-use crate::console::keymap::{BaseKey, KeyName, NamedKey};
+use crate::console::keymap::{KeyName, NamedKey};
 use crate::link::interface::{ArmCommand, StepMove};
 
 /// The keys the console knows whatever the keymap: ctrl+c quits, and dialogs and forms answer
@@ -128,29 +128,6 @@ impl App {
                 );
             }
         }
-    }
-
-    /// The jog actions bound to `key`, to the key without modifiers, and to the other case of
-    /// a letter.
-    pub(super) fn release_candidates(&self, key: &KeyName) -> Vec<Action> {
-        let bare = key.without_modifiers();
-        let mut keys = vec![*key, bare];
-        if let BaseKey::Char(c) = bare.base() {
-            keys.extend(
-                [single_char(c.to_lowercase()), single_char(c.to_uppercase())]
-                    .into_iter()
-                    .flatten()
-                    .map(KeyName::char),
-            );
-        }
-        let mut actions: Vec<Action> = keys
-            .iter()
-            .filter_map(|k| self.config.keymap.action(k))
-            .filter(|a| a.jog().is_some())
-            .collect();
-        actions.sort();
-        actions.dedup();
-        actions
     }
 
     fn step_move(&mut self, action: Action, now: Instant, effects: &mut Vec<Effect>) {
@@ -363,10 +340,4 @@ impl App {
             }
         }
     }
-}
-
-/// The one character of a case mapping, if it is one (not "SS" for "ß"): only that is a key.
-fn single_char(mut chars: impl Iterator<Item = char>) -> Option<char> {
-    let first = chars.next()?;
-    chars.next().is_none().then_some(first)
 }
