@@ -627,3 +627,54 @@ fn refresh_due_says_exactly_when_a_tick_would_resend_start() {
     assert!(!jog.refresh_due(t0 + 3 * REFRESH), "released: no refresh");
     assert!(jog.tick(t0 + 3 * REFRESH).is_empty());
 }
+
+#[test]
+fn only_the_one_key_that_moves_the_arm_alone_is_stopped_by_its_release() {
+    let (mut jog, t0) = reported();
+    assert_eq!(jog.stopped_by_release(), None, "nothing down");
+    jog.key(Action::JogXPlus, KeyKind::Press, t0);
+    assert_eq!(jog.stopped_by_release(), Some(Action::JogXPlus));
+    // A second key down: the first's release changes the motion, it does not stop it.
+    jog.key(Action::JogYMinus, KeyKind::Press, t0 + ms(10));
+    assert_eq!(jog.stopped_by_release(), None);
+    assert_eq!(
+        jog.key(Action::JogXPlus, KeyKind::Release, t0 + ms(20)),
+        [cart(0, -1, 0)]
+    );
+    assert_eq!(jog.stopped_by_release(), Some(Action::JogYMinus));
+    // What it names is what its release does: stop.
+    assert_eq!(
+        jog.key(Action::JogYMinus, KeyKind::Release, t0 + ms(30)),
+        [JogEffect::Stop]
+    );
+    assert_eq!(jog.stopped_by_release(), None);
+}
+
+#[test]
+fn a_latched_key_or_opposite_keys_or_the_fallback_name_no_release_stop() {
+    let (mut jog, t0) = reported();
+    jog.key(Action::JogXPlus, KeyKind::Press, t0);
+    jog.stop_all(t0 + ms(10));
+    assert_eq!(jog.stopped_by_release(), None, "latched: nothing moves");
+
+    let (mut jog, t0) = reported();
+    jog.key(Action::JogXPlus, KeyKind::Press, t0);
+    jog.key(Action::JogXMinus, KeyKind::Press, t0 + ms(10));
+    assert!(!jog.is_jogging());
+    assert_eq!(jog.stopped_by_release(), None, "cancelled: nothing moves");
+
+    let (mut jog, t0) = fallback();
+    for i in 0..40 {
+        jog.key(
+            Action::JogXPlus,
+            KeyKind::Press,
+            t0 + ms(if i == 0 { 0 } else { 500 + 33 * i }),
+        );
+    }
+    assert!(jog.is_jogging(), "a confirmed hold in the fallback");
+    assert_eq!(
+        jog.stopped_by_release(),
+        None,
+        "no release comes in the fallback"
+    );
+}
