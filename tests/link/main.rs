@@ -21,6 +21,7 @@ mod modbus_paused;
 mod modbus_speed_cap;
 mod stop_paths;
 mod talos;
+mod talos_ahead;
 mod talos_batch;
 mod talos_first_exchange;
 mod talos_paused;

@@ -22,6 +22,7 @@
 //! late ACK for it is then absorbed, not paired with a newer request), and a STOP without an
 //! ACK is re-sent ([`STOP_ACK_TRIES`] frames, [`STOP_ACK_INTERVAL`] apart) before it fails.
 
+mod ahead;
 mod hint;
 mod motion;
 mod task;
@@ -38,11 +39,25 @@ use crate::net::{ConnectError, DEFAULT_FRAME_DEADLINE, connect_with_timeout, han
 use crate::talos::frame::Rejection;
 use crate::talos::message::{DecodeError, EncodeError};
 use crate::talos::{Checksum, CommandValue, Reply, Request, ReturnCode};
+pub use ahead::{AheadOutcome, StopAhead};
 use hint::checksum_hint;
 pub use hint::{first_exchange_error, wait_for_checksum_fit};
 use task::LinkTask;
 // Re-exported so the link's callers keep naming it `link::Dialect`.
 pub use crate::talos::Dialect;
+
+/// The link's socket again, for the stop set written ahead: same connection, same non-blocking
+/// file description. `None` (nothing written ahead) when the descriptor cannot be duplicated.
+fn ahead_socket(stream: &tokio::net::TcpStream) -> Option<ahead::AheadSocket> {
+    use std::os::fd::AsFd;
+    match stream.as_fd().try_clone_to_owned() {
+        Ok(fd) => Some(Box::new(std::net::TcpStream::from(fd))),
+        Err(e) => {
+            tracing::warn!("talos: no stop set written ahead (the socket: {e})");
+            None
+        }
+    }
+}
 
 /// Default port of the deployed operator.
 pub const DEFAULT_PORT: u16 = 61616;
@@ -73,6 +88,9 @@ pub struct TalosConfig {
     /// written ([`hand_off`]). Off when another link's STOP is carried by the same thread: it
     /// must not wait for the operator's turn.
     pub give_way: bool,
+    /// Where the link arms the stop set it owes, for the console's terminal reader to write the
+    /// moment the jog key comes up ([`StopAhead`]). TCP links only.
+    pub stop_ahead: Option<StopAhead>,
 }
 
 impl TalosConfig {
@@ -85,6 +103,7 @@ impl TalosConfig {
             request_timeout: Duration::from_millis(500),
             frame_deadline: DEFAULT_FRAME_DEADLINE,
             give_way: true,
+            stop_ahead: None,
         }
     }
 }
@@ -230,7 +249,11 @@ impl TalosLink {
     ) -> Result<(TalosLink, mpsc::UnboundedReceiver<TalosEvent>), TalosError> {
         let stream = connect_with_timeout(&config.addr, config.connect_timeout).await?;
         let give_way = config.give_way && hand_off::peer_on_this_host(&stream);
-        Ok(Self::start(stream, config, give_way))
+        let ahead = match &config.stop_ahead {
+            Some(slot) => ahead_socket(&stream).map(|socket| slot.attach(socket, give_way)),
+            None => None,
+        };
+        Ok(Self::start(stream, config, give_way, ahead))
     }
 
     /// Runs a link over an already connected transport (a TCP stream, or an in-memory one in
@@ -243,7 +266,7 @@ impl TalosLink {
     where
         S: AsyncRead + AsyncWrite + Send + 'static,
     {
-        Self::start(stream, config, false)
+        Self::start(stream, config, false, None)
     }
 
     /// `give_way`: the operator runs on this machine and may be given the CPU once a START or
@@ -252,6 +275,7 @@ impl TalosLink {
         stream: S,
         config: TalosConfig,
         give_way: bool,
+        ahead: Option<ahead::Attached>,
     ) -> (TalosLink, mpsc::UnboundedReceiver<TalosEvent>)
     where
         S: AsyncRead + AsyncWrite + Send + 'static,
@@ -260,7 +284,14 @@ impl TalosLink {
         let (events_tx, events_rx) = mpsc::unbounded_channel();
         let ids = Arc::new(CommandIds::default());
         let overflow = Arc::new(Notify::new());
-        let task = LinkTask::new(&config, ids.clone(), events_tx, overflow.clone(), give_way);
+        let task = LinkTask::new(
+            &config,
+            ids.clone(),
+            events_tx,
+            overflow.clone(),
+            give_way,
+            ahead,
+        );
         // Boxed: the task is on the key path (see `Driver::spawn`).
         tokio::spawn(Box::pin(task.run(stream, jobs_rx)));
         (

@@ -12,6 +12,7 @@ use tokio::io::{AsyncRead, AsyncWrite, AsyncWriteExt, ReadHalf, WriteHalf};
 use tokio::sync::{Notify, mpsc};
 use tokio_util::codec::FramedRead;
 
+use super::ahead::{AheadFrame, Attached};
 use super::motion::MotionSinceStop;
 use super::{Answer, AnswerTx, CommandIds, Exchange, Job, TalosError, TalosEvent, WRITE_STALL};
 use crate::key_stages::{self, Stage};
@@ -33,6 +34,8 @@ struct Pending {
     request_bytes: Vec<u8>,
     sent: Instant,
     answer: AnswerTx,
+    /// Written ahead by the terminal reader ([`super::ahead`]): nobody waits for its answer.
+    ahead: bool,
 }
 
 /// Why the link ended, and whether its write side may still carry a stop.
@@ -78,6 +81,19 @@ pub(super) struct LinkTask {
     /// The operator runs on this machine and the console allows it: the operator gets the CPU
     /// once a START or STOP is written ([`hand_off`]).
     give_way: bool,
+    /// The slot the stop set is armed in for the terminal reader, when the console asked for
+    /// one and the transport is a socket ([`super::ahead`]).
+    ahead: Option<Attached>,
+    /// The stop set armed there now (empty: none).
+    ahead_owed: Vec<Request>,
+}
+
+/// Resolves when `signal` is told; never without one.
+async fn signalled(signal: Option<&Notify>) {
+    match signal {
+        Some(signal) => signal.notified().await,
+        None => std::future::pending().await,
+    }
 }
 
 /// What arrives from the operator, in either dialect.
@@ -110,6 +126,7 @@ impl LinkTask {
         events: mpsc::UnboundedSender<TalosEvent>,
         overflow: Arc<Notify>,
         give_way: bool,
+        ahead: Option<Attached>,
     ) -> LinkTask {
         LinkTask {
             dialect: config.dialect,
@@ -125,6 +142,8 @@ impl LinkTask {
             events,
             overflow,
             give_way,
+            ahead,
+            ahead_owed: Vec::new(),
         }
     }
 
@@ -146,6 +165,7 @@ impl LinkTask {
         };
         let mut sweep = tokio::time::interval(Duration::from_secs(1));
         let mut ack_expiry = Deadline::new();
+        let written_ahead = self.ahead.as_ref().map(Attached::written_signal);
         let end = loop {
             ack_expiry.set(self.next_ack_expiry());
             tokio::select! {
@@ -173,6 +193,8 @@ impl LinkTask {
                         if urgent && self.give_way && jobs.is_empty() {
                             hand_off::give_way();
                         }
+                        // After the hand-over: the START's receiver does not wait for it.
+                        self.arm_ahead();
                     }
                     None => {
                         // Every caller is gone: stop what may be moving, then close.
@@ -180,22 +202,31 @@ impl LinkTask {
                         return;
                     }
                 },
+                () = signalled(written_ahead.as_deref()) => {
+                    if let Err(reason) = self.on_written_ahead(&mut writer).await {
+                        break End::write(reason);
+                    }
+                }
                 _ = ack_expiry.fired(), if ack_expiry.armed() => {
                     if let Err(reason) = self.expire_acks(&mut writer).await {
                         break End::write(reason);
                     }
                 }
                 _ = sweep.tick() => self.sweep(),
-                item = reader.next() => match item {
-                    Some(Ok(Incoming::TalosFrame(Decoded::TalosFrame(frame)))) => self.on_frame(frame),
-                    Some(Ok(Incoming::TalosFrame(Decoded::Rejected(r)))) => self.on_rejection(r),
-                    Some(Ok(Incoming::Ack(AckItem::Ack))) => self.on_ack(),
-                    Some(Ok(Incoming::Ack(AckItem::Garbage(n)))) => {
-                        self.event(TalosEvent::UnexpectedAckBytes(n));
+                item = reader.next() => {
+                    // Frames written ahead went out before anything that could answer them.
+                    self.take_ahead();
+                    match item {
+                        Some(Ok(Incoming::TalosFrame(Decoded::TalosFrame(frame)))) => self.on_frame(frame),
+                        Some(Ok(Incoming::TalosFrame(Decoded::Rejected(r)))) => self.on_rejection(r),
+                        Some(Ok(Incoming::Ack(AckItem::Ack))) => self.on_ack(),
+                        Some(Ok(Incoming::Ack(AckItem::Garbage(n)))) => {
+                            self.event(TalosEvent::UnexpectedAckBytes(n));
+                        }
+                        Some(Err(e)) => break End::read(format!("read failed: {}", io_error_words(&e))),
+                        None => break End::read("the operator closed the connection".to_string()),
                     }
-                    Some(Err(e)) => break End::read(format!("read failed: {}", io_error_words(&e))),
-                    None => break End::read("the operator closed the connection".to_string()),
-                },
+                }
             }
         };
         let reason = end.reason;
@@ -219,6 +250,8 @@ impl LinkTask {
         {
             tracing::warn!("talos: the stop set after the link was lost: {reason}");
         }
+        // Nothing more is written ahead on a link that ended.
+        self.ahead = None;
         while let Some(job) = jobs.recv().await {
             let _ = job.answer.send(Err(TalosError::Disconnected {
                 reason: "the link was lost earlier".into(),
@@ -254,10 +287,35 @@ impl LinkTask {
             .map_err(|e| format!("write failed: {e}"))
     }
 
+    /// Writes `bytes` as [`Self::write_bytes`] does. With a stop set armed ahead, nothing is
+    /// written there meanwhile, and what was written there is taken first: made pending, and
+    /// its bytes the socket did not take written before these.
+    async fn write<W: AsyncWrite + Unpin>(
+        &mut self,
+        writer: &mut W,
+        bytes: &[u8],
+    ) -> Result<(), String> {
+        let taken = match &self.ahead {
+            Some(ahead) => ahead.begin_write(),
+            None => return self.write_bytes(writer, bytes).await,
+        };
+        self.own_ahead(taken.frames);
+        let written = if taken.unwritten.is_empty() {
+            self.write_bytes(writer, bytes).await
+        } else {
+            let joined = [taken.unwritten.as_slice(), bytes].concat();
+            self.write_bytes(writer, &joined).await
+        };
+        if let Some(ahead) = &self.ahead {
+            ahead.end_write();
+        }
+        written
+    }
+
     /// Writes one frame's bytes, or says why the link must end: a write error, a write that
     /// could not complete within [`WRITE_STALL`], or a caller that found the queue full
     /// meanwhile.
-    async fn write<W: AsyncWrite + Unpin>(
+    async fn write_bytes<W: AsyncWrite + Unpin>(
         &self,
         writer: &mut W,
         bytes: &[u8],
@@ -351,7 +409,7 @@ impl LinkTask {
 
     /// [`Self::write`], with the key path's stages marked around it.
     async fn write_marked<W: AsyncWrite + Unpin>(
-        &self,
+        &mut self,
         writer: &mut W,
         bytes: &[u8],
     ) -> Result<(), String> {
@@ -368,13 +426,105 @@ impl LinkTask {
             request_bytes,
             sent,
             answer: job.answer,
+            ahead: false,
         };
+        self.insert_pending(pending, sent);
+    }
+
+    fn insert_pending(&mut self, pending: Pending, sent: Instant) {
         match self.dialect {
             Dialect::Icd => {
                 self.pending.insert(pending.id, pending);
             }
             Dialect::Ack => self.queue_ack_wait(pending, 1, sent),
         }
+    }
+
+    /// Makes frames written ahead ([`super::ahead`]) this task's, in the order written: noted
+    /// as stops, and pending (replies paired, an ack-dialect STOP without its ACK sent again),
+    /// with nobody waiting for their answers.
+    fn own_ahead(&mut self, frames: Vec<AheadFrame>) {
+        if frames.is_empty() {
+            return;
+        }
+        let ids: Vec<u32> = frames.iter().map(|f| f.id).collect();
+        tracing::info!("stop set written ahead at a jog key's release (ids {ids:?})");
+        let sent = Instant::now();
+        for frame in frames {
+            self.motion.note(&frame.request);
+            // The receiver is dropped: the answer is only logged.
+            let (answer, _) = tokio::sync::oneshot::channel();
+            let pending = Pending {
+                id: frame.id,
+                request: frame.request,
+                request_bytes: frame.bytes,
+                sent,
+                answer,
+                ahead: true,
+            };
+            self.insert_pending(pending, sent);
+        }
+        // Written: armed no more.
+        self.ahead_owed.clear();
+    }
+
+    /// Takes what was written ahead since the last write or reply, and arms what is owed now.
+    fn take_ahead(&mut self) {
+        let frames = match &self.ahead {
+            Some(ahead) => ahead.take_written(),
+            None => return,
+        };
+        self.own_ahead(frames);
+        self.arm_ahead();
+    }
+
+    /// The terminal reader wrote the stop set: it is this task's now, and bytes of it the socket
+    /// did not take are written at once.
+    async fn on_written_ahead<W: AsyncWrite + Unpin>(
+        &mut self,
+        writer: &mut W,
+    ) -> Result<(), String> {
+        self.take_ahead();
+        if self.ahead.as_ref().is_some_and(Attached::unfinished) {
+            self.write(writer, &[]).await?;
+        }
+        Ok(())
+    }
+
+    /// Arms the stop set the link owes now for the terminal reader, its ids taken; disarms it
+    /// when none is owed. Unchanged while the set owed is.
+    fn arm_ahead(&mut self) {
+        let Some(ahead) = &self.ahead else {
+            return;
+        };
+        let owed = self.motion.owed();
+        if owed == self.ahead_owed.as_slice() {
+            return;
+        }
+        let owed = owed.to_vec();
+        let mut frames = Vec::with_capacity(owed.len());
+        for request in &owed {
+            let id = self.ids.next();
+            let bytes = match request.to_frame(id) {
+                Ok(frame) => self.encode(&frame),
+                Err(e) => Err(e.to_string()),
+            };
+            match bytes {
+                Ok(bytes) => frames.push(AheadFrame {
+                    id,
+                    request: request.clone(),
+                    bytes,
+                }),
+                // The stop set encodes by construction; nothing is armed if that ever changes.
+                Err(e) => {
+                    tracing::error!("cannot arm {} ahead: {e}", request.command());
+                    frames.clear();
+                    break;
+                }
+            }
+        }
+        ahead.arm(frames);
+        self.ahead_owed = owed;
     }
 
     fn on_frame(&mut self, frame: TalosFrame) {
@@ -412,7 +562,8 @@ impl LinkTask {
                 source,
             }),
         };
-        if pending.answer.send(result).is_err() {
+        let ahead = pending.ahead;
+        if pending.answer.send(result).is_err() && !ahead {
             self.event(TalosEvent::LateReply { id, command });
         }
     }
