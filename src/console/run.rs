@@ -20,7 +20,7 @@ use ratatui::backend::CrosstermBackend;
 use super::app::{App, AppConfig, BookState, Effect, Input, KeyInput, Pasted, Severity};
 use super::audit::{self, AuditSession};
 use super::book_io::{self, BookFiles};
-use super::input::{self, TerminalEvent};
+use super::input::{self, ReleaseStop, TerminalEvent};
 use super::input_first;
 use super::jog::{KeyKind, ReleaseMode};
 use super::keymap::{KeyName, Keymap, shifted_letter};
@@ -33,6 +33,7 @@ use super::view::View;
 use crate::key_stages::{self, Stage};
 use crate::link::driver::{Driver, DriverConfig, StopHandle};
 use crate::link::interface::{ArmCommand, ArmEvent};
+use crate::link::talos::StopAhead;
 use crate::net::Deadline;
 
 /// Everything the console needs to start.
@@ -110,7 +111,14 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
     let max_jog_speed = setup.driver.max_jog_speed;
     let joint_jog_speed = setup.driver.joint_jog_speed;
     let arm = setup.driver.target();
-    let (driver, arm_events) = Driver::spawn(setup.driver);
+    // The Talos link keeps its stop set encoded here, for the terminal reader to write at a
+    // jog key's release (`input::release_stop`).
+    let mut driver_config = setup.driver;
+    let stop_ahead = driver_config
+        .talos
+        .as_mut()
+        .map(|talos| talos.stop_ahead.insert(StopAhead::new()).clone());
+    let (driver, arm_events) = Driver::spawn(driver_config);
 
     let release_events = terminal::enter(setup.release_events)?;
     let drawing = Arc::new(AtomicBool::new(true));
@@ -139,6 +147,7 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
                 driver: driver.clone(),
                 arm_events,
                 painter,
+                stop_ahead,
             };
             // A task of its own, boxed: a key's wake-up polls the loop straight from the
             // runtime, not through this set-up and the command dispatch above it. Every page
@@ -191,6 +200,7 @@ struct LoopParts {
     driver: Driver,
     arm_events: tokio::sync::mpsc::UnboundedReceiver<ArmEvent>,
     painter: Painter,
+    stop_ahead: Option<StopAhead>,
 }
 
 async fn loop_task(
@@ -205,6 +215,7 @@ async fn loop_task(
         &mut parts.audit,
         &parts.driver,
         &mut parts.arm_events,
+        parts.stop_ahead.clone(),
         Screen {
             painter: &parts.painter,
             size,
@@ -282,8 +293,10 @@ async fn event_loop(
     audit: &mut AuditSession,
     driver: &Driver,
     arm_events: &mut tokio::sync::mpsc::UnboundedReceiver<ArmEvent>,
+    stop_ahead: Option<StopAhead>,
     mut screen: Screen<'_>,
 ) -> Result<(), ConsoleError> {
+    let keymap = config.keymap.clone();
     let mut app = App::new(config, PositionBook::new());
     if let Some(path) = &book.path {
         app.begin_loading_positions(path.display().to_string());
@@ -297,6 +310,9 @@ async fn event_loop(
     );
     // Read by the console itself: every readable byte is decoded on each wake (see `input`).
     let mut keys = input::open()?;
+    if let Some(ahead) = stop_ahead {
+        keys.set_release_stop(ReleaseStop::new(ahead, keymap));
+    }
     let mut signals = Signals::new()?;
     let mut pacer = FramePacer::default();
     pacer.changed(true, Instant::now());
@@ -375,6 +391,7 @@ async fn event_loop(
         let mut sent = false;
         let effects = app.handle(input, now);
         key_stages::mark(Stage::Decided);
+        keys.arm_release_stop(app.jog().stopped_by_release());
         for effect in effects {
             match effect {
                 Effect::Arm(command) => {
