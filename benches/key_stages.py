@@ -36,14 +36,16 @@ STAGES = [
     "Woken", "Read", "Input", "Decided", "Handed", "DriverTook", "Routed", "LinkTook",
     "Encoded", "Written", "Resumed", "Parked",
 ]
-WOKEN, READ, INPUT, WRITTEN, PARKED = 0, 1, 2, 9, 11
+WOKEN, READ, INPUT, ENCODED, WRITTEN, PARKED = 0, 1, 2, 8, 9, 11
 
 
 def keys_of(marks):
     """Per key, {stage: ns since the wake it was read after}, in the order the keys came."""
     keys = []
     for i, (stage, _) in enumerate(marks):
-        if stage != READ or i + 1 >= len(marks) or marks[i + 1][0] != INPUT:
+        # A read the event loop took next, or one whose release had the stop set written
+        # ahead first (`console/input/release_stop.rs`: Encoded and Written come before Input).
+        if stage != READ or i + 1 >= len(marks) or marks[i + 1][0] not in (INPUT, ENCODED):
             continue
         start = i
         while start > 0 and marks[start][0] != WOKEN:
@@ -67,14 +69,20 @@ def percentile(values, p):
 
 
 def print_steps(title, keys):
+    """Each stage's step from the stage before it in time (by the median since the wake: a
+    stop set written ahead makes Encoded and Written come before Input), and since the wake."""
     print(f"  {title}: {len(keys)} keys (us)")
+    if not keys:
+        return
     print(f"    {'stage':<12} {'step p50':>9} {'step p90':>9} {'since wake p50':>15}")
-    for index in range(1, len(STAGES)):
-        with_both = [k for k in keys if index in k and index - 1 in k]
+    present = [i for i in range(len(STAGES)) if any(i in k for k in keys)]
+    order = sorted(present, key=lambda i: percentile([k[i] for k in keys if i in k], 0.5))
+    for before, index in zip(order, order[1:]):
+        with_both = [k for k in keys if index in k and before in k]
         since = [k[index] for k in keys if index in k]
-        if not with_both or not since:
+        if not with_both:
             continue
-        steps = [k[index] - k[index - 1] for k in with_both]
+        steps = [k[index] - k[before] for k in with_both]
         print(
             f"    {STAGES[index]:<12} {percentile(steps, 0.5) / 1000:9.1f}"
             f" {percentile(steps, 0.9) / 1000:9.1f} {percentile(since, 0.5) / 1000:15.1f}"
