@@ -1,5 +1,5 @@
 //! The arm view's geometry, pure: where the base, the joints and the tool point are for the
-//! joint angles the telemetry reports (forward kinematics from [`kortex::gen3`], the same
+//! joint angles the telemetry reports (forward kinematics from [`crate::kortex::gen3`], the same
 //! figures the simulator uses), the reach envelope, the two projections the panel draws, and
 //! which way a jog moves the tool point.
 

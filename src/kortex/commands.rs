@@ -151,9 +151,9 @@ fn start_cartesian(move_type: MoveType, frame: ReferenceFrame, target: [f32; 6])
 /// Starts a twist, or replaces the running one (the ICD does not say whether 204-215 are read
 /// while a twist runs, so an update is a full restart with the new values):
 ///
-/// 1. FC16 200 <- [0] (no action: the start below is then a fresh command)
-/// 2. FC16 202-215 <- [3 (twist), frame, x, y, z m/s, theta x, y, z deg/s], floats CDAB
-/// 3. FC16 200 <- [1] (start)
+/// 1. FC16 200 <- `[0]` (no action: the start below is then a fresh command)
+/// 2. FC16 202-215 <- `[3 (twist), frame, x, y, z m/s, theta x, y, z deg/s]`, floats CDAB
+/// 3. FC16 200 <- `[1]` (start)
 pub fn twist(frame: ReferenceFrame, twist: Twist) -> Result<Vec<Write>, CommandError> {
     check_twist(twist)?;
     Ok(start_cartesian(MoveType::Twist, frame, twist.to_array()))
@@ -161,16 +161,16 @@ pub fn twist(frame: ReferenceFrame, twist: Twist) -> Result<Vec<Write>, CommandE
 
 /// Stops the running twist, action or trajectory:
 ///
-/// 1. FC16 200 <- [2] (action stop)
+/// 1. FC16 200 <- `[2]` (action stop)
 pub fn stop() -> Vec<Write> {
     vec![Write::command(ActionCommand::Stop)]
 }
 
 /// Moves the tool to a pose (move type 2, cartesian trajectory):
 ///
-/// 1. FC16 200 <- [0] (no action)
-/// 2. FC16 202-215 <- [2 (cartesian trajectory), frame, x, y, z m, theta x, y, z deg], CDAB
-/// 3. FC16 200 <- [1] (start)
+/// 1. FC16 200 <- `[0]` (no action)
+/// 2. FC16 202-215 <- `[2 (cartesian trajectory), frame, x, y, z m, theta x, y, z deg]`, CDAB
+/// 3. FC16 200 <- `[1]` (start)
 pub fn go_to_pose(frame: ReferenceFrame, pose: Pose) -> Result<Vec<Write>, CommandError> {
     let values = pose.to_array();
     finite(values)?;
@@ -206,9 +206,9 @@ pub enum StoredMotion {
 
 /// Starts a stored action (Home, Retract, ...) or sequence by id:
 ///
-/// 1. FC16 200 <- [0] (no action)
-/// 2. FC16 201-202 <- [id, 0 (action) or 1 (sequence)]
-/// 3. FC16 200 <- [1] (start)
+/// 1. FC16 200 <- `[0]` (no action)
+/// 2. FC16 201-202 <- `[id, 0 (action) or 1 (sequence)]`
+/// 3. FC16 200 <- `[1]` (start)
 pub fn start_stored(id: u16, motion: StoredMotion) -> Vec<Write> {
     let move_type = match motion {
         StoredMotion::Action => MoveType::Action,
@@ -227,7 +227,7 @@ pub fn start_stored(id: u16, motion: StoredMotion) -> Vec<Write> {
 /// Sets the desired cartesian speed limits (linear m/s, angular deg/s), each above zero and at
 /// most the twist hard limit:
 ///
-/// 1. FC16 216-219 <- [linear, angular], CDAB
+/// 1. FC16 216-219 <- `[linear, angular]`, CDAB
 pub fn speed_limits(linear: f32, angular: f32) -> Result<Vec<Write>, CommandError> {
     for (what, value, limit) in [
         ("linear speed limit", linear, MAX_LINEAR_SPEED),

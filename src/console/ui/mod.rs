@@ -1,4 +1,4 @@
-//! Rendering: a pure function of the frame's [`View`](super::view::View), one file per panel.
+//! Rendering: a pure function of the frame's [`View`], one file per panel.
 //!
 //! At every size from the minimum up, no number is ever cut: panels give way whole by the
 //! priority documented in [`layout`], columns give way whole inside a panel, and text too

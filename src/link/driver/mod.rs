@@ -11,7 +11,7 @@
 //! queue, or a write stalled 500 ms, ends that link), Modbus commands go to the worker's
 //! channel. So an operator that stops reading holds up no STOP for the other link.
 //! When a link drops, the driver reports it and reconnects; nothing moves again until the
-//! technician presses a key. Connects and handshakes run off the loop (see [`connect`]), so a
+//! technician presses a key. Connects and handshakes run off the loop (see `connect`), so a
 //! STOP never waits behind one; a link unreachable at start is retried with back-off.
 
 mod connect;
