@@ -6,6 +6,7 @@ Usage (from the repository root, after `cargo build --release`):
     python3 benches/pty_latency.py --table            # THE table: armjog vs the floors, at rest
                                                       # and under `stress --cpu 2` (started here)
     python3 benches/pty_latency.py --table --compare /work/armjog-baseline  # before/after too
+    python3 benches/pty_latency.py --table --repeat 5 --cycles 100   # medians over 5 runs
     python3 benches/pty_latency.py                    # 200 cycles, idle machine
     stress --cpu 2 & python3 benches/pty_latency.py   # the same with both cores busy
     python3 benches/pty_latency.py --cycles 500 --binary target/release/armjog
@@ -49,7 +50,9 @@ less to wake than a program started on its own does (see FLOOR_EXEC).
 `--table` runs every console side by side (the binary, any `--compare`s, and the three floors) in
 two phases, at rest and under `stress --cpu 2` (the script starts and ends stress itself; it
 must be installed), and prints p50/p90/p99/max of release->STOP and press->START with each
-console's ratio to each floor, p50 and p99.
+console's ratio to each floor, p50 and p99. Under load one run's ratios move from run to run by
+more than most changes move them: `--repeat N` runs each phase N times and adds, per phase, each
+console's median p50 and p99 and the median (and range) of its per-run ratios.
 """
 
 import argparse
@@ -61,6 +64,7 @@ import select
 import signal
 import shutil
 import socket
+import statistics
 import subprocess
 import struct
 import sys
@@ -469,8 +473,62 @@ def print_table(title, consoles):
             )
 
 
+def ratios(consoles, values_of):
+    """{(console, floor): (p50 ratio, p99 ratio)} of one run, for one metric."""
+    out = {}
+    for f in (c for c in consoles if c.binary in FLOORS):
+        base = stats(values_of(f))
+        for c in consoles:
+            row = stats(values_of(c))
+            if row and base and base[0] > 0 and base[2] > 0:
+                out[(c.binary, f.binary)] = (row[0] / base[0], row[2] / base[2])
+    return out
+
+
+METRICS = (
+    ("release->STOP", lambda c: c.latencies),
+    ("press->START", lambda c: c.press_to_start),
+)
+
+
+def print_repeats(title, runs):
+    """Over several runs of a phase: each console's median p50 and p99, and the median of its
+    per-run ratios to each floor with their range. A ratio taken within one run compares
+    consoles that shared the load; its median over runs is steadier than any one run's."""
+    floors = [b for b in runs[0]["binaries"] if b in FLOORS]
+    print(f"\n{title}")
+    for metric, _ in METRICS:
+        heads = "".join(f" {'p50/' + f:>20} {'p99/' + f:>20}" for f in floors)
+        print(f"  {metric + ' (ms), median of runs':<44} {'p50':>7} {'p99':>7}{heads}")
+        for binary in runs[0]["binaries"]:
+            p50s = [r["stats"][metric][binary][0] for r in runs if r["stats"][metric].get(binary)]
+            p99s = [r["stats"][metric][binary][2] for r in runs if r["stats"][metric].get(binary)]
+            if not p50s:
+                print(f"  {binary:<44} no cycle completed")
+                continue
+            cells = ""
+            for f in floors:
+                for i in (0, 1):
+                    values = sorted(
+                        r["ratios"][metric][(binary, f)][i]
+                        for r in runs
+                        if (binary, f) in r["ratios"][metric]
+                    )
+                    cells += (
+                        f" {statistics.median(values):>6.2f}x ({values[0]:.2f}-{values[-1]:.2f})"
+                        if values
+                        else f" {'-':>20}"
+                    )
+            print(
+                f"  {binary:<44} {statistics.median(p50s):>7.3f} "
+                f"{statistics.median(p99s):>7.3f}{cells}"
+            )
+
+
 def table(args, binaries):
-    """Both phases, each with every console and the three floors; exit 1 if any cycle failed."""
+    """Both phases, each with every console and the three floors; exit 1 if any cycle failed.
+    With `--repeat N` each phase runs N times (its load kept up between runs), and a table of
+    the medians over the runs follows the runs' own."""
     consoles_in = binaries + [FLOOR_RS, FLOOR, FLOOR_EXEC]
     cpus = os.cpu_count()
     phases = [("at rest", None), ("under stress --cpu 2", ["stress", "--cpu", "2"])]
@@ -485,22 +543,33 @@ def table(args, binaries):
                 load, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True
             )
             time.sleep(1.0)
+        runs = []
         try:
-            consoles = run_cycles(consoles_in, args.cycles, args.size, args.seed, args.rest)
+            for run in range(args.repeat):
+                consoles = run_cycles(
+                    consoles_in, args.cycles, args.size, args.seed + run, args.rest
+                )
+                load_avg = os.getloadavg()[0]
+                print_table(
+                    f"{name}: {args.cycles} cycles each, alternating, {args.size}, {cpus} cores, "
+                    f"rest {args.rest:g} s, load average {load_avg:.2f} at the end"
+                    + (f" (run {run + 1} of {args.repeat})" if args.repeat > 1 else ""),
+                    consoles,
+                )
+                for c in consoles:
+                    print(f"    {c.summary()}")
+                any_failed |= failed(consoles)
+                runs.append({
+                    "binaries": [c.binary for c in consoles],
+                    "stats": {m: {c.binary: stats(v(c)) for c in consoles} for m, v in METRICS},
+                    "ratios": {m: ratios(consoles, v) for m, v in METRICS},
+                })
         finally:
             if stress:
                 os.killpg(stress.pid, signal.SIGTERM)
                 stress.wait()
-        load_avg = os.getloadavg()[0]
-        print_table(
-            f"{name}: {args.cycles} cycles each, alternating, {args.size}, {cpus} cores, "
-            f"rest {args.rest:g} s, "
-            f"load average {load_avg:.2f} at the end",
-            consoles,
-        )
-        for c in consoles:
-            print(f"    {c.summary()}")
-        any_failed |= failed(consoles)
+        if args.repeat > 1:
+            print_repeats(f"{name}: medians over {args.repeat} runs (range of the ratios)", runs)
     sys.exit(1 if any_failed else 0)
 
 
@@ -537,7 +606,16 @@ def main():
         action="store_true",
         help="at rest and under stress --cpu 2, against the three floors: the whole table",
     )
+    parser.add_argument(
+        "--repeat",
+        type=int,
+        default=1,
+        help="with --table: runs of each phase; more than one adds the medians over the runs "
+        "(under load one run's ratios move more than most changes do)",
+    )
     args = parser.parse_args()
+    if args.repeat < 1:
+        sys.exit(f"--repeat {args.repeat}: at least 1 run")
     binaries = [args.binary] + args.compare
     for binary in binaries:
         if binary not in FLOORS and not os.access(binary, os.X_OK):
