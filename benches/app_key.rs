@@ -89,25 +89,26 @@ fn is_stop(effects: &[Effect]) -> bool {
         .any(|e| matches!(e, Effect::Arm(command) if command.is_stop()))
 }
 
-/// Press and release times of `rounds` keys, each key after `before` ran.
+/// Press and release times of `rounds` keys, each key after a telemetry report and `before`.
 fn measure(rounds: usize, mut before: impl FnMut()) -> (Vec<Duration>, Vec<Duration>) {
     let mut now = Instant::now();
     let mut app = app(now);
+    let mut timed_key = |kind: KeyKind, now: Instant| {
+        app.handle(report(), now);
+        before();
+        let started = Instant::now();
+        let effects = app.handle(key('w', kind), now);
+        (started.elapsed(), effects)
+    };
     let (mut presses, mut releases) = (Vec::new(), Vec::new());
     for _ in 0..rounds {
         now += REPORT;
-        app.handle(report(), now);
-        before();
-        let started = Instant::now();
-        let effects = app.handle(key('w', KeyKind::Press), now);
-        presses.push(started.elapsed());
+        let (took, effects) = timed_key(KeyKind::Press, now);
+        presses.push(took);
         assert!(is_jog(&effects), "the press starts a jog: {effects:?}");
         now += REPORT;
-        app.handle(report(), now);
-        before();
-        let started = Instant::now();
-        let effects = app.handle(key('w', KeyKind::Release), now);
-        releases.push(started.elapsed());
+        let (took, effects) = timed_key(KeyKind::Release, now);
+        releases.push(took);
         assert!(is_stop(&effects), "the release stops: {effects:?}");
     }
     presses.sort();
