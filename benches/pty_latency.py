@@ -444,51 +444,50 @@ def stats(values):
     return [percentile(values, 0.5), percentile(values, 0.9), percentile(values, 0.99), values[-1]]
 
 
-def print_table(title, consoles):
-    """One phase's table: each console's percentiles and its ratio to each floor."""
-    floors = [c for c in consoles if c.binary in FLOORS]
-    print(f"\n{title}")
-    for metric, values_of in (
-        ("release->STOP", lambda c: c.latencies),
-        ("press->START", lambda c: c.press_to_start),
-    ):
-        ratio_heads = "".join(f" {'p50/' + f.binary:>12} {'p99/' + f.binary:>12}" for f in floors)
-        print(f"  {metric + ' (ms)':<32} {'n':>4} {'p50':>7} {'p90':>7} {'p99':>7} {'max':>7}{ratio_heads}")
-        for c in consoles:
-            row = stats(values_of(c))
-            if row is None:
-                print(f"  {c.binary:<32} no cycle completed")
-                continue
-            ratios = ""
-            for f in floors:
-                base = stats(values_of(f))
-                ratios += "".join(
-                    f" {row[i] / base[i]:>11.2f}x" if base and base[i] > 0 else f" {'-':>12}"
-                    for i in (0, 2)
-                )
-            print(
-                f"  {c.binary:<32} {len(values_of(c)):>4} "
-                + " ".join(f"{v:>7.3f}" for v in row)
-                + ratios
-            )
+METRICS = (
+    ("release->STOP", lambda c: c.latencies),
+    ("press->START", lambda c: c.press_to_start),
+)
 
 
 def ratios(consoles, values_of):
-    """{(console, floor): (p50 ratio, p99 ratio)} of one run, for one metric."""
+    """{(console, floor): (p50 ratio, p99 ratio)} of one run, for one metric; None where the
+    floor's figure is zero."""
     out = {}
     for f in (c for c in consoles if c.binary in FLOORS):
         base = stats(values_of(f))
         for c in consoles:
             row = stats(values_of(c))
-            if row and base and base[0] > 0 and base[2] > 0:
-                out[(c.binary, f.binary)] = (row[0] / base[0], row[2] / base[2])
+            if row and base:
+                out[(c.binary, f.binary)] = tuple(
+                    row[i] / base[i] if base[i] > 0 else None for i in (0, 2)
+                )
     return out
 
 
-METRICS = (
-    ("release->STOP", lambda c: c.latencies),
-    ("press->START", lambda c: c.press_to_start),
-)
+def print_table(title, consoles):
+    """One phase's table: each console's percentiles and its ratio to each floor."""
+    floors = [c for c in consoles if c.binary in FLOORS]
+    print(f"\n{title}")
+    for metric, values_of in METRICS:
+        ratio_heads = "".join(f" {'p50/' + f.binary:>12} {'p99/' + f.binary:>12}" for f in floors)
+        print(f"  {metric + ' (ms)':<32} {'n':>4} {'p50':>7} {'p90':>7} {'p99':>7} {'max':>7}{ratio_heads}")
+        to_floors = ratios(consoles, values_of)
+        for c in consoles:
+            row = stats(values_of(c))
+            if row is None:
+                print(f"  {c.binary:<32} no cycle completed")
+                continue
+            cells = "".join(
+                f" {x:>11.2f}x" if x is not None else f" {'-':>12}"
+                for f in floors
+                for x in to_floors.get((c.binary, f.binary), (None, None))
+            )
+            print(
+                f"  {c.binary:<32} {len(values_of(c)):>4} "
+                + " ".join(f"{v:>7.3f}" for v in row)
+                + cells
+            )
 
 
 def print_repeats(title, runs):
@@ -512,7 +511,7 @@ def print_repeats(title, runs):
                     values = sorted(
                         r["ratios"][metric][(binary, f)][i]
                         for r in runs
-                        if (binary, f) in r["ratios"][metric]
+                        if r["ratios"][metric].get((binary, f), (None, None))[i] is not None
                     )
                     cells += (
                         f" {statistics.median(values):>6.2f}x ({values[0]:.2f}-{values[-1]:.2f})"
