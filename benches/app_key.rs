@@ -18,9 +18,14 @@
 
 use std::time::{Duration, Instant};
 
-use armjog::console::app::{App, AppConfig, Effect, Input, KeyInput};
-use armjog::console::jog::{KeyKind, ReleaseMode};
-use armjog::console::keymap::{KeyName, Keymap};
+// The tests' app helpers, shared by path as the test binaries share them.
+#[path = "../tests/app_support/mod.rs"]
+mod app_support;
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use armjog::console::app::{App, AppConfig, Effect, Input};
+use armjog::console::jog::KeyKind;
 use armjog::console::positions::PositionBook;
 use armjog::link::driver::hw_telemetry;
 use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus};
@@ -32,14 +37,6 @@ const EVICT_BYTES: usize = 64 << 20;
 /// The telemetry period at 30 Hz: the app hears a report between keys, as it does live.
 const REPORT: Duration = Duration::from_millis(33);
 
-fn key(c: char, kind: KeyKind) -> Input {
-    Input::Key(KeyInput {
-        key: KeyName::char(c),
-        text: Some(c),
-        kind,
-    })
-}
-
 /// What the simulated arm at home reports.
 fn report() -> Input {
     let snapshot = Arm::default().snapshot();
@@ -48,20 +45,12 @@ fn report() -> Input {
     Input::Arm(ArmEvent::Telemetry(Box::new(telemetry)))
 }
 
-/// An app with its Talos link up, telemetry in, key releases reported.
+/// An app with its Talos link up, telemetry in, key releases reported: the tests' session
+/// (`tests/app_support`), on the simulated arm.
 fn app(now: Instant) -> App {
     let config = AppConfig {
-        keymap: Keymap::builtin("default")
-            .expect("the default keymap")
-            .into(),
-        release_mode: ReleaseMode::Reported,
-        refresh: Duration::from_millis(100),
-        positions_on_operator: true,
-        max_jog_speed: 0.25,
-        joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
-        frames: false,
         simulated: true,
-        arm_name: None,
+        ..app_support::config()
     };
     let mut app = App::new(config, PositionBook::new());
     let events = [
@@ -97,7 +86,7 @@ fn measure(rounds: usize, mut before: impl FnMut()) -> (Vec<Duration>, Vec<Durat
         app.handle(report(), now);
         before();
         let started = Instant::now();
-        let effects = app.handle(key('w', kind), now);
+        let effects = app.handle(app_support::key("w", kind), now);
         (started.elapsed(), effects)
     };
     let (mut presses, mut releases) = (Vec::new(), Vec::new());

@@ -11,13 +11,18 @@
 //! rest (before/after), `ARMJOG_BENCH_SIZE=COLSxROWS` another terminal (160x48 by default).
 //! Wake-ups are context switches (voluntary and not) of all the console's threads, per second.
 
+// The tests' app helpers, shared by path as the test binaries share them.
+#[path = "../tests/app_support/mod.rs"]
+mod app_support;
+#[path = "../tests/common/mod.rs"]
+mod common;
+
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use armjog::console::app::{App, AppConfig, Effect, Input, KeyInput};
-use armjog::console::jog::{KeyKind, ReleaseMode};
-use armjog::console::keymap::Keymap;
+use armjog::console::app::{App, Effect, Input, KeyInput};
+use armjog::console::jog::KeyKind;
 use armjog::console::positions::PositionBook;
 use armjog::link::TalosConfig;
 use armjog::link::driver::{Driver, DriverConfig};
@@ -60,20 +65,8 @@ async fn press_release_latency() {
     let sim = Simulator::start(SimConfig::ephemeral()).await.expect("sim");
     let config = DriverConfig::new(Some(TalosConfig::new(sim.talos_addr.to_string())), None);
     let (driver, mut events) = Driver::spawn(config);
-    let mut app = App::new(
-        AppConfig {
-            keymap: Keymap::builtin("default").expect("keymap").into(),
-            release_mode: ReleaseMode::Reported,
-            refresh: Duration::from_millis(100),
-            positions_on_operator: true,
-            max_jog_speed: 0.25,
-            joint_jog_speed: armjog::link::driver::JOINT_JOG_SPEED,
-            frames: false,
-            simulated: false,
-            arm_name: None,
-        },
-        PositionBook::new(),
-    );
+    // The tests' session (`tests/app_support`): releases reported, a 100 ms refresh.
+    let mut app = App::new(app_support::config(), PositionBook::new());
     loop {
         let Some(event) = events.recv().await else {
             return;
