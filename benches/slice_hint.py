@@ -14,14 +14,15 @@ preempt it when it wakes, so on a busy core the console would no longer wait for
 turn. The console itself cannot ask for this: no maintained crate wraps `sched_setattr`, and
 the crate forbids `unsafe`.
 
-Measured on the 2-core VM (kernel 6.18; two runs of `--table --repeat 2 --cycles 150`, this
-against HEAD in the same runs, medians of the runs):
+Measured on the 2-core VM (kernel 6.18; `--table --repeat 2 --cycles 150`, so two runs of each
+phase, this beside HEAD and the floors; medians of the runs):
 - Under `stress --cpu 2` the tails shrink: release->STOP p99 0.46 ms against 3.10 (the Python
   floor 4.33), and p99 0.39 / 0.53 against 1.39 / 4.80 run by run. The p50s do not move:
   release->STOP 0.155 against 0.159 ms, press->START 0.215 against 0.216 (the floor 0.191).
-- At rest everything is slower: release->STOP p50 0.234 against 0.205 ms, press->START 0.308
-  against 0.256. The woken operator can no longer take the console's CPU (the console, with
-  the shorter slice, keeps it), and the painter, which inherits the hint, preempts too.
+- At rest both p50s are slower: release->STOP 0.234 against 0.205 ms, press->START 0.308
+  against 0.256 (release->STOP p99 1.16 against 0.44, press->START p99 0.69 against 0.79).
+  Likely (not measured apart): the operator a write wakes no longer takes the console's CPU
+  at once, and the painter, which inherits the hint, preempts as well.
 So the hint is no way to the press's p50 under load (issue 21's last cell), and at rest it
 costs both p50s. A hint on the runtime's thread alone was not measured; in the console it would
 take an `unsafe` syscall.
