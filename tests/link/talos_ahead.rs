@@ -139,3 +139,117 @@ async fn a_link_over_any_transport_but_tcp_writes_nothing_ahead() {
     tokio::time::sleep(Duration::from_millis(20)).await;
     assert_eq!(ahead.write_now(), AheadOutcome::NoLink);
 }
+
+/// The frames the operator (on a runtime of its own) has read within `wait`, taken without
+/// yielding: the caller's thread stays blocked meanwhile, so its link task cannot run.
+fn received_blocking(op: &mut TestOperator, wait: Duration) -> Vec<armjog::talos::TalosFrame> {
+    let until = std::time::Instant::now() + wait;
+    let mut frames = Vec::new();
+    while std::time::Instant::now() < until {
+        while let Ok(item) = op.received.try_recv() {
+            if let armjog::talos::frame::Decoded::TalosFrame(frame) = item {
+                frames.push(frame);
+            }
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    frames
+}
+
+/// An operator served from a runtime of its own, and a current-thread runtime for the link:
+/// blocking the latter's thread keeps the link task from running, not the operator.
+fn apart(
+    checksum: Checksum,
+) -> (
+    tokio::runtime::Runtime,
+    TestOperator,
+    tokio::runtime::Runtime,
+) {
+    let operator_side = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(1)
+        .enable_all()
+        .build()
+        .expect("operator runtime");
+    let op = operator_side.block_on(TestOperator::start(checksum, answering(checksum)));
+    let console_side = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .expect("console runtime");
+    (operator_side, op, console_side)
+}
+
+#[test]
+fn a_start_on_a_quiet_link_is_written_in_the_callers_turn_and_answered_to_it() {
+    let (_operator_side, mut op, console_side) = apart(Checksum::Crc16);
+    console_side.block_on(async {
+        let ahead = StopAhead::new();
+        let (link, mut events) = TalosLink::connect(config(&op.addr, Dialect::Icd, &ahead))
+            .await
+            .expect("connect");
+        let start = link.submit(POLAR_START).expect("submitted");
+        let id = start.id();
+        let read = received_blocking(&mut op, Duration::from_millis(300));
+        assert_eq!(
+            wire(&read),
+            wire(&[frame_of(POLAR_START, id)]),
+            "on the wire before the link task ran"
+        );
+        let exchange = start.wait().await.expect("answered");
+        assert_eq!(exchange.id, id);
+        assert!(matches!(exchange.answer, Answer::Reply(_)));
+        // The link owes the stop set now, as after any START.
+        assert_eq!(ahead.write_now(), AheadOutcome::Written);
+        tokio::time::sleep(Duration::from_millis(50)).await;
+        assert!(events.try_recv().is_err(), "no late or unpaired reply");
+    });
+}
+
+#[test]
+fn a_start_behind_a_queued_request_keeps_its_place() {
+    let (_operator_side, mut op, console_side) = apart(Checksum::Crc16);
+    console_side.block_on(async {
+        let ahead = StopAhead::new();
+        let (link, _events) = TalosLink::connect(config(&op.addr, Dialect::Icd, &ahead))
+            .await
+            .expect("connect");
+        let speed = link.submit(Request::GetSpeed).expect("submitted");
+        let start = link.submit(POLAR_START).expect("submitted");
+        assert!(
+            received_blocking(&mut op, Duration::from_millis(150)).is_empty(),
+            "the START did not overtake the queued request"
+        );
+        speed.wait().await.expect("speed answered");
+        start.wait().await.expect("start answered");
+        let read = [op.next_frame().await, op.next_frame().await];
+        assert_eq!(
+            read.iter()
+                .map(|f| Request::from_frame(f).expect("request"))
+                .collect::<Vec<_>>(),
+            [Request::GetSpeed, POLAR_START]
+        );
+    });
+}
+
+/// `request`'s frame as the link writes it, with `id`.
+fn frame_of(request: Request, id: u32) -> armjog::talos::TalosFrame {
+    request.to_frame(id).expect("frame")
+}
+
+#[test]
+fn a_start_written_through_and_then_dropped_with_the_link_is_stopped() {
+    let (_operator_side, mut op, console_side) = apart(Checksum::Crc16);
+    console_side.block_on(async {
+        let ahead = StopAhead::new();
+        let (link, _events) = TalosLink::connect(config(&op.addr, Dialect::Icd, &ahead))
+            .await
+            .expect("connect");
+        let start = link.submit(POLAR_START).expect("submitted");
+        // Every caller gone before the link task saw the START: it still owes the stop set.
+        drop(start);
+        drop(link);
+        let read = op.frames_until_quiet(Duration::from_millis(300)).await;
+        let mut expected = wire(&[frame_of(POLAR_START, 0)]);
+        expected.extend(stop_set(Dialect::Icd));
+        assert_eq!(wire(&read), expected);
+    });
+}

@@ -9,6 +9,16 @@
 //! once (no link, nothing owed, the link task mid-write) nothing is written here and the app's
 //! stop set is the only one.
 //!
+//! The same slot lets the link's handle write a motion (a jog's START or refresh, a home) in
+//! its caller's turn, the driver's, rather than the link task's ([`Through`]): that turn cost a
+//! press some 5 us on the way to the wire, and under load every us before the write costs the
+//! press more than itself (`docs/development.md`). Only while the link task has nothing queued
+//! or taken and not yet written (counted here, under the slot's lock), is not writing and has
+//! nothing half written: the wire keeps the order requests were submitted in. Otherwise, and
+//! for everything but a motion, the request is queued as before. The frame's answer goes to its
+//! caller as any other's. Once the link task ends nothing is written through, and what was is
+//! taken first, so the stop set it then owes counts it.
+//!
 //! Two writers on one socket, so:
 //! - The stop set is written only between the link task's writes, never inside one
 //!   ([`StopAhead::write_now`] refuses while the link task writes), under the slot's lock.
@@ -23,6 +33,8 @@ use std::sync::{Arc, Mutex, MutexGuard};
 
 use tokio::sync::Notify;
 
+use super::AnswerTx;
+use crate::key_stages::{self, Stage};
 use crate::net::hand_off;
 use crate::talos::Request;
 
@@ -79,16 +91,29 @@ struct Slot {
     /// The link task is writing: nothing may go between its bytes.
     link_writing: bool,
     /// Frames written here that the link task has not taken yet, in the order written.
-    written: Vec<AheadFrame>,
+    written: Vec<WrittenAhead>,
     /// What the socket did not take of a write here: the link task writes it first.
     unwritten: Vec<u8>,
+    /// Requests in the link task's queue, or taken from it and not yet written: a motion
+    /// written through would overtake them.
+    queued: usize,
+    /// The link task is ending: no motion is written through any more.
+    through_closed: bool,
+}
+
+/// A frame written here, and who waits for its answer: nobody for the stop set, the caller
+/// for a motion written through ([`Through::write_through`]).
+#[derive(Debug)]
+pub(super) struct WrittenAhead {
+    pub(super) frame: AheadFrame,
+    pub(super) answer: Option<AnswerTx>,
 }
 
 /// What the link task takes before it writes: frames written ahead, and bytes of theirs still
 /// to write (before its own).
 #[derive(Debug, Default)]
 pub(super) struct Taken {
-    pub(super) frames: Vec<AheadFrame>,
+    pub(super) frames: Vec<WrittenAhead>,
     pub(super) unwritten: Vec<u8>,
 }
 
@@ -159,8 +184,41 @@ impl Slot {
             }
         };
         self.unwritten = bytes[taken..].to_vec();
-        self.written.append(&mut self.armed);
+        let armed = self.armed.drain(..);
+        self.written.extend(armed.map(|frame| WrittenAhead {
+            frame,
+            answer: None,
+        }));
         AheadOutcome::Written
+    }
+
+    /// Writes `frame` if the link task has nothing queued, nothing of its own being written and
+    /// nothing left half written; gives it back otherwise, or when the socket took none of it.
+    fn write_through(
+        &mut self,
+        frame: AheadFrame,
+        answer: AnswerTx,
+    ) -> Result<(), (AheadFrame, AnswerTx)> {
+        if self.through_closed || self.link_writing || !self.unwritten.is_empty() || self.queued > 0
+        {
+            return Err((frame, answer));
+        }
+        let Some(socket) = self.socket.as_mut() else {
+            return Err((frame, answer));
+        };
+        key_stages::mark(Stage::Encoded);
+        let taken = loop {
+            match socket.write(&frame.bytes) {
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
+                Err(_) | Ok(0) => return Err((frame, answer)),
+                Ok(taken) => break taken,
+            }
+        };
+        key_stages::mark(Stage::Written);
+        self.unwritten = frame.bytes[taken..].to_vec();
+        let answer = Some(answer);
+        self.written.push(WrittenAhead { frame, answer });
+        Ok(())
     }
 }
 
@@ -192,8 +250,16 @@ impl Attached {
         self.ahead.lock().link_writing = false;
     }
 
+    /// `n` requests taken from the queue were written (or failed): no longer queued.
+    pub(super) fn written_out(&self, n: usize) {
+        let mut slot = self.ahead.lock();
+        if slot.generation == self.generation {
+            slot.queued = slot.queued.saturating_sub(n);
+        }
+    }
+
     /// The frames written here since the link task last took them.
-    pub(super) fn take_written(&self) -> Vec<AheadFrame> {
+    pub(super) fn take_written(&self) -> Vec<WrittenAhead> {
         std::mem::take(&mut self.ahead.lock().written)
     }
 
@@ -202,8 +268,73 @@ impl Attached {
         !self.ahead.lock().unwritten.is_empty()
     }
 
+    /// The link task is ending (its callers gone, or the link lost): nothing more is written
+    /// through; what was is taken after this, so its stop is owed.
+    pub(super) fn close_through(&self) {
+        self.ahead.lock().through_closed = true;
+    }
+
+    /// The way in for the link's handles (see [`Through`]).
+    pub(super) fn through(&self) -> Through {
+        Through {
+            ahead: self.ahead.clone(),
+            generation: self.generation,
+        }
+    }
+
     pub(super) fn written_signal(&self) -> Arc<Notify> {
         self.ahead.written.clone()
+    }
+}
+
+/// A link handle's way into the slot, for motions written through: only while its own link
+/// is the one attached (a handle of a link that ended writes nothing there and counts nothing).
+#[derive(Debug, Clone)]
+pub(super) struct Through {
+    ahead: StopAhead,
+    generation: u64,
+}
+
+impl Through {
+    /// Writes a motion request's frame at once, in the caller's own turn, when the link task
+    /// has nothing queued ([`Self::queue_one`]) and is not writing; the frame is the link
+    /// task's then, its answer `answer`'s. Gives the frame back, for the link's queue, when it
+    /// cannot be written so. Gives an operator on this machine the CPU after it.
+    pub(super) fn write_through(
+        &self,
+        frame: AheadFrame,
+        answer: AnswerTx,
+    ) -> Result<(), (AheadFrame, AnswerTx)> {
+        let give_way = {
+            let mut slot = self.ahead.lock();
+            if slot.generation != self.generation {
+                return Err((frame, answer));
+            }
+            slot.write_through(frame, answer)?;
+            slot.give_way
+        };
+        self.ahead.written.notify_one();
+        if give_way {
+            hand_off::give_way();
+        }
+        Ok(())
+    }
+
+    /// A request is going into the link task's queue: nothing is written through until the
+    /// link task has written it ([`Attached::written_out`]). Called before it is queued.
+    pub(super) fn queue_one(&self) {
+        let mut slot = self.ahead.lock();
+        if slot.generation == self.generation {
+            slot.queued += 1;
+        }
+    }
+
+    /// A request counted by [`Self::queue_one`] never reached the queue.
+    pub(super) fn unqueue_one(&self) {
+        let mut slot = self.ahead.lock();
+        if slot.generation == self.generation {
+            slot.queued = slot.queued.saturating_sub(1);
+        }
     }
 }
 
@@ -290,7 +421,7 @@ mod tests {
         );
         let taken = attached.begin_write();
         assert_eq!(
-            taken.frames.iter().map(|f| f.id).collect::<Vec<_>>(),
+            taken.frames.iter().map(|f| f.frame.id).collect::<Vec<_>>(),
             [2, 4]
         );
         assert!(taken.unwritten.is_empty());
@@ -363,5 +494,109 @@ mod tests {
         new.arm(vec![frame(10, Request::PolarPanStop, b"more")]);
         drop(new);
         assert_eq!(ahead.write_now(), AheadOutcome::NoLink);
+    }
+
+    fn start(id: u32) -> AheadFrame {
+        let request = Request::PolarPanStart {
+            moving_azimuth: 1,
+            moving_altitude: 0,
+        };
+        frame(id, request, b"start")
+    }
+
+    fn answer() -> AnswerTx {
+        tokio::sync::oneshot::channel().0
+    }
+
+    #[test]
+    fn a_motion_is_written_through_only_while_the_link_has_nothing_queued_or_in_a_write() {
+        let ahead = StopAhead::new();
+        let (sock, got) = socket(1024);
+        let attached = ahead.attach(Box::new(sock), false);
+        let through = attached.through();
+
+        through.queue_one();
+        assert!(through.write_through(start(2), answer()).is_err(), "queued");
+        attached.written_out(1);
+        let _ = attached.begin_write();
+        assert!(
+            through.write_through(start(4), answer()).is_err(),
+            "writing"
+        );
+        attached.end_write();
+        through.queue_one();
+        through.unqueue_one();
+        assert!(written(&got).is_empty(), "nothing written through");
+
+        assert!(through.write_through(start(6), answer()).is_ok());
+        assert_eq!(written(&got), b"start");
+        let taken = attached.take_written();
+        assert_eq!(taken.len(), 1);
+        assert_eq!(taken[0].frame.id, 6);
+        assert!(taken[0].answer.is_some(), "its caller waits for its answer");
+    }
+
+    #[test]
+    fn a_motion_written_through_and_then_the_stop_set_are_the_links_in_wire_order() {
+        let ahead = StopAhead::new();
+        let (sock, got) = socket(1024);
+        let attached = ahead.attach(Box::new(sock), false);
+        attached.arm(vec![frame(2, Request::PolarPanStop, b"stop")]);
+        assert!(attached.through().write_through(start(4), answer()).is_ok());
+        assert_eq!(ahead.write_now(), AheadOutcome::Written);
+        assert_eq!(written(&got), b"startstop");
+        let taken = attached.begin_write().frames;
+        let order: Vec<(u32, bool)> = taken
+            .iter()
+            .map(|w| (w.frame.id, w.answer.is_some()))
+            .collect();
+        assert_eq!(order, [(4, true), (2, false)]);
+    }
+
+    #[test]
+    fn a_motion_half_written_leaves_its_rest_first_and_nothing_follows_it_through() {
+        let ahead = StopAhead::new();
+        let (sock, got) = socket(2);
+        let attached = ahead.attach(Box::new(sock), false);
+        let through = attached.through();
+        assert!(through.write_through(start(2), answer()).is_ok());
+        assert_eq!(written(&got), b"st");
+        assert!(attached.unfinished());
+        assert!(through.write_through(start(4), answer()).is_err());
+        assert_eq!(attached.begin_write().unwritten, b"art");
+    }
+
+    #[test]
+    fn a_socket_that_takes_nothing_gives_the_motion_back_for_the_queue() {
+        let ahead = StopAhead::new();
+        let (sock, _) = socket(0);
+        let attached = ahead.attach(Box::new(sock), false);
+        let (frame, _) = attached
+            .through()
+            .write_through(start(2), answer())
+            .expect_err("not taken");
+        assert_eq!(frame.id, 2);
+        assert!(attached.take_written().is_empty());
+    }
+
+    #[test]
+    fn the_handle_of_a_link_that_ended_writes_nothing_through_and_counts_nothing() {
+        let ahead = StopAhead::new();
+        let (first, first_got) = socket(1024);
+        let old = ahead.attach(Box::new(first), false);
+        let old_through = old.through();
+        let (second, got) = socket(1024);
+        let new = ahead.attach(Box::new(second), false);
+        drop(old);
+        assert!(old_through.write_through(start(2), answer()).is_err());
+        old_through.queue_one();
+        assert!(
+            new.through().write_through(start(4), answer()).is_ok(),
+            "the old link's queue is not the new one's"
+        );
+        assert!(written(&first_got).is_empty());
+        assert_eq!(written(&got), b"start");
+        drop(new);
+        assert!(old_through.write_through(start(6), answer()).is_err());
     }
 }

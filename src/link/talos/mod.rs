@@ -38,7 +38,7 @@ use tokio::sync::{Notify, mpsc, oneshot};
 use crate::net::{ConnectError, DEFAULT_FRAME_DEADLINE, connect_with_timeout, hand_off};
 use crate::talos::frame::Rejection;
 use crate::talos::message::{DecodeError, EncodeError};
-use crate::talos::{Checksum, CommandValue, Reply, Request, ReturnCode};
+use crate::talos::{Checksum, CommandValue, Reply, Request, ReturnCode, may_move};
 pub use ahead::{AheadOutcome, StopAhead};
 use hint::checksum_hint;
 pub use hint::{first_exchange_error, wait_for_checksum_fit};
@@ -230,6 +230,8 @@ pub struct TalosLink {
     overflow: Arc<Notify>,
     ids: Arc<CommandIds>,
     config: TalosConfig,
+    /// The slot a console shares with the link, for a motion written through at once.
+    through: Option<ahead::Through>,
 }
 
 impl fmt::Debug for TalosLink {
@@ -284,6 +286,7 @@ impl TalosLink {
         let (events_tx, events_rx) = mpsc::unbounded_channel();
         let ids = Arc::new(CommandIds::default());
         let overflow = Arc::new(Notify::new());
+        let through = ahead.as_ref().map(ahead::Attached::through);
         let task = LinkTask::new(
             &config,
             ids.clone(),
@@ -300,6 +303,7 @@ impl TalosLink {
                 overflow,
                 ids,
                 config,
+                through,
             },
             events_rx,
         )
@@ -346,25 +350,17 @@ impl TalosLink {
         }
         let (answer_tx, answer_rx) = oneshot::channel();
         let id = self.ids.next();
-        let job = Job {
-            id,
-            request,
-            answer: answer_tx,
-        };
         let after = match self.config.dialect {
             Dialect::Icd => self.config.request_timeout,
             // The link task answers by its own deadline (re-sends included); this is a backstop.
             Dialect::Ack => ack_deadline(command, self.config.request_timeout) + ACK_CALLER_GRACE,
         };
-        match self.jobs.try_send(job) {
-            Ok(()) => {}
-            Err(mpsc::error::TrySendError::Full(_)) => {
-                self.overflow.notify_one();
-                return Err(TalosError::Disconnected {
-                    reason: queue_full(),
-                });
-            }
-            Err(mpsc::error::TrySendError::Closed(_)) => return Err(task_gone()),
+        if let Err((request, answer)) = self.write_through(id, request, answer_tx) {
+            self.queue(Job {
+                id,
+                request,
+                answer,
+            })?;
         }
         Ok(PendingReply {
             command,
@@ -372,6 +368,55 @@ impl TalosLink {
             after,
             answer: answer_rx,
         })
+    }
+
+    /// A motion written at once, in the caller's turn, when the link has nothing queued and is
+    /// not writing ([`ahead`]): it skips the link task's turn, which under load costs a press
+    /// what it adds (issue 21). Gives the request back for the queue otherwise, or when it is
+    /// no motion, no slot is attached, or it cannot be encoded (the link task then says why).
+    fn write_through(
+        &self,
+        id: u32,
+        request: Request,
+        answer: AnswerTx,
+    ) -> Result<(), (Request, AnswerTx)> {
+        let Some(through) = self.through.as_ref().filter(|_| may_move(&request)) else {
+            return Err((request, answer));
+        };
+        let bytes = request
+            .to_frame(id)
+            .ok()
+            .and_then(|frame| frame.to_bytes(self.config.checksum).ok());
+        let Some(bytes) = bytes else {
+            return Err((request, answer));
+        };
+        let frame = ahead::AheadFrame { id, request, bytes };
+        through
+            .write_through(frame, answer)
+            .map_err(|(frame, answer)| (frame.request, answer))
+    }
+
+    /// Queues `job` for the link task; a full queue ends the link.
+    fn queue(&self, job: Job) -> Result<(), TalosError> {
+        if let Some(through) = &self.through {
+            through.queue_one();
+        }
+        let queued = self.jobs.try_send(job);
+        if queued.is_err()
+            && let Some(through) = &self.through
+        {
+            through.unqueue_one();
+        }
+        match queued {
+            Ok(()) => Ok(()),
+            Err(mpsc::error::TrySendError::Full(_)) => {
+                self.overflow.notify_one();
+                Err(TalosError::Disconnected {
+                    reason: queue_full(),
+                })
+            }
+            Err(mpsc::error::TrySendError::Closed(_)) => Err(task_gone()),
+        }
     }
 
     /// Handshake with `oid`; returns the operator's (major, minor) version, or `None` in the

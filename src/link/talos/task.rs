@@ -12,7 +12,7 @@ use tokio::io::{AsyncRead, AsyncWrite, AsyncWriteExt, ReadHalf, WriteHalf};
 use tokio::sync::{Notify, mpsc};
 use tokio_util::codec::FramedRead;
 
-use super::ahead::{AheadFrame, Attached};
+use super::ahead::{AheadFrame, Attached, WrittenAhead};
 use super::motion::MotionSinceStop;
 use super::{Answer, AnswerTx, CommandIds, Exchange, Job, TalosError, TalosEvent, WRITE_STALL};
 use crate::key_stages::{self, Stage};
@@ -34,7 +34,8 @@ struct Pending {
     request_bytes: Vec<u8>,
     sent: Instant,
     answer: AnswerTx,
-    /// Written ahead by the terminal reader ([`super::ahead`]): nobody waits for its answer.
+    /// The stop set written ahead by the terminal reader ([`super::ahead`]): nobody waits for
+    /// its answer.
     ahead: bool,
 }
 
@@ -185,7 +186,13 @@ impl LinkTask {
                             batch.push(job);
                         }
                         let urgent = batch.iter().any(|job| self.motion.moves_or_stops(&job.request));
-                        if let Err(reason) = self.send(&mut writer, batch).await {
+                        let taken = batch.len();
+                        let sent = self.send(&mut writer, batch).await;
+                        // Written: a motion may be written through after them.
+                        if let Some(ahead) = &self.ahead {
+                            ahead.written_out(taken);
+                        }
+                        if let Err(reason) = sent {
                             break End::write(reason);
                         }
                         // The operator on this machine reads a START or STOP now, not after the
@@ -198,6 +205,7 @@ impl LinkTask {
                     }
                     None => {
                         // Every caller is gone: stop what may be moving, then close.
+                        self.close_through();
                         let _ = self.write_stops(&mut writer).await;
                         return;
                     }
@@ -229,6 +237,8 @@ impl LinkTask {
                 }
             }
         };
+        // Callers get the link's end for what was written through, and the stop set counts it.
+        self.close_through();
         let reason = end.reason;
         tracing::warn!("talos link lost: {reason}");
         for (_, p) in self.pending.drain() {
@@ -441,31 +451,47 @@ impl LinkTask {
     }
 
     /// Makes frames written ahead ([`super::ahead`]) this task's, in the order written: noted
-    /// as stops, and pending (replies paired, an ack-dialect STOP without its ACK sent again),
-    /// with nobody waiting for their answers.
-    fn own_ahead(&mut self, frames: Vec<AheadFrame>) {
-        if frames.is_empty() {
-            return;
+    /// (as stops, or as the motion written through), and pending (replies paired, an
+    /// ack-dialect STOP without its ACK sent again); nobody waits for the stop set's answers,
+    /// a motion's caller for its own.
+    fn own_ahead(&mut self, frames: Vec<WrittenAhead>) {
+        let stops: Vec<u32> = frames
+            .iter()
+            .filter(|written| written.answer.is_none())
+            .map(|written| written.frame.id)
+            .collect();
+        if !stops.is_empty() {
+            tracing::info!("stop set written ahead at a jog key's release (ids {stops:?})");
+            // Written: armed no more.
+            self.ahead_owed.clear();
         }
-        let ids: Vec<u32> = frames.iter().map(|f| f.id).collect();
-        tracing::info!("stop set written ahead at a jog key's release (ids {ids:?})");
         let sent = Instant::now();
-        for frame in frames {
+        for WrittenAhead { frame, answer } in frames {
             self.motion.note(&frame.request);
-            // The receiver is dropped: the answer is only logged.
-            let (answer, _) = tokio::sync::oneshot::channel();
+            let (answer, ahead) = match answer {
+                Some(answer) => (answer, false),
+                // The receiver is dropped: the answer is only logged.
+                None => (tokio::sync::oneshot::channel().0, true),
+            };
             let pending = Pending {
                 id: frame.id,
                 request: frame.request,
                 request_bytes: frame.bytes,
                 sent,
                 answer,
-                ahead: true,
+                ahead,
             };
             self.insert_pending(pending, sent);
         }
-        // Written: armed no more.
-        self.ahead_owed.clear();
+    }
+
+    /// Nothing more is written through ([`super::ahead::Through`]), and what was is this task's:
+    /// noted as moving the arm before the stop set owed is worked out.
+    fn close_through(&mut self) {
+        if let Some(ahead) = &self.ahead {
+            ahead.close_through();
+        }
+        self.take_ahead();
     }
 
     /// Takes what was written ahead since the last write or reply, and arms what is owed now.
