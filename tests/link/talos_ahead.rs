@@ -158,6 +158,21 @@ fn received_blocking(op: &mut TestOperator, wait: Duration) -> Vec<armjog::talos
 
 /// An operator served from a runtime of its own, and a current-thread runtime for the link:
 /// blocking the latter's thread keeps the link task from running, not the operator.
+/// An ICD link to `op` with a stop-ahead slot attached, as the console has it.
+async fn ahead_link(
+    op: &TestOperator,
+) -> (
+    StopAhead,
+    TalosLink,
+    tokio::sync::mpsc::UnboundedReceiver<TalosEvent>,
+) {
+    let ahead = StopAhead::new();
+    let (link, events) = TalosLink::connect(config(&op.addr, Dialect::Icd, &ahead))
+        .await
+        .expect("connect");
+    (ahead, link, events)
+}
+
 fn apart(
     checksum: Checksum,
 ) -> (
@@ -182,10 +197,7 @@ fn apart(
 fn a_start_on_a_quiet_link_is_written_in_the_callers_turn_and_answered_to_it() {
     let (_operator_side, mut op, console_side) = apart(Checksum::Crc16);
     console_side.block_on(async {
-        let ahead = StopAhead::new();
-        let (link, mut events) = TalosLink::connect(config(&op.addr, Dialect::Icd, &ahead))
-            .await
-            .expect("connect");
+        let (ahead, link, mut events) = ahead_link(&op).await;
         let start = link.submit(POLAR_START).expect("submitted");
         let id = start.id();
         let read = received_blocking(&mut op, Duration::from_millis(300));
@@ -208,10 +220,7 @@ fn a_start_on_a_quiet_link_is_written_in_the_callers_turn_and_answered_to_it() {
 fn a_start_behind_a_queued_request_keeps_its_place() {
     let (_operator_side, mut op, console_side) = apart(Checksum::Crc16);
     console_side.block_on(async {
-        let ahead = StopAhead::new();
-        let (link, _events) = TalosLink::connect(config(&op.addr, Dialect::Icd, &ahead))
-            .await
-            .expect("connect");
+        let (_ahead, link, _events) = ahead_link(&op).await;
         let speed = link.submit(Request::GetSpeed).expect("submitted");
         let start = link.submit(POLAR_START).expect("submitted");
         assert!(
@@ -239,10 +248,7 @@ fn frame_of(request: Request, id: u32) -> armjog::talos::TalosFrame {
 fn a_start_written_through_and_then_dropped_with_the_link_is_stopped() {
     let (_operator_side, mut op, console_side) = apart(Checksum::Crc16);
     console_side.block_on(async {
-        let ahead = StopAhead::new();
-        let (link, _events) = TalosLink::connect(config(&op.addr, Dialect::Icd, &ahead))
-            .await
-            .expect("connect");
+        let (_ahead, link, _events) = ahead_link(&op).await;
         let start = link.submit(POLAR_START).expect("submitted");
         // Every caller gone before the link task saw the START: it still owes the stop set.
         drop(start);
