@@ -531,12 +531,16 @@ def table(args, binaries):
     consoles_in = binaries + [FLOOR_RS, FLOOR, FLOOR_EXEC]
     cpus = os.cpu_count()
     phases = [("at rest", None), ("under stress --cpu 2", ["stress", "--cpu", "2"])]
+    if args.phase != "both":
+        phases = [phases[0] if args.phase == "rest" else phases[1]]
+    # Said before a phase runs, not after the first one's minutes.
+    for _, load in phases:
+        if load and not shutil.which(load[0]):
+            sys.exit("stress not found: apt-get install stress")
     any_failed = False
     for name, load in phases:
         stress = None
         if load:
-            if not shutil.which(load[0]):
-                sys.exit("stress not found: apt-get install stress")
             # Its own session, so its workers end with it (by its process group).
             stress = subprocess.Popen(
                 load, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True
@@ -611,6 +615,12 @@ def main():
         default=1,
         help="with --table: runs of each phase; more than one adds the medians over the runs "
         "(under load one run's ratios move more than most changes do)",
+    )
+    parser.add_argument(
+        "--phase",
+        choices=["both", "rest", "stress"],
+        default="both",
+        help="with --table: only the phase at rest, or only the one under stress",
     )
     args = parser.parse_args()
     if args.repeat < 1:
