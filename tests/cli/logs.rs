@@ -123,3 +123,45 @@ fn the_simulator_and_send_log_to_their_own_files_and_send_logs_its_exchange() {
     let _ = std::fs::remove_dir_all(&sim_dir);
     let _ = std::fs::remove_dir_all(&cli_dir);
 }
+
+/// The case: twenty days of `armjog-cli` files made oldest-last (as a restore from a
+/// backup may make them) and files of other names; a one-shot run keeps the 13 newest days by
+/// name and its own day's file, and touches nothing else.
+#[test]
+fn a_run_prunes_its_oldest_files_by_the_date_in_their_names() {
+    let dir = fresh_dir("prune");
+    let days: Vec<String> = (1..=20)
+        .map(|day| format!("armjog-cli.2000-11-{day:02}.log"))
+        .collect();
+    let others = [
+        "armjog-cli.log",
+        "armjog-cli.backup.log",
+        "armjog-console.2000-10-01.log",
+        "audit-2000-10-01.jsonl",
+        "notes.txt",
+    ];
+    for name in others.iter().copied().chain(days.iter().rev().map(String::as_str)) {
+        std::fs::write(dir.join(name), "old\n").expect("write");
+        // Creation times come from a coarse clock: apart, so they disagree with the names.
+        std::thread::sleep(Duration::from_millis(25));
+    }
+    let config = dir.join("config.toml");
+    std::fs::write(&config, "").expect("config");
+    let out = Command::new(BIN)
+        .args(["arms", "--config"])
+        .arg(&config)
+        .env("ARMJOG_LOG_DIR", &dir)
+        .output()
+        .expect("run armjog arms");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let names = files_in(&dir);
+    let kept: Vec<&String> = names
+        .iter()
+        .filter(|n| n.starts_with("armjog-cli.2000-"))
+        .collect();
+    assert_eq!(kept, days[7..].iter().collect::<Vec<_>>(), "{names:?}");
+    for other in others.iter().chain(&["config.toml"]) {
+        assert!(names.iter().any(|n| n == other), "{other} removed: {names:?}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
