@@ -1,6 +1,8 @@
-//! Bounded reads of user-supplied files: a `/dev/zero`, a FIFO or a huge file stops at the limit
-//! instead of eating all memory.
+//! Bounded reads of user-supplied files (config, keymap, positions book): only a regular file is
+//! read, so a FIFO or a device is refused at once instead of blocking the start (an open of a
+//! FIFO waits for a writer) or eating all memory, and a huge file stops at the limit.
 
+use std::fs::{File, FileType, OpenOptions};
 use std::io::Read;
 use std::path::Path;
 
@@ -9,11 +11,13 @@ pub const KEYMAP_LIMIT: u64 = 1024 * 1024;
 /// The largest positions book read (`--positions PATH`).
 pub const POSITIONS_LIMIT: u64 = 16 * 1024 * 1024;
 
-/// Reads a UTF-8 file of at most `limit` bytes. A longer file is refused with
-/// `ErrorKind::FileTooLarge` and a message naming the limit; the file's metadata is not trusted
-/// (devices and FIFOs report 0), so the read itself stops at `limit + 1` bytes.
+/// Reads a UTF-8 regular file of at most `limit` bytes. Anything else (a FIFO, a device, a
+/// directory) is refused without blocking, with `ErrorKind::InvalidInput` and a message naming
+/// what it is (see [`open_regular`]). A longer file is refused with `ErrorKind::FileTooLarge`
+/// and a message naming the limit; its size is not trusted (a file may grow), so the read
+/// itself stops at `limit + 1` bytes.
 pub fn read_to_string_bounded(path: &Path, limit: u64) -> std::io::Result<String> {
-    let file = std::fs::File::open(path)?;
+    let file = open_regular(path)?;
     let mut bytes = Vec::new();
     file.take(limit.saturating_add(1)).read_to_end(&mut bytes)?;
     if bytes.len() as u64 > limit {
@@ -31,6 +35,63 @@ pub fn read_to_string_bounded(path: &Path, limit: u64) -> std::io::Result<String
             ),
         )
     })
+}
+
+/// Opens `path` for reading if it is a regular file, without blocking. Its kind is looked at
+/// before the open (opening a device may itself do something) and again on the file opened,
+/// which is opened non-blocking: a path swapped for a FIFO in between cannot hold the open up
+/// waiting for a writer either.
+pub fn open_regular(path: &Path) -> std::io::Result<File> {
+    not_regular(std::fs::metadata(path)?.file_type())?;
+    let mut options = OpenOptions::new();
+    options.read(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        // The flag's bits fit an i32 (open(2)'s flags argument is one).
+        options.custom_flags(rustix::fs::OFlags::NONBLOCK.bits() as i32);
+    }
+    let file = options.open(path)?;
+    not_regular(file.metadata()?.file_type())?;
+    // O_NONBLOCK changes nothing for a regular file's reads.
+    Ok(file)
+}
+
+/// Refuses every kind of file but a regular one, naming what it is.
+fn not_regular(kind: FileType) -> std::io::Result<()> {
+    if kind.is_file() {
+        return Ok(());
+    }
+    let what = if kind.is_dir() {
+        "a directory"
+    } else {
+        special_kind(kind)
+    };
+    Err(std::io::Error::new(
+        std::io::ErrorKind::InvalidInput,
+        format!("not a regular file ({what}); only a regular file is read"),
+    ))
+}
+
+#[cfg(unix)]
+fn special_kind(kind: FileType) -> &'static str {
+    use std::os::unix::fs::FileTypeExt;
+    if kind.is_fifo() {
+        "a FIFO"
+    } else if kind.is_char_device() {
+        "a character device"
+    } else if kind.is_block_device() {
+        "a block device"
+    } else if kind.is_socket() {
+        "a socket"
+    } else {
+        "a special file"
+    }
+}
+
+#[cfg(not(unix))]
+fn special_kind(_: FileType) -> &'static str {
+    "a special file"
 }
 
 /// "1 MB (1048576 bytes)": the limit as people and `ls -l` read it.
@@ -64,10 +125,45 @@ mod tests {
     }
 
     #[cfg(unix)]
+    fn make_fifo(path: &Path) {
+        let mode = rustix::fs::Mode::RUSR | rustix::fs::Mode::WUSR;
+        rustix::fs::mkfifoat(rustix::fs::CWD, path, mode).unwrap();
+    }
+
+    #[cfg(unix)]
     #[test]
-    fn dev_zero_stops_at_the_limit() {
+    fn a_device_a_fifo_and_a_directory_are_refused_at_once() {
         let err = read_to_string_bounded(Path::new("/dev/zero"), KEYMAP_LIMIT).unwrap_err();
-        assert!(err.to_string().contains("1 MB"), "{err}");
+        assert_eq!(err.kind(), std::io::ErrorKind::InvalidInput);
+        assert_eq!(
+            err.to_string(),
+            "not a regular file (a character device); only a regular file is read"
+        );
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("fifo");
+        make_fifo(&fifo);
+        // No writer: an ordinary open would wait for one for ever.
+        let err = read_to_string_bounded(&fifo, KEYMAP_LIMIT).unwrap_err();
+        assert!(err.to_string().contains("(a FIFO)"), "{err}");
+        let err = read_to_string_bounded(dir.path(), KEYMAP_LIMIT).unwrap_err();
+        assert!(err.to_string().contains("(a directory)"), "{err}");
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_fifo_in_place_of_the_file_checked_does_not_block_the_open() {
+        // The check after the open, as a path swapped between the two would meet it.
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("fifo");
+        make_fifo(&fifo);
+        let mut options = OpenOptions::new();
+        options.read(true);
+        std::os::unix::fs::OpenOptionsExt::custom_flags(
+            &mut options,
+            rustix::fs::OFlags::NONBLOCK.bits() as i32,
+        );
+        let file = options.open(&fifo).unwrap();
+        assert!(not_regular(file.metadata().unwrap().file_type()).is_err());
     }
 
     #[test]

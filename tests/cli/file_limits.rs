@@ -1,5 +1,6 @@
-//! Hostile local files: `/dev/zero` and oversized files are refused at once, naming the file and
-//! the limit, instead of being read until memory runs out.
+//! Hostile local files: a device, a FIFO and oversized files are refused at once, naming the
+//! file (and the limit or what it is), instead of being read until memory runs out or waiting
+//! for a FIFO's writer before the screen starts.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -16,6 +17,10 @@ fn temp_path(name: &str) -> (tempfile::TempDir, PathBuf) {
 fn run_armjog(args: &[&str]) -> (i32, String) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_armjog"))
         .args(args)
+        .env(
+            "ARMJOG_LOG_DIR",
+            std::env::temp_dir().join("armjog-test-logs"),
+        )
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
@@ -45,16 +50,69 @@ fn assert_refused(args: &[&str], file: &str, limit: &str) {
     assert!(stderr.contains(limit), "names the limit: {stderr}");
 }
 
+/// What `files::open_regular` says of a device.
+const A_DEVICE: &str = "not a regular file (a character device)";
+/// And of a FIFO.
+const A_FIFO: &str = "not a regular file (a FIFO)";
+
 #[cfg(unix)]
 #[test]
 fn keymap_dev_zero_is_refused_at_once() {
-    assert_refused(&["--keymap", "/dev/zero"], "/dev/zero", "1 MB");
+    assert_refused(&["--keymap", "/dev/zero"], "/dev/zero", A_DEVICE);
 }
 
 #[cfg(unix)]
 #[test]
 fn positions_dev_zero_is_refused_at_once() {
-    assert_refused(&["--positions", "/dev/zero"], "/dev/zero", "16 MB");
+    assert_refused(&["--positions", "/dev/zero"], "/dev/zero", A_DEVICE);
+}
+
+/// A FIFO nobody writes to, in a fresh directory: opened as an ordinary file, it waits for a
+/// writer for ever.
+#[cfg(unix)]
+fn fifo(name: &str) -> (tempfile::TempDir, PathBuf) {
+    let (dir, path) = temp_path(name);
+    let made = Command::new("mkfifo").arg(&path).status().unwrap();
+    assert!(made.success(), "mkfifo {}", path.display());
+    (dir, path)
+}
+
+#[cfg(unix)]
+#[test]
+fn a_fifo_as_config_is_refused_at_once_by_every_reader() {
+    let (_dir, path) = fifo("config.toml");
+    let shown = path.display().to_string();
+    for args in [
+        vec!["--config", &shown, "--arm", "cell3"],
+        vec!["arms", "--config", &shown],
+        vec!["status", "--config", &shown, "--arm", "cell3"],
+        vec!["modbus", "--config", &shown, "--arm", "cell3", "stop"],
+    ] {
+        let (code, stderr) = run_armjog(&args);
+        assert_eq!(code, 2, "{args:?}: {stderr}");
+        assert!(stderr.contains(&shown), "{args:?} names the file: {stderr}");
+        assert!(stderr.contains(A_FIFO), "{args:?}: {stderr}");
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn a_fifo_as_keymap_or_book_is_refused_at_once() {
+    let (_dir, path) = fifo("keymap.json");
+    let shown = path.display().to_string();
+    assert_refused(&["--keymap", &shown], &shown, A_FIFO);
+    let (_dir, path) = fifo("book.json");
+    let shown = path.display().to_string();
+    assert_refused(&["--positions", &shown], &shown, A_FIFO);
+    // A profile's book alike.
+    let (_config_dir, config) = temp_path("config.toml");
+    std::fs::write(
+        &config,
+        format!("[arms.bench]\npositions = {shown:?}\n"),
+    )
+    .unwrap();
+    let config = config.display().to_string();
+    assert_refused(&["--config", &config, "--arm", "bench"], &shown, A_FIFO);
 }
 
 #[test]
