@@ -8,7 +8,9 @@ use super::profiles::{self, EXIT_PROFILE, ProfileError, Profiles};
 #[derive(Debug, Args)]
 pub struct ArmsArgs {}
 
-/// Runs `armjog arms`: the file is checked whole, as `--arm` checks it.
+/// Runs `armjog arms`: the file is checked whole, as `--arm` checks it. A file named (`--config`,
+/// `ARMJOG_CONFIG`) that is not there is refused; the default one not there only means no
+/// profiles yet.
 pub fn run(given: Option<&std::path::Path>) -> Outcome {
     let Some(path) = profiles::config_path(given) else {
         return refused(&ProfileError::NoPlace);
@@ -19,7 +21,7 @@ pub fn run(given: Option<&std::path::Path>) -> Outcome {
             stderr: None,
             exit_code: 0,
         },
-        Err(ProfileError::NoFile { path }) => Outcome {
+        Err(ProfileError::NoFile { path }) if given.is_none() => Outcome {
             stdout: vec![format!(
                 "no arm profiles: {} does not exist (each is an [arms.NAME] table; see the README)",
                 path.display()

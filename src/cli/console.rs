@@ -57,19 +57,19 @@ pub struct ConsoleArgs {
     /// console commands within it; over Talos it sets the operator's speed to the percentage of
     /// --operator-full-speed that keeps within it. Where there is telemetry, a motion seen more
     /// than 10 % over it for three samples in a row is stopped.
-    #[arg(long, default_value_t = 250.0, value_name = "MM_S")]
+    #[arg(long, default_value_t = 250.0, value_name = "MM_S", value_parser = super::values::tool_speed)]
     pub max_jog_speed: f64,
     /// The Talos operator's tool speed at its own 100 %, mm/s (the simulator's default is 250):
     /// Set Speed asks the operator for the percentage of it that keeps the tool under
     /// --max-jog-speed. Too low a value lets the operator run over the cap (the console then
     /// stops the motion where telemetry shows it). The built-in simulator runs at it.
-    #[arg(long, default_value_t = 250.0, value_name = "MM_S")]
+    #[arg(long, default_value_t = 250.0, value_name = "MM_S", value_parser = super::values::tool_speed)]
     pub operator_full_speed: f64,
     /// How often a held jog is re-sent, per second (the operator's watchdog is 500 ms).
-    #[arg(long, default_value_t = 10.0, value_name = "HZ")]
+    #[arg(long, default_value_t = 10.0, value_name = "HZ", value_parser = super::values::refresh_hz)]
     pub refresh_hz: f64,
     /// Modbus telemetry polls per second.
-    #[arg(long, default_value_t = 30.0, value_name = "HZ")]
+    #[arg(long, default_value_t = 30.0, value_name = "HZ", value_parser = super::values::telemetry_hz)]
     pub telemetry_hz: f64,
     /// How key releases are detected.
     #[arg(long, value_enum, default_value_t = KeyRelease::Auto)]
@@ -78,52 +78,19 @@ pub struct ConsoleArgs {
     #[arg(long, value_name = "FILE")]
     pub positions: Option<PathBuf>,
     /// Id of the Home action on a Kinova arm (Modbus).
-    #[arg(long, default_value_t = modbus::DEFAULT_HOME_ACTION_ID)]
+    #[arg(long, default_value_t = modbus::DEFAULT_HOME_ACTION_ID, value_parser = super::values::stored_action_id)]
     pub home_action_id: u16,
 }
 
-/// The tool speed cap's bounds, mm/s: above 0 and at most the arm's twist limit. For the
-/// console and the one-shot commands that move the arm.
-pub fn check_max_jog_speed(mm_s: f64) -> Result<(), String> {
-    if mm_s.is_finite() && mm_s > 0.0 && mm_s <= 500.0 {
-        Ok(())
-    } else {
-        Err(format!(
-            "--max-jog-speed {mm_s} mm/s: must be above 0 and at most 500 (the arm's twist limit)"
-        ))
-    }
-}
-
 impl ConsoleArgs {
-    /// Checks the numbers a technician could get wrong, before anything starts.
+    /// Checks what no one value says alone, before anything starts (each value's own range is
+    /// its parser's: `cli::values`).
     fn validate(&self) -> Result<(), String> {
-        check_max_jog_speed(self.max_jog_speed)?;
-        if !(self.operator_full_speed.is_finite()
-            && self.operator_full_speed > 0.0
-            && self.operator_full_speed <= 500.0)
-        {
-            return Err(format!(
-                "--operator-full-speed {} mm/s: must be above 0 and at most 500 (the arm's twist limit)",
-                self.operator_full_speed
-            ));
-        }
         if !OperatorScale::new(self.max_jog_speed, self.operator_full_speed).allows_one_percent() {
             return Err(format!(
                 "--max-jog-speed {} mm/s is below 1 % of --operator-full-speed {} mm/s: the \
                  operator's slowest speed would be over the cap",
                 self.max_jog_speed, self.operator_full_speed
-            ));
-        }
-        if !(self.refresh_hz.is_finite() && (2.5..=100.0).contains(&self.refresh_hz)) {
-            return Err(format!(
-                "--refresh-hz {}: must be 2.5 to 100 (re-sending well inside the 500 ms watchdog)",
-                self.refresh_hz
-            ));
-        }
-        if !(self.telemetry_hz.is_finite() && (1.0..=200.0).contains(&self.telemetry_hz)) {
-            return Err(format!(
-                "--telemetry-hz {}: must be 1 to 200",
-                self.telemetry_hz
             ));
         }
         Ok(())
@@ -307,10 +274,19 @@ mod tests {
             validate(&["--max-jog-speed", "5", "--operator-full-speed", "500"]),
             Ok(())
         );
-        let err = validate(&["--operator-full-speed", "0"]).expect_err("0 mm/s");
-        assert!(err.starts_with("--operator-full-speed 0 mm/s"), "{err}");
-        let err = validate(&["--operator-full-speed", "600"]).expect_err("over 500");
-        assert!(err.contains("at most 500"), "{err}");
+        for option in ["--max-jog-speed", "--operator-full-speed"] {
+            for bad in ["0", "-5", "600", "nan", "inf"] {
+                let err = Cli::try_parse_from(["armjog", &format!("{option}={bad}")])
+                    .expect_err("refused");
+                assert_eq!(err.kind(), clap::error::ErrorKind::ValueValidation);
+                let text = err.to_string();
+                assert!(
+                    text.contains(&format!("'{bad}' for '{option} <MM_S>'"))
+                        && text.contains("must be above 0 and at most 500 mm/s"),
+                    "{text}"
+                );
+            }
+        }
         let err = validate(&["--max-jog-speed", "4", "--operator-full-speed", "500"])
             .expect_err("below 1 %");
         assert_eq!(

@@ -87,7 +87,7 @@ pub enum ModbusCommand {
     /// Start the Home action and wait for its end (refused if the arm is in fault).
     Home {
         /// The arm's id of its Home action (see the Kortex Web App).
-        #[arg(long, default_value_t = DEFAULT_HOME_ACTION_ID, value_name = "N")]
+        #[arg(long, default_value_t = DEFAULT_HOME_ACTION_ID, value_name = "N", value_parser = super::values::stored_action_id)]
         action_id: u16,
         #[command(flatten)]
         options: StoredOptions,
@@ -96,7 +96,7 @@ pub enum ModbusCommand {
     /// type 0). A real arm's ids are on its Web App's Actions page.
     Action {
         /// The action's id.
-        #[arg(long, value_name = "N")]
+        #[arg(long, value_name = "N", value_parser = super::values::stored_action_id)]
         id: u16,
         #[command(flatten)]
         options: StoredOptions,
@@ -105,7 +105,7 @@ pub enum ModbusCommand {
     /// type 1). A real arm's ids are on its Web App's Actions page.
     Sequence {
         /// The sequence's id.
-        #[arg(long, value_name = "N")]
+        #[arg(long, value_name = "N", value_parser = super::values::stored_action_id)]
         id: u16,
         #[command(flatten)]
         options: StoredOptions,

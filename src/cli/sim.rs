@@ -34,7 +34,7 @@ pub struct SimArgs {
     pub checksum: Checksum,
     /// The operator's tool speed cap at 100 % speed, mm/s: bounds every motion it commands
     /// (cartesian and polar, continuous and discrete, joint jogs, go to, home).
-    #[arg(long, default_value_t = 250.0, value_name = "MM_S")]
+    #[arg(long, default_value_t = 250.0, value_name = "MM_S", value_parser = super::values::tool_speed)]
     pub max_jog_speed: f64,
     /// Fault injection: wait this long before every reply, ms.
     #[arg(long, default_value_t = 0, value_name = "MS")]
@@ -65,15 +65,6 @@ pub struct SimArgs {
 
 impl SimArgs {
     pub fn config(&self) -> Result<SimConfig, String> {
-        if !(self.max_jog_speed.is_finite()
-            && self.max_jog_speed > 0.0
-            && self.max_jog_speed <= 500.0)
-        {
-            return Err(format!(
-                "--max-jog-speed {} mm/s: must be above 0 and at most 500",
-                self.max_jog_speed
-            ));
-        }
         let q = match (self.near_limit, self.near_singularity) {
             (Some(joint), _) => kinematics::near_limit_pose_deg(joint)?,
             (None, true) => kinematics::near_singularity_pose_deg(),

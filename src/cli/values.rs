@@ -1,9 +1,55 @@
 //! Parsers of the options every command shares, listing their possible values for `--help` and
-//! the shell completions.
+//! the shell completions, and checking their ranges: a profile's values go through the same
+//! parsers (`profiles::file`), so a value is refused alike wherever it was written, at once.
+//! Their messages name no option: clap names the option typed, a profile its key and line.
 
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 
+use crate::kortex::commands::{MAX_LINEAR_SPEED, stored_id};
 use crate::talos::{Checksum, Dialect};
+
+/// A number as typed.
+fn number(text: &str) -> Result<f64, String> {
+    text.parse::<f64>()
+        .map_err(|_| format!("'{text}' is not a number"))
+}
+
+/// A tool speed in mm/s (`--max-jog-speed`, `--operator-full-speed`): above 0 and at most the
+/// arm's twist limit.
+pub fn tool_speed(text: &str) -> Result<f64, String> {
+    let limit = f64::from(MAX_LINEAR_SPEED) * 1000.0;
+    match number(text)? {
+        mm_s if mm_s.is_finite() && mm_s > 0.0 && mm_s <= limit => Ok(mm_s),
+        _ => Err(format!(
+            "must be above 0 and at most {limit} mm/s (the arm's twist limit)"
+        )),
+    }
+}
+
+/// `--refresh-hz`: how often a held jog is re-sent, well inside the operator's 500 ms watchdog.
+pub fn refresh_hz(text: &str) -> Result<f64, String> {
+    match number(text)? {
+        hz if hz.is_finite() && (2.5..=100.0).contains(&hz) => Ok(hz),
+        _ => Err("must be 2.5 to 100 (re-sending well inside the 500 ms watchdog)".into()),
+    }
+}
+
+/// `--telemetry-hz`: Modbus polls per second.
+pub fn telemetry_hz(text: &str) -> Result<f64, String> {
+    match number(text)? {
+        hz if hz.is_finite() && (1.0..=200.0).contains(&hz) => Ok(hz),
+        _ => Err("must be 1 to 200".into()),
+    }
+}
+
+/// The id of a stored action or sequence (`--id`, `--action-id`, `--home-action-id`): the
+/// arm's range, [`crate::kortex::commands::STORED_IDS`].
+pub fn stored_action_id(text: &str) -> Result<u16, String> {
+    let whole: i128 = text
+        .parse()
+        .map_err(|_| format!("'{text}' is not a whole number"))?;
+    stored_id(whole).map_err(|e| e.to_string())
+}
 
 /// `--checksum`: the checksum dialect of every Talos frame.
 pub fn checksum_parser() -> impl TypedValueParser<Value = Checksum> {

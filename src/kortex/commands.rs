@@ -21,6 +21,10 @@ pub const MAX_ANGULAR_SPEED: f32 = 100.0;
 pub const MAX_REACH: f32 = 1.5;
 /// Orientation targets beyond a full turn are refused as typos.
 pub const MAX_ANGLE: f32 = 360.0;
+/// The ids a stored action or sequence can have: register 201 is a uint16, and 0 is none (an
+/// arm's action status names id 0 when it ran nothing). The one range of the console's form, the
+/// command line, the profiles and [`start_stored`].
+pub const STORED_IDS: std::ops::RangeInclusive<u16> = 1..=u16::MAX;
 
 /// One write request.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -96,6 +100,16 @@ pub enum CommandError {
     AngleOutOfRange { what: &'static str, value: f32 },
     #[error("reference frame {0} is not one of 1 (mixed), 2 (tool), 3 (base)")]
     UnknownReferenceFrame(u16),
+    #[error("{0} is outside {first} to {last}", first = STORED_IDS.start(), last = STORED_IDS.end())]
+    StoredIdOutOfRange(i128),
+}
+
+/// `number` as a stored action's or sequence's id, if it is in [`STORED_IDS`].
+pub fn stored_id(number: i128) -> Result<u16, CommandError> {
+    u16::try_from(number)
+        .ok()
+        .filter(|id| STORED_IDS.contains(id))
+        .ok_or(CommandError::StoredIdOutOfRange(number))
 }
 
 /// The reference frame numbered `code` in register 203, or a refusal.
@@ -209,19 +223,22 @@ pub enum StoredMotion {
 /// 1. FC16 200 <- `[0]` (no action)
 /// 2. FC16 201-202 <- `[id, 0 (action) or 1 (sequence)]`
 /// 3. FC16 200 <- `[1]` (start)
-pub fn start_stored(id: u16, motion: StoredMotion) -> Vec<Write> {
+///
+/// An id outside [`STORED_IDS`] is refused.
+pub fn start_stored(id: u16, motion: StoredMotion) -> Result<Vec<Write>, CommandError> {
+    let id = stored_id(id.into())?;
     let move_type = match motion {
         StoredMotion::Action => MoveType::Action,
         StoredMotion::Sequence => MoveType::Sequence,
     };
-    vec![
+    Ok(vec![
         Write::command(ActionCommand::NoAction),
         Write::Registers {
             addr: hr::COMMAND_ID,
             values: vec![id, move_type.code()],
         },
         Write::command(ActionCommand::Start),
-    ]
+    ])
 }
 
 /// Sets the desired cartesian speed limits (linear m/s, angular deg/s), each above zero and at

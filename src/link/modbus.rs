@@ -369,7 +369,7 @@ impl ModbusLink {
         id: u16,
         motion: StoredMotion,
     ) -> Result<WriteReport, ModbusError> {
-        let writes = commands::start_stored(id, motion);
+        let writes = commands::start_stored(id, motion)?;
         self.ask(|reply| Job::Move {
             writes,
             max_linear: None,
@@ -400,7 +400,7 @@ impl ModbusLink {
         motion: StoredMotion,
         max_linear: f32,
     ) -> Result<WriteReport, ModbusError> {
-        let writes = commands::start_stored(id, motion);
+        let writes = commands::start_stored(id, motion)?;
         commands::speed_limits(max_linear, commands::MAX_ANGULAR_SPEED)?;
         self.ask(|reply| Job::Move {
             writes,

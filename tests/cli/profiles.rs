@@ -157,13 +157,59 @@ fn a_value_the_option_refuses_is_named_with_its_line() {
     );
     assert_eq!(
         error("[arms.cell3]\nunit = 300\n"),
-        "config.toml:2: unit: invalid value '300' for '--unit <UNIT>': 300 is not in 0..=255"
+        "config.toml:2: unit = 300: 300 is not in 0..=255"
     );
-    let negative = error("[arms.cell3]\nhome_action_id = -1\n");
-    assert!(
-        negative.starts_with("config.toml:2: home_action_id: invalid value '-1'"),
-        "{negative}"
+    assert_eq!(
+        error("[arms.cell3]\nhome_action_id = -1\n"),
+        "config.toml:2: home_action_id = -1: -1 is outside 1 to 65535"
     );
+}
+
+/// Every value is checked as the file is read, by the option's own parser, and named by its
+/// key: never as an option nobody typed (`--max-jog-speed -5 mm/s`) once the console starts.
+#[test]
+fn every_value_is_checked_at_load_and_named_by_its_key() {
+    let speed = "must be above 0 and at most 500 mm/s (the arm's twist limit)";
+    for (line, says) in [
+        ("max_jog_speed = -5", format!("max_jog_speed = -5: {speed}")),
+        ("max_jog_speed = 0", format!("max_jog_speed = 0: {speed}")),
+        ("max_jog_speed = 0.0", format!("max_jog_speed = 0.0: {speed}")),
+        ("max_jog_speed = nan", format!("max_jog_speed = nan: {speed}")),
+        ("max_jog_speed = inf", format!("max_jog_speed = inf: {speed}")),
+        ("max_jog_speed = -inf", format!("max_jog_speed = -inf: {speed}")),
+        ("max_jog_speed = 600", format!("max_jog_speed = 600: {speed}")),
+        (
+            "operator_full_speed = 500.5",
+            format!("operator_full_speed = 500.5: {speed}"),
+        ),
+        (
+            "refresh_hz = 1",
+            "refresh_hz = 1: must be 2.5 to 100 (re-sending well inside the 500 ms watchdog)"
+                .to_string(),
+        ),
+        (
+            "telemetry_hz = 0",
+            "telemetry_hz = 0: must be 1 to 200".to_string(),
+        ),
+        (
+            "home_action_id = 0",
+            "home_action_id = 0: 0 is outside 1 to 65535".to_string(),
+        ),
+    ] {
+        let text = format!("[arms.cell3]\ntalos = \"op\"\n{line}\n");
+        assert_eq!(error(&text), format!("config.toml:3: {says}"), "{line}");
+    }
+    // The edges are values.
+    for line in [
+        "max_jog_speed = 500",
+        "max_jog_speed = 0.5",
+        "refresh_hz = 2.5",
+        "telemetry_hz = 200",
+        "home_action_id = 65535",
+    ] {
+        let text = format!("[arms.cell3]\n{line}\n");
+        assert!(parse(&text).is_ok(), "{line}");
+    }
 }
 
 #[test]
@@ -364,6 +410,27 @@ async fn armjog(config: &Path, env: &[(&str, &str)], args: &[&str]) -> Run {
     }
 }
 
+/// `armjog args...` with the default config file in `config_home` (`$XDG_CONFIG_HOME`).
+async fn default_config_armjog(config_home: &Path, args: &[&str]) -> Run {
+    let out = tokio::process::Command::new(env!("CARGO_BIN_EXE_armjog"))
+        .args(args)
+        .env_remove("ARMJOG_CONFIG")
+        .env_remove("ARMJOG_ARM")
+        .env("XDG_CONFIG_HOME", config_home)
+        .env(
+            "ARMJOG_LOG_DIR",
+            std::env::temp_dir().join("armjog-test-logs"),
+        )
+        .output()
+        .await
+        .expect("run armjog");
+    Run {
+        code: out.status.code().unwrap_or(-1),
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+    }
+}
+
 /// A profile `sim1` on the simulator, with a Home action id it does not have.
 fn sim_profile(sim: &Simulator) -> String {
     let modbus = sim.modbus_addr.expect("modbus");
@@ -445,6 +512,40 @@ async fn a_bad_profile_is_refused_before_anything_connects() {
     );
 }
 
+/// The issue's case: `max_jog_speed = -5` passed `armjog arms` and `status --arm`, and the
+/// console then named `--max-jog-speed`. Now every reader refuses the file, naming its line and
+/// key, before anything connects.
+#[tokio::test(flavor = "multi_thread")]
+async fn a_bad_value_is_refused_by_every_reader_at_load() {
+    let listener = tokio::net::TcpListener::bind("127.0.0.1:0")
+        .await
+        .expect("bind");
+    let addr = listener.local_addr().expect("addr");
+    for value in ["-5", "0", "nan", "inf", "600"] {
+        let (_dir, config) = config_file(&format!(
+            "[arms.cell3]\nmodbus = \"{addr}\"\nmax_jog_speed = {value}\n"
+        ));
+        let expected = format!(
+            "armjog: {}:3: max_jog_speed = {value}: must be above 0 and at most 500 mm/s (the \
+             arm's twist limit)\n",
+            config.display()
+        );
+        for args in [
+            &["arms"][..],
+            &["status", "--arm", "cell3"],
+            &["modbus", "--arm", "cell3", "stop"],
+            &["--arm", "cell3"],
+        ] {
+            let run = armjog(&config, &[], args).await;
+            assert_eq!(run.code, 2, "{args:?} {value}: {}{}", run.stdout, run.stderr);
+            assert_eq!(run.stderr, expected, "{args:?}");
+        }
+    }
+    let accepted =
+        tokio::time::timeout(std::time::Duration::from_millis(200), listener.accept()).await;
+    assert!(accepted.is_err(), "something connected");
+}
+
 #[tokio::test(flavor = "multi_thread")]
 async fn arms_lists_the_profiles_with_their_targets() {
     let (_dir, config) = config_file(GOOD);
@@ -466,13 +567,38 @@ async fn arms_lists_the_profiles_with_their_targets() {
     assert_eq!(run.code, 0, "{}", run.stderr);
     assert_eq!(run.stdout, "sim  the built-in simulated arm\n");
 
+    // A file named (ARMJOG_CONFIG, --config) that is not there is refused, naming it.
     let missing = config.with_file_name("missing.toml");
     let run = armjog(&missing, &[], &["arms"]).await;
+    assert_eq!(run.code, 2, "{}{}", run.stdout, run.stderr);
+    assert_eq!(
+        run.stderr,
+        format!(
+            "armjog: {}: no such file (arm profiles go there)\n",
+            missing.display()
+        )
+    );
+    let run = armjog(
+        &config,
+        &[],
+        &["arms", "--config", "/nonexistent/armjog/config.toml"],
+    )
+    .await;
+    assert_eq!(run.code, 2, "{}{}", run.stdout, run.stderr);
+    assert!(
+        run.stderr.contains("/nonexistent/armjog/config.toml: no such file"),
+        "{}",
+        run.stderr
+    );
+    // The default file not there: no profiles yet, which is fine.
+    let home = tempfile::tempdir().expect("temp dir");
+    let default = home.path().join("armjog").join("config.toml");
+    let run = default_config_armjog(home.path(), &["arms"]).await;
     assert_eq!(run.code, 0, "{}", run.stderr);
     assert!(
         run.stdout.starts_with(&format!(
             "no arm profiles: {} does not exist",
-            missing.display()
+            default.display()
         )),
         "{}",
         run.stdout

@@ -316,10 +316,63 @@ async fn a_cap_over_the_twist_limit_is_refused_before_connecting() {
     .await;
     assert_eq!(run.code, 2, "{}", run.stderr);
     assert!(
-        run.stderr.contains("--max-jog-speed 501 mm/s"),
+        run.stderr.contains("'501' for '--max-jog-speed <MM_S>'")
+            && run.stderr.contains("at most 500 mm/s"),
         "{}",
         run.stderr
     );
+}
+
+/// Id 0 names no action (`kortex::commands::STORED_IDS`): refused as the console's form refuses
+/// it, from the command line and from a profile, before anything connects.
+#[tokio::test(flavor = "multi_thread")]
+async fn an_id_of_0_is_refused_before_connecting() {
+    let listener = tokio::net::TcpListener::bind("127.0.0.1:0")
+        .await
+        .expect("bind");
+    let addr = listener.local_addr().expect("addr").to_string();
+    let dir = tempfile::tempdir().expect("temp dir");
+    let config = dir.path().join("config.toml");
+    std::fs::write(
+        &config,
+        format!("[arms.cell]\nmodbus = \"{addr}\"\nhome_action_id = 0\n"),
+    )
+    .expect("write config");
+    let config = config.display().to_string();
+    let modbus = ["modbus", "--modbus", addr.as_str()];
+    for (args, says) in [
+        (
+            [&modbus[..], &["action", "--id", "0"]].concat(),
+            "'0' for '--id <N>': 0 is outside 1 to 65535",
+        ),
+        (
+            [&modbus[..], &["sequence", "--id", "0", "--no-wait"]].concat(),
+            "'0' for '--id <N>': 0 is outside 1 to 65535",
+        ),
+        (
+            [&modbus[..], &["home", "--action-id", "0"]].concat(),
+            "'0' for '--action-id <N>': 0 is outside 1 to 65535",
+        ),
+        (
+            vec!["--modbus", addr.as_str(), "--home-action-id", "0"],
+            "'0' for '--home-action-id <HOME_ACTION_ID>': 0 is outside 1 to 65535",
+        ),
+        (
+            vec!["--config", &config, "modbus", "--arm", "cell", "home"],
+            "config.toml:3: home_action_id = 0: 0 is outside 1 to 65535",
+        ),
+        (
+            vec!["--config", &config, "--arm", "cell"],
+            "config.toml:3: home_action_id = 0: 0 is outside 1 to 65535",
+        ),
+    ] {
+        let run = armjog(&args).await;
+        assert_eq!(run.code, 2, "{args:?}: {}{}", run.stdout, run.stderr);
+        assert!(run.stderr.contains(says), "{args:?}: {}", run.stderr);
+    }
+    let accepted =
+        tokio::time::timeout(Duration::from_millis(200), listener.accept()).await;
+    assert!(accepted.is_err(), "something connected");
 }
 
 /// A profile's `max_jog_speed` caps the stored motions, and its `home_action_id` still goes to

@@ -390,9 +390,23 @@ fn values_over_the_limits_are_refused() {
 }
 
 #[test]
+fn a_stored_id_is_1_to_65535_and_0_is_never_written() {
+    assert_eq!(commands::STORED_IDS, 1..=65535);
+    assert_eq!(commands::stored_id(1).unwrap(), 1);
+    assert_eq!(commands::stored_id(65535).unwrap(), 65535);
+    for refused in [0, -1, 65536] {
+        let err = commands::stored_id(refused).expect_err("outside");
+        assert_eq!(err.to_string(), format!("{refused} is outside 1 to 65535"));
+    }
+    for motion in [StoredMotion::Action, StoredMotion::Sequence] {
+        assert!(commands::start_stored(0, motion).is_err(), "{motion:?} 0");
+    }
+}
+
+#[test]
 fn stored_motion_speed_limit_and_coil_writes() {
     assert_eq!(
-        commands::start_stored(2, StoredMotion::Action),
+        commands::start_stored(2, StoredMotion::Action).unwrap(),
         vec![
             Write::Registers {
                 addr: 200,

@@ -297,6 +297,15 @@ async fn values_that_cannot_be_written_are_refused_before_sending() {
     };
     assert!(link.go_to_pose(ReferenceFrame::Base, far).await.is_err());
     assert!(link.polar_pan(1.5, 0.0).await.is_err());
+    for motion in [
+        armjog::kortex::StoredMotion::Action,
+        armjog::kortex::StoredMotion::Sequence,
+    ] {
+        let e = link.start_stored(0, motion).await.unwrap_err();
+        assert!(e.refused_before_sending(), "{e}");
+        let e = link.start_stored_capped(0, motion, 0.1).await.unwrap_err();
+        assert!(e.refused_before_sending(), "{e}");
+    }
     assert!(arm.with(|s| s.log.is_empty()), "nothing was sent");
 }
 

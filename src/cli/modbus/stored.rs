@@ -8,7 +8,6 @@ use clap::Args;
 
 use super::{EXIT_EXCEPTION, ModbusArgs, ModbusCommand, render};
 use crate::cli::Outcome;
-use crate::cli::console::check_max_jog_speed;
 use crate::kortex::{Progress, Stored, StoredRun, Telemetry, fault_reason};
 use crate::link::ModbusLink;
 use crate::link::modbus::ModbusError;
@@ -26,7 +25,7 @@ pub struct StoredOptions {
     pub wait_timeout: f64,
     /// The tool speed cap, mm/s (the console's): the arm's linear speed limit is lowered to it
     /// (never raised) while the motion runs and put back at its end.
-    #[arg(long, default_value_t = 250.0, value_name = "MM_S")]
+    #[arg(long, default_value_t = 250.0, value_name = "MM_S", value_parser = crate::cli::values::tool_speed)]
     pub max_jog_speed: f64,
 }
 
@@ -39,7 +38,7 @@ impl StoredOptions {
                 "--wait-timeout {timeout}: must be above 0 and at most 86400 s"
             ));
         }
-        check_max_jog_speed(self.max_jog_speed)
+        Ok(())
     }
 
     /// The cap as the arm's linear limit, m/s.

@@ -152,8 +152,7 @@ fn read_profile(
         let Some(text) = argument_text(value.get_ref(), kind) else {
             return Err(at.wrong_type(value, key.get_ref(), kind.expected()));
         };
-        check_value(arg, &text)
-            .map_err(|why| at.error(line, format!("{}: {why}", key.get_ref())))?;
+        check_value(arg, key.get_ref(), &text).map_err(|why| at.error(line, why))?;
         settings.push(Setting {
             key: key.get_ref().to_string(),
             value: text,
@@ -184,15 +183,17 @@ fn argument_text(value: &DeValue<'_>, kind: Kind) -> Option<String> {
     }
 }
 
-/// Runs the option's own parser (possible values, ranges) on `text`, as the command line would.
-fn check_value(arg: &Arg, text: &str) -> Result<(), String> {
+/// Runs the option's own parser (possible values, ranges: `cli::values`) on `text`, as the
+/// command line would, and says what is wrong as the file names it: `KEY = VALUE: why`, not
+/// as the option nobody typed.
+fn check_value(arg: &Arg, key: &str, text: &str) -> Result<(), String> {
     let possible: Vec<String> = arg
         .get_possible_values()
         .iter()
         .map(|p| p.get_name().to_string())
         .collect();
     if !possible.is_empty() && !possible.iter().any(|p| p == text) {
-        let mut why = format!("'{text}' is not one of {}", possible.join(", "));
+        let mut why = format!("{key}: '{text}' is not one of {}", possible.join(", "));
         if let Some(near) = nearest(text, &possible) {
             why.push_str(&format!("; did you mean '{near}'?"));
         }
@@ -208,9 +209,16 @@ fn check_value(arg: &Arg, text: &str) -> Result<(), String> {
     {
         Ok(_) => Ok(()),
         Err(e) => {
-            let rendered = e.to_string();
-            let first = rendered.lines().next().unwrap_or_default();
-            Err(first.strip_prefix("error: ").unwrap_or(first).to_string())
+            // The parser's own words (`must be above 0 ...`); clap's first line otherwise.
+            let why = match std::error::Error::source(&e) {
+                Some(source) => source.to_string(),
+                None => {
+                    let rendered = e.to_string();
+                    let first = rendered.lines().next().unwrap_or_default();
+                    first.strip_prefix("error: ").unwrap_or(first).to_string()
+                }
+            };
+            Err(format!("{key} = {text}: {why}"))
         }
     }
 }

@@ -2,6 +2,7 @@
 //! with what was wrong before anything is asked.
 
 use super::{Field, Form, FormKind, FormResult};
+use crate::kortex::commands::{STORED_IDS, stored_id};
 use crate::kortex::{Stored, StoredMotion};
 
 /// Where a real arm's ids are: the form says so under its fields (within a dialog's 70 columns).
@@ -40,22 +41,20 @@ impl Form {
             }
         };
         let text = value(ID);
+        let (first, last) = (STORED_IDS.start(), STORED_IDS.end());
         if text.is_empty() {
             return Err((
                 ID,
-                "id is empty: type a whole number from 1 to 65535".into(),
+                format!("id is empty: type a whole number from {first} to {last}"),
             ));
         }
         let number: i128 = text.parse().map_err(|_| {
             (
                 ID,
-                format!("id: '{text}' is not a whole number from 1 to 65535"),
+                format!("id: '{text}' is not a whole number from {first} to {last}"),
             )
         })?;
-        let id = u16::try_from(number)
-            .ok()
-            .filter(|id| *id >= 1)
-            .ok_or_else(|| (ID, format!("id: {number} is outside 1 to 65535")))?;
+        let id = stored_id(number).map_err(|e| (ID, format!("id: {e}")))?;
         Ok(FormResult::Stored(Stored { motion, id }))
     }
 }
