@@ -18,7 +18,7 @@ fn main() {
     // The profile `--arm` names is read and checked before anything starts.
     let Parsed { cli, arm } = match parse_args(args) {
         Ok(parsed) => parsed,
-        Err(ArgsError::Clap(e)) => e.exit(),
+        Err(ArgsError::Clap(e)) => exit_clap(e),
         Err(e) => {
             output::print_error(&e.to_string());
             std::process::exit(EXIT_PROFILE);
@@ -57,6 +57,19 @@ fn main() {
         output::print_error(&format!("key stages not written: {e}"));
     }
     std::process::exit(code);
+}
+
+/// Ends the process with clap's message (`--help`, `--version`, a refused argument). A message
+/// that echoes a value with a control or bidi character in it (a path, an address) is printed
+/// escaped, as every other message is (`output`), without clap's colours; any other as clap
+/// prints it.
+fn exit_clap(e: clap::Error) -> ! {
+    let rendered = e.to_string();
+    if e.use_stderr() && rendered.lines().any(|line| line.chars().any(armjog::text::is_unsafe)) {
+        output::print_error_lines(&rendered);
+        std::process::exit(e.exit_code());
+    }
+    e.exit()
 }
 
 /// How long the runtime goes on after a command panicked: the console's panic hook ends the

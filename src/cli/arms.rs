@@ -4,6 +4,7 @@ use clap::Args;
 
 use super::Outcome;
 use super::profiles::{self, EXIT_PROFILE, ProfileError, Profiles};
+use crate::text;
 
 #[derive(Debug, Args)]
 pub struct ArmsArgs {}
@@ -49,16 +50,14 @@ pub fn lines(profiles: &Profiles) -> Vec<String> {
             profiles.file.display()
         )];
     }
-    let width = profiles
-        .arms
-        .iter()
-        .map(|p| p.name.len())
-        .max()
-        .unwrap_or(0);
+    // Names as shown (escaped: see `text::shown`), so the columns line up as printed.
+    let names: Vec<_> = profiles.arms.iter().map(|p| text::shown(&p.name)).collect();
+    let width = names.iter().map(|n| n.chars().count()).max().unwrap_or(0);
     profiles
         .arms
         .iter()
-        .map(|profile| {
+        .zip(&names)
+        .map(|(profile, name)| {
             let mut targets = Vec::new();
             if let Some(talos) = profile.value("talos") {
                 targets.push(format!("talos {talos}"));
@@ -73,7 +72,7 @@ pub fn lines(profiles: &Profiles) -> Vec<String> {
             if targets.is_empty() {
                 targets.push("the built-in simulated arm".into());
             }
-            format!("{:<width$}  {}", profile.name, targets.join("  "))
+            format!("{name:<width$}  {}", targets.join("  "))
         })
         .collect()
 }

@@ -1,7 +1,16 @@
 //! Writing a command's output to stdout and stderr without panicking when the reader goes away
 //! (`armjog status | head -c 10`): `println!` panics on a closed pipe, these stop quietly.
+//!
+//! Every line the command line prints goes through the one sanitiser ([`text::shown`]) here,
+//! at its edge: a profile's name, a path, an address, a keymap's name or an arm's reply may
+//! hold control or bidi characters (`\u{1b}]0;title\u{7}`, `\u{202e}`), and none reaches the
+//! terminal as it is, on stdout or stderr, whichever message carries it. (JSON lines: serde_json
+//! escapes C0 controls itself, so a JSON line is left as it is unless it holds DEL, C1 or bidi
+//! characters, which no output has.)
 
 use std::io::{self, Write};
+
+use crate::text;
 
 /// What became of a write to stdout.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -12,12 +21,13 @@ pub enum Printed {
     ReaderGone,
 }
 
-/// Writes `lines` to `out`, one a line, and flushes. A broken pipe is [`Printed::ReaderGone`];
+/// Writes `lines` to `out`, one a line, escaped for a terminal ([`text::shown`]: a line
+/// holding a newline stays one line), and flushes. A broken pipe is [`Printed::ReaderGone`];
 /// any other failure (a full disk, say) is returned.
 pub fn write_lines<W: Write>(out: &mut W, lines: &[String]) -> io::Result<Printed> {
     let written = lines
         .iter()
-        .try_for_each(|line| writeln!(out, "{line}"))
+        .try_for_each(|line| writeln!(out, "{}", text::shown(line)))
         .and_then(|()| out.flush());
     match written {
         Ok(()) => Ok(Printed::All),
@@ -36,12 +46,26 @@ pub fn print_line(line: impl Into<String>) -> io::Result<Printed> {
     print_lines(&[line.into()])
 }
 
-/// Prints an `armjog: ...` message on stderr. A failure to do so is only logged: there is no
-/// one left to tell.
+/// Prints an `armjog: ...` message on stderr, escaped for a terminal ([`text::shown`]: one
+/// line). A failure to do so is only logged: there is no one left to tell.
 pub fn print_error(reason: &str) {
     let mut err = io::stderr().lock();
-    if let Err(e) = writeln!(err, "armjog: {reason}").and_then(|()| err.flush()) {
-        tracing::warn!("cannot write to stderr ({e}): {reason}");
+    let shown = text::shown(reason);
+    if let Err(e) = writeln!(err, "armjog: {shown}").and_then(|()| err.flush()) {
+        tracing::warn!("cannot write to stderr ({e}): {}", text::logged(reason));
+    }
+}
+
+/// Prints a message of several lines (clap's, with its usage) on stderr, each line escaped for
+/// a terminal. A failure is only logged, as [`print_error`]'s.
+pub fn print_error_lines(message: &str) {
+    let mut err = io::stderr().lock();
+    let written = message
+        .lines()
+        .try_for_each(|line| writeln!(err, "{}", text::shown(line)))
+        .and_then(|()| err.flush());
+    if let Err(e) = written {
+        tracing::warn!("cannot write to stderr ({e}): {}", text::logged(message));
     }
 }
 
@@ -113,6 +137,21 @@ mod tests {
         };
         let err = write_lines(&mut out, &lines()).expect_err("a full disk is an error");
         assert_eq!(err.kind(), io::ErrorKind::StorageFull);
+    }
+
+    #[test]
+    fn control_and_bidi_characters_are_written_escaped() {
+        let mut out = Vec::new();
+        let lines = vec![
+            "evil\u{1b}]0;PWNED\u{7}\u{1b}[31m\u{202e}  talos \u{1b}[2J".to_string(),
+            "two\nlines \u{9b}1m".to_string(),
+        ];
+        assert_eq!(write_lines(&mut out, &lines).ok(), Some(Printed::All));
+        assert_eq!(
+            String::from_utf8_lossy(&out),
+            "evil\\u{1b}]0;PWNED\\u{7}\\u{1b}[31m\\u{202e}  talos \\u{1b}[2J\n\
+             two\\nlines \\u{9b}1m\n"
+        );
     }
 
     #[test]

@@ -24,6 +24,7 @@ mod guard_console;
 mod logs;
 mod modbus;
 mod options;
+mod outside_text;
 mod profiles;
 mod send;
 mod sim_args_near_limit;
