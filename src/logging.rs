@@ -298,8 +298,7 @@ mod tests {
     }
 
     #[test]
-    fn a_start_keeps_the_fourteen_newest_files_by_their_names_dates_and_nothing_else_is_touched()
-    {
+    fn a_start_keeps_the_fourteen_newest_files_by_their_names_dates_and_nothing_else_is_touched() {
         let dir = tempfile::tempdir().expect("temp dir");
         // Twenty days of old files, created newest first (as a copy or a restore may make
         // them), and the neighbours of the directory: other programs' files, the audit, and
@@ -317,7 +316,11 @@ mod tests {
             "armjog-test.1999-01-01.log.gz",
             "armjog-test-old.1999-01-01.log",
         ];
-        for name in neighbours.iter().copied().chain(old.iter().rev().map(String::as_str)) {
+        for name in neighbours
+            .iter()
+            .copied()
+            .chain(old.iter().rev().map(String::as_str))
+        {
             std::fs::write(dir.path().join(name), "x\n").expect("write");
             // Creation times come from a coarse clock (a tick of up to 10 ms): apart, so that
             // pruning by them would keep the wrong files.
@@ -355,7 +358,10 @@ mod tests {
     #[test]
     fn only_real_dates_in_the_exact_pattern_count() {
         let p = "armjog-cli";
-        assert_eq!(dated("armjog-cli.2026-11-01.log", p), Some(date(2026, 11, 1)));
+        assert_eq!(
+            dated("armjog-cli.2026-11-01.log", p),
+            Some(date(2026, 11, 1))
+        );
         for other in [
             "armjog-cli.log",
             "armjog-cli.2026-11-01.log.1",
@@ -373,9 +379,7 @@ mod tests {
 
     #[test]
     fn the_oldest_by_name_go_and_todays_file_stays() {
-        let names: Vec<String> = (1..=20)
-            .map(|d| format!("p.2026-11-{d:02}.log"))
-            .collect();
+        let names: Vec<String> = (1..=20).map(|d| format!("p.2026-11-{d:02}.log")).collect();
         let names = || names.iter().map(String::as_str);
         // Today among them: it and the 13 newest others stay.
         let gone = to_delete(names(), "p", date(2026, 11, 20), 14);

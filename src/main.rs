@@ -65,7 +65,11 @@ fn main() {
 /// prints it.
 fn exit_clap(e: clap::Error) -> ! {
     let rendered = e.to_string();
-    if e.use_stderr() && rendered.lines().any(|line| line.chars().any(armjog::text::is_unsafe)) {
+    if e.use_stderr()
+        && rendered
+            .lines()
+            .any(|line| line.chars().any(armjog::text::is_unsafe))
+    {
         output::print_error_lines(&rendered);
         std::process::exit(e.exit_code());
     }

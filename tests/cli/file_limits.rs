@@ -106,11 +106,7 @@ fn a_fifo_as_keymap_or_book_is_refused_at_once() {
     assert_refused(&["--positions", &shown], &shown, A_FIFO);
     // A profile's book alike.
     let (_config_dir, config) = temp_path("config.toml");
-    std::fs::write(
-        &config,
-        format!("[arms.bench]\npositions = {shown:?}\n"),
-    )
-    .unwrap();
+    std::fs::write(&config, format!("[arms.bench]\npositions = {shown:?}\n")).unwrap();
     let config = config.display().to_string();
     assert_refused(&["--config", &config, "--arm", "bench"], &shown, A_FIFO);
 }

@@ -140,7 +140,11 @@ fn a_run_prunes_its_oldest_files_by_the_date_in_their_names() {
         "audit-2000-10-01.jsonl",
         "notes.txt",
     ];
-    for name in others.iter().copied().chain(days.iter().rev().map(String::as_str)) {
+    for name in others
+        .iter()
+        .copied()
+        .chain(days.iter().rev().map(String::as_str))
+    {
         std::fs::write(dir.join(name), "old\n").expect("write");
         // Creation times come from a coarse clock: apart, so they disagree with the names.
         std::thread::sleep(Duration::from_millis(25));
@@ -153,7 +157,11 @@ fn a_run_prunes_its_oldest_files_by_the_date_in_their_names() {
         .env("ARMJOG_LOG_DIR", &dir)
         .output()
         .expect("run armjog arms");
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let names = files_in(&dir);
     let kept: Vec<&String> = names
         .iter()
@@ -161,7 +169,10 @@ fn a_run_prunes_its_oldest_files_by_the_date_in_their_names() {
         .collect();
     assert_eq!(kept, days[7..].iter().collect::<Vec<_>>(), "{names:?}");
     for other in others.iter().chain(&["config.toml"]) {
-        assert!(names.iter().any(|n| n == other), "{other} removed: {names:?}");
+        assert!(
+            names.iter().any(|n| n == other),
+            "{other} removed: {names:?}"
+        );
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

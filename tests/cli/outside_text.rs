@@ -63,9 +63,7 @@ async fn arms_shows_a_profiles_name_and_address_escaped() {
     assert_inert(&run, "arms");
     assert_eq!(
         run.stdout,
-        format!(
-            "{EVIL_NAME_SHOWN}  talos op\\u{{202e}}  modbus arm{CLEAR_SHOWN}\n"
-        )
+        format!("{EVIL_NAME_SHOWN}  talos op\\u{{202e}}  modbus arm{CLEAR_SHOWN}\n")
     );
 }
 
@@ -122,7 +120,8 @@ async fn a_profiles_address_that_does_not_resolve_is_named_escaped() {
         assert_eq!(run.code, 3, "{args:?}: {}", run.stderr);
         assert_inert(&run, "resolve");
         assert!(
-            run.stderr.contains(&format!("no-such-host{CLEAR_SHOWN}.invalid")),
+            run.stderr
+                .contains(&format!("no-such-host{CLEAR_SHOWN}.invalid")),
             "{args:?}: {}",
             run.stderr
         );

@@ -173,11 +173,26 @@ fn every_value_is_checked_at_load_and_named_by_its_key() {
     for (line, says) in [
         ("max_jog_speed = -5", format!("max_jog_speed = -5: {speed}")),
         ("max_jog_speed = 0", format!("max_jog_speed = 0: {speed}")),
-        ("max_jog_speed = 0.0", format!("max_jog_speed = 0.0: {speed}")),
-        ("max_jog_speed = nan", format!("max_jog_speed = nan: {speed}")),
-        ("max_jog_speed = inf", format!("max_jog_speed = inf: {speed}")),
-        ("max_jog_speed = -inf", format!("max_jog_speed = -inf: {speed}")),
-        ("max_jog_speed = 600", format!("max_jog_speed = 600: {speed}")),
+        (
+            "max_jog_speed = 0.0",
+            format!("max_jog_speed = 0.0: {speed}"),
+        ),
+        (
+            "max_jog_speed = nan",
+            format!("max_jog_speed = nan: {speed}"),
+        ),
+        (
+            "max_jog_speed = inf",
+            format!("max_jog_speed = inf: {speed}"),
+        ),
+        (
+            "max_jog_speed = -inf",
+            format!("max_jog_speed = -inf: {speed}"),
+        ),
+        (
+            "max_jog_speed = 600",
+            format!("max_jog_speed = 600: {speed}"),
+        ),
         (
             "operator_full_speed = 500.5",
             format!("operator_full_speed = 500.5: {speed}"),
@@ -537,7 +552,11 @@ async fn a_bad_value_is_refused_by_every_reader_at_load() {
             &["--arm", "cell3"],
         ] {
             let run = armjog(&config, &[], args).await;
-            assert_eq!(run.code, 2, "{args:?} {value}: {}{}", run.stdout, run.stderr);
+            assert_eq!(
+                run.code, 2,
+                "{args:?} {value}: {}{}",
+                run.stdout, run.stderr
+            );
             assert_eq!(run.stderr, expected, "{args:?}");
         }
     }
@@ -586,7 +605,8 @@ async fn arms_lists_the_profiles_with_their_targets() {
     .await;
     assert_eq!(run.code, 2, "{}{}", run.stdout, run.stderr);
     assert!(
-        run.stderr.contains("/nonexistent/armjog/config.toml: no such file"),
+        run.stderr
+            .contains("/nonexistent/armjog/config.toml: no such file"),
         "{}",
         run.stderr
     );

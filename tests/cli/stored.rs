@@ -370,8 +370,7 @@ async fn an_id_of_0_is_refused_before_connecting() {
         assert_eq!(run.code, 2, "{args:?}: {}{}", run.stdout, run.stderr);
         assert!(run.stderr.contains(says), "{args:?}: {}", run.stderr);
     }
-    let accepted =
-        tokio::time::timeout(Duration::from_millis(200), listener.accept()).await;
+    let accepted = tokio::time::timeout(Duration::from_millis(200), listener.accept()).await;
     assert!(accepted.is_err(), "something connected");
 }
 
