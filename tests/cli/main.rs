@@ -25,6 +25,7 @@ mod logs;
 mod modbus;
 mod options;
 mod outside_text;
+mod profile_values;
 mod profiles;
 mod send;
 mod sim_args_near_limit;
