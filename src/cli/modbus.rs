@@ -147,11 +147,11 @@ impl ModbusCommand {
                 options,
             }
             | ModbusCommand::Action { id, options } => {
-                link.start_stored_capped(*id, StoredMotion::Action, options.cap_m_s())
+                link.start_stored_capped(*id, StoredMotion::Action, options.cap())
                     .await
             }
             ModbusCommand::Sequence { id, options } => {
-                link.start_stored_capped(*id, StoredMotion::Sequence, options.cap_m_s())
+                link.start_stored_capped(*id, StoredMotion::Sequence, options.cap())
                     .await
             }
             ModbusCommand::SpeedLimit { linear, angular } => {

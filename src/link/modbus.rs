@@ -120,9 +120,12 @@ pub enum ModbusEvent {
     StopEscalated { reason: StopReason, error: String },
     /// No stop could be written: the arm may still be moving.
     StopFailed { reason: StopReason, error: String },
-    /// The arm's speed limits were lowered to `linear` m/s for a capped move; `previous` are
-    /// put back when it ends.
-    SpeedLimitsLowered { linear: f32, previous: SpeedLimits },
+    /// The arm's speed limits were lowered to `limits` for a capped move; `previous` are put
+    /// back when it ends.
+    SpeedLimitsLowered {
+        limits: SpeedLimits,
+        previous: SpeedLimits,
+    },
     /// The speed limits a capped move lowered are back to `limits`.
     SpeedLimitsRestored { limits: SpeedLimits },
     /// The speed limits a capped move lowered could not be put back: the arm keeps the lower
@@ -166,11 +169,11 @@ enum Job {
         reply: Reply<WriteReport>,
     },
     Stop(Reply<WriteReport>),
-    /// A trajectory or stored motion: any twist is stopped first. With `max_linear` (m/s), the
-    /// arm's linear speed limit is lowered to it for the move and put back afterwards.
+    /// A trajectory or stored motion: any twist is stopped first. With a `cap` (m/s, deg/s),
+    /// the arm's speed limits are lowered to it for the move and put back afterwards.
     Move {
         writes: Vec<Write>,
-        max_linear: Option<f32>,
+        cap: Option<SpeedLimits>,
         reply: Reply<WriteReport>,
     },
     /// Writes that leave motion alone (speed limits, fault reset), or end it (`halts`: quick
@@ -338,26 +341,27 @@ impl ModbusLink {
         let writes = commands::go_to_pose(frame, pose)?;
         self.ask(|reply| Job::Move {
             writes,
-            max_linear: None,
+            cap: None,
             reply,
         })
         .await
     }
 
-    /// [`ModbusLink::go_to_pose`] with the tool at or under `max_linear` m/s: the arm runs a
-    /// cartesian trajectory at its configured limit, so the link lowers that limit (never raises
-    /// it) for the move and puts it back when the move ends, is stopped, or the link closes.
+    /// [`ModbusLink::go_to_pose`] with the tool at or under `cap`: its point at `cap.linear`
+    /// m/s, its turn at `cap.angular` deg/s. The arm runs a cartesian trajectory at its
+    /// configured limits, so the link lowers them (never raises them) for the move and puts them
+    /// back when the move ends, is stopped, or the link closes.
     pub async fn go_to_pose_capped(
         &self,
         frame: ReferenceFrame,
         pose: Pose,
-        max_linear: f32,
+        cap: SpeedLimits,
     ) -> Result<WriteReport, ModbusError> {
         let writes = commands::go_to_pose(frame, pose)?;
-        commands::speed_limits(max_linear, commands::MAX_ANGULAR_SPEED)?;
+        commands::speed_limits(cap.linear, cap.angular)?;
         self.ask(|reply| Job::Move {
             writes,
-            max_linear: Some(max_linear),
+            cap: Some(cap),
             reply,
         })
         .await
@@ -372,7 +376,7 @@ impl ModbusLink {
         let writes = commands::start_stored(id, motion)?;
         self.ask(|reply| Job::Move {
             writes,
-            max_linear: None,
+            cap: None,
             reply,
         })
         .await
@@ -384,27 +388,27 @@ impl ModbusLink {
             .await
     }
 
-    /// The Home action with the arm's linear speed limit lowered to `max_linear` m/s while it
-    /// runs (see [`ModbusLink::start_stored_capped`]).
-    pub async fn home_capped(&self, max_linear: f32) -> Result<WriteReport, ModbusError> {
-        self.start_stored_capped(self.config.home_action_id, StoredMotion::Action, max_linear)
+    /// The Home action with the arm's speed limits lowered to `cap` while it runs (see
+    /// [`ModbusLink::start_stored_capped`]).
+    pub async fn home_capped(&self, cap: SpeedLimits) -> Result<WriteReport, ModbusError> {
+        self.start_stored_capped(self.config.home_action_id, StoredMotion::Action, cap)
             .await
     }
 
-    /// A stored action or sequence with the arm's linear speed limit lowered to `max_linear`
-    /// m/s while it runs, as [`ModbusLink::go_to_pose_capped`] does. Whether an arm's stored
-    /// action honours its cartesian limit is up to the arm (the simulator's does).
+    /// A stored action or sequence with the arm's speed limits lowered to `cap` while it runs,
+    /// as [`ModbusLink::go_to_pose_capped`] does. Whether an arm's stored action honours its
+    /// cartesian limits is up to the arm (the simulator's honours the linear one).
     pub async fn start_stored_capped(
         &self,
         id: u16,
         motion: StoredMotion,
-        max_linear: f32,
+        cap: SpeedLimits,
     ) -> Result<WriteReport, ModbusError> {
         let writes = commands::start_stored(id, motion)?;
-        commands::speed_limits(max_linear, commands::MAX_ANGULAR_SPEED)?;
+        commands::speed_limits(cap.linear, cap.angular)?;
         self.ask(|reply| Job::Move {
             writes,
-            max_linear: Some(max_linear),
+            cap: Some(cap),
             reply,
         })
         .await

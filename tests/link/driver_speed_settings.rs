@@ -412,3 +412,64 @@ async fn a_speed_the_operator_accepted_also_bounds_moves_over_modbus() {
     );
     driver.shutdown().await;
 }
+
+#[tokio::test]
+async fn a_go_to_turns_the_tool_no_faster_than_the_turn_rate_of_the_speed_in_force() {
+    // At 20 % of a 250 mm/s cap: the tool at 50 mm/s, its turn at 20 % of 30 deg/s = 6 deg/s,
+    // the rate an orientation jog turns at. The arm's own limits are its hard ones (0.5 m/s,
+    // 100 deg/s): the move lowers both, and a 120 degree turn runs at 6 deg/s, not 100.
+    let sim = Simulator::start(SimConfig::ephemeral())
+        .await
+        .expect("simulator");
+    let modbus = ModbusConfig::new(sim.modbus_addr.expect("modbus").to_string());
+    let mut config = DriverConfig::new(None, Some(modbus));
+    config.max_jog_speed = 0.25;
+    let (driver, mut events) = Driver::spawn(config);
+    link_up(&mut events).await;
+    assert!(driver.send(ArmCommand::SetSpeed(20)));
+    until_event(&mut events, is_speed).await;
+    let (telemetry, _) = until_event(&mut events, |e| matches!(e, ArmEvent::Telemetry(_))).await;
+    let ArmEvent::Telemetry(telemetry) = telemetry else {
+        unreachable!()
+    };
+    // A turn about the tool's own axis (the home pose's theta y), the point kept.
+    let mut target = telemetry.tcp.pose;
+    target.theta_y -= 120.0;
+    assert!(driver.send(ArmCommand::MoveToPose(target)));
+
+    let lowered = async {
+        loop {
+            let s = sim.arm.snapshot().await.expect("sim alive");
+            if s.speed_limit_linear < 0.49 {
+                return;
+            }
+            tokio::time::sleep(Duration::from_millis(2)).await;
+        }
+    };
+    tokio::time::timeout(Duration::from_secs(10), lowered)
+        .await
+        .expect("the move lowered the limits within 10 s");
+    // 216-219, CDAB: 0.05 = 0x3D4CCCCD, 6.0 = 0x40C00000.
+    let (written, in_force) = limits(&sim).await;
+    assert_eq!(written, [0xCCCD, 0x3D4C, 0x0000, 0x40C0]);
+    assert!(
+        (in_force.0 - 0.05).abs() < 1e-6 && (in_force.1 - 6.0).abs() < 1e-4,
+        "{in_force:?}"
+    );
+
+    // Measured on the simulated arm over 2 s of the turn.
+    let mut fastest = 0.0f64;
+    let until = tokio::time::Instant::now() + Duration::from_secs(2);
+    while tokio::time::Instant::now() < until {
+        let s = sim.arm.snapshot().await.expect("sim alive");
+        let w = s.tcp_angular_velocity;
+        fastest = fastest.max((w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt());
+        tokio::time::sleep(Duration::from_millis(10)).await;
+    }
+    assert!(fastest > 3.0, "the tool did not turn: {fastest:.1} deg/s");
+    assert!(
+        fastest <= 6.0 * 1.05,
+        "the tool turned at {fastest:.1} deg/s, over the 6 deg/s of the speed in force"
+    );
+    driver.shutdown().await;
+}

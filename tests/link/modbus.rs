@@ -174,7 +174,12 @@ async fn a_strict_arms_speed_limits_are_read_afresh_before_a_capped_move_and_aft
     arm.with(|s| s.set_holding_f32(104, 0.2));
     let before = arm.with(|s| s.reads()).len();
     let pose = home_tcp();
-    link.go_to_pose_capped(ReferenceFrame::Base, pose, 0.25)
+    // The turn at the arm's hard limit: only the linear limit is in question here.
+    let cap = armjog::kortex::SpeedLimits {
+        linear: 0.25,
+        angular: armjog::kortex::commands::MAX_ANGULAR_SPEED,
+    };
+    link.go_to_pose_capped(ReferenceFrame::Base, pose, cap)
         .await
         .unwrap();
     let reads = arm.with(|s| s.reads());

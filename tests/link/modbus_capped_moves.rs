@@ -14,6 +14,11 @@ use tokio::sync::mpsc::UnboundedReceiver;
 use tokio_modbus::{ExceptionCode, Request};
 
 const WAIT: Duration = Duration::from_secs(5);
+/// The cap of these moves: the tool at 50 mm/s, its turn at 15 deg/s.
+const CAP: SpeedLimits = SpeedLimits {
+    linear: 0.05,
+    angular: 15.0,
+};
 
 /// A fake arm at rest whose configured limits are 0.3 m/s and 80 deg/s.
 async fn arm() -> FakeArm {
@@ -81,12 +86,12 @@ async fn a_capped_move_lowers_the_limit_first_and_restores_it_when_the_arm_repor
     let arm = arm().await;
     let (link, mut events) = link(&arm).await;
     let report = link
-        .go_to_pose_capped(ReferenceFrame::Base, target(), 0.05)
+        .go_to_pose_capped(ReferenceFrame::Base, target(), CAP)
         .await
         .expect("move");
     let writes = arm.writes();
-    // The limit first (the angular one kept), then Kinova's start sequence.
-    assert_eq!(writes[0], limits_write(0.05, 80.0));
+    // The limits first (both lowered to the cap), then Kinova's start sequence.
+    assert_eq!(writes[0], limits_write(0.05, 15.0));
     assert_eq!(writes[1], Written::Registers(200, vec![0]));
     assert_eq!(writes.last(), Some(&Written::Registers(200, vec![1])));
     assert_eq!(
@@ -101,7 +106,7 @@ async fn a_capped_move_lowers_the_limit_first_and_restores_it_when_the_arm_repor
     assert_eq!(
         lowered,
         ModbusEvent::SpeedLimitsLowered {
-            linear: 0.05,
+            limits: CAP,
             previous: SpeedLimits {
                 linear: 0.3,
                 angular: 80.0
@@ -120,21 +125,47 @@ async fn a_capped_move_lowers_the_limit_first_and_restores_it_when_the_arm_repor
     .await;
     assert_eq!(
         limit_writes(&arm),
-        [limits_write(0.05, 80.0), limits_write(0.3, 80.0)]
+        [limits_write(0.05, 15.0), limits_write(0.3, 80.0)]
     );
     link.close().await.expect("close");
     assert_eq!(limit_writes(&arm).len(), 2, "nothing more on close");
 }
 
 #[tokio::test]
-async fn a_limit_already_under_the_cap_is_left_alone() {
+async fn limits_already_under_the_cap_are_left_alone() {
     let arm = arm().await;
-    arm.with(|s| s.set_holding_f32(104, 0.03));
+    arm.with(|s| {
+        s.set_holding_f32(104, 0.03);
+        s.set_holding_f32(106, 10.0);
+    });
     let (link, _events) = link(&arm).await;
-    link.home_capped(0.05).await.expect("home");
+    link.home_capped(CAP).await.expect("home");
     assert!(limit_writes(&arm).is_empty(), "{:?}", arm.writes());
     link.close().await.expect("close");
     assert!(limit_writes(&arm).is_empty());
+}
+
+#[tokio::test]
+async fn each_limit_is_lowered_to_the_caps_and_never_raised() {
+    // The arm turns slower than the cap allows: its angular limit is kept, the linear lowered.
+    let arm = arm().await;
+    arm.with(|s| s.set_holding_f32(106, 10.0));
+    let (link, _events) = link(&arm).await;
+    link.go_to_pose_capped(ReferenceFrame::Base, target(), CAP)
+        .await
+        .expect("move");
+    assert_eq!(limit_writes(&arm), [limits_write(0.05, 10.0)]);
+    link.close().await.expect("close");
+    assert_eq!(limit_writes(&arm)[1..], [limits_write(0.3, 10.0)]);
+
+    // The arm's tool is slower than the cap: only the turn is lowered.
+    let arm = self::arm().await;
+    arm.with(|s| s.set_holding_f32(104, 0.03));
+    let (link, _events) = self::link(&arm).await;
+    link.home_capped(CAP).await.expect("home");
+    assert_eq!(limit_writes(&arm), [limits_write(0.03, 15.0)]);
+    link.close().await.expect("close");
+    assert_eq!(limit_writes(&arm)[1..], [limits_write(0.03, 80.0)]);
 }
 
 #[tokio::test]
@@ -143,7 +174,7 @@ async fn a_move_is_refused_when_the_arm_reports_no_usable_limits() {
     arm.with(|s| s.set_holding_f32(104, f32::NAN));
     let (link, _events) = link(&arm).await;
     let e = link
-        .go_to_pose_capped(ReferenceFrame::Base, target(), 0.05)
+        .go_to_pose_capped(ReferenceFrame::Base, target(), CAP)
         .await
         .expect_err("refused");
     assert!(matches!(e, ModbusError::SpeedLimitsUnknown { .. }), "{e}");
@@ -154,7 +185,7 @@ async fn a_move_is_refused_when_the_arm_reports_no_usable_limits() {
 async fn a_stop_or_a_jog_ends_the_move_and_gives_the_limits_back() {
     let arm = arm().await;
     let (link, _events) = link(&arm).await;
-    link.home_capped(0.05).await.expect("home");
+    link.home_capped(CAP).await.expect("home");
     arm.with(|s| s.holding_registers[100] = 0);
     link.stop().await.expect("stop");
     let writes = arm.writes();
@@ -162,7 +193,7 @@ async fn a_stop_or_a_jog_ends_the_move_and_gives_the_limits_back() {
     assert_eq!(writes[n - 2..], [stop_write(), limits_write(0.3, 80.0)]);
 
     // A twist replacing a capped move: limits back after the twist is written.
-    link.go_to_pose_capped(ReferenceFrame::Base, target(), 0.05)
+    link.go_to_pose_capped(ReferenceFrame::Base, target(), CAP)
         .await
         .expect("move");
     let twist = armjog::kortex::Twist {
@@ -180,7 +211,7 @@ async fn a_stop_or_a_jog_ends_the_move_and_gives_the_limits_back() {
 async fn closing_the_link_mid_move_stops_it_before_restoring_the_limits() {
     let arm = arm().await;
     let (link, _events) = link(&arm).await;
-    link.go_to_pose_capped(ReferenceFrame::Base, target(), 0.05)
+    link.go_to_pose_capped(ReferenceFrame::Base, target(), CAP)
         .await
         .expect("move");
     arm.with(|s| s.holding_registers[100] = 0);
@@ -204,7 +235,7 @@ async fn a_restore_the_arm_refuses_is_reported_with_the_limits_to_set_again() {
         _ => None,
     });
     let (link, mut events) = link(&arm).await;
-    link.home_capped(0.05).await.expect("home");
+    link.home_capped(CAP).await.expect("home");
     link.stop().await.expect("stop");
     let e = next_matching(&mut events, |e| {
         matches!(e, ModbusEvent::SpeedLimitsNotRestored { .. })
@@ -228,7 +259,7 @@ async fn a_restore_the_arm_refuses_is_reported_with_the_limits_to_set_again() {
 async fn limits_owed_when_the_connection_drops_are_restored_after_the_reconnect() {
     let arm = arm().await;
     let (link, mut events) = link(&arm).await;
-    link.home_capped(0.05).await.expect("home");
+    link.home_capped(CAP).await.expect("home");
     arm.with(|s| s.holding_registers[100] = 0);
     // Give the background polls a chance to see the move running, then hang up.
     tokio::time::sleep(Duration::from_millis(100)).await;

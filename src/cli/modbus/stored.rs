@@ -8,7 +8,8 @@ use clap::Args;
 
 use super::{EXIT_EXCEPTION, ModbusArgs, ModbusCommand, render};
 use crate::cli::Outcome;
-use crate::kortex::{Progress, Stored, StoredRun, Telemetry, fault_reason};
+use crate::kortex::commands::MAX_ANGULAR_SPEED;
+use crate::kortex::{Progress, SpeedLimits, Stored, StoredRun, Telemetry, fault_reason};
 use crate::link::ModbusLink;
 use crate::link::modbus::ModbusError;
 
@@ -41,9 +42,13 @@ impl StoredOptions {
         Ok(())
     }
 
-    /// The cap as the arm's linear limit, m/s.
-    pub fn cap_m_s(&self) -> f32 {
-        (self.max_jog_speed / 1000.0) as f32
+    /// The cap as the arm's limits for the run: the linear one at --max-jog-speed, m/s; the
+    /// angular one left as the arm has it (the hard limit never lowers it).
+    pub fn cap(&self) -> SpeedLimits {
+        SpeedLimits {
+            linear: (self.max_jog_speed / 1000.0) as f32,
+            angular: MAX_ANGULAR_SPEED,
+        }
     }
 }
 
@@ -152,7 +157,7 @@ async fn start_unwatched(
     options: &StoredOptions,
     t: &Telemetry,
 ) -> Outcome {
-    let cap = options.cap_m_s();
+    let cap = options.cap().linear;
     let in_force = t.speed_limits;
     let valid = |v: f32| v.is_finite() && v > 0.0;
     if !(valid(in_force.linear) && valid(in_force.angular)) {

@@ -10,7 +10,7 @@ use crate::console::coords::describe_motion;
 use crate::console::positions::PositionBook;
 use crate::kortex::arm_state::fault_reason;
 use crate::kortex::{CodeName, Pose, ReferenceFrame};
-use crate::link::driver::{INITIAL_SPEED, angular_jog_rate_at, is_settable, tool_speed_at};
+use crate::link::driver::{INITIAL_SPEED, is_settable, tool_speed_at, turn_rate_at};
 use crate::link::interface::{ArmCommand, ArmEvent, GuardStatus, JogMotion, LinkStatus, StepMove};
 
 /// What the deriver remembers between calls, to turn a stream into starts and stops.
@@ -61,13 +61,12 @@ impl AuditDeriver {
 
     /// A jog's rate cap at `percent`: (mm/s, deg/s), one of them. A turn of the tool moves its
     /// point not at all, so its cap is the angular rate the driver turns at
-    /// ([`angular_jog_rate_at`]); every other jog's is the tool speed.
+    /// ([`turn_rate_at`]); every other jog's is the tool speed.
     fn jog_rate(&self, motion: &JogMotion, percent: u8) -> (Option<f64>, Option<f64>) {
         match motion {
-            JogMotion::Orientation { .. } => (
-                None,
-                Some(round_tenth(f64::from(angular_jog_rate_at(percent)))),
-            ),
+            JogMotion::Orientation { .. } => {
+                (None, Some(round_tenth(f64::from(turn_rate_at(percent)))))
+            }
             _ => (Some(self.speed_mm_s(percent)), None),
         }
     }

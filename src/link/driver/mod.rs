@@ -22,7 +22,7 @@ mod modbus_worker;
 mod speed;
 pub use speed::{
     INITIAL_SPEED, JOINT_JOG_SPEED, MAX_ANGULAR_JOG_SPEED, OPERATOR_FULL_SPEED, OperatorScale,
-    angular_jog_rate_at, is_settable, tool_speed_at,
+    is_settable, move_cap_at, tool_speed_at, turn_rate_at,
 };
 pub use talos_side::{ORIENTATION_NEEDS_MODBUS, STORED_NEEDS_MODBUS};
 mod stop_outcome;

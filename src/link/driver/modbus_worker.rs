@@ -6,9 +6,11 @@ use std::time::Duration;
 use tokio::sync::mpsc;
 use tokio::task::JoinHandle;
 
-use super::speed::{SpeedInForce, angular_jog_rate_at, is_settable, tool_speed_at};
+use super::speed::{SpeedInForce, is_settable, move_cap_at, tool_speed_at, turn_rate_at};
 use super::{DriverConfig, JointPositions};
-use crate::kortex::{PolarPanSettings, Pose, ReferenceFrame, Stored, StoredMotion, Twist};
+use crate::kortex::{
+    PolarPanSettings, Pose, ReferenceFrame, SpeedLimits, Stored, StoredMotion, Twist,
+};
 use crate::link::interface::{
     ArmCommand, ArmError, ArmEvent, JogMotion, LogEntry, StepMove, Traffic,
 };
@@ -145,18 +147,24 @@ impl State {
         tool_speed_at(self.max_jog_speed, self.speed.percent()) as f32
     }
 
-    /// Starts a stored action or sequence (home among them) at the arm's configured limit,
-    /// lowered to the tool speed while it runs, as every move here is.
+    /// What a move the arm plans itself runs under at the speed in force ([`move_cap_at`]): the
+    /// tool speed and the turn rate, written as the arm's limits for the move.
+    fn move_cap(&self) -> SpeedLimits {
+        move_cap_at(self.max_jog_speed, self.speed.percent())
+    }
+
+    /// Starts a stored action or sequence (home among them) at the arm's configured limits,
+    /// lowered to the move cap while it runs, as every move here is.
     async fn start_stored(&self, stored: Stored) -> Result<WriteReport, ModbusError> {
         self.link
-            .start_stored_capped(stored.id, stored.motion, self.tool_speed())
+            .start_stored_capped(stored.id, stored.motion, self.move_cap())
             .await
     }
 
-    /// An orientation jog's rate at the speed in force, deg/s ([`angular_jog_rate_at`]), never
-    /// above the arm's own configured angular limit once telemetry has reported a usable one.
+    /// An orientation jog's rate at the speed in force, deg/s ([`turn_rate_at`]), never above
+    /// the arm's own configured angular limit once telemetry has reported a usable one.
     fn angular_speed(&self) -> f32 {
-        let wanted = angular_jog_rate_at(self.speed.percent());
+        let wanted = turn_rate_at(self.speed.percent());
         let arm_limit = self
             .link
             .subscribe()
@@ -212,8 +220,8 @@ impl State {
             ArmCommand::Stop => wrap(self.link.stop().await),
             ArmCommand::QuickStop => wrap(self.link.quick_stop().await),
             ArmCommand::FaultReset => wrap(self.link.fault_reset().await),
-            // Moves run at the arm's configured limit: the link lowers it to the tool speed for
-            // the move and restores it afterwards (a twist servo would leave the arm's own
+            // Moves run at the arm's configured limits: the link lowers them to the tool speed
+            // and the turn rate for the move and restores them afterwards (a twist servo would leave the arm's own
             // trajectory planning, and its final accuracy, behind).
             // Home is the stored action of the configured id, on the one path of them all.
             ArmCommand::Home => {
@@ -226,7 +234,7 @@ impl State {
             ArmCommand::StartStored(stored) => wrap(self.start_stored(*stored).await),
             ArmCommand::MoveToPose(pose) => wrap(
                 self.link
-                    .go_to_pose_capped(ReferenceFrame::Base, *pose, self.tool_speed())
+                    .go_to_pose_capped(ReferenceFrame::Base, *pose, self.move_cap())
                     .await,
             ),
             ArmCommand::Step(step) => match self.current_pose() {
@@ -234,7 +242,7 @@ impl State {
                     let target = step_target(pose, *step);
                     wrap(
                         self.link
-                            .go_to_pose_capped(ReferenceFrame::Base, target, self.tool_speed())
+                            .go_to_pose_capped(ReferenceFrame::Base, target, self.move_cap())
                             .await,
                     )
                 }

@@ -5,13 +5,17 @@
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU8, Ordering};
 
+use crate::kortex::SpeedLimits;
+
 /// Percent of the jog speed in force until the technician (or the operator) changes it.
 pub const INITIAL_SPEED: u8 = 50;
 
-/// The angular speed of an orientation jog at 100 %, deg/s: the speed in force scales it as it
-/// scales the tool speed cap (a turn about the tool point moves the point itself not at all).
-/// Never above the arm's configured angular limit (holding registers 218-219) nor the twist's
-/// hard limit (100 deg/s).
+/// The tool's turn rate at 100 %, deg/s: the speed in force scales it as it scales the tool
+/// speed cap (a turn about the tool point moves the point itself not at all). One rate for
+/// every motion that turns the tool: an orientation jog, and a move the arm plans itself (a
+/// go-to, a step, home, a stored action), whose angular limit (holding registers 218-219) is
+/// lowered to it. Never above the arm's configured angular limit nor the twist's hard limit
+/// (100 deg/s).
 pub const MAX_ANGULAR_JOG_SPEED: f32 = 30.0;
 
 /// Single-joint jog speed at 100 %, deg/s, unless configured otherwise.
@@ -33,10 +37,21 @@ pub fn tool_speed_at(max_jog_speed: f64, percent: u8) -> f64 {
     max_jog_speed * f64::from(percent) / 100.0
 }
 
-/// An orientation jog's rate at `percent`, deg/s: [`MAX_ANGULAR_JOG_SPEED`] scaled by it, before
-/// the arm's own configured angular limit (which only the link's telemetry knows).
-pub fn angular_jog_rate_at(percent: u8) -> f32 {
+/// The tool's turn rate at `percent`, deg/s: [`MAX_ANGULAR_JOG_SPEED`] scaled by it, before
+/// the arm's own configured angular limit (which only the link's telemetry knows). What an
+/// orientation jog turns at, and what a capped move may turn at ([`move_cap_at`]).
+pub fn turn_rate_at(percent: u8) -> f32 {
     MAX_ANGULAR_JOG_SPEED * (f64::from(percent) / 100.0) as f32
+}
+
+/// The limits a move the arm plans itself (a go-to, a step, home, a stored action) runs under
+/// at `percent`: the tool speed cap ([`tool_speed_at`], `max_jog_speed` in m/s) and the turn
+/// rate ([`turn_rate_at`]), as the arm's speed limits (m/s, deg/s) for the move.
+pub fn move_cap_at(max_jog_speed: f64, percent: u8) -> SpeedLimits {
+    SpeedLimits {
+        linear: tool_speed_at(max_jog_speed, percent) as f32,
+        angular: turn_rate_at(percent),
+    }
 }
 
 /// See the module docs. Clones share the value.
@@ -126,9 +141,23 @@ mod tests {
     fn a_percentage_scales_the_cap_and_the_turn_rate_and_only_1_to_100_is_settable() {
         assert!((tool_speed_at(0.25, 20) - 0.05).abs() < 1e-12);
         assert!((tool_speed_at(250.0, 100) - 250.0).abs() < 1e-12);
-        assert!((angular_jog_rate_at(20) - 6.0).abs() < 1e-5);
-        assert!((angular_jog_rate_at(100) - 30.0).abs() < 1e-5);
+        assert!((turn_rate_at(20) - 6.0).abs() < 1e-5);
+        assert!((turn_rate_at(100) - 30.0).abs() < 1e-5);
         assert!(!is_settable(0) && is_settable(1) && is_settable(100) && !is_settable(101));
+    }
+
+    #[test]
+    fn a_move_is_capped_at_the_tool_speed_and_the_turn_rate_of_its_percentage() {
+        // 50 % of 250 mm/s: 125 mm/s, and half of the 30 deg/s turn rate.
+        let cap = move_cap_at(0.25, 50);
+        assert!((cap.linear - 0.125).abs() < 1e-7, "{cap:?}");
+        assert!((cap.angular - 15.0).abs() < 1e-5, "{cap:?}");
+        // The same rate an orientation jog turns at, at every percentage.
+        for percent in 1..=100 {
+            assert_eq!(move_cap_at(0.05, percent).angular, turn_rate_at(percent));
+        }
+        let cap = move_cap_at(0.05, 10);
+        assert!((cap.linear - 0.005).abs() < 1e-7 && (cap.angular - 3.0).abs() < 1e-5);
     }
 
     #[test]

@@ -245,17 +245,13 @@ impl LinkTask {
                 let result = self.stop(StopReason::Requested).await;
                 let _ = reply.send(result);
             }
-            Job::Move {
-                writes,
-                max_linear,
-                reply,
-            } => {
+            Job::Move { writes, cap, reply } => {
                 let result = match self.stop_owed {
                     true => self.stop(StopReason::Replaced).await.map(|_| ()),
                     false => Ok(()),
                 };
-                let result = match (result, max_linear) {
-                    (Ok(()), Some(max_linear)) => self.capped_move(&writes, max_linear).await,
+                let result = match (result, cap) {
+                    (Ok(()), Some(cap)) => self.capped_move(&writes, cap).await,
                     (Ok(()), None) => self.execute(&writes).await,
                     (Err(e), _) => Err(e),
                 };

@@ -1,7 +1,8 @@
 //! Capped moves: a Kinova cartesian trajectory (and a stored action) runs at the arm's
-//! configured speed limit, not at a speed the client names. To keep such a move under the
-//! console's cap, the link lowers the linear limit (holding registers 216-219) for the move, never
-//! raising it, and puts the previous limits back:
+//! configured speed limits, not at a speed the client names. To keep such a move under the
+//! console's cap, the link lowers the linear and angular limits (holding registers 216-219) to
+//! the cap's tool speed and turn rate for the move, never raising either, and puts the previous
+//! limits back:
 //!
 //! - when a poll shows the move has ended (action status no longer "started", after it was seen
 //!   started, or [`START_GRACE`] after it was sent if it never showed);
@@ -38,13 +39,13 @@ pub(in crate::link::modbus) struct LimitHold {
 }
 
 impl LinkTask {
-    /// Runs `writes` (a move) with the arm's linear speed limit at most `max_linear` m/s.
+    /// Runs `writes` (a move) with the arm's speed limits at most `cap` (m/s, deg/s).
     pub(super) async fn capped_move(
         &mut self,
         writes: &[Write],
-        max_linear: f32,
+        cap: SpeedLimits,
     ) -> Result<WriteReport, ModbusError> {
-        let mut report = self.lower_limits(max_linear).await?;
+        let mut report = self.lower_limits(cap).await?;
         match self.execute(writes).await {
             Ok(moved) => {
                 report.writes.extend(moved.writes);
@@ -59,9 +60,9 @@ impl LinkTask {
         }
     }
 
-    /// Brings the linear limit down to `max_linear` (or to the limits owed back, if lower) and
-    /// notes what to restore. Writes nothing when the limit in force is already right.
-    async fn lower_limits(&mut self, max_linear: f32) -> Result<WriteReport, ModbusError> {
+    /// Brings each limit down to `cap`'s (or to the limits owed back, if lower) and notes what
+    /// to restore. Writes nothing when the limits in force are already right.
+    async fn lower_limits(&mut self, cap: SpeedLimits) -> Result<WriteReport, ModbusError> {
         // A fresh read: the limits may have been changed by someone else since the last poll.
         let in_force = self.poll_scoped(PollScope::Everything).await?.speed_limits;
         let original = self.limit_hold.map_or(in_force, |h| h.original);
@@ -72,29 +73,33 @@ impl LinkTask {
                 angular: original.angular,
             });
         }
-        let linear = max_linear.min(original.linear);
         let wanted = SpeedLimits {
-            linear,
-            angular: original.angular,
+            linear: cap.linear.min(original.linear),
+            angular: cap.angular.min(original.angular),
         };
+        let lowered = wanted != original;
         let mut report = WriteReport::default();
         if in_force != wanted {
             let writes = commands::speed_limits(wanted.linear, wanted.angular)?;
             // Owed back from the moment the write may have landed.
             self.hold(original);
             report = self.execute_read_back(&writes).await?;
-            if linear < original.linear {
+            if lowered {
                 tracing::info!(
-                    "speed limit lowered to {linear} m/s for a capped move (was {} m/s)",
-                    original.linear
+                    "speed limits lowered to {} m/s, {} deg/s for a capped move (were {} m/s, \
+                     {} deg/s)",
+                    wanted.linear,
+                    wanted.angular,
+                    original.linear,
+                    original.angular
                 );
                 self.event(ModbusEvent::SpeedLimitsLowered {
-                    linear,
+                    limits: wanted,
                     previous: original,
                 });
             }
         }
-        if linear < original.linear {
+        if lowered {
             self.hold(original);
         } else {
             // The move is allowed the original limits, which are now in force.
