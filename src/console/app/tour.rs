@@ -7,7 +7,8 @@
 //! end is confirmed, by the evidence that clears `MOVING: GOTO bench`: the tracked go-to done
 //! and the arm seen at rest. Anything else ends the tour, with a message naming the leg: a leg
 //! failed, aborted, stopped or not seen to end; any key (the next-leg key, one leg at a time,
-//! goes on instead); focus lost, a signal, the link lost or stale, the gate refusing. Nothing
+//! goes on instead); focus lost, a signal, the link lost or stale, the stop guard's stop, the
+//! gate refusing. Nothing
 //! of a tour starts again by itself: to go on, the technician plays it again.
 
 use std::time::Instant;
@@ -18,17 +19,23 @@ use crate::console::action::Action;
 use crate::console::form::{Confirm, Form, FormResult, TourQuestion};
 use crate::console::jog::KeyKind;
 use crate::console::positions::Tour;
-use crate::link::interface::{ArmCommand, ArmEvent, LinkStatus};
+use crate::link::interface::{ArmCommand, ArmError, ArmEvent, LinkStatus};
 
 /// A book with more positions than this prefills the make form with the selected one only.
 const PREFILL_ALL_UP_TO: usize = 12;
 
 /// What in `input` ends a tour whatever its leg is doing, in words.
-pub(super) fn interruption(input: &Input) -> Option<&'static str> {
+pub(super) fn interruption(input: &Input) -> Option<String> {
     match input {
-        Input::FocusLost => Some("focus lost"),
-        Input::Signal(_) => Some("signal"),
-        Input::Arm(ArmEvent::Status(LinkStatus::Down { .. })) => Some("link lost"),
+        Input::FocusLost => Some("focus lost".into()),
+        Input::Signal(_) => Some("signal".into()),
+        Input::Arm(ArmEvent::Status(LinkStatus::Down { .. })) => Some("link lost".into()),
+        // Reported as a failed jog (it stops and latches held keys), but it ends a leg too:
+        // `the stop guard stopped the arm: no heartbeat for 500 ms`.
+        Input::Arm(ArmEvent::Failed {
+            error: error @ ArmError::GuardStoppedArm(_),
+            ..
+        }) => Some(error.to_string()),
         _ => None,
     }
 }
@@ -274,7 +281,7 @@ impl App {
     /// the next-leg key), a leg that ended otherwise ends the tour.
     pub(super) fn tour_before_truth(
         &mut self,
-        interrupted: Option<&'static str>,
+        interrupted: Option<String>,
         now: Instant,
         effects: &mut Vec<Effect>,
     ) {
@@ -283,7 +290,6 @@ impl App {
         };
         let leg = self.tours.leg_text();
         let why = interrupted
-            .map(str::to_string)
             .or_else(|| (!self.fits()).then(|| "terminal too small".to_string()))
             .or_else(|| self.motion_refusal());
         if let Some(why) = why {

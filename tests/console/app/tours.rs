@@ -420,3 +420,34 @@ fn the_gate_is_asked_before_each_leg() {
     assert!(no_motion(&effects), "{effects:?}");
     assert_eq!(b.tour_label(), None);
 }
+
+#[test]
+fn a_guard_stop_mid_leg_ends_the_tour_naming_the_leg_and_the_tour() {
+    let mut b = Bench::new(false);
+    let first = leg(&b.play("O"));
+    let second = leg(&b.finish_leg(first));
+    b.event(ArmEvent::Done { command: second });
+    b.feed(12.0, ActionStatus::Started);
+    // The guard reports its stop as a failed jog, though no jog is held.
+    let effects = b.event(ArmEvent::Failed {
+        command: armjog::link::interface::CommandKind::Jog,
+        error: armjog::link::interface::ArmError::GuardStoppedArm("no heartbeat for 500 ms".into()),
+    });
+    assert!(effects.contains(&STOP), "{effects:?}");
+    assert!(no_motion(&effects), "{effects:?}");
+    assert_eq!(b.tour_label(), None);
+    assert_eq!(
+        b.message(),
+        "tour 'rounds' leg 2/3 → pick stopped: the stop guard stopped the arm: no heartbeat \
+         for 500 ms"
+    );
+    // The arm reports the leg aborted and then at rest: the tour's words stay, nothing moves.
+    assert!(no_motion(&b.feed(0.0, ActionStatus::Aborted)));
+    assert!(no_motion(&b.feed(0.0, ActionStatus::Aborted)));
+    assert!(
+        b.message()
+            .starts_with("tour 'rounds' leg 2/3 → pick stopped"),
+        "{}",
+        b.message()
+    );
+}
