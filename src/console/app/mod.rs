@@ -49,8 +49,8 @@ pub use jog_keys::TAP_STEP_LIMIT;
 pub use limits::{LIMIT_WARNING_DEG, NearLimit, limit_margin, near_limits};
 pub use motion_gate::arm_refusal;
 pub use motion_truth::{
-    ACTION_TIMEOUT, ActionKind, MotionShown, MotionTruth, NO_TELEMETRY_ACTION_TIME, STALE_AFTER,
-    STOP_GRACE, StoredAction, TrackedAction, TruthView,
+    ACTION_TIMEOUT, ARRIVED_DEG, ARRIVED_MM, ActionKind, GoToTarget, MotionShown, MotionTruth,
+    NO_TELEMETRY_ACTION_TIME, STALE_AFTER, STOP_GRACE, StoredAction, TrackedAction, TruthView,
 };
 pub use offers::SessionView;
 pub use other_client::{

@@ -19,7 +19,8 @@
 //! HOME` until a STOP is confirmed or [`NO_TELEMETRY_ACTION_TIME`] has passed.
 //!
 //! This file holds the evidence kept; the submodules keep it up: `evidence` (events from the
-//! driver), `sent` (commands going out), `actions` (a tracked action's end), `staleness` (ages
+//! driver), `sent` (commands going out), `actions` (a tracked action's end), `target` (whether
+//! a go-to's end is ours: the arm's move type, and the arm where it was sent), `staleness` (ages
 //! and the next deadline) and `shown` (what the status bar says).
 
 mod actions;
@@ -27,12 +28,15 @@ mod evidence;
 mod sent;
 mod shown;
 mod staleness;
+mod target;
+
+pub use target::{ARRIVED_DEG, ARRIVED_MM, GoToTarget};
 
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
 use crate::console::jog::JogMotion;
-use crate::kortex::{Stored, StoredRun};
+use crate::kortex::{MoveType, Stored, StoredRun};
 use crate::link::interface::{ArmCommand, CommandKind, TelemetrySource};
 
 /// Silence after which a link is stale and telemetry is drawn as old.
@@ -146,6 +150,13 @@ pub struct TrackedAction {
     sent: Instant,
     /// When the link reported the command taken.
     accepted: Option<Instant>,
+    /// Where a go-to must end: done only at rest there (see `target`).
+    target: Option<GoToTarget>,
+    /// The move type the arm's action status shows for our go-to (over Modbus, a cartesian
+    /// trajectory); another one is another client's move.
+    move_type: Option<MoveType>,
+    /// The status has shown `move_type` started since it was sent.
+    seen_ours: bool,
     /// Joint positions when it was sent, to see it moved even between two polls.
     from: Option<[f32; 7]>,
     /// A joint-fault warning was already raised when it was sent.

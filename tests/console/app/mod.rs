@@ -4,6 +4,7 @@
 mod book_load;
 mod cap_watch;
 mod form_keys;
+mod goto_end;
 mod history;
 mod jog_keys;
 mod messages;

@@ -12,7 +12,7 @@ use armjog::console::form::Confirm;
 use armjog::console::jog::KeyKind;
 use armjog::console::keymap::KeyName;
 use armjog::console::positions::{PositionBook, Tour};
-use armjog::kortex::{ActionState, ActionStatus, Coded, MoveType, Telemetry};
+use armjog::kortex::{ActionState, ActionStatus, Coded, MoveType, Pose, Telemetry};
 use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus, TelemetrySource};
 
 use crate::app_support;
@@ -24,13 +24,16 @@ fn ms(n: u64) -> Duration {
     Duration::from_millis(n)
 }
 
-fn telemetry(velocity: f32, status: ActionStatus) -> Telemetry {
+/// The arm with its tool at `tool`, its action status `status` of a `move_type`.
+fn telemetry(velocity: f32, status: ActionStatus, move_type: MoveType, tool: Pose) -> Telemetry {
     let action = ActionState {
         status: Coded::Known(status),
         id: 0,
-        move_type: Coded::Known(MoveType::Action),
+        move_type: Coded::Known(move_type),
     };
-    crate::app_support::arm_telemetry(HOME, velocity, action)
+    let mut t = crate::app_support::arm_telemetry(HOME, velocity, action);
+    t.tcp.pose = tool;
+    t
 }
 
 /// A console over Modbus (`on_operator` false) or a Talos operator with hardware telemetry,
@@ -38,10 +41,14 @@ fn telemetry(velocity: f32, status: ActionStatus) -> Telemetry {
 pub(crate) struct Bench {
     pub(crate) app: App,
     now: Instant,
+    /// Where the telemetry has the tool (home at first; a leg's target once it arrived).
+    pub(crate) tool: Pose,
+    /// The move type the telemetry reports: a go-to's, a cartesian trajectory.
+    pub(crate) move_type: MoveType,
 }
 
 impl Bench {
-    fn new(on_operator: bool) -> Bench {
+    pub(crate) fn new(on_operator: bool) -> Bench {
         Bench::with(on_operator, None, &["bench", "pick", "place"])
     }
 
@@ -68,7 +75,12 @@ impl Bench {
             })),
             now,
         );
-        let mut bench = Bench { app, now };
+        let mut bench = Bench {
+            app,
+            now,
+            tool: crate::common::home_tcp(),
+            move_type: MoveType::CartesianTrajectory,
+        };
         bench.feed(0.0, ActionStatus::Completed);
         let mut book = PositionBook::new();
         for (i, name) in names.iter().enumerate() {
@@ -86,12 +98,12 @@ impl Bench {
         bench
     }
 
-    fn at(&mut self, after: Duration) -> Instant {
+    pub(crate) fn at(&mut self, after: Duration) -> Instant {
         self.now += after;
         self.now
     }
 
-    fn press(&mut self, name: &str) -> Vec<Effect> {
+    pub(crate) fn press(&mut self, name: &str) -> Vec<Effect> {
         let now = self.at(ms(20));
         let key: KeyName = name.parse().expect("key name");
         let text = name.chars().next().filter(|_| name.chars().count() == 1);
@@ -111,14 +123,14 @@ impl Bench {
         }
     }
 
-    fn feed(&mut self, velocity: f32, status: ActionStatus) -> Vec<Effect> {
+    pub(crate) fn feed(&mut self, velocity: f32, status: ActionStatus) -> Vec<Effect> {
         let now = self.at(ms(100));
-        let t = telemetry(velocity, status);
+        let t = telemetry(velocity, status, self.move_type, self.tool);
         self.app
             .handle(Input::Arm(ArmEvent::Telemetry(Box::new(t))), now)
     }
 
-    fn event(&mut self, event: ArmEvent) -> Vec<Effect> {
+    pub(crate) fn event(&mut self, event: ArmEvent) -> Vec<Effect> {
         let now = self.at(ms(5));
         self.app.handle(Input::Arm(event), now)
     }
@@ -140,18 +152,47 @@ impl Bench {
         self.press("y")
     }
 
-    /// The arm takes the leg's command, moves and reports it completed at rest.
+    /// The arm takes the leg's command, moves and reports it completed at rest where it was
+    /// sent.
     pub(crate) fn finish_leg(&mut self, command: ArmCommand) -> Vec<Effect> {
-        self.event(ArmEvent::Done { command });
+        self.event(ArmEvent::Done {
+            command: command.clone(),
+        });
         self.feed(12.0, ActionStatus::Started);
+        self.arrive(&command);
         self.feed(0.0, ActionStatus::Completed)
     }
 
-    fn message(&self) -> String {
+    /// The tool is now where `command` sends it: the pose moved to, or the position the book
+    /// has for a Go To.
+    pub(crate) fn arrive(&mut self, command: &ArmCommand) {
+        self.tool = match command {
+            ArmCommand::MoveToPose(pose) => *pose,
+            ArmCommand::GoToPosition { name } => {
+                let entry = self.app.positions().get(name).expect("in the book");
+                let [x, y, z] = entry
+                    .cartesian
+                    .expect("coordinates")
+                    .map(|v| v as f32 / 1e4);
+                let [theta_x, theta_y, theta_z] = entry.orientation.expect("orientation");
+                Pose {
+                    x,
+                    y,
+                    z,
+                    theta_x,
+                    theta_y,
+                    theta_z,
+                }
+            }
+            other => panic!("not a leg: {other:?}"),
+        };
+    }
+
+    pub(crate) fn message(&self) -> String {
         crate::app_support::message(&self.app)
     }
 
-    fn tour_label(&self) -> Option<String> {
+    pub(crate) fn tour_label(&self) -> Option<String> {
         self.app.view().tour.map(|t| {
             format!(
                 "TOUR {}/{} → {}{}",
@@ -270,6 +311,7 @@ fn straight_through_over_modbus_each_leg_starts_only_after_the_last_ended_at_res
         command: first.clone(),
     });
     assert!(no_motion(&b.feed(12.0, ActionStatus::Started)));
+    b.arrive(&first);
     let second = leg(&b.feed(0.0, ActionStatus::Completed));
     assert!((pose_x(&second) - 0.41).abs() < 1e-6);
     assert_eq!(b.tour_label().as_deref(), Some("TOUR 2/3 → pick"));

@@ -1,7 +1,8 @@
 //! A tour of three positions against the simulator over both links, in real time: over Modbus
 //! each leg a cartesian move to the stored pose, over Talos a Go To; each next leg only once the
 //! last is seen done at rest; a key mid-leg stops the arm and ends the tour, and nothing of it
-//! goes on afterwards.
+//! goes on afterwards. Another client's move under a leg (a stored action, or a cartesian move
+//! elsewhere, from a second Modbus client) is never the leg done: the tour ends saying so.
 
 use std::time::Duration;
 
@@ -11,9 +12,10 @@ use armjog::console::app::{App, Input, MotionShown, Overlay, QUESTION_QUIET};
 use armjog::console::form::Confirm;
 use armjog::console::jog::KeyKind;
 use armjog::console::positions::{PositionBook, Tour};
+use armjog::kortex::{Pose, ReferenceFrame, StoredMotion};
 use armjog::link::driver::{Driver, DriverConfig};
 use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus};
-use armjog::link::{ModbusConfig, TalosConfig};
+use armjog::link::{ModbusConfig, ModbusLink, TalosConfig};
 use armjog::sim::{SimConfig, Simulator};
 
 use crate::event_loop::{self, Drives};
@@ -25,6 +27,8 @@ struct Console {
     sim: Simulator,
     /// Every tour label shown, in order (`2/3 pick`).
     legs_seen: Vec<String>,
+    /// Every bottom-line message shown, in order.
+    said: Vec<String>,
 }
 
 impl Drives for Console {
@@ -42,6 +46,11 @@ impl Drives for Console {
                 self.legs_seen.push(label);
             }
         }
+        if let Some((text, _)) = self.app.message()
+            && self.said.last().map(String::as_str) != Some(text)
+        {
+            self.said.push(text.to_string());
+        }
     }
 }
 
@@ -54,15 +63,23 @@ const PLACES: [(&str, [i32; 3]); 3] = [
 
 impl Console {
     async fn start(talos: bool) -> Console {
+        Console::start_capped(talos, None).await
+    }
+
+    /// A console whose cap is `max_jog_speed` (m/s) rather than the default.
+    async fn start_capped(talos: bool, max_jog_speed: Option<f64>) -> Console {
         let sim = Simulator::start(SimConfig::ephemeral())
             .await
             .expect("simulator");
-        let config = if talos {
+        let mut config = if talos {
             DriverConfig::new(Some(TalosConfig::new(sim.talos_addr.to_string())), None)
         } else {
             let modbus = ModbusConfig::new(sim.modbus_addr.expect("modbus").to_string());
             DriverConfig::new(None, Some(modbus))
         };
+        if let Some(cap) = max_jog_speed {
+            config.max_jog_speed = cap;
+        }
         let app = event_loop::app_for(&config, PositionBook::new());
         let (driver, events) = Driver::spawn(config);
         let mut console = Console {
@@ -71,6 +88,7 @@ impl Console {
             events,
             sim,
             legs_seen: Vec::new(),
+            said: Vec::new(),
         };
         console
             .run_until(Duration::from_secs(10), |c| {
@@ -214,4 +232,91 @@ async fn a_key_mid_leg_over_modbus_stops_the_arm_and_the_tour() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_key_mid_leg_over_talos_stops_the_arm_and_the_tour() {
     stopped_mid_leg(true).await;
+}
+
+/// Another client on the simulator's Modbus server, as `armjog modbus` is.
+async fn other_client(sim: &Simulator) -> ModbusLink {
+    let addr = sim.modbus_addr.expect("modbus").to_string();
+    let (link, _events) = ModbusLink::connect(ModbusConfig::new(addr))
+        .await
+        .expect("second client");
+    link
+}
+
+/// A tour at a 20 mm/s cap (10 mm/s at the speed in force), so its first leg runs a few
+/// seconds; returns once the leg is seen moving the arm.
+async fn leg_under_way(talos: bool) -> Console {
+    let mut c = Console::start_capped(talos, Some(0.02)).await;
+    c.play().await;
+    c.run_until(Duration::from_secs(10), |c| {
+        c.legs_seen.last().map(String::as_str) == Some("1/3 bench")
+            && matches!(c.app.motion_shown(), MotionShown::Action { .. })
+    })
+    .await;
+    c.run_for(Duration::from_millis(300)).await;
+    assert!(c.sim_moving().await, "leg 1 under way");
+    c
+}
+
+/// The tour ended on leg 1 saying another client moved the arm, the arm stopped, and no leg
+/// was ever said done.
+async fn moved_by_another_client(mut c: Console) {
+    c.run_until(Duration::from_secs(20), |c| c.app.view().tour.is_none())
+        .await;
+    let said = c.said.last().cloned().unwrap_or_default();
+    assert!(
+        said.starts_with(
+            "tour 'rounds' leg 1/3 → bench ended the tour: go to 'bench' not done: \
+                          MOVED BY ANOTHER CLIENT: "
+        ),
+        "{said}"
+    );
+    c.run_until(Duration::from_secs(10), |c| {
+        c.app.motion_shown() == MotionShown::Idle
+    })
+    .await;
+    c.run_for(Duration::from_millis(500)).await;
+    assert!(!c.sim_moving().await, "the arm stopped");
+    assert_eq!(c.legs_seen, ["1/3 bench"], "no next leg");
+    assert!(
+        !c.said.iter().any(|m| m.ends_with("done")),
+        "said done: {:?}",
+        c.said
+    );
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn another_clients_action_under_a_modbus_leg_ends_the_tour_and_stops_the_arm() {
+    let c = leg_under_way(false).await;
+    // `armjog modbus action --id 5 --no-wait`: the simulator's Zero action.
+    let other = other_client(&c.sim).await;
+    other
+        .start_stored(5, StoredMotion::Action)
+        .await
+        .expect("action 5 started");
+    moved_by_another_client(c).await;
+    drop(other);
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn another_clients_move_elsewhere_under_a_leg_is_never_the_leg_done() {
+    for talos in [false, true] {
+        let c = leg_under_way(talos).await;
+        // A second console's go-to takes over: a cartesian move 20 mm short of bench.
+        let other = other_client(&c.sim).await;
+        let [x, y, z] = PLACES[0].1.map(|v| v as f32 / 10_000.0);
+        let home = c.app.telemetry().expect("telemetry").tcp.pose;
+        let elsewhere = Pose {
+            x: x - 0.02,
+            y,
+            z,
+            ..home
+        };
+        other
+            .go_to_pose(ReferenceFrame::Base, elsewhere)
+            .await
+            .expect("the other move started");
+        moved_by_another_client(c).await;
+        drop(other);
+    }
 }

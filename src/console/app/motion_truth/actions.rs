@@ -3,6 +3,7 @@
 
 use std::time::Instant;
 
+use super::target::foreign_move;
 use super::{
     ACTION_GRACE, ACTION_TIMEOUT, MOVED_DEG, NO_MOTION_GRACE, NO_TELEMETRY_ACTION_TIME,
     TrackedAction,
@@ -16,7 +17,9 @@ use crate::kortex::{ActionStatus, Coded, Flag, Progress, Telemetry};
 enum End {
     /// It failed: why, and whether the arm is in fault (the message stays until it is not).
     Failed { reason: String, fault: bool },
-    /// It ended and the arm is at rest.
+    /// The arm runs, or ended, a move that is not ours (`target`): what shows it.
+    MovedByAnotherClient(String),
+    /// It ended and the arm is at rest (where it was sent, for a go-to).
     Done,
 }
 
@@ -47,6 +50,13 @@ impl App {
                 };
                 let text = format!("{verb} failed: {reason}");
                 self.say_until(text, Severity::Error, until, now);
+            }
+            Some(End::MovedByAnotherClient(evidence)) => {
+                // Not ours: stopped like a failure, and never said done.
+                self.truth.action = None;
+                self.truth.stop_needed = true;
+                let text = format!("{verb} not done: MOVED BY ANOTHER CLIENT: {evidence}; stopped");
+                self.say(text, Severity::Error, now);
             }
             Some(End::Done) => {
                 // The arm reported the end and telemetry shows it at rest: settled.
@@ -113,7 +123,8 @@ fn run_end(progress: Progress) -> Option<End> {
 
 /// The end of an action with no run to follow by id (home, a go-to, a step): the arm's action
 /// status where it is current, joints at rest after having moved (Talos hardware telemetry has
-/// no status), a joint-fault warning at rest, or a fault.
+/// no status), a joint-fault warning at rest, or a fault. A go-to's end is ours only if the
+/// status names our move and the arm is at rest where it was sent (`target`).
 fn heuristic_end(
     action: &mut TrackedAction,
     accepted: Instant,
@@ -145,6 +156,9 @@ fn heuristic_end(
             fault: true,
         });
     }
+    if let Some(evidence) = foreign_move(action, accepted, t, now) {
+        return Some(End::MovedByAnotherClient(evidence));
+    }
     if aborted {
         return Some(End::Failed {
             reason: abort_reason(t),
@@ -157,5 +171,14 @@ fn heuristic_end(
             Coded::Known(ActionStatus::Started) => false,
             _ => action.seen_motion || now >= accepted + NO_MOTION_GRACE,
         };
-    done.then_some(End::Done)
+    if !done {
+        return None;
+    }
+    match action
+        .target
+        .and_then(|target| target.missed_by(&t.tcp.pose))
+    {
+        Some(evidence) => Some(End::MovedByAnotherClient(evidence)),
+        None => Some(End::Done),
+    }
 }

@@ -4,13 +4,12 @@
 
 use std::time::Instant;
 
-use super::{ActionKind, StoredAction, TrackedAction};
+use super::{ActionKind, GoToTarget, StoredAction, TrackedAction};
 use crate::console::app::age::age_text;
 use crate::console::app::message::Until;
 use crate::console::app::{App, Effect, Overlay, Severity};
 use crate::console::form::Confirm;
-use crate::kortex::Flag;
-use crate::kortex::StoredRun;
+use crate::kortex::{Flag, MoveType, StoredRun};
 use crate::link::interface::ArmCommand;
 impl App {
     /// The name of the position a go-to question asks about, taken before the answer.
@@ -69,6 +68,18 @@ impl App {
     }
 
     fn note_sent(&mut self, command: &ArmCommand, goto: Option<String>, now: Instant) {
+        // Where a go-to must end, and the move the arm's status shows for it (see `target`).
+        let (target, move_type) = match command {
+            ArmCommand::MoveToPose(pose) => (
+                Some(GoToTarget::pose(*pose)),
+                Some(MoveType::CartesianTrajectory),
+            ),
+            ArmCommand::GoToPosition { name } => (
+                self.book.positions().get(name).and_then(GoToTarget::book),
+                None,
+            ),
+            _ => (None, None),
+        };
         let truth = &mut self.truth;
         truth.waiting_since.get_or_insert(now);
         if command.is_stop() {
@@ -105,6 +116,9 @@ impl App {
             kind,
             sent: now,
             accepted: None,
+            target,
+            move_type,
+            seen_ours: false,
             from: last.map(|t| t.joints.map(|j| j.position)),
             warned_before: last.is_some_and(|t| t.warnings.contains(Flag::JointFault)),
             seen_motion: false,
