@@ -308,7 +308,17 @@ async fn values_that_cannot_be_written_are_refused_before_sending() {
     ] {
         let e = link.start_stored(0, motion).await.unwrap_err();
         assert!(e.refused_before_sending(), "{e}");
-        let e = link.start_stored_capped(0, motion, 0.1).await.unwrap_err();
+        let e = link
+            .start_stored_capped(
+                0,
+                motion,
+                armjog::kortex::SpeedLimits {
+                    linear: 0.1,
+                    angular: 10.0,
+                },
+            )
+            .await
+            .unwrap_err();
         assert!(e.refused_before_sending(), "{e}");
     }
     assert!(arm.with(|s| s.log.is_empty()), "nothing was sent");
