@@ -9,6 +9,7 @@
 //! lives).
 
 mod file;
+pub mod merge;
 mod names;
 #[cfg(test)]
 mod tests;

@@ -68,7 +68,7 @@ impl PositionBook {
 }
 
 /// `base`, or `base~2`, `base~3`… (cut to fit the length limit), whichever no other name has.
-fn unique(base: &str, taken: &BTreeSet<String>) -> String {
+pub(super) fn unique(base: &str, taken: &BTreeSet<String>) -> String {
     if !taken.contains(base) {
         return base.to_string();
     }

@@ -1,0 +1,279 @@
+//! Two writers on one book: a three-way merge by name, pure.
+//!
+//! `known` is the file as this console last knew it (read, or as it handed it to be written),
+//! `ours` the console's book, `theirs` the file as it is now, maybe changed by another console
+//! or by hand since. A name only one side changed takes that side's change (an entry we deleted
+//! is deleted; one another writer added is kept). A name both changed, differently, loses
+//! nothing: the other writer's stays under the name, ours is kept beside it under a new name
+//! (`pick~2`), and the conflict is reported for the technician.
+
+use std::collections::BTreeSet;
+
+use super::names::unique;
+use super::tours::Tour;
+use super::{BookEntry, Named, PositionBook};
+
+/// What a merge made: the book to write, and what it took from the other side.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Merged {
+    pub book: PositionBook,
+    /// Positions and tours the other side changed, added or deleted that ours had not.
+    pub taken: usize,
+    /// Names both sides changed.
+    pub conflicts: Vec<Conflict>,
+}
+
+/// A name both sides changed, and how nothing of it was lost.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Conflict {
+    /// "position" or "tour".
+    pub kind: &'static str,
+    pub name: String,
+    pub outcome: Kept,
+}
+
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Kept {
+    /// Both changed it: theirs keeps the name, ours is kept as `copy`.
+    Both { copy: String },
+    /// We deleted it, they changed it: theirs is kept.
+    TheirsNotDeleted,
+    /// They deleted it, we changed it: ours is kept.
+    OursNotDeleted,
+}
+
+impl Conflict {
+    /// One line for the technician.
+    pub fn describe(&self) -> String {
+        let Conflict { kind, name, outcome } = self;
+        match outcome {
+            Kept::Both { copy } => format!(
+                "{kind} '{name}' was changed here and by another program: theirs is kept as \
+                 '{name}', this console's as '{copy}'"
+            ),
+            Kept::TheirsNotDeleted => format!(
+                "{kind} '{name}' was deleted here but changed by another program: kept, not deleted"
+            ),
+            Kept::OursNotDeleted => format!(
+                "{kind} '{name}' was deleted by another program but changed here: kept"
+            ),
+        }
+    }
+}
+
+/// Whether two entries are the same in the file (what is not saved does not count).
+pub fn same_on_disk(a: &BookEntry, b: &BookEntry) -> bool {
+    // Destructured so that a new field must be placed here.
+    let BookEntry {
+        anchor,
+        parent,
+        cartesian,
+        orientation,
+        joints,
+        frame,
+        unknown_to_operator: _,
+        unsaved: _,
+    } = a;
+    *anchor == b.anchor
+        && *parent == b.parent
+        && *cartesian == b.cartesian
+        && *orientation == b.orientation
+        && *joints == b.joints
+        && *frame == b.frame
+}
+
+fn same_entry(a: Option<&BookEntry>, b: Option<&BookEntry>) -> bool {
+    match (a, b) {
+        (Some(a), Some(b)) => same_on_disk(a, b),
+        (None, None) => true,
+        _ => false,
+    }
+}
+
+fn same_tour(a: Option<&Tour>, b: Option<&Tour>) -> bool {
+    a == b
+}
+
+/// How one name merges.
+enum Side<T> {
+    /// The value to keep (none: the name is gone), and whether it came from the other side.
+    Take(Option<T>, bool),
+    /// Both changed it: theirs and ours.
+    Conflict(Option<T>, Option<T>),
+}
+
+fn three_way<T: Clone>(
+    known: Option<&T>,
+    ours: Option<&T>,
+    theirs: Option<&T>,
+    same: impl Fn(Option<&T>, Option<&T>) -> bool,
+) -> Side<T> {
+    if same(ours, theirs) {
+        // Ours, which keeps what is not saved (marks the panel shows).
+        Side::Take(ours.cloned(), false)
+    } else if same(ours, known) {
+        Side::Take(theirs.cloned(), true)
+    } else if same(theirs, known) {
+        Side::Take(ours.cloned(), false)
+    } else {
+        Side::Conflict(theirs.cloned(), ours.cloned())
+    }
+}
+
+/// What is kept of a name both sides changed, by which side still has it.
+fn conflict_outcome(theirs: bool, ours: bool) -> Kept {
+    match (theirs, ours) {
+        (true, true) => Kept::Both {
+            // Named once every name is known.
+            copy: String::new(),
+        },
+        (true, false) => Kept::TheirsNotDeleted,
+        (false, _) => Kept::OursNotDeleted,
+    }
+}
+
+/// The three-way merge for a write: conflicts keep both (see the module's doc).
+pub fn merge(known: &PositionBook, ours: &PositionBook, theirs: &PositionBook) -> Merged {
+    merge_with(known, ours, theirs, true)
+}
+
+/// The written book, back in a console whose book may have changed since it was handed over
+/// (`handed`): what the write took from the other side comes in; a name this console changed
+/// since keeps its change, for its next write to merge with the file.
+pub fn incorporate(
+    handed: &PositionBook,
+    ours: &PositionBook,
+    written: &PositionBook,
+) -> PositionBook {
+    merge_with(handed, ours, written, false).book
+}
+
+fn merge_with(
+    known: &PositionBook,
+    ours: &PositionBook,
+    theirs: &PositionBook,
+    keep_both: bool,
+) -> Merged {
+    let mut taken = 0;
+    let mut conflicts = Vec::new();
+    let names: BTreeSet<&str> = known.names().chain(ours.names()).chain(theirs.names()).collect();
+    let mut list: Vec<Named> = Vec::with_capacity(names.len());
+    let mut copies: Vec<Named> = Vec::new();
+    for name in &names {
+        let side = three_way(
+            known.get(name),
+            ours.get(name),
+            theirs.get(name),
+            same_entry,
+        );
+        let keep = match side {
+            Side::Take(entry, from_theirs) => {
+                taken += usize::from(from_theirs);
+                entry
+            }
+            Side::Conflict(theirs, ours) if !keep_both => ours.or(theirs),
+            Side::Conflict(theirs, ours) => {
+                let outcome = conflict_outcome(theirs.is_some(), ours.is_some());
+                conflicts.push(Conflict {
+                    kind: "position",
+                    name: name.to_string(),
+                    outcome: outcome.clone(),
+                });
+                match (outcome, ours) {
+                    (Kept::OursNotDeleted, ours) => ours,
+                    (Kept::Both { .. }, Some(ours)) => {
+                        // Named below, once every name is known.
+                        copies.push((name.to_string(), ours));
+                        theirs
+                    }
+                    (_, _) => theirs,
+                }
+            }
+        };
+        if let Some(entry) = keep {
+            list.push((name.to_string(), entry));
+        }
+    }
+    if !copies.is_empty() {
+        let mut taken_names: BTreeSet<String> = names.iter().map(|n| n.to_string()).collect();
+        for (name, entry) in copies {
+            let copy = unique(&name, &taken_names);
+            taken_names.insert(copy.clone());
+            for conflict in conflicts.iter_mut().filter(|c| c.name == name) {
+                conflict.outcome = Kept::Both { copy: copy.clone() };
+            }
+            list.push((copy, entry));
+        }
+        list.sort_by(|a, b| a.0.cmp(&b.0));
+    }
+    let tours = merge_tours(known, ours, theirs, keep_both, &mut taken, &mut conflicts);
+    let mut book = PositionBook::new();
+    book.positions = std::sync::Arc::new(list);
+    book.tours = tours;
+    Merged {
+        book,
+        taken,
+        conflicts,
+    }
+}
+
+/// Tours merge as positions do, by name; the result has theirs in their order, then ours new.
+fn merge_tours(
+    known: &PositionBook,
+    ours: &PositionBook,
+    theirs: &PositionBook,
+    keep_both: bool,
+    taken: &mut usize,
+    conflicts: &mut Vec<Conflict>,
+) -> Vec<Tour> {
+    let mut order: Vec<&str> = Vec::new();
+    for tour in theirs.tours().iter().chain(ours.tours()).chain(known.tours()) {
+        if !order.contains(&tour.name.as_str()) {
+            order.push(&tour.name);
+        }
+    }
+    let mut kept: Vec<Tour> = Vec::new();
+    let mut copies: Vec<Tour> = Vec::new();
+    for name in order {
+        let side = three_way(known.tour(name), ours.tour(name), theirs.tour(name), same_tour);
+        match side {
+            Side::Take(tour, from_theirs) => {
+                *taken += usize::from(from_theirs);
+                kept.extend(tour);
+            }
+            Side::Conflict(theirs, ours) if !keep_both => kept.extend(ours.or(theirs)),
+            Side::Conflict(theirs, ours) => {
+                let outcome = conflict_outcome(theirs.is_some(), ours.is_some());
+                conflicts.push(Conflict {
+                    kind: "tour",
+                    name: name.to_string(),
+                    outcome: outcome.clone(),
+                });
+                match outcome {
+                    Kept::Both { .. } => {
+                        kept.extend(theirs);
+                        copies.extend(ours);
+                    }
+                    Kept::TheirsNotDeleted => kept.extend(theirs),
+                    Kept::OursNotDeleted => kept.extend(ours),
+                }
+            }
+        }
+    }
+    for mut tour in copies {
+        let taken_names: BTreeSet<String> = kept.iter().map(|t| t.name.clone()).collect();
+        let copy = unique(&tour.name, &taken_names);
+        for conflict in conflicts
+            .iter_mut()
+            .filter(|c| c.kind == "tour" && c.name == tour.name)
+        {
+            conflict.outcome = Kept::Both { copy: copy.clone() };
+        }
+        tour.name = copy;
+        kept.push(tour);
+    }
+    kept
+}
+
+#[cfg(test)]
+mod tests;
