@@ -17,15 +17,7 @@ pub const POSITIONS_LIMIT: u64 = 16 * 1024 * 1024;
 /// and a message naming the limit; its size is not trusted (a file may grow), so the read
 /// itself stops at `limit + 1` bytes.
 pub fn read_to_string_bounded(path: &Path, limit: u64) -> std::io::Result<String> {
-    let file = open_regular(path)?;
-    let mut bytes = Vec::new();
-    file.take(limit.saturating_add(1)).read_to_end(&mut bytes)?;
-    if bytes.len() as u64 > limit {
-        return Err(std::io::Error::new(
-            std::io::ErrorKind::FileTooLarge,
-            format!("larger than the limit of {}", describe_size(limit)),
-        ));
-    }
+    let bytes = read_bytes_bounded(path, limit)?;
     String::from_utf8(bytes).map_err(|e| {
         std::io::Error::new(
             std::io::ErrorKind::InvalidData,
@@ -92,6 +84,20 @@ fn special_kind(kind: FileType) -> &'static str {
 #[cfg(not(unix))]
 fn special_kind(_: FileType) -> &'static str {
     "a special file"
+}
+
+/// Reads a file of at most `limit` bytes, as [`read_to_string_bounded`] does, as bytes.
+pub fn read_bytes_bounded(path: &Path, limit: u64) -> std::io::Result<Vec<u8>> {
+    let file = open_regular(path)?;
+    let mut bytes = Vec::new();
+    file.take(limit.saturating_add(1)).read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > limit {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::FileTooLarge,
+            format!("larger than the limit of {}", describe_size(limit)),
+        ));
+    }
+    Ok(bytes)
 }
 
 /// "1 MB (1048576 bytes)": the limit as people and `ls -l` read it.

@@ -9,6 +9,7 @@
 //! lives).
 
 mod file;
+mod lenient;
 pub mod merge;
 mod names;
 #[cfg(test)]
@@ -16,6 +17,7 @@ mod tests;
 mod tours;
 
 pub use file::{BookError, book_key, default_path};
+pub use lenient::{SetAside, keep_bad_copy};
 pub use tours::Tour;
 
 use std::sync::Arc;

@@ -5,6 +5,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use super::lenient::{self, SetAside};
 use super::{BookEntry, Named, PositionBook};
 
 /// Version of the file format.
@@ -96,34 +97,65 @@ pub enum BookError {
     },
 }
 
-impl PositionBook {
-    /// Reads a book; a missing file is an empty book.
-    pub fn load(path: &Path) -> Result<PositionBook, BookError> {
-        let shown = path.display().to_string();
-        let text = match crate::files::read_to_string_bounded(path, crate::files::POSITIONS_LIMIT) {
-            Ok(text) => text,
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(PositionBook::new()),
-            Err(source) => {
-                return Err(BookError::Io {
-                    path: shown,
-                    source,
-                });
-            }
-        };
-        let mut book: PositionBook = serde_json::from_str(&text).map_err(|e| BookError::Parse {
+/// A book as its file holds it: what loaded, what was set aside, and the file's text.
+pub(super) struct Read {
+    pub book: PositionBook,
+    pub aside: Vec<SetAside>,
+    pub text: String,
+}
+
+/// Reads the book at `path` (`None`: there is no file): strictly, or entry by entry when the
+/// strict reader refuses it (see `lenient`); names are repaired (see `names`).
+pub(super) fn read_file(path: &Path) -> Result<Option<Read>, BookError> {
+    let shown = path.display().to_string();
+    let text = match crate::files::read_to_string_bounded(path, crate::files::POSITIONS_LIMIT) {
+        Ok(text) => text,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(source) => {
+            return Err(BookError::Io {
+                path: shown,
+                source,
+            });
+        }
+    };
+    let (mut book, aside) = match serde_json::from_str::<PositionBook>(&text) {
+        Ok(book) => (book, Vec::new()),
+        Err(e) => lenient::parse(&text).ok_or_else(|| BookError::Parse {
             path: shown.clone(),
             line: e.line(),
             column: e.column(),
             message: e.to_string(),
-        })?;
-        if book.format > FORMAT {
-            return Err(BookError::Format {
-                path: shown,
-                found: book.format,
-            });
+        })?,
+    };
+    if book.format > FORMAT {
+        return Err(BookError::Format {
+            path: shown,
+            found: book.format,
+        });
+    }
+    book.repair_names();
+    book.repair_tours();
+    Ok(Some(Read { book, aside, text }))
+}
+
+impl PositionBook {
+    /// Reads a book; a missing file is an empty book. Entries that do not load are set aside
+    /// with a note each, and the file's bytes kept in a `.bad` copy (see `lenient`).
+    pub fn load(path: &Path) -> Result<PositionBook, BookError> {
+        let Some(Read {
+            mut book,
+            aside,
+            text,
+        }) = read_file(path)?
+        else {
+            return Ok(PositionBook::new());
+        };
+        if !aside.is_empty() {
+            let copy = lenient::keep_bad_copy(path, text.as_bytes());
+            let mut notes = lenient::notes(&aside, &copy);
+            notes.append(&mut book.load_notes);
+            book.load_notes = notes;
         }
-        book.repair_names();
-        book.repair_tours();
         Ok(book)
     }
 

@@ -45,7 +45,11 @@ pub enum Kept {
 impl Conflict {
     /// One line for the technician.
     pub fn describe(&self) -> String {
-        let Conflict { kind, name, outcome } = self;
+        let Conflict {
+            kind,
+            name,
+            outcome,
+        } = self;
         match outcome {
             Kept::Both { copy } => format!(
                 "{kind} '{name}' was changed here and by another program: theirs is kept as \
@@ -54,9 +58,9 @@ impl Conflict {
             Kept::TheirsNotDeleted => format!(
                 "{kind} '{name}' was deleted here but changed by another program: kept, not deleted"
             ),
-            Kept::OursNotDeleted => format!(
-                "{kind} '{name}' was deleted by another program but changed here: kept"
-            ),
+            Kept::OursNotDeleted => {
+                format!("{kind} '{name}' was deleted by another program but changed here: kept")
+            }
         }
     }
 }
@@ -156,7 +160,11 @@ fn merge_with(
 ) -> Merged {
     let mut taken = 0;
     let mut conflicts = Vec::new();
-    let names: BTreeSet<&str> = known.names().chain(ours.names()).chain(theirs.names()).collect();
+    let names: BTreeSet<&str> = known
+        .names()
+        .chain(ours.names())
+        .chain(theirs.names())
+        .collect();
     let mut list: Vec<Named> = Vec::with_capacity(names.len());
     let mut copies: Vec<Named> = Vec::new();
     for name in &names {
@@ -227,7 +235,12 @@ fn merge_tours(
     conflicts: &mut Vec<Conflict>,
 ) -> Vec<Tour> {
     let mut order: Vec<&str> = Vec::new();
-    for tour in theirs.tours().iter().chain(ours.tours()).chain(known.tours()) {
+    for tour in theirs
+        .tours()
+        .iter()
+        .chain(ours.tours())
+        .chain(known.tours())
+    {
         if !order.contains(&tour.name.as_str()) {
             order.push(&tour.name);
         }
@@ -235,7 +248,12 @@ fn merge_tours(
     let mut kept: Vec<Tour> = Vec::new();
     let mut copies: Vec<Tour> = Vec::new();
     for name in order {
-        let side = three_way(known.tour(name), ours.tour(name), theirs.tour(name), same_tour);
+        let side = three_way(
+            known.tour(name),
+            ours.tour(name),
+            theirs.tour(name),
+            same_tour,
+        );
         match side {
             Side::Take(tour, from_theirs) => {
                 *taken += usize::from(from_theirs);

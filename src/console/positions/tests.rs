@@ -167,17 +167,18 @@ fn a_missing_file_is_an_empty_book() {
 }
 
 #[test]
-fn a_corrupt_file_is_refused_with_its_name_line_and_column() {
+fn a_file_that_is_not_json_is_refused_with_its_name_line_and_column() {
+    // A misspelt field only sets its entry aside (see `lenient`); broken JSON refuses the file.
     let d = dir();
     let path = d.path().join("bad.json");
     std::fs::write(
         &path,
-        "{\n  \"format\": 1,\n  \"positions\": {\n    \"a\": { \"anchr\": true }\n  }\n}\n",
+        "{\n  \"format\": 1,\n  \"positions\": {\n    \"a\": { \"anchor\" true }\n  }\n}\n",
     )
     .unwrap();
     let err = PositionBook::load(&path).unwrap_err().to_string();
     assert!(err.starts_with(&format!("{}:4:", path.display())), "{err}");
-    assert!(err.contains("anchr"), "{err}");
+    assert!(err.contains("expected `:`"), "{err}");
 }
 
 #[test]

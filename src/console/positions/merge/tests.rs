@@ -40,7 +40,10 @@ fn a_position_each_side_added_is_in_the_merge() {
     let theirs = book(&[("home", 0), ("x1", 1)], &[]);
     let ours = book(&[("home", 0), ("x3", 3)], &[]);
     let merged = merge(&known, &ours, &theirs);
-    assert_eq!(xs(&merged.book), pairs(&[("home", 0), ("x1", 1), ("x3", 3)]));
+    assert_eq!(
+        xs(&merged.book),
+        pairs(&[("home", 0), ("x1", 1), ("x3", 3)])
+    );
     assert_eq!(merged.taken, 1);
     assert!(merged.conflicts.is_empty());
 }
@@ -79,9 +82,16 @@ fn a_name_both_changed_keeps_both_and_says_so() {
         }]
     );
     let said = merged.conflicts[0].describe();
-    assert!(said.contains("'pick'") && said.contains("'pick~3'"), "{said}");
+    assert!(
+        said.contains("'pick'") && said.contains("'pick~3'"),
+        "{said}"
+    );
     // Both added the same name, differently: the same.
-    let merged = merge(&book(&[], &[]), &book(&[("new", 1)], &[]), &book(&[("new", 2)], &[]));
+    let merged = merge(
+        &book(&[], &[]),
+        &book(&[("new", 1)], &[]),
+        &book(&[("new", 2)], &[]),
+    );
     assert_eq!(xs(&merged.book), pairs(&[("new", 2), ("new~2", 1)]));
 }
 
@@ -128,7 +138,12 @@ fn tours_merge_by_name_in_the_files_order_then_ours() {
     let theirs = book(&[], &[("rounds", &["a"]), ("by hand", &["a", "b"])]);
     let ours = book(&[], &[("rounds", &["a"]), ("mine", &["b"])]);
     let merged = merge(&known, &ours, &theirs);
-    let names: Vec<&str> = merged.book.tours().iter().map(|t| t.name.as_str()).collect();
+    let names: Vec<&str> = merged
+        .book
+        .tours()
+        .iter()
+        .map(|t| t.name.as_str())
+        .collect();
     assert_eq!(names, ["rounds", "by hand", "mine"]);
     assert_eq!(merged.taken, 1);
     // Both changed one tour: both kept.
