@@ -12,6 +12,7 @@ mod file;
 mod lenient;
 pub mod merge;
 mod names;
+pub mod shared;
 #[cfg(test)]
 mod tests;
 mod tours;

@@ -85,6 +85,17 @@ pub enum BookError {
     },
     #[error("{path}: format {found} is newer than this armjog understands ({FORMAT})")]
     Format { path: String, found: u32 },
+    /// The file as it is now (changed since it was read) does not read as a book: a write
+    /// would lose it.
+    #[error("{path}: not written over: the file as it is now cannot be kept ({reason})")]
+    Unreadable { path: String, reason: String },
+    /// Another writer held the book's lock for longer than a write takes.
+    #[error("{path}: not written: its lock {lock} was held by another program for {waited:?}")]
+    Locked {
+        path: String,
+        lock: String,
+        waited: std::time::Duration,
+    },
     /// Writing it would make a file too large to be read back.
     #[error(
         "{path}: not written: the book takes {bytes} bytes, over the limit of {limit} bytes \
