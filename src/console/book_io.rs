@@ -7,6 +7,7 @@ use std::time::Duration;
 
 use tokio::sync::{mpsc, oneshot};
 
+use super::positions::shared::Written;
 use super::positions::{BookError, PositionBook};
 
 /// What the loader hands back: the book, or the error naming the file and what was wrong.
@@ -60,18 +61,44 @@ pub async fn loaded(loading: &mut Option<oneshot::Receiver<Loaded>>) -> Loaded {
     result
 }
 
+/// A book to write: the console's, and the file as the console last knew it (what the book was
+/// made from), for the write to merge with what another writer put there since
+/// (`PositionBook::save_shared`). Reads as the book it writes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BookSave {
+    pub book: PositionBook,
+    pub known: PositionBook,
+}
+
+impl std::ops::Deref for BookSave {
+    type Target = PositionBook;
+
+    fn deref(&self) -> &PositionBook {
+        &self.book
+    }
+}
+
 /// What became of the books handed over up to the `upto`-th (counting from 1): all written
-/// (the newest of them was), or the newest failed with `error` (naming the file).
-#[derive(Debug, Clone, PartialEq, Eq)]
+/// (the newest of them was), or the newest failed with `error` (naming the file). `found`:
+/// the write found another writer's changes in the file and merged them in.
+#[derive(Debug, Clone, PartialEq)]
 pub struct SaveOutcome {
     pub upto: u64,
     pub error: Option<String>,
+    pub found: Option<Box<Found>>,
+}
+
+/// Another writer's work found by a write: the book handed over and what was written.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Found {
+    pub handed: PositionBook,
+    pub written: Written,
 }
 
 /// The thread of writes: books are written one at a time, in order; a book handed over while
 /// another is written replaces any not written yet (only the newest matters).
 pub struct Saver {
-    next: mpsc::UnboundedSender<(u64, PositionBook)>,
+    next: mpsc::UnboundedSender<(u64, BookSave)>,
     /// Books handed over so far.
     handed: std::sync::atomic::AtomicU64,
     task: tokio::task::JoinHandle<()>,
@@ -80,27 +107,54 @@ pub struct Saver {
 impl Saver {
     /// Starts the writer for `path`; each write's outcome is reported on the returned receiver.
     pub fn start(path: PathBuf) -> (Saver, mpsc::UnboundedReceiver<SaveOutcome>) {
-        let (next, mut books) = mpsc::unbounded_channel::<(u64, PositionBook)>();
+        let (next, mut books) = mpsc::unbounded_channel::<(u64, BookSave)>();
         let (outcomes_tx, outcomes) = mpsc::unbounded_channel();
         let task = tokio::spawn(async move {
             // Books are taken out of the channel, not copied: once written, the app's book is
             // no longer shared and changing it copies nothing.
+            // What the file was known as before a write that failed: the next book holds
+            // that write's changes, which are not in the file.
+            let mut unwritten: Option<PositionBook> = None;
             while let Some(mut handed) = books.recv().await {
-                while let Ok(newer) = books.try_recv() {
-                    handed = newer;
+                while let Ok((upto, newer)) = books.try_recv() {
+                    // The newer book holds the older's changes: both are merged from what the
+                    // older was made from.
+                    let known = std::mem::take(&mut handed.1.known);
+                    handed = (upto, BookSave { known, ..newer });
                 }
-                let (upto, book) = handed;
+                let (upto, mut save) = handed;
+                if let Some(known) = unwritten.take() {
+                    save.known = known;
+                }
                 let path = path.clone();
-                let written = tokio::task::spawn_blocking(move || book.save(&path)).await;
-                let error = match written {
-                    Ok(Ok(())) => None,
-                    Ok(Err(e)) => Some(e.to_string()),
-                    Err(e) => Some(format!("the positions writer failed: {e}")),
+                let written = tokio::task::spawn_blocking(move || {
+                    let written = save.book.save_shared(&save.known, &path);
+                    (save, written)
+                })
+                .await;
+                let (error, found) = match written {
+                    Ok((_, Ok(written))) if !written.found_others() => (None, None),
+                    Ok((save, Ok(written))) => {
+                        let handed = save.book;
+                        tracing::info!(
+                            "positions: {} changes by another writer merged in, {} conflicts, \
+                             {} entries set aside",
+                            written.taken,
+                            written.conflicts.len(),
+                            written.set_aside.len()
+                        );
+                        (None, Some(Box::new(Found { handed, written })))
+                    }
+                    Ok((save, Err(e))) => {
+                        unwritten = Some(save.known);
+                        (Some(e.to_string()), None)
+                    }
+                    Err(e) => (Some(format!("the positions writer failed: {e}")), None),
                 };
                 if let Some(error) = &error {
                     tracing::error!("saving positions: {error}");
                 }
-                let _ = outcomes_tx.send(SaveOutcome { upto, error });
+                let _ = outcomes_tx.send(SaveOutcome { upto, error, found });
             }
         });
         let handed = std::sync::atomic::AtomicU64::new(0);
@@ -108,7 +162,7 @@ impl Saver {
     }
 
     /// Hands a book over to be written. Never waits for a write.
-    pub fn save(&self, book: PositionBook) {
+    pub fn save(&self, book: BookSave) {
         let upto = 1 + self
             .handed
             .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
@@ -199,7 +253,7 @@ impl BookFiles {
     }
 
     /// Hands a book over to be written (nothing happens without a file).
-    pub fn save(&self, book: PositionBook) {
+    pub fn save(&self, book: BookSave) {
         if let Some(saver) = &self.saver {
             saver.save(book);
         }
@@ -219,9 +273,10 @@ impl BookFiles {
         let deadline = tokio::time::Instant::now() + within;
         if let Some(changes) = self.held.take() {
             match tokio::time::timeout_at(deadline, loaded(&mut self.loading)).await {
-                Ok(Ok(mut book)) => {
+                Ok(Ok(known)) => {
+                    let mut book = known.clone();
                     book.merge(&changes);
-                    self.save(book);
+                    self.save(BookSave { book, known });
                 }
                 Ok(Err(error)) => tracing::error!(
                     "{} changed positions not saved: the book was not loaded ({error})",
@@ -264,7 +319,10 @@ mod tests {
         let mut book = PositionBook::new();
         for i in 0..5 {
             book.get_or_insert(&format!("p{i}")).cartesian = Some([i, 0, 0]);
-            saver.save(book.clone());
+            saver.save(BookSave {
+                book: book.clone(),
+                known: PositionBook::new(),
+            });
         }
         saver.finish(Duration::from_secs(10)).await;
         assert_eq!(PositionBook::load(&path).unwrap(), book);
@@ -277,7 +335,10 @@ mod tests {
         std::fs::write(&blocker, "x").unwrap();
         let path = blocker.join("book.json");
         let (saver, mut errors) = Saver::start(path.clone());
-        saver.save(PositionBook::new());
+        saver.save(BookSave {
+            book: PositionBook::new(),
+            known: PositionBook::new(),
+        });
         let outcome = tokio::time::timeout(Duration::from_secs(10), errors.recv())
             .await
             .expect("reported in time")

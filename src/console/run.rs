@@ -402,9 +402,9 @@ async fn event_loop(
                     sent = true;
                 }
                 // Written on the writer's thread; the outcome comes back as `save_outcomes`.
-                Effect::SavePositions(positions) => {
-                    audit.book_saved(&positions);
-                    book.save(positions);
+                Effect::SavePositions(save) => {
+                    audit.book_saved(&save.book, &save.known);
+                    book.save(save);
                 }
                 Effect::Quit => {
                     audit.handled(&app);

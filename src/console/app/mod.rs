@@ -70,7 +70,7 @@ pub use trail::{TRAIL_CAPACITY, TRAIL_SPACING, TRAIL_SPAN, ToolTrail, TrailPoint
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use super::book_io::SaveOutcome;
+use super::book_io::{BookSave, SaveOutcome};
 use super::form::{Confirm, Form};
 use super::jog::{KeyKind, ReleaseMode};
 use super::keymap::{KeyName, Keymap};
@@ -122,8 +122,9 @@ pub enum Input {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Effect {
     Arm(ArmCommand),
-    /// Write the position book to its file.
-    SavePositions(PositionBook),
+    /// Write the position book to its file, merged with what another writer put there since
+    /// the console knew it.
+    SavePositions(BookSave),
     Quit,
 }
 

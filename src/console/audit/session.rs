@@ -149,9 +149,12 @@ impl AuditSession {
         self.write(records);
     }
 
-    /// A book the app is saving (over Modbus, what the technician saved or deleted).
-    pub fn book_saved(&mut self, book: &PositionBook) {
+    /// A book the app is saving (over Modbus, what the technician saved or deleted): what
+    /// changed from `known`, the file as the app knew it (another console's positions merged
+    /// in since are not this technician's saves).
+    pub fn book_saved(&mut self, book: &PositionBook, known: &PositionBook) {
         self.record_handled();
+        self.deriver.book_loaded(known);
         let records = self.deriver.book_saved(book, SystemTime::now());
         self.write(records);
     }

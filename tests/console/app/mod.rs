@@ -17,6 +17,7 @@ mod pastes;
 mod position_edits;
 mod positions_pose;
 mod positions_resave;
+mod positions_shared;
 mod positions_unsaved;
 mod singularity;
 mod state_machine;

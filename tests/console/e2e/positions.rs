@@ -77,7 +77,7 @@ impl Session {
         for effect in self.app.handle(input, Instant::now()) {
             match effect {
                 Effect::Arm(command) => assert!(self.driver.send(command), "driver alive"),
-                Effect::SavePositions(book) => self.written = Some(book),
+                Effect::SavePositions(save) => self.written = Some(save.book),
                 Effect::Quit => {}
             }
         }

@@ -3,12 +3,15 @@
 use super::super::edits::{Deleted, Renaming};
 use super::super::saving::{self, Saved};
 use super::super::{BookState, resave};
-use crate::console::book_io::SaveOutcome;
-use crate::console::positions::PositionBook;
+use crate::console::book_io::{BookSave, Found, SaveOutcome};
+use crate::console::positions::{PositionBook, merge};
 
 #[derive(Debug, Clone)]
 pub(in crate::console::app) struct Book {
     positions: PositionBook,
+    /// The file as this console last knew it: read, handed to be written, or as a write found
+    /// it. A write merges the file's changes since (another console's) from it (see `BookSave`).
+    known: PositionBook,
     /// Whether the book is loaded, still loading, or could not be read.
     state: BookState,
     selected: usize,
@@ -37,6 +40,7 @@ pub struct BookView {
 impl Book {
     pub(in crate::console::app) fn new(positions: PositionBook) -> Book {
         Book {
+            known: positions.clone(),
             positions,
             state: BookState::Ready,
             selected: 0,
@@ -70,6 +74,7 @@ impl Book {
     pub(in crate::console::app) fn on_loaded(&mut self, mut book: PositionBook) -> bool {
         let changed_meanwhile = !self.positions.is_empty();
         let selected = self.selected_name().map(str::to_string);
+        self.known = book.clone();
         book.merge(&self.positions);
         self.positions = book;
         self.state = BookState::Ready;
@@ -183,13 +188,32 @@ impl Book {
         &mut self.resave
     }
 
-    /// Names changed: the book to hand to the writer (the whole of it, as every save is).
+    /// Names changed: the book to hand to the writer (the whole of it, as every save is), with
+    /// the file as last known, which the file will hold this book's changes over.
     pub(in crate::console::app) fn on_changed(
         &mut self,
         changed: impl IntoIterator<Item = String>,
-    ) -> PositionBook {
+    ) -> BookSave {
         self.saving.touch(changed);
-        self.positions.clone()
+        let known = std::mem::replace(&mut self.known, self.positions.clone());
+        BookSave {
+            book: self.positions.clone(),
+            known,
+        }
+    }
+
+    /// A write found another writer's changes in the file and wrote them with this book's:
+    /// they come into the book (a name changed here since keeps this console's change, for the
+    /// next write to merge), and into the file as known. The selection stays on its name.
+    pub(in crate::console::app) fn on_found(&mut self, found: &Found) {
+        let selected = self.selected_name().map(str::to_string);
+        let written = &found.written.book;
+        self.positions = merge::incorporate(&found.handed, &self.positions, written);
+        self.known = merge::incorporate(&found.handed, &self.known, written);
+        if let Some(name) = selected {
+            self.select(&name);
+        }
+        self.keep_selection();
     }
 
     /// `asked` saves left `handle`. A book that could not be read is never saved over: its

@@ -37,7 +37,10 @@ fn two_writers_from_one_read_both_keep_their_positions() {
     assert_eq!(names(&written.book), ["home", "x1", "x3"]);
     let on_disk = PositionBook::load(&path).expect("reads");
     assert_eq!(names(&on_disk), ["home", "x1", "x3"]);
-    assert!(lock_path(&path).exists(), "the lock file stays for the next writer");
+    assert!(
+        lock_path(&path).exists(),
+        "the lock file stays for the next writer"
+    );
 }
 
 #[test]
@@ -56,7 +59,10 @@ fn a_tour_added_by_hand_while_a_console_runs_survives_its_next_save() {
     let written = ours.save_shared(&read, &path).expect("written");
     assert!(written.book.tour("rounds").is_some());
     let on_disk = PositionBook::load(&path).expect("reads");
-    assert!(on_disk.tour("rounds").is_some(), "the hand-made tour is kept");
+    assert!(
+        on_disk.tour("rounds").is_some(),
+        "the hand-made tour is kept"
+    );
     assert_eq!(names(&on_disk), ["bench", "pick"]);
 }
 
@@ -74,9 +80,16 @@ fn a_file_with_bad_entries_is_written_over_only_with_its_bytes_kept() {
     let written = ours.save_shared(&read, &path).expect("written");
     assert_eq!(std::fs::read_to_string(&copy).expect("copy"), text);
     assert_eq!(written.set_aside.len(), 1);
-    assert!(written.notes[0].contains("position 'pick'"), "{:?}", written.notes);
+    assert!(
+        written.notes[0].contains("position 'pick'"),
+        "{:?}",
+        written.notes
+    );
     assert!(written.found_others());
-    assert_eq!(names(&PositionBook::load(&path).expect("reads")), ["bench", "place"]);
+    assert_eq!(
+        names(&PositionBook::load(&path).expect("reads")),
+        ["bench", "place"]
+    );
 }
 
 #[test]

@@ -1,0 +1,228 @@
+//! Two consoles on one book file, each with its own writer (the runtime's `BookFiles`), as two
+//! processes would have: neither write drops what the other wrote, each console is told and
+//! shows the other's positions; a tour added by hand while a console runs survives its save; a
+//! name changed on both sides keeps both and says so; a hand-edited book with a bad entry loads
+//! the rest and names it.
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use armjog::console::app::{App, Effect, Input, Overlay, QUESTION_QUIET, Severity};
+use armjog::console::book_io::{self, BookFiles};
+use armjog::console::jog::ReleaseMode;
+use armjog::console::positions::{PositionBook, Tour};
+
+use crate::app_support::{app, press};
+
+/// One console: its app (positions in its book, as over Modbus) and its book's files.
+struct Console {
+    app: App,
+    files: BookFiles,
+    t0: Instant,
+}
+
+impl Console {
+    async fn open(path: &Path) -> Console {
+        let mut files = BookFiles::open(Some(path.to_path_buf())).expect("opened");
+        let (mut app, t0) = app(ReleaseMode::Reported, false);
+        app.begin_loading_positions(path.display().to_string());
+        let loaded = book_io::loaded(&mut files.loading).await;
+        app.handle(Input::PositionsLoaded(loaded), t0);
+        Console { app, files, t0 }
+    }
+
+    /// Carries out the saves among `effects` as the runtime does, and hands the app each
+    /// write's outcome.
+    async fn saved(&mut self, effects: Vec<Effect>) {
+        let mut saves = 0;
+        for effect in effects {
+            if let Effect::SavePositions(save) = effect {
+                self.files.save(save);
+                saves += 1;
+            }
+        }
+        assert!(saves > 0, "a save was asked for");
+        let outcome =
+            tokio::time::timeout(Duration::from_secs(10), self.files.save_outcomes.recv())
+                .await
+                .expect("the writer answers in time")
+                .expect("an outcome");
+        assert_eq!(outcome.error, None);
+        self.app.handle(Input::PositionsSaved(outcome), self.t0);
+    }
+
+    fn press(&mut self, key: &str) -> Vec<Effect> {
+        press(&mut self.app, key, self.t0)
+    }
+
+    /// Defines `name` at (x, 0, 300) mm through the cartesian form; returns its effects.
+    fn define(&mut self, name: &str, x_mm: u32) -> Vec<Effect> {
+        self.press("C");
+        for _ in 0..40 {
+            self.press("backspace");
+        }
+        for c in name.chars() {
+            self.press(&c.to_string());
+        }
+        for value in [x_mm.to_string(), "0".into(), "300".into()] {
+            self.press("tab");
+            for c in value.chars() {
+                self.press(&c.to_string());
+            }
+        }
+        let mut effects = self.press("enter");
+        if matches!(self.app.overlay(), Overlay::Confirm(_)) {
+            // Over a name that exists: yes, overwrite.
+            self.t0 += QUESTION_QUIET;
+            effects = self.press("y");
+        }
+        effects
+    }
+
+    fn names(&self) -> Vec<String> {
+        self.app.positions().names().map(String::from).collect()
+    }
+
+    fn message(&self) -> (String, Severity) {
+        self.app
+            .message()
+            .map(|(text, severity)| (text.to_string(), severity))
+            .expect("a message")
+    }
+
+    async fn close(self) {
+        self.files.finish(Duration::from_secs(10)).await;
+    }
+}
+
+fn x_of(book: &PositionBook, name: &str) -> Option<i32> {
+    book.get(name).and_then(|e| e.cartesian).map(|c| c[0])
+}
+
+fn book_file(book: &PositionBook) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("book.json");
+    book.save(&path).expect("book");
+    (dir, path)
+}
+
+fn on_disk(path: &Path) -> Vec<String> {
+    let book = PositionBook::load(path).expect("the book reads");
+    book.names().map(String::from).collect()
+}
+
+#[tokio::test]
+async fn two_consoles_on_one_book_keep_each_others_positions_and_say_so() {
+    let mut start = PositionBook::new();
+    start.get_or_insert("home").cartesian = Some([0, 0, 3000]);
+    let (_dir, path) = book_file(&start);
+    let mut one = Console::open(&path).await;
+    let mut two = Console::open(&path).await;
+
+    let effects = one.define("x1", 100);
+    one.saved(effects).await;
+    assert_eq!(on_disk(&path), ["home", "x1"]);
+    let effects = two.define("x3", 300);
+    two.saved(effects).await;
+    assert_eq!(on_disk(&path), ["home", "x1", "x3"], "console 1's X1 kept");
+    assert_eq!(two.names(), ["home", "x1", "x3"], "and shown on console 2");
+    let (said, severity) = two.message();
+    assert!(said.contains("changed by another program"), "{said}");
+    assert_eq!(severity, Severity::Info);
+
+    // A delete is a delete, on either console, and does not come back with the other's save.
+    assert_eq!(
+        one.app.selected_name(),
+        Some("x1"),
+        "the saved name is selected"
+    );
+    one.press("delete");
+    one.t0 += QUESTION_QUIET;
+    let effects = one.press("y");
+    one.saved(effects).await;
+    assert_eq!(one.names(), ["home", "x3"], "console 2's X3 came in");
+    assert_eq!(on_disk(&path), ["home", "x3"]);
+    let effects = two.define("x4", 400);
+    two.saved(effects).await;
+    assert_eq!(on_disk(&path), ["home", "x3", "x4"], "x1 stays deleted");
+    assert_eq!(two.names(), ["home", "x3", "x4"]);
+    one.close().await;
+    two.close().await;
+}
+
+#[tokio::test]
+async fn a_tour_added_by_hand_while_the_console_runs_survives_its_save() {
+    let mut start = PositionBook::new();
+    start.get_or_insert("bench").cartesian = Some([0, 0, 3000]);
+    let (_dir, path) = book_file(&start);
+    let mut console = Console::open(&path).await;
+    let mut by_hand = start.clone();
+    by_hand.set_tour(Tour {
+        name: "rounds".into(),
+        positions: vec!["bench".into()],
+    });
+    by_hand.save(&path).expect("the hand edit");
+    let effects = console.define("pick", 100);
+    console.saved(effects).await;
+    let saved = PositionBook::load(&path).expect("reads");
+    assert!(saved.tour("rounds").is_some(), "the hand-made tour is kept");
+    assert!(
+        console.app.positions().tour("rounds").is_some(),
+        "and shown"
+    );
+    console.close().await;
+}
+
+#[tokio::test]
+async fn a_name_saved_on_both_consoles_keeps_both_and_names_them() {
+    let mut start = PositionBook::new();
+    start.get_or_insert("pick").cartesian = Some([0, 0, 3000]);
+    let (_dir, path) = book_file(&start);
+    let mut one = Console::open(&path).await;
+    let mut two = Console::open(&path).await;
+    let effects = one.define("pick", 100);
+    one.saved(effects).await;
+    let effects = two.define("pick", 200);
+    two.saved(effects).await;
+    let saved = PositionBook::load(&path).expect("reads");
+    assert_eq!(x_of(&saved, "pick"), Some(1000), "console 1's pick kept");
+    assert_eq!(x_of(&saved, "pick~2"), Some(2000), "console 2's beside it");
+    assert_eq!(x_of(two.app.positions(), "pick~2"), Some(2000));
+    let (said, severity) = two.message();
+    assert!(
+        said.contains("'pick'") && said.contains("'pick~2'"),
+        "{said}"
+    );
+    assert_eq!(severity, Severity::Warning);
+    one.close().await;
+    two.close().await;
+}
+
+#[tokio::test]
+async fn a_hand_edited_book_with_a_bad_entry_loads_the_rest_and_a_save_keeps_its_bytes() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("book.json");
+    let text = r#"{"format": 1, "positions": {
+        "bench": {"cartesian": [1000, 0, 3000]},
+        "gone": null,
+        "pick": {"cartesian": [1, 2, 3], "frame": "tool"}}}"#;
+    std::fs::write(&path, text).expect("book");
+    let mut console = Console::open(&path).await;
+    assert_eq!(console.names(), ["bench"]);
+    let (said, severity) = console.message();
+    assert_eq!(severity, Severity::Warning);
+    for named in ["'gone'", "'pick'", "book.json.bad"] {
+        assert!(said.contains(named), "{named} in {said}");
+    }
+    let copy = dir.path().join("book.json.bad");
+    assert_eq!(std::fs::read_to_string(&copy).expect("copy"), text);
+    let effects = console.define("place", 200);
+    console.saved(effects).await;
+    assert_eq!(on_disk(&path), ["bench", "place"]);
+    assert_eq!(
+        std::fs::read_to_string(&copy).expect("copy"),
+        text,
+        "the hand edit is kept"
+    );
+    console.close().await;
+}
