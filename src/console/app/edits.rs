@@ -10,7 +10,7 @@
 use std::time::Instant;
 
 use super::{App, Effect, Overlay, Severity};
-use crate::console::form::{Confirm, Form, FormResult};
+use crate::console::form::{Confirm, Form, FormResult, tour_list};
 use crate::console::positions::BookEntry;
 use crate::link::interface::{ArmCommand, ArmError, ArmEvent, CommandKind, LinkStatus};
 
@@ -100,9 +100,7 @@ impl App {
         if !self.config.positions_on_operator {
             self.book.positions_mut().remove(&from);
             *self.book.positions_mut().get_or_insert(&to) = entry;
-            self.book.select(&to);
-            self.say(format!("renamed '{from}' to '{to}'"), Severity::Info, now);
-            self.save_book(&[&from, &to], effects);
+            self.renamed(&from, &to, now, effects);
             return;
         }
         if let Some(renaming) = self.book.renaming() {
@@ -297,9 +295,7 @@ impl App {
             ) if *name == from => {
                 self.book.set_renaming(None);
                 self.book.positions_mut().remove(&from);
-                self.book.select(&to);
-                self.say(format!("renamed '{from}' to '{to}'"), Severity::Info, now);
-                self.save_book(&[&from, &to], effects);
+                self.renamed(&from, &to, now, effects);
                 true
             }
             (step, ArmEvent::Failed { command, error }) if *command == step.command() => {
@@ -309,6 +305,20 @@ impl App {
             }
             _ => false,
         }
+    }
+
+    /// `from` is `to` now, in the book: the tours visiting it follow, and the message names
+    /// them.
+    fn renamed(&mut self, from: &str, to: &str, now: Instant, effects: &mut Vec<Effect>) {
+        let tours = self.book.positions_mut().rename_in_tours(from, to);
+        self.book.select(to);
+        let text = if tours.is_empty() {
+            format!("renamed '{from}' to '{to}'")
+        } else {
+            format!("renamed '{from}' to '{to}', in {} too", tour_list(&tours))
+        };
+        self.say(text, Severity::Info, now);
+        self.save_book(&[from, to], effects);
     }
 
     fn set_rename_step(&mut self, step: RenameStep) {

@@ -271,7 +271,11 @@ impl App {
                 };
                 match action {
                     A::GoToPosition => self.ask_go_to(name, now),
-                    A::DeletePosition => self.screen.show(Overlay::Confirm(Confirm::Delete(name))),
+                    A::DeletePosition => {
+                        let tours = self.book.positions().tours_using(&name);
+                        self.screen
+                            .show(Overlay::Confirm(Confirm::Delete { name, tours }));
+                    }
                     A::RenamePosition => self.screen.show(Overlay::Form(Form::rename(&name))),
                     _ => self.show_position(name, effects),
                 }

@@ -4,7 +4,7 @@
 use std::time::Instant;
 
 use super::{App, Effect, Overlay, Severity, cartesian_of, polar_of};
-use crate::console::form::{Confirm, FormResult};
+use crate::console::form::{Confirm, FormResult, tour_list};
 use crate::console::positions::{BookEntry, PoseFrame};
 use crate::kortex::Pose;
 use crate::link::interface::{ArmCommand, PositionCoordinates};
@@ -49,7 +49,7 @@ impl App {
                 }
             }
             Confirm::Tour(question) => self.tour_confirmed(question, now, effects),
-            Confirm::Delete(name) => {
+            Confirm::Delete { name, .. } => {
                 if self.config.positions_on_operator {
                     effects.push(Effect::Arm(ArmCommand::DeletePosition { name }));
                 } else {
@@ -213,14 +213,24 @@ impl App {
         })
     }
 
-    /// `name` is deleted: out of the book, kept for undo.
+    /// `name` is deleted: out of the book, kept for undo. Tours visiting it keep it (undo
+    /// makes them whole again); the message names them.
     fn deleted(&mut self, name: String, now: Instant, effects: &mut Vec<Effect>) {
         self.book.on_delete(&name);
-        self.say(
-            format!("deleted '{name}' (undo restores it)"),
-            Severity::Info,
-            now,
-        );
+        let tours = self.book.positions().tours_using(&name);
+        let (text, severity) = if tours.is_empty() {
+            (
+                format!("deleted '{name}' (undo restores it)"),
+                Severity::Info,
+            )
+        } else {
+            let text = format!(
+                "deleted '{name}': {} cannot be played without it (undo restores it)",
+                tour_list(&tours)
+            );
+            (text, Severity::Warning)
+        };
+        self.say(text, severity, now);
         self.save_book(&[&name], effects);
     }
 

@@ -8,7 +8,11 @@ use crate::kortex::Stored;
 pub enum Confirm {
     Home,
     GoTo(String),
-    Delete(String),
+    /// Delete a position; `tours` are those that visit it (they cannot be played without it).
+    Delete {
+        name: String,
+        tours: Vec<String>,
+    },
     /// The operator lost this name: re-save it from the remembered coordinates, then go there.
     Resave(String),
     /// A submitted form would replace the position of that name; `form` comes back on no.
@@ -31,7 +35,15 @@ impl Confirm {
         match self {
             Confirm::Home => "Move the arm to its home pose?".into(),
             Confirm::GoTo(name) => format!("Move the arm to '{name}'?"),
-            Confirm::Delete(name) => format!("Delete position '{name}'?"),
+            Confirm::Delete { name, tours } if tours.is_empty() => {
+                format!("Delete position '{name}'?")
+            }
+            Confirm::Delete { name, tours } => format!(
+                "Delete position '{name}'? {} visit{} it and cannot be played without it (undo \
+                 restores it)",
+                capitalised(&tour_list(tours)),
+                if tours.len() == 1 { "s" } else { "" }
+            ),
             Confirm::Resave(name) => format!(
                 "'{name}' is unknown to the operator: re-save it from the remembered coordinates \
                  and move the arm there?"
@@ -56,5 +68,47 @@ impl Confirm {
             Confirm::QuitUnsaved { .. } => "y: quit    any other key: stay",
             _ => "y or enter: yes    any other key: no",
         }
+    }
+}
+
+/// "tour 'a'", "tours 'a', 'b' and 'c'", "tours 'a', 'b', 'c', 'd', 'e' and 3 more".
+pub fn tour_list(tours: &[String]) -> String {
+    const NAMED: usize = 5;
+    let quoted: Vec<String> = tours.iter().take(NAMED).map(|t| format!("'{t}'")).collect();
+    let more = tours.len().saturating_sub(NAMED);
+    let (head, last) = match (quoted.split_last(), more) {
+        (None, _) => return "no tour".into(),
+        (Some((only, [])), 0) => return format!("tour {only}"),
+        (Some(_), more) if more > 0 => (quoted.join(", "), format!("{more} more")),
+        (Some((last, rest)), _) => (rest.join(", "), last.clone()),
+    };
+    format!("tours {head} and {last}")
+}
+
+fn capitalised(text: &str) -> String {
+    let mut chars = text.chars();
+    chars
+        .next()
+        .map(|first| first.to_uppercase().chain(chars).collect())
+        .unwrap_or_default()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn names(n: usize) -> Vec<String> {
+        (0..n).map(|i| format!("t{i}")).collect()
+    }
+
+    #[test]
+    fn a_list_of_tours_names_five_at_most() {
+        assert_eq!(tour_list(&names(1)), "tour 't0'");
+        assert_eq!(tour_list(&names(2)), "tours 't0' and 't1'");
+        assert_eq!(tour_list(&names(3)), "tours 't0', 't1' and 't2'");
+        assert_eq!(
+            tour_list(&names(8)),
+            "tours 't0', 't1', 't2', 't3', 't4' and 3 more"
+        );
     }
 }

@@ -63,6 +63,32 @@ impl PositionBook {
             .map(|(i, name)| (i, name.as_str()))
     }
 
+    /// The names of the tours that visit `position`, in the book's order.
+    pub fn tours_using(&self, position: &str) -> Vec<String> {
+        self.tours
+            .iter()
+            .filter(|t| t.positions.iter().any(|p| p == position))
+            .map(|t| t.name.clone())
+            .collect()
+    }
+
+    /// A position renamed: every tour visiting `from` visits `to` instead. Returns the names of
+    /// the tours changed.
+    pub fn rename_in_tours(&mut self, from: &str, to: &str) -> Vec<String> {
+        let mut changed = Vec::new();
+        for tour in &mut self.tours {
+            let mut renamed = false;
+            for leg in tour.positions.iter_mut().filter(|p| *p == from) {
+                *leg = to.to_string();
+                renamed = true;
+            }
+            if renamed {
+                changed.push(tour.name.clone());
+            }
+        }
+        changed
+    }
+
     /// Adds `other`'s tours, replacing those of the same name.
     pub(super) fn merge_tours(&mut self, other: &PositionBook) {
         for tour in other.tours.iter() {
@@ -116,6 +142,22 @@ mod tests {
         assert_eq!(b.legs_text(), "bench → gone");
         assert_eq!(book.remove_tour("a").map(|t| t.name), Some("a".into()));
         assert!(book.tour("a").is_none());
+    }
+
+    #[test]
+    fn a_rename_carries_into_every_tour_and_the_tours_using_a_name_are_found() {
+        let mut book = PositionBook::new();
+        book.set_tour(tour("a", &["pick", "bench", "pick"]));
+        book.set_tour(tour("b", &["bench"]));
+        book.set_tour(tour("c", &["pick"]));
+        assert_eq!(book.tours_using("pick"), ["a", "c"]);
+        assert_eq!(book.rename_in_tours("pick", "grip"), ["a", "c"]);
+        assert_eq!(
+            book.tour("a").map(Tour::legs_text).as_deref(),
+            Some("grip → bench → grip")
+        );
+        assert!(book.tours_using("pick").is_empty());
+        assert!(book.rename_in_tours("nothing", "x").is_empty());
     }
 
     #[test]
