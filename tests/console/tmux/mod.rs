@@ -4,3 +4,4 @@ mod logs;
 mod paste;
 mod profile;
 mod session;
+mod shared_book;
