@@ -306,15 +306,20 @@ impl App {
             Overlay::Confirm(confirm) => {
                 let yes = match confirm {
                     // Enter just submitted the form: only y replaces a position.
-                    Confirm::Overwrite { .. } | Confirm::QuitUnsaved { .. } => {
-                        matches!(key.key, YES | YES_SHIFTED)
-                    }
+                    Confirm::Overwrite { .. }
+                    | Confirm::QuitUnsaved { .. }
+                    | Confirm::BothChanged { .. } => matches!(key.key, YES | YES_SHIFTED),
                     _ => matches!(key.key, YES | YES_SHIFTED | ENTER),
                 };
                 match confirm {
                     confirm if yes => self.confirmed(confirm, now, effects),
                     Confirm::Overwrite { result, form } => {
                         self.overwrite_declined(&result, *form, now);
+                    }
+                    Confirm::BothChanged { name, copy } => {
+                        let text =
+                            format!("both kept: theirs as '{name}', this console's as '{copy}'");
+                        self.say(text, Severity::Info, now);
                     }
                     _ => self.say("cancelled", Severity::Info, now),
                 }

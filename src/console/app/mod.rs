@@ -11,6 +11,7 @@ mod access;
 mod age;
 mod arm_events;
 mod book_load;
+mod book_merge;
 mod cap_watch;
 mod edits;
 mod help_keys;

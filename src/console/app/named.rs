@@ -58,6 +58,7 @@ impl App {
             }
             Confirm::Overwrite { result, .. } => self.form_done(result, now, effects),
             Confirm::QuitUnsaved { .. } => self.quit(now, effects),
+            Confirm::BothChanged { name, copy } => self.take_the_name(name, copy, now, effects),
         }
     }
 

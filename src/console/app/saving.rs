@@ -16,7 +16,6 @@ use super::{App, Effect, Severity};
 use crate::console::book_io::SaveOutcome;
 use crate::console::form::Confirm;
 use crate::console::positions::PositionBook;
-use crate::console::positions::shared::Written;
 
 /// What the app knows of its book's writes.
 #[derive(Debug, Clone, Default)]
@@ -148,33 +147,6 @@ impl App {
                 );
                 self.say_until(text, Severity::Error, Until::BookSaved, now);
             }
-        }
-    }
-
-    /// What a write found another writer had done: a name both changed (both kept) is a
-    /// warning naming it, as are entries of the file set aside; what was merged in is said.
-    fn tell_found(&mut self, written: &Written, now: Instant) {
-        for conflict in &written.conflicts {
-            tracing::warn!("positions: {}", conflict.describe());
-        }
-        for note in &written.notes {
-            tracing::warn!("positions file: {note}");
-        }
-        let more = |n: usize| match n {
-            0 | 1 => String::new(),
-            n => format!(" (and {} more: see the log)", n - 1),
-        };
-        if let Some(first) = written.conflicts.first() {
-            let text = format!("{}{}", first.describe(), more(written.conflicts.len()));
-            self.say(text, Severity::Warning, now);
-        } else if let Some(first) = written.notes.first() {
-            self.say(format!("positions file: {first}"), Severity::Warning, now);
-        } else if written.taken > 0 {
-            let text = format!(
-                "positions file changed by another program: {} change(s) merged in, nothing lost",
-                written.taken
-            );
-            self.say(text, Severity::Info, now);
         }
     }
 

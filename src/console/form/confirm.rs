@@ -20,6 +20,12 @@ pub enum Confirm {
         result: FormResult,
         form: Box<Form>,
     },
+    /// A position changed here and by another program, both kept: the other's as `name`, this
+    /// console's as `copy`. Yes swaps them.
+    BothChanged {
+        name: String,
+        copy: String,
+    },
     /// Quitting while `count` changed positions could not be written.
     QuitUnsaved {
         count: usize,
@@ -49,6 +55,11 @@ impl Confirm {
                  and move the arm there?"
             ),
             Confirm::Overwrite { result, .. } => format!("overwrite '{}'?", result.name()),
+            Confirm::BothChanged { name, copy } => format!(
+                "'{name}' was changed here and by another program: both are kept, theirs as \
+                 '{name}', this console's as '{copy}'. Give this console's the name '{name}' \
+                 (theirs becomes '{copy}')?"
+            ),
             Confirm::QuitUnsaved { count } => format!(
                 "{count} changed position(s) could not be saved: quit anyway? The book is \
                  written once more as the console quits"
@@ -66,6 +77,7 @@ impl Confirm {
                 "y: overwrite    n, esc or any other key: back to the form"
             }
             Confirm::QuitUnsaved { .. } => "y: quit    any other key: stay",
+            Confirm::BothChanged { .. } => "y: swap them    any other key: keep both as they are",
             _ => "y or enter: yes    any other key: no",
         }
     }

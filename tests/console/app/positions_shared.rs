@@ -9,6 +9,7 @@ use std::time::{Duration, Instant};
 
 use armjog::console::app::{App, Effect, Input, Overlay, QUESTION_QUIET, Severity};
 use armjog::console::book_io::{self, BookFiles};
+use armjog::console::form::Confirm;
 use armjog::console::jog::ReleaseMode;
 use armjog::console::positions::{PositionBook, Tour};
 
@@ -194,6 +195,62 @@ async fn a_name_saved_on_both_consoles_keeps_both_and_names_them() {
         "{said}"
     );
     assert_eq!(severity, Severity::Warning);
+
+    // Console 2's technician is asked which is 'pick'; enter does not answer, y swaps them.
+    let Overlay::Confirm(question) = two.app.overlay().clone() else {
+        panic!("no question: {:?}", two.app.overlay())
+    };
+    assert_eq!(
+        question,
+        Confirm::BothChanged {
+            name: "pick".into(),
+            copy: "pick~2".into()
+        }
+    );
+    assert!(
+        question
+            .question()
+            .contains("changed here and by another program")
+    );
+    two.t0 += QUESTION_QUIET;
+    let effects = two.press("y");
+    two.saved(effects).await;
+    let saved = PositionBook::load(&path).expect("reads");
+    assert_eq!(x_of(&saved, "pick"), Some(2000), "console 2's has the name");
+    assert_eq!(x_of(&saved, "pick~2"), Some(1000), "console 1's beside it");
+    assert_eq!(two.app.selected_name(), Some("pick"));
+
+    // Console 1 sees the swap with its next save, as another program's change: no question.
+    let effects = one.define("other", 300);
+    one.saved(effects).await;
+    assert_eq!(x_of(one.app.positions(), "pick"), Some(2000));
+    assert_eq!(x_of(one.app.positions(), "pick~2"), Some(1000));
+    assert_eq!(one.app.overlay(), &Overlay::None);
+    one.close().await;
+    two.close().await;
+}
+
+#[tokio::test]
+async fn keeping_both_after_a_conflict_changes_nothing() {
+    let mut start = PositionBook::new();
+    start.get_or_insert("pick").cartesian = Some([0, 0, 3000]);
+    let (_dir, path) = book_file(&start);
+    let mut one = Console::open(&path).await;
+    let mut two = Console::open(&path).await;
+    let effects = one.define("pick", 100);
+    one.saved(effects).await;
+    let effects = two.define("pick", 200);
+    two.saved(effects).await;
+    two.t0 += QUESTION_QUIET;
+    let effects = two.press("n");
+    assert!(effects.is_empty(), "{effects:?}");
+    assert_eq!(two.app.overlay(), &Overlay::None);
+    assert_eq!(
+        two.message().0,
+        "both kept: theirs as 'pick', this console's as 'pick~2'"
+    );
+    assert_eq!(x_of(two.app.positions(), "pick"), Some(1000));
+    assert_eq!(x_of(two.app.positions(), "pick~2"), Some(2000));
     one.close().await;
     two.close().await;
 }
