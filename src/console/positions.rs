@@ -6,7 +6,8 @@
 //! never leaves a half-written book.
 //!
 //! This file holds the book in memory; `file` its file (format, load, atomic save, where it
-//! lives).
+//! lives); `lenient` a file with bad entries (the rest loads, the bytes kept); `shared` a write
+//! that keeps what another writer put in the file (lock, re-read, `merge` by name).
 
 mod file;
 mod lenient;
