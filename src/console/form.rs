@@ -316,7 +316,7 @@ mod stored;
 /// The tour forms: making one, playing one.
 mod tour;
 
-pub use confirm::{Confirm, tour_list};
+pub use confirm::{Confirm, QuestionText, tour_list};
 pub use stored::STORED_NOTE;
 pub use tour::TourQuestion;
 

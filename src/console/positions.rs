@@ -20,7 +20,7 @@ mod tours;
 
 pub use file::{BookError, book_key, default_path};
 pub use lenient::{SetAside, keep_bad_copy};
-pub use tours::Tour;
+pub use tours::{LEG_SEPARATOR, Tour};
 
 use std::sync::Arc;
 

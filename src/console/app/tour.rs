@@ -16,10 +16,13 @@ use std::time::Instant;
 use super::parts::Leg;
 use super::{ActionKind, App, Effect, Input, KeyInput, Overlay, Severity};
 use crate::console::action::Action;
-use crate::console::form::{Confirm, Form, FormResult, TourQuestion};
+use crate::console::form::{Confirm, Form, FormResult, QuestionText, TourQuestion};
 use crate::console::jog::KeyKind;
 use crate::console::positions::Tour;
 use crate::link::interface::{ArmCommand, ArmError, ArmEvent, LinkStatus};
+
+/// The most tours an unknown tour's name lists, of those the book has.
+const TOURS_NAMED: usize = 8;
 
 /// A book with more positions than this prefills the make form with the selected one only.
 const PREFILL_ALL_UP_TO: usize = 12;
@@ -120,17 +123,21 @@ impl App {
             }
             FormResult::PlayTour { name, one_leg } => {
                 let Some(tour) = self.book.positions().tour(&name).cloned() else {
-                    let known: Vec<&str> = self
+                    let known: Vec<String> = self
                         .book
                         .positions()
                         .tours()
                         .iter()
-                        .map(|t| t.name.as_str())
+                        .map(|t| t.name.clone())
                         .collect();
-                    form.error = Some(format!(
-                        "no tour '{name}'; the book has: {}",
-                        known.join(", ")
-                    ));
+                    // A long list names the first few and counts the rest.
+                    let listed = QuestionText {
+                        before: format!("no tour '{name}'; the book has: "),
+                        list: &known,
+                        separator: ", ",
+                        after: String::new(),
+                    };
+                    form.error = Some(listed.with_first(TOURS_NAMED));
                     self.screen.show(Overlay::Form(form));
                     return;
                 };

@@ -1,7 +1,56 @@
 //! The yes/no questions the console asks before it moves the arm, deletes, replaces or quits.
+//!
+//! A question that lists things (a tour's legs) gives its list apart from its words
+//! ([`QuestionText`]): the dialog shows as many of them as fit and counts the rest
+//! (`… and 9997 more`), so its answers always show (`ui/dialog.rs`).
 
 use super::{Form, FormResult, TourQuestion};
 use crate::kortex::Stored;
+
+/// A question's text: its words before and after a list of things, each shown whole or not at
+/// all. A question listing nothing has an empty list and its words in `before`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct QuestionText<'a> {
+    pub before: String,
+    pub list: &'a [String],
+    /// Between two things of the list.
+    pub separator: &'static str,
+    pub after: String,
+}
+
+impl QuestionText<'_> {
+    /// A question without a list.
+    pub fn plain(text: String) -> QuestionText<'static> {
+        QuestionText {
+            before: text,
+            list: &[],
+            separator: "",
+            after: String::new(),
+        }
+    }
+
+    /// The question with the first `shown` things of its list, the rest counted:
+    /// `… bench → pick … and 9998 more?`.
+    pub fn with_first(&self, shown: usize) -> String {
+        let shown = shown.min(self.list.len());
+        let mut text = self.before.clone();
+        text.push_str(&self.list[..shown].join(self.separator));
+        let more = self.list.len() - shown;
+        if more > 0 {
+            if shown > 0 {
+                text.push(' ');
+            }
+            text.push_str(&format!("… and {more} more"));
+        }
+        text.push_str(&self.after);
+        text
+    }
+
+    /// The whole question, every thing of its list in it.
+    pub fn whole(&self) -> String {
+        self.with_first(self.list.len())
+    }
+}
 
 /// What a yes/no question is about.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -37,35 +86,43 @@ pub enum Confirm {
 }
 
 impl Confirm {
+    /// The whole question, as one line of text (its list whole).
     pub fn question(&self) -> String {
+        self.text().whole()
+    }
+
+    /// The question, its list apart: what the dialog fits to the screen.
+    pub fn text(&self) -> QuestionText<'_> {
+        let plain = QuestionText::plain;
         match self {
-            Confirm::Home => "Move the arm to its home pose?".into(),
-            Confirm::GoTo(name) => format!("Move the arm to '{name}'?"),
+            Confirm::Home => plain("Move the arm to its home pose?".into()),
+            Confirm::GoTo(name) => plain(format!("Move the arm to '{name}'?")),
             Confirm::Delete { name, tours } if tours.is_empty() => {
-                format!("Delete position '{name}'?")
+                plain(format!("Delete position '{name}'?"))
             }
-            Confirm::Delete { name, tours } => format!(
+            // tour_list names at most five tours and counts the rest.
+            Confirm::Delete { name, tours } => plain(format!(
                 "Delete position '{name}'? {} visit{} it and cannot be played without it (undo \
                  restores it)",
                 capitalised(&tour_list(tours)),
                 if tours.len() == 1 { "s" } else { "" }
-            ),
-            Confirm::Resave(name) => format!(
+            )),
+            Confirm::Resave(name) => plain(format!(
                 "'{name}' is unknown to the operator: re-save it from the remembered coordinates \
                  and move the arm there?"
-            ),
-            Confirm::Overwrite { result, .. } => format!("overwrite '{}'?", result.name()),
-            Confirm::BothChanged { name, copy } => format!(
+            )),
+            Confirm::Overwrite { result, .. } => plain(format!("overwrite '{}'?", result.name())),
+            Confirm::BothChanged { name, copy } => plain(format!(
                 "'{name}' was changed here and by another program: both are kept, theirs as \
                  '{name}', this console's as '{copy}'. Give this console's the name '{name}' \
                  (theirs becomes '{copy}')?"
-            ),
-            Confirm::QuitUnsaved { count } => format!(
+            )),
+            Confirm::QuitUnsaved { count } => plain(format!(
                 "{count} changed position(s) could not be saved: quit anyway? The book is \
                  written once more as the console quits"
-            ),
-            Confirm::Tour(tour) => tour.question(),
-            Confirm::Stored(stored) => format!("Run {stored} on the arm?"),
+            )),
+            Confirm::Tour(tour) => tour.text(),
+            Confirm::Stored(stored) => plain(format!("Run {stored} on the arm?")),
         }
     }
 

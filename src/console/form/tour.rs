@@ -3,8 +3,9 @@
 //! here, and be in the book (the app checks that, naming the one it lacks). Playing one: the
 //! tour's name, prefilled with the last tour made or played.
 
+use super::confirm::QuestionText;
 use super::{Field, Form, FormKind};
-use crate::console::positions::Tour;
+use crate::console::positions::{LEG_SEPARATOR, Tour};
 use crate::talos::PositionName;
 
 /// The question before a tour's first move.
@@ -17,18 +18,28 @@ pub struct TourQuestion {
 impl TourQuestion {
     /// `Play tour 'rounds' straight through, 3 legs: bench → pick → place?`
     pub fn question(&self) -> String {
+        self.text().whole()
+    }
+
+    /// The question, its legs apart: a long tour's are shortened to what the dialog has room
+    /// for (`… and 9997 more`).
+    pub fn text(&self) -> QuestionText<'_> {
         let mode = if self.one_leg {
             "one leg at a time"
         } else {
             "straight through"
         };
         let legs = self.tour.positions.len();
-        format!(
-            "Play tour '{}' {mode}, {legs} leg{}: {}?",
-            self.tour.name,
-            if legs == 1 { "" } else { "s" },
-            self.tour.legs_text()
-        )
+        QuestionText {
+            before: format!(
+                "Play tour '{}' {mode}, {legs} leg{}: ",
+                self.tour.name,
+                if legs == 1 { "" } else { "s" },
+            ),
+            list: &self.tour.positions,
+            separator: LEG_SEPARATOR,
+            after: "?".into(),
+        }
     }
 }
 

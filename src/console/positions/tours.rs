@@ -17,10 +17,13 @@ pub struct Tour {
     pub positions: Vec<String>,
 }
 
+/// Between two legs of a tour, where its positions are listed.
+pub const LEG_SEPARATOR: &str = " → ";
+
 impl Tour {
     /// `bench → pick → place`.
     pub fn legs_text(&self) -> String {
-        self.positions.join(" → ")
+        self.positions.join(LEG_SEPARATOR)
     }
 }
 

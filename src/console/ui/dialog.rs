@@ -1,9 +1,13 @@
-//! Confirmations, forms and a position's coordinates, drawn over the panels.
+//! Confirmations, forms and a position's coordinates, drawn over the panels. Their last lines
+//! (a question's answers, a form's keys) always show, at every size the console draws: what
+//! is above them gives way first ([`fit`]).
+
+mod fit;
 
 use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Block, Borders, Clear, Paragraph, Wrap};
+use ratatui::widgets::{Block, Borders, Clear, Paragraph};
 
 use super::long_text::{elide_end, elide_start};
 use super::theme::Theme;
@@ -13,19 +17,28 @@ use crate::console::view::View;
 const DIALOG_WIDTH: u16 = 72;
 
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
+    // Below the status bar, as the help: what the arm is doing stays in view.
+    let room = super::help::area(area);
+    let width = DIALOG_WIDTH.min(area.width);
+    // Inside the borders.
+    let columns = usize::from(width.saturating_sub(2));
+    let most_rows = usize::from(room.height.saturating_sub(2));
     let (title, lines) = match &view.screen.overlay {
-        Overlay::Confirm(confirm) => (
-            " Confirm ".to_string(),
-            vec![
-                Line::styled(confirm.question(), theme.warning()),
-                Line::raw(""),
-                Line::raw(confirm.answers()),
-            ],
-        ),
+        Overlay::Confirm(confirm) => {
+            let answers = [Line::raw(""), Line::raw(confirm.answers())];
+            let lines = fit::question(
+                &confirm.text(),
+                theme.warning(),
+                &answers,
+                columns,
+                most_rows,
+            );
+            (" Confirm ".to_string(), lines)
+        }
         Overlay::Form(form) => {
             let mut lines = Vec::new();
             // The dialog's width less its borders and the labels.
-            let room = usize::from(DIALOG_WIDTH.min(area.width)).saturating_sub(2 + 16);
+            let room = columns.saturating_sub(16);
             for (i, field) in form.fields.iter().enumerate() {
                 let focused = i == form.focus;
                 let value = if field.toggle {
@@ -52,28 +65,36 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
                 lines.push(Line::styled(note, theme.dim()));
             }
             lines.push(Line::raw(""));
+            // What was wrong shows with the keys, below the fields.
+            let mut foot = Vec::new();
             if let Some(error) = &form.error {
-                lines.push(Line::styled(error.clone(), theme.alarm()));
+                foot.push(Line::styled(error.clone(), theme.alarm()));
             }
-            lines.push(Line::styled(
+            foot.push(Line::styled(
                 "tab/up/down: field  enter: ok  esc: cancel",
                 theme.dim(),
             ));
-            (format!(" {} ", form.title()), lines)
+            (
+                format!(" {} ", form.title()),
+                fit::fit(&lines, &foot, columns, most_rows),
+            )
         }
         Overlay::Position { name, coordinates } => {
-            let mut lines = super::position_pose::lines(view, name, coordinates.as_ref(), theme);
-            lines.push(Line::raw(""));
-            lines.push(Line::styled("any key closes", theme.dim()));
-            (format!(" Position '{name}' "), lines)
+            let lines = super::position_pose::lines(view, name, coordinates.as_ref(), theme);
+            let close = [Line::raw(""), Line::styled("any key closes", theme.dim())];
+            (
+                format!(" Position '{name}' "),
+                fit::fit(&lines, &close, columns, most_rows),
+            )
         }
         Overlay::None | Overlay::Help => return,
     };
-    let height = (lines.len() as u16 + 2).min(area.height);
-    let width = DIALOG_WIDTH.min(area.width);
+    let height = (lines.len() as u16 + 2).min(room.height);
+    // In the middle of the screen, or as near as leaves the status bar in view.
+    let middle = area.y + (area.height - height) / 2;
     let rect = Rect {
         x: area.x + (area.width - width) / 2,
-        y: area.y + (area.height - height) / 2,
+        y: middle.clamp(room.y, room.bottom() - height),
         width,
         height,
     };
@@ -81,10 +102,6 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
         .borders(Borders::ALL)
         .title(Span::styled(title, theme.title()));
     frame.render_widget(Clear, rect);
-    frame.render_widget(
-        Paragraph::new(lines)
-            .block(block)
-            .wrap(Wrap { trim: false }),
-        rect,
-    );
+    // Wrapped to the dialog's width already: a row each.
+    frame.render_widget(Paragraph::new(lines).block(block), rect);
 }

@@ -8,6 +8,7 @@ mod long_names;
 mod motion_truth;
 mod nonsense;
 mod panels;
+mod questions;
 mod screen_sizes;
 mod simulated_arm;
 mod tours;
