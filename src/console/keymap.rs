@@ -170,6 +170,12 @@ impl Keymap {
             .collect()
     }
 
+    /// The key the screen names for `action` (the footer, the status bar, messages): the first
+    /// of [`Keymap::keys_for`]; `None` when nothing is bound to it.
+    pub fn key_for(&self, action: Action) -> Option<KeyName> {
+        self.keys_for(action).first().copied()
+    }
+
     /// Every bound action with its keys, in [`Action::ALL`] order (the help overlay's order).
     /// Actions this keymap does not bind are left out.
     pub fn entries(&self) -> Vec<(Action, Vec<KeyName>)> {

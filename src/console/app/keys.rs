@@ -228,7 +228,7 @@ impl App {
                 effects.push(Effect::Arm(ArmCommand::SetSpeed(speed)));
             }
             A::FrameCycle => {
-                if !self.config.frames {
+                if !self.offers().carries(A::FrameCycle) {
                     self.say(
                         "the Talos link jogs in the base frame only",
                         Severity::Info,

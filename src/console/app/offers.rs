@@ -1,13 +1,63 @@
 //! What the console offers on this link: a key whose action cannot work here is not shown in
 //! the footer, and pressing it says why instead of opening a form.
+//!
+//! [`Offers`] is the one rule of which actions the session's links carry: the footer shows a
+//! key only for an action they carry, and the refusals below say why for the rest.
 
 use std::sync::Arc;
 
+use crate::console::action::{Action, JogFamily};
 use crate::console::form::{Form, FormKind};
 use crate::link::interface::TelemetrySource;
 
 use super::App;
 use crate::console::keymap::Keymap;
+
+/// Which of the actions that only some links carry this session's links carry.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Offers {
+    /// Saving the current pose ([`App::save_refusal`]).
+    pub save: bool,
+    /// The orientation jog: a Modbus link ([`App::can_turn`]).
+    pub turn: bool,
+    /// The single-joint jog: a Talos operator in the ICD dialect ([`App::can_jog_joints`]).
+    pub joint: bool,
+    /// Going to a saved position ([`App::go_to_refusal`]).
+    pub go_to: bool,
+    /// A stored action or sequence by id: a Modbus link ([`App::stored_refusal`]).
+    pub stored: bool,
+    /// Choosing the frame cartesian jogs are in: jogs over Modbus alone.
+    pub frames: bool,
+}
+
+impl Offers {
+    /// Everything, as on links that carry every action.
+    pub const ALL: Offers = Offers {
+        save: true,
+        turn: true,
+        joint: true,
+        go_to: true,
+        stored: true,
+        frames: true,
+    };
+
+    /// Whether the links carry `action` (every action not named here, they all do).
+    pub fn carries(&self, action: Action) -> bool {
+        match action.jog().map(|(axis, _)| axis.family()) {
+            Some(JogFamily::Joint) => return self.joint,
+            Some(JogFamily::Orientation) => return self.turn,
+            _ => {}
+        }
+        match action {
+            Action::JointNext | Action::JointPrevious => self.joint,
+            Action::SavePosition => self.save,
+            Action::GoToPosition => self.go_to,
+            Action::StoredAction => self.stored,
+            Action::FrameCycle => self.frames,
+            _ => true,
+        }
+    }
+}
 
 /// The session's fixed facts and what this link offers, as the status bar and footer show them.
 #[derive(Debug, Clone, PartialEq)]
@@ -23,16 +73,10 @@ pub struct SessionView {
     /// The arm is the built-in simulator.
     pub simulated: bool,
     pub positions_on_operator: bool,
-    /// Saving the current pose can work on this link (the footer offers it).
-    pub can_save: bool,
-    /// The link carries an orientation jog (the footer offers the turn keys).
-    pub can_turn: bool,
-    /// Going to a saved position can work on this link (the footer offers it).
-    pub can_go_to: bool,
+    /// Which actions the links carry: the footer offers keys for those only.
+    pub offers: Offers,
     /// The arm profile the console was opened with (`--arm cell3`).
     pub arm_name: Option<String>,
-    /// A stored action or sequence by id can run on this link (the footer offers its key).
-    pub can_run_stored: bool,
 }
 
 impl App {
@@ -46,12 +90,31 @@ impl App {
             frames: config.frames,
             simulated: config.simulated,
             positions_on_operator: config.positions_on_operator,
-            can_save: self.can_save_position(),
-            can_turn: self.can_turn(),
-            can_go_to: self.can_go_to(),
+            offers: self.offers(),
             arm_name: config.arm_name.clone(),
-            can_run_stored: self.can_run_stored(),
         }
+    }
+
+    /// Which of the actions that only some links carry this session's links carry.
+    pub fn offers(&self) -> Offers {
+        Offers {
+            save: self.can_save_position(),
+            turn: self.can_turn(),
+            joint: self.can_jog_joints(),
+            go_to: self.can_go_to(),
+            stored: self.can_run_stored(),
+            frames: self.config.frames,
+        }
+    }
+
+    /// Whether a link carries a single-joint jog (the footer offers the joint keys).
+    ///
+    /// Only a Talos operator in the ICD dialect moves one joint (its hardware companion
+    /// commands the actuator): Modbus cannot command a joint, and the ack dialect has no joint
+    /// jog (the driver refuses either). The positions live on the operator exactly when there
+    /// is such a link (`DriverConfig::positions_on_operator`), known from the start.
+    pub fn can_jog_joints(&self) -> bool {
+        self.config.positions_on_operator
     }
 
     /// Why saving the current pose cannot work on this link, or `None` when it can.

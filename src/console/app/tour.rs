@@ -325,8 +325,12 @@ impl App {
             self.say(format!("{done}: tour done"), Severity::Info, now);
         } else if self.tours.one_leg() {
             self.tours.set_phase(Leg::Waiting);
+            let next = match self.config.keymap.key_for(Action::TourLeg) {
+                Some(key) => format!("{key} for the next leg"),
+                None => "the next-leg key goes on".into(),
+            };
             self.say(
-                format!("{leg} done: the next-leg key goes on, any other key ends the tour"),
+                format!("{leg} done: {next}, any other key ends the tour"),
                 Severity::Info,
                 now,
             );

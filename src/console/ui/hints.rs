@@ -10,41 +10,12 @@ use ratatui::text::Line;
 
 use super::theme::Theme;
 use crate::console::action::Action;
-use crate::console::app::Severity;
+use crate::console::app::{Offers, Severity};
 use crate::console::keymap::{KeyName, Keymap, NamedKey};
 use crate::console::view::View;
 
 /// Between two groups.
 const GROUP_GAP: &str = "  ";
-
-/// The orientation jog's group, left out where the link cannot carry a turn.
-const TURN: &str = "turn";
-
-/// The stored action key's group, left out where no Modbus link can run one by id.
-const STORED: &str = "stored";
-
-/// Which groups of actions that only some links carry the footer offers.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Offered {
-    /// Saving the current pose can work on this link.
-    pub save: bool,
-    /// The link carries an orientation jog (a Modbus link).
-    pub turn: bool,
-    /// Going to a saved position can work on this link.
-    pub go_to: bool,
-    /// A stored action or sequence by id can run on this link (a Modbus link).
-    pub stored: bool,
-}
-
-impl Offered {
-    /// Every group, as on a link that carries everything.
-    pub const ALL: Offered = Offered {
-        save: true,
-        turn: true,
-        go_to: true,
-        stored: true,
-    };
-}
 
 /// One footer group: its label, its actions (one key shown for each) and how much it is needed
 /// (0 first: dropped last).
@@ -69,7 +40,7 @@ const GROUPS: [Group; 13] = [
         priority: 3,
     },
     Group {
-        label: TURN,
+        label: "turn",
         actions: &[
             Action::JogRxPlus,
             Action::JogRxMinus,
@@ -117,7 +88,7 @@ const GROUPS: [Group; 13] = [
         priority: 7,
     },
     Group {
-        label: STORED,
+        label: "stored",
         actions: &[Action::StoredAction],
         // The least needed: dropped first.
         priority: 12,
@@ -165,12 +136,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
         None => Line::styled(
             footer(
                 &view.session.keymap,
-                Offered {
-                    save: view.session.can_save,
-                    turn: view.session.can_turn,
-                    go_to: view.session.can_go_to,
-                    stored: view.session.can_run_stored,
-                },
+                view.session.offers,
                 usize::from(area.width),
             ),
             theme.dim(),
@@ -179,18 +145,15 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     super::lines::draw(frame.buffer_mut(), area, None, &[line]);
 }
 
-/// The key groups of `keymap` that fit in `width` columns, in display order. A group `offered`
-/// says this link cannot carry is left out (the save key where saving cannot work, the turn keys
-/// and the stored action key without a Modbus link, the go-to key where no link moves to a
-/// saved position).
-pub fn footer(keymap: &Keymap, offered: Offered, width: usize) -> String {
+/// The key groups of `keymap` that fit in `width` columns, in display order. Only actions the
+/// links carry (`offers`) get a key: a group of none is left out (the joint keys without a Talos
+/// operator in the ICD dialect, the turn keys and the stored action key without a Modbus link,
+/// the save key where saving cannot work, the go-to key where no link moves to a saved
+/// position).
+pub fn footer(keymap: &Keymap, offers: Offers, width: usize) -> String {
     let groups: Vec<(u8, String)> = GROUPS
         .iter()
-        .filter(|group| offered.save || group.label != "save")
-        .filter(|group| offered.turn || group.label != TURN)
-        .filter(|group| offered.go_to || group.label != "go to")
-        .filter(|group| offered.stored || group.label != STORED)
-        .filter_map(|group| Some((group.priority, group_text(keymap, group)?)))
+        .filter_map(|group| Some((group.priority, group_text(keymap, offers, group)?)))
         .collect();
     let mut by_need: Vec<usize> = (0..groups.len()).collect();
     by_need.sort_by_key(|&i| groups[i].0);
@@ -213,12 +176,14 @@ pub fn footer(keymap: &Keymap, offered: Offered, width: usize) -> String {
         .join(GROUP_GAP)
 }
 
-/// `keys label`, e.g. `w/s/a/d/r/f jog`; `None` when the keymap binds none of its actions.
-fn group_text(keymap: &Keymap, group: &Group) -> Option<String> {
+/// `keys label`, e.g. `w/s/a/d/r/f jog`; `None` when the keymap binds none of its actions that
+/// the links carry.
+fn group_text(keymap: &Keymap, offers: Offers, group: &Group) -> Option<String> {
     let keys: Vec<KeyName> = group
         .actions
         .iter()
-        .filter_map(|action| keymap.keys_for(*action).first().copied())
+        .filter(|action| offers.carries(**action))
+        .filter_map(|action| keymap.key_for(*action))
         .collect();
     if keys.is_empty() {
         return None;
@@ -254,7 +219,7 @@ mod tests {
 
     #[test]
     fn a_wide_footer_shows_every_group_in_order() {
-        let text = footer(&default_keymap(), Offered::ALL, 200);
+        let text = footer(&default_keymap(), Offers::ALL, 200);
         assert_eq!(
             text,
             "w/s/a/d/r/f jog  i/m/l/b/e/z turn  arrows pan  k/j joint  space stop  +/- speed  \
@@ -265,9 +230,9 @@ mod tests {
     #[test]
     fn a_narrow_footer_drops_whole_groups_least_needed_first() {
         let keymap = default_keymap();
-        let full = footer(&keymap, Offered::ALL, 200);
+        let full = footer(&keymap, Offers::ALL, 200);
         for width in 0..=full.len() {
-            let text = footer(&keymap, Offered::ALL, width);
+            let text = footer(&keymap, Offers::ALL, width);
             assert!(text.chars().count() <= width, "{width}: {text}");
             for group in text.split(GROUP_GAP) {
                 assert!(full.contains(group), "{width}: {group} is cut");
@@ -277,7 +242,7 @@ mod tests {
             }
         }
         assert_eq!(
-            footer(&keymap, Offered::ALL, 30),
+            footer(&keymap, Offers::ALL, 30),
             "space stop  ? help  q quit"
         );
     }
@@ -289,11 +254,11 @@ mod tests {
         let turn = "  i/m/l/b/e/z turn";
         // Just wide enough for the turn group beside pan and the essentials: it is shown.
         assert_eq!(
-            footer(&keymap, Offered::ALL, essentials.len() + turn.len()),
+            footer(&keymap, Offers::ALL, essentials.len() + turn.len()),
             "w/s/a/d/r/f jog  i/m/l/b/e/z turn  arrows pan  space stop  ? help  q quit"
         );
         // One column less: the turn group goes (smaller groups may fill the room), pan stays.
-        let narrower = footer(&keymap, Offered::ALL, essentials.len() + turn.len() - 1);
+        let narrower = footer(&keymap, Offers::ALL, essentials.len() + turn.len() - 1);
         assert!(!narrower.contains("turn"), "{narrower}");
         for group in essentials.split(GROUP_GAP) {
             assert!(narrower.contains(group), "{group} dropped: {narrower}");
@@ -302,9 +267,9 @@ mod tests {
 
     #[test]
     fn turns_that_the_link_cannot_carry_are_not_offered() {
-        let offered = Offered {
+        let offered = Offers {
             turn: false,
-            ..Offered::ALL
+            ..Offers::ALL
         };
         let text = footer(&default_keymap(), offered, 200);
         assert!(!text.contains("turn"), "{text}");
@@ -312,10 +277,21 @@ mod tests {
     }
 
     #[test]
+    fn joint_jogs_that_the_links_cannot_carry_are_not_offered() {
+        let offered = Offers {
+            joint: false,
+            ..Offers::ALL
+        };
+        let text = footer(&default_keymap(), offered, 200);
+        assert!(!text.contains("joint"), "{text}");
+        assert!(text.contains("arrows pan  space stop"), "{text}");
+    }
+
+    #[test]
     fn saving_that_cannot_work_is_not_offered() {
-        let offered = Offered {
+        let offered = Offers {
             save: false,
-            ..Offered::ALL
+            ..Offers::ALL
         };
         let text = footer(&default_keymap(), offered, 200);
         assert!(!text.contains("save"), "{text}");
@@ -324,9 +300,9 @@ mod tests {
 
     #[test]
     fn a_go_to_that_cannot_work_is_not_offered() {
-        let offered = Offered {
+        let offered = Offers {
             go_to: false,
-            ..Offered::ALL
+            ..Offers::ALL
         };
         let text = footer(&default_keymap(), offered, 200);
         assert!(!text.contains("go to"), "{text}");
@@ -335,16 +311,16 @@ mod tests {
 
     #[test]
     fn stored_actions_that_the_link_cannot_run_are_not_offered() {
-        let offered = Offered {
+        let offered = Offers {
             stored: false,
-            ..Offered::ALL
+            ..Offers::ALL
         };
         let text = footer(&default_keymap(), offered, 200);
         assert!(!text.contains("stored"), "{text}");
         assert!(text.contains("h home  p save"), "{text}");
         // The least needed group: the first dropped when the line is short.
-        let full = footer(&default_keymap(), Offered::ALL, 200);
-        let short = footer(&default_keymap(), Offered::ALL, full.len() - 1);
+        let full = footer(&default_keymap(), Offers::ALL, 200);
+        let short = footer(&default_keymap(), Offers::ALL, full.len() - 1);
         assert!(
             full.contains("A stored") && !short.contains("A stored"),
             "{short}"

@@ -8,6 +8,7 @@ use ratatui::text::{Line, Span};
 
 use super::numbers;
 use super::theme::Theme;
+use crate::console::action::Action;
 use crate::console::app::{MotionShown, age_text, describe_motion, singularity_text};
 use crate::console::jog::{JogMotion, ReleaseMode};
 use crate::console::view::View;
@@ -77,8 +78,9 @@ fn arm_name_spans(view: &View) -> Vec<Span<'static>> {
     }
 }
 
-/// The tour being played, after the motion: `TOUR 2/5 → bench`, or `TOUR 2/5 at bench: next
-/// leg` when one leg at a time waits for its key; narrow, `TOUR 2/5`.
+/// The tour being played, after the motion: `TOUR 2/5 → bench`, or `TOUR 2/5 at bench: N next
+/// leg` (the next-leg key of the keymap in use) when one leg at a time waits for its key;
+/// narrow, `TOUR 2/5`.
 fn tour_spans(view: &View, theme: &Theme, cut: Cut) -> Vec<Span<'static>> {
     let Some(tour) = &view.tour else {
         return Vec::new();
@@ -88,7 +90,10 @@ fn tour_spans(view: &View, theme: &Theme, cut: Cut) -> Vec<Span<'static>> {
     let text = match (cut.words, tour.waiting) {
         (false, _) => format!(" {count} "),
         (true, false) => format!(" {count} → {to} "),
-        (true, true) => format!(" {count} at {to}: next leg "),
+        (true, true) => match view.session.keymap.key_for(Action::TourLeg) {
+            Some(key) => format!(" {count} at {to}: {key} next leg "),
+            None => format!(" {count} at {to}: next leg "),
+        },
     };
     vec![Span::styled(text, theme.accent())]
 }

@@ -323,13 +323,7 @@ fn over_a_talos_only_link_the_key_says_why_and_the_footer_leaves_it_out() {
 /// The footer as the view offers it, at 200 columns.
 fn footer(app: &App) -> String {
     let view = View::new(app);
-    let offered = ui::hints::Offered {
-        save: view.session.can_save,
-        turn: view.session.can_turn,
-        go_to: view.session.can_go_to,
-        stored: view.session.can_run_stored,
-    };
-    ui::hints::footer(&view.session.keymap, offered, 200)
+    ui::hints::footer(&view.session.keymap, view.session.offers, 200)
 }
 
 #[test]

@@ -334,6 +334,9 @@ fn one_leg_at_a_time_waits_for_the_next_leg_key_and_any_other_key_ends_it() {
         b.tour_label().as_deref(),
         Some("TOUR 1/3 → bench (waiting)")
     );
+    // The message names the next-leg key of the keymap in use.
+    let said = b.message();
+    assert!(said.contains("done: N for the next leg"), "{said}");
     assert!(no_motion(&b.feed(0.0, ActionStatus::Completed)));
     let second = leg(&b.press("N"));
     assert!((pose_x(&second) - 0.41).abs() < 1e-6);

@@ -120,10 +120,10 @@ fn footers_of_every_keymap_at_several_widths() {
 fn a_footer_never_cuts_a_key_name_and_keeps_stop_help_and_quit() {
     for name in ["default", "numpad", "custom"] {
         let keymap = keymap(name);
-        let full = ui::hints::footer(&keymap, ui::hints::Offered::ALL, 1000);
+        let full = ui::hints::footer(&keymap, armjog::console::app::Offers::ALL, 1000);
         let key_names: Vec<String> = keymap.bindings().keys().map(|k| k.to_string()).collect();
         for width in 40..=full.len() {
-            let line = ui::hints::footer(&keymap, ui::hints::Offered::ALL, width);
+            let line = ui::hints::footer(&keymap, armjog::console::app::Offers::ALL, width);
             assert!(line.chars().count() <= width, "{name} {width}: {line}");
             for group in line.split("  ") {
                 assert!(full.contains(group), "{name} {width}: {group:?} was cut");
@@ -277,6 +277,31 @@ fn the_turn_keys_are_offered_only_where_a_modbus_link_carries_them() {
     }
 }
 
+// ---- Joint jogs: only a Talos operator in the ICD dialect carries them ----
+
+#[test]
+fn the_joint_keys_are_offered_only_where_a_talos_operator_carries_them() {
+    for (on_operator, telemetry, offered) in [
+        // Modbus alone, and an ack operator: no joint jog.
+        (false, TelemetrySource::Modbus, false),
+        (false, TelemetrySource::None, false),
+        // An ICD operator, with or without Modbus beside it.
+        (true, TelemetrySource::Modbus, true),
+        (true, TALOS_HW, true),
+    ] {
+        let (app, _) = app_with(keymap("default"), on_operator, telemetry, (200, 40));
+        assert_eq!(app.can_jog_joints(), offered, "{telemetry:?}");
+        assert_eq!(app.offers().carries(Action::JointPlus), offered);
+        let line = footer(&app);
+        assert_eq!(
+            line.contains("k/j joint"),
+            offered,
+            "{on_operator} {telemetry:?}: {line}"
+        );
+        assert!(line.contains("w/s/a/d/r/f jog"), "{telemetry:?}: {line}");
+    }
+}
+
 #[test]
 fn the_turn_keys_are_offered_until_the_driver_says_which_link_it_has() {
     let config = AppConfig {
@@ -365,13 +390,7 @@ fn a_pose_saved_to_the_consoles_own_book_keeps_its_parent() {
 /// The footer's keys as the view offers them, at 200 columns, whatever message is shown.
 fn offered_footer(app: &App) -> String {
     let view = View::new(app);
-    let offered = ui::hints::Offered {
-        save: view.session.can_save,
-        turn: view.session.can_turn,
-        go_to: view.session.can_go_to,
-        stored: view.session.can_run_stored,
-    };
-    ui::hints::footer(&view.session.keymap, offered, 200)
+    ui::hints::footer(&view.session.keymap, view.session.offers, 200)
 }
 
 /// Defines `name` at (x, y, z) mm with the set-cartesian form (`C`).
