@@ -53,6 +53,7 @@ pub use motion_truth::{
     ACTION_TIMEOUT, ARRIVED_DEG, ARRIVED_MM, ActionKind, GoToTarget, MotionShown, MotionTruth,
     NO_TELEMETRY_ACTION_TIME, STALE_AFTER, STOP_GRACE, StoredAction, TrackedAction, TruthView,
 };
+pub use named::tool_position;
 pub use offers::{Offers, SessionView};
 pub use other_client::{
     CONTRADICTED_FOR, OTHER_CLIENT_GRACE, OTHER_CLIENT_SAMPLES, OTHER_MOTION_JOINT_DEG_S,

@@ -6,7 +6,7 @@ use std::time::Instant;
 use super::{App, Effect, Overlay, Severity, cartesian_of, polar_of};
 use crate::console::form::{Confirm, FormResult, tour_list};
 use crate::console::positions::{BookEntry, PoseFrame};
-use crate::kortex::Pose;
+use crate::kortex::{Pose, Telemetry};
 use crate::link::interface::{ArmCommand, PositionCoordinates};
 
 impl App {
@@ -202,13 +202,10 @@ impl App {
     fn pose_now(&self) -> Option<PoseNow> {
         let t = self.arm.telemetry()?;
         let p = t.tcp.pose;
-        let finite = |values: &[f32]| values.iter().all(|v| v.is_finite());
-        let position = [p.x, p.y, p.z];
         let orientation = [p.theta_x, p.theta_y, p.theta_z];
         let joints = t.joints.map(|j| j.position);
         Some(PoseNow {
-            cartesian: finite(&position)
-                .then(|| position.map(|v| (f64::from(v) * 10_000.0).round() as i32)),
+            cartesian: tool_position(t),
             orientation: finite(&orientation).then_some(orientation),
             joints: finite(&joints).then_some(joints),
         })
@@ -286,6 +283,19 @@ impl App {
             self.after_resave(&name, now, effects);
         }
     }
+}
+
+/// The tool's position in `telemetry` (from whichever link gives it), in tenths of millimetres
+/// in the base frame as the book stores it; `None` when it is not a finite number. What a save
+/// stores, and what the audit records of a save (`audit/deriver.rs`).
+pub fn tool_position(telemetry: &Telemetry) -> Option<[i32; 3]> {
+    let p = telemetry.tcp.pose;
+    let position = [p.x, p.y, p.z];
+    finite(&position).then(|| position.map(|v| (f64::from(v) * 10_000.0).round() as i32))
+}
+
+fn finite(values: &[f32]) -> bool {
+    values.iter().all(|v| v.is_finite())
 }
 
 /// A pose to remember: as much of it as is known.

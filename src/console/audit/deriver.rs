@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 use std::time::{Duration, SystemTime};
 
 use super::{AuditEvent, AuditRecord};
+use crate::console::app::tool_position;
 use crate::console::coords::describe_motion;
 use crate::console::positions::PositionBook;
 use crate::kortex::arm_state::fault_reason;
@@ -34,6 +35,9 @@ pub struct AuditDeriver {
     fault: Option<String>,
     /// The local book as last saved or loaded: name to coordinates (tenths of mm).
     book: BTreeMap<String, Option<[i32; 3]>>,
+    /// The tool's position in the latest telemetry, from whichever link gives it (tenths of
+    /// mm): where an operator saves a position, as the console's book then remembers it.
+    tool: Option<[i32; 3]>,
     /// The cap watch's stops already recorded.
     cap_stops: u64,
 }
@@ -51,6 +55,7 @@ impl AuditDeriver {
             stale: false,
             fault: None,
             book: BTreeMap::new(),
+            tool: None,
             cap_stops: 0,
         }
     }
@@ -186,7 +191,8 @@ impl AuditDeriver {
                 parent,
             } => Some(AuditEvent::Save {
                 name: name.clone(),
-                position_mm: None,
+                // The operator saves where the arm is: the telemetry's tool position.
+                position_mm: self.tool.map(tenths_mm),
                 polar: None,
                 anchor: *anchor,
                 parent: parent.clone(),
@@ -229,6 +235,7 @@ impl AuditDeriver {
                 None
             }
             ArmEvent::Telemetry(telemetry) => {
+                self.tool = tool_position(telemetry);
                 let reason = fault_reason(telemetry);
                 if reason == self.fault {
                     None

@@ -367,6 +367,46 @@ fn with_an_operator_its_commands_say_what_was_saved_not_the_book() {
     );
 }
 
+/// Telemetry with the tool at `pose`, as a Modbus link or the Talos hardware companion gives it.
+fn telemetry_at(pose: Pose) -> ArmEvent {
+    let mut telemetry = crate::kortex::Telemetry::decode(&crate::kortex::RegisterImage::default());
+    telemetry.tcp.pose = pose;
+    ArmEvent::Telemetry(Box::new(telemetry))
+}
+
+#[test]
+fn with_an_operator_a_save_records_where_the_telemetry_has_the_tool() {
+    let mut d = AuditDeriver::new(0.25, false, true);
+    let book = PositionBook::new();
+    let save = ArmCommand::SavePosition {
+        name: "pick".into(),
+        anchor: false,
+        parent: Some("table".into()),
+    };
+    assert!(d.arm_event(&telemetry_at(pick_pose()), t0()).is_empty());
+    assert_eq!(
+        line(events(d.command(&save, &book, None, BASE, t0())).remove(0)),
+        r#"{"ts":"2026-11-30T22:27:31.853Z","event":"save","name":"pick","position_mm":[456.6,-1.0,433.8],"parent":"table"}"#
+    );
+    // A position that is not a number is not known: none is recorded.
+    let nowhere = Pose {
+        x: f32::NAN,
+        ..pick_pose()
+    };
+    d.arm_event(&telemetry_at(nowhere), t0());
+    let saved = events(d.command(&save, &book, None, BASE, t0()));
+    assert!(
+        matches!(
+            &saved[..],
+            [AuditEvent::Save {
+                position_mm: None,
+                ..
+            }]
+        ),
+        "{saved:?}"
+    );
+}
+
 fn temp_dir() -> tempfile::TempDir {
     tempfile::tempdir().expect("temp dir")
 }
@@ -685,5 +725,60 @@ async fn records_keep_the_order_of_their_inputs_whenever_they_are_made() {
             "link_up",
             "session_end"
         ]
+    );
+}
+
+/// A key press, as the terminal reader hands it to the app.
+fn key_press(name: &str) -> crate::console::app::Input {
+    use crate::console::app::{Input, KeyInput};
+    let key = name.parse().expect("key name");
+    let text = name.chars().next().filter(|_| name.chars().count() == 1);
+    Input::Key(KeyInput {
+        key,
+        text,
+        kind: crate::console::jog::KeyKind::Press,
+    })
+}
+
+#[tokio::test]
+async fn a_save_over_talos_with_modbus_telemetry_records_the_tools_position() {
+    use crate::console::app::{Effect, Input};
+    use crate::link::interface::TelemetrySource;
+    let dir = temp_dir();
+    // A Talos operator in the ICD dialect keeps the positions; Modbus gives the telemetry.
+    let (mut app, mut session) = app_and_session(dir.path(), PositionBook::new());
+    let now = std::time::Instant::now();
+    let inputs = [
+        Input::Arm(ArmEvent::TelemetrySource(TelemetrySource::Modbus)),
+        Input::Arm(ArmEvent::Status(LinkStatus::Up {
+            description: "talos 127.0.0.1:61616, modbus 127.0.0.1:502".into(),
+        })),
+        Input::Arm(telemetry_at(pick_pose())),
+    ];
+    for input in inputs {
+        session.input(&input);
+        app.handle(input, now);
+        session.handled(&app);
+    }
+    let keys = ["p", "b", "e", "n", "c", "h", "enter"];
+    for name in keys {
+        let input = key_press(name);
+        session.input(&input);
+        for effect in app.handle(input, now) {
+            if let Effect::Arm(command) = effect {
+                session.command(command);
+            }
+        }
+        session.handled(&app);
+    }
+    session.finish(Duration::from_secs(10)).await;
+    let saves: Vec<String> = all_lines(dir.path())
+        .into_iter()
+        .filter(|line| line.contains(r#""event":"save""#))
+        .collect();
+    assert_eq!(saves.len(), 1, "{saves:?}");
+    assert!(
+        saves[0].ends_with(r#""event":"save","name":"bench","position_mm":[456.6,-1.0,433.8]}"#),
+        "{saves:?}"
     );
 }
