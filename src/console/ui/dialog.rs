@@ -1,6 +1,6 @@
 //! Confirmations, forms and a position's coordinates, drawn over the panels. Their last lines
 //! (a question's answers, a form's keys) always show, at every size the console draws: what
-//! is above them gives way first ([`fit`]).
+//! is above them gives way first (`dialog/fit.rs`).
 
 mod fit;
 
