@@ -42,7 +42,10 @@ fn every_question() -> Vec<Confirm> {
         tour(10_000),
         Confirm::Home,
         Confirm::GoTo(name.clone()),
-        Confirm::Delete(name.clone()),
+        Confirm::Delete {
+            name: name.clone(),
+            tours: (0..10_000).map(|i| format!("{name}{i}")).collect(),
+        },
         Confirm::Resave(name.clone()),
         Confirm::Overwrite {
             result: overwritten,
@@ -208,7 +211,13 @@ fn a_short_tours_question_lists_every_leg() {
 #[test]
 fn a_long_name_is_cut_where_it_does_not_fit_and_the_answers_stay() {
     let (app, _) = app_support::app(ReleaseMode::Reported, false);
-    let view = asking(&app, &Confirm::Delete(longest_name()));
+    let view = asking(
+        &app,
+        &Confirm::Delete {
+            name: longest_name(),
+            tours: Vec::new(),
+        },
+    );
     let rows = dialog_rows(&screen(&view, MIN_WIDTH, MIN_HEIGHT, true));
     insta::assert_snapshot!("delete_with_the_longest_name_40x10", rows.join("\n"));
     assert!(rows[rows.len() - 3].ends_with('…'), "{rows:#?}");
