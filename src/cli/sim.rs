@@ -32,6 +32,10 @@ pub struct SimArgs {
     /// The operator's checksum dialect.
     #[arg(long, default_value = "crc16", value_parser = super::values::checksum_parser())]
     pub checksum: Checksum,
+    /// Serve one Talos client at a time, as the deployed operator does: a second connection is
+    /// accepted by the kernel but gets no answer until the first one closes.
+    #[arg(long)]
+    pub one_client: bool,
     /// The operator's tool speed cap at 100 % speed, mm/s: bounds every motion it commands
     /// (cartesian and polar, continuous and discrete, joint jogs, go to, home).
     #[arg(long, default_value_t = 250.0, value_name = "MM_S", value_parser = super::values::tool_speed)]
@@ -80,6 +84,7 @@ impl SimArgs {
             talos: TalosServerConfig {
                 checksum: self.checksum,
                 dialect: self.dialect,
+                one_client: self.one_client,
                 ..TalosServerConfig::default()
             },
             faults: NetworkFaults {
@@ -132,8 +137,15 @@ pub async fn run(args: &SimArgs) -> i32 {
             }
         ),
         format!(
-            "  talos operator  {} ({}, {})",
-            sim.talos_addr, args.dialect, args.checksum
+            "  talos operator  {} ({}, {}{})",
+            sim.talos_addr,
+            args.dialect,
+            args.checksum,
+            if args.one_client {
+                ", one client at a time"
+            } else {
+                ""
+            }
         ),
         match sim.modbus_addr {
             Some(addr) => format!("  kinova modbus   {addr} (any unit id)"),

@@ -4,6 +4,11 @@
 //! order, so they cannot corrupt each other; any client's START refreshes the arm's single
 //! watchdog and any client's STOP stops it. (The deployed operator takes one client at a time;
 //! the simulator is more permissive so `armjog send` can be used beside a running console.)
+//! [`TalosServerConfig::one_client`] serves as the deployed operator does: a second connection
+//! is accepted by the kernel (its connect succeeds, its frames are buffered) but gets no answer
+//! until the first client's connection closes; then the next one is served. The server simply
+//! does not accept while it serves a client, which is what a one-client server looks like from
+//! outside.
 //!
 //! When a connection ends (end of stream, read or write error, injected close) the continuous
 //! motion it holds stops at once, not at the watchdog: a joint jog (the hardware ICD's SHALL)
@@ -57,6 +62,8 @@ pub struct TalosServerConfig {
     pub dialect: Dialect,
     /// How long a frame may take from its first byte to its last before it is given up.
     pub frame_deadline: Duration,
+    /// Serve one client at a time, as the deployed operator does (see the module docs).
+    pub one_client: bool,
 }
 
 impl Default for TalosServerConfig {
@@ -65,6 +72,7 @@ impl Default for TalosServerConfig {
             checksum: Checksum::Crc16,
             dialect: Dialect::Icd,
             frame_deadline: DEFAULT_FRAME_DEADLINE,
+            one_client: false,
         }
     }
 }
@@ -84,14 +92,21 @@ pub async fn serve(
                 tracing::info!("sim talos: client {peer} connected");
                 let _ = stream.set_nodelay(true);
                 next_client += 1;
-                tokio::spawn(connection(
+                let served = connection(
                     stream,
                     Client::new(ClientId(next_client), peer),
                     arm.clone(),
                     config,
                     faults.clone(),
                     replies.clone(),
-                ));
+                );
+                if config.one_client {
+                    // Nothing is accepted until this client has gone: the next one waits in
+                    // the kernel's queue, connected but unanswered.
+                    served.await;
+                } else {
+                    tokio::spawn(served);
+                }
             }
             Err(e) => {
                 tracing::warn!("sim talos: accept failed: {e}");

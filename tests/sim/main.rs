@@ -14,5 +14,6 @@ mod speed_cap;
 mod talos;
 mod talos_disconnect;
 mod talos_handshake;
+mod talos_one_client;
 mod talos_reject_log;
 mod talos_split;
