@@ -1,11 +1,17 @@
-//! `armjog guard` (hidden): the stop guard the console starts for a Modbus arm. See
-//! [`crate::link::guard`] for why and for the protocol on its stdin and stdout.
+//! `armjog guard` (hidden): the stop guard the console starts for a real arm, over Talos, Modbus
+//! or both. See [`crate::link::guard`] for why and for the protocol on its stdin and stdout.
 //!
-//! It holds its own Modbus connection and writes nothing while the console lives. When its
-//! stdin closes (the console is gone, however it ended) it writes the stop (holding register
-//! 200 <- 2, the abort coil if that is refused or fails) and exits; when the heartbeat stops for
-//! the heartbeat timeout while stdin stays open (a frozen console) it writes the stop and keeps
-//! watching. SIGTERM, SIGINT and SIGHUP also stop the arm before it exits.
+//! Over Modbus it holds its own connection and writes nothing while the console lives. Over
+//! Talos it holds none (an operator that serves one client at a time would not answer it, or
+//! would hold the console off): it connects only to stop the arm (`guard/talos.rs`). When its
+//! stdin closes (the console is gone, however it ended) it stops the arm on every link it
+//! watches, at once (Modbus: holding register 200 <- 2, the abort coil if that is refused or
+//! fails; Talos: the one stop set) and exits; when the heartbeat stops for the heartbeat timeout
+//! while stdin stays open (a frozen console) it does the same and keeps watching, though over
+//! Talos only an operator that answers a second client can be reached. SIGTERM, SIGINT and
+//! SIGHUP also stop the arm before it exits.
+
+mod talos;
 
 use std::future::Future;
 use std::time::Duration;
@@ -17,6 +23,9 @@ use tokio::time::Instant;
 
 use crate::link::guard::{ALIVE_PERIOD, HEARTBEAT_TIMEOUT};
 use crate::link::modbus::{DEFAULT_PORT, DEFAULT_UNIT, ModbusConfig, ModbusEvent, ModbusLink};
+use crate::link::{Dialect, talos::DEFAULT_PORT as TALOS_PORT};
+use crate::talos::Checksum;
+pub use talos::{Console, SERVED_WITHIN, TalosStop};
 
 /// How long the guard keeps trying to write a stop (reconnecting meanwhile) before it gives up.
 const STOP_PERSISTENCE: Duration = Duration::from_secs(3);
@@ -24,30 +33,60 @@ const STOP_PERSISTENCE: Duration = Duration::from_secs(3);
 const CONNECT_RETRY: Duration = Duration::from_secs(1);
 
 #[derive(Debug, Args)]
+#[command(group = clap::ArgGroup::new("links").args(["modbus", "talos"]).multiple(true).required(true))]
 pub struct GuardArgs {
-    /// The arm, HOST:PORT (port 502 if omitted).
+    /// The arm over Modbus, HOST:PORT (port 502 if omitted).
     #[arg(long, value_name = "HOST:PORT")]
-    pub modbus: String,
+    pub modbus: Option<String>,
     /// Modbus unit id.
     #[arg(long, default_value_t = DEFAULT_UNIT, value_name = "N")]
     pub unit: u8,
+    /// The Talos operator, HOST:PORT (port 61616 if omitted): connected to only to stop it.
+    #[arg(long, value_name = "HOST:PORT")]
+    pub talos: Option<String>,
+    /// The console's Talos dialect.
+    #[arg(long, default_value = "icd", value_parser = super::values::dialect_parser())]
+    pub dialect: Dialect,
+    /// The console's Talos checksum.
+    #[arg(long, default_value = "crc16", value_parser = super::values::checksum_parser())]
+    pub checksum: Checksum,
+    /// The handshake's OID, as the console sends it.
+    #[arg(long, default_value_t = 0, value_name = "N")]
+    pub oid: u16,
     /// Stop the arm when no heartbeat byte came for this long, milliseconds.
     #[arg(long, default_value_t = HEARTBEAT_TIMEOUT.as_millis() as u64, value_name = "MS")]
     pub heartbeat_timeout: u64,
 }
 
 impl GuardArgs {
-    /// A link that only writes when told: no twist of its own, a slow poll that notices a
-    /// dead connection, short timeouts so a stop that fails is retried soon.
-    pub fn config(&self) -> ModbusConfig {
-        guard_link_config(
-            super::with_default_port(&self.modbus, DEFAULT_PORT),
-            self.unit,
-        )
+    /// What the guard stops: the links it was given.
+    pub fn targets(&self) -> Targets {
+        Targets {
+            modbus: self.modbus.as_ref().map(|addr| {
+                guard_link_config(super::with_default_port(addr, DEFAULT_PORT), self.unit)
+            }),
+            talos: self.talos.as_ref().map(|addr| {
+                TalosStop::new(
+                    super::with_default_port(addr, TALOS_PORT),
+                    self.dialect,
+                    self.checksum,
+                    self.oid,
+                )
+            }),
+        }
     }
 }
 
-/// The guard's Modbus link settings for an arm at `addr`.
+/// The links the guard stops the arm over.
+#[derive(Debug, Clone)]
+pub struct Targets {
+    pub modbus: Option<ModbusConfig>,
+    pub talos: Option<TalosStop>,
+}
+
+/// The guard's Modbus link settings for an arm at `addr`: a link that only writes when told (no
+/// twist of its own), a slow poll that notices a dead connection, short timeouts so a stop that
+/// fails is retried soon.
 pub fn guard_link_config(addr: String, unit: u8) -> ModbusConfig {
     let mut config = ModbusConfig::new(addr);
     config.unit = unit;
@@ -70,7 +109,7 @@ pub async fn run(args: &GuardArgs) -> i32 {
         }
     };
     watch(
-        args.config(),
+        args.targets(),
         timeout,
         tokio::io::stdin(),
         tokio::io::stdout(),
@@ -131,9 +170,10 @@ async fn console_gone(console: &mut mpsc::UnboundedReceiver<FromConsole>) -> Str
     }
 }
 
-/// The guard itself, on any pipe and output: the console's pipe in, status lines out.
+/// The guard itself, on any pipe and output: the console's pipe in, status lines out. Ready
+/// once its Modbus link is up; with Talos alone, at once (it connects only to stop).
 pub async fn watch<R, W>(
-    config: ModbusConfig,
+    targets: Targets,
     heartbeat_timeout: Duration,
     pipe: R,
     mut out: W,
@@ -145,24 +185,30 @@ where
 {
     tokio::pin!(signal);
     let mut console = read_console(pipe);
-    let connected = {
-        let connect = connect(config, &mut out);
-        tokio::pin!(connect);
-        tokio::select! {
-            biased;
-            reason = console_gone(&mut console) => {
-                // Not connected yet, so the console was refused every motion: nothing to stop.
-                tracing::info!("stop guard: the console is gone ({reason}) before the arm was reached");
-                return 0;
+    let (modbus, mut link_events) = match targets.modbus {
+        None => (None, None),
+        Some(config) => {
+            let connect = connect(config, &mut out);
+            tokio::pin!(connect);
+            tokio::select! {
+                biased;
+                reason = console_gone(&mut console) => {
+                    // Not ready yet, so the console was refused every motion: nothing to stop.
+                    tracing::info!("stop guard: the console is gone ({reason}) before the arm was reached");
+                    return 0;
+                }
+                name = &mut signal => {
+                    tracing::info!("stop guard: {name} before the arm was reached");
+                    return 0;
+                }
+                (link, events) = &mut connect => (Some(link), Some(events)),
             }
-            name = &mut signal => {
-                tracing::info!("stop guard: {name} before the arm was reached");
-                return 0;
-            }
-            link = &mut connect => link,
         }
     };
-    let (link, mut link_events) = connected;
+    let stopper = Stopper {
+        modbus,
+        talos: targets.talos,
+    };
     say(&mut out, "ready").await;
     let mut deadline = Instant::now() + heartbeat_timeout;
     let mut starved = false;
@@ -180,21 +226,21 @@ where
                     }
                 }
                 Some(FromConsole::Gone(reason)) => {
-                    return finish(&link, &format!("the console is gone ({reason})"), &mut out).await;
+                    return stopper.finish(&format!("the console is gone ({reason})"), &mut out).await;
                 }
-                None => return finish(&link, "the console's pipe reader ended", &mut out).await,
+                None => return stopper.finish("the console's pipe reader ended", &mut out).await,
             },
-            name = &mut signal => return finish(&link, name, &mut out).await,
+            name = &mut signal => return stopper.finish(name, &mut out).await,
             _ = tokio::time::sleep_until(deadline), if !starved => {
                 starved = true;
                 let why = format!("no heartbeat from the console for {} ms", heartbeat_timeout.as_millis());
-                match stop_arm(&link, &why).await {
+                match stopper.stop(&why, Console::Silent).await {
                     Ok(done) => say(&mut out, &format!("stopped {why}: {done}")).await,
                     Err(e) => say(&mut out, &format!("stop-failed {why}: {e}")).await,
                 }
             }
             _ = alive.tick() => say(&mut out, "alive").await,
-            event = link_events.recv() => match event {
+            event = next_event(&mut link_events) => match event {
                 Some(ModbusEvent::Disconnected { reason }) => say(&mut out, &format!("down {reason}")).await,
                 Some(ModbusEvent::Reconnected { .. }) => say(&mut out, "ready").await,
                 Some(_) => {}
@@ -204,6 +250,16 @@ where
                 }
             },
         }
+    }
+}
+
+/// The Modbus link's next event; never, without a Modbus link.
+async fn next_event(
+    events: &mut Option<mpsc::UnboundedReceiver<ModbusEvent>>,
+) -> Option<ModbusEvent> {
+    match events {
+        Some(events) => events.recv().await,
+        None => std::future::pending().await,
     }
 }
 
@@ -229,30 +285,74 @@ async fn connect<W: AsyncWrite + Unpin>(
     }
 }
 
-/// Stops the arm as the console is gone, and returns the exit status.
-async fn finish<W: AsyncWrite + Unpin>(link: &ModbusLink, why: &str, out: &mut W) -> i32 {
-    let code = match stop_arm(link, why).await {
-        Ok(done) => {
-            tracing::info!("stop guard: {why}: arm stopped ({done})");
-            say(out, &format!("stopped {why}: {done}")).await;
-            0
+/// What the guard stops: the Modbus link it holds, the Talos operator it connects to.
+struct Stopper {
+    modbus: Option<ModbusLink>,
+    talos: Option<TalosStop>,
+}
+
+impl Stopper {
+    /// Stops the arm as the console is gone, and returns the exit status.
+    async fn finish<W: AsyncWrite + Unpin>(&self, why: &str, out: &mut W) -> i32 {
+        let code = match self.stop(why, Console::Gone).await {
+            Ok(done) => {
+                tracing::info!("stop guard: {why}: arm stopped ({done})");
+                say(out, &format!("stopped {why}: {done}")).await;
+                0
+            }
+            Err(e) => {
+                tracing::error!("stop guard: {why}: THE STOP FAILED: {e}. Use the arm's e-stop");
+                say(out, &format!("stop-failed {why}: {e}")).await;
+                1
+            }
+        };
+        if let Some(link) = &self.modbus {
+            let _ = tokio::time::timeout(Duration::from_secs(1), link.clone().close()).await;
         }
-        Err(e) => {
-            tracing::error!("stop guard: {why}: THE STOP FAILED: {e}. Use the arm's e-stop");
-            say(out, &format!("stop-failed {why}: {e}")).await;
-            1
+        code
+    }
+
+    /// Every link at once, each until it is written or [`STOP_PERSISTENCE`] has passed; what
+    /// was done on each, or (any failed) what failed and what was done.
+    async fn stop(&self, why: &str, console: Console) -> Result<String, String> {
+        let give_up = Instant::now() + STOP_PERSISTENCE;
+        let modbus = async {
+            match &self.modbus {
+                Some(link) => Some(stop_modbus(link, why, give_up).await),
+                None => None,
+            }
+        };
+        let talos = async {
+            match &self.talos {
+                Some(talos) => Some(talos.stop(console, give_up).await),
+                None => None,
+            }
+        };
+        let (modbus, talos) = tokio::join!(modbus, talos);
+        let outcomes: Vec<(&str, Result<String, String>)> = [("modbus", modbus), ("talos", talos)]
+            .into_iter()
+            .filter_map(|(link, outcome)| Some((link, outcome?)))
+            .collect();
+        let said = outcomes
+            .iter()
+            .map(|(link, outcome)| match outcome {
+                Ok(done) => format!("{link}: {done}"),
+                Err(e) => format!("{link}: FAILED: {e}"),
+            })
+            .collect::<Vec<_>>()
+            .join("; ");
+        match outcomes.iter().all(|(_, outcome)| outcome.is_ok()) {
+            true => Ok(said),
+            false => Err(said),
         }
-    };
-    let _ = tokio::time::timeout(Duration::from_secs(1), link.clone().close()).await;
-    code
+    }
 }
 
 /// Holding register 200 <- 2 (the link pulses the abort coil if the arm refuses it); if the
 /// stop fails, the abort coil; both again, over a fresh connection, until one is written or
-/// [`STOP_PERSISTENCE`] has passed.
-async fn stop_arm(link: &ModbusLink, why: &str) -> Result<String, String> {
+/// `give_up`.
+async fn stop_modbus(link: &ModbusLink, why: &str, give_up: Instant) -> Result<String, String> {
     let started = Instant::now();
-    let give_up = started + STOP_PERSISTENCE;
     let mut errors = Vec::new();
     loop {
         match link.stop().await {

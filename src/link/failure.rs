@@ -102,7 +102,7 @@ pub enum ArmError {
     /// A request could not be encoded (a value outside what the wire can carry).
     #[error("{0}")]
     Encode(HwError),
-    /// Modbus motion is refused while the stop guard is not ready: the guard's own words.
+    /// Motion is refused while the stop guard is not ready: the guard's own words.
     #[error("{0}")]
     GuardNotRunning(String),
     /// The stop guard stopped the arm (the console went quiet, or its link did).

@@ -1,17 +1,31 @@
-//! The stop guard, console side: a small process (`armjog guard`, in `src/cli/guard.rs`) with
-//! its own Modbus connection that stops the arm when the console dies.
+//! The stop guard, console side: a small process (`armjog guard`, in `src/cli/guard.rs`) that
+//! stops the arm when the console dies, over every link the console has (Talos, Modbus, both).
 //!
-//! A Kinova arm has no twist watchdog: a console killed with SIGKILL (or by the OOM killer)
-//! mid-jog leaves the twist running, and no code of the console can run to stop it. The guard
-//! watches the console through a pipe on its stdin: when the pipe closes (every way a process
-//! ends closes it) it writes the stop and exits; when the heartbeat written into the pipe stops
-//! for [`HEARTBEAT_TIMEOUT`] (a frozen console) it writes the stop and keeps watching.
+//! A console killed with SIGKILL (or by the OOM killer) runs no code at all. A Kinova arm over
+//! Modbus has no twist watchdog: the twist runs on. A Talos operator's 500 ms watchdog covers
+//! continuous START only, and a client's disconnect stops nothing: a go-to, home or step runs to
+//! its end (seconds, a hundred millimetres and more). The guard watches the console through a
+//! pipe on its stdin: when the pipe closes (every way a process ends closes it) it stops the arm
+//! on every link and exits; when the heartbeat written into the pipe stops for
+//! [`HEARTBEAT_TIMEOUT`] (a frozen console) it does the same and keeps watching.
+//!
+//! Over Modbus the guard holds a connection of its own from the start (ready once it is up).
+//! Over Talos it holds none, and is ready as soon as it runs: the deployed operator serves one
+//! client at a time (a second connection is accepted by the kernel but not answered while the
+//! first is open), so the guard connects only once the console's connection is gone (the kernel
+//! closes it when the console dies) and then sends the one stop set
+//! ([`crate::talos::stop_requests`]) in the console's dialect and checksum. A frozen console
+//! still holds its connection: such an operator does not answer the guard, which then cannot
+//! stop a go-to, home or step over Talos (it says so; a continuous jog stops at the operator's
+//! watchdog, nothing refreshing it). See `src/cli/guard/talos.rs`.
 //!
 //! The protocol: the console writes [`HEARTBEAT`] every [`HEARTBEAT_PERIOD`]; the guard answers
-//! with lines on its stdout: `ready` (its Modbus connection is up), `alive` every
-//! [`ALIVE_PERIOD`] from then on, `down REASON` (it cannot reach the arm), `stopped REASON` (it
-//! wrote a stop on its own) and `stop-failed REASON`. A ready guard silent for [`GUARD_SILENCE`]
-//! (stopped, frozen) is ended and replaced.
+//! with lines on its stdout: `ready` (it can stop the arm: its Modbus connection is up, or it
+//! watches Talos alone), `alive` every [`ALIVE_PERIOD`] from then on, `down REASON` (it cannot
+//! reach the arm over Modbus), `stopped REASON` (it stopped the arm on its own) and
+//! `stop-failed REASON`. A ready guard silent for [`GUARD_SILENCE`] (stopped, frozen) is ended
+//! and replaced. No motion starts, on any link, while no guard is ready
+//! ([`GuardSupervisor::refusal`]).
 //!
 //! The heartbeat is written by a task of the console's runtime: a stuck event loop is already
 //! covered by the link's 500 ms twist hold (no refresh, no twist); the heartbeat covers a whole
@@ -30,7 +44,8 @@ use tokio::io::{AsyncBufReadExt, AsyncWriteExt, BufReader};
 use tokio::process::{Child, ChildStdin, Command};
 use tokio::sync::{mpsc, oneshot, watch};
 
-use super::interface::{ArmCommand, ArmError, ArmEvent, CommandKind, GuardStatus};
+use super::interface::{ArmError, ArmEvent, CommandKind, GuardStatus};
+use super::{ModbusConfig, TalosConfig};
 use crate::net::Deadline;
 
 /// The byte the console writes to keep the guard from stopping the arm.
@@ -54,27 +69,46 @@ const HEALTHY_AFTER: Duration = Duration::from_secs(10);
 /// A heartbeat the pipe does not take within this long means the guard no longer reads it.
 const WRITE_TIMEOUT: Duration = Duration::from_secs(1);
 
-/// Whether the driver starts a stop guard for its Modbus link.
+/// Whether the driver starts a stop guard for its links.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum GuardPolicy {
-    /// Start this program as `PROGRAM guard --modbus ADDR --unit N` (the armjog binary:
-    /// `std::env::current_exe()` in the console, `CARGO_BIN_EXE_armjog` in tests).
+    /// Start this program as `PROGRAM guard` with the links' addresses ([`guard_args`]; the
+    /// armjog binary: `std::env::current_exe()` in the console, `CARGO_BIN_EXE_armjog` in tests).
     Spawn(PathBuf),
     /// No guard: an in-process simulated arm dies with the console, and library users and tests
     /// that do not want one say so.
     NotNeeded,
 }
 
-/// Commands that start motion: refused over Modbus while no guard is ready.
-pub fn is_motion(command: &ArmCommand) -> bool {
-    matches!(
-        command,
-        ArmCommand::Jog(_)
-            | ArmCommand::Step(_)
-            | ArmCommand::MoveToPose(_)
-            | ArmCommand::Home
-            | ArmCommand::StartStored(_)
-    )
+/// The guard's command line for the console's links: `guard --modbus ADDR --unit N` and
+/// `--talos ADDR --dialect D --checksum C --oid N`, as the console speaks to each.
+pub fn guard_args(
+    talos: Option<&TalosConfig>,
+    modbus: Option<&ModbusConfig>,
+    oid: u16,
+) -> Vec<String> {
+    let mut args = vec!["guard".to_string()];
+    if let Some(mc) = modbus {
+        args.extend([
+            "--modbus".into(),
+            mc.addr.clone(),
+            "--unit".into(),
+            mc.unit.to_string(),
+        ]);
+    }
+    if let Some(tc) = talos {
+        args.extend([
+            "--talos".into(),
+            tc.addr.clone(),
+            "--dialect".into(),
+            tc.dialect.to_string(),
+            "--checksum".into(),
+            tc.checksum.to_string(),
+            "--oid".into(),
+            oid.to_string(),
+        ]);
+    }
+    args
 }
 
 /// What the supervisor tells the driver.
@@ -88,9 +122,9 @@ pub enum GuardReport {
 }
 
 impl GuardReport {
-    /// Whether the driver must stop Modbus motion: a guard that went down leaves nothing to
-    /// stop the arm if the console dies, and after the guard's own stop the link must not
-    /// believe a twist still runs. (`Starting` follows a `Down`, or comes before anything could
+    /// Whether the driver must stop motion: a guard that went down leaves nothing to stop the
+    /// arm if the console dies, and after the guard's own stop the links must not believe a
+    /// motion still runs. (`Starting` follows a `Down`, or comes before anything could
     /// move: it needs no stop of its own, which could cut into another client's motion.)
     pub fn stops_motion(&self) -> bool {
         matches!(
@@ -120,22 +154,14 @@ pub struct GuardSupervisor {
 }
 
 impl GuardSupervisor {
-    /// Starts `program guard --modbus ADDR --unit UNIT`; reports every change of state.
+    /// Starts `program ARGS` ([`guard_args`]); reports every change of state.
     pub fn spawn(
         program: PathBuf,
-        addr: String,
-        unit: u8,
+        args: Vec<String>,
         reports: mpsc::UnboundedSender<GuardReport>,
     ) -> GuardSupervisor {
         let (status_tx, status) = watch::channel(GuardStatus::Starting);
         let (shutdown_tx, shutdown) = oneshot::channel();
-        let args = vec![
-            "guard".to_string(),
-            "--modbus".to_string(),
-            addr,
-            "--unit".to_string(),
-            unit.to_string(),
-        ];
         let reporter = Reporter {
             status: status_tx,
             reports,
@@ -151,13 +177,11 @@ impl GuardSupervisor {
         self.status.borrow().clone()
     }
 
-    /// Why motion over Modbus is refused now, or `None` when the guard is ready.
+    /// Why motion is refused now, on any link, or `None` when the guard is ready.
     pub fn refusal(&self) -> Option<String> {
         match self.status() {
             GuardStatus::Ready { .. } => None,
-            GuardStatus::Starting => {
-                Some("stop guard not running: still starting (connecting to the arm)".into())
-            }
+            GuardStatus::Starting => Some("stop guard not running: still starting".into()),
             GuardStatus::Down { reason } => Some(format!("stop guard not running: {reason}")),
         }
     }
@@ -335,29 +359,42 @@ fn on_line(line: &str, pid: u32, reporter: &Reporter) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::link::interface::JogMotion;
 
     #[test]
-    fn only_commands_that_move_the_arm_need_a_guard() {
-        assert!(is_motion(&ArmCommand::Jog(JogMotion::Cartesian {
-            x: 1,
-            y: 0,
-            z: 0
-        })));
-        assert!(is_motion(&ArmCommand::Home));
-        assert!(is_motion(&ArmCommand::StartStored(crate::kortex::Stored {
-            motion: crate::kortex::StoredMotion::Sequence,
-            id: 1,
-        })));
-        assert!(!is_motion(&ArmCommand::Stop));
-        assert!(!is_motion(&ArmCommand::QuickStop));
-        assert!(!is_motion(&ArmCommand::SetSpeed(10)));
+    fn the_guard_is_told_every_link_as_the_console_speaks_to_it() {
+        use crate::link::Dialect;
+        use crate::talos::Checksum;
+        let mut modbus = ModbusConfig::new("10.0.0.9:502");
+        modbus.unit = 3;
+        let mut talos = TalosConfig::new("10.0.0.8:61616");
+        talos.dialect = Dialect::Ack;
+        talos.checksum = Checksum::Xor8;
+        assert_eq!(
+            guard_args(None, Some(&modbus), 0),
+            ["guard", "--modbus", "10.0.0.9:502", "--unit", "3"]
+        );
+        assert_eq!(
+            guard_args(Some(&talos), None, 7),
+            [
+                "guard",
+                "--talos",
+                "10.0.0.8:61616",
+                "--dialect",
+                "ack",
+                "--checksum",
+                "xor8",
+                "--oid",
+                "7"
+            ]
+        );
+        let both = guard_args(Some(&talos), Some(&modbus), 0);
+        assert!(both.contains(&"--modbus".to_string()) && both.contains(&"--talos".to_string()));
     }
 
     #[test]
-    fn a_guard_is_required_wherever_motion_can_go_over_modbus() {
+    fn a_guard_is_required_for_every_real_link() {
+        use crate::link::Dialect;
         use crate::link::driver::DriverConfig;
-        use crate::link::{Dialect, ModbusConfig, TalosConfig};
         let modbus = || Some(ModbusConfig::new("10.0.0.9:502"));
         let talos = |dialect| {
             let mut t = TalosConfig::new("10.0.0.8:61616");
@@ -373,14 +410,19 @@ mod tests {
         assert!(required(None, modbus(), &spawn), "Modbus-only jogs");
         assert!(
             required(talos(Dialect::Icd), modbus(), &spawn),
-            "orientation jogs over Modbus beside Talos"
+            "both links"
         );
         assert!(
-            required(talos(Dialect::Ack), modbus(), &spawn),
-            "go-to of the console's positions over Modbus"
+            required(talos(Dialect::Icd), None, &spawn),
+            "go-to, home and steps over Talos have no watchdog"
         );
-        assert!(!required(talos(Dialect::Icd), None, &spawn));
+        assert!(required(talos(Dialect::Ack), None, &spawn), "home and pans");
         assert!(!required(None, modbus(), &GuardPolicy::NotNeeded));
+        assert!(!required(
+            talos(Dialect::Icd),
+            None,
+            &GuardPolicy::NotNeeded
+        ));
     }
 
     #[test]

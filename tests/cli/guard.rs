@@ -9,11 +9,8 @@
 
 use crate::guard_support;
 
-use std::process::Stdio;
 use std::time::Duration;
 
-use tokio::io::{AsyncBufReadExt, AsyncWriteExt, BufReader, Lines};
-use tokio::process::{Child, ChildStdin, ChildStdout, Command};
 use tokio::sync::mpsc::UnboundedReceiver;
 use tokio::time::Instant;
 
@@ -24,78 +21,19 @@ use armjog::link::guard::GuardPolicy;
 use armjog::link::interface::{ArmCommand, ArmError, ArmEvent, CommandKind, GuardStatus};
 use armjog::sim::Simulator;
 use guard_support::{
-    BIN, arm_state, assert_still, log_dir, modbus_addr, simulator, start_twist, wait_moving,
+    BIN, Guard, arm_state, assert_still, modbus_addr, simulator, start_twist, wait_event,
+    wait_moving,
 };
 
-/// The guard process, with the pipe a console would hold.
-struct Guard {
-    child: Child,
-    stdin: Option<ChildStdin>,
-    lines: Lines<BufReader<ChildStdout>>,
-}
-
-impl Guard {
-    async fn start(sim: &Simulator) -> Guard {
-        let mut child = Command::new(BIN)
-            .args(["guard", "--modbus", &modbus_addr(sim), "--unit", "1"])
-            .env("ARMJOG_LOG_DIR", log_dir())
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .kill_on_drop(true)
-            .spawn()
-            .expect("start armjog guard");
-        let stdin = child.stdin.take();
-        let lines = BufReader::new(child.stdout.take().expect("stdout")).lines();
-        let mut guard = Guard {
-            child,
-            stdin,
-            lines,
-        };
-        let ready = guard.line(Duration::from_secs(10)).await;
-        assert_eq!(
-            ready.as_deref(),
-            Some("ready"),
-            "the guard says it is ready"
-        );
-        guard
-    }
-
-    async fn beat(&mut self) {
-        let stdin = self.stdin.as_mut().expect("pipe open");
-        stdin.write_all(b".").await.expect("heartbeat");
-        stdin.flush().await.expect("heartbeat");
-    }
-
-    /// Heartbeats every 100 ms for `duration`.
-    async fn beat_for(&mut self, duration: Duration) {
-        let until = Instant::now() + duration;
-        while Instant::now() < until {
-            self.beat().await;
-            tokio::time::sleep(Duration::from_millis(100)).await;
-        }
-    }
-
-    /// The next line other than the guard's periodic `alive`.
-    async fn line(&mut self, within: Duration) -> Option<String> {
-        let until = Instant::now() + within;
-        loop {
-            let line = tokio::time::timeout_at(until, self.lines.next_line())
-                .await
-                .ok()
-                .and_then(|l| l.ok())
-                .flatten()?;
-            if line != "alive" {
-                return Some(line);
-            }
-        }
-    }
+/// The guard for the simulator's Modbus server.
+async fn modbus_guard(sim: &Simulator) -> Guard {
+    Guard::start(&["--modbus", &modbus_addr(sim), "--unit", "1"]).await
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn the_guard_stops_a_running_twist_when_the_console_pipe_closes() {
     let sim = simulator().await;
-    let mut guard = Guard::start(&sim).await;
+    let mut guard = modbus_guard(&sim).await;
     guard.beat().await;
     let _console_link = start_twist(&sim).await;
     guard.beat_for(Duration::from_millis(300)).await;
@@ -130,7 +68,7 @@ async fn the_guard_stops_a_running_twist_when_the_console_pipe_closes() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_silent_console_gets_its_twist_stopped_and_the_guard_keeps_watching() {
     let sim = simulator().await;
-    let mut guard = Guard::start(&sim).await;
+    let mut guard = modbus_guard(&sim).await;
     guard.beat().await;
     let console_link = start_twist(&sim).await;
 
@@ -175,7 +113,7 @@ async fn a_silent_console_gets_its_twist_stopped_and_the_guard_keeps_watching() 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_terminated_guard_stops_the_arm_on_its_way_out() {
     let sim = simulator().await;
-    let mut guard = Guard::start(&sim).await;
+    let mut guard = modbus_guard(&sim).await;
     guard.beat().await;
     let _console_link = start_twist(&sim).await;
     guard.beat().await;
@@ -195,25 +133,6 @@ async fn a_terminated_guard_stops_the_arm_on_its_way_out() {
         .expect("the guard exits")
         .expect("exit status");
     assert!(status.success(), "exit status {status}");
-}
-
-/// Drives the driver's events until `done` matches one; panics after `within`.
-async fn wait_event(
-    events: &mut UnboundedReceiver<ArmEvent>,
-    within: Duration,
-    what: &str,
-    mut done: impl FnMut(&ArmEvent) -> bool,
-) -> ArmEvent {
-    let until = Instant::now() + within;
-    loop {
-        let event = tokio::time::timeout_at(until, events.recv())
-            .await
-            .unwrap_or_else(|_| panic!("waited {within:?} for {what}"))
-            .expect("driver alive");
-        if done(&event) {
-            return event;
-        }
-    }
 }
 
 fn jog_x() -> ArmCommand {

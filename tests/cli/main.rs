@@ -21,6 +21,7 @@ mod errors;
 mod file_limits;
 mod guard;
 mod guard_console;
+mod guard_talos;
 mod logs;
 mod modbus;
 mod options;

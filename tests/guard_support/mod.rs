@@ -3,11 +3,16 @@
 // Each test file uses its own part of this module.
 #![allow(dead_code)]
 
+use std::process::Stdio;
 use std::time::Duration;
 
+use tokio::io::{AsyncBufReadExt, AsyncWriteExt, BufReader, Lines};
+use tokio::process::{Child, ChildStdin, ChildStdout, Command};
+use tokio::sync::mpsc::UnboundedReceiver;
 use tokio::time::Instant;
 
 use armjog::kortex::{ReferenceFrame, Twist};
+use armjog::link::interface::ArmEvent;
 use armjog::link::{ModbusConfig, ModbusLink};
 use armjog::sim::{SimConfig, Simulator};
 
@@ -82,4 +87,90 @@ pub async fn start_twist(sim: &Simulator) -> ModbusLink {
         "the twist runs"
     );
     link
+}
+
+/// The guard process, with the pipe a console would hold.
+pub struct Guard {
+    pub child: Child,
+    pub stdin: Option<ChildStdin>,
+    lines: Lines<BufReader<ChildStdout>>,
+}
+
+impl Guard {
+    /// `armjog guard ARGS`, once it says it is ready.
+    pub async fn start(args: &[&str]) -> Guard {
+        let mut child = Command::new(BIN)
+            .arg("guard")
+            .args(args)
+            .env("ARMJOG_LOG_DIR", log_dir())
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .kill_on_drop(true)
+            .spawn()
+            .expect("start armjog guard");
+        let stdin = child.stdin.take();
+        let lines = BufReader::new(child.stdout.take().expect("stdout")).lines();
+        let mut guard = Guard {
+            child,
+            stdin,
+            lines,
+        };
+        let ready = guard.line(Duration::from_secs(10)).await;
+        assert_eq!(
+            ready.as_deref(),
+            Some("ready"),
+            "the guard says it is ready"
+        );
+        guard
+    }
+
+    pub async fn beat(&mut self) {
+        let stdin = self.stdin.as_mut().expect("pipe open");
+        stdin.write_all(b".").await.expect("heartbeat");
+        stdin.flush().await.expect("heartbeat");
+    }
+
+    /// Heartbeats every 100 ms for `duration`.
+    pub async fn beat_for(&mut self, duration: Duration) {
+        let until = Instant::now() + duration;
+        while Instant::now() < until {
+            self.beat().await;
+            tokio::time::sleep(Duration::from_millis(100)).await;
+        }
+    }
+
+    /// The next line other than the guard's periodic `alive`.
+    pub async fn line(&mut self, within: Duration) -> Option<String> {
+        let until = Instant::now() + within;
+        loop {
+            let line = tokio::time::timeout_at(until, self.lines.next_line())
+                .await
+                .ok()
+                .and_then(|l| l.ok())
+                .flatten()?;
+            if line != "alive" {
+                return Some(line);
+            }
+        }
+    }
+}
+
+/// Drives the driver's events until `done` matches one; panics after `within`.
+pub async fn wait_event(
+    events: &mut UnboundedReceiver<ArmEvent>,
+    within: Duration,
+    what: &str,
+    mut done: impl FnMut(&ArmEvent) -> bool,
+) -> ArmEvent {
+    let until = Instant::now() + within;
+    loop {
+        let event = tokio::time::timeout_at(until, events.recv())
+            .await
+            .unwrap_or_else(|_| panic!("waited {within:?} for {what}"))
+            .expect("driver alive");
+        if done(&event) {
+            return event;
+        }
+    }
 }

@@ -39,7 +39,9 @@ async fn a_second_client_waits_unanswered_until_the_first_has_gone() {
     let (second, _second_events) = TalosLink::connect(ack_xor8(&sim))
         .await
         .expect("the second connection is accepted by the kernel");
-    let unanswered = second.submit(Request::Handshake { oid: None }).expect("queued");
+    let unanswered = second
+        .submit(Request::Handshake { oid: None })
+        .expect("queued");
     assert!(
         tokio::time::timeout(Duration::from_millis(600), unanswered.wait())
             .await
@@ -63,5 +65,8 @@ async fn a_second_client_waits_unanswered_until_the_first_has_gone() {
             break false;
         }
     };
-    assert!(answered, "the second client is served once the first has gone");
+    assert!(
+        answered,
+        "the second client is served once the first has gone"
+    );
 }

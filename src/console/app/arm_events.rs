@@ -78,7 +78,7 @@ impl App {
             }
             ArmEvent::Done { command } => self.on_done(command, now, effects),
             ArmEvent::Guard(status) => {
-                // Without a ready guard the driver refuses Modbus motion and stops any: forget
+                // Without a ready guard the driver refuses motion and stops any: forget
                 // the held keys so nothing restarts when the guard is back.
                 if !matches!(status, GuardStatus::Ready { .. }) {
                     self.stop_jog(now, effects);

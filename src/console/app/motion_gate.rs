@@ -3,8 +3,8 @@
 //! they start, and after every input any motion command still emitted while it refuses is
 //! dropped (the net under those paths).
 //!
-//! Reasons, first first: no link, a stale link, the stop guard not ready (Modbus), and what the
-//! arm itself reports: a fault (an emergency stop is one), a state other than ready or
+//! Reasons, first first: no link, a stale link, the stop guard not ready (any real link), and
+//! what the arm itself reports: a fault (an emergency stop is one), a state other than ready or
 //! controlled, or telemetry that no Gen3 can report (not a number, out of physical range). A
 //! fault, state or reading like that appearing while a motion runs stops it and latches the
 //! held keys (see [`App::watch_arm_state`]).
@@ -51,7 +51,7 @@ impl App {
         }
         match self.arm.guard() {
             Some(GuardStatus::Starting) => {
-                let text = "refused: the stop guard is not connected yet";
+                let text = "refused: the stop guard is not ready yet";
                 return Some((text.into(), Until::GuardReady));
             }
             Some(GuardStatus::Down { reason }) => {

@@ -50,7 +50,7 @@ fn simulated_spans(view: &View, theme: &Theme) -> Vec<Span<'static>> {
     }
 }
 
-/// The stop guard's badge, when one is required (Modbus motion).
+/// The stop guard's badge, when one is required (every real link).
 fn guard_spans(view: &View, theme: &Theme) -> Vec<Span<'static>> {
     match &view.arm.guard {
         None => Vec::new(),

@@ -168,18 +168,19 @@ impl DriverState {
         if command.is_stop() {
             return self.on_stop(command);
         }
+        if let Some(error) = guard_refusal(&self.config, self.guard.as_ref(), &command) {
+            return self.refuse(&command, error);
+        }
         if self.talos.handles(&command, self.modbus.is_some()) {
             self.stops.motion(&command, Side::Talos);
             return self.talos.command(command);
         }
-        let refusal = guard_refusal(&self.config, self.guard.as_ref(), &command);
-        match (&self.modbus, refusal) {
-            (_, Some(error)) => self.refuse(&command, error),
-            (Some(modbus), None) => {
+        match &self.modbus {
+            Some(modbus) => {
                 self.stops.motion(&command, Side::Modbus);
                 modbus.send(command);
             }
-            (None, None) => {
+            None => {
                 let error = match &self.config.modbus {
                     Some(mc) => ArmError::ModbusLinkDown {
                         addr: mc.addr.clone(),
@@ -337,10 +338,15 @@ impl DriverState {
     }
 
     fn on_guard_report(&mut self, report: GuardReport) {
-        if report.stops_motion()
-            && let Some(modbus) = &self.modbus
-        {
-            modbus.send(ArmCommand::Stop);
+        if report.stops_motion() {
+            // Straight to each link, outside the STOP outcomes: the console stops on the event
+            // itself and asks for its own STOP.
+            if let Some(modbus) = &self.modbus {
+                modbus.send(ArmCommand::Stop);
+            }
+            if self.config.talos.is_some() && !self.talos.is_down() {
+                self.talos.command(ArmCommand::Stop);
+            }
         }
         self.emit(report.into_event());
     }
@@ -405,7 +411,7 @@ fn start_guard(
     config: &DriverConfig,
     reports: mpsc::UnboundedSender<GuardReport>,
 ) -> Option<GuardSupervisor> {
-    let (GuardPolicy::Spawn(program), Some(mc)) = (&config.guard, &config.modbus) else {
+    let GuardPolicy::Spawn(program) = &config.guard else {
         return None;
     };
     if !config.guard_required() {
@@ -414,21 +420,18 @@ fn start_guard(
     let _ = reports.send(GuardReport::Status(
         crate::link::interface::GuardStatus::Starting,
     ));
-    Some(GuardSupervisor::spawn(
-        program.clone(),
-        mc.addr.clone(),
-        mc.unit,
-        reports,
-    ))
+    let args = guard::guard_args(config.talos.as_ref(), config.modbus.as_ref(), config.oid);
+    Some(GuardSupervisor::spawn(program.clone(), args, reports))
 }
 
-/// Why a command bound for the Modbus link is refused for want of a stop guard, if it is.
+/// Why a command that starts motion is refused for want of a stop guard, on whichever link
+/// would carry it, if it is.
 fn guard_refusal(
     config: &DriverConfig,
     guard: Option<&GuardSupervisor>,
     command: &ArmCommand,
 ) -> Option<ArmError> {
-    if config.guard == GuardPolicy::NotNeeded || !guard::is_motion(command) {
+    if !config.guard_required() || !command.starts_motion() {
         return None;
     }
     let refusal = match guard {

@@ -59,8 +59,7 @@ pub struct DriverConfig {
     pub hw_telemetry_hz: f64,
     /// Handshake OID.
     pub oid: u16,
-    /// The stop guard for a Modbus link that carries motion (none by default; the console
-    /// starts one for a real arm).
+    /// The stop guard for the links (none by default; the console starts one for a real arm).
     pub guard: GuardPolicy,
 }
 
@@ -78,16 +77,11 @@ impl DriverConfig {
         }
     }
 
-    /// Whether motion can go over Modbus: jogs on a Modbus-only link, go-to of the console's
-    /// own positions, and orientation jogs (which Talos cannot carry) whenever there is a Modbus
-    /// link.
-    pub fn modbus_carries_motion(&self) -> bool {
-        self.modbus.is_some()
-    }
-
-    /// Whether a stop guard must run before motion goes over Modbus.
+    /// Whether a stop guard must run before anything moves: on every real link, since a killed
+    /// console leaves a Modbus twist running and a Talos go-to, home or step to its end.
     pub fn guard_required(&self) -> bool {
-        matches!(self.guard, GuardPolicy::Spawn(_)) && self.modbus_carries_motion()
+        matches!(self.guard, GuardPolicy::Spawn(_))
+            && (self.talos.is_some() || self.modbus.is_some())
     }
 
     /// Where the telemetry panels get their data.

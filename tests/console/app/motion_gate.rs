@@ -246,10 +246,7 @@ fn the_stop_guard_not_ready_refuses_with_its_reason() {
         t0,
     );
     assert!(moves(&press(&mut app, "w", t0)).is_empty());
-    assert_eq!(
-        message(&app),
-        "refused: the stop guard is not connected yet"
-    );
+    assert_eq!(message(&app), "refused: the stop guard is not ready yet");
 }
 
 #[test]
