@@ -22,6 +22,11 @@ impl SimProcess {
     /// Starts `armjog sim`, with its open-file limit lowered to `fd_limit` if given (through
     /// the shell's `ulimit`, which then execs the binary: the child is the sim itself).
     pub fn spawn(fd_limit: Option<u32>) -> SimProcess {
+        Self::spawn_with(fd_limit, &[])
+    }
+
+    /// [`SimProcess::spawn`] with more of `armjog sim`'s options (`--one-client`, ...).
+    pub fn spawn_with(fd_limit: Option<u32>, options: &[&str]) -> SimProcess {
         static SPAWNED: AtomicU32 = AtomicU32::new(0);
         let log_dir = std::env::temp_dir().join(format!(
             "armjog-attack-{}-{}",
@@ -29,25 +34,26 @@ impl SimProcess {
             SPAWNED.fetch_add(1, Ordering::Relaxed)
         ));
         let _ = std::fs::remove_dir_all(&log_dir);
-        let args = [
+        let mut args = vec![
             "sim",
             "--talos-listen",
             "127.0.0.1:0",
             "--modbus-listen",
             "127.0.0.1:0",
         ];
+        args.extend_from_slice(options);
         let mut command = match fd_limit {
             Some(limit) => {
                 let mut c = Command::new("sh");
                 c.arg("-c")
                     .arg(format!("ulimit -n {limit} && exec \"$0\" \"$@\""))
                     .arg(env!("CARGO_BIN_EXE_armjog"))
-                    .args(args);
+                    .args(&args);
                 c
             }
             None => {
                 let mut c = Command::new(env!("CARGO_BIN_EXE_armjog"));
-                c.args(args);
+                c.args(&args);
                 c
             }
         };

@@ -9,72 +9,10 @@ use std::time::Duration;
 use tokio::time::Instant;
 
 use armjog::link::interface::{ArmCommand, ArmEvent, GuardStatus};
-use guard_support::{BIN, arm_state, assert_still, log_dir, modbus_addr, simulator, wait_moving};
-
-/// A tmux server of our own for the real console, killed on drop.
-struct Tmux {
-    socket: String,
-}
-
-impl Tmux {
-    /// `name` tells apart the servers of tests running at once.
-    fn start(name: &str, command: &str) -> Tmux {
-        let socket = format!("armjog-guard-{name}-{}", std::process::id());
-        let status = std::process::Command::new("tmux")
-            .args(["-L", &socket, "new-session", "-d", "-s", "console"])
-            .args(["-x", "100", "-y", "30", command])
-            .status()
-            .expect("tmux must be installed (apt-get install -y tmux)");
-        assert!(status.success(), "tmux new-session failed");
-        Tmux { socket }
-    }
-
-    fn tmux(&self, args: &[&str]) -> std::process::Output {
-        std::process::Command::new("tmux")
-            .args(["-L", &self.socket])
-            .args(args)
-            .output()
-            .expect("tmux")
-    }
-
-    fn key(&self, key: &str) -> bool {
-        self.tmux(&["send-keys", "-t", "console", key])
-            .status
-            .success()
-    }
-
-    fn screen(&self) -> String {
-        let out = self.tmux(&["capture-pane", "-p", "-t", "console"]);
-        String::from_utf8_lossy(&out.stdout).into_owned()
-    }
-
-    fn pane_pid(&self) -> u32 {
-        let out = self.tmux(&["display-message", "-p", "-t", "console", "#{pane_pid}"]);
-        let text = String::from_utf8_lossy(&out.stdout);
-        text.trim().parse().expect("pane pid")
-    }
-
-    async fn wait_for(&self, within: Duration, what: &str, done: impl Fn(&str) -> bool) {
-        let until = Instant::now() + within;
-        loop {
-            let screen = self.screen();
-            if done(&screen) {
-                return;
-            }
-            assert!(
-                Instant::now() < until,
-                "waited {within:?} for {what}; screen:\n{screen}"
-            );
-            tokio::time::sleep(Duration::from_millis(50)).await;
-        }
-    }
-}
-
-impl Drop for Tmux {
-    fn drop(&mut self) {
-        let _ = self.tmux(&["kill-server"]);
-    }
-}
+use guard_support::{
+    BIN, Tmux, arm_state, assert_exit, assert_still, log_dir, modbus_addr, pids_with, simulator,
+    wait_moving,
+};
 
 /// The console on the simulator's Modbus port, logs in the test's directory.
 fn console_command(addr: &str) -> String {
@@ -82,48 +20,6 @@ fn console_command(addr: &str) -> String {
         "exec env ARMJOG_DATA_DIR={d} ARMJOG_LOG_DIR={d} {BIN} --modbus {addr} --unit 1 --key-release repeat",
         d = log_dir().display(),
     )
-}
-
-/// Whether any of `pids` still runs.
-fn any_alive(pids: &[u32]) -> bool {
-    pids.iter()
-        .any(|pid| std::path::Path::new(&format!("/proc/{pid}")).exists())
-}
-
-/// Waits (10 s at most) for the guard processes to exit; ends any left and fails.
-async fn assert_exit(guards: &[u32], when: &str) {
-    let until = Instant::now() + Duration::from_secs(10);
-    while any_alive(guards) && Instant::now() < until {
-        tokio::time::sleep(Duration::from_millis(50)).await;
-    }
-    let alive = any_alive(guards);
-    if alive {
-        for pid in guards {
-            let _ = std::process::Command::new("kill")
-                .arg(pid.to_string())
-                .status();
-        }
-    }
-    assert!(!alive, "the guard exits {when}: {guards:?}");
-}
-
-/// Pids of running processes whose command line has every one of `words`.
-fn pids_with(words: &[&str]) -> Vec<u32> {
-    let Ok(entries) = std::fs::read_dir("/proc") else {
-        return Vec::new();
-    };
-    entries
-        .filter_map(|e| e.ok())
-        .filter_map(|e| e.file_name().to_str()?.parse::<u32>().ok())
-        .filter(|pid| {
-            let cmdline = std::fs::read(format!("/proc/{pid}/cmdline")).unwrap_or_default();
-            let args: Vec<String> = cmdline
-                .split(|b| *b == 0)
-                .map(|a| String::from_utf8_lossy(a).into_owned())
-                .collect();
-            words.iter().all(|w| args.iter().any(|a| a == w))
-        })
-        .collect()
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]

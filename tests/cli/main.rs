@@ -13,6 +13,10 @@ mod guard_support;
 mod log_files;
 #[path = "../modbus_fake/mod.rs"]
 mod modbus_fake;
+// Shared with the attack tests, which use the rest of it.
+#[allow(dead_code)]
+#[path = "../attack_support/process.rs"]
+mod sim_process;
 
 mod armjog_run;
 mod broken_pipe;
@@ -21,6 +25,7 @@ mod errors;
 mod file_limits;
 mod guard;
 mod guard_console;
+mod guard_kill;
 mod guard_talos;
 mod logs;
 mod modbus;

@@ -174,3 +174,110 @@ pub async fn wait_event(
         }
     }
 }
+
+/// A tmux server of our own for the real console, killed on drop.
+pub struct Tmux {
+    pub socket: String,
+}
+
+impl Tmux {
+    /// `name` tells apart the servers of tests running at once.
+    pub fn start(name: &str, command: &str) -> Tmux {
+        let socket = format!("armjog-guard-{name}-{}", std::process::id());
+        let status = std::process::Command::new("tmux")
+            .args(["-L", &socket, "new-session", "-d", "-s", "console"])
+            .args(["-x", "100", "-y", "30", command])
+            .status()
+            .expect("tmux must be installed (apt-get install -y tmux)");
+        assert!(status.success(), "tmux new-session failed");
+        Tmux { socket }
+    }
+
+    pub fn tmux(&self, args: &[&str]) -> std::process::Output {
+        std::process::Command::new("tmux")
+            .args(["-L", &self.socket])
+            .args(args)
+            .output()
+            .expect("tmux")
+    }
+
+    pub fn key(&self, key: &str) -> bool {
+        self.tmux(&["send-keys", "-t", "console", key])
+            .status
+            .success()
+    }
+
+    pub fn screen(&self) -> String {
+        let out = self.tmux(&["capture-pane", "-p", "-t", "console"]);
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    }
+
+    pub fn pane_pid(&self) -> u32 {
+        let out = self.tmux(&["display-message", "-p", "-t", "console", "#{pane_pid}"]);
+        let text = String::from_utf8_lossy(&out.stdout);
+        text.trim().parse().expect("pane pid")
+    }
+
+    pub async fn wait_for(&self, within: Duration, what: &str, done: impl Fn(&str) -> bool) {
+        let until = Instant::now() + within;
+        loop {
+            let screen = self.screen();
+            if done(&screen) {
+                return;
+            }
+            assert!(
+                Instant::now() < until,
+                "waited {within:?} for {what}; screen:\n{screen}"
+            );
+            tokio::time::sleep(Duration::from_millis(50)).await;
+        }
+    }
+}
+
+impl Drop for Tmux {
+    fn drop(&mut self) {
+        let _ = self.tmux(&["kill-server"]);
+    }
+}
+
+/// Whether any of `pids` still runs.
+pub fn any_alive(pids: &[u32]) -> bool {
+    pids.iter()
+        .any(|pid| std::path::Path::new(&format!("/proc/{pid}")).exists())
+}
+
+/// Waits (10 s at most) for the guard processes to exit; ends any left and fails.
+pub async fn assert_exit(guards: &[u32], when: &str) {
+    let until = Instant::now() + Duration::from_secs(10);
+    while any_alive(guards) && Instant::now() < until {
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    let alive = any_alive(guards);
+    if alive {
+        for pid in guards {
+            let _ = std::process::Command::new("kill")
+                .arg(pid.to_string())
+                .status();
+        }
+    }
+    assert!(!alive, "the guard exits {when}: {guards:?}");
+}
+
+/// Pids of running processes whose command line has every one of `words`.
+pub fn pids_with(words: &[&str]) -> Vec<u32> {
+    let Ok(entries) = std::fs::read_dir("/proc") else {
+        return Vec::new();
+    };
+    entries
+        .filter_map(|e| e.ok())
+        .filter_map(|e| e.file_name().to_str()?.parse::<u32>().ok())
+        .filter(|pid| {
+            let cmdline = std::fs::read(format!("/proc/{pid}/cmdline")).unwrap_or_default();
+            let args: Vec<String> = cmdline
+                .split(|b| *b == 0)
+                .map(|a| String::from_utf8_lossy(a).into_owned())
+                .collect();
+            words.iter().all(|w| args.iter().any(|a| a == w))
+        })
+        .collect()
+}

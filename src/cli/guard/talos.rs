@@ -72,12 +72,12 @@ impl TalosStop {
                         started.elapsed().as_secs_f64() * 1000.0
                     ));
                 }
-                Err(e) => {
+                // Each distinct error once: the tries are 50 ms apart.
+                Err(e) if !errors.contains(&e) => {
                     tracing::error!("stop guard: talos stop not answered: {e}");
-                    if !errors.contains(&e) {
-                        errors.push(e);
-                    }
+                    errors.push(e);
                 }
+                Err(_) => {}
             }
             if console == Console::Silent || Instant::now() >= give_up {
                 return Err(errors.join("; "));
