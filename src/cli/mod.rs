@@ -56,7 +56,7 @@ pub enum Command {
     Completions(generate::CompletionsArgs),
     /// Print the man page (roff) to stdout: armjog(1), or a subcommand's.
     Man(generate::ManArgs),
-    /// The stop guard the console starts for a Modbus arm (internal).
+    /// The stop guard the console starts for a real arm (internal).
     #[command(hide = true)]
     Guard(guard::GuardArgs),
 }
