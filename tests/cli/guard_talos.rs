@@ -237,3 +237,48 @@ async fn talos_motion_waits_for_a_ready_guard_as_modbus_motion_does() {
     driver.send(ArmCommand::Stop);
     driver.shutdown().await;
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_killed_guard_stops_a_talos_home_and_is_restarted() {
+    let sim = sim_at_retract(Dialect::Icd, Checksum::Crc16, false).await;
+    let (driver, mut events) = talos_driver(&sim, GuardPolicy::Spawn(BIN.into())).await;
+    let ready = |e: &ArmEvent| matches!(e, ArmEvent::Guard(GuardStatus::Ready { .. }));
+    let ArmEvent::Guard(GuardStatus::Ready { pid }) = wait_event(
+        &mut events,
+        Duration::from_secs(10),
+        "the guard ready",
+        ready,
+    )
+    .await
+    else {
+        unreachable!()
+    };
+    assert!(driver.send(ArmCommand::Home));
+    assert!(
+        wait_moving(&sim, true, Duration::from_secs(5))
+            .await
+            .is_some(),
+        "Home runs"
+    );
+
+    // Nothing would stop Home if the console died now: the driver stops it.
+    let killed = std::process::Command::new("kill")
+        .args(["-9", &pid.to_string()])
+        .status()
+        .expect("kill");
+    assert!(killed.success());
+    wait_event(&mut events, Duration::from_secs(5), "the guard down", |e| {
+        matches!(e, ArmEvent::Guard(GuardStatus::Down { .. }))
+    })
+    .await;
+    wait_moving(&sim, false, Duration::from_secs(3))
+        .await
+        .expect("Home stops when the guard dies");
+    let ArmEvent::Guard(GuardStatus::Ready { pid: again }) =
+        wait_event(&mut events, Duration::from_secs(15), "a new guard", ready).await
+    else {
+        unreachable!()
+    };
+    assert_ne!(again, pid, "a fresh guard process");
+    driver.shutdown().await;
+}
