@@ -1,7 +1,8 @@
 //! What "stop" means on a Talos link, said once: the set of requests that stops every motion a
 //! link in a dialect may carry, and which requests may set the arm moving. Every path that
 //! stops the Talos side sends [`stop_requests`]: the STOP key, quit and the driver's exit, a
-//! dropped link, a failed link that can still write, and the panic hook (through the driver).
+//! dropped link, a failed link that can still write, the panic hook (through the driver), and
+//! the stop guard's process when the console dies (`cli/guard/talos.rs`).
 
 use super::hardware::{HwRequest, subcommand};
 use super::{Dialect, Request};
