@@ -226,15 +226,22 @@ where
                     }
                 }
                 Some(FromConsole::Gone(reason)) => {
-                    return stopper.finish(&format!("the console is gone ({reason})"), &mut out).await;
+                    let why = format!("the console is gone ({reason})");
+                    return stopper.finish(&why, Console::Gone, &mut out).await;
                 }
-                None => return stopper.finish("the console's pipe reader ended", &mut out).await,
+                None => {
+                    let why = "the console's pipe reader ended";
+                    return stopper.finish(why, Console::Gone, &mut out).await;
+                }
             },
-            name = &mut signal => return stopper.finish(name, &mut out).await,
+            name = &mut signal => {
+                // The console may live on: it then stops the arm and starts a new guard.
+                return stopper.finish(name, Console::MayBeConnected, &mut out).await;
+            }
             _ = tokio::time::sleep_until(deadline), if !starved => {
                 starved = true;
                 let why = format!("no heartbeat from the console for {} ms", heartbeat_timeout.as_millis());
-                match stopper.stop(&why, Console::Silent).await {
+                match stopper.stop(&why, Console::MayBeConnected).await {
                     Ok(done) => say(&mut out, &format!("stopped {why}: {done}")).await,
                     Err(e) => say(&mut out, &format!("stop-failed {why}: {e}")).await,
                 }
@@ -292,9 +299,9 @@ struct Stopper {
 }
 
 impl Stopper {
-    /// Stops the arm as the console is gone, and returns the exit status.
-    async fn finish<W: AsyncWrite + Unpin>(&self, why: &str, out: &mut W) -> i32 {
-        let code = match self.stop(why, Console::Gone).await {
+    /// Stops the arm on the guard's way out, and returns the exit status.
+    async fn finish<W: AsyncWrite + Unpin>(&self, why: &str, console: Console, out: &mut W) -> i32 {
+        let code = match self.stop(why, console).await {
             Ok(done) => {
                 tracing::info!("stop guard: {why}: arm stopped ({done})");
                 say(out, &format!("stopped {why}: {done}")).await;

@@ -282,3 +282,39 @@ async fn a_killed_guard_stops_a_talos_home_and_is_restarted() {
     assert_ne!(again, pid, "a fresh guard process");
     driver.shutdown().await;
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_terminated_guard_leaves_no_stop_queued_behind_a_live_console() {
+    let (dialect, checksum) = (Dialect::Ack, Checksum::Xor8);
+    let sim = sim_at_retract(dialect, checksum, true).await;
+    let mut guard = start_guard(&talos_guard_args(&sim, dialect, checksum)).await;
+    guard.beat().await;
+    let console = console_homing(&sim, checksum).await;
+
+    // SIGTERM while the console lives and holds the operator's one connection: the guard
+    // cannot be served, says so, and exits.
+    let pid = guard.child.id().expect("guard pid");
+    let terminated = std::process::Command::new("kill")
+        .args(["-TERM", &pid.to_string()])
+        .status()
+        .expect("kill");
+    assert!(terminated.success());
+    let said = guard.line(Duration::from_secs(5)).await.unwrap_or_default();
+    assert!(
+        said.starts_with("stop-failed SIGTERM") && said.contains("one client at a time"),
+        "{said:?}"
+    );
+    tokio::time::timeout(Duration::from_secs(5), guard.child.wait())
+        .await
+        .expect("the guard exits")
+        .expect("exit status");
+
+    // Its connection, served once the console's closes, carried no stop: Home runs on (the
+    // console, alive, would have stopped it itself on seeing its guard die).
+    drop(console);
+    tokio::time::sleep(Duration::from_millis(500)).await;
+    assert!(
+        arm_state(&sim).await.0,
+        "no stop left queued in the operator lands later"
+    );
+}

@@ -9,8 +9,8 @@
 //! sends one) and the stop set behind it.
 //!
 //! A frozen console still holds its connection: an operator that serves one client at a time
-//! does not answer the guard's, and nothing the guard can send reaches it. The guard then sends
-//! only a handshake and waits [`SERVED_WITHIN`] for its answer; the stop set goes out only on a
+//! does not answer the guard's, and nothing the guard can send reaches it. The guard then (and
+//! when a signal ends it, the console perhaps alive) sends only a handshake and waits [`SERVED_WITHIN`] for its answer; the stop set goes out only on a
 //! connection the operator serves (one that takes several clients), so no stop is left queued
 //! in the operator to land later, at a moment nobody chose. Unanswered, the stop is reported as
 //! failed: a go-to, home or step runs on to its end; a continuous jog stops at the operator's
@@ -29,14 +29,15 @@ pub const SERVED_WITHIN: Duration = Duration::from_millis(500);
 /// Pause between attempts over a fresh connection.
 const RETRY: Duration = Duration::from_millis(50);
 
-/// Whether the console's connection to the operator is known to be closed.
+/// Whether the console's connection to the operator is known to be closing.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Console {
-    /// Its process is gone (the pipe closed) or the guard is told to end: the kernel has
-    /// closed its connection, or the console closed it on its way out.
+    /// Its process is gone (the pipe closed): the kernel has closed its connection, or the
+    /// console closed it on its way out.
     Gone,
-    /// It stopped beating but lives: it may still hold its connection.
-    Silent,
+    /// It may still hold its connection: it stopped beating but lives, or the guard was told
+    /// to end by a signal (the console, alive, then stops the arm and starts a new guard).
+    MayBeConnected,
 }
 
 /// Where and how the guard stops the arm over Talos.
@@ -59,8 +60,8 @@ impl TalosStop {
     }
 
     /// Sends the stop set until the operator has answered every request of it, over a fresh
-    /// connection each try, until `give_up`; a silent console gets one try (see the module
-    /// docs). Returns what was done, or every distinct error.
+    /// connection each try, until `give_up`; while the console may still be connected, one
+    /// try (see the module docs). Returns what was done, or every distinct error.
     pub async fn stop(&self, console: Console, give_up: Instant) -> Result<String, String> {
         let started = Instant::now();
         let mut errors: Vec<String> = Vec::new();
@@ -79,7 +80,7 @@ impl TalosStop {
                 }
                 Err(_) => {}
             }
-            if console == Console::Silent || Instant::now() >= give_up {
+            if console == Console::MayBeConnected || Instant::now() >= give_up {
                 return Err(errors.join("; "));
             }
             tokio::time::sleep(RETRY).await;
@@ -97,7 +98,7 @@ impl TalosStop {
                 oid: Some(self.oid),
             })
             .map_err(|e| e.to_string())?;
-        if console == Console::Silent {
+        if console == Console::MayBeConnected {
             match handshake.wait().await {
                 // Any answer, a refusal too, says the operator serves this connection.
                 Ok(_) | Err(TalosError::ReturnCode { .. }) => {}
