@@ -33,7 +33,7 @@ const STOP_PERSISTENCE: Duration = Duration::from_secs(3);
 const CONNECT_RETRY: Duration = Duration::from_secs(1);
 
 #[derive(Debug, Args)]
-#[command(group = clap::ArgGroup::new("links").args(["modbus", "talos"]).multiple(true).required(true))]
+#[command(group = links_group())]
 pub struct GuardArgs {
     /// The arm over Modbus, HOST:PORT (port 502 if omitted).
     #[arg(long, value_name = "HOST:PORT")]
@@ -75,6 +75,14 @@ impl GuardArgs {
             }),
         }
     }
+}
+
+/// At least one link, either or both.
+fn links_group() -> clap::ArgGroup {
+    clap::ArgGroup::new("links")
+        .args(["modbus", "talos"])
+        .multiple(true)
+        .required(true)
 }
 
 /// The links the guard stops the arm over.

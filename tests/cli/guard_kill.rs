@@ -274,7 +274,8 @@ async fn kill_mid_move(case: Case<'_>) -> f64 {
         .fold(0.0, f64::max);
     let short = distance(rest.position, target);
     eprintln!(
-        "{}: console SIGKILLed -> arm at rest in {ms:.0} ms, {:.1} mm after the kill, {short:.0} mm short of the target",
+        "{}: console SIGKILLed -> arm at rest in {ms:.0} ms, {:.1} mm after the kill, \
+         {short:.0} mm short of the target",
         case.name,
         distance(rest.position, before.position)
     );

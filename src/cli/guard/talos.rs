@@ -10,11 +10,12 @@
 //!
 //! A frozen console still holds its connection: an operator that serves one client at a time
 //! does not answer the guard's, and nothing the guard can send reaches it. The guard then (and
-//! when a signal ends it, the console perhaps alive) sends only a handshake and waits [`SERVED_WITHIN`] for its answer; the stop set goes out only on a
-//! connection the operator serves (one that takes several clients), so no stop is left queued
-//! in the operator to land later, at a moment nobody chose. Unanswered, the stop is reported as
-//! failed: a go-to, home or step runs on to its end; a continuous jog stops at the operator's
-//! 500 ms watchdog, the frozen console refreshing nothing.
+//! when a signal ends it, the console perhaps alive) sends only a handshake and waits
+//! [`SERVED_WITHIN`] for its answer; the stop set goes out only on a connection the operator
+//! serves (one that takes several clients), so no stop is left queued in the operator to land
+//! later, at a moment nobody chose. Unanswered, the stop is reported as failed: a go-to, home
+//! or step runs on to its end; a continuous jog stops at the operator's 500 ms watchdog, the
+//! frozen console refreshing nothing.
 
 use std::time::Duration;
 
