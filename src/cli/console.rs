@@ -190,8 +190,8 @@ pub async fn run_console(args: &ConsoleArgs, arm_name: Option<String>) -> i32 {
         // block by block from the start rather than learn it from a refused read.
         modbus.plan = PollPlan::IcdBlocks;
     }
-    // The built-in simulated arm dies with the console; a real arm over Modbus needs the guard
-    // (this same binary) to stop it if the console is killed.
+    // The built-in simulated arm dies with the console; a real arm, over either link, needs the
+    // guard (this same binary) to stop it if the console is killed.
     driver.guard = match &simulator {
         Some(_) => GuardPolicy::NotNeeded,
         None => GuardPolicy::Spawn(std::env::current_exe().unwrap_or_else(|e| {

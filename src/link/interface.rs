@@ -204,15 +204,15 @@ pub enum Traffic {
     Modbus(Vec<Write>),
 }
 
-/// The stop guard: a separate process with its own Modbus connection that stops the arm when the
-/// console dies (see [`crate::link::guard`]). Sent only when a guard is required.
+/// The stop guard: a separate process that stops the arm on every link when the console dies
+/// (see [`crate::link::guard`]). Sent only when a guard is required (a real arm).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum GuardStatus {
-    /// Started, not yet connected to the arm: Modbus motion is refused.
+    /// Started, not yet ready (over Modbus: not yet connected): motion is refused.
     Starting,
-    /// Connected and watching the console.
+    /// Watching the console, able to stop the arm.
     Ready { pid: u32 },
-    /// Not running, or cut off from the arm: Modbus motion is refused and any is stopped.
+    /// Not running, or cut off from the arm: motion is refused and any is stopped.
     Down { reason: String },
 }
 

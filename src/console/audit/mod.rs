@@ -142,7 +142,7 @@ pub enum AuditEvent {
     StopUnconfirmed {
         reason: String,
     },
-    /// The stop guard went down: Modbus motion is refused until it is back.
+    /// The stop guard went down: motion is refused until it is back.
     GuardDown {
         reason: String,
     },

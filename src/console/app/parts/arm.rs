@@ -25,7 +25,7 @@ pub(in crate::console::app) struct Arm {
     latency: Option<Duration>,
     speed: Option<u8>,
     frame: ReferenceFrame,
-    /// The stop guard's state, once the driver says one is required (Modbus motion).
+    /// The stop guard's state, once the driver says one is required (a real arm).
     guard: Option<GuardStatus>,
     /// The last 30 s of telemetry, for the history panel.
     history: History,
