@@ -5,7 +5,9 @@ use std::time::Instant;
 
 use super::message::Until;
 use super::{App, Effect, Overlay, Severity};
-use crate::link::interface::{ArmEvent, CommandKind, GuardStatus, LinkStatus};
+use crate::link::interface::{
+    ArmCommand, ArmError, ArmEvent, CommandKind, GuardStatus, LinkStatus,
+};
 
 impl App {
     pub(super) fn on_arm(&mut self, event: ArmEvent, now: Instant, effects: &mut Vec<Effect>) {
@@ -47,6 +49,10 @@ impl App {
             }
             ArmEvent::Notice(text) => self.say(text, Severity::Warning, now),
             ArmEvent::Log(entry) => self.screen.on_log(entry),
+            ArmEvent::Failed {
+                error: error @ ArmError::GuardStoppedArm(_),
+                ..
+            } => self.on_guard_stopped(&error, now, effects),
             ArmEvent::Failed { command, error } => {
                 // A jog the arm did not take must not be left to the watchdog: stop and latch
                 // the held keys, so only a new press moves again.
@@ -96,5 +102,32 @@ impl App {
             // Evidence only: see `truth_on_arm`.
             ArmEvent::StopConfirmed | ArmEvent::StopUnconfirmed { .. } => {}
         }
+    }
+
+    /// The stop guard stopped the arm. The driver reports it as a failed jog (the held keys are
+    /// latched as for one), whatever ran: the line names what it stopped, the tracked action
+    /// (`go to 'bench' stopped: the stop guard stopped the arm: ...`), a jog or nothing, and the
+    /// action is forgotten, so the arm's abort that follows is not said again as its failure. A
+    /// STOP of our own confirms the end of what was ours.
+    fn on_guard_stopped(&mut self, error: &ArmError, now: Instant, effects: &mut Vec<Effect>) {
+        let jogging = self.keys.jog().is_jogging();
+        self.stop_jog(now, effects);
+        let stopped = match self.truth.action() {
+            Some(action) => Some(action.kind.verb()),
+            None => jogging.then(|| "jog".to_string()),
+        };
+        self.truth.forget_action();
+        if stopped.is_some()
+            && !effects
+                .iter()
+                .any(|e| matches!(e, Effect::Arm(c) if c.is_stop()))
+        {
+            effects.push(Effect::Arm(ArmCommand::Stop));
+        }
+        let text = match stopped {
+            Some(what) => format!("{what} stopped: {error}"),
+            None => error.to_string(),
+        };
+        self.say(text, Severity::Error, now);
     }
 }

@@ -5,6 +5,7 @@ mod book_load;
 mod cap_watch;
 mod form_keys;
 mod goto_end;
+mod guard_stops;
 mod history;
 mod jog_keys;
 mod messages;

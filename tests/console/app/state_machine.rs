@@ -166,7 +166,7 @@ fn a_failed_jog_stops_and_forgets_the_held_keys() {
 }
 
 #[test]
-fn the_guard_stopping_the_arm_counts_as_a_failed_jog() {
+fn the_guard_stopping_the_arm_stops_the_jog_as_a_failed_jog_does() {
     let (mut app, t0) = app(ReleaseMode::Reported, false);
     press(&mut app, "w", t0);
     let stopped = Input::Arm(ArmEvent::Failed {
@@ -181,7 +181,7 @@ fn the_guard_stopping_the_arm_counts_as_a_failed_jog() {
     let said = app.message().map(|m| m.0);
     assert_eq!(
         said,
-        Some("jog failed: the stop guard stopped the arm: no heartbeat for 500 ms")
+        Some("jog stopped: the stop guard stopped the arm: no heartbeat for 500 ms")
     );
 }
 
