@@ -232,10 +232,10 @@ async fn status_exit_codes() {
 #[tokio::test]
 async fn modbus_commands_write_their_sequences() {
     let arm = FakeArm::start().await;
-    // A start is capped at 250 mm/s: limits already at 0.25 m/s need no write.
+    // A start is capped at 250 mm/s and 30 deg/s: limits already there need no write.
     arm.with(|s| {
         s.set_holding_f32(104, 0.25);
-        s.set_holding_f32(106, 100.0);
+        s.set_holding_f32(106, 30.0);
     });
     let addr = arm.addr();
     for args in [
@@ -549,9 +549,12 @@ mod home {
 
     #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
     async fn home_no_wait_returns_while_the_arm_still_moves() {
-        let sim = sim(away()).await;
+        let mut arm = away();
+        arm.set_speed_limits(0.5, 30.0).expect("valid limits");
+        let sim = sim(arm).await;
         let started = Instant::now();
-        // The simulator's 0.5 m/s limit keeps a 500 mm/s cap: nothing needs lowering.
+        // Limits of 0.5 m/s and 30 deg/s keep a 500 mm/s cap and its turn rate: nothing needs
+        // lowering.
         let run = armjog(&[
             "modbus",
             "--modbus",

@@ -8,24 +8,27 @@ use clap::Args;
 
 use super::{EXIT_EXCEPTION, ModbusArgs, ModbusCommand, render};
 use crate::cli::Outcome;
-use crate::kortex::commands::MAX_ANGULAR_SPEED;
 use crate::kortex::{Progress, SpeedLimits, Stored, StoredRun, Telemetry, fault_reason};
 use crate::link::ModbusLink;
+use crate::link::driver::move_cap_at;
 use crate::link::modbus::ModbusError;
 
 /// How a stored motion is waited for and capped.
 #[derive(Debug, Clone, Args)]
 pub struct StoredOptions {
     /// Return once it is started, without waiting for its end. Nothing is left to put the arm's
-    /// speed limit back then: it is lowered to --max-jog-speed (if above) and stays so.
+    /// speed limits back then, so neither is lowered: the run is refused (exit 1) when the
+    /// arm's linear limit is above --max-jog-speed or its angular limit above the turn rate
+    /// (30 deg/s).
     #[arg(long)]
     pub no_wait: bool,
     /// Longest wait for the end, seconds: past it the motion is stopped and the exit status
     /// is 1.
     #[arg(long, default_value_t = 60.0, value_name = "S")]
     pub wait_timeout: f64,
-    /// The tool speed cap, mm/s (the console's): the arm's linear speed limit is lowered to it
-    /// (never raised) while the motion runs and put back at its end.
+    /// The tool speed cap, mm/s (the console's): while the motion runs the arm's linear speed
+    /// limit is lowered to it and its angular limit to the turn rate (30 deg/s, the console's
+    /// at 100 %), never raised, and both are put back at its end.
     #[arg(long, default_value_t = 250.0, value_name = "MM_S", value_parser = crate::cli::values::tool_speed)]
     pub max_jog_speed: f64,
 }
@@ -42,15 +45,16 @@ impl StoredOptions {
         Ok(())
     }
 
-    /// The cap as the arm's limits for the run: the linear one at --max-jog-speed, m/s; the
-    /// angular one left as the arm has it (the hard limit never lowers it).
+    /// The cap as the arm's limits for the run (m/s, deg/s): the one speed rule's for a move
+    /// the arm plans itself, at full speed of --max-jog-speed (these commands have no speed
+    /// setting), as the console's capped moves take it at the speed in force.
     pub fn cap(&self) -> SpeedLimits {
-        SpeedLimits {
-            linear: (self.max_jog_speed / 1000.0) as f32,
-            angular: MAX_ANGULAR_SPEED,
-        }
+        move_cap_at(self.max_jog_speed / 1000.0, FULL_SPEED)
     }
 }
+
+/// The percentage of --max-jog-speed a run is capped at: all of it.
+const FULL_SPEED: u8 = 100;
 
 /// How often the end is polled.
 const POLL: Duration = Duration::from_millis(100);
@@ -148,8 +152,8 @@ pub(super) async fn run(
     }
 }
 
-/// `--no-wait`: nothing will watch the run end to put a lowered limit back, so the run starts
-/// only when the arm's own limit already keeps it within the cap.
+/// `--no-wait`: nothing will watch the run end to put lowered limits back, so the run starts
+/// only when the arm's own limits already keep it within the cap and its turn rate.
 async fn start_unwatched(
     args: &ModbusArgs,
     link: &ModbusLink,
@@ -157,7 +161,7 @@ async fn start_unwatched(
     options: &StoredOptions,
     t: &Telemetry,
 ) -> Outcome {
-    let cap = options.cap().linear;
+    let cap = options.cap();
     let in_force = t.speed_limits;
     let valid = |v: f32| v.is_finite() && v > 0.0;
     if !(valid(in_force.linear) && valid(in_force.angular)) {
@@ -166,17 +170,30 @@ async fn start_unwatched(
             angular: in_force.angular,
         });
     }
-    // The arm's own limits belong to the integrator: a run is capped by lowering the limit only
-    // while something waits to put it back. Nothing would here, so a limit above the cap refuses
-    // the run rather than rewrite the limit for good or run it over the cap.
-    if in_force.linear > cap {
+    // The arm's own limits belong to the integrator: a run is capped by lowering the limits only
+    // while something waits to put them back. Nothing would here, so a limit above the cap
+    // refuses the run rather than rewrite the limit for good or run it over the cap.
+    let over = if in_force.linear > cap.linear {
+        Some(format!(
+            "linear limit is {} m/s, over the {} m/s cap",
+            in_force.linear, cap.linear
+        ))
+    } else if in_force.angular > cap.angular {
+        Some(format!(
+            "angular limit is {} deg/s, over the {} deg/s turn rate",
+            in_force.angular, cap.angular
+        ))
+    } else {
+        None
+    };
+    if let Some(over) = over {
         return Outcome {
             stdout: Vec::new(),
             stderr: Some(format!(
-                "{} not started: the arm's linear limit is {} m/s, over the {cap} m/s cap, and \
-                 with --no-wait nothing is left to lower it for the run and put it back; drop \
-                 --no-wait (the command then waits for the end)",
-                named.stored, in_force.linear
+                "{} not started: the arm's {over}, and with --no-wait nothing is left to lower \
+                 it for the run and put it back; drop --no-wait (the command then waits for the \
+                 end)",
+                named.stored
             )),
             exit_code: 1,
         };
