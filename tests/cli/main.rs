@@ -37,4 +37,5 @@ mod send;
 mod sim_args_near_limit;
 mod sim_args_near_singularity;
 mod stored;
+mod stored_limits;
 mod version;
