@@ -78,6 +78,7 @@ impl Scene {
                 frames: false,
                 simulated: false,
                 arm_name: None,
+                home_action: None,
             },
             PositionBook::new(),
         );

@@ -108,6 +108,7 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
     };
     let frames = setup.driver.modbus.is_some() && setup.driver.talos.is_none();
     let positions_on_operator = setup.driver.positions_on_operator();
+    let home_action = setup.driver.modbus_home();
     let max_jog_speed = setup.driver.max_jog_speed;
     let joint_jog_speed = setup.driver.joint_jog_speed;
     let arm = setup.driver.target();
@@ -139,6 +140,7 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
                 frames,
                 simulated: setup.simulated,
                 arm_name: setup.arm_name.clone(),
+                home_action,
             };
             let audit = AuditSession::start(&config, arm, setup.arm_name, audit::audit_dir());
             let parts = LoopParts {

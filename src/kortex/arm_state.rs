@@ -1,8 +1,10 @@
 //! What telemetry says about the arm, for the console, its audit and `armjog modbus home`: at
-//! rest or not, why an action aborted, whether the arm is in fault. Pure.
+//! rest or not, why an action aborted, whether the arm is in fault, whether its action status
+//! names another move than ours. Pure.
 
 use super::gen3::JOINT_LIMITS_DEG;
-use super::{Coded, Flag, RobotState, Telemetry};
+use super::telemetry::ActionState;
+use super::{CodeName, Coded, Flag, MoveType, RobotState, Telemetry};
 
 /// Below these the arm is at rest.
 pub const REST_JOINT_DEG_S: f32 = 0.5;
@@ -65,4 +67,96 @@ pub fn fault_reason(t: &Telemetry) -> Option<String> {
     } else {
         format!("the arm is in fault: {}", names.join(", "))
     })
+}
+
+/// Our move, as the action status (holding registers 100-102) names it: its move type and, for a
+/// stored action or sequence, its id (a cartesian trajectory or a twist carries none).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct OurMove {
+    pub move_type: MoveType,
+    pub id: Option<u16>,
+}
+
+impl OurMove {
+    /// What the action status names when it is not our move (another client's: a second console,
+    /// the Web App, `armjog modbus action`), in words: `the arm runs action 5, not our action 2`.
+    /// `None` while it names ours, or a move type the ICD does not list. The one reading of "not
+    /// ours" for a go-to, home and a stored run; when a read may still describe an earlier move
+    /// is the caller's.
+    pub fn other_in(&self, status: &ActionState) -> Option<String> {
+        let Coded::Known(theirs) = status.move_type else {
+            return None;
+        };
+        let ours = theirs == self.move_type && self.id.is_none_or(|id| id == status.id);
+        (!ours).then(|| {
+            format!(
+                "the arm runs {}, not our {}",
+                move_words(theirs, Some(status.id)),
+                move_words(self.move_type, self.id)
+            )
+        })
+    }
+}
+
+/// `action 5`, `sequence 1`, `cartesian trajectory`, `twist`.
+fn move_words(move_type: MoveType, id: Option<u16>) -> String {
+    match (move_type, id) {
+        (MoveType::Action | MoveType::Sequence, Some(id)) => format!("{} {id}", move_type.key()),
+        (other, _) => other.key().replace('_', " "),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kortex::ActionStatus;
+
+    fn status(move_type: MoveType, id: u16) -> ActionState {
+        ActionState {
+            status: Coded::Known(ActionStatus::Started),
+            id,
+            move_type: Coded::Known(move_type),
+        }
+    }
+
+    #[test]
+    fn another_move_is_named_by_its_type_and_a_stored_ones_id() {
+        let action_2 = OurMove {
+            move_type: MoveType::Action,
+            id: Some(2),
+        };
+        assert_eq!(action_2.other_in(&status(MoveType::Action, 2)), None);
+        assert_eq!(
+            action_2.other_in(&status(MoveType::Action, 5)).as_deref(),
+            Some("the arm runs action 5, not our action 2")
+        );
+        // A sequence of the same id is another move.
+        assert_eq!(
+            action_2.other_in(&status(MoveType::Sequence, 2)).as_deref(),
+            Some("the arm runs sequence 2, not our action 2")
+        );
+        assert_eq!(
+            action_2.other_in(&status(MoveType::Twist, 0)).as_deref(),
+            Some("the arm runs twist, not our action 2")
+        );
+        let go_to = OurMove {
+            move_type: MoveType::CartesianTrajectory,
+            id: None,
+        };
+        // A trajectory carries no id: any id is ours.
+        assert_eq!(
+            go_to.other_in(&status(MoveType::CartesianTrajectory, 9)),
+            None
+        );
+        assert_eq!(
+            go_to.other_in(&status(MoveType::Action, 5)).as_deref(),
+            Some("the arm runs action 5, not our cartesian trajectory")
+        );
+        // A move type the ICD does not list names nothing.
+        let unknown = ActionState {
+            move_type: Coded::Unknown(9),
+            ..status(MoveType::Action, 5)
+        };
+        assert_eq!(action_2.other_in(&unknown), None);
+    }
 }

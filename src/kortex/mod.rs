@@ -25,7 +25,7 @@ pub mod stored_run;
 pub mod telemetry;
 pub mod words;
 
-pub use arm_state::{abort_reason, at_rest, fault_reason};
+pub use arm_state::{OurMove, abort_reason, at_rest, fault_reason};
 pub use cartesian::{Axis, Pose, Twist, Wrench};
 pub use codes::{
     ActionCommand, ActionStatus, CodeName, Coded, ControlCoil, MoveType, ReferenceFrame, RobotState,

@@ -5,12 +5,14 @@
 //! whoever started it. A run is the caller's once they name its id and move type; right after
 //! the start they may still describe an earlier run of the same one, so a "completed" or
 //! "aborted" counts only after the run was seen started or [`STATUS_GRACE`] has passed. An arm
-//! that shows neither the run nor its refusal within [`START_LIMIT`] did not take it.
+//! that shows neither the run nor its refusal within [`START_LIMIT`] did not take it. Once the
+//! run was seen started, a status naming another move ([`OurMove::other_in`]) is another
+//! client's that replaced it.
 
 use std::fmt;
 use std::time::Duration;
 
-use super::arm_state::{abort_reason, at_rest, fault_reason};
+use super::arm_state::{OurMove, abort_reason, at_rest, fault_reason};
 use super::codes::{ActionStatus, Coded, MoveType};
 use super::commands::StoredMotion;
 use super::telemetry::Telemetry;
@@ -45,6 +47,16 @@ pub struct Stored {
     pub id: u16,
 }
 
+impl Stored {
+    /// The run as the action status names it: its move type and id.
+    pub fn as_our_move(&self) -> OurMove {
+        OurMove {
+            move_type: self.motion.move_type(),
+            id: Some(self.id),
+        }
+    }
+}
+
 impl fmt::Display for Stored {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{} {}", self.motion.name(), self.id)
@@ -70,6 +82,9 @@ pub enum Progress {
     /// The arm did not take the run: it refused it at once, or reports something else after
     /// [`START_LIMIT`]. The reason says which.
     NotTaken(String),
+    /// After the run was seen started the status names another move: another client's replaced
+    /// it (`the arm runs action 5, not our action 2`). Never the run's end.
+    OtherMove(String),
 }
 
 impl Progress {
@@ -106,6 +121,11 @@ impl StoredRun {
     pub fn observe(&mut self, t: &Telemetry, elapsed: Duration) -> Progress {
         if let Some(fault) = fault_reason(t) {
             return Progress::Fault(fault);
+        }
+        if self.seen_started
+            && let Some(other) = self.stored.as_our_move().other_in(&t.action)
+        {
+            return Progress::OtherMove(other);
         }
         let ours = t.action.id == self.stored.id
             && t.action.move_type == Coded::Known(self.stored.motion.move_type());

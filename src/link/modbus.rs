@@ -31,7 +31,8 @@ use tokio::sync::{mpsc, oneshot, watch};
 
 use crate::kortex::commands::{self, StoredMotion, Write};
 use crate::kortex::{
-    ControlCoil, PolarPanSettings, PollPlan, Pose, ReferenceFrame, SpeedLimits, Telemetry, Twist,
+    ControlCoil, PolarPanSettings, PollPlan, Pose, ReferenceFrame, SpeedLimits, Stored, Telemetry,
+    Twist,
 };
 use crate::net::ConnectError;
 
@@ -78,6 +79,14 @@ impl ModbusConfig {
             polar: PolarPanSettings::default(),
             plan: PollPlan::Compact,
             home_action_id: DEFAULT_HOME_ACTION_ID,
+        }
+    }
+
+    /// Home over Modbus: the stored action of the home id.
+    pub fn home_action(&self) -> Stored {
+        Stored {
+            motion: StoredMotion::Action,
+            id: self.home_action_id,
         }
     }
 }

@@ -24,6 +24,7 @@ pub fn config() -> AppConfig {
         frames: false,
         simulated: false,
         arm_name: None,
+        home_action: None,
     }
 }
 

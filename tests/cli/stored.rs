@@ -197,6 +197,39 @@ async fn a_stop_from_another_client_during_a_sequence_exits_1() {
     );
 }
 
+/// Another client's action replaces ours mid-run: the status names action 4, not our sequence
+/// 1. It is not our run's end, nor an id the arm "did not take".
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn another_clients_action_during_a_sequence_exits_1_naming_it() {
+    let sim = sim(slow_at_zero()).await;
+    let child = spawn(&["modbus", "--modbus", &addr(&sim), "sequence", "--id", "1"]);
+    until_moving(&sim).await;
+    tokio::time::sleep(Duration::from_secs(2)).await;
+    let config = armjog::link::ModbusConfig::new(addr(&sim));
+    let (other, _events) = armjog::link::ModbusLink::connect(config)
+        .await
+        .expect("second client");
+    other
+        .start_stored(4, armjog::kortex::StoredMotion::Action)
+        .await
+        .expect("action 4 started");
+    let out = tokio::time::timeout(Duration::from_secs(20), child.wait_with_output())
+        .await
+        .expect("returns after the other move")
+        .expect("output");
+    let (stdout, stderr) = text(&out);
+    assert_eq!(out.status.code(), Some(1), "{stdout}{stderr}");
+    assert!(
+        stderr.contains(
+            "sequence 1 failed: MOVED BY ANOTHER CLIENT: the arm runs action 4, not our \
+             sequence 1"
+        ),
+        "{stderr}"
+    );
+    assert!(!stdout.contains("completed"), "{stdout}");
+    drop(other);
+}
+
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_fault_during_an_action_exits_1() {
     let sim = sim(slow_at_zero()).await;

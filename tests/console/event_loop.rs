@@ -27,6 +27,7 @@ pub fn app_for(config: &DriverConfig, book: PositionBook) -> App {
             frames: config.talos.is_none(),
             simulated: false,
             arm_name: None,
+            home_action: config.modbus_home(),
         },
         book,
     )

@@ -345,6 +345,7 @@ fn the_status_bar_shows_the_jog_speed_from_the_cap_and_the_percent() {
             frames: true,
             simulated: false,
             arm_name: None,
+            home_action: None,
         },
         PositionBook::new(),
     );

@@ -93,6 +93,10 @@ impl Named {
             Progress::Aborted(why) | Progress::NotTaken(why) | Progress::Fault(why) => {
                 Some(self.failed(why))
             }
+            // `action 5 failed: MOVED BY ANOTHER CLIENT: the arm runs action 3, not our action 5`
+            Progress::OtherMove(which) => {
+                Some(self.failed(&format!("MOVED BY ANOTHER CLIENT: {which}")))
+            }
             Progress::Pending | Progress::Started | Progress::Running | Progress::Completed => None,
         }
     }

@@ -78,6 +78,7 @@ use super::jog::{KeyKind, ReleaseMode};
 use super::keymap::{KeyName, Keymap};
 use super::positions::PositionBook;
 
+use crate::kortex::Stored;
 use crate::link::interface::{ArmCommand, ArmEvent, PositionCoordinates};
 
 /// Below this the status bar cannot be shown: motion stops and the screen says so.
@@ -210,6 +211,10 @@ pub struct AppConfig {
     pub simulated: bool,
     /// The arm profile (`--arm NAME`) the console was opened with, for the status bar.
     pub arm_name: Option<String>,
+    /// The stored action Home runs as when the Modbus link runs it
+    /// (`DriverConfig::modbus_home`): its end is followed by its id, as `A`'s is, so another
+    /// client's move under it is never home done. `None` when a Talos operator's Home runs it.
+    pub home_action: Option<Stored>,
 }
 
 #[cfg(test)]
@@ -229,6 +234,7 @@ impl AppConfig {
             frames: false,
             simulated: false,
             arm_name: None,
+            home_action: None,
         }
     }
 }

@@ -36,7 +36,7 @@ use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
 use crate::console::jog::JogMotion;
-use crate::kortex::{MoveType, Stored, StoredRun};
+use crate::kortex::{OurMove, Stored, StoredRun};
 use crate::link::interface::{ArmCommand, CommandKind, TelemetrySource};
 
 /// Silence after which a link is stale and telemetry is drawn as old.
@@ -71,7 +71,8 @@ pub enum ActionKind {
 /// kind and id.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum StoredAction {
-    /// The Talos Home command, or over Modbus the home action's id (which the driver knows).
+    /// The Talos Home command, or over Modbus the home action's id (`AppConfig::home_action`:
+    /// its run is then followed by id as `ById`'s is).
     Home,
     ById(Stored),
 }
@@ -152,9 +153,9 @@ pub struct TrackedAction {
     accepted: Option<Instant>,
     /// Where a go-to must end: done only at rest there (see `target`).
     target: Option<GoToTarget>,
-    /// The move type the arm's action status shows for our go-to (over Modbus, a cartesian
-    /// trajectory); another one is another client's move.
-    move_type: Option<MoveType>,
+    /// Our go-to as the arm's action status shows it (over Modbus, a cartesian trajectory);
+    /// another move is another client's.
+    move_type: Option<OurMove>,
     /// The status has shown `move_type` started since it was sent.
     seen_ours: bool,
     /// Joint positions when it was sent, to see it moved even between two polls.

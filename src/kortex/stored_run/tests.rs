@@ -143,3 +143,30 @@ fn a_fault_ends_the_run_at_any_time() {
         other => panic!("{other:?}"),
     }
 }
+
+#[test]
+fn another_move_after_ours_started_is_another_clients_whenever_it_comes() {
+    let mut run = sequence(1);
+    assert_eq!(
+        run.observe(&poll(0, 1, 1, true), MS(100)),
+        Progress::Started
+    );
+    // Seconds into the run, well past the start limit: still not "did not take".
+    assert_eq!(
+        run.observe(&poll(0, 5, 0, true), Duration::from_secs(30)),
+        Progress::OtherMove("the arm runs action 5, not our sequence 1".into())
+    );
+    // Within the first moments too, once ours was seen: a twist (move type 3) from elsewhere.
+    let mut run = sequence(1);
+    run.observe(&poll(0, 1, 1, true), MS(100));
+    assert_eq!(
+        run.observe(&poll(0, 0, 3, true), MS(200)),
+        Progress::OtherMove("the arm runs twist, not our sequence 1".into())
+    );
+    // Before ours was seen the status may still be an earlier run's: not another client's.
+    let mut run = sequence(1);
+    assert_eq!(
+        run.observe(&poll(0, 5, 0, true), MS(600)),
+        Progress::Pending
+    );
+}

@@ -37,6 +37,7 @@ use super::guard::GuardPolicy;
 use super::interface::{ArmCommand, ArmEvent, TelemetrySource};
 use super::modbus::ModbusConfig;
 use super::talos::TalosConfig;
+use crate::kortex::Stored;
 
 /// The latest joint positions (deg) from whichever telemetry the driver has: a joint jog's
 /// command carries the joint's last reported position, and none is sent before one is known.
@@ -74,6 +75,15 @@ impl DriverConfig {
             hw_telemetry_hz: 10.0,
             oid: 0,
             guard: GuardPolicy::NotNeeded,
+        }
+    }
+
+    /// The stored action Home runs as, when the Modbus link runs it: with no Talos link (a Talos
+    /// link takes Home: `TalosSide::handles`). `None` when the operator's Home runs it.
+    pub fn modbus_home(&self) -> Option<Stored> {
+        match (&self.talos, &self.modbus) {
+            (None, Some(modbus)) => Some(modbus.home_action()),
+            _ => None,
         }
     }
 

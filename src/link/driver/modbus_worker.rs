@@ -8,9 +8,7 @@ use tokio::task::JoinHandle;
 
 use super::speed::{SpeedInForce, is_settable, move_cap_at, tool_speed_at, turn_rate_at};
 use super::{DriverConfig, JointPositions};
-use crate::kortex::{
-    PolarPanSettings, Pose, ReferenceFrame, SpeedLimits, Stored, StoredMotion, Twist,
-};
+use crate::kortex::{PolarPanSettings, Pose, ReferenceFrame, SpeedLimits, Stored, Twist};
 use crate::link::interface::{
     ArmCommand, ArmError, ArmEvent, JogMotion, LogEntry, StepMove, Traffic,
 };
@@ -224,13 +222,7 @@ impl State {
             // and the turn rate for the move and restores them afterwards (a twist servo would leave the arm's own
             // trajectory planning, and its final accuracy, behind).
             // Home is the stored action of the configured id, on the one path of them all.
-            ArmCommand::Home => {
-                let home = Stored {
-                    motion: StoredMotion::Action,
-                    id: self.link.config().home_action_id,
-                };
-                wrap(self.start_stored(home).await)
-            }
+            ArmCommand::Home => wrap(self.start_stored(self.link.config().home_action()).await),
             ArmCommand::StartStored(stored) => wrap(self.start_stored(*stored).await),
             ArmCommand::MoveToPose(pose) => wrap(
                 self.link

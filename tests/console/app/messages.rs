@@ -33,6 +33,7 @@ fn app_before_link(source: TelemetrySource) -> (App, Instant) {
         frames: source == TelemetrySource::Modbus,
         simulated: false,
         arm_name: None,
+        home_action: None,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();

@@ -22,5 +22,6 @@ mod positions_shared;
 mod positions_unsaved;
 mod singularity;
 mod state_machine;
-mod stored_actions;
+pub(crate) mod stored_actions;
+mod stored_not_ours;
 pub(crate) mod tours;

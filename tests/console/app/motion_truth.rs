@@ -38,6 +38,7 @@ fn app(source: TelemetrySource) -> (App, Instant) {
         frames: over_modbus,
         simulated: false,
         arm_name: None,
+        home_action: None,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();

@@ -21,7 +21,7 @@ use crate::app_support::{config, message, ms, press, row, screen};
 
 const STOP: Effect = Effect::Arm(ArmCommand::Stop);
 
-const ACTION_5: Stored = Stored {
+pub(crate) const ACTION_5: Stored = Stored {
     motion: StoredMotion::Action,
     id: 5,
 };
@@ -32,7 +32,7 @@ const SEQUENCE_1: Stored = Stored {
 
 /// A console on a 100x30 terminal whose driver said which telemetry comes, link up, at `t0`,
 /// and (with telemetry) a ready arm at rest that last completed action 2 (home).
-fn console(source: TelemetrySource) -> (App, Instant) {
+pub(crate) fn console(source: TelemetrySource) -> (App, Instant) {
     let modbus = source == TelemetrySource::Modbus;
     let config = AppConfig {
         keymap: Keymap::builtin("default").expect("default keymap").into(),
@@ -40,6 +40,11 @@ fn console(source: TelemetrySource) -> (App, Instant) {
         frames: modbus,
         ..config()
     };
+    console_with(config, source)
+}
+
+/// [`console`] with `config`.
+pub(crate) fn console_with(config: AppConfig, source: TelemetrySource) -> (App, Instant) {
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();
     for event in [
@@ -70,7 +75,12 @@ fn console(source: TelemetrySource) -> (App, Instant) {
 
 /// The arm at rest (or turning every joint at `velocity` deg/s), its status registers
 /// reporting run `id` of `move_type` as `status`.
-fn last_run(id: u16, move_type: MoveType, status: ActionStatus, velocity: f32) -> Telemetry {
+pub(crate) fn last_run(
+    id: u16,
+    move_type: MoveType,
+    status: ActionStatus,
+    velocity: f32,
+) -> Telemetry {
     let action = ActionState {
         status: Coded::Known(status),
         id,
@@ -79,7 +89,7 @@ fn last_run(id: u16, move_type: MoveType, status: ActionStatus, velocity: f32) -
     crate::app_support::arm_telemetry(crate::app_support::HOME_JOINTS, velocity, action)
 }
 
-fn running(stored: Stored, velocity: f32) -> Telemetry {
+pub(crate) fn running(stored: Stored, velocity: f32) -> Telemetry {
     last_run(
         stored.id,
         move_type(stored),
@@ -95,7 +105,7 @@ fn move_type(stored: Stored) -> MoveType {
     }
 }
 
-fn feed(app: &mut App, t: Telemetry, now: Instant) -> Vec<Effect> {
+pub(crate) fn feed(app: &mut App, t: Telemetry, now: Instant) -> Vec<Effect> {
     app.handle(Input::Arm(ArmEvent::Telemetry(Box::new(t))), now)
 }
 
@@ -112,7 +122,7 @@ fn form_error(app: &App) -> Option<String> {
     }
 }
 
-fn moving(label: &str) -> MotionShown {
+pub(crate) fn moving(label: &str) -> MotionShown {
     MotionShown::Action {
         label: label.into(),
         confirmed: true,
@@ -121,7 +131,7 @@ fn moving(label: &str) -> MotionShown {
 
 /// `A`, the id typed, enter: the question, answered yes once it may be. Returns the effects of
 /// the yes; the link then reports the writes done.
-fn start(app: &mut App, id: &str, now: Instant) -> Vec<Effect> {
+pub(crate) fn start(app: &mut App, id: &str, now: Instant) -> Vec<Effect> {
     press(app, "A", now - QUESTION_QUIET - ms(10));
     typed(app, id, now - QUESTION_QUIET - ms(10));
     press(app, "enter", now - QUESTION_QUIET);

@@ -2,7 +2,9 @@
 //! against the simulator over Modbus on real sockets. `A`, the form, yes: Zero (action 5) and
 //! sequence 1 (Retract, then Home) show `MOVING: ...` until the arm reports them completed at
 //! rest, under the console's speed cap; an id the arm does not have fails within 2 s naming it;
-//! a key stops a run mid-way. Bounds are generous for a loaded 2-core CI.
+//! a key stops a run mid-way; another client's action under our home or action (a second Modbus
+//! client, as `armjog modbus action` is) stops the arm and is never said done. Bounds are
+//! generous for a loaded 2-core CI.
 
 use std::time::{Duration, Instant};
 
@@ -11,9 +13,10 @@ use tokio::sync::mpsc::UnboundedReceiver;
 use armjog::console::app::{App, Input, KeyInput, MotionShown, Overlay, QUESTION_QUIET};
 use armjog::console::jog::KeyKind;
 use armjog::console::positions::PositionBook;
-use armjog::link::ModbusConfig;
+use armjog::kortex::StoredMotion;
 use armjog::link::driver::{Driver, DriverConfig, tool_speed_at};
 use armjog::link::interface::{ArmEvent, LinkStatus};
+use armjog::link::{ModbusConfig, ModbusLink};
 use armjog::sim::arm_model::Arm;
 use armjog::sim::kinematics::to_radians;
 use armjog::sim::{SimConfig, Simulator};
@@ -29,6 +32,8 @@ struct Console {
     seen: Vec<MotionShown>,
     /// The highest tool speed the telemetry reported, m/s.
     peak_m_s: f64,
+    /// Every bottom-line message shown, in order.
+    said: Vec<String>,
 }
 
 impl Drives for Console {
@@ -51,6 +56,11 @@ impl Drives for Console {
         if self.seen.last() != Some(&shown) {
             self.seen.push(shown);
         }
+        if let Some((text, _)) = self.app.message()
+            && self.said.last().map(String::as_str) != Some(text)
+        {
+            self.said.push(text.to_string());
+        }
     }
 }
 
@@ -71,6 +81,7 @@ impl Console {
             sim,
             seen: Vec::new(),
             peak_m_s: 0.0,
+            said: Vec::new(),
         };
         console
             .run_until(Duration::from_secs(10), |c| {
@@ -251,4 +262,71 @@ async fn a_key_stops_a_stored_action_mid_way() {
         .await;
     assert!(!console.moving().await, "stopped on the arm");
     assert_eq!(*console.app.overlay(), Overlay::None);
+}
+
+/// Another client's action under ours: `h` (home, over Modbus alone the action of the home id,
+/// 2) or `A` action 5, from Zero's far side so it runs for seconds; once it is seen moving, a
+/// second Modbus client starts Retract (action 3), as `armjog modbus action --id 3` would. The
+/// console stops the arm and says so, naming both moves, and never says done.
+async fn another_clients_action_under(start: &str, ours: &str) {
+    let mut console = Console::start(Arm::at(to_radians(&[
+        40.0, 30.0, 40.0, 30.0, 40.0, 30.0, 40.0,
+    ])))
+    .await;
+    match start {
+        "h" => {
+            console.key("h", KeyKind::Press);
+            console
+                .run_for(QUESTION_QUIET + Duration::from_millis(20))
+                .await;
+            console.key("y", KeyKind::Press);
+        }
+        _ => console.run_stored("action", "5").await,
+    }
+    console
+        .run_until(Duration::from_secs(10), |c| {
+            matches!(c.app.motion_shown(), MotionShown::Action { .. })
+                && c.app
+                    .telemetry()
+                    .is_some_and(|t| t.joints.iter().any(|j| j.velocity.abs() > 1.0))
+        })
+        .await;
+    let addr = console.sim.modbus_addr.expect("modbus").to_string();
+    let (other, _events) = ModbusLink::connect(ModbusConfig::new(addr))
+        .await
+        .expect("second client");
+    other
+        .start_stored(3, StoredMotion::Action)
+        .await
+        .expect("action 3 started");
+    let not_done =
+        format!("{ours} not done: MOVED BY ANOTHER CLIENT: the arm runs action 3, not our ");
+    console
+        .run_until(Duration::from_secs(10), |c| {
+            message(c).starts_with(&not_done)
+        })
+        .await;
+    console
+        .run_until(Duration::from_secs(10), |c| {
+            c.app.motion_shown() == MotionShown::Idle
+        })
+        .await;
+    console.run_for(Duration::from_millis(500)).await;
+    assert!(!console.moving().await, "the arm stopped");
+    assert!(
+        !console.said.iter().any(|m| m.ends_with("done")),
+        "said done: {:?}",
+        console.said
+    );
+    drop(other);
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn another_clients_action_under_our_home_stops_the_arm_and_is_never_home_done() {
+    another_clients_action_under("h", "home").await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn another_clients_action_under_our_action_stops_the_arm_and_is_never_done() {
+    another_clients_action_under("A", "action 5").await;
 }

@@ -51,6 +51,7 @@ fn app_with(
         frames: !on_operator,
         simulated: false,
         arm_name: None,
+        home_action: None,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();
@@ -314,6 +315,7 @@ fn the_turn_keys_are_offered_until_the_driver_says_which_link_it_has() {
         frames: true,
         simulated: false,
         arm_name: None,
+        home_action: None,
     };
     let mut app = App::new(config, PositionBook::new());
     app.handle(

@@ -71,6 +71,7 @@ fn modbus_app() -> (App, Instant) {
         frames: true,
         simulated: false,
         arm_name: None,
+        home_action: None,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();

@@ -128,6 +128,7 @@ fn bare_app(mode: ReleaseMode, on_operator: bool) -> (App, Instant) {
         frames: !on_operator,
         simulated: false,
         arm_name: None,
+        home_action: None,
     };
     (App::new(config, PositionBook::new()), Instant::now())
 }

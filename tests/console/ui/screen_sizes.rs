@@ -115,6 +115,7 @@ fn live_app(mode: ReleaseMode, frames: bool) -> (App, Instant) {
         frames,
         simulated: false,
         arm_name: None,
+        home_action: None,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();

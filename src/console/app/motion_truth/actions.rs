@@ -117,6 +117,7 @@ fn run_end(progress: Progress) -> Option<End> {
             reason,
             fault: false,
         }),
+        Progress::OtherMove(evidence) => Some(End::MovedByAnotherClient(evidence)),
         Progress::Pending | Progress::Started | Progress::Running => None,
     }
 }

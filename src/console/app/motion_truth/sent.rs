@@ -9,7 +9,7 @@ use crate::console::app::age::age_text;
 use crate::console::app::message::Until;
 use crate::console::app::{App, Effect, Overlay, Severity};
 use crate::console::form::Confirm;
-use crate::kortex::{Flag, MoveType, StoredRun};
+use crate::kortex::{Flag, MoveType, OurMove, StoredRun};
 use crate::link::interface::ArmCommand;
 impl App {
     /// The name of the position a go-to question asks about, taken before the answer.
@@ -72,7 +72,10 @@ impl App {
         let (target, move_type) = match command {
             ArmCommand::MoveToPose(pose) => (
                 Some(GoToTarget::pose(*pose)),
-                Some(MoveType::CartesianTrajectory),
+                Some(OurMove {
+                    move_type: MoveType::CartesianTrajectory,
+                    id: None,
+                }),
             ),
             ArmCommand::GoToPosition { name } => (
                 self.book.positions().get(name).and_then(GoToTarget::book),
@@ -111,6 +114,9 @@ impl App {
         truth.action = kind.map(|kind| TrackedAction {
             run: match kind {
                 ActionKind::Stored(StoredAction::ById(stored)) => Some(StoredRun::new(stored)),
+                ActionKind::Stored(StoredAction::Home) => {
+                    self.config.home_action.map(StoredRun::new)
+                }
                 _ => None,
             },
             kind,

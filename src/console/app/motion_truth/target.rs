@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use super::{ACTION_GRACE, TrackedAction};
 use crate::console::positions::BookEntry;
-use crate::kortex::{ActionStatus, CodeName, Coded, MoveType, Pose, Telemetry};
+use crate::kortex::{ActionStatus, Coded, Pose, Telemetry};
 
 /// A go-to that ends farther than this from its target (mm) did not end where it was sent. A
 /// Gen3 repeats a pose to 0.1 mm and the book keeps tenths of a millimetre: 5 mm is far over
@@ -71,7 +71,7 @@ impl GoToTarget {
     }
 }
 
-/// The arm runs another move than ours: its move type is known and not ours, read after ours
+/// The arm runs another move than ours ([`crate::kortex::OurMove::other_in`]), read after ours
 /// was seen started or [`ACTION_GRACE`] after the link took our command (a read that soon may
 /// predate it). Says which move it runs.
 pub(super) fn foreign_move(
@@ -81,25 +81,12 @@ pub(super) fn foreign_move(
     now: Instant,
 ) -> Option<String> {
     let ours = action.move_type?;
-    let move_type = t.action.move_type;
-    if move_type == Coded::Known(ours) {
-        action.seen_ours |= t.action.status == Coded::Known(ActionStatus::Started);
-        return None;
-    }
-    let Coded::Known(theirs) = move_type else {
+    let Some(other) = ours.other_in(&t.action) else {
+        action.seen_ours |= t.action.move_type == Coded::Known(ours.move_type)
+            && t.action.status == Coded::Known(ActionStatus::Started);
         return None;
     };
-    if !(action.seen_ours || now >= accepted + ACTION_GRACE) {
-        return None;
-    }
-    let which = match theirs {
-        MoveType::Action | MoveType::Sequence => format!("{} {}", theirs.key(), t.action.id),
-        other => other.key().replace('_', " "),
-    };
-    Some(format!(
-        "the arm runs {which}, not our {}",
-        ours.key().replace('_', " ")
-    ))
+    (action.seen_ours || now >= accepted + ACTION_GRACE).then_some(other)
 }
 
 #[cfg(test)]
