@@ -108,6 +108,9 @@ pub enum ArmError {
     /// The stop guard stopped the arm (the console went quiet, or its link did).
     #[error("the stop guard stopped the arm: {0}")]
     GuardStoppedArm(String),
+    /// The stop guard tried to stop the arm and could not: the arm may still be moving.
+    #[error("the stop guard could NOT stop the arm, it may still be moving: {0}")]
+    GuardStopFailed(String),
     /// The Modbus link could not write a STOP: the arm may still move.
     #[error("STOP COULD NOT BE WRITTEN: {0}")]
     StopNotWritten(String),

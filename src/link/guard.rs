@@ -119,6 +119,10 @@ pub enum GuardReport {
     StoppedArm {
         reason: String,
     },
+    /// The guard tried to stop the arm on its own and could not: never said as a stop.
+    StopFailed {
+        reason: String,
+    },
 }
 
 impl GuardReport {
@@ -129,7 +133,9 @@ impl GuardReport {
     pub fn stops_motion(&self) -> bool {
         matches!(
             self,
-            GuardReport::Status(GuardStatus::Down { .. }) | GuardReport::StoppedArm { .. }
+            GuardReport::Status(GuardStatus::Down { .. })
+                | GuardReport::StoppedArm { .. }
+                | GuardReport::StopFailed { .. }
         )
     }
 
@@ -141,6 +147,10 @@ impl GuardReport {
             GuardReport::StoppedArm { reason } => ArmEvent::Failed {
                 command: CommandKind::Jog,
                 error: ArmError::GuardStoppedArm(reason),
+            },
+            GuardReport::StopFailed { reason } => ArmEvent::Failed {
+                command: CommandKind::Jog,
+                error: ArmError::GuardStopFailed(reason),
             },
         }
     }
@@ -348,8 +358,8 @@ fn on_line(line: &str, pid: u32, reporter: &Reporter) {
         }
         "stop-failed" => {
             tracing::error!("stop guard {pid} could not stop the arm: {rest}");
-            let _ = reporter.reports.send(GuardReport::StoppedArm {
-                reason: format!("its stop FAILED: {rest}"),
+            let _ = reporter.reports.send(GuardReport::StopFailed {
+                reason: rest.to_string(),
             });
         }
         _ => tracing::info!("stop guard {pid}: {line}"),
@@ -444,5 +454,17 @@ mod tests {
                 error: ArmError::GuardStoppedArm(reason),
             } if reason.contains("no heartbeat")
         ));
+        let failed = GuardReport::StopFailed {
+            reason: "not answered".into(),
+        };
+        assert!(failed.stops_motion());
+        let ArmEvent::Failed { command, error } = failed.into_event() else {
+            panic!("a failed jog");
+        };
+        assert_eq!(command, CommandKind::Jog);
+        assert_eq!(
+            error.to_string(),
+            "the stop guard could NOT stop the arm, it may still be moving: not answered"
+        );
     }
 }

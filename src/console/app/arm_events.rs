@@ -50,7 +50,7 @@ impl App {
             ArmEvent::Notice(text) => self.say(text, Severity::Warning, now),
             ArmEvent::Log(entry) => self.screen.on_log(entry),
             ArmEvent::Failed {
-                error: error @ ArmError::GuardStoppedArm(_),
+                error: error @ (ArmError::GuardStoppedArm(_) | ArmError::GuardStopFailed(_)),
                 ..
             } => self.on_guard_stopped(&error, now, effects),
             ArmEvent::Failed { command, error } => {
@@ -124,7 +124,10 @@ impl App {
         {
             effects.push(Effect::Arm(ArmCommand::Stop));
         }
+        // A stop the guard could not make is never said as one: the arm may still move.
+        let failed = matches!(error, ArmError::GuardStopFailed(_));
         let text = match stopped {
+            Some(what) if failed => format!("{what}: {error}; STOP sent"),
             Some(what) => format!("{what} stopped: {error}"),
             None => error.to_string(),
         };

@@ -36,7 +36,7 @@ pub(super) fn interruption(input: &Input) -> Option<String> {
         // Reported as a failed jog (it stops and latches held keys), but it ends a leg too:
         // `the stop guard stopped the arm: no heartbeat for 500 ms`.
         Input::Arm(ArmEvent::Failed {
-            error: error @ ArmError::GuardStoppedArm(_),
+            error: error @ (ArmError::GuardStoppedArm(_) | ArmError::GuardStopFailed(_)),
             ..
         }) => Some(error.to_string()),
         _ => None,

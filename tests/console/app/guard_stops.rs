@@ -103,3 +103,21 @@ fn a_guard_stop_with_nothing_running_says_the_guard_stopped_the_arm() {
     guard_stopped(&mut b);
     assert_eq!(b.message(), REASON);
 }
+
+#[test]
+fn a_guard_stop_that_failed_is_never_said_as_a_stop_and_our_stop_goes_out() {
+    let mut b = Bench::new(false);
+    start(&mut b, "o");
+    let effects = b.event(ArmEvent::Failed {
+        command: CommandKind::Jog,
+        error: ArmError::GuardStopFailed("the operator did not answer".into()),
+    });
+    assert!(effects.contains(&STOP), "{effects:?}");
+    assert!(no_motion(&effects), "{effects:?}");
+    assert_eq!(
+        b.message(),
+        "go to 'bench': the stop guard could NOT stop the arm, it may still be moving: the \
+         operator did not answer; STOP sent"
+    );
+    assert!(!b.message().contains("stopped"), "{}", b.message());
+}
