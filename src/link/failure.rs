@@ -1,6 +1,7 @@
-//! Why a command failed, typed: which kind of command ([`CommandKind`]) and what went wrong
-//! ([`ArmError`]), so the console decides by value what a failure means (a failed jog stops
-//! and latches the held keys) and shows the text only to people.
+//! Why a command failed, typed: which kind of command
+//! ([`CommandKind`](super::command_kind::CommandKind)) and what went wrong ([`ArmError`]), so
+//! the console decides by value what a failure means (a failed jog stops and latches the held
+//! keys) and shows the text only to people.
 
 use std::sync::Arc;
 
@@ -8,67 +9,6 @@ use super::modbus::ModbusError;
 use super::talos::TalosError;
 use crate::talos::ReturnCode;
 use crate::talos::hardware::HwError;
-
-/// What kind of command failed: an [`ArmCommand`](super::interface::ArmCommand)'s variant, or work
-/// the driver or a link does on its own behalf.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum CommandKind {
-    Jog,
-    Stop,
-    Step,
-    MoveToPose,
-    Home,
-    SetSpeed,
-    SetFrame,
-    QuickStop,
-    FaultReset,
-    SavePosition,
-    DeletePosition,
-    GoToPosition,
-    SetPolarPosition,
-    SetCartesianPosition,
-    GetPosition,
-    /// The Modbus link putting back the speed limits a capped move lowered.
-    RestoreSpeedLimits,
-    /// A stored action or sequence started by id.
-    StartStored,
-}
-
-impl CommandKind {
-    /// Words for the status line and the log: "jog", "go to position".
-    pub fn label(self) -> &'static str {
-        match self {
-            CommandKind::Jog => "jog",
-            CommandKind::Stop => "stop",
-            CommandKind::Step => "step",
-            CommandKind::MoveToPose => "move to pose",
-            CommandKind::Home => "home",
-            CommandKind::SetSpeed => "set speed",
-            CommandKind::SetFrame => "set frame",
-            CommandKind::QuickStop => "quick stop",
-            CommandKind::FaultReset => "fault reset",
-            CommandKind::SavePosition => "save position",
-            CommandKind::DeletePosition => "delete position",
-            CommandKind::GoToPosition => "go to position",
-            CommandKind::SetPolarPosition => "set polar position",
-            CommandKind::SetCartesianPosition => "set cartesian position",
-            CommandKind::GetPosition => "get position",
-            CommandKind::RestoreSpeedLimits => "restore speed limits",
-            CommandKind::StartStored => "stored action",
-        }
-    }
-
-    /// Whether this kind stops motion (a failure of it may leave the arm moving).
-    pub fn is_stop(self) -> bool {
-        matches!(self, CommandKind::Stop | CommandKind::QuickStop)
-    }
-}
-
-impl std::fmt::Display for CommandKind {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.label())
-    }
-}
 
 /// What went wrong carrying out a command. The link errors are kept whole (see [`Shared`]);
 /// the kinds the console or the driver act on are variants of their own.
@@ -183,7 +123,6 @@ mod tests {
             .to_string(),
             "speed 0 % is outside 1-100: 40 % stays in force"
         );
-        assert_eq!(CommandKind::GoToPosition.to_string(), "go to position");
         let lost = || TalosError::Disconnected {
             reason: "reset".into(),
         };
@@ -206,6 +145,5 @@ mod tests {
             ArmError::Encode(HwError::UnknownSubcommand(0x99)).to_string(),
             HwError::UnknownSubcommand(0x99).to_string()
         );
-        assert!(CommandKind::QuickStop.is_stop() && !CommandKind::Jog.is_stop());
     }
 }

@@ -7,7 +7,8 @@ use std::time::Duration;
 
 use crate::kortex::{Pose, ReferenceFrame, Stored, Telemetry, Write};
 
-pub use super::failure::{ArmError, CommandKind};
+pub use super::command_kind::{CommandClass, CommandKind};
+pub use super::failure::ArmError;
 
 /// A continuous motion (a jog): what the held keys ask for. Directions are -1, 0 or 1.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -95,22 +96,20 @@ pub enum ArmCommand {
 }
 
 impl ArmCommand {
-    /// Whether this command sets the arm moving.
-    pub fn starts_motion(&self) -> bool {
-        matches!(
-            self,
-            ArmCommand::Jog(_)
-                | ArmCommand::Step(_)
-                | ArmCommand::Home
-                | ArmCommand::GoToPosition { .. }
-                | ArmCommand::MoveToPose(_)
-                | ArmCommand::StartStored(_)
-        )
+    /// What this command does to the arm: its kind's class ([`CommandKind::class`], the one
+    /// classification).
+    pub fn class(&self) -> CommandClass {
+        self.kind().class()
     }
 
-    /// Whether this command stops motion. Stops are never queued behind anything.
+    /// `class() == Motion`: whether this command may set the arm moving.
+    pub fn starts_motion(&self) -> bool {
+        self.class() == CommandClass::Motion
+    }
+
+    /// `class() == Stop`. Stops are never queued behind anything.
     pub fn is_stop(&self) -> bool {
-        matches!(self, ArmCommand::Stop | ArmCommand::QuickStop)
+        self.class() == CommandClass::Stop
     }
 
     /// Which kind of command this is: what a failure of it names.

@@ -1,6 +1,7 @@
 //! The arm interfaces the console drives. Each link owns its socket in a task; callers talk to
 //! it over channels.
 
+pub mod command_kind;
 pub mod driver;
 pub mod failure;
 pub mod guard;

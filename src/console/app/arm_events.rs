@@ -117,11 +117,7 @@ impl App {
             None => jogging.then(|| "jog".to_string()),
         };
         self.truth.forget_action();
-        if stopped.is_some()
-            && !effects
-                .iter()
-                .any(|e| matches!(e, Effect::Arm(c) if c.is_stop()))
-        {
+        if stopped.is_some() && !effects.iter().any(Effect::is_stop) {
             effects.push(Effect::Arm(ArmCommand::Stop));
         }
         // A stop the guard could not make is never said as one: the arm may still move.

@@ -131,6 +131,13 @@ pub enum Effect {
     Quit,
 }
 
+impl Effect {
+    /// Whether this is a command that stops the arm ([`ArmCommand::class`]).
+    pub fn is_stop(&self) -> bool {
+        matches!(self, Effect::Arm(command) if command.is_stop())
+    }
+}
+
 /// How bad a status message is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Severity {

@@ -235,7 +235,7 @@ impl App {
     /// Stops the current leg: the tour's message says so, not "go to 'bench' stopped".
     fn stop_leg(&mut self, effects: &mut Vec<Effect>) {
         self.truth.forget_action();
-        if !effects.iter().any(is_stop) {
+        if !effects.iter().any(Effect::is_stop) {
             effects.push(Effect::Arm(ArmCommand::Stop));
         }
     }
@@ -368,8 +368,4 @@ impl App {
     pub(super) fn tour_leg_starting(&self) -> Option<String> {
         self.tours.starting_leg()
     }
-}
-
-fn is_stop(effect: &Effect) -> bool {
-    matches!(effect, Effect::Arm(command) if command.is_stop())
 }

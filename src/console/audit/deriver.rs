@@ -101,6 +101,12 @@ impl AuditDeriver {
     ) -> Vec<AuditRecord> {
         let speed_percent = self.speed;
         let speed_mm_s = self.speed_mm_s(speed_percent);
+        // Every stop ends the jog being recorded.
+        let stopped_jog = if command.is_stop() {
+            self.jog.take()
+        } else {
+            None
+        };
         let event = match command {
             ArmCommand::Jog(motion) => match self.jog {
                 // A refresh of the same jog.
@@ -136,17 +142,14 @@ impl AuditDeriver {
                     })
                 }
             },
-            ArmCommand::Stop => Some(match self.jog.take() {
+            ArmCommand::Stop => Some(match stopped_jog {
                 Some((motion, since)) => AuditEvent::JogStop {
                     axis: describe_motion(motion),
                     duration_ms: millis(at.duration_since(since).unwrap_or_default()),
                 },
                 None => AuditEvent::Stop,
             }),
-            ArmCommand::QuickStop => {
-                self.jog = None;
-                Some(AuditEvent::QuickStop)
-            }
+            ArmCommand::QuickStop => Some(AuditEvent::QuickStop),
             ArmCommand::Step(step) => Some(step_event(*step, speed_percent, speed_mm_s)),
             ArmCommand::MoveToPose(pose) => Some(AuditEvent::GoTo {
                 name: go_to_name,

@@ -51,11 +51,7 @@ impl App {
             }
         }
         self.time_out_action(now);
-        if std::mem::take(&mut self.truth.stop_needed)
-            && !effects
-                .iter()
-                .any(|e| matches!(e, Effect::Arm(c) if c.is_stop()))
-        {
+        if std::mem::take(&mut self.truth.stop_needed) && !effects.iter().any(Effect::is_stop) {
             effects.push(Effect::Arm(ArmCommand::Stop));
         }
         for effect in effects.iter() {

@@ -1,0 +1,239 @@
+//! What kind a command is ([`CommandKind`]: what a failure names) and what it does to the arm
+//! ([`CommandClass`]), said once. The app (the motion gate, the tour, other clients' moves),
+//! the driver (stops first, the stop guard's refusal, which link carried motion), the Modbus
+//! worker and the audit all ask [`CommandKind::class`], through
+//! [`ArmCommand::class`](super::interface::ArmCommand::class); what a Talos request does on
+//! the wire is the ICD's fact, [`Request::class`](crate::talos::Request::class).
+
+/// What a command does to the arm.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum CommandClass {
+    /// Stops every motion: never queued behind anything, always allowed, and its failure may
+    /// leave the arm moving.
+    Stop,
+    /// May set the arm moving: a jog (even an all-zero one), a step, a go-to, home, a stored
+    /// run. Only these pass the motion gate and need a ready stop guard.
+    Motion,
+    /// Changes something and moves nothing: the speed, the frame, a fault reset, the
+    /// operator's positions, a capped move's limits put back.
+    Setting,
+    /// Reads and changes nothing.
+    Query,
+}
+
+/// What kind of command failed: an [`ArmCommand`](super::interface::ArmCommand)'s variant, or work
+/// the driver or a link does on its own behalf.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum CommandKind {
+    Jog,
+    Stop,
+    Step,
+    MoveToPose,
+    Home,
+    SetSpeed,
+    SetFrame,
+    QuickStop,
+    FaultReset,
+    SavePosition,
+    DeletePosition,
+    GoToPosition,
+    SetPolarPosition,
+    SetCartesianPosition,
+    GetPosition,
+    /// The Modbus link putting back the speed limits a capped move lowered.
+    RestoreSpeedLimits,
+    /// A stored action or sequence started by id.
+    StartStored,
+}
+
+impl CommandKind {
+    /// Words for the status line and the log: "jog", "go to position".
+    pub fn label(self) -> &'static str {
+        match self {
+            CommandKind::Jog => "jog",
+            CommandKind::Stop => "stop",
+            CommandKind::Step => "step",
+            CommandKind::MoveToPose => "move to pose",
+            CommandKind::Home => "home",
+            CommandKind::SetSpeed => "set speed",
+            CommandKind::SetFrame => "set frame",
+            CommandKind::QuickStop => "quick stop",
+            CommandKind::FaultReset => "fault reset",
+            CommandKind::SavePosition => "save position",
+            CommandKind::DeletePosition => "delete position",
+            CommandKind::GoToPosition => "go to position",
+            CommandKind::SetPolarPosition => "set polar position",
+            CommandKind::SetCartesianPosition => "set cartesian position",
+            CommandKind::GetPosition => "get position",
+            CommandKind::RestoreSpeedLimits => "restore speed limits",
+            CommandKind::StartStored => "stored action",
+        }
+    }
+
+    /// What a command of this kind does to the arm: the one classification (see the module
+    /// docs). No `_` arm: a new kind must be classified here.
+    pub fn class(self) -> CommandClass {
+        match self {
+            CommandKind::Stop | CommandKind::QuickStop => CommandClass::Stop,
+            CommandKind::Jog
+            | CommandKind::Step
+            | CommandKind::MoveToPose
+            | CommandKind::Home
+            | CommandKind::GoToPosition
+            | CommandKind::StartStored => CommandClass::Motion,
+            CommandKind::SetSpeed
+            | CommandKind::SetFrame
+            | CommandKind::FaultReset
+            | CommandKind::SavePosition
+            | CommandKind::DeletePosition
+            | CommandKind::SetPolarPosition
+            | CommandKind::SetCartesianPosition
+            | CommandKind::RestoreSpeedLimits => CommandClass::Setting,
+            CommandKind::GetPosition => CommandClass::Query,
+        }
+    }
+
+    /// `class() == Stop`: a failure of it may leave the arm moving.
+    pub fn is_stop(self) -> bool {
+        self.class() == CommandClass::Stop
+    }
+}
+
+impl std::fmt::Display for CommandKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.label())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kortex::{Pose, ReferenceFrame, Stored, StoredMotion};
+    use crate::link::interface::{ArmCommand, JogMotion, StepMove};
+
+    #[test]
+    fn a_kind_names_itself_in_words() {
+        assert_eq!(CommandKind::GoToPosition.to_string(), "go to position");
+    }
+
+    /// Every command, classified by hand: a command that moves the arm, stops it, changes a
+    /// setting or reads, whatever its fields.
+    #[test]
+    fn every_command_is_classified_by_what_it_does_to_the_arm() {
+        let name = || "bench".to_string();
+        let table = [
+            (ArmCommand::Stop, CommandClass::Stop),
+            (ArmCommand::QuickStop, CommandClass::Stop),
+            (
+                ArmCommand::Jog(JogMotion::Cartesian { x: 1, y: 0, z: 0 }),
+                CommandClass::Motion,
+            ),
+            // All-zero still goes out as a start: the arm may be told to move.
+            (
+                ArmCommand::Jog(JogMotion::Polar {
+                    azimuth: 0,
+                    altitude: 0,
+                }),
+                CommandClass::Motion,
+            ),
+            (
+                ArmCommand::Jog(JogMotion::Joint {
+                    joint: 3,
+                    direction: -1,
+                }),
+                CommandClass::Motion,
+            ),
+            (
+                ArmCommand::Jog(JogMotion::Orientation {
+                    rx: 0,
+                    ry: 0,
+                    rz: 1,
+                }),
+                CommandClass::Motion,
+            ),
+            (
+                ArmCommand::Step(StepMove::Cartesian {
+                    dx: 10,
+                    dy: 0,
+                    dz: 0,
+                }),
+                CommandClass::Motion,
+            ),
+            (
+                ArmCommand::MoveToPose(Pose::default()),
+                CommandClass::Motion,
+            ),
+            (ArmCommand::Home, CommandClass::Motion),
+            (
+                ArmCommand::GoToPosition { name: name() },
+                CommandClass::Motion,
+            ),
+            (
+                ArmCommand::StartStored(Stored {
+                    motion: StoredMotion::Action,
+                    id: 7,
+                }),
+                CommandClass::Motion,
+            ),
+            (ArmCommand::SetSpeed(50), CommandClass::Setting),
+            (
+                ArmCommand::SetFrame(ReferenceFrame::Base),
+                CommandClass::Setting,
+            ),
+            (ArmCommand::FaultReset, CommandClass::Setting),
+            (
+                ArmCommand::SavePosition {
+                    name: name(),
+                    anchor: false,
+                    parent: None,
+                },
+                CommandClass::Setting,
+            ),
+            (
+                ArmCommand::DeletePosition { name: name() },
+                CommandClass::Setting,
+            ),
+            (
+                ArmCommand::SetPolarPosition {
+                    name: name(),
+                    delta: 0,
+                    azimuth: 0,
+                    radius: 0,
+                },
+                CommandClass::Setting,
+            ),
+            (
+                ArmCommand::SetCartesianPosition {
+                    name: name(),
+                    x: 0,
+                    y: 0,
+                    z: 0,
+                },
+                CommandClass::Setting,
+            ),
+            (
+                ArmCommand::GetPosition { name: name() },
+                CommandClass::Query,
+            ),
+        ];
+        for (command, class) in &table {
+            assert_eq!(command.class(), *class, "{command:?}");
+            assert_eq!(command.kind().class(), *class, "{command:?}");
+            assert_eq!(
+                command.is_stop(),
+                *class == CommandClass::Stop,
+                "{command:?}"
+            );
+            assert_eq!(
+                command.starts_motion(),
+                *class == CommandClass::Motion,
+                "{command:?}"
+            );
+        }
+        assert_eq!(
+            CommandKind::RestoreSpeedLimits.class(),
+            CommandClass::Setting
+        );
+        assert!(CommandKind::QuickStop.is_stop() && !CommandKind::Jog.is_stop());
+    }
+}
