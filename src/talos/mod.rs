@@ -9,7 +9,8 @@
 //! - [`hardware`]: armjog's companion ICD for Execute Hardware Operation (0x0008).
 //! - [`dialect`]: how an operator answers (typed replies or bare ACKs).
 //! - [`hex`]: frames as spaced hex, for logs and `armjog send --hex`.
-//! - [`stop`]: the one set of requests that stops every motion, per dialect.
+//! - [`stop`]: what each request does to the arm (stop, motion, still), and the one set of
+//!   requests that stops every motion, per dialect.
 
 pub mod ack;
 pub mod checksum;
@@ -34,4 +35,4 @@ pub use name::PositionName;
 pub use reply::Reply;
 pub use request::Request;
 pub use return_code::ReturnCode;
-pub use stop::{may_move, stop_requests};
+pub use stop::{RequestClass, may_move, stop_requests};

@@ -137,11 +137,6 @@ impl Request {
         }
     }
 
-    /// Whether this request stops motion. A link never holds such a request back.
-    pub fn is_stop(&self) -> bool {
-        matches!(self, Request::PolarPanStop | Request::CartesianMoveStop)
-    }
-
     /// The payload bytes, validating names and directions.
     pub fn encode_payload(&self, out: &mut Vec<u8>) -> Result<(), EncodeError> {
         match self {

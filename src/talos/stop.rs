@@ -1,11 +1,61 @@
-//! What "stop" means on a Talos link, said once: the set of requests that stops every motion a
-//! link in a dialect may carry, and which requests may set the arm moving. Every path that
-//! stops the Talos side sends [`stop_requests`]: the STOP key, quit and the driver's exit, a
-//! dropped link, a failed link that can still write, the panic hook (through the driver), and
-//! the stop guard's process when the console dies (`cli/guard/talos.rs`).
+//! What "stop" and "motion" mean on a Talos link, said once as facts of the ICD: what each
+//! request does to the arm ([`Request::class`]), and the set of requests that stops every
+//! motion a link in a dialect may carry. Every path that stops the Talos side sends
+//! [`stop_requests`]: the STOP key, quit and the driver's exit, a dropped link, a failed link
+//! that can still write, the panic hook (through the driver), and the stop guard's process
+//! when the console dies (`cli/guard/talos.rs`).
 
 use super::hardware::{HwRequest, subcommand};
 use super::{Dialect, Request};
+
+/// What a Talos request does to the arm, by the Talos ICD and the hardware companion ICD.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RequestClass {
+    /// One of the ICD's stops: Cartesian Move STOP (0x0007), Polar Pan STOP (0x0004), and
+    /// Execute Hardware Operation (0x0008) STOP_ALL_JOINTS (subcommand 0x0004). The link
+    /// never holds one back, and re-sends it in the ack dialect.
+    Stop,
+    /// May set the arm moving. `runs_to_end`: a move the operator carries to its end on its
+    /// own (the discrete pan and move, home, go-to), whose OK says only that it was accepted;
+    /// otherwise a continuous start (even an all-zero one), a joint command, or a hardware
+    /// operation not known to be still, which move until stopped or no longer refreshed.
+    Motion { runs_to_end: bool },
+    /// Moves nothing: the handshake, speed, the operator's positions, reads, a fault clear.
+    Still,
+}
+
+impl Request {
+    /// What this request does to the arm. No `_` arm: a new request must be classified here.
+    pub fn class(&self) -> RequestClass {
+        match self {
+            Request::PolarPanStop | Request::CartesianMoveStop => RequestClass::Stop,
+            Request::PolarPan { .. }
+            | Request::Home { .. }
+            | Request::CartesianMove { .. }
+            | Request::GoToPosition { .. } => RequestClass::Motion { runs_to_end: true },
+            Request::PolarPanStart { .. } | Request::CartesianMoveStart { .. } => {
+                RequestClass::Motion { runs_to_end: false }
+            }
+            Request::HardwareOperation { subcommand, .. } => match *subcommand {
+                subcommand::STOP_ALL_JOINTS => RequestClass::Stop,
+                subcommand::GET_ACTUATOR_FEEDBACK
+                | subcommand::GET_ARM_STATE
+                | subcommand::CLEAR_ALL_FAULTS => RequestClass::Still,
+                // SEND_ACTUATOR_COMMAND, and any subcommand this build does not know.
+                _ => RequestClass::Motion { runs_to_end: false },
+            },
+            Request::Handshake { .. }
+            | Request::GetSpeed
+            | Request::SetSpeed { .. }
+            | Request::SavePosition { .. }
+            | Request::DeletePosition { .. }
+            | Request::SetPolarPosition { .. }
+            | Request::GetPolarPosition { .. }
+            | Request::SetCartesianPosition { .. }
+            | Request::GetCartesianPosition { .. } => RequestClass::Still,
+        }
+    }
+}
 
 /// Every request that stops a motion, in the order they are sent: cartesian, polar, then the
 /// joints (hardware companion ICD STOP_ALL_JOINTS), keeping those `dialect` can carry. The ICD
@@ -21,35 +71,9 @@ pub fn stop_requests(dialect: Dialect) -> Vec<Request> {
     .collect()
 }
 
-/// Whether `request` may set the arm moving: continuous starts (even all-zero ones), discrete
-/// steps, home, go-to, a joint command, and any hardware operation not known to be still.
+/// Whether `request` may set the arm moving: its class is motion ([`Request::class`]).
 pub fn may_move(request: &Request) -> bool {
-    match request {
-        Request::PolarPan { .. }
-        | Request::Home { .. }
-        | Request::PolarPanStart { .. }
-        | Request::CartesianMove { .. }
-        | Request::CartesianMoveStart { .. }
-        | Request::GoToPosition { .. } => true,
-        Request::HardwareOperation { subcommand, .. } => !matches!(
-            *subcommand,
-            subcommand::GET_ACTUATOR_FEEDBACK
-                | subcommand::GET_ARM_STATE
-                | subcommand::STOP_ALL_JOINTS
-                | subcommand::CLEAR_ALL_FAULTS
-        ),
-        Request::Handshake { .. }
-        | Request::PolarPanStop
-        | Request::CartesianMoveStop
-        | Request::GetSpeed
-        | Request::SetSpeed { .. }
-        | Request::SavePosition { .. }
-        | Request::DeletePosition { .. }
-        | Request::SetPolarPosition { .. }
-        | Request::GetPolarPosition { .. }
-        | Request::SetCartesianPosition { .. }
-        | Request::GetCartesianPosition { .. } => false,
-    }
+    matches!(request.class(), RequestClass::Motion { .. })
 }
 
 #[cfg(test)]

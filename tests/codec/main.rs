@@ -13,4 +13,5 @@ mod talos_checksum_fit;
 mod talos_decoder;
 mod talos_props;
 mod talos_split_frames;
+mod talos_stop_class;
 mod talos_vectors;

@@ -38,7 +38,7 @@ use tokio::sync::{Notify, mpsc, oneshot};
 use crate::net::{ConnectError, DEFAULT_FRAME_DEADLINE, connect_with_timeout, hand_off};
 use crate::talos::frame::Rejection;
 use crate::talos::message::{DecodeError, EncodeError};
-use crate::talos::{Checksum, CommandValue, Reply, Request, ReturnCode, may_move};
+use crate::talos::{Checksum, CommandValue, Reply, Request, RequestClass, ReturnCode, may_move};
 pub use ahead::{AheadOutcome, StopAhead};
 use hint::checksum_hint;
 pub use hint::{first_exchange_error, wait_for_checksum_fit};
@@ -353,7 +353,7 @@ impl TalosLink {
         let after = match self.config.dialect {
             Dialect::Icd => self.config.request_timeout,
             // The link task answers by its own deadline (re-sends included); this is a backstop.
-            Dialect::Ack => ack_deadline(command, self.config.request_timeout) + ACK_CALLER_GRACE,
+            Dialect::Ack => ack_deadline(&request, self.config.request_timeout) + ACK_CALLER_GRACE,
         };
         if let Err((request, answer)) = self.write_through(id, request, answer_tx) {
             self.queue(Job {
@@ -482,16 +482,10 @@ impl PendingReply {
     }
 }
 
-pub(super) fn is_stop(command: CommandValue) -> bool {
-    matches!(
-        command,
-        CommandValue::PolarPanStop | CommandValue::CartesianMoveStop
-    )
-}
-
-/// Ack dialect: how long the link waits for a request's ACK in all, re-sends included.
-pub(super) fn ack_deadline(command: CommandValue, request_timeout: Duration) -> Duration {
-    if is_stop(command) {
+/// Ack dialect: how long the link waits for a request's ACK in all, re-sends included (a
+/// stop is sent again while unacknowledged).
+pub(super) fn ack_deadline(request: &Request, request_timeout: Duration) -> Duration {
+    if request.class() == RequestClass::Stop {
         STOP_ACK_INTERVAL * STOP_ACK_TRIES
     } else {
         request_timeout

@@ -1,7 +1,7 @@
 //! What a dropped or failed link owes the arm: the whole stop set once anything that may move
 //! it went out with no full stop set since.
 
-use crate::talos::{Dialect, Request, may_move, stop_requests};
+use crate::talos::{Dialect, Request, RequestClass, may_move, stop_requests};
 
 /// Whether anything that may move the arm went out since the last full stop set: what a
 /// dropped or failed link must stop.
@@ -36,10 +36,10 @@ impl MotionSinceStop {
         }
     }
 
-    /// Whether `request` sets the arm moving or is one of the stop set's: what the operator
-    /// should read at once.
+    /// Whether `request` sets the arm moving or stops it ([`Request::class`]): what the
+    /// operator should read at once.
     pub(super) fn moves_or_stops(&self, request: &Request) -> bool {
-        may_move(request) || self.stops.contains(request)
+        request.class() != RequestClass::Still
     }
 
     /// The whole stop set if anything may be moving, else nothing.

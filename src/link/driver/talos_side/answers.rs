@@ -9,7 +9,7 @@ use crate::link::interface::{
 };
 use crate::link::talos::{Answer, Exchange, PendingReply, TalosError};
 use crate::talos::hardware::HwReply;
-use crate::talos::{CommandValue, Reply, ReturnCode};
+use crate::talos::{CommandValue, Reply, RequestClass, ReturnCode};
 
 pub(super) fn hw_reply(exchange: &Exchange) -> Option<HwReply> {
     match &exchange.answer {
@@ -32,7 +32,13 @@ pub(super) fn log_entry(exchange: &Exchange) -> LogEntry {
         outcome: match exchange.answer {
             Answer::Ack => "ACK".into(),
             // The operator took the motion; how it ends shows in the telemetry.
-            Answer::Reply(_) if code.is_ok() && starts_motion(exchange.request.command()) => {
+            Answer::Reply(_)
+                if code.is_ok()
+                    && matches!(
+                        exchange.request.class(),
+                        RequestClass::Motion { runs_to_end: true }
+                    ) =>
+            {
                 "accepted".into()
             }
             Answer::Reply(_) => code.name().map_or_else(|| code.to_string(), str::to_string),
@@ -44,16 +50,6 @@ pub(super) fn log_entry(exchange: &Exchange) -> LogEntry {
             reply: Some(exchange.reply_bytes.clone()),
         },
     }
-}
-
-pub(super) fn starts_motion(command: CommandValue) -> bool {
-    matches!(
-        command,
-        CommandValue::Home
-            | CommandValue::GoToPosition
-            | CommandValue::CartesianMoveDiscrete
-            | CommandValue::PolarPanDiscrete
-    )
 }
 
 pub(super) fn report_error(

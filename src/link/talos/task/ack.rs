@@ -10,10 +10,9 @@ use tokio::io::AsyncWrite;
 use super::{LinkTask, Pending};
 use crate::link::talos::{
     Answer, Exchange, STOP_ACK_INTERVAL, STOP_ACK_TRIES, TalosError, TalosEvent, ack_deadline,
-    is_stop,
 };
-use crate::talos::CommandValue;
 use crate::talos::ack::ACK;
+use crate::talos::{CommandValue, RequestClass};
 
 /// Ack dialect: one frame on the wire waiting for its ACK.
 pub(super) struct AckWait {
@@ -36,7 +35,7 @@ pub(super) struct ExpiredAck {
 
 impl LinkTask {
     pub(super) fn queue_ack_wait(&mut self, pending: Pending, tries: u32, first_sent: Instant) {
-        let wait = if is_stop(pending.request.command()) {
+        let wait = if pending.request.class() == RequestClass::Stop {
             STOP_ACK_INTERVAL
         } else {
             self.request_timeout
@@ -79,7 +78,7 @@ impl LinkTask {
                 command,
                 forget_at: now + forget_after,
             });
-            if is_stop(command) && tries < STOP_ACK_TRIES {
+            if pending.request.class() == RequestClass::Stop && tries < STOP_ACK_TRIES {
                 let id = self.ids.next();
                 tracing::warn!(
                     "{command} (id {}) not acknowledged within {STOP_ACK_INTERVAL:?}: sending it again as id {id}",
@@ -118,7 +117,7 @@ impl LinkTask {
                 let _ = pending.answer.send(Err(TalosError::Timeout {
                     command,
                     id: pending.id,
-                    after: ack_deadline(command, self.request_timeout),
+                    after: ack_deadline(&pending.request, self.request_timeout),
                 }));
             }
         }
