@@ -12,8 +12,10 @@ pub enum CommandClass {
     /// leave the arm moving.
     Stop,
     /// May set the arm moving: a jog (even an all-zero one), a step, a go-to, home, a stored
-    /// run. Only these pass the motion gate and need a ready stop guard.
-    Motion,
+    /// run. Only these pass the motion gate and need a ready stop guard. `runs_to_end`: a move
+    /// the arm carries to its end on its own (all but a jog, which moves while refreshed), so
+    /// its link's answer says only that it started.
+    Motion { runs_to_end: bool },
     /// Changes something and moves nothing: the speed, the frame, a fault reset, the
     /// operator's positions, a capped move's limits put back.
     Setting,
@@ -75,12 +77,12 @@ impl CommandKind {
     pub fn class(self) -> CommandClass {
         match self {
             CommandKind::Stop | CommandKind::QuickStop => CommandClass::Stop,
-            CommandKind::Jog
-            | CommandKind::Step
+            CommandKind::Jog => CommandClass::Motion { runs_to_end: false },
+            CommandKind::Step
             | CommandKind::MoveToPose
             | CommandKind::Home
             | CommandKind::GoToPosition
-            | CommandKind::StartStored => CommandClass::Motion,
+            | CommandKind::StartStored => CommandClass::Motion { runs_to_end: true },
             CommandKind::SetSpeed
             | CommandKind::SetFrame
             | CommandKind::FaultReset
@@ -111,13 +113,16 @@ mod tests {
     use crate::kortex::{Pose, ReferenceFrame, Stored, StoredMotion};
     use crate::link::interface::{ArmCommand, JogMotion, StepMove};
 
+    const JOG: CommandClass = CommandClass::Motion { runs_to_end: false };
+    const MOVE: CommandClass = CommandClass::Motion { runs_to_end: true };
+
     #[test]
     fn a_kind_names_itself_in_words() {
         assert_eq!(CommandKind::GoToPosition.to_string(), "go to position");
     }
 
-    /// Every command, classified by hand: a command that moves the arm, stops it, changes a
-    /// setting or reads, whatever its fields.
+    /// Every command, classified by hand: a command that moves the arm (while refreshed, or to
+    /// its end), stops it, changes a setting or reads, whatever its fields.
     #[test]
     fn every_command_is_classified_by_what_it_does_to_the_arm() {
         let name = || "bench".to_string();
@@ -126,7 +131,7 @@ mod tests {
             (ArmCommand::QuickStop, CommandClass::Stop),
             (
                 ArmCommand::Jog(JogMotion::Cartesian { x: 1, y: 0, z: 0 }),
-                CommandClass::Motion,
+                JOG,
             ),
             // All-zero still goes out as a start: the arm may be told to move.
             (
@@ -134,14 +139,14 @@ mod tests {
                     azimuth: 0,
                     altitude: 0,
                 }),
-                CommandClass::Motion,
+                JOG,
             ),
             (
                 ArmCommand::Jog(JogMotion::Joint {
                     joint: 3,
                     direction: -1,
                 }),
-                CommandClass::Motion,
+                JOG,
             ),
             (
                 ArmCommand::Jog(JogMotion::Orientation {
@@ -149,7 +154,7 @@ mod tests {
                     ry: 0,
                     rz: 1,
                 }),
-                CommandClass::Motion,
+                JOG,
             ),
             (
                 ArmCommand::Step(StepMove::Cartesian {
@@ -157,23 +162,17 @@ mod tests {
                     dy: 0,
                     dz: 0,
                 }),
-                CommandClass::Motion,
+                MOVE,
             ),
-            (
-                ArmCommand::MoveToPose(Pose::default()),
-                CommandClass::Motion,
-            ),
-            (ArmCommand::Home, CommandClass::Motion),
-            (
-                ArmCommand::GoToPosition { name: name() },
-                CommandClass::Motion,
-            ),
+            (ArmCommand::MoveToPose(Pose::default()), MOVE),
+            (ArmCommand::Home, MOVE),
+            (ArmCommand::GoToPosition { name: name() }, MOVE),
             (
                 ArmCommand::StartStored(Stored {
                     motion: StoredMotion::Action,
                     id: 7,
                 }),
-                CommandClass::Motion,
+                MOVE,
             ),
             (ArmCommand::SetSpeed(50), CommandClass::Setting),
             (
@@ -226,7 +225,7 @@ mod tests {
             );
             assert_eq!(
                 command.starts_motion(),
-                *class == CommandClass::Motion,
+                matches!(class, CommandClass::Motion { .. }),
                 "{command:?}"
             );
         }

@@ -104,7 +104,7 @@ impl ArmCommand {
 
     /// `class() == Motion`: whether this command may set the arm moving.
     pub fn starts_motion(&self) -> bool {
-        self.class() == CommandClass::Motion
+        matches!(self.class(), CommandClass::Motion { .. })
     }
 
     /// `class() == Stop`. Stops are never queued behind anything.

@@ -10,7 +10,7 @@ use super::speed::{SpeedInForce, is_settable, move_cap_at, tool_speed_at, turn_r
 use super::{DriverConfig, JointPositions};
 use crate::kortex::{PolarPanSettings, Pose, ReferenceFrame, SpeedLimits, Stored, Twist};
 use crate::link::interface::{
-    ArmCommand, ArmError, ArmEvent, JogMotion, LogEntry, StepMove, Traffic,
+    ArmCommand, ArmError, ArmEvent, CommandClass, JogMotion, LogEntry, StepMove, Traffic,
 };
 use crate::link::modbus::{ModbusError, ModbusLink, WriteReport};
 
@@ -270,13 +270,8 @@ impl State {
                 // A jog refresh that wrote nothing is not worth a log line.
                 if let Some(report) = report.filter(|r| !r.writes.is_empty()) {
                     // An action's writes only start it: how it ends shows in the telemetry.
-                    let starts = matches!(
-                        command,
-                        ArmCommand::Home
-                            | ArmCommand::StartStored(_)
-                            | ArmCommand::MoveToPose(_)
-                            | ArmCommand::Step(_)
-                    );
+                    let starts =
+                        matches!(command.class(), CommandClass::Motion { runs_to_end: true });
                     let _ = self.events.send(ArmEvent::Log(LogEntry {
                         id: None,
                         poll: false,

@@ -189,3 +189,61 @@ pub(super) async fn answers(
     }
     let _ = events.send(ArmEvent::Done { command });
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::Duration;
+
+    use crate::talos::Request;
+
+    fn outcome(request: Request, reply: Reply) -> String {
+        log_entry(&Exchange {
+            id: 2,
+            request,
+            answer: Answer::Reply(reply),
+            request_bytes: vec![],
+            reply_bytes: vec![],
+            latency: Duration::ZERO,
+        })
+        .outcome
+    }
+
+    /// A move the operator runs to its end is "accepted" (how it ends shows in the telemetry);
+    /// a continuous start's OK is an OK, and a refusal is named.
+    #[test]
+    fn the_log_says_a_move_to_its_end_was_accepted_and_a_start_ok() {
+        let ok = ReturnCode::OK;
+        assert_eq!(
+            outcome(
+                Request::Home { delay_ms: 0 },
+                Reply::Home { return_code: ok }
+            ),
+            "accepted"
+        );
+        assert_eq!(
+            outcome(
+                Request::GoToPosition { name: "a".into() },
+                Reply::GoToPosition { return_code: ok }
+            ),
+            "accepted"
+        );
+        let start = Request::PolarPanStart {
+            moving_azimuth: 1,
+            moving_altitude: 0,
+        };
+        assert_eq!(
+            outcome(start.clone(), Reply::PolarPanStart { return_code: ok }),
+            "OK"
+        );
+        assert_eq!(
+            outcome(
+                Request::GoToPosition { name: "a".into() },
+                Reply::GoToPosition {
+                    return_code: ReturnCode::UNKNOWN_POSITION
+                }
+            ),
+            "UNKNOWN_POSITION"
+        );
+    }
+}
