@@ -15,27 +15,28 @@ use tokio::sync::mpsc::UnboundedReceiver;
 use tokio::time::Instant;
 
 use armjog::kortex::{ReferenceFrame, Twist};
-use armjog::link::ModbusConfig;
 use armjog::link::driver::{Driver, DriverConfig};
 use armjog::link::guard::GuardPolicy;
-use armjog::link::interface::{ArmCommand, ArmError, ArmEvent, CommandKind, GuardStatus};
+use armjog::link::interface::{ArmCommand, ArmError, ArmEvent, CommandKind};
+use armjog::link::{ModbusConfig, ModbusLink};
 use armjog::sim::Simulator;
 use guard_support::{
-    BIN, Guard, arm_state, assert_still, modbus_addr, simulator, start_twist, wait_event,
-    wait_moving,
+    BIN, Guard, arm_state, assert_moving, assert_still, guard_down, guard_killed_and_replaced,
+    guard_ready, modbus_addr, send_signal, simulator, start_twist, wait_event, wait_moving,
 };
 
-/// The guard for the simulator's Modbus server.
-async fn modbus_guard(sim: &Simulator) -> Guard {
-    Guard::start(&["--modbus", &modbus_addr(sim), "--unit", "1"]).await
+/// The guard for the simulator's Modbus server, beaten once, and the console's twist running.
+async fn twist_with_guard(sim: &Simulator) -> (Guard, ModbusLink) {
+    let mut guard = Guard::start(&["--modbus", &modbus_addr(sim), "--unit", "1"]).await;
+    guard.beat().await;
+    let console_link = start_twist(sim).await;
+    (guard, console_link)
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn the_guard_stops_a_running_twist_when_the_console_pipe_closes() {
     let sim = simulator().await;
-    let mut guard = modbus_guard(&sim).await;
-    guard.beat().await;
-    let _console_link = start_twist(&sim).await;
+    let (mut guard, _console_link) = twist_with_guard(&sim).await;
     guard.beat_for(Duration::from_millis(300)).await;
     assert!(
         arm_state(&sim).await.0,
@@ -53,24 +54,19 @@ async fn the_guard_stops_a_running_twist_when_the_console_pipe_closes() {
     );
     assert_still(&sim).await;
 
-    let said = guard.line(Duration::from_secs(5)).await.unwrap_or_default();
+    let said = guard.said().await;
     assert!(
         said.starts_with("stopped the console is gone"),
         "the guard reports its stop: {said:?}"
     );
-    let status = tokio::time::timeout(Duration::from_secs(5), guard.child.wait())
-        .await
-        .expect("the guard exits after the stop")
-        .expect("exit status");
+    let status = guard.exit_status("the guard exits after the stop").await;
     assert!(status.success(), "exit status {status}");
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_silent_console_gets_its_twist_stopped_and_the_guard_keeps_watching() {
     let sim = simulator().await;
-    let mut guard = modbus_guard(&sim).await;
-    guard.beat().await;
-    let console_link = start_twist(&sim).await;
+    let (mut guard, console_link) = twist_with_guard(&sim).await;
 
     // The pipe stays open but no heartbeat comes: a frozen console.
     let took = wait_moving(&sim, false, Duration::from_secs(4))
@@ -80,15 +76,12 @@ async fn a_silent_console_gets_its_twist_stopped_and_the_guard_keeps_watching() 
         "heartbeat lost -> arm stopped after {:.0} ms",
         took.as_secs_f64() * 1000.0
     );
-    let said = guard.line(Duration::from_secs(5)).await.unwrap_or_default();
+    let said = guard.said().await;
     assert!(
         said.starts_with("stopped no heartbeat"),
         "the guard reports why: {said:?}"
     );
-    assert!(
-        guard.child.try_wait().expect("guard status").is_none(),
-        "the guard keeps watching"
-    );
+    guard.assert_watching();
 
     // The console is back: a fresh twist runs while it beats, and the guard leaves it alone.
     console_link.stop().await.expect("stop");
@@ -113,25 +106,16 @@ async fn a_silent_console_gets_its_twist_stopped_and_the_guard_keeps_watching() 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_terminated_guard_stops_the_arm_on_its_way_out() {
     let sim = simulator().await;
-    let mut guard = modbus_guard(&sim).await;
-    guard.beat().await;
-    let _console_link = start_twist(&sim).await;
+    let (mut guard, _console_link) = twist_with_guard(&sim).await;
     guard.beat().await;
     let pid = guard.child.id().expect("guard pid");
-    let terminated = std::process::Command::new("kill")
-        .args(["-TERM", &pid.to_string()])
-        .status()
-        .expect("kill");
-    assert!(terminated.success());
+    assert!(send_signal(pid, "-TERM"));
     wait_moving(&sim, false, Duration::from_secs(2))
         .await
         .expect("the guard stops the twist before it exits");
-    let said = guard.line(Duration::from_secs(5)).await.unwrap_or_default();
+    let said = guard.said().await;
     assert!(said.starts_with("stopped SIGTERM"), "{said:?}");
-    let status = tokio::time::timeout(Duration::from_secs(5), guard.child.wait())
-        .await
-        .expect("the guard exits")
-        .expect("exit status");
+    let status = guard.exit_status("the guard exits").await;
     assert!(status.success(), "exit status {status}");
 }
 
@@ -152,16 +136,7 @@ async fn the_console_refuses_modbus_jogs_when_its_guard_cannot_start() {
     let sim = simulator().await;
     let missing = std::path::PathBuf::from("/nonexistent/armjog-guard");
     let (driver, mut events) = modbus_driver(&sim, GuardPolicy::Spawn(missing));
-    let down = wait_event(
-        &mut events,
-        Duration::from_secs(10),
-        "the guard down",
-        |e| matches!(e, ArmEvent::Guard(GuardStatus::Down { .. })),
-    )
-    .await;
-    let ArmEvent::Guard(GuardStatus::Down { reason }) = down else {
-        unreachable!()
-    };
+    let reason = guard_down(&mut events, Duration::from_secs(10)).await;
     assert!(
         reason.contains("cannot start the stop guard /nonexistent/armjog-guard"),
         "names the program: {reason}"
@@ -209,17 +184,7 @@ async fn the_console_refuses_modbus_jogs_when_its_guard_cannot_start() {
 async fn a_killed_guard_stops_the_jog_and_is_restarted() {
     let sim = simulator().await;
     let (driver, mut events) = modbus_driver(&sim, GuardPolicy::Spawn(BIN.into()));
-    let ready = |e: &ArmEvent| matches!(e, ArmEvent::Guard(GuardStatus::Ready { .. }));
-    let ArmEvent::Guard(GuardStatus::Ready { pid }) = wait_event(
-        &mut events,
-        Duration::from_secs(10),
-        "the guard ready",
-        ready,
-    )
-    .await
-    else {
-        unreachable!()
-    };
+    let pid = guard_ready(&mut events, Duration::from_secs(10), "the guard ready").await;
 
     // A held key: the jog is re-sent every 100 ms.
     let jogging = {
@@ -230,32 +195,10 @@ async fn a_killed_guard_stops_the_jog_and_is_restarted() {
             }
         })
     };
-    assert!(
-        wait_moving(&sim, true, Duration::from_secs(5))
-            .await
-            .is_some(),
-        "jogs over Modbus with a guard"
-    );
+    assert_moving(&sim, "jogs over Modbus with a guard").await;
 
-    let killed = std::process::Command::new("kill")
-        .args(["-9", &pid.to_string()])
-        .status()
-        .expect("kill");
-    assert!(killed.success());
-    wait_event(&mut events, Duration::from_secs(5), "the guard down", |e| {
-        matches!(e, ArmEvent::Guard(GuardStatus::Down { .. }))
-    })
-    .await;
     // The jog goes on being re-sent, but the driver refuses it and stopped the arm.
-    wait_moving(&sim, false, Duration::from_secs(3))
-        .await
-        .expect("the arm stops when its guard dies");
-    let ArmEvent::Guard(GuardStatus::Ready { pid: again }) =
-        wait_event(&mut events, Duration::from_secs(15), "a new guard", ready).await
-    else {
-        unreachable!()
-    };
-    assert_ne!(again, pid, "a fresh guard process");
+    guard_killed_and_replaced(&sim, &mut events, pid, "the arm stops when its guard dies").await;
     jogging.abort();
     driver.send(ArmCommand::Stop);
     driver.shutdown().await;
@@ -265,44 +208,17 @@ async fn a_killed_guard_stops_the_jog_and_is_restarted() {
 async fn a_guard_that_stops_answering_is_replaced() {
     let sim = simulator().await;
     let (driver, mut events) = modbus_driver(&sim, GuardPolicy::Spawn(BIN.into()));
-    let ready = |e: &ArmEvent| matches!(e, ArmEvent::Guard(GuardStatus::Ready { .. }));
-    let ArmEvent::Guard(GuardStatus::Ready { pid }) = wait_event(
-        &mut events,
-        Duration::from_secs(10),
-        "the guard ready",
-        ready,
-    )
-    .await
-    else {
-        unreachable!()
-    };
+    let pid = guard_ready(&mut events, Duration::from_secs(10), "the guard ready").await;
     // A frozen guard: alive as a process, but it would not stop anything.
-    let frozen = std::process::Command::new("kill")
-        .args(["-STOP", &pid.to_string()])
-        .status()
-        .expect("kill");
-    assert!(frozen.success());
-    let down = wait_event(
-        &mut events,
-        Duration::from_secs(15),
-        "the guard down",
-        |e| matches!(e, ArmEvent::Guard(GuardStatus::Down { .. })),
-    )
-    .await;
-    assert!(
-        matches!(&down, ArmEvent::Guard(GuardStatus::Down { reason }) if reason.contains("stopped answering")),
-        "says why: {down:?}"
-    );
+    assert!(send_signal(pid, "-STOP"));
+    let reason = guard_down(&mut events, Duration::from_secs(15)).await;
+    assert!(reason.contains("stopped answering"), "says why: {reason}");
     assert!(driver.send(jog_x()));
     wait_event(&mut events, Duration::from_secs(5), "the jog refused", |e| {
         matches!(e, ArmEvent::Failed { command: CommandKind::Jog, error: ArmError::GuardNotRunning(reason) } if reason.contains("stop guard not running"))
     })
     .await;
-    let ArmEvent::Guard(GuardStatus::Ready { pid: again }) =
-        wait_event(&mut events, Duration::from_secs(15), "a new guard", ready).await
-    else {
-        unreachable!()
-    };
+    let again = guard_ready(&mut events, Duration::from_secs(15), "a new guard").await;
     assert_ne!(again, pid, "a fresh guard process");
     let until = Instant::now() + Duration::from_secs(5);
     while std::path::Path::new(&format!("/proc/{pid}")).exists() && Instant::now() < until {

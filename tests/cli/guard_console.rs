@@ -10,8 +10,8 @@ use tokio::time::Instant;
 
 use armjog::link::interface::{ArmCommand, ArmEvent, GuardStatus};
 use guard_support::{
-    BIN, Tmux, arm_state, assert_exit, assert_still, log_dir, modbus_addr, pids_with, simulator,
-    wait_moving,
+    BIN, Tmux, arm_state, assert_exit, assert_still, log_dir, modbus_addr, pids_with, send_signal,
+    simulator, wait_moving,
 };
 
 /// The console on the simulator's Modbus port, logs in the test's directory.
@@ -52,12 +52,7 @@ async fn killing_the_console_with_sigkill_mid_jog_stops_the_arm() {
     assert_eq!(guards.len(), 1, "one guard process runs: {guards:?}");
 
     // 10 % of 250 mm/s: seconds away from any limit.
-    for speed in ["25%", "10%"] {
-        tmux.key("-");
-        let shown = format!("speed {speed}");
-        tmux.wait_for(Duration::from_secs(5), &shown, |s| s.contains(&shown))
-            .await;
-    }
+    tmux.slow_to_10_percent().await;
 
     // Hold w (tmux has no releases: a press, then a repeat every 30 ms), and kill the console
     // with SIGKILL while the arm moves: no code of the console runs after that.
@@ -90,10 +85,7 @@ async fn killing_the_console_with_sigkill_mid_jog_stops_the_arm() {
     let moving = wait_moving(&sim, true, Duration::from_secs(10)).await;
     tokio::time::sleep(Duration::from_millis(300)).await;
     let (still_moving, x_at_kill) = arm_state(&sim).await;
-    let killed = std::process::Command::new("kill")
-        .args(["-9", &console_pid.to_string()])
-        .status()
-        .expect("kill");
+    let killed = send_signal(console_pid, "-9");
     // `kill` has returned: the signal is delivered.
     let killed_at = Instant::now();
     holding.store(false, std::sync::atomic::Ordering::Relaxed);
@@ -101,7 +93,7 @@ async fn killing_the_console_with_sigkill_mid_jog_stops_the_arm() {
         moving.is_some() && still_moving,
         "w jogged the arm over Modbus"
     );
-    assert!(killed.success(), "kill -9 {console_pid}");
+    assert!(killed, "kill -9 {console_pid}");
 
     wait_moving(&sim, false, Duration::from_secs(2))
         .await

@@ -19,7 +19,7 @@ use std::time::{Duration, Instant};
 
 use armjog::kortex::{ReferenceFrame, Twist};
 use armjog::link::{ModbusConfig, ModbusLink};
-use guard_support::{BIN, Tmux, assert_exit, pids_with};
+use guard_support::{BIN, Tmux, assert_exit, pids_with, send_signal};
 
 /// The tool at rest, mm/s: the simulator reports exact zeros at rest.
 const AT_REST: f64 = 0.5;
@@ -202,12 +202,7 @@ async fn kill_mid_move(case: Case<'_>) -> f64 {
     let target = match case.motion {
         Move::GoTo => {
             // 10 % of 250 mm/s: the 150 mm go-to takes 6 s.
-            for speed in ["25%", "10%"] {
-                tmux.key("-");
-                let shown = format!("speed {speed}");
-                tmux.wait_for(Duration::from_secs(5), &shown, |s| s.contains(&shown))
-                    .await;
-            }
+            tmux.slow_to_10_percent().await;
             let here = watch.until(Duration::from_secs(5), "a sample", |_| true);
             tmux.key("p");
             tmux.wait_for(Duration::from_secs(5), "the save form", |s| {
@@ -255,13 +250,10 @@ async fn kill_mid_move(case: Case<'_>) -> f64 {
         "still moving before the kill: {before:?}"
     );
 
-    let killed = std::process::Command::new("kill")
-        .args(["-9", &console_pid.to_string()])
-        .status()
-        .expect("kill");
+    let killed = send_signal(console_pid, "-9");
     // `kill` has returned: the signal is delivered.
     let killed_at = Instant::now();
-    assert!(killed.success(), "kill -9 {console_pid}");
+    assert!(killed, "kill -9 {console_pid}");
     let rest = watch.until(Duration::from_secs(5), "the arm at rest", |s| {
         s.speed < AT_REST
     });

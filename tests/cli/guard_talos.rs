@@ -14,14 +14,17 @@ use tokio::net::TcpStream;
 
 use armjog::link::driver::{Driver, DriverConfig};
 use armjog::link::guard::GuardPolicy;
-use armjog::link::interface::{ArmCommand, ArmError, ArmEvent, GuardStatus, LinkStatus};
+use armjog::link::interface::{ArmCommand, ArmError, ArmEvent, LinkStatus};
 use armjog::link::{Dialect, TalosConfig};
 use armjog::sim::arm_model::Arm;
 use armjog::sim::kinematics::to_radians;
 use armjog::sim::stored::RETRACT_DEG;
 use armjog::sim::{SimConfig, Simulator};
 use armjog::talos::{Checksum, Request};
-use guard_support::{BIN, Guard, arm_state, assert_still, wait_event, wait_moving};
+use guard_support::{
+    BIN, Guard, arm_state, assert_moving, assert_still, guard_killed_and_replaced, guard_ready,
+    send_signal, wait_event, wait_moving,
+};
 
 /// The simulated arm at Retract: Home from there runs for many seconds.
 async fn sim_at_retract(dialect: Dialect, checksum: Checksum, one_client: bool) -> Simulator {
@@ -50,103 +53,99 @@ async fn console_homing(sim: &Simulator, checksum: Checksum) -> TcpStream {
         .await
         .expect("home answered")
         .expect("home answered");
-    assert!(
-        wait_moving(sim, true, Duration::from_secs(5))
-            .await
-            .is_some(),
-        "Home runs"
-    );
+    assert_moving(sim, "Home runs").await;
     stream
 }
 
-fn talos_guard_args(sim: &Simulator, dialect: Dialect, checksum: Checksum) -> Vec<String> {
-    [
+/// The simulated arm at Retract, `armjog guard --talos` for it, beaten once, and the console
+/// homing the arm.
+async fn homing_with_guard(
+    dialect: Dialect,
+    checksum: Checksum,
+    one_client: bool,
+) -> (Simulator, Guard, TcpStream) {
+    let sim = sim_at_retract(dialect, checksum, one_client).await;
+    let talos = sim.talos_addr.to_string();
+    let args = [
         "--talos",
-        &sim.talos_addr.to_string(),
+        &talos,
         "--dialect",
         dialect.as_str(),
         "--checksum",
         checksum.as_str(),
-    ]
-    .map(String::from)
-    .to_vec()
+    ];
+    let mut guard = Guard::start(&args).await;
+    guard.beat().await;
+    let console = console_homing(&sim, checksum).await;
+    (sim, guard, console)
 }
 
-async fn start_guard(args: &[String]) -> Guard {
-    let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    Guard::start(&args).await
+/// The console dies: the kernel closes its connection and its end of the pipe. Asserts the
+/// guard stops Home within 2 s and the stop holds (`stopped` says what stopped, in the log);
+/// returns what the guard says.
+async fn console_dies(
+    sim: &Simulator,
+    guard: &mut Guard,
+    console: TcpStream,
+    stopped: &str,
+) -> String {
+    drop(console);
+    drop(guard.stdin.take());
+    let took = wait_moving(sim, false, Duration::from_secs(2))
+        .await
+        .expect("the guard stops Home within 2 s of the console's death");
+    eprintln!("{stopped} in {:.1} ms", took.as_secs_f64() * 1000.0);
+    assert_still(sim).await;
+    guard.said().await
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn the_guard_stops_a_talos_home_when_the_console_is_gone() {
-    let (dialect, checksum) = (Dialect::Icd, Checksum::Crc16);
-    let sim = sim_at_retract(dialect, checksum, false).await;
-    let mut guard = start_guard(&talos_guard_args(&sim, dialect, checksum)).await;
-    guard.beat().await;
-    let console = console_homing(&sim, checksum).await;
+    let (sim, mut guard, console) = homing_with_guard(Dialect::Icd, Checksum::Crc16, false).await;
     guard.beat_for(Duration::from_millis(500)).await;
     assert!(
         arm_state(&sim).await.0,
         "Home runs on beside a beating console"
     );
 
-    // The console dies: the kernel closes its connection and its end of the pipe.
-    drop(console);
-    drop(guard.stdin.take());
-    let took = wait_moving(&sim, false, Duration::from_secs(2))
-        .await
-        .expect("the guard stops Home within 2 s of the console's death");
-    eprintln!(
-        "pipe closed -> Home stopped over Talos in {:.1} ms",
-        took.as_secs_f64() * 1000.0
-    );
-    assert_still(&sim).await;
-    let said = guard.line(Duration::from_secs(5)).await.unwrap_or_default();
+    let said = console_dies(
+        &sim,
+        &mut guard,
+        console,
+        "pipe closed -> Home stopped over Talos",
+    )
+    .await;
     assert!(
         said.starts_with("stopped the console is gone") && said.contains("talos: stop set of 3"),
         "the guard reports the ICD stop set: {said:?}"
     );
-    let status = tokio::time::timeout(Duration::from_secs(5), guard.child.wait())
-        .await
-        .expect("the guard exits after the stop")
-        .expect("exit status");
+    let status = guard.exit_status("the guard exits after the stop").await;
     assert!(status.success(), "exit status {status}");
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_silent_console_gets_its_talos_home_stopped_by_an_operator_that_takes_several_clients() {
-    let (dialect, checksum) = (Dialect::Icd, Checksum::Crc16);
-    let sim = sim_at_retract(dialect, checksum, false).await;
-    let mut guard = start_guard(&talos_guard_args(&sim, dialect, checksum)).await;
-    guard.beat().await;
-    let _console = console_homing(&sim, checksum).await;
+    let (sim, mut guard, _console) = homing_with_guard(Dialect::Icd, Checksum::Crc16, false).await;
 
     // The pipe stays open, the console's connection too, and no heartbeat comes.
     wait_moving(&sim, false, Duration::from_secs(4))
         .await
         .expect("the guard stops Home after the heartbeat timeout (1 s)");
-    let said = guard.line(Duration::from_secs(5)).await.unwrap_or_default();
+    let said = guard.said().await;
     assert!(
         said.starts_with("stopped no heartbeat") && said.contains("talos: stop set"),
         "{said:?}"
     );
-    assert!(
-        guard.child.try_wait().expect("guard status").is_none(),
-        "the guard keeps watching"
-    );
+    guard.assert_watching();
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn over_an_operator_that_serves_one_client_the_guard_stops_home_once_the_console_is_gone() {
-    let (dialect, checksum) = (Dialect::Ack, Checksum::Xor8);
-    let sim = sim_at_retract(dialect, checksum, true).await;
-    let mut guard = start_guard(&talos_guard_args(&sim, dialect, checksum)).await;
-    guard.beat().await;
-    let console = console_homing(&sim, checksum).await;
+    let (sim, mut guard, console) = homing_with_guard(Dialect::Ack, Checksum::Xor8, true).await;
 
     // Frozen: the console holds the operator's one connection, so the guard's is not answered.
     // It says so, leaves no stop queued, and Home runs on.
-    let said = guard.line(Duration::from_secs(5)).await.unwrap_or_default();
+    let said = guard.said().await;
     assert!(
         said.starts_with("stop-failed no heartbeat")
             && said.contains("one client at a time")
@@ -157,23 +156,16 @@ async fn over_an_operator_that_serves_one_client_the_guard_stops_home_once_the_c
         arm_state(&sim).await.0,
         "Home runs on: nothing reaches an operator busy with the frozen console"
     );
-    assert!(
-        guard.child.try_wait().expect("guard status").is_none(),
-        "the guard keeps watching"
-    );
+    guard.assert_watching();
 
     // Now the console dies: its connection closes, the operator takes the guard's.
-    drop(console);
-    drop(guard.stdin.take());
-    let took = wait_moving(&sim, false, Duration::from_secs(2))
-        .await
-        .expect("the guard stops Home within 2 s of the console's death");
-    eprintln!(
-        "one-client operator: pipe closed -> Home stopped in {:.1} ms",
-        took.as_secs_f64() * 1000.0
-    );
-    assert_still(&sim).await;
-    let said = guard.line(Duration::from_secs(5)).await.unwrap_or_default();
+    let said = console_dies(
+        &sim,
+        &mut guard,
+        console,
+        "one-client operator: pipe closed -> Home stopped",
+    )
+    .await;
     assert!(
         said.starts_with("stopped the console is gone") && said.contains("talos: stop set of 1"),
         "the ack dialect's stop set (Polar Pan STOP): {said:?}"
@@ -220,20 +212,9 @@ async fn talos_motion_waits_for_a_ready_guard_as_modbus_motion_does() {
 
     // With the guard ready (over Talos alone it connects to nothing), Home runs.
     let (driver, mut events) = talos_driver(&sim, GuardPolicy::Spawn(BIN.into())).await;
-    wait_event(
-        &mut events,
-        Duration::from_secs(10),
-        "the guard ready",
-        |e| matches!(e, ArmEvent::Guard(GuardStatus::Ready { .. })),
-    )
-    .await;
+    guard_ready(&mut events, Duration::from_secs(10), "the guard ready").await;
     assert!(driver.send(ArmCommand::Home));
-    assert!(
-        wait_moving(&sim, true, Duration::from_secs(5))
-            .await
-            .is_some(),
-        "Home runs with the guard ready"
-    );
+    assert_moving(&sim, "Home runs with the guard ready").await;
     driver.send(ArmCommand::Stop);
     driver.shutdown().await;
 }
@@ -242,72 +223,29 @@ async fn talos_motion_waits_for_a_ready_guard_as_modbus_motion_does() {
 async fn a_killed_guard_stops_a_talos_home_and_is_restarted() {
     let sim = sim_at_retract(Dialect::Icd, Checksum::Crc16, false).await;
     let (driver, mut events) = talos_driver(&sim, GuardPolicy::Spawn(BIN.into())).await;
-    let ready = |e: &ArmEvent| matches!(e, ArmEvent::Guard(GuardStatus::Ready { .. }));
-    let ArmEvent::Guard(GuardStatus::Ready { pid }) = wait_event(
-        &mut events,
-        Duration::from_secs(10),
-        "the guard ready",
-        ready,
-    )
-    .await
-    else {
-        unreachable!()
-    };
+    let pid = guard_ready(&mut events, Duration::from_secs(10), "the guard ready").await;
     assert!(driver.send(ArmCommand::Home));
-    assert!(
-        wait_moving(&sim, true, Duration::from_secs(5))
-            .await
-            .is_some(),
-        "Home runs"
-    );
+    assert_moving(&sim, "Home runs").await;
 
     // Nothing would stop Home if the console died now: the driver stops it.
-    let killed = std::process::Command::new("kill")
-        .args(["-9", &pid.to_string()])
-        .status()
-        .expect("kill");
-    assert!(killed.success());
-    wait_event(&mut events, Duration::from_secs(5), "the guard down", |e| {
-        matches!(e, ArmEvent::Guard(GuardStatus::Down { .. }))
-    })
-    .await;
-    wait_moving(&sim, false, Duration::from_secs(3))
-        .await
-        .expect("Home stops when the guard dies");
-    let ArmEvent::Guard(GuardStatus::Ready { pid: again }) =
-        wait_event(&mut events, Duration::from_secs(15), "a new guard", ready).await
-    else {
-        unreachable!()
-    };
-    assert_ne!(again, pid, "a fresh guard process");
+    guard_killed_and_replaced(&sim, &mut events, pid, "Home stops when the guard dies").await;
     driver.shutdown().await;
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_terminated_guard_leaves_no_stop_queued_behind_a_live_console() {
-    let (dialect, checksum) = (Dialect::Ack, Checksum::Xor8);
-    let sim = sim_at_retract(dialect, checksum, true).await;
-    let mut guard = start_guard(&talos_guard_args(&sim, dialect, checksum)).await;
-    guard.beat().await;
-    let console = console_homing(&sim, checksum).await;
+    let (sim, mut guard, console) = homing_with_guard(Dialect::Ack, Checksum::Xor8, true).await;
 
     // SIGTERM while the console lives and holds the operator's one connection: the guard
     // cannot be served, says so, and exits.
     let pid = guard.child.id().expect("guard pid");
-    let terminated = std::process::Command::new("kill")
-        .args(["-TERM", &pid.to_string()])
-        .status()
-        .expect("kill");
-    assert!(terminated.success());
-    let said = guard.line(Duration::from_secs(5)).await.unwrap_or_default();
+    assert!(send_signal(pid, "-TERM"));
+    let said = guard.said().await;
     assert!(
         said.starts_with("stop-failed SIGTERM") && said.contains("one client at a time"),
         "{said:?}"
     );
-    tokio::time::timeout(Duration::from_secs(5), guard.child.wait())
-        .await
-        .expect("the guard exits")
-        .expect("exit status");
+    guard.exit_status("the guard exits").await;
 
     // Its connection, served once the console's closes, carried no stop: Home runs on (the
     // console, alive, would have stopped it itself on seeing its guard die).

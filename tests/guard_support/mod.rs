@@ -12,7 +12,7 @@ use tokio::sync::mpsc::UnboundedReceiver;
 use tokio::time::Instant;
 
 use armjog::kortex::{ReferenceFrame, Twist};
-use armjog::link::interface::ArmEvent;
+use armjog::link::interface::{ArmEvent, GuardStatus};
 use armjog::link::{ModbusConfig, ModbusLink};
 use armjog::sim::{SimConfig, Simulator};
 
@@ -56,6 +56,16 @@ pub async fn wait_moving(sim: &Simulator, moving: bool, within: Duration) -> Opt
     None
 }
 
+/// Asserts the arm starts moving within 5 s; `what` names the motion.
+pub async fn assert_moving(sim: &Simulator, what: &str) {
+    assert!(
+        wait_moving(sim, true, Duration::from_secs(5))
+            .await
+            .is_some(),
+        "{what}"
+    );
+}
+
 /// Asserts the tool stays where it is for a while (the stop held, nothing restarted it).
 pub async fn assert_still(sim: &Simulator) {
     let (_, x0) = arm_state(sim).await;
@@ -80,12 +90,7 @@ pub async fn start_twist(sim: &Simulator) -> ModbusLink {
     link.jog_twist(ReferenceFrame::Base, twist)
         .await
         .expect("twist");
-    assert!(
-        wait_moving(sim, true, Duration::from_secs(5))
-            .await
-            .is_some(),
-        "the twist runs"
-    );
+    assert_moving(sim, "the twist runs").await;
     link
 }
 
@@ -140,6 +145,27 @@ impl Guard {
         }
     }
 
+    /// What the guard says next (5 s at most), or "" if nothing.
+    pub async fn said(&mut self) -> String {
+        self.line(Duration::from_secs(5)).await.unwrap_or_default()
+    }
+
+    /// Asserts the guard process still runs.
+    pub fn assert_watching(&mut self) {
+        assert!(
+            self.child.try_wait().expect("guard status").is_none(),
+            "the guard keeps watching"
+        );
+    }
+
+    /// Waits (5 s at most) for the guard process to exit; `what` says the exit expected.
+    pub async fn exit_status(&mut self, what: &str) -> std::process::ExitStatus {
+        tokio::time::timeout(Duration::from_secs(5), self.child.wait())
+            .await
+            .expect(what)
+            .expect("exit status")
+    }
+
     /// The next line other than the guard's periodic `alive`.
     pub async fn line(&mut self, within: Duration) -> Option<String> {
         let until = Instant::now() + within;
@@ -173,6 +199,60 @@ pub async fn wait_event(
             return event;
         }
     }
+}
+
+/// Waits for the driver's guard to be ready; its pid.
+pub async fn guard_ready(
+    events: &mut UnboundedReceiver<ArmEvent>,
+    within: Duration,
+    what: &str,
+) -> u32 {
+    let ready = wait_event(events, within, what, |e| {
+        matches!(e, ArmEvent::Guard(GuardStatus::Ready { .. }))
+    })
+    .await;
+    let ArmEvent::Guard(GuardStatus::Ready { pid }) = ready else {
+        unreachable!()
+    };
+    pid
+}
+
+/// Waits for the driver's guard to go down; the reason it gives.
+pub async fn guard_down(events: &mut UnboundedReceiver<ArmEvent>, within: Duration) -> String {
+    let down = wait_event(events, within, "the guard down", |e| {
+        matches!(e, ArmEvent::Guard(GuardStatus::Down { .. }))
+    })
+    .await;
+    let ArmEvent::Guard(GuardStatus::Down { reason }) = down else {
+        unreachable!()
+    };
+    reason
+}
+
+/// Kills the driver's guard `pid` (SIGKILL) while the arm moves: asserts the driver sees it
+/// down, the arm stops within 3 s (`stops` says so), and a fresh guard is ready within 15 s.
+pub async fn guard_killed_and_replaced(
+    sim: &Simulator,
+    events: &mut UnboundedReceiver<ArmEvent>,
+    pid: u32,
+    stops: &str,
+) {
+    assert!(send_signal(pid, "-9"));
+    guard_down(events, Duration::from_secs(5)).await;
+    wait_moving(sim, false, Duration::from_secs(3))
+        .await
+        .expect(stops);
+    let again = guard_ready(events, Duration::from_secs(15), "a new guard").await;
+    assert_ne!(again, pid, "a fresh guard process");
+}
+
+/// `kill SIGNAL PID` (`-9`, `-TERM`, `-STOP`); whether kill(1) succeeded.
+pub fn send_signal(pid: u32, signal: &str) -> bool {
+    std::process::Command::new("kill")
+        .args([signal, &pid.to_string()])
+        .status()
+        .expect("kill")
+        .success()
 }
 
 /// A tmux server of our own for the real console, killed on drop.
@@ -216,6 +296,16 @@ impl Tmux {
         let out = self.tmux(&["display-message", "-p", "-t", "console", "#{pane_pid}"]);
         let text = String::from_utf8_lossy(&out.stdout);
         text.trim().parse().expect("pane pid")
+    }
+
+    /// `-` twice, down to 10 % of the cap (25 %, then 10 %), each step seen on the screen.
+    pub async fn slow_to_10_percent(&self) {
+        for speed in ["25%", "10%"] {
+            self.key("-");
+            let shown = format!("speed {speed}");
+            self.wait_for(Duration::from_secs(5), &shown, |s| s.contains(&shown))
+                .await;
+        }
     }
 
     pub async fn wait_for(&self, within: Duration, what: &str, done: impl Fn(&str) -> bool) {
