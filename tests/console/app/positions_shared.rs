@@ -74,10 +74,21 @@ impl Console {
         let mut effects = self.press("enter");
         if matches!(self.app.overlay(), Overlay::Confirm(_)) {
             // Over a name that exists: yes, overwrite.
-            self.t0 += QUESTION_QUIET;
-            effects = self.press("y");
+            effects = self.answer("y");
         }
         effects
+    }
+
+    /// Defines `name` as `define` does and saves it.
+    async fn define_saved(&mut self, name: &str, x_mm: u32) {
+        let effects = self.define(name, x_mm);
+        self.saved(effects).await;
+    }
+
+    /// Answers the question on screen with `key`, once it takes keys.
+    fn answer(&mut self, key: &str) -> Vec<Effect> {
+        self.t0 += QUESTION_QUIET;
+        self.press(key)
     }
 
     fn names(&self) -> Vec<String> {
@@ -100,6 +111,13 @@ fn x_of(book: &PositionBook, name: &str) -> Option<i32> {
     book.get(name).and_then(|e| e.cartesian).map(|c| c[0])
 }
 
+/// A book of one position, `name`, at (0, 0, 300) mm.
+fn book_of(name: &str) -> PositionBook {
+    let mut book = PositionBook::new();
+    book.get_or_insert(name).cartesian = Some([0, 0, 3000]);
+    book
+}
+
 fn book_file(book: &PositionBook) -> (tempfile::TempDir, PathBuf) {
     let dir = tempfile::tempdir().expect("temp dir");
     let path = dir.path().join("book.json");
@@ -114,17 +132,14 @@ fn on_disk(path: &Path) -> Vec<String> {
 
 #[tokio::test]
 async fn two_consoles_on_one_book_keep_each_others_positions_and_say_so() {
-    let mut start = PositionBook::new();
-    start.get_or_insert("home").cartesian = Some([0, 0, 3000]);
+    let start = book_of("home");
     let (_dir, path) = book_file(&start);
     let mut one = Console::open(&path).await;
     let mut two = Console::open(&path).await;
 
-    let effects = one.define("x1", 100);
-    one.saved(effects).await;
+    one.define_saved("x1", 100).await;
     assert_eq!(on_disk(&path), ["home", "x1"]);
-    let effects = two.define("x3", 300);
-    two.saved(effects).await;
+    two.define_saved("x3", 300).await;
     assert_eq!(on_disk(&path), ["home", "x1", "x3"], "console 1's X1 kept");
     assert_eq!(two.names(), ["home", "x1", "x3"], "and shown on console 2");
     let (said, severity) = two.message();
@@ -138,13 +153,11 @@ async fn two_consoles_on_one_book_keep_each_others_positions_and_say_so() {
         "the saved name is selected"
     );
     one.press("delete");
-    one.t0 += QUESTION_QUIET;
-    let effects = one.press("y");
+    let effects = one.answer("y");
     one.saved(effects).await;
     assert_eq!(one.names(), ["home", "x3"], "console 2's X3 came in");
     assert_eq!(on_disk(&path), ["home", "x3"]);
-    let effects = two.define("x4", 400);
-    two.saved(effects).await;
+    two.define_saved("x4", 400).await;
     assert_eq!(on_disk(&path), ["home", "x3", "x4"], "x1 stays deleted");
     assert_eq!(two.names(), ["home", "x3", "x4"]);
     one.close().await;
@@ -153,8 +166,7 @@ async fn two_consoles_on_one_book_keep_each_others_positions_and_say_so() {
 
 #[tokio::test]
 async fn a_tour_added_by_hand_while_the_console_runs_survives_its_save() {
-    let mut start = PositionBook::new();
-    start.get_or_insert("bench").cartesian = Some([0, 0, 3000]);
+    let start = book_of("bench");
     let (_dir, path) = book_file(&start);
     let mut console = Console::open(&path).await;
     let mut by_hand = start.clone();
@@ -163,8 +175,7 @@ async fn a_tour_added_by_hand_while_the_console_runs_survives_its_save() {
         positions: vec!["bench".into()],
     });
     by_hand.save(&path).expect("the hand edit");
-    let effects = console.define("pick", 100);
-    console.saved(effects).await;
+    console.define_saved("pick", 100).await;
     let saved = PositionBook::load(&path).expect("reads");
     assert!(saved.tour("rounds").is_some(), "the hand-made tour is kept");
     assert!(
@@ -174,17 +185,20 @@ async fn a_tour_added_by_hand_while_the_console_runs_survives_its_save() {
     console.close().await;
 }
 
-#[tokio::test]
-async fn a_name_saved_on_both_consoles_keeps_both_and_names_them() {
-    let mut start = PositionBook::new();
-    start.get_or_insert("pick").cartesian = Some([0, 0, 3000]);
-    let (_dir, path) = book_file(&start);
+/// Two consoles on one book with 'pick', each saving its own 'pick': console 1's first (x
+/// 100 mm), then console 2's (x 200 mm).
+async fn pick_saved_on_both() -> (tempfile::TempDir, PathBuf, Console, Console) {
+    let (dir, path) = book_file(&book_of("pick"));
     let mut one = Console::open(&path).await;
     let mut two = Console::open(&path).await;
-    let effects = one.define("pick", 100);
-    one.saved(effects).await;
-    let effects = two.define("pick", 200);
-    two.saved(effects).await;
+    one.define_saved("pick", 100).await;
+    two.define_saved("pick", 200).await;
+    (dir, path, one, two)
+}
+
+#[tokio::test]
+async fn a_name_saved_on_both_consoles_keeps_both_and_names_them() {
+    let (_dir, path, mut one, mut two) = pick_saved_on_both().await;
     let saved = PositionBook::load(&path).expect("reads");
     assert_eq!(x_of(&saved, "pick"), Some(1000), "console 1's pick kept");
     assert_eq!(x_of(&saved, "pick~2"), Some(2000), "console 2's beside it");
@@ -212,8 +226,7 @@ async fn a_name_saved_on_both_consoles_keeps_both_and_names_them() {
             .question()
             .contains("changed here and by another program")
     );
-    two.t0 += QUESTION_QUIET;
-    let effects = two.press("y");
+    let effects = two.answer("y");
     two.saved(effects).await;
     let saved = PositionBook::load(&path).expect("reads");
     assert_eq!(x_of(&saved, "pick"), Some(2000), "console 2's has the name");
@@ -221,8 +234,7 @@ async fn a_name_saved_on_both_consoles_keeps_both_and_names_them() {
     assert_eq!(two.app.selected_name(), Some("pick"));
 
     // Console 1 sees the swap with its next save, as another program's change: no question.
-    let effects = one.define("other", 300);
-    one.saved(effects).await;
+    one.define_saved("other", 300).await;
     assert_eq!(x_of(one.app.positions(), "pick"), Some(2000));
     assert_eq!(x_of(one.app.positions(), "pick~2"), Some(1000));
     assert_eq!(one.app.overlay(), &Overlay::None);
@@ -232,17 +244,8 @@ async fn a_name_saved_on_both_consoles_keeps_both_and_names_them() {
 
 #[tokio::test]
 async fn keeping_both_after_a_conflict_changes_nothing() {
-    let mut start = PositionBook::new();
-    start.get_or_insert("pick").cartesian = Some([0, 0, 3000]);
-    let (_dir, path) = book_file(&start);
-    let mut one = Console::open(&path).await;
-    let mut two = Console::open(&path).await;
-    let effects = one.define("pick", 100);
-    one.saved(effects).await;
-    let effects = two.define("pick", 200);
-    two.saved(effects).await;
-    two.t0 += QUESTION_QUIET;
-    let effects = two.press("n");
+    let (_dir, _path, one, mut two) = pick_saved_on_both().await;
+    let effects = two.answer("n");
     assert!(effects.is_empty(), "{effects:?}");
     assert_eq!(two.app.overlay(), &Overlay::None);
     assert_eq!(
@@ -273,8 +276,7 @@ async fn a_hand_edited_book_with_a_bad_entry_loads_the_rest_and_a_save_keeps_its
     }
     let copy = dir.path().join("book.json.bad");
     assert_eq!(std::fs::read_to_string(&copy).expect("copy"), text);
-    let effects = console.define("place", 200);
-    console.saved(effects).await;
+    console.define_saved("place", 200).await;
     assert_eq!(on_disk(&path), ["bench", "place"]);
     assert_eq!(
         std::fs::read_to_string(&copy).expect("copy"),
