@@ -1,5 +1,6 @@
 //! `armjog status` and `armjog modbus` end to end: the binary against the fake arm on loopback.
 
+use crate::armjog_run::{armjog, command};
 use crate::modbus_fake;
 
 use std::process::Stdio;
@@ -9,30 +10,6 @@ use modbus_fake::{Behaviour, FakeArm, Written, fill_known_telemetry};
 use serde_json::Value;
 use tokio::io::{AsyncBufReadExt, BufReader};
 use tokio_modbus::{ExceptionCode, Request};
-
-struct Run {
-    code: i32,
-    stdout: String,
-    stderr: String,
-}
-
-fn command(args: &[&str]) -> tokio::process::Command {
-    let mut command = tokio::process::Command::new(env!("CARGO_BIN_EXE_armjog"));
-    command.args(args).env(
-        "ARMJOG_LOG_DIR",
-        std::env::temp_dir().join("armjog-test-logs"),
-    );
-    command
-}
-
-async fn armjog(args: &[&str]) -> Run {
-    let out = command(args).output().await.expect("run armjog");
-    Run {
-        code: out.status.code().unwrap_or(-1),
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-    }
-}
 
 async fn known_arm() -> FakeArm {
     let arm = FakeArm::start().await;

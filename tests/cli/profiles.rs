@@ -2,6 +2,8 @@
 //! which of a flag, a profile and a default wins, and `--arm` end to end against the simulator.
 //! Every test names its own file (`--config` or `ARMJOG_CONFIG`): none reads the real home.
 
+use crate::armjog_run::{self, Run, run};
+
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
@@ -336,52 +338,26 @@ fn without_arm_the_file_is_not_read_and_arm_is_refused_where_it_means_nothing() 
 
 // ---- the binary ----
 
-pub(crate) struct Run {
-    pub code: i32,
-    pub stdout: String,
-    pub stderr: String,
-}
-
+/// `armjog args...` with the config file `config`, no `ARMJOG_ARM`, and `env`.
 pub(crate) async fn armjog(config: &Path, env: &[(&str, &str)], args: &[&str]) -> Run {
-    let mut command = tokio::process::Command::new(env!("CARGO_BIN_EXE_armjog"));
+    let mut command = armjog_run::command(args);
     command
-        .args(args)
         .env("ARMJOG_CONFIG", config)
-        .env_remove("ARMJOG_ARM")
-        .env(
-            "ARMJOG_LOG_DIR",
-            std::env::temp_dir().join("armjog-test-logs"),
-        );
+        .env_remove("ARMJOG_ARM");
     for (name, value) in env {
         command.env(name, value);
     }
-    let out = command.output().await.expect("run armjog");
-    Run {
-        code: out.status.code().unwrap_or(-1),
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-    }
+    run(command).await
 }
 
 /// `armjog args...` with the default config file in `config_home` (`$XDG_CONFIG_HOME`).
 async fn default_config_armjog(config_home: &Path, args: &[&str]) -> Run {
-    let out = tokio::process::Command::new(env!("CARGO_BIN_EXE_armjog"))
-        .args(args)
+    let mut command = armjog_run::command(args);
+    command
         .env_remove("ARMJOG_CONFIG")
         .env_remove("ARMJOG_ARM")
-        .env("XDG_CONFIG_HOME", config_home)
-        .env(
-            "ARMJOG_LOG_DIR",
-            std::env::temp_dir().join("armjog-test-logs"),
-        )
-        .output()
-        .await
-        .expect("run armjog");
-    Run {
-        code: out.status.code().unwrap_or(-1),
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-    }
+        .env("XDG_CONFIG_HOME", config_home);
+    run(command).await
 }
 
 /// A profile `sim1` on the simulator, with a Home action id it does not have.

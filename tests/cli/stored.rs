@@ -6,7 +6,7 @@
 use std::process::{Output, Stdio};
 use std::time::{Duration, Instant};
 
-use crate::armjog_run::armjog;
+use crate::armjog_run::{armjog, command};
 use armjog::sim::arm_model::{Arm, ArmSnapshot};
 use armjog::sim::kinematics::to_radians;
 use armjog::sim::{SimConfig, Simulator};
@@ -42,12 +42,7 @@ fn off(s: &ArmSnapshot, want: [f64; 7]) -> f64 {
 }
 
 fn spawn(args: &[&str]) -> tokio::process::Child {
-    tokio::process::Command::new(env!("CARGO_BIN_EXE_armjog"))
-        .args(args)
-        .env(
-            "ARMJOG_LOG_DIR",
-            std::env::temp_dir().join("armjog-test-logs"),
-        )
+    command(args)
         .env_remove("ARMJOG_ARM")
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
