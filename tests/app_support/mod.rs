@@ -70,6 +70,13 @@ pub fn jog(x: i8, y: i8, z: i8) -> Effect {
 
 pub const STOP: Effect = Effect::Arm(ArmCommand::Stop);
 
+/// Whether none of `effects` starts the arm moving.
+pub fn no_motion(effects: &[Effect]) -> bool {
+    !effects
+        .iter()
+        .any(|e| matches!(e, Effect::Arm(c) if c.starts_motion()))
+}
+
 pub fn step(dx: i32, dy: i32, dz: i32) -> Effect {
     Effect::Arm(ArmCommand::Step(StepMove::Cartesian { dx, dy, dz }))
 }

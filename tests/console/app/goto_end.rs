@@ -8,15 +8,7 @@ use armjog::kortex::{ActionState, ActionStatus, Coded, MoveType, Pose};
 use armjog::link::interface::{ArmCommand, ArmEvent};
 
 use crate::app::tours::{Bench, leg};
-use crate::app_support::ms;
-
-const STOP: Effect = Effect::Arm(ArmCommand::Stop);
-
-fn no_motion(effects: &[Effect]) -> bool {
-    !effects
-        .iter()
-        .any(|e| matches!(e, Effect::Arm(c) if c.starts_motion()))
-}
+use crate::app_support::{STOP, ms, no_motion};
 
 /// One telemetry report 100 ms on: the tool at `tool`, the action status `status` of
 /// `move_type` `id`, the joints turning at `velocity` deg/s.
@@ -61,6 +53,20 @@ fn go_to_bench(b: &mut Bench) -> (ArmCommand, Pose) {
     (command, target)
 }
 
+/// Our move reported started, the tool still where it was.
+fn ours_started(b: &mut Bench) -> Vec<Effect> {
+    let tool = b.tool;
+    report(b, 12.0, OURS_STARTED, tool)
+}
+
+/// The tour's leg was another client's move: the arm stopped, nothing started, the tour over
+/// and `said` on the message line.
+fn assert_tour_ended(b: &Bench, effects: &[Effect], said: &str) {
+    assert!(effects.contains(&STOP) && no_motion(effects), "{effects:?}");
+    assert_eq!(b.tour_label(), None);
+    assert_eq!(b.message(), said);
+}
+
 fn offset(pose: Pose, dx_mm: f32, dtheta_z: f32) -> Pose {
     Pose {
         x: pose.x + dx_mm / 1000.0,
@@ -74,7 +80,7 @@ fn another_clients_action_under_our_go_to_stops_the_arm_and_is_never_our_go_to_d
     let mut b = Bench::new(false);
     let (_, target) = go_to_bench(&mut b);
     let home = b.tool;
-    assert!(no_motion(&report(&mut b, 12.0, OURS_STARTED, home)));
+    assert!(no_motion(&ours_started(&mut b)));
     // `armjog modbus action --id 5` from elsewhere: the arm runs the Zero action instead.
     let action_5 = (ActionStatus::Started, MoveType::Action, 5);
     let effects = report(&mut b, 12.0, action_5, home);
@@ -101,8 +107,7 @@ fn another_clients_action_under_our_go_to_stops_the_arm_and_is_never_our_go_to_d
 fn a_go_to_at_rest_away_from_its_target_is_another_clients_move_not_done() {
     let mut b = Bench::new(false);
     let (_, target) = go_to_bench(&mut b);
-    let home = b.tool;
-    report(&mut b, 12.0, OURS_STARTED, home);
+    ours_started(&mut b);
     // Another client's trajectory replaced ours (same move type) and ended 150 mm off.
     let effects = report(&mut b, 0.0, OURS_COMPLETED, offset(target, 150.0, 0.0));
     assert!(effects.contains(&STOP), "{effects:?}");
@@ -114,8 +119,7 @@ fn a_go_to_at_rest_away_from_its_target_is_another_clients_move_not_done() {
     // Turned away, the point where it was sent: not ours either.
     let mut b = Bench::new(false);
     let (_, target) = go_to_bench(&mut b);
-    let home = b.tool;
-    report(&mut b, 12.0, OURS_STARTED, home);
+    ours_started(&mut b);
     let effects = report(&mut b, 0.0, OURS_COMPLETED, offset(target, 0.0, 10.0));
     assert!(effects.contains(&STOP), "{effects:?}");
     assert!(
@@ -135,8 +139,7 @@ fn a_go_to_within_the_tolerance_of_its_target_is_done() {
     let before = (ActionStatus::Completed, MoveType::Action, 2);
     let home = b.tool;
     assert!(report(&mut b, 0.0, before, home).is_empty());
-    let home = b.tool;
-    report(&mut b, 12.0, OURS_STARTED, home);
+    ours_started(&mut b);
     let near = offset(target, ARRIVED_MM * 0.8, ARRIVED_DEG * 0.8);
     let effects = report(&mut b, 0.0, OURS_COMPLETED, near);
     assert!(effects.is_empty(), "{effects:?}");
@@ -151,20 +154,15 @@ fn a_tour_leg_another_client_moved_elsewhere_ends_the_tour_and_no_next_leg_start
         panic!("{first:?}");
     };
     b.event(ArmEvent::Done { command: first });
-    let home = b.tool;
-    report(&mut b, 12.0, OURS_STARTED, home);
+    ours_started(&mut b);
     // A second console's leg to pick took over: the arm completes a trajectory there.
     let pick = offset(bench, 10.0, 0.0);
     let effects = report(&mut b, 0.0, OURS_COMPLETED, pick);
-    assert!(
-        effects.contains(&STOP) && no_motion(&effects),
-        "{effects:?}"
-    );
-    assert_eq!(b.tour_label(), None);
-    assert_eq!(
-        b.message(),
+    assert_tour_ended(
+        &b,
+        &effects,
         "tour 'rounds' leg 1/3 → bench ended the tour: go to 'bench' not done: MOVED BY ANOTHER \
-         CLIENT: the arm is at rest 10 mm from where it was sent; stopped"
+         CLIENT: the arm is at rest 10 mm from where it was sent; stopped",
     );
     assert!(no_motion(&report(&mut b, 0.0, OURS_COMPLETED, pick)));
 }
@@ -188,14 +186,10 @@ fn a_talos_go_to_is_done_at_its_position_whatever_move_type_and_not_done_elsewhe
     b.feed(12.0, ActionStatus::Started);
     // It comes to rest where it was, at bench, not at pick.
     let effects = b.feed(0.0, ActionStatus::Completed);
-    assert!(
-        effects.contains(&STOP) && no_motion(&effects),
-        "{effects:?}"
-    );
-    assert_eq!(b.tour_label(), None);
-    assert_eq!(
-        b.message(),
+    assert_tour_ended(
+        &b,
+        &effects,
         "tour 'rounds' leg 2/3 → pick ended the tour: go to 'pick' not done: MOVED BY ANOTHER \
-         CLIENT: the arm is at rest 10 mm from where it was sent; stopped"
+         CLIENT: the arm is at rest 10 mm from where it was sent; stopped",
     );
 }

@@ -8,15 +8,9 @@ use armjog::kortex::ActionStatus;
 use armjog::link::interface::{ArmCommand, ArmError, ArmEvent, CommandKind};
 
 use crate::app::tours::Bench;
+use crate::app_support::{STOP, no_motion};
 
-const STOP: Effect = Effect::Arm(ArmCommand::Stop);
 const REASON: &str = "the stop guard stopped the arm: no heartbeat for 500 ms";
-
-fn no_motion(effects: &[Effect]) -> bool {
-    !effects
-        .iter()
-        .any(|e| matches!(e, Effect::Arm(c) if c.starts_motion()))
-}
 
 /// The guard's report, as the driver passes it on: a failed jog, whatever ran.
 fn guard_stopped(b: &mut Bench) -> Vec<Effect> {

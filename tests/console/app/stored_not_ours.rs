@@ -9,10 +9,8 @@ use armjog::link::interface::{ArmCommand, ArmEvent, TelemetrySource};
 use super::stored_actions::{
     ACTION_5, console, console_with, feed, last_run, moving, running, start,
 };
-use crate::app_support::{config, message, ms, press};
+use crate::app_support::{STOP, config, message, ms, no_motion, press};
 use armjog::console::app::Input;
-
-const STOP: Effect = Effect::Arm(ArmCommand::Stop);
 
 const HOME_ACTION: Stored = Stored {
     motion: StoredMotion::Action,
@@ -55,12 +53,7 @@ fn another_clients_move_under_our_stored_action_stops_it_and_is_never_done() {
         let said = message(&app);
         let end = last_run(id, move_type, ActionStatus::Completed, 0.0);
         let effects = feed(&mut app, end, t0 + ms(3200));
-        assert!(
-            !effects
-                .iter()
-                .any(|e| matches!(e, Effect::Arm(c) if c.starts_motion())),
-            "{effects:?}"
-        );
+        assert!(no_motion(&effects), "{effects:?}");
         assert_eq!(message(&app), said, "{theirs}");
     }
 }

@@ -15,14 +15,9 @@ use armjog::console::positions::{PositionBook, Tour};
 use armjog::kortex::{ActionState, ActionStatus, Coded, MoveType, Pose, Telemetry};
 use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus, TelemetrySource};
 
-use crate::app_support;
+use crate::app_support::{self, STOP, ms, no_motion};
 
-const STOP: Effect = Effect::Arm(ArmCommand::Stop);
 const HOME: [f32; 7] = [0.0, 15.0, 180.0, 230.0, 0.0, 55.0, 90.0];
-
-fn ms(n: u64) -> Duration {
-    Duration::from_millis(n)
-}
 
 /// The arm with its tool at `tool`, its action status `status` of a `move_type`.
 fn telemetry(velocity: f32, status: ActionStatus, move_type: MoveType, tool: Pose) -> Telemetry {
@@ -220,12 +215,6 @@ pub(crate) fn leg(effects: &[Effect]) -> ArmCommand {
         [one] => (*one).clone(),
         other => panic!("expected one leg's command, got {other:?} in {effects:?}"),
     }
-}
-
-fn no_motion(effects: &[Effect]) -> bool {
-    !effects
-        .iter()
-        .any(|e| matches!(e, Effect::Arm(c) if c.starts_motion()))
 }
 
 fn pose_x(command: &ArmCommand) -> f32 {
