@@ -182,8 +182,7 @@ fn a_talos_go_to_is_done_at_its_position_whatever_move_type_and_not_done_elsewhe
     );
     let second = leg(&b.finish_leg(first));
     assert_eq!(b.tour_label().as_deref(), Some("TOUR 2/3 → pick"));
-    b.event(ArmEvent::Done { command: second });
-    b.feed(12.0, ActionStatus::Started);
+    b.leg_started(second);
     // It comes to rest where it was, at bench, not at pick.
     let effects = b.feed(0.0, ActionStatus::Completed);
     assert_tour_ended(

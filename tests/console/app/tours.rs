@@ -147,13 +147,16 @@ impl Bench {
         self.press("y")
     }
 
+    /// The arm takes the leg's command and reports it moving, the tool still where it was.
+    pub(crate) fn leg_started(&mut self, command: ArmCommand) {
+        self.event(ArmEvent::Done { command });
+        self.feed(12.0, ActionStatus::Started);
+    }
+
     /// The arm takes the leg's command, moves and reports it completed at rest where it was
     /// sent.
     pub(crate) fn finish_leg(&mut self, command: ArmCommand) -> Vec<Effect> {
-        self.event(ArmEvent::Done {
-            command: command.clone(),
-        });
-        self.feed(12.0, ActionStatus::Started);
+        self.leg_started(command.clone());
         self.arrive(&command);
         self.feed(0.0, ActionStatus::Completed)
     }
@@ -348,8 +351,7 @@ fn any_key_mid_leg_stops_the_arm_and_ends_the_tour_naming_the_leg() {
         let mut b = Bench::new(false);
         let first = leg(&b.play("O"));
         let second = leg(&b.finish_leg(first));
-        b.event(ArmEvent::Done { command: second });
-        b.feed(12.0, ActionStatus::Started);
+        b.leg_started(second);
         let effects = b.press(key);
         assert_eq!(effects, [STOP], "{key}");
         assert_eq!(b.tour_label(), None, "{key}");
@@ -368,8 +370,7 @@ fn any_key_mid_leg_stops_the_arm_and_ends_the_tour_naming_the_leg() {
 fn a_failed_leg_ends_the_tour_with_its_reason_and_the_leg() {
     let mut b = Bench::new(false);
     let first = leg(&b.play("O"));
-    b.event(ArmEvent::Done { command: first });
-    b.feed(12.0, ActionStatus::Started);
+    b.leg_started(first);
     let effects = b.feed(0.0, ActionStatus::Aborted);
     assert!(effects.contains(&STOP), "{effects:?}");
     assert!(no_motion(&effects), "{effects:?}");
@@ -385,8 +386,7 @@ fn a_failed_leg_ends_the_tour_with_its_reason_and_the_leg() {
 fn a_stale_link_mid_tour_stops_it_and_nothing_resumes_when_the_arm_is_heard_again() {
     let mut b = Bench::new(false);
     let first = leg(&b.play("O"));
-    b.event(ArmEvent::Done { command: first });
-    b.feed(12.0, ActionStatus::Started);
+    b.leg_started(first);
     // Three of its (slow, here) poll intervals, at least STALE_AFTER.
     let now = b.at(STALE_AFTER * 4);
     let effects = b.app.handle(Input::Tick, now);
@@ -408,8 +408,7 @@ fn a_link_lost_mid_leg_ends_the_tour_and_a_reconnect_resumes_nothing() {
         },
         "over Talos a leg is a Go To"
     );
-    b.event(ArmEvent::Done { command: first });
-    b.feed(12.0, ActionStatus::Started);
+    b.leg_started(first);
     b.event(ArmEvent::Status(LinkStatus::Down {
         reason: "reset".into(),
     }));
@@ -460,8 +459,7 @@ fn a_guard_stop_mid_leg_ends_the_tour_naming_the_leg_and_the_tour() {
     let mut b = Bench::new(false);
     let first = leg(&b.play("O"));
     let second = leg(&b.finish_leg(first));
-    b.event(ArmEvent::Done { command: second });
-    b.feed(12.0, ActionStatus::Started);
+    b.leg_started(second);
     // The guard reports its stop as a failed jog, though no jog is held.
     let effects = b.event(ArmEvent::Failed {
         command: armjog::link::interface::CommandKind::Jog,
