@@ -24,4 +24,6 @@ mod singularity;
 mod state_machine;
 pub(crate) mod stored_actions;
 mod stored_not_ours;
+mod tour_ends;
+mod tour_position_edits;
 pub(crate) mod tours;

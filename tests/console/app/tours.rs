@@ -1,12 +1,13 @@
 //! Tours of named positions in the state machine, on a fake clock: made from the positions
 //! list and checked against the book, confirmed once, played one leg at a time or straight
-//! through on the go-to path, each next leg only after the last one's end at rest, and over on
-//! any key, a failed leg, a stale or lost link, with nothing resumed after a reconnect.
+//! through on the go-to path, each next leg only after the last one's end at rest and the
+//! motion gate. What ends a tour is in `tour_ends.rs`, edits to the positions a tour visits in
+//! `tour_position_edits.rs`; `Bench` here serves them (and `goto_end.rs`, `guard_stops.rs`).
 
 use std::time::{Duration, Instant};
 
 use armjog::console::app::{
-    App, AppConfig, Effect, Input, KeyInput, MotionShown, Overlay, QUESTION_QUIET, STALE_AFTER,
+    App, AppConfig, Effect, Input, KeyInput, MotionShown, Overlay, QUESTION_QUIET,
 };
 use armjog::console::form::Confirm;
 use armjog::console::jog::KeyKind;
@@ -15,7 +16,7 @@ use armjog::console::positions::{PositionBook, Tour};
 use armjog::kortex::{ActionState, ActionStatus, Coded, MoveType, Pose, Telemetry};
 use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus, TelemetrySource};
 
-use crate::app_support::{self, STOP, ms, no_motion};
+use crate::app_support::{self, ms, no_motion};
 
 const HOME: [f32; 7] = [0.0, 15.0, 180.0, 230.0, 0.0, 55.0, 90.0];
 
@@ -35,7 +36,7 @@ fn telemetry(velocity: f32, status: ActionStatus, move_type: MoveType, tool: Pos
 /// its book holding bench, pick and place and the tour `rounds` of the three.
 pub(crate) struct Bench {
     pub(crate) app: App,
-    now: Instant,
+    pub(crate) now: Instant,
     /// Where the telemetry has the tool (home at first; a leg's target once it arrived).
     pub(crate) tool: Pose,
     /// The move type the telemetry reports: a go-to's, a cartesian trajectory.
@@ -112,7 +113,7 @@ impl Bench {
         )
     }
 
-    fn type_text(&mut self, text: &str) {
+    pub(crate) fn type_text(&mut self, text: &str) {
         for c in text.chars() {
             self.press(&c.to_string());
         }
@@ -220,7 +221,7 @@ pub(crate) fn leg(effects: &[Effect]) -> ArmCommand {
     }
 }
 
-fn pose_x(command: &ArmCommand) -> f32 {
+pub(crate) fn pose_x(command: &ArmCommand) -> f32 {
     match command {
         ArmCommand::MoveToPose(pose) => pose.x,
         other => panic!("not a move to pose: {other:?}"),
@@ -346,101 +347,6 @@ fn one_leg_at_a_time_waits_for_the_next_leg_key_and_any_other_key_ends_it() {
 }
 
 #[test]
-fn any_key_mid_leg_stops_the_arm_and_ends_the_tour_naming_the_leg() {
-    for key in ["v", "space", "w"] {
-        let mut b = Bench::new(false);
-        let first = leg(&b.play("O"));
-        let second = leg(&b.finish_leg(first));
-        b.leg_started(second);
-        let effects = b.press(key);
-        assert_eq!(effects, [STOP], "{key}");
-        assert_eq!(b.tour_label(), None, "{key}");
-        assert_eq!(
-            b.message(),
-            "tour 'rounds' leg 2/3 → pick: stopped by a key; play it again to go on",
-            "{key}"
-        );
-        // The arm stops at rest: no third leg.
-        assert!(no_motion(&b.feed(0.0, ActionStatus::Completed)), "{key}");
-        assert!(no_motion(&b.feed(0.0, ActionStatus::Completed)), "{key}");
-    }
-}
-
-#[test]
-fn a_failed_leg_ends_the_tour_with_its_reason_and_the_leg() {
-    let mut b = Bench::new(false);
-    let first = leg(&b.play("O"));
-    b.leg_started(first);
-    let effects = b.feed(0.0, ActionStatus::Aborted);
-    assert!(effects.contains(&STOP), "{effects:?}");
-    assert!(no_motion(&effects), "{effects:?}");
-    assert_eq!(b.tour_label(), None);
-    let said = b.message();
-    assert!(
-        said.starts_with("tour 'rounds' leg 1/3 → bench ended the tour: go to 'bench' failed"),
-        "{said}"
-    );
-}
-
-#[test]
-fn a_stale_link_mid_tour_stops_it_and_nothing_resumes_when_the_arm_is_heard_again() {
-    let mut b = Bench::new(false);
-    let first = leg(&b.play("O"));
-    b.leg_started(first);
-    // Three of its (slow, here) poll intervals, at least STALE_AFTER.
-    let now = b.at(STALE_AFTER * 4);
-    let effects = b.app.handle(Input::Tick, now);
-    assert_eq!(effects, [STOP]);
-    assert_eq!(b.tour_label(), None);
-    assert!(b.message().contains("leg 1/3 → bench"), "{}", b.message());
-    assert!(no_motion(&b.feed(0.0, ActionStatus::Completed)));
-    assert!(no_motion(&b.feed(0.0, ActionStatus::Completed)));
-}
-
-#[test]
-fn a_link_lost_mid_leg_ends_the_tour_and_a_reconnect_resumes_nothing() {
-    let mut b = Bench::new(true);
-    let first = leg(&b.play("O"));
-    assert_eq!(
-        first,
-        ArmCommand::GoToPosition {
-            name: "bench".into()
-        },
-        "over Talos a leg is a Go To"
-    );
-    b.leg_started(first);
-    b.event(ArmEvent::Status(LinkStatus::Down {
-        reason: "reset".into(),
-    }));
-    assert_eq!(b.tour_label(), None);
-    let back = b.event(ArmEvent::Status(LinkStatus::Up {
-        description: "test".into(),
-    }));
-    assert!(no_motion(&back), "{back:?}");
-    assert!(no_motion(&b.feed(0.0, ActionStatus::Completed)));
-    assert!(no_motion(&b.feed(0.0, ActionStatus::Completed)));
-}
-
-#[test]
-fn a_tour_naming_a_deleted_position_is_refused_with_its_name_before_any_question() {
-    let mut b = Bench::new(false);
-    b.press("pagedown");
-    assert_eq!(b.app.selected_name(), Some("pick"));
-    b.press("delete");
-    b.at(QUESTION_QUIET);
-    b.press("y");
-    assert!(b.app.positions().get("pick").is_none());
-    b.press("O");
-    let effects = b.press("enter");
-    assert!(no_motion(&effects));
-    assert_eq!(b.app.overlay(), &Overlay::None, "no question");
-    assert_eq!(
-        b.message(),
-        "tour 'rounds' cannot be played: leg 2/3: 'pick' is not in the book"
-    );
-}
-
-#[test]
 fn the_gate_is_asked_before_each_leg() {
     let mut b = Bench::new(false);
     let first = leg(&b.play("N"));
@@ -452,141 +358,4 @@ fn the_gate_is_asked_before_each_leg() {
     let effects = b.press("N");
     assert!(no_motion(&effects), "{effects:?}");
     assert_eq!(b.tour_label(), None);
-}
-
-#[test]
-fn a_guard_stop_mid_leg_ends_the_tour_naming_the_leg_and_the_tour() {
-    let mut b = Bench::new(false);
-    let first = leg(&b.play("O"));
-    let second = leg(&b.finish_leg(first));
-    b.leg_started(second);
-    // The guard reports its stop as a failed jog, though no jog is held.
-    let effects = b.event(ArmEvent::Failed {
-        command: armjog::link::interface::CommandKind::Jog,
-        error: armjog::link::interface::ArmError::GuardStoppedArm("no heartbeat for 500 ms".into()),
-    });
-    assert!(effects.contains(&STOP), "{effects:?}");
-    assert!(no_motion(&effects), "{effects:?}");
-    assert_eq!(b.tour_label(), None);
-    assert_eq!(
-        b.message(),
-        "tour 'rounds' leg 2/3 → pick stopped: the stop guard stopped the arm: no heartbeat \
-         for 500 ms"
-    );
-    // The arm reports the leg aborted and then at rest: the tour's words stay, nothing moves.
-    assert!(no_motion(&b.feed(0.0, ActionStatus::Aborted)));
-    assert!(no_motion(&b.feed(0.0, ActionStatus::Aborted)));
-    assert!(
-        b.message()
-            .starts_with("tour 'rounds' leg 2/3 → pick stopped"),
-        "{}",
-        b.message()
-    );
-}
-
-#[test]
-fn renaming_a_position_a_tour_visits_carries_into_the_tour() {
-    let mut b = Bench::new(false);
-    b.press("pagedown");
-    b.press("R");
-    b.type_text("up");
-    let effects = b.press("enter");
-    let saved = effects.iter().find_map(|e| match e {
-        Effect::SavePositions(save) => save.tour("rounds").map(Tour::legs_text),
-        _ => None,
-    });
-    assert_eq!(
-        saved.as_deref(),
-        Some("bench → pickup → place"),
-        "{effects:?}"
-    );
-    assert_eq!(
-        b.message(),
-        "renamed 'pick' to 'pickup', in tour 'rounds' too"
-    );
-    // The tour plays through the new name.
-    let first = leg(&b.play("N"));
-    b.finish_leg(first);
-    let second = leg(&b.press("N"));
-    assert_eq!(pose_x(&second), 0.41, "the renamed position's pose");
-}
-
-#[test]
-fn renaming_on_the_operator_carries_into_the_tour_once_the_operator_has_it() {
-    let mut b = Bench::new(true);
-    b.press("pagedown");
-    b.press("R");
-    b.type_text("up");
-    b.press("enter");
-    let unchanged = b.app.positions().tour("rounds").map(Tour::legs_text);
-    assert_eq!(
-        unchanged.as_deref(),
-        Some("bench → pick → place"),
-        "not yet"
-    );
-    b.event(ArmEvent::Position {
-        name: "pick".into(),
-        coordinates: armjog::link::interface::PositionCoordinates {
-            cartesian: Some([4100, 1000, 3000]),
-            polar: None,
-        },
-    });
-    b.event(ArmEvent::Done {
-        command: ArmCommand::SetCartesianPosition {
-            name: "pickup".into(),
-            x: 4100,
-            y: 1000,
-            z: 3000,
-        },
-    });
-    let effects = b.event(ArmEvent::Done {
-        command: ArmCommand::DeletePosition {
-            name: "pick".into(),
-        },
-    });
-    assert!(
-        effects
-            .iter()
-            .any(|e| matches!(e, Effect::SavePositions(_)))
-    );
-    let renamed = b.app.positions().tour("rounds").map(Tour::legs_text);
-    assert_eq!(renamed.as_deref(), Some("bench → pickup → place"));
-    assert_eq!(
-        b.message(),
-        "renamed 'pick' to 'pickup', in tour 'rounds' too"
-    );
-}
-
-#[test]
-fn deleting_a_position_a_tour_visits_names_the_tour_and_undo_makes_the_tour_whole() {
-    let mut b = Bench::new(false);
-    let mut book = b.app.positions().clone();
-    book.set_tour(Tour {
-        name: "short".into(),
-        positions: vec!["pick".into()],
-    });
-    b.app.handle(Input::PositionsLoaded(Ok(book)), b.now);
-    b.press("pagedown");
-    b.press("delete");
-    let Overlay::Confirm(question) = b.app.overlay().clone() else {
-        panic!("no question: {:?}", b.app.overlay())
-    };
-    assert_eq!(
-        question.question(),
-        "Delete position 'pick'? Tours 'rounds' and 'short' visit it and cannot be played \
-         without it (undo restores it)"
-    );
-    b.at(QUESTION_QUIET);
-    b.press("y");
-    assert_eq!(
-        b.message(),
-        "deleted 'pick': tours 'rounds' and 'short' cannot be played without it (undo restores \
-         it)"
-    );
-    // The tours keep the name: undo brings the position back and the tour plays whole.
-    b.press("u");
-    assert!(b.app.positions().get("pick").is_some());
-    let first = leg(&b.play("N"));
-    b.finish_leg(first);
-    assert!(matches!(leg(&b.press("N")), ArmCommand::MoveToPose(_)));
 }
