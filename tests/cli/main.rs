@@ -31,6 +31,8 @@ mod logs;
 mod modbus;
 mod options;
 mod outside_text;
+mod profile_commands;
+mod profile_precedence;
 mod profile_values;
 mod profiles;
 mod send;

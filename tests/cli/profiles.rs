@@ -1,21 +1,17 @@
-//! Arm profiles (`config.toml`, `--arm`, `armjog arms`): the file's checks with their lines,
-//! which of a flag, a profile and a default wins, and `--arm` end to end against the simulator.
-//! Every test names its own file (`--config` or `ARMJOG_CONFIG`): none reads the real home.
+//! Arm profiles (`config.toml`, `--arm`, `armjog arms`): the file's checks with their lines, and
+//! a profile's book. Which of a flag, a profile and a default wins is in `profile_precedence.rs`,
+//! the binary with `--arm` against the simulator in `profile_commands.rs`, a profile's values in
+//! `profile_values.rs`. Every test names its own file (`--config` or `ARMJOG_CONFIG`): none
+//! reads the real home.
 
 use crate::armjog_run::{self, Run, run};
 
-use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
-use armjog::cli::Command;
-use armjog::cli::modbus::ModbusCommand;
-use armjog::cli::profiles::{self, ArgsError, Parsed, ProfileError};
-use armjog::link::Dialect;
-use armjog::sim::{SimConfig, Simulator};
-use armjog::talos::Checksum;
+use armjog::cli::profiles::{self, ProfileError};
 
 /// The issue's example profile, and a second one.
-const GOOD: &str = r#"# the arms of the day
+pub(crate) const GOOD: &str = r#"# the arms of the day
 [arms.cell3]
 talos = "192.168.1.20"        # every console option may appear, with its long name
 dialect = "ack"
@@ -213,8 +209,6 @@ fn a_missing_file_is_named() {
     );
 }
 
-// ---- precedence: the command line, the profile, the defaults ----
-
 /// A config file in a temporary folder (kept while the guard lives).
 pub(crate) fn config_file(text: &str) -> (tempfile::TempDir, PathBuf) {
     let dir = tempfile::tempdir().expect("temp dir");
@@ -222,121 +216,6 @@ pub(crate) fn config_file(text: &str) -> (tempfile::TempDir, PathBuf) {
     std::fs::write(&path, text).expect("write config");
     (dir, path)
 }
-
-fn parsed(config: &Path, args: &[&str]) -> Result<Parsed, ArgsError> {
-    let mut all: Vec<OsString> = vec!["armjog".into(), "--config".into(), config.into()];
-    all.extend(args.iter().map(OsString::from));
-    // As main reads them: the shared options may come before the command word.
-    profiles::parse_args(armjog::cli::options_after_command(all))
-}
-
-#[test]
-fn the_profile_beats_the_defaults_and_a_flag_beats_the_profile() {
-    let (_dir, config) = config_file(GOOD);
-    let Parsed { cli, arm } = parsed(&config, &["--arm", "cell3"]).expect("parses");
-    assert_eq!(arm.as_deref(), Some("cell3"));
-    let c = &cli.console;
-    assert_eq!(c.talos.as_deref(), Some("192.168.1.20"));
-    assert_eq!(c.modbus.as_deref(), Some("192.168.1.10"));
-    assert_eq!(c.dialect, Dialect::Ack);
-    assert_eq!(c.checksum, Checksum::Xor8);
-    assert_eq!(c.max_jog_speed, 100.0);
-    assert_eq!(c.home_action_id, 7);
-    assert_eq!(c.keymap, "numpad");
-    // Not in the profile: the default.
-    assert_eq!(c.refresh_hz, 10.0);
-
-    // Typed values win, also one equal to the default (a default must not hide the profile,
-    // and a typed default must not lose to it).
-    let Parsed { cli, .. } = parsed(
-        &config,
-        &[
-            "--arm",
-            "cell3",
-            "--max-jog-speed",
-            "250",
-            "--talos",
-            "op:61616",
-            "--dialect=icd",
-        ],
-    )
-    .expect("parses");
-    let c = &cli.console;
-    assert_eq!(c.max_jog_speed, 250.0);
-    assert_eq!(c.talos.as_deref(), Some("op:61616"));
-    assert_eq!(c.dialect, Dialect::Icd);
-    assert_eq!(
-        c.checksum,
-        Checksum::Xor8,
-        "the rest still from the profile"
-    );
-}
-
-#[test]
-fn the_one_shot_commands_take_the_options_they_have() {
-    let (_dir, config) = config_file(GOOD);
-    let Parsed { cli, arm } = parsed(&config, &["status", "--arm", "cell3"]).expect("parses");
-    assert_eq!(arm.as_deref(), Some("cell3"));
-    let Some(Command::Status(status)) = cli.command else {
-        panic!("status");
-    };
-    assert_eq!(status.arm.modbus, "192.168.1.10");
-    assert_eq!(status.arm.unit, 1);
-
-    // Before the command word, and a flag over the profile.
-    let Parsed { cli, .. } = parsed(
-        &config,
-        &["--arm", "cell3", "modbus", "--unit", "3", "home"],
-    )
-    .expect("parses");
-    let Some(Command::Modbus(modbus)) = cli.command else {
-        panic!("modbus");
-    };
-    assert_eq!(modbus.arm.modbus, "192.168.1.10");
-    assert_eq!(modbus.arm.unit, 3);
-    let ModbusCommand::Home { action_id, .. } = modbus.command else {
-        panic!("home");
-    };
-    assert_eq!(action_id, 7, "home takes the profile's home_action_id");
-
-    let Parsed { cli, .. } =
-        parsed(&config, &["send", "get-speed", "--arm", "cell3"]).expect("parses");
-    let Some(Command::Send(send)) = cli.command else {
-        panic!("send");
-    };
-    assert_eq!(send.talos, "192.168.1.20");
-    assert_eq!(send.checksum, Checksum::Xor8);
-    assert_eq!(send.dialect, Dialect::Ack);
-}
-
-#[test]
-fn a_profile_without_what_the_command_needs_says_so() {
-    let (_dir, config) = config_file(GOOD);
-    let err = parsed(&config, &["send", "get-speed", "--arm", "bench"]).expect_err("no talos");
-    let text = err.to_string();
-    assert!(text.contains("talos"), "{text}");
-    assert!(text.contains("the profile 'bench'"), "{text}");
-}
-
-#[test]
-fn without_arm_the_file_is_not_read_and_arm_is_refused_where_it_means_nothing() {
-    let missing = Path::new("/nonexistent/armjog/config.toml");
-    let Parsed { cli, arm } = parsed(missing, &["--talos", "op"]).expect("no profile named");
-    assert_eq!(arm, None);
-    assert_eq!(cli.console.talos.as_deref(), Some("op"));
-    let err = parsed(missing, &["--arm", "cell3"]).expect_err("missing file");
-    assert!(
-        matches!(err, ArgsError::Profile(ProfileError::NoFile { .. })),
-        "{err}"
-    );
-    let sim = ["armjog", "sim", "--arm", "cell3"]
-        .map(OsString::from)
-        .to_vec();
-    let err = profiles::parse_args(sim).expect_err("sim takes no profile");
-    assert!(matches!(err, ArgsError::NotForThisCommand(_)), "{err}");
-}
-
-// ---- the binary ----
 
 /// `armjog args...` with the config file `config`, no `ARMJOG_ARM`, and `env`.
 pub(crate) async fn armjog(config: &Path, env: &[(&str, &str)], args: &[&str]) -> Run {
@@ -348,166 +227,6 @@ pub(crate) async fn armjog(config: &Path, env: &[(&str, &str)], args: &[&str]) -
         command.env(name, value);
     }
     run(command).await
-}
-
-/// `armjog args...` with the default config file in `config_home` (`$XDG_CONFIG_HOME`).
-async fn default_config_armjog(config_home: &Path, args: &[&str]) -> Run {
-    let mut command = armjog_run::command(args);
-    command
-        .env_remove("ARMJOG_CONFIG")
-        .env_remove("ARMJOG_ARM")
-        .env("XDG_CONFIG_HOME", config_home);
-    run(command).await
-}
-
-/// A profile `sim1` on the simulator, with a Home action id it does not have.
-fn sim_profile(sim: &Simulator) -> String {
-    let modbus = sim.modbus_addr.expect("modbus");
-    format!(
-        "[arms.sim1]\ntalos = \"{}\"\nmodbus = \"{modbus}\"\nhome_action_id = 9\n",
-        sim.talos_addr
-    )
-}
-
-#[tokio::test(flavor = "multi_thread")]
-async fn status_and_modbus_reach_the_simulator_by_its_profile() {
-    let sim = Simulator::start(SimConfig::ephemeral()).await.expect("sim");
-    let (_dir, config) = config_file(&sim_profile(&sim));
-
-    let status = armjog(&config, &[], &["status", "--arm", "sim1", "--json"]).await;
-    assert_eq!(status.code, 0, "{}", status.stderr);
-    let json: serde_json::Value = serde_json::from_str(status.stdout.trim()).expect("JSON");
-    assert!(json["robot_state"].is_string(), "{json}");
-
-    // ARMJOG_ARM names it as --arm does.
-    let status = armjog(&config, &[("ARMJOG_ARM", "sim1")], &["status"]).await;
-    assert_eq!(status.code, 0, "{}", status.stderr);
-    assert!(status.stdout.contains("robot state"), "{}", status.stdout);
-
-    // The profile's Home action id reaches the arm: the simulator has no action 9.
-    let home = armjog(&config, &[], &["modbus", "--arm", "sim1", "home"]).await;
-    assert_eq!(home.code, 1, "{} / {}", home.stdout, home.stderr);
-    assert!(home.stderr.contains("action 9"), "{}", home.stderr);
-    // And a flag wins over it: the simulator's Home is 2.
-    let home = armjog(
-        &config,
-        &[],
-        &["--arm", "sim1", "modbus", "home", "--action-id", "2"],
-    )
-    .await;
-    assert_eq!(home.code, 0, "{} / {}", home.stdout, home.stderr);
-    assert!(home.stdout.contains("home: completed"), "{}", home.stdout);
-
-    let send = armjog(
-        &config,
-        &[],
-        &["send", "get-speed", "--arm", "sim1", "--json"],
-    )
-    .await;
-    assert_eq!(send.code, 0, "{}", send.stderr);
-    assert!(send.stdout.contains("get_speed"), "{}", send.stdout);
-}
-
-#[tokio::test(flavor = "multi_thread")]
-async fn a_bad_profile_is_refused_before_anything_connects() {
-    let listener = tokio::net::TcpListener::bind("127.0.0.1:0")
-        .await
-        .expect("bind");
-    let addr = listener.local_addr().expect("addr");
-    let (_dir, config) = config_file(&format!("[arms.cell3]\nmodbus = \"{addr}\"\nunti = 1\n"));
-    let run = armjog(&config, &[], &["status", "--arm", "cell3"]).await;
-    assert_eq!(run.code, 2, "{}", run.stderr);
-    assert_eq!(
-        run.stderr.trim(),
-        format!(
-            "armjog: {}:3: unknown key 'unti'; did you mean 'unit'?",
-            config.display()
-        )
-    );
-    let unknown = armjog(&config, &[], &["--arm", "cell4"]).await;
-    assert_eq!(unknown.code, 2, "{}", unknown.stderr);
-    // No connection was made.
-    let accepted =
-        tokio::time::timeout(std::time::Duration::from_millis(200), listener.accept()).await;
-    assert!(accepted.is_err(), "something connected");
-
-    let missing = config.with_file_name("missing.toml");
-    let run = armjog(&missing, &[], &["--arm", "cell3"]).await;
-    assert_eq!(run.code, 2, "{}", run.stderr);
-    assert!(
-        run.stderr.contains("missing.toml: no such file"),
-        "{}",
-        run.stderr
-    );
-}
-
-#[tokio::test(flavor = "multi_thread")]
-async fn arms_lists_the_profiles_with_their_targets() {
-    let (_dir, config) = config_file(GOOD);
-    let run = armjog(&config, &[], &["arms"]).await;
-    assert_eq!(run.code, 0, "{}", run.stderr);
-    assert_eq!(
-        run.stdout,
-        "cell3  talos 192.168.1.20  modbus 192.168.1.10 unit 1\n\
-         bench  modbus 10.0.0.5:1502\n"
-    );
-    // --config before the command word, and a file with no arm in it.
-    let (_dir, empty) = config_file("[arms.sim]\n");
-    let run = armjog(
-        &config,
-        &[],
-        &["--config", &empty.display().to_string(), "arms"],
-    )
-    .await;
-    assert_eq!(run.code, 0, "{}", run.stderr);
-    assert_eq!(run.stdout, "sim  the built-in simulated arm\n");
-
-    // A file named (ARMJOG_CONFIG, --config) that is not there is refused, naming it.
-    let missing = config.with_file_name("missing.toml");
-    let run = armjog(&missing, &[], &["arms"]).await;
-    assert_eq!(run.code, 2, "{}{}", run.stdout, run.stderr);
-    assert_eq!(
-        run.stderr,
-        format!(
-            "armjog: {}: no such file (arm profiles go there)\n",
-            missing.display()
-        )
-    );
-    let run = armjog(
-        &config,
-        &[],
-        &["arms", "--config", "/nonexistent/armjog/config.toml"],
-    )
-    .await;
-    assert_eq!(run.code, 2, "{}{}", run.stdout, run.stderr);
-    assert!(
-        run.stderr
-            .contains("/nonexistent/armjog/config.toml: no such file"),
-        "{}",
-        run.stderr
-    );
-    // The default file not there: no profiles yet, which is fine.
-    let home = tempfile::tempdir().expect("temp dir");
-    let default = home.path().join("armjog").join("config.toml");
-    let run = default_config_armjog(home.path(), &["arms"]).await;
-    assert_eq!(run.code, 0, "{}", run.stderr);
-    assert!(
-        run.stdout.starts_with(&format!(
-            "no arm profiles: {} does not exist",
-            default.display()
-        )),
-        "{}",
-        run.stdout
-    );
-
-    let (_dir, bad) = config_file("[arms.cell3]\ntalso = \"x\"\n");
-    let run = armjog(&bad, &[], &["arms"]).await;
-    assert_eq!(run.code, 2);
-    assert!(
-        run.stderr.contains("config.toml:2: unknown key 'talso'"),
-        "{}",
-        run.stderr
-    );
 }
 
 #[test]
