@@ -29,6 +29,7 @@ mod guard_kill;
 mod guard_talos;
 mod logs;
 mod modbus;
+mod modbus_home;
 mod options;
 mod outside_text;
 mod profile_commands;
