@@ -3,9 +3,9 @@
 //! by another client, the wait's timeout, `--no-wait`; against the fake arm, a home aborted at
 //! a joint limit.
 
-use crate::armjog_run::{armjog, command};
+use crate::armjog_run::command;
 use crate::modbus_fake::{self, FakeArm, Written};
-use crate::stored::{addr, sim};
+use crate::stored::{addr, modbus, sim};
 
 use std::process::Stdio;
 use std::time::{Duration, Instant};
@@ -94,7 +94,7 @@ fn away() -> Arm {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn home_on_a_healthy_arm_waits_for_the_end_and_exits_0() {
     let sim = sim(away()).await;
-    let run = armjog(&["modbus", "--modbus", &addr(&sim), "home"]).await;
+    let run = modbus(&sim, &["home"]).await;
     assert_eq!(run.code, 0, "{}{}", run.stdout, run.stderr);
     assert!(run.stdout.contains("home: completed in"), "{}", run.stdout);
     let s = sim.arm.snapshot().await.expect("sim");
@@ -113,7 +113,7 @@ async fn home_on_an_arm_in_fault_exits_1_and_starts_nothing() {
     arm.raise_fault(4);
     let sim = sim(arm).await;
     let before = sim.arm.snapshot().await.expect("sim").joint_position;
-    let run = armjog(&["modbus", "--modbus", &addr(&sim), "home"]).await;
+    let run = modbus(&sim, &["home"]).await;
     assert_eq!(run.code, 1, "{}{}", run.stdout, run.stderr);
     assert!(
         run.stderr
@@ -129,15 +129,7 @@ async fn home_on_an_arm_in_fault_exits_1_and_starts_nothing() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn home_with_an_action_id_the_arm_does_not_have_exits_1() {
     let sim = sim(away()).await;
-    let run = armjog(&[
-        "modbus",
-        "--modbus",
-        &addr(&sim),
-        "home",
-        "--action-id",
-        "99",
-    ])
-    .await;
+    let run = modbus(&sim, &["home", "--action-id", "99"]).await;
     assert_eq!(run.code, 1, "{}{}", run.stdout, run.stderr);
     assert!(run.stderr.contains("action 99"), "{}", run.stderr);
     assert!(!run.stdout.contains("completed"), "{}", run.stdout);
@@ -170,7 +162,7 @@ async fn home_aborted_by_another_client_while_waiting_exits_1() {
     // rightly takes an action that ends at once for one the arm does not have. On a loaded
     // machine its first poll can come late; the home still has well over 15 s to go.
     tokio::time::sleep(Duration::from_secs(2)).await;
-    let abort = armjog(&["modbus", "--modbus", &addr(&sim), "abort"]).await;
+    let abort = modbus(&sim, &["abort"]).await;
     assert_eq!(abort.code, 0, "{}", abort.stderr);
     let out = tokio::time::timeout(Duration::from_secs(20), home.wait_with_output())
         .await
@@ -197,15 +189,7 @@ async fn home_aborted_by_another_client_while_waiting_exits_1() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_home_past_its_wait_timeout_is_stopped_and_exits_1() {
     let sim = sim(away()).await;
-    let run = armjog(&[
-        "modbus",
-        "--modbus",
-        &addr(&sim),
-        "home",
-        "--wait-timeout",
-        "0.2",
-    ])
-    .await;
+    let run = modbus(&sim, &["home", "--wait-timeout", "0.2"]).await;
     assert_eq!(run.code, 1, "{}{}", run.stdout, run.stderr);
     assert!(
         run.stderr.contains("no end within 0.2 s; stopped"),
@@ -223,16 +207,7 @@ async fn home_no_wait_returns_while_the_arm_still_moves() {
     let started = Instant::now();
     // Limits of 0.5 m/s and 30 deg/s keep a 500 mm/s cap and its turn rate: nothing needs
     // lowering.
-    let run = armjog(&[
-        "modbus",
-        "--modbus",
-        &addr(&sim),
-        "home",
-        "--no-wait",
-        "--max-jog-speed",
-        "500",
-    ])
-    .await;
+    let run = modbus(&sim, &["home", "--no-wait", "--max-jog-speed", "500"]).await;
     assert_eq!(run.code, 0, "{}{}", run.stdout, run.stderr);
     assert!(run.stdout.starts_with("home: started"), "{}", run.stdout);
     assert!(

@@ -6,7 +6,7 @@
 use std::process::{Output, Stdio};
 use std::time::{Duration, Instant};
 
-use crate::armjog_run::{armjog, command};
+use crate::armjog_run::{Run, armjog, command};
 use armjog::sim::arm_model::{Arm, ArmSnapshot};
 use armjog::sim::kinematics::to_radians;
 use armjog::sim::{SimConfig, Simulator};
@@ -23,6 +23,14 @@ pub(crate) async fn sim(arm: Arm) -> Simulator {
 
 pub(crate) fn addr(sim: &Simulator) -> String {
     sim.modbus_addr.expect("modbus server").to_string()
+}
+
+/// `armjog modbus --modbus <the simulator's Modbus server> ARGS`.
+pub(crate) async fn modbus(sim: &Simulator, args: &[&str]) -> Run {
+    let addr = addr(sim);
+    let mut all = vec!["modbus", "--modbus", &addr];
+    all.extend_from_slice(args);
+    armjog(&all).await
 }
 
 pub(crate) async fn snapshot(sim: &Simulator) -> ArmSnapshot {
@@ -73,7 +81,7 @@ async fn action_5_takes_every_joint_to_0_and_exits_0() {
         20.0, 10.0, 20.0, 10.0, 20.0, 10.0, 20.0,
     ])))
     .await;
-    let run = armjog(&["modbus", "--modbus", &addr(&sim), "action", "--id", "5"]).await;
+    let run = modbus(&sim, &["action", "--id", "5"]).await;
     assert_eq!(run.code, 0, "{}{}", run.stdout, run.stderr);
     assert!(
         run.stdout.contains("action 5 completed in"),
@@ -139,7 +147,7 @@ async fn an_id_the_arm_does_not_have_exits_1_naming_it_within_about_2_s() {
     let before = snapshot(&sim).await.joint_position;
     for (kind, id) in [("sequence", "9"), ("action", "7")] {
         let started = Instant::now();
-        let run = armjog(&["modbus", "--modbus", &addr(&sim), kind, "--id", id]).await;
+        let run = modbus(&sim, &[kind, "--id", id]).await;
         let took = started.elapsed();
         assert_eq!(run.code, 1, "{}{}", run.stdout, run.stderr);
         assert!(
@@ -171,7 +179,7 @@ async fn a_stop_from_another_client_during_a_sequence_exits_1() {
     until_moving(&sim).await;
     // Its first polls must have seen the sequence running (see the home abort test).
     tokio::time::sleep(Duration::from_secs(2)).await;
-    let stop = armjog(&["modbus", "--modbus", &addr(&sim), "stop"]).await;
+    let stop = modbus(&sim, &["stop"]).await;
     assert_eq!(stop.code, 0, "{}", stop.stderr);
     let out = tokio::time::timeout(Duration::from_secs(20), child.wait_with_output())
         .await
@@ -252,7 +260,7 @@ async fn an_arm_in_fault_starts_nothing() {
     let mut arm = Arm::default();
     arm.raise_fault(4);
     let sim = sim(arm).await;
-    let run = armjog(&["modbus", "--modbus", &addr(&sim), "sequence", "--id", "1"]).await;
+    let run = modbus(&sim, &["sequence", "--id", "1"]).await;
     assert_eq!(run.code, 1, "{}{}", run.stdout, run.stderr);
     assert!(
         run.stderr
@@ -271,17 +279,17 @@ async fn no_wait_returns_at_once_when_the_arms_limit_keeps_the_cap() {
     let sim = sim(arm).await;
     // The arm is limited to 0.5 m/s and 30 deg/s: a 500 mm/s cap and its 30 deg/s turn rate
     // are kept without lowering either.
-    let run = armjog(&[
-        "modbus",
-        "--modbus",
-        &addr(&sim),
-        "sequence",
-        "--id",
-        "1",
-        "--no-wait",
-        "--max-jog-speed",
-        "500",
-    ])
+    let run = modbus(
+        &sim,
+        &[
+            "sequence",
+            "--id",
+            "1",
+            "--no-wait",
+            "--max-jog-speed",
+            "500",
+        ],
+    )
     .await;
     assert_eq!(run.code, 0, "{}{}", run.stdout, run.stderr);
     assert!(
@@ -303,17 +311,17 @@ async fn no_wait_returns_at_once_when_the_arms_limit_keeps_the_cap() {
 #[tokio::test]
 async fn no_wait_refuses_a_run_the_arms_limit_would_take_over_the_cap() {
     let sim = sim(Arm::default()).await;
-    let run = armjog(&[
-        "modbus",
-        "--modbus",
-        &addr(&sim),
-        "sequence",
-        "--id",
-        "1",
-        "--no-wait",
-        "--max-jog-speed",
-        "100",
-    ])
+    let run = modbus(
+        &sim,
+        &[
+            "sequence",
+            "--id",
+            "1",
+            "--no-wait",
+            "--max-jog-speed",
+            "100",
+        ],
+    )
     .await;
     assert_eq!(run.code, 1, "{}{}", run.stdout, run.stderr);
     assert!(
@@ -444,16 +452,10 @@ async fn a_profiles_cap_and_home_id_reach_the_commands() {
     );
     // An arm limited below the cap and its turn rate keeps them: the run starts, and its
     // limits are left as they were.
-    let lowered = armjog(&[
-        "modbus",
-        "--modbus",
-        &addr(&sim),
-        "speed-limit",
-        "--linear",
-        "0.05",
-        "--angular",
-        "30",
-    ])
+    let lowered = modbus(
+        &sim,
+        &["speed-limit", "--linear", "0.05", "--angular", "30"],
+    )
     .await;
     assert_eq!(lowered.code, 0, "{}", lowered.stderr);
     let run = armjog(&action_3).await;

@@ -3,7 +3,7 @@
 //! one to the turn rate) and put back; with `--no-wait`, neither lowered, and a run the arm's
 //! angular limit would turn faster than the turn rate refused.
 
-use super::stored::{addr, sim, snapshot};
+use super::stored::{modbus, sim, snapshot};
 use crate::armjog_run::armjog;
 use armjog::sim::arm_model::Arm;
 
@@ -56,17 +56,10 @@ async fn a_run_lowers_the_angular_limit_to_the_turn_rate_as_the_linear_one_and_p
 #[tokio::test]
 async fn no_wait_refuses_a_run_the_arms_angular_limit_would_turn_over_the_turn_rate() {
     let sim = sim(Arm::default()).await;
-    let run = armjog(&[
-        "modbus",
-        "--modbus",
-        &addr(&sim),
-        "action",
-        "--id",
-        "5",
-        "--no-wait",
-        "--max-jog-speed",
-        "500",
-    ])
+    let run = modbus(
+        &sim,
+        &["action", "--id", "5", "--no-wait", "--max-jog-speed", "500"],
+    )
     .await;
     assert_eq!(run.code, 1, "{}{}", run.stdout, run.stderr);
     assert!(
