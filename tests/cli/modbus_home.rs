@@ -5,7 +5,7 @@
 
 use crate::armjog_run::command;
 use crate::modbus_fake::{self, FakeArm, Written};
-use crate::stored::{addr, modbus, sim};
+use crate::stored::{addr, ended, modbus, sim};
 
 use std::process::Stdio;
 use std::time::{Duration, Instant};
@@ -69,14 +69,7 @@ async fn home_aborted_at_a_joint_limit_names_the_joint_and_exits_1() {
         s.input_registers[4] = 1 << 4; // warning: joint_fault
         s.holding_registers[100] = 3; // aborted
     });
-    let out = tokio::time::timeout(Duration::from_secs(20), home.wait_with_output())
-        .await
-        .expect("armjog modbus home returns after the abort")
-        .expect("armjog modbus home output");
-    let (stdout, stderr) = (
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr),
-    );
+    let (out, stdout, stderr) = ended(home, "armjog modbus home returns after the abort").await;
     assert_eq!(out.status.code(), Some(1), "{stdout}{stderr}");
     assert!(
         stderr.contains("home failed: aborted, J4 at its limit"),
@@ -164,14 +157,7 @@ async fn home_aborted_by_another_client_while_waiting_exits_1() {
     tokio::time::sleep(Duration::from_secs(2)).await;
     let abort = modbus(&sim, &["abort"]).await;
     assert_eq!(abort.code, 0, "{}", abort.stderr);
-    let out = tokio::time::timeout(Duration::from_secs(20), home.wait_with_output())
-        .await
-        .expect("armjog modbus home returns after the abort")
-        .expect("armjog modbus home output");
-    let (stdout, stderr) = (
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr),
-    );
+    let (out, stdout, stderr) = ended(home, "armjog modbus home returns after the abort").await;
     assert_eq!(out.status.code(), Some(1), "{stdout}{stderr}");
     assert!(stderr.contains("home failed: aborted"), "{stderr}");
     // It had seen the home start: the abort is not mistaken for a missing action.

@@ -59,6 +59,17 @@ fn spawn(args: &[&str]) -> tokio::process::Child {
         .expect("spawn armjog")
 }
 
+/// Waits (20 s at most) for a spawned run to end; `what` names the end awaited. Its output,
+/// and its stdout and stderr as text.
+pub(crate) async fn ended(child: tokio::process::Child, what: &str) -> (Output, String, String) {
+    let out = tokio::time::timeout(Duration::from_secs(20), child.wait_with_output())
+        .await
+        .expect(what)
+        .expect("output");
+    let (stdout, stderr) = text(&out);
+    (out, stdout, stderr)
+}
+
 fn text(out: &Output) -> (String, String) {
     (
         String::from_utf8_lossy(&out.stdout).into_owned(),
@@ -181,11 +192,7 @@ async fn a_stop_from_another_client_during_a_sequence_exits_1() {
     tokio::time::sleep(Duration::from_secs(2)).await;
     let stop = modbus(&sim, &["stop"]).await;
     assert_eq!(stop.code, 0, "{}", stop.stderr);
-    let out = tokio::time::timeout(Duration::from_secs(20), child.wait_with_output())
-        .await
-        .expect("returns after the stop")
-        .expect("output");
-    let (stdout, stderr) = text(&out);
+    let (out, stdout, stderr) = ended(child, "returns after the stop").await;
     assert_eq!(out.status.code(), Some(1), "{stdout}{stderr}");
     assert!(stderr.contains("sequence 1 aborted"), "{stderr}");
     assert!(!stderr.contains("did not take"), "{stderr}");
@@ -216,11 +223,7 @@ async fn another_clients_action_during_a_sequence_exits_1_naming_it() {
         .start_stored(4, armjog::kortex::StoredMotion::Action)
         .await
         .expect("action 4 started");
-    let out = tokio::time::timeout(Duration::from_secs(20), child.wait_with_output())
-        .await
-        .expect("returns after the other move")
-        .expect("output");
-    let (stdout, stderr) = text(&out);
+    let (out, stdout, stderr) = ended(child, "returns after the other move").await;
     assert_eq!(out.status.code(), Some(1), "{stdout}{stderr}");
     assert!(
         stderr.contains(
@@ -243,11 +246,7 @@ async fn a_fault_during_an_action_exits_1() {
         .with(|arm, _| arm.raise_fault(4))
         .await
         .expect("sim");
-    let out = tokio::time::timeout(Duration::from_secs(20), child.wait_with_output())
-        .await
-        .expect("returns after the fault")
-        .expect("output");
-    let (stdout, stderr) = text(&out);
+    let (out, stdout, stderr) = ended(child, "returns after the fault").await;
     assert_eq!(out.status.code(), Some(1), "{stdout}{stderr}");
     assert!(
         stderr.contains("action 3 failed: the arm is in fault: joint_fault"),
