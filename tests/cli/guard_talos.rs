@@ -14,7 +14,7 @@ use tokio::net::TcpStream;
 
 use armjog::link::driver::{Driver, DriverConfig};
 use armjog::link::guard::GuardPolicy;
-use armjog::link::interface::{ArmCommand, ArmError, ArmEvent, LinkStatus};
+use armjog::link::interface::{ArmCommand, ArmError, ArmEvent, GuardStatus, LinkStatus};
 use armjog::link::{Dialect, TalosConfig};
 use armjog::sim::arm_model::Arm;
 use armjog::sim::kinematics::to_radians;
@@ -22,8 +22,8 @@ use armjog::sim::stored::RETRACT_DEG;
 use armjog::sim::{SimConfig, Simulator};
 use armjog::talos::{Checksum, Request};
 use guard_support::{
-    BIN, Guard, arm_state, assert_moving, assert_still, guard_killed_and_replaced, guard_ready,
-    send_signal, wait_event, wait_moving,
+    BIN, Guard, arm_state, assert_moving, assert_still, guard_killed_and_replaced, send_signal,
+    wait_event, wait_moving,
 };
 
 /// The simulated arm at Retract: Home from there runs for many seconds.
@@ -173,25 +173,49 @@ async fn over_an_operator_that_serves_one_client_the_guard_stops_home_once_the_c
 }
 
 /// The console's driver on the simulator's operator alone, with `guard`; once the link is up.
+/// The driver over Talos with its link up and, when `want_guard`, its guard ready (its pid).
+/// Over Talos alone the guard is ready as soon as it runs, so its report may come before the
+/// link's: both are waited for in one pass, whichever comes first.
 async fn talos_driver(
     sim: &Simulator,
     guard: GuardPolicy,
-) -> (Driver, tokio::sync::mpsc::UnboundedReceiver<ArmEvent>) {
+    want_guard: bool,
+) -> (
+    Driver,
+    tokio::sync::mpsc::UnboundedReceiver<ArmEvent>,
+    Option<u32>,
+) {
     let mut config = DriverConfig::new(Some(TalosConfig::new(sim.talos_addr.to_string())), None);
     config.guard = guard;
     let (driver, mut events) = Driver::spawn(config);
-    wait_event(&mut events, Duration::from_secs(10), "the link up", |e| {
-        matches!(e, ArmEvent::Status(LinkStatus::Up { .. }))
-    })
-    .await;
-    (driver, events)
+    let (mut up, mut ready) = (false, None);
+    while !up || (want_guard && ready.is_none()) {
+        let event = wait_event(
+            &mut events,
+            Duration::from_secs(10),
+            "the link up and the guard ready",
+            |e| {
+                matches!(
+                    e,
+                    ArmEvent::Status(LinkStatus::Up { .. })
+                        | ArmEvent::Guard(GuardStatus::Ready { .. })
+                )
+            },
+        )
+        .await;
+        match event {
+            ArmEvent::Guard(GuardStatus::Ready { pid }) => ready = Some(pid),
+            _ => up = true,
+        }
+    }
+    (driver, events, ready)
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn talos_motion_waits_for_a_ready_guard_as_modbus_motion_does() {
     let sim = sim_at_retract(Dialect::Icd, Checksum::Crc16, false).await;
     let missing = std::path::PathBuf::from("/nonexistent/armjog-guard");
-    let (driver, mut events) = talos_driver(&sim, GuardPolicy::Spawn(missing)).await;
+    let (driver, mut events, _) = talos_driver(&sim, GuardPolicy::Spawn(missing), false).await;
     for command in [
         ArmCommand::Home,
         ArmCommand::GoToPosition {
@@ -211,8 +235,7 @@ async fn talos_motion_waits_for_a_ready_guard_as_modbus_motion_does() {
     driver.shutdown().await;
 
     // With the guard ready (over Talos alone it connects to nothing), Home runs.
-    let (driver, mut events) = talos_driver(&sim, GuardPolicy::Spawn(BIN.into())).await;
-    guard_ready(&mut events, Duration::from_secs(10), "the guard ready").await;
+    let (driver, _events, _) = talos_driver(&sim, GuardPolicy::Spawn(BIN.into()), true).await;
     assert!(driver.send(ArmCommand::Home));
     assert_moving(&sim, "Home runs with the guard ready").await;
     driver.send(ArmCommand::Stop);
@@ -222,8 +245,9 @@ async fn talos_motion_waits_for_a_ready_guard_as_modbus_motion_does() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_killed_guard_stops_a_talos_home_and_is_restarted() {
     let sim = sim_at_retract(Dialect::Icd, Checksum::Crc16, false).await;
-    let (driver, mut events) = talos_driver(&sim, GuardPolicy::Spawn(BIN.into())).await;
-    let pid = guard_ready(&mut events, Duration::from_secs(10), "the guard ready").await;
+    let (driver, mut events, ready) =
+        talos_driver(&sim, GuardPolicy::Spawn(BIN.into()), true).await;
+    let pid = ready.expect("the guard ready");
     assert!(driver.send(ArmCommand::Home));
     assert_moving(&sim, "Home runs").await;
 
