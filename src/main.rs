@@ -59,18 +59,15 @@ fn main() {
     std::process::exit(code);
 }
 
-/// Ends the process with clap's message (`--help`, `--version`, a refused argument). A message
-/// that echoes a value with a control or bidi character in it (a path, an address) is printed
-/// escaped, as every other message is (`output`), without clap's colours; any other as clap
-/// prints it.
+/// Ends the process with clap's message (`--help`, `--version`, a refused argument). A refusal
+/// may echo a value with a control or bidi character in it (a path, an address): it is printed
+/// escaped, as every other message is (`output`), without clap's colours; help and the version
+/// as clap prints them.
 fn exit_clap(e: clap::Error) -> ! {
-    let rendered = e.to_string();
-    if e.use_stderr()
-        && rendered
-            .lines()
-            .any(|line| line.chars().any(armjog::text::is_unsafe))
-    {
-        output::print_error_lines(&rendered);
+    // Every refusal is printed as plain text, escaped: on a terminal clap would print the
+    // value as typed, escape sequences and all (its plain rendering drops them).
+    if e.use_stderr() {
+        output::print_error_lines(&e.to_string());
         std::process::exit(e.exit_code());
     }
     e.exit()

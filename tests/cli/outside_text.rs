@@ -168,3 +168,45 @@ async fn paths_and_names_in_errors_are_escaped() {
         assert!(run.stderr.contains(&says), "{args:?}: {}", run.stderr);
     }
 }
+
+/// On a terminal clap prints a refused value as typed, colours on: every refusal is printed
+/// escaped instead. `script` gives the program a terminal (util-linux, on every Debian).
+#[tokio::test]
+async fn a_refused_value_on_a_terminal_is_escaped() {
+    if std::process::Command::new("script")
+        .arg("--version")
+        .output()
+        .is_err()
+    {
+        panic!("this test needs `script` (util-linux) to give armjog a terminal");
+    }
+    for option in ["--max-jog-speed", "--unit"] {
+        let output = tokio::process::Command::new("script")
+            .args([
+                "-qec",
+                "\"$ARMJOG_BIN\" \"$OPTION\" \"$VALUE\"",
+                "/dev/null",
+            ])
+            .env("ARMJOG_BIN", env!("CARGO_BIN_EXE_armjog"))
+            .env("OPTION", option)
+            // Escape sequences alone: clap's plain rendering drops them, so only the terminal
+            // would see them.
+            .env("VALUE", format!("1{CLEAR}\u{1b}]0;PWNED\u{7}"))
+            // A terminal that takes colours, as a technician's does.
+            .env("TERM", "xterm-256color")
+            .env_remove("NO_COLOR")
+            .env_remove("CLICOLOR")
+            .stdin(std::process::Stdio::null())
+            .output()
+            .await
+            .expect("script");
+        let seen = String::from_utf8_lossy(&output.stdout);
+        assert!(seen.contains("invalid value"), "{option}: {seen:?}");
+        for raw in [CLEAR, "\u{1b}]0;PWNED"] {
+            assert!(
+                !seen.contains(raw),
+                "{option}: {raw:?} reached the terminal: {seen:?}"
+            );
+        }
+    }
+}
