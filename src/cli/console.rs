@@ -12,9 +12,10 @@ use crate::console::positions::{BookError, PositionBook};
 use crate::console::run::{ConsoleSetup, run};
 use crate::kortex::PollPlan;
 use crate::link::Dialect;
-use crate::link::driver::{DriverConfig, OperatorScale};
+use crate::link::driver::DriverConfig;
 use crate::link::guard::GuardPolicy;
 use crate::link::modbus::{self, ModbusConfig};
+use crate::link::speed::{SpeedCap, SpeedCapError};
 use crate::link::talos::{self, TalosConfig};
 use crate::sim::SimConfig;
 use crate::sim::operator::RememberedPosition;
@@ -86,14 +87,22 @@ impl ConsoleArgs {
     /// Checks what no one value says alone, before anything starts (each value's own range is
     /// its parser's: `cli::values`).
     fn validate(&self) -> Result<(), String> {
-        if !OperatorScale::new(self.max_jog_speed, self.operator_full_speed).allows_one_percent() {
-            return Err(format!(
+        // The cap the driver will make of these values (`DriverConfig::speed_cap`), made here
+        // first so that a bad one is refused before anything starts.
+        let cap = SpeedCap::new(self.max_jog_speed / 1000.0)
+            .map_err(|e| format!("--max-jog-speed {} mm/s: {e}", self.max_jog_speed))?;
+        match cap.with_operator(self.operator_full_speed / 1000.0) {
+            Ok(_) => Ok(()),
+            Err(SpeedCapError::OperatorTooFast) => Err(format!(
                 "--max-jog-speed {} mm/s is below 1 % of --operator-full-speed {} mm/s: the \
                  operator's slowest speed would be over the cap",
                 self.max_jog_speed, self.operator_full_speed
-            ));
+            )),
+            Err(e) => Err(format!(
+                "--operator-full-speed {} mm/s: {e}",
+                self.operator_full_speed
+            )),
         }
-        Ok(())
     }
 
     fn driver_config(

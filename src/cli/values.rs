@@ -5,7 +5,8 @@
 
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 
-use crate::kortex::commands::{MAX_LINEAR_SPEED, stored_id};
+use crate::kortex::commands::stored_id;
+use crate::link::speed::SpeedCap;
 use crate::talos::{Checksum, Dialect};
 
 /// A number as typed.
@@ -14,15 +15,13 @@ fn number(text: &str) -> Result<f64, String> {
         .map_err(|_| format!("'{text}' is not a number"))
 }
 
-/// A tool speed in mm/s (`--max-jog-speed`, `--operator-full-speed`): above 0 and at most the
-/// arm's twist limit.
+/// A tool speed in mm/s (`--max-jog-speed`, `--operator-full-speed`): one a speed cap may be
+/// ([`SpeedCap::new`]: above 0 and at most the arm's twist limit).
 pub fn tool_speed(text: &str) -> Result<f64, String> {
-    let limit = f64::from(MAX_LINEAR_SPEED) * 1000.0;
-    match number(text)? {
-        mm_s if mm_s.is_finite() && mm_s > 0.0 && mm_s <= limit => Ok(mm_s),
-        _ => Err(format!(
-            "must be above 0 and at most {limit} mm/s (the arm's twist limit)"
-        )),
+    let mm_s = number(text)?;
+    match SpeedCap::new(mm_s / 1000.0) {
+        Ok(_) => Ok(mm_s),
+        Err(e) => Err(e.to_string()),
     }
 }
 

@@ -7,6 +7,7 @@ pub mod failure;
 pub mod guard;
 pub mod interface;
 pub mod modbus;
+pub mod speed;
 pub mod talos;
 
 pub use modbus::{

@@ -10,7 +10,7 @@ use super::{EXIT_EXCEPTION, ModbusArgs, ModbusCommand, render};
 use crate::cli::Outcome;
 use crate::kortex::{Progress, SpeedLimits, Stored, StoredRun, Telemetry, fault_reason};
 use crate::link::ModbusLink;
-use crate::link::driver::move_cap_at;
+use crate::link::speed::SpeedCap;
 use crate::link::modbus::ModbusError;
 
 /// How a stored motion is waited for and capped.
@@ -49,7 +49,8 @@ impl StoredOptions {
     /// the arm plans itself, at full speed of --max-jog-speed (these commands have no speed
     /// setting), as the console's capped moves take it at the speed in force.
     pub fn cap(&self) -> SpeedLimits {
-        move_cap_at(self.max_jog_speed / 1000.0, FULL_SPEED)
+        // The option's parser took only a speed a cap may be (`cli::values::tool_speed`).
+        SpeedCap::configured(self.max_jog_speed / 1000.0).move_cap(FULL_SPEED)
     }
 }
 

@@ -109,7 +109,7 @@ impl App {
             self.arm.on_cap_idle();
             return;
         }
-        let cap_mm_s = self.config.max_jog_speed * 1000.0;
+        let cap_mm_s = self.cap.max_mm_s();
         let joint_deg_s = f64::from(self.config.joint_jog_speed);
         let over = over_cap(t, jog, cap_mm_s, joint_deg_s);
         let Some(text) = self.arm.on_cap_sample(over) else {

@@ -223,7 +223,7 @@ impl App {
                 let current = self
                     .arm
                     .speed()
-                    .unwrap_or(crate::link::driver::INITIAL_SPEED);
+                    .unwrap_or(crate::link::speed::INITIAL_SPEED);
                 let speed = super::next_speed(current, action == A::SpeedUp);
                 effects.push(Effect::Arm(ArmCommand::SetSpeed(speed)));
             }

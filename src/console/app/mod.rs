@@ -80,6 +80,7 @@ use super::positions::PositionBook;
 
 use crate::kortex::Stored;
 use crate::link::interface::{ArmCommand, ArmEvent, PositionCoordinates};
+use crate::link::speed::SpeedCap;
 
 /// Below this the status bar cannot be shown: motion stops and the screen says so.
 pub const MIN_WIDTH: u16 = 40;
@@ -207,7 +208,7 @@ pub struct AppConfig {
     pub refresh: Duration,
     /// Named positions live on a Talos operator (else only in the console's book, over Modbus).
     pub positions_on_operator: bool,
-    /// Cartesian jog speed cap, m/s.
+    /// The tool speed cap at 100 %, m/s: the app's [`SpeedCap`] is made of it.
     pub max_jog_speed: f64,
     /// Single-joint jog speed at 100 %, deg/s (the driver's): a joint jog's rate is watched
     /// against it.
@@ -237,7 +238,7 @@ impl AppConfig {
             refresh: Duration::from_millis(100),
             positions_on_operator: true,
             max_jog_speed: 0.25,
-            joint_jog_speed: crate::link::driver::JOINT_JOG_SPEED,
+            joint_jog_speed: crate::link::speed::JOINT_JOG_SPEED,
             frames: false,
             simulated: false,
             arm_name: None,
@@ -251,6 +252,8 @@ impl AppConfig {
 #[derive(Debug, Clone)]
 pub struct App {
     config: AppConfig,
+    /// The speed cap, made once from `config.max_jog_speed`: what every speed here is of.
+    cap: SpeedCap,
     /// The jog engine and what the keys have done lately.
     keys: parts::Keys,
     /// The positions, their edits and their saves.
@@ -269,9 +272,12 @@ pub struct App {
 }
 
 impl App {
+    /// # Panics
+    /// On a `max_jog_speed` [`SpeedCap::new`] refuses (the front ends refuse it first).
     pub fn new(config: AppConfig, positions: PositionBook) -> App {
         let keys = parts::Keys::new(config.release_mode, config.refresh);
         App {
+            cap: SpeedCap::configured(config.max_jog_speed),
             config,
             keys,
             book: parts::Book::new(positions),

@@ -9,6 +9,7 @@ use std::sync::Arc;
 use crate::console::action::{Action, JogFamily};
 use crate::console::form::{Form, FormKind};
 use crate::link::interface::TelemetrySource;
+use crate::link::speed::SpeedCap;
 
 use super::App;
 use crate::console::keymap::Keymap;
@@ -64,10 +65,8 @@ impl Offers {
 pub struct SessionView {
     /// Shared with the app: the keymap never changes during a session.
     pub keymap: Arc<Keymap>,
-    /// Cartesian jog speed cap, m/s.
-    pub max_jog_speed: f64,
-    /// Orientation jog rate at 100 %, deg/s.
-    pub max_angular_jog_speed: f64,
+    /// The speed cap: the tool speed and the turn rate at the speed in force.
+    pub cap: SpeedCap,
     /// Reference frames apply (Modbus jogging).
     pub frames: bool,
     /// The arm is the built-in simulator.
@@ -85,8 +84,7 @@ impl App {
         let config = &self.config;
         SessionView {
             keymap: config.keymap.clone(),
-            max_jog_speed: config.max_jog_speed,
-            max_angular_jog_speed: f64::from(crate::link::driver::MAX_ANGULAR_JOG_SPEED),
+            cap: self.cap,
             frames: config.frames,
             simulated: config.simulated,
             positions_on_operator: config.positions_on_operator,

@@ -52,7 +52,7 @@ use crate::kortex::arm_state::{
     REST_ANGULAR_DEG_S, REST_JOINT_DEG_S, REST_LINEAR_M_S, abort_reason,
 };
 use crate::kortex::{ActionStatus, Coded, Flag, MoveType, ReferenceFrame, Telemetry};
-use crate::link::driver::{INITIAL_SPEED, MAX_ANGULAR_JOG_SPEED};
+use crate::link::speed::{INITIAL_SPEED, fraction};
 use crate::link::interface::{ArmCommand, TelemetrySource};
 
 /// How long after a jog's START the telemetry may still show the arm as it was before: the
@@ -352,21 +352,21 @@ impl App {
     /// Whether `motion` at the speed in force runs fast enough that telemetry at rest cannot be
     /// it: at least [`REST_MARGIN`] times the at-rest threshold of what it moves.
     fn jog_unmistakable_from_rest(&self, motion: JogMotion) -> bool {
-        let fraction = f64::from(self.arm.speed().unwrap_or(INITIAL_SPEED)) / 100.0;
+        let percent = self.arm.speed().unwrap_or(INITIAL_SPEED);
         let (expected, rest) = match motion {
             JogMotion::Cartesian { .. } | JogMotion::Polar { .. } => {
-                (self.config.max_jog_speed, f64::from(REST_LINEAR_M_S))
+                (self.cap.tool_speed(percent), f64::from(REST_LINEAR_M_S))
             }
             JogMotion::Orientation { .. } => (
-                f64::from(MAX_ANGULAR_JOG_SPEED),
+                f64::from(self.cap.turn_rate(percent)),
                 f64::from(REST_ANGULAR_DEG_S),
             ),
             JogMotion::Joint { .. } => (
-                f64::from(self.config.joint_jog_speed),
+                f64::from(self.config.joint_jog_speed) * fraction(percent),
                 f64::from(REST_JOINT_DEG_S),
             ),
         };
-        expected * fraction >= REST_MARGIN * rest
+        expected >= REST_MARGIN * rest
     }
 
     /// Telemetry shows motion none of ours explains: idle, nothing unsettled, and the arm moving

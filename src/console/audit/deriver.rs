@@ -11,14 +11,14 @@ use crate::console::coords::describe_motion;
 use crate::console::positions::PositionBook;
 use crate::kortex::arm_state::fault_reason;
 use crate::kortex::{CodeName, Pose, ReferenceFrame};
-use crate::link::driver::{INITIAL_SPEED, is_settable, tool_speed_at, turn_rate_at};
+use crate::link::speed::{INITIAL_SPEED, SpeedCap, is_settable};
 use crate::link::interface::{ArmCommand, ArmEvent, GuardStatus, JogMotion, LinkStatus, StepMove};
 
 /// What the deriver remembers between calls, to turn a stream into starts and stops.
 #[derive(Debug, Clone)]
 pub struct AuditDeriver {
-    /// The tool speed at 100 %, mm/s.
-    max_mm_s: f64,
+    /// The speed cap the driver keeps to: what a percentage is in mm/s and deg/s.
+    cap: SpeedCap,
     /// Whether reference frames apply (Modbus jogs): then jog starts name theirs.
     frames: bool,
     /// Positions live on a Talos operator: its commands say what was saved and deleted.
@@ -44,9 +44,12 @@ pub struct AuditDeriver {
 
 impl AuditDeriver {
     /// `max_jog_speed` in m/s, as the app's config has it.
+    ///
+    /// # Panics
+    /// On a `max_jog_speed` [`SpeedCap::new`] refuses (the front ends refuse it first).
     pub fn new(max_jog_speed: f64, frames: bool, positions_on_operator: bool) -> AuditDeriver {
         AuditDeriver {
-            max_mm_s: max_jog_speed * 1000.0,
+            cap: SpeedCap::configured(max_jog_speed),
             frames,
             positions_on_operator,
             jog: None,
@@ -61,16 +64,16 @@ impl AuditDeriver {
     }
 
     fn speed_mm_s(&self, percent: u8) -> f64 {
-        round_tenth(tool_speed_at(self.max_mm_s, percent))
+        round_tenth(self.cap.tool_speed_mm_s(percent))
     }
 
     /// A jog's rate cap at `percent`: (mm/s, deg/s), one of them. A turn of the tool moves its
     /// point not at all, so its cap is the angular rate the driver turns at
-    /// ([`turn_rate_at`]); every other jog's is the tool speed.
+    /// ([`SpeedCap::turn_rate`]); every other jog's is the tool speed.
     fn jog_rate(&self, motion: &JogMotion, percent: u8) -> (Option<f64>, Option<f64>) {
         match motion {
             JogMotion::Orientation { .. } => {
-                (None, Some(round_tenth(f64::from(turn_rate_at(percent)))))
+                (None, Some(round_tenth(f64::from(self.cap.turn_rate(percent)))))
             }
             _ => (Some(self.speed_mm_s(percent)), None),
         }

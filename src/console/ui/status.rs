@@ -112,7 +112,7 @@ fn speed_part(view: &View, mm_s: bool) -> String {
         .speed
         .map_or_else(|| "?".to_string(), |s| format!("{s}%"));
     let cap = view.arm.speed.filter(|_| mm_s).map(|s| {
-        let mm_s = view.session.max_jog_speed * 1000.0 * f64::from(s) / 100.0;
+        let mm_s = view.session.cap.tool_speed_mm_s(s);
         // A slow speed keeps a decimal: "0 mm/s" would read as stopped.
         if mm_s < 10.0 {
             format!("≤{mm_s:.1} mm/s")
@@ -137,7 +137,7 @@ pub fn turn_text(view: &View, motion: JogMotion) -> String {
     let Some(speed) = view.arm.speed else {
         return format!("turning {axes} ({} frame)", view.arm.frame.key());
     };
-    let wanted = view.session.max_angular_jog_speed * f64::from(speed) / 100.0;
+    let wanted = f64::from(view.session.cap.turn_rate(speed));
     let arm_limit = view
         .arm
         .telemetry

@@ -69,13 +69,22 @@ pub(super) fn start(
     let _ = events.send(ArmEvent::TelemetrySource(config.telemetry_source()));
     let _ = events.send(ArmEvent::Status(LinkStatus::Connecting));
     let joints: JointPositions = std::sync::Arc::new(tokio::sync::watch::Sender::new(None));
+    // The front ends refuse a bad cap (`cli/values.rs`, `cli/console.rs`): one made in code that
+    // skipped the check stops here, before anything connects.
+    let cap = match config.speed_cap() {
+        Ok(cap) => cap,
+        Err(e) => panic!(
+            "speed cap {} m/s on an operator of {} m/s: {e}",
+            config.max_jog_speed, config.operator_full_speed
+        ),
+    };
     let speed = SpeedInForce::default();
     let (talos_side_tx, talos_side) = mpsc::unbounded_channel();
     let (modbus_side_tx, modbus_side) = mpsc::unbounded_channel();
     let (modbus_link_tx, modbus_link) = mpsc::unbounded_channel();
     let (guard_reports_tx, guard_reports) = mpsc::unbounded_channel();
     let (connected_tx, connected) = mpsc::unbounded_channel();
-    let talos = TalosSide::new(&config, talos_side_tx, joints.clone(), speed.clone());
+    let talos = TalosSide::new(&config, cap, talos_side_tx, joints.clone(), speed.clone());
     let guard = start_guard(&config, guard_reports_tx);
     let attempts = |configured: bool| match configured {
         true => Attempts::due_now(),
@@ -260,7 +269,7 @@ impl DriverState {
                 self.modbus_up();
                 self.modbus = Some(ModbusWorker::start(
                     link,
-                    &self.config,
+                    self.talos.cap(),
                     self.modbus_side_tx.clone(),
                     self.joints.clone(),
                     self.speed.clone(),

@@ -20,10 +20,8 @@ pub mod hw_telemetry;
 mod links;
 mod modbus_worker;
 mod speed;
-pub use speed::{
-    INITIAL_SPEED, JOINT_JOG_SPEED, MAX_ANGULAR_JOG_SPEED, OPERATOR_FULL_SPEED, OperatorScale,
-    is_settable, move_cap_at, tool_speed_at, turn_rate_at,
-};
+// The cap's facts the driver's callers set or check it by (`link::speed` is their home).
+pub use super::speed::{INITIAL_SPEED, JOINT_JOG_SPEED, tool_speed_at};
 pub use talos_side::{ORIENTATION_NEEDS_MODBUS, STORED_NEEDS_MODBUS};
 mod stop_outcome;
 mod talos_side;
@@ -36,6 +34,7 @@ use super::Dialect;
 use super::guard::GuardPolicy;
 use super::interface::{ArmCommand, ArmEvent, TelemetrySource};
 use super::modbus::ModbusConfig;
+use super::speed::{OPERATOR_FULL_SPEED, OperatorScale, SpeedCap, SpeedCapError};
 use super::talos::TalosConfig;
 use crate::kortex::Stored;
 
@@ -76,6 +75,12 @@ impl DriverConfig {
             oid: 0,
             guard: GuardPolicy::NotNeeded,
         }
+    }
+
+    /// The cap these speeds make, on the operator ([`SpeedCap::with_operator`]): what the
+    /// driver's two sides keep to.
+    pub fn speed_cap(&self) -> Result<OperatorScale, SpeedCapError> {
+        SpeedCap::new(self.max_jog_speed)?.with_operator(self.operator_full_speed)
     }
 
     /// The stored action Home runs as, when the Modbus link runs it: with no Talos link (a Talos
@@ -130,6 +135,10 @@ pub struct Driver {
 
 impl Driver {
     /// Starts the driver; it connects in the background and reports through the events.
+    ///
+    /// # Panics
+    /// On a speed cap [`DriverConfig::speed_cap`] refuses (the front ends refuse it first).
+    ///
     /// Not inlined: its set-up stays out of its caller's stack frame.
     #[inline(never)]
     pub fn spawn(config: DriverConfig) -> (Driver, mpsc::UnboundedReceiver<ArmEvent>) {

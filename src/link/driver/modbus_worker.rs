@@ -6,8 +6,9 @@ use std::time::Duration;
 use tokio::sync::mpsc;
 use tokio::task::JoinHandle;
 
-use super::speed::{SpeedInForce, is_settable, move_cap_at, tool_speed_at, turn_rate_at};
-use super::{DriverConfig, JointPositions};
+use super::JointPositions;
+use super::speed::SpeedInForce;
+use crate::link::speed::{SpeedCap, fraction, is_settable};
 use crate::kortex::{PolarPanSettings, Pose, ReferenceFrame, SpeedLimits, Stored, Twist};
 use crate::link::interface::{
     ArmCommand, ArmError, ArmEvent, CommandClass, JogMotion, LogEntry, StepMove, Traffic,
@@ -23,7 +24,7 @@ pub struct ModbusWorker {
 struct State {
     link: ModbusLink,
     events: mpsc::UnboundedSender<ArmEvent>,
-    max_jog_speed: f64,
+    cap: SpeedCap,
     /// The driver's speed in force: twists and capped moves scale with it.
     speed: SpeedInForce,
     /// The frame jogs are in: the console's selection, and the driver's one copy of it
@@ -34,7 +35,7 @@ struct State {
 impl ModbusWorker {
     pub fn start(
         link: ModbusLink,
-        config: &DriverConfig,
+        cap: SpeedCap,
         events: mpsc::UnboundedSender<ArmEvent>,
         joints: JointPositions,
         speed: SpeedInForce,
@@ -44,7 +45,7 @@ impl ModbusWorker {
         let state = State {
             link: link.clone(),
             events,
-            max_jog_speed: config.max_jog_speed,
+            cap,
             speed,
             frame: ReferenceFrame::Base,
         };
@@ -136,19 +137,16 @@ impl State {
             .map(|s| s.telemetry.tcp.pose)
     }
 
-    fn fraction(&self) -> f64 {
-        self.speed.fraction()
-    }
-
     /// The tool speed at the speed in force, m/s: the one cap every motion keeps.
     fn tool_speed(&self) -> f32 {
-        tool_speed_at(self.max_jog_speed, self.speed.percent()) as f32
+        self.cap.twist_speed(self.speed.percent())
     }
 
-    /// What a move the arm plans itself runs under at the speed in force ([`move_cap_at`]): the
-    /// tool speed and the turn rate, written as the arm's limits for the move.
+    /// What a move the arm plans itself runs under at the speed in force
+    /// ([`SpeedCap::move_cap`]): the tool speed and the turn rate, written as the arm's limits
+    /// for the move.
     fn move_cap(&self) -> SpeedLimits {
-        move_cap_at(self.max_jog_speed, self.speed.percent())
+        self.cap.move_cap(self.speed.percent())
     }
 
     /// Starts a stored action or sequence (home among them) at the arm's configured limits,
@@ -159,10 +157,10 @@ impl State {
             .await
     }
 
-    /// An orientation jog's rate at the speed in force, deg/s ([`turn_rate_at`]), never above
-    /// the arm's own configured angular limit once telemetry has reported a usable one.
+    /// An orientation jog's rate at the speed in force, deg/s ([`SpeedCap::turn_rate`]), never
+    /// above the arm's own configured angular limit once telemetry has reported a usable one.
     fn angular_speed(&self) -> f32 {
-        let wanted = turn_rate_at(self.speed.percent());
+        let wanted = self.cap.turn_rate(self.speed.percent());
         let arm_limit = self
             .link
             .subscribe()
@@ -177,10 +175,12 @@ impl State {
     /// (azimuth and altitude motion together) at most the tool speed.
     fn polar_settings(&self) -> PolarPanSettings {
         let configured = self.link.config().polar;
+        let percent = self.speed.percent();
         PolarPanSettings {
-            angular_speed: configured.angular_speed * self.fraction() as f32,
-            max_linear_speed: configured.max_linear_speed.min(self.max_jog_speed as f32)
-                * self.fraction() as f32,
+            angular_speed: configured.angular_speed * fraction(percent) as f32,
+            max_linear_speed: self
+                .cap
+                .polar_linear_bound(configured.max_linear_speed, percent),
         }
     }
 

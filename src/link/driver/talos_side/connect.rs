@@ -3,7 +3,7 @@
 
 use tokio::sync::mpsc;
 
-use super::super::speed::{INITIAL_SPEED, OperatorScale};
+use crate::link::speed::{INITIAL_SPEED, OperatorScale};
 use crate::link::talos::{self, Answer, TalosConfig, TalosError, TalosEvent};
 use crate::link::{Dialect, TalosLink};
 use crate::talos::{Reply, Request};
@@ -26,9 +26,8 @@ pub struct TalosConnected {
 pub(super) async fn connect(
     config: TalosConfig,
     oid: u16,
-    (max_jog_speed, operator_full_speed): (f64, f64),
+    scale: OperatorScale,
 ) -> Result<TalosConnected, String> {
-    let scale = OperatorScale::new(max_jog_speed, operator_full_speed);
     let (link, mut link_events) = TalosLink::connect(config.clone())
         .await
         .map_err(|e| format!("talos: {e}"))?;
@@ -61,9 +60,9 @@ pub(super) async fn connect(
             match link.request(lowered).await {
                 Ok(exchange) if exchange.return_code().is_ok() => {
                     speed = Some(INITIAL_SPEED);
-                    let cap = max_jog_speed * 1000.0;
-                    let was = operator_full_speed * 1000.0 * f64::from(s) / 100.0;
-                    let now = cap * f64::from(INITIAL_SPEED) / 100.0;
+                    let cap = scale.cap().max_mm_s();
+                    let was = scale.operator_mm_s(s);
+                    let now = scale.cap().tool_speed_mm_s(INITIAL_SPEED);
                     let text = format!(
                         "the operator was at {s}% ({was:.0} mm/s), over the {cap:.0} mm/s cap: \
                          set to {now:.0} mm/s ({INITIAL_SPEED}% of the cap)"

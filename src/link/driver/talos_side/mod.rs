@@ -8,8 +8,9 @@ use std::time::Duration;
 use tokio::sync::mpsc;
 
 use super::hw_telemetry;
-use super::speed::{OperatorScale, SpeedInForce};
+use super::speed::SpeedInForce;
 use super::{DriverConfig, JointPositions};
+use crate::link::speed::{OperatorScale, SpeedCap};
 use crate::link::interface::{
     ArmCommand, ArmError, ArmEvent, JogMotion, LogEntry, StepMove, Traffic,
 };
@@ -41,11 +42,8 @@ pub struct TalosSide {
     config: Option<TalosConfig>,
     oid: u16,
     joint_jog_speed: f32,
-    /// The tool speed cap at 100 %, m/s: bounds joint jog rates by the joint's lever arm.
-    max_jog_speed: f64,
-    /// The operator's tool speed at its own 100 %, m/s.
-    operator_full_speed: f64,
-    /// The cap's percentages to the operator's and back.
+    /// The cap (it bounds joint jog rates by the joint's lever arm), and its percentages to the
+    /// operator's and back.
     scale: OperatorScale,
     link: Option<TalosLink>,
     link_events: Option<mpsc::UnboundedReceiver<TalosEvent>>,
@@ -82,6 +80,7 @@ fn link_config(config: &DriverConfig) -> Option<TalosConfig> {
 impl TalosSide {
     pub fn new(
         config: &DriverConfig,
+        scale: OperatorScale,
         events: mpsc::UnboundedSender<ArmEvent>,
         joints: JointPositions,
         speed: SpeedInForce,
@@ -90,9 +89,7 @@ impl TalosSide {
             config: link_config(config),
             oid: config.oid,
             joint_jog_speed: config.joint_jog_speed,
-            max_jog_speed: config.max_jog_speed,
-            operator_full_speed: config.operator_full_speed,
-            scale: OperatorScale::new(config.max_jog_speed, config.operator_full_speed),
+            scale,
             link: None,
             link_events: None,
             events,
@@ -101,6 +98,11 @@ impl TalosSide {
             joints,
             answers: None,
         }
+    }
+
+    /// The driver's one speed cap.
+    pub fn cap(&self) -> SpeedCap {
+        self.scale.cap()
     }
 
     fn dialect(&self) -> Dialect {
@@ -123,8 +125,7 @@ impl TalosSide {
         &self,
     ) -> Option<impl Future<Output = Result<TalosConnected, String>> + Send + 'static> {
         let config = self.config.clone()?;
-        let speeds = (self.max_jog_speed, self.operator_full_speed);
-        Some(connect::connect(config, self.oid, speeds))
+        Some(connect::connect(config, self.oid, self.scale))
     }
 
     /// Takes a link that connected; returns its description for the status bar.
@@ -178,14 +179,13 @@ impl TalosSide {
     /// tool, from the reported angles), until the jog's next refresh or the operator's 500 ms
     /// watchdog.
     fn joint_rate(&self, positions: &[f32; 7], joint: u8) -> f32 {
-        let fraction = self.speed.fraction();
-        let by_tool = crate::kortex::gen3::joint_rate_for_tool_speed(
+        self.cap().joint_rate(
+            self.joint_jog_speed,
             positions,
             joint,
-            self.max_jog_speed * fraction,
+            self.speed.percent(),
             JOINT_JOG_HORIZON,
-        );
-        (f64::from(self.joint_jog_speed) * fraction).min(by_tool) as f32
+        )
     }
 
     /// The requests that carry out `command`, in order.

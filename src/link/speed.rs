@@ -1,0 +1,250 @@
+//! The speed cap: one value, [`SpeedCap`], made once from the tool speed cap at 100 %
+//! (`max_jog_speed`) and checked then, that says what a percentage of it is for every motion
+//! and every link: the tool speed, the turn rate, the limits of a move the arm plans itself,
+//! a polar pan's and a joint jog's bounds, and (with the Talos operator's full speed,
+//! [`OperatorScale`]) the operator's percentage. The driver's two sides, the app, the audit
+//! and the command line all ask it; none works a cap out itself.
+
+use crate::kortex::SpeedLimits;
+use crate::kortex::commands::MAX_LINEAR_SPEED;
+use crate::kortex::gen3::joint_rate_for_tool_speed;
+
+/// Percent of the jog speed in force until the technician (or the operator) changes it.
+pub const INITIAL_SPEED: u8 = 50;
+
+/// The tool's turn rate at 100 %, deg/s: the speed in force scales it as it scales the tool
+/// speed cap (a turn about the tool point moves the point itself not at all). One rate for
+/// every motion that turns the tool: an orientation jog, and a move the arm plans itself (a
+/// go-to, a step, home, a stored action), whose angular limit (holding registers 218-219) is
+/// lowered to it. Never above the arm's configured angular limit nor the twist's hard limit
+/// (100 deg/s).
+pub const MAX_ANGULAR_JOG_SPEED: f32 = 30.0;
+
+/// Single-joint jog speed at 100 %, deg/s, unless configured otherwise.
+pub const JOINT_JOG_SPEED: f32 = 20.0;
+
+/// The Talos operator's tool speed at its own 100 %, m/s, unless the technician says otherwise
+/// (`--operator-full-speed`): the simulator's default.
+pub const OPERATOR_FULL_SPEED: f64 = 0.25;
+
+/// Whether `percent` can be put in force: 1-100 % of the cap. Another is refused (by the Modbus
+/// worker, or by the operator it is passed on to) and leaves the speed in force as it was.
+pub fn is_settable(percent: u8) -> bool {
+    (1..=100).contains(&percent)
+}
+
+/// `max_jog_speed` at `percent`, in its unit: the one formula of the tool speed cap
+/// ([`SpeedCap::tool_speed`] and [`SpeedCap::tool_speed_mm_s`] are it).
+pub fn tool_speed_at(max_jog_speed: f64, percent: u8) -> f64 {
+    max_jog_speed * f64::from(percent) / 100.0
+}
+
+/// Why a speed cannot be a cap, or an operator's full speed under it.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum SpeedCapError {
+    /// Not a tool speed the arm's twist can carry (the words follow the value as typed).
+    #[error("must be above 0 and at most {} mm/s (the arm's twist limit)", max_tool_speed_mm_s())]
+    OutOfRange,
+    /// The operator's least speed, 1 % of its full speed, is over the cap.
+    #[error("1 % of the operator's full speed is over the cap: its slowest speed would be over it")]
+    OperatorTooFast,
+}
+
+/// The fastest tool speed a cap or an operator's full speed may be, mm/s: the twist's limit.
+fn max_tool_speed_mm_s() -> f64 {
+    f64::from(MAX_LINEAR_SPEED) * 1000.0
+}
+
+/// Whether `m_s` is a tool speed a cap may be: above 0 and at most the twist's limit.
+fn check_tool_speed(m_s: f64) -> Result<f64, SpeedCapError> {
+    let in_range = m_s.is_finite() && m_s > 0.0 && m_s <= f64::from(MAX_LINEAR_SPEED);
+    in_range.then_some(m_s).ok_or(SpeedCapError::OutOfRange)
+}
+
+/// The tool speed cap: see the module docs. Percentages are of the cap, 1-100 (the speed in
+/// force); the cap is `max_jog_speed` m/s at 100 %.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpeedCap {
+    /// The tool speed at 100 %, m/s: above 0, at most the twist's limit.
+    max_jog_speed: f64,
+}
+
+impl SpeedCap {
+    /// The cap at `max_jog_speed` m/s; refused unless above 0 and at most the twist's limit
+    /// (0.5 m/s).
+    pub fn new(max_jog_speed: f64) -> Result<SpeedCap, SpeedCapError> {
+        check_tool_speed(max_jog_speed).map(|max_jog_speed| SpeedCap { max_jog_speed })
+    }
+
+    /// The cap of a configuration the front ends have checked ([`SpeedCap::new`]: a bad value
+    /// never gets past `cli/values.rs`).
+    ///
+    /// # Panics
+    /// On a value [`SpeedCap::new`] refuses: a configuration made in code that skipped it.
+    /// Nothing has connected then, so nothing moves.
+    pub fn configured(max_jog_speed: f64) -> SpeedCap {
+        match SpeedCap::new(max_jog_speed) {
+            Ok(cap) => cap,
+            Err(e) => panic!("max_jog_speed {max_jog_speed} m/s: {e}"),
+        }
+    }
+
+    /// The tool speed at 100 %, m/s.
+    pub fn max_jog_speed(&self) -> f64 {
+        self.max_jog_speed
+    }
+
+    /// The tool speed at 100 %, mm/s.
+    pub fn max_mm_s(&self) -> f64 {
+        self.max_jog_speed * 1000.0
+    }
+
+    /// The tool speed at `percent`, m/s: the one cap every motion keeps (what a cartesian jog
+    /// moves at, what a move is capped at).
+    pub fn tool_speed(&self, percent: u8) -> f64 {
+        tool_speed_at(self.max_jog_speed, percent)
+    }
+
+    /// [`Self::tool_speed`] in mm/s, as the technician reads it.
+    pub fn tool_speed_mm_s(&self, percent: u8) -> f64 {
+        tool_speed_at(self.max_mm_s(), percent)
+    }
+
+    /// The speed of a Modbus cartesian twist at `percent`, m/s (diagonals are normalised to it).
+    pub fn twist_speed(&self, percent: u8) -> f32 {
+        self.tool_speed(percent) as f32
+    }
+
+    /// The tool's turn rate at `percent`, deg/s: [`MAX_ANGULAR_JOG_SPEED`] scaled by it, before
+    /// the arm's own configured angular limit (which only the link's telemetry knows). What an
+    /// orientation jog turns at, and what a capped move may turn at ([`Self::move_cap`]).
+    pub fn turn_rate(&self, percent: u8) -> f32 {
+        MAX_ANGULAR_JOG_SPEED * fraction(percent) as f32
+    }
+
+    /// The limits a move the arm plans itself (a go-to, a step, home, a stored action) runs
+    /// under at `percent`: the tool speed ([`Self::tool_speed`]) and the turn rate
+    /// ([`Self::turn_rate`]), as the arm's speed limits (m/s, deg/s) for the move.
+    pub fn move_cap(&self, percent: u8) -> SpeedLimits {
+        SpeedLimits {
+            linear: self.tool_speed(percent) as f32,
+            angular: self.turn_rate(percent),
+        }
+    }
+
+    /// A Modbus polar pan's bound on the tool point at `percent`, m/s: its `configured` bound,
+    /// never above the cap, scaled by the percentage.
+    pub fn polar_linear_bound(&self, configured: f32, percent: u8) -> f32 {
+        configured.min(self.max_jog_speed as f32) * fraction(percent) as f32
+    }
+
+    /// A joint jog's rate at `percent`, deg/s: `joint_jog_speed` (deg/s at 100 %) scaled by
+    /// it, bounded so the tool point moves no faster than the cap at that percentage (the
+    /// lever arm from the joint's axis to the tool, from the joints' `positions` in deg) for
+    /// `horizon` s, until the jog's next refresh or the operator's watchdog.
+    pub fn joint_rate(
+        &self,
+        joint_jog_speed: f32,
+        positions: &[f32; 7],
+        joint: u8,
+        percent: u8,
+        horizon: f64,
+    ) -> f32 {
+        let fraction = fraction(percent);
+        let by_tool =
+            joint_rate_for_tool_speed(positions, joint, self.max_jog_speed * fraction, horizon);
+        (f64::from(joint_jog_speed) * fraction).min(by_tool) as f32
+    }
+
+    /// This cap on a Talos operator whose own 100 % is `operator_full_speed` m/s: refused
+    /// unless that is a tool speed ([`SpeedCap::new`]'s range) and its 1 % is within the cap.
+    pub fn with_operator(self, operator_full_speed: f64) -> Result<OperatorScale, SpeedCapError> {
+        let operator_full_speed = check_tool_speed(operator_full_speed)?;
+        let scale = OperatorScale {
+            cap: self,
+            operator_full_speed,
+        };
+        scale
+            .allows_one_percent()
+            .then_some(scale)
+            .ok_or(SpeedCapError::OperatorTooFast)
+    }
+}
+
+/// `percent` as a fraction of the cap, 0.01-1 for a speed in force.
+pub fn fraction(percent: u8) -> f64 {
+    f64::from(percent) / 100.0
+}
+
+/// The cap on a Talos operator: its Set Speed / Get Speed percentage is of its own 100 % speed,
+/// not of the console's cap, and this converts between the two, so the speed in force stays a
+/// percentage of the console's cap on both link sides and only the Talos side converts.
+///
+/// Edge cases, all on the side of the cap:
+/// - To the operator, the percentage rounds down and is at least 1 %: it never gives more than
+///   the console's percentage of the cap, except that 1 % of the operator's speed is the least
+///   it can be asked for, which [`SpeedCap::with_operator`] keeps under the cap.
+/// - From the operator, the percentage of the cap rounds up (the speed shown is never less than
+///   the speed it runs at); above 100 % the operator runs over the cap, and `None` says so.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OperatorScale {
+    cap: SpeedCap,
+    /// The operator's tool speed at its own 100 %, m/s.
+    operator_full_speed: f64,
+}
+
+/// Slack for the floating-point products of whole percentages (20 × 0.2 must be 4, not 3).
+const ROUNDING_SLACK: f64 = 1e-9;
+
+impl OperatorScale {
+    /// Both speeds in the same unit, unchecked: [`SpeedCap::with_operator`] checks them.
+    #[cfg(test)]
+    fn new(max_jog_speed: f64, operator_full_speed: f64) -> OperatorScale {
+        OperatorScale {
+            cap: SpeedCap { max_jog_speed },
+            operator_full_speed,
+        }
+    }
+
+    /// The console's cap.
+    pub fn cap(&self) -> SpeedCap {
+        self.cap
+    }
+
+    /// The console's cap over the operator's full speed.
+    fn ratio(&self) -> f64 {
+        self.cap.max_jog_speed / self.operator_full_speed
+    }
+
+    /// Whether the operator's least speed, 1 %, is within the cap.
+    fn allows_one_percent(&self) -> bool {
+        self.ratio() >= 0.01 - ROUNDING_SLACK
+    }
+
+    /// The operator's tool speed at its own `percent`, mm/s.
+    pub fn operator_mm_s(&self, percent: u8) -> f64 {
+        tool_speed_at(self.operator_full_speed * 1000.0, percent)
+    }
+
+    /// The operator percentage for `percent` of the console's cap: rounded down, 1-100. A
+    /// percentage outside 1-100 goes on as it is, for the operator to refuse (it is
+    /// OUT_OF_RANGE there too): none is put in force that the operator did not accept.
+    pub fn to_operator(&self, percent: u8) -> u8 {
+        if !is_settable(percent) {
+            return percent;
+        }
+        let exact = f64::from(percent) * self.ratio();
+        (exact + ROUNDING_SLACK).floor().clamp(1.0, 100.0) as u8
+    }
+
+    /// The percentage of the console's cap the operator's `percent` gives, rounded up; `None`
+    /// when that is over the cap (above 100 %).
+    pub fn from_operator(&self, percent: u8) -> Option<u8> {
+        let exact = f64::from(percent) / self.ratio();
+        let of_cap = (exact - ROUNDING_SLACK).ceil().max(1.0);
+        (of_cap <= 100.0).then_some(of_cap as u8)
+    }
+}
+
+#[cfg(test)]
+mod tests;
