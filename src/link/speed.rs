@@ -43,7 +43,10 @@ pub fn tool_speed_at(max_jog_speed: f64, percent: u8) -> f64 {
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
 pub enum SpeedCapError {
     /// Not a tool speed the arm's twist can carry (the words follow the value as typed).
-    #[error("must be above 0 and at most {} mm/s (the arm's twist limit)", max_tool_speed_mm_s())]
+    #[error(
+        "must be above 0 and at most {} mm/s (the arm's twist limit)",
+        max_tool_speed_mm_s()
+    )]
     OutOfRange,
     /// The operator's least speed, 1 % of its full speed, is over the cap.
     #[error("1 % of the operator's full speed is over the cap: its slowest speed would be over it")]

@@ -10,8 +10,8 @@ use super::{EXIT_EXCEPTION, ModbusArgs, ModbusCommand, render};
 use crate::cli::Outcome;
 use crate::kortex::{Progress, SpeedLimits, Stored, StoredRun, Telemetry, fault_reason};
 use crate::link::ModbusLink;
-use crate::link::speed::SpeedCap;
 use crate::link::modbus::ModbusError;
+use crate::link::speed::SpeedCap;
 
 /// How a stored motion is waited for and capped.
 #[derive(Debug, Clone, Args)]

@@ -52,8 +52,8 @@ use crate::kortex::arm_state::{
     REST_ANGULAR_DEG_S, REST_JOINT_DEG_S, REST_LINEAR_M_S, abort_reason,
 };
 use crate::kortex::{ActionStatus, Coded, Flag, MoveType, ReferenceFrame, Telemetry};
-use crate::link::speed::{INITIAL_SPEED, fraction};
 use crate::link::interface::{ArmCommand, TelemetrySource};
+use crate::link::speed::{INITIAL_SPEED, fraction};
 
 /// How long after a jog's START the telemetry may still show the arm as it was before: the
 /// START's trip (a Modbus write, or a Talos frame and the operator's reply, tens of ms), the

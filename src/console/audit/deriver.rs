@@ -11,8 +11,8 @@ use crate::console::coords::describe_motion;
 use crate::console::positions::PositionBook;
 use crate::kortex::arm_state::fault_reason;
 use crate::kortex::{CodeName, Pose, ReferenceFrame};
-use crate::link::speed::{INITIAL_SPEED, SpeedCap, is_settable};
 use crate::link::interface::{ArmCommand, ArmEvent, GuardStatus, JogMotion, LinkStatus, StepMove};
+use crate::link::speed::{INITIAL_SPEED, SpeedCap, is_settable};
 
 /// What the deriver remembers between calls, to turn a stream into starts and stops.
 #[derive(Debug, Clone)]
@@ -72,9 +72,10 @@ impl AuditDeriver {
     /// ([`SpeedCap::turn_rate`]); every other jog's is the tool speed.
     fn jog_rate(&self, motion: &JogMotion, percent: u8) -> (Option<f64>, Option<f64>) {
         match motion {
-            JogMotion::Orientation { .. } => {
-                (None, Some(round_tenth(f64::from(self.cap.turn_rate(percent)))))
-            }
+            JogMotion::Orientation { .. } => (
+                None,
+                Some(round_tenth(f64::from(self.cap.turn_rate(percent)))),
+            ),
             _ => (Some(self.speed_mm_s(percent)), None),
         }
     }

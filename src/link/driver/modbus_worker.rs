@@ -8,12 +8,12 @@ use tokio::task::JoinHandle;
 
 use super::JointPositions;
 use super::speed::SpeedInForce;
-use crate::link::speed::{SpeedCap, fraction, is_settable};
 use crate::kortex::{PolarPanSettings, Pose, ReferenceFrame, SpeedLimits, Stored, Twist};
 use crate::link::interface::{
     ArmCommand, ArmError, ArmEvent, CommandClass, JogMotion, LogEntry, StepMove, Traffic,
 };
 use crate::link::modbus::{ModbusError, ModbusLink, WriteReport};
+use crate::link::speed::{SpeedCap, fraction, is_settable};
 
 pub struct ModbusWorker {
     commands: mpsc::UnboundedSender<ArmCommand>,

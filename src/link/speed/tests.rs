@@ -33,8 +33,19 @@ fn a_move_is_capped_at_the_tool_speed_and_the_turn_rate_of_its_percentage() {
 
 #[test]
 fn a_cap_is_above_0_and_at_most_the_twists_limit() {
-    for refused in [0.0, -0.1, 0.500_001, f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
-        assert_eq!(SpeedCap::new(refused), Err(SpeedCapError::OutOfRange), "{refused}");
+    for refused in [
+        0.0,
+        -0.1,
+        0.500_001,
+        f64::NAN,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    ] {
+        assert_eq!(
+            SpeedCap::new(refused),
+            Err(SpeedCapError::OutOfRange),
+            "{refused}"
+        );
     }
     assert!((cap(0.5).max_jog_speed() - 0.5).abs() < 1e-12);
     assert!((cap(0.000_1).max_mm_s() - 0.1).abs() < 1e-12);

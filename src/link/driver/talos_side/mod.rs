@@ -10,10 +10,10 @@ use tokio::sync::mpsc;
 use super::hw_telemetry;
 use super::speed::SpeedInForce;
 use super::{DriverConfig, JointPositions};
-use crate::link::speed::{OperatorScale, SpeedCap};
 use crate::link::interface::{
     ArmCommand, ArmError, ArmEvent, JogMotion, LogEntry, StepMove, Traffic,
 };
+use crate::link::speed::{OperatorScale, SpeedCap};
 use crate::link::talos::{TalosConfig, TalosEvent};
 use crate::link::{Dialect, TalosLink};
 use crate::talos::hardware::{ActuatorCommand, HwReply, HwRequest};
