@@ -277,3 +277,34 @@ async fn limits_owed_when_the_connection_drops_are_restored_after_the_reconnect(
     assert_eq!(limit_writes(&arm).last(), Some(&limits_write(0.3, 80.0)));
     link.close().await.expect("close");
 }
+
+/// Another client's capped move runs (the arm reports action 5 started and moves): the limits
+/// in force may be that client's lowered ones, which a move of ours would put back at its end
+/// as the arm's own, for good. Nothing is written; a twist the arm runs is no such move.
+#[tokio::test]
+async fn no_capped_move_is_started_over_another_clients_running_move() {
+    let arm = arm().await;
+    arm.with(|s| {
+        s.holding_registers[100] = 0; // started
+        s.holding_registers[101] = 5;
+        s.holding_registers[102] = 0; // action
+    });
+    let (link, _events) = link(&arm).await;
+    let e = link
+        .go_to_pose_capped(ReferenceFrame::Base, target(), CAP)
+        .await
+        .expect_err("refused");
+    assert!(
+        matches!(&e, ModbusError::AnotherMoveRuns(what) if what == "action 5"),
+        "{e}"
+    );
+    assert!(arm.writes().is_empty(), "{:?}", arm.writes());
+
+    // The same arm running a twist (a jog: no limits lowered for it) takes the move.
+    arm.with(|s| s.holding_registers[102] = 3);
+    link.go_to_pose_capped(ReferenceFrame::Base, target(), CAP)
+        .await
+        .expect("move");
+    assert_eq!(limit_writes(&arm), [limits_write(0.05, 15.0)]);
+    link.close().await.expect("close");
+}

@@ -76,6 +76,13 @@ pub enum ModbusError {
         "the arm reports speed limits of {linear} m/s and {angular} deg/s: a move's speed cannot be bounded from them"
     )]
     SpeedLimitsUnknown { linear: f32, angular: f32 },
+    /// Another client's capped move runs: the limits in force may be its lowered ones, which a
+    /// move of ours would later put back as the arm's own, for good.
+    #[error(
+        "another client's move runs on the arm ({0}): nothing is started over it (its speed \
+         limits may be that client's lowered ones)"
+    )]
+    AnotherMoveRuns(String),
     #[error("the arm refused the stop ({stop}) and the abort coil ({abort}): it may still move")]
     StopFailed {
         stop: Box<ModbusError>,

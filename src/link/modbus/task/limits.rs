@@ -24,7 +24,7 @@ use tokio::time::Instant;
 
 use super::{LinkTask, ModbusError, ModbusEvent, PollScope, StopReason, WriteReport};
 use crate::kortex::commands::{self, Write};
-use crate::kortex::{ActionStatus, Coded, SpeedLimits, Telemetry};
+use crate::kortex::{ActionStatus, CodeName, Coded, MoveType, SpeedLimits, Telemetry, at_rest};
 
 /// How long a capped move may take to show as started before the link takes it as refused or
 /// over, and restores the limits.
@@ -64,7 +64,8 @@ impl LinkTask {
     /// to restore. Writes nothing when the limits in force are already right.
     async fn lower_limits(&mut self, cap: SpeedLimits) -> Result<WriteReport, ModbusError> {
         // A fresh read: the limits may have been changed by someone else since the last poll.
-        let in_force = self.poll_scoped(PollScope::Everything).await?.speed_limits;
+        let telemetry = self.poll_scoped(PollScope::Everything).await?;
+        let in_force = telemetry.speed_limits;
         let original = self.limit_hold.map_or(in_force, |h| h.original);
         let valid = |v: f32| v.is_finite() && v > 0.0;
         if !(valid(original.linear) && valid(original.angular)) {
@@ -78,6 +79,14 @@ impl LinkTask {
             angular: cap.angular.min(original.angular),
         };
         let lowered = wanted != original;
+        // Only while no limits of ours are held, and only when ours would be written: limits
+        // already under the cap are left alone, and so owe nothing back.
+        if self.limit_hold.is_none()
+            && in_force != wanted
+            && let Some(other) = capped_move_running(&telemetry)
+        {
+            return Err(ModbusError::AnotherMoveRuns(other));
+        }
         let mut report = WriteReport::default();
         if in_force != wanted {
             let writes = commands::speed_limits(wanted.linear, wanted.angular)?;
@@ -186,4 +195,21 @@ impl LinkTask {
             self.restore_limits().await;
         }
     }
+}
+
+/// Another client's move that the arm runs at its speed limits (an action, a sequence, a
+/// cartesian trajectory: the moves a client lowers the limits for), started and not at rest, in
+/// words. Asked only while this link holds no limits of its own: such a move is not ours.
+fn capped_move_running(t: &Telemetry) -> Option<String> {
+    let action = &t.action;
+    let capped = matches!(
+        action.move_type,
+        Coded::Known(MoveType::Action | MoveType::Sequence | MoveType::CartesianTrajectory)
+    );
+    let started = action.status == Coded::Known(ActionStatus::Started);
+    (capped && started && !at_rest(t)).then(|| match action.move_type {
+        Coded::Known(MoveType::CartesianTrajectory) => "a cartesian trajectory".to_string(),
+        Coded::Known(kind) => format!("{} {}", kind.key(), action.id),
+        Coded::Unknown(_) => "a move".to_string(),
+    })
 }
