@@ -271,6 +271,14 @@ pub struct App {
     now: Option<Instant>,
 }
 
+/// What [`App::handle`] takes from the state before an input changes it, for the follow-ups.
+struct BeforeInput {
+    /// The position a go-to question asked about.
+    goto: Option<String>,
+    /// What in the input ends a tour, in words.
+    interrupted: Option<String>,
+}
+
 impl App {
     /// # Panics
     /// On a `max_jog_speed` [`SpeedCap::new`] refuses (the front ends refuse it first).
@@ -315,9 +323,7 @@ impl App {
     /// The state machine's one entry point.
     pub fn handle(&mut self, input: Input, now: Instant) -> Vec<Effect> {
         self.now = Some(now);
-        let goto = self.goto_in_question();
-        self.resave_watch(&input);
-        let interrupted = tour::interruption(&input);
+        let before = self.before_input(&input);
         let mut effects = Vec::new();
         match input {
             Input::Key(key) => self.on_key(key, now, &mut effects),
@@ -349,15 +355,49 @@ impl App {
             Input::PositionsSaved(outcome) => self.on_positions_saved(outcome, now),
             Input::Paste(pasted) => self.on_paste(pasted, now, &mut effects),
         }
-        self.tour_before_truth(interrupted, now, &mut effects);
-        let goto = goto.or_else(|| self.tour_leg_starting());
-        self.truth_after(goto, now, &mut effects);
-        self.tour_after_truth(now);
-        self.hold_saves_until_loaded(now, &mut effects);
-        self.count_saves(&effects);
-        self.settle_messages(now);
-        self.keys.note_overlay(self.screen.overlay(), now);
+        self.follow_ups(before, now, &mut effects);
         effects
+    }
+
+    /// What must be done or read before the input is handled, in this order.
+    fn before_input(&mut self, input: &Input) -> BeforeInput {
+        // Before: a key, focus lost, a signal or a link down drops a re-save's pending go-to;
+        // the key that answers the re-save question sets it afresh as it is handled.
+        self.resave_watch(input);
+        BeforeInput {
+            // Before: the answer closes the question, and the move it sends is tracked under
+            // the position's name.
+            goto: self.goto_in_question(),
+            // Before: handling takes the input. Order with the two above not known to matter.
+            interrupted: tour::interruption(input),
+        }
+    }
+
+    /// The follow-ups after every input, in this order; each reads what the ones above left.
+    /// A new follow-up goes here, with its reason.
+    fn follow_ups(&mut self, before: BeforeInput, now: Instant, effects: &mut Vec<Effect>) {
+        // 1. Before the truth notes what goes out: the tour ends on an interruption or a
+        //    refusing gate (its STOP then goes out and is noted), or starts its next leg (a
+        //    go-to the gate and the truth must see; `tests/console/app/tours.rs` fails if not).
+        self.tour_before_truth(before.interrupted, now, effects);
+        // 2. After 1: a go-to the tour just emitted is tracked under its leg's name.
+        let goto = before.goto.or_else(|| self.tour_leg_starting());
+        // 3. After every emitter (the input, the tour): the gate drops motion it refuses, a
+        //    stale link stops the jog, and each command going out is noted as evidence awaited.
+        self.truth_after(goto, now, effects);
+        // 4. After 3: a leg the truth now tracks is moving; one the gate dropped ends the tour.
+        self.tour_after_truth(now);
+        // 5. Saves asked while the book loads or could not be read are held back (and said).
+        self.hold_saves_until_loaded(now, effects);
+        // 6. After 5: only saves that go out are awaited; a held one on an unreadable book is
+        //    marked not saved at once (`book_load.rs`, a change to an unreadable book).
+        self.count_saves(effects);
+        // 7. After every state change above (link, stale, stop, not-saved marks): messages whose
+        //    state has ended go.
+        self.settle_messages(now);
+        // 8. The question guard notes the overlay as the input left it; no step above opens or
+        //    closes one, so its order with them is not known to matter.
+        self.keys.note_overlay(self.screen.overlay(), now);
     }
 
     /// Shows a notice on the bottom line for a while (also used by the runtime, e.g. for file

@@ -179,3 +179,26 @@ fn a_big_book_checks_a_bounded_number_of_names_with_the_operator() {
     );
     assert_eq!(asked(&effects), CHECKED_ON_CONNECT);
 }
+
+/// `App::handle`'s follow-ups hold a save back before they count the saves that go out: a change
+/// to a book that could not be read is marked not saved at once, not awaited from a write that
+/// never comes.
+#[test]
+fn a_change_to_an_unreadable_book_is_marked_not_saved_at_once() {
+    let (mut app, t0) = app(ReleaseMode::Reported, true);
+    app.begin_loading_positions("book.json");
+    app.handle(Input::PositionsLoaded(Err("bad json".into())), t0);
+    let save = ArmCommand::SavePosition {
+        name: "pick".into(),
+        anchor: false,
+        parent: None,
+    };
+    let effects = app.handle(Input::Arm(ArmEvent::Done { command: save }), t0 + ms(10));
+    assert!(
+        !effects
+            .iter()
+            .any(|e| matches!(e, Effect::SavePositions(_))),
+        "{effects:?}"
+    );
+    assert_eq!(app.unsaved_positions(), 1, "pick is marked not saved");
+}
