@@ -5,10 +5,14 @@
 use crate::console::coords::describe_motion;
 use crate::console::jog::JogMotion;
 use crate::kortex::Telemetry;
-use crate::kortex::arm_state::at_rest;
+use crate::kortex::arm_state::{REST_LINEAR_M_S, at_rest};
 
-use super::other_client::OTHER_MOTION_M_S;
-
+/// Idle, a tool point faster than this (m/s) is motion someone commanded: five times the
+/// console's at-rest threshold, well over noise.
+pub const OTHER_MOTION_M_S: f32 = 5.0 * REST_LINEAR_M_S;
+/// Idle, a joint faster than this (deg/s) is motion someone commanded (a turn of the tool
+/// moves the joints, not the point).
+pub const OTHER_MOTION_JOINT_DEG_S: f32 = 2.0;
 /// A jog is "far slower than it ran" under this fraction of its steady speed: a Gen3 tracks a
 /// twist within a few percent, and a speed change of ours restarts the comparison.
 pub const SLOW_FRACTION: f64 = 0.5;

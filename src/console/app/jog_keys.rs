@@ -12,6 +12,25 @@ use crate::link::interface::{ArmCommand, StepMove};
 pub const TAP_STEP_LIMIT: i32 = 50;
 
 impl App {
+    /// A refresh the jog engine made at `now` for `before` (the jog held before the tick):
+    /// after the grace, with telemetry to go by, it waits for the next sample, and goes out only
+    /// on one that does not contradict the jog. So a refresh never follows telemetry showing
+    /// the jog stopped, slowed or replaced (see `other_client`).
+    pub(super) fn hold_refresh(
+        &mut self,
+        before: Option<JogMotion>,
+        jog: &mut Vec<JogEffect>,
+        now: Instant,
+    ) {
+        let Some(motion) = before else {
+            return;
+        };
+        let watched = self.truth.expects_telemetry();
+        self.arm
+            .others_mut()
+            .hold_refresh(motion, watched, jog, now);
+    }
+
     /// Carries out what the jog engine asked for.
     pub(super) fn apply_jog(
         &mut self,

@@ -45,7 +45,9 @@ pub use cap_watch::{CAP_TOLERANCE, CapWatch, OVER_CAP_SAMPLES};
 pub use crate::console::coords::{cartesian_of, describe_motion, polar_of};
 pub use crate::kortex::arm_state::{abort_reason, at_rest, fault_reason};
 pub use history::{BUCKET, BUCKETS, HISTORY_WINDOW, History, HistorySeries, JointQuantity};
-pub use jog_evidence::{ALONG_FRACTION, Contradiction, SLOW_FRACTION};
+pub use jog_evidence::{
+    ALONG_FRACTION, Contradiction, OTHER_MOTION_JOINT_DEG_S, OTHER_MOTION_M_S, SLOW_FRACTION,
+};
 pub use jog_keys::TAP_STEP_LIMIT;
 pub use limits::{LIMIT_WARNING_DEG, NearLimit, limit_margin, near_limits};
 pub use motion_gate::arm_refusal;
@@ -56,8 +58,8 @@ pub use motion_truth::{
 pub use named::tool_position;
 pub use offers::{Offers, SessionView};
 pub use other_client::{
-    CONTRADICTED_FOR, OTHER_CLIENT_GRACE, OTHER_CLIENT_SAMPLES, OTHER_MOTION_JOINT_DEG_S,
-    OTHER_MOTION_M_S, OtherClients, REFRESH_SAMPLES, REFRESH_WAIT,
+    CONTRADICTED_FOR, OTHER_CLIENT_GRACE, OTHER_CLIENT_SAMPLES, OtherClients, REFRESH_SAMPLES,
+    REFRESH_WAIT,
 };
 pub use parts::{ArmView, BookView, KeysView, ScreenView, TourView};
 pub use paste::Pasted;
@@ -367,7 +369,7 @@ impl App {
         BeforeInput {
             // Before: the answer closes the question, and the move it sends is tracked under
             // the position's name.
-            goto: self.goto_in_question(),
+            goto: self.screen.goto_in_question(),
             // Before: handling takes the input. Order with the two above not known to matter.
             interrupted: tour::interruption(input),
         }

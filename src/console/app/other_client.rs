@@ -44,7 +44,9 @@
 
 use std::time::{Duration, Instant};
 
-use super::jog_evidence::{Contradiction, contradiction, progress};
+use super::jog_evidence::{
+    Contradiction, OTHER_MOTION_JOINT_DEG_S, OTHER_MOTION_M_S, contradiction, progress,
+};
 use super::{App, Effect};
 use crate::console::coords::describe_motion;
 use crate::console::jog::{JogEffect, JogMotion};
@@ -64,12 +66,6 @@ pub const OTHER_CLIENT_GRACE: Duration = Duration::from_millis(500);
 /// Samples in a row at rest (while jogging) or moving (while idle) before it counts: two may be
 /// a reading's glitch, three at 30 Hz are 100 ms of agreement.
 pub const OTHER_CLIENT_SAMPLES: u32 = 3;
-/// Idle, a tool point faster than this (m/s) is motion someone commanded: five times the
-/// console's at-rest threshold, well over noise.
-pub const OTHER_MOTION_M_S: f32 = 5.0 * REST_LINEAR_M_S;
-/// Idle, a joint faster than this (deg/s) is motion someone commanded (a turn of the tool
-/// moves the joints, not the point).
-pub const OTHER_MOTION_JOINT_DEG_S: f32 = 2.0;
 /// A jog is told from rest only when it should run at least this many times the at-rest
 /// threshold (a 1 % jog creeps at about the threshold itself).
 const REST_MARGIN: f64 = 3.0;
@@ -130,6 +126,32 @@ impl OtherClients {
     /// The technician's STOP, held against a restart from elsewhere.
     pub fn stop_hold(&self) -> &super::stop_hold::StopHold {
         &self.hold
+    }
+
+    /// A due refresh of `motion` (in `jog`, what the engine asked for at `now`): with telemetry
+    /// `watched` and past the grace, it is taken out of `jog` to wait for the next samples (see
+    /// [`App::hold_refresh`]).
+    pub(super) fn hold_refresh(
+        &mut self,
+        motion: JogMotion,
+        watched: bool,
+        jog: &mut Vec<JogEffect>,
+        now: Instant,
+    ) {
+        let past_grace = self
+            .jog_since
+            .is_some_and(|(m, since)| m == motion && now >= since + OTHER_CLIENT_GRACE);
+        if !(watched && past_grace) {
+            return;
+        }
+        let asked = jog.len();
+        jog.retain(|e| *e != JogEffect::Start(motion));
+        if jog.len() != asked && self.refresh_waiting.is_none() {
+            if self.contradicting_in_a_row > 0 {
+                self.withheld += 1;
+            }
+            self.refresh_waiting = Some((now, 0));
+        }
     }
 
     fn forget_jog(&mut self) {
@@ -253,38 +275,6 @@ impl App {
         }
     }
 
-    /// A refresh the jog engine made at `now` for `before` (the jog held before the tick):
-    /// after the grace, with telemetry to go by, it waits for the next sample, and goes out only
-    /// on one that does not contradict the jog. So a refresh never follows telemetry showing
-    /// the jog stopped, slowed or replaced.
-    pub(super) fn hold_refresh(
-        &mut self,
-        before: Option<JogMotion>,
-        jog: &mut Vec<JogEffect>,
-        now: Instant,
-    ) {
-        let Some(motion) = before else {
-            return;
-        };
-        let watched = self.truth.expects_telemetry();
-        let past_grace = self
-            .arm
-            .others_mut()
-            .jog_since
-            .is_some_and(|(m, since)| m == motion && now >= since + OTHER_CLIENT_GRACE);
-        if !(watched && past_grace) {
-            return;
-        }
-        let asked = jog.len();
-        jog.retain(|e| *e != JogEffect::Start(motion));
-        if jog.len() != asked && self.arm.others_mut().refresh_waiting.is_none() {
-            if self.arm.others_mut().contradicting_in_a_row > 0 {
-                self.arm.others_mut().withheld += 1;
-            }
-            self.arm.others_mut().refresh_waiting = Some((now, 0));
-        }
-    }
-
     /// Time passing under a held jog: a contradiction that lasted [`CONTRADICTED_FOR`] stops it;
     /// a refresh that waited [`REFRESH_WAIT`] with no contradiction goes out.
     pub(super) fn other_clients_on_tick(&mut self, now: Instant, effects: &mut Vec<Effect>) {
@@ -404,4 +394,52 @@ fn fast_motion(t: &Telemetry) -> bool {
         || t.joints
             .iter()
             .any(|j| j.velocity.abs() > OTHER_MOTION_JOINT_DEG_S)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const PLUS_X: JogMotion = JogMotion::Cartesian { x: 1, y: 0, z: 0 };
+
+    fn jogging_since(t0: Instant) -> OtherClients {
+        OtherClients {
+            jog_since: Some((PLUS_X, t0)),
+            ..OtherClients::default()
+        }
+    }
+
+    #[test]
+    fn a_refresh_is_held_only_past_the_grace_with_telemetry_to_go_by() {
+        let t0 = Instant::now();
+        let past = t0 + OTHER_CLIENT_GRACE;
+        let early = past - Duration::from_millis(1);
+        for (watched, now, held) in [
+            (true, past, true),
+            (false, past, false),
+            (true, early, false),
+        ] {
+            let mut others = jogging_since(t0);
+            let mut jog = vec![JogEffect::Start(PLUS_X)];
+            others.hold_refresh(PLUS_X, watched, &mut jog, now);
+            assert_eq!(jog.is_empty(), held, "watched {watched}, at {now:?}");
+            assert_eq!(others.refresh_waiting.is_some(), held);
+        }
+    }
+
+    #[test]
+    fn a_refresh_held_after_a_contradicting_sample_is_counted_withheld_once() {
+        let t0 = Instant::now();
+        let now = t0 + OTHER_CLIENT_GRACE;
+        let mut others = jogging_since(t0);
+        others.contradicting_in_a_row = 1;
+        let mut jog = vec![JogEffect::Start(PLUS_X), JogEffect::Stop];
+        others.hold_refresh(PLUS_X, true, &mut jog, now);
+        assert_eq!(jog, vec![JogEffect::Stop], "only the refresh is held");
+        assert_eq!(others.withheld(), 1);
+        let mut again = vec![JogEffect::Start(PLUS_X)];
+        others.hold_refresh(PLUS_X, true, &mut again, now + Duration::from_millis(100));
+        assert!(again.is_empty());
+        assert_eq!(others.withheld(), 1, "one refresh waiting is one withheld");
+    }
 }

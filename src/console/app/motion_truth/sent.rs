@@ -7,19 +7,11 @@ use std::time::Instant;
 use super::{ActionKind, GoToTarget, StoredAction, TrackedAction};
 use crate::console::app::age::age_text;
 use crate::console::app::message::Until;
-use crate::console::app::{App, Effect, Overlay, Severity};
-use crate::console::form::Confirm;
+use crate::console::app::{App, Effect, Severity};
 use crate::kortex::{Flag, MoveType, OurMove, StoredRun};
 use crate::link::interface::ArmCommand;
-impl App {
-    /// The name of the position a go-to question asks about, taken before the answer.
-    pub(in crate::console::app) fn goto_in_question(&self) -> Option<String> {
-        match self.screen.overlay() {
-            Overlay::Confirm(Confirm::GoTo(name)) => Some(name.clone()),
-            _ => None,
-        }
-    }
 
+impl App {
     /// After every input: a stale link starts no motion (a command held up in a frozen network
     /// could run whenever it thaws) and stops the jog; tracked actions time out; the commands
     /// just emitted are noted.

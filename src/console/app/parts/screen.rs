@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use super::super::message::{Message, Messages, Until};
 use super::super::{MIN_HEIGHT, MIN_WIDTH, Overlay, Severity};
-use crate::console::form::Form;
+use crate::console::form::{Confirm, Form};
 use crate::console::keymap::{KeyName, Keymap, NamedKey};
 use crate::console::ui::help::scroll_limits;
 use crate::link::interface::{ArmEvent, LogEntry, PositionCoordinates};
@@ -68,6 +68,14 @@ impl Default for Screen {
 impl Screen {
     pub(in crate::console::app) fn overlay(&self) -> &Overlay {
         &self.overlay
+    }
+
+    /// The name of the position a go-to question asks about (read before its answer closes it).
+    pub(in crate::console::app) fn goto_in_question(&self) -> Option<String> {
+        match &self.overlay {
+            Overlay::Confirm(Confirm::GoTo(name)) => Some(name.clone()),
+            _ => None,
+        }
     }
 
     pub(in crate::console::app) fn show(&mut self, overlay: Overlay) {
@@ -244,5 +252,22 @@ impl Screen {
             overlay: self.overlay.clone(),
             help_scroll: self.help_scroll,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_go_to_in_question_is_named_only_by_a_go_to_question() {
+        let mut screen = Screen::default();
+        assert_eq!(screen.goto_in_question(), None);
+        screen.show(Overlay::Confirm(Confirm::GoTo("bench".into())));
+        assert_eq!(screen.goto_in_question(), Some("bench".into()));
+        screen.show(Overlay::Confirm(Confirm::Resave("bench".into())));
+        assert_eq!(screen.goto_in_question(), None);
+        screen.show(Overlay::Confirm(Confirm::Home));
+        assert_eq!(screen.goto_in_question(), None);
     }
 }
