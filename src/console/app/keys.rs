@@ -1,12 +1,15 @@
 //! Keys in the state machine: ctrl+c, overlays and their auto-repeat, jog keys, actions,
-//! dialogs and forms.
+//! dialogs and forms; the help's scroll keys; a question's refusal of keys too soon or too fast
+//! (the guard: `question`); a paste, which is text, never keys: an open form takes it (cut to
+//! the field's limit), anything else ignores it with one message, and input the reader refused
+//! stops the arm (keys, a release or a STOP, may have been among what was dropped).
 
 use std::time::Instant;
 
 use super::message::Until;
-use super::{App, Effect, KeyInput, Overlay, Severity};
+use super::{App, Effect, KeyInput, Overlay, Pasted, Severity};
 use crate::console::action::Action;
-use crate::console::form::{Confirm, Form, FormKind};
+use crate::console::form::{Confirm, Form, FormKind, FormPaste};
 use crate::console::jog::KeyKind;
 use crate::console::keymap::{KeyName, NamedKey};
 use crate::link::interface::{ArmCommand, StepMove};
@@ -348,5 +351,69 @@ impl App {
                 self.screen.show(Overlay::Form(form));
             }
         }
+    }
+
+    /// The help overlay's first shown line.
+    pub fn help_scroll(&self) -> usize {
+        self.screen.help_scroll()
+    }
+
+    pub(super) fn open_help(&mut self) {
+        self.screen.open_help();
+    }
+
+    /// Scrolls the help for a scrolling key and says whether it was one (the help stays open).
+    pub(super) fn scroll_help(&mut self, key: &KeyName) -> bool {
+        self.screen.on_help_key(key, &self.config.keymap)
+    }
+
+    pub(super) fn on_paste(&mut self, pasted: Pasted, now: Instant, effects: &mut Vec<Effect>) {
+        let text = match pasted {
+            Pasted::Refused(why) => {
+                self.stop_everything(now, effects);
+                self.say(format!("{why}; stopped"), Severity::Warning, now);
+                return;
+            }
+            Pasted::Text(text) => text,
+        };
+        let Some(form) = self.screen.form_mut() else {
+            self.say(
+                "paste ignored: pasted text is never keys",
+                Severity::Info,
+                now,
+            );
+            return;
+        };
+        match form.paste(&text) {
+            FormPaste::Inserted => {}
+            FormPaste::Cut { limit } => self.say(
+                format!("pasted text cut to the field's {limit}-byte limit"),
+                Severity::Warning,
+                now,
+            ),
+            FormPaste::Toggle => self.say(
+                "paste ignored: this field is a yes/no toggle",
+                Severity::Info,
+                now,
+            ),
+        }
+    }
+
+    /// Whether `key` (a press or repeat) was kept from answering the question; it stops a jog
+    /// like any key in an overlay.
+    pub(super) fn question_refuses(
+        &mut self,
+        key: &KeyInput,
+        burst: bool,
+        now: Instant,
+        effects: &mut Vec<Effect>,
+    ) -> bool {
+        let Some(why) = self.keys.question_refusal(burst, now) else {
+            return false;
+        };
+        self.stop_jog(now, effects);
+        self.latch_jog_key(key, now, effects);
+        self.say(why, Severity::Warning, now);
+        true
     }
 }

@@ -14,7 +14,6 @@ mod book_load;
 mod book_merge;
 mod cap_watch;
 mod edits;
-mod help_keys;
 mod history;
 mod jog_evidence;
 mod jog_keys;
@@ -27,7 +26,6 @@ mod named;
 mod offers;
 mod other_client;
 mod parts;
-mod paste;
 mod question;
 mod resave;
 mod saving;
@@ -62,7 +60,6 @@ pub use other_client::{
     REFRESH_WAIT,
 };
 pub use parts::{ArmView, BookView, KeysView, ScreenView, TourView};
-pub use paste::Pasted;
 pub use question::{BURST_KEY_GAP, QUESTION_QUIET};
 pub use resave::RESAVE_GO_WITHIN;
 pub use singularity::{AT_SINGULARITY, SINGULARITY_WARNING, near_singularity, singularity_text};
@@ -115,13 +112,21 @@ pub enum Input {
     Arm(ArmEvent),
     /// SIGINT, SIGTERM or SIGHUP.
     Signal(&'static str),
-    /// A bracketed paste, or input the reader dropped (see `paste`).
+    /// A bracketed paste, or input the reader dropped.
     Paste(Pasted),
     /// The position book was read off the event loop, or could not be (the error names the file
     /// and what was wrong). See [`App::begin_loading_positions`].
     PositionsLoaded(Result<PositionBook, String>),
     /// The writer's outcome for the saves asked for so far (see `saving`).
     PositionsSaved(SaveOutcome),
+}
+
+/// A bracketed paste, or input dropped unread: text, never keys (see `keys`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Pasted {
+    Text(String),
+    /// Why it was dropped, in words (`paste ignored: …`).
+    Refused(String),
 }
 
 /// What the runtime must do.

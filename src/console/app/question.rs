@@ -4,7 +4,7 @@
 
 use std::time::{Duration, Instant};
 
-use super::{App, Effect, KeyInput, Overlay, Severity};
+use super::Overlay;
 use crate::console::form::Confirm;
 
 /// How long a new question ignores keys.
@@ -48,25 +48,5 @@ impl QuestionGuard {
         } else {
             None
         }
-    }
-}
-
-impl App {
-    /// Whether `key` (a press or repeat) was kept from answering the question; it stops a jog
-    /// like any key in an overlay.
-    pub(super) fn question_refuses(
-        &mut self,
-        key: &KeyInput,
-        burst: bool,
-        now: Instant,
-        effects: &mut Vec<Effect>,
-    ) -> bool {
-        let Some(why) = self.keys.question_refusal(burst, now) else {
-            return false;
-        };
-        self.stop_jog(now, effects);
-        self.latch_jog_key(key, now, effects);
-        self.say(why, Severity::Warning, now);
-        true
     }
 }
