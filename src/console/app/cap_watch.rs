@@ -14,13 +14,10 @@
 //! tracking overshoot and the telemetry's noise; the run of samples, one sample's spike.
 //!
 //! Without telemetry (the Talos ack dialect) nothing can be watched: the status bar says so.
+//! The rule is here; the state machine applies it to each sample in `arm.rs` (`App::watch_cap`).
 
-use std::time::Instant;
-
-use super::{App, Effect, Severity};
 use crate::console::jog::JogMotion;
 use crate::kortex::Telemetry;
-use crate::link::interface::TelemetrySource;
 
 /// How far over the cap a sample may be before it counts as over (a factor): 10 %.
 pub const CAP_TOLERANCE: f64 = 1.1;
@@ -62,7 +59,7 @@ impl CapWatch {
 }
 
 /// What a telemetry sample shows over its bound, in words, or `None` within it.
-fn over_cap(
+pub(super) fn over_cap(
     t: &Telemetry,
     jog: Option<JogMotion>,
     cap_mm_s: f64,
@@ -99,50 +96,4 @@ fn over_cap(
         }
     }
     None
-}
-
-impl App {
-    /// A telemetry sample against the cap, while a motion the console started runs.
-    pub(super) fn watch_cap(&mut self, t: &Telemetry, now: Instant, effects: &mut Vec<Effect>) {
-        let jog = self.keys.jog().active();
-        if jog.is_none() && self.truth.action().is_none() {
-            self.arm.on_cap_idle();
-            return;
-        }
-        let cap_mm_s = self.cap.max_mm_s();
-        let joint_deg_s = f64::from(self.config.joint_jog_speed);
-        let over = over_cap(t, jog, cap_mm_s, joint_deg_s);
-        let Some(text) = self.arm.on_cap_sample(over) else {
-            return;
-        };
-        self.stop_from_telemetry(text, now, effects);
-    }
-
-    /// Stops a motion the telemetry shows must not go on (over the cap, the arm in fault, another
-    /// client's stop): STOP, the held keys latched like any other stop, and `text` on the
-    /// message line and in the log.
-    pub(super) fn stop_from_telemetry(
-        &mut self,
-        text: String,
-        now: Instant,
-        effects: &mut Vec<Effect>,
-    ) {
-        // The action ends here, said once below (not also as "home stopped").
-        self.truth.forget_action();
-        self.stop_everything(now, effects);
-        tracing::warn!("{text}");
-        self.say(text, Severity::Error, now);
-    }
-
-    /// Whether the cap is watched: `Some(false)` once the driver has said there is no
-    /// telemetry, `None` before it has said.
-    pub fn cap_watched(&self) -> Option<bool> {
-        self.truth
-            .expected_telemetry()
-            .map(|source| source != TelemetrySource::None)
-    }
-
-    pub fn cap_watch(&self) -> &CapWatch {
-        self.arm.cap_watch()
-    }
 }

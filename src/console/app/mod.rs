@@ -9,7 +9,7 @@
 
 mod access;
 mod age;
-mod arm_events;
+mod arm;
 mod book_load;
 mod book_merge;
 mod cap_watch;
@@ -32,7 +32,6 @@ mod saving;
 mod singularity;
 mod speed_steps;
 mod stop_hold;
-mod stored;
 mod tour;
 mod trail;
 
@@ -42,6 +41,7 @@ pub use cap_watch::{CAP_TOLERANCE, CapWatch, OVER_CAP_SAMPLES};
 // Re-exported for the console's tests and panels; their homes are below the app.
 pub use crate::console::coords::{cartesian_of, describe_motion, polar_of};
 pub use crate::kortex::arm_state::{abort_reason, at_rest, fault_reason};
+pub use arm::STORED_REFUSAL;
 pub use history::{BUCKET, BUCKETS, HISTORY_WINDOW, History, HistorySeries, JointQuantity};
 pub use jog_evidence::{
     ALONG_FRACTION, Contradiction, OTHER_MOTION_JOINT_DEG_S, OTHER_MOTION_M_S, SLOW_FRACTION,
@@ -65,7 +65,6 @@ pub use resave::RESAVE_GO_WITHIN;
 pub use singularity::{AT_SINGULARITY, SINGULARITY_WARNING, near_singularity, singularity_text};
 pub use speed_steps::{SPEED_STEPS, next_speed};
 pub use stop_hold::{RESEND_EVERY, SLOWING_DOWN, STOP_HOLD, StopHold};
-pub use stored::STORED_REFUSAL;
 pub use trail::{TRAIL_CAPACITY, TRAIL_SPACING, TRAIL_SPAN, ToolTrail, TrailPoint, TrailShade};
 
 use std::sync::Arc;

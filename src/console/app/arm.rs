@@ -1,13 +1,25 @@
-//! Arm events in the state machine: link status, telemetry, the command log, failures,
-//! positions the operator knows or not, commands done and the stop guard.
+//! The arm in the state machine: its events (link status, telemetry, the command log,
+//! failures, positions the operator knows or not, commands done and the stop guard); the speed
+//! cap watched on its telemetry (the rule: `cap_watch`); stored actions and sequences by id: the
+//! key opens the form (or says why it cannot work on this link), the submitted form asks before
+//! it moves, a yes starts it, and any key stops a stored run (home among them) while it runs.
+//! The run is watched to its end as home is (`motion_truth/actions.rs`).
 
 use std::time::Instant;
 
+use super::cap_watch::{CapWatch, over_cap};
 use super::message::Until;
-use super::{App, Effect, Overlay, Severity};
+use super::{App, Effect, KeyInput, Overlay, Severity};
+use crate::console::form::{Confirm, Form};
+use crate::console::jog::KeyKind;
+use crate::kortex::{Stored, Telemetry};
 use crate::link::interface::{
-    ArmCommand, ArmError, ArmEvent, CommandKind, GuardStatus, LinkStatus,
+    ArmCommand, ArmError, ArmEvent, CommandKind, GuardStatus, LinkStatus, TelemetrySource,
 };
+
+/// Why the stored action key does nothing on a link without Modbus.
+pub const STORED_REFUSAL: &str = "stored actions and sequences by id need a Modbus link: over \
+     Talos only home (h) runs; add --modbus";
 
 impl App {
     pub(super) fn on_arm(&mut self, event: ArmEvent, now: Instant, effects: &mut Vec<Effect>) {
@@ -128,5 +140,106 @@ impl App {
             None => error.to_string(),
         };
         self.say(text, Severity::Error, now);
+    }
+
+    /// A telemetry sample against the cap, while a motion the console started runs.
+    pub(super) fn watch_cap(&mut self, t: &Telemetry, now: Instant, effects: &mut Vec<Effect>) {
+        let jog = self.keys.jog().active();
+        if jog.is_none() && self.truth.action().is_none() {
+            self.arm.on_cap_idle();
+            return;
+        }
+        let cap_mm_s = self.cap.max_mm_s();
+        let joint_deg_s = f64::from(self.config.joint_jog_speed);
+        let over = over_cap(t, jog, cap_mm_s, joint_deg_s);
+        let Some(text) = self.arm.on_cap_sample(over) else {
+            return;
+        };
+        self.stop_from_telemetry(text, now, effects);
+    }
+
+    /// Stops a motion the telemetry shows must not go on (over the cap, the arm in fault, another
+    /// client's stop): STOP, the held keys latched like any other stop, and `text` on the
+    /// message line and in the log.
+    pub(super) fn stop_from_telemetry(
+        &mut self,
+        text: String,
+        now: Instant,
+        effects: &mut Vec<Effect>,
+    ) {
+        // The action ends here, said once below (not also as "home stopped").
+        self.truth.forget_action();
+        self.stop_everything(now, effects);
+        tracing::warn!("{text}");
+        self.say(text, Severity::Error, now);
+    }
+
+    /// Whether the cap is watched: `Some(false)` once the driver has said there is no
+    /// telemetry, `None` before it has said.
+    pub fn cap_watched(&self) -> Option<bool> {
+        self.truth
+            .expected_telemetry()
+            .map(|source| source != TelemetrySource::None)
+    }
+
+    pub fn cap_watch(&self) -> &CapWatch {
+        self.arm.cap_watch()
+    }
+
+    /// Why a stored action or sequence by id cannot start on this link, or `None` when it can.
+    /// Until the driver has said which link it has, it is offered (as the turn keys are).
+    pub fn stored_refusal(&self) -> Option<&'static str> {
+        self.without_modbus().then_some(STORED_REFUSAL)
+    }
+
+    /// Whether this link can run a stored action or sequence by id (the footer offers the key).
+    pub fn can_run_stored(&self) -> bool {
+        self.stored_refusal().is_none()
+    }
+
+    /// The stored action key: the form, or why not (the link, or the motion gate).
+    pub(super) fn open_stored_form(&mut self, now: Instant) {
+        if let Some(why) = self.stored_refusal() {
+            self.say(why, Severity::Warning, now);
+            return;
+        }
+        if !self.refuse_motion(now) {
+            self.screen.show(Overlay::Form(Form::stored()));
+        }
+    }
+
+    /// The form was submitted: ask before it moves.
+    pub(super) fn ask_stored(&mut self, stored: Stored) {
+        self.screen.show(Overlay::Confirm(Confirm::Stored(stored)));
+    }
+
+    /// Yes to "Run action 5 on the arm?" (the motion gate has just let it through).
+    pub(super) fn run_stored(&mut self, stored: Stored, now: Instant, effects: &mut Vec<Effect>) {
+        match self.stored_refusal() {
+            Some(why) => self.say(why, Severity::Warning, now),
+            None => effects.push(Effect::Arm(ArmCommand::StartStored(stored))),
+        }
+    }
+
+    /// A key pressed while a stored run (home among them) is running stops it and does nothing
+    /// else; returns whether it did.
+    pub(super) fn key_stops_stored_run(
+        &mut self,
+        key: &KeyInput,
+        now: Instant,
+        effects: &mut Vec<Effect>,
+    ) -> bool {
+        let running = self
+            .truth
+            .action()
+            .is_some_and(|action| action.kind.stops_on_any_key());
+        if key.kind != KeyKind::Press || !running {
+            return false;
+        }
+        // The truth says "<run> stopped" as the STOP goes out; the key is latched like any key
+        // that stops, so a held jog key moves only when pressed anew.
+        self.stop_everything(now, effects);
+        self.latch_jog_key(key, now, effects);
+        true
     }
 }
