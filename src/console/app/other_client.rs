@@ -35,8 +35,8 @@
 //! latches (`ArmEvent::Failed`).
 //!
 //! A STOP from elsewhere that lands between the sample our refresh goes out on and the refresh
-//! leaves no trace here; the console that sent it holds it (see `stop_hold`) and sends it again
-//! once it sees the arm moving.
+//! leaves no trace here; the console that sent it holds it (see `stop_hold`, and
+//! [`App::hold_stop`], [`App::keep_stop`] below) and sends it again once it sees the arm moving.
 //!
 //! Idle, the console claims no motion of its own: telemetry faster than [`OTHER_MOTION_M_S`] (or
 //! [`OTHER_MOTION_JOINT_DEG_S`] on a joint) for [`OTHER_CLIENT_SAMPLES`] samples, with nothing
@@ -47,7 +47,7 @@ use std::time::{Duration, Instant};
 use super::jog_evidence::{
     Contradiction, OTHER_MOTION_JOINT_DEG_S, OTHER_MOTION_M_S, contradiction, progress,
 };
-use super::{App, Effect};
+use super::{App, Effect, Severity};
 use crate::console::coords::describe_motion;
 use crate::console::jog::{JogEffect, JogMotion};
 use crate::kortex::arm_state::{
@@ -394,6 +394,29 @@ fn fast_motion(t: &Telemetry) -> bool {
         || t.joints
             .iter()
             .any(|j| j.velocity.abs() > OTHER_MOTION_JOINT_DEG_S)
+}
+
+impl App {
+    /// The technician's STOP went out: hold it (see `stop_hold`).
+    pub(super) fn hold_stop(&mut self, now: Instant) {
+        self.arm.others_mut().hold.arm(now);
+    }
+
+    /// A telemetry sample while the STOP holds: moving, it is stopped again.
+    pub(super) fn keep_stop(&mut self, moving: bool, now: Instant, effects: &mut Vec<Effect>) {
+        if !self.arm.others_mut().hold.resend(moving, now) {
+            return;
+        }
+        tracing::warn!("the arm moves after our STOP: sending STOP again");
+        effects.push(Effect::Arm(ArmCommand::Stop));
+        if self.arm.others().hold.past_slowing_down(now) {
+            self.say(
+                "the arm moved after our STOP (another client?): stopped again",
+                Severity::Warning,
+                now,
+            );
+        }
+    }
 }
 
 #[cfg(test)]

@@ -10,9 +10,6 @@
 
 use std::time::{Duration, Instant};
 
-use super::{App, Effect, Severity};
-use crate::link::interface::ArmCommand;
-
 /// How long after the technician's STOP motion seen in the telemetry is stopped again.
 pub const STOP_HOLD: Duration = Duration::from_secs(1);
 /// At most one STOP sent again per this: a poll or three at 30 Hz.
@@ -38,7 +35,8 @@ impl StopHold {
         self.resent
     }
 
-    fn arm(&mut self, now: Instant) {
+    /// The technician's STOP went out at `now`: hold it.
+    pub(super) fn arm(&mut self, now: Instant) {
         self.since = Some(now);
         self.until = Some(now + STOP_HOLD);
         self.last_sent = Some(now);
@@ -50,7 +48,7 @@ impl StopHold {
     }
 
     /// Whether a sample showing the arm `moving` at `now` sends STOP again.
-    fn resend(&mut self, moving: bool, now: Instant) -> bool {
+    pub(super) fn resend(&mut self, moving: bool, now: Instant) -> bool {
         let held = self.until.is_some_and(|until| now < until);
         let due = self.last_sent.is_none_or(|at| now >= at + RESEND_EVERY);
         if !(held && moving && due) {
@@ -60,34 +58,10 @@ impl StopHold {
         self.resent += 1;
         true
     }
-}
 
-impl App {
-    /// The technician's STOP went out: hold it (see the module docs).
-    pub(super) fn hold_stop(&mut self, now: Instant) {
-        self.arm.others_mut().hold.arm(now);
-    }
-
-    /// A telemetry sample while the STOP holds: moving, it is stopped again.
-    pub(super) fn keep_stop(&mut self, moving: bool, now: Instant, effects: &mut Vec<Effect>) {
-        if !self.arm.others_mut().hold.resend(moving, now) {
-            return;
-        }
-        tracing::warn!("the arm moves after our STOP: sending STOP again");
-        effects.push(Effect::Arm(ArmCommand::Stop));
-        if self
-            .arm
-            .others_mut()
-            .hold
-            .since
-            .is_some_and(|since| now >= since + SLOWING_DOWN)
-        {
-            self.say(
-                "the arm moved after our STOP (another client?): stopped again",
-                Severity::Warning,
-                now,
-            );
-        }
+    /// Whether motion at `now` is past the arm slowing down under the STOP: then it is said.
+    pub(super) fn past_slowing_down(&self, now: Instant) -> bool {
+        self.since.is_some_and(|since| now >= since + SLOWING_DOWN)
     }
 }
 
@@ -110,6 +84,8 @@ mod tests {
         assert!(!hold.resend(false, t0 + 3 * RESEND_EVERY), "at rest");
         assert!(hold.resend(true, t0 + 3 * RESEND_EVERY));
         assert!(!hold.resend(true, t0 + STOP_HOLD), "the hold is over");
+        assert!(!hold.past_slowing_down(t0 + SLOWING_DOWN / 2));
+        assert!(hold.past_slowing_down(t0 + SLOWING_DOWN));
         assert_eq!(hold.resent(), 2);
     }
 
