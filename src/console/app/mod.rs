@@ -10,8 +10,8 @@
 mod access;
 mod age;
 mod arm;
+mod book;
 mod book_load;
-mod book_merge;
 mod cap_watch;
 mod edits;
 mod history;

@@ -5,17 +5,11 @@
 //! quitting with positions not saved asks first, and tries once more as it quits.
 //!
 //! The writer counts the books handed to it as the app counts the saves it asks for (every
-//! [`Effect::SavePositions`] that leaves [`super::App::handle`]), so an outcome's count says
-//! which changes it covers.
+//! [`super::Effect::SavePositions`] that leaves [`super::App::handle`]), so an outcome's count
+//! says which changes it covers. The counts are here; the state machine uses them in `book.rs`.
 
-use std::collections::{BTreeMap, BTreeSet};
-use std::time::Instant;
-
-use super::message::Until;
-use super::{App, Effect, Severity};
-use crate::console::book_io::SaveOutcome;
-use crate::console::form::Confirm;
 use crate::console::positions::PositionBook;
+use std::collections::{BTreeMap, BTreeSet};
 
 /// What the app knows of its book's writes.
 #[derive(Debug, Clone, Default)]
@@ -105,77 +99,5 @@ pub(super) fn mark_unsaved(
             entry.unsaved = true;
         }
         saving.mark_failed(name);
-    }
-}
-
-impl App {
-    /// Changes to `changed` are to be written: asks for the whole book to be saved.
-    pub(super) fn save_book<S: AsRef<str>>(&mut self, changed: &[S], effects: &mut Vec<Effect>) {
-        let book = self
-            .book
-            .on_changed(changed.iter().map(|n| n.as_ref().to_string()));
-        effects.push(Effect::SavePositions(book));
-    }
-
-    /// After every input: the saves that leave `handle` are counted, as the writer counts them.
-    /// A book that could not be read is never saved over: its changes are unsaved at once.
-    pub(super) fn count_saves(&mut self, effects: &[Effect]) {
-        let asked = effects
-            .iter()
-            .filter(|e| matches!(e, Effect::SavePositions(_)))
-            .count() as u64;
-        self.book.on_saves_asked(asked);
-    }
-
-    /// The writer's outcome for the saves up to `outcome.upto`.
-    pub(super) fn on_positions_saved(&mut self, mut outcome: SaveOutcome, now: Instant) {
-        if let Some(found) = outcome.found.take() {
-            self.book.on_found(&found);
-            self.tell_found(&found.written, now);
-        }
-        match self.book.on_saved(outcome) {
-            Saved::Quietly => {}
-            Saved::Recovered(n) => {
-                let text = format!("positions saved ({n} that had failed)");
-                self.say(text, Severity::Info, now);
-            }
-            Saved::Failed { error, unsaved } => {
-                tracing::error!("positions not saved: {error}");
-                let text = format!(
-                    "positions not saved: {error}; {unsaved} marked not saved, retried with the \
-                     next change"
-                );
-                self.say_until(text, Severity::Error, Until::BookSaved, now);
-            }
-        }
-    }
-
-    /// How many changed positions no write has held (their write failed).
-    pub fn unsaved_positions(&self) -> usize {
-        self.book.unsaved()
-    }
-
-    /// The quit key: with positions not saved, asks first (and stops the arm meanwhile).
-    pub(super) fn ask_quit(&mut self, now: Instant, effects: &mut Vec<Effect>) {
-        let count = self.unsaved_positions();
-        if count == 0 {
-            self.quit(now, effects);
-            return;
-        }
-        self.stop_everything(now, effects);
-        self.screen
-            .show(super::Overlay::Confirm(Confirm::QuitUnsaved { count }));
-    }
-
-    /// Quitting with positions not saved: the book is handed over once more, and written (or
-    /// its failure logged) before the process ends.
-    pub(super) fn retry_save_at_quit(&mut self, effects: &mut Vec<Effect>) {
-        if let Some(names) = self.book.unsaved_to_retry() {
-            tracing::warn!(
-                "quitting with {} positions not saved: writing the book once more",
-                names.len()
-            );
-            self.save_book(&names, effects);
-        }
     }
 }
