@@ -8,7 +8,7 @@
 
 use std::time::{Duration, Instant};
 
-use super::{App, Severity, fault_reason};
+use super::{Severity, fault_reason};
 use crate::link::interface::{ArmCommand, ArmError, ArmEvent, CommandKind};
 use crate::talos::ReturnCode;
 
@@ -72,8 +72,8 @@ impl Until {
 pub(super) struct Message {
     pub(super) text: String,
     pub(super) severity: Severity,
-    at: Instant,
-    until: Until,
+    pub(super) at: Instant,
+    pub(super) until: Until,
 }
 
 /// The message shown and the state message a newer one hides.
@@ -148,46 +148,6 @@ impl Messages {
         if self.shown.is_none() {
             self.shown = self.hidden.take();
         }
-    }
-}
-
-impl App {
-    /// Shows a message that lasts while `until`'s state holds.
-    pub(super) fn say_until(
-        &mut self,
-        text: impl Into<String>,
-        severity: Severity,
-        until: Until,
-        now: Instant,
-    ) {
-        self.screen.say_until(text.into(), severity, until, now);
-    }
-
-    /// Arm events that end a message.
-    pub(super) fn messages_on_arm(&mut self, event: &ArmEvent) {
-        let telemetry_expected = self.truth.expects_telemetry();
-        self.screen.messages_on_arm(event, telemetry_expected);
-    }
-
-    /// After every input: messages whose state has ended, and notices past their time, go; a
-    /// hidden state message shows again once nothing newer is shown.
-    pub(super) fn settle_messages(&mut self, now: Instant) {
-        let link_up = self.arm.link_up();
-        let stale = self.link_stale().is_some();
-        let guard_ready = self.arm.guard_ready();
-        let stop_unconfirmed = self.truth.stop_unconfirmed();
-        let unsaved = self.unsaved_positions() > 0;
-        let arm_refuses = self.arm.refusal().is_some();
-        self.screen.settle_messages(|m: &Message| match m.until {
-            Until::TimeOut { .. } => now < m.at + MESSAGE_TIME,
-            Until::LinkUp => !link_up,
-            Until::LinkFresh => stale,
-            Until::FaultCleared { .. } => true,
-            Until::GuardReady => !guard_ready,
-            Until::StopConfirmed => stop_unconfirmed,
-            Until::BookSaved => unsaved,
-            Until::ArmReady => arm_refuses,
-        });
     }
 }
 

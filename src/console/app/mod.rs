@@ -7,7 +7,6 @@
 //! focus loss, a link problem, a terminal too small to show the status, a signal and quitting
 //! all stop it.
 
-mod access;
 mod age;
 mod arm;
 mod book;
@@ -29,6 +28,7 @@ mod parts;
 mod question;
 mod resave;
 mod saving;
+mod screen;
 mod singularity;
 mod speed_steps;
 mod stop_hold;

@@ -1,0 +1,295 @@
+//! The screen in the state machine: the view one frame shows, assembled from the parts' views;
+//! the session's part of it (which actions the links carry: `offers`); the bottom line's
+//! messages said and settled (the rules: `message`); and read access to the state for the
+//! runtime and the tests: the fields stay private, so only inputs change them.
+
+use std::collections::VecDeque;
+use std::time::Instant;
+
+use super::message::{MESSAGE_TIME, Message, Until};
+use super::offers::{Offers, SessionView};
+use super::{App, AppConfig, BookState, MotionTruth, Overlay, Severity, Step};
+use crate::console::form::{Form, FormKind};
+use crate::console::jog::JogEngine;
+use crate::console::positions::PositionBook;
+use crate::console::view::View;
+use crate::kortex::{ReferenceFrame, Telemetry};
+use crate::link::interface::{ArmEvent, LinkStatus, LogEntry, TelemetrySource};
+
+/// A joint turning faster than this (deg/s, reported) counts as the arm moving: below it, a
+/// reading's noise, or motion too slow to need more than the idle frame rate.
+pub const MOVING_JOINT_DEG_S: f32 = 0.5;
+
+impl App {
+    /// What one frame shows, assembled from the parts' own views.
+    pub fn view(&self) -> View {
+        // No panel is taller than the terminal: the book's and the log's views are cut to it.
+        let rows = usize::from(self.screen.size().1);
+        View {
+            session: self.session_view(),
+            keys: self.keys.view(),
+            arm: self.arm.view(self.now),
+            truth: self.truth_view(),
+            book: self.book.view(rows),
+            screen: self.screen.view(rows),
+            tour: self.tours.view(),
+        }
+    }
+
+    /// The arm moves, or may: a jog, an action, a STOP being confirmed or a doubt is shown, or
+    /// the telemetry has a joint turning (whoever moves the arm). The console then draws at its
+    /// full rate, so the arm view keeps up with the telemetry.
+    pub fn arm_in_motion(&self) -> bool {
+        !matches!(self.motion_shown(), super::MotionShown::Idle)
+            || self.telemetry().is_some_and(|t| {
+                t.joints
+                    .iter()
+                    .any(|j| j.velocity.abs() > MOVING_JOINT_DEG_S)
+            })
+    }
+
+    pub fn config(&self) -> &AppConfig {
+        &self.config
+    }
+
+    pub fn jog(&self) -> &JogEngine {
+        self.keys.jog()
+    }
+
+    pub fn overlay(&self) -> &Overlay {
+        self.screen.overlay()
+    }
+
+    /// The message on the bottom line and how bad it is.
+    pub fn message(&self) -> Option<(&str, Severity)> {
+        self.screen.message()
+    }
+
+    pub fn link(&self) -> &LinkStatus {
+        self.arm.link()
+    }
+
+    pub fn telemetry(&self) -> Option<&Telemetry> {
+        self.arm.telemetry()
+    }
+
+    /// The reference frame the console selected (the audit names it on each jog).
+    pub fn frame(&self) -> ReferenceFrame {
+        self.arm.frame()
+    }
+
+    /// The telemetry the driver said to expect (none until it says).
+    pub fn telemetry_source(&self) -> TelemetrySource {
+        self.truth
+            .expected_telemetry()
+            .unwrap_or(TelemetrySource::None)
+    }
+
+    /// The speed in force, percent, once the arm has said it.
+    pub fn speed(&self) -> Option<u8> {
+        self.arm.speed()
+    }
+
+    pub fn step(&self) -> Step {
+        self.keys.step()
+    }
+
+    pub fn positions(&self) -> &PositionBook {
+        self.book.positions()
+    }
+
+    pub fn book_state(&self) -> &BookState {
+        self.book.state()
+    }
+
+    /// The selected position's index in name order.
+    pub fn selected(&self) -> usize {
+        self.book.selected()
+    }
+
+    pub fn log(&self) -> &VecDeque<std::sync::Arc<LogEntry>> {
+        self.screen.log()
+    }
+
+    /// The last 30 s of telemetry (history panel).
+    pub fn history(&self) -> &super::History {
+        self.arm.history()
+    }
+
+    /// The log shows frames in hex.
+    pub fn hex(&self) -> bool {
+        self.screen.hex()
+    }
+
+    /// The terminal's size as last heard.
+    pub fn size(&self) -> (u16, u16) {
+        self.screen.size()
+    }
+
+    pub fn quitting(&self) -> bool {
+        self.quitting
+    }
+
+    pub fn truth(&self) -> &MotionTruth {
+        &self.truth
+    }
+}
+
+impl App {
+    /// Shows a message that lasts while `until`'s state holds.
+    pub(super) fn say_until(
+        &mut self,
+        text: impl Into<String>,
+        severity: Severity,
+        until: Until,
+        now: Instant,
+    ) {
+        self.screen.say_until(text.into(), severity, until, now);
+    }
+
+    /// Arm events that end a message.
+    pub(super) fn messages_on_arm(&mut self, event: &ArmEvent) {
+        let telemetry_expected = self.truth.expects_telemetry();
+        self.screen.messages_on_arm(event, telemetry_expected);
+    }
+
+    /// After every input: messages whose state has ended, and notices past their time, go; a
+    /// hidden state message shows again once nothing newer is shown.
+    pub(super) fn settle_messages(&mut self, now: Instant) {
+        let link_up = self.arm.link_up();
+        let stale = self.link_stale().is_some();
+        let guard_ready = self.arm.guard_ready();
+        let stop_unconfirmed = self.truth.stop_unconfirmed();
+        let unsaved = self.unsaved_positions() > 0;
+        let arm_refuses = self.arm.refusal().is_some();
+        self.screen.settle_messages(|m: &Message| match m.until {
+            Until::TimeOut { .. } => now < m.at + MESSAGE_TIME,
+            Until::LinkUp => !link_up,
+            Until::LinkFresh => stale,
+            Until::FaultCleared { .. } => true,
+            Until::GuardReady => !guard_ready,
+            Until::StopConfirmed => stop_unconfirmed,
+            Until::BookSaved => unsaved,
+            Until::ArmReady => arm_refuses,
+        });
+    }
+}
+
+impl App {
+    /// The session's part of the view.
+    pub(super) fn session_view(&self) -> SessionView {
+        let config = &self.config;
+        SessionView {
+            keymap: config.keymap.clone(),
+            cap: self.cap,
+            frames: config.frames,
+            simulated: config.simulated,
+            positions_on_operator: config.positions_on_operator,
+            offers: self.offers(),
+            arm_name: config.arm_name.clone(),
+        }
+    }
+
+    /// Which of the actions that only some links carry this session's links carry.
+    pub fn offers(&self) -> Offers {
+        Offers {
+            save: self.can_save_position(),
+            turn: self.can_turn(),
+            joint: self.can_jog_joints(),
+            go_to: self.can_go_to(),
+            stored: self.can_run_stored(),
+            frames: self.config.frames,
+        }
+    }
+
+    /// Whether a link carries a single-joint jog (the footer offers the joint keys).
+    ///
+    /// Only a Talos operator in the ICD dialect moves one joint (its hardware companion
+    /// commands the actuator): Modbus cannot command a joint, and the ack dialect has no joint
+    /// jog (the driver refuses either). The positions live on the operator exactly when there
+    /// is such a link (`DriverConfig::positions_on_operator`), known from the start.
+    pub fn can_jog_joints(&self) -> bool {
+        self.config.positions_on_operator
+    }
+
+    /// Why saving the current pose cannot work on this link, or `None` when it can.
+    ///
+    /// An operator in the ICD dialect saves the pose itself. Otherwise the console stores the
+    /// pose it reads from telemetry, so a link that the driver says sends none (a Talos operator
+    /// in the ack dialect, with no Modbus link beside it) has no pose to save. Until the driver
+    /// has said which telemetry to expect, saving is offered (the form checks again on submit).
+    pub fn save_refusal(&self) -> Option<&'static str> {
+        let no_telemetry = self.truth.expected_telemetry() == Some(TelemetrySource::None);
+        (!self.config.positions_on_operator && no_telemetry).then_some(
+            "cannot save here: this operator (ack dialect) keeps no positions and sends no \
+             telemetry to read the pose from; add --modbus for telemetry",
+        )
+    }
+
+    /// Whether saving the current pose can work on this link (see [`App::save_refusal`]).
+    pub fn can_save_position(&self) -> bool {
+        self.save_refusal().is_none()
+    }
+
+    /// Whether this link carries an orientation jog (the footer offers the turn keys).
+    ///
+    /// Only a Modbus link turns the tool (Talos has no orientation jog; the driver refuses it
+    /// with `ORIENTATION_NEEDS_MODBUS`). Until the driver has said which link it has, the turn
+    /// is offered, as saving is.
+    pub fn can_turn(&self) -> bool {
+        !self.without_modbus()
+    }
+
+    /// Why going to the position `name` cannot work on this link, or `None` when it can.
+    ///
+    /// An operator in the ICD dialect goes to its positions itself. Otherwise the console keeps
+    /// the positions and moves the arm to their pose over Modbus: without a Modbus link (a Talos
+    /// operator in the ack dialect) nothing can carry that move, whatever the book holds.
+    pub fn go_to_refusal(&self, name: &str) -> Option<String> {
+        if self.config.positions_on_operator {
+            return None;
+        }
+        if self.without_modbus() {
+            return Some(format!(
+                "cannot go to '{name}': the console keeps this position, and only a Modbus link \
+                 moves the arm to its coordinates (this operator, ack dialect, keeps no \
+                 positions); add --modbus"
+            ));
+        }
+        let entry = self.book.positions().get(name)?;
+        if entry.cartesian.is_none() {
+            return Some(format!("'{name}' has no coordinates stored"));
+        }
+        (entry.orientation.is_none() && self.arm.telemetry().is_none()).then(|| {
+            format!(
+                "cannot go to '{name}' yet: it has no orientation stored, and no telemetry \
+                 has given the tool's"
+            )
+        })
+    }
+
+    /// Whether going to a saved position can work on this link at all (the footer offers the
+    /// go-to key; see [`App::go_to_refusal`]).
+    pub fn can_go_to(&self) -> bool {
+        self.config.positions_on_operator || !self.without_modbus()
+    }
+
+    /// The driver has said it has no Modbus link: it expects Modbus telemetry exactly when it
+    /// has one.
+    pub(super) fn without_modbus(&self) -> bool {
+        matches!(
+            self.truth.expected_telemetry(),
+            Some(TelemetrySource::TalosHardware | TelemetrySource::None)
+        )
+    }
+
+    /// The form that saves the current pose on this link: over the console's own book (no
+    /// Talos operator keeps the positions) it has no anchor toggle, which would do nothing.
+    pub(super) fn save_form(&self) -> Form {
+        if self.config.positions_on_operator {
+            Form::new(FormKind::Save, "")
+        } else {
+            Form::save_to_own_book()
+        }
+    }
+}
