@@ -26,7 +26,6 @@
 mod actions;
 mod evidence;
 mod sent;
-mod shown;
 mod staleness;
 mod target;
 

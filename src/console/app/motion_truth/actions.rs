@@ -1,20 +1,15 @@
-//! A tracked action's end: seen in telemetry (done, aborted, faulted, a stored run not taken),
-//! or its time running out.
+//! What ends a tracked action: seen in telemetry (done, aborted, faulted, a stored run not
+//! taken, another client's move). Pure; the state machine's side is in `sent.rs`.
 
 use std::time::Instant;
 
 use super::target::foreign_move;
-use super::{
-    ACTION_GRACE, ACTION_TIMEOUT, MOVED_DEG, NO_MOTION_GRACE, NO_TELEMETRY_ACTION_TIME,
-    TrackedAction,
-};
-use crate::console::app::message::Until;
-use crate::console::app::{App, Severity};
+use super::{ACTION_GRACE, MOVED_DEG, NO_MOTION_GRACE, TrackedAction};
 use crate::kortex::arm_state::{abort_reason, at_rest, fault_reason};
 use crate::kortex::{ActionStatus, Coded, Flag, Progress, Telemetry};
 
 /// What one poll says of a tracked action's end.
-enum End {
+pub(super) enum End {
     /// It failed: why, and whether the arm is in fault (the message stays until it is not).
     Failed { reason: String, fault: bool },
     /// The arm runs, or ended, a move that is not ours (`target`): what shows it.
@@ -23,90 +18,8 @@ enum End {
     Done,
 }
 
-impl App {
-    /// Watches a tracked action's end in fresh telemetry: a stored run of a known id by the
-    /// arm's action status for that run ([`crate::kortex::StoredRun::observe`], as `armjog
-    /// modbus action` reads it), any other by [`heuristic_end`]. Either end is said one way.
-    pub(super) fn watch_action(&mut self, t: &Telemetry, now: Instant) {
-        let Some(action) = self.truth.action.as_mut() else {
-            return;
-        };
-        let Some(accepted) = action.accepted else {
-            return;
-        };
-        let end = match action.run.as_mut() {
-            Some(run) => run_end(run.observe(t, now.saturating_duration_since(accepted))),
-            None => heuristic_end(action, accepted, t, now),
-        };
-        let verb = action.kind.verb();
-        match end {
-            Some(End::Failed { reason, fault }) => {
-                self.truth.action = None;
-                self.truth.stop_needed = true;
-                // A fault's message stays until the fault is gone; an abort's is a notice.
-                let until = match fault {
-                    true => Until::fault(None, true),
-                    false => Until::TimeOut { done: None },
-                };
-                let text = format!("{verb} failed: {reason}");
-                self.say_until(text, Severity::Error, until, now);
-            }
-            Some(End::MovedByAnotherClient(evidence)) => {
-                // Not ours: stopped like a failure, and never said done.
-                self.truth.action = None;
-                self.truth.stop_needed = true;
-                let text = format!("{verb} not done: MOVED BY ANOTHER CLIENT: {evidence}; stopped");
-                self.say(text, Severity::Error, now);
-            }
-            Some(End::Done) => {
-                // The arm reported the end and telemetry shows it at rest: settled.
-                self.truth.action = None;
-                self.truth.unsettled = false;
-                self.say(format!("{verb} done"), Severity::Info, now);
-            }
-            None => {}
-        }
-    }
-
-    pub(super) fn time_out_action(&mut self, now: Instant) {
-        let Some(action) = &self.truth.action else {
-            return;
-        };
-        let with_telemetry = self.truth.expects_telemetry();
-        let limit = if with_telemetry {
-            ACTION_TIMEOUT
-        } else {
-            NO_TELEMETRY_ACTION_TIME
-        };
-        if now < action.sent + limit {
-            return;
-        }
-        let verb = action.kind.verb();
-        self.truth.action = None;
-        if with_telemetry {
-            self.say(
-                format!("{verb}: no end seen within {} s", limit.as_secs()),
-                Severity::Warning,
-                now,
-            );
-        } else {
-            // Documented choice: without telemetry an action is taken to have ended once its
-            // longest expected time has passed.
-            self.truth.unsettled = false;
-            self.say(
-                format!(
-                    "{verb}: no telemetry; taken as ended after {} s",
-                    limit.as_secs()
-                ),
-                Severity::Info,
-                now,
-            );
-        }
-    }
-}
-
 /// A stored run's progress as an end: completed at rest, or aborted, faulted or not taken.
-fn run_end(progress: Progress) -> Option<End> {
+pub(super) fn run_end(progress: Progress) -> Option<End> {
     match progress {
         Progress::Completed => Some(End::Done),
         Progress::Fault(reason) => Some(End::Failed {
@@ -126,7 +39,7 @@ fn run_end(progress: Progress) -> Option<End> {
 /// status where it is current, joints at rest after having moved (Talos hardware telemetry has
 /// no status), a joint-fault warning at rest, or a fault. A go-to's end is ours only if the
 /// status names our move and the arm is at rest where it was sent (`target`).
-fn heuristic_end(
+pub(super) fn heuristic_end(
     action: &mut TrackedAction,
     accepted: Instant,
     t: &Telemetry,

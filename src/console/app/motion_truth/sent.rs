@@ -1,14 +1,19 @@
 //! What the console sends, noted after every input: a stale link lets no motion start, a
 //! failed or unwatched action gets a STOP, and each command sent is remembered as evidence
-//! awaited (an answer, a STOP's confirmation, an action's end).
+//! awaited (an answer, a STOP's confirmation, an action's end). A tracked action's end, seen in
+//! telemetry (done, aborted, faulted, a stored run not taken; what ends it: `actions`), or its
+//! time running out.
 
 use std::time::Instant;
 
-use super::{ActionKind, GoToTarget, StoredAction, TrackedAction};
+use super::actions::{End, heuristic_end, run_end};
+use super::{
+    ACTION_TIMEOUT, ActionKind, GoToTarget, NO_TELEMETRY_ACTION_TIME, StoredAction, TrackedAction,
+};
 use crate::console::app::age::age_text;
 use crate::console::app::message::Until;
 use crate::console::app::{App, Effect, Severity};
-use crate::kortex::{Flag, MoveType, OurMove, StoredRun};
+use crate::kortex::{Flag, MoveType, OurMove, StoredRun, Telemetry};
 use crate::link::interface::ArmCommand;
 
 impl App {
@@ -118,5 +123,87 @@ impl App {
             seen_motion: false,
             seen_started: false,
         });
+    }
+}
+
+impl App {
+    /// Watches a tracked action's end in fresh telemetry: a stored run of a known id by the
+    /// arm's action status for that run ([`crate::kortex::StoredRun::observe`], as `armjog
+    /// modbus action` reads it), any other by [`heuristic_end`]. Either end is said one way.
+    pub(super) fn watch_action(&mut self, t: &Telemetry, now: Instant) {
+        let Some(action) = self.truth.action.as_mut() else {
+            return;
+        };
+        let Some(accepted) = action.accepted else {
+            return;
+        };
+        let end = match action.run.as_mut() {
+            Some(run) => run_end(run.observe(t, now.saturating_duration_since(accepted))),
+            None => heuristic_end(action, accepted, t, now),
+        };
+        let verb = action.kind.verb();
+        match end {
+            Some(End::Failed { reason, fault }) => {
+                self.truth.action = None;
+                self.truth.stop_needed = true;
+                // A fault's message stays until the fault is gone; an abort's is a notice.
+                let until = match fault {
+                    true => Until::fault(None, true),
+                    false => Until::TimeOut { done: None },
+                };
+                let text = format!("{verb} failed: {reason}");
+                self.say_until(text, Severity::Error, until, now);
+            }
+            Some(End::MovedByAnotherClient(evidence)) => {
+                // Not ours: stopped like a failure, and never said done.
+                self.truth.action = None;
+                self.truth.stop_needed = true;
+                let text = format!("{verb} not done: MOVED BY ANOTHER CLIENT: {evidence}; stopped");
+                self.say(text, Severity::Error, now);
+            }
+            Some(End::Done) => {
+                // The arm reported the end and telemetry shows it at rest: settled.
+                self.truth.action = None;
+                self.truth.unsettled = false;
+                self.say(format!("{verb} done"), Severity::Info, now);
+            }
+            None => {}
+        }
+    }
+
+    pub(super) fn time_out_action(&mut self, now: Instant) {
+        let Some(action) = &self.truth.action else {
+            return;
+        };
+        let with_telemetry = self.truth.expects_telemetry();
+        let limit = if with_telemetry {
+            ACTION_TIMEOUT
+        } else {
+            NO_TELEMETRY_ACTION_TIME
+        };
+        if now < action.sent + limit {
+            return;
+        }
+        let verb = action.kind.verb();
+        self.truth.action = None;
+        if with_telemetry {
+            self.say(
+                format!("{verb}: no end seen within {} s", limit.as_secs()),
+                Severity::Warning,
+                now,
+            );
+        } else {
+            // Documented choice: without telemetry an action is taken to have ended once its
+            // longest expected time has passed.
+            self.truth.unsettled = false;
+            self.say(
+                format!(
+                    "{verb}: no telemetry; taken as ended after {} s",
+                    limit.as_secs()
+                ),
+                Severity::Info,
+                now,
+            );
+        }
     }
 }

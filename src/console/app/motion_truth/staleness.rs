@@ -5,9 +5,7 @@
 use std::time::{Duration, Instant};
 
 use super::{ACTION_TIMEOUT, MotionTruth, NO_TELEMETRY_ACTION_TIME, STALE_AFTER, STOP_GRACE};
-use crate::console::app::App;
 use crate::console::app::age::AGE_TENTHS_UNTIL;
-use crate::link::interface::LinkStatus;
 
 impl MotionTruth {
     /// The silence after which telemetry is old: 500 ms, or three of the link's shortest recent
@@ -18,7 +16,7 @@ impl MotionTruth {
     }
 
     /// How long the link has been silent past its limit, if it has.
-    fn stale_for(&self, now: Instant) -> Option<Duration> {
+    pub(super) fn stale_for(&self, now: Instant) -> Option<Duration> {
         self.expect?;
         let mut age = None;
         if self.expects_telemetry()
@@ -37,7 +35,7 @@ impl MotionTruth {
     }
 
     /// The next instant something shown changes without any input.
-    fn next_deadline(&self, now: Instant, link_up: bool) -> Option<Instant> {
+    pub(super) fn next_deadline(&self, now: Instant, link_up: bool) -> Option<Instant> {
         // The earliest instant after `now` (a fold, not a `Vec`: this runs every turn).
         let mut next: Option<Instant> = None;
         let mut candidate = |at: Instant| {
@@ -84,29 +82,5 @@ impl MotionTruth {
             candidate(action.sent + limit);
         }
         next
-    }
-}
-
-impl App {
-    /// How long the link has been silent, when that makes it stale (only while it is up).
-    pub fn link_stale(&self) -> Option<Duration> {
-        let now = self.now?;
-        match self.arm.link() {
-            LinkStatus::Up { .. } => self.truth.stale_for(now),
-            _ => None,
-        }
-    }
-
-    /// The age of the telemetry shown, when it is old enough to be drawn as stale.
-    pub fn telemetry_stale(&self) -> Option<Duration> {
-        let (now, at) = (self.now?, self.truth.telemetry_at?);
-        let age = now.saturating_duration_since(at);
-        (age >= self.truth.stale_after()).then_some(age)
-    }
-
-    /// The truth's part of [`App::next_deadline`].
-    pub(in crate::console::app) fn truth_deadline(&self) -> Option<Instant> {
-        let now = self.now?;
-        self.truth.next_deadline(now, self.arm.link_up())
     }
 }
