@@ -18,14 +18,13 @@
 //! after motion is an abort. Without telemetry (ack dialect) an action shows `MAY BE MOVING:
 //! HOME` until a STOP is confirmed or [`NO_TELEMETRY_ACTION_TIME`] has passed.
 //!
-//! This file holds the evidence kept; the submodules keep it up: `evidence` (events from the
-//! driver), `sent` (commands going out), `actions` (a tracked action's end), `target` (whether
-//! a go-to's end is ours: the arm's move type, and the arm where it was sent), `staleness` (ages
-//! and the next deadline) and `shown` (what the status bar says).
+//! This file holds the evidence kept; `evidence` keeps it up (the one `impl App` of the truth:
+//! events from the driver, commands going out, what the status bar says), by the rules of
+//! `actions` (what ends a tracked action), `target` (whether a go-to's end is ours: the arm's
+//! move type, and the arm where it was sent) and `staleness` (ages and the next deadline).
 
 mod actions;
 mod evidence;
-mod sent;
 mod staleness;
 mod target;
 

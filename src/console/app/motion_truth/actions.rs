@@ -1,5 +1,5 @@
 //! What ends a tracked action: seen in telemetry (done, aborted, faulted, a stored run not
-//! taken, another client's move). Pure; the state machine's side is in `sent.rs`.
+//! taken, another client's move). Pure; the state machine's side is in `evidence.rs`.
 
 use std::time::Instant;
 
