@@ -19,7 +19,6 @@ mod jog_keys;
 mod keys;
 mod limits;
 mod message;
-mod motion_gate;
 mod motion_truth;
 mod named;
 mod offers;
@@ -48,7 +47,6 @@ pub use jog_evidence::{
 };
 pub use jog_keys::TAP_STEP_LIMIT;
 pub use limits::{LIMIT_WARNING_DEG, NearLimit, limit_margin, near_limits};
-pub use motion_gate::arm_refusal;
 pub use motion_truth::{
     ACTION_TIMEOUT, ARRIVED_DEG, ARRIVED_MM, ActionKind, GoToTarget, MotionShown, MotionTruth,
     NO_TELEMETRY_ACTION_TIME, STALE_AFTER, STOP_GRACE, StoredAction, TrackedAction, TruthView,
@@ -59,6 +57,7 @@ pub use other_client::{
     CONTRADICTED_FOR, OTHER_CLIENT_GRACE, OTHER_CLIENT_SAMPLES, OtherClients, REFRESH_SAMPLES,
     REFRESH_WAIT,
 };
+pub use parts::arm_refusal;
 pub use parts::{ArmView, BookView, KeysView, ScreenView, TourView};
 pub use question::{BURST_KEY_GAP, QUESTION_QUIET};
 pub use resave::RESAVE_GO_WITHIN;

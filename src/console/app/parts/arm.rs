@@ -5,12 +5,29 @@ use std::time::{Duration, Instant};
 use super::super::cap_watch::CapWatch;
 use super::super::history::{History, HistorySeries};
 use super::super::limits::{NearLimit, near_limits};
-use super::super::motion_gate::arm_refusal;
 use super::super::other_client::OtherClients;
 use super::super::singularity::near_singularity;
 use super::super::trail::{ToolTrail, TrailShade};
-use crate::kortex::{ReferenceFrame, Telemetry};
+use crate::kortex::{Coded, ReferenceFrame, RobotState, Telemetry};
 use crate::link::interface::{GuardStatus, LinkStatus};
+
+/// Why the arm's own report forbids motion, in the words after `the arm reports`, or `None`.
+pub fn arm_refusal(t: &Telemetry) -> Option<String> {
+    if !t.faults.is_empty() {
+        return Some(t.faults.names().join(", "));
+    }
+    match t.robot_state {
+        Coded::Known(
+            RobotState::Ready | RobotState::ControlledBySequence | RobotState::ControlledManually,
+        ) => {}
+        Coded::Known(RobotState::InFault) => return Some("in_fault".into()),
+        state => return Some(format!("state {state}, not ready")),
+    }
+    // The panels' own test of what is physically possible: what shows as `?` never moves.
+    t.insane_fields()
+        .first()
+        .map(|field| format!("nonsense: {field}"))
+}
 
 #[derive(Debug, Clone)]
 pub(in crate::console::app) struct Arm {

@@ -11,7 +11,7 @@ mod screen;
 mod tour;
 
 pub(super) use arm::Arm;
-pub use arm::ArmView;
+pub use arm::{ArmView, arm_refusal};
 pub(super) use book::Book;
 pub use book::BookView;
 pub(super) use keys::Keys;
