@@ -1,31 +1,23 @@
-//! Keys in the state machine: ctrl+c, overlays and their auto-repeat, jog keys, actions,
-//! dialogs and forms; the help's scroll keys; a question's refusal of keys too soon or too fast
-//! (the guard: `question`); a paste, which is text, never keys: an open form takes it (cut to
-//! the field's limit), anything else ignores it with one message, and input the reader refused
-//! stops the arm (keys, a release or a STOP, may have been among what was dropped).
+//! Keys in the state machine: ctrl+c, overlays' auto-repeat, jog keys, actions; a key with an
+//! overlay open goes to the overlay (its keys: `screen`). Jog keys: what the jog engine's
+//! effects become (a refresh held for telemetry: `other_client`), taps as bounded steps, and
+//! keeping the engine's view of held keys while motion is not allowed.
 
 use std::time::Instant;
 
 use super::message::Until;
-use super::{App, Effect, KeyInput, Overlay, Pasted, Severity};
+use super::{App, Effect, KeyInput, Overlay, Severity};
 use crate::console::action::Action;
-use crate::console::form::{Confirm, Form, FormKind, FormPaste};
-use crate::console::jog::KeyKind;
-use crate::console::keymap::{KeyName, NamedKey};
+use crate::console::form::{Confirm, Form, FormKind};
+use crate::console::jog::{JogEffect, JogMotion, JogNotice, KeyKind};
+use crate::console::keymap::KeyName;
 use crate::link::interface::{ArmCommand, StepMove};
 
-/// The keys the console knows whatever the keymap: ctrl+c quits, and dialogs and forms answer
-/// these.
+/// Ctrl+c quits whatever the keymap (the keys dialogs and forms answer: `screen`).
 const CTRL_C: KeyName = KeyName::char('c').with_ctrl();
-const YES: KeyName = KeyName::char('y');
-const YES_SHIFTED: KeyName = KeyName::char('Y');
-const ENTER: KeyName = KeyName::named(NamedKey::Enter);
-const ESC: KeyName = KeyName::named(NamedKey::Esc);
-const TAB: KeyName = KeyName::named(NamedKey::Tab);
-const BACKTAB: KeyName = KeyName::named(NamedKey::Tab).with_shift();
-const UP: KeyName = KeyName::named(NamedKey::Up);
-const DOWN: KeyName = KeyName::named(NamedKey::Down);
-const BACKSPACE: KeyName = KeyName::named(NamedKey::Backspace);
+/// The most a tap moves in the auto-repeat fallback, tenths of millimetres (5 mm): a tap
+/// cannot be told from the start of a hold when it happens, so it must be harmless.
+pub const TAP_STEP_LIMIT: i32 = 50;
 
 impl App {
     pub(super) fn on_key(&mut self, key: KeyInput, now: Instant, effects: &mut Vec<Effect>) {
@@ -297,123 +289,125 @@ impl App {
         }
     }
 
-    fn on_overlay_key(&mut self, key: KeyInput, now: Instant, effects: &mut Vec<Effect>) {
-        match self.screen.take_overlay() {
-            Overlay::None => {}
-            Overlay::Help => {
-                if self.scroll_help(&key.key) {
-                    self.screen.show(Overlay::Help);
-                }
-            }
-            Overlay::Position { .. } => {}
-            Overlay::Confirm(confirm) => {
-                let yes = match confirm {
-                    // Enter just submitted the form: only y replaces a position.
-                    Confirm::Overwrite { .. }
-                    | Confirm::QuitUnsaved { .. }
-                    | Confirm::BothChanged { .. } => matches!(key.key, YES | YES_SHIFTED),
-                    _ => matches!(key.key, YES | YES_SHIFTED | ENTER),
-                };
-                match confirm {
-                    confirm if yes => self.confirmed(confirm, now, effects),
-                    Confirm::Overwrite { result, form } => {
-                        self.overwrite_declined(&result, *form, now);
-                    }
-                    Confirm::BothChanged { name, copy } => {
-                        let text =
-                            format!("both kept: theirs as '{name}', this console's as '{copy}'");
-                        self.say(text, Severity::Info, now);
-                    }
-                    _ => self.say("cancelled", Severity::Info, now),
-                }
-            }
-            Overlay::Form(mut form) => {
-                match key.key {
-                    ESC => {
-                        self.say("cancelled", Severity::Info, now);
-                        return;
-                    }
-                    ENTER => {
-                        if let Some(result) = form.submit() {
-                            self.form_submitted(result, form, now, effects);
-                            return;
-                        }
-                    }
-                    TAB | DOWN => form.next_field(),
-                    BACKTAB | UP => form.previous_field(),
-                    BACKSPACE => form.backspace(),
-                    _ => {
-                        if let Some(c) = key.text.filter(|c| !c.is_control()) {
-                            form.type_char(c);
-                        }
-                    }
-                }
-                self.screen.show(Overlay::Form(form));
-            }
-        }
-    }
-
-    /// The help overlay's first shown line.
-    pub fn help_scroll(&self) -> usize {
-        self.screen.help_scroll()
-    }
-
-    pub(super) fn open_help(&mut self) {
-        self.screen.open_help();
-    }
-
-    /// Scrolls the help for a scrolling key and says whether it was one (the help stays open).
-    pub(super) fn scroll_help(&mut self, key: &KeyName) -> bool {
-        self.screen.on_help_key(key, &self.config.keymap)
-    }
-
-    pub(super) fn on_paste(&mut self, pasted: Pasted, now: Instant, effects: &mut Vec<Effect>) {
-        let text = match pasted {
-            Pasted::Refused(why) => {
-                self.stop_everything(now, effects);
-                self.say(format!("{why}; stopped"), Severity::Warning, now);
-                return;
-            }
-            Pasted::Text(text) => text,
-        };
-        let Some(form) = self.screen.form_mut() else {
-            self.say(
-                "paste ignored: pasted text is never keys",
-                Severity::Info,
-                now,
-            );
+    /// A refresh the jog engine made at `now` for `before` (the jog held before the tick):
+    /// after the grace, with telemetry to go by, it waits for the next sample, and goes out only
+    /// on one that does not contradict the jog. So a refresh never follows telemetry showing
+    /// the jog stopped, slowed or replaced (see `other_client`).
+    pub(super) fn hold_refresh(
+        &mut self,
+        before: Option<JogMotion>,
+        jog: &mut Vec<JogEffect>,
+        now: Instant,
+    ) {
+        let Some(motion) = before else {
             return;
         };
-        match form.paste(&text) {
-            FormPaste::Inserted => {}
-            FormPaste::Cut { limit } => self.say(
-                format!("pasted text cut to the field's {limit}-byte limit"),
-                Severity::Warning,
-                now,
-            ),
-            FormPaste::Toggle => self.say(
-                "paste ignored: this field is a yes/no toggle",
-                Severity::Info,
-                now,
-            ),
+        let watched = self.truth.expects_telemetry();
+        self.arm
+            .others_mut()
+            .hold_refresh(motion, watched, jog, now);
+    }
+
+    /// Carries out what the jog engine asked for.
+    pub(super) fn apply_jog(
+        &mut self,
+        jog: Vec<JogEffect>,
+        now: Instant,
+        effects: &mut Vec<Effect>,
+    ) {
+        for effect in jog {
+            match effect {
+                JogEffect::Start(motion) => effects.push(Effect::Arm(ArmCommand::Jog(motion))),
+                JogEffect::Stop => effects.push(Effect::Arm(ArmCommand::Stop)),
+                JogEffect::Step(motion) => {
+                    if let Some(step) = self.tap_step(motion) {
+                        effects.push(Effect::Arm(ArmCommand::Step(step)));
+                    }
+                }
+                JogEffect::Notice(notice) => {
+                    let (text, severity) = notice_text(notice);
+                    self.say(text, severity, now);
+                }
+            }
         }
     }
 
-    /// Whether `key` (a press or repeat) was kept from answering the question; it stops a jog
-    /// like any key in an overlay.
-    pub(super) fn question_refuses(
+    /// A tap's step: the step mode's size, at most [`TAP_STEP_LIMIT`]. Only cartesian taps step.
+    fn tap_step(&self, motion: JogMotion) -> Option<StepMove> {
+        let JogMotion::Cartesian { x, y, z } = motion else {
+            return None;
+        };
+        let size = self.keys.step().cartesian().clamp(0, TAP_STEP_LIMIT);
+        Some(StepMove::Cartesian {
+            dx: i32::from(x) * size,
+            dy: i32::from(y) * size,
+            dz: i32::from(z) * size,
+        })
+    }
+
+    /// A key event that may not move the arm (overlay, screen too small, step mode, no link):
+    /// if it is a jog key the engine still tracks it, latched, so once motion is allowed again
+    /// it moves only after being released and pressed anew.
+    pub(super) fn latch_jog_key(
         &mut self,
         key: &KeyInput,
-        burst: bool,
         now: Instant,
         effects: &mut Vec<Effect>,
-    ) -> bool {
-        let Some(why) = self.keys.question_refusal(burst, now) else {
-            return false;
+    ) {
+        let Some(action) = self
+            .config
+            .keymap
+            .action(&key.key)
+            .filter(|a| a.jog().is_some())
+        else {
+            return;
         };
-        self.stop_jog(now, effects);
-        self.latch_jog_key(key, now, effects);
-        self.say(why, Severity::Warning, now);
-        true
+        let jog = self.keys.jog_mut().latch(action, key.kind, now);
+        self.apply_jog(jog, now, effects);
+    }
+
+    /// A key's release reaches the engine whatever is shown: it ends a hold or a latch. It may
+    /// carry other modifiers than its press (shift pressed mid-hold turns the release of "w"
+    /// into "W"): every jog action the key could have meant is released.
+    pub(super) fn release_jog_keys(
+        &mut self,
+        key: &KeyInput,
+        now: Instant,
+        effects: &mut Vec<Effect>,
+    ) {
+        for action in self.config.keymap.release_candidates(&key.key) {
+            let jog = self.keys.jog_mut().key(action, key.kind, now);
+            self.apply_jog(jog, now, effects);
+        }
+    }
+}
+
+fn notice_text(notice: JogNotice) -> (String, Severity) {
+    match notice {
+        JogNotice::NoKeyEvents(silence) => (
+            format!(
+                "no key event for {}: stopped; does this terminal report key releases?",
+                humane(silence)
+            ),
+            Severity::Warning,
+        ),
+        JogNotice::ReleasesMissing => (
+            "a held key was pressed again with no release: this terminal does not report \
+             releases; switched to the auto-repeat fallback (release and press again)"
+                .into(),
+            Severity::Warning,
+        ),
+        JogNotice::TapNeedsHold => (
+            "arrows, joint and turn keys move only while held: a tap has no step".into(),
+            Severity::Info,
+        ),
+    }
+}
+
+fn humane(d: std::time::Duration) -> String {
+    if d.subsec_millis() == 0 {
+        format!("{} s", d.as_secs())
+    } else {
+        format!("{} ms", d.as_millis())
     }
 }

@@ -15,7 +15,6 @@ mod cap_watch;
 mod edits;
 mod history;
 mod jog_evidence;
-mod jog_keys;
 mod keys;
 mod limits;
 mod message;
@@ -45,7 +44,7 @@ pub use history::{BUCKET, BUCKETS, HISTORY_WINDOW, History, HistorySeries, Joint
 pub use jog_evidence::{
     ALONG_FRACTION, Contradiction, OTHER_MOTION_JOINT_DEG_S, OTHER_MOTION_M_S, SLOW_FRACTION,
 };
-pub use jog_keys::TAP_STEP_LIMIT;
+pub use keys::TAP_STEP_LIMIT;
 pub use limits::{LIMIT_WARNING_DEG, NearLimit, limit_margin, near_limits};
 pub use motion_truth::{
     ACTION_TIMEOUT, ARRIVED_DEG, ARRIVED_MM, ActionKind, GoToTarget, MotionShown, MotionTruth,

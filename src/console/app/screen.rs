@@ -1,20 +1,39 @@
 //! The screen in the state machine: the view one frame shows, assembled from the parts' views;
 //! the session's part of it (which actions the links carry: `offers`); the bottom line's
-//! messages said and settled (the rules: `message`); and read access to the state for the
-//! runtime and the tests: the fields stay private, so only inputs change them.
+//! messages said and settled (the rules: `message`); the overlays and what a key does in them
+//! (the help scrolls, a question is answered, a form is typed in), a question's refusal of keys
+//! too soon or too fast (the guard: `question`); a paste, which is text, never keys: an open
+//! form takes it (cut to the field's limit), anything else ignores it with one message, and
+//! input the reader refused stops the arm (keys, a release or a STOP, may have been among what
+//! was dropped); and read access to the state for the runtime and the tests: the fields stay
+//! private, so only inputs change them.
 
 use std::collections::VecDeque;
 use std::time::Instant;
 
 use super::message::{MESSAGE_TIME, Message, Until};
 use super::offers::{Offers, SessionView};
-use super::{App, AppConfig, BookState, MotionTruth, Overlay, Severity, Step};
-use crate::console::form::{Form, FormKind};
+use super::{
+    App, AppConfig, BookState, Effect, KeyInput, MotionTruth, Overlay, Pasted, Severity, Step,
+};
+use crate::console::form::{Confirm, Form, FormKind, FormPaste};
 use crate::console::jog::JogEngine;
+use crate::console::keymap::{KeyName, NamedKey};
 use crate::console::positions::PositionBook;
 use crate::console::view::View;
 use crate::kortex::{ReferenceFrame, Telemetry};
 use crate::link::interface::{ArmEvent, LinkStatus, LogEntry, TelemetrySource};
+
+/// The keys dialogs and forms answer whatever the keymap.
+const YES: KeyName = KeyName::char('y');
+const YES_SHIFTED: KeyName = KeyName::char('Y');
+const ENTER: KeyName = KeyName::named(NamedKey::Enter);
+const ESC: KeyName = KeyName::named(NamedKey::Esc);
+const TAB: KeyName = KeyName::named(NamedKey::Tab);
+const BACKTAB: KeyName = KeyName::named(NamedKey::Tab).with_shift();
+const UP: KeyName = KeyName::named(NamedKey::Up);
+const DOWN: KeyName = KeyName::named(NamedKey::Down);
+const BACKSPACE: KeyName = KeyName::named(NamedKey::Backspace);
 
 /// A joint turning faster than this (deg/s, reported) counts as the arm moving: below it, a
 /// reading's noise, or motion too slow to need more than the idle frame rate.
@@ -291,5 +310,133 @@ impl App {
         } else {
             Form::save_to_own_book()
         }
+    }
+}
+
+impl App {
+    /// A key with an overlay open: the overlay takes it.
+    pub(super) fn on_overlay_key(
+        &mut self,
+        key: KeyInput,
+        now: Instant,
+        effects: &mut Vec<Effect>,
+    ) {
+        match self.screen.take_overlay() {
+            Overlay::None => {}
+            Overlay::Help => {
+                if self.scroll_help(&key.key) {
+                    self.screen.show(Overlay::Help);
+                }
+            }
+            Overlay::Position { .. } => {}
+            Overlay::Confirm(confirm) => {
+                let yes = match confirm {
+                    // Enter just submitted the form: only y replaces a position.
+                    Confirm::Overwrite { .. }
+                    | Confirm::QuitUnsaved { .. }
+                    | Confirm::BothChanged { .. } => matches!(key.key, YES | YES_SHIFTED),
+                    _ => matches!(key.key, YES | YES_SHIFTED | ENTER),
+                };
+                match confirm {
+                    confirm if yes => self.confirmed(confirm, now, effects),
+                    Confirm::Overwrite { result, form } => {
+                        self.overwrite_declined(&result, *form, now);
+                    }
+                    Confirm::BothChanged { name, copy } => {
+                        let text =
+                            format!("both kept: theirs as '{name}', this console's as '{copy}'");
+                        self.say(text, Severity::Info, now);
+                    }
+                    _ => self.say("cancelled", Severity::Info, now),
+                }
+            }
+            Overlay::Form(mut form) => {
+                match key.key {
+                    ESC => {
+                        self.say("cancelled", Severity::Info, now);
+                        return;
+                    }
+                    ENTER => {
+                        if let Some(result) = form.submit() {
+                            self.form_submitted(result, form, now, effects);
+                            return;
+                        }
+                    }
+                    TAB | DOWN => form.next_field(),
+                    BACKTAB | UP => form.previous_field(),
+                    BACKSPACE => form.backspace(),
+                    _ => {
+                        if let Some(c) = key.text.filter(|c| !c.is_control()) {
+                            form.type_char(c);
+                        }
+                    }
+                }
+                self.screen.show(Overlay::Form(form));
+            }
+        }
+    }
+
+    /// The help overlay's first shown line.
+    pub fn help_scroll(&self) -> usize {
+        self.screen.help_scroll()
+    }
+
+    pub(super) fn open_help(&mut self) {
+        self.screen.open_help();
+    }
+
+    /// Scrolls the help for a scrolling key and says whether it was one (the help stays open).
+    pub(super) fn scroll_help(&mut self, key: &KeyName) -> bool {
+        self.screen.on_help_key(key, &self.config.keymap)
+    }
+
+    pub(super) fn on_paste(&mut self, pasted: Pasted, now: Instant, effects: &mut Vec<Effect>) {
+        let text = match pasted {
+            Pasted::Refused(why) => {
+                self.stop_everything(now, effects);
+                self.say(format!("{why}; stopped"), Severity::Warning, now);
+                return;
+            }
+            Pasted::Text(text) => text,
+        };
+        let Some(form) = self.screen.form_mut() else {
+            self.say(
+                "paste ignored: pasted text is never keys",
+                Severity::Info,
+                now,
+            );
+            return;
+        };
+        match form.paste(&text) {
+            FormPaste::Inserted => {}
+            FormPaste::Cut { limit } => self.say(
+                format!("pasted text cut to the field's {limit}-byte limit"),
+                Severity::Warning,
+                now,
+            ),
+            FormPaste::Toggle => self.say(
+                "paste ignored: this field is a yes/no toggle",
+                Severity::Info,
+                now,
+            ),
+        }
+    }
+
+    /// Whether `key` (a press or repeat) was kept from answering the question; it stops a jog
+    /// like any key in an overlay.
+    pub(super) fn question_refuses(
+        &mut self,
+        key: &KeyInput,
+        burst: bool,
+        now: Instant,
+        effects: &mut Vec<Effect>,
+    ) -> bool {
+        let Some(why) = self.keys.question_refusal(burst, now) else {
+            return false;
+        };
+        self.stop_jog(now, effects);
+        self.latch_jog_key(key, now, effects);
+        self.say(why, Severity::Warning, now);
+        true
     }
 }
