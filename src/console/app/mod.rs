@@ -392,12 +392,14 @@ impl App {
         // 4. After 3: a leg the truth now tracks is moving; one the gate dropped ends the tour.
         self.tour_after_truth(now);
         // 5. Saves asked while the book loads or could not be read are held back (and said).
+        //    Before 6; with the steps above, order not known to matter (they emit no saves).
         self.hold_saves_until_loaded(now, effects);
         // 6. After 5: only saves that go out are awaited; a held one on an unreadable book is
-        //    marked not saved at once (`book_load.rs`, a change to an unreadable book).
+        //    marked not saved at once (`tests/console/app/book_load.rs`).
         self.count_saves(effects);
-        // 7. After every state change above (link, stale, stop, not-saved marks): messages whose
-        //    state has ended go.
+        // 7. Messages whose state has ended go. After the steps above so that it reads the state
+        //    they leave (a jog stopped on a stale link, not-saved marks); no test shows the order
+        //    to matter.
         self.settle_messages(now);
         // 8. The question guard notes the overlay as the input left it; no step above opens or
         //    closes one, so its order with them is not known to matter.
