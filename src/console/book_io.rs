@@ -2,6 +2,7 @@
 //! second or more and writing one (with its fsync) a good part of one, and the task that reads
 //! keys and sends their STOPs must not wait for either.
 
+use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
@@ -68,6 +69,35 @@ pub async fn loaded(loading: &mut Option<oneshot::Receiver<Loaded>>) -> Loaded {
 pub struct BookSave {
     pub book: PositionBook,
     pub known: PositionBook,
+    /// The positions saved or edited since `known`: changed here even where the value is
+    /// `known`'s (a save over another writer's change is a conflict, never lost to it).
+    pub touched: BTreeSet<String>,
+}
+
+impl BookSave {
+    /// This book written in place of `older`, not written: merged from what `older` was made
+    /// from, with `older`'s changes as this book's.
+    fn over(mut self, older: Unwritten) -> BookSave {
+        self.known = older.known;
+        self.touched.extend(older.touched);
+        self
+    }
+}
+
+/// What a book handed over and not written was merged from, and changed.
+#[derive(Debug)]
+struct Unwritten {
+    known: PositionBook,
+    touched: BTreeSet<String>,
+}
+
+impl From<BookSave> for Unwritten {
+    fn from(save: BookSave) -> Unwritten {
+        Unwritten {
+            known: save.known,
+            touched: save.touched,
+        }
+    }
 }
 
 impl std::ops::Deref for BookSave {
@@ -114,21 +144,20 @@ impl Saver {
             // no longer shared and changing it copies nothing.
             // What the file was known as before a write that failed: the next book holds
             // that write's changes, which are not in the file.
-            let mut unwritten: Option<PositionBook> = None;
+            let mut unwritten: Option<Unwritten> = None;
             while let Some(mut handed) = books.recv().await {
                 while let Ok((upto, newer)) = books.try_recv() {
                     // The newer book holds the older's changes: both are merged from what the
                     // older was made from.
-                    let known = std::mem::take(&mut handed.1.known);
-                    handed = (upto, BookSave { known, ..newer });
+                    handed = (upto, newer.over(handed.1.into()));
                 }
                 let (upto, mut save) = handed;
-                if let Some(known) = unwritten.take() {
-                    save.known = known;
+                if let Some(older) = unwritten.take() {
+                    save = save.over(older);
                 }
                 let path = path.clone();
                 let written = tokio::task::spawn_blocking(move || {
-                    let written = save.book.save_shared(&save.known, &path);
+                    let written = save.book.save_shared(&save.known, &save.touched, &path);
                     (save, written)
                 })
                 .await;
@@ -146,7 +175,7 @@ impl Saver {
                         (None, Some(Box::new(Found { handed, written })))
                     }
                     Ok((save, Err(e))) => {
-                        unwritten = Some(save.known);
+                        unwritten = Some(save.into());
                         (Some(e.to_string()), None)
                     }
                     Err(e) => (Some(format!("the positions writer failed: {e}")), None),
@@ -276,7 +305,12 @@ impl BookFiles {
                 Ok(Ok(known)) => {
                     let mut book = known.clone();
                     book.merge(&changes);
-                    self.save(BookSave { book, known });
+                    let touched = changes.names().map(String::from).collect();
+                    self.save(BookSave {
+                        book,
+                        known,
+                        touched,
+                    });
                 }
                 Ok(Err(error)) => tracing::error!(
                     "{} changed positions not saved: the book was not loaded ({error})",
@@ -322,6 +356,7 @@ mod tests {
             saver.save(BookSave {
                 book: book.clone(),
                 known: PositionBook::new(),
+                touched: BTreeSet::new(),
             });
         }
         saver.finish(Duration::from_secs(10)).await;
@@ -338,6 +373,7 @@ mod tests {
         saver.save(BookSave {
             book: PositionBook::new(),
             known: PositionBook::new(),
+            touched: BTreeSet::new(),
         });
         let outcome = tokio::time::timeout(Duration::from_secs(10), errors.recv())
             .await

@@ -136,6 +136,9 @@ impl App {
         for note in &written.notes {
             tracing::warn!("positions file: {note}");
         }
+        for moved in &written.moved {
+            tracing::warn!("positions: {}", moved.describe());
+        }
         let more = |n: usize| match n {
             0 | 1 => String::new(),
             n => format!(" (and {} more: see the log)", n - 1),
@@ -146,6 +149,9 @@ impl App {
             self.ask_which(written);
         } else if let Some(first) = written.notes.first() {
             self.say(format!("positions file: {first}"), Severity::Warning, now);
+        } else if let Some(first) = written.moved.first() {
+            let text = format!("{}{}", first.describe(), more(written.moved.len()));
+            self.say(text, Severity::Warning, now);
         } else if written.taken > 0 {
             let text = format!(
                 "positions file changed by another program: {} change(s) merged in, nothing lost",

@@ -41,6 +41,11 @@ impl Saving {
         self.touched.extend(changed);
     }
 
+    /// The names changed since the last save was asked for (held back while the book loads).
+    pub(super) fn touched(&self) -> &BTreeSet<String> {
+        &self.touched
+    }
+
     /// `asked` saves left `handle` (as the writer counts them). With none asked and the book
     /// unreadable (never saved over), the names changed are handed back: unsaved at once.
     pub(super) fn count(&mut self, asked: u64, unreadable: bool) -> BTreeSet<String> {

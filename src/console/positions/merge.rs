@@ -6,10 +6,14 @@
 //! is deleted; one another writer added is kept). A name both changed, differently, loses
 //! nothing: the other writer's stays under the name, ours is kept beside it under a new name
 //! (`pick~2`), and the conflict is reported for the technician.
+//!
+//! A position the technician saved, overwrote, renamed or edited here since the last write
+//! (`touched`) counts as changed here even when its value is the one the file had: an explicit
+//! save over another writer's change asks, it never silently loses to it.
 
 use std::collections::BTreeSet;
 
-use super::names::unique;
+use super::names::{is_copy_of, unique};
 use super::tours::Tour;
 use super::{BookEntry, Named, PositionBook};
 
@@ -21,6 +25,27 @@ pub struct Merged {
     pub taken: usize,
     /// Names both sides changed.
     pub conflicts: Vec<Conflict>,
+    /// Positions of ours another writer moved beside their name (a swap after a conflict).
+    pub moved: Vec<Moved>,
+}
+
+/// A position of ours, unchanged here, that another writer now keeps under a copy's name
+/// (`pick~2`, same value) while the name holds another entry: it gave the name away.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Moved {
+    pub name: String,
+    pub to: String,
+}
+
+impl Moved {
+    /// One line for the technician.
+    pub fn describe(&self) -> String {
+        let Moved { name, to } = self;
+        format!(
+            "position '{name}' was kept as '{to}' by another program, which gave '{name}' to \
+             another position"
+        )
+    }
 }
 
 /// A name both sides changed, and how nothing of it was lost.
@@ -106,16 +131,18 @@ enum Side<T> {
     Conflict(Option<T>, Option<T>),
 }
 
+/// `touched`: the name was saved or edited here since `known`, whatever its value now.
 fn three_way<T: Clone>(
     known: Option<&T>,
     ours: Option<&T>,
     theirs: Option<&T>,
+    touched: bool,
     same: impl Fn(Option<&T>, Option<&T>) -> bool,
 ) -> Side<T> {
     if same(ours, theirs) {
         // Ours, which keeps what is not saved (marks the panel shows).
         Side::Take(ours.cloned(), false)
-    } else if same(ours, known) {
+    } else if !touched && same(ours, known) {
         Side::Take(theirs.cloned(), true)
     } else if same(theirs, known) {
         Side::Take(ours.cloned(), false)
@@ -136,9 +163,15 @@ fn conflict_outcome(theirs: bool, ours: bool) -> Kept {
     }
 }
 
-/// The three-way merge for a write: conflicts keep both (see the module's doc).
-pub fn merge(known: &PositionBook, ours: &PositionBook, theirs: &PositionBook) -> Merged {
-    merge_with(known, ours, theirs, true)
+/// The three-way merge for a write: conflicts keep both (see the module's doc). `touched`:
+/// the positions saved or edited here since `known`.
+pub fn merge(
+    known: &PositionBook,
+    ours: &PositionBook,
+    theirs: &PositionBook,
+    touched: &BTreeSet<String>,
+) -> Merged {
+    merge_with(known, ours, theirs, touched, true)
 }
 
 /// The written book, back in a console whose book may have changed since it was handed over
@@ -149,17 +182,19 @@ pub fn incorporate(
     ours: &PositionBook,
     written: &PositionBook,
 ) -> PositionBook {
-    merge_with(handed, ours, written, false).book
+    merge_with(handed, ours, written, &BTreeSet::new(), false).book
 }
 
 fn merge_with(
     known: &PositionBook,
     ours: &PositionBook,
     theirs: &PositionBook,
+    touched: &BTreeSet<String>,
     keep_both: bool,
 ) -> Merged {
     let mut taken = 0;
     let mut conflicts = Vec::new();
+    let mut moved = Vec::new();
     let names: BTreeSet<&str> = known
         .names()
         .chain(ours.names())
@@ -172,11 +207,15 @@ fn merge_with(
             known.get(name),
             ours.get(name),
             theirs.get(name),
+            touched.contains(*name),
             same_entry,
         );
         let keep = match side {
             Side::Take(entry, from_theirs) => {
                 taken += usize::from(from_theirs);
+                if from_theirs && keep_both {
+                    moved.extend(moved_to(name, known, ours, theirs));
+                }
                 entry
             }
             Side::Conflict(theirs, ours) if !keep_both => ours.or(theirs),
@@ -222,7 +261,31 @@ fn merge_with(
         book,
         taken,
         conflicts,
+        moved,
     }
+}
+
+/// Where another writer moved our `name` to, when it did: a copy's name (`name~2`) new to us
+/// holding our entry, unchanged here, while `name` now holds another.
+fn moved_to(
+    name: &str,
+    known: &PositionBook,
+    ours: &PositionBook,
+    theirs: &PositionBook,
+) -> Option<Moved> {
+    let ours_entry = ours.get(name)?;
+    theirs
+        .entries()
+        .find(|(copy, entry)| {
+            is_copy_of(copy, name)
+                && known.get(copy).is_none()
+                && ours.get(copy).is_none()
+                && same_on_disk(entry, ours_entry)
+        })
+        .map(|(copy, _)| Moved {
+            name: name.to_string(),
+            to: copy.to_string(),
+        })
 }
 
 /// Tours merge as positions do, by name; the result has theirs in their order, then ours new.
@@ -252,6 +315,7 @@ fn merge_tours(
             known.tour(name),
             ours.tour(name),
             theirs.tour(name),
+            false,
             same_tour,
         );
         match side {

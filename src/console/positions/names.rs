@@ -83,6 +83,16 @@ pub(super) fn unique(base: &str, taken: &BTreeSet<String>) -> String {
         .unwrap_or_else(|| base.to_string())
 }
 
+/// Whether `copy` is a name [`unique`] gives a copy of `base`: `base~N` (`base` cut to fit).
+pub(super) fn is_copy_of(copy: &str, base: &str) -> bool {
+    let Some((kept, n)) = copy.rsplit_once('~') else {
+        return false;
+    };
+    let numbered = !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()) && n != "0" && n != "1";
+    let whole = kept == base || (copy.len() == MAX_NAME_LEN && base.starts_with(kept));
+    numbered && whole
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

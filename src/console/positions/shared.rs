@@ -7,12 +7,13 @@
 //! is not written over; one with entries set aside is written only once its bytes are kept in a
 //! `.bad` copy (`lenient`).
 
+use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use super::file::{Read, read_file};
 use super::lenient::{self, SetAside};
-use super::merge::{Conflict, merge};
+use super::merge::{Conflict, Moved, merge};
 use super::{BookError, PositionBook};
 
 /// How long a write waits for another writer's lock: a write takes well under a second.
@@ -27,6 +28,8 @@ pub struct Written {
     pub taken: usize,
     /// Names changed both here and by another writer: both kept.
     pub conflicts: Vec<Conflict>,
+    /// Positions of this console's that another writer moved beside their name.
+    pub moved: Vec<Moved>,
     /// Entries of the file that did not load, not written again; `notes` says where they are.
     pub set_aside: Vec<SetAside>,
     /// What to tell about `set_aside` (where the file's bytes are kept).
@@ -36,15 +39,24 @@ pub struct Written {
 impl Written {
     /// Whether another writer's work is in it (or set aside): the console is to be told.
     pub fn found_others(&self) -> bool {
-        self.taken > 0 || !self.conflicts.is_empty() || !self.set_aside.is_empty()
+        self.taken > 0
+            || !self.conflicts.is_empty()
+            || !self.moved.is_empty()
+            || !self.set_aside.is_empty()
     }
 }
 
 impl PositionBook {
     /// Writes this book to `path` without dropping what another writer put there: under the
     /// book's lock, the file as it is now is merged with this book, `known` being the file as
-    /// this console last knew it (what this book was made from).
-    pub fn save_shared(&self, known: &PositionBook, path: &Path) -> Result<Written, BookError> {
+    /// this console last knew it (what this book was made from), `touched` the positions saved
+    /// or edited here since (changed here, even at the value `known` has).
+    pub fn save_shared(
+        &self,
+        known: &PositionBook,
+        touched: &BTreeSet<String>,
+        path: &Path,
+    ) -> Result<Written, BookError> {
         let shown = path.display().to_string();
         let _lock = BookLock::take(path)?;
         let (theirs, set_aside, notes) = match read_file(path) {
@@ -73,12 +85,13 @@ impl PositionBook {
                 });
             }
         };
-        let merged = merge(known, self, &theirs);
+        let merged = merge(known, self, &theirs, touched);
         merged.book.save(path)?;
         Ok(Written {
             book: merged.book,
             taken: merged.taken,
             conflicts: merged.conflicts,
+            moved: merged.moved,
             set_aside,
             notes,
         })

@@ -189,7 +189,8 @@ impl Book {
     }
 
     /// Names changed: the book to hand to the writer (the whole of it, as every save is), with
-    /// the file as last known, which the file will hold this book's changes over.
+    /// the file as last known, which the file will hold this book's changes over, and the names
+    /// changed since (a save at the value the file had is a change too).
     pub(in crate::console::app) fn on_changed(
         &mut self,
         changed: impl IntoIterator<Item = String>,
@@ -199,6 +200,7 @@ impl Book {
         BookSave {
             book: self.positions.clone(),
             known,
+            touched: self.saving.touched().clone(),
         }
     }
 
