@@ -386,6 +386,48 @@ mod tests {
     }
 
     #[tokio::test]
+    async fn a_failed_writes_saved_names_are_changes_of_the_next_write() {
+        let d = dir();
+        let folder = d.path().join("folder");
+        std::fs::write(&folder, "not a folder yet").unwrap();
+        let path = folder.join("book.json");
+        let at = |x: i32| {
+            let mut book = PositionBook::new();
+            book.get_or_insert("x3").cartesian = Some([x, 0, 0]);
+            book
+        };
+        let (saver, mut outcomes) = Saver::start(path.clone());
+        let outcome = async |outcomes: &mut mpsc::UnboundedReceiver<SaveOutcome>| {
+            tokio::time::timeout(Duration::from_secs(10), outcomes.recv())
+                .await
+                .expect("reported in time")
+                .expect("an outcome")
+        };
+        // x3 saved here at the value read (1): the write fails.
+        saver.save(BookSave {
+            book: at(1),
+            known: at(1),
+            touched: ["x3".to_string()].into(),
+        });
+        assert!(outcome(&mut outcomes).await.error.is_some());
+        // Meanwhile another program puts x3 at 2; the next save here changes nothing more.
+        std::fs::remove_file(&folder).unwrap();
+        std::fs::create_dir(&folder).unwrap();
+        at(2).save(&path).unwrap();
+        saver.save(BookSave {
+            book: at(1),
+            known: at(1),
+            touched: BTreeSet::new(),
+        });
+        let found = outcome(&mut outcomes).await.found.expect("a conflict found");
+        assert_eq!(found.written.conflicts.len(), 1, "{found:?}");
+        let saved = PositionBook::load(&path).unwrap();
+        let names: Vec<&str> = saved.names().collect();
+        assert_eq!(names, ["x3", "x3~2"], "the failed write's save kept, beside theirs");
+        saver.finish(Duration::from_secs(10)).await;
+    }
+
+    #[tokio::test]
     async fn a_file_over_the_limit_or_a_device_is_refused_at_once_and_a_book_loads_later() {
         let d = dir();
         let big = d.path().join("big.json");

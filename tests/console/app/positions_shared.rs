@@ -233,11 +233,18 @@ async fn a_name_saved_on_both_consoles_keeps_both_and_names_them() {
     assert_eq!(x_of(&saved, "pick~2"), Some(1000), "console 1's beside it");
     assert_eq!(two.app.selected_name(), Some("pick"));
 
-    // Console 1 sees the swap with its next save, as another program's change: no question.
+    // Console 1 sees the swap with its next save, as another program's change: no question,
+    // but it is told its 'pick' is 'pick~2' now.
     one.define_saved("other", 300).await;
     assert_eq!(x_of(one.app.positions(), "pick"), Some(2000));
     assert_eq!(x_of(one.app.positions(), "pick~2"), Some(1000));
     assert_eq!(one.app.overlay(), &Overlay::None);
+    let (said, severity) = one.message();
+    assert!(
+        said.contains("'pick' was kept as 'pick~2' by another program"),
+        "{said}"
+    );
+    assert_eq!(severity, Severity::Warning);
     one.close().await;
     two.close().await;
 }
@@ -255,6 +262,37 @@ async fn keeping_both_after_a_conflict_changes_nothing() {
     assert_eq!(x_of(two.app.positions(), "pick"), Some(1000));
     assert_eq!(x_of(two.app.positions(), "pick~2"), Some(2000));
     one.close().await;
+    two.close().await;
+}
+
+#[tokio::test]
+async fn a_save_at_the_value_read_over_another_programs_change_keeps_both_and_asks() {
+    // Console 2 read x3 at (0, 0, 300) mm; another program moves x3 in the file to x 500 mm.
+    let (_dir, path) = book_file(&book_of("x3"));
+    let mut two = Console::open(&path).await;
+    let mut edited = book_of("x3");
+    edited.get_or_insert("x3").cartesian = Some([5000, 0, 3000]);
+    edited.save(&path).expect("the other program's edit");
+    // The technician saves x3 where console 2 has it, and says yes to "overwrite 'x3'?".
+    two.define_saved("x3", 0).await;
+    let saved = PositionBook::load(&path).expect("reads");
+    assert_eq!(x_of(&saved, "x3"), Some(5000), "the other program's x3 kept");
+    assert_eq!(x_of(&saved, "x3~2"), Some(0), "this console's save kept beside it");
+    assert_eq!(x_of(two.app.positions(), "x3~2"), Some(0));
+    let (said, severity) = two.message();
+    assert!(
+        said.contains("'x3'") && said.contains("'x3~2'") && !said.contains("nothing lost"),
+        "{said}"
+    );
+    assert_eq!(severity, Severity::Warning);
+    assert_eq!(
+        two.app.overlay(),
+        &Overlay::Confirm(Confirm::BothChanged {
+            name: "x3".into(),
+            copy: "x3~2".into()
+        }),
+        "the technician is asked which is 'x3'"
+    );
     two.close().await;
 }
 
