@@ -419,11 +419,18 @@ mod tests {
             known: at(1),
             touched: BTreeSet::new(),
         });
-        let found = outcome(&mut outcomes).await.found.expect("a conflict found");
+        let found = outcome(&mut outcomes)
+            .await
+            .found
+            .expect("a conflict found");
         assert_eq!(found.written.conflicts.len(), 1, "{found:?}");
         let saved = PositionBook::load(&path).unwrap();
         let names: Vec<&str> = saved.names().collect();
-        assert_eq!(names, ["x3", "x3~2"], "the failed write's save kept, beside theirs");
+        assert_eq!(
+            names,
+            ["x3", "x3~2"],
+            "the failed write's save kept, beside theirs"
+        );
         saver.finish(Duration::from_secs(10)).await;
     }
 

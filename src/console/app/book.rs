@@ -128,8 +128,8 @@ impl App {
 impl App {
     /// A write found another writer's changes: a name changed on both sides is a warning naming
     /// it (and a question, when nothing else is going on), as are entries of the file set
-    /// aside; what was merged in is said.
-    pub(super) fn tell_found(&mut self, written: &Written, now: Instant) {
+    /// aside; what was merged in is said, after `saved`, the name said as being saved.
+    pub(super) fn tell_found(&mut self, written: &Written, saved: Option<&str>, now: Instant) {
         for conflict in &written.conflicts {
             tracing::warn!("positions: {}", conflict.describe());
         }
@@ -153,8 +153,10 @@ impl App {
             let text = format!("{}{}", first.describe(), more(written.moved.len()));
             self.say(text, Severity::Warning, now);
         } else if written.taken > 0 {
+            let saved = saved.map(|n| format!("saved '{n}'; ")).unwrap_or_default();
             let text = format!(
-                "positions file changed by another program: {} change(s) merged in, nothing lost",
+                "{saved}positions file changed by another program: {} change(s) merged in, \
+                 nothing lost",
                 written.taken
             );
             self.say(text, Severity::Info, now);
@@ -228,11 +230,26 @@ impl App {
         self.book.on_saves_asked(asked);
     }
 
+    /// `name` was saved in the book: "saved" once written (at once when there is no file),
+    /// "saving…" until then.
+    pub(super) fn say_saved(&mut self, name: &str, now: Instant) {
+        if self.book.announce(name) {
+            let text = format!("saving '{name}'…");
+            self.say_until(text, Severity::Info, Until::BookWritten, now);
+        } else {
+            self.say(format!("saved '{name}'"), Severity::Info, now);
+        }
+    }
+
     /// The writer's outcome for the saves up to `outcome.upto`.
     pub(super) fn on_positions_saved(&mut self, mut outcome: SaveOutcome, now: Instant) {
+        let reported = self.book.reported(outcome.upto);
+        let written = outcome.error.is_none();
         if let Some(found) = outcome.found.take() {
             self.book.on_found(&found);
-            self.tell_found(&found.written, now);
+            self.tell_found(&found.written, reported.as_deref(), now);
+        } else if let Some(name) = reported.filter(|_| written) {
+            self.say(format!("saved '{name}'"), Severity::Info, now);
         }
         match self.book.on_saved(outcome) {
             Saved::Quietly => {}

@@ -39,6 +39,8 @@ pub(super) enum Until {
     StopConfirmed,
     /// Positions could not be written: ends when a write holds them.
     BookSaved,
+    /// A save is being written ("saving 'pick'…"): ends when the writer reports it.
+    BookWritten,
     /// The arm's own report refused a motion: ends when the report would let it start.
     ArmReady,
 }

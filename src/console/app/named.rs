@@ -193,7 +193,7 @@ impl App {
         entry.anchor = false;
         entry.parent = parent;
         self.book.select(&name);
-        self.say(format!("saved '{name}'"), Severity::Info, now);
+        self.say_saved(&name, now);
         self.save_book(&[&name], effects);
     }
 
@@ -277,7 +277,7 @@ impl App {
             _ => return,
         };
         self.book.select(&name);
-        self.say(format!("saved '{name}'"), Severity::Info, now);
+        self.say_saved(&name, now);
         self.save_book(&[&name], effects);
         if let ArmCommand::SetCartesianPosition { .. } = command {
             self.after_resave(&name, now, effects);

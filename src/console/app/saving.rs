@@ -7,6 +7,9 @@
 //! The writer counts the books handed to it as the app counts the saves it asks for (every
 //! [`super::Effect::SavePositions`] that leaves [`super::App::handle`]), so an outcome's count
 //! says which changes it covers. The counts are here; the state machine uses them in `book.rs`.
+//!
+//! A save is said as it is: "saving 'pick'…" while it is written (the book's lock may be held
+//! by another program for seconds), "saved 'pick'" once the writer reports it written.
 
 use crate::console::positions::PositionBook;
 use std::collections::{BTreeMap, BTreeSet};
@@ -22,6 +25,10 @@ pub(super) struct Saving {
     pending: BTreeMap<String, u64>,
     /// Names whose write failed and that no write has held since (a deleted one included).
     failed: BTreeSet<String>,
+    /// The name said as being saved, until the save holding it is counted.
+    announced: Option<String>,
+    /// The name said as being saved, with the count of the save holding it.
+    writing: Option<(String, u64)>,
 }
 
 /// What a write's outcome comes to, for the message line.
@@ -49,9 +56,13 @@ impl Saving {
     /// `asked` saves left `handle` (as the writer counts them). With none asked and the book
     /// unreadable (never saved over), the names changed are handed back: unsaved at once.
     pub(super) fn count(&mut self, asked: u64, unreadable: bool) -> BTreeSet<String> {
+        let announced = self.announced.take();
         if asked > 0 {
             self.asked += asked;
             let upto = self.asked;
+            if let Some(name) = announced {
+                self.writing = Some((name, upto));
+            }
             for name in std::mem::take(&mut self.touched) {
                 self.pending.insert(name, upto);
             }
@@ -60,6 +71,27 @@ impl Saving {
             std::mem::take(&mut self.touched)
         } else {
             BTreeSet::new()
+        }
+    }
+
+    /// `name` is said as being saved, by the save asked for now.
+    pub(super) fn announce(&mut self, name: &str) {
+        self.announced = Some(name.to_string());
+    }
+
+    /// Whether a save said as being saved is not reported yet.
+    pub(super) fn writing(&self) -> bool {
+        self.writing.is_some()
+    }
+
+    /// The name said as being saved, when the writes up to `upto` hold it.
+    pub(super) fn reported(&mut self, upto: u64) -> Option<String> {
+        match self.writing.take() {
+            Some((name, at)) if at <= upto => Some(name),
+            later => {
+                self.writing = later;
+                None
+            }
         }
     }
 

@@ -180,6 +180,7 @@ impl App {
         let guard_ready = self.arm.guard_ready();
         let stop_unconfirmed = self.truth.stop_unconfirmed();
         let unsaved = self.unsaved_positions() > 0;
+        let writing = self.book.writing();
         let arm_refuses = self.arm.refusal().is_some();
         self.screen.settle_messages(|m: &Message| match m.until {
             Until::TimeOut { .. } => now < m.at + MESSAGE_TIME,
@@ -189,6 +190,7 @@ impl App {
             Until::GuardReady => !guard_ready,
             Until::StopConfirmed => stop_unconfirmed,
             Until::BookSaved => unsaved,
+            Until::BookWritten => writing,
             Until::ArmReady => arm_refuses,
         });
     }

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use armjog::console::app::{App, Effect, Input, Overlay, QUESTION_QUIET, Severity};
-use armjog::console::book_io::{self, BookFiles};
+use armjog::console::book_io::{self, BookFiles, SaveOutcome};
 use armjog::console::form::Confirm;
 use armjog::console::jog::ReleaseMode;
 use armjog::console::positions::{PositionBook, Tour};
@@ -143,7 +143,10 @@ async fn two_consoles_on_one_book_keep_each_others_positions_and_say_so() {
     assert_eq!(on_disk(&path), ["home", "x1", "x3"], "console 1's X1 kept");
     assert_eq!(two.names(), ["home", "x1", "x3"], "and shown on console 2");
     let (said, severity) = two.message();
-    assert!(said.contains("changed by another program"), "{said}");
+    assert!(
+        said.starts_with("saved 'x3'; ") && said.contains("changed by another program"),
+        "{said}"
+    );
     assert_eq!(severity, Severity::Info);
 
     // A delete is a delete, on either console, and does not come back with the other's save.
@@ -276,8 +279,16 @@ async fn a_save_at_the_value_read_over_another_programs_change_keeps_both_and_as
     // The technician saves x3 where console 2 has it, and says yes to "overwrite 'x3'?".
     two.define_saved("x3", 0).await;
     let saved = PositionBook::load(&path).expect("reads");
-    assert_eq!(x_of(&saved, "x3"), Some(5000), "the other program's x3 kept");
-    assert_eq!(x_of(&saved, "x3~2"), Some(0), "this console's save kept beside it");
+    assert_eq!(
+        x_of(&saved, "x3"),
+        Some(5000),
+        "the other program's x3 kept"
+    );
+    assert_eq!(
+        x_of(&saved, "x3~2"),
+        Some(0),
+        "this console's save kept beside it"
+    );
     assert_eq!(x_of(two.app.positions(), "x3~2"), Some(0));
     let (said, severity) = two.message();
     assert!(
@@ -294,6 +305,73 @@ async fn a_save_at_the_value_read_over_another_programs_change_keeps_both_and_as
         "the technician is asked which is 'x3'"
     );
     two.close().await;
+}
+
+/// Hands the saves among `effects` to the console's writer, as the runtime does.
+fn hand_over(console: &Console, effects: Vec<Effect>) {
+    for effect in effects {
+        if let Effect::SavePositions(save) = effect {
+            console.files.save(save);
+        }
+    }
+}
+
+#[tokio::test]
+async fn a_save_waiting_for_the_books_lock_says_saving_until_it_is_written() {
+    let (_dir, path) = book_file(&book_of("home"));
+    let mut console = Console::open(&path).await;
+    // Another program holds the book's lock.
+    let lock = std::fs::File::create(path.with_extension("json.lock")).expect("lock file");
+    lock.lock().expect("the other program's lock");
+    let effects = console.define("s3", 300);
+    let saving = ("saving 's3'…".to_string(), Severity::Info);
+    assert_eq!(console.message(), saving);
+    hand_over(&console, effects);
+    let waited = tokio::time::timeout(
+        Duration::from_millis(300),
+        console.files.save_outcomes.recv(),
+    )
+    .await;
+    assert!(waited.is_err(), "nothing written while the lock is held");
+    // Past a notice's time, the write still waiting: still saving, never "saved".
+    console.t0 += Duration::from_secs(8);
+    console.app.handle(Input::Tick, console.t0);
+    assert_eq!(console.message(), saving);
+    lock.unlock().expect("unlocked");
+    let outcome = tokio::time::timeout(Duration::from_secs(10), console.files.save_outcomes.recv())
+        .await
+        .expect("the writer answers in time")
+        .expect("an outcome");
+    assert_eq!(outcome.error, None);
+    console
+        .app
+        .handle(Input::PositionsSaved(outcome), console.t0);
+    assert_eq!(
+        console.message(),
+        ("saved 's3'".to_string(), Severity::Info)
+    );
+    assert_eq!(on_disk(&path), ["home", "s3"]);
+    console.close().await;
+}
+
+#[tokio::test]
+async fn a_save_whose_write_failed_is_never_said_saved() {
+    let (_dir, path) = book_file(&book_of("home"));
+    let mut console = Console::open(&path).await;
+    console.define("s3", 300);
+    assert_eq!(console.message().0, "saving 's3'…");
+    let failed = SaveOutcome {
+        upto: 1,
+        error: Some("book.json: the book's lock is held by another program".into()),
+        found: None,
+    };
+    console
+        .app
+        .handle(Input::PositionsSaved(failed), console.t0);
+    let (said, severity) = console.message();
+    assert!(said.starts_with("positions not saved: book.json"), "{said}");
+    assert_eq!(severity, Severity::Error);
+    console.close().await;
 }
 
 #[tokio::test]

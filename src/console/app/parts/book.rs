@@ -14,6 +14,8 @@ pub(in crate::console::app) struct Book {
     known: PositionBook,
     /// Whether the book is loaded, still loading, or could not be read.
     state: BookState,
+    /// Whether the book has a file (saves are written, and their outcomes reported).
+    file: bool,
     selected: usize,
     /// A rename on the operator between its steps, and a restore waiting for its answer.
     renaming: Option<Renaming>,
@@ -43,6 +45,7 @@ impl Book {
             known: positions.clone(),
             positions,
             state: BookState::Ready,
+            file: false,
             selected: 0,
             renaming: None,
             restoring: None,
@@ -67,6 +70,26 @@ impl Book {
 
     pub(in crate::console::app) fn on_loading(&mut self, file: String) {
         self.state = BookState::Loading { file };
+        self.file = true;
+    }
+
+    /// `name` is said as being saved by the save asked for now, until the writer reports it.
+    /// False: there is no file, nothing to wait for.
+    pub(in crate::console::app) fn announce(&mut self, name: &str) -> bool {
+        if self.file {
+            self.saving.announce(name);
+        }
+        self.file
+    }
+
+    /// Whether a save said as being saved is not reported yet.
+    pub(in crate::console::app) fn writing(&self) -> bool {
+        self.saving.writing()
+    }
+
+    /// The name said as being saved, when the writes up to `upto` hold it.
+    pub(in crate::console::app) fn reported(&mut self, upto: u64) -> Option<String> {
+        self.saving.reported(upto)
     }
 
     /// The file's book arrived: the entries changed meanwhile are merged into it, the selection

@@ -243,7 +243,11 @@ fn our_position_moved_beside_its_name_by_another_writer_is_said() {
             to: "pick~2".into()
         }]
     );
-    assert!(merged.moved[0].describe().contains("'pick' was kept as 'pick~2'"));
+    assert!(
+        merged.moved[0]
+            .describe()
+            .contains("'pick' was kept as 'pick~2'")
+    );
     // A plain change of pick there (no copy of ours) is no move; nor is a copy of another value.
     let theirs = book(&[("pick", 2), ("pick~2", 3)], &[]);
     assert!(merge(&known, &ours, &theirs, &none()).moved.is_empty());

@@ -28,10 +28,14 @@ fn two_writers_from_one_read_both_keep_their_positions() {
     read.save(&path).expect("first book");
     // Both consoles read the file; console 1 saves X1, then console 2 saves X3.
     let one = with(&read, "x1", 1);
-    let written = one.save_shared(&read, &BTreeSet::new(), &path).expect("console 1 writes");
+    let written = one
+        .save_shared(&read, &BTreeSet::new(), &path)
+        .expect("console 1 writes");
     assert_eq!(written.taken, 0);
     let three = with(&read, "x3", 3);
-    let written = three.save_shared(&read, &BTreeSet::new(), &path).expect("console 2 writes");
+    let written = three
+        .save_shared(&read, &BTreeSet::new(), &path)
+        .expect("console 2 writes");
     assert_eq!(written.taken, 1, "x1 came from the other console");
     assert!(written.found_others());
     assert_eq!(names(&written.book), ["home", "x1", "x3"]);
@@ -56,7 +60,9 @@ fn a_tour_added_by_hand_while_a_console_runs_survives_its_next_save() {
     });
     by_hand.save(&path).expect("hand edit");
     let ours = with(&read, "pick", 2);
-    let written = ours.save_shared(&read, &BTreeSet::new(), &path).expect("written");
+    let written = ours
+        .save_shared(&read, &BTreeSet::new(), &path)
+        .expect("written");
     assert!(written.book.tour("rounds").is_some());
     let on_disk = PositionBook::load(&path).expect("reads");
     assert!(
@@ -77,7 +83,9 @@ fn a_file_with_bad_entries_is_written_over_only_with_its_bytes_kept() {
     std::fs::remove_file(&copy).expect("the load kept a copy");
     // The copy is gone (moved away) when the console saves: the save keeps one again first.
     let ours = with(&read, "place", 3);
-    let written = ours.save_shared(&read, &BTreeSet::new(), &path).expect("written");
+    let written = ours
+        .save_shared(&read, &BTreeSet::new(), &path)
+        .expect("written");
     assert_eq!(std::fs::read_to_string(&copy).expect("copy"), text);
     assert_eq!(written.set_aside.len(), 1);
     assert!(
