@@ -8,7 +8,9 @@ use std::time::Duration;
 
 use tokio::sync::{mpsc, oneshot};
 
-use super::positions::shared::Written;
+use std::io::Write as _;
+
+use super::positions::shared::{self, Written};
 use super::positions::{BookError, PositionBook};
 
 /// What the loader hands back: the book, or the error naming the file and what was wrong.
@@ -200,14 +202,29 @@ impl Saver {
         }
     }
 
-    /// Writes the book handed over last, if not written yet, waiting at most `within`.
-    pub async fn finish(self, within: Duration) {
+    /// Writes the book handed over last, if not written yet, waiting at most `within`;
+    /// `waiting` is called once the write has taken [`TELL_WAIT_AFTER`]. Returns whether the
+    /// writer ended in time.
+    pub async fn finish(self, within: Duration, waiting: impl FnOnce()) -> bool {
         drop(self.next);
-        if tokio::time::timeout(within, self.task).await.is_err() {
+        let ended = tokio::time::timeout(within, self.task);
+        tokio::pin!(ended);
+        let ended = tokio::select! {
+            ended = &mut ended => ended,
+            () = tokio::time::sleep(TELL_WAIT_AFTER) => {
+                waiting();
+                ended.await
+            }
+        };
+        if ended.is_err() {
             tracing::error!("the positions file was not written within {within:?}");
         }
+        ended.is_ok()
     }
 }
+
+/// How long a write at quit may take before the technician is told what it waits for.
+pub const TELL_WAIT_AFTER: Duration = Duration::from_millis(300);
 
 /// The book's file as the event loop sees it: the load in progress, the writer, its errors.
 pub struct BookFiles {
@@ -297,8 +314,18 @@ impl BookFiles {
     }
 
     /// Writes the book handed over last (and the held changes, once the book is loaded),
-    /// waiting at most `within`.
-    pub async fn finish(mut self, within: Duration) {
+    /// waiting at most `within`, and tells on stderr (the terminal is the shell's again) what
+    /// a slow write waits for and a write that failed.
+    pub async fn finish(self, within: Duration) {
+        self.finish_telling(within, |line| {
+            // Not `eprintln!`, which panics when stderr is gone (a terminal that hung up).
+            let _ = writeln!(std::io::stderr(), "armjog: {line}");
+        })
+        .await;
+    }
+
+    /// As [`BookFiles::finish`], telling `tell`.
+    pub async fn finish_telling(mut self, within: Duration, mut tell: impl FnMut(String)) {
         let deadline = tokio::time::Instant::now() + within;
         if let Some(changes) = self.held.take() {
             match tokio::time::timeout_at(deadline, loaded(&mut self.loading)).await {
@@ -322,10 +349,40 @@ impl BookFiles {
                 ),
             }
         }
-        if let Some(saver) = self.saver {
-            saver
-                .finish(deadline.saturating_duration_since(tokio::time::Instant::now()))
-                .await;
+        let Some(saver) = self.saver else {
+            return;
+        };
+        let left = deadline.saturating_duration_since(tokio::time::Instant::now());
+        let shown = self
+            .path
+            .as_deref()
+            .map(|p| p.display().to_string())
+            .unwrap_or_default();
+        let lock = self
+            .path
+            .as_deref()
+            .map(|p| shared::lock_path(p).display().to_string())
+            .unwrap_or_default();
+        let waiting = || {
+            tell(format!(
+                "writing the positions to {shown}: waiting up to {} s for its lock ({lock}), \
+                 which another program may hold…",
+                left.as_secs()
+            ))
+        };
+        let in_time = saver.finish(left, waiting).await;
+        // The last outcome covers every write before it (each writes the whole book).
+        let mut last = None;
+        while let Ok(outcome) = self.save_outcomes.try_recv() {
+            last = Some(outcome);
+        }
+        if let Some(error) = last.and_then(|o| o.error) {
+            tell(format!("positions not saved: {error}"));
+        } else if !in_time {
+            tell(format!(
+                "positions not saved: {shown} was not written within {} s",
+                within.as_secs()
+            ));
         }
     }
 }
@@ -359,7 +416,7 @@ mod tests {
                 touched: BTreeSet::new(),
             });
         }
-        saver.finish(Duration::from_secs(10)).await;
+        saver.finish(Duration::from_secs(10), || {}).await;
         assert_eq!(PositionBook::load(&path).unwrap(), book);
     }
 
@@ -382,7 +439,7 @@ mod tests {
         assert_eq!(outcome.upto, 1);
         let error = outcome.error.expect("an error");
         assert!(error.contains(&path.display().to_string()), "{error}");
-        saver.finish(Duration::from_secs(10)).await;
+        saver.finish(Duration::from_secs(10), || {}).await;
     }
 
     #[tokio::test]
@@ -426,12 +483,58 @@ mod tests {
         assert_eq!(found.written.conflicts.len(), 1, "{found:?}");
         let saved = PositionBook::load(&path).unwrap();
         let names: Vec<&str> = saved.names().collect();
-        assert_eq!(
-            names,
-            ["x3", "x3~2"],
-            "the failed write's save kept, beside theirs"
+        assert_eq!(names, ["x3", "x3~2"], "the failed write's save kept, beside theirs");
+        saver.finish(Duration::from_secs(10), || {}).await;
+    }
+
+    #[tokio::test]
+    async fn a_write_at_quit_waiting_for_the_lock_says_what_it_waits_for_and_a_failure_is_told() {
+        let d = dir();
+        let path = d.path().join("book.json");
+        let lock = std::fs::File::create(shared::lock_path(&path)).unwrap();
+        lock.lock().unwrap();
+        let files = BookFiles::open(Some(path.clone())).expect("opened");
+        let mut book = PositionBook::new();
+        book.get_or_insert("s3");
+        files.save(BookSave {
+            book: book.clone(),
+            known: PositionBook::new(),
+            touched: ["s3".to_string()].into(),
+        });
+        let (told_tx, mut told) = mpsc::unbounded_channel();
+        let quitting = tokio::spawn(files.finish_telling(Duration::from_secs(10), move |line| {
+            let _ = told_tx.send(line);
+        }));
+        let line = tokio::time::timeout(Duration::from_secs(5), told.recv())
+            .await
+            .expect("told in time")
+            .expect("a line");
+        let lock_shown = shared::lock_path(&path).display().to_string();
+        assert!(line.contains("waiting") && line.contains(&lock_shown), "{line}");
+        lock.unlock().unwrap();
+        quitting.await.unwrap();
+        assert_eq!(told.recv().await, None, "nothing more to tell: written");
+        assert_eq!(PositionBook::load(&path).unwrap(), book);
+
+        // A write at quit that fails is told, naming the file (a folder now, by mistake).
+        let path = d.path().join("other.json");
+        let mut files = BookFiles::open(Some(path.clone())).expect("opened");
+        assert_eq!(loaded(&mut files.loading).await, Ok(PositionBook::new()));
+        std::fs::create_dir(&path).unwrap();
+        files.save(BookSave {
+            book,
+            known: PositionBook::new(),
+            touched: BTreeSet::new(),
+        });
+        let mut lines = Vec::new();
+        files
+            .finish_telling(Duration::from_secs(10), |line| lines.push(line))
+            .await;
+        let shown = path.display().to_string();
+        assert!(
+            lines.last().is_some_and(|l| l.starts_with("positions not saved: ") && l.contains(&shown)),
+            "{lines:?}"
         );
-        saver.finish(Duration::from_secs(10)).await;
     }
 
     #[tokio::test]
