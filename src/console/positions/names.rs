@@ -191,4 +191,19 @@ mod tests {
         assert_eq!(name, format!("{}~3", "a".repeat(253)));
         assert!(name.len() <= MAX_NAME_LEN);
     }
+
+    #[test]
+    fn a_copys_name_is_known_as_a_copy_of_its_base() {
+        let none = BTreeSet::new();
+        let taken: BTreeSet<String> = ["pick".to_string()].into();
+        assert!(is_copy_of(&unique("pick", &taken), "pick"));
+        let long = "a".repeat(255);
+        let taken: BTreeSet<String> = [long.clone()].into();
+        assert!(is_copy_of(&unique(&long, &taken), &long), "cut to fit");
+        for (copy, base) in [("pick", "pick"), ("pickle~2", "pick"), ("pick~", "pick")] {
+            assert!(!is_copy_of(copy, base), "{copy} of {base}");
+        }
+        assert!(!is_copy_of("pick~1", "pick") && !is_copy_of("pi~2", "pick"));
+        assert_eq!(unique("pick", &none), "pick");
+    }
 }
