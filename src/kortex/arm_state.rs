@@ -4,7 +4,7 @@
 
 use super::gen3::JOINT_LIMITS_DEG;
 use super::telemetry::ActionState;
-use super::{CodeName, Coded, Flag, MoveType, RobotState, Telemetry};
+use super::{ActionStatus, CodeName, Coded, Flag, MoveType, RobotState, Telemetry};
 
 /// Below these the arm is at rest.
 pub const REST_JOINT_DEG_S: f32 = 0.5;
@@ -98,6 +98,29 @@ impl OurMove {
     }
 }
 
+/// A stored action or sequence started under a move of ours that the action status does not
+/// name (a Talos Go To: the operator's trajectory, shown as a cartesian trajectory or not at all,
+/// the last move's type and id left as they were), in words: `the arm runs action 5`. `before`
+/// is what the status named when ours was sent: a stored move named then is not told from
+/// ours (it may be the registers left as they were), any other started since is another
+/// client's. Whether it is the same move is [`OurMove::other_in`]'s reading.
+pub fn stored_started_in(before: &ActionState, status: &ActionState) -> Option<String> {
+    let Coded::Known(theirs @ (MoveType::Action | MoveType::Sequence)) = status.move_type else {
+        return None;
+    };
+    if status.status != Coded::Known(ActionStatus::Started) {
+        return None;
+    }
+    if let Coded::Known(move_type) = before.move_type {
+        let named_before = OurMove {
+            move_type,
+            id: Some(before.id),
+        };
+        named_before.other_in(status)?;
+    }
+    Some(format!("the arm runs {}", move_words(theirs, Some(status.id))))
+}
+
 /// `action 5`, `sequence 1`, `cartesian trajectory`, `twist`.
 fn move_words(move_type: MoveType, id: Option<u16>) -> String {
     match (move_type, id) {
@@ -109,7 +132,6 @@ fn move_words(move_type: MoveType, id: Option<u16>) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::kortex::ActionStatus;
 
     fn status(move_type: MoveType, id: u16) -> ActionState {
         ActionState {
@@ -158,5 +180,46 @@ mod tests {
             ..status(MoveType::Action, 5)
         };
         assert_eq!(action_2.other_in(&unknown), None);
+    }
+
+    #[test]
+    fn a_stored_move_started_under_an_unnamed_move_is_named_unless_the_status_named_it_before() {
+        let before = ActionState {
+            status: Coded::Known(ActionStatus::Completed),
+            ..status(MoveType::Action, 2)
+        };
+        // The operator's Go To: the last move's type and id left, or a trajectory.
+        assert_eq!(stored_started_in(&before, &status(MoveType::Action, 2)), None);
+        let trajectory = status(MoveType::CartesianTrajectory, 2);
+        assert_eq!(stored_started_in(&before, &trajectory), None);
+        assert_eq!(
+            stored_started_in(&before, &status(MoveType::Action, 5)).as_deref(),
+            Some("the arm runs action 5")
+        );
+        assert_eq!(
+            stored_started_in(&before, &status(MoveType::Sequence, 2)).as_deref(),
+            Some("the arm runs sequence 2")
+        );
+        assert_eq!(
+            stored_started_in(&trajectory, &status(MoveType::Action, 2)).as_deref(),
+            Some("the arm runs action 2")
+        );
+        // Only a start: a stored move's end, or its abort, is not one.
+        let completed = ActionState {
+            status: Coded::Known(ActionStatus::Completed),
+            ..status(MoveType::Action, 5)
+        };
+        assert_eq!(stored_started_in(&before, &completed), None);
+        // Without a status (Talos hardware telemetry) nothing is named.
+        let unknown = ActionState {
+            status: Coded::Unknown(u16::MAX),
+            id: 0,
+            move_type: Coded::Unknown(u16::MAX),
+        };
+        assert_eq!(stored_started_in(&unknown, &unknown), None);
+        assert_eq!(
+            stored_started_in(&unknown, &status(MoveType::Action, 5)).as_deref(),
+            Some("the arm runs action 5")
+        );
     }
 }

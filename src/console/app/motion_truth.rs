@@ -34,7 +34,7 @@ use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
 use crate::console::jog::JogMotion;
-use crate::kortex::{OurMove, Stored, StoredRun};
+use crate::kortex::{ActionState, OurMove, Stored, StoredRun};
 use crate::link::interface::{ArmCommand, CommandKind, TelemetrySource};
 
 /// Silence after which a link is stale and telemetry is drawn as old.
@@ -156,6 +156,9 @@ pub struct TrackedAction {
     move_type: Option<OurMove>,
     /// The status has shown `move_type` started since it was sent.
     seen_ours: bool,
+    /// A Talos Go To, which the status does not name: what the status named when it was sent
+    /// (or first read after), so a stored action or sequence started since is another client's.
+    status_before: Option<ActionState>,
     /// Joint positions when it was sent, to see it moved even between two polls.
     from: Option<[f32; 7]>,
     /// A joint-fault warning was already raised when it was sent.

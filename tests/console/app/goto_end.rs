@@ -5,7 +5,7 @@
 
 use armjog::console::app::{ARRIVED_DEG, ARRIVED_MM, Effect, MotionShown, QUESTION_QUIET};
 use armjog::kortex::{ActionState, ActionStatus, Coded, MoveType, Pose};
-use armjog::link::interface::{ArmCommand, ArmEvent};
+use armjog::link::interface::{ArmCommand, ArmEvent, TelemetrySource};
 
 use crate::app::tours::{Bench, leg};
 use crate::app_support::{STOP, ms, no_motion};
@@ -170,9 +170,10 @@ fn a_tour_leg_another_client_moved_elsewhere_ends_the_tour_and_no_next_leg_start
 #[test]
 fn a_talos_go_to_is_done_at_its_position_whatever_move_type_and_not_done_elsewhere() {
     // Over Talos the operator runs the Go To: the arm's move type may be anything (the last
-    // Modbus move's), only where it ends tells.
+    // Modbus move's, shown before it too), only where it ends tells.
     let mut b = Bench::new(true);
     b.move_type = MoveType::Action;
+    b.feed(0.0, ActionStatus::Completed);
     let first = leg(&b.play("O"));
     assert_eq!(
         first,
@@ -191,4 +192,81 @@ fn a_talos_go_to_is_done_at_its_position_whatever_move_type_and_not_done_elsewhe
         "tour 'rounds' leg 2/3 → pick ended the tour: go to 'pick' not done: MOVED BY ANOTHER \
          CLIENT: the arm is at rest 10 mm from where it was sent; stopped",
     );
+}
+
+/// A console over Talos with Modbus telemetry (the arm's action status read over Modbus), the
+/// status registers left at `(status, move type, id)` by an earlier move: what the status named
+/// when our Go To was sent.
+fn talos_with_status(left: (ActionStatus, MoveType, u16)) -> Bench {
+    let mut b = Bench::new(true);
+    b.event(ArmEvent::TelemetrySource(TelemetrySource::Modbus));
+    let tool = b.tool;
+    report(&mut b, 0.0, left, tool);
+    b
+}
+
+#[test]
+fn another_clients_action_under_a_talos_leg_ends_the_tour_naming_the_action() {
+    // The simulator's Talos Go To leaves the last move's type and id (the arm's Home, action 0)
+    // and reports it started: not another client's.
+    let mut b = talos_with_status((ActionStatus::Completed, MoveType::Action, 0));
+    let first = leg(&b.play("O"));
+    assert!(matches!(first, ArmCommand::GoToPosition { .. }), "{first:?}");
+    b.event(ArmEvent::Done { command: first });
+    let home = b.tool;
+    let ours = (ActionStatus::Started, MoveType::Action, 0);
+    assert!(no_motion(&report(&mut b, 12.0, ours, home)));
+    assert!(no_motion(&report(&mut b, 12.0, ours, home)));
+    assert_eq!(b.tour_label().as_deref(), Some("TOUR 1/3 → bench"));
+    // `armjog modbus action --id 5` from a shell: the arm runs the Zero action instead.
+    let action_5 = (ActionStatus::Started, MoveType::Action, 5);
+    let effects = report(&mut b, 12.0, action_5, home);
+    assert_tour_ended(
+        &b,
+        &effects,
+        "tour 'rounds' leg 1/3 → bench ended the tour: go to 'bench' not done: MOVED BY ANOTHER \
+         CLIENT: the arm runs action 5; stopped",
+    );
+    let end = report(&mut b, 0.0, (ActionStatus::Completed, MoveType::Action, 5), home);
+    assert!(no_motion(&end), "{end:?}");
+}
+
+#[test]
+fn a_talos_go_to_shown_as_a_trajectory_or_the_last_stored_move_is_ours_done_at_its_place() {
+    for shown in [MoveType::CartesianTrajectory, MoveType::Sequence] {
+        let mut b = talos_with_status((ActionStatus::Completed, MoveType::Sequence, 3));
+        b.press("o");
+        b.at(QUESTION_QUIET);
+        let command = leg(&b.press("y"));
+        b.event(ArmEvent::Done {
+            command: command.clone(),
+        });
+        let home = b.tool;
+        let ours = (ActionStatus::Started, shown, 3);
+        assert!(no_motion(&report(&mut b, 12.0, ours, home)));
+        b.arrive(&command);
+        let there = b.tool;
+        let end = (ActionStatus::Completed, shown, 3);
+        assert!(report(&mut b, 0.0, end, there).is_empty());
+        assert_eq!(b.message(), "go to 'bench' done", "{shown:?}");
+    }
+}
+
+#[test]
+fn a_stored_action_under_talos_home_is_not_another_clients_move() {
+    // An operator may well run the arm's stored Home action for Talos Home.
+    let mut b = talos_with_status((ActionStatus::Completed, MoveType::CartesianTrajectory, 0));
+    b.press("h");
+    b.at(QUESTION_QUIET);
+    let effects = b.press("y");
+    assert!(effects.contains(&Effect::Arm(ArmCommand::Home)), "{effects:?}");
+    b.event(ArmEvent::Done {
+        command: ArmCommand::Home,
+    });
+    let home = b.tool;
+    let effects = report(&mut b, 12.0, (ActionStatus::Started, MoveType::Action, 2), home);
+    assert!(effects.is_empty(), "{effects:?}");
+    assert!(matches!(b.app.motion_shown(), MotionShown::Action { .. }));
+    report(&mut b, 0.0, (ActionStatus::Completed, MoveType::Action, 2), home);
+    assert_eq!(b.message(), "home done");
 }

@@ -68,15 +68,18 @@ impl Console {
 
     /// A console whose cap is `max_jog_speed` (m/s) rather than the default.
     async fn start_capped(talos: bool, max_jog_speed: Option<f64>) -> Console {
+        Console::start_over(talos, !talos, max_jog_speed).await
+    }
+
+    /// A console over Talos, Modbus or both (Talos moves, Modbus telemetry).
+    async fn start_over(talos: bool, modbus: bool, max_jog_speed: Option<f64>) -> Console {
         let sim = Simulator::start(SimConfig::ephemeral())
             .await
             .expect("simulator");
-        let mut config = if talos {
-            DriverConfig::new(Some(TalosConfig::new(sim.talos_addr.to_string())), None)
-        } else {
-            let modbus = ModbusConfig::new(sim.modbus_addr.expect("modbus").to_string());
-            DriverConfig::new(None, Some(modbus))
-        };
+        let mut config = DriverConfig::new(
+            talos.then(|| TalosConfig::new(sim.talos_addr.to_string())),
+            modbus.then(|| ModbusConfig::new(sim.modbus_addr.expect("modbus").to_string())),
+        );
         if let Some(cap) = max_jog_speed {
             config.max_jog_speed = cap;
         }
@@ -156,7 +159,11 @@ fn near(mm: [f64; 3], tenths: [i32; 3], within_mm: f64) -> bool {
 }
 
 async fn full_tour(talos: bool) {
-    let mut c = Console::start(talos).await;
+    full_tour_over(talos, !talos).await;
+}
+
+async fn full_tour_over(talos: bool, modbus: bool) {
+    let mut c = Console::start_over(talos, modbus, None).await;
     c.play().await;
     c.run_until(Duration::from_secs(60), |c| {
         c.app.view().tour.is_none() && c.app.motion_shown() == MotionShown::Idle
@@ -225,6 +232,13 @@ async fn a_tour_of_three_positions_over_talos_visits_each_in_order() {
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_tour_over_talos_with_modbus_telemetry_is_never_taken_for_another_clients_move() {
+    // The simulator shows each Go To as a cartesian trajectory under the last move's id: each
+    // leg is ours, done at its place.
+    full_tour_over(true, true).await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_key_mid_leg_over_modbus_stops_the_arm_and_the_tour() {
     stopped_mid_leg(false).await;
 }
@@ -246,7 +260,12 @@ async fn other_client(sim: &Simulator) -> ModbusLink {
 /// A tour at a 20 mm/s cap (10 mm/s at the speed in force), so its first leg runs a few
 /// seconds; returns once the leg is seen moving the arm.
 async fn leg_under_way(talos: bool) -> Console {
-    let mut c = Console::start_capped(talos, Some(0.02)).await;
+    leg_under_way_over(talos, !talos).await
+}
+
+/// [`leg_under_way`] over Talos, Modbus or both.
+async fn leg_under_way_over(talos: bool, modbus: bool) -> Console {
+    let mut c = Console::start_over(talos, modbus, Some(0.02)).await;
     c.play().await;
     c.run_until(Duration::from_secs(10), |c| {
         c.legs_seen.last().map(String::as_str) == Some("1/3 bench")
@@ -259,8 +278,8 @@ async fn leg_under_way(talos: bool) -> Console {
 }
 
 /// The tour ended on leg 1 saying another client moved the arm, the arm stopped, and no leg
-/// was ever said done.
-async fn moved_by_another_client(mut c: Console) {
+/// was ever said done. Returns what ended the tour.
+async fn moved_by_another_client(mut c: Console) -> String {
     c.run_until(Duration::from_secs(20), |c| c.app.view().tour.is_none())
         .await;
     let said = c.said.last().cloned().unwrap_or_default();
@@ -283,6 +302,7 @@ async fn moved_by_another_client(mut c: Console) {
         "said done: {:?}",
         c.said
     );
+    said
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
@@ -319,4 +339,19 @@ async fn another_clients_move_elsewhere_under_a_leg_is_never_the_leg_done() {
         moved_by_another_client(c).await;
         drop(other);
     }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn another_clients_action_under_a_talos_leg_is_named_from_the_modbus_status() {
+    // Talos moves, Modbus reads the arm's action status: the Go To is not named there, action 5
+    // started from a shell is.
+    let c = leg_under_way_over(true, true).await;
+    let other = other_client(&c.sim).await;
+    other
+        .start_stored(5, StoredMotion::Action)
+        .await
+        .expect("action 5 started");
+    let said = moved_by_another_client(c).await;
+    assert!(said.contains("the arm runs action 5"), "{said}");
+    drop(other);
 }

@@ -323,6 +323,7 @@ impl App {
             target,
             move_type,
             seen_ours: false,
+            status_before: last.map(|t| t.action),
             from: last.map(|t| t.joints.map(|j| j.position)),
             warned_before: last.is_some_and(|t| t.warnings.contains(Flag::JointFault)),
             seen_motion: false,

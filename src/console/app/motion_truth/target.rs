@@ -5,8 +5,9 @@
 
 use std::time::Instant;
 
-use super::{ACTION_GRACE, TrackedAction};
+use super::{ACTION_GRACE, ActionKind, TrackedAction};
 use crate::console::positions::BookEntry;
+use crate::kortex::arm_state::stored_started_in;
 use crate::kortex::{ActionStatus, Coded, Pose, Telemetry};
 
 /// A go-to that ends farther than this from its target (mm) did not end where it was sent. A
@@ -73,14 +74,22 @@ impl GoToTarget {
 
 /// The arm runs another move than ours ([`crate::kortex::OurMove::other_in`]), read after ours
 /// was seen started or [`ACTION_GRACE`] after the link took our command (a read that soon may
-/// predate it). Says which move it runs.
+/// predate it). A Talos Go To, which the status does not name, is another's once a stored
+/// action or sequence starts that the status did not name when it was sent ([`stored_started_in`]);
+/// not Talos Home, which may well be the arm's own stored Home. Says which move it runs.
 pub(super) fn foreign_move(
     action: &mut TrackedAction,
     accepted: Instant,
     t: &Telemetry,
     now: Instant,
 ) -> Option<String> {
-    let ours = action.move_type?;
+    let Some(ours) = action.move_type else {
+        if !matches!(action.kind, ActionKind::GoTo(_)) {
+            return None;
+        }
+        let before = *action.status_before.get_or_insert(t.action);
+        return stored_started_in(&before, &t.action);
+    };
     let Some(other) = ours.other_in(&t.action) else {
         action.seen_ours |= t.action.move_type == Coded::Known(ours.move_type)
             && t.action.status == Coded::Known(ActionStatus::Started);
