@@ -118,7 +118,10 @@ pub fn stored_started_in(before: &ActionState, status: &ActionState) -> Option<S
         };
         named_before.other_in(status)?;
     }
-    Some(format!("the arm runs {}", move_words(theirs, Some(status.id))))
+    Some(format!(
+        "the arm runs {}",
+        move_words(theirs, Some(status.id))
+    ))
 }
 
 /// `action 5`, `sequence 1`, `cartesian trajectory`, `twist`.
@@ -189,7 +192,10 @@ mod tests {
             ..status(MoveType::Action, 2)
         };
         // The operator's Go To: the last move's type and id left, or a trajectory.
-        assert_eq!(stored_started_in(&before, &status(MoveType::Action, 2)), None);
+        assert_eq!(
+            stored_started_in(&before, &status(MoveType::Action, 2)),
+            None
+        );
         let trajectory = status(MoveType::CartesianTrajectory, 2);
         assert_eq!(stored_started_in(&before, &trajectory), None);
         assert_eq!(

@@ -20,10 +20,12 @@ use std::time::Instant;
 
 use super::cap_watch::{CapWatch, over_cap};
 use super::message::Until;
+use super::parts::Leg;
 use super::{App, Effect, KeyInput, Overlay, Severity, parts};
 use crate::console::form::{Confirm, Form};
 use crate::console::jog::KeyKind;
 use crate::kortex::{Stored, Telemetry};
+use crate::link::guard::HEARTBEAT_TIMEOUT;
 use crate::link::interface::{
     ArmCommand, ArmError, ArmEvent, CommandKind, GuardStatus, LinkStatus, TelemetrySource,
 };
@@ -139,6 +141,13 @@ impl App {
             Some(action) => Some(action.kind.verb()),
             None => jogging.then(|| "jog".to_string()),
         };
+        // Back from a freeze, the console may have ended the move itself before this report.
+        let frozen_with = self.frozen_with.take();
+        let stopped = stopped.or_else(|| {
+            frozen_with
+                .filter(|(_, back)| now <= *back + HEARTBEAT_TIMEOUT)
+                .map(|(what, _)| what)
+        });
         self.truth.forget_action();
         if stopped.is_some() && !effects.iter().any(Effect::is_stop) {
             effects.push(Effect::Arm(ArmCommand::Stop));
@@ -151,6 +160,27 @@ impl App {
             None => error.to_string(),
         };
         self.say(text, Severity::Error, now);
+    }
+
+    /// A console frozen (SIGSTOP, a stalled machine) for the guard's heartbeat timeout may have
+    /// had its motion stopped by the guard, whose report comes in after the console, back, has
+    /// ended that motion itself (a stale link, the arm seen at rest): what ran when it froze
+    /// (the tour's leg, else a go-to, home, action or step, else a jog) is kept for that report,
+    /// for the timeout again.
+    pub(super) fn note_freeze(&mut self, now: Instant) {
+        if !self.now.is_some_and(|last| now >= last + HEARTBEAT_TIMEOUT) {
+            return;
+        }
+        let leg_moving = self
+            .tours
+            .phase()
+            .is_some_and(|phase| phase != Leg::Waiting);
+        let running = match self.truth.action() {
+            _ if leg_moving => Some(self.tours.leg_text()),
+            Some(action) => Some(action.kind.verb()),
+            None => self.keys.jog().is_jogging().then(|| "jog".to_string()),
+        };
+        self.frozen_with = running.map(|what| (what, now));
     }
 
     /// A telemetry sample against the cap, while a motion the console started runs.

@@ -273,6 +273,9 @@ pub struct App {
     quitting: bool,
     /// The latest input's `now`: the panels draw ages against it.
     now: Option<Instant>,
+    /// What ran when the console was last seen frozen, and when it came back (see
+    /// `note_freeze`).
+    frozen_with: Option<(String, Instant)>,
 }
 
 /// What [`App::handle`] takes from the state before an input changes it, for the follow-ups.
@@ -299,6 +302,7 @@ impl App {
             tours: parts::Tours::default(),
             quitting: false,
             now: None,
+            frozen_with: None,
         }
     }
 
@@ -326,6 +330,7 @@ impl App {
 
     /// The state machine's one entry point.
     pub fn handle(&mut self, input: Input, now: Instant) -> Vec<Effect> {
+        self.note_freeze(now);
         self.now = Some(now);
         let before = self.before_input(&input);
         let mut effects = Vec::new();

@@ -211,7 +211,10 @@ fn another_clients_action_under_a_talos_leg_ends_the_tour_naming_the_action() {
     // and reports it started: not another client's.
     let mut b = talos_with_status((ActionStatus::Completed, MoveType::Action, 0));
     let first = leg(&b.play("O"));
-    assert!(matches!(first, ArmCommand::GoToPosition { .. }), "{first:?}");
+    assert!(
+        matches!(first, ArmCommand::GoToPosition { .. }),
+        "{first:?}"
+    );
     b.event(ArmEvent::Done { command: first });
     let home = b.tool;
     let ours = (ActionStatus::Started, MoveType::Action, 0);
@@ -227,7 +230,12 @@ fn another_clients_action_under_a_talos_leg_ends_the_tour_naming_the_action() {
         "tour 'rounds' leg 1/3 → bench ended the tour: go to 'bench' not done: MOVED BY ANOTHER \
          CLIENT: the arm runs action 5; stopped",
     );
-    let end = report(&mut b, 0.0, (ActionStatus::Completed, MoveType::Action, 5), home);
+    let end = report(
+        &mut b,
+        0.0,
+        (ActionStatus::Completed, MoveType::Action, 5),
+        home,
+    );
     assert!(no_motion(&end), "{end:?}");
 }
 
@@ -259,14 +267,27 @@ fn a_stored_action_under_talos_home_is_not_another_clients_move() {
     b.press("h");
     b.at(QUESTION_QUIET);
     let effects = b.press("y");
-    assert!(effects.contains(&Effect::Arm(ArmCommand::Home)), "{effects:?}");
+    assert!(
+        effects.contains(&Effect::Arm(ArmCommand::Home)),
+        "{effects:?}"
+    );
     b.event(ArmEvent::Done {
         command: ArmCommand::Home,
     });
     let home = b.tool;
-    let effects = report(&mut b, 12.0, (ActionStatus::Started, MoveType::Action, 2), home);
+    let effects = report(
+        &mut b,
+        12.0,
+        (ActionStatus::Started, MoveType::Action, 2),
+        home,
+    );
     assert!(effects.is_empty(), "{effects:?}");
     assert!(matches!(b.app.motion_shown(), MotionShown::Action { .. }));
-    report(&mut b, 0.0, (ActionStatus::Completed, MoveType::Action, 2), home);
+    report(
+        &mut b,
+        0.0,
+        (ActionStatus::Completed, MoveType::Action, 2),
+        home,
+    );
     assert_eq!(b.message(), "home done");
 }

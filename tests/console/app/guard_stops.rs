@@ -3,12 +3,14 @@
 //! what was not a jog, and the arm's abort that follows is not said again as a failure. Fake
 //! clock.
 
-use armjog::console::app::{Effect, MotionShown, QUESTION_QUIET};
-use armjog::kortex::ActionStatus;
+use std::time::Duration;
+
+use armjog::console::app::{Effect, Input, MotionShown, QUESTION_QUIET};
+use armjog::kortex::{ActionState, ActionStatus, Coded};
 use armjog::link::interface::{ArmCommand, ArmError, ArmEvent, CommandKind};
 
-use crate::app::tours::Bench;
-use crate::app_support::{STOP, no_motion};
+use crate::app::tours::{Bench, leg};
+use crate::app_support::{STOP, ms, no_motion};
 
 const REASON: &str = "the stop guard stopped the arm: no heartbeat for 500 ms";
 
@@ -114,4 +116,83 @@ fn a_guard_stop_that_failed_is_never_said_as_a_stop_and_our_stop_goes_out() {
          operator did not answer; STOP sent"
     );
     assert!(!b.message().contains("stopped"), "{}", b.message());
+}
+
+/// The console frozen (SIGSTOP) for 3 s while `key` (then yes) or the tour ran; the guard
+/// stopped the arm meanwhile. On resume the first input handled is `first` (what the run loop
+/// takes first is a race: its overdue timer, finding the link stale, or the arm's telemetry,
+/// the arm at rest and the move aborted, or the guard's report itself), then the guard's
+/// report; the line names what ran.
+fn resumed_after_a_freeze(b: &mut Bench, first: &str) {
+    b.at(Duration::from_secs(3));
+    let now = b.at(ms(1));
+    let input = match first {
+        "tick" | "guard" => Input::Tick,
+        _ => {
+            let action = ActionState {
+                status: Coded::Known(ActionStatus::Aborted),
+                id: 0,
+                move_type: Coded::Known(b.move_type),
+            };
+            let mut t =
+                crate::app_support::arm_telemetry(crate::app_support::HOME_JOINTS, 0.0, action);
+            t.tcp.pose = b.tool;
+            Input::Arm(ArmEvent::Telemetry(Box::new(t)))
+        }
+    };
+    if first != "guard" {
+        let effects = b.app.handle(input, now);
+        assert!(no_motion(&effects), "{effects:?}");
+    }
+    let effects = guard_stopped(b);
+    assert!(no_motion(&effects), "{effects:?}");
+}
+
+#[test]
+fn a_guard_stop_of_a_frozen_console_names_the_tour_and_the_leg_whatever_came_first() {
+    for (talos, first) in [false, true]
+        .into_iter()
+        .flat_map(|talos| ["tick", "telemetry", "guard"].map(|first| (talos, first)))
+    {
+        let mut b = Bench::new(talos);
+        let first_leg = leg(&b.play("O"));
+        b.leg_started(first_leg);
+        assert_eq!(b.tour_label().as_deref(), Some("TOUR 1/3 → bench"));
+        resumed_after_a_freeze(&mut b, first);
+        assert_eq!(b.tour_label(), None, "{first}");
+        assert_eq!(
+            b.message(),
+            format!("tour 'rounds' leg 1/3 → bench stopped: {REASON}"),
+            "talos {talos}, {first} first"
+        );
+    }
+}
+
+#[test]
+fn a_guard_stop_of_a_frozen_console_names_the_go_to_or_home_whatever_came_first() {
+    for (key, what) in [("o", "go to 'bench'"), ("h", "home")] {
+        for first in ["tick", "telemetry", "guard"] {
+            let mut b = Bench::new(false);
+            start(&mut b, key);
+            resumed_after_a_freeze(&mut b, first);
+            assert_eq!(
+                b.message(),
+                format!("{what} stopped: {REASON}"),
+                "{key} {first}"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_guard_stop_long_after_a_freeze_with_nothing_running_names_nothing() {
+    let mut b = Bench::new(false);
+    start(&mut b, "o");
+    b.at(Duration::from_secs(3));
+    let now = b.at(ms(1));
+    b.app.handle(Input::Tick, now);
+    // The go-to ended there; a guard stop well after is not its.
+    b.at(Duration::from_secs(2));
+    guard_stopped(&mut b);
+    assert_eq!(b.message(), REASON);
 }
