@@ -11,7 +11,9 @@ use crate::console::coords::describe_motion;
 use crate::console::positions::PositionBook;
 use crate::kortex::arm_state::fault_reason;
 use crate::kortex::{CodeName, Pose, ReferenceFrame};
-use crate::link::interface::{ArmCommand, ArmEvent, GuardStatus, JogMotion, LinkStatus, StepMove};
+use crate::link::interface::{
+    ArmCommand, ArmError, ArmEvent, GuardStatus, JogMotion, LinkStatus, StepMove,
+};
 use crate::link::speed::{INITIAL_SPEED, SpeedCap, is_settable};
 
 /// What the deriver remembers between calls, to turn a stream into starts and stops.
@@ -254,6 +256,13 @@ impl AuditDeriver {
                     })
                 }
             }
+            // Reported as a failed jog (the console latches held keys as for one), whatever ran.
+            ArmEvent::Failed {
+                error: error @ (ArmError::GuardStoppedArm(_) | ArmError::GuardStopFailed(_)),
+                ..
+            } => Some(AuditEvent::GuardStop {
+                error: error.to_string(),
+            }),
             ArmEvent::Failed { command, error } => Some(AuditEvent::CommandFailed {
                 command: command.to_string(),
                 error: error.to_string(),

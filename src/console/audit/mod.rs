@@ -146,6 +146,12 @@ pub enum AuditEvent {
     GuardDown {
         reason: String,
     },
+    /// The stop guard stopped the arm (the console went quiet, or its link did), or could not:
+    /// its words. Not a failed command: whatever ran (a jog, a go-to, a tour's leg) the
+    /// message line names.
+    GuardStop {
+        error: String,
+    },
     /// The telemetry showed a motion over the speed cap and the console stopped it: why, as
     /// the message line said it.
     OverCap {

@@ -251,6 +251,45 @@ fn link_changes_are_recorded_once_each() {
 }
 
 #[test]
+fn the_guards_stop_is_a_guard_stop_not_a_failed_jog_and_other_failures_name_their_command() {
+    use crate::link::interface::{ArmError, CommandKind};
+    let mut d = deriver();
+    let stopped = ArmEvent::Failed {
+        command: CommandKind::Jog,
+        error: ArmError::GuardStoppedArm("no heartbeat from the console for 1000 ms".into()),
+    };
+    assert_eq!(
+        events(d.arm_event(&stopped, t0())),
+        [AuditEvent::GuardStop {
+            error: "the stop guard stopped the arm: no heartbeat from the console for 1000 ms"
+                .into()
+        }]
+    );
+    let failed = ArmEvent::Failed {
+        command: CommandKind::Jog,
+        error: ArmError::GuardStopFailed("not answered".into()),
+    };
+    assert_eq!(
+        events(d.arm_event(&failed, t0())),
+        [AuditEvent::GuardStop {
+            error: "the stop guard could NOT stop the arm, it may still be moving: not answered"
+                .into()
+        }]
+    );
+    let other = ArmEvent::Failed {
+        command: CommandKind::Home,
+        error: ArmError::GuardNotRunning("not ready".into()),
+    };
+    assert_eq!(
+        events(d.arm_event(&other, t0())),
+        [AuditEvent::CommandFailed {
+            command: CommandKind::Home.to_string(),
+            error: "not ready".into()
+        }]
+    );
+}
+
+#[test]
 fn local_book_saves_become_save_and_delete_records() {
     let mut d = deriver();
     let mut book = PositionBook::new();
