@@ -168,7 +168,7 @@ impl App {
     /// (the tour's leg, else a go-to, home, action or step, else a jog) is kept for that report,
     /// for the timeout again.
     pub(super) fn note_freeze(&mut self, now: Instant) {
-        if !self.now.is_some_and(|last| now >= last + HEARTBEAT_TIMEOUT) {
+        if self.now.is_none_or(|last| now < last + HEARTBEAT_TIMEOUT) {
             return;
         }
         let leg_moving = self
