@@ -12,18 +12,17 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use crossterm::event::{Event, KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 use futures::StreamExt;
 use ratatui::Terminal;
 use ratatui::backend::CrosstermBackend;
 
-use super::app::{App, AppConfig, BookState, Effect, Input, KeyInput, Pasted, Severity};
+use super::app::{App, AppConfig, BookState, Effect, Input, Severity};
 use super::audit::{self, AuditSession};
 use super::book_io::{self, BookFiles};
-use super::input::{self, ReleaseStop, TerminalEvent};
+use super::input::{self, ReleaseStop};
 use super::input_first;
-use super::jog::{KeyKind, ReleaseMode};
-use super::keymap::{KeyName, Keymap, shifted_letter};
+use super::jog::ReleaseMode;
+use super::keymap::Keymap;
 use super::pacing::FramePacer;
 use super::painter::Painter;
 use super::positions::{self, PositionBook};
@@ -35,6 +34,11 @@ use crate::link::driver::{Driver, DriverConfig, StopHandle};
 use crate::link::interface::{ArmCommand, ArmEvent};
 use crate::link::talos::StopAhead;
 use crate::net::Deadline;
+
+mod inputs;
+
+pub use inputs::key_input;
+use inputs::{Signals, terminal_event};
 
 /// Everything the console needs to start.
 pub struct ConsoleSetup {
@@ -62,33 +66,6 @@ pub enum ConsoleError {
     Terminal(#[from] std::io::Error),
     #[error("{0}")]
     Positions(#[from] positions::BookError),
-}
-
-/// Maps a crossterm key event to the state machine's input.
-pub fn key_input(event: &KeyEvent) -> Option<KeyInput> {
-    let key = KeyName::from_event(event)?;
-    let text = match event.code {
-        KeyCode::Char(c)
-            if !event
-                .modifiers
-                .intersects(KeyModifiers::CONTROL | KeyModifiers::ALT) =>
-        {
-            // Some kitty-protocol terminals send shift+a as 'a' with SHIFT: the text is the
-            // character the key is named for.
-            if event.modifiers.contains(KeyModifiers::SHIFT) {
-                Some(shifted_letter(c))
-            } else {
-                Some(c)
-            }
-        }
-        _ => None,
-    };
-    let kind = match event.kind {
-        KeyEventKind::Press => KeyKind::Press,
-        KeyEventKind::Repeat => KeyKind::Repeat,
-        KeyEventKind::Release => KeyKind::Release,
-    };
-    Some(KeyInput { key, text, kind })
 }
 
 /// Runs the console until the technician quits.
@@ -460,121 +437,5 @@ fn is_report(input: &Input) -> bool {
         Input::Arm(ArmEvent::Telemetry(_) | ArmEvent::Latency(_)) => true,
         Input::Arm(ArmEvent::Log(entry)) => entry.poll && entry.ok,
         _ => false,
-    }
-}
-
-/// What the terminal's event stream gave, as the state machine's input.
-fn terminal_event(event: Option<std::io::Result<TerminalEvent>>) -> Option<Input> {
-    match event {
-        Some(Ok(TerminalEvent::Event(event))) => terminal_input(event),
-        Some(Ok(TerminalEvent::Paste(text))) => Some(Input::Paste(Pasted::Text(text))),
-        Some(Ok(TerminalEvent::Refused(why))) => {
-            Some(Input::Paste(Pasted::Refused(why.to_string())))
-        }
-        Some(Err(e)) => {
-            tracing::error!("terminal input failed: {e}");
-            Some(Input::Signal("terminal input error"))
-        }
-        None => Some(Input::Signal("terminal closed")),
-    }
-}
-
-fn terminal_input(event: Event) -> Option<Input> {
-    match event {
-        Event::Key(key) => key_input(&key).map(Input::Key),
-        Event::FocusLost => Some(Input::FocusLost),
-        Event::FocusGained => Some(Input::FocusGained),
-        Event::Resize(width, height) => Some(Input::Resize { width, height }),
-        _ => None,
-    }
-}
-
-/// SIGINT, SIGTERM and SIGHUP as one stream (see [`super::signals`]).
-struct Signals {
-    received: tokio::sync::mpsc::UnboundedReceiver<&'static str>,
-}
-
-impl Signals {
-    fn new() -> std::io::Result<Signals> {
-        use tokio::signal::unix::SignalKind;
-        let received = super::signals::forward(&[
-            (SignalKind::interrupt(), "SIGINT"),
-            (SignalKind::terminate(), "SIGTERM"),
-            (SignalKind::hangup(), "SIGHUP"),
-        ])?;
-        Ok(Signals { received })
-    }
-
-    /// The next signal. Never ends: the tasks that send them run as long as the runtime.
-    async fn next(&mut self) -> &'static str {
-        match self.received.recv().await {
-            Some(name) => name,
-            None => std::future::pending().await,
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crossterm::event::KeyEventState;
-
-    fn event(code: KeyCode, modifiers: KeyModifiers, kind: KeyEventKind) -> KeyEvent {
-        KeyEvent {
-            code,
-            modifiers,
-            kind,
-            state: KeyEventState::NONE,
-        }
-    }
-
-    #[test]
-    fn key_events_keep_their_kind_and_typed_text() {
-        let press = key_input(&event(
-            KeyCode::Char('w'),
-            KeyModifiers::NONE,
-            KeyEventKind::Press,
-        ));
-        let press = press.expect("w");
-        assert_eq!(
-            (press.key.to_string(), press.text, press.kind),
-            ("w".into(), Some('w'), KeyKind::Press)
-        );
-        let release = key_input(&event(
-            KeyCode::Char('w'),
-            KeyModifiers::NONE,
-            KeyEventKind::Release,
-        ));
-        assert_eq!(release.map(|k| k.kind), Some(KeyKind::Release));
-        let shifted = key_input(&event(
-            KeyCode::Char('a'),
-            KeyModifiers::SHIFT,
-            KeyEventKind::Press,
-        ));
-        assert_eq!(
-            shifted.map(|k| (k.key.to_string(), k.text)),
-            Some(("A".into(), Some('A')))
-        );
-        // A letter whose capital is two characters types itself, and is named for itself.
-        for letter in ['ß', 'ŉ'] {
-            let shifted = key_input(&event(
-                KeyCode::Char(letter),
-                KeyModifiers::SHIFT,
-                KeyEventKind::Press,
-            ));
-            assert_eq!(
-                shifted.map(|k| (k.key.to_string(), k.text)),
-                Some((letter.to_string(), Some(letter)))
-            );
-        }
-        let ctrl = key_input(&event(
-            KeyCode::Char('c'),
-            KeyModifiers::CONTROL,
-            KeyEventKind::Press,
-        ));
-        assert_eq!(
-            ctrl.map(|k| (k.key.to_string(), k.text)),
-            Some(("ctrl+c".into(), None))
-        );
     }
 }

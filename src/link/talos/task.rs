@@ -12,16 +12,18 @@ use tokio::io::{AsyncRead, AsyncWrite, AsyncWriteExt, ReadHalf, WriteHalf};
 use tokio::sync::{Notify, mpsc};
 use tokio_util::codec::FramedRead;
 
-use super::ahead::{AheadFrame, Attached, WrittenAhead};
+use super::ahead::Attached;
 use super::motion::MotionSinceStop;
-use super::{Answer, AnswerTx, CommandIds, Exchange, Job, TalosError, TalosEvent, WRITE_STALL};
+use super::{AnswerTx, CommandIds, Job, TalosError, TalosEvent, WRITE_STALL};
 use crate::key_stages::{self, Stage};
 use crate::net::{Deadline, FrameReader, hand_off, io_error_words};
 use crate::talos::ack::{AckCodec, AckItem};
-use crate::talos::frame::{Decoded, FrameCodec, Rejection, TalosFrame};
-use crate::talos::{Checksum, Dialect, Reply, Request};
+use crate::talos::frame::{Decoded, FrameCodec, TalosFrame};
+use crate::talos::{Checksum, Dialect, Request};
 
 mod ack;
+mod replies;
+mod written_ahead;
 
 use ack::{AckWait, ExpiredAck};
 
@@ -447,189 +449,6 @@ impl LinkTask {
                 self.pending.insert(pending.id, pending);
             }
             Dialect::Ack => self.queue_ack_wait(pending, 1, sent),
-        }
-    }
-
-    /// Makes frames written ahead ([`super::ahead`]) this task's, in the order written: noted
-    /// (as stops, or as the motion written through), and pending (replies paired, an
-    /// ack-dialect STOP without its ACK sent again); nobody waits for the stop set's answers,
-    /// a motion's caller for its own.
-    fn own_ahead(&mut self, frames: Vec<WrittenAhead>) {
-        let stops: Vec<u32> = frames
-            .iter()
-            .filter(|written| written.answer.is_none())
-            .map(|written| written.frame.id)
-            .collect();
-        if !stops.is_empty() {
-            tracing::info!("stop set written ahead at a jog key's release (ids {stops:?})");
-            // Written: armed no more.
-            self.ahead_owed.clear();
-        }
-        let sent = Instant::now();
-        for WrittenAhead { frame, answer } in frames {
-            self.motion.note(&frame.request);
-            let (answer, ahead) = match answer {
-                Some(answer) => (answer, false),
-                // The receiver is dropped: the answer is only logged.
-                None => (tokio::sync::oneshot::channel().0, true),
-            };
-            let pending = Pending {
-                id: frame.id,
-                request: frame.request,
-                request_bytes: frame.bytes,
-                sent,
-                answer,
-                ahead,
-            };
-            self.insert_pending(pending, sent);
-        }
-    }
-
-    /// Nothing more is written through ([`super::ahead::Through`]), and what was is this task's:
-    /// noted as moving the arm before the stop set owed is worked out.
-    fn close_through(&mut self) {
-        if let Some(ahead) = &self.ahead {
-            ahead.close_through();
-        }
-        self.take_ahead();
-    }
-
-    /// Takes what was written ahead since the last write or reply, and arms what is owed now.
-    fn take_ahead(&mut self) {
-        let frames = match &self.ahead {
-            Some(ahead) => ahead.take_written(),
-            None => return,
-        };
-        self.own_ahead(frames);
-        self.arm_ahead();
-    }
-
-    /// The terminal reader wrote the stop set: it is this task's now, and bytes of it the socket
-    /// did not take are written at once.
-    async fn on_written_ahead<W: AsyncWrite + Unpin>(
-        &mut self,
-        writer: &mut W,
-    ) -> Result<(), String> {
-        self.take_ahead();
-        if self.ahead.as_ref().is_some_and(Attached::unfinished) {
-            self.write(writer, &[]).await?;
-        }
-        Ok(())
-    }
-
-    /// Arms the stop set the link owes now for the terminal reader, its ids taken; disarms it
-    /// when none is owed. Unchanged while the set owed is.
-    fn arm_ahead(&mut self) {
-        let Some(ahead) = &self.ahead else {
-            return;
-        };
-        let owed = self.motion.owed();
-        if owed == self.ahead_owed.as_slice() {
-            return;
-        }
-        let owed = owed.to_vec();
-        let mut frames = Vec::with_capacity(owed.len());
-        for request in &owed {
-            let id = self.ids.next();
-            let bytes = match request.to_frame(id) {
-                Ok(frame) => self.encode(&frame),
-                Err(e) => Err(e.to_string()),
-            };
-            match bytes {
-                Ok(bytes) => frames.push(AheadFrame {
-                    id,
-                    request: request.clone(),
-                    bytes,
-                }),
-                // The stop set encodes by construction; nothing is armed if that ever changes.
-                Err(e) => {
-                    tracing::error!("cannot arm {} ahead: {e}", request.command());
-                    frames.clear();
-                    break;
-                }
-            }
-        }
-        ahead.arm(frames);
-        self.ahead_owed = owed;
-    }
-
-    fn on_frame(&mut self, frame: TalosFrame) {
-        let Some(pending) = self
-            .pending
-            .remove(&(frame.id & !1))
-            .filter(|_| frame.id & 1 == 1)
-        else {
-            self.event(TalosEvent::UnpairedReply {
-                id: frame.id,
-                command: frame.command,
-            });
-            return;
-        };
-        let id = frame.id & !1;
-        let command = pending.request.command();
-        let reply_bytes = frame.to_bytes(self.checksum).unwrap_or_default();
-        let result = match Reply::from_frame(&frame) {
-            Ok(reply) if reply.command() == command => Ok(Exchange {
-                id,
-                request: pending.request,
-                answer: Answer::Reply(reply),
-                request_bytes: pending.request_bytes,
-                reply_bytes,
-                latency: pending.sent.elapsed(),
-            }),
-            Ok(reply) => Err(TalosError::WrongReply {
-                command,
-                id,
-                answered: reply.command(),
-            }),
-            Err(source) => Err(TalosError::MalformedReply {
-                command,
-                id,
-                source,
-            }),
-        };
-        let ahead = pending.ahead;
-        if pending.answer.send(result).is_err() && !ahead {
-            self.event(TalosEvent::LateReply { id, command });
-        }
-    }
-
-    fn on_rejection(&mut self, rejection: Rejection) {
-        // A corrupt reply whose header names a pending request fails that request now.
-        let owner = rejection
-            .header
-            .filter(|h| h.id & 1 == 1)
-            .and_then(|h| self.pending.remove(&(h.id & !1)));
-        match owner {
-            Some(pending) => {
-                let command = pending.request.command();
-                let id = rejection.header.map_or(0, |h| h.id & !1);
-                let failed = pending.answer.send(Err(TalosError::Checksum {
-                    command,
-                    id,
-                    rejection,
-                }));
-                // Its caller gave up (timed out) before the reply was given up on: the rejection
-                // still tells what the operator speaks.
-                if failed.is_err() {
-                    self.event(TalosEvent::Rejected(rejection));
-                }
-            }
-            None => self.event(TalosEvent::Rejected(rejection)),
-        }
-    }
-
-    /// Forgets requests whose callers gave up, so the map stays bounded. A reply that still
-    /// comes for one is reported as unpaired.
-    fn sweep(&mut self) {
-        let stale: Vec<u32> = self
-            .pending
-            .iter()
-            .filter(|(_, p)| p.answer.is_closed() && p.sent.elapsed() > Duration::from_secs(5))
-            .map(|(id, _)| *id)
-            .collect();
-        for id in stale {
-            self.pending.remove(&id);
         }
     }
 }
