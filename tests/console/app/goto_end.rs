@@ -88,7 +88,7 @@ fn another_clients_action_under_our_go_to_stops_the_arm_and_is_never_our_go_to_d
     assert_eq!(
         b.message(),
         "go to 'bench' not done: MOVED BY ANOTHER CLIENT: the arm runs action 5, not our \
-         cartesian trajectory; stopped"
+         cartesian trajectory; STOP sent"
     );
     assert!(!matches!(b.app.motion_shown(), MotionShown::Action { .. }));
     // Its end, at rest at the target even, is not ours: nothing says done.
@@ -114,7 +114,7 @@ fn a_go_to_at_rest_away_from_its_target_is_another_clients_move_not_done() {
     assert_eq!(
         b.message(),
         "go to 'bench' not done: MOVED BY ANOTHER CLIENT: the arm is at rest 150 mm from where \
-         it was sent; stopped"
+         it was sent; STOP sent"
     );
     // Turned away, the point where it was sent: not ours either.
     let mut b = Bench::new(false);
@@ -124,7 +124,7 @@ fn a_go_to_at_rest_away_from_its_target_is_another_clients_move_not_done() {
     assert!(effects.contains(&STOP), "{effects:?}");
     assert!(
         b.message()
-            .ends_with("turned 10 deg from where it was sent; stopped"),
+            .ends_with("turned 10 deg from where it was sent; STOP sent"),
         "{}",
         b.message()
     );
@@ -162,7 +162,7 @@ fn a_tour_leg_another_client_moved_elsewhere_ends_the_tour_and_no_next_leg_start
         &b,
         &effects,
         "tour 'rounds' leg 1/3 → bench ended the tour: go to 'bench' not done: MOVED BY ANOTHER \
-         CLIENT: the arm is at rest 10 mm from where it was sent; stopped",
+         CLIENT: the arm is at rest 10 mm from where it was sent; STOP sent",
     );
     assert!(no_motion(&report(&mut b, 0.0, OURS_COMPLETED, pick)));
 }
@@ -190,7 +190,7 @@ fn a_talos_go_to_is_done_at_its_position_whatever_move_type_and_not_done_elsewhe
         &b,
         &effects,
         "tour 'rounds' leg 2/3 → pick ended the tour: go to 'pick' not done: MOVED BY ANOTHER \
-         CLIENT: the arm is at rest 10 mm from where it was sent; stopped",
+         CLIENT: the arm is at rest 10 mm from where it was sent; STOP sent",
     );
 }
 
@@ -228,7 +228,7 @@ fn another_clients_action_under_a_talos_leg_ends_the_tour_naming_the_action() {
         &b,
         &effects,
         "tour 'rounds' leg 1/3 → bench ended the tour: go to 'bench' not done: MOVED BY ANOTHER \
-         CLIENT: the arm runs action 5; stopped",
+         CLIENT: the arm runs action 5; STOP sent",
     );
     let end = report(
         &mut b,

@@ -44,7 +44,7 @@ fn another_clients_move_under_our_stored_action_stops_it_and_is_never_done() {
             message(&app),
             format!(
                 "action 5 not done: MOVED BY ANOTHER CLIENT: the arm runs {theirs}, not our \
-                 action 5; stopped"
+                 action 5; STOP sent"
             )
         );
         assert!(app.truth().action().is_none(), "{theirs}");
@@ -95,7 +95,7 @@ fn another_clients_action_under_our_modbus_home_stops_it_and_is_never_home_done(
     assert_eq!(
         message(&app),
         "home not done: MOVED BY ANOTHER CLIENT: the arm runs action 5, not our action 2; \
-         stopped"
+         STOP sent"
     );
     assert!(app.truth().action().is_none());
     let said = message(&app);

@@ -364,7 +364,8 @@ impl App {
                 // Not ours: stopped like a failure, and never said done.
                 self.truth.action = None;
                 self.truth.stop_needed = true;
-                let text = format!("{verb} not done: MOVED BY ANOTHER CLIENT: {evidence}; stopped");
+                let text =
+                    format!("{verb} not done: MOVED BY ANOTHER CLIENT: {evidence}; STOP sent");
                 self.say(text, Severity::Error, now);
             }
             Some(End::Done) => {
