@@ -1,9 +1,7 @@
-//! What kind a command is ([`CommandKind`]: what a failure names) and what it does to the arm
-//! ([`CommandClass`]), said once. The app (the motion gate, the tour, other clients' moves),
-//! the driver (stops first, the stop guard's refusal, which link carried motion), the Modbus
-//! worker and the audit all ask [`CommandKind::class`], through
-//! [`ArmCommand::class`](super::interface::ArmCommand::class); what a Talos request does on
-//! the wire is the ICD's fact, [`Request::class`](crate::talos::Request::class).
+//! What kind a command is ([`CommandKind`], named in failures) and what it does to the arm
+//! ([`CommandClass`]), said once for the app, the driver, the Modbus worker and the audit. What a
+//! Talos request does on the wire is the ICD's fact:
+//! [`Request::class`](crate::talos::Request::class).
 
 /// What a command does to the arm.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -11,10 +9,9 @@ pub enum CommandClass {
     /// Stops every motion: never queued behind anything, always allowed, and its failure may
     /// leave the arm moving.
     Stop,
-    /// May set the arm moving: a jog (even an all-zero one), a step, a go-to, home, a stored
-    /// run. Only these pass the motion gate and need a ready stop guard. `runs_to_end`: a move
-    /// the arm carries to its end on its own (all but a jog, which moves while refreshed), so
-    /// its link's answer says only that it started.
+    /// May set the arm moving (a jog, even all-zero, a step, a go-to, home, a stored run): only
+    /// these pass the motion gate and need a ready stop guard. `runs_to_end`: the arm carries it to
+    /// its end on its own, so its link's answer says only that it started.
     Motion { runs_to_end: bool },
     /// Changes something and moves nothing: the speed, the frame, a fault reset, the
     /// operator's positions, a capped move's limits put back.

@@ -1,40 +1,15 @@
-//! The stop guard, console side: a small process (`armjog guard`, in `src/cli/guard.rs`) that
-//! stops the arm when the console dies, over every link the console has (Talos, Modbus, both).
+//! The stop guard, console side: a small process (`armjog guard`, `src/cli/guard.rs`) that stops
+//! the arm on every link when the console dies, since a console killed outright runs no code and
+//! neither link stops a motion on its own (no Modbus twist watchdog; a Talos go-to runs on after a
+//! disconnect). It watches a pipe on its stdin: closed, it stops the arm and exits; no heartbeat
+//! for [`HEARTBEAT_TIMEOUT`] (a frozen console), it stops the arm and keeps watching.
 //!
-//! A console killed with SIGKILL (or by the OOM killer) runs no code at all. A Kinova arm over
-//! Modbus has no twist watchdog: the twist runs on. A Talos operator's 500 ms watchdog covers
-//! continuous START only, and a client's disconnect stops nothing: a go-to, home or step runs to
-//! its end (seconds, a hundred millimetres and more). The guard watches the console through a
-//! pipe on its stdin: when the pipe closes (every way a process ends closes it) it stops the arm
-//! on every link and exits; when the heartbeat written into the pipe stops for
-//! [`HEARTBEAT_TIMEOUT`] (a frozen console) it does the same and keeps watching.
-//!
-//! Over Modbus the guard holds a connection of its own from the start (ready once it is up).
-//! Over Talos it holds none, and is ready as soon as it runs: the deployed operator serves one
-//! client at a time (a second connection is accepted by the kernel but not answered while the
-//! first is open), so the guard connects only once the console's connection is gone (the kernel
-//! closes it when the console dies) and then sends the one stop set
-//! ([`crate::talos::stop_requests`]) in the console's dialect and checksum. A frozen console
-//! still holds its connection: such an operator does not answer the guard, which then cannot
-//! stop a go-to, home or step over Talos (it says so; a continuous jog stops at the operator's
-//! watchdog, nothing refreshing it). See `src/cli/guard/talos.rs`.
-//!
-//! The protocol: the console writes [`HEARTBEAT`] every [`HEARTBEAT_PERIOD`]; the guard answers
-//! with lines on its stdout: `ready` (it can stop the arm: its Modbus connection is up, or it
-//! watches Talos alone), `alive` every [`ALIVE_PERIOD`] from then on, `down REASON` (it cannot
-//! reach the arm over Modbus), `stopped REASON` (it stopped the arm on its own) and
-//! `stop-failed REASON`. A ready guard silent for [`GUARD_SILENCE`] (stopped, frozen) is ended
-//! and replaced. No motion starts, on any link, while no guard is ready
-//! ([`GuardSupervisor::refusal`]).
-//!
-//! The heartbeat is written by a task of the console's runtime: a stuck event loop is already
-//! covered by the link's 500 ms twist hold (no refresh, no twist); the heartbeat covers a whole
-//! process that no longer runs (stopped, swapping, deadlocked).
-//!
-//! The guard runs in its own process group, so a Ctrl-C or a group kill aimed at the console's
-//! terminal does not take it down first. Its stderr is read into the console's log, never the
-//! terminal. Dropping the [`GuardSupervisor`] closes the pipe: the guard stops the arm (harmless
-//! on the way out) and exits.
+//! The guard answers `ready`, `alive`, `down REASON`, `stopped REASON` and `stop-failed REASON` on
+//! its stdout. No motion starts while no guard is ready ([`GuardSupervisor::refusal`]); a ready
+//! guard silent for [`GUARD_SILENCE`] is ended and replaced. Over Talos it connects only once the
+//! console's connection is gone (the operator serves one client at a time). It runs in its own
+//! process group so a Ctrl-C aimed at the console does not take it down first. Details:
+//! `docs/safety.md`, "the stop guard".
 
 use std::path::PathBuf;
 use std::process::Stdio;
@@ -50,9 +25,7 @@ use crate::net::Deadline;
 
 /// The byte the console writes to keep the guard from stopping the arm.
 pub const HEARTBEAT: u8 = b'.';
-/// How often the console writes it: four times in [`HEARTBEAT_TIMEOUT`], so three late or lost
-/// beats in a row still leave the arm alone. Each beat is a wake-up of the console's and one of
-/// the guard's: at 100 ms the beats were some 5 % of the console's wake-ups at rest.
+/// Four beats in [`HEARTBEAT_TIMEOUT`]: three late or lost in a row still leave the arm alone.
 pub const HEARTBEAT_PERIOD: Duration = Duration::from_millis(250);
 /// A console silent this long is taken as frozen: the guard stops the arm.
 pub const HEARTBEAT_TIMEOUT: Duration = Duration::from_secs(1);
@@ -126,10 +99,9 @@ pub enum GuardReport {
 }
 
 impl GuardReport {
-    /// Whether the driver must stop motion: a guard that went down leaves nothing to stop the
-    /// arm if the console dies, and after the guard's own stop the links must not believe a
-    /// motion still runs. (`Starting` follows a `Down`, or comes before anything could
-    /// move: it needs no stop of its own, which could cut into another client's motion.)
+    /// Whether the driver must stop motion: with the guard down nothing stops the arm if the
+    /// console dies, and after the guard's own stop no motion may be believed running. (`Starting`
+    /// needs no stop of its own, which could cut into another client's motion.)
     pub fn stops_motion(&self) -> bool {
         matches!(
             self,

@@ -1,7 +1,5 @@
-//! The arm interface the console drives, whatever the wire: commands in, events out.
-//!
-//! The console's state machine emits [`ArmCommand`]s; a driver task translates them to Talos
-//! frames or Modbus writes and reports back [`ArmEvent`]s.
+//! The arm interface the console drives, whatever the wire: [`ArmCommand`]s in, [`ArmEvent`]s out;
+//! the driver translates them to Talos frames or Modbus writes.
 
 use std::time::Duration;
 

@@ -1,22 +1,12 @@
-//! Async client for a Kinova Kortex arm over Modbus TCP (`shared/icd/kinova-modbus-icd.md`).
+//! Async client for a Kinova Kortex arm over Modbus TCP (`shared/icd/kinova-modbus-icd.md`). One
+//! task owns the connection: it polls telemetry into a `watch` channel and runs commands between
+//! polls, one request at a time.
 //!
-//! One task owns the connection. It polls the complete telemetry at the configured rate and
-//! publishes each [`Snapshot`] on a `watch` channel; commands reach it over a channel with a
-//! oneshot for the outcome and run between polls, one request at a time. Values that cannot be
-//! written are refused by the caller's method, before anything is queued.
-//!
-//! Safety: the arm has no twist watchdog, so the link never leaves a twist running. It writes
-//! the stop sequence when every handle is gone, when a jog is not refreshed within
-//! [`ModbusConfig::twist_hold`], when a motion write or a poll fails, and after a reconnect.
-//! A stop the arm refuses is escalated to the abort coil; a stop that could not be written at
-//! all is logged with `tracing::error!`, sent as [`ModbusEvent::StopFailed`] and returned as an
-//! error. Actions and cartesian trajectories end by themselves and are left running on drop,
-//! except a move started under a speed cap ([`ModbusLink::go_to_pose_capped`],
-//! [`ModbusLink::home_capped`], [`ModbusLink::start_stored_capped`]): the link lowered the arm's
-//! speed limits for it, so it stops that move on close and puts the limits back (see
-//! `task/limits.rs` for every path and the gap).
-//! A task cancelled by the runtime shutting down can write nothing: await
-//! [`ModbusLink::close`] before leaving the runtime.
+//! Safety: the arm has no twist watchdog, so the link writes the stop sequence when every handle is
+//! gone, when a jog is not refreshed within [`ModbusConfig::twist_hold`], when a write or poll
+//! fails, and after a reconnect; a refused stop escalates to the abort coil. A capped move (the
+//! `*_capped` methods) is stopped on close and the arm's limits put back (`task/limits.rs`). Await
+//! [`ModbusLink::close`] before leaving the runtime: a cancelled task writes nothing.
 
 mod error;
 mod task;
@@ -222,9 +212,8 @@ impl ModbusLink {
         Self::start(config, connector).await
     }
 
-    /// Like [`connect`](Self::connect), but every connection (the first, and each reconnect)
-    /// comes from `open`: an in-memory transport in tests, or any other stream. An error from
-    /// `open` is reported as a refused connection to `config.addr`.
+    /// Like [`connect`](Self::connect), with every connection from `open` (an in-memory transport
+    /// in tests); its errors are reported as a refused connection to `config.addr`.
     pub async fn connect_via<F, Fut, T>(
         config: ModbusConfig,
         open: F,
@@ -306,9 +295,8 @@ impl ModbusLink {
         .await
     }
 
-    /// Starts or updates a polar pan: `azimuth` and `altitude` directions in -1..1 (see
-    /// [`crate::kortex::polar`]). The twist is recomputed from the pose of every poll. The same
-    /// directions again only refresh the hold; zero in both stops.
+    /// Starts or updates a polar pan, directions in -1..1 ([`crate::kortex::polar`]); the twist is
+    /// recomputed from every poll's pose. The same directions only refresh the hold; zero stops.
     pub async fn polar_pan(&self, azimuth: f32, altitude: f32) -> Result<WriteReport, ModbusError> {
         self.polar_pan_with(azimuth, altitude, self.config.polar)
             .await
@@ -356,10 +344,8 @@ impl ModbusLink {
         .await
     }
 
-    /// [`ModbusLink::go_to_pose`] with the tool at or under `cap`: its point at `cap.linear`
-    /// m/s, its turn at `cap.angular` deg/s. The arm runs a cartesian trajectory at its
-    /// configured limits, so the link lowers them (never raises them) for the move and puts them
-    /// back when the move ends, is stopped, or the link closes.
+    /// [`ModbusLink::go_to_pose`] under `cap` (m/s, deg/s): the arm plans the trajectory at its own
+    /// limits, so the link lowers them (never raises) for the move and puts them back afterwards.
     pub async fn go_to_pose_capped(
         &self,
         frame: ReferenceFrame,
@@ -404,9 +390,8 @@ impl ModbusLink {
             .await
     }
 
-    /// A stored action or sequence with the arm's speed limits lowered to `cap` while it runs,
-    /// as [`ModbusLink::go_to_pose_capped`] does. Whether an arm's stored action honours its
-    /// cartesian limits is up to the arm (the simulator's honours the linear one).
+    /// A stored action or sequence under `cap`, as [`ModbusLink::go_to_pose_capped`]; whether it
+    /// honours the cartesian limits is up to the arm.
     pub async fn start_stored_capped(
         &self,
         id: u16,

@@ -1,9 +1,7 @@
-//! The speed cap: one value, [`SpeedCap`], made once from the tool speed cap at 100 %
-//! (`max_jog_speed`) and checked then, that says what a percentage of it is for every motion
-//! and every link: the tool speed, the turn rate, the limits of a move the arm plans itself,
-//! a polar pan's and a joint jog's bounds, and (with the Talos operator's full speed,
-//! [`OperatorScale`]) the operator's percentage. The driver's two sides, the app, the audit
-//! and the command line all ask it; none works a cap out itself.
+//! The speed cap: [`SpeedCap`], made once from `max_jog_speed` (the tool speed at 100 %), says what
+//! a percentage of it is for every motion on every link (tool speed, turn rate, a planned move's
+//! limits, polar pan and joint jog bounds, the Talos operator's percentage). Nothing else works a
+//! cap out.
 
 use crate::kortex::SpeedLimits;
 use crate::kortex::commands::MAX_LINEAR_SPEED;
@@ -12,12 +10,9 @@ use crate::kortex::gen3::joint_rate_for_tool_speed;
 /// Percent of the jog speed in force until the technician (or the operator) changes it.
 pub const INITIAL_SPEED: u8 = 50;
 
-/// The tool's turn rate at 100 %, deg/s: the speed in force scales it as it scales the tool
-/// speed cap (a turn about the tool point moves the point itself not at all). One rate for
-/// every motion that turns the tool: an orientation jog, and a move the arm plans itself (a
-/// go-to, a step, home, a stored action), whose angular limit (holding registers 218-219) is
-/// lowered to it. Never above the arm's configured angular limit nor the twist's hard limit
-/// (100 deg/s).
+/// The tool's turn rate at 100 %, deg/s, scaled like the tool speed (a turn about the tool point
+/// does not move it). Bounds orientation jogs and the angular limit of planned moves (holding
+/// registers 218-219); never above the arm's configured limit nor the twist's hard limit.
 pub const MAX_ANGULAR_JOG_SPEED: f32 = 30.0;
 
 /// Single-joint jog speed at 100 %, deg/s, unless configured otherwise.
@@ -79,12 +74,10 @@ impl SpeedCap {
         check_tool_speed(max_jog_speed).map(|max_jog_speed| SpeedCap { max_jog_speed })
     }
 
-    /// The cap of a configuration the front ends have checked ([`SpeedCap::new`]: a bad value
-    /// never gets past `cli/values.rs`).
+    /// The cap of a configuration the front ends checked (`cli/values.rs`).
     ///
     /// # Panics
-    /// On a value [`SpeedCap::new`] refuses: a configuration made in code that skipped it.
-    /// Nothing has connected then, so nothing moves.
+    /// On a value [`SpeedCap::new`] refuses: nothing has connected then, so nothing moves.
     pub fn configured(max_jog_speed: f64) -> SpeedCap {
         match SpeedCap::new(max_jog_speed) {
             Ok(cap) => cap,
@@ -118,16 +111,13 @@ impl SpeedCap {
         self.tool_speed(percent) as f32
     }
 
-    /// The tool's turn rate at `percent`, deg/s: [`MAX_ANGULAR_JOG_SPEED`] scaled by it, before
-    /// the arm's own configured angular limit (which only the link's telemetry knows). What an
-    /// orientation jog turns at, and what a capped move may turn at ([`Self::move_cap`]).
+    /// The tool's turn rate at `percent`, deg/s, before the arm's own angular limit (known only
+    /// from telemetry).
     pub fn turn_rate(&self, percent: u8) -> f32 {
         MAX_ANGULAR_JOG_SPEED * fraction(percent) as f32
     }
 
-    /// The limits a move the arm plans itself (a go-to, a step, home, a stored action) runs
-    /// under at `percent`: the tool speed ([`Self::tool_speed`]) and the turn rate
-    /// ([`Self::turn_rate`]), as the arm's speed limits (m/s, deg/s) for the move.
+    /// The limits (m/s, deg/s) a move the arm plans itself runs under at `percent`.
     pub fn move_cap(&self, percent: u8) -> SpeedLimits {
         SpeedLimits {
             linear: self.tool_speed(percent) as f32,
@@ -141,10 +131,8 @@ impl SpeedCap {
         configured.min(self.max_jog_speed as f32) * fraction(percent) as f32
     }
 
-    /// A joint jog's rate at `percent`, deg/s: `joint_jog_speed` (deg/s at 100 %) scaled by
-    /// it, bounded so the tool point moves no faster than the cap at that percentage (the
-    /// lever arm from the joint's axis to the tool, from the joints' `positions` in deg) for
-    /// `horizon` s, until the jog's next refresh or the operator's watchdog.
+    /// A joint jog's rate at `percent`, deg/s, bounded so the tool point (lever arm from the
+    /// joint's axis, joint `positions` in deg) stays under the cap for `horizon` s.
     pub fn joint_rate(
         &self,
         joint_jog_speed: f32,
@@ -179,16 +167,11 @@ pub fn fraction(percent: u8) -> f64 {
     f64::from(percent) / 100.0
 }
 
-/// The cap on a Talos operator: its Set Speed / Get Speed percentage is of its own 100 % speed,
-/// not of the console's cap, and this converts between the two, so the speed in force stays a
-/// percentage of the console's cap on both link sides and only the Talos side converts.
-///
-/// Edge cases, all on the side of the cap:
-/// - To the operator, the percentage rounds down and is at least 1 %: it never gives more than
-///   the console's percentage of the cap, except that 1 % of the operator's speed is the least
-///   it can be asked for, which [`SpeedCap::with_operator`] keeps under the cap.
-/// - From the operator, the percentage of the cap rounds up (the speed shown is never less than
-///   the speed it runs at); above 100 % the operator runs over the cap, and `None` says so.
+/// The cap on a Talos operator, whose Set/Get Speed percentage is of its own 100 %, not of the
+/// console's cap; only the Talos side converts. Rounding stays under the cap:
+/// - to the operator, rounded down, at least 1 % (which [`SpeedCap::with_operator`] keeps under the
+///   cap);
+/// - from the operator, rounded up; above 100 % of the cap, `None`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OperatorScale {
     cap: SpeedCap,

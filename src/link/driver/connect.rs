@@ -1,6 +1,5 @@
-//! Connects run as their own tasks and report back over a channel, so the driver's loop keeps
-//! carrying commands (a STOP above all) while a connect or handshake takes its seconds. A link
-//! that cannot be reached is tried again with back-off.
+//! Connects run as tasks of their own, so the driver keeps carrying commands (a STOP above all)
+//! while a connect takes its seconds; an unreachable link is retried with back-off.
 
 use std::time::Duration;
 

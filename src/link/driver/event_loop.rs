@@ -1,6 +1,5 @@
-//! The driver's loop: the `select!` only waits and dispatches, one handler per kind of event
-//! changes the [`DriverState`]. Commands come first (`biased`), so a STOP is never kept
-//! waiting by anything else that is ready, and no handler awaits anything a peer controls.
+//! The driver's loop: the `select!` waits and dispatches, one handler per event. Commands come
+//! first (`biased`) so a STOP never waits, and no handler awaits anything a peer controls.
 
 use std::time::Duration;
 
@@ -122,10 +121,8 @@ pub(super) fn start(
     Started { driver, inbox }
 }
 
-/// The loop runs on the key path (a key's command passes through it): its poll is kept small.
-/// Set-up happens before it (`start`), the exit and the connect attempts in functions and
-/// futures of their own, so a poll's stack frame does not hold room for them (a frame's every
-/// page is touched on each poll, and after a pause each costs the key a fault).
+/// On the key path: set-up, exit and connects live out of line so the poll's stack frame stays
+/// small (each page of it is touched on every poll).
 pub(super) async fn run(started: Started) {
     let Started {
         mut driver,
@@ -392,10 +389,8 @@ impl DriverState {
         self.talos_attempts.abort();
         self.modbus_attempts.abort();
         self.stop_everywhere().await;
-        // Again: another console's jog refresh that crossed the first on its way restarts the
-        // arm (an arm takes a new START as a START), and that console saw no stop to latch on.
-        // Sent once such a refresh has landed, the stop set stops the arm where that console
-        // sees it stop.
+        // Again: a refresh from another console that crossed the first stop set restarted the arm,
+        // and that console saw no stop to latch on.
         tokio::time::sleep(EXIT_STOP_AGAIN).await;
         self.stop_everywhere().await;
         self.talos.close();
@@ -405,10 +400,8 @@ impl DriverState {
     }
 }
 
-/// How long after its first stop set the driver's exit sends the second: past the trip of a
-/// refresh that crossed the first (a few ms), and about when the other console's next refresh
-/// falls due (refreshes are 100 ms apart), which it sends only on two samples since that do not
-/// contradict its jog (`console/app/other_client.rs`): those show this stop.
+/// Past a crossing refresh's trip, and about when the other console's next refresh falls due (100
+/// ms apart; it needs two samples to see this stop, `console/app/other_client.rs`).
 const EXIT_STOP_AGAIN: Duration = Duration::from_millis(100);
 
 fn is_orientation_jog(command: &ArmCommand) -> bool {

@@ -1,7 +1,5 @@
-//! Each link's state as the driver knows it, and the one status the console shows for them.
-//!
-//! The driver knows a link is connecting, up or lost; whether an up link has gone stale is
-//! judged by the console from the telemetry it stops getting, so it is no state here.
+//! Each link's state as the driver knows it (connecting, up, lost) and the one status shown for
+//! them; staleness is the console's to judge from telemetry.
 
 use super::DriverConfig;
 use crate::link::interface::LinkStatus;

@@ -1,18 +1,11 @@
-//! The arm driver: one task that carries out the console's [`ArmCommand`]s on a Talos operator,
-//! a Modbus arm, or both (jog through Talos, telemetry over Modbus), and reports [`ArmEvent`]s.
+//! The arm driver: one task that carries the console's [`ArmCommand`]s to a Talos operator, a
+//! Modbus arm or both, and reports [`ArmEvent`]s.
 //!
-//! Order is kept: Talos requests are submitted in command order and their replies awaited
-//! apart, so a STOP never waits behind a START's reply; Modbus commands run one after another
-//! in a worker that drops jog refreshes a later STOP makes stale. A STOP goes to every link;
-//! over Talos it is the one stop set ([`crate::talos::stop_requests`]), on the keys, the panic
-//! hook's [`StopHandle`] and the exit alike.
-//!
-//! The loop awaits nothing a peer controls: Talos submission queues or fails at once (a full
-//! queue, or a write stalled 500 ms, ends that link), Modbus commands go to the worker's
-//! channel. So an operator that stops reading holds up no STOP for the other link.
-//! When a link drops, the driver reports it and reconnects; nothing moves again until the
-//! technician presses a key. Connects and handshakes run off the loop (see `connect`), so a
-//! STOP never waits behind one; a link unreachable at start is retried with back-off.
+//! Order is kept, and a STOP never waits: Talos replies are awaited apart from submission, Modbus
+//! commands run in a worker that drops refreshes a later STOP makes stale, and the loop awaits
+//! nothing a peer controls (a full queue or a write stalled 500 ms ends that link). A STOP goes to
+//! every link; over Talos it is the one stop set ([`crate::talos::stop_requests`]). After a link
+//! drops nothing moves until the technician presses a key.
 
 mod connect;
 mod event_loop;
@@ -134,7 +127,7 @@ pub struct Driver {
 }
 
 impl Driver {
-    /// Starts the driver; it connects in the background and reports through the events.
+    /// Starts the driver; it connects in the background.
     ///
     /// # Panics
     /// On a speed cap [`DriverConfig::speed_cap`] refuses (the front ends refuse it first).

@@ -142,9 +142,7 @@ impl State {
         self.cap.twist_speed(self.speed.percent())
     }
 
-    /// What a move the arm plans itself runs under at the speed in force
-    /// ([`SpeedCap::move_cap`]): the tool speed and the turn rate, written as the arm's limits
-    /// for the move.
+    /// A planned move's limits at the speed in force ([`SpeedCap::move_cap`]).
     fn move_cap(&self) -> SpeedLimits {
         self.cap.move_cap(self.speed.percent())
     }
@@ -218,10 +216,9 @@ impl State {
             ArmCommand::Stop => wrap(self.link.stop().await),
             ArmCommand::QuickStop => wrap(self.link.quick_stop().await),
             ArmCommand::FaultReset => wrap(self.link.fault_reset().await),
-            // Moves run at the arm's configured limits: the link lowers them to the tool speed
-            // and the turn rate for the move and restores them afterwards (a twist servo would leave the arm's own
-            // trajectory planning, and its final accuracy, behind).
-            // Home is the stored action of the configured id, on the one path of them all.
+            // Moves run at the arm's configured limits, lowered for the move and restored
+            // afterwards (a twist servo would lose the arm's trajectory planning and final
+            // accuracy). Home is the stored action of the configured id.
             ArmCommand::Home => wrap(self.start_stored(self.link.config().home_action()).await),
             ArmCommand::StartStored(stored) => wrap(self.start_stored(*stored).await),
             ArmCommand::MoveToPose(pose) => wrap(
@@ -240,9 +237,8 @@ impl State {
                 }
                 None => Err(ArmError::NoPose),
             },
-            // The jog speed is the console's own setting: it scales the twists this worker
-            // computes and is never written to the arm's configured limits (216-219), which
-            // belong to `armjog modbus speed-limit`.
+            // The jog speed scales the twists computed here and is never written to the arm's
+            // configured limits (216-219), which belong to `armjog modbus speed-limit`.
             ArmCommand::SetSpeed(speed) if is_settable(*speed) => {
                 self.speed.set(*speed);
                 let _ = self.events.send(ArmEvent::Speed(*speed));
@@ -327,9 +323,8 @@ fn wrap(result: Result<WriteReport, ModbusError>) -> Result<Option<WriteReport>,
     result.map(Some).map_err(|e| ArmError::Modbus(e.into()))
 }
 
-/// The pose a step moves to. Polar steps turn the position about the base Z axis (and the tool
-/// with it: extrinsic XYZ makes that a change of theta z) and change its elevation about the
-/// base origin, keeping the distance.
+/// The pose a step moves to. Polar steps turn the position about base Z (extrinsic XYZ: a change of
+/// theta z) and change its elevation about the base origin, keeping the distance.
 pub fn step_target(pose: Pose, step: StepMove) -> Pose {
     match step {
         StepMove::Cartesian { dx, dy, dz } => Pose {

@@ -1,6 +1,5 @@
-//! The speed in force, percent of the cap: one value per driver, shared by the Talos side and
-//! the Modbus worker, so a speed set through either bounds the motion both command. What a
-//! percentage of the cap is, is [`crate::link::speed::SpeedCap`]'s.
+//! The speed in force, percent of the cap: one per driver, shared by both link sides so a speed set
+//! through either bounds both.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU8, Ordering};

@@ -1,9 +1,6 @@
-//! One outcome per STOP the console sends: [`ArmEvent::StopConfirmed`] once every link that
-//! carried motion answered it, [`ArmEvent::StopUnconfirmed`] if any could not.
-//!
-//! A link owes an answer to each STOP it was given (the Modbus worker and the Talos side each
-//! report one `Done` or one `Failed` per command). A link that carried motion but is down when
-//! the STOP is sent cannot take it: that STOP is unconfirmed at once.
+//! One outcome per STOP: [`ArmEvent::StopConfirmed`] once every link that carried motion answered
+//! it, [`ArmEvent::StopUnconfirmed`] if any could not (a link that carried motion and is down is
+//! unconfirmed at once). Each side reports one `Done` or `Failed` per command.
 
 use std::collections::VecDeque;
 

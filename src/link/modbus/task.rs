@@ -441,9 +441,8 @@ impl LinkTask {
         Ok(telemetry)
     }
 
-    /// Writes what a slow block may show (speed limits above all); the next snapshot reads
-    /// every block back, so what the console shows is what the arm has. Jog and move writes
-    /// use [`LinkTask::execute`]: they never touch a slow block.
+    /// Writes what a slow block may show (speed limits above all); the next snapshot reads it back.
+    /// Jog and move writes use [`LinkTask::execute`].
     async fn execute_read_back(&mut self, writes: &[Write]) -> Result<WriteReport, ModbusError> {
         let written = self.execute(writes).await;
         self.slow_read_at = None;

@@ -1,6 +1,5 @@
-//! What to try when the first exchange with an operator fails: an operator that speaks another
-//! reply dialect or checksum either stays silent (its replies never decode) or sends frames that
-//! fail our checksum but fit another.
+//! What to try when the first exchange with an operator fails: another dialect or checksum stays
+//! silent or sends frames that fail our checksum but fit another.
 
 use std::time::Duration;
 
@@ -18,10 +17,8 @@ pub(super) fn checksum_hint(rejection: &Rejection) -> String {
     }
 }
 
-/// The failure of a link's first exchange (the handshake, or `armjog send`'s one request) in
-/// words, with a hint when it points at a dialect or checksum mismatch: a timeout names the
-/// address and the options to try; `fit`, a checksum the operator's bytes fit (see
-/// [`wait_for_checksum_fit`]), is named with it.
+/// The failure of a link's first exchange in words, with a hint at a dialect or checksum mismatch
+/// (`fit`: a checksum the bytes fit, [`wait_for_checksum_fit`]).
 pub fn first_exchange_error(
     error: &TalosError,
     config: &TalosConfig,
@@ -61,10 +58,9 @@ fn others<T: PartialEq + std::fmt::Display>(all: &[T], current: T) -> String {
         .join("|")
 }
 
-/// After a first exchange timed out: waits up to `within` (the link's frame deadline) for the
-/// link to give up on bytes it could not decode, and returns the checksum they fit, if any. A
-/// reply one byte short under our checksum (an `xor8` reply to a `crc16` link) is only given up
-/// at the frame deadline, which may come after the request's timeout.
+/// After a timed-out first exchange: waits up to `within` for the link to give up on bytes it could
+/// not decode and returns the checksum they fit. A reply one byte short is given up only at the
+/// frame deadline, which may come after the request's timeout.
 pub async fn wait_for_checksum_fit(
     events: &mut mpsc::UnboundedReceiver<TalosEvent>,
     within: Duration,

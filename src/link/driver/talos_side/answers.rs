@@ -117,13 +117,9 @@ pub(super) fn position_name(command: &ArmCommand) -> Option<String> {
     }
 }
 
-/// Awaits a command's replies in order and reports them. A stop tries every request and
-/// reports exactly one `Done` or `Failed` (`stop_failure`: a request that could not be sent).
-/// A Set Speed takes effect (for later joint jogs and in the status bar) only once the
-/// operator has answered OK, as the percentage of the cap asked for: the operator's own
-/// percentage was rounded down from it, so the operator runs at most that fast. (Reading the
-/// rounded value back would make a speed key step, say 75 % of a 50 mm/s cap on a 300 mm/s
-/// operator, show 72 %, and the next step up land on 75 % again.)
+/// Awaits a command's replies in order. A stop tries every request and reports one `Done` or
+/// `Failed`. A Set Speed takes effect only once answered OK, as the percentage of the cap asked
+/// for, not the operator's rounded-down value read back (which would make speed steps stick).
 pub(super) async fn answers(
     command: ArmCommand,
     pending: Vec<PendingReply>,

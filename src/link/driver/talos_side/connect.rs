@@ -19,10 +19,9 @@ pub struct TalosConnected {
     pub(super) description: String,
 }
 
-/// Connects and handshakes; on success, reads the speed (ICD dialect). An operator found
-/// running over the console's cap is set to [`INITIAL_SPEED`] of the cap before the link is
-/// attached (so before any motion), and the technician is told; one that will not take it is
-/// not attached at all.
+/// Connects, handshakes and reads the speed (ICD dialect). An operator over the console's cap is
+/// set to [`INITIAL_SPEED`] before the link is attached (before any motion); one that refuses is
+/// not attached.
 pub(super) async fn connect(
     config: TalosConfig,
     oid: u16,

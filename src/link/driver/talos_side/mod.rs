@@ -66,9 +66,8 @@ struct Submitted {
     stop_failure: Option<ArmError>,
 }
 
-/// The Talos link's configuration in this driver. A Modbus link's STOP is written on the same
-/// thread: the Talos link must then not stop that thread to let its operator read (`give_way`,
-/// `net/hand_off.rs`).
+/// The Talos link's configuration. A Modbus STOP is written on the same thread, so the Talos link
+/// must not stop that thread for its operator (`give_way`, `net/hand_off.rs`).
 fn link_config(config: &DriverConfig) -> Option<TalosConfig> {
     let talos = config.talos.clone()?;
     Some(TalosConfig {
@@ -174,10 +173,8 @@ impl TalosSide {
         }
     }
 
-    /// A joint jog's rate, deg/s: its jog speed at the speed in force, bounded so the tool point
-    /// moves no faster than the cap at that speed (the lever arm from the joint's axis to the
-    /// tool, from the reported angles), until the jog's next refresh or the operator's 500 ms
-    /// watchdog.
+    /// A joint jog's rate, deg/s, bounded so the tool point stays under the cap until the next
+    /// refresh or the operator's 500 ms watchdog.
     fn joint_rate(&self, positions: &[f32; 7], joint: u8) -> f32 {
         self.cap().joint_rate(
             self.joint_jog_speed,
@@ -339,12 +336,9 @@ impl TalosSide {
         }
     }
 
-    /// Spawns the last command's answers, once the link task has written its frames if
-    /// `after_the_write`: spawning them at once made the key wait for the task's allocation and
-    /// its pages (a few to some tens of us, after a pause) before its frame went out. They are
-    /// reported as before: the link task ran first either way. With more commands waiting (a
-    /// flood) they are spawned at once: a yield per command would keep the driver on its
-    /// commands, never letting the link's events (its end) in.
+    /// Spawns the last command's answers after the link task wrote its frames if `after_the_write`,
+    /// so the spawn's allocation does not delay the frame. In a flood they are spawned at once, so
+    /// the link's events still get in.
     pub async fn spawn_answers(&mut self, after_the_write: bool) {
         if self.answers.is_some() {
             if after_the_write {
@@ -427,9 +421,8 @@ impl TalosSide {
         });
     }
 
-    /// On the way out (quit, or the console gone): sends the stop set, the same one as the STOP
-    /// key's, and waits (up to 500 ms) until its requests are answered. The link stays up (the
-    /// driver's exit sends it twice); [`TalosSide::close`] drops it.
+    /// On the way out: sends the stop set and waits (up to 500 ms) for its answers. The link stays
+    /// up (the exit sends it twice); [`TalosSide::close`] drops it.
     pub async fn stop_and_wait(&self) {
         let Some(link) = &self.link else {
             return;
@@ -467,9 +460,8 @@ fn hw_request(request: &HwRequest) -> Result<Request, ArmError> {
     request.to_request().map_err(ArmError::Encode)
 }
 
-/// Comes back once the tasks already woken on this thread have run (the link task a command
-/// woke): it wakes itself, so it is queued behind them. tokio's `yield_now` would also poll the
-/// reactor before coming back, a syscall in every key's burst.
+/// Comes back after the tasks already woken on this thread (the link task) have run. Unlike tokio's
+/// `yield_now` it does not poll the reactor, a syscall per key.
 async fn after_tasks_woken() {
     let mut woken = false;
     std::future::poll_fn(|cx| {

@@ -1,14 +1,9 @@
-//! A twist or polar pan stopped or replaced by another client (a second console, the Kortex web
-//! app, a raw Modbus client): any client's STOP stops the arm, and the same twist asked again
-//! must not restart it. Without this a polar pan, whose twist is rewritten from every poll's
-//! pose, restarted the arm within one poll of another client's STOP.
+//! A twist or polar pan stopped or replaced by another client: any client's STOP stops the arm, and
+//! the same twist asked again (a refresh) must not restart it.
 //!
-//! Evidence: the action status reads aborted or completed, or the move type changes from twist
-//! to another, while this link has a twist in force. The status is trusted once it has read started
-//! since our write, or [`STATUS_GRACE`] after it (a read that soon may predate the write).
-//! The motion is then dropped without a write; the same request again (a jog refresh) writes
-//! nothing, until a stop or a different motion. The console sees the same telemetry and stops
-//! and latches its keys.
+//! Evidence: the action status reads aborted or completed, or the move type leaves twist, while
+//! ours is in force; the status is trusted once read started since our write, or [`STATUS_GRACE`]
+//! after it. The motion is then dropped without a write until a stop or a different motion.
 
 use std::time::Duration;
 

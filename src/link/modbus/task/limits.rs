@@ -1,22 +1,11 @@
-//! Capped moves: a Kinova cartesian trajectory (and a stored action) runs at the arm's
-//! configured speed limits, not at a speed the client names. To keep such a move under the
-//! console's cap, the link lowers the linear and angular limits (holding registers 216-219) to
-//! the cap's tool speed and turn rate for the move, never raising either, and puts the previous
-//! limits back:
+//! Capped moves: a Kinova cartesian trajectory or stored action runs at the arm's configured
+//! limits, so the link lowers them (holding registers 216-219, never raising) for the move and
+//! restores the limits in force before the first capped move: when a poll shows the move ended (or
+//! [`START_GRACE`] passed unseen), after any stop, when a twist replaces it, and on close (stopped
+//! first, so it never runs on at restored limits).
 //!
-//! - when a poll shows the move has ended (action status no longer "started", after it was seen
-//!   started, or [`START_GRACE`] after it was sent if it never showed);
-//! - after any stop the link writes (requested, hold expiry, failed write or poll, reconnect),
-//!   and after a quick stop or abort;
-//! - when a twist or polar pan replaces the move;
-//! - when the link closes or its last handle is dropped: the move is stopped first, so it never
-//!   runs on at the restored limits.
-//!
-//! The limits in force before the first capped move are the ones restored, however many capped
-//! moves follow. Remaining gap: if the process dies (or the connection cannot be reopened
-//! while closing) between lowering and restoring, the arm keeps the lower limits: the safe
-//! direction, but a technician must set them again (`armjog modbus speed-limit`); the restore
-//! failure is logged as an error and sent as [`ModbusEvent::SpeedLimitsNotRestored`].
+//! Gap: a process dying between lowering and restoring leaves the lower limits (the safe side); the
+//! restore failure is logged and sent as [`ModbusEvent::SpeedLimitsNotRestored`].
 
 use std::time::Duration;
 
@@ -197,9 +186,8 @@ impl LinkTask {
     }
 }
 
-/// Another client's move that the arm runs at its speed limits (an action, a sequence, a
-/// cartesian trajectory: the moves a client lowers the limits for), started and not at rest, in
-/// words. Asked only while this link holds no limits of its own: such a move is not ours.
+/// Another client's move the arm runs at its speed limits, started and not at rest, in words. Asked
+/// only while this link holds no limits of its own.
 fn capped_move_running(t: &Telemetry) -> Option<String> {
     let action = &t.action;
     let capped = matches!(

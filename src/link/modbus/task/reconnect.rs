@@ -6,9 +6,8 @@ use crate::kortex::{PollPlan, RegisterImage};
 use crate::link::modbus::ModbusConfig;
 use tokio_modbus::client::Context;
 
-/// Opens a connection and checks that the arm answers on it. A TCP connect alone proves
-/// nothing: a frozen server's kernel still accepts connections into its backlog, and a link
-/// reported up then would hide the freeze from the technician.
+/// Opens a connection and checks that the arm answers: a frozen server's kernel still accepts
+/// connections, so a TCP connect alone proves nothing.
 async fn open_answering(
     connector: &wire::Connector,
     config: &ModbusConfig,
