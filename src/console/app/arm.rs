@@ -1,20 +1,9 @@
-//! The arm in the state machine:
-//! - the one gate every motion passes: [`App::motion_refusal`] says whether a motion may start
-//!   and, if not, why. Jogs of every kind, steps, home, go-to and move-to-pose all ask it where
-//!   they start, and after every input any motion command still emitted while it refuses is
-//!   dropped (the net under those paths). Reasons, first first: no link, a stale link, the stop
-//!   guard not ready (any real link), and what the arm itself reports (`parts::arm_refusal`): a
-//!   fault (an emergency stop is one), a state other than ready or controlled, or telemetry no
-//!   Gen3 can report (not a number, out of physical range). A fault, state or reading like that
-//!   appearing while a motion runs stops it and latches the held keys
-//!   ([`App::watch_arm_state`]);
-//! - its events: link status, telemetry, the command log, failures, positions the operator
-//!   knows or not, commands done and the stop guard;
-//! - the speed cap watched on its telemetry (the rule: `cap_watch`);
-//! - stored actions and sequences by id: the key opens the form (or says why it cannot work on
-//!   this link), the submitted form asks before it moves, a yes starts it, and any key stops a
-//!   stored run (home among them) while it runs. The run is watched to its end as home is
-//!   (`motion_truth/actions.rs`).
+//! The arm in the state machine: the one motion gate ([`App::motion_refusal`]: no link, a stale
+//! link, no ready stop guard, or what the arm reports, `parts::arm_refusal`), asked where every
+//! motion starts and again after every input as a net; a fault, state or reading that appears while
+//! a motion runs stops it and latches the held keys ([`App::watch_arm_state`]). Also the driver's
+//! events, the speed cap watched on telemetry (`cap_watch`), and stored actions and sequences by id
+//! (asked first, stopped by any key, watched to their end in `motion_truth/actions.rs`).
 
 use std::time::Instant;
 
@@ -52,9 +41,8 @@ impl App {
                 }
                 let came_up = self.arm.on_link(status);
                 if came_up && self.config.positions_on_operator {
-                    // The ICD cannot list positions: ask about remembered names, so the panel
-                    // marks the ones this operator does not know (and shows where the others
-                    // are now).
+                    // The ICD cannot list positions: ask about remembered names, so the panel marks
+                    // those this operator does not know.
                     self.check_names_on_operator(effects);
                 }
             }
@@ -129,11 +117,9 @@ impl App {
         }
     }
 
-    /// The stop guard stopped the arm. The driver reports it as a failed jog (the held keys are
-    /// latched as for one), whatever ran: the line names what it stopped, the tracked action
-    /// (`go to 'bench' stopped: the stop guard stopped the arm: ...`), a jog or nothing, and the
-    /// action is forgotten, so the arm's abort that follows is not said again as its failure. A
-    /// STOP of our own confirms the end of what was ours.
+    /// The stop guard stopped the arm: reported by the driver as a failed jog (held keys latched),
+    /// named after what it stopped. The tracked action is forgotten so the arm's abort that follows
+    /// is not said again as its failure.
     fn on_guard_stopped(&mut self, error: &ArmError, now: Instant, effects: &mut Vec<Effect>) {
         let jogging = self.keys.jog().is_jogging();
         self.stop_jog(now, effects);
@@ -162,11 +148,9 @@ impl App {
         self.say(text, Severity::Error, now);
     }
 
-    /// A console frozen (SIGSTOP, a stalled machine) for the guard's heartbeat timeout may have
-    /// had its motion stopped by the guard, whose report comes in after the console, back, has
-    /// ended that motion itself (a stale link, the arm seen at rest): what ran when it froze
-    /// (the tour's leg, else a go-to, home, action or step, else a jog) is kept for that report,
-    /// for the timeout again.
+    /// A console frozen for the guard's heartbeat timeout may get the guard's report after it has
+    /// ended the motion itself: what ran when it froze is kept for that report, for the timeout
+    /// again.
     pub(super) fn note_freeze(&mut self, now: Instant) {
         if self.now.is_none_or(|last| now < last + HEARTBEAT_TIMEOUT) {
             return;
@@ -199,9 +183,8 @@ impl App {
         self.stop_from_telemetry(text, now, effects);
     }
 
-    /// Stops a motion the telemetry shows must not go on (over the cap, the arm in fault, another
-    /// client's stop): STOP, the held keys latched like any other stop, and `text` on the
-    /// message line and in the log.
+    /// Stops a motion the telemetry shows must not go on (over the cap, a fault, another client's
+    /// stop): STOP, held keys latched, `text` on the message line and in the log.
     pub(super) fn stop_from_telemetry(
         &mut self,
         text: String,

@@ -1,17 +1,8 @@
-//! The position book in the state machine, from its file to the operator:
-//! - loading: the runtime parses the file off the event loop and hands it over as
-//!   [`Input::PositionsLoaded`]; meanwhile the console draws, jogs and stops as usual. A change
-//!   made while it loads is kept and merged into the loaded book, then saved; a book that could
-//!   not be read is never saved over (`book_load`: [`BookState`]).
-//! - saving: every change writes the whole book on the writer's thread, each outcome comes back
-//!   as [`Input::PositionsSaved`]; a position whose write failed is marked "not saved" until a
-//!   later write holds it, and quitting with such positions asks first (`saving`: the counts).
-//! - merges: what a write found another writer had put in the file is told here; a position
-//!   both changed is kept twice (`pick~2`) and the technician is asked which keeps the name.
-//! - re-saves: a name a Talos operator has lost is offered for re-saving from the coordinates
-//!   the console remembers, then gone to, as the one confirmation (`resave`).
-//!
-//! Edits (save, rename, delete, undo) are in `edits`, the named-position keys in `named`.
+//! The position book in the state machine, from its file to the operator: loading off the event
+//! loop (`book_load`), saving each change on the writer's thread (`saving`), merges with another
+//! writer's changes (a name both changed is kept twice, `pick~2`, and the technician asked), and
+//! re-saving names a Talos operator lost (`resave`). Edits are in `edits`, the named-position keys
+//! in `named`.
 
 use std::time::Instant;
 
@@ -126,9 +117,9 @@ impl App {
 }
 
 impl App {
-    /// A write found another writer's changes: a name changed on both sides is a warning naming
-    /// it (and a question, when nothing else is going on), as are entries of the file set
-    /// aside; what was merged in is said, after `saved`, the name said as being saved.
+    /// A write found another writer's changes: a name changed on both sides, or an entry set aside,
+    /// is a warning (and a question when nothing else goes on); what was merged in is said after
+    /// `saved`.
     pub(super) fn tell_found(&mut self, written: &Written, saved: Option<&str>, now: Instant) {
         for conflict in &written.conflicts {
             tracing::warn!("positions: {}", conflict.describe());

@@ -1,14 +1,10 @@
-//! The position book while it loads: the runtime parses the file off the event loop (a book of
-//! up to 16 MB takes a second or more) and hands it over as [`super::Input::PositionsLoaded`];
-//! meanwhile the console draws, jogs and stops as usual.
-//!
-//! Nothing is lost and nothing is overwritten: a change made while the book loads is kept in
-//! memory and merged into the loaded book, which is then saved; a book that could not be read is
-//! never saved over (the file may only need a fix). The state machine's side is in `book.rs`.
+//! The position book while it loads: parsed off the event loop (a 16 MB book takes a second or
+//! more) and handed over as [`super::Input::PositionsLoaded`], so the console keeps jogging and
+//! stopping meanwhile. A change made meanwhile is merged into the loaded book and saved; a book
+//! that could not be read is never saved over.
 
-/// How many remembered names are checked with the operator when the link comes up: each costs
-/// a request, and a big book would flood the operator (and the console) for minutes. The others
-/// are checked when shown or gone to.
+/// How many remembered names are checked with the operator when the link comes up (each costs a
+/// request); the others are checked when shown or gone to.
 pub const CHECKED_ON_CONNECT: usize = 100;
 
 /// Where the position book stands.

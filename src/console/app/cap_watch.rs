@@ -1,20 +1,12 @@
-//! The speed cap, watched: the console commands every motion under `--max-jog-speed`, and where
-//! there is telemetry it also checks the arm keeps to it. A motion the console started (a jog
-//! of any kind, home, go-to, a step, a move to a pose) that the telemetry shows more than
-//! [`CAP_TOLERANCE`] over the cap for [`OVER_CAP_SAMPLES`] samples in a row is stopped, the
-//! held keys latched like any other stop, and the message line and audit log say why.
+//! The speed cap, watched: a motion the console started that telemetry shows more than
+//! [`CAP_TOLERANCE`] over the cap for [`OVER_CAP_SAMPLES`] samples in a row is stopped, held keys
+//! latched, and the message line and audit say why. The tolerance absorbs tracking overshoot and
+//! noise; the run of samples, one sample's spike.
 //!
-//! What is compared: the tool point's linear speed (the twist's linear part) with the cap
-//! itself, not with the cap scaled by the speed in force. The cap is the safety rule ("one cap
-//! bounds every motion"); the speed in force is a convenience under it, learnt from the
-//! operator's answers and changed while the arm decelerates, so a scaled bound would stop
-//! motions that are safe. An operator whose 100 % is not the `--operator-full-speed` the
-//! console was told shows at 100 % of the speed, where it matters. A joint jog's joint rate is
-//! compared, likewise, with the joint jog speed at 100 %. The tolerance absorbs the arm's
-//! tracking overshoot and the telemetry's noise; the run of samples, one sample's spike.
-//!
-//! Without telemetry (the Talos ack dialect) nothing can be watched: the status bar says so.
-//! The rule is here; the state machine applies it to each sample in `arm.rs` (`App::watch_cap`).
+//! The tool's linear speed (a joint jog: the joint rate) is compared with the cap at 100 %, not the
+//! cap scaled by the speed in force: the cap is the safety rule, and the speed in force changes
+//! while the arm decelerates. Without telemetry nothing is watched (the status bar says so).
+//! Applied per sample by `App::watch_cap` in `arm.rs`.
 
 use crate::console::jog::JogMotion;
 use crate::kortex::Telemetry;

@@ -1,11 +1,7 @@
-//! Changes to named positions beyond a plain save: saving over a name asks first, renaming,
-//! and undoing the last delete.
-//!
-//! Where positions live in the console's book (Modbus) these are book edits. On a Talos
-//! operator, which has no rename, a rename is "Set Cartesian Position" under the new name at
-//! the old name's coordinates, then "Delete Position" of the old name, in that order, and
-//! stops with a message at the first step that fails; an undone delete is re-saved with
-//! "Set Cartesian Position". The book follows what the operator accepted.
+//! Changes to named positions beyond a plain save: overwrite (asked first), rename, undo delete. A
+//! Talos operator has no rename: it is Set Cartesian Position under the new name, then Delete
+//! Position of the old, stopping at the first step that fails; the book follows what the operator
+//! accepted.
 
 use std::time::Instant;
 

@@ -1,8 +1,6 @@
-//! The last 30 s of telemetry for the history panel: TCP linear speed and each joint's current
-//! and torque, in fixed 250 ms buckets so memory stays bounded whatever the telemetry rate.
-//!
-//! Pure: fed with `now` by the app. A bucket keeps the peak speed (a short burst must show)
-//! and the mean |current| and |torque| of its samples.
+//! The last 30 s of telemetry for the history panel (TCP speed, each joint's current and torque) in
+//! fixed 250 ms buckets, so memory is bounded whatever the rate. A bucket keeps the peak speed (a
+//! short burst must show) and the mean |current| and |torque|.
 
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
@@ -58,9 +56,8 @@ struct Bucket {
     abs_torque_sum: [f64; JOINTS],
     abs_current_sum: [f64; JOINTS],
     samples: u32,
-    /// A sample out of physical range (see `kortex::sanity`) fell in this bucket: the speed,
-    /// each joint's torque and current. The bucket then reads as not known (NaN), never as
-    /// the nonsense.
+    /// A sample out of physical range (`kortex::sanity`) fell in this bucket: it reads as not known
+    /// (NaN), never as the nonsense.
     speed_insane: bool,
     torque_insane: [bool; JOINTS],
     current_insane: [bool; JOINTS],
@@ -152,9 +149,8 @@ impl History {
         self.age_out(now);
     }
 
-    /// TCP linear speed, mm/s: the twist's, or from the last position when the twist says 0
-    /// (a source that does not fill it in). NaN when the twist or the position is out of
-    /// physical range: not known.
+    /// TCP linear speed, mm/s: the twist's, or from the last position when the twist says 0 (a
+    /// source that does not fill it in). NaN when out of physical range.
     fn speed_of(&mut self, t: &Telemetry, now: Instant) -> f64 {
         let twist = &t.tcp.twist;
         let p = &t.tcp.pose;
@@ -216,10 +212,8 @@ impl History {
         };
         let current =
             (now.saturating_duration_since(origin).as_millis() / BUCKET.as_millis()) as u64;
-        // The bucket being filled joins the window with its first sample: until then the window
-        // ends at the one before. Otherwise the newest column read "no telemetry" for the first
-        // poll period of every bucket, and a console at rest redrew four times a second for that
-        // blink alone (telemetry that stops still ages out, a bucket behind).
+        // The bucket being filled joins the window with its first sample, so the newest column does
+        // not blink "no telemetry" (and redraw an idle console) at the start of every bucket.
         let newest = if self.buckets.back().is_some_and(|b| b.index >= current) {
             current
         } else {

@@ -1,6 +1,5 @@
-//! What one telemetry sample says about the jog the console holds: running it, at rest, far
-//! slower than it ran, or moving the tool somewhere else. Pure; see `other_client` for what the
-//! console does with it.
+//! What one telemetry sample says about the held jog: running, at rest, far slower, or moving the
+//! tool elsewhere. Pure; `other_client` acts on it.
 
 use crate::console::coords::describe_motion;
 use crate::console::jog::JogMotion;
@@ -51,9 +50,8 @@ impl Contradiction {
     }
 }
 
-/// The jog's progress in `t`: the speed along our direction, mm/s (cartesian in the base frame),
-/// or else the speed of what the jog moves (the tool point for polar pans and cartesian jogs in
-/// another frame, mm/s; its rotation, deg/s; the joint, deg/s). NaN says nothing: `None`.
+/// The jog's progress in `t`: the speed along our direction (cartesian base frame, mm/s), else of
+/// what the jog moves (tool point mm/s, rotation or joint deg/s). NaN: `None`.
 pub fn progress(t: &Telemetry, motion: JogMotion, base_frame: bool) -> Option<(f64, &'static str)> {
     let v = t.tcp.twist;
     let linear = [v.x, v.y, v.z].map(f64::from);
@@ -78,9 +76,8 @@ pub fn progress(t: &Telemetry, motion: JogMotion, base_frame: bool) -> Option<(f
     value.0.is_finite().then_some(value)
 }
 
-/// The tool moving fast (over the idle threshold) with under [`ALONG_FRACTION`] of its speed
-/// along our cartesian direction: where it goes, in words. Only for a cartesian jog in the base
-/// frame, the frame the telemetry's twist is in.
+/// The tool moving fast with under [`ALONG_FRACTION`] of its speed along our direction: where it
+/// goes, in words. Only for a cartesian jog in the base frame, the frame of the twist.
 pub fn elsewhere(t: &Telemetry, motion: JogMotion, base_frame: bool) -> Option<String> {
     let JogMotion::Cartesian { .. } = motion else {
         return None;

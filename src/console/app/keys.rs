@@ -1,7 +1,6 @@
-//! Keys in the state machine: ctrl+c, overlays' auto-repeat, jog keys, actions; a key with an
-//! overlay open goes to the overlay (its keys: `screen`). Jog keys: what the jog engine's
-//! effects become (a refresh held for telemetry: `other_client`), taps as bounded steps, and
-//! keeping the engine's view of held keys while motion is not allowed.
+//! Keys in the state machine: ctrl+c, overlays (their keys: `screen`), jog keys and actions. Jog
+//! engine effects become commands (a refresh held for telemetry: `other_client`), taps become
+//! bounded steps, and held keys stay tracked while motion is not allowed.
 
 use std::time::Instant;
 
@@ -289,10 +288,8 @@ impl App {
         }
     }
 
-    /// A refresh the jog engine made at `now` for `before` (the jog held before the tick):
-    /// after the grace, with telemetry to go by, it waits for the next sample, and goes out only
-    /// on one that does not contradict the jog. So a refresh never follows telemetry showing
-    /// the jog stopped, slowed or replaced (see `other_client`).
+    /// A refresh the jog engine made for `before`: past the grace, with telemetry, it waits for a
+    /// sample that does not contradict the jog (`other_client`).
     pub(super) fn hold_refresh(
         &mut self,
         before: Option<JogMotion>,
@@ -345,9 +342,8 @@ impl App {
         })
     }
 
-    /// A key event that may not move the arm (overlay, screen too small, step mode, no link):
-    /// if it is a jog key the engine still tracks it, latched, so once motion is allowed again
-    /// it moves only after being released and pressed anew.
+    /// A key that may not move the arm: a jog key stays tracked, latched, so it moves only after a
+    /// fresh press once motion is allowed.
     pub(super) fn latch_jog_key(
         &mut self,
         key: &KeyInput,
@@ -366,9 +362,8 @@ impl App {
         self.apply_jog(jog, now, effects);
     }
 
-    /// A key's release reaches the engine whatever is shown: it ends a hold or a latch. It may
-    /// carry other modifiers than its press (shift pressed mid-hold turns the release of "w"
-    /// into "W"): every jog action the key could have meant is released.
+    /// A release reaches the engine whatever is shown. Its modifiers may differ from its press
+    /// (shift mid-hold turns "w" into "W"): every jog the key could have meant is released.
     pub(super) fn release_jog_keys(
         &mut self,
         key: &KeyInput,

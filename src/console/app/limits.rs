@@ -1,7 +1,6 @@
-//! Joints close to their limits, named in the status bar and marked on the joints gauge.
-//!
-//! The Gen3 reports angles 0 to 360; a limited joint's limit is symmetric about 0, so the
-//! margin is taken on the angle folded into (-180, 180]. Continuous joints have no limit.
+//! Joints close to their limits, for the status bar and the joints gauge. The Gen3 reports 0 to 360
+//! and limits are symmetric about 0, so the margin is taken on the angle folded into (-180, 180];
+//! continuous joints have none.
 
 use crate::kortex::Telemetry;
 use crate::kortex::gen3::JOINT_LIMITS_DEG;

@@ -1,10 +1,6 @@
-//! The bottom line's message, tied to what raised it: a notice ("saved 'pick'") times out, a
-//! message about a state ("link lost", "jog failed: ARM_FAULT", "no link to the arm: not
-//! moving") stays while that state holds and clears when it ends, so the line never contradicts
-//! the status bar.
-//!
-//! A newer message hides an older state message rather than dropping it: once the newer one
-//! has gone, the older one shows again if its state still holds.
+//! The bottom line's message, tied to what raised it: a notice times out, a state message stays
+//! while its state holds, so the line never contradicts the status bar. A newer message hides an
+//! older state message, which shows again if its state still holds.
 
 use std::time::{Duration, Instant};
 
@@ -25,9 +21,8 @@ pub(super) enum Until {
     LinkUp,
     /// The link is stale: ends when the arm is heard from again.
     LinkFresh,
-    /// The arm is in fault (or quick-stopped): ends when telemetry shows the fault gone after a
-    /// fault was seen or a reset went through; without telemetry, when a reset goes through; or
-    /// when the command that failed for the fault goes through.
+    /// The arm in fault (or quick-stopped): ends when telemetry shows the fault gone, a reset goes
+    /// through (no telemetry), or the failed command goes through.
     FaultCleared {
         failed: Option<CommandKind>,
         reset_done: bool,

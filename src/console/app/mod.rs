@@ -1,11 +1,6 @@
-//! The console's state machine: an input goes in, the state changes, effects come out.
-//!
-//! Pure: no IO, no clock of its own (every input carries `now`). The runtime feeds it terminal
-//! and arm events and carries out the effects; the panels draw from it.
-//!
-//! Safety rules it keeps: motion only starts from a jog key press; any other key, an overlay,
-//! focus loss, a link problem, a terminal too small to show the status, a signal and quitting
-//! all stop it.
+//! The console's state machine: an input (carrying `now`) goes in, the state changes, effects come
+//! out. Pure: the runtime feeds it and carries out the effects; the panels draw from it. Motion
+//! only starts from a jog key press; anything else stops it.
 
 mod age;
 mod arm;
@@ -223,9 +218,8 @@ pub struct AppConfig {
     pub simulated: bool,
     /// The arm profile (`--arm NAME`) the console was opened with, for the status bar.
     pub arm_name: Option<String>,
-    /// The stored action Home runs as when the Modbus link runs it
-    /// (`DriverConfig::modbus_home`): its end is followed by its id, as `A`'s is, so another
-    /// client's move under it is never home done. `None` when a Talos operator's Home runs it.
+    /// The Modbus stored action that Home runs (`DriverConfig::modbus_home`), followed by id so
+    /// another client's move under it is never home done. `None` when a Talos operator runs Home.
     pub home_action: Option<Stored>,
 }
 

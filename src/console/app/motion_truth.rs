@@ -1,27 +1,13 @@
-//! What the screen may say about the link and the arm's motion: `LINK STALE`, `STOPPING`,
-//! `MAY BE MOVING`, `MOVING: HOME` / `GOTO`, and how old the panels' telemetry is.
+//! What the screen may say about the link and the arm's motion (`LINK STALE`, `STOPPING`, `MAY BE
+//! MOVING`, `MOVING: HOME`/`GOTO`, telemetry age). Never stopped when it may not be: commanded
+//! motion is unsettled until a confirmed STOP (with telemetry at rest after it, where there is
+//! telemetry) or a tracked action seen to end at rest. Staleness: telemetry every 500 ms (or three
+//! of the link's shortest recent intervals), answers within 500 ms; an idle ack link is never
+//! stale. Without telemetry an action shows `MAY BE MOVING` until a STOP is confirmed or
+//! [`NO_TELEMETRY_ACTION_TIME`] passes.
 //!
-//! The rule: the console never says stopped when it may not be. Motion commanded counts as
-//! unsettled until there is evidence it ended: a confirmed STOP (and, where telemetry exists,
-//! telemetry at rest received after it), or a tracked action (home, go-to, step) seen to
-//! complete at rest. A STOP not confirmed, a stale or lost link after motion, or telemetry
-//! showing velocity all say `MAY BE MOVING`.
-//!
-//! Staleness: links with telemetry must send it (every 500 ms at least, or three of their
-//! shortest recent intervals when they poll slower); any link must answer what was sent to it
-//! within 500 ms. A link in the ack dialect with no telemetry only answers what it is sent, so
-//! while idle it is never stale. Nothing counts as stale until the driver has said which
-//! telemetry to expect.
-//!
-//! Ends of actions without an action status (Talos hardware telemetry): joints at rest after
-//! having moved, or at rest a second after the start (already there); a joint-fault warning
-//! after motion is an abort. Without telemetry (ack dialect) an action shows `MAY BE MOVING:
-//! HOME` until a STOP is confirmed or [`NO_TELEMETRY_ACTION_TIME`] has passed.
-//!
-//! This file holds the evidence kept; `evidence` keeps it up (the one `impl App` of the truth:
-//! events from the driver, commands going out, what the status bar says), by the rules of
-//! `actions` (what ends a tracked action), `target` (whether a go-to's end is ours: the arm's
-//! move type, and the arm where it was sent) and `staleness` (ages and the next deadline).
+//! This file holds the evidence; `evidence` keeps it up, by the rules of `actions` (what ends an
+//! action), `target` (whether a go-to's end is ours) and `staleness`.
 
 mod actions;
 mod evidence;

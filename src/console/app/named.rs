@@ -62,9 +62,8 @@ impl App {
         }
     }
 
-    /// The one go-to path (a single go-to and each leg of a tour): a Go To to the operator that
-    /// keeps the positions, or a cartesian move to the pose the book stores. `Err` says why
-    /// nothing was sent.
+    /// The one go-to path (a go-to, each tour leg): Go To to an operator that keeps positions, else
+    /// a cartesian move to the book's pose. `Err` says why nothing was sent.
     pub(super) fn go_to(&mut self, name: String, effects: &mut Vec<Effect>) -> Result<(), String> {
         if self.config.positions_on_operator {
             self.going_to(&name);
@@ -285,9 +284,8 @@ impl App {
     }
 }
 
-/// The tool's position in `telemetry` (from whichever link gives it), in tenths of millimetres
-/// in the base frame as the book stores it; `None` when it is not a finite number. What a save
-/// stores, and what the audit records of a save (`audit/deriver.rs`).
+/// The tool's position in `telemetry`, tenths of mm in the base frame as the book stores it; `None`
+/// when not finite.
 pub fn tool_position(telemetry: &Telemetry) -> Option<[i32; 3]> {
     let p = telemetry.tcp.pose;
     let position = [p.x, p.y, p.z];

@@ -1,9 +1,5 @@
-//! What the console offers on this link: a key whose action cannot work here is not shown in
-//! the footer, and pressing it says why instead of opening a form.
-//!
-//! [`Offers`] is the one rule of which actions the session's links carry: the footer shows a
-//! key only for an action they carry, and the refusals (`App::*_refusal`, in `screen.rs`) say why
-//! for the rest.
+//! The one rule of which actions the session's links carry ([`Offers`]): the footer shows only
+//! those keys, and the refusals (`App::*_refusal`, `screen.rs`) say why for the rest.
 
 use std::sync::Arc;
 

@@ -1,46 +1,16 @@
 //! Another client on the same arm: its STOP is a STOP, and its motion is shown as its own.
 //!
-//! While the console holds a jog, the telemetry shows whether the arm still runs it. After
-//! [`OTHER_CLIENT_GRACE`] from the jog's START (the arm takes a few samples to start, and a
-//! status read that early may predate the START), any of these means someone else stopped or
-//! replaced it, and the console stops too, latching the held keys so its next refresh does not
-//! restart the arm:
-//! - over Modbus telemetry, the action status reads aborted or completed, or the move type
-//!   changes from twist to another (every jog but a joint jog is a twist): a register, not a
-//!   noisy reading, so one sample is enough;
-//! - [`OTHER_CLIENT_SAMPLES`] samples in a row that contradict the jog (see `jog_evidence`),
-//!   or one left standing for [`CONTRADICTED_FOR`]: the arm at rest when the jog is fast enough
-//!   that at rest cannot be it (see [`App::jog_unmistakable_from_rest`]); the jog's progress
-//!   under half its steady speed (the fastest seen since [`OTHER_CLIENT_GRACE`] after its start
-//!   or our last speed change); or, for a cartesian jog in the base frame (every Talos jog, and
-//!   a Modbus jog in the base frame: the telemetry's twist is in it; tool and mixed frames are
-//!   skipped), the tool over [`OTHER_MOTION_M_S`] with under half its speed along our direction
-//!   (`the arm moves +Z, not our +Y`).
+//! After [`OTHER_CLIENT_GRACE`] from a jog's START, the console stops and latches its keys when the
+//! telemetry says someone else stopped or replaced the jog: over Modbus the action status (aborted,
+//! completed) or move type leaving twist, one sample; otherwise [`OTHER_CLIENT_SAMPLES`]
+//! contradicting samples in a row (`jog_evidence`), or one standing for [`CONTRADICTED_FOR`].
 //!
-//! Refreshes (the default link: Talos jogs, Modbus telemetry). The operator takes a refreshed
-//! START as a new START, so a refresh sent just after another client's STOP restarted the arm
-//! before three samples confirmed the stop (about one stop in five, measured). With telemetry,
-//! past the grace, a due refresh is held ([`App::hold_refresh`]) and goes out only on the
-//! [`REFRESH_SAMPLES`]th sample since it fell due that does not contradict the jog (the first may
-//! have been read before it fell due), or after [`REFRESH_WAIT`] with none contradicting (late
-//! telemetry is the staleness rule's business). A contradicting sample withholds it until the
-//! stop is confirmed or the jog is seen running again; [`CONTRADICTED_FOR`] bounds that to two
-//! withheld refreshes, well inside the 500 ms watchdog. What no telemetry can show: a STOP that
-//! reaches an arm that stops and restarts at once (the simulator) between the read of the
-//! sample a refresh went out on and the refresh's arrival, a few ms; measured 0-3 of 30 stops
-//! on the default link (tests/console/e2e/other_client_default.rs), 6 of 30 before.
-//!
-//! A joint-fault warning at such a stop means the arm stopped itself at a limit, and the
-//! message says that instead. A Talos operator's refusal of a jog refresh already stops and
-//! latches (`ArmEvent::Failed`).
-//!
-//! A STOP from elsewhere that lands between the sample our refresh goes out on and the refresh
-//! leaves no trace here; the console that sent it holds it (see `stop_hold`, and
-//! [`App::hold_stop`], [`App::keep_stop`] below) and sends it again once it sees the arm moving.
-//!
-//! Idle, the console claims no motion of its own: telemetry faster than [`OTHER_MOTION_M_S`] (or
-//! [`OTHER_MOTION_JOINT_DEG_S`] on a joint) for [`OTHER_CLIENT_SAMPLES`] samples, with nothing
-//! of ours unsettled, is `MOVED BY ANOTHER CLIENT`.
+//! A refreshed START is a new START to the operator, so a due refresh is held
+//! ([`App::hold_refresh`]) until the [`REFRESH_SAMPLES`]th sample that does not contradict the jog,
+//! or [`REFRESH_WAIT`]. A STOP landing between that read and the refresh leaves no trace: its
+//! sender holds it (`stop_hold`). Idle, motion over [`OTHER_MOTION_M_S`] (or
+//! [`OTHER_MOTION_JOINT_DEG_S`]) with nothing of ours unsettled is `MOVED BY ANOTHER CLIENT`. The
+//! rules in full: `docs/safety.md`, "Another client's STOP".
 
 use std::time::{Duration, Instant};
 
@@ -57,11 +27,9 @@ use crate::kortex::{ActionStatus, Coded, Flag, MoveType, ReferenceFrame, Telemet
 use crate::link::interface::{ArmCommand, TelemetrySource};
 use crate::link::speed::{INITIAL_SPEED, fraction};
 
-/// How long after a jog's START the telemetry may still show the arm as it was before: the
-/// START's trip (a Modbus write, or a Talos frame and the operator's reply, tens of ms), the
-/// arm's own start-up (a Gen3 ramps a twist up over about 100-200 ms) and a poll or two of
-/// telemetry (33 ms at 30 Hz, up to ~100 ms over Talos hardware telemetry). 500 ms is over
-/// twice the sum, and the same grace the console gives an action's first status.
+/// How long after a jog's START telemetry may still show the arm as before: the START's trip, the
+/// arm's ramp-up and a poll or two, with a margin over twice that; the grace an action's first
+/// status gets too.
 pub const OTHER_CLIENT_GRACE: Duration = Duration::from_millis(500);
 /// Samples in a row at rest (while jogging) or moving (while idle) before it counts: two may be
 /// a reading's glitch, three at 30 Hz are 100 ms of agreement.
@@ -69,18 +37,14 @@ pub const OTHER_CLIENT_SAMPLES: u32 = 3;
 /// A jog is told from rest only when it should run at least this many times the at-rest
 /// threshold (a 1 % jog creeps at about the threshold itself).
 const REST_MARGIN: f64 = 3.0;
-/// A run of contradicting samples shorter than [`OTHER_CLIENT_SAMPLES`] that has lasted this
-/// long (samples sparse, or gone) is a stop too: the safe side. With the 100 ms refresh it
-/// withholds two refreshes at most, well inside the operator's 500 ms watchdog.
+/// A shorter run of contradicting samples lasting this long (samples sparse or gone) is a stop too.
+/// It withholds two 100 ms refreshes at most, inside the operator's 500 ms watchdog.
 pub const CONTRADICTED_FOR: Duration = Duration::from_millis(250);
-/// A due refresh goes out on the second sample since it fell due that does not contradict the
-/// jog: the first may have been read before (queued behind a busy event loop); the second was
-/// read a poll later (33 ms at 30 Hz), after it. A STOP from elsewhere must land in the few
-/// milliseconds between that read and the refresh reaching the arm to go unseen.
+/// The first sample after a refresh fell due may have been read before it (queued behind a busy
+/// loop); the second was read a poll later.
 pub const REFRESH_SAMPLES: u32 = 2;
-/// A refresh waits this long at most for its samples; with too few (telemetry slow or late, and
-/// none contradicting), it goes out anyway, and the link's own staleness rule watches the
-/// silence. The refresh then comes at most 300 ms after the last, inside the 500 ms watchdog.
+/// A refresh waits this long at most for its samples (the staleness rule watches silence): at most
+/// 300 ms between refreshes, inside the 500 ms watchdog.
 pub const REFRESH_WAIT: Duration = Duration::from_millis(200);
 
 /// What the console watches for other clients.
@@ -91,9 +55,8 @@ pub struct OtherClients {
     /// The arm's move type has read twist since the jog started: only then is another move
     /// type a change (an arm that never reports it changes nothing).
     seen_twist: bool,
-    /// Since when the jog's speed is compared with its steady speed (its start, or our last
-    /// speed change: the arm then slows or speeds up to the new speed), and that steady speed:
-    /// the fastest progress seen after the grace (mm/s or deg/s).
+    /// Since when the jog's speed is compared with its steady speed (its start or our last speed
+    /// change), and that speed: the fastest seen after the grace (mm/s or deg/s).
     baseline_since: Option<Instant>,
     steady: Option<f64>,
     /// The run of samples that contradict the jog: how many, since when, and the last.
@@ -128,9 +91,8 @@ impl OtherClients {
         &self.hold
     }
 
-    /// A due refresh of `motion` (in `jog`, what the engine asked for at `now`): with telemetry
-    /// `watched` and past the grace, it is taken out of `jog` to wait for the next samples (see
-    /// [`App::hold_refresh`]).
+    /// A due refresh of `motion`: with telemetry watched and past the grace, taken out of `jog` to
+    /// wait for samples ([`App::hold_refresh`]).
     pub(super) fn hold_refresh(
         &mut self,
         motion: JogMotion,
@@ -373,9 +335,8 @@ impl App {
     }
 }
 
-/// Over Modbus: the arm's action ended while we hold a jog, or changed from a twist to another
-/// move type while we hold a cartesian, polar or orientation jog (a joint jog over Talos is not a twist; over
-/// Modbus the others always are, and the simulated operator runs them as twists too).
+/// Over Modbus: the arm's action ended under our jog, or the move type left twist under a
+/// cartesian, polar or orientation jog (always twists; a Talos joint jog is not).
 fn ended_under_jog(t: &Telemetry, motion: JogMotion, was_twist: bool) -> bool {
     let ended = matches!(
         t.action.status,

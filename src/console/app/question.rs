@@ -1,6 +1,5 @@
-//! A question (home, go to, delete, overwrite) is answered by a person: never by a key typed
-//! within [`QUESTION_QUIET`] of it opening, nor by one of a burst (keys within
-//! [`BURST_KEY_GAP`] of each other, as a paste arrives where bracketed paste is off).
+//! A question is answered by a person: never by a key within [`QUESTION_QUIET`] of it opening, nor
+//! by one of a burst (keys within [`BURST_KEY_GAP`], as an unbracketed paste arrives).
 
 use std::time::{Duration, Instant};
 

@@ -1,11 +1,7 @@
-//! Names a Talos operator has lost: a go-to must not send the doomed Go To. The console offers
-//! to re-save the name from the coordinates it remembers (Set Cartesian Position) and, once the
-//! operator has taken them, goes there, as the technician confirmed.
-//!
-//! The go-to after a re-save is part of the one confirmation: it is dropped if anything else
-//! happens first (any key, focus loss, the link going down, a signal), or if the operator takes
-//! longer than [`RESAVE_GO_WITHIN`] to accept the coordinates. The arm never starts moving
-//! without a fresh press. The offer's state is here; the state machine's side is in `book.rs`.
+//! Names a Talos operator has lost: rather than send a doomed Go To, the console offers to re-save
+//! the name from the coordinates it remembers, then goes there as confirmed. The go-to is dropped
+//! if anything else happens first or the operator takes longer than [`RESAVE_GO_WITHIN`]: the arm
+//! never starts without a fresh press.
 
 use std::time::{Duration, Instant};
 

@@ -1,15 +1,8 @@
-//! A save is saved or marked: the book is written on the writer's thread, and each write's
-//! outcome comes back as [`Input::PositionsSaved`](super::Input::PositionsSaved). A position
-//! whose write failed (a full disk, a read-only folder) is marked "not saved" in the panel until
-//! a later write holds it; every change writes the whole book, so the next save retries it;
-//! quitting with positions not saved asks first, and tries once more as it quits.
-//!
-//! The writer counts the books handed to it as the app counts the saves it asks for (every
-//! [`super::Effect::SavePositions`] that leaves [`super::App::handle`]), so an outcome's count
-//! says which changes it covers. The counts are here; the state machine uses them in `book.rs`.
-//!
-//! A save is said as it is: "saving 'pick'…" while it is written (the book's lock may be held
-//! by another program for seconds), "saved 'pick'" once the writer reports it written.
+//! A save is saved or marked: each write's outcome comes back as
+//! [`Input::PositionsSaved`](super::Input::PositionsSaved); a failed position shows "not saved"
+//! until a later write (of the whole book) holds it, and quitting with such positions asks first.
+//! The writer counts the books it is handed as the app counts [`super::Effect::SavePositions`], so
+//! an outcome's count says which changes it covers.
 
 use crate::console::positions::PositionBook;
 use std::collections::{BTreeMap, BTreeSet};

@@ -1,12 +1,7 @@
-//! The screen in the state machine: the view one frame shows, assembled from the parts' views;
-//! the session's part of it (which actions the links carry: `offers`); the bottom line's
-//! messages said and settled (the rules: `message`); the overlays and what a key does in them
-//! (the help scrolls, a question is answered, a form is typed in), a question's refusal of keys
-//! too soon or too fast (the guard: `question`); a paste, which is text, never keys: an open
-//! form takes it (cut to the field's limit), anything else ignores it with one message, and
-//! input the reader refused stops the arm (keys, a release or a STOP, may have been among what
-//! was dropped); and read access to the state for the runtime and the tests: the fields stay
-//! private, so only inputs change them.
+//! The screen in the state machine: the view of one frame, the session's offers, the message line
+//! (`message`), the overlays and their keys (a question's guard: `question`), pastes (text, never
+//! keys: a form takes them, and refused input stops the arm), and read access for the runtime and
+//! tests (fields stay private, so only inputs change them).
 
 use std::collections::VecDeque;
 use std::time::Instant;
@@ -55,9 +50,8 @@ impl App {
         }
     }
 
-    /// The arm moves, or may: a jog, an action, a STOP being confirmed or a doubt is shown, or
-    /// the telemetry has a joint turning (whoever moves the arm). The console then draws at its
-    /// full rate, so the arm view keeps up with the telemetry.
+    /// The arm moves, or may (a jog, an action, an unconfirmed STOP, a doubt, a joint turning):
+    /// draw at the full rate.
     pub fn arm_in_motion(&self) -> bool {
         !matches!(self.motion_shown(), super::MotionShown::Idle)
             || self.telemetry().is_some_and(|t| {
@@ -223,22 +217,16 @@ impl App {
         }
     }
 
-    /// Whether a link carries a single-joint jog (the footer offers the joint keys).
-    ///
-    /// Only a Talos operator in the ICD dialect moves one joint (its hardware companion
-    /// commands the actuator): Modbus cannot command a joint, and the ack dialect has no joint
-    /// jog (the driver refuses either). The positions live on the operator exactly when there
-    /// is such a link (`DriverConfig::positions_on_operator`), known from the start.
+    /// Whether a link carries a single-joint jog: only a Talos operator in the ICD dialect (Modbus
+    /// and the ack dialect cannot). That is exactly when the positions live on the operator
+    /// (`DriverConfig::positions_on_operator`).
     pub fn can_jog_joints(&self) -> bool {
         self.config.positions_on_operator
     }
 
-    /// Why saving the current pose cannot work on this link, or `None` when it can.
-    ///
-    /// An operator in the ICD dialect saves the pose itself. Otherwise the console stores the
-    /// pose it reads from telemetry, so a link that the driver says sends none (a Talos operator
-    /// in the ack dialect, with no Modbus link beside it) has no pose to save. Until the driver
-    /// has said which telemetry to expect, saving is offered (the form checks again on submit).
+    /// Why saving the current pose cannot work on this link, or `None`. An ICD operator saves it
+    /// itself; otherwise the console needs telemetry's pose. Offered until the driver has said
+    /// which telemetry to expect.
     pub fn save_refusal(&self) -> Option<&'static str> {
         let no_telemetry = self.truth.expected_telemetry() == Some(TelemetrySource::None);
         (!self.config.positions_on_operator && no_telemetry).then_some(
@@ -252,20 +240,14 @@ impl App {
         self.save_refusal().is_none()
     }
 
-    /// Whether this link carries an orientation jog (the footer offers the turn keys).
-    ///
-    /// Only a Modbus link turns the tool (Talos has no orientation jog; the driver refuses it
-    /// with `ORIENTATION_NEEDS_MODBUS`). Until the driver has said which link it has, the turn
-    /// is offered, as saving is.
+    /// Whether this link carries an orientation jog: only Modbus (the driver refuses it with
+    /// `ORIENTATION_NEEDS_MODBUS`). Offered until the driver has said which link it has.
     pub fn can_turn(&self) -> bool {
         !self.without_modbus()
     }
 
-    /// Why going to the position `name` cannot work on this link, or `None` when it can.
-    ///
-    /// An operator in the ICD dialect goes to its positions itself. Otherwise the console keeps
-    /// the positions and moves the arm to their pose over Modbus: without a Modbus link (a Talos
-    /// operator in the ack dialect) nothing can carry that move, whatever the book holds.
+    /// Why going to `name` cannot work on this link, or `None`: without an ICD operator, the move
+    /// needs a Modbus link.
     pub fn go_to_refusal(&self, name: &str) -> Option<String> {
         if self.config.positions_on_operator {
             return None;

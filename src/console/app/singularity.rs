@@ -1,8 +1,6 @@
-//! The arm near a singularity, named in the status bar beside the joints near a limit.
-//!
-//! Neither link reports the arm's own figure: this is an estimate, the condition number of the
-//! Gen3 model's Jacobian ([`crate::kortex::gen3::condition_number`]) at the joint angles the
-//! telemetry reports. Without telemetry (the ack dialect) there is no estimate.
+//! The arm near a singularity, for the status bar. Neither link reports it: an estimate, the
+//! condition number of the Gen3 model's Jacobian ([`crate::kortex::gen3::condition_number`]) at the
+//! reported angles; none without telemetry.
 
 use crate::kortex::Telemetry;
 use crate::kortex::gen3::condition_number;

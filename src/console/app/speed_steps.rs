@@ -4,9 +4,8 @@
 /// The speeds the speed keys walk, percent.
 pub const SPEED_STEPS: [u8; 7] = [1, 5, 10, 25, 50, 75, 100];
 
-/// The speed one speed key press sets from `current` (percent): the next step up or down.
-/// A speed between steps (set by another client, or outside 1-100) goes to the nearest step in
-/// the pressed direction; at either end the speed stays.
+/// The speed one speed key sets from `current` (percent): the next step up or down; a speed between
+/// steps goes to the nearest in that direction; at either end it stays.
 pub fn next_speed(current: u8, up: bool) -> u8 {
     let first = SPEED_STEPS[0];
     let last = SPEED_STEPS[SPEED_STEPS.len() - 1];

@@ -1,12 +1,7 @@
-//! The technician's STOP holds: for [`STOP_HOLD`] after space (or quick stop), telemetry that
-//! shows the arm moving sends STOP again, at most every [`RESEND_EVERY`].
-//!
-//! Another client's refresh or rewritten twist can restart the arm a moment after our STOP
-//! landed: the Talos ICD cannot tell a refresh from a new START, and a Modbus twist update is a
-//! full restart, so a STOP that lands between that client's last look at the arm and its next
-//! write leaves it no trace to see. Sent again once the arm is seen moving, the STOP lands at
-//! another moment, and that client sees it (and, if it is an armjog console, latches its keys).
-//! Right after a STOP the arm may still be slowing down: a second STOP then changes nothing.
+//! The technician's STOP holds: for [`STOP_HOLD`] after space (or quick stop), telemetry showing
+//! the arm moving sends STOP again, at most every [`RESEND_EVERY`]. Another client's refresh can
+//! restart the arm just after our STOP, leaving it nothing to see; a STOP sent again lands at
+//! another moment, where that client sees it.
 
 use std::time::{Duration, Instant};
 

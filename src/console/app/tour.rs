@@ -1,15 +1,7 @@
-//! Tours in the state machine: making one from the positions list, playing it, one leg at a
-//! time or straight through.
-//!
-//! A tour is confirmed once, before its first move; each leg then goes the one go-to path
-//! (`App::go_to`: a Go To over Talos, a cartesian move to the stored pose over Modbus), capped
-//! as any go-to is, after asking the motion gate. The next leg starts only once the last one's
-//! end is confirmed, by the evidence that clears `MOVING: GOTO bench`: the tracked go-to done
-//! and the arm seen at rest. Anything else ends the tour, with a message naming the leg: a leg
-//! failed, aborted, stopped or not seen to end; any key (the next-leg key, one leg at a time,
-//! goes on instead); focus lost, a signal, the link lost or stale, the stop guard's stop, the
-//! gate refusing. Nothing
-//! of a tour starts again by itself: to go on, the technician plays it again.
+//! Tours in the state machine: made from the positions list, played one leg at a time or straight
+//! through. Confirmed once; each leg goes the one go-to path (`App::go_to`) through the motion
+//! gate, and the next starts only once the last is seen done at rest. Anything else ends the tour
+//! with a message naming the leg; nothing of it starts again by itself.
 
 use std::time::Instant;
 
@@ -245,9 +237,8 @@ impl App {
         self.say(text, Severity::Warning, now);
     }
 
-    /// A key while a tour plays: the next-leg key goes on when a leg waits for it; any other
-    /// press or repeat stops the tour (and the arm) and does nothing else. Returns whether the
-    /// key was taken.
+    /// A key while a tour plays: the next-leg key goes on when a leg waits for it; any other press
+    /// stops the tour and the arm. Returns whether the key was taken.
     pub(super) fn tour_key(
         &mut self,
         key: &KeyInput,
@@ -283,9 +274,8 @@ impl App {
         !own_stop
     }
 
-    /// After an input is handled, before the truth notes what goes out: an interruption or a
-    /// refusing gate ends the tour; a leg seen to end at rest leads to the next (or waits for
-    /// the next-leg key), a leg that ended otherwise ends the tour.
+    /// After an input, before the truth notes what goes out: an interruption or refusing gate ends
+    /// the tour; a leg done at rest leads to the next, one that ended otherwise ends the tour.
     pub(super) fn tour_before_truth(
         &mut self,
         interrupted: Option<String>,

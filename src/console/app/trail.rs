@@ -1,6 +1,5 @@
-//! The tool point's recent path, for the arm view: the forward-kinematics tool point of each
-//! telemetry snapshot, the last [`TRAIL_SPAN`] of them, one every [`TRAIL_SPACING`] at most,
-//! so the buffer stays small whatever the telemetry rate.
+//! The tool point's recent path for the arm view: the last [`TRAIL_SPAN`] of telemetry, one point
+//! every [`TRAIL_SPACING`] at most, so the buffer stays small.
 
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
@@ -15,9 +14,8 @@ pub const TRAIL_SPACING: Duration = Duration::from_millis(50);
 /// The most points the trail holds (one more than the span over the spacing: both ends).
 pub const TRAIL_CAPACITY: usize = 201;
 
-/// How bright a trail point is drawn: its age in thirds of [`TRAIL_SPAN`], newest brightest.
-/// The view holds this rather than the age, so a still arm's trail reads the same from one
-/// frame to the next and is not redrawn for ages that change nothing on screen.
+/// A trail point's brightness, in thirds of [`TRAIL_SPAN`]: held instead of the age, so a still
+/// arm's trail does not redraw.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub enum TrailShade {
     Old,

@@ -35,10 +35,9 @@ pub(super) fn run_end(progress: Progress) -> Option<End> {
     }
 }
 
-/// The end of an action with no run to follow by id (home, a go-to, a step): the arm's action
-/// status where it is current, joints at rest after having moved (Talos hardware telemetry has
-/// no status), a joint-fault warning at rest, or a fault. A go-to's end is ours only if the
-/// status names our move and the arm is at rest where it was sent (`target`).
+/// The end of an action not followed by id (home, go-to, step): the action status where current,
+/// joints at rest after moving, a joint-fault warning at rest, or a fault. A go-to's end is ours
+/// only if `target` says so.
 pub(super) fn heuristic_end(
     action: &mut TrackedAction,
     accepted: Instant,

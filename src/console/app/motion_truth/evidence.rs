@@ -1,13 +1,6 @@
-//! The motion truth in the state machine, both ways:
-//! - what the console sends, noted after every input: a stale link lets no motion start, a
-//!   failed or unwatched action gets a STOP, and each command sent is remembered as evidence
-//!   awaited (an answer, a STOP's confirmation, an action's end);
-//! - evidence from the driver: the link's status, telemetry and its timing, answers to what was
-//!   sent, a STOP's outcome, and a tracked action's end seen in telemetry (what ends it:
-//!   `actions`) or its time running out;
-//! - what the status bar says about motion from the evidence kept, how old the link and the
-//!   telemetry are (the rules: `staleness`), and the next instant the screen changes without
-//!   any input.
+//! The motion truth in the state machine: notes what the console sends after every input, takes the
+//! driver's evidence (status, telemetry, answers, STOP outcomes, action ends), and says what the
+//! status bar shows and when it next changes on its own.
 
 use std::time::{Duration, Instant};
 
@@ -33,9 +26,8 @@ impl App {
                 if came_up {
                     truth.link_up_at = Some(now);
                     truth.waiting_since = None;
-                    // Back after a loss with motion unaccounted for: a STOP is always safe, and
-                    // its confirmation (with telemetry at rest) is the evidence that clears
-                    // MAY BE MOVING.
+                    // Back after a loss with motion unaccounted for: a STOP is always safe, and its
+                    // confirmation clears MAY BE MOVING.
                     if truth.unsettled || truth.action.is_some() {
                         truth.stop_needed = true;
                     }
@@ -222,9 +214,8 @@ impl App {
 }
 
 impl App {
-    /// After every input: a stale link starts no motion (a command held up in a frozen network
-    /// could run whenever it thaws) and stops the jog; tracked actions time out; the commands
-    /// just emitted are noted.
+    /// After every input: a stale link starts no motion (a frozen network could deliver it any
+    /// time) and stops the jog; tracked actions time out; emitted commands are noted.
     pub(in crate::console::app) fn truth_after(
         &mut self,
         goto: Option<String>,
@@ -333,9 +324,8 @@ impl App {
 }
 
 impl App {
-    /// Watches a tracked action's end in fresh telemetry: a stored run of a known id by the
-    /// arm's action status for that run ([`crate::kortex::StoredRun::observe`], as `armjog
-    /// modbus action` reads it), any other by [`heuristic_end`]. Either end is said one way.
+    /// Watches a tracked action's end: a stored run by its action status
+    /// ([`crate::kortex::StoredRun::observe`]), any other by [`heuristic_end`].
     pub(super) fn watch_action(&mut self, t: &Telemetry, now: Instant) {
         let Some(action) = self.truth.action.as_mut() else {
             return;

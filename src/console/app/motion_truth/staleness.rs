@@ -1,6 +1,4 @@
-//! How old the link and the telemetry are, and the next instant the screen changes without
-//! any input (a link turning stale, an age counting up, a grace or an action's time running
-//! out).
+//! How old the link and telemetry are, and the next instant the screen changes without input.
 
 use std::time::{Duration, Instant};
 

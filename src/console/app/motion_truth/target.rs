@@ -1,7 +1,5 @@
-//! Whether a go-to's end is ours: the arm's action status names our move (over Modbus, a
-//! cartesian trajectory), and the arm is at rest where we sent it, within [`ARRIVED_MM`] and
-//! [`ARRIVED_DEG`] (the one tolerance). Anything else is another client's move (a second
-//! console, the Web App, `armjog modbus action`), never our go-to done.
+//! Whether a go-to's end is ours: the action status names our move and the arm is at rest where
+//! sent, within [`ARRIVED_MM`] and [`ARRIVED_DEG`]. Anything else is another client's move.
 
 use std::time::Instant;
 
@@ -10,9 +8,8 @@ use crate::console::positions::BookEntry;
 use crate::kortex::arm_state::stored_started_in;
 use crate::kortex::{ActionStatus, Coded, Pose, Telemetry};
 
-/// A go-to that ends farther than this from its target (mm) did not end where it was sent. A
-/// Gen3 repeats a pose to 0.1 mm and the book keeps tenths of a millimetre: 5 mm is far over
-/// both and well under the centimetres between two positions a technician saves.
+/// A Gen3 repeats a pose to 0.1 mm and the book keeps tenths: 5 mm is far over both and well under
+/// the distance between two saved positions.
 pub const ARRIVED_MM: f32 = 5.0;
 /// The same for the tool's orientation, deg.
 pub const ARRIVED_DEG: f32 = 2.0;
@@ -31,9 +28,8 @@ impl GoToTarget {
         GoToTarget { pose, turn: true }
     }
 
-    /// A Go To the operator runs to a name it keeps: the point the book has for it, when it
-    /// has one and it is absolute (an anchored position moves with its parent, which the book
-    /// does not follow). Its orientation is the operator's, which the book may not have.
+    /// A Go To's target: the book's point for the name, when absolute (an anchored position moves
+    /// with its parent). The orientation is the operator's.
     pub fn book(entry: &BookEntry) -> Option<GoToTarget> {
         if entry.anchor {
             return None;
@@ -72,11 +68,10 @@ impl GoToTarget {
     }
 }
 
-/// The arm runs another move than ours ([`crate::kortex::OurMove::other_in`]), read after ours
-/// was seen started or [`ACTION_GRACE`] after the link took our command (a read that soon may
-/// predate it). A Talos Go To, which the status does not name, is another's once a stored
-/// action or sequence starts that the status did not name when it was sent ([`stored_started_in`]);
-/// not Talos Home, which may well be the arm's own stored Home. Says which move it runs.
+/// The arm runs another move than ours ([`crate::kortex::OurMove::other_in`]), read after ours was
+/// seen started or [`ACTION_GRACE`] after sending. A Talos Go To (unnamed in the status) is
+/// another's once a stored action starts that was not running when sent ([`stored_started_in`]);
+/// not Talos Home, which may be the arm's own.
 pub(super) fn foreign_move(
     action: &mut TrackedAction,
     accepted: Instant,

@@ -70,9 +70,8 @@ pub struct ArmView {
     /// The estimated condition number of the Jacobian at the reported joint angles (Gen3
     /// model) when above the warning threshold; `None` below it or without telemetry.
     pub near_singularity: Option<f64>,
-    /// The tool point's path over the last 10 s (base frame, m) with each point's shade, oldest
-    /// first: the arm view's trail. At most [`TRAIL_CAPACITY`](super::super::TRAIL_CAPACITY)
-    /// points; a still arm's is a few.
+    /// The arm view's trail: the tool point over the last 10 s (base frame, m), oldest first, at
+    /// most [`TRAIL_CAPACITY`](super::super::TRAIL_CAPACITY) points.
     pub trail: Vec<(TrailShade, [f64; 3])>,
 }
 

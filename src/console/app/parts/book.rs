@@ -211,9 +211,8 @@ impl Book {
         &mut self.resave
     }
 
-    /// Names changed: the book to hand to the writer (the whole of it, as every save is), with
-    /// the file as last known, which the file will hold this book's changes over, and the names
-    /// changed since (a save at the value the file had is a change too).
+    /// Names changed: the whole book for the writer, the file as last known, and the names changed
+    /// since (a save at the file's value counts).
     pub(in crate::console::app) fn on_changed(
         &mut self,
         changed: impl IntoIterator<Item = String>,
@@ -227,9 +226,8 @@ impl Book {
         }
     }
 
-    /// A write found another writer's changes in the file and wrote them with this book's:
-    /// they come into the book (a name changed here since keeps this console's change, for the
-    /// next write to merge), and into the file as known. The selection stays on its name.
+    /// Another writer's changes merged by a write come into the book (a name changed here since
+    /// keeps ours, for the next write) and the file as known. The selection stays on its name.
     pub(in crate::console::app) fn on_found(&mut self, found: &Found) {
         let selected = self.selected_name().map(str::to_string);
         let written = &found.written.book;

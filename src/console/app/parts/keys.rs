@@ -1,11 +1,7 @@
-//! The keys: the jog engine, step mode, and the traces that keep auto-repeat and hasty keys
-//! from being taken for new presses.
-//!
-//! Keystrokes into an open form are all text, except the auto-repeat of a key that was already
-//! held, repeating, when it opened the form. With reported key events a repeat says so itself.
-//! In the auto-repeat fallback a repeat looks like a press, so only an event of the opening key
-//! that continues its run (within [`CONTINUES_RUN`] repeat intervals of that key's previous
-//! event) is taken for a repeat; a fresh keystroke, even of the same key, is text.
+//! The keys: the jog engine, step mode, and traces that keep auto-repeat and hasty keys from being
+//! taken for presses. In an open form every keystroke is text except the auto-repeat of the key
+//! that opened it; in the fallback that is only an event continuing its run (within
+//! [`CONTINUES_RUN`] repeat intervals).
 
 use std::time::{Duration, Instant};
 
@@ -149,9 +145,8 @@ impl Keys {
         self.swallowed = Some((key.key, now));
     }
 
-    /// A form was just opened by `key`: remember it if its auto-repeat may follow. With reported
-    /// events that is any key (its repeats say so); in the fallback only a key that was already
-    /// repeating, since a fresh press's next event may be a keystroke.
+    /// A form was just opened by `key`: remember it if its auto-repeat may follow (in the fallback,
+    /// only a key already repeating).
     pub(in crate::console::app) fn form_opened_by(
         &mut self,
         key: &KeyInput,
@@ -200,10 +195,8 @@ impl Keys {
         repeat
     }
 
-    /// Whether `key` is the auto-repeat of the key that just opened or closed an overlay:
-    /// holding `h` must not cancel the home question it opened, nor holding `w` to close the
-    /// help start a jog. With reported key events a repeat says so itself. A form takes
-    /// repeats as text (holding backspace deletes): see `repeat_of_form_opener`.
+    /// Whether `key` repeats the key that just opened or closed an overlay: holding `h` must not
+    /// cancel the home question, nor `w` held to close the help start a jog.
     pub(in crate::console::app) fn auto_repeat_of_overlay_key(
         &mut self,
         key: &KeyInput,

@@ -1,6 +1,5 @@
-//! The parts the console's state is made of, each owning one concern's facts behind private
-//! fields, with its own handlers and its own part of the view. [`App`] holds one of each and
-//! routes inputs to them.
+//! The parts of the console's state, each owning one concern's facts, handlers and view; [`App`]
+//! holds one of each and routes inputs.
 //!
 //! [`App`]: super::App
 
