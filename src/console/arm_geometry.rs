@@ -1,7 +1,6 @@
-//! The arm view's geometry, pure: where the base, the joints and the tool point are for the
-//! joint angles the telemetry reports (forward kinematics from [`crate::kortex::gen3`], the same
-//! figures the simulator uses), the reach envelope, the two projections the panel draws, and
-//! which way a jog moves the tool point.
+//! The arm view's geometry, pure: joint and tool positions from the reported angles (forward
+//! kinematics of [`crate::kortex::gen3`], as the simulator uses), the reach envelope, the panel's
+//! two projections, and which way a jog moves the tool point.
 
 use nalgebra::{Matrix4, Vector3};
 
@@ -109,9 +108,8 @@ const MARGIN: f64 = 0.05;
 /// Room below the table in the side view, m: the table line shows above the panel's border.
 const TABLE_MARGIN: f64 = 0.08;
 
-/// The way a jog moves the tool point, a unit vector in the base frame, at the arm's pose;
-/// `None` when it does not move it (J7 turns the tool about itself) or cannot be told.
-/// `frame` is the frame cartesian jogs are in (`None` over a link without frames: base).
+/// The unit vector (base frame) a jog moves the tool point along at this pose; `None` when it does
+/// not move it (J7) or cannot be told. `frame`: the cartesian jog frame (`None`: base).
 pub fn jog_direction(
     motion: JogMotion,
     frame: Option<ReferenceFrame>,

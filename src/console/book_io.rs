@@ -1,6 +1,5 @@
-//! Reading and writing the position book off the event loop: parsing a 16 MB book takes a
-//! second or more and writing one (with its fsync) a good part of one, and the task that reads
-//! keys and sends their STOPs must not wait for either.
+//! Reading and writing the position book off the event loop: a 16 MB book takes a second or more to
+//! parse, and the task that reads keys and sends STOPs must not wait.
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -37,9 +36,8 @@ pub fn load(path: &Path) -> oneshot::Receiver<Loaded> {
     rx
 }
 
-/// Reads the book at `path` on a blocking thread and waits for it: for a caller that needs the
-/// book before the console starts (the built-in simulator's operator), which then hands the
-/// same result to [`BookFiles::open_read`] instead of reading the file twice.
+/// Reads the book at `path` on a blocking thread and waits: for a caller that needs it before the
+/// console starts (the built-in operator), which hands the result to [`BookFiles::open_read`].
 pub async fn read(path: &Path) -> Result<PositionBook, BookError> {
     let owned = path.to_path_buf();
     match tokio::task::spawn_blocking(move || PositionBook::load(&owned)).await {
@@ -64,9 +62,8 @@ pub async fn loaded(loading: &mut Option<oneshot::Receiver<Loaded>>) -> Loaded {
     result
 }
 
-/// A book to write: the console's, and the file as the console last knew it (what the book was
-/// made from), for the write to merge with what another writer put there since
-/// (`PositionBook::save_shared`). Reads as the book it writes.
+/// A book to write, with the file as the console last knew it, for the write to merge with what
+/// another writer put there since (`PositionBook::save_shared`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct BookSave {
     pub book: PositionBook,
@@ -110,9 +107,8 @@ impl std::ops::Deref for BookSave {
     }
 }
 
-/// What became of the books handed over up to the `upto`-th (counting from 1): all written
-/// (the newest of them was), or the newest failed with `error` (naming the file). `found`:
-/// the write found another writer's changes in the file and merged them in.
+/// What became of the books handed over up to the `upto`-th (from 1): all written, or the newest
+/// failed with `error`. `found`: another writer's changes were merged in.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SaveOutcome {
     pub upto: u64,
@@ -142,10 +138,9 @@ impl Saver {
         let (next, mut books) = mpsc::unbounded_channel::<(u64, BookSave)>();
         let (outcomes_tx, outcomes) = mpsc::unbounded_channel();
         let task = tokio::spawn(async move {
-            // Books are taken out of the channel, not copied: once written, the app's book is
-            // no longer shared and changing it copies nothing.
-            // What the file was known as before a write that failed: the next book holds
-            // that write's changes, which are not in the file.
+            // Taken out of the channel, not copied, so the app's book is no longer shared once
+            // written. What the file was known as before a failed write, whose changes the next
+            // book holds.
             let mut unwritten: Option<Unwritten> = None;
             while let Some(mut handed) = books.recv().await {
                 while let Ok((upto, newer)) = books.try_recv() {
@@ -202,9 +197,8 @@ impl Saver {
         }
     }
 
-    /// Writes the book handed over last, if not written yet, waiting at most `within`;
-    /// `waiting` is called once the write has taken [`TELL_WAIT_AFTER`]. Returns whether the
-    /// writer ended in time.
+    /// Writes the book handed over last, if not yet written, waiting at most `within`; `waiting` is
+    /// called after [`TELL_WAIT_AFTER`]. Returns whether the writer ended in time.
     pub async fn finish(self, within: Duration, waiting: impl FnOnce()) -> bool {
         drop(self.next);
         let ended = tokio::time::timeout(within, self.task);
@@ -239,20 +233,14 @@ pub struct BookFiles {
 }
 
 impl BookFiles {
-    /// Starts loading the book at `path` and the writer for it.
-    ///
-    /// A regular file within the size limit (or none) is read off the event loop. Anything else
-    /// (a file over the limit, a device such as `/dev/zero`, a FIFO, a file that cannot be
-    /// opened) is read here, at most to the limit, and refused at once with the file's name and
-    /// what was wrong, before the console takes the terminal.
+    /// Starts loading the book at `path` and its writer. A regular file within the size limit (or
+    /// none) is read off the event loop; anything else (too big, a device, a FIFO, unopenable) is
+    /// refused here, naming the file, before the console takes the terminal.
     pub fn open(path: Option<PathBuf>) -> Result<BookFiles, BookError> {
         BookFiles::open_with(path, None)
     }
 
-    /// As [`BookFiles::open`], with the book at `path` already `read` (by [`read`]): the file is
-    /// not read again, and the result goes where `open`'s own read would have gone (a file that
-    /// `open` refuses at once is refused with the read's error; any other file's error is
-    /// reported as a failed load).
+    /// As [`BookFiles::open`], with the book already `read` (by [`read`]), so it is not read twice.
     pub fn open_read(
         path: PathBuf,
         read: Result<PositionBook, BookError>,
@@ -313,9 +301,8 @@ impl BookFiles {
         }
     }
 
-    /// Writes the book handed over last (and the held changes, once the book is loaded),
-    /// waiting at most `within`, and tells on stderr (the terminal is the shell's again) what
-    /// a slow write waits for and a write that failed.
+    /// Writes the last book (and held changes once loaded), waiting at most `within`, and tells on
+    /// stderr (the shell's again) what a slow write waits for and a failure.
     pub async fn finish(self, within: Duration) {
         self.finish_telling(within, |line| {
             // Not `eprintln!`, which panics when stderr is gone (a terminal that hung up).

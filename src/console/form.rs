@@ -1,7 +1,5 @@
-//! Small forms and confirmations the console shows over the panels.
-//!
-//! Input is validated here, before anything is sent: a bad name or number keeps the form open
-//! with the reason, and nothing is lost.
+//! Small forms and confirmations shown over the panels. Input is validated here, before anything is
+//! sent: a bad value keeps the form open with the reason.
 
 use crate::kortex::Stored;
 use crate::talos::name::{MAX_NAME_LEN, NameError};
@@ -194,9 +192,8 @@ impl Form {
         }
     }
 
-    /// The save form for the console's own book (no Talos operator keeps the positions): it has
-    /// no anchor toggle, as an anchor would do nothing there, and its note says why. The parent
-    /// is kept, as the book keeps it.
+    /// The save form for the console's own book: no anchor toggle (an anchor does nothing there;
+    /// the note says why). The parent is kept, as the book keeps it.
     pub fn save_to_own_book() -> Form {
         let mut form = Form::new(FormKind::Save, "");
         form.fields.retain(|field| field.label != "anchor");

@@ -1,23 +1,16 @@
-//! A START refresh never overtakes a key that has already arrived.
-//!
-//! The refresh is decided on a timer; a release written to the terminal a moment before the
-//! timer fires may still sit unread in the terminal (or read and not yet taken, see `input`).
-//! When a refresh is due and input is waiting, the event loop takes that input first, for at
-//! most [`INPUT_FIRST`]: a release then stops the arm instead of following a refresh onto the
-//! wire.
+//! A START refresh never overtakes a key that has already arrived: when a refresh falls due with
+//! input waiting, the loop takes the input first (for at most [`INPUT_FIRST`]), so a release stops
+//! the arm instead of following a refresh onto the wire.
 
 use std::time::Duration;
 
 use futures::{Stream, StreamExt};
 
-/// How long a due refresh waits for input that is already readable: ample for it to be read
-/// and decoded (the reader reads it as it is polled), and far inside the operator's 500 ms
-/// watchdog.
+/// Ample to read and decode waiting input, far inside the operator's 500 ms watchdog.
 pub const INPUT_FIRST: Duration = Duration::from_millis(20);
 
-/// What the event loop handles when its deadline fires: the next terminal event, when a refresh
-/// is due and `input_waiting` says input has arrived (and it comes within [`INPUT_FIRST`]);
-/// otherwise `None`, meaning the tick itself.
+/// What the loop handles when its deadline fires: the next terminal event if a refresh is due and
+/// `input_waiting` (within [`INPUT_FIRST`]); `None` for the tick itself.
 pub async fn waiting_input<S: Stream + Unpin>(
     refresh_due: bool,
     input_waiting: impl FnOnce() -> bool,

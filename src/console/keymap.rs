@@ -1,35 +1,10 @@
-//! Keymaps: which key does which [`Action`], loaded from JSON.
+//! Keymaps: which key does which [`Action`], loaded from JSON (format: `docs/user-guide.md`,
+//! "Keymaps"). A bad file is refused with a [`KeymapError`] naming file, line and column. The
+//! keymaps under `keymaps/` are built in ([`Keymap::builtin`]).
 //!
-//! # File format
-//!
-//! ```json
-//! {
-//!   "name": "default",
-//!   "description": "WASD-style cartesian jog, arrows for polar pan",
-//!   "bindings": {
-//!     "w": "jog_x_plus",
-//!     "space": "stop",
-//!     "q": "quit"
-//!   }
-//! }
-//! ```
-//!
-//! `name` and `bindings` are required, `description` is optional, nothing else is allowed.
-//! `bindings` maps a key name (see [`KeyName`] for the names) to an action name (the
-//! snake_case names of [`Action`]). Several keys may do the same action; a key may appear only
-//! once. Every keymap must bind `stop` and `quit`. A keymap that breaks any of these rules, or
-//! is not valid JSON, is refused with a [`KeymapError`] that names the file, line and column.
-//!
-//! The keymaps under `keymaps/` in the source tree are built into the binary
-//! ([`Keymap::builtin`]); [`Keymap::load`] takes one of their names or a path.
-//!
-//! # Keypad fallback
-//!
-//! [`Keymap::action`] looks a key up by its exact name, and when that has no binding, by its
-//! [keypad twin](KeyName::keypad_twin): `kp8` falls back to `8` and `8` to `kp8`. Terminals
-//! without the kitty protocol report keypad 8 as `8`, so a keymap that binds `kp8` works there
-//! too, and a keymap that binds `8` works from the keypad of a kitty-protocol terminal. An
-//! explicit binding always wins.
+//! [`Keymap::action`] falls back to a key's [keypad twin](KeyName::keypad_twin) when it has no
+//! binding of its own (`kp8` <-> `8`): terminals without the kitty protocol cannot tell the two
+//! apart. An explicit binding wins.
 
 mod json;
 mod key_name;
@@ -137,9 +112,8 @@ impl Keymap {
         })
     }
 
-    /// The jog actions a release of `key` ends: those bound to `key`, to the key without
-    /// modifiers, and to the other case of a letter (a release may carry other modifiers than
-    /// its press: shift pressed mid-hold turns the release of "w" into "W").
+    /// The jog actions a release of `key` ends: bound to `key`, to it without modifiers, and to the
+    /// other case of a letter (shift pressed mid-hold turns the release of "w" into "W").
     pub fn release_candidates(&self, key: &KeyName) -> Vec<Action> {
         let bare = key.without_modifiers();
         let mut keys = vec![*key, bare];

@@ -1,13 +1,7 @@
-//! The console's book of named positions, kept in a JSON file.
-//!
-//! The Talos ICD has no "list positions" command, so the console remembers the names it saved or
-//! saw, per arm. Over Modbus the arm has no named positions at all and the book is where they
-//! live, with their full pose. Writes are atomic (temporary file, fsync, rename), so a crash
-//! never leaves a half-written book.
-//!
-//! This file holds the book in memory; `file` its file (format, load, atomic save, where it
-//! lives); `lenient` a file with bad entries (the rest loads, the bytes kept); `shared` a write
-//! that keeps what another writer put in the file (lock, re-read, `merge` by name).
+//! The console's book of named positions, in a JSON file. The Talos ICD cannot list positions, so
+//! the console remembers the names it saved or saw; over Modbus the book is where positions live.
+//! `file`: format, load, atomic save; `lenient`: a file with bad entries; `shared`: a write that
+//! keeps another writer's changes.
 
 mod file;
 mod lenient;

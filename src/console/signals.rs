@@ -1,14 +1,11 @@
-//! Signals as one channel, fed by a task per signal.
-//!
-//! A tokio signal receiver polled by a `select!` re-registers with its watch on every poll: the
-//! event loop polls its inputs every turn, a key's among them, so it polls one channel instead.
+//! Signals as one channel, fed by a task per signal: a tokio signal receiver re-registers on every
+//! poll, and the event loop polls its inputs on every turn.
 
 use tokio::signal::unix::{SignalKind, signal};
 use tokio::sync::mpsc;
 
-/// Each signal of `signals`, as it arrives, sends its value on the one channel returned. All
-/// are registered before any is waited for, so a failure leaves none half set up. Needs the
-/// runtime; the tasks end when the receiver is gone (at the next signal) or the runtime is.
+/// Each signal in `signals` sends its value on the returned channel. All are registered before any
+/// is awaited, so a failure leaves none half set up. Tasks end with the receiver or runtime.
 pub fn forward<T: Copy + Send + 'static>(
     signals: &[(SignalKind, T)],
 ) -> std::io::Result<mpsc::UnboundedReceiver<T>> {

@@ -11,11 +11,9 @@ use crossterm::terminal::{
 };
 use crossterm::{cursor, execute};
 
-/// Puts the terminal in raw mode on the alternate screen with focus reports and bracketed paste
-/// (a paste arrives as text, never as keys). Returns whether the
-/// terminal reports key releases (kitty keyboard protocol), which it then has switched on.
-///
-/// The probe waits for the terminal's answer; an error or no answer means "unsupported".
+/// Raw mode on the alternate screen with focus reports and bracketed paste (a paste is text, never
+/// keys). Returns whether key releases are reported (kitty protocol, then switched on); no answer
+/// to the probe means no.
 pub fn enter(force_release_events: Option<bool>) -> std::io::Result<bool> {
     enable_raw_mode()?;
     let mut out = stdout();

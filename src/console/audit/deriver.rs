@@ -1,6 +1,5 @@
-//! Audit records from what flows between the state machine and the driver: the commands the
-//! app sends, the events the driver reports, the link's staleness and the book saves. Pure:
-//! every call takes the time it happened.
+//! Audit records from what flows between the state machine and the driver. Pure: every call takes
+//! the time it happened.
 
 use std::collections::BTreeMap;
 use std::time::{Duration, SystemTime};
@@ -27,9 +26,8 @@ pub struct AuditDeriver {
     /// Otherwise the console's book is the only store, and its saves are compared.
     positions_on_operator: bool,
     jog: Option<(JogMotion, SystemTime)>,
-    /// The speed the next command runs at: the driver runs commands in order, so a `SetSpeed`
-    /// it can put in force holds for the commands after it, as does a speed the driver reports
-    /// (the driver's own value changes only once it has run the command, after it is recorded).
+    /// The speed the next command runs at: commands run in order, so a `SetSpeed` (or a speed the
+    /// driver reports) holds for the commands after it.
     speed: u8,
     /// The link status last recorded; `Connecting` records nothing.
     link: Option<LinkStatus>,
@@ -45,7 +43,7 @@ pub struct AuditDeriver {
 }
 
 impl AuditDeriver {
-    /// `max_jog_speed` in m/s, as the app's config has it.
+    /// `max_jog_speed` in m/s.
     ///
     /// # Panics
     /// On a `max_jog_speed` [`SpeedCap::new`] refuses (the front ends refuse it first).
@@ -69,9 +67,8 @@ impl AuditDeriver {
         round_tenth(self.cap.tool_speed_mm_s(percent))
     }
 
-    /// A jog's rate cap at `percent`: (mm/s, deg/s), one of them. A turn of the tool moves its
-    /// point not at all, so its cap is the angular rate the driver turns at
-    /// ([`SpeedCap::turn_rate`]); every other jog's is the tool speed.
+    /// A jog's rate cap at `percent` (mm/s or deg/s): a tool turn's is [`SpeedCap::turn_rate`] (it
+    /// moves the point not at all), every other jog's the tool speed.
     fn jog_rate(&self, motion: &JogMotion, percent: u8) -> (Option<f64>, Option<f64>) {
         match motion {
             JogMotion::Orientation { .. } => (
@@ -82,9 +79,8 @@ impl AuditDeriver {
         }
     }
 
-    /// A command the app sent to the driver. `book` and `selected` name a go-to's position,
-    /// which a Modbus move carries only as a pose; `frame` is the frame jogs are in, as the
-    /// console selected it (`App::frame`, sent to the driver as `SetFrame`).
+    /// A command sent to the driver. `book` and `selected` name a go-to's position (a Modbus move
+    /// carries only a pose); `frame` is the jog frame (`App::frame`).
     pub fn command(
         &mut self,
         command: &ArmCommand,
@@ -335,9 +331,8 @@ impl AuditDeriver {
         self.book = coordinates(book);
     }
 
-    /// The book about to be written. Over Modbus the book is the only store, so what changed
-    /// since the last save is what the technician saved, saved over or deleted (a rename shows
-    /// as both). With an operator its commands are recorded instead.
+    /// The book about to be written. Over Modbus it is the only store, so its changes are the
+    /// technician's saves and deletes; with an operator, its commands are recorded instead.
     pub fn book_saved(&mut self, book: &PositionBook, at: SystemTime) -> Vec<AuditRecord> {
         let now = coordinates(book);
         let before = std::mem::replace(&mut self.book, now);
@@ -406,10 +401,8 @@ fn step_event(step: StepMove, speed_percent: u8, speed_mm_s: f64) -> AuditEvent 
     }
 }
 
-/// The name of the book entry a Modbus go-to's pose came from: the selected one if it is
-/// there (a go-to acts on the selection), else the first stored at that position.
-/// The book's name for where `command` goes, when it is a move to a pose (a Modbus go-to
-/// carries no name): the selected position if it is there, else the first that is.
+/// The book's name for where a move to a pose goes (a Modbus go-to carries no name): the selected
+/// position if it is there, else the first that is.
 pub fn go_to_name(
     command: &ArmCommand,
     book: &PositionBook,

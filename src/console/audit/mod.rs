@@ -1,9 +1,7 @@
-//! The audit log: every technician action, and what the arm and its link did meanwhile, as one
-//! JSON line with a UTC timestamp in `audit-YYYY-MM-DD.jsonl` (docs/audit.md).
-//!
-//! Records are derived at the runtime's edge ([`deriver`]) from what already flows between the
-//! state machine and the driver, so the state machine stays pure; a thread of its own writes
-//! them ([`writer`]), so a slow or failing disk never holds up a key or a STOP.
+//! The audit log: every technician action and what the arm and link did meanwhile, one JSON line
+//! each in `audit-YYYY-MM-DD.jsonl` (docs/audit.md). Records are derived at the runtime's edge
+//! ([`deriver`]), so the state machine stays pure, and written on a thread of their own
+//! ([`writer`]), so a slow disk never holds up a key or a STOP.
 
 pub mod deriver;
 pub mod session;
@@ -20,9 +18,8 @@ pub use session::AuditSession;
 pub use utc::{date, rfc3339_ms};
 pub use writer::{AuditLog, HAND_OVER_AFTER};
 
-/// One thing worth an entry. The `event` names are stable: scripts read them (docs/audit.md
-/// lists them). Lengths are in mm, angles in degrees, speeds as the cap in force: a percentage of
-/// `--max-jog-speed` and the tool speed it stands for.
+/// One thing worth an entry. `event` names are stable (scripts read them; docs/audit.md). Lengths
+/// in mm, angles in degrees, speeds as the cap in force (percent and tool speed).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(tag = "event", rename_all = "snake_case")]
 pub enum AuditEvent {
@@ -35,9 +32,8 @@ pub enum AuditEvent {
     },
     /// The console closed (after its last STOP).
     SessionEnd,
-    /// Continuous motion began: "+X", "-Y +Z", "az+", "alt-", "J3+", "+Rz". A turn of the tool
-    /// records its angular rate cap (`speed_deg_s`); every other jog its tool speed cap
-    /// (`speed_mm_s`).
+    /// Continuous motion began ("+X", "az+", "J3+", "+Rz"): a tool turn records its angular cap
+    /// (`speed_deg_s`), every other jog its tool speed cap (`speed_mm_s`).
     JogStart {
         axis: String,
         #[serde(skip_serializing_if = "Option::is_none")]
@@ -146,9 +142,7 @@ pub enum AuditEvent {
     GuardDown {
         reason: String,
     },
-    /// The stop guard stopped the arm (the console went quiet, or its link did), or could not:
-    /// its words. Not a failed command: whatever ran (a jog, a go-to, a tour's leg) the
-    /// message line names.
+    /// The stop guard stopped the arm, or could not: its words. Not a failed command.
     GuardStop {
         error: String,
     },
@@ -215,9 +209,8 @@ impl AuditRecord {
     }
 }
 
-/// Where the audit files go: `$ARMJOG_STATE_DIR`, else `$ARMJOG_LOG_DIR` (a run that keeps its
-/// logs elsewhere keeps its audit with them), else the user's state directory
-/// (`~/.local/state/armjog/`), else the local data directory.
+/// Where audit files go: `$ARMJOG_STATE_DIR`, else `$ARMJOG_LOG_DIR`, else the user's state
+/// directory (`~/.local/state/armjog/`), else the local data directory.
 pub fn audit_dir() -> Option<PathBuf> {
     if let Some(dir) = std::env::var_os("ARMJOG_STATE_DIR") {
         return Some(PathBuf::from(dir));

@@ -15,16 +15,14 @@ pub struct AuditSession {
     log: AuditLog,
     /// The commands the input being handled has sent so far.
     sent: Vec<ArmCommand>,
-    /// The last input handled and its commands, not yet recorded: they are recorded at the
-    /// event loop's next turn ([`AuditSession::record_handled`]), or once a key's frames are
-    /// out when a key comes first, so a key's frames do not wait for the records.
+    /// The last input and its commands, not yet recorded: recorded at the loop's next turn
+    /// ([`AuditSession::record_handled`]) so a key's frames do not wait for them.
     handled: Option<Handled>,
     handled_sent: Vec<ArmCommand>,
 }
 
-/// What the app's state after an input says, for its records. Taken when the input is
-/// handled, so the records need no app: a panic before the next turn still records them
-/// (on drop) after the app is gone.
+/// What the app's state after an input says, taken as it is handled, so a panic before the next
+/// turn still records it (on drop).
 struct Handled {
     at: SystemTime,
     frame: ReferenceFrame,
@@ -99,9 +97,8 @@ impl AuditSession {
         self.sent.push(command);
     }
 
-    /// The input is handled: its commands, and what the app's state after it says (the link
-    /// gone stale or fresh, a motion the cap watch stopped), are recorded at the event loop's
-    /// next turn, stamped now. The input before it is recorded first, if it is not yet.
+    /// The input is handled: its records are made at the loop's next turn, stamped now, after those
+    /// of the input before.
     pub fn handled(&mut self, app: &App) {
         self.record_handled();
         std::mem::swap(&mut self.sent, &mut self.handled_sent);
@@ -149,9 +146,8 @@ impl AuditSession {
         self.write(records);
     }
 
-    /// A book the app is saving (over Modbus, what the technician saved or deleted): what
-    /// changed from `known`, the file as the app knew it (another console's positions merged
-    /// in since are not this technician's saves).
+    /// A book being saved: what changed from `known` (positions merged in from another console are
+    /// not this technician's saves).
     pub fn book_saved(&mut self, book: &PositionBook, known: &PositionBook) {
         self.record_handled();
         self.deriver.book_loaded(known);

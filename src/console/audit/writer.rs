@@ -1,12 +1,7 @@
-//! Appends audit records to `audit-YYYY-MM-DD.jsonl` on a thread of its own. Each record goes
-//! to the file of its own UTC date, so a session over midnight continues in the next day's file.
-//! A write that fails is reported once (tracing and the console) and never stops the console;
-//! the next record tries the file again.
-//!
-//! Records are held on the loop's thread for [`HAND_OVER_AFTER`] before the writer is woken:
-//! a key's records come in the same burst as its STOP, and a writer woken there runs before the
-//! STOP's receiver when they share a busy core (under `stress --cpu 2` it cost some 60 us of
-//! release->STOP). Held records are handed over on drop too, so an unwinding panic keeps them.
+//! Appends audit records to the file of each record's UTC date on a thread of its own. A failed
+//! write is reported once and never stops the console; the next record tries again. Records are
+//! held for [`HAND_OVER_AFTER`] before the writer is woken, so it does not run before a STOP's
+//! receiver on a busy core; they are handed over on drop too, so a panic keeps them.
 
 use std::fs::{File, OpenOptions};
 use std::io::Write;

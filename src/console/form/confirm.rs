@@ -1,8 +1,6 @@
-//! The yes/no questions the console asks before it moves the arm, deletes, replaces or quits.
-//!
-//! A question that lists things (a tour's legs) gives its list apart from its words
-//! ([`QuestionText`]): the dialog shows as many of them as fit and counts the rest
-//! (`… and 9997 more`), so its answers always show (`ui/dialog.rs`).
+//! The yes/no questions asked before moving, deleting, replacing or quitting. A question that lists
+//! things gives its list apart ([`QuestionText`]) so the dialog can count what does not fit and its
+//! answers always show.
 
 use super::{Form, FormResult, TourQuestion};
 use crate::kortex::Stored;

@@ -1,7 +1,6 @@
-//! The tour forms. Making one: the tour's name and its positions in order, separated by commas
-//! (`bench, pick, place`), prefilled from the positions list; each name must pass the name rule
-//! here, and be in the book (the app checks that, naming the one it lacks). Playing one: the
-//! tour's name, prefilled with the last tour made or played.
+//! The tour forms. Making one: a name and comma-separated positions (`bench, pick, place`),
+//! prefilled from the list, each passing the name rule (the app checks they exist). Playing one:
+//! the name, prefilled with the last tour.
 
 use super::confirm::QuestionText;
 use super::{Field, Form, FormKind};

@@ -68,9 +68,8 @@ impl JogEngine {
         let gap = held.record(now);
         match (held.state, kind) {
             (_, KeyKind::Press) => {
-                // Pressed again with no release between (held or latched, a latch ending only
-                // with a release or a second of silence): releases are not reported. Whatever
-                // the terminal claimed, stop and rely on auto-repeat from now on.
+                // Pressed again with no release between: releases are not reported, whatever the
+                // terminal claimed. Stop and rely on auto-repeat from now on.
                 self.mode = ReleaseMode::AutoRepeat;
                 effects.extend(self.stop_all(now));
                 effects.push(JogEffect::Notice(JogNotice::ReleasesMissing));

@@ -131,9 +131,8 @@ impl Held {
 pub(super) fn expiry(mode: ReleaseMode, timing: &RepeatTiming, held: &Held) -> Instant {
     let silence = match (mode, held.state) {
         (ReleaseMode::AutoRepeat, KeyState::Moving) => timing.repeat_timeout(),
-        // In a run of repeats the next one is due within an interval; after a lone event the
-        // next may be a whole onset away.
-        // A latch errs on the side of holding on: a stall of the repeats is not a release.
+        // In a run of repeats the next is due within an interval; after a lone event, an onset
+        // away. A latch errs on holding on: stalled repeats are not a release.
         (ReleaseMode::AutoRepeat, KeyState::Latched) if !held.last_event_alone() => {
             timing.repeat_timeout().max(LATCH_SILENCE_MIN)
         }

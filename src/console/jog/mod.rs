@@ -1,22 +1,15 @@
-//! Hold-to-jog: which jog keys are held, what motion that makes, and when to re-send or stop.
+//! Hold-to-jog: which jog keys are held, what motion that makes, when to re-send or stop. Pure,
+//! clocked from outside.
+//! - [`ReleaseMode::Reported`] (kitty protocol): a press starts, a release stops. A key silent for
+//!   [`KEY_EVENT_TIMEOUT`] stops too, and a second press without a release falls back to
+//!   auto-repeat for the session.
+//! - [`ReleaseMode::AutoRepeat`]: a key is held while its repeats arrive. A tap is a step
+//!   ([`JogEffect::Step`]); motion starts once the onset and regular repeats confirm a hold, and
+//!   stops about three intervals after the last repeat.
 //!
-//! Pure and clocked from outside: every call takes `now`. Two ways to know a key is held:
-//! - [`ReleaseMode::Reported`]: the terminal reports releases (kitty keyboard protocol). A press
-//!   starts motion; a release stops it. Evidence is still required: a held key that sends
-//!   nothing (no repeat, no release) for [`KEY_EVENT_TIMEOUT`] stops, and a second press with no
-//!   release between proves the terminal does not report releases: the engine stops and falls
-//!   back to [`ReleaseMode::AutoRepeat`] for the rest of the session.
-//! - [`ReleaseMode::AutoRepeat`]: it does not (tmux, VTE, xterm, the Linux console), so a key
-//!   counts as held while its auto-repeat keeps arriving. A tap cannot be told from the start of
-//!   a hold until the repeats come, so, as on a teach pendant, a tap is a step
-//!   ([`JogEffect::Step`], cartesian keys only) and continuous motion starts only once the
-//!   repeat pattern confirms a hold: a pause (the onset) followed by closely spaced, regular
-//!   repeats. It stops about three repeat intervals after the last repeat.
-//!
-//! Nothing starts by itself: when the engine stops ([`JogEngine::stop_all`], a timeout), the keys
-//! still down become *latched*. Events of a latched key only keep the latch fresh; it ends with
-//! a release event, or with a pause in the key's events longer than its release timeout. Events
-//! that arrive while motion is not allowed go to [`JogEngine::latch`].
+//! Nothing starts by itself: keys still down when the engine stops become latched until released
+//! (or silent past their release timeout); events while motion is not allowed go to
+//! [`JogEngine::latch`].
 
 mod events;
 mod held;
@@ -133,10 +126,9 @@ impl JogEngine {
         self.active.is_some()
     }
 
-    /// The jog key whose release alone stops the arm now: releases are reported, the arm jogs,
-    /// and that key is the only one down. `None` otherwise (another key down keeps a motion
-    /// going, or releases are not reported). What the console's terminal reader writes the stop
-    /// set ahead for (`link::talos::StopAhead`): the release still comes here and stops.
+    /// The jog key whose release alone stops the arm now (releases reported, the arm jogging, only
+    /// that key down), or `None`. The terminal reader writes the stop set ahead for it
+    /// (`link::talos::StopAhead`); the release still comes here and stops.
     pub fn stopped_by_release(&self) -> Option<Action> {
         if self.mode != ReleaseMode::Reported || self.active.is_none() {
             return None;
@@ -184,9 +176,8 @@ impl JogEngine {
         effects
     }
 
-    /// A jog key event while motion is not allowed (link down, overlay open, step mode, screen
-    /// too small): the key is tracked as latched, so it cannot move once motion is allowed
-    /// again until it is released and pressed anew.
+    /// A jog key event while motion is not allowed: tracked as latched, so it moves only after a
+    /// fresh press.
     pub fn latch(&mut self, action: Action, kind: KeyKind, now: Instant) -> Vec<JogEffect> {
         let Some((axis, sign)) = action.jog() else {
             return Vec::new();
@@ -210,9 +201,8 @@ impl JogEngine {
         effects
     }
 
-    /// As [`JogEngine::latch`], and whether the event is a fresh press: the key was neither
-    /// held nor latched. Step mode steps only on those, so a held key's auto-repeat (which
-    /// arrives as presses in the fallback) does not step again and again.
+    /// As [`JogEngine::latch`], and whether the event is a fresh press; step mode steps only on
+    /// those, so auto-repeat (presses in the fallback) does not step again and again.
     pub fn latch_press(
         &mut self,
         action: Action,

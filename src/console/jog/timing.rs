@@ -5,9 +5,8 @@ use std::time::Duration;
 /// Slowest auto-repeat onset in the field (X11: 660 ms) plus margin: in the fallback, a key
 /// with no event for this long after a single event counts as released.
 pub const MAX_ONSET: Duration = Duration::from_millis(700);
-/// The longest gap between two auto-repeats that can confirm a hold (8 Hz; the slowest common
-/// repeat, the Linux console's, is 11 Hz). Deliberate taps are slower: an event followed by
-/// no other within this gap, and not preceded by one either, is a tap.
+/// The longest auto-repeat gap that can confirm a hold (8 Hz; the slowest common repeat is 11 Hz).
+/// An event with no other within this gap either side is a tap.
 pub const REPEAT_GAP_MAX: Duration = Duration::from_millis(125);
 /// A run of events this closely spaced (12.5 Hz), kept up for [`MAX_ONSET`], is a hold even
 /// with no onset pause before it: no finger taps that fast for that long.
@@ -61,9 +60,9 @@ impl RepeatTiming {
         }
     }
 
-    /// Whether a run of closely spaced events of a key is the auto-repeat of a held key rather
-    /// than taps: `onset` is the pause before the run (`None` if it began with the key's first
-    /// event), `span` how long it has lasted, `previous` and `last` its last two gaps.
+    /// Whether a run of a key's closely spaced events is auto-repeat rather than taps: `onset` is
+    /// the pause before it (`None` from the first event), `span` its length, `previous` and `last`
+    /// its last two gaps.
     pub(super) fn confirms_hold(
         &self,
         onset: Option<Duration>,

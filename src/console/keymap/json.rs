@@ -1,10 +1,6 @@
-//! Reading a keymap file with serde_json, refusing anything doubtful with a position.
-//!
-//! Every check runs inside deserialization so that serde_json attaches the line and column of
-//! the offending token. serde_json's position is where it stopped reading, which can be past the
-//! token (after whitespace, or after the `}` that closes the object); for errors about one
-//! string (a key name, an action name, a field name) [`token_start`] walks back to the string's
-//! opening quote so that the position points at the start of what is wrong.
+//! Reading a keymap file, refusing anything doubtful with a position. Every check runs inside
+//! deserialization so serde_json gives the line and column; for errors about one string
+//! [`token_start`] walks back to its opening quote (serde_json's position may be past it).
 
 use super::{Keymap, KeymapError, KeymapErrorKind, REQUIRED_ACTIONS, TextPosition};
 use crate::console::action::Action;
@@ -102,9 +98,8 @@ fn position_of_character(text: &str, offset: usize) -> TextPosition {
     }
 }
 
-/// The byte offset of the opening quote of the string that ends before `end`, skipping back
-/// over whitespace and at most one `}` (serde_json may have consumed the `}` closing the
-/// object before reporting the error). `None` if no string ends there.
+/// The offset of the opening quote of the string ending before `end`, skipping whitespace and at
+/// most one `}` (serde_json may have consumed it). `None` if no string ends there.
 fn token_start(text: &str, end: usize) -> Option<usize> {
     let bytes = text.as_bytes();
     let skip_whitespace = |mut index: usize| {

@@ -1,40 +1,11 @@
-//! The identity of a key as a keymap names it, independent of press, repeat and release.
+//! The identity of a key as a keymap names it, whatever its kind (press, repeat, release); the
+//! names are listed in `docs/user-guide.md`, "Keymaps".
 //!
-//! # Names
-//!
-//! - A **character** is written as itself and is case-sensitive: `"a"`, `"A"`, `"?"`, `"+"`,
-//!   `"["`. The space bar is `"space"`; other whitespace and control characters have no name.
-//! - **Named keys**: `space`, `enter`, `esc`, `tab`, `backspace`, `delete`, `insert`, `home`,
-//!   `end`, `pageup`, `pagedown`, `up`, `down`, `left`, `right`, and `f1` to `f35`.
-//! - **Keypad keys** (only told apart by terminals with the kitty keyboard protocol): `kp0` to
-//!   `kp9`, `kp.`, `kp/`, `kp*`, `kp-`, `kp+`, `kp=`, `kp,`, `kpenter`, and with NumLock off
-//!   `kpup`, `kpdown`, `kpleft`, `kpright`, `kphome`, `kpend`, `kppageup`, `kppagedown`,
-//!   `kpinsert`, `kpdelete`, `kpbegin` (the 5 in the middle).
-//! - **Modifiers** are prefixes: `ctrl+`, `alt+` and, for keys that are not characters only,
-//!   `shift+` (`"shift+tab"`, `"shift+up"`, `"shift+f5"`). Any order parses; `Display` writes
-//!   `ctrl+alt+shift+`. Key names are lowercase.
-//!
-//! # Shift
-//!
-//! A character key names the character it types, so shift is part of the character and never a
-//! prefix: `"A"`, not `"shift+a"`; `"?"`, not `"shift+/"`. Terminals report a shifted letter
-//! either as `Char('A')` or (kitty protocol) as `Char('a')` with SHIFT: both are `"A"`. A
-//! shifted non-letter arrives as the shifted character (`Char('?')`, with or without SHIFT) in
-//! every mode except the kitty protocol *without* `REPORT_ALTERNATE_KEYS`, which reports only the
-//! unshifted key (`Char('/')` + SHIFT) and so cannot tell `?` from `/` without knowing the
-//! keyboard layout. The console must therefore push `REPORT_ALTERNATE_KEYS` together with
-//! `REPORT_EVENT_TYPES | REPORT_ALL_KEYS_AS_ESCAPE_CODES`; no layout is guessed here.
-//!
-//! # Keypad
-//!
-//! With the kitty protocol crossterm marks keypad keys with `KeyEventState::KEYPAD`: those are
-//! named `kp8`, `kpenter`, `kpup`... Without it (tmux, xterm, GNOME Terminal, the Linux
-//! console) the keypad is indistinguishable from the main keys: keypad 8 arrives as `"8"`, or as
-//! `"up"` with NumLock off. [`KeyName::keypad_twin`] links the two, and
-//! [`Keymap::action`](super::Keymap::action) falls back to the twin when a key has no binding of
-//! its own, so a keymap that binds `"kp8"` works in every terminal and behaves the same in all of
-//! them (the top-row 8 then does what keypad 8 does, as it must in a terminal that cannot tell
-//! them apart).
+//! A character key names the character it types, so shift is never a prefix (`"A"`, `"?"`). The
+//! kitty protocol without `REPORT_ALTERNATE_KEYS` reports `?` as `/` + SHIFT, which cannot be told
+//! apart without the layout, so the console pushes that flag with the others; no layout is guessed
+//! here. Without the kitty protocol the keypad cannot be told from the main keys:
+//! [`KeyName::keypad_twin`] links them.
 
 mod text;
 
@@ -183,12 +154,9 @@ pub struct KeyName {
 }
 
 impl KeyName {
-    /// The name of the key of a crossterm key event, whatever its kind (press, repeat or
-    /// release).
-    ///
-    /// `None` for keys a keymap cannot name: bare modifier keys (reported on their own by the
-    /// kitty protocol), lock keys, media keys, print screen, pause, menu, `Null`, control
-    /// characters, and any key held with super, hyper or meta.
+    /// The name of a crossterm key event's key. `None` for keys a keymap cannot name: bare
+    /// modifiers, lock and media keys, print screen, pause, menu, `Null`, control characters, and
+    /// anything held with super, hyper or meta.
     pub fn from_event(event: &KeyEvent) -> Option<KeyName> {
         if event
             .modifiers
@@ -307,9 +275,9 @@ impl KeyName {
         }
     }
 
-    /// The key that a terminal without the kitty protocol reports in place of this one, or the
-    /// other way round: `kp8` <-> `8`, `kp+` <-> `+`, `kpenter` <-> `enter`, `kpup` <-> `up`
-    /// (modifiers kept). `None` for keys without a twin (`kpbegin`, letters, `f5`, ...).
+    /// The key a terminal without the kitty protocol reports in place of this one, or the other way
+    /// round (`kp8` <-> `8`, `kpenter` <-> `enter`, `kpup` <-> `up`, modifiers kept); `None`
+    /// without a twin.
     pub fn keypad_twin(&self) -> Option<KeyName> {
         let twin = match self.key {
             BaseKey::Keypad(KeypadKey::Char(character)) => BaseKey::Char(character),
@@ -330,10 +298,9 @@ impl KeyName {
     }
 }
 
-/// The character a shifted key types when the terminal reported the unshifted letter with
-/// SHIFT (kitty protocol): the capital letter. Anything else is already the typed character,
-/// and so is a letter whose capital is more than one character (`ß`, `ŉ`): no one character
-/// is its capital. The one rule for the key's name and the text it types (`run::key_input`).
+/// The character a key types when the kitty protocol reported the unshifted letter with SHIFT: the
+/// capital (unless it is more than one character, `ß`). The one rule for a key's name and its text
+/// (`run::key_input`).
 pub fn shifted_letter(character: char) -> char {
     if !character.is_lowercase() {
         return character;

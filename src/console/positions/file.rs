@@ -170,9 +170,8 @@ impl PositionBook {
         Ok(book)
     }
 
-    /// Writes the book atomically: a temporary file beside it, flushed to disk, renamed over
-    /// the book, then the directory flushed so the rename itself survives a power cut. On any
-    /// failure the book on disk is untouched and the temporary file is removed (when dropped).
+    /// Writes the book atomically: a temporary file beside it, flushed, renamed over the book, then
+    /// the directory flushed so the rename survives a power cut. On failure the book is untouched.
     pub fn save(&self, path: &Path) -> Result<(), BookError> {
         let shown = path.display().to_string();
         let io = |source| BookError::Io {
@@ -196,9 +195,8 @@ impl PositionBook {
     }
 }
 
-/// The temporary file a save writes, with the permissions the book will keep: those of the
-/// book it replaces, or for a new book the usual 0644 less the umask (tempfile's own default,
-/// 0600, would quietly hide a shared lab book from its other users).
+/// The temporary file, with the permissions the book keeps: the old book's, or 0644 less the umask
+/// (tempfile's 0600 would hide a shared lab book from its other users).
 fn new_book_file(dir: &Path, book: &Path) -> std::io::Result<tempfile::NamedTempFile> {
     let mut builder = tempfile::Builder::new();
     #[cfg(unix)]
@@ -224,9 +222,8 @@ fn sync_directory(dir: &Path) -> std::io::Result<()> {
 }
 
 impl PositionBook {
-    /// Writes the file's text to `out`: indented for people to read, compact when that would
-    /// not fit in `limit` bytes (a book written must load again), refused when even compact does
-    /// not. The sizes are counted first, so a big book is never held as text in memory.
+    /// Writes the file's text to `out`: indented, compact when that would not fit `limit` (a
+    /// written book must load again), refused when even compact does not. Sizes are counted first.
     pub(super) fn write_to(
         &self,
         out: &mut impl Write,

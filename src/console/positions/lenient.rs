@@ -1,11 +1,7 @@
-//! One bad entry never costs the rest of a book: a file the strict reader refuses (a position
-//! that is `null`, a frame this armjog does not know, a misspelt field, a tour that is not a
-//! tour) is read entry by entry. The good entries load; each bad one is set aside with what was
-//! wrong, and the file's bytes are kept in a `.bad` copy beside it, so the next save, which
-//! writes only the entries that loaded, loses nothing of the hand edit.
-//!
-//! A file that is not a book at all (not JSON, not an object, no `format`, `positions` not a
-//! map) is still refused whole, as before: there is nothing to pick from.
+//! One bad entry never costs the rest of a book: a file the strict reader refuses is read entry by
+//! entry; good entries load, each bad one is set aside with its reason, and the file's bytes are
+//! kept in a `.bad` copy, so the next save loses nothing of the hand edit. A file that is not a
+//! book at all is refused whole.
 
 use std::path::{Path, PathBuf};
 
@@ -112,9 +108,8 @@ pub(super) fn notes(aside: &[SetAside], copy: &std::io::Result<PathBuf>) -> Vec<
     notes
 }
 
-/// Keeps `bytes`, the book at `path` as read, in a copy beside it: `book.json.bad`, or
-/// `book.json.bad.2`, `.bad.3`… when an older copy holds other bytes (never written over). A
-/// copy that holds these bytes already is the copy. Returns the copy's path.
+/// Keeps `bytes` in a copy beside the book (`book.json.bad`, `.bad.2`, ... never written over; a
+/// copy holding these bytes is reused). Returns its path.
 pub fn keep_bad_copy(path: &Path, bytes: &[u8]) -> std::io::Result<PathBuf> {
     let mut base = path.as_os_str().to_owned();
     base.push(".bad");

@@ -1,15 +1,8 @@
-//! Two writers on one book: a three-way merge by name, pure.
-//!
-//! `known` is the file as this console last knew it (read, or as it handed it to be written),
-//! `ours` the console's book, `theirs` the file as it is now, maybe changed by another console
-//! or by hand since. A name only one side changed takes that side's change (an entry we deleted
-//! is deleted; one another writer added is kept). A name both changed, differently, loses
-//! nothing: the other writer's stays under the name, ours is kept beside it under a new name
-//! (`pick~2`), and the conflict is reported for the technician.
-//!
-//! A position the technician saved, overwrote, renamed or edited here since the last write
-//! (`touched`) counts as changed here even when its value is the one the file had: an explicit
-//! save over another writer's change asks, it never silently loses to it.
+//! Two writers on one book: a three-way merge by name, pure. `known` is the file as this console
+//! last knew it, `ours` its book, `theirs` the file now. A name one side changed takes that change;
+//! a name both changed keeps theirs under the name and ours beside it (`pick~2`), and the conflict
+//! is reported. A position saved here since the last write (`touched`) counts as changed even at
+//! the file's value: an explicit save never silently loses.
 
 use std::collections::BTreeSet;
 
@@ -174,9 +167,8 @@ pub fn merge(
     merge_with(known, ours, theirs, touched, true)
 }
 
-/// The written book, back in a console whose book may have changed since it was handed over
-/// (`handed`): what the write took from the other side comes in; a name this console changed
-/// since keeps its change, for its next write to merge with the file.
+/// The written book back in a console whose book may have changed since it was `handed`: what the
+/// write took from the other side comes in; names changed here since keep their change.
 pub fn incorporate(
     handed: &PositionBook,
     ours: &PositionBook,

@@ -1,8 +1,6 @@
-//! Names read from a book's file pass the rule a typed name passes (`PositionName`): a book
-//! written by hand or by another program may hold an empty name, a NUL, a right-to-left
-//! override, a megabyte or a hundred thousand combining marks. Each such name is repaired
-//! ([`crate::text::name_repair`], made unique), a parent naming it follows, and a note says
-//! what was wrong; every other position loads as it is.
+//! Names read from a file pass the rule a typed name passes (`PositionName`): a bad one (empty,
+//! NUL, bidi override, huge) is repaired ([`crate::text::name_repair`], made unique), a parent
+//! naming it follows, and a note says what was wrong.
 
 use std::collections::{BTreeMap, BTreeSet};
 

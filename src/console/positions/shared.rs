@@ -1,11 +1,7 @@
-//! One book, several writers (two consoles on one `--positions` file, a hand edit while a
-//! console runs): a write never drops what another wrote since this console read the file.
-//!
-//! Each write takes the book's lock (an advisory lock on `book.json.lock` beside it, held only
-//! while writing), reads the file as it is now, merges this console's book into it by name
-//! (`merge`), and writes the result atomically (`save`). A file that no longer reads as a book
-//! is not written over; one with entries set aside is written only once its bytes are kept in a
-//! `.bad` copy (`lenient`).
+//! One book, several writers: a write never drops what another wrote since this console read the
+//! file. Each write takes the lock (`book.json.lock`, held only while writing), re-reads the file,
+//! merges by name (`merge`) and writes atomically (`save`). A file that no longer reads as a book
+//! is not written over; one with entries set aside only once its `.bad` copy is kept.
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -47,10 +43,8 @@ impl Written {
 }
 
 impl PositionBook {
-    /// Writes this book to `path` without dropping what another writer put there: under the
-    /// book's lock, the file as it is now is merged with this book, `known` being the file as
-    /// this console last knew it (what this book was made from), `touched` the positions saved
-    /// or edited here since (changed here, even at the value `known` has).
+    /// Writes this book to `path` under its lock, merged with the file as it is now; `known` is the
+    /// file as last known, `touched` the positions saved or edited here since.
     pub fn save_shared(
         &self,
         known: &PositionBook,

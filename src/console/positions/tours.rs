@@ -1,7 +1,5 @@
-//! Tours: ordered lists of named positions, kept in the book's file beside the positions
-//! (`"tours": [{"name": "rounds", "positions": ["bench", "pick"]}]`). A book written before
-//! tours existed has no such list and loads as before. A tour may name a position the book no
-//! longer has: it is kept as written, and refused with that name when played.
+//! Tours: ordered lists of named positions, kept beside them in the book's file. A book without
+//! tours loads; a tour naming a missing position is kept and refused with that name when played.
 
 use serde::{Deserialize, Serialize};
 
