@@ -78,11 +78,9 @@ pub struct OurMove {
 }
 
 impl OurMove {
-    /// What the action status names when it is not our move (another client's: a second console,
-    /// the Web App, `armjog modbus action`), in words: `the arm runs action 5, not our action 2`.
-    /// `None` while it names ours, or a move type the ICD does not list. The one reading of "not
-    /// ours" for a go-to, home and a stored run; when a read may still describe an earlier move
-    /// is the caller's.
+    /// What the action status names when it is not our move (another client's), in words: `the arm
+    /// runs action 5, not our action 2`; `None` while it names ours or a type the ICD does not
+    /// list. The one reading of "not ours"; whether a read may predate our move is the caller's.
     pub fn other_in(&self, status: &ActionState) -> Option<String> {
         let Coded::Known(theirs) = status.move_type else {
             return None;
@@ -98,12 +96,9 @@ impl OurMove {
     }
 }
 
-/// A stored action or sequence started under a move of ours that the action status does not
-/// name (a Talos Go To: the operator's trajectory, shown as a cartesian trajectory or not at all,
-/// the last move's type and id left as they were), in words: `the arm runs action 5`. `before`
-/// is what the status named when ours was sent: a stored move named then is not told from
-/// ours (it may be the registers left as they were), any other started since is another
-/// client's. Whether it is the same move is [`OurMove::other_in`]'s reading.
+/// A stored action or sequence started under a move of ours the status does not name (a Talos Go
+/// To), in words. `before` is what the status named when ours was sent: a move named then is not
+/// told from ours; any other started since is another client's.
 pub fn stored_started_in(before: &ActionState, status: &ActionState) -> Option<String> {
     let Coded::Known(theirs @ (MoveType::Action | MoveType::Sequence)) = status.move_type else {
         return None;

@@ -1,9 +1,6 @@
-//! The register and coil writes of every command, as pure functions. Values that cannot be
-//! written are refused here, before anything reaches the arm.
-//!
-//! Every register write is one Write Multiple Registers request (function code 16), every coil
-//! write one Write Single Coil request (function code 05), sent in the order listed and each
-//! waiting for its reply before the next.
+//! The register and coil writes of every command, as pure functions; values that cannot be written
+//! are refused here. Register writes are FC16, coil writes FC05, sent in order, each awaiting its
+//! reply.
 
 use std::fmt;
 
@@ -21,9 +18,8 @@ pub const MAX_ANGULAR_SPEED: f32 = 100.0;
 pub const MAX_REACH: f32 = 1.5;
 /// Orientation targets beyond a full turn are refused as typos.
 pub const MAX_ANGLE: f32 = 360.0;
-/// The ids a stored action or sequence can have: register 201 is a uint16, and 0 is none (an
-/// arm's action status names id 0 when it ran nothing). The one range of the console's form, the
-/// command line, the profiles and [`start_stored`].
+/// Stored action or sequence ids: register 201 is a uint16 and 0 means none. The one range for the
+/// form, the command line, the profiles and [`start_stored`].
 pub const STORED_IDS: std::ops::RangeInclusive<u16> = 1..=u16::MAX;
 
 /// One write request.

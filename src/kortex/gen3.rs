@@ -1,6 +1,6 @@
-//! Kinova Gen3 7-DOF figures (Gen3 user guide, via the field notes) and its forward
-//! kinematics from the classic DH table, shared by the simulator, the arm driver (joint jog
-//! speed bounds) and the console's panels. Pure: angles in radians unless named `_deg`.
+//! Kinova Gen3 7-DOF figures (Gen3 user guide, via the field notes) and its forward kinematics
+//! (classic DH), shared by the simulator, the driver and the panels. Angles in radians unless named
+//! `_deg`.
 
 use nalgebra::{Matrix4, SMatrix, Vector3};
 
@@ -51,9 +51,8 @@ fn dh(alpha: f64, d: f64, theta: f64) -> Matrix4<f64> {
     m
 }
 
-/// Forward kinematics in homogeneous transforms for joint angles `q` (radians): the frame each
-/// joint turns in (index i is joint i+1; its axis is the frame's Z axis) and the tool interface
-/// frame, all in the base frame.
+/// Forward kinematics for joint angles `q` (rad): each joint's frame (index i is joint i+1, axis Z)
+/// and the tool interface frame, in the base frame.
 pub fn frames(q: &[f64; 7]) -> ([Matrix4<f64>; 7], Matrix4<f64>) {
     // The fixed base row: alpha = pi, d = 0, theta = 0.
     let mut t = dh(std::f64::consts::PI, 0.0, 0.0);
@@ -82,9 +81,8 @@ pub fn lever_arms(q: &[f64; 7]) -> [f64; 7] {
     before.map(|f| column(&f, 2).cross(&(p - column(&f, 3))).norm())
 }
 
-/// The geometric Jacobian from frames as [`frames`] gives them: column i is joint i+1's
-/// contribution, rows vx, vy, vz (m/s per rad/s) then wx, wy, wz (rad/s per rad/s), base
-/// frame, for the tool interface point.
+/// The geometric Jacobian at the tool interface point, base frame: column i is joint i+1, rows vx,
+/// vy, vz (m/s per rad/s) then wx, wy, wz (rad/s per rad/s).
 pub fn jacobian_of_frames(before: &[Matrix4<f64>; 7], tool: &Matrix4<f64>) -> SMatrix<f64, 6, 7> {
     let p = column(tool, 3);
     let mut j = SMatrix::<f64, 6, 7>::zeros();
@@ -103,22 +101,14 @@ pub fn jacobian(q: &[f64; 7]) -> SMatrix<f64, 6, 7> {
     jacobian_of_frames(&before, &tool)
 }
 
-/// The largest condition number [`condition_number`] gives for finite angles: below
-/// `largest · ε` a singular value is rounding noise, so a rank-deficient Jacobian reads as
-/// this (about 4.5e15) rather than infinity.
+/// The largest finite [`condition_number`]: below `largest · ε` a singular value is rounding noise,
+/// so a rank-deficient Jacobian reads as this (about 4.5e15), not infinity.
 pub const MAX_CONDITION_NUMBER: f64 = 1.0 / f64::EPSILON;
 
-/// The Jacobian's condition number at joint angles `q` (radians): its largest singular value
-/// over its smallest. 1 is perfectly conditioned; it grows without bound as the arm nears a
-/// singularity (a direction the tool cannot move or turn in however the joints turn).
-///
-/// Units: the linear rows are m/s and the angular rows rad/s per rad/s of joint rate, so the
-/// figure mixes metres with radians and depends on that choice (in millimetres it would
-/// differ). A warning threshold on it ([`SINGULARITY_WARNING`]) is pinned to this model and
-/// these units.
-///
-/// Never NaN: a rank-deficient pose gives [`MAX_CONDITION_NUMBER`]; a non-finite angle (or an
-/// SVD that does not converge) gives `f64::INFINITY`.
+/// The Jacobian's condition number at `q` (rad): largest over smallest singular value, growing
+/// without bound near a singularity. Its rows mix m/s with rad/s, so [`SINGULARITY_WARNING`] is
+/// pinned to this model and these units. A rank-deficient pose gives [`MAX_CONDITION_NUMBER`], a
+/// non-finite angle (or an SVD that does not converge) `f64::INFINITY`; never NaN.
 pub fn condition_number(q: &[f64; 7]) -> f64 {
     // A NaN in the matrix could keep the SVD iterating: refuse it before.
     if !q.iter().all(|a| a.is_finite()) {
@@ -138,41 +128,18 @@ pub fn condition_number(q: &[f64; 7]) -> f64 {
     }
 }
 
-/// Above this [`condition_number`] the console names the arm as near a singularity.
-///
-/// Measured on this model (degrees as the arm reports them; `home` is [`HOME_DEG`]):
-///
-/// | pose | κ |
-/// |---|---|
-/// | home | 11.5 |
-/// | home, J6 0 (J5 and J7 aligned; the 7th joint makes up for it) | 25.2 |
-/// | home, J3 90 | 30.1 |
-/// | J2 0 (J1 and J3 aligned) | 13.4 |
-/// | home, J4 ±40 / ±30 / ±20 / ±15 | 19.3 / 25.5 / 38.1 / 50.8 |
-/// | home, J4 ±12 / ±10 / ±8 | 63.4 / 76.0 / 95.0 |
-/// | home, J4 ±5 / ±3 / ±2 / ±1 | 152 / 253 / 380 / 760 |
-/// | J2 60 or 90, J4 -10 (reaching out, 0.92-1.04 m) | 76.0 |
-/// | J2 60, J4 -20 / -5 | 38.1 / 152 |
-/// | J2 90, J4 -30; J2 60, J4 -60; J2 30, J4 -90 | 25.5; 13.2; 9.4 |
-/// | J2 128, J4 -145 (folded) | 13.6 |
-/// | J2 0 with J6 10 / 2; J2 10 / 2 with J6 0 | 55.6 / 268; 38.3 / 197 |
-/// | J2 and J6 both 10 / 5 / 2 / 1 | 31.9 / 63.5 / 159 / 317 |
-/// | J4 0 (elbow straight), all zero, J2 0 with J6 0 | rank-deficient |
-///
-/// Near a straight elbow κ is about 760 / |J4| (J4 in degrees, whatever J2): 75 names the arm
-/// from 10.1° short of straight. The only other poses measured above 31 have J1 in line with
-/// J3 (J2 near 0) and J5 with J7 (J6 near 0) at once, within a few degrees of both: a real
-/// singularity of the 7-joint arm too (either alone the redundant joint makes up for).
+/// Above this [`condition_number`] the console names the arm as near a singularity. Near a straight
+/// elbow κ is about 760 / |J4| (J4 in degrees), so 75 names the arm from 10.1° short of straight;
+/// the poses measured are in `docs/development.md`.
 pub const SINGULARITY_WARNING: f64 = 75.0;
 
 /// Below this lever arm (m) a joint barely moves the tool point; its rate is then bounded by
 /// its own jog speed alone.
 pub const MIN_LEVER_ARM: f64 = 0.01;
 
-/// The fastest joint `joint` (1-7) at `position_deg` (every joint, degrees as reported) may
-/// turn, deg/s, for the tool point to move no faster than `max_linear` m/s for the next
-/// `horizon` seconds. The lever arm grows at most as fast as the tool moves, so it is taken
-/// `max_linear * horizon` longer than it is now: the bound holds until the command is renewed.
+/// The fastest joint `joint` (1-7) at `position_deg` may turn, deg/s, for the tool point to stay
+/// under `max_linear` m/s for `horizon` s. The lever arm is taken `max_linear * horizon` longer
+/// than now (it grows no faster than the tool moves), so the bound holds until renewed.
 pub fn joint_rate_for_tool_speed(
     position_deg: &[f32; 7],
     joint: u8,

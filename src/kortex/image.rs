@@ -98,14 +98,10 @@ const ICD_BLOCKS: [ReadBlock; 9] = [
     ),
 ];
 
-/// Of the ICD's blocks, those that need not be read in every snapshot: the robot-state flag
-/// inputs (input register 0 says the same), the warning flag inputs (input registers 4-5 carry
-/// the same warnings), the control register (not shown), and the arm's speed limits (the
-/// integrator's settings, which change only when someone sets them: the link reads them afresh
-/// before it lowers them for a capped move, and again after it writes them). A strict
-/// arm's plan reads them once every [`SLOW_REFRESH`] rather than in each snapshot: 5 reads a
-/// snapshot, not 9. The fault flag inputs are read in every snapshot, as every block the compact
-/// plan reads.
+/// Blocks that need not be read in every snapshot: the robot-state and warning flag inputs (input
+/// registers 0 and 4-5 say the same), the control register, and the speed limits (the integrator's;
+/// the link reads them afresh around a capped move). A strict arm's plan reads them every
+/// [`SLOW_REFRESH`]; the fault flags are read in every snapshot.
 const ICD_SLOW: [ReadBlock; 4] = [ICD_BLOCKS[0], ICD_BLOCKS[2], ICD_BLOCKS[6], ICD_BLOCKS[8]];
 
 /// How often the slow blocks are read.

@@ -1,15 +1,7 @@
-//! The Kinova Kortex Modbus ICD (`shared/icd/kinova-modbus-icd.md`): register map, decoding of
-//! telemetry and encoding of commands. Pure: no IO.
-//!
-//! - [`registers`]: every address, by name.
-//! - [`words`]: floats and UINT32 over two registers, low word first (CDAB).
-//! - [`codes`], [`flags`]: the numbered values and flag bits, with names.
-//! - [`image`], [`telemetry`]: the reads of one poll and the snapshot they decode to.
-//! - [`commands`]: the writes of each command, refusing values that cannot be written.
-//! - [`polar`]: polar pan as a twist computed from the live tool pose.
-//! - [`stored_run`]: how far a stored action or sequence started by id has got.
-//! - [`sanity`]: whether a reported value is physically possible (the panels' `?` and the
-//!   console's motion gate).
+//! The Kinova Kortex Modbus ICD (`shared/icd/kinova-modbus-icd.md`), pure: [`registers`]
+//! (addresses), [`words`] (CDAB floats), [`codes`] and [`flags`] (named values), [`image`] and
+//! [`telemetry`] (a poll's reads and snapshot), [`commands`] (writes), [`polar`] (pan as a twist),
+//! [`stored_run`] (a stored run's progress), [`sanity`] (physically possible values).
 
 pub mod arm_state;
 pub mod cartesian;

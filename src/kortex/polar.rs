@@ -1,11 +1,7 @@
-//! Polar pan over Modbus: the arm has no polar command, so azimuth and altitude motion become
-//! a base-frame twist computed from the live tool pose, recomputed on every poll.
-//!
-//! The tool turns rigidly about axes through the base origin: azimuth about the base Z axis,
-//! altitude about the horizontal axis perpendicular to the tool's bearing. Its distance from the
-//! base stays constant and its orientation turns with it, so a camera on it keeps the same view
-//! of the scene's centre. For a rotation rate w about axis k (through the origin) the tool point
-//! at p moves at v = w k x p.
+//! Polar pan over Modbus: the arm has no polar command, so azimuth and altitude become a base-frame
+//! twist from the live tool pose, recomputed every poll. The tool turns rigidly about axes through
+//! the base origin (azimuth about Z, altitude about the horizontal axis across its bearing), so a
+//! camera on it keeps its view of the scene's centre: v = w k x p.
 
 use super::cartesian::{Pose, Twist};
 use super::commands::{MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED};
@@ -71,10 +67,9 @@ pub fn check_directions(
     }
 }
 
-/// The base-frame twist that moves the tool at `pose` in azimuth and altitude. `azimuth` and
-/// `altitude` are directions in -1..1 (positive: counter-clockwise seen from above; upward).
-/// The result is scaled down, never up, to stay within the settings' linear speed and the arm's
-/// angular limit.
+/// The base-frame twist that pans the tool at `pose`; `azimuth` and `altitude` in -1..1 (positive:
+/// counter-clockwise from above; up). Scaled down, never up, to the settings' linear speed and the
+/// arm's angular limit.
 pub fn polar_twist(
     pose: Pose,
     azimuth: f32,

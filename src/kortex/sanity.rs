@@ -1,12 +1,7 @@
-//! Whether a reported value is physically possible: the one place that decides it, for the
-//! panels (a value out of range shows as `?`, with a warning naming the field) and for any
-//! gate on motion.
-//!
-//! The Gen3's own limits (`shared/field-notes.md`): joint angles reported 0-360 deg; joint
-//! speeds at most 80 deg/s (J1-J4) and 70 deg/s (J5-J7); joint torques at most 39 N m (J1-J4)
-//! and 9 N m (J5-J7); tool twist hard limits 0.5 m/s and 100 deg/s; a reach near 1.2 m. The
-//! bounds are generous, about five times those, so that only nonsense (1e9, 1e30, NaN,
-//! infinity) is refused, never a reading near a limit.
+//! Whether a reported value is physically possible: the one place that decides it, for the panels
+//! (`?` and a warning) and the motion gate. Bounds are about five times the Gen3's own limits
+//! (`shared/field-notes.md`: 0-360 deg, 80/70 deg/s, 39/9 N m, 0.5 m/s and 100 deg/s, 1.2 m reach),
+//! so only nonsense (1e9, NaN, infinity) is refused, never a reading near a limit.
 
 use std::fmt;
 

@@ -1,13 +1,8 @@
-//! How far a stored action or sequence started by id has got, read from telemetry: one
-//! interpretation for `armjog modbus home|action|sequence` and the console. Pure.
-//!
-//! The status registers (100-102) describe the last action, sequence or trajectory the arm ran,
-//! whoever started it. A run is the caller's once they name its id and move type; right after
-//! the start they may still describe an earlier run of the same one, so a "completed" or
-//! "aborted" counts only after the run was seen started or [`STATUS_GRACE`] has passed. An arm
-//! that shows neither the run nor its refusal within [`START_LIMIT`] did not take it. Once the
-//! run was seen started, a status naming another move ([`OurMove::other_in`]) is another
-//! client's that replaced it.
+//! How far a stored action or sequence started by id has got, from telemetry: one reading for
+//! `armjog modbus home|action|sequence` and the console. Status registers 100-102 describe the last
+//! move whoever started it, so "completed" or "aborted" counts only after the run was seen started
+//! or [`STATUS_GRACE`] passed; no sign within [`START_LIMIT`] means not taken; a status naming
+//! another move after ours started ([`OurMove::other_in`]) is another client's.
 
 use std::fmt;
 use std::time::Duration;

@@ -1,7 +1,5 @@
-//! Two-register values: the ICD's "byte order big endian, word order little endian" (CDAB).
-//!
-//! Each register is a big-endian 16-bit word; a 32-bit value spans two registers with its **low**
-//! word at the lower address. 1.0f32 (0x3F80_0000) is `[0x0000, 0x3F80]`.
+//! Two-register values in the ICD's CDAB order: big-endian words, the **low** word at the lower
+//! address. 1.0f32 (0x3F80_0000) is `[0x0000, 0x3F80]`.
 
 /// A 32-bit value as the two registers that carry it, low word first.
 pub fn u32_to_words(value: u32) -> [u16; 2] {

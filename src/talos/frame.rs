@@ -3,18 +3,12 @@
 //! ```text
 //! Command ID u32 | RESERVED u16 | Command Value u16 | Length u16 | Payload [Length] | Checksum
 //! ```
-//! All big-endian. The checksum field is 2 bytes (`crc16`, `none`) or 1 byte (`xor8`), see
-//! [`Checksum`].
+//! All big-endian; the checksum is 2 bytes (`crc16`, `none`) or 1 (`xor8`), see [`Checksum`].
 //!
-//! The wrapper has no sync marker, so resynchronisation after garbage or a corrupt frame is a
-//! search: drop one byte and try to parse again. While searching, only plausible positions count
-//! as frame starts: a command value in the ICD with a length the ICD allows for it. At a clean
-//! frame boundary the decoder keeps any frame whose Length is within the payload bound, whatever
-//! its command value, until it is complete and its checksum decides; so a frame with an unknown
-//! command or a wrong payload length reaches the server (which answers "unknown command" or
-//! "malformed payload") however TCP split it into reads. A header that announces more than ever
-//! comes is not the codec's to time out: the reader gives each frame a deadline and calls
-//! [`FrameCodec::expire`] (see `FrameReader` in `src/net/`).
+//! There is no sync marker, so resynchronising is a search, counting only plausible frame starts
+//! (an ICD command with an allowed length). At a clean boundary any frame within the payload bound
+//! is awaited and its checksum decides, so an unknown command or a bad length reaches the server
+//! however TCP split it. Timing a frame out is the reader's ([`FrameCodec::expire`]).
 
 use std::fmt;
 use std::time::Duration;
@@ -165,10 +159,9 @@ impl fmt::Display for RejectReason {
     }
 }
 
-/// Bytes the decoder dropped: the reason found at the first bad position, how many bytes were
-/// skipped before the next valid frame (or the end of what was buffered), and the header found at
-/// the first bad position if it was a complete frame (or, for [`RejectReason::Stalled`], the
-/// unverified header of the frame that never completed).
+/// Bytes the decoder dropped: the reason at the first bad position, how many were skipped, and that
+/// position's header if it was a complete frame (for [`RejectReason::Stalled`], the unverified
+/// header of the frame that never completed).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Rejection {
     pub reason: RejectReason,
@@ -251,13 +244,9 @@ fn header_at(buf: &[u8]) -> Option<FrameHeader> {
     })
 }
 
-/// Parses one frame at the start of `buf`.
-///
-/// `strict` (set while resynchronising, and always for the `none` checksum, which cannot tell a
-/// frame from noise) only accepts command values the ICD defines, with a payload length the ICD
-/// allows for them. Otherwise any header whose Length is within `max_payload` is waited for and
-/// the checksum decides, so the server can answer "unknown command" or "malformed payload" for a
-/// frame whichever way it was split into reads.
+/// Parses one frame at the start of `buf`. `strict` (while resynchronising, and always for the
+/// `none` checksum, which cannot tell a frame from noise) accepts only ICD commands with allowed
+/// lengths; otherwise any length within `max_payload` is awaited and the checksum decides.
 pub fn parse_frame(buf: &[u8], checksum: Checksum, max_payload: usize, strict: bool) -> Parse {
     let Some(header) = header_at(buf) else {
         return Parse::Incomplete(HEADER_LEN);

@@ -1,8 +1,6 @@
-//! Typed requests and replies: one variant per ICD command and per reply.
-//!
-//! Field names follow the ICD in snake_case. [`Request`] lives in `talos::request` and [`Reply`]
-//! in `talos::reply`; this module holds what they share: the encode and decode errors and the
-//! field reader that names the command and field a payload fails on.
+//! Typed requests and replies, one variant per ICD command and reply (fields in snake_case). This
+//! module holds what [`Request`] and [`Reply`] share: errors and the field reader that names the
+//! command and field a payload fails on.
 
 use super::command::CommandValue;
 use super::name::{NameError, PositionName};

@@ -1,16 +1,7 @@
-//! The Talos API ICD (`shared/icd/talos-api-icd.md`) as a pure library: no IO.
-//!
-//! - [`frame`]: the command wrapper and its checksum dialects, plus a streaming codec.
-//! - [`request`] / [`reply`]: one typed [`Request`] per ICD command and one [`Reply`] per reply;
-//!   [`message`] holds their shared errors and field reader.
-//! - [`reader`]: the one big-endian reader, shared with [`hardware`].
-//! - [`return_code`]: the return codes armjog emits and understands.
-//! - [`name`]: position names and the character rule armjog enforces.
-//! - [`hardware`]: armjog's companion ICD for Execute Hardware Operation (0x0008).
-//! - [`dialect`]: how an operator answers (typed replies or bare ACKs).
-//! - [`hex`]: frames as spaced hex, for logs and `armjog send --hex`.
-//! - [`stop`]: what each request does to the arm (stop, motion, still), and the one set of
-//!   requests that stops every motion, per dialect.
+//! The Talos API ICD (`shared/icd/talos-api-icd.md`) as a pure library: the frame and its checksums
+//! ([`frame`]), typed [`Request`]s and [`Reply`]s, return codes, position names, armjog's hardware
+//! companion ICD for 0x0008 ([`hardware`]), reply dialects ([`dialect`]), hex for logs ([`hex`])
+//! and what each request does to the arm, with the one stop set ([`stop`]).
 
 pub mod ack;
 pub mod checksum;

@@ -1,9 +1,7 @@
-//! Position names: UINT8-length-prefixed, not null terminated, 1-255 bytes.
-//!
-//! armjog's character rule: printable ASCII only (0x20-0x7E), with no leading or trailing space.
-//! It keeps names readable on any terminal, safe in the console's JSON file and unambiguous when
-//! typed back; bytes outside it (control characters, UTF-8) are refused before anything is sent
-//! and answered MALFORMED_PAYLOAD by the simulated operator.
+//! Position names: UINT8-length-prefixed, not null terminated, 1-255 bytes. armjog allows printable
+//! ASCII only (0x20-0x7E), no leading or trailing space, so names stay readable, safe in JSON and
+//! unambiguous typed back; anything else is refused before sending (the simulated operator answers
+//! MALFORMED_PAYLOAD).
 
 use std::fmt;
 

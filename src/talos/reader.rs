@@ -1,9 +1,5 @@
-//! The one big-endian field reader over a payload, shared by [`super::message`] (Talos
-//! requests and replies) and [`super::hardware`] (the companion ICD payloads).
-//!
-//! A thin wrapper over [`bytes::Buf`] for `&[u8]`: every read goes through `try_get_*`, so a
-//! short payload is reported as a [`Short`] naming the field and the bytes missing, never a panic.
-//! Each layer maps [`Short`] onto its own error type (and wording).
+//! The one big-endian field reader, shared by [`super::message`] and [`super::hardware`]: every
+//! read is a `try_get_*`, so a short payload is a [`Short`] naming the field, never a panic.
 
 use bytes::Buf;
 

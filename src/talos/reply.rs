@@ -1,9 +1,6 @@
-//! Typed replies: one variant per ICD reply ("Receive" tables), with payload encode/decode.
-//!
-//! Error replies: armjog always sends a reply's full fixed layout, zeroing the fields after a
-//! non-zero return code. When decoding, a reply whose return code is non-zero may also be just
-//! the 2-byte return code (the other fields then read as zero), because an operator that failed
-//! has nothing to put in them.
+//! Typed replies, one variant per ICD reply ("Receive" tables). armjog sends a reply's full layout,
+//! zeroed after a non-zero return code; decoding also takes a bare 2-byte return code there, as a
+//! failed operator has nothing to put in the fields.
 
 use serde::Serialize;
 

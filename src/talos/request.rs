@@ -1,7 +1,6 @@
-//! Typed requests: one variant per ICD command ("Send" tables), with payload encode/decode.
-//!
-//! Names and directions are carried raw so that encoding can refuse a bad one with the field it
-//! came from; decoding applies the same rules, so a server can answer MALFORMED_PAYLOAD.
+//! Typed requests, one variant per ICD command ("Send" tables). Names and directions are carried
+//! raw so encoding can refuse a bad one naming its field; decoding applies the same rules (a server
+//! answers MALFORMED_PAYLOAD).
 
 use super::command::CommandValue;
 use super::frame::TalosFrame;

@@ -1,6 +1,5 @@
-//! Return codes. The ICD only says a reply carries a UINT16 "Return Code"; upstream never
-//! defined values beyond success. These are armjog's, emitted by the simulated operator and
-//! named by the console. A code not listed is shown raw.
+//! Return codes: the ICD defines only success; these are armjog's, emitted by the simulated
+//! operator and named by the console. Unlisted codes show raw.
 
 use std::fmt;
 

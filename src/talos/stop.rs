@@ -1,9 +1,6 @@
-//! What "stop" and "motion" mean on a Talos link, said once as facts of the ICD: what each
-//! request does to the arm ([`Request::class`]), and the set of requests that stops every
-//! motion a link in a dialect may carry. Every path that stops the Talos side sends
-//! [`stop_requests`]: the STOP key, quit and the driver's exit, a dropped link, a failed link
-//! that can still write, the panic hook (through the driver), and the stop guard's process
-//! when the console dies (`cli/guard/talos.rs`).
+//! What "stop" and "motion" mean on a Talos link, as facts of the ICD: what each request does
+//! ([`Request::class`]), and the set that stops every motion a dialect may carry. Every path that
+//! stops the Talos side sends [`stop_requests`], the stop guard included.
 
 use super::hardware::{HwRequest, subcommand};
 use super::{Dialect, Request};
@@ -15,10 +12,9 @@ pub enum RequestClass {
     /// Execute Hardware Operation (0x0008) STOP_ALL_JOINTS (subcommand 0x0004). The link
     /// never holds one back, and re-sends it in the ack dialect.
     Stop,
-    /// May set the arm moving. `runs_to_end`: a move the operator carries to its end on its
-    /// own (the discrete pan and move, home, go-to), whose OK says only that it was accepted;
-    /// otherwise a continuous start (even an all-zero one), a joint command, or a hardware
-    /// operation not known to be still, which move until stopped or no longer refreshed.
+    /// May set the arm moving. `runs_to_end`: the operator carries it to its end on its own
+    /// (discrete pan and move, home, go-to), so its OK says only that it was accepted; otherwise it
+    /// moves until stopped or no longer refreshed.
     Motion { runs_to_end: bool },
     /// Moves nothing: the handshake, speed, the operator's positions, reads, a fault clear.
     Still,

@@ -50,11 +50,9 @@ impl FrameCodec {
         HEADER_LEN + self.max_payload + self.checksum.len()
     }
 
-    /// Gives up on the frame at the front of `src`, whose deadline has passed (the reader keeps
-    /// the clock): drops its first byte, and every later one of the first `overdue` bytes (those
-    /// whose own deadline has passed too) that does not start a complete frame, then
-    /// resynchronises on the rest as after any bad frame. Returns the report of the dropped run
-    /// ([`RejectReason::Stalled`]), or `None` if no frame was waiting.
+    /// Gives up on the front frame, whose deadline passed: drops its first byte and every later one
+    /// of the first `overdue` that does not start a complete frame, then resynchronises. Returns
+    /// the dropped run ([`RejectReason::Stalled`]), or `None` if nothing was waiting.
     pub fn expire(
         &mut self,
         src: &mut BytesMut,
@@ -163,9 +161,8 @@ impl Decoder for FrameCodec {
             _ => src.len(),
         };
         let have = src.len();
-        // The frame begun at the front can no longer complete, but its header may have been
-        // garbage or carried a corrupt length: a complete frame may still be buffered behind it.
-        // Drop up to the next position where one parses, as resynchronisation would.
+        // The front frame cannot complete, but its header may have been garbage: a complete frame
+        // may be buffered behind it. Drop up to where one parses.
         let discarded = (1..have)
             .find(|&at| {
                 matches!(

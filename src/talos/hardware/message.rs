@@ -56,9 +56,8 @@ impl HwRequest {
         Ok(self.payload_bytes())
     }
 
-    /// The Talos request that carries this operation (Execute Hardware Operation, 0x0008),
-    /// after [`HwRequest::validate`]: the one place a hardware operation becomes a request, so
-    /// none ever goes out with a payload its encoding failed to produce.
+    /// The Talos request (0x0008) carrying this operation, after [`HwRequest::validate`]: the one
+    /// place an operation becomes a request.
     pub fn to_request(&self) -> Result<Request, HwError> {
         self.validate()?;
         Ok(self.carried(self.payload_bytes()))

@@ -1,19 +1,8 @@
-//! armjog's hardware companion ICD for Talos "Execute Hardware Operation" (0x0008 / 0x8008).
-//!
-//! The Talos ICD leaves the subcommand values and their payloads to a hardware-specific
-//! companion ICD; `docs/hardware-icd.md` is armjog's, for a Kinova Gen3 7-joint arm, modelled on
-//! Kinova's ActuatorCyclic service. This module is that document as code: the subcommand values,
-//! the typed requests and replies, and their exact byte layouts. It is pure (no IO) and never
-//! panics on input: every length and field is checked and reported as an [`HwError`].
-//!
-//! Only the inner `Payload` bytes live here. The Talos wrapper around them (Subcommand UINT16 and
-//! RESERVED UINT32 in the request, Return Code UINT16 and Subcommand UINT16 in the reply) is the
-//! frame/message layer's. All values are big-endian; physical values are IEEE-754 `f32`.
-//!
-//! The code is split by layer: `flags` holds the flag-word newtypes and [`RobotState`],
-//! `payload` the payload structures and their byte layouts, `message` the typed
-//! [`HwRequest`] and [`HwReply`], and `reader` the field checks and (over `talos::reader`) the reader they
-//! share. Everything public is re-exported here, so paths are `armjog::talos::hardware::...`.
+//! armjog's hardware companion ICD for Talos "Execute Hardware Operation" (0x0008 / 0x8008):
+//! `docs/hardware-icd.md` as code, for a Kinova Gen3 7-joint arm (modelled on Kinova's
+//! ActuatorCyclic). Only the inner `Payload` bytes live here; the wrapper is the frame layer's.
+//! Big-endian, physical values `f32`; pure, and every length and field is checked ([`HwError`]).
+//! `flags`, `payload`, `message` and `reader` are re-exported here.
 
 mod flags;
 mod message;
