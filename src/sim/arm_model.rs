@@ -1,8 +1,6 @@
-//! The simulated arm: joint state, the motion it is executing, a fixed-step integrator and
-//! plausible, deterministic torques, currents and temperatures.
-//!
-//! Protocol-neutral: the Talos and Modbus servers translate their commands into [`SimMotion`]s and
-//! read [`ArmSnapshot`]s. Time only moves through [`Arm::step`], so tests drive it exactly.
+//! The simulated arm: joint state, the running motion, a fixed-step integrator and deterministic
+//! efforts and temperatures. Protocol-neutral ([`SimMotion`] in, [`ArmSnapshot`] out); time moves
+//! only through [`Arm::step`], so tests drive it exactly.
 
 use crate::kortex::Flag;
 pub use crate::kortex::{ActionStatus, ReferenceFrame, RobotState};
@@ -53,9 +51,8 @@ pub struct Arm {
     temperature: Joints,
     torque: Joints,
     current: Joints,
-    /// The joints the effort model last ran the forward kinematics at, and the horizontal reach
-    /// it found: at rest the joints do not change, and the 1 kHz integrator need not redo the
-    /// kinematics every step (they dominate an idle simulator's CPU in a debug build).
+    /// The joints the effort model last ran the kinematics at, and the reach found: at rest the 1
+    /// kHz integrator need not redo them every step.
     reach_at: Option<(Joints, f64)>,
     /// Where a running twist or polar pan should have the tool (see [`tracking`]).
     reference: Option<tracking::Reference>,
@@ -134,9 +131,8 @@ impl Arm {
         self.command_capped(motion, delay, watchdog, None)
     }
 
-    /// [`Arm::command`] with the tool point kept at or under `max_tcp_speed` m/s (and the
-    /// configured linear limit) whatever the motion: joint velocities are scaled down together,
-    /// so the path is the same, only slower.
+    /// [`Arm::command`] with the tool point at or under `max_tcp_speed` m/s (and the configured
+    /// linear limit): joint velocities scale down together, so the path stays the same.
     pub fn command_capped(
         &mut self,
         motion: SimMotion,
@@ -246,9 +242,8 @@ impl Arm {
         self.move_type = move_type;
     }
 
-    /// Starts a stored action or sequence `id` as its moves `steps`, one after the other. The
-    /// status reports `id` and `move_type` and stays started until the last move arrives.
-    /// Every step is checked before the first moves.
+    /// Starts stored action or sequence `id` as its `steps`, one after the other; the status names
+    /// `id` and `move_type` until the last arrives. Every step is checked before the first moves.
     pub fn command_stored(
         &mut self,
         id: u16,
@@ -367,9 +362,8 @@ impl Arm {
     }
 }
 
-/// How far joint `i` turns from `from` to reach `to` (radians), as a joint-space move does it:
-/// a continuous joint the short way round; a limited joint straight across its range, never
-/// the way through its limit (both ends are inside it, so every angle between is too).
+/// How far joint `i` turns from `from` to `to` (rad): a continuous joint the short way, a limited
+/// joint straight across its range, never through its limit.
 pub fn joint_delta(i: usize, from: f64, to: f64) -> f64 {
     match kinematics::JOINT_LIMITS_DEG[i] {
         Some(_) => kinematics::wrap_pi(to) - kinematics::wrap_pi(from),

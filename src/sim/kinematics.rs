@@ -1,9 +1,6 @@
-//! Kinova Gen3 7-DOF kinematics from the classic DH table of the field notes (the table and its
-//! transforms live in [`crate::kortex::gen3`]): forward kinematics, the geometric Jacobian and
-//! damped-least-squares inverse kinematics.
-//!
-//! Joint angles here are radians, positions metres. Orientation is a rotation matrix; Kinova
-//! reports it as extrinsic XYZ Euler angles in degrees (`R = Rz(θz)·Ry(θy)·Rx(θx)`).
+//! Kinova Gen3 7-DOF kinematics (DH table in [`crate::kortex::gen3`]): forward kinematics, the
+//! Jacobian and damped-least-squares IK. Radians and metres; orientation a rotation matrix (Kinova
+//! reports extrinsic XYZ Euler degrees, `R = Rz(θz)·Ry(θy)·Rx(θx)`).
 
 use nalgebra::{Matrix4, Matrix6, Rotation3, SMatrix, UnitQuaternion, Vector3, Vector6};
 
@@ -97,12 +94,9 @@ pub fn pose_error(from: &Pose, to: &Pose) -> Vector6<f64> {
     Vector6::new(dp.x, dp.y, dp.z, dr.x, dr.y, dr.z)
 }
 
-/// The rotation vector (axis times angle, rad) of `r`, finite and precise down to zero.
-///
-/// nalgebra's `Rotation3::scaled_axis` takes the angle as `acos((trace - 1) / 2)`: rounding
-/// puts the argument just above 1 for a rotation within ~1e-8 rad of identity, and the result
-/// is NaN (it stopped a discrete move that had already arrived). Here the angle comes from
-/// `atan2(sin, cos)` of the matrix's skew and trace parts.
+/// The rotation vector (axis times angle, rad) of `r`, finite down to zero: nalgebra's
+/// `scaled_axis` takes `acos` of an argument rounding puts just above 1 near identity, giving NaN
+/// (it stopped a move that had arrived); here the angle comes from `atan2`.
 pub fn rotation_vector(r: &Rotation3<f64>) -> Vector3<f64> {
     let m = r.matrix();
     // sin(angle) times the axis.
@@ -184,9 +178,8 @@ pub fn inverse(q0: &Joints, target: &Pose) -> Result<Joints, IkError> {
 /// How far inside its limit `armjog sim --near-limit` places a joint, degrees.
 pub const NEAR_LIMIT_MARGIN_DEG: f64 = 2.0;
 
-/// The home pose (degrees) with joint `joint` (1-7) placed [`NEAR_LIMIT_MARGIN_DEG`] inside
-/// its upper limit, for `armjog sim --near-limit`. Refuses a continuous joint and a number
-/// out of 1-7.
+/// Home (degrees) with `joint` (1-7) [`NEAR_LIMIT_MARGIN_DEG`] inside its upper limit, for `armjog
+/// sim --near-limit`. Refuses a continuous joint and a number out of 1-7.
 pub fn near_limit_pose_deg(joint: u8) -> Result<Joints, String> {
     let index = usize::from(joint)
         .checked_sub(1)
@@ -205,10 +198,9 @@ pub fn near_limit_pose_deg(joint: u8) -> Result<Joints, String> {
 /// How far short of a straight elbow `armjog sim --near-singularity` bends J4, degrees.
 pub const NEAR_SINGULARITY_ELBOW_DEG: f64 = 3.0;
 
-/// The home pose (degrees) with J4 [`NEAR_SINGULARITY_ELBOW_DEG`] short of straight, on
-/// home's side (-3°, reported 357°), for `armjog sim --near-singularity`: the Jacobian's
-/// condition number is then about 253, well inside the console's warning
-/// ([`crate::kortex::gen3::SINGULARITY_WARNING`]), and every joint far from its limit.
+/// Home (degrees) with J4 [`NEAR_SINGULARITY_ELBOW_DEG`] short of straight (reported 357°), for
+/// `armjog sim --near-singularity`: κ about 253, inside the console's warning
+/// ([`crate::kortex::gen3::SINGULARITY_WARNING`]), every joint far from its limit.
 pub fn near_singularity_pose_deg() -> Joints {
     let mut q = HOME_DEG;
     q[3] = -NEAR_SINGULARITY_ELBOW_DEG;

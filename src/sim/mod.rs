@@ -1,8 +1,5 @@
-//! The simulated Kinova Gen3 arm and the servers in front of it.
-//!
-//! One [`world::SimArm`] task owns the arm; the Talos operator server (default
-//! `127.0.0.1:61616`) and the Kinova Modbus server (default `127.0.0.1:5020`) both drive it, so a
-//! jog over one protocol shows in the other's telemetry.
+//! The simulated Kinova Gen3 and its servers: one [`world::SimArm`] task owns the arm, and the
+//! Talos (default `127.0.0.1:61616`) and Modbus (`127.0.0.1:5020`) servers both drive it.
 
 pub mod arm_model;
 pub mod kinematics;

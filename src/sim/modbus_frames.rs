@@ -1,13 +1,8 @@
-//! A guard in front of tokio-modbus's server decoder: it panics on some malformed write
-//! requests (FC 15 with more coils than its data bytes hold; FC 16 and 23 with a quantity whose
-//! doubling overflows a u16). Frames are checked here, and a connection that sends one is
-//! closed, as the decoder does for the malformed frames it does catch.
-//!
-//! The guard also closes a connection whose MBAP header no Modbus TCP frame has (a length over
-//! 254 or under 2, a protocol id other than 0), or whose frame does not complete within
-//! [`FRAME_DEADLINE`] of its first byte: tokio-modbus would wait for up to 64 KiB that may never
-//! come, so the next request on the connection would hang unanswered. MBAP has no sync marker to
-//! resynchronise on, so closing is the only way out.
+//! A guard in front of tokio-modbus's server decoder, which panics on some malformed writes (FC 15
+//! with more coils than its bytes hold; FC 16 and 23 whose doubled quantity overflows). It also
+//! closes a connection whose MBAP header no frame has (length over 254 or under 2, protocol id not
+//! 0) or whose frame does not complete within [`FRAME_DEADLINE`]: MBAP has no sync marker, so
+//! closing is the only way out.
 
 use std::time::Duration;
 

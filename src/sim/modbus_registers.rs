@@ -1,8 +1,6 @@
-//! The simulated arm as the Kinova Modbus ICD shows it: the register image of a snapshot, and
-//! what writes to the command block and the coils do. Pure.
-//!
-//! Like the real arm (field notes), a twist has no watchdog: it runs until stopped or faulted.
-//! Only the addresses the ICD lists exist; any other answers "illegal data address".
+//! The simulated arm as the Kinova Modbus ICD shows it: a snapshot's register image and what writes
+//! do. Pure. A twist has no watchdog, like the real arm; unlisted addresses answer "illegal data
+//! address".
 
 use crate::kortex::CodeName;
 use nalgebra::Vector3;
@@ -255,9 +253,8 @@ fn execute(world: &mut World) {
     }
 }
 
-/// Starts the stored action (move type 0) or sequence (1) `id`. An id the arm does not have,
-/// or a start it refuses (fault), shows as aborted with the status naming the id and move type,
-/// so its client can tell its own refusal from an earlier action's status.
+/// Starts stored action (move type 0) or sequence (1) `id`. An unknown id or a refused start shows
+/// as aborted naming the id and type, so a client can tell its refusal from an older status.
 fn start_stored(world: &mut World, id: u16, move_type: u16) {
     let started = match stored::steps(id, move_type) {
         Some(steps) => world.arm.command_stored(id, move_type, steps).is_ok(),

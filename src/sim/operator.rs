@@ -1,26 +1,17 @@
-//! The simulated Talos operator: what each ICD command means to the simulated arm.
+//! The simulated Talos operator: what each ICD command means to the simulated arm. Pure:
+//! [`Operator::handle`] takes a request and the arm and returns the reply.
 //!
-//! Pure: [`Operator::handle`] takes a request and the arm and returns the reply. The server
-//! around it does the IO.
-//!
-//! Semantics armjog settles where the ICD is silent:
-//! - Speed is a percentage (1-100) of the maximum jog speeds: [`MAX_JOG_LINEAR`] (or the cap
-//!   the operator was started with, [`Operator::with_max_jog_linear`]) for cartesian
-//!   motion and [`MAX_JOG_ANGULAR_DEG`] for polar pans. 0 or above 100 is OUT_OF_RANGE.
-//! - One cap for every motion: whatever it is (continuous or discrete, cartesian, polar, joint,
-//!   go to, home), the tool point never moves faster than the linear cap times the speed (a
-//!   timed discrete move: the cap itself). The arm scales joint velocities down to keep it.
-//! - Continuous START runs until STOP or until no START arrives for 500 ms (the watchdog). A
-//!   START with every direction 0 stops. Either STOP stops any continuous motion: a stop is never
-//!   ignored because it named the other kind.
-//! - A continuous motion (START, a joint jog) also stops when the connection holding it closes
-//!   (see [`Operator::client_gone`]); a discrete move (home, go to, a pan) runs to its end.
-//! - Discrete moves honour Delay; Time, when non-zero, sets the speed so the move takes that long
-//!   (never faster than the maximum jog speed); otherwise the move runs at the current speed.
-//! - Polar coordinates of named positions are about the base origin: delta is the elevation,
-//!   azimuth is measured from +X towards +Y, radius is in tenths of millimetres.
-//! - A position saved with a parent and anchor set is stored relative to its parent and moves
-//!   with it. Deleting a parent freezes its anchored children where they are.
+//! Where the ICD is silent (more in `docs/simulator.md`):
+//! - Speed is 1-100 % of [`MAX_JOG_LINEAR`] (or [`Operator::with_max_jog_linear`]) and
+//!   [`MAX_JOG_ANGULAR_DEG`] for polar pans; the tool never moves faster than the linear cap times
+//!   the speed, whatever the motion.
+//! - A continuous START runs until STOP, an all-zero START, or 500 ms without a START; either STOP
+//!   stops any continuous motion. It also stops when its holder's connection closes
+//!   ([`Operator::client_gone`]); discrete moves run to their end.
+//! - Discrete moves honour Delay; a non-zero Time sets the speed (never over the maximum).
+//! - Polar coordinates are about the base origin: delta is elevation, azimuth from +X towards +Y,
+//!   radius in tenths of mm. An anchored position moves with its parent; deleting the parent
+//!   freezes it.
 
 use std::collections::BTreeMap;
 

@@ -1,6 +1,5 @@
-//! Logging of the frames a server rejects, limited per connection so that a flood of garbage
-//! cannot fill the disk: the first [`PER_WINDOW`] rejections of each second in full, then one
-//! summary line for the rest of that second.
+//! Rejected frames logged per connection, limited so garbage cannot fill the disk: the first
+//! [`PER_WINDOW`] of each second in full, then one summary line.
 
 use std::fmt;
 use std::net::SocketAddr;

@@ -1,9 +1,6 @@
-//! The stored actions and sequences of the simulated Gen3: the four factory actions a Gen3
-//! ships with and one sequence. A real arm's ids differ per arm and are looked up in its Web
-//! App (Actions page); these are the simulator's. Pure.
-//!
-//! Every action is a joint-space move (every joint arriving together) at [`ACTION_FRACTION`] of
-//! the joints' top speed, under the arm's configured linear limit like every motion.
+//! The simulator's stored actions and sequences: the Gen3's four factory actions and one sequence
+//! (a real arm's ids are in its Web App). Each action is a joint-space move at [`ACTION_FRACTION`]
+//! of the joints' top speed, under the configured linear limit. Pure.
 
 use super::arm_model::SimMotion;
 use super::kinematics::{self, HOME_DEG};
@@ -22,13 +19,12 @@ pub struct StoredAction {
     pub joints_deg: [f64; 7],
 }
 
-/// Retract: Kinova's own "retract" pose of the Gen3 7-DoF (the `retract` group state of
-/// Kinovarobotics/ros_kortex `gen3_move_it_config/config/7dof/gen3.srdf`: 0, -0.35, 3.14, -2.54,
-/// 0, -0.87, 1.57 rad), in degrees rounded to the half degree.
+/// Retract: Kinova's own pose (the `retract` group state in Kinovarobotics/ros_kortex
+/// `gen3_move_it_config/config/7dof/gen3.srdf`: 0, -0.35, 3.14, -2.54, 0, -0.87, 1.57 rad), in
+/// degrees rounded to the half degree.
 pub const RETRACT_DEG: [f64; 7] = [0.0, -20.0, 180.0, -145.5, 0.0, -50.0, 90.0];
 
-/// Packaging: Kinova publishes no joint angles for it. A plausible folded pose, more tightly
-/// folded than Retract (shoulder back, elbow nearly closed, wrist tucked), chosen here with every
+/// Packaging: Kinova publishes no angles; a plausible pose folded tighter than Retract, every
 /// limited joint at least 2 degrees inside its limit (J4 147.8, J6 120.3).
 pub const PACKAGING_DEG: [f64; 7] = [0.0, -30.0, 180.0, -140.0, 0.0, -110.0, 90.0];
 

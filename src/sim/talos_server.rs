@@ -1,26 +1,12 @@
-//! The simulated Talos operator on TCP.
+//! The simulated Talos operator on TCP. Several clients may connect; every command goes through the
+//! one arm task in order, and any client's STOP stops it. [`TalosServerConfig::one_client`] serves
+//! as the deployed operator does: it accepts nothing while it serves a client.
 //!
-//! Several clients may connect at once: every command goes through the one arm task, in arrival
-//! order, so they cannot corrupt each other; any client's START refreshes the arm's single
-//! watchdog and any client's STOP stops it. (The deployed operator takes one client at a time;
-//! the simulator is more permissive so `armjog send` can be used beside a running console.)
-//! [`TalosServerConfig::one_client`] serves as the deployed operator does: a second connection
-//! is accepted by the kernel (its connect succeeds, its frames are buffered) but gets no answer
-//! until the first client's connection closes; then the next one is served. The server simply
-//! does not accept while it serves a client, which is what a one-client server looks like from
-//! outside.
-//!
-//! When a connection ends (end of stream, read or write error, injected close) the continuous
-//! motion it holds stops at once, not at the watchdog: a joint jog (the hardware ICD's SHALL)
-//! and, where the Talos ICD is silent, a continuous START too. With several clients, only the
-//! one whose command last started or refreshed the motion holds it (see
-//! [`Operator::client_gone`]): another client leaving does not stop it.
-//!
-//! Every rejected frame is logged at info with the peer and the reason, in both dialects (the ack
-//! dialect answers "ACK" to all of them, so the log is the only place an integrator can see why a
-//! frame did nothing): undecodable bytes, reply values, unknown or (ack dialect) unimplemented
-//! commands, malformed payloads, and requests the operator refused. The log is rate-limited per
-//! connection ([`RejectLog`]).
+//! A closed connection stops the continuous motion it holds at once (a joint jog: the hardware
+//! ICD's SHALL; a START too), only if its command last started or refreshed it
+//! ([`Operator::client_gone`]). Every rejected frame is logged with peer and reason (in the ack
+//! dialect the log is the only place to see why a frame did nothing), rate-limited per connection
+//! ([`RejectLog`]).
 
 use std::fmt;
 use std::net::SocketAddr;

@@ -4,9 +4,8 @@ use nalgebra::{Rotation3, Unit, Vector3};
 
 use crate::sim::kinematics::Pose;
 
-/// The base-frame twist for a polar pan at `azimuth` and `altitude` rad/s: an orbit about the
-/// base Z axis and a change of elevation about the base origin. The tool turns with the motion
-/// so it keeps its bearing relative to the orbit.
+/// The base-frame twist for a polar pan at `azimuth` and `altitude` rad/s: an orbit about base Z
+/// and an elevation change about the origin; the tool turns to keep its bearing.
 pub fn polar_twist(pose: &Pose, azimuth: f64, altitude: f64) -> (Vector3<f64>, Vector3<f64>) {
     let p = pose.position;
     let horizontal = Vector3::new(p.x, p.y, 0.0);

@@ -1,17 +1,9 @@
-//! Closed-loop tracking of continuous cartesian motions (twists and polar pans).
-//!
-//! Integrating a twist through damped-least-squares IK open loop drifts: each 1 ms step's
-//! linearisation error and the damping's bias add up (a 250 mm +X jog used to end 3.1 mm low).
-//! So the arm keeps a [`Reference`] on the commanded path, starting where the motion began, and
-//! feeds a proportional correction of the error from the tool to it into the twist it asks the
-//! IK for. The correction goes through the same speed caps as the motion.
-//!
-//! The reference moves along the path at the commanded rate while the arm keeps up within a
-//! small lag (the correction then also makes up the speed the damping loses). Further behind,
-//! it moves only as far as the arm progressed along the commanded twist: an arm slowed by a
-//! cap, a joint speed limit or a singularity is not left behind a reference running away on
-//! its own (and has nothing to make up when free), and the error it is pulled back by is its
-//! straying from the path, never the path's length.
+//! Closed-loop tracking of continuous cartesian motions: open-loop IK integration drifts, so the
+//! arm keeps a [`Reference`] on the commanded path and feeds a proportional correction of the
+//! tool's error into the twist, through the same caps. The reference runs at the commanded rate
+//! while the arm keeps up within a small lag; further behind, it moves only as far as the arm
+//! progressed, so an arm slowed by a cap, a joint limit or a singularity is pulled back to the
+//! path, never along a runaway reference.
 
 use nalgebra::{Rotation3, Vector3};
 

@@ -1,6 +1,6 @@
-//! How the running motion becomes joint velocities: twists and polar pans through the tracked
-//! reference, discrete moves approaching their target, all under the tool speed cap, the
-//! configured limits and each joint's top speed.
+//! How the running motion becomes joint velocities: twists and pans through the tracked reference,
+//! discrete moves approaching their target, all under the caps, configured limits and joint top
+//! speeds.
 
 use nalgebra::{Vector3, Vector6};
 
@@ -15,9 +15,8 @@ use super::{
 const STALLED_POSITION: f64 = 1e-4;
 const STALLED_ROTATION: f64 = 0.01 * std::f64::consts::PI / 180.0;
 
-/// How fast a discrete move approaches its target: proportionally to the distance left (1/s),
-/// but no slower than a floor (m/s, rad/s, within the move's own speed), so the last fraction
-/// of a millimetre takes milliseconds rather than an exponential tail.
+/// A discrete move approaches its target proportionally to the distance left (1/s), no slower than
+/// a floor (m/s, rad/s), so the last fraction of a mm takes ms, not an exponential tail.
 const APPROACH_GAIN: f64 = 8.0;
 const APPROACH_FLOOR_LINEAR: f64 = 0.002;
 const APPROACH_FLOOR_ANGULAR: f64 = 0.2 * std::f64::consts::PI / 180.0;
@@ -114,12 +113,9 @@ impl Arm {
             .map_or(self.speed_limit_linear, |c| c.min(self.speed_limit_linear))
     }
 
-    /// Scales joint velocities down (never up) so the tool point moves no faster than the
-    /// motion's cap and the configured linear limit, measured through the Jacobian: a
-    /// cartesian motion is capped before its inverse kinematics too (see [`Arm::track`]), but
-    /// damped least squares can trade a little rotation for translation.
-    ///
-    /// Returns the joint velocities and the tool's twist they make (linear m/s, angular rad/s).
+    /// Scales joint velocities down (never up) so the tool point, through the Jacobian, stays under
+    /// the motion's cap and the configured linear limit (damped least squares can trade a little
+    /// rotation for translation). Returns them and the tool's twist (m/s, rad/s).
     pub(super) fn limit_tcp_speed(
         &self,
         qd: Joints,
@@ -182,9 +178,8 @@ impl Arm {
         self.track(j, linear, angular)
     }
 
-    /// A base-frame twist capped at the desired speed limits and the motion's tool speed cap.
-    /// The whole twist is scaled for the linear cap (slower rotation too, not a tool turning
-    /// faster than it moves).
+    /// A base-frame twist capped at the desired speed limits and the motion's cap, scaled as a
+    /// whole (the tool never turns faster than it moves).
     fn capped_twist(
         &self,
         linear: Vector3<f64>,

@@ -1,12 +1,7 @@
-//! Which client holds the running continuous motion, so that its connection closing stops it.
-//!
-//! The hardware ICD says the server SHALL stop every joint when the Talos connection closes; the
-//! Talos ICD is silent about continuous START on a close, and a hold-to-run motion whose holder
-//! is gone must not wait for the watchdog, so the operator stops those too. The deployed
-//! operator has one client, so "the connection" is unambiguous. The simulator takes several:
-//! a close stops the continuous motion only if that client's command last started or refreshed
-//! it. So a console's jog survives an `armjog send` beside it, and a jog whose holder went is
-//! stopped at once. A motion another client refreshed after it stays bounded by the watchdog.
+//! Which client holds the running continuous motion, so its connection closing stops it (the
+//! hardware ICD's SHALL for joints; for START, a hold-to-run motion whose holder is gone must not
+//! wait for the watchdog). Only the client that last started or refreshed it: a console's jog
+//! survives an `armjog send` beside it.
 
 use super::Operator;
 use crate::sim::arm_model::Arm;
@@ -30,9 +25,8 @@ impl Operator {
         reply
     }
 
-    /// `client`'s connection has closed: stops the continuous motion it holds, if any, and
-    /// returns whether it did. Discrete moves (home, go to, pans) run on: `armjog send home`
-    /// closes its connection right after sending.
+    /// `client`'s connection closed: stops the continuous motion it holds and says whether it did.
+    /// Discrete moves run on (`armjog send home` closes right after sending).
     pub fn client_gone(&mut self, client: ClientId, arm: &mut Arm) -> bool {
         if self.holder != Some(client) {
             return false;

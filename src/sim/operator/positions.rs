@@ -156,9 +156,8 @@ impl Operator {
         })
     }
 
-    /// Set Polar / Set Cartesian: the position's absolute place becomes `xyz`; its orientation is
-    /// kept (a new position takes the tool's current orientation). An anchored position stays
-    /// anchored, its offset recomputed.
+    /// Set Polar / Set Cartesian: the position's absolute place becomes `xyz`, its orientation kept
+    /// (a new one takes the tool's). An anchored position stays anchored, its offset recomputed.
     pub(super) fn set_absolute_position(
         &mut self,
         arm: &Arm,

@@ -1,7 +1,5 @@
-//! Positions remembered from earlier runs, put back into a fresh operator before it serves:
-//! the console keeps its named positions in a file, and the built-in simulator starts with them
-//! so that none reads "unknown to operator". Plain numbers in, so the simulator needs nothing of
-//! the console.
+//! Positions remembered from earlier runs, put back into a fresh operator before it serves, so none
+//! reads "unknown to operator". Plain numbers in, so the simulator needs nothing of the console.
 
 use std::collections::BTreeMap;
 
@@ -30,9 +28,8 @@ pub struct RememberedPosition {
 }
 
 impl Operator {
-    /// Saves each remembered position, parents before their children. One that cannot be
-    /// taken (a bad name, a number that is not finite) is skipped with a warning; a parent
-    /// that is not remembered is dropped. Returns how many were restored.
+    /// Saves each remembered position, parents first; one that cannot be taken is skipped with a
+    /// warning, a child of an unknown parent dropped. Returns how many were restored.
     pub fn restore(&mut self, arm: &Arm, remembered: Vec<RememberedPosition>) -> usize {
         let mut waiting: BTreeMap<String, RememberedPosition> = BTreeMap::new();
         for position in remembered {
@@ -133,9 +130,8 @@ fn usable(position: &RememberedPosition) -> Result<(), String> {
     Ok(())
 }
 
-/// The reported angles (0-360 degrees) as joint angles the arm can go to from `from`: each the
-/// turn nearest to where the joint is, so a continuous joint never spins round. `None` if a
-/// limit is passed or they do not put the tool at `at`.
+/// The reported angles (0-360) as angles reachable from `from`, each the turn nearest the joint (a
+/// continuous joint never spins round). `None` past a limit or off the tool's `at`.
 fn joints_near(from: Joints, reported_deg: [f64; JOINTS], at: &Pose) -> Option<Joints> {
     if !reported_deg.iter().all(|v| v.is_finite()) {
         return None;
