@@ -1,6 +1,6 @@
-//! Bounded reads of user-supplied files (config, keymap, positions book): only a regular file is
-//! read, so a FIFO or a device is refused at once instead of blocking the start (an open of a
-//! FIFO waits for a writer) or eating all memory, and a huge file stops at the limit.
+//! Bounded reads of user-supplied files (config, keymap, book): only a regular file is read, so a
+//! FIFO or device is refused at once instead of blocking the start or eating memory, and a huge
+//! file stops at the limit.
 
 use std::fs::{File, FileType, OpenOptions};
 use std::io::Read;
@@ -11,11 +11,10 @@ pub const KEYMAP_LIMIT: u64 = 1024 * 1024;
 /// The largest positions book read (`--positions PATH`).
 pub const POSITIONS_LIMIT: u64 = 16 * 1024 * 1024;
 
-/// Reads a UTF-8 regular file of at most `limit` bytes. Anything else (a FIFO, a device, a
-/// directory) is refused without blocking, with `ErrorKind::InvalidInput` and a message naming
-/// what it is (see [`open_regular`]). A longer file is refused with `ErrorKind::FileTooLarge`
-/// and a message naming the limit; its size is not trusted (a file may grow), so the read
-/// itself stops at `limit + 1` bytes.
+/// Reads a UTF-8 regular file of at most `limit` bytes. Anything else is refused without blocking
+/// (`ErrorKind::InvalidInput`, naming what it is; [`open_regular`]); a longer file with
+/// `ErrorKind::FileTooLarge`. The size is not trusted (a file may grow): the read stops at `limit +
+/// 1` bytes.
 pub fn read_to_string_bounded(path: &Path, limit: u64) -> std::io::Result<String> {
     let bytes = read_bytes_bounded(path, limit)?;
     String::from_utf8(bytes).map_err(|e| {
@@ -29,10 +28,9 @@ pub fn read_to_string_bounded(path: &Path, limit: u64) -> std::io::Result<String
     })
 }
 
-/// Opens `path` for reading if it is a regular file, without blocking. Its kind is looked at
-/// before the open (opening a device may itself do something) and again on the file opened,
-/// which is opened non-blocking: a path swapped for a FIFO in between cannot hold the open up
-/// waiting for a writer either.
+/// Opens `path` for reading if it is a regular file, without blocking: its kind is checked before
+/// the open (opening a device may do something) and on the file opened non-blocking, so a path
+/// swapped for a FIFO in between cannot hold the open up either.
 pub fn open_regular(path: &Path) -> std::io::Result<File> {
     not_regular(std::fs::metadata(path)?.file_type())?;
     let mut options = OpenOptions::new();

@@ -49,10 +49,9 @@ pub const SIM_LOG_PREFIX: &str = "armjog-sim";
 /// Every log file ends so: `armjog-cli.2026-12-01.log`.
 pub const LOG_SUFFIX: &str = "log";
 
-/// Log files roll over at UTC midnight; this many of each program's newest are kept (two
-/// weeks of days with a run), older ones deleted as a new one starts. Newest by the date in the
-/// name (`PREFIX.YYYY-MM-DD.log`), never by the file's times: a copied or restored file has new
-/// ones.
+/// Log files roll over at UTC midnight; this many of each program's newest are kept. Newest by the
+/// date in the name (`PREFIX.YYYY-MM-DD.log`), never the file's times (a restored file has new
+/// ones).
 pub const KEPT_LOG_FILES: usize = 14;
 
 /// Where logs are written: `$ARMJOG_LOG_DIR`, else the user's state (or local data) directory.
@@ -87,9 +86,9 @@ pub struct LogGuards {
     _guards: Vec<WorkerGuard>,
 }
 
-/// Starts file logging for `role` (see [`LogRole`]). Filter with `ARMJOG_LOG` (default `info`).
-/// Returns the guards that flush on drop, or `None` if no log directory could be made (logging
-/// is then off: it must never stop an operator from stopping the arm).
+/// Starts file logging for `role` ([`LogRole`]), filtered by `ARMJOG_LOG` (default `info`). Returns
+/// the flush guards, or `None` if no log directory could be made: logging is then off, as it must
+/// never stop an operator from stopping the arm.
 pub fn init(role: LogRole) -> Option<LogGuards> {
     let dir = log_dir()?;
     std::fs::create_dir_all(&dir).ok()?;
@@ -134,9 +133,9 @@ pub fn init(role: LogRole) -> Option<LogGuards> {
     })
 }
 
-/// `dir/PREFIX.YYYY-MM-DD.log`, a new file each UTC day, the [`KEPT_LOG_FILES`] newest kept:
-/// pruned now and at each new day. (tracing-appender's own pruning goes by the files' creation
-/// times, and would delete any file whose name merely starts with the prefix.)
+/// `dir/PREFIX.YYYY-MM-DD.log`, a file per UTC day, the [`KEPT_LOG_FILES`] newest kept (pruned now
+/// and each new day). tracing-appender's own pruning goes by creation times and would delete any
+/// file whose name merely starts with the prefix.
 fn daily_files(
     dir: &Path,
     prefix: &str,
@@ -210,9 +209,8 @@ fn dated(name: &str, prefix: &str) -> Option<time::Date> {
     time::Date::from_calendar_date(year.parse().ok()?, month, day.parse().ok()?).ok()
 }
 
-/// Of `names` (a directory's regular files), those to delete so that `prefix`'s `keep` newest
-/// daily files remain, newest by the date in the name. `today`'s file is never one: it is the
-/// one being written, even when a file dated later (a clock set wrong once) is in the way.
+/// Of `names`, the files to delete so `prefix`'s `keep` newest daily files remain (by the date in
+/// the name). `today`'s, being written, is never one, even behind a later-dated file.
 fn to_delete<'a>(
     names: impl IntoIterator<Item = &'a str>,
     prefix: &str,
@@ -237,9 +235,8 @@ fn to_delete<'a>(
         .collect()
 }
 
-/// Deletes `prefix`'s daily files in `dir` beyond the `keep` newest (see [`to_delete`]). Only
-/// regular files count: a directory or a link of such a name is left alone. Failures are
-/// ignored: pruning must never stop a program, and there is no log to tell yet.
+/// Deletes `prefix`'s daily files in `dir` beyond the `keep` newest ([`to_delete`]); only regular
+/// files count. Failures are ignored: pruning must never stop a program.
 fn prune(dir: &Path, prefix: &str, today: time::Date, keep: usize) {
     let Ok(entries) = std::fs::read_dir(dir) else {
         return;

@@ -1,15 +1,10 @@
-//! Text from outside (a book file, a keymap, a peer on the network) made safe to show and to
-//! log: the one sanitiser every such path goes through.
-//!
-//! - [`shown`]: for the screen. Control characters (C0, DEL, C1) and bidi controls (the
-//!   overrides and embeddings U+202A-U+202E, the isolates U+2066-U+2069, the marks U+200E,
-//!   U+200F, U+061C) are replaced by a visible escape (`\n`, `\u{202e}`): a right-to-left
-//!   override can no longer reverse the rest of the line, nor a control move the cursor.
-//! - [`logged`]: for a log field. The same escapes, plus `\\` for a backslash (so a field
-//!   cannot forge an escape either), cut to [`LOG_FIELD_CHARS`] characters with an ellipsis and
-//!   the full length noted: one line per record, whatever a name holds.
-//! - [`name_repair`]: a position name from a file that fails the typed-name rule, made into one
-//!   that passes (printable ASCII, 1-255 bytes, no outer space), with what was wrong.
+//! Text from outside (a book, a keymap, a network peer) made safe to show and log: the one
+//! sanitiser every such path goes through.
+//! - [`shown`]: control characters (C0, DEL, C1) and bidi controls (U+202A-U+202E, U+2066-U+2069,
+//!   U+200E, U+200F, U+061C) become visible escapes (`\n`, `\u{202e}`), so none can reverse the
+//!   line or move the cursor.
+//! - [`logged`]: the same, plus `\\`, cut to [`LOG_FIELD_CHARS`] with the full length noted.
+//! - [`name_repair`]: a position name from a file made to pass the typed-name rule.
 
 use std::borrow::Cow;
 use std::fmt::{self, Write};
@@ -99,10 +94,9 @@ pub fn name_byte(byte: u8) -> bool {
     (0x20..=0x7E).contains(&byte)
 }
 
-/// A name that breaks the rule, made into one that keeps it: each character outside printable
-/// ASCII written as its escape (`\u{202e}`, `\0`), outer spaces dropped, cut to
-/// [`MAX_NAME_BYTES`], and `unnamed` for nothing left. `None` when `name` keeps the rule.
-/// The caller makes the result unique among its names.
+/// A name that breaks the rule, made into one that keeps it: characters outside printable ASCII
+/// escaped, outer spaces dropped, cut to [`MAX_NAME_BYTES`], `unnamed` if nothing is left. `None`
+/// when `name` keeps the rule; the caller makes it unique.
 pub fn name_repair(name: &str) -> Option<String> {
     let keeps = !name.is_empty()
         && name.len() <= MAX_NAME_BYTES

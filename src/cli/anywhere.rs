@@ -1,6 +1,5 @@
-//! The one-shot commands' shared options also before the command word, as `cargo --verbose
-//! build` takes them: `armjog --talos A --json send get-speed` is read as `armjog send --talos A
-//! --json get-speed`. After the command word clap itself takes them anywhere (they are `global`).
+//! The one-shot commands' shared options also before the command word, as `cargo --verbose build`
+//! takes them (`armjog --talos A send get-speed`); after it clap takes them (`global`).
 
 use std::ffi::OsString;
 

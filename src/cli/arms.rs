@@ -9,9 +9,8 @@ use crate::text;
 #[derive(Debug, Args)]
 pub struct ArmsArgs {}
 
-/// Runs `armjog arms`: the file is checked whole, as `--arm` checks it. A file named (`--config`,
-/// `ARMJOG_CONFIG`) that is not there is refused; the default one not there only means no
-/// profiles yet.
+/// Runs `armjog arms`, checking the file whole as `--arm` does. A named file that is missing is
+/// refused; a missing default one means no profiles yet.
 pub fn run(given: Option<&std::path::Path>) -> Outcome {
     let Some(path) = profiles::config_path(given) else {
         return refused(&ProfileError::NoPlace);

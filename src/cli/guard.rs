@@ -1,15 +1,9 @@
-//! `armjog guard` (hidden): the stop guard the console starts for a real arm, over Talos, Modbus
-//! or both. See [`crate::link::guard`] for why and for the protocol on its stdin and stdout.
-//!
-//! Over Modbus it holds its own connection and writes nothing while the console lives. Over
-//! Talos it holds none (an operator that serves one client at a time would not answer it, or
-//! would hold the console off): it connects only to stop the arm (`guard/talos.rs`). When its
-//! stdin closes (the console is gone, however it ended) it stops the arm on every link it
-//! watches, at once (Modbus: holding register 200 <- 2, the abort coil if that is refused or
-//! fails; Talos: the one stop set) and exits; when the heartbeat stops for the heartbeat timeout
-//! while stdin stays open (a frozen console) it does the same and keeps watching, though over
-//! Talos only an operator that answers a second client can be reached. SIGTERM, SIGINT and
-//! SIGHUP also stop the arm before it exits.
+//! `armjog guard` (hidden): the stop guard the console starts for a real arm; why, and its
+//! stdin/stdout protocol: [`crate::link::guard`]. Over Modbus it holds its own connection and
+//! writes nothing while the console lives; over Talos it connects only to stop the arm
+//! (`guard/talos.rs`). On stdin closing, or the heartbeat stopping (then it keeps watching), it
+//! stops the arm on every link (Modbus: holding register 200 <- 2, else the abort coil; Talos: the
+//! one stop set). SIGTERM, SIGINT and SIGHUP stop the arm too before it exits.
 
 mod talos;
 
@@ -92,9 +86,8 @@ pub struct Targets {
     pub talos: Option<TalosStop>,
 }
 
-/// The guard's Modbus link settings for an arm at `addr`: a link that only writes when told (no
-/// twist of its own), a slow poll that notices a dead connection, short timeouts so a stop that
-/// fails is retried soon.
+/// The guard's Modbus link settings: writes only when told, a slow poll that notices a dead
+/// connection, short timeouts so a failed stop is retried soon.
 pub fn guard_link_config(addr: String, unit: u8) -> ModbusConfig {
     let mut config = ModbusConfig::new(addr);
     config.unit = unit;
@@ -363,9 +356,8 @@ impl Stopper {
     }
 }
 
-/// Holding register 200 <- 2 (the link pulses the abort coil if the arm refuses it); if the
-/// stop fails, the abort coil; both again, over a fresh connection, until one is written or
-/// `give_up`.
+/// Holding register 200 <- 2 (the link pulses the abort coil if the arm refuses it), else the abort
+/// coil; both again over a fresh connection until one is written or `give_up`.
 async fn stop_modbus(link: &ModbusLink, why: &str, give_up: Instant) -> Result<String, String> {
     let started = Instant::now();
     let mut errors = Vec::new();

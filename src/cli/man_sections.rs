@@ -1,6 +1,6 @@
-//! The man page's EXIT STATUS, ENVIRONMENT and FILES sections: what clap does not know. Each
-//! entry states what the code does (exit codes: `send`, `status`, `modbus`, `console`, `sim`;
-//! directories: `logging::log_dir`, `console::audit::audit_dir`, `positions::default_path`).
+//! The man page's EXIT STATUS, ENVIRONMENT and FILES sections, which clap does not know; each entry
+//! states what the code does (exit codes of the commands, `logging::log_dir`,
+//! `console::audit::audit_dir`, `positions::default_path`).
 
 /// A section: its title and its (term, text) entries.
 type Section = (&'static str, &'static [(&'static str, &'static str)]);

@@ -1,12 +1,7 @@
-//! Writing a command's output to stdout and stderr without panicking when the reader goes away
-//! (`armjog status | head -c 10`): `println!` panics on a closed pipe, these stop quietly.
-//!
-//! Every line the command line prints goes through the one sanitiser ([`text::shown`]) here,
-//! at its edge: a profile's name, a path, an address, a keymap's name or an arm's reply may
-//! hold control or bidi characters (`\u{1b}]0;title\u{7}`, `\u{202e}`), and none reaches the
-//! terminal as it is, on stdout or stderr, whichever message carries it. (JSON lines: serde_json
-//! escapes C0 controls itself, so a JSON line is left as it is unless it holds DEL, C1 or bidi
-//! characters, which no output has.)
+//! Writing a command's output without panicking when the reader goes away (`println!` panics on a
+//! closed pipe). Every line goes through [`text::shown`] here, at the edge, so control or bidi
+//! characters in a name, path or reply never reach the terminal. (JSON lines are left as they are:
+//! serde_json escapes C0 itself and no output holds DEL, C1 or bidi.)
 
 use std::io::{self, Write};
 
@@ -21,9 +16,8 @@ pub enum Printed {
     ReaderGone,
 }
 
-/// Writes `lines` to `out`, one a line, escaped for a terminal ([`text::shown`]: a line
-/// holding a newline stays one line), and flushes. A broken pipe is [`Printed::ReaderGone`];
-/// any other failure (a full disk, say) is returned.
+/// Writes `lines` to `out` escaped ([`text::shown`]: one line stays one line) and flushes. A broken
+/// pipe is [`Printed::ReaderGone`]; any other failure is returned.
 pub fn write_lines<W: Write>(out: &mut W, lines: &[String]) -> io::Result<Printed> {
     let written = lines
         .iter()

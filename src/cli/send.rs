@@ -311,9 +311,8 @@ pub async fn run(args: &SendArgs) -> Outcome {
     config.dialect = args.dialect;
     config.checksum = args.checksum;
     config.request_timeout = Duration::from_millis(args.timeout);
-    // A reply that never completes under our checksum (an xor8 reply to a crc16 request is a
-    // byte short) is given up before the request times out, so the error can name the checksum
-    // it fits.
+    // A reply that never completes under our checksum (xor8 to crc16 is a byte short) is given up
+    // before the request times out, so the error can name the checksum it fits.
     config.frame_deadline = config.frame_deadline.min(config.request_timeout / 2);
     let request = args.command.to_request();
     let addr = config.addr.clone();
@@ -413,9 +412,8 @@ fn decoded_hardware_reply(exchange: &Exchange) -> Option<HwReply> {
     }
 }
 
-/// One readable line: command, id, outcome, fields, latency. A decoded hardware reply's payload
-/// is left to the lines under it (see `hw_text`). A failed reply shows only its status: its
-/// fields are the zeros the ICD's error reply carries, not values.
+/// One readable line: command, id, outcome, fields, latency. A hardware payload goes to the lines
+/// under it (`hw_text`); a failed reply shows only its status (its fields are zeros).
 pub fn describe(exchange: &Exchange) -> String {
     let command = exchange.request.command();
     let (outcome, failed) = match exchange.answer {

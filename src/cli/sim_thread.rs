@@ -1,6 +1,5 @@
-//! The console's built-in simulated arm, on a thread and runtime of its own: the console's
-//! runtime carries the key path on one thread, and the simulator's work (its physics, its two
-//! servers' replies) must not run between a key and its frame.
+//! The console's built-in simulated arm, on a thread and runtime of its own, so the simulator's
+//! work never runs between a key and its frame on the console's one-thread runtime.
 
 use std::net::SocketAddr;
 

@@ -1,7 +1,6 @@
-//! Parsers of the options every command shares, listing their possible values for `--help` and
-//! the shell completions, and checking their ranges: a profile's values go through the same
-//! parsers (`profiles::file`), so a value is refused alike wherever it was written, at once.
-//! Their messages name no option: clap names the option typed, a profile its key and line.
+//! Parsers of the shared options, listing their values for `--help` and completions and checking
+//! ranges. Profiles use the same parsers (`profiles::file`), so a value is refused alike wherever
+//! written; messages name no option (clap names the option, a profile its key).
 
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 

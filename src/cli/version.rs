@@ -1,6 +1,5 @@
-//! What this build is: `0.1.0 (508af6a 2026-12-01)`, the version, the git revision it was built
-//! from (`-dirty` when tracked files were modified, `unknown` outside a git checkout) and the UTC
-//! build date. Stamped by `build.rs`; `armjog --version` and the man page print it.
+//! What this build is: `0.1.0 (508af6a 2026-12-01)`, the version, git revision (`-dirty`, `unknown`
+//! outside git) and UTC build date, stamped by `build.rs`.
 
 /// `VERSION (REVISION DATE)`; clap prefixes the program's name.
 pub const VERSION: &str = concat!(

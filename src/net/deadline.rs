@@ -1,9 +1,6 @@
-//! A deadline of a `select!` loop, kept from one turn to the next.
-//!
-//! A `sleep_until` written in the loop is a new timer each turn: registered in the runtime's
-//! timer wheel when polled, removed when the turn ends, and each registration earlier than the
-//! runtime's next wake-up also writes its wake-up descriptor (a syscall, then a wake-up that
-//! finds nothing to do). A [`Deadline`] is re-armed only when it moves.
+//! A `select!` loop's deadline kept from turn to turn: a `sleep_until` in the loop is a new timer
+//! each turn, and registering one earlier than the runtime's next wake-up costs a syscall and a
+//! wake-up. A [`Deadline`] is re-armed only when it moves.
 
 use std::pin::Pin;
 use std::time::Duration;

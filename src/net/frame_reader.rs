@@ -1,13 +1,8 @@
-//! Reads Talos frames from a byte stream, giving each frame a deadline.
-//!
-//! A header may announce more payload than ever comes. The codec waits for it (a frame split
-//! across reads must not be lost), so without a clock one bad header would hold back every frame
-//! behind it. Each frame must therefore complete within a deadline counted from the arrival of
-//! its first byte (so trickling bytes does not extend it); past it, the frame is given up
-//! ([`FrameCodec::expire`]), reported as `RejectReason::Stalled` and logged with the peer, and
-//! the frames already buffered behind it come out at once, without waiting for another byte.
-//!
-//! `tokio_util`'s `FramedRead` cannot do this: it calls the decoder only when new bytes arrive.
+//! Reads Talos frames from a byte stream, each with a deadline from its first byte's arrival (so
+//! trickling does not extend it). A header may announce more than ever comes, and the codec waits
+//! for split frames, so past the deadline the frame is given up ([`FrameCodec::expire`]), logged as
+//! `RejectReason::Stalled`, and the frames buffered behind it come out at once. `FramedRead` cannot
+//! do this: it decodes only when bytes arrive.
 
 use std::collections::VecDeque;
 use std::io;

@@ -1,21 +1,13 @@
-//! The guard's stop over Talos: the one stop set ([`stop_requests`]) over a connection of its
-//! own, in the console's dialect and checksum, opened only when the guard must stop the arm.
+//! The guard's stop over Talos: the one stop set ([`stop_requests`]) over a connection of its own,
+//! in the console's dialect and checksum, opened only when it must stop the arm. The deployed
+//! operator serves one client at a time, so the guard holds none beside the console's: when the
+//! console dies the kernel closes its connection and the guard's handshake and stop set are read at
+//! once.
 //!
-//! The deployed operator serves one client at a time: a second connection is accepted by the
-//! kernel but not answered while the first is open. So the guard holds no connection beside the
-//! console's (and must not: one opened before the console's would hold the console off). When
-//! the console dies the kernel closes its connection, the operator takes the next one, and the
-//! guard's frames, written at once, are read the moment it does: a handshake (as the console
-//! sends one) and the stop set behind it.
-//!
-//! A frozen console still holds its connection: an operator that serves one client at a time
-//! does not answer the guard's, and nothing the guard can send reaches it. The guard then (and
-//! when a signal ends it, the console perhaps alive) sends only a handshake and waits
-//! [`SERVED_WITHIN`] for its answer; the stop set goes out only on a connection the operator
-//! serves (one that takes several clients), so no stop is left queued in the operator to land
-//! later, at a moment nobody chose. Unanswered, the stop is reported as failed: a go-to, home
-//! or step runs on to its end; a continuous jog stops at the operator's 500 ms watchdog, the
-//! frozen console refreshing nothing.
+//! A frozen console still holds its connection. The guard then (or when a signal ends it) sends
+//! only a handshake and waits [`SERVED_WITHIN`]: the stop set goes out only on a served connection,
+//! so no stop is left queued to land later, at a moment nobody chose. Unanswered, the stop is
+//! reported failed.
 
 use std::time::Duration;
 
@@ -60,9 +52,9 @@ impl TalosStop {
         TalosStop { config, oid }
     }
 
-    /// Sends the stop set until the operator has answered every request of it, over a fresh
-    /// connection each try, until `give_up`; while the console may still be connected, one
-    /// try (see the module docs). Returns what was done, or every distinct error.
+    /// Sends the stop set until every request is answered, over a fresh connection each try, until
+    /// `give_up`; one try while the console may still be connected. Returns what was done, or every
+    /// distinct error.
     pub async fn stop(&self, console: Console, give_up: Instant) -> Result<String, String> {
         let started = Instant::now();
         let mut errors: Vec<String> = Vec::new();

@@ -1,6 +1,5 @@
-//! `armjog modbus home|action|sequence`: starts a stored action or sequence by id (home is the
-//! action with the home id) under the tool speed cap, and waits for its end. One path for all
-//! three; how far the run has got is [`StoredRun`]'s reading of each poll.
+//! `armjog modbus home|action|sequence`: starts a stored run by id under the tool speed cap and
+//! waits for its end, one path for all three ([`StoredRun`] reads each poll).
 
 use std::time::{Duration, Instant};
 
@@ -45,9 +44,8 @@ impl StoredOptions {
         Ok(())
     }
 
-    /// The cap as the arm's limits for the run (m/s, deg/s): the one speed rule's for a move
-    /// the arm plans itself, at full speed of --max-jog-speed (these commands have no speed
-    /// setting), as the console's capped moves take it at the speed in force.
+    /// The cap as the arm's limits for the run (m/s, deg/s), at full speed (these commands have no
+    /// speed setting).
     pub fn cap(&self) -> SpeedLimits {
         // The option's parser took only a speed a cap may be (`cli::values::tool_speed`).
         SpeedCap::configured(self.max_jog_speed / 1000.0).move_cap(FULL_SPEED)
@@ -175,9 +173,8 @@ async fn start_unwatched(
             angular: in_force.angular,
         });
     }
-    // The arm's own limits belong to the integrator: a run is capped by lowering the limits only
-    // while something waits to put them back. Nothing would here, so a limit above the cap
-    // refuses the run rather than rewrite the limit for good or run it over the cap.
+    // The arm's limits are the integrator's: lowered only while something waits to put them back.
+    // Nothing would here, so a limit above the cap refuses the run.
     let over = if in_force.linear > cap.linear {
         Some(format!(
             "linear limit is {} m/s, over the {} m/s cap",
@@ -218,9 +215,8 @@ async fn start_unwatched(
     }
 }
 
-/// A snapshot is several reads, the fault flags before the action's status: a fault raised
-/// between them shows as an abort with no fault. The next snapshot names the fault, if that is
-/// why the run aborted.
+/// The fault flags are read before the status: a fault raised between them shows as an abort with
+/// no fault; the next snapshot names it.
 async fn fault_behind_abort(
     link: &ModbusLink,
     named: &Named,

@@ -1,6 +1,5 @@
-//! Applying a profile to the command line: its options are added as if typed, each unless the
-//! command line already gives that option (clap's `value_source` tells a typed value from a
-//! default), so a flag wins over the profile and the profile over the default.
+//! Applying a profile: its options are added as if typed unless the command line gives them (clap's
+//! `value_source`), so a flag wins over the profile and the profile over the default.
 
 use std::ffi::OsString;
 
@@ -62,9 +61,8 @@ impl From<ProfileError> for ArgsError {
     }
 }
 
-/// Reads `args` (program name first) and applies the profile `--arm` or `ARMJOG_ARM` names.
-/// The profiles file is read only when one is named, and checked whole before anything
-/// connects.
+/// Reads `args` (program name first) and applies the profile `--arm` or `ARMJOG_ARM` names; the
+/// file is read only then, checked whole before anything connects.
 pub fn parse_args(args: Vec<OsString>) -> Result<Parsed, ArgsError> {
     let mut command = Cli::command();
     command.build();

@@ -183,9 +183,8 @@ fn argument_text(value: &DeValue<'_>, kind: Kind) -> Option<String> {
     }
 }
 
-/// Runs the option's own parser (possible values, ranges: `cli::values`) on `text`, as the
-/// command line would, and says what is wrong as the file names it: `KEY = VALUE: why`, not
-/// as the option nobody typed.
+/// Runs the option's own parser (`cli::values`) on `text` and says what is wrong as the file names
+/// it: `KEY = VALUE: why`.
 fn check_value(arg: &Arg, key: &str, text: &str) -> Result<(), String> {
     let possible: Vec<String> = arg
         .get_possible_values()

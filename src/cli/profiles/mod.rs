@@ -1,6 +1,6 @@
-//! Named arm profiles: `[arms.NAME]` tables in `config.toml` that give the console's options
-//! for one arm, chosen with `--arm NAME` (or `ARMJOG_ARM`). Options given on the command line
-//! win over the profile's; the profile's win over the defaults.
+//! Named arm profiles: `[arms.NAME]` tables in `config.toml` giving the console's options for one
+//! arm, chosen with `--arm NAME` (or `ARMJOG_ARM`). The command line wins over the profile, the
+//! profile over the defaults.
 
 mod apply;
 mod file;
