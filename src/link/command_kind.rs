@@ -6,22 +6,20 @@
 /// What a command does to the arm.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum CommandClass {
-    /// Stops every motion: never queued behind anything, always allowed, and its failure may
-    /// leave the arm moving.
+    /// Stops every motion: never queued, always allowed; its failure may leave the arm moving.
     Stop,
     /// May set the arm moving (a jog, even all-zero, a step, a go-to, home, a stored run): only
     /// these pass the motion gate and need a ready stop guard. `runs_to_end`: the arm carries it to
     /// its end on its own, so its link's answer says only that it started.
     Motion { runs_to_end: bool },
-    /// Changes something and moves nothing: the speed, the frame, a fault reset, the
-    /// operator's positions, a capped move's limits put back.
+    /// Moves nothing: speed, frame, fault reset, operator positions, limits put back.
     Setting,
     /// Reads and changes nothing.
     Query,
 }
 
-/// What kind of command failed: an [`ArmCommand`](super::interface::ArmCommand)'s variant, or work
-/// the driver or a link does on its own behalf.
+/// What kind of command failed: an [`ArmCommand`](super::interface::ArmCommand)'s, or the driver's
+/// own.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum CommandKind {
     Jog,
@@ -69,8 +67,7 @@ impl CommandKind {
         }
     }
 
-    /// What a command of this kind does to the arm: the one classification (see the module
-    /// docs). No `_` arm: a new kind must be classified here.
+    /// What this kind does to the arm. No `_` arm: a new kind must be classified here.
     pub fn class(self) -> CommandClass {
         match self {
             CommandKind::Stop | CommandKind::QuickStop => CommandClass::Stop,

@@ -31,8 +31,7 @@ pub const HEARTBEAT_PERIOD: Duration = Duration::from_millis(250);
 pub const HEARTBEAT_TIMEOUT: Duration = Duration::from_secs(1);
 /// How often a ready guard says `alive`.
 pub const ALIVE_PERIOD: Duration = Duration::from_millis(500);
-/// A ready guard silent this long is taken as frozen. Longer than a stop that keeps failing
-/// (the guard retries for 3 s), so a guard busy stopping the arm is not ended for it.
+/// Silent this long, a guard is frozen; longer than its 3 s of stop retries.
 pub const GUARD_SILENCE: Duration = Duration::from_secs(5);
 /// First delay before restarting a guard that died; doubled up to [`RESTART_MAX_DELAY`].
 const RESTART_DELAY: Duration = Duration::from_millis(500);
@@ -48,8 +47,7 @@ pub enum GuardPolicy {
     /// Start this program as `PROGRAM guard` with the links' addresses ([`guard_args`]; the
     /// armjog binary: `std::env::current_exe()` in the console, `CARGO_BIN_EXE_armjog` in tests).
     Spawn(PathBuf),
-    /// No guard: an in-process simulated arm dies with the console, and library users and tests
-    /// that do not want one say so.
+    /// No guard: an in-process simulated arm dies with the console; tests may opt out.
     NotNeeded,
 }
 
@@ -300,8 +298,8 @@ async fn heartbeat(stdin: &mut ChildStdin) -> Result<(), String> {
     }
 }
 
-/// A guard that no longer talks is ended (it is ours, by its own handle) so a fresh one can
-/// take over; dropping its stdin first lets a live one stop the arm on the way out.
+/// Ends a silent guard so a fresh one can take over; stdin dropped first so a live one stops the
+/// arm.
 async fn end(mut child: Child, stdin: ChildStdin, reason: String) -> String {
     drop(stdin);
     if tokio::time::timeout(Duration::from_secs(1), child.wait())

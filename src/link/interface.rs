@@ -25,8 +25,7 @@ pub enum JogMotion {
         joint: u8,
         direction: i8,
     },
-    /// Turn the tool about its own point (the TCP stays put): about X, Y and Z of the selected
-    /// reference frame (Modbus only: the Talos ICD has no orientation jog).
+    /// Turn the tool about its point in the selected frame (Modbus only: no such Talos jog).
     Orientation {
         rx: i8,
         ry: i8,
@@ -88,14 +87,12 @@ pub enum ArmCommand {
     GetPosition {
         name: String,
     },
-    /// Start a stored action or sequence by its id on the arm (Modbus only), capped as home is;
-    /// home over Modbus is this with the home action's id.
+    /// Start a stored action or sequence by id (Modbus only), capped as home is.
     StartStored(Stored),
 }
 
 impl ArmCommand {
-    /// What this command does to the arm: its kind's class ([`CommandKind::class`], the one
-    /// classification).
+    /// What this command does to the arm ([`CommandKind::class`]).
     pub fn class(&self) -> CommandClass {
         self.kind().class()
     }
@@ -201,8 +198,7 @@ pub enum Traffic {
     Modbus(Vec<Write>),
 }
 
-/// The stop guard: a separate process that stops the arm on every link when the console dies
-/// (see [`crate::link::guard`]). Sent only when a guard is required (a real arm).
+/// The stop guard's state ([`crate::link::guard`]); sent only when a guard is required.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum GuardStatus {
     /// Started, not yet ready (over Modbus: not yet connected): motion is refused.
@@ -229,8 +225,7 @@ pub enum ArmEvent {
     Latency(Duration),
     /// The speed in force, percent.
     Speed(u8),
-    /// Something the driver did on its own that the technician must be told (the message
-    /// line says it).
+    /// Something the driver did on its own that the message line must say.
     Notice(String),
     Log(LogEntry),
     /// A command failed: shown on the status line.
@@ -253,11 +248,9 @@ pub enum ArmEvent {
     },
     /// The stop guard's state changed.
     Guard(GuardStatus),
-    /// Every link that carried motion acknowledged (or wrote) a STOP the console sent: one per
-    /// STOP, after its `Done`/`Failed` events.
+    /// Every link that carried motion acknowledged a STOP: one per STOP, after its `Done`/`Failed`.
     StopConfirmed,
-    /// A STOP did not get through (not written, not acknowledged, no link to send it on), or a
-    /// link's own stop failed: the arm may still be moving.
+    /// A STOP did not get through, or a link's own stop failed: the arm may still be moving.
     StopUnconfirmed {
         reason: String,
     },

@@ -1,5 +1,4 @@
-//! The arm interfaces the console drives. Each link owns its socket in a task; callers talk to
-//! it over channels.
+//! The arm interfaces: each link owns its socket in a task; callers use channels.
 
 pub mod command_kind;
 pub mod driver;

@@ -39,16 +39,14 @@ pub struct ModbusConfig {
     /// HOST:PORT.
     pub addr: String,
     pub unit: u8,
-    /// Background polls per second; `None` polls only when asked (`read_telemetry`), which also
-    /// rules out polar pan.
+    /// Polls per second; `None` polls only when asked (`read_telemetry`): no polar pan then.
     pub poll_rate_hz: Option<f64>,
     pub request_timeout: Duration,
     pub connect_timeout: Duration,
     /// First reconnect delay, doubled after each failed attempt up to `reconnect_max_delay`.
     pub reconnect_delay: Duration,
     pub reconnect_max_delay: Duration,
-    /// A twist or polar pan not refreshed (by calling the same jog again) within this long is
-    /// stopped, standing in for the watchdog the arm lacks. `None` keeps it until stopped.
+    /// An unrefreshed twist or pan is stopped after this (the arm has no watchdog); `None`: never.
     pub twist_hold: Option<Duration>,
     pub polar: PolarPanSettings,
     pub plan: PollPlan,
@@ -119,16 +117,14 @@ pub enum ModbusEvent {
     StopEscalated { reason: StopReason, error: String },
     /// No stop could be written: the arm may still be moving.
     StopFailed { reason: StopReason, error: String },
-    /// The arm's speed limits were lowered to `limits` for a capped move; `previous` are put
-    /// back when it ends.
+    /// The speed limits were lowered to `limits` for a capped move; `previous` go back after it.
     SpeedLimitsLowered {
         limits: SpeedLimits,
         previous: SpeedLimits,
     },
     /// The speed limits a capped move lowered are back to `limits`.
     SpeedLimitsRestored { limits: SpeedLimits },
-    /// The speed limits a capped move lowered could not be put back: the arm keeps the lower
-    /// ones until someone sets them (`armjog modbus speed-limit`).
+    /// A capped move's lowered limits could not be put back: they stay until set again.
     SpeedLimitsNotRestored { limits: SpeedLimits, error: String },
 }
 
@@ -143,8 +139,7 @@ pub struct Snapshot {
     pub poll_time: Duration,
 }
 
-/// The writes a command made, in order, and how long they took. A jog that only refreshed a
-/// running motion made none.
+/// The writes a command made, in order, and their time; a jog refresh makes none.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct WriteReport {
     pub writes: Vec<Write>,
@@ -168,15 +163,13 @@ enum Job {
         reply: Reply<WriteReport>,
     },
     Stop(Reply<WriteReport>),
-    /// A trajectory or stored motion: any twist is stopped first. With a `cap` (m/s, deg/s),
-    /// the arm's speed limits are lowered to it for the move and put back afterwards.
+    /// A trajectory or stored motion, any twist stopped first; `cap` lowers the limits for it.
     Move {
         writes: Vec<Write>,
         cap: Option<SpeedLimits>,
         reply: Reply<WriteReport>,
     },
-    /// Writes that leave motion alone (speed limits, fault reset), or end it (`halts`: quick
-    /// stop, abort).
+    /// Writes that leave motion alone (limits, fault reset), or end it (`halts`).
     Plain {
         writes: Vec<Write>,
         halts: bool,
@@ -203,8 +196,7 @@ impl fmt::Debug for ModbusLink {
 }
 
 impl ModbusLink {
-    /// Connects within the connect timeout and starts the task. Returns the link and the
-    /// receiver of its events. Later losses are reconnected by the task itself.
+    /// Connects within the connect timeout and starts the task, which reconnects on its own.
     pub async fn connect(
         config: ModbusConfig,
     ) -> Result<(ModbusLink, mpsc::UnboundedReceiver<ModbusEvent>), ModbusError> {
@@ -212,8 +204,7 @@ impl ModbusLink {
         Self::start(config, connector).await
     }
 
-    /// Like [`connect`](Self::connect), with every connection from `open` (an in-memory transport
-    /// in tests); its errors are reported as a refused connection to `config.addr`.
+    /// As [`connect`](Self::connect), each connection from `open` (in-memory in tests).
     pub async fn connect_via<F, Fut, T>(
         config: ModbusConfig,
         open: F,
@@ -279,8 +270,8 @@ impl ModbusLink {
         self.ask(Job::Read).await
     }
 
-    /// Starts a twist (linear m/s, angular deg/s) in `frame`, or updates the running one. The
-    /// same twist again only refreshes the hold; a zero twist stops.
+    /// Starts or updates a twist (m/s, deg/s) in `frame`; the same twist only refreshes, zero
+    /// stops.
     pub async fn jog_twist(
         &self,
         frame: ReferenceFrame,
@@ -302,8 +293,7 @@ impl ModbusLink {
             .await
     }
 
-    /// [`ModbusLink::polar_pan`] at `settings` rather than the config's: the console's speed
-    /// scales the rotation rate and the tool speed bound. Other settings again restart the pan.
+    /// [`ModbusLink::polar_pan`] at `settings` (the console's speed); other settings restart it.
     pub async fn polar_pan_with(
         &self,
         azimuth: f32,
@@ -323,8 +313,7 @@ impl ModbusLink {
         .await
     }
 
-    /// Stops the running twist, polar pan, trajectory or action (holding register 200 <- 2),
-    /// escalating to the abort coil if the arm refuses.
+    /// Stops any motion (holding register 200 <- 2), the abort coil if the arm refuses.
     pub async fn stop(&self) -> Result<WriteReport, ModbusError> {
         self.ask(Job::Stop).await
     }
@@ -344,8 +333,7 @@ impl ModbusLink {
         .await
     }
 
-    /// [`ModbusLink::go_to_pose`] under `cap` (m/s, deg/s): the arm plans the trajectory at its own
-    /// limits, so the link lowers them (never raises) for the move and puts them back afterwards.
+    /// [`ModbusLink::go_to_pose`] with the arm's limits lowered to `cap` (m/s, deg/s) for the move.
     pub async fn go_to_pose_capped(
         &self,
         frame: ReferenceFrame,
@@ -383,15 +371,13 @@ impl ModbusLink {
             .await
     }
 
-    /// The Home action with the arm's speed limits lowered to `cap` while it runs (see
-    /// [`ModbusLink::start_stored_capped`]).
+    /// The Home action under `cap`, as [`ModbusLink::start_stored_capped`].
     pub async fn home_capped(&self, cap: SpeedLimits) -> Result<WriteReport, ModbusError> {
         self.start_stored_capped(self.config.home_action_id, StoredMotion::Action, cap)
             .await
     }
 
-    /// A stored action or sequence under `cap`, as [`ModbusLink::go_to_pose_capped`]; whether it
-    /// honours the cartesian limits is up to the arm.
+    /// A stored action or sequence under `cap` (whether it honours the limits is the arm's).
     pub async fn start_stored_capped(
         &self,
         id: u16,
@@ -435,8 +421,8 @@ impl ModbusLink {
             .await
     }
 
-    /// Stops any twist, waits for the stop to be written and ends the task; other clones then
-    /// get `Disconnected`. Use it rather than a plain drop to learn whether the stop failed.
+    /// Stops any twist, waits for the write, ends the task: unlike a drop, it says if the stop
+    /// failed.
     pub async fn close(self) -> Result<(), ModbusError> {
         self.ask(Job::Close).await
     }

@@ -18,18 +18,15 @@ pub const MAX_ANGULAR_JOG_SPEED: f32 = 30.0;
 /// Single-joint jog speed at 100 %, deg/s, unless configured otherwise.
 pub const JOINT_JOG_SPEED: f32 = 20.0;
 
-/// The Talos operator's tool speed at its own 100 %, m/s, unless the technician says otherwise
-/// (`--operator-full-speed`): the simulator's default.
+/// The Talos operator's speed at its 100 %, m/s (`--operator-full-speed`; the simulator's).
 pub const OPERATOR_FULL_SPEED: f64 = 0.25;
 
-/// Whether `percent` can be put in force: 1-100 % of the cap. Another is refused (by the Modbus
-/// worker, or by the operator it is passed on to) and leaves the speed in force as it was.
+/// Whether `percent` (1-100 % of the cap) can be put in force; another leaves the speed as it was.
 pub fn is_settable(percent: u8) -> bool {
     (1..=100).contains(&percent)
 }
 
-/// `max_jog_speed` at `percent`, in its unit: the one formula of the tool speed cap
-/// ([`SpeedCap::tool_speed`] and [`SpeedCap::tool_speed_mm_s`] are it).
+/// `max_jog_speed` at `percent`, in its unit: the one formula of the tool speed cap.
 pub fn tool_speed_at(max_jog_speed: f64, percent: u8) -> f64 {
     max_jog_speed * f64::from(percent) / 100.0
 }
@@ -59,8 +56,7 @@ fn check_tool_speed(m_s: f64) -> Result<f64, SpeedCapError> {
     in_range.then_some(m_s).ok_or(SpeedCapError::OutOfRange)
 }
 
-/// The tool speed cap: see the module docs. Percentages are of the cap, 1-100 (the speed in
-/// force); the cap is `max_jog_speed` m/s at 100 %.
+/// The tool speed cap: `max_jog_speed` m/s at 100 %; percentages of it, 1-100.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SpeedCap {
     /// The tool speed at 100 %, m/s: above 0, at most the twist's limit.
@@ -68,8 +64,7 @@ pub struct SpeedCap {
 }
 
 impl SpeedCap {
-    /// The cap at `max_jog_speed` m/s; refused unless above 0 and at most the twist's limit
-    /// (0.5 m/s).
+    /// The cap at `max_jog_speed` m/s, above 0 and at most the twist's 0.5 m/s limit.
     pub fn new(max_jog_speed: f64) -> Result<SpeedCap, SpeedCapError> {
         check_tool_speed(max_jog_speed).map(|max_jog_speed| SpeedCap { max_jog_speed })
     }
@@ -95,8 +90,7 @@ impl SpeedCap {
         self.max_jog_speed * 1000.0
     }
 
-    /// The tool speed at `percent`, m/s: the one cap every motion keeps (what a cartesian jog
-    /// moves at, what a move is capped at).
+    /// The tool speed at `percent`, m/s: the cap every motion keeps.
     pub fn tool_speed(&self, percent: u8) -> f64 {
         tool_speed_at(self.max_jog_speed, percent)
     }
@@ -111,8 +105,7 @@ impl SpeedCap {
         self.tool_speed(percent) as f32
     }
 
-    /// The tool's turn rate at `percent`, deg/s, before the arm's own angular limit (known only
-    /// from telemetry).
+    /// The turn rate at `percent`, deg/s, before the arm's own angular limit.
     pub fn turn_rate(&self, percent: u8) -> f32 {
         MAX_ANGULAR_JOG_SPEED * fraction(percent) as f32
     }
@@ -125,14 +118,13 @@ impl SpeedCap {
         }
     }
 
-    /// A Modbus polar pan's bound on the tool point at `percent`, m/s: its `configured` bound,
-    /// never above the cap, scaled by the percentage.
+    /// A Modbus polar pan's tool-point bound at `percent`, m/s: `configured`, never above the cap.
     pub fn polar_linear_bound(&self, configured: f32, percent: u8) -> f32 {
         configured.min(self.max_jog_speed as f32) * fraction(percent) as f32
     }
 
-    /// A joint jog's rate at `percent`, deg/s, bounded so the tool point (lever arm from the
-    /// joint's axis, joint `positions` in deg) stays under the cap for `horizon` s.
+    /// A joint jog's rate at `percent`, deg/s, keeping the tool point under the cap for `horizon`
+    /// s.
     pub fn joint_rate(
         &self,
         joint_jog_speed: f32,
@@ -147,8 +139,7 @@ impl SpeedCap {
         (f64::from(joint_jog_speed) * fraction).min(by_tool) as f32
     }
 
-    /// This cap on a Talos operator whose own 100 % is `operator_full_speed` m/s: refused
-    /// unless that is a tool speed ([`SpeedCap::new`]'s range) and its 1 % is within the cap.
+    /// This cap on an operator whose 100 % is `operator_full_speed` m/s (its 1 % within the cap).
     pub fn with_operator(self, operator_full_speed: f64) -> Result<OperatorScale, SpeedCapError> {
         let operator_full_speed = check_tool_speed(operator_full_speed)?;
         let scale = OperatorScale {

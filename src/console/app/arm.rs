@@ -33,16 +33,15 @@ impl App {
         match event {
             ArmEvent::Status(status) => {
                 if let LinkStatus::Down { reason } = &status {
-                    // Stop through whatever link is left; the held keys stay latched so nothing
-                    // restarts when the link comes back.
+                    // Stop through any link left; held keys stay latched so nothing restarts on
+                    // reconnect.
                     self.stop_jog(now, effects);
                     let text = format!("link lost: {reason}");
                     self.say_until(text, Severity::Error, Until::LinkUp, now);
                 }
                 let came_up = self.arm.on_link(status);
                 if came_up && self.config.positions_on_operator {
-                    // The ICD cannot list positions: ask about remembered names, so the panel marks
-                    // those this operator does not know.
+                    // The ICD cannot list positions: ask about remembered names.
                     self.check_names_on_operator(effects);
                 }
             }
@@ -67,8 +66,7 @@ impl App {
                 ..
             } => self.on_guard_stopped(&error, now, effects),
             ArmEvent::Failed { command, error } => {
-                // A jog the arm did not take must not be left to the watchdog: stop and latch
-                // the held keys, so only a new press moves again.
+                // A refused jog is not left to the watchdog: stop and latch held keys.
                 if command == CommandKind::Jog {
                     self.stop_jog(now, effects);
                 }
@@ -97,8 +95,7 @@ impl App {
             }
             ArmEvent::Done { command } => self.on_done(command, now, effects),
             ArmEvent::Guard(status) => {
-                // Without a ready guard the driver refuses motion and stops any: forget
-                // the held keys so nothing restarts when the guard is back.
+                // No ready guard: the driver stops motion; forget held keys so nothing restarts.
                 if !matches!(status, GuardStatus::Ready { .. }) {
                     self.stop_jog(now, effects);
                 }
@@ -183,8 +180,8 @@ impl App {
         self.stop_from_telemetry(text, now, effects);
     }
 
-    /// Stops a motion the telemetry shows must not go on (over the cap, a fault, another client's
-    /// stop): STOP, held keys latched, `text` on the message line and in the log.
+    /// Stops a motion telemetry shows must not go on, latching held keys; `text` is said and
+    /// logged.
     pub(super) fn stop_from_telemetry(
         &mut self,
         text: String,
@@ -198,8 +195,7 @@ impl App {
         self.say(text, Severity::Error, now);
     }
 
-    /// Whether the cap is watched: `Some(false)` once the driver has said there is no
-    /// telemetry, `None` before it has said.
+    /// Whether the cap is watched; `None` until the driver says whether telemetry comes.
     pub fn cap_watched(&self) -> Option<bool> {
         self.truth
             .expected_telemetry()
@@ -210,8 +206,7 @@ impl App {
         self.arm.cap_watch()
     }
 
-    /// Why a stored action or sequence by id cannot start on this link, or `None` when it can.
-    /// Until the driver has said which link it has, it is offered (as the turn keys are).
+    /// Why a stored run by id cannot start on this link; offered until the driver names its links.
     pub fn stored_refusal(&self) -> Option<&'static str> {
         self.without_modbus().then_some(STORED_REFUSAL)
     }
@@ -245,8 +240,7 @@ impl App {
         }
     }
 
-    /// A key pressed while a stored run (home among them) is running stops it and does nothing
-    /// else; returns whether it did.
+    /// A key while a stored run runs stops it and does nothing else; returns whether it did.
     pub(super) fn key_stops_stored_run(
         &mut self,
         key: &KeyInput,
@@ -260,8 +254,7 @@ impl App {
         if key.kind != KeyKind::Press || !running {
             return false;
         }
-        // The truth says "<run> stopped" as the STOP goes out; the key is latched like any key
-        // that stops, so a held jog key moves only when pressed anew.
+        // The key is latched like any key that stops, so a held jog key needs a fresh press.
         self.stop_everything(now, effects);
         self.latch_jog_key(key, now, effects);
         true
@@ -269,8 +262,7 @@ impl App {
 }
 
 impl App {
-    /// Whether a motion may start now: `None`, or the one sentence why not
-    /// (`refused: the arm reports emergency_stop`).
+    /// `None` if a motion may start now, else the one sentence why not.
     pub fn motion_refusal(&self) -> Option<String> {
         self.motion_refusal_until().map(|(text, _)| text)
     }
@@ -307,8 +299,7 @@ impl App {
         true
     }
 
-    /// The net after every input: motion commands emitted while the gate refuses are dropped
-    /// (and said, once); a jog the engine still thinks runs is stopped, its keys latched.
+    /// The net after every input: motion emitted while the gate refuses is dropped, a jog stopped.
     pub(super) fn gate_effects(&mut self, now: Instant, effects: &mut Vec<Effect>) {
         let Some((text, until)) = self.motion_refusal_until() else {
             return;
@@ -323,8 +314,7 @@ impl App {
         }
     }
 
-    /// Fresh telemetry while a motion the console started runs: a fault, a state or a reading
-    /// that forbids motion stops it, and the held keys stay latched until pressed anew.
+    /// Fresh telemetry under our motion: a fault, state or reading that forbids it stops it.
     pub(super) fn watch_arm_state(
         &mut self,
         t: &Telemetry,

@@ -56,8 +56,7 @@ impl App {
         }
     }
 
-    /// Names in the file that broke the name rule were repaired as it loaded: each is logged,
-    /// and the bottom line says so and shows the first.
+    /// Names repaired as the file loaded: each logged, the first shown on the bottom line.
     fn tell_repaired_names(&mut self, notes: Vec<String>, now: Instant) {
         let Some(first) = notes.first() else {
             return;
@@ -76,8 +75,7 @@ impl App {
         );
     }
 
-    /// Asks the operator about the first [`CHECKED_ON_CONNECT`] remembered names, so the panel
-    /// marks the ones it does not know.
+    /// Asks the operator about the first [`CHECKED_ON_CONNECT`] remembered names.
     pub(super) fn check_names_on_operator(&self, effects: &mut Vec<Effect>) {
         for name in self.book.positions().names().take(CHECKED_ON_CONNECT) {
             effects.push(Effect::Arm(ArmCommand::GetPosition {
@@ -92,8 +90,7 @@ impl App {
         }
     }
 
-    /// Holds back saving while the book is not loaded: saving then would write a partial book
-    /// over the file.
+    /// No saving until the book is loaded: it would write a partial book over the file.
     pub(super) fn hold_saves_until_loaded(&mut self, now: Instant, effects: &mut Vec<Effect>) {
         let text = match self.book.state() {
             BookState::Ready => return,
@@ -154,8 +151,7 @@ impl App {
         }
     }
 
-    /// Asks about the first position kept twice, unless a question or motion is under way (the
-    /// warning stays; a question never interrupts the technician).
+    /// Asks about the first position kept twice, unless a question or motion is under way.
     fn ask_which(&mut self, written: &Written) {
         let busy = !self.screen.overlay_is_none()
             || self.keys.jog().is_jogging()
@@ -211,8 +207,7 @@ impl App {
         effects.push(Effect::SavePositions(book));
     }
 
-    /// After every input: the saves that leave `handle` are counted, as the writer counts them.
-    /// A book that could not be read is never saved over: its changes are unsaved at once.
+    /// After every input: counts the saves leaving `handle`, as the writer counts them.
     pub(super) fn count_saves(&mut self, effects: &[Effect]) {
         let asked = effects
             .iter()
@@ -221,8 +216,7 @@ impl App {
         self.book.on_saves_asked(asked);
     }
 
-    /// `name` was saved in the book: "saved" once written (at once when there is no file),
-    /// "saving…" until then.
+    /// `name` was saved: "saving…" until written, then "saved" (at once without a file).
     pub(super) fn say_saved(&mut self, name: &str, now: Instant) {
         if self.book.announce(name) {
             let text = format!("saving '{name}'…");
@@ -276,8 +270,7 @@ impl App {
             .show(super::Overlay::Confirm(Confirm::QuitUnsaved { count }));
     }
 
-    /// Quitting with positions not saved: the book is handed over once more, and written (or
-    /// its failure logged) before the process ends.
+    /// Quitting with unsaved positions: the book is handed over once more before the end.
     pub(super) fn retry_save_at_quit(&mut self, effects: &mut Vec<Effect>) {
         if let Some(names) = self.book.unsaved_to_retry() {
             tracing::warn!(
@@ -290,8 +283,7 @@ impl App {
 }
 
 impl App {
-    /// The go-to key on `name`: the usual question, or the re-save offer for a name the operator
-    /// is known to have lost.
+    /// The go-to key: the usual question, or the re-save offer for a name the operator lost.
     pub(super) fn ask_go_to(&mut self, name: String, now: Instant) {
         // Not asked when the answer could only be that it cannot work.
         if let Some(why) = self.go_to_refusal(&name) {
@@ -385,8 +377,7 @@ impl App {
         effects.push(Effect::Arm(ArmCommand::GoToPosition { name: pending }));
     }
 
-    /// Anything but the operator's answer drops a pending go-to: only the technician's "yes",
-    /// with nothing in between, moves the arm.
+    /// Anything but the operator's answer drops a pending go-to: only "yes" moves the arm.
     pub(super) fn resave_watch(&mut self, input: &Input) {
         let interrupts = match input {
             Input::Key(key) => key.kind != crate::console::jog::KeyKind::Release,
@@ -399,8 +390,7 @@ impl App {
         }
     }
 
-    /// A failed position command. Go To failing with UNKNOWN_POSITION offers the re-save;
-    /// returns whether the failure was told here.
+    /// A failed position command (UNKNOWN_POSITION offers the re-save); returns whether told here.
     pub(super) fn position_failed(
         &mut self,
         command: CommandKind,

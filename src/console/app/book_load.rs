@@ -3,8 +3,7 @@
 //! stopping meanwhile. A change made meanwhile is merged into the loaded book and saved; a book
 //! that could not be read is never saved over.
 
-/// How many remembered names are checked with the operator when the link comes up (each costs a
-/// request); the others are checked when shown or gone to.
+/// Remembered names checked when the link comes up (a request each); others when shown.
 pub const CHECKED_ON_CONNECT: usize = 100;
 
 /// Where the position book stands.

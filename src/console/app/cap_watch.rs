@@ -25,8 +25,7 @@ pub struct CapWatch {
 }
 
 impl CapWatch {
-    /// A sample `over` the cap (in words) or within it: the stop's text once
-    /// [`OVER_CAP_SAMPLES`] in a row were over.
+    /// A sample `over` the cap (in words) or not: the stop's text after [`OVER_CAP_SAMPLES`] over.
     pub(super) fn sample(&mut self, over: Option<String>) -> Option<String> {
         let Some(why) = over else {
             self.over_in_a_row = 0;
@@ -43,8 +42,7 @@ impl CapWatch {
         Some(text)
     }
 
-    /// How many motions the watch has stopped, and why it stopped the last one (for the audit
-    /// log, which records each once).
+    /// How many motions the watch stopped and why the last, for the audit.
     pub fn stops(&self) -> (u64, Option<&str>) {
         (self.stops, self.last_stop.as_deref())
     }

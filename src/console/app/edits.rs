@@ -189,8 +189,7 @@ impl App {
         self.save_book(&[&name], effects);
     }
 
-    /// Drives a rename or a restore on the operator by its answers. Returns whether the event
-    /// was one of their steps, which needs nothing else done.
+    /// Drives a rename or restore on the operator; returns whether the event was one of its steps.
     pub(super) fn edits_on_arm(
         &mut self,
         event: &ArmEvent,
@@ -233,8 +232,7 @@ impl App {
         };
         match (step, event) {
             (RenameStep::Asking, ArmEvent::Position { name, coordinates }) if *name == from => {
-                // An operator that answers without coordinates (the "ACK" dialect) leaves the
-                // book's.
+                // An operator that answers without coordinates (ack dialect) leaves the book's.
                 let known = self.book.positions().get(&from).and_then(|e| e.cartesian);
                 let Some([x, y, z]) = coordinates.cartesian.or(known) else {
                     self.book.set_renaming(None);
@@ -303,8 +301,7 @@ impl App {
         }
     }
 
-    /// `from` is `to` now, in the book: the tours visiting it follow, and the message names
-    /// them.
+    /// `from` is now `to` in the book; tours visiting it follow and are named.
     fn renamed(&mut self, from: &str, to: &str, now: Instant, effects: &mut Vec<Effect>) {
         let tours = self.book.positions_mut().rename_in_tours(from, to);
         self.book.select(to);

@@ -56,8 +56,7 @@ struct Bucket {
     abs_torque_sum: [f64; JOINTS],
     abs_current_sum: [f64; JOINTS],
     samples: u32,
-    /// A sample out of physical range (`kortex::sanity`) fell in this bucket: it reads as not known
-    /// (NaN), never as the nonsense.
+    /// A sample out of physical range fell in this bucket: it reads NaN, not the nonsense.
     speed_insane: bool,
     torque_insane: [bool; JOINTS],
     current_insane: [bool; JOINTS],
@@ -68,16 +67,14 @@ struct Bucket {
 pub struct History {
     origin: Option<Instant>,
     buckets: VecDeque<Bucket>,
-    /// The previous sample's TCP position (m) and time, to derive a speed when the telemetry
-    /// carries no twist.
+    /// The previous TCP position (m) and time, for a speed when telemetry has no twist.
     last_position: Option<([f64; 3], Instant)>,
     /// The latest sample's speed, mm/s.
     latest_speed: f64,
     quantity: JointQuantity,
 }
 
-/// What the panel draws: oldest first, one entry per bucket of the window (`None` where no
-/// telemetry came).
+/// What the panel draws: a bucket each, oldest first, `None` where no telemetry came.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct HistorySeries {
     /// TCP linear speed, mm/s (peak per bucket).
@@ -114,8 +111,7 @@ impl History {
         let speed = self.speed_of(t, now);
         self.latest_speed = speed;
         let index = self.bucket_index(now);
-        // A sample older than the newest bucket (a clock that went back) joins that bucket:
-        // the buckets stay in order.
+        // A sample older than the newest bucket (clock went back) joins it, keeping order.
         if self.buckets.back().is_none_or(|b| b.index < index) {
             self.buckets.push_back(Bucket {
                 index,
@@ -149,8 +145,7 @@ impl History {
         self.age_out(now);
     }
 
-    /// TCP linear speed, mm/s: the twist's, or from the last position when the twist says 0 (a
-    /// source that does not fill it in). NaN when out of physical range.
+    /// TCP speed, mm/s: the twist's, else from the last position; NaN out of physical range.
     fn speed_of(&mut self, t: &Telemetry, now: Instant) -> f64 {
         let twist = &t.tcp.twist;
         let p = &t.tcp.pose;
@@ -212,8 +207,8 @@ impl History {
         };
         let current =
             (now.saturating_duration_since(origin).as_millis() / BUCKET.as_millis()) as u64;
-        // The bucket being filled joins the window with its first sample, so the newest column does
-        // not blink "no telemetry" (and redraw an idle console) at the start of every bucket.
+        // The bucket being filled joins the window with its first sample (no blink, no idle
+        // redraw).
         let newest = if self.buckets.back().is_some_and(|b| b.index >= current) {
             current
         } else {

@@ -6,17 +6,13 @@ use crate::console::jog::JogMotion;
 use crate::kortex::Telemetry;
 use crate::kortex::arm_state::{REST_LINEAR_M_S, at_rest};
 
-/// Idle, a tool point faster than this (m/s) is motion someone commanded: five times the
-/// console's at-rest threshold, well over noise.
+/// Idle, a tool point faster than this (m/s) is commanded motion: 5x the at-rest threshold.
 pub const OTHER_MOTION_M_S: f32 = 5.0 * REST_LINEAR_M_S;
-/// Idle, a joint faster than this (deg/s) is motion someone commanded (a turn of the tool
-/// moves the joints, not the point).
+/// Idle, a joint faster than this (deg/s) is commanded motion (a tool turn moves joints).
 pub const OTHER_MOTION_JOINT_DEG_S: f32 = 2.0;
-/// A jog is "far slower than it ran" under this fraction of its steady speed: a Gen3 tracks a
-/// twist within a few percent, and a speed change of ours restarts the comparison.
+/// Under this fraction of its steady speed a jog is far slower (a Gen3 tracks within a few %).
 pub const SLOW_FRACTION: f64 = 0.5;
-/// The tool moves "somewhere else" when its speed along our direction is under this fraction
-/// of its speed (more than 60 degrees off our direction).
+/// Under this fraction of its speed along our direction (over 60° off), the tool goes elsewhere.
 pub const ALONG_FRACTION: f64 = 0.5;
 
 /// How a sample contradicts the jog we hold.
@@ -111,8 +107,7 @@ pub fn elsewhere(t: &Telemetry, motion: JogMotion, base_frame: bool) -> Option<S
     Some(describe_motion(seen))
 }
 
-/// How `t` contradicts `motion`, given the `steady` progress it ran at (if known and the slow
-/// rule applies) and whether at rest can be told from the jog (`rest_telling`).
+/// How `t` contradicts `motion`, given its `steady` progress and whether rest is telling.
 pub fn contradiction(
     t: &Telemetry,
     motion: JogMotion,

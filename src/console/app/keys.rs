@@ -14,14 +14,12 @@ use crate::link::interface::{ArmCommand, StepMove};
 
 /// Ctrl+c quits whatever the keymap (the keys dialogs and forms answer: `screen`).
 const CTRL_C: KeyName = KeyName::char('c').with_ctrl();
-/// The most a tap moves in the auto-repeat fallback, tenths of millimetres (5 mm): a tap
-/// cannot be told from the start of a hold when it happens, so it must be harmless.
+/// The most a fallback tap moves, tenths of mm (5 mm): a tap may be a hold's start.
 pub const TAP_STEP_LIMIT: i32 = 50;
 
 impl App {
     pub(super) fn on_key(&mut self, key: KeyInput, now: Instant, effects: &mut Vec<Effect>) {
-        // Ctrl-C always stops and quits, whatever the keymap or overlay (raw mode turns it
-        // into a key instead of SIGINT).
+        // Ctrl-C always stops and quits (raw mode makes it a key, not SIGINT).
         if key.kind == KeyKind::Press && key.key == CTRL_C {
             self.quit(now, effects);
             return;
@@ -109,8 +107,7 @@ impl App {
                 self.on_action(action, now, effects);
             }
             (Some(_), _) => {
-                // A held non-jog key (a repeat): keep everything stopped, do not repeat the
-                // action.
+                // A held non-jog key repeating: keep everything stopped, do not repeat the action.
                 self.stop_jog(now, effects);
             }
             (None, _) => {
@@ -288,8 +285,7 @@ impl App {
         }
     }
 
-    /// A refresh the jog engine made for `before`: past the grace, with telemetry, it waits for a
-    /// sample that does not contradict the jog (`other_client`).
+    /// A refresh made for `before`: past the grace, with telemetry, it waits for a sample.
     pub(super) fn hold_refresh(
         &mut self,
         before: Option<JogMotion>,
@@ -342,8 +338,8 @@ impl App {
         })
     }
 
-    /// A key that may not move the arm: a jog key stays tracked, latched, so it moves only after a
-    /// fresh press once motion is allowed.
+    /// A key that may not move the arm: a jog key is tracked latched, moving only after a new
+    /// press.
     pub(super) fn latch_jog_key(
         &mut self,
         key: &KeyInput,
@@ -362,8 +358,7 @@ impl App {
         self.apply_jog(jog, now, effects);
     }
 
-    /// A release reaches the engine whatever is shown. Its modifiers may differ from its press
-    /// (shift mid-hold turns "w" into "W"): every jog the key could have meant is released.
+    /// A release ends every jog its key could mean (shift mid-hold turns "w" into "W").
     pub(super) fn release_jog_keys(
         &mut self,
         key: &KeyInput,

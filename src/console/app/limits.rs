@@ -5,8 +5,7 @@
 use crate::kortex::Telemetry;
 use crate::kortex::gen3::JOINT_LIMITS_DEG;
 
-/// Within this many degrees of a limit a joint is named and its gauge turns to the warning
-/// colour.
+/// Within this many degrees of a limit a joint is named and its gauge warns.
 pub const LIMIT_WARNING_DEG: f32 = 5.0;
 
 /// A limited joint within [`LIMIT_WARNING_DEG`] of its limit.
@@ -39,8 +38,7 @@ fn signed(deg: f32) -> f32 {
     }
 }
 
-/// Joint `joint`'s (1-7) margin to its nearer limit, degrees; `None` for a continuous joint
-/// or a non-finite angle.
+/// Joint `joint`'s (1-7) margin to its nearer limit, deg; `None` if continuous or not finite.
 pub fn limit_margin(joint: usize, position_deg: f32) -> Option<f32> {
     let limit = JOINT_LIMITS_DEG
         .get(joint.checked_sub(1)?)

@@ -14,15 +14,13 @@ pub(super) const MESSAGE_TIME: Duration = Duration::from_secs(6);
 /// What ends a message.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub(super) enum Until {
-    /// A notice: [`MESSAGE_TIME`] after it was said, or sooner once a command of this kind
-    /// goes through (a failure the next attempt made good).
+    /// A notice: gone after [`MESSAGE_TIME`], or once a command of this kind goes through.
     TimeOut { done: Option<CommandKind> },
     /// The link is down or not up yet: ends when it is up.
     LinkUp,
     /// The link is stale: ends when the arm is heard from again.
     LinkFresh,
-    /// The arm in fault (or quick-stopped): ends when telemetry shows the fault gone, a reset goes
-    /// through (no telemetry), or the failed command goes through.
+    /// The arm in fault: ends when telemetry shows it gone, or a reset or the command goes through.
     FaultCleared {
         failed: Option<CommandKind>,
         reset_done: bool,
@@ -121,8 +119,7 @@ impl Messages {
         self.shown = Some(message);
     }
 
-    /// Arm events that end a message: a command going through, a fault reset, telemetry
-    /// without a fault.
+    /// Arm events that end a message: a command through, a fault reset, telemetry without fault.
     pub(super) fn on_arm(&mut self, event: &ArmEvent, telemetry_expected: bool) {
         for slot in self.slots() {
             let Some(message) = slot else {
@@ -134,8 +131,7 @@ impl Messages {
         }
     }
 
-    /// Messages whose state no longer `holds` go; a hidden state message shows again once
-    /// nothing newer is shown.
+    /// Messages whose state no longer `holds` go; a hidden one shows again once on top.
     pub(super) fn settle(&mut self, holds: impl Fn(&Message) -> bool) {
         for slot in self.slots() {
             if slot.as_ref().is_some_and(|m| !holds(m)) {

@@ -106,8 +106,7 @@ pub enum Input {
     Signal(&'static str),
     /// A bracketed paste, or input the reader dropped.
     Paste(Pasted),
-    /// The position book was read off the event loop, or could not be (the error names the file
-    /// and what was wrong). See [`App::begin_loading_positions`].
+    /// The book read off the event loop, or why not. See [`App::begin_loading_positions`].
     PositionsLoaded(Result<PositionBook, String>),
     /// The writer's outcome for the saves asked for so far (see `saving`).
     PositionsSaved(SaveOutcome),
@@ -125,8 +124,7 @@ pub enum Pasted {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Effect {
     Arm(ArmCommand),
-    /// Write the position book to its file, merged with what another writer put there since
-    /// the console knew it.
+    /// Write the book, merged with what another writer put in the file since.
     SavePositions(BookSave),
     Quit,
 }
@@ -209,8 +207,7 @@ pub struct AppConfig {
     pub positions_on_operator: bool,
     /// The tool speed cap at 100 %, m/s: the app's [`SpeedCap`] is made of it.
     pub max_jog_speed: f64,
-    /// Single-joint jog speed at 100 %, deg/s (the driver's): a joint jog's rate is watched
-    /// against it.
+    /// Single-joint jog speed at 100 %, deg/s: a joint jog's rate is watched against it.
     pub joint_jog_speed: f32,
     /// Reference frames apply (Modbus jogging).
     pub frames: bool,
@@ -218,8 +215,7 @@ pub struct AppConfig {
     pub simulated: bool,
     /// The arm profile (`--arm NAME`) the console was opened with, for the status bar.
     pub arm_name: Option<String>,
-    /// The Modbus stored action that Home runs (`DriverConfig::modbus_home`), followed by id so
-    /// another client's move under it is never home done. `None` when a Talos operator runs Home.
+    /// Home's Modbus stored action (`DriverConfig::modbus_home`), followed by id; `None` on Talos.
     pub home_action: Option<Stored>,
 }
 

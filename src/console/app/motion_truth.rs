@@ -25,15 +25,13 @@ use crate::link::interface::{ArmCommand, CommandKind, TelemetrySource};
 
 /// Silence after which a link is stale and telemetry is drawn as old.
 pub const STALE_AFTER: Duration = Duration::from_millis(500);
-/// How long a STOP may take to be confirmed (and the arm to be seen at rest) before
-/// `STOPPING` turns into `MAY BE MOVING`.
+/// How long a STOP may take to be confirmed before `STOPPING` becomes `MAY BE MOVING`.
 pub const STOP_GRACE: Duration = Duration::from_millis(500);
 /// An action status read this soon after the start may predate it.
 const ACTION_GRACE: Duration = Duration::from_millis(500);
 /// Without an action status: at rest this long after the start means it had nothing to do.
 const NO_MOTION_GRACE: Duration = Duration::from_secs(1);
-/// A tracked action with telemetry not seen to end within this long stops being tracked (and
-/// stays unsettled: `MAY BE MOVING`).
+/// A tracked action not seen to end by then is no longer tracked (and stays unsettled).
 pub const ACTION_TIMEOUT: Duration = Duration::from_secs(60);
 /// Without telemetry, how long an action is assumed to take at most.
 pub const NO_TELEMETRY_ACTION_TIME: Duration = Duration::from_secs(30);
@@ -51,12 +49,10 @@ pub enum ActionKind {
     Step,
 }
 
-/// Which stored action or sequence: home keeps its own key and words; the others are named by
-/// kind and id.
+/// Which stored run: home has its own key and words; others are named by kind and id.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum StoredAction {
-    /// The Talos Home command, or over Modbus the home action's id (`AppConfig::home_action`:
-    /// its run is then followed by id as `ById`'s is).
+    /// Talos Home, or the Modbus home action (`AppConfig::home_action`), followed by id.
     Home,
     ById(Stored),
 }
@@ -129,21 +125,18 @@ impl ActionKind {
 #[derive(Debug, Clone, PartialEq)]
 pub struct TrackedAction {
     pub kind: ActionKind,
-    /// A stored run the console knows the id of: its progress is the arm's action status for
-    /// that id and move type (`kortex::stored_run`, as `armjog modbus action` reads it).
+    /// A stored run of known id: its progress is the action status ([`crate::kortex::StoredRun`]).
     run: Option<StoredRun>,
     sent: Instant,
     /// When the link reported the command taken.
     accepted: Option<Instant>,
     /// Where a go-to must end: done only at rest there (see `target`).
     target: Option<GoToTarget>,
-    /// Our go-to as the arm's action status shows it (over Modbus, a cartesian trajectory);
-    /// another move is another client's.
+    /// Our go-to as the action status shows it; another move is another client's.
     move_type: Option<OurMove>,
     /// The status has shown `move_type` started since it was sent.
     seen_ours: bool,
-    /// A Talos Go To, which the status does not name: what the status named when it was sent
-    /// (or first read after), so a stored action or sequence started since is another client's.
+    /// For a Talos Go To: what the status named when it was sent, to spot a stored run since.
     status_before: Option<ActionState>,
     /// Joint positions when it was sent, to see it moved even between two polls.
     from: Option<[f32; 7]>,
@@ -166,8 +159,7 @@ pub enum MotionShown {
     Stopping,
     /// The arm may be moving although nothing is commanded; why.
     MayBeMoving(String),
-    /// Telemetry shows motion the console did not command (and nothing of its own is
-    /// unsettled): another client moves the arm.
+    /// Telemetry shows motion the console did not command: another client moves the arm.
     MovedByAnotherClient,
     Idle,
 }
@@ -237,8 +229,7 @@ impl MotionTruth {
         self.expect
     }
 
-    /// The driver has said telemetry comes (Modbus or the Talos hardware companion): the one
-    /// answer to "is telemetry expected".
+    /// Whether the driver said telemetry comes: the one answer to "is telemetry expected".
     pub(in crate::console::app) fn expects_telemetry(&self) -> bool {
         matches!(
             self.expect,

@@ -1,5 +1,4 @@
-//! Named positions in the state machine: showing, confirming, saving through forms, and
-//! keeping the book in step with what the operator accepted.
+//! Named positions in the state machine: shown, confirmed, saved, kept in step with the operator.
 
 use std::time::Instant;
 
@@ -81,8 +80,7 @@ impl App {
         }
     }
 
-    /// A stored pose for a local (Modbus) go-to: position plus orientation (the current tool
-    /// orientation when none was stored).
+    /// A stored pose for a Modbus go-to (the current tool orientation when none was stored).
     pub(super) fn stored_pose(&self, name: &str) -> Option<Pose> {
         let entry = self.book.positions().get(name)?;
         let [x, y, z] = entry.cartesian?;
@@ -196,8 +194,7 @@ impl App {
         self.save_book(&[&name], effects);
     }
 
-    /// The whole pose the telemetry shows now. A value that is not a finite number is not
-    /// known (and would not load back from the file).
+    /// The whole pose in telemetry now; non-finite is not known (and would not load back).
     fn pose_now(&self) -> Option<PoseNow> {
         let t = self.arm.telemetry()?;
         let p = t.tcp.pose;
@@ -210,8 +207,7 @@ impl App {
         })
     }
 
-    /// `name` is deleted: out of the book, kept for undo. Tours visiting it keep it (undo
-    /// makes them whole again); the message names them.
+    /// `name` deleted, kept for undo; tours visiting it keep it, and are named.
     fn deleted(&mut self, name: String, now: Instant, effects: &mut Vec<Effect>) {
         self.book.on_delete(&name);
         let tours = self.book.positions().tours_using(&name);
@@ -239,8 +235,7 @@ impl App {
                 anchor,
                 parent,
             } => {
-                // The operator saved the pose it has now: the telemetry's, when there is some.
-                // Without, whatever was remembered under the name is no longer it.
+                // The operator saved its current pose: telemetry's, else nothing known.
                 let pose = self.pose_now().unwrap_or_default();
                 let entry = self.book.positions_mut().get_or_insert(name);
                 entry.anchor = *anchor;
@@ -284,8 +279,7 @@ impl App {
     }
 }
 
-/// The tool's position in `telemetry`, tenths of mm in the base frame as the book stores it; `None`
-/// when not finite.
+/// The tool's position, tenths of mm in the base frame as the book stores it; `None` if not finite.
 pub fn tool_position(telemetry: &Telemetry) -> Option<[i32; 3]> {
     let p = telemetry.tcp.pose;
     let position = [p.x, p.y, p.z];

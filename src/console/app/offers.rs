@@ -1,5 +1,4 @@
-//! The one rule of which actions the session's links carry ([`Offers`]): the footer shows only
-//! those keys, and the refusals (`App::*_refusal`, `screen.rs`) say why for the rest.
+//! The one rule of which actions the session's links carry ([`Offers`]).
 
 use std::sync::Arc;
 

@@ -31,20 +31,15 @@ use crate::link::speed::{INITIAL_SPEED, fraction};
 /// arm's ramp-up and a poll or two, with a margin over twice that; the grace an action's first
 /// status gets too.
 pub const OTHER_CLIENT_GRACE: Duration = Duration::from_millis(500);
-/// Samples in a row at rest (while jogging) or moving (while idle) before it counts: two may be
-/// a reading's glitch, three at 30 Hz are 100 ms of agreement.
+/// Samples in a row before it counts: three at 30 Hz are 100 ms of agreement.
 pub const OTHER_CLIENT_SAMPLES: u32 = 3;
-/// A jog is told from rest only when it should run at least this many times the at-rest
-/// threshold (a 1 % jog creeps at about the threshold itself).
+/// A jog is told from rest only at this many times the at-rest threshold (1 % creeps at it).
 const REST_MARGIN: f64 = 3.0;
-/// A shorter run of contradicting samples lasting this long (samples sparse or gone) is a stop too.
-/// It withholds two 100 ms refreshes at most, inside the operator's 500 ms watchdog.
+/// A shorter contradicting run lasting this long is a stop too (inside the 500 ms watchdog).
 pub const CONTRADICTED_FOR: Duration = Duration::from_millis(250);
-/// The first sample after a refresh fell due may have been read before it (queued behind a busy
-/// loop); the second was read a poll later.
+/// The first sample after a due refresh may predate it; the second was read a poll later.
 pub const REFRESH_SAMPLES: u32 = 2;
-/// A refresh waits this long at most for its samples (the staleness rule watches silence): at most
-/// 300 ms between refreshes, inside the 500 ms watchdog.
+/// A refresh waits at most this long for its samples (under 300 ms between refreshes).
 pub const REFRESH_WAIT: Duration = Duration::from_millis(200);
 
 /// What the console watches for other clients.
@@ -52,19 +47,16 @@ pub const REFRESH_WAIT: Duration = Duration::from_millis(200);
 pub struct OtherClients {
     /// The jog motion last sent and when it was first sent (refreshes keep the time).
     jog_since: Option<(JogMotion, Instant)>,
-    /// The arm's move type has read twist since the jog started: only then is another move
-    /// type a change (an arm that never reports it changes nothing).
+    /// The move type has read twist since the jog started: only then is another type a change.
     seen_twist: bool,
-    /// Since when the jog's speed is compared with its steady speed (its start or our last speed
-    /// change), and that speed: the fastest seen after the grace (mm/s or deg/s).
+    /// Since when the jog's speed is compared with its steady speed, and that speed (mm/s, deg/s).
     baseline_since: Option<Instant>,
     steady: Option<f64>,
     /// The run of samples that contradict the jog: how many, since when, and the last.
     contradicting_in_a_row: u32,
     contradicting_since: Option<Instant>,
     last_contradiction: Option<Contradiction>,
-    /// A refresh fell due at this instant and waits for [`REFRESH_SAMPLES`] samples that do not
-    /// contradict the jog: how many came so far.
+    /// When a refresh fell due, and how many non-contradicting samples came since.
     refresh_waiting: Option<(Instant, u32)>,
     /// Refreshes held back at least once by a contradicting sample.
     withheld: u64,
@@ -91,8 +83,7 @@ impl OtherClients {
         &self.hold
     }
 
-    /// A due refresh of `motion`: with telemetry watched and past the grace, taken out of `jog` to
-    /// wait for samples ([`App::hold_refresh`]).
+    /// A due refresh of `motion`, held out of `jog` for samples ([`App::hold_refresh`]).
     pub(super) fn hold_refresh(
         &mut self,
         motion: JogMotion,
@@ -130,8 +121,7 @@ impl OtherClients {
 }
 
 impl App {
-    /// Notes a command going out: a jog's first START starts the grace, a stop ends the watch,
-    /// a speed of ours restarts the steady-speed comparison.
+    /// A command going out: a START starts the grace, a stop ends the watch, a speed resets it.
     pub(super) fn other_client_note_sent(&mut self, command: &ArmCommand, now: Instant) {
         let others = &mut self.arm.others_mut();
         match command {
@@ -153,15 +143,13 @@ impl App {
         }
     }
 
-    /// The speed in force changed (ours or the operator's): the arm slows or speeds up to it,
-    /// so the steady speed is learnt anew after a grace.
+    /// The speed in force changed: the steady speed is learnt anew after a grace.
     pub(super) fn other_client_note_speed(&mut self, now: Instant) {
         self.arm.others_mut().baseline_since = Some(now);
         self.arm.others_mut().steady = None;
     }
 
-    /// Fresh telemetry: is our jog still the arm's motion, and is the arm moved by someone else?
-    /// A refresh waiting for a sample goes out on one that does not contradict the jog.
+    /// Fresh telemetry: is our jog still the arm's motion, and is someone else moving it?
     pub(super) fn watch_other_clients(
         &mut self,
         t: &Telemetry,
@@ -237,8 +225,7 @@ impl App {
         }
     }
 
-    /// Time passing under a held jog: a contradiction that lasted [`CONTRADICTED_FOR`] stops it;
-    /// a refresh that waited [`REFRESH_WAIT`] with no contradiction goes out.
+    /// Time under a held jog: a long contradiction stops it; a long-waiting refresh goes out.
     pub(super) fn other_clients_on_tick(&mut self, now: Instant, effects: &mut Vec<Effect>) {
         let Some(motion) = self.keys.jog().active() else {
             return;
@@ -282,8 +269,7 @@ impl App {
         contradicted.into_iter().chain(waiting).min()
     }
 
-    /// Stops and latches a jog another client stopped or replaced (or the arm itself, at a
-    /// joint limit), saying which and why.
+    /// Stops and latches a jog another client (or a joint limit) stopped, saying which and why.
     fn stop_for_other_client(
         &mut self,
         t: &Telemetry,
@@ -301,8 +287,7 @@ impl App {
         self.stop_from_telemetry(text, now, effects);
     }
 
-    /// Whether `motion` at the speed in force runs fast enough that telemetry at rest cannot be
-    /// it: at least [`REST_MARGIN`] times the at-rest threshold of what it moves.
+    /// Whether `motion` runs at least [`REST_MARGIN`] times the at-rest threshold of what it moves.
     fn jog_unmistakable_from_rest(&self, motion: JogMotion) -> bool {
         let percent = self.arm.speed().unwrap_or(INITIAL_SPEED);
         let (expected, rest) = match motion {
@@ -321,8 +306,7 @@ impl App {
         expected >= REST_MARGIN * rest
     }
 
-    /// Telemetry shows motion none of ours explains: idle, nothing unsettled, and the arm moving
-    /// fast for [`OTHER_CLIENT_SAMPLES`] samples.
+    /// Idle, nothing unsettled, and the arm moving for [`OTHER_CLIENT_SAMPLES`] samples.
     pub(super) fn moved_by_another_client(&self) -> bool {
         self.keys.jog().active().is_none()
             && self.truth.action().is_none()
@@ -335,8 +319,7 @@ impl App {
     }
 }
 
-/// Over Modbus: the arm's action ended under our jog, or the move type left twist under a
-/// cartesian, polar or orientation jog (always twists; a Talos joint jog is not).
+/// Over Modbus: the action ended under our jog, or the move type left twist (not a joint jog).
 fn ended_under_jog(t: &Telemetry, motion: JogMotion, was_twist: bool) -> bool {
     let ended = matches!(
         t.action.status,

@@ -36,8 +36,7 @@ impl QuestionGuard {
             .is_some_and(|previous| now.saturating_duration_since(previous) < BURST_KEY_GAP)
     }
 
-    /// Why a key at `now` (`burst`: see [`QuestionGuard::key`]) may not answer the open
-    /// question, if it may not.
+    /// Why a key at `now` (`burst`: [`QuestionGuard::key`]) may not answer the question, if so.
     pub(super) fn refuses(&self, burst: bool, now: Instant) -> Option<&'static str> {
         let (_, asked) = self.asked.as_ref()?;
         if now.saturating_duration_since(*asked) < QUESTION_QUIET {

@@ -46,8 +46,7 @@ impl Saving {
         &self.touched
     }
 
-    /// `asked` saves left `handle` (as the writer counts them). With none asked and the book
-    /// unreadable (never saved over), the names changed are handed back: unsaved at once.
+    /// `asked` saves left `handle`; with none and the book unreadable, the changes are unsaved now.
     pub(super) fn count(&mut self, asked: u64, unreadable: bool) -> BTreeSet<String> {
         let announced = self.announced.take();
         if asked > 0 {

@@ -30,8 +30,7 @@ const UP: KeyName = KeyName::named(NamedKey::Up);
 const DOWN: KeyName = KeyName::named(NamedKey::Down);
 const BACKSPACE: KeyName = KeyName::named(NamedKey::Backspace);
 
-/// A joint turning faster than this (deg/s, reported) counts as the arm moving: below it, a
-/// reading's noise, or motion too slow to need more than the idle frame rate.
+/// A joint faster than this (deg/s) counts as moving; below, noise or idle-rate motion.
 pub const MOVING_JOINT_DEG_S: f32 = 0.5;
 
 impl App {
@@ -50,8 +49,7 @@ impl App {
         }
     }
 
-    /// The arm moves, or may (a jog, an action, an unconfirmed STOP, a doubt, a joint turning):
-    /// draw at the full rate.
+    /// The arm moves, or may: draw at the full rate.
     pub fn arm_in_motion(&self) -> bool {
         !matches!(self.motion_shown(), super::MotionShown::Idle)
             || self.telemetry().is_some_and(|t| {
@@ -166,8 +164,7 @@ impl App {
         self.screen.messages_on_arm(event, telemetry_expected);
     }
 
-    /// After every input: messages whose state has ended, and notices past their time, go; a
-    /// hidden state message shows again once nothing newer is shown.
+    /// After every input: ended state messages and expired notices go.
     pub(super) fn settle_messages(&mut self, now: Instant) {
         let link_up = self.arm.link_up();
         let stale = self.link_stale().is_some();
@@ -240,14 +237,12 @@ impl App {
         self.save_refusal().is_none()
     }
 
-    /// Whether this link carries an orientation jog: only Modbus (the driver refuses it with
-    /// `ORIENTATION_NEEDS_MODBUS`). Offered until the driver has said which link it has.
+    /// Only Modbus turns the tool; offered until the driver has said which link it has.
     pub fn can_turn(&self) -> bool {
         !self.without_modbus()
     }
 
-    /// Why going to `name` cannot work on this link, or `None`: without an ICD operator, the move
-    /// needs a Modbus link.
+    /// Why going to `name` cannot work here: without an ICD operator it needs Modbus.
     pub fn go_to_refusal(&self, name: &str) -> Option<String> {
         if self.config.positions_on_operator {
             return None;
@@ -271,14 +266,12 @@ impl App {
         })
     }
 
-    /// Whether going to a saved position can work on this link at all (the footer offers the
-    /// go-to key; see [`App::go_to_refusal`]).
+    /// Whether any go-to can work on this link (see [`App::go_to_refusal`]).
     pub fn can_go_to(&self) -> bool {
         self.config.positions_on_operator || !self.without_modbus()
     }
 
-    /// The driver has said it has no Modbus link: it expects Modbus telemetry exactly when it
-    /// has one.
+    /// No Modbus link: Modbus telemetry is expected exactly when there is one.
     pub(super) fn without_modbus(&self) -> bool {
         matches!(
             self.truth.expected_telemetry(),
@@ -286,8 +279,7 @@ impl App {
         )
     }
 
-    /// The form that saves the current pose on this link: over the console's own book (no
-    /// Talos operator keeps the positions) it has no anchor toggle, which would do nothing.
+    /// The save form on this link: no anchor toggle over the console's own book.
     pub(super) fn save_form(&self) -> Form {
         if self.config.positions_on_operator {
             Form::new(FormKind::Save, "")
@@ -406,8 +398,7 @@ impl App {
         }
     }
 
-    /// Whether `key` (a press or repeat) was kept from answering the question; it stops a jog
-    /// like any key in an overlay.
+    /// Whether `key` was kept from answering; it stops a jog like any key in an overlay.
     pub(super) fn question_refuses(
         &mut self,
         key: &KeyInput,

@@ -7,12 +7,10 @@ use crate::kortex::gen3::condition_number;
 
 pub use crate::kortex::gen3::SINGULARITY_WARNING;
 
-/// From this condition number on, the text says the arm is at the singularity rather than near
-/// it (about 0.08° short of a straight elbow): the figure itself then says little.
+/// From here (about 0.08° short of a straight elbow) the text says at, not near.
 pub const AT_SINGULARITY: f64 = 10_000.0;
 
-/// The estimated condition number when it is above [`SINGULARITY_WARNING`]; `None` below it,
-/// or when a joint angle is not a number (no estimate).
+/// The condition number above [`SINGULARITY_WARNING`]; `None` below or without an estimate.
 pub fn near_singularity(t: &Telemetry) -> Option<f64> {
     let q_deg = t.joints.map(|j| f64::from(j.position));
     if !q_deg.iter().all(|a| a.is_finite()) {

@@ -9,8 +9,7 @@ use std::time::{Duration, Instant};
 pub const STOP_HOLD: Duration = Duration::from_secs(1);
 /// At most one STOP sent again per this: a poll or three at 30 Hz.
 pub const RESEND_EVERY: Duration = Duration::from_millis(100);
-/// Motion this long after the STOP is no longer the arm slowing down under it: the message
-/// line says so (before, the STOP goes again without a word).
+/// Motion this long after the STOP is not slowing down under it: the message line says so.
 pub const SLOWING_DOWN: Duration = Duration::from_millis(300);
 
 /// See the module docs.

@@ -25,8 +25,7 @@ pub(super) fn interruption(input: &Input) -> Option<String> {
         Input::FocusLost => Some("focus lost".into()),
         Input::Signal(_) => Some("signal".into()),
         Input::Arm(ArmEvent::Status(LinkStatus::Down { .. })) => Some("link lost".into()),
-        // Reported as a failed jog (it stops and latches held keys), but it ends a leg too:
-        // `the stop guard stopped the arm: no heartbeat for 500 ms`.
+        // A failed jog to the driver, but it ends a leg too (the stop guard's stop).
         Input::Arm(ArmEvent::Failed {
             error: error @ (ArmError::GuardStoppedArm(_) | ArmError::GuardStopFailed(_)),
             ..
@@ -81,8 +80,7 @@ impl App {
             .show(Overlay::Form(Form::play_tour(&name, one_leg)));
     }
 
-    /// A tour form was submitted: a tour made is checked against the book and kept; a tour to
-    /// play is checked and asked about.
+    /// A tour form submitted: one made is checked and kept; one to play checked and asked.
     pub(super) fn tour_form_submitted(
         &mut self,
         result: FormResult,
@@ -170,8 +168,7 @@ impl App {
             .find_map(|(i, name)| self.leg_refusal(name).map(|why| cannot(i, why)))
     }
 
-    /// Why a go-to to `name` cannot be a tour's leg: what refuses a go-to, or a name the
-    /// operator has lost (a single go-to offers to re-save it; a tour does not).
+    /// Why `name` cannot be a leg: a go-to refusal, or a name the operator lost (no re-save here).
     fn leg_refusal(&self, name: &str) -> Option<String> {
         if self.book.positions().get(name).is_none() {
             return Some(format!("'{name}' is not in the book"));
@@ -330,8 +327,7 @@ impl App {
         }
     }
 
-    /// After the truth has noted what goes out: a leg started is tracked from now on; one the
-    /// gate dropped (or nothing tracks) ends the tour.
+    /// After the truth noted what goes out: a leg started is tracked; one dropped ends the tour.
     pub(super) fn tour_after_truth(&mut self, now: Instant) {
         if self.tours.phase() != Some(Leg::Starting) {
             return;

@@ -50,8 +50,7 @@ pub struct ToolTrail {
 }
 
 impl ToolTrail {
-    /// Takes the tool point of `telemetry` seen at `now`, unless the last point is newer than
-    /// [`TRAIL_SPACING`]; drops the points older than [`TRAIL_SPAN`].
+    /// Takes `telemetry`'s tool point unless the last is newer than [`TRAIL_SPACING`]; ages out.
     pub fn record(&mut self, telemetry: &Telemetry, now: Instant) {
         self.age_out(now);
         if self
@@ -95,8 +94,7 @@ impl ToolTrail {
             .collect()
     }
 
-    /// The points of [`ToolTrail::recent`] as drawn: each with its shade, a run of points
-    /// the same in place and shade given once (the first: the pieces after it have no length).
+    /// [`ToolTrail::recent`] as drawn, shaded; a run of identical points given once.
     pub fn shaded(&self, now: Instant) -> Vec<(TrailShade, [f64; 3])> {
         let mut shaded: Vec<(TrailShade, [f64; 3])> = Vec::new();
         for (age, position) in self.recent(now) {
@@ -118,8 +116,7 @@ impl ToolTrail {
 }
 
 impl super::App {
-    /// The tool point's path over the last [`TRAIL_SPAN`] before the latest input, with each
-    /// point's age, oldest first.
+    /// The tool's path over the last [`TRAIL_SPAN`] with each point's age, oldest first.
     pub fn trail(&self) -> Vec<(Duration, [f64; 3])> {
         self.now
             .map(|now| self.arm.trail().recent(now))

@@ -53,8 +53,7 @@ struct DriverState {
     hw_telemetry: bool,
 }
 
-/// The driver's state and what its loop waits on, made before the loop's task starts: the
-/// task's future then holds neither the set-up nor room for it (see [`run`]).
+/// The loop's state, made before its task starts, so the task's future holds no set-up.
 pub(super) struct Started {
     driver: Box<DriverState>,
     inbox: Inbox,
@@ -68,8 +67,7 @@ pub(super) fn start(
     let _ = events.send(ArmEvent::TelemetrySource(config.telemetry_source()));
     let _ = events.send(ArmEvent::Status(LinkStatus::Connecting));
     let joints: JointPositions = std::sync::Arc::new(tokio::sync::watch::Sender::new(None));
-    // The front ends refuse a bad cap (`cli/values.rs`, `cli/console.rs`): one made in code that
-    // skipped the check stops here, before anything connects.
+    // A cap made in code that skipped the front ends' check stops here, before anything connects.
     let cap = match config.speed_cap() {
         Ok(cap) => cap,
         Err(e) => panic!(
@@ -319,8 +317,8 @@ impl DriverState {
                     command: CommandKind::Stop,
                     error: ArmError::StopNotWritten(error.clone()),
                 });
-                // A stop the console asked for gets its outcome from the worker's answer; one
-                // the link made on its own is reported here.
+                // A requested stop's outcome comes from the worker; the link's own stop is reported
+                // here.
                 if reason != StopReason::Requested {
                     self.emit(ArmEvent::StopUnconfirmed {
                         reason: format!("the Modbus link's own stop ({reason:?}): {error}"),
@@ -345,8 +343,7 @@ impl DriverState {
 
     fn on_guard_report(&mut self, report: GuardReport) {
         if report.stops_motion() {
-            // Straight to each link, outside the STOP outcomes: the console stops on the event
-            // itself and asks for its own STOP.
+            // Outside the STOP outcomes: the console stops on the event and asks for its own STOP.
             if let Some(modbus) = &self.modbus {
                 modbus.send(ArmCommand::Stop);
             }
@@ -383,14 +380,12 @@ impl DriverState {
         self.talos.stop_and_wait().await;
     }
 
-    /// The console is gone: stop everything on the way out. A connect still in flight has
-    /// started nothing and is given up.
+    /// The console is gone: stop everything; a connect in flight started nothing and is dropped.
     async fn finish(mut self: Box<Self>) {
         self.talos_attempts.abort();
         self.modbus_attempts.abort();
         self.stop_everywhere().await;
-        // Again: a refresh from another console that crossed the first stop set restarted the arm,
-        // and that console saw no stop to latch on.
+        // Again: another console's refresh that crossed the first stop set restarted the arm.
         tokio::time::sleep(EXIT_STOP_AGAIN).await;
         self.stop_everywhere().await;
         self.talos.close();
@@ -426,8 +421,7 @@ fn start_guard(
     Some(GuardSupervisor::spawn(program.clone(), args, reports))
 }
 
-/// Why a command that starts motion is refused for want of a stop guard, on whichever link
-/// would carry it, if it is.
+/// Why a motion is refused for want of a stop guard on the link that would carry it.
 fn guard_refusal(
     config: &DriverConfig,
     guard: Option<&GuardSupervisor>,

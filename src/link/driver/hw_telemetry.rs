@@ -1,5 +1,4 @@
-//! Telemetry for a Talos-only link, from the hardware companion ICD's GET_ARM_STATE and
-//! GET_ACTUATOR_FEEDBACK, in the same [`Telemetry`] shape the Modbus link decodes.
+//! Talos-only telemetry from the hardware ICD's GET_ARM_STATE and GET_ACTUATOR_FEEDBACK.
 
 use crate::kortex::{
     ActionState, ArmHealth, Coded, FlagSet, JointState, Pose, SpeedLimits, Telemetry, ToolState,
@@ -7,8 +6,7 @@ use crate::kortex::{
 };
 use crate::talos::hardware::{ActuatorFeedback, ArmState};
 
-/// Builds a snapshot. Joints without feedback read as zero. Action status and speed limits do
-/// not exist over Talos: they read as unknown / zero.
+/// A snapshot; joints without feedback read zero, action status and limits unknown (not on Talos).
 pub fn telemetry(state: &ArmState, actuators: &[ActuatorFeedback]) -> Telemetry {
     let mut joints = [JointState::default(); 7];
     for a in actuators {

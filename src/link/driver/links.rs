@@ -42,8 +42,7 @@ pub fn modbus_description(config: &ModbusConfig) -> String {
     format!("modbus {} unit {}", config.addr, config.unit)
 }
 
-/// Both links' states. A link that is not configured stays [`LinkState::Connecting`] and is
-/// left out of the status.
+/// Both links' states; an unconfigured one stays [`LinkState::Connecting`], left out of the status.
 pub struct Links {
     pub talos: LinkState,
     pub modbus: LinkState,
@@ -59,8 +58,7 @@ impl Default for Links {
 }
 
 impl Links {
-    /// A failed connect: a link already lost keeps the reason it went down with. Returns
-    /// whether the state changed.
+    /// A failed connect (a lost link keeps its first reason). Returns whether the state changed.
     pub fn connect_failed(state: &mut LinkState, words: String) -> bool {
         if matches!(state, LinkState::Lost(_)) {
             return false;
@@ -69,8 +67,7 @@ impl Links {
         true
     }
 
-    /// The links combined for the status bar: connecting or lost if any wanted link is (the
-    /// first one's reason), up with every description otherwise.
+    /// For the status bar: connecting or lost if any wanted link is (its reason), else up.
     pub fn status(&self, config: &DriverConfig) -> LinkStatus {
         let parts = [
             (config.talos.is_some(), &self.talos),

@@ -31,8 +31,7 @@ use super::speed::{OPERATOR_FULL_SPEED, OperatorScale, SpeedCap, SpeedCapError};
 use super::talos::TalosConfig;
 use crate::kortex::Stored;
 
-/// The latest joint positions (deg) from whichever telemetry the driver has: a joint jog's
-/// command carries the joint's last reported position, and none is sent before one is known.
+/// The latest joint positions (deg): a joint jog carries its joint's, so none goes before one.
 pub(crate) type JointPositions = std::sync::Arc<tokio::sync::watch::Sender<Option<[f32; 7]>>>;
 
 /// What the driver connects to and how it jogs.
@@ -40,11 +39,10 @@ pub(crate) type JointPositions = std::sync::Arc<tokio::sync::watch::Sender<Optio
 pub struct DriverConfig {
     pub talos: Option<TalosConfig>,
     pub modbus: Option<ModbusConfig>,
-    /// The tool speed cap at 100 %, m/s (250 mm/s by default): bounds every motion the driver
-    /// commands over Modbus and joint jogs over Talos; the speed in force is a percentage of it.
+    /// The tool speed cap at 100 %, m/s (default 0.25); the speed in force is a percentage of it.
     pub max_jog_speed: f64,
-    /// The Talos operator's tool speed at its own 100 %, m/s: Set Speed and Get Speed over
-    /// Talos convert through it (see [`OperatorScale`]), so the operator keeps to the cap.
+    /// The operator's tool speed at its 100 %, m/s: Talos speeds convert through it
+    /// ([`OperatorScale`]).
     pub operator_full_speed: f64,
     /// Single-joint jog speed at 100 %, deg/s.
     pub joint_jog_speed: f32,
@@ -70,14 +68,13 @@ impl DriverConfig {
         }
     }
 
-    /// The cap these speeds make, on the operator ([`SpeedCap::with_operator`]): what the
-    /// driver's two sides keep to.
+    /// The cap on the operator ([`SpeedCap::with_operator`]) both sides keep to.
     pub fn speed_cap(&self) -> Result<OperatorScale, SpeedCapError> {
         SpeedCap::new(self.max_jog_speed)?.with_operator(self.operator_full_speed)
     }
 
-    /// The stored action Home runs as, when the Modbus link runs it: with no Talos link (a Talos
-    /// link takes Home: `TalosSide::handles`). `None` when the operator's Home runs it.
+    /// Home's stored action when Modbus runs it (no Talos link); `None` when the operator's Home
+    /// does.
     pub fn modbus_home(&self) -> Option<Stored> {
         match (&self.talos, &self.modbus) {
             (None, Some(modbus)) => Some(modbus.home_action()),
@@ -85,8 +82,7 @@ impl DriverConfig {
         }
     }
 
-    /// Whether a stop guard must run before anything moves: on every real link, since a killed
-    /// console leaves a Modbus twist running and a Talos go-to, home or step to its end.
+    /// A guard must run on every real link: a killed console leaves a twist or go-to running.
     pub fn guard_required(&self) -> bool {
         matches!(self.guard, GuardPolicy::Spawn(_))
             && (self.talos.is_some() || self.modbus.is_some())
@@ -118,8 +114,7 @@ impl DriverConfig {
     }
 }
 
-/// The console's handle on the driver task. Dropping every clone stops the arm and ends the
-/// task.
+/// The console's handle on the driver; dropping every clone stops the arm and ends the task.
 #[derive(Debug, Clone)]
 pub struct Driver {
     commands: mpsc::UnboundedSender<ArmCommand>,
@@ -138,15 +133,13 @@ impl Driver {
         let (commands, rx) = mpsc::unbounded_channel();
         let (events, events_rx) = mpsc::unbounded_channel();
         let started = event_loop::start(config, rx, events);
-        // Boxed: tokio keeps a future under 16 KB inside its task, and the task's poll then
-        // holds room for it on the stack (see `event_loop::run`).
+        // Boxed: tokio keeps a future under 16 KB inline, and its poll then holds room for it.
         let task = tokio::spawn(Box::pin(event_loop::run(started)));
         let task = std::sync::Arc::new(std::sync::Mutex::new(Some(task)));
         (Driver { commands, task }, events_rx)
     }
 
-    /// Ends the driver: it stops every motion (the Modbus stop, and the Talos stop set once),
-    /// waits (up to 2 s) for the stops to be answered, and closes the links.
+    /// Stops every motion, waits up to 2 s for the answers, and closes the links.
     pub async fn shutdown(self) {
         let task = self.task.lock().ok().and_then(|mut t| t.take());
         drop(self);
@@ -155,8 +148,7 @@ impl Driver {
         }
     }
 
-    /// A handle that can only stop the arm and does not keep the driver alive: for the panic
-    /// hook.
+    /// A handle that can only stop the arm and keeps the driver alive no longer: the panic hook's.
     pub fn stop_handle(&self) -> StopHandle {
         StopHandle(self.commands.downgrade())
     }

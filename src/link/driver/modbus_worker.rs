@@ -1,5 +1,5 @@
-//! The driver's Modbus half: commands run one at a time in order; a STOP makes queued jog
-//! refreshes before it stale, so they are dropped rather than run after it.
+//! The driver's Modbus half: commands run in order; a STOP drops the jog refreshes queued before
+//! it.
 
 use std::time::Duration;
 
@@ -27,8 +27,7 @@ struct State {
     cap: SpeedCap,
     /// The driver's speed in force: twists and capped moves scale with it.
     speed: SpeedInForce,
-    /// The frame jogs are in: the console's selection, and the driver's one copy of it
-    /// (`SetFrame` comes only here; Talos has no frame to set).
+    /// The jog frame: the driver's one copy (`SetFrame` comes only here; Talos has none).
     frame: ReferenceFrame,
 }
 
@@ -147,16 +146,14 @@ impl State {
         self.cap.move_cap(self.speed.percent())
     }
 
-    /// Starts a stored action or sequence (home among them) at the arm's configured limits,
-    /// lowered to the move cap while it runs, as every move here is.
+    /// Starts a stored run (home among them) with the limits lowered to the move cap.
     async fn start_stored(&self, stored: Stored) -> Result<WriteReport, ModbusError> {
         self.link
             .start_stored_capped(stored.id, stored.motion, self.move_cap())
             .await
     }
 
-    /// An orientation jog's rate at the speed in force, deg/s ([`SpeedCap::turn_rate`]), never
-    /// above the arm's own configured angular limit once telemetry has reported a usable one.
+    /// An orientation jog's rate, deg/s, never above the arm's own usable angular limit.
     fn angular_speed(&self) -> f32 {
         let wanted = self.cap.turn_rate(self.speed.percent());
         let arm_limit = self
@@ -169,8 +166,7 @@ impl State {
         arm_limit.map_or(wanted, |limit| wanted.min(limit))
     }
 
-    /// A polar pan at the speed in force: the rotation rate scaled by it, and the tool point
-    /// (azimuth and altitude motion together) at most the tool speed.
+    /// A polar pan at the speed in force: rotation scaled, the tool point at most the tool speed.
     fn polar_settings(&self) -> PolarPanSettings {
         let configured = self.link.config().polar;
         let percent = self.speed.percent();
@@ -305,8 +301,7 @@ impl State {
     }
 }
 
-/// A turn of the tool about its point: no linear part, the angular part along the held
-/// directions at `rate` deg/s in all (diagonals are normalised, as for cartesian jogs).
+/// A turn about the tool point at `rate` deg/s along the held directions (diagonals normalised).
 pub fn turn_twist(directions: [i8; 3], rate: f32) -> Twist {
     let d = directions.map(f32::from);
     let norm = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt().max(1.0);

@@ -45,8 +45,7 @@ impl StopOutcomes {
         }
     }
 
-    /// A STOP was dispatched to the links in `sent`; `down` lists the configured links that had
-    /// no connection to take it. Returns the outcome at once when no answer is owed.
+    /// A STOP went to `sent`; `down` had no connection. The outcome at once when nothing is owed.
     pub fn stop(&mut self, sent: &[Side], down: &[Side]) -> Option<ArmEvent> {
         let failure = down
             .iter()
@@ -64,8 +63,7 @@ impl StopOutcomes {
         None
     }
 
-    /// What `side` answered to the oldest STOP it owes; returns that STOP's outcome once no
-    /// link owes it anything more.
+    /// `side`'s answer to the oldest STOP it owes; that STOP's outcome once nothing more is owed.
     pub fn answer(&mut self, side: Side, result: Result<(), String>) -> Option<ArmEvent> {
         let index = self.pending.iter().position(|p| p.owed[side as usize])?;
         let pending = &mut self.pending[index];

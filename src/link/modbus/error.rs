@@ -76,8 +76,7 @@ pub enum ModbusError {
         "the arm reports speed limits of {linear} m/s and {angular} deg/s: a move's speed cannot be bounded from them"
     )]
     SpeedLimitsUnknown { linear: f32, angular: f32 },
-    /// Another client's capped move runs: the limits in force may be its lowered ones, which a
-    /// move of ours would later put back as the arm's own, for good.
+    /// Another client's capped move runs: ours would later restore its lowered limits for good.
     #[error(
         "another client's move runs on the arm ({0}): nothing is started over it (its speed \
          limits may be that client's lowered ones)"
@@ -91,8 +90,7 @@ pub enum ModbusError {
 }
 
 impl ModbusError {
-    /// Whether the connection can no longer be trusted (no reply, a broken stream, or replies
-    /// out of step) and must be reopened.
+    /// Whether the connection can no longer be trusted and must be reopened.
     pub fn breaks_connection(&self) -> bool {
         matches!(
             self,

@@ -1,5 +1,5 @@
-//! The task that owns the connection: polls, runs commands one request at a time, keeps the
-//! twist hold, and reconnects. See the parent module for the safety rules it keeps.
+//! The task that owns the connection (polls, commands, twist hold, reconnects); rules: parent
+//! module.
 
 mod elsewhere;
 mod jog;
@@ -141,8 +141,7 @@ impl LinkTask {
         }
     }
 
-    /// Serves one connection. Returns true when the task is done, false when the connection
-    /// was lost.
+    /// Serves one connection: true when the task is done, false when the connection was lost.
     async fn serve(&mut self) -> bool {
         if self.stop_owed {
             // After a reconnect: whatever was running before the loss must not go on.
@@ -184,8 +183,7 @@ impl LinkTask {
         }
     }
 
-    /// Writes the owed stop, answers `close`, and disconnects. Returns false if the stop broke
-    /// the connection: the task then reconnects to try again.
+    /// Writes the owed stop, answers `close`, disconnects; false if the stop broke the connection.
     async fn shut_down(&mut self) -> bool {
         // A capped move must not run on at the limits put back: it is stopped first.
         let result = if self.stop_owed || self.limit_hold.is_some() {
@@ -299,8 +297,7 @@ impl LinkTask {
         result
     }
 
-    /// The stop sequence (holding register 200 <- 2). If the arm refuses it with an exception,
-    /// the abort coil is pulsed instead. Failures are logged as errors and sent as events.
+    /// The stop sequence (200 <- 2), else the abort coil; failures logged and sent as events.
     async fn stop(&mut self, reason: StopReason) -> Result<WriteReport, ModbusError> {
         self.motion = MotionInForce::Idle;
         self.hold_until = None;
@@ -387,8 +384,8 @@ impl LinkTask {
         self.poll_scoped(PollScope::Due).await
     }
 
-    /// Reads one complete snapshot and publishes it. Falls back to the ICD's blocks if the arm
-    /// refuses the compact reads.
+    /// Reads and publishes one snapshot, falling back to the ICD's blocks if compact reads are
+    /// refused.
     async fn poll_scoped(&mut self, scope: PollScope) -> Result<Telemetry, ModbusError> {
         let started = Instant::now();
         let mut with_slow = scope == PollScope::Everything
@@ -410,8 +407,7 @@ impl LinkTask {
                     if self.plan == PollPlan::Compact
                         && e.exception() == Some(ExceptionCode::IllegalDataAddress) =>
                 {
-                    // Expected of an arm that lists only the ICD's addresses: not a fault,
-                    // so said once (the plan is kept across reconnects), at info.
+                    // Expected of a strict arm, not a fault: said once, at info.
                     tracing::info!(
                         "{e}; this arm refuses reads over unlisted addresses: reading the ICD's \
                          blocks one by one from now on"

@@ -1,5 +1,4 @@
-//! One request on the wire: opening the connection, sending a read or write within the request
-//! timeout, and turning every outcome into a typed result.
+//! One request on the wire: connect, a read or write within the timeout, a typed result.
 
 use std::borrow::Cow;
 use std::time::Duration;
@@ -11,15 +10,13 @@ use super::{ModbusConfig, ModbusError, Operation};
 use crate::kortex::{ReadBlock, RegisterImage, Table, Write};
 use crate::net::connect_with_timeout;
 
-/// Opens a TCP connection to the arm within the connect timeout (name lookup included), trying
-/// every resolved address.
+/// Opens TCP to the arm within the connect timeout (lookup included), trying every address.
 pub(super) async fn open(config: &ModbusConfig) -> Result<Context, ModbusError> {
     let stream = connect_with_timeout(&config.addr, config.connect_timeout).await?;
     Ok(attach(stream, config))
 }
 
-/// Opens a fresh connection to the arm: the TCP connect, or in tests an in-memory transport.
-/// The task calls it again for every reconnect.
+/// Opens a fresh connection (TCP, or in-memory in tests), for the first and every reconnect.
 pub(super) type Connector = std::sync::Arc<
     dyn Fn() -> futures::future::BoxFuture<'static, Result<Context, ModbusError>> + Send + Sync,
 >;

@@ -1,5 +1,4 @@
-//! What ends a tracked action: seen in telemetry (done, aborted, faulted, a stored run not
-//! taken, another client's move). Pure; the state machine's side is in `evidence.rs`.
+//! What ends a tracked action, as telemetry shows it. Pure; applied in `evidence.rs`.
 
 use std::time::Instant;
 

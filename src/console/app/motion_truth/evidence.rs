@@ -26,8 +26,7 @@ impl App {
                 if came_up {
                     truth.link_up_at = Some(now);
                     truth.waiting_since = None;
-                    // Back after a loss with motion unaccounted for: a STOP is always safe, and its
-                    // confirmation clears MAY BE MOVING.
+                    // Back after a loss with motion unaccounted for: a STOP is always safe.
                     if truth.unsettled || truth.action.is_some() {
                         truth.stop_needed = true;
                     }
@@ -132,8 +131,7 @@ impl App {
         }
     }
 
-    /// What the status bar says about motion, by precedence: a jog, a tracked action, a STOP
-    /// being confirmed, any doubt, idle.
+    /// The status bar's motion, by precedence: jog, action, STOP confirming, doubt, idle.
     pub fn motion_shown(&self) -> MotionShown {
         if let Some(motion) = self.keys.jog().active() {
             return MotionShown::Jog(motion);
@@ -225,8 +223,7 @@ impl App {
         // Whatever emitted it, no motion starts while the gate refuses (a stale link above all).
         self.gate_effects(now, effects);
         if let Some(age) = self.link_stale() {
-            // An action the console can no longer watch is stopped like a jog: the arm must
-            // not go on moving unseen.
+            // An action the console can no longer watch is stopped: never moving unseen.
             if self.truth.action.is_some() {
                 self.truth.stop_needed = true;
             }
@@ -390,8 +387,7 @@ impl App {
                 now,
             );
         } else {
-            // Documented choice: without telemetry an action is taken to have ended once its
-            // longest expected time has passed.
+            // Without telemetry an action ends once its longest expected time has passed.
             self.truth.unsettled = false;
             self.say(
                 format!(

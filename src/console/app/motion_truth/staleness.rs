@@ -6,8 +6,7 @@ use super::{ACTION_TIMEOUT, MotionTruth, NO_TELEMETRY_ACTION_TIME, STALE_AFTER, 
 use crate::console::app::age::AGE_TENTHS_UNTIL;
 
 impl MotionTruth {
-    /// The silence after which telemetry is old: 500 ms, or three of the link's shortest recent
-    /// intervals if it polls slower than that allows.
+    /// Telemetry is old after 500 ms, or three of the link's shortest recent intervals if slower.
     pub fn stale_after(&self) -> Duration {
         let period = self.intervals.iter().min().copied().unwrap_or_default();
         STALE_AFTER.max(period * 3)

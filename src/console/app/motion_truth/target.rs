@@ -46,8 +46,7 @@ impl GoToTarget {
         })
     }
 
-    /// How the arm at `at` misses the target, in words, or `None` when it is there. A pose that
-    /// is not a number is not there.
+    /// How the arm at `at` misses the target, or `None` there (a non-number pose is not there).
     pub fn missed_by(&self, at: &Pose) -> Option<String> {
         let mm = at.distance_to(&self.pose) * 1000.0;
         let deg = if self.turn {

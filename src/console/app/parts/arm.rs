@@ -33,11 +33,9 @@ pub fn arm_refusal(t: &Telemetry) -> Option<String> {
 pub(in crate::console::app) struct Arm {
     link: LinkStatus,
     telemetry: Option<Telemetry>,
-    /// [`near_singularity`] of `telemetry`, worked out when the joints move rather than for
-    /// every view (an SVD, several times a second on an arm at rest).
+    /// [`near_singularity`], worked out when the joints move (an SVD), not per view.
     singularity: Option<f64>,
-    /// [`arm_refusal`] of `telemetry`, worked out when a report comes rather than by the gate
-    /// after every input (a key's among them).
+    /// [`arm_refusal`], worked out per report rather than by the gate after every input.
     refusal: Option<String>,
     latency: Option<Duration>,
     speed: Option<u8>,
@@ -67,8 +65,7 @@ pub struct ArmView {
     pub history: HistorySeries,
     /// Limited joints within 5 degrees of a limit, the nearest first.
     pub near_limits: Vec<NearLimit>,
-    /// The estimated condition number of the Jacobian at the reported joint angles (Gen3
-    /// model) when above the warning threshold; `None` below it or without telemetry.
+    /// The Jacobian's estimated condition number when above the warning; else `None`.
     pub near_singularity: Option<f64>,
     /// The arm view's trail: the tool point over the last 10 s (base frame, m), oldest first, at
     /// most [`TRAIL_CAPACITY`](super::super::TRAIL_CAPACITY) points.
@@ -195,8 +192,7 @@ impl Arm {
         &self.cap_watch
     }
 
-    /// A sample while a motion the console started runs, `over` the cap in words or within
-    /// it: the stop's text once enough samples in a row were over (see `cap_watch`).
+    /// A sample under our motion, `over` the cap or not: the stop's text per `cap_watch`.
     pub(in crate::console::app) fn on_cap_sample(
         &mut self,
         over: Option<String>,

@@ -9,8 +9,7 @@ use crate::console::positions::{PositionBook, merge};
 #[derive(Debug, Clone)]
 pub(in crate::console::app) struct Book {
     positions: PositionBook,
-    /// The file as this console last knew it: read, handed to be written, or as a write found
-    /// it. A write merges the file's changes since (another console's) from it (see `BookSave`).
+    /// The file as last known: a write merges the file's changes since (see `BookSave`).
     known: PositionBook,
     /// Whether the book is loaded, still loading, or could not be read.
     state: BookState,
@@ -32,8 +31,7 @@ pub(in crate::console::app) struct Book {
 #[derive(Debug, Clone, PartialEq)]
 pub struct BookView {
     pub state: BookState,
-    /// The part of the book a screen can show: the selection and up to a screen's height of
-    /// names either side.
+    /// What a screen can show: the selection and a screen's height of names either side.
     pub positions: PositionBook,
     /// The selection's row in `positions`.
     pub selected: usize,
@@ -73,8 +71,7 @@ impl Book {
         self.file = true;
     }
 
-    /// `name` is said as being saved by the save asked for now, until the writer reports it.
-    /// False: there is no file, nothing to wait for.
+    /// `name` is "saving…" until the writer reports it; false without a file.
     pub(in crate::console::app) fn announce(&mut self, name: &str) -> bool {
         if self.file {
             self.saving.announce(name);
@@ -92,8 +89,7 @@ impl Book {
         self.saving.reported(upto)
     }
 
-    /// The file's book arrived: the entries changed meanwhile are merged into it, the selection
-    /// stays on its name. Returns whether anything had changed meanwhile.
+    /// The file's book arrived, merged with changes made meanwhile; returns whether any were.
     pub(in crate::console::app) fn on_loaded(&mut self, mut book: PositionBook) -> bool {
         let changed_meanwhile = !self.positions.is_empty();
         let selected = self.selected_name().map(str::to_string);
@@ -152,8 +148,7 @@ impl Book {
         name: &str,
         cartesian: Option<[i32; 3]>,
     ) {
-        // A reply about a name no longer in the book (deleted meanwhile) adds nothing: a new
-        // name would move the rows and the selection under the technician.
+        // A reply about a deleted name adds nothing: it would shift rows under the technician.
         if let Some(entry) = self.positions.get_mut(name) {
             entry.unknown_to_operator = false;
             if let Some(c) = cartesian {
@@ -239,8 +234,7 @@ impl Book {
         self.keep_selection();
     }
 
-    /// `asked` saves left `handle`. A book that could not be read is never saved over: its
-    /// changes are unsaved at once.
+    /// `asked` saves left `handle`; an unreadable book's changes are unsaved at once.
     pub(in crate::console::app) fn on_saves_asked(&mut self, asked: u64) {
         let unreadable = matches!(self.state, BookState::Failed { .. });
         let unsaved = self.saving.count(asked, unreadable);
@@ -284,8 +278,7 @@ impl Book {
             .then(|| self.saving.failed().iter().cloned().collect())
     }
 
-    /// What the book shows: the selection and up to `rows` names either side (no panel is
-    /// taller than the terminal, so they fill any of them as the whole book would).
+    /// The selection and up to `rows` names either side (enough for any panel).
     pub(in crate::console::app) fn view(&self, rows: usize) -> BookView {
         let start = self.selected.saturating_sub(rows);
         BookView {

@@ -10,8 +10,7 @@ use super::super::{KeyInput, Overlay, Step};
 use crate::console::jog::{JogEngine, KeyKind, MAX_ONSET, ReleaseMode, RepeatTiming};
 use crate::console::keymap::KeyName;
 
-/// An event of the same key this many repeat intervals after its previous one continues an
-/// auto-repeat run (the keyboard's interval jitters; a second keystroke is slower).
+/// Within this many repeat intervals a same-key event continues a run (a keystroke is slower).
 const CONTINUES_RUN: (u32, u32) = (3, 2);
 
 /// The latest key event, to tell whether the next one continues its auto-repeat run.
@@ -33,11 +32,9 @@ struct FormOpener {
 pub(in crate::console::app) struct Keys {
     jog: JogEngine,
     step: Step,
-    /// The key that closed an overlay and when it was last seen: its auto-repeat must not be
-    /// taken for new presses (and start a jog) once the overlay is gone.
+    /// The key that closed an overlay, last seen: its auto-repeat must not start a jog.
     swallowed: Option<(KeyName, Instant)>,
-    /// The latest key event, and the key that opened the open form while its auto-repeat may
-    /// still come.
+    /// The latest key event, and the form opener while its auto-repeat may come.
     last_key: Option<KeyTrace>,
     form_opener: Option<FormOpener>,
     /// Keeps pasted and hasty keys from answering a question.
@@ -96,8 +93,7 @@ impl Keys {
         self.jog.timing().interval_or_default() * num / den
     }
 
-    /// Records a press or repeat; returns whether it continued the previous event's run of the
-    /// same key (a key already repeating).
+    /// Records a press or repeat; returns whether it continued the same key's run.
     pub(in crate::console::app) fn trace_key(&mut self, key: &KeyInput, now: Instant) -> bool {
         if key.kind == KeyKind::Release {
             if self.last_key.is_some_and(|t| t.key == key.key) {
@@ -139,8 +135,7 @@ impl Keys {
         self.question_guard.note(overlay, now);
     }
 
-    /// `key` (a press) just opened or closed an overlay other than a form: its auto-repeat is
-    /// swallowed.
+    /// `key` just opened or closed a non-form overlay: its auto-repeat is swallowed.
     pub(in crate::console::app) fn swallow(&mut self, key: &KeyInput, now: Instant) {
         self.swallowed = Some((key.key, now));
     }
@@ -165,8 +160,7 @@ impl Keys {
         });
     }
 
-    /// Whether `key` is the auto-repeat of the key that opened the open form (`form_open`), and
-    /// so not text. Any other event ends the opener's run: after it, every keystroke is text.
+    /// Whether `key` repeats the form's opener (not text); any other event ends that run.
     pub(in crate::console::app) fn repeat_of_form_opener(
         &mut self,
         key: &KeyInput,

@@ -1,5 +1,4 @@
-//! The screen: what is drawn over the panels, the bottom line, the command log, the size and
-//! the help's scroll.
+//! The screen: overlays, the bottom line, the command log, the size, the help's scroll.
 
 use std::collections::VecDeque;
 use std::sync::Arc;
@@ -41,8 +40,7 @@ pub(in crate::console::app) struct Screen {
 pub struct ScreenView {
     /// The terminal's size as the app last heard it.
     pub size: (u16, u16),
-    /// The newest log entries, as many as a screen can show (oldest first), shared with the
-    /// app's log rather than copied: a copy is each line's strings and frames, every frame.
+    /// The newest log entries a screen can show, shared with the app's log, not copied.
     pub log: VecDeque<Arc<LogEntry>>,
     /// The log shows frames in hex.
     pub hex: bool,
@@ -151,8 +149,7 @@ impl Screen {
         &self.log
     }
 
-    /// A command log line. Telemetry polls with the same outcome in a row share one counted
-    /// line, so they are logged without drowning the technician's own commands.
+    /// A log line; equal telemetry polls in a row share one counted line.
     pub(in crate::console::app) fn on_log(&mut self, entry: LogEntry) {
         if let Some(last) = self.log.back_mut()
             && entry.poll
@@ -182,8 +179,7 @@ impl Screen {
         self.overlay = Overlay::Help;
     }
 
-    /// Scrolls the help for a scrolling key and says whether it was one (the help stays open):
-    /// down/up a line, pagedown/pageup a page, home/end to the ends.
+    /// Scrolls the help for a scrolling key and says whether it was one.
     pub(in crate::console::app) fn on_help_key(&mut self, key: &KeyName, keymap: &Keymap) -> bool {
         let (last, page) = scroll_limits(keymap, self.size);
         let now = self.help_scroll.min(last);

@@ -1,5 +1,4 @@
-//! The tour being played: which tour, which leg, and where that leg is (see `app/tour.rs` for
-//! how the legs are started and their ends watched).
+//! The tour being played: which tour, which leg, and where it is (see `app/tour.rs`).
 
 use crate::console::positions::Tour;
 
@@ -23,8 +22,7 @@ struct Run {
     phase: Leg,
 }
 
-/// The tour part: the run in progress, if any, and the last tour made or played (the play
-/// form's default).
+/// The run in progress, if any, and the last tour made or played.
 #[derive(Debug, Clone, Default)]
 pub(in crate::console::app) struct Tours {
     run: Option<Run>,

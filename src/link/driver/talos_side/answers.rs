@@ -1,5 +1,4 @@
-//! A Talos command's replies: awaited in order off the driver's loop, turned into events, and
-//! its failures into the words the technician reads.
+//! A Talos command's replies, awaited in order off the loop, as events and words.
 
 use tokio::sync::mpsc;
 

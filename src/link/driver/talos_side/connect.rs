@@ -1,5 +1,4 @@
-//! Opening a Talos link: connect, handshake, and the operator's speed brought under the cap
-//! before the link is attached.
+//! Opening a Talos link: connect, handshake, the operator's speed brought under the cap.
 
 use tokio::sync::mpsc;
 

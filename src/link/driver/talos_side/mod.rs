@@ -1,5 +1,4 @@
-//! The driver's Talos half: commands to frames, replies to events, telemetry from the hardware
-//! companion ICD, reconnection.
+//! The driver's Talos half: frames, replies, hardware ICD telemetry, reconnection.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -19,16 +18,14 @@ use crate::link::{Dialect, TalosLink};
 use crate::talos::hardware::{ActuatorCommand, HwReply, HwRequest};
 use crate::talos::{CommandValue, Request, stop_requests};
 
-/// How long a joint jog command may run before it is renewed or stopped: the operator's
-/// watchdog, s.
+/// How long a joint jog command may run unrenewed: the operator's watchdog, s.
 const JOINT_JOG_HORIZON: f64 = 0.5;
 
 /// Why an orientation jog is refused without a Modbus link: nothing goes over Talos for it.
 pub const ORIENTATION_NEEDS_MODBUS: &str =
     "orientation jog needs the Modbus link: Talos has no orientation jog";
 
-/// Why a stored action or sequence by id is refused without a Modbus link: Talos starts only
-/// its Home, by no id.
+/// Talos starts only its Home, by no id.
 pub const STORED_NEEDS_MODBUS: &str = "stored actions and sequences by id need the Modbus link: \
      Talos runs only home (add --modbus)";
 
@@ -42,20 +39,17 @@ pub struct TalosSide {
     config: Option<TalosConfig>,
     oid: u16,
     joint_jog_speed: f32,
-    /// The cap (it bounds joint jog rates by the joint's lever arm), and its percentages to the
-    /// operator's and back.
+    /// The cap (bounding joint rates by lever arm) and its conversion to the operator's percentage.
     scale: OperatorScale,
     link: Option<TalosLink>,
     link_events: Option<mpsc::UnboundedReceiver<TalosEvent>>,
     events: mpsc::UnboundedSender<ArmEvent>,
-    /// The driver's speed in force: this side changes it only on the operator's answers (Get
-    /// Speed, or an acknowledged Set Speed), never on the request alone.
+    /// The speed in force: changed here only on the operator's answers, never on a request alone.
     speed: SpeedInForce,
     polling: Arc<AtomicBool>,
     /// Joint positions from the latest telemetry, for joint jog commands.
     joints: JointPositions,
-    /// The last command's answers to wait for, once its frames are written
-    /// ([`Self::spawn_answers`]).
+    /// The last command's answers, spawned once its frames are written ([`Self::spawn_answers`]).
     answers: Option<Submitted>,
 }
 
@@ -118,8 +112,7 @@ impl TalosSide {
         self.link_events = None;
     }
 
-    /// The connect, handshake and speed read, as a future the driver runs off its loop (so a
-    /// STOP never waits behind it); `None` with no operator configured.
+    /// Connect, handshake and speed read, run off the loop; `None` with no operator configured.
     pub fn connect_attempt(
         &self,
     ) -> Option<impl Future<Output = Result<TalosConnected, String>> + Send + 'static> {
@@ -161,8 +154,7 @@ impl TalosSide {
             return false;
         }
         match command {
-            // Never over Talos: its ICD has no orientation jog (the driver refuses it when there
-            // is no Modbus link).
+            // Never over Talos: its ICD has no orientation jog.
             ArmCommand::Jog(JogMotion::Orientation { .. }) => false,
             ArmCommand::MoveToPose(_) | ArmCommand::SetFrame(_) | ArmCommand::StartStored(_) => {
                 false
@@ -173,8 +165,7 @@ impl TalosSide {
         }
     }
 
-    /// A joint jog's rate, deg/s, bounded so the tool point stays under the cap until the next
-    /// refresh or the operator's 500 ms watchdog.
+    /// A joint jog's rate, deg/s, keeping the tool point under the cap until the 500 ms watchdog.
     fn joint_rate(&self, positions: &[f32; 7], joint: u8) -> f32 {
         self.cap().joint_rate(
             self.joint_jog_speed,
@@ -283,8 +274,7 @@ impl TalosSide {
         })
     }
 
-    /// Submits the command's requests in order and reports their answers as they come. Never
-    /// waits: submission queues or fails at once (a full queue ends the link).
+    /// Submits the command's requests in order; never waits (a full queue ends the link).
     pub fn command(&mut self, command: ArmCommand) {
         // Borrowed, not cloned: a clone of the link copies its address, on every key's path.
         let Some(link) = &self.link else {
@@ -348,8 +338,7 @@ impl TalosSide {
         }
     }
 
-    /// Asks for arm state and actuator feedback; skipped while the last poll is outstanding.
-    /// Never waits, as [`TalosSide::command`].
+    /// Asks for arm state and actuator feedback unless the last poll is outstanding; never waits.
     pub fn poll_telemetry(&mut self) {
         let Some(link) = self.link.clone() else {
             return;
@@ -454,8 +443,7 @@ impl TalosSide {
 /// How long the driver's exit waits for the operator to answer its stops.
 const FLUSH_WAIT: Duration = Duration::from_millis(500);
 
-/// A hardware operation as its Talos request; a field its encoding refuses is the command's
-/// error, never an empty payload.
+/// A hardware operation as its request; a refused field is an error, never an empty payload.
 fn hw_request(request: &HwRequest) -> Result<Request, ArmError> {
     request.to_request().map_err(ArmError::Encode)
 }

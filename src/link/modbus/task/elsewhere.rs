@@ -20,8 +20,7 @@ pub(super) const STATUS_GRACE: Duration = Duration::from_millis(500);
 pub(super) struct TwistStart {
     at: Instant,
     seen_started: bool,
-    /// The active move type has read twist since our write: only then is another one a change
-    /// (an arm, or a test double, that never reports the move type changes nothing).
+    /// The move type has read twist since our write: only then is another type a change.
     seen_twist: bool,
 }
 

@@ -1,5 +1,4 @@
-//! Jogs: a twist or a polar pan held while it is refreshed, written only when it changes, and
-//! a polar pan's twist recomputed from each new pose.
+//! Jogs held while refreshed, written only when they change; a pan recomputed from each pose.
 
 use tokio::time::Instant;
 

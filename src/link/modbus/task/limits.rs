@@ -15,8 +15,7 @@ use super::{LinkTask, ModbusError, ModbusEvent, PollScope, StopReason, WriteRepo
 use crate::kortex::commands::{self, Write};
 use crate::kortex::{ActionStatus, CodeName, Coded, MoveType, SpeedLimits, Telemetry, at_rest};
 
-/// How long a capped move may take to show as started before the link takes it as refused or
-/// over, and restores the limits.
+/// How long a capped move may take to show started before its limits are restored.
 pub(super) const START_GRACE: Duration = Duration::from_secs(2);
 
 /// The limits owed back to the arm, and how far the move they were lowered for has got.
@@ -49,8 +48,8 @@ impl LinkTask {
         }
     }
 
-    /// Brings each limit down to `cap`'s (or to the limits owed back, if lower) and notes what
-    /// to restore. Writes nothing when the limits in force are already right.
+    /// Lowers each limit to `cap`'s (or the owed limits, if lower); writes nothing if already
+    /// right.
     async fn lower_limits(&mut self, cap: SpeedLimits) -> Result<WriteReport, ModbusError> {
         // A fresh read: the limits may have been changed by someone else since the last poll.
         let telemetry = self.poll_scoped(PollScope::Everything).await?;
@@ -68,8 +67,7 @@ impl LinkTask {
             angular: cap.angular.min(original.angular),
         };
         let lowered = wanted != original;
-        // Only while no limits of ours are held, and only when ours would be written: limits
-        // already under the cap are left alone, and so owe nothing back.
+        // Only limits actually lowered are owed back; limits already under the cap are left alone.
         if self.limit_hold.is_none()
             && in_force != wanted
             && let Some(other) = capped_move_running(&telemetry)
@@ -114,8 +112,8 @@ impl LinkTask {
         });
     }
 
-    /// Puts back the limits a capped move lowered, if any are owed. A connection that broke
-    /// keeps them owed (retried after the reconnect); a refusal is reported and given up.
+    /// Restores owed limits; a broken connection keeps them owed, a refusal is reported and
+    /// dropped.
     pub(super) async fn restore_limits(&mut self) {
         let Some(hold) = self.limit_hold else {
             return;
@@ -149,8 +147,7 @@ impl LinkTask {
         }
     }
 
-    /// After a stop: the move it ended no longer needs the lower limits (a stop that makes way
-    /// for the next move keeps them).
+    /// After a stop: its move no longer needs the lower limits (unless it makes way for the next).
     pub(super) async fn restore_after_stop(&mut self, reason: StopReason) {
         if reason != StopReason::Replaced {
             self.restore_limits().await;

@@ -1,5 +1,4 @@
-//! Reconnecting after a lost connection: with backoff, refusing every job meanwhile, and
-//! giving up once the link is closing and an owed stop cannot be delivered.
+//! Reconnecting with backoff, refusing jobs meanwhile; an undeliverable owed stop on close ends it.
 
 use super::{CLOSING_ATTEMPTS, Job, LinkTask, ModbusError, ModbusEvent, StopReason, wire};
 use crate::kortex::{PollPlan, RegisterImage};
@@ -21,8 +20,8 @@ async fn open_answering(
 }
 
 impl LinkTask {
-    /// Reconnects with backoff, refusing jobs meanwhile. Returns false when the task should end:
-    /// every handle is gone and no stop is owed, or the owed stop could not be delivered.
+    /// Reconnects with backoff; false when the task should end (no handle and no owed stop, or
+    /// lost).
     pub(super) async fn reconnect(&mut self) -> bool {
         let mut delay = self.config.reconnect_delay;
         let mut attempts = 0u32;
@@ -85,8 +84,7 @@ impl LinkTask {
         }
     }
 
-    /// Answers a job that arrived while disconnected. Nothing is queued for later: a jog sent
-    /// now must not start when the connection comes back.
+    /// Refuses a job while disconnected: a jog must not start when the connection returns.
     fn refuse(&mut self, job: Option<Job>) {
         let error = || self.not_connected();
         match job {
