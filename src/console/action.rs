@@ -35,8 +35,7 @@ pub enum JogAxis {
 }
 
 impl JogAxis {
-    /// Cartesian axes combine with each other; polar axes with each other; turns with each
-    /// other; a joint jog stands alone.
+    /// Cartesian, polar and turn axes each combine within their kind; a joint jog stands alone.
     pub fn family(self) -> JogFamily {
         match self {
             JogAxis::X | JogAxis::Y | JogAxis::Z => JogFamily::Cartesian,

@@ -10,8 +10,7 @@ use crate::link::interface::JogMotion;
 /// The arm's points and the tool's axes, base frame, metres.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ArmPose {
-    /// The base's origin, each joint's origin (J1 to J7, some coincide: the DH table has
-    /// `a = 0` and a few `d = 0`), then the tool interface.
+    /// The base, each joint's origin (J1-J7; some coincide in the DH table), then the tool.
     pub points: [Vector3<f64>; 9],
     /// The tool interface's X, Y and Z axes (unit vectors).
     pub tool_axes: [Vector3<f64>; 3],
@@ -37,8 +36,7 @@ fn axis(t: &Matrix4<f64>, c: usize) -> Vector3<f64> {
     Vector3::new(t[(0, c)], t[(1, c)], t[(2, c)])
 }
 
-/// The arm at joint angles in degrees as the telemetry reports them (0-360), as the simulator
-/// turns them into radians.
+/// The arm at the reported joint angles (deg, 0-360), converted as the simulator does.
 pub fn arm_pose(position_deg: &[f32; 7]) -> ArmPose {
     let q = position_deg.map(|d| f64::from(d).to_radians());
     let (joints, tool) = gen3::frames(&q);
@@ -58,8 +56,7 @@ pub fn shoulder() -> Vector3<f64> {
     origin(&gen3::frames(&[0.0; 7]).0[1])
 }
 
-/// The maximum reach, m: the tool interface's distance from the shoulder with the arm straight
-/// (every joint at 0), from the DH table. No pose puts it farther from the shoulder.
+/// The maximum reach, m: the tool's distance from the shoulder with every joint at 0.
 pub fn reach() -> f64 {
     (gen3::tool_position(&[0.0; 7]) - shoulder()).norm()
 }
@@ -82,8 +79,7 @@ impl Projection {
         }
     }
 
-    /// The world window the drawing shows, ([left, right], [bottom, top]) in metres: the reach
-    /// envelope with a margin, and the table (z = 0) in the side view.
+    /// The world window drawn ([left, right], [bottom, top], m): reach plus margin, and the table.
     pub fn bounds(self) -> ([f64; 2], [f64; 2]) {
         let r = reach() + MARGIN;
         match self {
@@ -95,8 +91,7 @@ impl Projection {
         }
     }
 
-    /// Width over height of the world window: a drawing keeps it on screen (a terminal cell
-    /// is about twice as tall as it is wide).
+    /// Width over height of the world window (a terminal cell is about twice as tall as wide).
     pub fn aspect(self) -> f64 {
         let ([l, r], [b, t]) = self.bounds();
         (r - l) / (t - b)
@@ -127,8 +122,7 @@ pub fn jog_direction(
         };
     }
     if let JogMotion::Polar { azimuth, altitude } = motion {
-        // As the polar pan turns the tool: about the base Z axis, and about the horizontal
-        // axis across the tool's bearing (see `kortex::polar`).
+        // As the polar pan turns the tool (see `kortex::polar`).
         v = f64::from(azimuth) * Vector3::z().cross(&tool);
         let across = Vector3::new(tool.y, -tool.x, 0.0);
         if altitude != 0 && across.norm() > f64::from(crate::kortex::polar::MIN_RADIUS) {

@@ -49,8 +49,7 @@ pub async fn read(path: &Path) -> Result<PositionBook, BookError> {
     }
 }
 
-/// Waits for the loader's answer; never ends when there is none to wait for (`None`: loaded
-/// already, or no file). A loader that ended without answering is an error.
+/// Waits for the loader's answer (forever with none owed); a loader gone silent is an error.
 pub async fn loaded(loading: &mut Option<oneshot::Receiver<Loaded>>) -> Loaded {
     let Some(rx) = loading.as_mut() else {
         return std::future::pending().await;
@@ -68,14 +67,13 @@ pub async fn loaded(loading: &mut Option<oneshot::Receiver<Loaded>>) -> Loaded {
 pub struct BookSave {
     pub book: PositionBook,
     pub known: PositionBook,
-    /// The positions saved or edited since `known`: changed here even where the value is
-    /// `known`'s (a save over another writer's change is a conflict, never lost to it).
+    /// Saved or edited since `known`, even at `known`'s value: a save over another's is a conflict.
     pub touched: BTreeSet<String>,
 }
 
 impl BookSave {
-    /// This book written in place of `older`, not written: merged from what `older` was made
-    /// from, with `older`'s changes as this book's.
+    /// This book written in place of unwritten `older`: merged from `older`'s base, with its
+    /// changes.
     fn over(mut self, older: Unwritten) -> BookSave {
         self.known = older.known;
         self.touched.extend(older.touched);
@@ -123,8 +121,7 @@ pub struct Found {
     pub written: Written,
 }
 
-/// The thread of writes: books are written one at a time, in order; a book handed over while
-/// another is written replaces any not written yet (only the newest matters).
+/// The writer thread: books in order; a newer book replaces any not yet written.
 pub struct Saver {
     next: mpsc::UnboundedSender<(u64, BookSave)>,
     /// Books handed over so far.
@@ -144,8 +141,7 @@ impl Saver {
             let mut unwritten: Option<Unwritten> = None;
             while let Some(mut handed) = books.recv().await {
                 while let Ok((upto, newer)) = books.try_recv() {
-                    // The newer book holds the older's changes: both are merged from what the
-                    // older was made from.
+                    // The newer book holds the older's changes, merged from the older's base.
                     handed = (upto, newer.over(handed.1.into()));
                 }
                 let (upto, mut save) = handed;
@@ -293,8 +289,7 @@ impl BookFiles {
         }
     }
 
-    /// Keeps `changes` made while the book is still loading (the console is quitting): they
-    /// are merged into the book and written by [`BookFiles::finish`].
+    /// Keeps changes made while the book still loads (quitting), for [`BookFiles::finish`].
     pub fn hold_until_loaded(&mut self, changes: PositionBook) {
         if self.loading.is_some() && !changes.is_empty() {
             self.held = Some(changes);

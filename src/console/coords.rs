@@ -2,8 +2,7 @@
 
 use crate::console::jog::JogMotion;
 
-/// Polar [delta, azimuth, radius] (tenths of degrees, tenths of degrees, tenths of mm) to
-/// cartesian tenths of mm, about the base origin (the simulated operator's convention).
+/// Polar [delta, azimuth, radius] (0.1°, 0.1°, 0.1 mm) to cartesian 0.1 mm about the base origin.
 pub fn cartesian_of(polar: [i32; 3]) -> [i32; 3] {
     let el = (f64::from(polar[0]) / 10.0).to_radians();
     let az = (f64::from(polar[1]) / 10.0).to_radians();

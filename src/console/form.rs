@@ -101,8 +101,7 @@ pub struct Form {
     pub note: Option<&'static str>,
 }
 
-/// Why the save form over the console's own book has no anchor toggle.
-/// Within a dialog's 70 columns.
+/// Why the own-book save form has no anchor toggle; fits a dialog's 70 columns.
 pub const NO_ANCHOR_NOTE: &str = "no anchor: this book is the console's own; anchors need Talos";
 
 /// What a completed form asks for. Coordinates in the Talos ICD's tenths.
@@ -251,8 +250,7 @@ impl Form {
         self.error = field.too_long();
     }
 
-    /// Pasted text into the focused field, without its control characters (line breaks
-    /// included), up to the field's limit: unlike typing, a paste is cut, as it may be anything.
+    /// Pastes text into the focused field, controls removed, cut to the field's limit.
     pub fn paste(&mut self, text: &str) -> FormPaste {
         let Some(field) = self.fields.get_mut(self.focus) else {
             return FormPaste::Inserted;

@@ -39,8 +39,7 @@ pub struct Keymap {
 }
 
 impl Keymap {
-    /// Parses and validates a keymap. `source_name` (a path, or `keymaps/NAME.json` for a
-    /// built-in) is only used in error messages.
+    /// Parses and validates a keymap; `source_name` is for error messages only.
     pub fn from_json(source_name: &str, text: &str) -> Result<Keymap, KeymapError> {
         json::parse(source_name, text)
     }
@@ -144,14 +143,12 @@ impl Keymap {
             .collect()
     }
 
-    /// The key the screen names for `action` (the footer, the status bar, messages): the first
-    /// of [`Keymap::keys_for`]; `None` when nothing is bound to it.
+    /// The key the screen names for `action`: the first of [`Keymap::keys_for`].
     pub fn key_for(&self, action: Action) -> Option<KeyName> {
         self.keys_for(action).first().copied()
     }
 
-    /// Every bound action with its keys, in [`Action::ALL`] order (the help overlay's order).
-    /// Actions this keymap does not bind are left out.
+    /// Every bound action with its keys, in [`Action::ALL`] order (the help's).
     pub fn entries(&self) -> Vec<(Action, Vec<KeyName>)> {
         Action::ALL
             .into_iter()
@@ -212,8 +209,7 @@ pub struct TextPosition {
     pub column: usize,
 }
 
-/// A keymap that was refused. Displays as `FILE:LINE:COLUMN: reason`, or `FILE: reason` when
-/// the file could not be read.
+/// A refused keymap: `FILE:LINE:COLUMN: reason`, or `FILE: reason` if unreadable.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct KeymapError {
     source_name: String,

@@ -43,8 +43,7 @@ pub fn enter(force_release_events: Option<bool>) -> std::io::Result<bool> {
     Ok(supported)
 }
 
-/// Gives the terminal back. Safe to call more than once and from the panic hook; errors are
-/// ignored because there is nothing better to do with them on the way out.
+/// Gives the terminal back; safe to repeat and from the panic hook; errors ignored on the way out.
 pub fn restore(release_events: bool) {
     let mut out = stdout();
     if release_events {

@@ -22,8 +22,7 @@ pub struct AuditDeriver {
     cap: SpeedCap,
     /// Whether reference frames apply (Modbus jogs): then jog starts name theirs.
     frames: bool,
-    /// Positions live on a Talos operator: its commands say what was saved and deleted.
-    /// Otherwise the console's book is the only store, and its saves are compared.
+    /// Positions live on a Talos operator (its commands are recorded); else the book's saves are.
     positions_on_operator: bool,
     jog: Option<(JogMotion, SystemTime)>,
     /// The speed the next command runs at: commands run in order, so a `SetSpeed` (or a speed the
@@ -35,8 +34,7 @@ pub struct AuditDeriver {
     fault: Option<String>,
     /// The local book as last saved or loaded: name to coordinates (tenths of mm).
     book: BTreeMap<String, Option<[i32; 3]>>,
-    /// The tool's position in the latest telemetry, from whichever link gives it (tenths of
-    /// mm): where an operator saves a position, as the console's book then remembers it.
+    /// The tool's latest position (0.1 mm): where an operator saves a position.
     tool: Option<[i32; 3]>,
     /// The cap watch's stops already recorded.
     cap_stops: u64,
@@ -133,8 +131,7 @@ impl AuditDeriver {
                             JogMotion::Cartesian { .. } if self.frames => {
                                 Some(frame.key().to_string())
                             }
-                            // A turn always goes over Modbus in a frame: the one chosen (base
-                            // when frames are not offered, both links configured).
+                            // A turn always goes over Modbus, in the chosen frame.
                             JogMotion::Orientation { .. } => Some(frame.key().to_string()),
                             _ => None,
                         },

@@ -23,8 +23,7 @@ pub use writer::{AuditLog, HAND_OVER_AFTER};
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(tag = "event", rename_all = "snake_case")]
 pub enum AuditEvent {
-    /// The console opened on an arm: its profile's name when one was used (`target` then says
-    /// where it was reached), else its target ("talos-127.0.0.1:61616", ...).
+    /// The console opened on an arm: its profile's name if used, else its target.
     SessionStart {
         arm: String,
         #[serde(skip_serializing_if = "Option::is_none")]
@@ -44,8 +43,7 @@ pub enum AuditEvent {
         #[serde(skip_serializing_if = "Option::is_none")]
         speed_deg_s: Option<f64>,
     },
-    /// A jog changed direction without stopping (another key joined or left); its rate as
-    /// [`AuditEvent::JogStart`]'s, for the new direction.
+    /// A jog changed direction without stopping; its rate as [`AuditEvent::JogStart`]'s.
     JogChange {
         axis: String,
         from: String,
@@ -72,8 +70,7 @@ pub enum AuditEvent {
         speed_percent: u8,
         speed_mm_s: f64,
     },
-    /// A named position saved (or saved over): where known, its coordinates; `polar` is
-    /// (elevation deg, azimuth deg, radius mm) as typed.
+    /// A named position saved: its coordinates where known; `polar` as typed (deg, deg, mm).
     Save {
         name: String,
         #[serde(skip_serializing_if = "Option::is_none")]
@@ -146,18 +143,15 @@ pub enum AuditEvent {
     GuardStop {
         error: String,
     },
-    /// The telemetry showed a motion over the speed cap and the console stopped it: why, as
-    /// the message line said it.
+    /// The console stopped a motion telemetry showed over the cap: why, as the message line said.
     OverCap {
         reason: String,
     },
-    /// The driver did something on its own the technician was told of (an operator found over
-    /// the cap brought under it).
+    /// Something the driver did on its own that the technician was told of.
     DriverNotice {
         text: String,
     },
-    /// A stored action or sequence started by id (`kind` is `action` or `sequence`), capped
-    /// as home is.
+    /// A stored action or sequence started by id (`kind`), capped as home is.
     Stored {
         kind: String,
         id: u16,
@@ -192,8 +186,7 @@ impl AuditRecord {
             ts: rfc3339_ms(self.at),
             event: &self.event,
         };
-        // Strings, integers and finite floats only: serialising cannot fail; should it ever,
-        // the entry still names its time and says so rather than vanish.
+        // Serialising cannot fail; should it, the entry still names its time rather than vanish.
         serde_json::to_string(&line).unwrap_or_else(|e| {
             format!(
                 "{{\"ts\":\"{}\",\"event\":\"unwritable\",\"error\":{}}}",

@@ -1,5 +1,4 @@
-//! The audit log of one console session, at the runtime's edge: inputs, effects and the app's
-//! state after each input become records stamped with the wall clock, written off the loop.
+//! One console session's audit, at the runtime's edge, stamped with the wall clock.
 
 use std::time::{Duration, SystemTime};
 
@@ -34,8 +33,7 @@ struct Handled {
 }
 
 impl AuditSession {
-    /// Starts the writer for `dir` and records the session's start on `arm`.
-    /// `profile`: the name of the arm profile the console was opened with, if any.
+    /// Starts the writer for `dir` and records the start on `arm` (`profile`: the arm profile).
     pub fn start(
         config: &AppConfig,
         target: String,
@@ -75,8 +73,8 @@ impl AuditSession {
         }
     }
 
-    /// Before the app sees `input`: what the driver reported, and the book as loaded (after
-    /// the records of the input before, so the file keeps their order).
+    /// Before the app sees `input`: the driver's reports and the loaded book, after the last
+    /// input's.
     pub fn input(&mut self, input: &Input) {
         match input {
             Input::Arm(event) => {
@@ -182,8 +180,7 @@ impl AuditSession {
 }
 
 impl Drop for AuditSession {
-    /// An unwinding panic that came between an input and the loop's next turn: the input's
-    /// records are still made (the log hands them to its writer as it is dropped).
+    /// A panic between an input and the next turn: its records are still made.
     fn drop(&mut self) {
         self.record_handled();
     }

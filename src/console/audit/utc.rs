@@ -1,5 +1,4 @@
-//! UTC calendar dates and RFC 3339 timestamps from a `SystemTime`: the audit's file names and
-//! line stamps, and the `--watch` lines of `armjog status`.
+//! UTC dates and RFC 3339 stamps: audit file names and lines, `armjog status --watch`.
 
 use std::time::{SystemTime, UNIX_EPOCH};
 
@@ -11,8 +10,7 @@ const DATE: &[BorrowedFormatItem<'_>] = format_description!("[year]-[month]-[day
 const RFC3339_MS: &[BorrowedFormatItem<'_>] =
     format_description!("[year]-[month]-[day]T[hour]:[minute]:[second].[subsecond digits:3]Z");
 
-/// `at` in UTC. A clock set before 1970 counts as the epoch, and one past the year 9999 (beyond
-/// what the format can write) as well.
+/// `at` in UTC; before 1970 or past 9999 counts as the epoch.
 fn utc(at: SystemTime) -> OffsetDateTime {
     let since = at.duration_since(UNIX_EPOCH).unwrap_or_default();
     OffsetDateTime::from_unix_timestamp_nanos(since.as_nanos().try_into().unwrap_or(i128::MAX))

@@ -80,8 +80,7 @@ impl AuditLog {
         }
     }
 
-    /// Writes what is queued and ends the writer, waiting at most `within`. Records made
-    /// after it are not written.
+    /// Writes what is queued and ends the writer, waiting at most `within`.
     pub async fn finish(&mut self, within: Duration) {
         self.hand_over();
         self.records = None;

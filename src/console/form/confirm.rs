@@ -5,8 +5,7 @@
 use super::{Form, FormResult, TourQuestion};
 use crate::kortex::Stored;
 
-/// A question's text: its words before and after a list of things, each shown whole or not at
-/// all. A question listing nothing has an empty list and its words in `before`.
+/// A question's words before and after a list of things, each shown whole or not at all.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct QuestionText<'a> {
     pub before: String,
@@ -27,8 +26,7 @@ impl QuestionText<'_> {
         }
     }
 
-    /// The question with the first `shown` things of its list, the rest counted:
-    /// `… bench → pick … and 9998 more?`.
+    /// The question with its first `shown` things, the rest counted.
     pub fn with_first(&self, shown: usize) -> String {
         let shown = shown.min(self.list.len());
         let mut text = self.before.clone();
@@ -67,8 +65,7 @@ pub enum Confirm {
         result: FormResult,
         form: Box<Form>,
     },
-    /// A position changed here and by another program, both kept: the other's as `name`, this
-    /// console's as `copy`. Yes swaps them.
+    /// A position changed here and elsewhere, both kept (theirs `name`, ours `copy`); yes swaps.
     BothChanged {
         name: String,
         copy: String,

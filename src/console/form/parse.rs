@@ -1,5 +1,4 @@
-//! What a submitted form means: names by the name rule, numbers in range as tenths, and the
-//! form's own rules (no own parent, no anchor without a parent, a rename that renames).
+//! What a submitted form means: names by the rule, numbers in range as tenths, the form's rules.
 
 use super::{Form, FormKind, FormResult};
 use crate::talos::PositionName;

@@ -1,5 +1,4 @@
-//! How presses, repeats and releases change the held keys, and the motion they make: the
-//! engine's inner steps, apart from its public calls in `jog`.
+//! How key events change the held keys and their motion: the engine's inner steps.
 
 use std::time::Instant;
 
@@ -54,8 +53,8 @@ impl JogEngine {
     ) {
         let Some(held) = self.held.get_mut(&action) else {
             if kind == KeyKind::Repeat {
-                // A repeat with no press seen (focus came back mid-hold): down, but no reason
-                // to move.
+                // A repeat with no press seen (focus came back mid-hold): down, but no reason to
+                // move.
                 let Some((axis, sign)) = action.jog() else {
                     return;
                 };
@@ -68,8 +67,8 @@ impl JogEngine {
         let gap = held.record(now);
         match (held.state, kind) {
             (_, KeyKind::Press) => {
-                // Pressed again with no release between: releases are not reported, whatever the
-                // terminal claimed. Stop and rely on auto-repeat from now on.
+                // Pressed again without a release: releases are not reported; fall back to
+                // auto-repeat.
                 self.mode = ReleaseMode::AutoRepeat;
                 effects.extend(self.stop_all(now));
                 effects.push(JogEffect::Notice(JogNotice::ReleasesMissing));
@@ -151,23 +150,22 @@ impl JogEngine {
             changed |= h.state == KeyState::Moving;
             match (mode, h.state) {
                 (ReleaseMode::Reported, KeyState::Moving) => {
-                    // No evidence the key is still down: stop, but keep it latched in case it
-                    // is and its events come late.
+                    // No evidence the key is down: stop, but keep it latched in case its events
+                    // come late.
                     silent_for = Some(at.saturating_duration_since(h.last_event));
                     h.latch();
                     h.last_event = now;
                     true
                 }
                 (ReleaseMode::AutoRepeat, KeyState::Moving) => {
-                    // Its repeats stopped: released, or stalled. Stop; if they come back
-                    // without a pause (a stall), the key stays latched until they pause.
+                    // Repeats stopped (released or stalled): stop; latched until they pause.
                     h.latch();
                     h.last_event = now;
                     true
                 }
                 _ => {
-                    // A lone event with no repeat after it: a tap. A tap of a key with no step
-                    // is only worth a word.
+                    // A lone event with no repeat is a tap; a tap of a key with no step is only a
+                    // word.
                     let tap = h.state == KeyState::Pending
                         && h.last_event_alone()
                         && (h.step_due.is_some() || !h.steps());
@@ -197,8 +195,7 @@ impl JogEngine {
         effects
     }
 
-    /// A tap's effect: a step for a cartesian key, unless a jog is in progress (a discrete move
-    /// must not interfere with it); a word for the others.
+    /// A tap's effect: a cartesian step unless a jog runs (a discrete move must not interfere).
     pub(super) fn tap(&self, held: &Held) -> Option<JogEffect> {
         match held.axis.family() {
             JogFamily::Cartesian if self.active.is_none() => {

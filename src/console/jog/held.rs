@@ -6,14 +6,11 @@ use super::timing::{REPEAT_GAP_MAX, RepeatTiming};
 use super::{JogMotion, ReleaseMode};
 use crate::console::action::{JogAxis, JogFamily};
 
-/// Release events mode: a held key that sends nothing for this long is stopped (a terminal that
-/// claims to report releases must prove it; OS auto-repeat keeps a real hold alive).
+/// A key silent this long with reported releases is stopped: the terminal must prove it.
 pub const KEY_EVENT_TIMEOUT: Duration = Duration::from_secs(1);
-/// Fallback: a latched key in a run of repeats is released by a pause of at least this (and
-/// of at least three repeat intervals).
+/// Fallback: a latched key's repeats end at a pause of this and three intervals.
 const LATCH_SILENCE_MIN: Duration = Duration::from_millis(250);
-/// With reported releases, a key whose repeats stop for this many intervals (and at least
-/// [`STALE_MIN`]) is treated as released: a guard against a lost release event.
+/// Reported releases: repeats stopped this many intervals (at least [`STALE_MIN`]) mean released.
 const STALE_INTERVALS: u32 = 6;
 const STALE_MIN: Duration = Duration::from_millis(500);
 
@@ -36,8 +33,7 @@ pub(super) struct Held {
     pub(super) last_event: Instant,
     /// Events after the first.
     pub(super) repeats: u32,
-    /// The pause before the current run of closely spaced events (the repeat onset, if held);
-    /// `None` while the run began with the key's first event.
+    /// The pause before the current run (the onset); `None` if it began with the first event.
     pub(super) run_onset: Option<Duration>,
     /// The first event of the current run.
     pub(super) run_start: Instant,
@@ -45,8 +41,7 @@ pub(super) struct Held {
     pub(super) run_gaps: (Option<Duration>, Option<Duration>),
     /// A tap's step, due at this instant unless another event of the key comes first.
     pub(super) step_due: Option<Instant>,
-    /// Order of press (reported) or confirmation (fallback), to pick the family when keys of
-    /// several families move.
+    /// Order of press or confirmation, to pick the family when several move.
     pub(super) order: u64,
 }
 
@@ -126,8 +121,7 @@ impl Held {
     }
 }
 
-/// When a held key counts as released (or, moving with reported releases, unproven) if no
-/// further event of it comes.
+/// When a held key counts as released (or unproven) if no further event comes.
 pub(super) fn expiry(mode: ReleaseMode, timing: &RepeatTiming, held: &Held) -> Instant {
     let silence = match (mode, held.state) {
         (ReleaseMode::AutoRepeat, KeyState::Moving) => timing.repeat_timeout(),
@@ -138,8 +132,7 @@ pub(super) fn expiry(mode: ReleaseMode, timing: &RepeatTiming, held: &Held) -> I
         }
         (ReleaseMode::AutoRepeat, _) if !held.last_event_alone() => timing.repeat_timeout(),
         (ReleaseMode::AutoRepeat, _) => timing.first_timeout(),
-        // Once the keyboard is seen to auto-repeat, a hold whose repeats stop for long is
-        // treated as released in case its release event was lost.
+        // Repeats that stop for long mean released, in case the release event was lost.
         (ReleaseMode::Reported, KeyState::Moving) => match timing.interval {
             Some(interval) if held.repeats > 0 => {
                 (interval * STALE_INTERVALS).clamp(STALE_MIN, KEY_EVENT_TIMEOUT)

@@ -47,8 +47,8 @@ pub enum JogEffect {
     Start(JogMotion),
     /// Stop all continuous motion.
     Stop,
-    /// A cartesian jog key was tapped (auto-repeat fallback): move one small, bounded step in
-    /// this direction (a unit cartesian motion; the console chooses the distance).
+    /// A cartesian key tapped (fallback): a small bounded step this way (the console sets its
+    /// size).
     Step(JogMotion),
     /// Something the technician must be told.
     Notice(JogNotice),
@@ -59,11 +59,9 @@ pub enum JogEffect {
 pub enum JogNotice {
     /// Release events mode: a held key sent no event for this long, so the jog stopped.
     NoKeyEvents(Duration),
-    /// Release events mode: a held key was pressed again without a release in between. The
-    /// terminal does not report releases; the engine switched to the auto-repeat fallback.
+    /// A key pressed again without a release: the engine switched to auto-repeat.
     ReleasesMissing,
-    /// Auto-repeat fallback: an arrow, joint or turn key was tapped. Those have no bounded step:
-    /// only a hold moves them.
+    /// Fallback: an arrow, joint or turn key was tapped; only a hold moves those.
     TapNeedsHold,
 }
 
@@ -96,8 +94,7 @@ impl JogEngine {
         }
     }
 
-    /// How releases are known now: [`ReleaseMode::Reported`] can turn into
-    /// [`ReleaseMode::AutoRepeat`] when the terminal proves it does not report releases.
+    /// How releases are known; `Reported` may turn into `AutoRepeat` for the session.
     pub fn mode(&self) -> ReleaseMode {
         self.mode
     }
@@ -155,8 +152,7 @@ impl JogEngine {
         effects
     }
 
-    /// A jog key event while motion is allowed. Non-jog actions must go to
-    /// [`JogEngine::stop_all`] instead.
+    /// A jog key event while motion is allowed (non-jog keys go to [`JogEngine::stop_all`]).
     pub fn key(&mut self, action: Action, kind: KeyKind, now: Instant) -> Vec<JogEffect> {
         let Some((axis, sign)) = action.jog() else {
             return Vec::new();
@@ -215,8 +211,7 @@ impl JogEngine {
         (fresh, effects)
     }
 
-    /// Stops any jog; every key still down becomes latched: for a non-jog key, focus loss, link
-    /// loss, an overlay, quit. Returns `Stop` if anything was moving or about to move.
+    /// Stops any jog, keys still down latched; returns `Stop` if anything moved or was about to.
     pub fn stop_all(&mut self, _now: Instant) -> Vec<JogEffect> {
         let was_busy =
             self.active.is_some() || self.held.values().any(|h| h.state == KeyState::Pending);
@@ -230,8 +225,7 @@ impl JogEngine {
         }
     }
 
-    /// Whether [`JogEngine::tick`] at `now` would re-send START: the runtime first handles
-    /// any key input that has already arrived, so a release is never overtaken by a refresh.
+    /// Whether [`JogEngine::tick`] now would re-send START (the runtime takes waiting input first).
     pub fn refresh_due(&self, now: Instant) -> bool {
         self.active.is_some()
             && self
@@ -239,8 +233,7 @@ impl JogEngine {
                 .is_some_and(|last| now >= last + self.refresh)
     }
 
-    /// Time passing: steps for taps, expires keys whose events stopped, and re-sends START
-    /// when due.
+    /// Time passing: taps step, silent keys expire, START is re-sent when due.
     pub fn tick(&mut self, now: Instant) -> Vec<JogEffect> {
         let mut effects = self.catch_up(now);
         if let (Some(motion), Some(last)) = (self.active, self.last_start)

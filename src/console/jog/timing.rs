@@ -2,17 +2,14 @@
 
 use std::time::Duration;
 
-/// Slowest auto-repeat onset in the field (X11: 660 ms) plus margin: in the fallback, a key
-/// with no event for this long after a single event counts as released.
+/// Slowest onset in the field (X11: 660 ms) plus margin: a lone event's key then counts released.
 pub const MAX_ONSET: Duration = Duration::from_millis(700);
 /// The longest auto-repeat gap that can confirm a hold (8 Hz; the slowest common repeat is 11 Hz).
 /// An event with no other within this gap either side is a tap.
 pub const REPEAT_GAP_MAX: Duration = Duration::from_millis(125);
-/// A run of events this closely spaced (12.5 Hz), kept up for [`MAX_ONSET`], is a hold even
-/// with no onset pause before it: no finger taps that fast for that long.
+/// Events this close (12.5 Hz) for [`MAX_ONSET`] are a hold even without an onset pause.
 const BURST_GAP_MAX: Duration = Duration::from_millis(80);
-/// Repeat interval assumed before one is measured (Linux console, 11 Hz, the slowest common
-/// repeat: a longer assumed interval errs toward treating events as one held key's repeats).
+/// Assumed until measured: 11 Hz, the slowest common repeat (erring toward a held key).
 pub const DEFAULT_INTERVAL: Duration = Duration::from_millis(91);
 /// Repeats more than this many intervals late mean the key is up.
 const INTERVALS_TO_RELEASE: u32 = 3;
@@ -34,8 +31,7 @@ impl RepeatTiming {
         self.interval.unwrap_or(DEFAULT_INTERVAL)
     }
 
-    /// How long after a lone event (a press, a tap), with no repeat yet, the key counts as
-    /// released.
+    /// How long after a lone event with no repeat yet the key counts as released.
     pub fn first_timeout(&self) -> Duration {
         match self.onset {
             Some(onset) => (onset + onset / 4 + Duration::from_millis(40)).min(MAX_ONSET),
@@ -75,15 +71,13 @@ impl RepeatTiming {
             high - low <= high / 2 + Duration::from_millis(10)
         });
         let Some(onset) = onset else {
-            // No pause before the run (it began with the key's first event): only a run too
-            // fast and too long for any tapping finger is a hold.
+            // No pause before the run: only a run too fast and long for a finger is a hold.
             return regular && last <= BURST_GAP_MAX && span >= MAX_ONSET;
         };
         if !(ONSET_RANGE.0..=ONSET_RANGE.1).contains(&onset) || onset < last * 2 {
             return false;
         }
-        // A keyboard already measured: one repeat about one onset after the pause, the next
-        // about one interval later.
+        // A measured keyboard: a repeat about an onset after the pause, the next an interval later.
         if let (Some(measured_onset), Some(measured_interval)) = (self.onset, self.interval) {
             let onset_matches =
                 onset.abs_diff(measured_onset) <= measured_onset / 4 + Duration::from_millis(30);

@@ -78,8 +78,7 @@ fn byte_offset(text: &str, line: usize, column: usize) -> Option<usize> {
     (offset <= text.len()).then_some(offset)
 }
 
-/// The position of the last character read before byte `end`; column 1 of the next line when
-/// that character is a newline (serde_json's column 0).
+/// The position of the last character before byte `end` (after a newline: next line, column 1).
 fn position_of_last_read(text: &str, end: usize) -> TextPosition {
     let before = text.get(..end).unwrap_or(text);
     match before.char_indices().next_back() {
@@ -116,8 +115,8 @@ fn token_start(text: &str, end: usize) -> Option<usize> {
         return None;
     }
     let closing_quote = index - 1;
-    // Inside a JSON string every quote is escaped, so the opening quote is the nearest quote
-    // before the closing one that is preceded by an even number of backslashes.
+    // The opening quote is the nearest quote before the closing one after an even run of
+    // backslashes.
     let mut candidate = closing_quote;
     while candidate > 0 {
         candidate -= 1;
@@ -229,8 +228,7 @@ impl<'de> Visitor<'de> for FileVisitor<'_> {
     }
 }
 
-/// A keymap's name or description is shown on screen: the same characters are refused there
-/// as in a key name (controls, bidi overrides), naming where.
+/// A keymap's name or description is shown, so it is refused as a key name is, naming where.
 fn shown_text<E: de::Error>(
     problem: ProblemSlot<'_>,
     field: &str,

@@ -80,8 +80,7 @@ impl NamedKey {
         NamedKey::ALL.into_iter().find(|key| key.name() == name)
     }
 
-    /// Whether the keypad has a key that the kitty protocol reports as this one with the
-    /// `KEYPAD` state (`kpenter`, `kpup`, ... `kpdelete`).
+    /// Whether the kitty protocol reports a keypad key as this one with the `KEYPAD` state.
     fn is_on_keypad(self) -> bool {
         !matches!(
             self,
@@ -118,8 +117,7 @@ pub enum BaseKey {
 }
 
 impl BaseKey {
-    /// Whether the key types a character, so that shift is part of its identity and never a
-    /// prefix.
+    /// Whether the key types a character, so shift is part of it and never a prefix.
     const fn is_character(self) -> bool {
         matches!(
             self,
@@ -221,8 +219,7 @@ impl KeyName {
         Some(KeyName { modifiers, key })
     }
 
-    /// An unmodified character key: `KeyName::char('y')` is `"y"`, `KeyName::char(' ')` is
-    /// `"space"`.
+    /// An unmodified character key (`' '` is `"space"`).
     pub const fn char(character: char) -> KeyName {
         let key = match character {
             ' ' => BaseKey::Named(NamedKey::Space),
@@ -248,8 +245,7 @@ impl KeyName {
         self
     }
 
-    /// The same key with shift held: `"shift+tab"`. A character key is left as it is: shift
-    /// is part of the character it types (see the module docs).
+    /// The key with shift: `"shift+tab"`; a character key is unchanged (shift is in the character).
     pub const fn with_shift(mut self) -> KeyName {
         if !self.key.is_character() {
             self.modifiers.shift = true;
@@ -266,8 +262,7 @@ impl KeyName {
         self.modifiers
     }
 
-    /// The same key with no modifiers: what a release may be reported as when the technician
-    /// lets go of ctrl or alt before the key itself.
+    /// Without modifiers: a release after ctrl or alt was let go first.
     pub fn without_modifiers(&self) -> KeyName {
         KeyName {
             modifiers: Modifiers::NONE,

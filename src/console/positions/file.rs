@@ -1,5 +1,4 @@
-//! The book's file: JSON, versioned, a map from name to entry; read within a size limit and
-//! written atomically, indented when that fits the limit and compact otherwise.
+//! The book's file: versioned JSON, read within a size limit, written atomically.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -33,8 +32,7 @@ pub(super) mod sorted_map {
         deserializer.deserialize_map(ListVisitor).map(Arc::new)
     }
 
-    /// Reads the map straight into the list (no map built on the side), then sorts it and keeps
-    /// the last of a name given twice, as a map would.
+    /// Reads the map straight into a sorted list, the last of a repeated name kept.
     struct ListVisitor;
 
     impl<'de> serde::de::Visitor<'de> for ListVisitor {
@@ -85,8 +83,7 @@ pub enum BookError {
     },
     #[error("{path}: format {found} is newer than this armjog understands ({FORMAT})")]
     Format { path: String, found: u32 },
-    /// The file as it is now (changed since it was read) does not read as a book: a write
-    /// would lose it.
+    /// The file now (changed since read) is not a book: a write would lose it.
     #[error("{path}: not written over: the file as it is now cannot be kept ({reason})")]
     Unreadable { path: String, reason: String },
     /// Another writer held the book's lock for longer than a write takes.
@@ -115,8 +112,7 @@ pub(super) struct Read {
     pub text: String,
 }
 
-/// Reads the book at `path` (`None`: there is no file): strictly, or entry by entry when the
-/// strict reader refuses it (see `lenient`); names are repaired (see `names`).
+/// Reads the book at `path` (`None`: no file), strictly or per entry (`lenient`); names repaired.
 pub(super) fn read_file(path: &Path) -> Result<Option<Read>, BookError> {
     let shown = path.display().to_string();
     let text = match crate::files::read_to_string_bounded(path, crate::files::POSITIONS_LIMIT) {
@@ -150,8 +146,7 @@ pub(super) fn read_file(path: &Path) -> Result<Option<Read>, BookError> {
 }
 
 impl PositionBook {
-    /// Reads a book; a missing file is an empty book. Entries that do not load are set aside
-    /// with a note each, and the file's bytes kept in a `.bad` copy (see `lenient`).
+    /// Reads a book (missing: empty); bad entries set aside, the bytes kept (`lenient`).
     pub fn load(path: &Path) -> Result<PositionBook, BookError> {
         let Some(Read {
             mut book,
@@ -211,8 +206,7 @@ fn new_book_file(dir: &Path, book: &Path) -> std::io::Result<tempfile::NamedTemp
     Ok(tmp)
 }
 
-/// Flushes a directory's entries (a rename into it) to disk. Only Unix can open a directory
-/// as a file; elsewhere the rename is as durable as the platform makes it.
+/// Flushes a directory's entries to disk (Unix only can open a directory).
 fn sync_directory(dir: &Path) -> std::io::Result<()> {
     #[cfg(unix)]
     std::fs::File::open(dir)?.sync_all()?;
@@ -283,8 +277,7 @@ impl Write for ByteCounter {
     }
 }
 
-/// The name an arm's book is kept under: its profile's (`arm-cell3`) when it was opened by one,
-/// so one arm has one book whichever address reaches it; else its target.
+/// An arm's book key: its profile's name if opened by one (one book per arm), else its target.
 pub fn book_key(profile: Option<&str>, target: &str) -> String {
     match profile {
         Some(name) => format!("arm-{name}"),
@@ -292,8 +285,7 @@ pub fn book_key(profile: Option<&str>, target: &str) -> String {
     }
 }
 
-/// Where the book of the arm at `target` lives: `$ARMJOG_DATA_DIR` or the user's data
-/// directory, then `armjog/positions/<target>.json`.
+/// `$ARMJOG_DATA_DIR` or the user's data directory, then `armjog/positions/<target>.json`.
 pub fn default_path(target: &str) -> Option<PathBuf> {
     let base = std::env::var_os("ARMJOG_DATA_DIR")
         .map(PathBuf::from)

@@ -77,8 +77,7 @@ pub(super) fn parse(text: &str) -> Option<(PositionBook, Vec<SetAside>)> {
     Some((book, aside))
 }
 
-/// The notes a load gives for what it set aside: the first names them all (the one the
-/// console's bottom line shows), then one per entry with its reason.
+/// A load's notes on what it set aside: the first names them all, then one per entry.
 pub(super) fn notes(aside: &[SetAside], copy: &std::io::Result<PathBuf>) -> Vec<String> {
     if aside.is_empty() {
         return Vec::new();

@@ -22,8 +22,7 @@ pub struct Merged {
     pub moved: Vec<Moved>,
 }
 
-/// A position of ours, unchanged here, that another writer now keeps under a copy's name
-/// (`pick~2`, same value) while the name holds another entry: it gave the name away.
+/// Ours, unchanged here, now under a copy's name elsewhere while the name holds another entry.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Moved {
     pub name: String,
@@ -156,8 +155,7 @@ fn conflict_outcome(theirs: bool, ours: bool) -> Kept {
     }
 }
 
-/// The three-way merge for a write: conflicts keep both (see the module's doc). `touched`:
-/// the positions saved or edited here since `known`.
+/// The three-way merge of a write; `touched`: saved or edited here since `known`.
 pub fn merge(
     known: &PositionBook,
     ours: &PositionBook,
@@ -257,8 +255,7 @@ fn merge_with(
     }
 }
 
-/// Where another writer moved our `name` to, when it did: a copy's name (`name~2`) new to us
-/// holding our entry, unchanged here, while `name` now holds another.
+/// Where another writer moved our unchanged `name` to: a copy's name new to us.
 fn moved_to(
     name: &str,
     known: &PositionBook,

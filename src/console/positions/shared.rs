@@ -133,8 +133,8 @@ impl BookLock {
                 Err(std::fs::TryLockError::Error(e))
                     if e.kind() == std::io::ErrorKind::Unsupported =>
                 {
-                    // A file system without locks (some network shares): the file is still
-                    // read and merged just before the write, which leaves only a short race.
+                    // Without locks (some network shares) only a short race remains: the file is
+                    // re-read and merged.
                     tracing::warn!(
                         "{}: no file locks here ({e}); the book is merged unlocked",
                         path.display()

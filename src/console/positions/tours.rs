@@ -35,8 +35,7 @@ impl PositionBook {
         self.tours.iter().find(|t| t.name == name)
     }
 
-    /// Adds `tour`, or replaces the tour of its name (keeping its place). Returns whether one
-    /// was replaced.
+    /// Adds `tour` or replaces its namesake in place; returns whether one was replaced.
     pub fn set_tour(&mut self, tour: Tour) -> bool {
         match self.tours.iter_mut().find(|t| t.name == tour.name) {
             Some(old) => {
@@ -73,8 +72,7 @@ impl PositionBook {
             .collect()
     }
 
-    /// A position renamed: every tour visiting `from` visits `to` instead. Returns the names of
-    /// the tours changed.
+    /// `from` renamed `to` in every tour; returns the tours changed.
     pub fn rename_in_tours(&mut self, from: &str, to: &str) -> Vec<String> {
         let mut changed = Vec::new();
         for tour in &mut self.tours {
@@ -97,8 +95,8 @@ impl PositionBook {
         }
     }
 
-    /// After loading: a tour whose name, or a name in it, breaks the name rule is dropped with
-    /// a note (its text is never shown as it is); a name given twice keeps the last.
+    /// After loading: a tour with a bad name is dropped with a note; a repeated name keeps the
+    /// last.
     pub(super) fn repair_tours(&mut self) {
         let breaks = |name: &str| PositionName::validate(name.as_bytes()).is_err();
         let mut kept: Vec<Tour> = Vec::new();

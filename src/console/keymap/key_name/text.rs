@@ -1,5 +1,4 @@
-//! Key names as text: writing them (`Display`), reading them (`FromStr`, serde) and the
-//! words a keymap file's author reads when a name is wrong.
+//! Key names as text: `Display`, `FromStr`, serde, and the words for a wrong name.
 
 use std::fmt;
 use std::str::FromStr;
