@@ -1,5 +1,4 @@
-//! Logs go to a file, never to the terminal (the console owns it). Each part of armjog writes
-//! its own file, so the simulator's chatter never hides the console's story and the reverse.
+//! Logs go to files, never the terminal the console owns; a file per part of armjog.
 
 use std::path::{Path, PathBuf};
 
@@ -12,15 +11,13 @@ use tracing_subscriber::layer::SubscriberExt;
 use tracing_subscriber::util::SubscriberInitExt;
 use tracing_subscriber::{Layer, fmt};
 
-/// The simulator's module path: its events go to the simulator's file, also when the console
-/// runs the built-in simulator in its own process.
+/// The simulator's events go to its own file, also when built into the console.
 const SIM_TARGET: &str = "armjog::sim";
 
 /// Which program this process is: it picks the log file(s).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LogRole {
-    /// The jog console: `armjog-console.DATE.log`, and `armjog-sim.DATE.log` for its built-in
-    /// simulator.
+    /// The console: `armjog-console.DATE.log`, and `armjog-sim.DATE.log` for its simulator.
     Console,
     /// `armjog sim`: `armjog-sim.DATE.log`.
     Sim,
@@ -31,8 +28,7 @@ pub enum LogRole {
 }
 
 impl LogRole {
-    /// The name the files of everything this role logs start with (all but the simulator's
-    /// events in the console): `PREFIX.YYYY-MM-DD.log`.
+    /// The prefix of this role's files (`PREFIX.YYYY-MM-DD.log`).
     pub fn file_prefix(self) -> &'static str {
         match self {
             LogRole::Console => "armjog-console",
@@ -191,8 +187,7 @@ impl std::io::Write for PrunedDaily {
     }
 }
 
-/// The date in a daily file's name: `PREFIX.YYYY-MM-DD.log`, a real date; `None` for any other
-/// name (such files are never touched).
+/// The real date in `PREFIX.YYYY-MM-DD.log`; `None` for any other name (never touched).
 fn dated(name: &str, prefix: &str) -> Option<time::Date> {
     let date = name
         .strip_prefix(prefix)?

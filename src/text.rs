@@ -12,8 +12,7 @@ use std::fmt::{self, Write};
 /// A logged field longer than this many characters is cut.
 pub const LOG_FIELD_CHARS: usize = 200;
 
-/// Whether `text` is all printable ASCII: safe as it is, one terminal cell a byte. Decided
-/// from the bytes, without decoding (the screen's fast paths).
+/// All printable ASCII (one cell a byte), from the bytes without decoding: the screen's fast path.
 pub fn is_printable_ascii(text: &str) -> bool {
     text.bytes().all(|b| matches!(b, b' '..=b'~'))
 }
@@ -39,8 +38,7 @@ fn escape(c: char, out: &mut impl Write) -> fmt::Result {
     }
 }
 
-/// `text` for the screen: unsafe characters replaced by their escapes; borrowed when there
-/// are none (the usual case costs nothing).
+/// `text` for the screen, unsafe characters escaped; borrowed when there are none.
 pub fn shown(text: &str) -> Cow<'_, str> {
     if !text.chars().any(is_unsafe) {
         return Cow::Borrowed(text);

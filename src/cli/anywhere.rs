@@ -19,8 +19,7 @@ const WITH_VALUE: [&str; 8] = [
 /// Shared options without one.
 const FLAGS: [&str; 2] = ["--json", "--hex"];
 
-/// Moves the shared options that come before `send`, `status` or `modbus` to just after it.
-/// Anything else (no such command, or another option before it) is left for clap to judge.
+/// Moves shared options before `send`, `status` or `modbus` to after it; else clap judges.
 pub fn options_after_command(args: Vec<OsString>) -> Vec<OsString> {
     let mut shared = Vec::new();
     let mut i = 1;

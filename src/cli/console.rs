@@ -1,5 +1,4 @@
-//! `armjog` with no subcommand: the jog console, on the built-in simulated arm unless told
-//! where an arm is.
+//! `armjog` with no subcommand: the console, on the built-in simulated arm unless told otherwise.
 
 use std::path::PathBuf;
 use std::time::Duration;
@@ -87,8 +86,7 @@ impl ConsoleArgs {
     /// Checks what no one value says alone, before anything starts (each value's own range is
     /// its parser's: `cli::values`).
     fn validate(&self) -> Result<(), String> {
-        // The cap the driver will make of these values (`DriverConfig::speed_cap`), made here
-        // first so that a bad one is refused before anything starts.
+        // The driver's cap, made here first so a bad one is refused before anything starts.
         let cap = SpeedCap::new(self.max_jog_speed / 1000.0)
             .map_err(|e| format!("--max-jog-speed {} mm/s: {e}", self.max_jog_speed))?;
         match cap.with_operator(self.operator_full_speed / 1000.0) {
@@ -131,8 +129,7 @@ impl ConsoleArgs {
     }
 }
 
-/// Runs the console; returns the exit status. Errors are printed as one line. `arm_name`: the
-/// profile `args` were completed from, if any.
+/// Runs the console; returns the exit status. `arm_name`: the profile `args` came from.
 pub async fn run_console(args: &ConsoleArgs, arm_name: Option<String>) -> i32 {
     if let Err(reason) = args.validate() {
         super::output::print_error(&reason);
@@ -157,8 +154,7 @@ pub async fn run_console(args: &ConsoleArgs, arm_name: Option<String>) -> i32 {
             })
             .flatten()
     });
-    // The built-in operator starts with the book's positions: read once, here, and handed to
-    // the console too.
+    // The built-in operator starts with the book's positions: read once, shared with the console.
     let positions_read = match (&positions_file, on_simulator) {
         (Some(path), true) => Some(book_io::read(path).await),
         _ => None,
@@ -166,8 +162,7 @@ pub async fn run_console(args: &ConsoleArgs, arm_name: Option<String>) -> i32 {
     let mut simulator = None;
     let (talos_addr, modbus_addr) = match (&args.talos, &args.modbus) {
         (None, None) => match super::sim_thread::start(SimConfig {
-            // The built-in operator runs as an external `armjog sim` would: at its own full
-            // speed, which the console scales its Set Speed to.
+            // The built-in operator runs at its own full speed, as an external `armjog sim` would.
             max_jog_speed: args.operator_full_speed / 1000.0,
             // And knows the positions saved in earlier runs.
             positions: positions_read
@@ -195,12 +190,10 @@ pub async fn run_console(args: &ConsoleArgs, arm_name: Option<String>) -> i32 {
     if simulator.is_some()
         && let Some(modbus) = driver.modbus.as_mut()
     {
-        // The simulator answers only the ICD's addresses, as a strict arm does: read them
-        // block by block from the start rather than learn it from a refused read.
+        // The simulator answers only the ICD's addresses: read block by block from the start.
         modbus.plan = PollPlan::IcdBlocks;
     }
-    // The built-in simulated arm dies with the console; a real arm, over either link, needs the
-    // guard (this same binary) to stop it if the console is killed.
+    // The built-in arm dies with the console; a real arm needs the guard.
     driver.guard = match &simulator {
         Some(_) => GuardPolicy::NotNeeded,
         None => GuardPolicy::Spawn(std::env::current_exe().unwrap_or_else(|e| {
@@ -225,8 +218,7 @@ pub async fn run_console(args: &ConsoleArgs, arm_name: Option<String>) -> i32 {
     let code = match run(setup).await {
         Ok(()) => 0,
         Err(e) => {
-            // Not `eprintln!`: after a hang-up (an SSH session that dropped) stderr is gone,
-            // and `eprintln!` panics on a failed write.
+            // Not `eprintln!`: it panics when stderr is gone after a hang-up.
             super::output::print_error(&e.to_string());
             1
         }
@@ -235,8 +227,7 @@ pub async fn run_console(args: &ConsoleArgs, arm_name: Option<String>) -> i32 {
     code
 }
 
-/// The book's positions as the built-in simulator's operator takes them at start: those with
-/// coordinates (a name without any cannot be put back).
+/// The book's positions with coordinates, for the built-in simulator's operator at start.
 pub fn remembered_for_simulator(book: &PositionBook) -> Vec<RememberedPosition> {
     book.entries()
         .filter_map(|(name, entry)| {
@@ -253,8 +244,7 @@ pub fn remembered_for_simulator(book: &PositionBook) -> Vec<RememberedPosition> 
         .collect()
 }
 
-/// The positions the built-in simulator takes from a read of the book. A book that could not
-/// be read gives none: the console says why when it takes the same read.
+/// The built-in simulator's positions from a read of the book; none if unreadable.
 pub fn remembered_from_read(read: &Result<PositionBook, BookError>) -> Vec<RememberedPosition> {
     match read {
         Ok(book) => remembered_for_simulator(book),

@@ -1,5 +1,4 @@
-//! `armjog completions SHELL` and `armjog man`: generated from the same clap definitions that
-//! parse the command line, so they never drift from it.
+//! `armjog completions SHELL` and `armjog man`, from the clap definitions, so they never drift.
 
 use clap::{Args, CommandFactory, ValueEnum};
 
@@ -77,8 +76,7 @@ pub fn man_page(subcommand: Option<&str>) -> std::io::Result<Vec<u8>> {
     Ok(with_sections(out, &man_sections::roff()))
 }
 
-/// `page` with `sections` before its VERSION section (the man convention puts EXIT STATUS,
-/// ENVIRONMENT and FILES after the options), or at its end when it has none.
+/// `page` with `sections` before VERSION (man convention), or at its end.
 fn with_sections(page: Vec<u8>, sections: &str) -> Vec<u8> {
     let text = String::from_utf8_lossy(&page);
     match text.find("\n.SH VERSION") {

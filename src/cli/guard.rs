@@ -86,8 +86,7 @@ pub struct Targets {
     pub talos: Option<TalosStop>,
 }
 
-/// The guard's Modbus link settings: writes only when told, a slow poll that notices a dead
-/// connection, short timeouts so a failed stop is retried soon.
+/// The guard's Modbus link: writes only when told, a slow poll, short timeouts for retries.
 pub fn guard_link_config(addr: String, unit: u8) -> ModbusConfig {
     let mut config = ModbusConfig::new(addr);
     config.unit = unit;
@@ -98,8 +97,7 @@ pub fn guard_link_config(addr: String, unit: u8) -> ModbusConfig {
     config
 }
 
-/// Runs the guard on this process's stdin and stdout; returns the exit status (0: the console
-/// went away and the stop was written, or nothing had been connected; 1: the stop failed).
+/// Runs the guard on stdin and stdout: exit 0 (stopped, or nothing connected) or 1 (stop failed).
 pub async fn run(args: &GuardArgs) -> i32 {
     let timeout = Duration::from_millis(args.heartbeat_timeout.max(100));
     let signal = match signals() {
@@ -171,8 +169,7 @@ async fn console_gone(console: &mut mpsc::UnboundedReceiver<FromConsole>) -> Str
     }
 }
 
-/// The guard itself, on any pipe and output: the console's pipe in, status lines out. Ready
-/// once its Modbus link is up; with Talos alone, at once (it connects only to stop).
+/// The guard on any pipe and output; ready once Modbus is up, or at once with Talos alone.
 pub async fn watch<R, W>(
     targets: Targets,
     heartbeat_timeout: Duration,

@@ -1,5 +1,4 @@
-//! `armjog send hw-op` as text: a decoded hardware reply (docs/hardware-icd.md) as labelled lines
-//! with units and a sensible number of decimals. `--json` keeps the full values.
+//! `armjog send hw-op` as text: labelled lines with units; `--json` keeps full values.
 
 use super::units::{fixed, linear_speed};
 use crate::talos::hardware::{ActuatorFeedback, ArmState, HwReply};

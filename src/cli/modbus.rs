@@ -1,5 +1,4 @@
-//! `armjog modbus`: the writes a technician needs from a shell, and what `armjog status`
-//! shares with it (the connection options and exit codes).
+//! `armjog modbus`: a technician's writes from a shell, with options and exit codes shared.
 
 use std::time::Duration;
 
@@ -16,8 +15,7 @@ mod stored;
 
 pub use stored::StoredOptions;
 
-/// Exit status when the arm answered with a Modbus exception, or an action it was asked for
-/// did not complete (aborted, faulted, never started, timed out).
+/// Exit status for a Modbus exception, or an action that did not complete.
 pub const EXIT_EXCEPTION: i32 = 1;
 /// Exit status when a value was refused before anything was sent.
 pub const EXIT_REFUSED: i32 = 2;

@@ -40,8 +40,7 @@ pub fn print_line(line: impl Into<String>) -> io::Result<Printed> {
     print_lines(&[line.into()])
 }
 
-/// Prints an `armjog: ...` message on stderr, escaped for a terminal ([`text::shown`]: one
-/// line). A failure to do so is only logged: there is no one left to tell.
+/// Prints `armjog: ...` on stderr, escaped to one line; a failure is only logged.
 pub fn print_error(reason: &str) {
     let mut err = io::stderr().lock();
     let shown = text::shown(reason);
@@ -50,8 +49,7 @@ pub fn print_error(reason: &str) {
     }
 }
 
-/// Prints a message of several lines (clap's, with its usage) on stderr, each line escaped for
-/// a terminal. A failure is only logged, as [`print_error`]'s.
+/// Prints several lines (clap's message) on stderr, each escaped; a failure is only logged.
 pub fn print_error_lines(message: &str) {
     let mut err = io::stderr().lock();
     let written = message
@@ -63,8 +61,7 @@ pub fn print_error_lines(message: &str) {
     }
 }
 
-/// Prints a one-shot command's stdout lines and stderr reason; returns its exit status. The
-/// status is the command's own when its reader went away, and 1 when stdout failed otherwise.
+/// Prints a command's output and reason; its own status if the reader left, 1 if stdout failed.
 pub fn report(stdout: &[String], stderr: Option<&str>, exit_code: i32) -> i32 {
     let code = match print_lines(stdout) {
         Ok(Printed::All) => exit_code,

@@ -345,8 +345,7 @@ pub async fn run(args: &SendArgs) -> Outcome {
     }
 }
 
-/// The exchange in `armjog-cli.log`: both frames whole, in hex, the answer and the round trip
-/// (a script's record of what it told the arm).
+/// The exchange in `armjog-cli.log`: both frames in hex, the answer and the round trip.
 fn log_exchange(addr: &str, result: &Result<Exchange, TalosError>) {
     let exchange = match result {
         Ok(exchange) => exchange,
@@ -380,8 +379,7 @@ fn render(args: &SendArgs, exchange: &Exchange) -> Vec<String> {
     lines
 }
 
-/// The reply's fields other than the return code, in ICD order. A hardware operation's payload
-/// is also decoded by the companion ICD (`decoded`), when it decodes.
+/// The reply's fields but the return code, in ICD order; a hardware payload decoded too.
 fn reply_fields(exchange: &Exchange) -> Map<String, Value> {
     match &exchange.answer {
         Answer::Reply(reply) => match serde_json::to_value(reply) {

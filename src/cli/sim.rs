@@ -120,8 +120,7 @@ pub async fn run(args: &SimArgs) -> i32 {
             return 1;
         }
     };
-    // The simulator serves until signalled even if no one reads its banner (`| head`); a
-    // closed stdout only cuts the banner short.
+    // Serves until signalled even if no one reads the banner (`| head`).
     let banner = [
         // Said first and plainly: whoever reads this terminal must not take it for a real arm.
         format!(

@@ -1,5 +1,4 @@
-//! `armjog status`: one complete snapshot of a Kinova arm over Modbus, as a table or JSON, once
-//! or repeatedly.
+//! `armjog status`: a Kinova arm's snapshot over Modbus, as a table or JSON, once or watching.
 
 use std::time::{Duration, SystemTime};
 
@@ -42,8 +41,7 @@ fn parse_rate(s: &str) -> Result<f64, String> {
     }
 }
 
-/// Runs `armjog status`, printing each snapshot as it comes. With `--watch`, a failed read is
-/// reported on stderr and watching goes on (the link reconnects); Ctrl-C ends it with status 0.
+/// Runs `armjog status`; `--watch` reports failed reads and goes on; Ctrl-C ends with 0.
 pub async fn run(args: &StatusArgs) -> Outcome {
     let link = match ModbusLink::connect(args.arm.config()).await {
         Ok((link, _events)) => link,
@@ -109,8 +107,7 @@ pub fn render(telemetry: &Telemetry, json: bool) -> Vec<String> {
     table(telemetry)
 }
 
-/// A `--watch` snapshot taken at `at`: each table line starts with the time, or the JSON object
-/// has a `"time"` field (both RFC 3339, UTC, milliseconds).
+/// A `--watch` snapshot, stamped (RFC 3339, UTC, ms) per table line or as a JSON `"time"`.
 pub fn watch_lines(telemetry: &Telemetry, json: bool, at: SystemTime) -> Vec<String> {
     let time = rfc3339_ms(at);
     if json {
@@ -178,8 +175,7 @@ pub fn table(t: &Telemetry) -> Vec<String> {
         linear_speed(f64::from(t.speed_limits.linear)),
         f(t.speed_limits.angular, 1)
     ));
-    // Holding register 0 (`t.control`) is left out: the ICD gives it no meaning beyond a list
-    // of the coils' actions, so no words could say what its value means.
+    // Holding register 0 is left out: the ICD gives it no meaning beyond a list of coils.
     lines.push(
         "joint  position deg  velocity deg/s  torque N m  current A  temperature C".to_string(),
     );

@@ -1,5 +1,4 @@
-//! Numbers as the one-shot commands print them: fixed decimals without `-0.00` and small linear
-//! speeds in mm/s. (The `--watch` lines' timestamps: `console::audit::rfc3339_ms`.)
+//! Numbers as one-shot commands print them: fixed decimals, no `-0.00`, small speeds in mm/s.
 
 /// `value` with `decimals` decimals; a value that rounds to zero prints without a sign.
 pub fn fixed(value: f64, decimals: usize) -> String {

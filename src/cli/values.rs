@@ -14,8 +14,7 @@ fn number(text: &str) -> Result<f64, String> {
         .map_err(|_| format!("'{text}' is not a number"))
 }
 
-/// A tool speed in mm/s (`--max-jog-speed`, `--operator-full-speed`): one a speed cap may be
-/// ([`SpeedCap::new`]: above 0 and at most the arm's twist limit).
+/// A tool speed in mm/s that a cap may be ([`SpeedCap::new`]).
 pub fn tool_speed(text: &str) -> Result<f64, String> {
     let mm_s = number(text)?;
     match SpeedCap::new(mm_s / 1000.0) {
@@ -40,8 +39,7 @@ pub fn telemetry_hz(text: &str) -> Result<f64, String> {
     }
 }
 
-/// The id of a stored action or sequence (`--id`, `--action-id`, `--home-action-id`): the
-/// arm's range, [`crate::kortex::commands::STORED_IDS`].
+/// A stored action or sequence id, in [`crate::kortex::commands::STORED_IDS`].
 pub fn stored_action_id(text: &str) -> Result<u16, String> {
     let whole: i128 = text
         .parse()

@@ -13,8 +13,7 @@ pub enum Axis {
     ThetaZ = 5,
 }
 
-/// A tool pose: position in m, orientation in deg (extrinsic XYZ Euler angles, Kinova's
-/// convention).
+/// A tool pose: position in m, orientation in deg (extrinsic XYZ Euler, Kinova's convention).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
 pub struct Pose {
     pub x: f32,
@@ -47,8 +46,7 @@ pub struct Wrench {
     pub torque_z: f32,
 }
 
-/// `from_array` / `to_array` in the ICD's order (x, y, z, theta x, y, z) for the two blocks
-/// that share that layout.
+/// `from_array` / `to_array` in the ICD's order (x, y, z, theta x, y, z).
 macro_rules! six_floats {
     ($($t:ident),*) => {$(
         impl $t {

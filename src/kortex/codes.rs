@@ -1,5 +1,4 @@
-//! The numbered values the ICD enumerates, each with a snake_case key (JSON, command line) and
-//! the ICD's description for people.
+//! The ICD's numbered values, each with a snake_case key and the ICD's description.
 
 use std::borrow::Cow;
 use std::fmt;
@@ -100,8 +99,7 @@ coded_enum! {
 }
 
 coded_enum! {
-    /// What a write to holding register 200 asks for. The ICD calls the register "Status" but it
-    /// takes commands.
+    /// What a write to holding register 200 asks for (the ICD calls it "Status").
     ActionCommand {
         NoAction = 0, "no_action", "No action";
         Start = 1, "start", "Action start";
@@ -110,8 +108,7 @@ coded_enum! {
 }
 
 coded_enum! {
-    /// The control coils 0-2. Holding register 0 (read only) lists the same three actions by the
-    /// same numbers.
+    /// Control coils 0-2; holding register 0 lists the same actions by the same numbers.
     ControlCoil {
         QuickStop = 0, "quick_stop", "Quick stop";
         Abort = 1, "abort", "Abort / manual stop";

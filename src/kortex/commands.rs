@@ -13,8 +13,7 @@ use super::words;
 pub const MAX_LINEAR_SPEED: f32 = 0.5;
 /// Twist hard limit of the arm, angular: deg/s.
 pub const MAX_ANGULAR_SPEED: f32 = 100.0;
-/// No Kinova arm reaches farther than this from its base (a Gen3 reaches 0.902 m): a larger
-/// target coordinate is most likely millimetres.
+/// No Kinova arm reaches beyond this (a Gen3: 0.902 m): a larger coordinate is likely mm.
 pub const MAX_REACH: f32 = 1.5;
 /// Orientation targets beyond a full turn are refused as typos.
 pub const MAX_ANGLE: f32 = 360.0;

@@ -73,8 +73,7 @@ pub fn tool_position(q: &[f64; 7]) -> Vector3<f64> {
     column(&frames(q).1, 3)
 }
 
-/// Each joint's lever arm: the distance (m) from its axis to the tool interface. Turning joint
-/// i alone at w rad/s moves the tool point at exactly `lever[i] * w` m/s.
+/// Each joint's lever arm (m): turning joint i at w rad/s moves the tool point `lever[i] * w`.
 pub fn lever_arms(q: &[f64; 7]) -> [f64; 7] {
     let (before, tool) = frames(q);
     let p = column(&tool, 3);
@@ -133,8 +132,7 @@ pub fn condition_number(q: &[f64; 7]) -> f64 {
 /// the poses measured are in `docs/development.md`.
 pub const SINGULARITY_WARNING: f64 = 75.0;
 
-/// Below this lever arm (m) a joint barely moves the tool point; its rate is then bounded by
-/// its own jog speed alone.
+/// Below this lever arm (m) a joint's rate is bounded by its own jog speed alone.
 pub const MIN_LEVER_ARM: f64 = 0.01;
 
 /// The fastest joint `joint` (1-7) at `position_deg` may turn, deg/s, for the tool point to stay

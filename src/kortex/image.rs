@@ -46,12 +46,10 @@ use Table::{DiscreteInputs as DI, HoldingRegisters as HR, InputRegisters as IR};
 /// Which reads make up one complete snapshot.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum PollPlan {
-    /// The fewest requests the 125-register read limit allows: 4. Spans addresses the ICD does
-    /// not list (input register 1, holding registers 1-99 and 103, unnamed flag inputs).
+    /// The fewest requests the 125-register limit allows (4), spanning unlisted addresses.
     #[default]
     Compact,
-    /// One read per block of the ICD (9 requests), for an arm that refuses reads over unlisted
-    /// addresses with "illegal data address".
+    /// One read per ICD block (9), for an arm that refuses reads over unlisted addresses.
     IcdBlocks,
 }
 
@@ -186,8 +184,7 @@ impl RegisterImage {
         Ok(())
     }
 
-    /// Stores the bits one read returned. Modbus pads bits to whole bytes, so a reply may carry
-    /// up to 7 more than asked; those are dropped.
+    /// Stores one read's bits; the up to 7 padding bits Modbus adds are dropped.
     pub fn store_bits(&mut self, block: ReadBlock, values: &[bool]) -> Result<(), ImageError> {
         if block.table != Table::DiscreteInputs {
             return Err(ImageError::WrongKind {
@@ -236,8 +233,7 @@ impl RegisterImage {
     }
 }
 
-/// Two registers from a table; addresses come from the named constants, all inside the image,
-/// so a miss (a bug, never network data) reads as zero rather than panicking.
+/// Two registers from a table; a miss (a bug, never network data) reads zero, not a panic.
 fn pair(table: &[u16], addr: u16) -> [u16; 2] {
     let at = |a: usize| table.get(a).copied().unwrap_or(0);
     [at(usize::from(addr)), at(usize::from(addr) + 1)]

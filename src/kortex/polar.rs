@@ -6,8 +6,7 @@
 use super::cartesian::{Pose, Twist};
 use super::commands::{MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED};
 
-/// Below this horizontal distance from the base Z axis (m) the bearing is undefined, so there is
-/// no altitude axis.
+/// Below this distance from base Z (m) the bearing, and so the altitude axis, is undefined.
 pub const MIN_RADIUS: f32 = 0.01;
 
 /// How fast a polar pan turns.
@@ -15,8 +14,7 @@ pub const MIN_RADIUS: f32 = 0.01;
 pub struct PolarPanSettings {
     /// Rotation rate at direction 1, deg/s.
     pub angular_speed: f32,
-    /// The tool point never moves faster than this, m/s; the default is ISO 10218-1's manual
-    /// reduced speed (250 mm/s).
+    /// The tool point's top speed, m/s; default ISO 10218-1's reduced speed (250 mm/s).
     pub max_linear_speed: f32,
 }
 

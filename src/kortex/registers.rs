@@ -1,5 +1,4 @@
-//! Every address of the Kinova Kortex Modbus ICD, by name. Floats and UINT32 values take two
-//! registers (see [`super::words`]); the constants name the first.
+//! Every address of the Kinova Kortex Modbus ICD; two-register values name their first.
 
 /// The four Modbus data tables.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -119,8 +118,7 @@ pub mod input_register {
 pub mod holding_register {
     use crate::kortex::Axis;
 
-    /// uint16, read only: lists the control actions of the coils (0 quick stop, 1 abort,
-    /// 2 fault reset).
+    /// uint16, read only: the coils' control actions (0 quick stop, 1 abort, 2 fault reset).
     pub const CONTROL: u16 = 0;
     /// uint16, read only: [`ActionStatus`](crate::kortex::ActionStatus) of the running action.
     pub const ACTION_STATUS: u16 = 100;

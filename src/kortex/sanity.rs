@@ -128,8 +128,7 @@ fn six(linear: Bounds, angular: Bounds) -> [Bounds; 6] {
 }
 
 impl Telemetry {
-    /// Every value out of its physical range (or not finite), in register order: empty when
-    /// the whole snapshot is sane.
+    /// Every value out of its physical range (or not finite), in register order.
     pub fn insane_fields(&self) -> Vec<InsaneField> {
         let mut out = Vec::new();
         let mut check = |field, joint, register, value, bounds: Bounds| {

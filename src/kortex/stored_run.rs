@@ -69,16 +69,13 @@ pub enum Progress {
     Running,
     /// Completed with the arm at rest.
     Completed,
-    /// Aborted after it ran: by a stop, another client, a joint limit. The reason names the
-    /// joint at its limit if one is.
+    /// Aborted after it ran (a stop, another client, a joint limit, named if so).
     Aborted(String),
     /// The arm is in fault.
     Fault(String),
-    /// The arm did not take the run: it refused it at once, or reports something else after
-    /// [`START_LIMIT`]. The reason says which.
+    /// Not taken: refused at once, or something else reported after [`START_LIMIT`].
     NotTaken(String),
-    /// After the run was seen started the status names another move: another client's replaced
-    /// it (`the arm runs action 5, not our action 2`). Never the run's end.
+    /// Seen started, then the status names another client's move (never the run's end).
     OtherMove(String),
 }
 

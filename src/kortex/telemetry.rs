@@ -1,5 +1,4 @@
-//! One complete snapshot of the arm, decoded from a [`RegisterImage`]. Serialises to the
-//! `armjog status --json` object.
+//! One decoded snapshot of the arm; serialises to `armjog status --json`.
 
 use serde::Serialize;
 
@@ -77,8 +76,7 @@ pub struct Telemetry {
     pub tcp: ToolState,
     pub action: ActionState,
     pub speed_limits: SpeedLimits,
-    /// Holding register 0 (read only), whose meaning the ICD leaves at a list of the control
-    /// coils. Not part of the JSON object.
+    /// Holding register 0 (read only), the control coils' list. Not in the JSON.
     #[serde(skip)]
     pub control: Coded<ControlCoil>,
     /// The state discrete inputs 0-9 report (the first one on), to compare with register 0.
@@ -87,8 +85,7 @@ pub struct Telemetry {
 }
 
 impl Telemetry {
-    /// Decodes a snapshot. Every bit pattern decodes: floats as IEEE-754 (NaN included), codes
-    /// the ICD does not list as `Coded::Unknown`, flag bits it does not name as unknown bits.
+    /// Decodes a snapshot; every bit pattern decodes (NaN, `Coded::Unknown`, unknown bits).
     pub fn decode(image: &RegisterImage) -> Telemetry {
         use input_register as ir;
 

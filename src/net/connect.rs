@@ -1,5 +1,4 @@
-//! Opening a TCP connection within a deadline, name lookup included: shared by the Talos and
-//! Modbus links so both report a failure the same way.
+//! A TCP connection within a deadline, lookup included, failing alike for both links.
 
 use std::time::Duration;
 
@@ -7,8 +6,7 @@ use tokio::net::TcpStream;
 
 use super::io_error_words;
 
-/// Why no connection was opened. Each names the address it was for, and says what went wrong in
-/// words ("connection refused", "no route to host"), never as an OS error number.
+/// Why no connection was opened: the address and the failure in words, never an errno.
 #[derive(Debug, thiserror::Error)]
 pub enum ConnectError {
     #[error("cannot resolve {addr}: {}", io_error_words(.source))]
@@ -26,8 +24,7 @@ pub enum ConnectError {
     Timeout { addr: String, after: Duration },
 }
 
-/// Resolves `addr` and tries every address it names until one accepts, all within `timeout`.
-/// The stream has Nagle off: both links send small request/reply pairs.
+/// Tries every address `addr` resolves to within `timeout`; Nagle off for small exchanges.
 pub async fn connect_with_timeout(
     addr: &str,
     timeout: Duration,

@@ -35,8 +35,7 @@ impl Deadline {
         self.at.is_some()
     }
 
-    /// Ready once the deadline has passed (at once for one in the past, as often as asked):
-    /// poll it only while [`Deadline::armed`].
+    /// Ready once past (at once if past, every time asked); poll only while [`Deadline::armed`].
     pub fn fired(&mut self) -> &mut Pin<Box<Sleep>> {
         &mut self.sleep
     }

@@ -23,8 +23,7 @@ pub const DEFAULT_FRAME_DEADLINE: Duration = Duration::from_secs(1);
 /// Room made in the buffer before each read.
 const READ_CHUNK: usize = 8 * 1024;
 
-/// A stream of decoded frames over `R`, with a per-frame deadline. Cancel-safe: dropping a
-/// [`FrameReader::next`] future loses no bytes.
+/// Decoded frames over `R`, a deadline per frame; cancel-safe.
 #[derive(Debug)]
 pub struct FrameReader<R> {
     inner: R,
@@ -33,8 +32,7 @@ pub struct FrameReader<R> {
     deadline: Duration,
     /// Who is at the other end, as the log names it.
     peer: String,
-    /// One entry per read whose bytes are still buffered: the stream offset just past its last
-    /// byte, and when it arrived. Bounded by the buffered bytes, as every read brings one or more.
+    /// Per buffered read: the offset past its last byte and its arrival (bounded by the buffer).
     arrivals: VecDeque<(u64, Instant)>,
     /// Bytes read from `inner` since the start.
     received: u64,
@@ -59,8 +57,7 @@ impl<R: AsyncRead + Unpin> FrameReader<R> {
         self.deadline
     }
 
-    /// The next frame or rejection; `None` once the stream has ended and everything buffered
-    /// has been reported.
+    /// The next frame or rejection; `None` once ended and all is reported.
     pub async fn next(&mut self) -> Option<io::Result<Decoded>> {
         loop {
             if let Some(item) = self.codec.decode_buffered(&mut self.buf) {
@@ -81,8 +78,7 @@ impl<R: AsyncRead + Unpin> FrameReader<R> {
             }
             let deadline = self.front_deadline();
             let read = self.inner.read_buf(&mut self.buf);
-            // The read is polled before the deadline: bytes already here are never expired for
-            // having been read late.
+            // The read is polled first: bytes already here never expire for being read late.
             let outcome = match deadline {
                 Some(at) => tokio::time::timeout_at(at, read).await,
                 None => Ok(read.await),
@@ -92,8 +88,8 @@ impl<R: AsyncRead + Unpin> FrameReader<R> {
                 Ok(Ok(n)) => self.note_arrival(n),
                 Ok(Err(e)) => return Some(Err(e)),
                 Err(_elapsed) => {
-                    // The read may have yielded only because the task's cooperative budget ran
-                    // out: take any bytes already here before giving up on a frame.
+                    // The read may have yielded for the coop budget: take bytes here before giving
+                    // up a frame.
                     let read = tokio::task::unconstrained(self.inner.read_buf(&mut self.buf));
                     match read.now_or_never() {
                         Some(Ok(0)) => self.eof = true,

@@ -1,5 +1,4 @@
-//! IO errors in the words a technician reads: "connection refused", "no route to host", "timed
-//! out", never "os error 113".
+//! IO errors in a technician's words ("connection refused"), never "os error 113".
 
 use std::io;
 

@@ -20,8 +20,7 @@ pub const MAX_TWIST_ANGULAR_DEG: f64 = 100.0;
 /// The operator's continuous-START watchdog, seconds.
 pub const WATCHDOG: f64 = 0.5;
 
-/// A discrete move (to a pose) has arrived when the tool is this close to its target, m and
-/// rad: well inside the 0.1 mm a technician steps by, so a step's length is the one asked for.
+/// A discrete move has arrived this close (m, rad): well inside a 0.1 mm step, so steps are exact.
 pub const ARRIVED_POSITION: f64 = 5e-6;
 pub const ARRIVED_ROTATION: f64 = 0.01 * std::f64::consts::PI / 180.0;
 
@@ -34,8 +33,7 @@ pub struct Arm {
     motion: SimMotion,
     /// A motion waiting for its start time (Talos Delay), with its tool speed cap.
     delayed: Option<(f64, SimMotion, Option<f64>)>,
-    /// The tool point's speed cap of the running motion, m/s, if its commander set one (the
-    /// Talos operator's jog speed); the configured linear limit applies on top.
+    /// The running motion's tool speed cap, m/s, if set (the operator's); the linear limit on top.
     tcp_cap: Option<f64>,
     /// When set, the current motion stops at this time unless refreshed (Talos continuous).
     watchdog: Option<f64>,
@@ -120,8 +118,7 @@ impl Arm {
         self.faults != 0
     }
 
-    /// Starts `motion`, after `delay` seconds if non-zero. `watchdog` makes it stop unless
-    /// refreshed within [`WATCHDOG`]. Only the configured linear limit bounds the tool speed.
+    /// Starts `motion` after `delay` s; `watchdog`: stops unless refreshed within [`WATCHDOG`].
     pub fn command(
         &mut self,
         motion: SimMotion,
@@ -180,14 +177,12 @@ impl Arm {
         }
     }
 
-    /// When the running continuous motion stops unless refreshed (arm time, seconds); `None`
-    /// when the motion has no watchdog. A change of it means a command (re)armed the watchdog.
+    /// When the continuous motion stops unrefreshed (arm time, s); a change means it was re-armed.
     pub fn watchdog_deadline(&self) -> Option<f64> {
         self.watchdog
     }
 
-    /// Changes the watchdog period of continuous motions (tests lengthen it to tell a stop by
-    /// the watchdog from another stop). Non-finite or non-positive periods are ignored.
+    /// The continuous motions' watchdog period (tests lengthen it); bad values ignored.
     pub fn set_watchdog_period(&mut self, seconds: f64) {
         if seconds.is_finite() && seconds > 0.0 {
             self.watchdog_period = seconds;
@@ -352,8 +347,8 @@ impl Arm {
                 self.warnings &= !(Flag::JointFault.bit());
             }
             self.q = next;
-            // A moving arm's reach from the kinematics this step ran anyway (one step old, under
-            // a millimetre): another forward pass per step would cost more than the tracking.
+            // A moving arm's reach from this step's kinematics (a step old, under a mm): cheaper
+            // than a pass.
             if let Some(reach) = reach {
                 self.reach_at = Some((self.q, reach));
             }

@@ -55,22 +55,19 @@ pub fn forward(q: &Joints) -> Pose {
     pose_of(&frames(q).1)
 }
 
-/// The geometric Jacobian: rows vx, vy, vz, wx, wy, wz in the base frame (see
-/// [`crate::kortex::gen3::jacobian`]).
+/// The geometric Jacobian, base frame (see [`crate::kortex::gen3::jacobian`]).
 pub fn jacobian(q: &Joints) -> SMatrix<f64, 6, JOINTS> {
     crate::kortex::gen3::jacobian(q)
 }
 
-/// The tool pose and the Jacobian from one pass over the DH chain (the integrator needs both
-/// every step).
+/// The tool pose and the Jacobian from one pass (the integrator needs both every step).
 pub fn pose_and_jacobian(q: &Joints) -> (Pose, SMatrix<f64, 6, JOINTS>) {
     let (before, tool) = frames(q);
     let j = crate::kortex::gen3::jacobian_of_frames(&before, &tool);
     (pose_of(&tool), j)
 }
 
-/// Joint velocities that best produce the twist `xdot` (vx, vy, vz in m/s, wx, wy, wz in rad/s,
-/// base frame), damped so that singularities give small motions instead of huge ones.
+/// Joint velocities best producing `xdot` (m/s, rad/s, base frame), damped near singularities.
 pub fn dls_velocity(q: &Joints, xdot: &Vector6<f64>, damping: f64) -> Joints {
     dls_velocity_with(&jacobian(q), xdot, damping)
 }
@@ -144,8 +141,7 @@ pub fn wrap_pi(angle: f64) -> f64 {
     a
 }
 
-/// Damped-least-squares IK from the seed `q0` towards `target`: 1e-4 m and 0.01 deg tolerance,
-/// limited joints clamped at every iteration.
+/// Damped-least-squares IK from `q0` to `target` (1e-4 m, 0.01 deg), limited joints clamped.
 pub fn inverse(q0: &Joints, target: &Pose) -> Result<Joints, IkError> {
     let mut q = *q0;
     let mut err = pose_error(&forward(&q), target);

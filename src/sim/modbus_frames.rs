@@ -86,8 +86,7 @@ pub fn bad_header(header: &[u8; HEADER_LEN]) -> Option<String> {
     }
 }
 
-/// Forwards checked frames until the client goes away or sends a malformed, impossible or
-/// stalled one.
+/// Forwards checked frames until the client leaves or sends a bad or stalled one.
 async fn relay_requests(
     from_client: &mut (impl AsyncRead + Unpin),
     to_server: &mut (impl AsyncWrite + Unpin),

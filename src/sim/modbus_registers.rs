@@ -30,8 +30,7 @@ pub enum Refused {
     IllegalValue,
 }
 
-/// Whether every address of `start..start+count` is listed. Computed in u32: a range that runs
-/// past 65535 is not listed (a u16 end would wrap or saturate and hide the last address).
+/// Whether all of `start..start+count` is listed; in u32, so a range past 65535 cannot wrap.
 pub fn listed(ranges: &[(u16, u16)], start: u16, count: u16) -> bool {
     let start = u32::from(start);
     let end = start + u32::from(count);
@@ -201,8 +200,7 @@ fn execute(world: &mut World) {
         1 => {
             let id = block[1];
             if matches!(block[2], 2 | 3) && !command_floats_finite(&block) {
-                // Like the real arm: the action is aborted and nothing moves (a running motion
-                // stops too, since its client just asked for something else).
+                // Like the real arm: aborted, nothing moves (its client asked for something else).
                 world.arm.stop();
                 world.arm.mark_aborted();
                 return;
@@ -239,8 +237,8 @@ fn execute(world: &mut World) {
                 _ => None,
             };
             match motion {
-                // A refused start (fault, unreachable) shows as an aborted action; like the
-                // real arm, "unable to reach pose" raises no flag.
+                // A refused start shows as aborted; like the real arm, "unable to reach pose"
+                // raises no flag.
                 Some(motion) => {
                     if world.arm.command(motion, 0.0, false).is_err() {
                         world.arm.mark_aborted();
@@ -268,8 +266,7 @@ fn start_stored(world: &mut World, id: u16, move_type: u16) {
     }
 }
 
-/// Coils: quick stop faults the arm, abort stops it, fault reset clears faults. Writing false
-/// does nothing (the link pulses them).
+/// Coils: quick stop faults, abort stops, fault reset clears; false does nothing (pulsed).
 pub fn write_coil(world: &mut World, addr: u16, value: bool) -> Result<(), Refused> {
     if !listed(&COILS, addr, 1) {
         return Err(Refused::IllegalAddress);

@@ -321,8 +321,7 @@ impl Operator {
         }
     }
 
-    /// Speed so a move of `amount` takes `time_ms`, capped at `max`; without a time, the current
-    /// speed setting.
+    /// Speed so `amount` takes `time_ms`, capped at `max`; without a time, the speed setting.
     fn timed_speed(&self, amount: f64, time_ms: u32, max: f64) -> f64 {
         if time_ms == 0 {
             return max * self.fraction();
@@ -355,8 +354,7 @@ fn tenths(value: f64) -> i32 {
         .clamp(f64::from(i32::MIN), f64::from(i32::MAX)) as i32
 }
 
-/// A continuous motion with the tool point under `cap` m/s: a repeat of the running motion
-/// only refreshes the watchdog (and takes the cap in force).
+/// A continuous motion under `cap` m/s; a repeat only refreshes the watchdog (and cap).
 fn continuous(arm: &mut Arm, motion: SimMotion, cap: f64) -> Result<(), ReturnCode> {
     if *arm.motion() == motion {
         arm.refresh_watchdog();

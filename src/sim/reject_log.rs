@@ -19,8 +19,7 @@ pub struct Admission {
     pub suppressed_before: Option<u64>,
 }
 
-/// A rate limit on log lines: pure, the caller supplies the time. A window opens at the first
-/// event after the previous one ended.
+/// A pure rate limit on log lines; a window opens at the first event after the last one ended.
 #[derive(Debug, Clone)]
 pub struct RateLimit {
     per_window: u32,
@@ -83,8 +82,7 @@ impl RateLimit {
     }
 }
 
-/// The rejected-frame log of one Talos connection: every rejection at info with the peer and
-/// the reason, within the [`RateLimit`].
+/// One Talos connection's rejected-frame log, at info with peer and reason, rate-limited.
 #[derive(Debug, Clone)]
 pub struct RejectLog {
     peer: SocketAddr,

@@ -90,8 +90,7 @@ fn to_motion(action: &StoredAction) -> SimMotion {
     }
 }
 
-/// The moves that start `id` as `move_type` (0 action, 1 sequence), in order; `None` when the
-/// arm has no such action or sequence.
+/// The moves that start `id` as `move_type` (0 action, 1 sequence); `None` if none.
 pub fn steps(id: u16, move_type: u16) -> Option<Vec<SimMotion>> {
     match move_type {
         MOVE_TYPE_ACTION => action(id).map(|a| vec![to_motion(a)]),

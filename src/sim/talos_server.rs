@@ -87,8 +87,8 @@ pub async fn serve(
                     replies.clone(),
                 );
                 if config.one_client {
-                    // Nothing is accepted until this client has gone: the next one waits in
-                    // the kernel's queue, connected but unanswered.
+                    // Nothing is accepted until this client has gone: the next waits in the
+                    // kernel's queue.
                     served.await;
                 } else {
                     tokio::spawn(served);
@@ -314,8 +314,7 @@ async fn answer_icd(arm: &SimArm, item: Decoded, client: &mut Client) -> Option<
     }
 }
 
-/// The deployed operator: "ACK\0" for every frame, before validating it; only commands
-/// 0x0000-0x0004 do anything. What it ignores is logged with the reason.
+/// The deployed operator: "ACK\0" for every frame before validating; only 0x0000-0x0004 act.
 async fn answer_ack(arm: &SimArm, item: Decoded, client: &mut Client) -> Option<Answer> {
     client.rejects.poll(now());
     match ack_request(item) {
@@ -327,8 +326,7 @@ async fn answer_ack(arm: &SimArm, item: Decoded, client: &mut Client) -> Option<
     Some(Answer::Ack)
 }
 
-/// The request an ack-dialect frame carries, with the frame id, or why the deployed operator
-/// does nothing with it.
+/// An ack-dialect frame's request and id, or why the deployed operator ignores it.
 fn ack_request(item: Decoded) -> Result<(u32, Request), String> {
     let frame = match item {
         Decoded::TalosFrame(frame) => frame,

@@ -1,5 +1,4 @@
-//! The one simulated arm both servers drive: a task that owns the [`Arm`] and the Talos
-//! [`Operator`] state, advances the arm in real time, and runs operations sent to it.
+//! The one simulated arm both servers drive: a task owning it and the operator, in real time.
 
 use std::time::Duration;
 
@@ -14,8 +13,7 @@ const TICK: Duration = Duration::from_millis(10);
 /// Longest stretch of simulated time caught up at once (after a suspended process, say).
 const MAX_CATCH_UP_STEPS: u64 = 2_000;
 
-/// Everything the simulated robot holds: the arm, the Talos operator's state and the Modbus
-/// command block.
+/// The simulated robot: the arm, the operator's state, the Modbus command block.
 #[derive(Debug, Clone, Default)]
 pub struct World {
     pub arm: Arm,

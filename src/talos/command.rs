@@ -116,8 +116,7 @@ impl CommandValue {
         range.contains(&length)
     }
 
-    /// Whether `length` is a payload length the ICD allows for the command value `value` (either
-    /// direction). False for values the ICD does not define.
+    /// Whether the ICD allows payload `length` for command `value` (either direction).
     pub fn is_plausible(value: u16, length: usize) -> bool {
         let reply = value & REPLY_BIT != 0;
         Self::from_request_value(value & !REPLY_BIT)

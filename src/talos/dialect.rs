@@ -1,5 +1,4 @@
 //! How a Talos operator answers: the ICD's typed replies, or the deployed operator's bare ACKs.
-//! Both the client (`link`) and the simulated operator (`sim`) speak either.
 
 use std::fmt;
 use std::str::FromStr;

@@ -19,8 +19,7 @@ use super::command::{CommandValue, REPLY_BIT};
 /// Bytes before the payload: id (4), reserved (2), command value (2), length (2).
 pub const HEADER_LEN: usize = 10;
 
-/// Largest payload the decoder accepts by default. The largest frame armjog defines (Save
-/// Position with two 255-byte names, or all-joint hardware feedback) is well below it.
+/// Largest payload decoded by default, well above armjog's largest frame.
 pub const DEFAULT_MAX_PAYLOAD: usize = 1024;
 
 /// One frame, request or reply, as on the wire.
@@ -32,8 +31,7 @@ pub struct TalosFrame {
     pub payload: Vec<u8>,
 }
 
-/// The parts of a header that identify an exchange, kept with a rejection so a server can still
-/// answer a frame whose checksum failed.
+/// A header's exchange fields, kept with a rejection so a bad frame can still be answered.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct FrameHeader {
     pub id: u32,
@@ -110,16 +108,13 @@ pub enum RejectReason {
     BadChecksum { expected: u16, found: u16 },
     /// The Length field is above the decoder's bound.
     OversizedLength { length: u16, max: usize },
-    /// A command value the ICD does not define cannot start a frame while resynchronising (or
-    /// with no checksum to trust).
+    /// An undefined command cannot start a frame while resynchronising (or without a checksum).
     UnknownCommand { value: u16 },
-    /// The Length field is not one the ICD allows for the command value: not a frame start
-    /// while resynchronising (or with no checksum to trust).
+    /// A length the ICD does not allow for the command: no frame start while resynchronising.
     ImplausibleLength { command: u16, length: u16 },
     /// The stream ended inside a frame.
     Truncated { have: usize, needed: usize },
-    /// A frame begun `after` ago was still incomplete at its deadline: the peer announced more
-    /// bytes than it sent (or sends them too slowly).
+    /// A frame begun `after` ago was incomplete at its deadline.
     Stalled {
         have: usize,
         needed: usize,
@@ -167,8 +162,7 @@ pub struct Rejection {
     pub reason: RejectReason,
     pub discarded: usize,
     pub header: Option<FrameHeader>,
-    /// Another checksum dialect under which the first dropped bytes are one valid frame: what
-    /// the peer most likely speaks. Looked for only at a clean frame boundary.
+    /// Another checksum under which the dropped bytes are a frame (looked for at a clean boundary).
     pub fits: Option<ChecksumFit>,
 }
 
@@ -202,8 +196,7 @@ impl fmt::Display for ChecksumFit {
     }
 }
 
-/// Which checksum dialect other than `used` makes `bytes` start with one complete frame whose
-/// checksum field checks out. `none` fits only a field of two zero bytes (it verifies nothing).
+/// The checksum other than `used` under which `bytes` start a valid frame (`none`: two zeros).
 pub fn checksum_that_fits(bytes: &[u8], used: Checksum, max_payload: usize) -> Option<ChecksumFit> {
     Checksum::ALL
         .into_iter()

@@ -55,8 +55,7 @@ pub enum DecodeError {
     },
 }
 
-/// The shared big-endian reader, with the command for error messages: a short payload is
-/// [`DecodeError::Truncated`] naming the field it ended inside.
+/// The shared reader, with the command for errors ([`DecodeError::Truncated`] names the field).
 pub(super) struct FieldReader<'a> {
     command: CommandValue,
     bytes: BeReader<'a>,

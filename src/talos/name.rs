@@ -5,8 +5,7 @@
 
 use std::fmt;
 
-/// The rule's bytes and length are the sanitiser's ([`crate::text`]): one rule for typed names
-/// and names from a file or a peer.
+/// The rule is the sanitiser's ([`crate::text`]): one for typed, file and peer names.
 pub const MAX_NAME_LEN: usize = crate::text::MAX_NAME_BYTES;
 
 /// Why a name is not valid.

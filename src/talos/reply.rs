@@ -133,8 +133,7 @@ impl Reply {
         }
     }
 
-    /// The reply to `command` carrying only a return code, every other field zero. This is how
-    /// a server answers with an error.
+    /// The error reply to `command`: only a return code, every other field zero.
     pub fn error(command: CommandValue, return_code: ReturnCode) -> Reply {
         match Self::decode_inner(command, &return_code.0.to_be_bytes(), true) {
             Ok(reply) => reply,

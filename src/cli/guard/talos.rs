@@ -16,8 +16,7 @@ use tokio::time::Instant;
 use crate::link::{Dialect, TalosConfig, TalosError, TalosLink};
 use crate::talos::{Checksum, Request, stop_requests};
 
-/// How long a request waits for its answer; and how long the operator has to answer a handshake
-/// while the console may still hold its connection.
+/// The wait for each answer, and for a handshake while the console may hold its connection.
 pub const SERVED_WITHIN: Duration = Duration::from_millis(500);
 /// Pause between attempts over a fresh connection.
 const RETRY: Duration = Duration::from_millis(50);
@@ -25,11 +24,10 @@ const RETRY: Duration = Duration::from_millis(50);
 /// Whether the console's connection to the operator is known to be closing.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Console {
-    /// Its process is gone (the pipe closed): the kernel has closed its connection, or the
-    /// console closed it on its way out.
+    /// The console's process is gone, and its connection closed.
     Gone,
-    /// It may still hold its connection: it stopped beating but lives, or the guard was told
-    /// to end by a signal (the console, alive, then stops the arm and starts a new guard).
+    /// It may hold its connection: frozen, or the guard was signalled (the console then restarts
+    /// it).
     MayBeConnected,
 }
 
@@ -80,8 +78,7 @@ impl TalosStop {
         }
     }
 
-    /// One connection: the handshake, the stop set, their answers. Returns how many stop
-    /// requests were answered.
+    /// One connection: handshake, stop set, answers; returns how many stops were answered.
     async fn once(&self, console: Console) -> Result<usize, String> {
         let (link, _events) = TalosLink::connect(self.config.clone())
             .await

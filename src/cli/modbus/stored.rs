@@ -155,8 +155,7 @@ pub(super) async fn run(
     }
 }
 
-/// `--no-wait`: nothing will watch the run end to put lowered limits back, so the run starts
-/// only when the arm's own limits already keep it within the cap and its turn rate.
+/// `--no-wait`: nothing puts limits back, so it starts only if the arm's limits keep the cap.
 async fn start_unwatched(
     args: &ModbusArgs,
     link: &ModbusLink,

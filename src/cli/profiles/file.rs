@@ -1,5 +1,4 @@
-//! Reading `config.toml`: its `[arms.NAME]` tables, each key checked against the console's own
-//! options (clap's definitions are the one list of them), with the line of every mistake.
+//! Reading `config.toml`'s `[arms.NAME]` tables, keys checked against clap's options, with lines.
 
 use std::any::TypeId;
 use std::ops::Range;
@@ -222,8 +221,7 @@ fn check_value(arg: &Arg, key: &str, text: &str) -> Result<(), String> {
     }
 }
 
-/// The candidate nearest to `typed`, when one is near enough to be what was meant: at most one
-/// edit (a swap of two neighbours is one) per three characters typed, and at least one.
+/// The candidate near enough to `typed` to be meant: an edit per three characters, at least one.
 pub fn nearest<'a>(typed: &str, candidates: &'a [String]) -> Option<&'a str> {
     let allowed = (typed.chars().count() / 3).max(1);
     candidates

@@ -5,8 +5,8 @@ use super::STEP;
 use super::kinematics::{MAX_JOINT_TORQUE, Pose};
 
 impl Arm {
-    /// Torques from a simple gravity model plus viscous friction; currents from the torque
-    /// constant; temperatures as a first-order response to copper losses. Deterministic.
+    /// Torques from gravity and viscous friction, currents via the torque constant, first-order
+    /// heat.
     pub(super) fn update_effort(&mut self) {
         let reach = self.reach();
         for (i, max_torque) in MAX_JOINT_TORQUE.iter().enumerate() {
@@ -40,8 +40,7 @@ impl Arm {
     }
 }
 
-/// The tool's horizontal distance from the base axis, m: it loads the shoulder and elbow like a
-/// lever.
+/// The tool's horizontal distance from the base axis, m (the shoulder's and elbow's lever).
 pub(super) fn horizontal_reach(pose: &Pose) -> f64 {
     pose.position.x.hypot(pose.position.y)
 }

@@ -43,8 +43,7 @@ impl SimMotion {
         matches!(self, SimMotion::Idle)
     }
 
-    /// Whether every number in the motion is finite: a NaN or infinity from a client would
-    /// otherwise drive the integrator to an arbitrary pose (or trip a joint fault).
+    /// Every number finite: a client's NaN would drive the integrator to an arbitrary pose.
     pub fn is_finite(&self) -> bool {
         let finite3 = |v: &Vector3<f64>| v.iter().all(|x| x.is_finite());
         match self {

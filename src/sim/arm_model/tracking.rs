@@ -17,8 +17,7 @@ pub(super) const GAIN: f64 = 40.0;
 const MAX_LAG_POSITION: f64 = 0.001;
 const MAX_LAG_ROTATION: f64 = 0.25 * std::f64::consts::PI / 180.0;
 
-/// The largest position error the reference may hold, m: a backstop should the arm stray
-/// further (it is pulled towards the arm, so no large correction builds up).
+/// The largest position error the reference may hold, m: a backstop.
 const MAX_HELD_POSITION: f64 = 0.002;
 
 /// The largest orientation error the reference may hold, rad.
@@ -42,8 +41,7 @@ pub(super) struct Reference {
     /// The motion this reference follows; another motion starts a new reference.
     motion: SimMotion,
     pub(super) pose: Pose,
-    /// This step's commanded (capped) twist, linear m/s and angular rad/s, and how it moves
-    /// the reference, until the step's progress is known.
+    /// This step's commanded twist (m/s, rad/s) and how it moves the reference.
     pending: Option<(Twist, Advance)>,
 }
 
@@ -61,8 +59,7 @@ impl Reference {
         self.motion == *motion
     }
 
-    /// Records this step's commanded twist `feed` and returns it with the correction from
-    /// `actual` towards the reference added.
+    /// Records `feed` for this step and returns it plus the correction towards the reference.
     pub(super) fn command(&mut self, actual: &Pose, feed: Twist, advance: Advance) -> Twist {
         self.pending = Some((feed, advance));
         let err = pose_error(actual, &self.pose);
@@ -72,8 +69,7 @@ impl Reference {
         )
     }
 
-    /// Moves the reference on by the share of this step's commanded twist the arm achieved
-    /// (`achieved`: its twist this step, base frame), from `actual`, its pose before the step.
+    /// Moves the reference by the share of the commanded twist the arm `achieved` from `actual`.
     pub(super) fn advance(&mut self, actual: &Pose, achieved: Twist) {
         let Some(((linear, angular), advance)) = self.pending.take() else {
             return;

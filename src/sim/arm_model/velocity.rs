@@ -10,8 +10,7 @@ use super::{
     SimMotion, joint_delta, polar_twist, tracking,
 };
 
-/// A discrete move within these (the tolerance of [`kinematics::inverse`], which found the
-/// target reachable) that the arm can hardly move closer has arrived where it can, m and rad.
+/// Within IK's tolerance and hardly able to get closer, a discrete move has arrived (m, rad).
 const STALLED_POSITION: f64 = 1e-4;
 const STALLED_ROTATION: f64 = 0.01 * std::f64::consts::PI / 180.0;
 
@@ -31,8 +30,7 @@ impl Arm {
                 angular,
                 frame,
             } => {
-                // A tool-frame twist turns with the tool the motion commands, not with the
-                // tool's small tracking error.
+                // A tool-frame twist turns with the commanded tool, not its tracking error.
                 let reference = self.reference_pose(pose);
                 let rotation = reference.rotation;
                 let (linear, angular) = match frame {
@@ -78,8 +76,7 @@ impl Arm {
                     && dr.norm() < STALLED_ROTATION
                     && !makes_headway(j, &qd, self.capped_twist(linear, angular))
                 {
-                    // As close as the inverse kinematics promised, and a singularity or a
-                    // limit leaves the arm hardly any way closer: it has arrived where it can.
+                    // As close as IK promised with no way closer: arrived where it can.
                     self.finish();
                     return [0.0; JOINTS];
                 }
@@ -136,8 +133,7 @@ impl Arm {
         }
     }
 
-    /// The motion arrived: a sequence goes on with its next move (still started), anything
-    /// else has completed.
+    /// Arrived: a sequence goes on to its next move, anything else completes.
     fn finish(&mut self) {
         self.reference = None;
         self.watchdog = None;
@@ -150,8 +146,7 @@ impl Arm {
         }
     }
 
-    /// The reference pose of the running continuous motion: a new one, at `pose`, when the
-    /// motion has just begun or changed.
+    /// The continuous motion's reference pose; new, at `pose`, when the motion begins or changes.
     fn reference_pose(&mut self, pose: &Pose) -> Pose {
         match &self.reference {
             Some(reference) if reference.follows(&self.motion) => reference.pose,
@@ -162,8 +157,7 @@ impl Arm {
         }
     }
 
-    /// Joint velocities that move the tool at `pose` by the (capped) twist `feed` plus the
-    /// correction towards the reference, which moves on by `advance` once the step is done.
+    /// Joint velocities for `feed` plus the correction to the reference, which moves by `advance`.
     fn follow(
         &mut self,
         pose: &Pose,
@@ -207,8 +201,7 @@ impl Arm {
     }
 }
 
-/// The velocity that closes the error `err` of a discrete move: proportional, no slower than
-/// `floor` and no faster than `max`, and never past the target within one step.
+/// Closes a discrete move's `err`: proportional, between `floor` and `max`, never overshooting.
 fn approach(err: Vector3<f64>, max: f64, floor: f64) -> Vector3<f64> {
     let n = err.norm();
     if n == 0.0 {
@@ -218,8 +211,7 @@ fn approach(err: Vector3<f64>, max: f64, floor: f64) -> Vector3<f64> {
     err * (speed / n)
 }
 
-/// Whether joint velocities `qd` realise at least a tenth of the twist `wanted` (its linear part,
-/// or its angular part when it has no linear one).
+/// Whether `qd` realises a tenth of `wanted` (linear, or angular when there is no linear part).
 fn makes_headway(j: &Jacobian, qd: &Joints, wanted: (Vector3<f64>, Vector3<f64>)) -> bool {
     let twist = j * nalgebra::SVector::<f64, JOINTS>::from(*qd);
     let (realised, wanted) = if wanted.0.norm_squared() > 0.0 {

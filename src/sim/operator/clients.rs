@@ -12,8 +12,7 @@ use crate::talos::{Reply, Request};
 pub struct ClientId(pub u64);
 
 impl Operator {
-    /// [`Operator::handle`] for a request from `client`, noting whether it started or refreshed
-    /// a continuous motion (the arm's watchdog was armed anew).
+    /// [`Operator::handle`] for `client`, noting whether it (re)armed a continuous motion.
     pub fn handle_from(&mut self, client: ClientId, arm: &mut Arm, request: Request) -> Reply {
         let before = arm.watchdog_deadline();
         let reply = self.handle(arm, request);

@@ -6,8 +6,7 @@ use crate::sim::telemetry;
 use crate::talos::ReturnCode;
 use crate::talos::hardware::{self, HwReply, HwRequest};
 
-/// The hardware companion ICD's operations on the simulated arm; `cap` bounds the tool speed
-/// of a joint jog, m/s.
+/// The hardware ICD's operations on the arm; `cap` bounds a joint jog's tool speed, m/s.
 pub(super) fn hardware_operation(
     arm: &mut Arm,
     request: HwRequest,

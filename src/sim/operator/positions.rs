@@ -1,5 +1,4 @@
-//! Named positions: saving, anchoring to a parent, deleting (anchored children freeze where
-//! they are), resolving a position's absolute pose, and moving to one.
+//! Named positions: save, anchor, delete (children freeze), resolve, go to.
 
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 
@@ -16,8 +15,7 @@ const MAX_ANCHOR_DEPTH: usize = 32;
 pub struct SavedPosition {
     /// Absolute pose, or the pose relative to `parent` when `anchor` is set.
     pub pose: Pose,
-    /// Joint angles when the position was saved from the arm and is not anchored: going there
-    /// is then a joint move, which needs no IK.
+    /// Joint angles when saved from the arm unanchored: going there is a joint move, no IK.
     pub joints: Option<Joints>,
     pub anchor: bool,
     pub parent: Option<String>,

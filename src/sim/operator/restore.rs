@@ -9,8 +9,7 @@ use crate::sim::kinematics::{self, JOINTS, Joints, Pose};
 use crate::talos::PositionName;
 use crate::text;
 
-/// Joint angles are kept only if they put the tool this close to the remembered place (m):
-/// otherwise they were taken at another moment than the coordinates.
+/// Kept joint angles must put the tool this close to the place (m), else taken at another time.
 const JOINTS_AGREE_WITHIN: f64 = 0.005;
 
 /// A named position from an earlier run, as remembered.

@@ -1,5 +1,4 @@
-//! The streaming codec: frames out of a byte stream, however TCP split it, and the report of
-//! every run of bytes it had to drop.
+//! The streaming codec: frames however TCP split them, and a report of every dropped run.
 
 use bytes::{Buf, BytesMut};
 use std::time::Duration;
@@ -16,13 +15,11 @@ use crate::talos::checksum::Checksum;
 pub struct FrameCodec {
     checksum: Checksum,
     max_payload: usize,
-    /// False from the first dropped byte until the next valid frame: positions are then only
-    /// trusted as frame starts if their command value and length are plausible.
+    /// False from a dropped byte to the next valid frame: only plausible starts count then.
     synced: bool,
     /// Bytes dropped since the last report.
     discarded: usize,
-    /// The first reason and header of the current run of dropped bytes, and the checksum its
-    /// first bytes fit if not ours.
+    /// The current dropped run's first reason and header, and the checksum it fits if not ours.
     first: Option<(RejectReason, Option<FrameHeader>, Option<ChecksumFit>)>,
 }
 
@@ -89,8 +86,7 @@ impl FrameCodec {
         self.decode_buffered(src)
     }
 
-    /// The next item from what is buffered, or `None` to wait for more bytes: what
-    /// [`Decoder::decode`] returns, without its never-taken error path.
+    /// The next buffered item, or `None` to wait: [`Decoder::decode`] without its error path.
     pub fn decode_buffered(&mut self, src: &mut BytesMut) -> Option<Decoded> {
         loop {
             match parse_frame(src, self.checksum, self.max_payload, !self.synced) {

@@ -1,5 +1,4 @@
-//! The u32 flag-word newtypes ([`CommandFlags`], [`StatusFlags`], [`ArmFlags`]), the macro that
-//! defines them, and [`RobotState`].
+//! The u32 flag-word newtypes, their macro, and [`RobotState`].
 
 use std::fmt;
 use std::ops::BitOr;

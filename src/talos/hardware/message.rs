@@ -56,15 +56,13 @@ impl HwRequest {
         Ok(self.payload_bytes())
     }
 
-    /// The Talos request (0x0008) carrying this operation, after [`HwRequest::validate`]: the one
-    /// place an operation becomes a request.
+    /// The Talos request (0x0008) for this operation, after [`HwRequest::validate`].
     pub fn to_request(&self) -> Result<Request, HwError> {
         self.validate()?;
         Ok(self.carried(self.payload_bytes()))
     }
 
-    /// STOP_ALL_JOINTS as its Talos request. It has no fields, so there is nothing to validate
-    /// and nothing that can fail: the stop set needs it unconditionally.
+    /// STOP_ALL_JOINTS as its request: no fields, so nothing can fail (the stop set needs it).
     pub fn stop_all_joints_request() -> Request {
         let stop = HwRequest::StopAllJoints;
         stop.carried(stop.payload_bytes())
@@ -136,8 +134,7 @@ impl HwRequest {
     }
 }
 
-/// A hardware operation reply payload, as sent with return code 0x0000 OK. With any other
-/// return code the reply Payload is empty and is not decoded with this type.
+/// A reply payload with return code OK; any other code has an empty payload.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub enum HwReply {
     /// 0..=7 blocks, joints strictly ascending.

@@ -1,5 +1,4 @@
-//! The payload structures and their byte layouts: [`ActuatorCommand`], [`ActuatorFeedback`]
-//! and [`ArmState`].
+//! The payload structures and their byte layouts.
 
 use serde::Serialize;
 

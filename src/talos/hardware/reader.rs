@@ -1,5 +1,4 @@
-//! Field checks and the hardware view of the shared big-endian reader, used by the payload and
-//! message layers.
+//! Field checks and the hardware view of the shared big-endian reader.
 
 use super::{HwError, JOINT_COUNT};
 use crate::talos::reader::{BeReader, Short};
@@ -36,8 +35,7 @@ pub(super) fn check_finite(field: &'static str, value: f32) -> Result<(), HwErro
     }
 }
 
-/// The shared big-endian reader ([`crate::talos::reader`]) over a payload whose exact length was
-/// checked by [`Reader::exact`].
+/// The shared reader ([`crate::talos::reader`]) over a payload of checked length.
 pub(super) struct Reader<'a> {
     bytes: BeReader<'a>,
     subcommand: u16,
