@@ -204,8 +204,7 @@ fn dated(name: &str, prefix: &str) -> Option<time::Date> {
     time::Date::from_calendar_date(year.parse().ok()?, month, day.parse().ok()?).ok()
 }
 
-/// Of `names`, the files to delete so `prefix`'s `keep` newest daily files remain (by the date in
-/// the name). `today`'s, being written, is never one, even behind a later-dated file.
+/// Which of `names` to delete so `prefix`'s `keep` newest remain; never `today`'s.
 fn to_delete<'a>(
     names: impl IntoIterator<Item = &'a str>,
     prefix: &str,
@@ -230,8 +229,7 @@ fn to_delete<'a>(
         .collect()
 }
 
-/// Deletes `prefix`'s daily files in `dir` beyond the `keep` newest ([`to_delete`]); only regular
-/// files count. Failures are ignored: pruning must never stop a program.
+/// Deletes `prefix`'s files beyond the `keep` newest ([`to_delete`]); failures ignored.
 fn prune(dir: &Path, prefix: &str, today: time::Date, keep: usize) {
     let Ok(entries) = std::fs::read_dir(dir) else {
         return;

@@ -1,5 +1,4 @@
-//! The one-shot commands' shared options also before the command word, as `cargo --verbose build`
-//! takes them (`armjog --talos A send get-speed`); after it clap takes them (`global`).
+//! Shared options also before the command word, as `cargo --verbose build` takes them.
 
 use std::ffi::OsString;
 

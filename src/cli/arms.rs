@@ -9,8 +9,7 @@ use crate::text;
 #[derive(Debug, Args)]
 pub struct ArmsArgs {}
 
-/// Runs `armjog arms`, checking the file whole as `--arm` does. A named file that is missing is
-/// refused; a missing default one means no profiles yet.
+/// Runs `armjog arms`; a missing default file means no profiles yet.
 pub fn run(given: Option<&std::path::Path>) -> Outcome {
     let Some(path) = profiles::config_path(given) else {
         return refused(&ProfileError::NoPlace);

@@ -16,8 +16,7 @@ pub enum Printed {
     ReaderGone,
 }
 
-/// Writes `lines` to `out` escaped ([`text::shown`]: one line stays one line) and flushes. A broken
-/// pipe is [`Printed::ReaderGone`]; any other failure is returned.
+/// Writes escaped `lines` and flushes; a broken pipe is [`Printed::ReaderGone`].
 pub fn write_lines<W: Write>(out: &mut W, lines: &[String]) -> io::Result<Printed> {
     let written = lines
         .iter()

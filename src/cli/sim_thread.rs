@@ -1,5 +1,4 @@
-//! The console's built-in simulated arm, on a thread and runtime of its own, so the simulator's
-//! work never runs between a key and its frame on the console's one-thread runtime.
+//! The built-in simulated arm on its own thread and runtime, off the console's key path.
 
 use std::net::SocketAddr;
 

@@ -1,5 +1,4 @@
-//! What this build is: `0.1.0 (508af6a 2026-12-01)`, the version, git revision (`-dirty`, `unknown`
-//! outside git) and UTC build date, stamped by `build.rs`.
+//! This build: version, git revision (`-dirty`, `unknown`) and UTC date, from `build.rs`.
 
 /// `VERSION (REVISION DATE)`; clap prefixes the program's name.
 pub const VERSION: &str = concat!(

@@ -1,5 +1,4 @@
-//! Reading and writing the position book off the event loop: a 16 MB book takes a second or more to
-//! parse, and the task that reads keys and sends STOPs must not wait.
+//! The position book read and written off the event loop, which must never wait for it.
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -36,8 +35,7 @@ pub fn load(path: &Path) -> oneshot::Receiver<Loaded> {
     rx
 }
 
-/// Reads the book at `path` on a blocking thread and waits: for a caller that needs it before the
-/// console starts (the built-in operator), which hands the result to [`BookFiles::open_read`].
+/// Reads the book on a blocking thread, for a caller that needs it before the console starts.
 pub async fn read(path: &Path) -> Result<PositionBook, BookError> {
     let owned = path.to_path_buf();
     match tokio::task::spawn_blocking(move || PositionBook::load(&owned)).await {
@@ -61,8 +59,7 @@ pub async fn loaded(loading: &mut Option<oneshot::Receiver<Loaded>>) -> Loaded {
     result
 }
 
-/// A book to write, with the file as the console last knew it, for the write to merge with what
-/// another writer put there since (`PositionBook::save_shared`).
+/// A book to write, with its base (the file as last known) to merge against.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BookSave {
     pub book: PositionBook,
@@ -72,8 +69,7 @@ pub struct BookSave {
 }
 
 impl BookSave {
-    /// This book written in place of unwritten `older`: merged from `older`'s base, with its
-    /// changes.
+    /// This book written instead of unwritten `older`: from its base, with its changes.
     fn over(mut self, older: Unwritten) -> BookSave {
         self.known = older.known;
         self.touched.extend(older.touched);
@@ -105,8 +101,7 @@ impl std::ops::Deref for BookSave {
     }
 }
 
-/// What became of the books handed over up to the `upto`-th (from 1): all written, or the newest
-/// failed with `error`. `found`: another writer's changes were merged in.
+/// The books up to the `upto`-th: written, or the newest failed; `found`: merged changes.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SaveOutcome {
     pub upto: u64,
@@ -135,9 +130,7 @@ impl Saver {
         let (next, mut books) = mpsc::unbounded_channel::<(u64, BookSave)>();
         let (outcomes_tx, outcomes) = mpsc::unbounded_channel();
         let task = tokio::spawn(async move {
-            // Taken out of the channel, not copied, so the app's book is no longer shared once
-            // written. What the file was known as before a failed write, whose changes the next
-            // book holds.
+            // Books are taken, not copied; `unwritten`: the last failed write's base and changes.
             let mut unwritten: Option<Unwritten> = None;
             while let Some(mut handed) = books.recv().await {
                 while let Ok((upto, newer)) = books.try_recv() {
@@ -296,8 +289,7 @@ impl BookFiles {
         }
     }
 
-    /// Writes the last book (and held changes once loaded), waiting at most `within`, and tells on
-    /// stderr (the shell's again) what a slow write waits for and a failure.
+    /// Writes the last book (and held changes), at most `within`, telling stderr of delays.
     pub async fn finish(self, within: Duration) {
         self.finish_telling(within, |line| {
             // Not `eprintln!`, which panics when stderr is gone (a terminal that hung up).

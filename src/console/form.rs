@@ -1,5 +1,4 @@
-//! Small forms and confirmations shown over the panels. Input is validated here, before anything is
-//! sent: a bad value keeps the form open with the reason.
+//! Small forms and questions over the panels; input is checked here, the form kept on error.
 
 use crate::kortex::Stored;
 use crate::talos::name::{MAX_NAME_LEN, NameError};
@@ -191,8 +190,7 @@ impl Form {
         }
     }
 
-    /// The save form for the console's own book: no anchor toggle (an anchor does nothing there;
-    /// the note says why). The parent is kept, as the book keeps it.
+    /// The save form for the console's own book: no anchor toggle (it would do nothing there).
     pub fn save_to_own_book() -> Form {
         let mut form = Form::new(FormKind::Save, "");
         form.fields.retain(|field| field.label != "anchor");

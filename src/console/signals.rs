@@ -1,11 +1,9 @@
-//! Signals as one channel, fed by a task per signal: a tokio signal receiver re-registers on every
-//! poll, and the event loop polls its inputs on every turn.
+//! Signals as one channel: a tokio signal receiver re-registers on every poll.
 
 use tokio::signal::unix::{SignalKind, signal};
 use tokio::sync::mpsc;
 
-/// Each signal in `signals` sends its value on the returned channel. All are registered before any
-/// is awaited, so a failure leaves none half set up. Tasks end with the receiver or runtime.
+/// Sends each signal of `signals` on one channel; all registered before any is awaited.
 pub fn forward<T: Copy + Send + 'static>(
     signals: &[(SignalKind, T)],
 ) -> std::io::Result<mpsc::UnboundedReceiver<T>> {

@@ -43,9 +43,7 @@ pub fn abort_reason(t: &Telemetry) -> String {
         .filter_map(|(i, j)| margin(i, j.position).map(|m| (i, m)))
         .filter(|(_, m)| *m <= NEAR_LIMIT_DEG)
         .min_by(|a, b| a.1.total_cmp(&b.1));
-    // A joint is named as the cause when the arm says a joint faulted or the joint is right
-    // at its limit; a joint merely near it (an abort by hand close to a limit) is only where
-    // it was.
+    // A joint is the cause if it faulted or is at its limit, not merely near it.
     let warned = t.warnings.contains(Flag::JointFault);
     match nearest {
         Some((i, m)) if warned || m <= AT_LIMIT_DEG => format!("aborted, J{} at its limit", i + 1),

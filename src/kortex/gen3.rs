@@ -51,8 +51,7 @@ fn dh(alpha: f64, d: f64, theta: f64) -> Matrix4<f64> {
     m
 }
 
-/// Forward kinematics for joint angles `q` (rad): each joint's frame (index i is joint i+1, axis Z)
-/// and the tool interface frame, in the base frame.
+/// Each joint's frame (index i is joint i+1, axis Z) and the tool frame, base frame.
 pub fn frames(q: &[f64; 7]) -> ([Matrix4<f64>; 7], Matrix4<f64>) {
     // The fixed base row: alpha = pi, d = 0, theta = 0.
     let mut t = dh(std::f64::consts::PI, 0.0, 0.0);

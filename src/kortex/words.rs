@@ -1,5 +1,4 @@
-//! Two-register values in the ICD's CDAB order: big-endian words, the **low** word at the lower
-//! address. 1.0f32 (0x3F80_0000) is `[0x0000, 0x3F80]`.
+//! Two-register values, CDAB: low word first. 1.0f32 is `[0x0000, 0x3F80]`.
 
 /// A 32-bit value as the two registers that carry it, low word first.
 pub fn u32_to_words(value: u32) -> [u16; 2] {

@@ -18,8 +18,7 @@ pub enum CommandClass {
     Query,
 }
 
-/// What kind of command failed: an [`ArmCommand`](super::interface::ArmCommand)'s, or the driver's
-/// own.
+/// What kind of command failed (a command's, or the driver's own work).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum CommandKind {
     Jog,

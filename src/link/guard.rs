@@ -298,8 +298,7 @@ async fn heartbeat(stdin: &mut ChildStdin) -> Result<(), String> {
     }
 }
 
-/// Ends a silent guard so a fresh one can take over; stdin dropped first so a live one stops the
-/// arm.
+/// Ends a silent guard (stdin dropped first, so a live one stops the arm).
 async fn end(mut child: Child, stdin: ChildStdin, reason: String) -> String {
     drop(stdin);
     if tokio::time::timeout(Duration::from_secs(1), child.wait())

@@ -1,5 +1,4 @@
-//! The arm interface the console drives, whatever the wire: [`ArmCommand`]s in, [`ArmEvent`]s out;
-//! the driver translates them to Talos frames or Modbus writes.
+//! The arm interface: [`ArmCommand`]s in, [`ArmEvent`]s out, whatever the wire.
 
 use std::time::Duration;
 

@@ -270,8 +270,7 @@ impl ModbusLink {
         self.ask(Job::Read).await
     }
 
-    /// Starts or updates a twist (m/s, deg/s) in `frame`; the same twist only refreshes, zero
-    /// stops.
+    /// Starts or updates a twist (m/s, deg/s); the same only refreshes, zero stops.
     pub async fn jog_twist(
         &self,
         frame: ReferenceFrame,
@@ -421,8 +420,7 @@ impl ModbusLink {
             .await
     }
 
-    /// Stops any twist, waits for the write, ends the task: unlike a drop, it says if the stop
-    /// failed.
+    /// Stops any twist and ends the task; unlike a drop, says if the stop failed.
     pub async fn close(self) -> Result<(), ModbusError> {
         self.ask(Job::Close).await
     }

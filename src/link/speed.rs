@@ -123,8 +123,7 @@ impl SpeedCap {
         configured.min(self.max_jog_speed as f32) * fraction(percent) as f32
     }
 
-    /// A joint jog's rate at `percent`, deg/s, keeping the tool point under the cap for `horizon`
-    /// s.
+    /// A joint jog's rate, deg/s, keeping the tool under the cap for `horizon` s.
     pub fn joint_rate(
         &self,
         joint_jog_speed: f32,

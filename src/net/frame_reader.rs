@@ -88,8 +88,7 @@ impl<R: AsyncRead + Unpin> FrameReader<R> {
                 Ok(Ok(n)) => self.note_arrival(n),
                 Ok(Err(e)) => return Some(Err(e)),
                 Err(_elapsed) => {
-                    // The read may have yielded for the coop budget: take bytes here before giving
-                    // up a frame.
+                    // A yield may be the coop budget: take bytes here first.
                     let read = tokio::task::unconstrained(self.inner.read_buf(&mut self.buf));
                     match read.now_or_never() {
                         Some(Ok(0)) => self.eof = true,

@@ -2,8 +2,7 @@
 
 use std::io;
 
-/// What went wrong in plain words: the raw OS error where it names a network condition, else the
-/// error kind, else the system's text without "(os error N)".
+/// The raw OS error's words, else the kind's, else the text without "(os error N)".
 pub fn io_error_words(error: &io::Error) -> String {
     if let Some(words) = error.raw_os_error().and_then(os_error_words) {
         return words.to_string();

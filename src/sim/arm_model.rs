@@ -49,8 +49,7 @@ pub struct Arm {
     temperature: Joints,
     torque: Joints,
     current: Joints,
-    /// The joints the effort model last ran the kinematics at, and the reach found: at rest the 1
-    /// kHz integrator need not redo them every step.
+    /// Kinematics cache of the effort model: at rest the 1 kHz integrator skips them.
     reach_at: Option<(Joints, f64)>,
     /// Where a running twist or polar pan should have the tool (see [`tracking`]).
     reference: Option<tracking::Reference>,
@@ -347,8 +346,7 @@ impl Arm {
                 self.warnings &= !(Flag::JointFault.bit());
             }
             self.q = next;
-            // A moving arm's reach from this step's kinematics (a step old, under a mm): cheaper
-            // than a pass.
+            // Reach from this step's kinematics: a step old, cheaper.
             if let Some(reach) = reach {
                 self.reach_at = Some((self.q, reach));
             }

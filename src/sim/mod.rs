@@ -1,5 +1,4 @@
-//! The simulated Kinova Gen3 and its servers: one [`world::SimArm`] task owns the arm, and the
-//! Talos (default `127.0.0.1:61616`) and Modbus (`127.0.0.1:5020`) servers both drive it.
+//! The simulated Gen3 and its Talos (:61616) and Modbus (:5020) servers, one arm task.
 
 pub mod arm_model;
 pub mod kinematics;

@@ -237,8 +237,7 @@ fn execute(world: &mut World) {
                 _ => None,
             };
             match motion {
-                // A refused start shows as aborted; like the real arm, "unable to reach pose"
-                // raises no flag.
+                // Refused: aborted, no flag (as the real arm).
                 Some(motion) => {
                     if world.arm.command(motion, 0.0, false).is_err() {
                         world.arm.mark_aborted();

@@ -174,8 +174,7 @@ pub async fn serve_on(
     };
     let on_error = |e| tracing::warn!("sim modbus: {e}");
     let server = Server::new(listener);
-    // tokio-modbus's `serve` returns on the first failed accept (e.g. out of descriptors): serve
-    // again after a pause rather than leave the port dead.
+    // `serve` returns on a failed accept: serve again after a pause.
     loop {
         if let Err(e) = server.serve(&on_connected, on_error).await {
             tracing::warn!(

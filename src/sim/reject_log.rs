@@ -1,5 +1,4 @@
-//! Rejected frames logged per connection, limited so garbage cannot fill the disk: the first
-//! [`PER_WINDOW`] of each second in full, then one summary line.
+//! Rejected frames logged per connection, [`PER_WINDOW`] a second, then a summary.
 
 use std::fmt;
 use std::net::SocketAddr;

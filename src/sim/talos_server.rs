@@ -87,8 +87,7 @@ pub async fn serve(
                     replies.clone(),
                 );
                 if config.one_client {
-                    // Nothing is accepted until this client has gone: the next waits in the
-                    // kernel's queue.
+                    // One client at a time: the next waits in the kernel's queue.
                     served.await;
                 } else {
                     tokio::spawn(served);

@@ -26,8 +26,7 @@ const RETRY: Duration = Duration::from_millis(50);
 pub enum Console {
     /// The console's process is gone, and its connection closed.
     Gone,
-    /// It may hold its connection: frozen, or the guard was signalled (the console then restarts
-    /// it).
+    /// It may hold its connection: frozen, or the guard was signalled.
     MayBeConnected,
 }
 

@@ -1,5 +1,4 @@
-//! `armjog modbus home|action|sequence`: starts a stored run by id under the tool speed cap and
-//! waits for its end, one path for all three ([`StoredRun`] reads each poll).
+//! `armjog modbus home|action|sequence`: one capped path, waited to its end ([`StoredRun`]).
 
 use std::time::{Duration, Instant};
 

@@ -1,5 +1,4 @@
-//! Applying a profile: its options are added as if typed unless the command line gives them (clap's
-//! `value_source`), so a flag wins over the profile and the profile over the default.
+//! A profile's options are added as if typed unless given (a flag beats it, it beats defaults).
 
 use std::ffi::OsString;
 
@@ -61,8 +60,7 @@ impl From<ProfileError> for ArgsError {
     }
 }
 
-/// Reads `args` (program name first) and applies the profile `--arm` or `ARMJOG_ARM` names; the
-/// file is read only then, checked whole before anything connects.
+/// Reads `args` and applies the profile `--arm` or `ARMJOG_ARM` names, checked whole first.
 pub fn parse_args(args: Vec<OsString>) -> Result<Parsed, ArgsError> {
     let mut command = Cli::command();
     command.build();

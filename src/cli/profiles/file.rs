@@ -182,8 +182,7 @@ fn argument_text(value: &DeValue<'_>, kind: Kind) -> Option<String> {
     }
 }
 
-/// Runs the option's own parser (`cli::values`) on `text` and says what is wrong as the file names
-/// it: `KEY = VALUE: why`.
+/// Runs the option's own parser on `text`; errors read `KEY = VALUE: why`.
 fn check_value(arg: &Arg, key: &str, text: &str) -> Result<(), String> {
     let possible: Vec<String> = arg
         .get_possible_values()

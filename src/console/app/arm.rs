@@ -33,8 +33,7 @@ impl App {
         match event {
             ArmEvent::Status(status) => {
                 if let LinkStatus::Down { reason } = &status {
-                    // Stop through any link left; held keys stay latched so nothing restarts on
-                    // reconnect.
+                    // Stop on any link left; held keys stay latched.
                     self.stop_jog(now, effects);
                     let text = format!("link lost: {reason}");
                     self.say_until(text, Severity::Error, Until::LinkUp, now);
@@ -180,8 +179,7 @@ impl App {
         self.stop_from_telemetry(text, now, effects);
     }
 
-    /// Stops a motion telemetry shows must not go on, latching held keys; `text` is said and
-    /// logged.
+    /// Stops a motion telemetry forbids, latching held keys; `text` said and logged.
     pub(super) fn stop_from_telemetry(
         &mut self,
         text: String,

@@ -207,8 +207,7 @@ impl History {
         };
         let current =
             (now.saturating_duration_since(origin).as_millis() / BUCKET.as_millis()) as u64;
-        // The bucket being filled joins the window with its first sample (no blink, no idle
-        // redraw).
+        // The filling bucket joins with its first sample (no blink).
         let newest = if self.buckets.back().is_some_and(|b| b.index >= current) {
             current
         } else {

@@ -1,5 +1,4 @@
-//! What one telemetry sample says about the held jog: running, at rest, far slower, or moving the
-//! tool elsewhere. Pure; `other_client` acts on it.
+//! What one sample says about the held jog; `other_client` acts on it.
 
 use crate::console::coords::describe_motion;
 use crate::console::jog::JogMotion;

@@ -338,8 +338,7 @@ impl App {
         })
     }
 
-    /// A key that may not move the arm: a jog key is tracked latched, moving only after a new
-    /// press.
+    /// A key that may not move the arm: a jog key is latched until a new press.
     pub(super) fn latch_jog_key(
         &mut self,
         key: &KeyInput,

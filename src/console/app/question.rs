@@ -1,5 +1,4 @@
-//! A question is answered by a person: never by a key within [`QUESTION_QUIET`] of it opening, nor
-//! by one of a burst (keys within [`BURST_KEY_GAP`], as an unbracketed paste arrives).
+//! A question is answered by a person: no key within [`QUESTION_QUIET`] nor in a burst.
 
 use std::time::{Duration, Instant};
 

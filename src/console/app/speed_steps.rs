@@ -1,11 +1,9 @@
-//! The speed keys' steps: 1, 5, 10, 25, 50, 75, 100 % (fine steps where a technician creeps up
-//! on a part, coarse ones for travel).
+//! The speed keys' steps, fine where a technician creeps up on a part, coarse for travel.
 
 /// The speeds the speed keys walk, percent.
 pub const SPEED_STEPS: [u8; 7] = [1, 5, 10, 25, 50, 75, 100];
 
-/// The speed one speed key sets from `current` (percent): the next step up or down; a speed between
-/// steps goes to the nearest in that direction; at either end it stays.
+/// The next step up or down from `current` (percent), staying at either end.
 pub fn next_speed(current: u8, up: bool) -> u8 {
     let first = SPEED_STEPS[0];
     let last = SPEED_STEPS[SPEED_STEPS.len() - 1];

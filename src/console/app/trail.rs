@@ -1,5 +1,4 @@
-//! The tool point's recent path for the arm view: the last [`TRAIL_SPAN`] of telemetry, one point
-//! every [`TRAIL_SPACING`] at most, so the buffer stays small.
+//! The tool point's recent path, a point per [`TRAIL_SPACING`] over [`TRAIL_SPAN`].
 
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
@@ -14,8 +13,7 @@ pub const TRAIL_SPACING: Duration = Duration::from_millis(50);
 /// The most points the trail holds (one more than the span over the spacing: both ends).
 pub const TRAIL_CAPACITY: usize = 201;
 
-/// A trail point's brightness, in thirds of [`TRAIL_SPAN`]: held instead of the age, so a still
-/// arm's trail does not redraw.
+/// A point's brightness in thirds of [`TRAIL_SPAN`], so a still trail does not redraw.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub enum TrailShade {
     Old,

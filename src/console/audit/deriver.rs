@@ -1,5 +1,4 @@
-//! Audit records from what flows between the state machine and the driver. Pure: every call takes
-//! the time it happened.
+//! Audit records from what flows between app and driver. Pure: each call takes its time.
 
 use std::collections::BTreeMap;
 use std::time::{Duration, SystemTime};
@@ -25,8 +24,7 @@ pub struct AuditDeriver {
     /// Positions live on a Talos operator (its commands are recorded); else the book's saves are.
     positions_on_operator: bool,
     jog: Option<(JogMotion, SystemTime)>,
-    /// The speed the next command runs at: commands run in order, so a `SetSpeed` (or a speed the
-    /// driver reports) holds for the commands after it.
+    /// The speed the next command runs at (commands run in order).
     speed: u8,
     /// The link status last recorded; `Connecting` records nothing.
     link: Option<LinkStatus>,
@@ -65,8 +63,7 @@ impl AuditDeriver {
         round_tenth(self.cap.tool_speed_mm_s(percent))
     }
 
-    /// A jog's rate cap at `percent` (mm/s or deg/s): a tool turn's is [`SpeedCap::turn_rate`] (it
-    /// moves the point not at all), every other jog's the tool speed.
+    /// A jog's rate cap at `percent`: a tool turn's in deg/s, any other's in mm/s.
     fn jog_rate(&self, motion: &JogMotion, percent: u8) -> (Option<f64>, Option<f64>) {
         match motion {
             JogMotion::Orientation { .. } => (

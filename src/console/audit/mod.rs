@@ -202,8 +202,7 @@ impl AuditRecord {
     }
 }
 
-/// Where audit files go: `$ARMJOG_STATE_DIR`, else `$ARMJOG_LOG_DIR`, else the user's state
-/// directory (`~/.local/state/armjog/`), else the local data directory.
+/// `$ARMJOG_STATE_DIR`, `$ARMJOG_LOG_DIR`, `~/.local/state/armjog/`, or the data directory.
 pub fn audit_dir() -> Option<PathBuf> {
     if let Some(dir) = std::env::var_os("ARMJOG_STATE_DIR") {
         return Some(PathBuf::from(dir));

@@ -73,8 +73,7 @@ impl AuditSession {
         }
     }
 
-    /// Before the app sees `input`: the driver's reports and the loaded book, after the last
-    /// input's.
+    /// Before the app sees `input`: the driver's reports and the loaded book.
     pub fn input(&mut self, input: &Input) {
         match input {
             Input::Arm(event) => {
@@ -95,8 +94,7 @@ impl AuditSession {
         self.sent.push(command);
     }
 
-    /// The input is handled: its records are made at the loop's next turn, stamped now, after those
-    /// of the input before.
+    /// The input is handled: recorded at the loop's next turn, after the input before.
     pub fn handled(&mut self, app: &App) {
         self.record_handled();
         std::mem::swap(&mut self.sent, &mut self.handled_sent);
@@ -144,8 +142,7 @@ impl AuditSession {
         self.write(records);
     }
 
-    /// A book being saved: what changed from `known` (positions merged in from another console are
-    /// not this technician's saves).
+    /// A book being saved: what changed from `known` (merged-in positions are not saves).
     pub fn book_saved(&mut self, book: &PositionBook, known: &PositionBook) {
         self.record_handled();
         self.deriver.book_loaded(known);

@@ -1,5 +1,4 @@
-//! The form that starts a stored action or sequence by id: its kind and its id, each refused
-//! with what was wrong before anything is asked.
+//! The form that starts a stored action or sequence by id, checked before anything is asked.
 
 use super::{Field, Form, FormKind, FormResult};
 use crate::kortex::commands::{STORED_IDS, stored_id};

@@ -20,8 +20,7 @@ impl TourQuestion {
         self.text().whole()
     }
 
-    /// The question, its legs apart: a long tour's are shortened to what the dialog has room
-    /// for (`… and 9997 more`).
+    /// The question, its legs apart so the dialog can shorten them.
     pub fn text(&self) -> QuestionText<'_> {
         let mode = if self.one_leg {
             "one leg at a time"

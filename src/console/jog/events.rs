@@ -53,8 +53,7 @@ impl JogEngine {
     ) {
         let Some(held) = self.held.get_mut(&action) else {
             if kind == KeyKind::Repeat {
-                // A repeat with no press seen (focus came back mid-hold): down, but no reason to
-                // move.
+                // A repeat with no press seen (focus back mid-hold): no move.
                 let Some((axis, sign)) = action.jog() else {
                     return;
                 };
@@ -67,8 +66,7 @@ impl JogEngine {
         let gap = held.record(now);
         match (held.state, kind) {
             (_, KeyKind::Press) => {
-                // Pressed again without a release: releases are not reported; fall back to
-                // auto-repeat.
+                // Pressed again without a release: fall back to auto-repeat.
                 self.mode = ReleaseMode::AutoRepeat;
                 effects.extend(self.stop_all(now));
                 effects.push(JogEffect::Notice(JogNotice::ReleasesMissing));
@@ -150,8 +148,7 @@ impl JogEngine {
             changed |= h.state == KeyState::Moving;
             match (mode, h.state) {
                 (ReleaseMode::Reported, KeyState::Moving) => {
-                    // No evidence the key is down: stop, but keep it latched in case its events
-                    // come late.
+                    // No evidence it is down: stop, but keep it latched.
                     silent_for = Some(at.saturating_duration_since(h.last_event));
                     h.latch();
                     h.last_event = now;
@@ -164,8 +161,7 @@ impl JogEngine {
                     true
                 }
                 _ => {
-                    // A lone event with no repeat is a tap; a tap of a key with no step is only a
-                    // word.
+                    // A lone event is a tap; with no step, only a word.
                     let tap = h.state == KeyState::Pending
                         && h.last_event_alone()
                         && (h.step_due.is_some() || !h.steps());

@@ -125,8 +125,7 @@ impl Held {
 pub(super) fn expiry(mode: ReleaseMode, timing: &RepeatTiming, held: &Held) -> Instant {
     let silence = match (mode, held.state) {
         (ReleaseMode::AutoRepeat, KeyState::Moving) => timing.repeat_timeout(),
-        // In a run of repeats the next is due within an interval; after a lone event, an onset
-        // away. A latch errs on holding on: stalled repeats are not a release.
+        // Next repeat due within an interval; a latch errs on holding on.
         (ReleaseMode::AutoRepeat, KeyState::Latched) if !held.last_event_alone() => {
             timing.repeat_timeout().max(LATCH_SILENCE_MIN)
         }

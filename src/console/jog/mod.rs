@@ -47,8 +47,7 @@ pub enum JogEffect {
     Start(JogMotion),
     /// Stop all continuous motion.
     Stop,
-    /// A cartesian key tapped (fallback): a small bounded step this way (the console sets its
-    /// size).
+    /// A cartesian key tapped (fallback): a small bounded step this way.
     Step(JogMotion),
     /// Something the technician must be told.
     Notice(JogNotice),
@@ -172,8 +171,7 @@ impl JogEngine {
         effects
     }
 
-    /// A jog key event while motion is not allowed: tracked as latched, so it moves only after a
-    /// fresh press.
+    /// A jog key event while motion is not allowed: latched until a fresh press.
     pub fn latch(&mut self, action: Action, kind: KeyKind, now: Instant) -> Vec<JogEffect> {
         let Some((axis, sign)) = action.jog() else {
             return Vec::new();
@@ -197,8 +195,7 @@ impl JogEngine {
         effects
     }
 
-    /// As [`JogEngine::latch`], and whether the event is a fresh press; step mode steps only on
-    /// those, so auto-repeat (presses in the fallback) does not step again and again.
+    /// As [`JogEngine::latch`], and whether it is a fresh press (step mode steps only on those).
     pub fn latch_press(
         &mut self,
         action: Action,

@@ -115,8 +115,7 @@ fn token_start(text: &str, end: usize) -> Option<usize> {
         return None;
     }
     let closing_quote = index - 1;
-    // The opening quote is the nearest quote before the closing one after an even run of
-    // backslashes.
+    // The nearest quote after an even run of backslashes opens it.
     let mut candidate = closing_quote;
     while candidate > 0 {
         candidate -= 1;

@@ -133,8 +133,7 @@ impl BookLock {
                 Err(std::fs::TryLockError::Error(e))
                     if e.kind() == std::io::ErrorKind::Unsupported =>
                 {
-                    // Without locks (some network shares) only a short race remains: the file is
-                    // re-read and merged.
+                    // Without locks (network shares), re-read and merge leave a short race.
                     tracing::warn!(
                         "{}: no file locks here ({e}); the book is merged unlocked",
                         path.display()

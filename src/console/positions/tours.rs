@@ -1,5 +1,4 @@
-//! Tours: ordered lists of named positions, kept beside them in the book's file. A book without
-//! tours loads; a tour naming a missing position is kept and refused with that name when played.
+//! Tours: ordered lists of named positions, kept in the book's file.
 
 use serde::{Deserialize, Serialize};
 
@@ -95,8 +94,7 @@ impl PositionBook {
         }
     }
 
-    /// After loading: a tour with a bad name is dropped with a note; a repeated name keeps the
-    /// last.
+    /// After loading: a tour with a bad name is dropped with a note.
     pub(super) fn repair_tours(&mut self) {
         let breaks = |name: &str| PositionName::validate(name.as_bytes()).is_err();
         let mut kept: Vec<Tour> = Vec::new();

@@ -1,5 +1,4 @@
-//! Connects run as tasks of their own, so the driver keeps carrying commands (a STOP above all)
-//! while a connect takes its seconds; an unreachable link is retried with back-off.
+//! Connects run as tasks of their own, so a STOP never waits behind one.
 
 use std::time::Duration;
 

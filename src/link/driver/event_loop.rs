@@ -317,8 +317,7 @@ impl DriverState {
                     command: CommandKind::Stop,
                     error: ArmError::StopNotWritten(error.clone()),
                 });
-                // A requested stop's outcome comes from the worker; the link's own stop is reported
-                // here.
+                // A requested stop's outcome comes from the worker.
                 if reason != StopReason::Requested {
                     self.emit(ArmEvent::StopUnconfirmed {
                         reason: format!("the Modbus link's own stop ({reason:?}): {error}"),

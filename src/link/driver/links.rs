@@ -1,5 +1,4 @@
-//! Each link's state as the driver knows it (connecting, up, lost) and the one status shown for
-//! them; staleness is the console's to judge from telemetry.
+//! Each link's state as the driver knows it, and the one status shown for them.
 
 use super::DriverConfig;
 use crate::link::interface::LinkStatus;

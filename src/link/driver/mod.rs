@@ -41,8 +41,7 @@ pub struct DriverConfig {
     pub modbus: Option<ModbusConfig>,
     /// The tool speed cap at 100 %, m/s (default 0.25); the speed in force is a percentage of it.
     pub max_jog_speed: f64,
-    /// The operator's tool speed at its 100 %, m/s: Talos speeds convert through it
-    /// ([`OperatorScale`]).
+    /// The operator's speed at its 100 %, m/s ([`OperatorScale`]).
     pub operator_full_speed: f64,
     /// Single-joint jog speed at 100 %, deg/s.
     pub joint_jog_speed: f32,
@@ -73,8 +72,7 @@ impl DriverConfig {
         SpeedCap::new(self.max_jog_speed)?.with_operator(self.operator_full_speed)
     }
 
-    /// Home's stored action when Modbus runs it (no Talos link); `None` when the operator's Home
-    /// does.
+    /// Home's stored action when Modbus runs it; `None` when the operator does.
     pub fn modbus_home(&self) -> Option<Stored> {
         match (&self.talos, &self.modbus) {
             (None, Some(modbus)) => Some(modbus.home_action()),

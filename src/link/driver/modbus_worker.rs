@@ -1,5 +1,4 @@
-//! The driver's Modbus half: commands run in order; a STOP drops the jog refreshes queued before
-//! it.
+//! The driver's Modbus half: in order; a STOP drops the refreshes queued before it.
 
 use std::time::Duration;
 
@@ -212,9 +211,7 @@ impl State {
             ArmCommand::Stop => wrap(self.link.stop().await),
             ArmCommand::QuickStop => wrap(self.link.quick_stop().await),
             ArmCommand::FaultReset => wrap(self.link.fault_reset().await),
-            // Moves run at the arm's configured limits, lowered for the move and restored
-            // afterwards (a twist servo would lose the arm's trajectory planning and final
-            // accuracy). Home is the stored action of the configured id.
+            // Moves keep the arm's own planning, under lowered limits (`move_cap`).
             ArmCommand::Home => wrap(self.start_stored(self.link.config().home_action()).await),
             ArmCommand::StartStored(stored) => wrap(self.start_stored(*stored).await),
             ArmCommand::MoveToPose(pose) => wrap(
@@ -233,8 +230,7 @@ impl State {
                 }
                 None => Err(ArmError::NoPose),
             },
-            // The jog speed scales the twists computed here and is never written to the arm's
-            // configured limits (216-219), which belong to `armjog modbus speed-limit`.
+            // Never written to the arm's limits (216-219): those are the integrator's.
             ArmCommand::SetSpeed(speed) if is_settable(*speed) => {
                 self.speed.set(*speed);
                 let _ = self.events.send(ArmEvent::Speed(*speed));

@@ -1,5 +1,4 @@
-//! The speed in force, percent of the cap: one per driver, shared by both link sides so a speed set
-//! through either bounds both.
+//! The speed in force, percent of the cap: one per driver, shared by both sides.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU8, Ordering};

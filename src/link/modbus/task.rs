@@ -1,5 +1,4 @@
-//! The task that owns the connection (polls, commands, twist hold, reconnects); rules: parent
-//! module.
+//! The task that owns the connection (rules: parent module).
 
 mod elsewhere;
 mod jog;
@@ -384,8 +383,7 @@ impl LinkTask {
         self.poll_scoped(PollScope::Due).await
     }
 
-    /// Reads and publishes one snapshot, falling back to the ICD's blocks if compact reads are
-    /// refused.
+    /// Reads and publishes one snapshot (the ICD's blocks if compact reads are refused).
     async fn poll_scoped(&mut self, scope: PollScope) -> Result<Telemetry, ModbusError> {
         let started = Instant::now();
         let mut with_slow = scope == PollScope::Everything

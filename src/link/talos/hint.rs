@@ -1,5 +1,4 @@
-//! What to try when the first exchange with an operator fails: another dialect or checksum stays
-//! silent or sends frames that fail our checksum but fit another.
+//! What to try when an operator's first exchange fails (another dialect or checksum).
 
 use std::time::Duration;
 

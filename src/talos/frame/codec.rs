@@ -157,8 +157,7 @@ impl Decoder for FrameCodec {
             _ => src.len(),
         };
         let have = src.len();
-        // The front frame cannot complete, but its header may have been garbage: a complete frame
-        // may be buffered behind it. Drop up to where one parses.
+        // Its header may be garbage: drop up to where a frame parses.
         let discarded = (1..have)
             .find(|&at| {
                 matches!(

@@ -321,8 +321,7 @@ impl App {
 }
 
 impl App {
-    /// Watches a tracked action's end: a stored run by its action status
-    /// ([`crate::kortex::StoredRun::observe`]), any other by [`heuristic_end`].
+    /// Watches a tracked action's end ([`crate::kortex::StoredRun::observe`], [`heuristic_end`]).
     pub(super) fn watch_action(&mut self, t: &Telemetry, now: Instant) {
         let Some(action) = self.truth.action.as_mut() else {
             return;

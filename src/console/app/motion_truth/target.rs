@@ -8,8 +8,7 @@ use crate::console::positions::BookEntry;
 use crate::kortex::arm_state::stored_started_in;
 use crate::kortex::{ActionStatus, Coded, Pose, Telemetry};
 
-/// A Gen3 repeats a pose to 0.1 mm and the book keeps tenths: 5 mm is far over both and well under
-/// the distance between two saved positions.
+/// Over a Gen3's 0.1 mm repeatability, under the distance between two saved positions.
 pub const ARRIVED_MM: f32 = 5.0;
 /// The same for the tool's orientation, deg.
 pub const ARRIVED_DEG: f32 = 2.0;

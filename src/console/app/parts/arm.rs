@@ -67,8 +67,7 @@ pub struct ArmView {
     pub near_limits: Vec<NearLimit>,
     /// The Jacobian's estimated condition number when above the warning; else `None`.
     pub near_singularity: Option<f64>,
-    /// The arm view's trail: the tool point over the last 10 s (base frame, m), oldest first, at
-    /// most [`TRAIL_CAPACITY`](super::super::TRAIL_CAPACITY) points.
+    /// The arm view's trail (base frame, m), oldest first.
     pub trail: Vec<(TrailShade, [f64; 3])>,
 }
 

@@ -140,8 +140,7 @@ impl Keys {
         self.swallowed = Some((key.key, now));
     }
 
-    /// A form was just opened by `key`: remember it if its auto-repeat may follow (in the fallback,
-    /// only a key already repeating).
+    /// A form was opened by `key`: remember it if its auto-repeat may follow.
     pub(in crate::console::app) fn form_opened_by(
         &mut self,
         key: &KeyInput,

@@ -48,8 +48,7 @@ impl LinkTask {
         }
     }
 
-    /// Lowers each limit to `cap`'s (or the owed limits, if lower); writes nothing if already
-    /// right.
+    /// Lowers each limit to `cap` (or owed limits); no write if already right.
     async fn lower_limits(&mut self, cap: SpeedLimits) -> Result<WriteReport, ModbusError> {
         // A fresh read: the limits may have been changed by someone else since the last poll.
         let telemetry = self.poll_scoped(PollScope::Everything).await?;
@@ -112,8 +111,7 @@ impl LinkTask {
         });
     }
 
-    /// Restores owed limits; a broken connection keeps them owed, a refusal is reported and
-    /// dropped.
+    /// Restores owed limits; kept owed on a broken connection, dropped on refusal.
     pub(super) async fn restore_limits(&mut self) {
         let Some(hold) = self.limit_hold else {
             return;

@@ -20,8 +20,7 @@ async fn open_answering(
 }
 
 impl LinkTask {
-    /// Reconnects with backoff; false when the task should end (no handle and no owed stop, or
-    /// lost).
+    /// Reconnects with backoff; false when the task should end.
     pub(super) async fn reconnect(&mut self) -> bool {
         let mut delay = self.config.reconnect_delay;
         let mut attempts = 0u32;
