@@ -86,7 +86,6 @@ fn with_sections(page: Vec<u8>, sections: &str) -> Vec<u8> {
     }
 }
 
-/// Runs `armjog completions`.
 pub fn run_completions(args: &CompletionsArgs) -> Outcome {
     let script = completions(args.shell);
     Outcome {
@@ -99,7 +98,6 @@ pub fn run_completions(args: &CompletionsArgs) -> Outcome {
     }
 }
 
-/// Runs `armjog man`.
 pub fn run_man(args: &ManArgs) -> Outcome {
     match man_page(args.subcommand.as_deref()) {
         Ok(page) => Outcome {

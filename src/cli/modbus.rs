@@ -169,7 +169,6 @@ impl Outcome {
     }
 }
 
-/// Runs `armjog modbus`.
 pub async fn run(args: &ModbusArgs) -> Outcome {
     // Refuse bad values before connecting, so nothing reaches the arm.
     if let ModbusCommand::SpeedLimit { linear, angular } = &args.command

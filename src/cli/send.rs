@@ -305,7 +305,6 @@ impl SendCommand {
     }
 }
 
-/// Runs `armjog send`.
 pub async fn run(args: &SendArgs) -> Outcome {
     let mut config = TalosConfig::new(super::with_default_port(&args.talos, DEFAULT_PORT));
     config.dialect = args.dialect;

@@ -22,7 +22,6 @@ pub enum FormKind {
     Stored,
 }
 
-/// One text field.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Field {
     pub label: &'static str,
@@ -86,7 +85,6 @@ pub enum FormPaste {
     Toggle,
 }
 
-/// An open form.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Form {
     pub kind: FormKind,
@@ -304,9 +302,7 @@ impl Form {
 mod confirm;
 /// What a submitted form means, or the field that is wrong and why.
 mod parse;
-/// The stored action form: kind and id.
 mod stored;
-/// The tour forms: making one, playing one.
 mod tour;
 
 pub use confirm::{Confirm, QuestionText, tour_list};

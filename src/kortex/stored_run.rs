@@ -104,7 +104,6 @@ impl StoredRun {
         }
     }
 
-    /// Whether a poll has shown the run started.
     pub fn seen_started(&self) -> bool {
         self.seen_started
     }

@@ -349,7 +349,6 @@ impl ModbusLink {
         .await
     }
 
-    /// Starts a stored action or sequence by id.
     pub async fn start_stored(
         &self,
         id: u16,

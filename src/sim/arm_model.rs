@@ -24,7 +24,6 @@ pub const WATCHDOG: f64 = 0.5;
 pub const ARRIVED_POSITION: f64 = 5e-6;
 pub const ARRIVED_ROTATION: f64 = 0.01 * std::f64::consts::PI / 180.0;
 
-/// The simulated Gen3.
 #[derive(Debug, Clone)]
 pub struct Arm {
     time: f64,

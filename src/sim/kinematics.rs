@@ -203,7 +203,6 @@ pub fn near_singularity_pose_deg() -> Joints {
     q
 }
 
-/// Degrees to radians for a whole joint vector.
 pub fn to_radians(deg: &Joints) -> Joints {
     deg.map(f64::to_radians)
 }

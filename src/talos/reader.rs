@@ -23,7 +23,6 @@ impl<'a> BeReader<'a> {
         BeReader { bytes }
     }
 
-    /// Bytes not yet read.
     pub fn remaining(&self) -> usize {
         self.bytes.remaining()
     }
@@ -78,7 +77,6 @@ impl<'a> BeReader<'a> {
         Ok(head)
     }
 
-    /// Everything not yet read.
     pub fn rest(&mut self) -> &'a [u8] {
         std::mem::take(&mut self.bytes)
     }

@@ -62,7 +62,6 @@ struct Bucket {
     current_insane: [bool; JOINTS],
 }
 
-/// The history store.
 #[derive(Debug, Clone, Default)]
 pub struct History {
     origin: Option<Instant>,

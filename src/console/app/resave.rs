@@ -8,7 +8,6 @@ use std::time::{Duration, Instant};
 /// How long after the technician's "yes" a re-saved position is still gone to.
 pub const RESAVE_GO_WITHIN: Duration = Duration::from_secs(3);
 
-/// The re-save offer's state.
 #[derive(Debug, Clone, Default)]
 pub(super) struct Resave {
     /// The position of the last Go To sent to the operator: its failure names no position.

@@ -127,12 +127,10 @@ impl App {
         self.arm.history()
     }
 
-    /// The log shows frames in hex.
     pub fn hex(&self) -> bool {
         self.screen.hex()
     }
 
-    /// The terminal's size as last heard.
     pub fn size(&self) -> (u16, u16) {
         self.screen.size()
     }

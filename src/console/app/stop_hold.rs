@@ -12,7 +12,6 @@ pub const RESEND_EVERY: Duration = Duration::from_millis(100);
 /// Motion this long after the STOP is not slowing down under it: the message line says so.
 pub const SLOWING_DOWN: Duration = Duration::from_millis(300);
 
-/// See the module docs.
 #[derive(Debug, Clone, Default)]
 pub struct StopHold {
     /// When the STOP went out, until when it holds, and when a STOP last went out for it.

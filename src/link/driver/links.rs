@@ -4,7 +4,6 @@ use super::DriverConfig;
 use crate::link::interface::LinkStatus;
 use crate::link::modbus::ModbusConfig;
 
-/// One link's state.
 #[derive(Debug, Clone, PartialEq)]
 pub enum LinkState {
     /// Not connected yet, and no attempt has failed.

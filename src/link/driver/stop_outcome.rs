@@ -29,7 +29,6 @@ struct Pending {
     failure: Option<String>,
 }
 
-/// See the module docs.
 #[derive(Debug, Default)]
 pub struct StopOutcomes {
     /// Links that carried motion since they last answered a STOP.

@@ -10,7 +10,6 @@ use crate::talos::ReturnCode;
 /// Anchors deeper than this are refused (and cycles are impossible by construction).
 const MAX_ANCHOR_DEPTH: usize = 32;
 
-/// One named position.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SavedPosition {
     /// Absolute pose, or the pose relative to `parent` when `anchor` is set.

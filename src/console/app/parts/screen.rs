@@ -42,7 +42,6 @@ pub struct ScreenView {
     pub size: (u16, u16),
     /// The newest log entries a screen can show, shared with the app's log, not copied.
     pub log: VecDeque<Arc<LogEntry>>,
-    /// The log shows frames in hex.
     pub hex: bool,
     pub message: Option<(String, Severity)>,
     pub overlay: Overlay,
@@ -97,7 +96,6 @@ impl Screen {
         matches!(self.overlay, Overlay::Confirm(_))
     }
 
-    /// The open form, to type into.
     pub(in crate::console::app) fn form_mut(&mut self) -> Option<&mut Form> {
         match &mut self.overlay {
             Overlay::Form(form) => Some(form),

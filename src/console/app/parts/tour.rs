@@ -93,7 +93,6 @@ impl Tours {
         run.tour.positions.get(run.leg).cloned()
     }
 
-    /// The current leg's position.
     pub(in crate::console::app) fn leg_position(&self) -> Option<&str> {
         let run = self.run.as_ref()?;
         run.tour.positions.get(run.leg).map(String::as_str)
@@ -107,7 +106,6 @@ impl Tours {
         }
     }
 
-    /// Whether a leg follows the current one.
     pub(in crate::console::app) fn has_next(&self) -> bool {
         self.run
             .as_ref()
