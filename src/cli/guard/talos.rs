@@ -1,13 +1,14 @@
 //! The guard's stop over Talos: the one stop set ([`stop_requests`]) over a connection of its own,
 //! in the console's dialect and checksum, opened only when it must stop the arm. The deployed
-//! operator serves one client at a time, so the guard holds none beside the console's: when the
-//! console dies the kernel closes its connection and the guard's handshake and stop set are read at
-//! once.
+//! operator serves one client at a time, so the guard holds none beside the console's (one opened
+//! first would hold the console off): when the console dies the kernel closes its connection and
+//! the guard's handshake and stop set are read at once.
 //!
 //! A frozen console still holds its connection. The guard then (or when a signal ends it) sends
 //! only a handshake and waits [`SERVED_WITHIN`]: the stop set goes out only on a served connection,
 //! so no stop is left queued to land later, at a moment nobody chose. Unanswered, the stop is
-//! reported failed.
+//! reported failed: a go-to, home or step runs on to its end; a continuous jog stops at the
+//! operator's 500 ms watchdog.
 
 use std::time::Duration;
 

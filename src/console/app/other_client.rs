@@ -3,7 +3,8 @@
 //! After [`OTHER_CLIENT_GRACE`] from a jog's START, the console stops and latches its keys when the
 //! telemetry says someone else stopped or replaced the jog: over Modbus the action status (aborted,
 //! completed) or move type leaving twist, one sample; otherwise [`OTHER_CLIENT_SAMPLES`]
-//! contradicting samples in a row (`jog_evidence`), or one standing for [`CONTRADICTED_FOR`].
+//! contradicting samples in a row (`jog_evidence`), or one standing for [`CONTRADICTED_FOR`]. A
+//! joint-fault warning at such a stop is the arm stopping itself at a limit, and is said so.
 //!
 //! A refreshed START is a new START to the operator, so a due refresh is held
 //! ([`App::hold_refresh`]) until the [`REFRESH_SAMPLES`]th sample that does not contradict the jog,
