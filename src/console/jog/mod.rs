@@ -133,21 +133,6 @@ impl JogEngine {
         self.active.is_some()
     }
 
-    /// The jog key whose release alone stops the arm now: releases are reported, the arm jogs,
-    /// and that key is the only one down. `None` otherwise (another key down keeps a motion
-    /// going, or releases are not reported). What the console's terminal reader writes the stop
-    /// set ahead for (`link::talos::StopAhead`): the release still comes here and stops.
-    pub fn stopped_by_release(&self) -> Option<Action> {
-        if self.mode != ReleaseMode::Reported || self.active.is_none() {
-            return None;
-        }
-        let mut held = self.held.iter();
-        match (held.next(), held.next()) {
-            (Some((action, h)), None) if h.state == KeyState::Moving => Some(*action),
-            _ => None,
-        }
-    }
-
     /// The joint a joint jog drives (1..=7).
     pub fn joint(&self) -> u8 {
         self.joint
