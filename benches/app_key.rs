@@ -4,14 +4,11 @@
 //! app with its link up and telemetry in, as the console's event loop calls it:
 //! - warm: keys one after another, everything the key touches in the caches;
 //! - cold: before each key a 64 MB buffer is written, so the key's code and data come from
-//!   memory again, as they do for a technician's key after a pause (the console's `Decided`
-//!   stage in `benches/key_stages.py` measures the same call in the real binary, where the
-//!   runtime, the kernel and other processes have had the caches meanwhile).
+//!   memory again, as they do for a technician's key after a pause.
 //!
 //! Warm, the call takes some 0.3 us; cold, twenty to forty times that (5-13 us on a 2-core
-//! virtual machine, close to the console's own `Decided` step): the key path's cost is what it
-//! touches, not what it computes. A change that makes a
-//! key touch less (fewer hooks, fewer allocations, state kept together) shows here first, with
+//! virtual machine): the key path's cost is what it touches, not what it computes. A change that
+//! makes a key touch less (fewer hooks, fewer allocations, state kept together) shows here first, with
 //! far less noise than a pty's end-to-end figures.
 //!
 //! Run with `cargo bench --bench app_key` (`ROUNDS=N` keys of each kind, 300 by default).

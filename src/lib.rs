@@ -4,7 +4,6 @@
 pub mod cli;
 pub mod console;
 pub mod files;
-pub mod key_stages;
 pub mod kortex;
 pub mod link;
 pub mod logging;

@@ -2,7 +2,6 @@
 
 use armjog::cli::profiles::{ArgsError, EXIT_PROFILE, Parsed, parse_args};
 use armjog::cli::{Cli, Command, output};
-use armjog::key_stages;
 
 /// mimalloc rather than glibc's allocator: the console at rest wakes some 250 times a second
 /// (Modbus replies, reports, frames), each time with caches gone cold; with mimalloc it spends
@@ -29,9 +28,10 @@ fn main() {
     // links write, all as tasks of this runtime, so a key becomes a frame on the socket without
     // waking another thread (a reader thread and a multi-threaded runtime handed it across up
     // to three). Drawing, the audit log and the built-in simulator have threads of their own.
-    let mut builder = tokio::runtime::Builder::new_current_thread();
-    key_stages::watch_runtime(builder.enable_all());
-    let runtime = match builder.build() {
+    let runtime = match tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+    {
         Ok(rt) => rt,
         Err(e) => {
             output::print_error(&format!("cannot start the async runtime: {e}"));
@@ -53,9 +53,6 @@ fn main() {
     });
     // `exit` runs no destructors: the logs are flushed first.
     drop(log_guards);
-    if let Err(e) = key_stages::write_out() {
-        output::print_error(&format!("key stages not written: {e}"));
-    }
     std::process::exit(code);
 }
 

@@ -19,7 +19,7 @@ use ratatui::backend::CrosstermBackend;
 use super::app::{App, AppConfig, BookState, Effect, Input, Severity};
 use super::audit::{self, AuditSession};
 use super::book_io::{self, BookFiles};
-use super::input::{self, ReleaseStop};
+use super::input;
 use super::input_first;
 use super::jog::ReleaseMode;
 use super::keymap::Keymap;
@@ -29,10 +29,8 @@ use super::positions::{self, PositionBook};
 use super::terminal;
 use super::ui::{self, Theme};
 use super::view::View;
-use crate::key_stages::{self, Stage};
 use crate::link::driver::{Driver, DriverConfig, StopHandle};
 use crate::link::interface::{ArmCommand, ArmEvent};
-use crate::link::talos::StopAhead;
 use crate::net::Deadline;
 
 mod inputs;
@@ -89,14 +87,7 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
     let max_jog_speed = setup.driver.max_jog_speed;
     let joint_jog_speed = setup.driver.joint_jog_speed;
     let arm = setup.driver.target();
-    // The Talos link keeps its stop set encoded here, for the terminal reader to write at a
-    // jog key's release (`input::release_stop`).
-    let mut driver_config = setup.driver;
-    let stop_ahead = driver_config
-        .talos
-        .as_mut()
-        .map(|talos| talos.stop_ahead.insert(StopAhead::new()).clone());
-    let (driver, arm_events) = Driver::spawn(driver_config);
+    let (driver, arm_events) = Driver::spawn(setup.driver);
 
     let release_events = terminal::enter(setup.release_events)?;
     let drawing = Arc::new(AtomicBool::new(true));
@@ -126,7 +117,6 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
                 driver: driver.clone(),
                 arm_events,
                 painter,
-                stop_ahead,
             };
             // A task of its own, boxed: a key's wake-up polls the loop straight from the
             // runtime, not through this set-up and the command dispatch above it. Every page
@@ -179,7 +169,6 @@ struct LoopParts {
     driver: Driver,
     arm_events: tokio::sync::mpsc::UnboundedReceiver<ArmEvent>,
     painter: Painter,
-    stop_ahead: Option<StopAhead>,
 }
 
 async fn loop_task(
@@ -194,7 +183,6 @@ async fn loop_task(
         &mut parts.audit,
         &parts.driver,
         &mut parts.arm_events,
-        parts.stop_ahead.clone(),
         Screen {
             painter: &parts.painter,
             size,
@@ -272,10 +260,8 @@ async fn event_loop(
     audit: &mut AuditSession,
     driver: &Driver,
     arm_events: &mut tokio::sync::mpsc::UnboundedReceiver<ArmEvent>,
-    stop_ahead: Option<StopAhead>,
     mut screen: Screen<'_>,
 ) -> Result<(), ConsoleError> {
-    let keymap = config.keymap.clone();
     let mut app = App::new(config, PositionBook::new());
     if let Some(path) = &book.path {
         app.begin_loading_positions(path.display().to_string());
@@ -289,9 +275,6 @@ async fn event_loop(
     );
     // Read by the console itself: every readable byte is decoded on each wake (see `input`).
     let mut keys = input::open()?;
-    if let Some(ahead) = stop_ahead {
-        keys.set_release_stop(ReleaseStop::new(ahead, keymap));
-    }
     let mut signals = Signals::new()?;
     let mut pacer = FramePacer::default();
     pacer.changed(true, Instant::now());
@@ -358,9 +341,6 @@ async fn event_loop(
             audit.record_handled();
             continue;
         };
-        if matches!(input, Input::Key(_)) {
-            key_stages::mark(Stage::Input);
-        }
         // The records of the input before this one are made once this one's frames are out
         // (`handled`), or before anything this one records (`input`, `book_saved`).
         let urgent = !matches!(input, Input::Arm(_) | Input::Tick);
@@ -369,8 +349,6 @@ async fn event_loop(
         audit.input(&input);
         let mut sent = false;
         let effects = app.handle(input, now);
-        key_stages::mark(Stage::Decided);
-        keys.arm_release_stop(app.jog().stopped_by_release());
         for effect in effects {
             match effect {
                 Effect::Arm(command) => {
@@ -401,10 +379,8 @@ async fn event_loop(
         // but after this loop's next poll of everything it waits on: after a rest that cold
         // code made a press->START some 10 % slower (under load a little faster: a yield polls
         // the reactor, a syscall, before coming back).
-        key_stages::mark(Stage::Handed);
         if sent {
             tokio::task::yield_now().await;
-            key_stages::mark(Stage::Resumed);
         }
         audit.handled(&app);
         // Inputs that never let the loop rest (a flood) do not hold the records for ever.

@@ -3,7 +3,6 @@
 pub mod connect;
 pub mod deadline;
 pub mod frame_reader;
-pub mod hand_off;
 pub mod words;
 
 pub use connect::{ConnectError, connect_with_timeout};

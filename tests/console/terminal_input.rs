@@ -124,83 +124,22 @@ async fn input_that_has_arrived_is_told_until_the_event_loop_takes_it() {
     assert!(!input.input_arrived(), "taken: nothing more has arrived");
 }
 
-/// A Talos link that has written a START, so it owes the stop set; its operator.
-async fn jogging_link(
-    ahead: &armjog::link::talos::StopAhead,
-) -> (armjog::link::TalosLink, crate::common::TestOperator) {
-    let checksum = armjog::talos::Checksum::Crc16;
-    let mut op =
-        crate::common::TestOperator::start(checksum, crate::common::answering(checksum)).await;
-    let mut config = armjog::link::TalosConfig::new(op.addr.clone());
-    config.stop_ahead = Some(ahead.clone());
-    let (link, _events) = armjog::link::TalosLink::connect(config)
-        .await
-        .expect("connect");
-    start_again(&link, &mut op).await;
-    (link, op)
-}
-
-/// A START through the link, received: the link owes the stop set again.
-async fn start_again(link: &armjog::link::TalosLink, op: &mut crate::common::TestOperator) {
-    let start = armjog::talos::Request::PolarPanStart {
-        moving_azimuth: 1,
-        moving_altitude: 0,
-    };
-    link.request(start).await.expect("start");
-    op.next_frame().await;
-}
-
 #[tokio::test]
-async fn the_armed_jog_keys_release_writes_the_stop_set_before_it_is_handed_on() {
-    use armjog::console::action::Action;
-    use armjog::console::input::ReleaseStop;
-    use armjog::console::keymap::Keymap;
-    let ahead = armjog::link::talos::StopAhead::new();
-    let (link, mut op) = jogging_link(&ahead).await;
+async fn a_jog_keys_release_is_handed_on_as_a_release_and_one_inside_a_paste_is_text() {
+    use crossterm::event::KeyEventKind;
     let (mut typist, mut input) = terminal();
-    let keymap = std::sync::Arc::new(Keymap::builtin("default").expect("keymap"));
-    input.set_release_stop(ReleaseStop::new(ahead, keymap));
-
-    // Armed for "w" (+X): the release of "s" is handed on and writes nothing.
-    input.arm_release_stop(Some(Action::JogXPlus));
-    typist.write_all(b"\x1b[115;1:3u").expect("s released");
+    // The release of "w" (+X) in the kitty protocol: the app stops the arm on it.
+    typist.write_all(b"\x1b[119;1:3u").expect("w released");
     let event = input.next().await.expect("open").expect("read");
-    assert!(matches!(event, TerminalEvent::Event(Event::Key(k)) if k.code == KeyCode::Char('s')));
-    let quiet = op.frames_until_quiet(Duration::from_millis(100)).await;
-    assert!(quiet.is_empty(), "{quiet:?}");
-
-    // A paste is text: the release's bytes inside one write nothing.
-    input.arm_release_stop(Some(Action::JogXPlus));
+    assert!(
+        matches!(&event, TerminalEvent::Event(Event::Key(k))
+            if k.code == KeyCode::Char('w') && k.kind == KeyEventKind::Release),
+        "{event:?}"
+    );
+    // A paste is text: the release's bytes inside one are no key.
     typist
         .write_all(b"\x1b[200~\x1b[119;1:3u\x1b[201~")
         .expect("paste");
     let event = input.next().await.expect("open").expect("read");
     assert!(matches!(event, TerminalEvent::Paste(_)), "{event:?}");
-    let quiet = op.frames_until_quiet(Duration::from_millis(100)).await;
-    assert!(quiet.is_empty(), "{quiet:?}");
-
-    // The release of "w": by the time the event is handed on, the stop set is on the wire.
-    typist.write_all(b"\x1b[119;1:3u").expect("w released");
-    let event = input.next().await.expect("open").expect("read");
-    assert!(matches!(event, TerminalEvent::Event(Event::Key(k)) if k.code == KeyCode::Char('w')));
-    let frames = [
-        op.next_frame().await,
-        op.next_frame().await,
-        op.next_frame().await,
-    ];
-    assert_eq!(
-        crate::common::wire(&frames),
-        crate::common::stop_set(armjog::talos::Dialect::Icd)
-    );
-
-    // Moving again, and not armed (the app named no key): nothing.
-    start_again(&link, &mut op).await;
-    input.arm_release_stop(None);
-    typist
-        .write_all(b"\x1b[119u\x1b[119;1:3u")
-        .expect("w again");
-    input.next().await.expect("open").expect("read");
-    input.next().await.expect("open").expect("read");
-    let quiet = op.frames_until_quiet(Duration::from_millis(100)).await;
-    assert!(quiet.is_empty(), "{quiet:?}");
 }

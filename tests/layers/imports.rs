@@ -35,14 +35,12 @@ const LAYERS: &[(&str, &[&str])] = &[
     // Bounded reads of local files, and the log writer: leaves.
     ("files", &[]),
     ("logging", &[]),
-    // Marks on the key path for benches/key_stages.py (empty without the `key-stages` feature).
-    ("key_stages", &[]),
     // An IO helper shared by link and sim (sockets, framing), should one be added.
     ("net", &["talos", "kortex", "text"]),
     // The arm links and the driver.
     (
         "link",
-        &["talos", "kortex", "net", "files", "logging", "key_stages", "text"],
+        &["talos", "kortex", "net", "files", "logging", "text"],
     ),
     // The simulated arm: serves the codecs, never uses the links.
     (
@@ -52,13 +50,12 @@ const LAYERS: &[(&str, &[&str])] = &[
     // The console drives links; the simulator is wired to it by the cli.
     (
         "console",
-        &["talos", "kortex", "net", "files", "logging", "key_stages", "link", "text"],
+        &["talos", "kortex", "net", "files", "logging", "link", "text"],
     ),
     // The front ends: everything.
     (
         "cli",
-        &["talos", "kortex", "net", "files", "logging", "key_stages", "link", "sim", "console",
-          "text"],
+        &["talos", "kortex", "net", "files", "logging", "link", "sim", "console", "text"],
     ),
 ];
 

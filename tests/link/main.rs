@@ -24,7 +24,6 @@ mod modbus_speed_cap;
 mod modbus_stops;
 mod stop_paths;
 mod talos;
-mod talos_ahead;
 mod talos_batch;
 mod talos_first_exchange;
 mod talos_paused;

@@ -333,6 +333,35 @@ async fn dropping_an_idle_link_sends_nothing() {
 }
 
 #[tokio::test]
+async fn a_start_submitted_behind_a_request_keeps_its_place_and_a_drop_before_its_write_stops_it() {
+    let mut op = TestOperator::start(Checksum::Crc16, answering(Checksum::Crc16)).await;
+    let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16))
+        .await
+        .unwrap();
+    let start = Request::PolarPanStart {
+        moving_azimuth: 1,
+        moving_altitude: 0,
+    };
+    // Both submitted before the link's task has run; every caller gone before it writes them.
+    let speed = link.submit(Request::GetSpeed).unwrap();
+    let moving = link.submit(start.clone()).unwrap();
+    drop((speed, moving, link));
+    let sent = op.frames_until_quiet(Duration::from_millis(300)).await;
+    let mut expected = wire(&[
+        Request::GetSpeed.to_frame(0).unwrap(),
+        start.to_frame(2).unwrap(),
+    ]);
+    expected.extend(stop_set(Dialect::Icd));
+    assert_eq!(
+        wire(&sent),
+        expected,
+        "in the order submitted, then the stop set"
+    );
+    assert_eq!(sent[0].id, 0);
+    assert_eq!(sent[1].id, 2);
+}
+
+#[tokio::test]
 async fn an_invalid_request_is_refused_before_sending_with_the_field_named() {
     let mut op = TestOperator::start(Checksum::Crc16, answering(Checksum::Crc16)).await;
     let (link, _events) = TalosLink::connect(config(&op.addr, Checksum::Crc16))

@@ -45,8 +45,6 @@ impl TalosStop {
         config.checksum = checksum;
         config.connect_timeout = Duration::from_secs(1);
         config.request_timeout = SERVED_WITHIN;
-        // Nothing of the console's runs on this thread: no CPU to hand over.
-        config.give_way = false;
         TalosStop { config, oid }
     }
 

@@ -13,7 +13,5 @@ pub mod burst;
 pub mod decoder;
 pub mod keys;
 pub mod reader;
-pub mod release_stop;
 
 pub use reader::{Refusal, TerminalEvent, TerminalInput, open};
-pub use release_stop::ReleaseStop;

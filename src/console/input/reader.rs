@@ -21,12 +21,8 @@ use futures::Stream;
 use rustix::event::{PollFd, PollFlags, Timespec};
 use tokio::net::unix::pipe;
 
-use crate::key_stages::{self, Stage};
-
 use super::burst::{BURST_LIMIT, Burst, Verdict};
 use super::decoder::{Decoded, Decoder, PASTE_LIMIT};
-use super::release_stop::ReleaseStop;
-use crate::console::action::Action;
 
 /// The most read in one wake before what it made is handed over.
 pub const READ_BUDGET: usize = 1024 * 1024;
@@ -101,18 +97,6 @@ impl TerminalInput {
             window_changes: None,
             closed: false,
         })
-    }
-
-    /// Has the stop set written ahead at the armed jog key's release, as it is read.
-    pub fn set_release_stop(&mut self, release_stop: ReleaseStop) {
-        self.reader.release_stop = Some(release_stop);
-    }
-
-    /// The jog action whose key's release writes the stop set ahead (see [`ReleaseStop`]).
-    pub fn arm_release_stop(&mut self, action: Option<Action>) {
-        if let Some(release_stop) = &mut self.reader.release_stop {
-            release_stop.arm(action);
-        }
     }
 
     /// Whether input has arrived that the event loop has not taken yet: events read, or bytes
@@ -216,7 +200,6 @@ fn read_all_there_is(fd: &pipe::Receiver, buffer: &mut [u8]) -> io::Result<Read>
         }
         other => other,
     });
-    key_stages::mark(Stage::Read);
     match (short, read) {
         (Some(read), _) => Ok(Read::AllThereWas(read)),
         (None, Ok(0)) => Ok(Read::Closed),
@@ -230,7 +213,6 @@ struct Reader {
     decoder: Decoder,
     burst: Burst,
     buffer: Box<[u8]>,
-    release_stop: Option<ReleaseStop>,
 }
 
 /// What one wake's reads came to.
@@ -250,7 +232,6 @@ impl Reader {
             decoder: Decoder::default(),
             burst: Burst::default(),
             buffer: vec![0; READ_SIZE].into_boxed_slice(),
-            release_stop: None,
         }
     }
 
@@ -310,10 +291,6 @@ impl Reader {
             out.push_back(Ok(TerminalEvent::Refused(Refusal::Flood)));
         }
         for item in decoded {
-            // Before anything else: the jog key's release writes its stop set (a flood's too).
-            if let (Decoded::Event(event), Some(release_stop)) = (&item, &mut self.release_stop) {
-                release_stop.on_event(event);
-            }
             let event = match item {
                 // A flood's keys are dropped; its pastes and focus changes are not keys.
                 Decoded::Event(Event::Key(_)) if verdict != Verdict::Keys => continue,

@@ -122,20 +122,6 @@ impl JogEngine {
         self.active.is_some()
     }
 
-    /// The jog key whose release alone stops the arm now (releases reported, the arm jogging, only
-    /// that key down), or `None`. The terminal reader writes the stop set ahead for it
-    /// (`link::talos::StopAhead`); the release still comes here and stops.
-    pub fn stopped_by_release(&self) -> Option<Action> {
-        if self.mode != ReleaseMode::Reported || self.active.is_none() {
-            return None;
-        }
-        let mut held = self.held.iter();
-        match (held.next(), held.next()) {
-            (Some((action, h)), None) if h.state == KeyState::Moving => Some(*action),
-            _ => None,
-        }
-    }
-
     /// The joint a joint jog drives (1..=7).
     pub fn joint(&self) -> u8 {
         self.joint

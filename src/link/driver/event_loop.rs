@@ -10,7 +10,6 @@ use super::links::{LinkState, Links, LostReason, modbus_description};
 use super::stop_outcome::{self, Side, StopOutcomes};
 use super::talos_side::{ORIENTATION_NEEDS_MODBUS, STORED_NEEDS_MODBUS, TalosSide};
 use super::{DriverConfig, JointPositions, modbus_worker::ModbusWorker, speed::SpeedInForce};
-use crate::key_stages::{self, Stage};
 use crate::link::guard::{self, GuardPolicy, GuardReport, GuardSupervisor};
 use crate::link::interface::{
     ArmCommand, ArmError, ArmEvent, CommandKind, JogMotion, LinkStatus, TelemetrySource,
@@ -135,9 +134,7 @@ pub(super) async fn run(started: Started) {
             biased;
             command = inbox.commands.recv() => match command {
                 Some(command) => {
-                    key_stages::mark(Stage::DriverTook);
                     driver.on_command(command);
-                    key_stages::mark(Stage::Routed);
                     let last = inbox.commands.is_empty();
                     driver.talos.spawn_answers(last).await;
                 }

@@ -22,7 +22,6 @@
 //! late ACK for it is then absorbed, not paired with a newer request), and a STOP without an
 //! ACK is re-sent ([`STOP_ACK_TRIES`] frames, [`STOP_ACK_INTERVAL`] apart) before it fails.
 
-mod ahead;
 mod hint;
 mod motion;
 mod task;
@@ -35,29 +34,15 @@ use std::time::Duration;
 use tokio::io::{AsyncRead, AsyncWrite};
 use tokio::sync::{Notify, mpsc, oneshot};
 
-use crate::net::{ConnectError, DEFAULT_FRAME_DEADLINE, connect_with_timeout, hand_off};
+use crate::net::{ConnectError, DEFAULT_FRAME_DEADLINE, connect_with_timeout};
 use crate::talos::frame::Rejection;
 use crate::talos::message::{DecodeError, EncodeError};
-use crate::talos::{Checksum, CommandValue, Reply, Request, RequestClass, ReturnCode, may_move};
-pub use ahead::{AheadOutcome, StopAhead};
+use crate::talos::{Checksum, CommandValue, Reply, Request, RequestClass, ReturnCode};
 use hint::checksum_hint;
 pub use hint::{first_exchange_error, wait_for_checksum_fit};
 use task::LinkTask;
 // Re-exported so the link's callers keep naming it `link::Dialect`.
 pub use crate::talos::Dialect;
-
-/// The link's socket again, for the stop set written ahead: same connection, same non-blocking
-/// file description. `None` (nothing written ahead) when the descriptor cannot be duplicated.
-fn ahead_socket(stream: &tokio::net::TcpStream) -> Option<ahead::AheadSocket> {
-    use std::os::fd::AsFd;
-    match stream.as_fd().try_clone_to_owned() {
-        Ok(fd) => Some(Box::new(std::net::TcpStream::from(fd))),
-        Err(e) => {
-            tracing::warn!("talos: no stop set written ahead (the socket: {e})");
-            None
-        }
-    }
-}
 
 /// Default port of the deployed operator.
 pub const DEFAULT_PORT: u16 = 61616;
@@ -84,13 +69,6 @@ pub struct TalosConfig {
     pub request_timeout: Duration,
     /// How long a reply may take from its first byte to its last before it is given up.
     pub frame_deadline: Duration,
-    /// Whether the link may give an operator on this machine the CPU once a START or STOP is
-    /// written ([`hand_off`]). Off when another link's STOP is carried by the same thread: it
-    /// must not wait for the operator's turn.
-    pub give_way: bool,
-    /// Where the link arms the stop set it owes, for the console's terminal reader to write the
-    /// moment the jog key comes up ([`StopAhead`]). TCP links only.
-    pub stop_ahead: Option<StopAhead>,
 }
 
 impl TalosConfig {
@@ -102,8 +80,6 @@ impl TalosConfig {
             connect_timeout: Duration::from_secs(2),
             request_timeout: Duration::from_millis(500),
             frame_deadline: DEFAULT_FRAME_DEADLINE,
-            give_way: true,
-            stop_ahead: None,
         }
     }
 }
@@ -230,8 +206,6 @@ pub struct TalosLink {
     overflow: Arc<Notify>,
     ids: Arc<CommandIds>,
     config: TalosConfig,
-    /// The slot a console shares with the link, for a motion written through at once.
-    through: Option<ahead::Through>,
 }
 
 impl fmt::Debug for TalosLink {
@@ -244,18 +218,12 @@ impl fmt::Debug for TalosLink {
 
 impl TalosLink {
     /// Opens a TCP connection within the connect timeout. Returns the link and the receiver of
-    /// its unsolicited events. An operator on this machine gets the CPU once a START or STOP
-    /// is written (see [`hand_off`]).
+    /// its unsolicited events.
     pub async fn connect(
         config: TalosConfig,
     ) -> Result<(TalosLink, mpsc::UnboundedReceiver<TalosEvent>), TalosError> {
         let stream = connect_with_timeout(&config.addr, config.connect_timeout).await?;
-        let give_way = config.give_way && hand_off::peer_on_this_host(&stream);
-        let ahead = match &config.stop_ahead {
-            Some(slot) => ahead_socket(&stream).map(|socket| slot.attach(socket, give_way)),
-            None => None,
-        };
-        Ok(Self::start(stream, config, give_way, ahead))
+        Ok(Self::over(stream, config))
     }
 
     /// Runs a link over an already connected transport (a TCP stream, or an in-memory one in
@@ -268,33 +236,11 @@ impl TalosLink {
     where
         S: AsyncRead + AsyncWrite + Send + 'static,
     {
-        Self::start(stream, config, false, None)
-    }
-
-    /// `give_way`: the operator runs on this machine and may be given the CPU once a START or
-    /// STOP is written (see [`hand_off`]).
-    fn start<S>(
-        stream: S,
-        config: TalosConfig,
-        give_way: bool,
-        ahead: Option<ahead::Attached>,
-    ) -> (TalosLink, mpsc::UnboundedReceiver<TalosEvent>)
-    where
-        S: AsyncRead + AsyncWrite + Send + 'static,
-    {
         let (jobs_tx, jobs_rx) = mpsc::channel(QUEUE_DEPTH);
         let (events_tx, events_rx) = mpsc::unbounded_channel();
         let ids = Arc::new(CommandIds::default());
         let overflow = Arc::new(Notify::new());
-        let through = ahead.as_ref().map(ahead::Attached::through);
-        let task = LinkTask::new(
-            &config,
-            ids.clone(),
-            events_tx,
-            overflow.clone(),
-            give_way,
-            ahead,
-        );
+        let task = LinkTask::new(&config, ids.clone(), events_tx, overflow.clone());
         // Boxed: the task is on the key path (see `Driver::spawn`).
         tokio::spawn(Box::pin(task.run(stream, jobs_rx)));
         (
@@ -303,7 +249,6 @@ impl TalosLink {
                 overflow,
                 ids,
                 config,
-                through,
             },
             events_rx,
         )
@@ -355,13 +300,11 @@ impl TalosLink {
             // The link task answers by its own deadline (re-sends included); this is a backstop.
             Dialect::Ack => ack_deadline(&request, self.config.request_timeout) + ACK_CALLER_GRACE,
         };
-        if let Err((request, answer)) = self.write_through(id, request, answer_tx) {
-            self.queue(Job {
-                id,
-                request,
-                answer,
-            })?;
-        }
+        self.queue(Job {
+            id,
+            request,
+            answer: answer_tx,
+        })?;
         Ok(PendingReply {
             command,
             id,
@@ -370,44 +313,9 @@ impl TalosLink {
         })
     }
 
-    /// A motion written at once, in the caller's turn, when the link has nothing queued and is
-    /// not writing ([`ahead`]): it skips the link task's turn, which under load costs a press
-    /// what it adds (issue 21). Gives the request back for the queue otherwise, or when it is
-    /// no motion, no slot is attached, or it cannot be encoded (the link task then says why).
-    fn write_through(
-        &self,
-        id: u32,
-        request: Request,
-        answer: AnswerTx,
-    ) -> Result<(), (Request, AnswerTx)> {
-        let Some(through) = self.through.as_ref().filter(|_| may_move(&request)) else {
-            return Err((request, answer));
-        };
-        let bytes = request
-            .to_frame(id)
-            .ok()
-            .and_then(|frame| frame.to_bytes(self.config.checksum).ok());
-        let Some(bytes) = bytes else {
-            return Err((request, answer));
-        };
-        let frame = ahead::AheadFrame { id, request, bytes };
-        through
-            .write_through(frame, answer)
-            .map_err(|(frame, answer)| (frame.request, answer))
-    }
-
     /// Queues `job` for the link task; a full queue ends the link.
     fn queue(&self, job: Job) -> Result<(), TalosError> {
-        if let Some(through) = &self.through {
-            through.queue_one();
-        }
-        let queued = self.jobs.try_send(job);
-        if queued.is_err()
-            && let Some(through) = &self.through
-        {
-            through.unqueue_one();
-        }
-        match queued {
+        match self.jobs.try_send(job) {
             Ok(()) => Ok(()),
             Err(mpsc::error::TrySendError::Full(_)) => {
                 self.overflow.notify_one();

@@ -1,7 +1,7 @@
 //! What a dropped or failed link owes the arm: the whole stop set once anything that may move
 //! it went out with no full stop set since.
 
-use crate::talos::{Dialect, Request, RequestClass, may_move, stop_requests};
+use crate::talos::{Dialect, Request, may_move, stop_requests};
 
 /// Whether anything that may move the arm went out since the last full stop set: what a
 /// dropped or failed link must stop.
@@ -34,12 +34,6 @@ impl MotionSinceStop {
                 self.moving = false;
             }
         }
-    }
-
-    /// Whether `request` sets the arm moving or stops it ([`Request::class`]): what the
-    /// operator should read at once.
-    pub(super) fn moves_or_stops(&self, request: &Request) -> bool {
-        request.class() != RequestClass::Still
     }
 
     /// The whole stop set if anything may be moving, else nothing.
@@ -75,27 +69,5 @@ mod tests {
         motion.note(&Request::Home { delay_ms: 0 });
         motion.note(&HwRequest::stop_all_joints_request());
         assert_eq!(motion.owed().len(), 3);
-    }
-
-    #[test]
-    fn starts_and_the_stop_set_are_urgent_polls_and_settings_are_not() {
-        let motion = MotionSinceStop::new(Dialect::Icd);
-        let urgent = [
-            Request::PolarPanStart {
-                moving_azimuth: 1,
-                moving_altitude: 0,
-            },
-            Request::Home { delay_ms: 0 },
-            Request::PolarPanStop,
-            Request::CartesianMoveStop,
-            HwRequest::stop_all_joints_request(),
-        ];
-        for request in &urgent {
-            assert!(motion.moves_or_stops(request), "{request:?}");
-        }
-        let routine = [Request::GetSpeed, Request::SetSpeed { speed: 10 }];
-        for request in &routine {
-            assert!(!motion.moves_or_stops(request), "{request:?}");
-        }
     }
 }

@@ -12,18 +12,15 @@ use tokio::io::{AsyncRead, AsyncWrite, AsyncWriteExt, ReadHalf, WriteHalf};
 use tokio::sync::{Notify, mpsc};
 use tokio_util::codec::FramedRead;
 
-use super::ahead::Attached;
 use super::motion::MotionSinceStop;
 use super::{AnswerTx, CommandIds, Job, TalosError, TalosEvent, WRITE_STALL};
-use crate::key_stages::{self, Stage};
-use crate::net::{Deadline, FrameReader, hand_off, io_error_words};
+use crate::net::{Deadline, FrameReader, io_error_words};
 use crate::talos::ack::{AckCodec, AckItem};
 use crate::talos::frame::{Decoded, FrameCodec, TalosFrame};
 use crate::talos::{Checksum, Dialect, Request};
 
 mod ack;
 mod replies;
-mod written_ahead;
 
 use ack::{AckWait, ExpiredAck};
 
@@ -36,9 +33,6 @@ struct Pending {
     request_bytes: Vec<u8>,
     sent: Instant,
     answer: AnswerTx,
-    /// The stop set written ahead by the terminal reader ([`super::ahead`]): nobody waits for
-    /// its answer.
-    ahead: bool,
 }
 
 /// Why the link ended, and whether its write side may still carry a stop.
@@ -81,22 +75,6 @@ pub(super) struct LinkTask {
     events: mpsc::UnboundedSender<TalosEvent>,
     /// Told by a caller that found the queue full.
     overflow: Arc<Notify>,
-    /// The operator runs on this machine and the console allows it: the operator gets the CPU
-    /// once a START or STOP is written ([`hand_off`]).
-    give_way: bool,
-    /// The slot the stop set is armed in for the terminal reader, when the console asked for
-    /// one and the transport is a socket ([`super::ahead`]).
-    ahead: Option<Attached>,
-    /// The stop set armed there now (empty: none).
-    ahead_owed: Vec<Request>,
-}
-
-/// Resolves when `signal` is told; never without one.
-async fn signalled(signal: Option<&Notify>) {
-    match signal {
-        Some(signal) => signal.notified().await,
-        None => std::future::pending().await,
-    }
 }
 
 /// What arrives from the operator, in either dialect.
@@ -128,8 +106,6 @@ impl LinkTask {
         ids: Arc<CommandIds>,
         events: mpsc::UnboundedSender<TalosEvent>,
         overflow: Arc<Notify>,
-        give_way: bool,
-        ahead: Option<Attached>,
     ) -> LinkTask {
         LinkTask {
             dialect: config.dialect,
@@ -144,9 +120,6 @@ impl LinkTask {
             motion: MotionSinceStop::new(config.dialect),
             events,
             overflow,
-            give_way,
-            ahead,
-            ahead_owed: Vec::new(),
         }
     }
 
@@ -168,7 +141,6 @@ impl LinkTask {
         };
         let mut sweep = tokio::time::interval(Duration::from_secs(1));
         let mut ack_expiry = Deadline::new();
-        let written_ahead = self.ahead.as_ref().map(Attached::written_signal);
         let end = loop {
             ack_expiry.set(self.next_ack_expiry());
             tokio::select! {
@@ -187,36 +159,16 @@ impl LinkTask {
                         {
                             batch.push(job);
                         }
-                        let urgent = batch.iter().any(|job| self.motion.moves_or_stops(&job.request));
-                        let taken = batch.len();
-                        let sent = self.send(&mut writer, batch).await;
-                        // Written: a motion may be written through after them.
-                        if let Some(ahead) = &self.ahead {
-                            ahead.written_out(taken);
-                        }
-                        if let Err(reason) = sent {
+                        if let Err(reason) = self.send(&mut writer, batch).await {
                             break End::write(reason);
                         }
-                        // The operator on this machine reads a START or STOP now, not after the
-                        // rest of this thread's burst; a stop set's frames go out together first.
-                        if urgent && self.give_way && jobs.is_empty() {
-                            hand_off::give_way();
-                        }
-                        // After the hand-over: the START's receiver does not wait for it.
-                        self.arm_ahead();
                     }
                     None => {
                         // Every caller is gone: stop what may be moving, then close.
-                        self.close_through();
                         let _ = self.write_stops(&mut writer).await;
                         return;
                     }
                 },
-                () = signalled(written_ahead.as_deref()) => {
-                    if let Err(reason) = self.on_written_ahead(&mut writer).await {
-                        break End::write(reason);
-                    }
-                }
                 _ = ack_expiry.fired(), if ack_expiry.armed() => {
                     if let Err(reason) = self.expire_acks(&mut writer).await {
                         break End::write(reason);
@@ -224,8 +176,6 @@ impl LinkTask {
                 }
                 _ = sweep.tick() => self.sweep(),
                 item = reader.next() => {
-                    // Frames written ahead went out before anything that could answer them.
-                    self.take_ahead();
                     match item {
                         Some(Ok(Incoming::TalosFrame(Decoded::TalosFrame(frame)))) => self.on_frame(frame),
                         Some(Ok(Incoming::TalosFrame(Decoded::Rejected(r)))) => self.on_rejection(r),
@@ -239,8 +189,6 @@ impl LinkTask {
                 }
             }
         };
-        // Callers get the link's end for what was written through, and the stop set counts it.
-        self.close_through();
         let reason = end.reason;
         tracing::warn!("talos link lost: {reason}");
         for (_, p) in self.pending.drain() {
@@ -262,8 +210,6 @@ impl LinkTask {
         {
             tracing::warn!("talos: the stop set after the link was lost: {reason}");
         }
-        // Nothing more is written ahead on a link that ended.
-        self.ahead = None;
         while let Some(job) = jobs.recv().await {
             let _ = job.answer.send(Err(TalosError::Disconnected {
                 reason: "the link was lost earlier".into(),
@@ -299,35 +245,10 @@ impl LinkTask {
             .map_err(|e| format!("write failed: {e}"))
     }
 
-    /// Writes `bytes` as [`Self::write_bytes`] does. With a stop set armed ahead, nothing is
-    /// written there meanwhile, and what was written there is taken first: made pending, and
-    /// its bytes the socket did not take written before these.
-    async fn write<W: AsyncWrite + Unpin>(
-        &mut self,
-        writer: &mut W,
-        bytes: &[u8],
-    ) -> Result<(), String> {
-        let taken = match &self.ahead {
-            Some(ahead) => ahead.begin_write(),
-            None => return self.write_bytes(writer, bytes).await,
-        };
-        self.own_ahead(taken.frames);
-        let written = if taken.unwritten.is_empty() {
-            self.write_bytes(writer, bytes).await
-        } else {
-            let joined = [taken.unwritten.as_slice(), bytes].concat();
-            self.write_bytes(writer, &joined).await
-        };
-        if let Some(ahead) = &self.ahead {
-            ahead.end_write();
-        }
-        written
-    }
-
     /// Writes one frame's bytes, or says why the link must end: a write error, a write that
     /// could not complete within [`WRITE_STALL`], or a caller that found the queue full
     /// meanwhile.
-    async fn write_bytes<W: AsyncWrite + Unpin>(
+    async fn write<W: AsyncWrite + Unpin>(
         &self,
         writer: &mut W,
         bytes: &[u8],
@@ -369,7 +290,6 @@ impl LinkTask {
         writer: &mut W,
         batch: Vec<Job>,
     ) -> Result<(), String> {
-        key_stages::mark(Stage::LinkTook);
         let sent = Instant::now();
         let mut encoded: Vec<(Job, Vec<u8>)> = Vec::with_capacity(batch.len());
         let mut unsent = Vec::new();
@@ -400,10 +320,10 @@ impl LinkTask {
         let written = match encoded.as_slice() {
             [] => Ok(()),
             // One frame (a key's START or STOP): its bytes as they are, not copied.
-            [(_, bytes)] => self.write_marked(writer, bytes).await,
+            [(_, bytes)] => self.write(writer, bytes).await,
             frames => {
                 let bytes: Vec<u8> = frames.iter().flat_map(|(_, b)| b.iter().copied()).collect();
-                self.write_marked(writer, &bytes).await
+                self.write(writer, &bytes).await
             }
         };
         for (job, request_bytes) in encoded {
@@ -419,18 +339,6 @@ impl LinkTask {
         }
     }
 
-    /// [`Self::write`], with the key path's stages marked around it.
-    async fn write_marked<W: AsyncWrite + Unpin>(
-        &mut self,
-        writer: &mut W,
-        bytes: &[u8],
-    ) -> Result<(), String> {
-        key_stages::mark(Stage::Encoded);
-        let written = self.write(writer, bytes).await;
-        key_stages::mark(Stage::Written);
-        written
-    }
-
     fn make_pending(&mut self, job: Job, request_bytes: Vec<u8>, sent: Instant) {
         let pending = Pending {
             id: job.id,
@@ -438,12 +346,7 @@ impl LinkTask {
             request_bytes,
             sent,
             answer: job.answer,
-            ahead: false,
         };
-        self.insert_pending(pending, sent);
-    }
-
-    fn insert_pending(&mut self, pending: Pending, sent: Instant) {
         match self.dialect {
             Dialect::Icd => {
                 self.pending.insert(pending.id, pending);

@@ -60,16 +60,6 @@ struct Submitted {
     stop_failure: Option<ArmError>,
 }
 
-/// The Talos link's configuration. A Modbus STOP is written on the same thread, so the Talos link
-/// must not stop that thread for its operator (`give_way`, `net/hand_off.rs`).
-fn link_config(config: &DriverConfig) -> Option<TalosConfig> {
-    let talos = config.talos.clone()?;
-    Some(TalosConfig {
-        give_way: talos.give_way && config.modbus.is_none(),
-        ..talos
-    })
-}
-
 impl TalosSide {
     pub fn new(
         config: &DriverConfig,
@@ -79,7 +69,7 @@ impl TalosSide {
         speed: SpeedInForce,
     ) -> TalosSide {
         TalosSide {
-            config: link_config(config),
+            config: config.talos.clone(),
             oid: config.oid,
             joint_jog_speed: config.joint_jog_speed,
             scale,
@@ -461,28 +451,4 @@ async fn after_tasks_woken() {
         std::task::Poll::Pending
     })
     .await
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::link::ModbusConfig;
-
-    #[test]
-    fn the_talos_link_gives_way_only_when_no_modbus_stop_shares_its_thread() {
-        let talos = TalosConfig::new("127.0.0.1:5000");
-        let modbus = ModbusConfig::new("127.0.0.1:502");
-        let alone = DriverConfig::new(Some(talos.clone()), None);
-        assert_eq!(link_config(&alone).map(|c| c.give_way), Some(true));
-        let beside_modbus = DriverConfig::new(Some(talos.clone()), Some(modbus.clone()));
-        assert_eq!(link_config(&beside_modbus).map(|c| c.give_way), Some(false));
-        let told_not_to = TalosConfig {
-            give_way: false,
-            ..talos
-        };
-        let told = DriverConfig::new(Some(told_not_to), None);
-        assert_eq!(link_config(&told).map(|c| c.give_way), Some(false));
-        let modbus_only = DriverConfig::new(None, Some(modbus));
-        assert!(link_config(&modbus_only).is_none());
-    }
 }

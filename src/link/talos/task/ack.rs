@@ -58,8 +58,6 @@ impl LinkTask {
         &mut self,
         writer: &mut W,
     ) -> Result<(), String> {
-        // Frames written ahead are queued before the re-sends this writes.
-        self.take_ahead();
         let now = tokio::time::Instant::now();
         let (overdue, waiting): (VecDeque<AckWait>, VecDeque<AckWait>) =
             self.ack_queue.drain(..).partition(|w| w.expires <= now);
@@ -156,8 +154,7 @@ impl LinkTask {
             latency: wait.first_sent.elapsed(),
         };
         let command = exchange.request.command();
-        let ahead = pending.ahead;
-        if pending.answer.send(Ok(exchange)).is_err() && !ahead {
+        if pending.answer.send(Ok(exchange)).is_err() {
             self.event(TalosEvent::LateReply { id, command });
         }
     }

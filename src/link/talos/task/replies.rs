@@ -44,8 +44,7 @@ impl LinkTask {
                 source,
             }),
         };
-        let ahead = pending.ahead;
-        if pending.answer.send(result).is_err() && !ahead {
+        if pending.answer.send(result).is_err() {
             self.event(TalosEvent::LateReply { id, command });
         }
     }
