@@ -34,6 +34,7 @@ use crate::kortex::{
     ControlCoil, PolarPanSettings, PollPlan, Pose, ReferenceFrame, SpeedLimits, Stored, Telemetry,
     Twist,
 };
+use crate::link::failure::Shared;
 use crate::net::ConnectError;
 
 /// Modbus TCP port of the arm.
@@ -139,7 +140,10 @@ pub enum ModbusEvent {
     SpeedLimitsRestored { limits: SpeedLimits },
     /// The speed limits a capped move lowered could not be put back: the arm keeps the lower
     /// ones until someone sets them (`armjog modbus speed-limit`).
-    SpeedLimitsNotRestored { limits: SpeedLimits, error: String },
+    SpeedLimitsNotRestored {
+        limits: SpeedLimits,
+        error: Shared<ModbusError>,
+    },
 }
 
 /// One published poll.

@@ -12,7 +12,7 @@ use super::stop_outcome::{self, Side, StopOutcomes};
 use super::talos_side::{ORIENTATION_NEEDS_MODBUS, STORED_NEEDS_MODBUS, TalosSide};
 use super::{DriverConfig, JointPositions, modbus_worker::ModbusWorker, speed::SpeedInForce};
 use crate::key_stages::{self, Stage};
-use crate::link::guard::{self, GuardPolicy, GuardReport, GuardSupervisor};
+use crate::link::guard::{self, GuardNotRunning, GuardPolicy, GuardReport, GuardSupervisor};
 use crate::link::interface::{
     ArmCommand, ArmError, ArmEvent, CommandKind, JogMotion, LinkStatus, TelemetrySource,
 };
@@ -445,7 +445,7 @@ fn guard_refusal(
     }
     let refusal = match guard {
         Some(g) => g.refusal(),
-        None => Some("stop guard not running: none was started for this link".into()),
+        None => Some(GuardNotRunning::NoneStarted),
     };
     refusal.map(ArmError::GuardNotRunning)
 }

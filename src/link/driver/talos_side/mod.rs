@@ -7,6 +7,7 @@ use std::time::Duration;
 
 use tokio::sync::mpsc;
 
+use super::connect::ConnectError;
 use super::hw_telemetry;
 use super::speed::SpeedInForce;
 use super::{DriverConfig, JointPositions};
@@ -123,7 +124,7 @@ impl TalosSide {
     /// STOP never waits behind it); `None` with no operator configured.
     pub fn connect_attempt(
         &self,
-    ) -> Option<impl Future<Output = Result<TalosConnected, String>> + Send + 'static> {
+    ) -> Option<impl Future<Output = Result<TalosConnected, ConnectError>> + Send + 'static> {
         let config = self.config.clone()?;
         Some(connect::connect(config, self.oid, self.scale))
     }

@@ -154,7 +154,7 @@ impl LinkTask {
                 );
                 self.event(ModbusEvent::SpeedLimitsNotRestored {
                     limits,
-                    error: e.to_string(),
+                    error: e.into(),
                 });
             }
         }
