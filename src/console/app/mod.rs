@@ -68,7 +68,7 @@ pub use trail::{TRAIL_CAPACITY, TRAIL_SPACING, TRAIL_SPAN, ToolTrail, TrailPoint
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use super::book_io::{BookSave, SaveOutcome};
+use super::book_io::{BookSave, Loaded, SaveOutcome};
 use super::form::{Confirm, Form};
 use super::jog::{KeyKind, ReleaseMode};
 use super::keymap::{KeyName, Keymap};
@@ -113,7 +113,7 @@ pub enum Input {
     Paste(Pasted),
     /// The position book was read off the event loop, or could not be (the error names the file
     /// and what was wrong). See [`App::begin_loading_positions`].
-    PositionsLoaded(Result<PositionBook, String>),
+    PositionsLoaded(Loaded),
     /// The writer's outcome for the saves asked for so far (see `saving`).
     PositionsSaved(SaveOutcome),
 }

@@ -9,6 +9,7 @@ use super::{Operator, SavedPosition, iso, pose_of};
 use crate::sim::arm_model::Arm;
 use crate::sim::kinematics::{self, JOINTS, Joints, Pose};
 use crate::talos::PositionName;
+use crate::talos::name::NameError;
 use crate::text;
 
 /// Joint angles are kept only if they put the tool this close to the remembered place (m):
@@ -121,16 +122,22 @@ impl Operator {
     }
 }
 
-fn usable(position: &RememberedPosition) -> Result<(), String> {
-    PositionName::new(position.name.as_str()).map_err(|e| format!("name {e}"))?;
+/// Why a remembered position cannot be restored.
+#[derive(Debug, thiserror::Error)]
+enum Unusable {
+    #[error("name {0}")]
+    Name(#[from] NameError),
+    #[error("a coordinate is not a finite number")]
+    NotFinite,
+}
+
+fn usable(position: &RememberedPosition) -> Result<(), Unusable> {
+    PositionName::new(position.name.as_str())?;
     let finite = position.position_m.iter().all(|v| v.is_finite())
         && position
             .orientation_deg
             .is_none_or(|o| o.iter().all(|v| v.is_finite()));
-    if !finite {
-        return Err("a coordinate is not a finite number".into());
-    }
-    Ok(())
+    finite.then_some(()).ok_or(Unusable::NotFinite)
 }
 
 /// The reported angles (0-360 degrees) as joint angles the arm can go to from `from`: each the
