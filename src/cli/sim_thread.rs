@@ -21,10 +21,9 @@ type Started = Result<(SocketAddr, Option<SocketAddr>), NotStarted>;
 /// Why the simulator did not start.
 #[derive(Debug, thiserror::Error)]
 pub enum NotStarted {
-    #[error("its runtime: {0}")]
-    Runtime(std::io::Error),
-    #[error("its thread: {0}")]
-    Thread(std::io::Error),
+    /// Its runtime or its thread.
+    #[error("its {0}: {1}")]
+    Io(&'static str, std::io::Error),
     #[error("its thread ended before it listened")]
     ThreadEnded,
     #[error(transparent)]
@@ -44,7 +43,7 @@ pub async fn start(config: SimConfig) -> Result<SimThread, NotStarted> {
             {
                 Ok(runtime) => runtime,
                 Err(e) => {
-                    let _ = ready_tx.send(Err(NotStarted::Runtime(e)));
+                    let _ = ready_tx.send(Err(NotStarted::Io("runtime", e)));
                     return;
                 }
             };
@@ -62,7 +61,7 @@ pub async fn start(config: SimConfig) -> Result<SimThread, NotStarted> {
                 }
             });
         })
-        .map_err(NotStarted::Thread)?;
+        .map_err(|e| NotStarted::Io("thread", e))?;
     let (talos_addr, modbus_addr) = ready.await.map_err(|_| NotStarted::ThreadEnded)??;
     Ok(SimThread {
         talos_addr,
