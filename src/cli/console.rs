@@ -82,24 +82,31 @@ pub struct ConsoleArgs {
     pub home_action_id: u16,
 }
 
+/// Why the console's speed options cannot be used (together).
+#[derive(Debug, PartialEq, thiserror::Error)]
+enum BadSpeeds {
+    #[error("--max-jog-speed {0} mm/s: {1}")]
+    Cap(f64, SpeedCapError),
+    #[error(
+        "--max-jog-speed {cap} mm/s is below 1 % of --operator-full-speed {full} mm/s: the \
+         operator's slowest speed would be over the cap"
+    )]
+    OperatorTooFast { cap: f64, full: f64 },
+    #[error("--operator-full-speed {0} mm/s: {1}")]
+    OperatorFullSpeed(f64, SpeedCapError),
+}
+
 impl ConsoleArgs {
     /// Checks what no one value says alone, before anything starts (each value's own range is
     /// its parser's: `cli::values`).
-    fn validate(&self) -> Result<(), String> {
+    fn validate(&self) -> Result<(), BadSpeeds> {
         // The driver's cap, made here first so a bad one is refused before anything starts.
-        let cap = SpeedCap::new(self.max_jog_speed / 1000.0)
-            .map_err(|e| format!("--max-jog-speed {} mm/s: {e}", self.max_jog_speed))?;
-        match cap.with_operator(self.operator_full_speed / 1000.0) {
+        let (cap, full) = (self.max_jog_speed, self.operator_full_speed);
+        let checked = SpeedCap::new(cap / 1000.0).map_err(|e| BadSpeeds::Cap(cap, e))?;
+        match checked.with_operator(full / 1000.0) {
             Ok(_) => Ok(()),
-            Err(SpeedCapError::OperatorTooFast) => Err(format!(
-                "--max-jog-speed {} mm/s is below 1 % of --operator-full-speed {} mm/s: the \
-                 operator's slowest speed would be over the cap",
-                self.max_jog_speed, self.operator_full_speed
-            )),
-            Err(e) => Err(format!(
-                "--operator-full-speed {} mm/s: {e}",
-                self.operator_full_speed
-            )),
+            Err(SpeedCapError::OperatorTooFast) => Err(BadSpeeds::OperatorTooFast { cap, full }),
+            Err(e) => Err(BadSpeeds::OperatorFullSpeed(full, e)),
         }
     }
 
@@ -132,7 +139,7 @@ impl ConsoleArgs {
 /// Runs the console; returns the exit status. `arm_name`: the profile `args` came from.
 pub async fn run_console(args: &ConsoleArgs, arm_name: Option<String>) -> i32 {
     if let Err(reason) = args.validate() {
-        super::output::print_error(&reason);
+        super::output::print_error(&reason.to_string());
         return 2;
     }
     let keymap = match Keymap::load(&args.keymap) {
@@ -260,8 +267,9 @@ mod tests {
     use clap::Parser;
 
     use super::super::Cli;
+    use super::BadSpeeds;
 
-    fn validate(args: &[&str]) -> Result<(), String> {
+    fn validate(args: &[&str]) -> Result<(), BadSpeeds> {
         let cli = Cli::try_parse_from([&["armjog"], args].concat()).expect("parses");
         cli.console.validate()
     }
@@ -289,7 +297,7 @@ mod tests {
         let err = validate(&["--max-jog-speed", "4", "--operator-full-speed", "500"])
             .expect_err("below 1 %");
         assert_eq!(
-            err,
+            err.to_string(),
             "--max-jog-speed 4 mm/s is below 1 % of --operator-full-speed 500 mm/s: the \
              operator's slowest speed would be over the cap"
         );

@@ -182,7 +182,7 @@ pub async fn run(args: &ModbusArgs) -> Outcome {
             Err(why) => {
                 return Outcome {
                     stdout: Vec::new(),
-                    stderr: Some(why),
+                    stderr: Some(why.to_string()),
                     exit_code: EXIT_REFUSED,
                 };
             }

@@ -5,7 +5,8 @@ use std::time::Duration;
 use clap::{Args, Subcommand};
 use serde_json::{Map, Value, json};
 
-use super::{Outcome, values};
+use super::Outcome;
+use super::values::{self, BadValue};
 use crate::link::talos::{DEFAULT_PORT, Exchange, first_exchange_error};
 use crate::link::{Answer, Dialect, TalosConfig, TalosError, TalosLink};
 use crate::talos::hardware::HwReply;
@@ -44,13 +45,11 @@ pub struct SendArgs {
     pub command: SendCommand,
 }
 
-fn parse_name(s: &str) -> Result<String, String> {
-    PositionName::new(s)
-        .map(|n| n.as_str().to_owned())
-        .map_err(|e| format!("name {e}"))
+fn parse_name(s: &str) -> Result<String, BadValue> {
+    Ok(PositionName::new(s)?.as_str().to_owned())
 }
 
-fn parse_parent(s: &str) -> Result<String, String> {
+fn parse_parent(s: &str) -> Result<String, BadValue> {
     if s.is_empty() {
         Ok(String::new())
     } else {
@@ -62,11 +61,9 @@ fn parse_parent(s: &str) -> Result<String, String> {
 #[derive(Debug, Clone, Default)]
 pub struct HexBytes(pub Vec<u8>);
 
-fn parse_hex(s: &str) -> Result<HexBytes, String> {
+fn parse_hex(s: &str) -> Result<HexBytes, BadValue> {
     let cleaned: String = s.chars().filter(|c| !c.is_whitespace()).collect();
-    hex::decode(&cleaned)
-        .map(HexBytes)
-        .map_err(|e| format!("not hex bytes: {e}"))
+    Ok(HexBytes(hex::decode(&cleaned)?))
 }
 
 const DIRECTION: std::ops::RangeInclusive<i64> = -1..=1;

@@ -8,7 +8,7 @@ use super::output;
 
 use crate::link::Dialect;
 use crate::sim::arm_model::Arm;
-use crate::sim::kinematics::{self, HOME_DEG};
+use crate::sim::kinematics::{self, HOME_DEG, NoNearLimit};
 use crate::sim::talos_server::{NetworkFaults, TalosServerConfig};
 use crate::sim::{
     DEFAULT_MODBUS_LISTEN, DEFAULT_TALOS_LISTEN, SimConfig, Simulator, UnlistedReads,
@@ -68,7 +68,7 @@ pub struct SimArgs {
 }
 
 impl SimArgs {
-    pub fn config(&self) -> Result<SimConfig, String> {
+    pub fn config(&self) -> Result<SimConfig, NoNearLimit> {
         let q = match (self.near_limit, self.near_singularity) {
             (Some(joint), _) => kinematics::near_limit_pose_deg(joint)?,
             (None, true) => kinematics::near_singularity_pose_deg(),
@@ -109,7 +109,7 @@ pub async fn run(args: &SimArgs) -> i32 {
     let config = match args.config() {
         Ok(config) => config,
         Err(reason) => {
-            output::print_error(&reason);
+            output::print_error(&reason.to_string());
             return 2;
         }
     };

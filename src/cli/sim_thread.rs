@@ -4,7 +4,7 @@ use std::net::SocketAddr;
 
 use tokio::sync::oneshot;
 
-use crate::sim::{SimConfig, Simulator};
+use crate::sim::{SimConfig, SimError, Simulator};
 
 /// The running simulator's addresses; dropping it ends the simulator.
 pub struct SimThread {
@@ -14,10 +14,22 @@ pub struct SimThread {
     _stop: oneshot::Sender<()>,
 }
 
-type Started = Result<(SocketAddr, Option<SocketAddr>), String>;
+type Started = Result<(SocketAddr, Option<SocketAddr>), NotStarted>;
+
+/// Why the simulator did not start.
+#[derive(Debug, thiserror::Error)]
+pub enum NotStarted {
+    /// Its runtime or its thread.
+    #[error("its {0}: {1}")]
+    Io(&'static str, std::io::Error),
+    #[error("its thread ended before it listened")]
+    ThreadEnded,
+    #[error(transparent)]
+    Listen(#[from] SimError),
+}
 
 /// Starts the simulator on its own thread; returns once it listens (or why it cannot).
-pub async fn start(config: SimConfig) -> Result<SimThread, String> {
+pub async fn start(config: SimConfig) -> Result<SimThread, NotStarted> {
     let (ready_tx, ready) = oneshot::channel::<Started>();
     let (stop, stopped) = oneshot::channel::<()>();
     std::thread::Builder::new()
@@ -29,7 +41,7 @@ pub async fn start(config: SimConfig) -> Result<SimThread, String> {
             {
                 Ok(runtime) => runtime,
                 Err(e) => {
-                    let _ = ready_tx.send(Err(format!("its runtime: {e}")));
+                    let _ = ready_tx.send(Err(NotStarted::Io("runtime", e)));
                     return;
                 }
             };
@@ -42,15 +54,13 @@ pub async fn start(config: SimConfig) -> Result<SimThread, String> {
                         drop(sim);
                     }
                     Err(e) => {
-                        let _ = ready_tx.send(Err(e.to_string()));
+                        let _ = ready_tx.send(Err(e.into()));
                     }
                 }
             });
         })
-        .map_err(|e| format!("its thread: {e}"))?;
-    let (talos_addr, modbus_addr) = ready
-        .await
-        .map_err(|_| "its thread ended before it listened".to_string())??;
+        .map_err(|e| NotStarted::Io("thread", e))?;
+    let (talos_addr, modbus_addr) = ready.await.map_err(|_| NotStarted::ThreadEnded)??;
     Ok(SimThread {
         talos_addr,
         modbus_addr,

@@ -8,6 +8,7 @@ use super::Outcome;
 use super::modbus::ArmAddress;
 use super::output::{self, Printed};
 use super::units::{fixed, linear_speed};
+use super::values::BadValue;
 use crate::console::audit::rfc3339_ms;
 use crate::kortex::{CodeName, Flag, FlagSet, Telemetry};
 use crate::link::ModbusLink;
@@ -34,10 +35,10 @@ pub struct StatusArgs {
     pub watch: Option<f64>,
 }
 
-fn parse_rate(s: &str) -> Result<f64, String> {
+fn parse_rate(s: &str) -> Result<f64, BadValue> {
     match s.parse::<f64>() {
         Ok(hz) if hz.is_finite() && hz > 0.0 && hz <= 100.0 => Ok(hz),
-        _ => Err(format!("'{s}' is not a rate in (0, 100] Hz")),
+        _ => Err(BadValue::NotARate(s.into())),
     }
 }
 

@@ -4,47 +4,69 @@
 
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 
-use crate::kortex::commands::stored_id;
-use crate::link::speed::SpeedCap;
+use crate::kortex::commands::{CommandError, stored_id};
+use crate::link::speed::{SpeedCap, SpeedCapError};
+use crate::talos::name::NameError;
 use crate::talos::{Checksum, Dialect};
 
+/// What is wrong with an option's value.
+#[derive(Debug, thiserror::Error)]
+pub enum BadValue {
+    #[error("'{0}' is not a number")]
+    NotANumber(String),
+    #[error("'{0}' is not a whole number")]
+    NotAWholeNumber(String),
+    #[error(transparent)]
+    ToolSpeed(#[from] SpeedCapError),
+    #[error("must be 2.5 to 100 (re-sending well inside the 500 ms watchdog)")]
+    RefreshHz,
+    #[error("must be 1 to 200")]
+    TelemetryHz,
+    #[error(transparent)]
+    StoredId(#[from] CommandError),
+    #[error("'{0}' is not a rate in (0, 100] Hz")]
+    NotARate(String),
+    #[error("name {0}")]
+    Name(#[from] NameError),
+    #[error("not hex bytes: {0}")]
+    NotHex(#[from] hex::FromHexError),
+}
+
 /// A number as typed.
-fn number(text: &str) -> Result<f64, String> {
+fn number(text: &str) -> Result<f64, BadValue> {
     text.parse::<f64>()
-        .map_err(|_| format!("'{text}' is not a number"))
+        .map_err(|_| BadValue::NotANumber(text.into()))
 }
 
 /// A tool speed in mm/s that a cap may be ([`SpeedCap::new`]).
-pub fn tool_speed(text: &str) -> Result<f64, String> {
+pub fn tool_speed(text: &str) -> Result<f64, BadValue> {
     let mm_s = number(text)?;
-    match SpeedCap::new(mm_s / 1000.0) {
-        Ok(_) => Ok(mm_s),
-        Err(e) => Err(e.to_string()),
-    }
+    SpeedCap::new(mm_s / 1000.0)?;
+    Ok(mm_s)
 }
 
 /// `--refresh-hz`: how often a held jog is re-sent, well inside the operator's 500 ms watchdog.
-pub fn refresh_hz(text: &str) -> Result<f64, String> {
+pub fn refresh_hz(text: &str) -> Result<f64, BadValue> {
     match number(text)? {
         hz if hz.is_finite() && (2.5..=100.0).contains(&hz) => Ok(hz),
-        _ => Err("must be 2.5 to 100 (re-sending well inside the 500 ms watchdog)".into()),
+        _ => Err(BadValue::RefreshHz),
     }
 }
 
 /// `--telemetry-hz`: Modbus polls per second.
-pub fn telemetry_hz(text: &str) -> Result<f64, String> {
+pub fn telemetry_hz(text: &str) -> Result<f64, BadValue> {
     match number(text)? {
         hz if hz.is_finite() && (1.0..=200.0).contains(&hz) => Ok(hz),
-        _ => Err("must be 1 to 200".into()),
+        _ => Err(BadValue::TelemetryHz),
     }
 }
 
 /// A stored action or sequence id, in [`crate::kortex::commands::STORED_IDS`].
-pub fn stored_action_id(text: &str) -> Result<u16, String> {
+pub fn stored_action_id(text: &str) -> Result<u16, BadValue> {
     let whole: i128 = text
         .parse()
-        .map_err(|_| format!("'{text}' is not a whole number"))?;
-    stored_id(whole).map_err(|e| e.to_string())
+        .map_err(|_| BadValue::NotAWholeNumber(text.into()))?;
+    Ok(stored_id(whole)?)
 }
 
 /// `--checksum`: the checksum dialect of every Talos frame.

@@ -10,9 +10,10 @@ use std::io::Write as _;
 
 use super::positions::shared::{self, Written};
 use super::positions::{BookError, PositionBook};
+use crate::link::failure::Shared;
 
 /// What the loader hands back: the book, or the error naming the file and what was wrong.
-pub type Loaded = Result<PositionBook, String>;
+pub type Loaded = Result<PositionBook, Shared<BookError>>;
 
 /// Starts reading the book at `path` on a blocking thread.
 pub fn load(path: &Path) -> oneshot::Receiver<Loaded> {
@@ -20,7 +21,7 @@ pub fn load(path: &Path) -> oneshot::Receiver<Loaded> {
     let path = path.to_path_buf();
     tokio::task::spawn_blocking(move || {
         let started = std::time::Instant::now();
-        let result = PositionBook::load(&path).map_err(|e| e.to_string());
+        let result = PositionBook::load(&path).map_err(Shared::from);
         if let Ok(book) = &result {
             tracing::info!(
                 "loaded {} positions from {} in {:?}",
@@ -54,7 +55,7 @@ pub async fn loaded(loading: &mut Option<oneshot::Receiver<Loaded>>) -> Loaded {
     };
     let result = rx
         .await
-        .unwrap_or_else(|_| Err("the positions loader ended without a book".to_string()));
+        .unwrap_or_else(|_| Err(BookError::LoaderEnded.into()));
     *loading = None;
     result
 }
@@ -256,7 +257,7 @@ impl BookFiles {
         };
         let loading = match (read, regular_within_limit) {
             (None, true) => load(p),
-            (Some(read), true) => answered(read.map_err(|e| e.to_string())),
+            (Some(read), true) => answered(read.map_err(Shared::from)),
             (read, false) => {
                 let book = match read {
                     Some(read) => read?,

@@ -5,6 +5,7 @@
 
 use std::sync::Arc;
 
+use super::guard::GuardNotRunning;
 use super::modbus::ModbusError;
 use super::talos::TalosError;
 use crate::talos::ReturnCode;
@@ -42,9 +43,9 @@ pub enum ArmError {
     /// A request could not be encoded (a value outside what the wire can carry).
     #[error("{0}")]
     Encode(HwError),
-    /// Motion is refused while the stop guard is not ready: the guard's own words.
+    /// Motion is refused while the stop guard is not ready.
     #[error("{0}")]
-    GuardNotRunning(String),
+    GuardNotRunning(GuardNotRunning),
     /// The stop guard stopped the arm (the console went quiet, or its link did).
     #[error("the stop guard stopped the arm: {0}")]
     GuardStoppedArm(String),
@@ -59,7 +60,7 @@ pub enum ArmError {
     SpeedLimitsNotRestored {
         linear: f32,
         angular: f32,
-        error: String,
+        error: Shared<ModbusError>,
     },
 }
 

@@ -158,13 +158,25 @@ impl GuardSupervisor {
     }
 
     /// Why motion is refused now, on any link, or `None` when the guard is ready.
-    pub fn refusal(&self) -> Option<String> {
+    pub fn refusal(&self) -> Option<GuardNotRunning> {
         match self.status() {
             GuardStatus::Ready { .. } => None,
-            GuardStatus::Starting => Some("stop guard not running: still starting".into()),
-            GuardStatus::Down { reason } => Some(format!("stop guard not running: {reason}")),
+            GuardStatus::Starting => Some(GuardNotRunning::Starting),
+            GuardStatus::Down { reason } => Some(GuardNotRunning::Down(reason)),
         }
     }
+}
+
+/// Why no stop guard stands ready: no motion starts, on any link.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum GuardNotRunning {
+    #[error("stop guard not running: still starting")]
+    Starting,
+    /// The guard's [`GuardStatus::Down`] reason.
+    #[error("stop guard not running: {0}")]
+    Down(String),
+    #[error("stop guard not running: none was started for this link")]
+    NoneStarted,
 }
 
 struct Reporter {
@@ -286,16 +298,17 @@ async fn run_once(program: &PathBuf, args: &[String], reporter: &Reporter) -> St
     }
 }
 
-async fn heartbeat(stdin: &mut ChildStdin) -> Result<(), String> {
+async fn heartbeat(stdin: &mut ChildStdin) -> std::io::Result<()> {
     let write = async {
         stdin.write_all(&[HEARTBEAT]).await?;
         stdin.flush().await
     };
-    match tokio::time::timeout(WRITE_TIMEOUT, write).await {
-        Ok(Ok(())) => Ok(()),
-        Ok(Err(e)) => Err(e.to_string()),
-        Err(_) => Err(format!("the pipe took no byte for {WRITE_TIMEOUT:?}")),
-    }
+    tokio::time::timeout(WRITE_TIMEOUT, write)
+        .await
+        .unwrap_or_else(|_| {
+            let words = format!("the pipe took no byte for {WRITE_TIMEOUT:?}");
+            Err(std::io::Error::new(std::io::ErrorKind::TimedOut, words))
+        })
 }
 
 /// Ends a silent guard (stdin dropped first, so a live one stops the arm).

@@ -24,6 +24,7 @@ use crate::kortex::{
     ControlCoil, PolarPanSettings, PollPlan, Pose, ReferenceFrame, SpeedLimits, Stored, Telemetry,
     Twist,
 };
+use crate::link::failure::Shared;
 use crate::net::ConnectError;
 
 /// Modbus TCP port of the arm.
@@ -125,7 +126,10 @@ pub enum ModbusEvent {
     /// The speed limits a capped move lowered are back to `limits`.
     SpeedLimitsRestored { limits: SpeedLimits },
     /// A capped move's lowered limits could not be put back: they stay until set again.
-    SpeedLimitsNotRestored { limits: SpeedLimits, error: String },
+    SpeedLimitsNotRestored {
+        limits: SpeedLimits,
+        error: Shared<ModbusError>,
+    },
 }
 
 /// One published poll.

@@ -171,20 +171,27 @@ pub fn inverse(q0: &Joints, target: &Pose) -> Result<Joints, IkError> {
     })
 }
 
+/// Why a joint has no pose near its limit.
+#[derive(Debug, thiserror::Error)]
+pub enum NoNearLimit {
+    #[error("--near-limit {0}: the Gen3 has joints 1 to 7")]
+    NoSuchJoint(u8),
+    #[error("--near-limit {0}: joint {0} turns continuously; J2, J4 and J6 have limits")]
+    Continuous(u8),
+}
+
 /// How far inside its limit `armjog sim --near-limit` places a joint, degrees.
 pub const NEAR_LIMIT_MARGIN_DEG: f64 = 2.0;
 
 /// Home (degrees) with `joint` (1-7) [`NEAR_LIMIT_MARGIN_DEG`] inside its upper limit, for `armjog
 /// sim --near-limit`. Refuses a continuous joint and a number out of 1-7.
-pub fn near_limit_pose_deg(joint: u8) -> Result<Joints, String> {
+pub fn near_limit_pose_deg(joint: u8) -> Result<Joints, NoNearLimit> {
     let index = usize::from(joint)
         .checked_sub(1)
         .filter(|i| *i < JOINTS)
-        .ok_or_else(|| format!("--near-limit {joint}: the Gen3 has joints 1 to 7"))?;
+        .ok_or(NoNearLimit::NoSuchJoint(joint))?;
     let Some(limit) = JOINT_LIMITS_DEG[index] else {
-        return Err(format!(
-            "--near-limit {joint}: joint {joint} turns continuously; J2, J4 and J6 have limits"
-        ));
+        return Err(NoNearLimit::Continuous(joint));
     };
     let mut q = HOME_DEG;
     q[index] = limit - NEAR_LIMIT_MARGIN_DEG;
@@ -321,11 +328,11 @@ mod tests {
             assert!((limit - q[i] - 2.0).abs() < 1e-9);
         }
         for joint in [1u8, 3, 5, 7] {
-            let e = near_limit_pose_deg(joint).unwrap_err();
+            let e = near_limit_pose_deg(joint).unwrap_err().to_string();
             assert!(e.contains("continuously"), "{e}");
         }
         for joint in [0u8, 8] {
-            let e = near_limit_pose_deg(joint).unwrap_err();
+            let e = near_limit_pose_deg(joint).unwrap_err().to_string();
             assert!(e.contains("1 to 7"), "{e}");
         }
     }

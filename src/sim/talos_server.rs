@@ -28,6 +28,7 @@ use crate::talos::Dialect;
 use crate::talos::ack::ACK;
 use crate::talos::command::REPLY_BIT;
 use crate::talos::frame::{Decoded, RejectReason, Rejection};
+use crate::talos::message::DecodeError;
 use crate::talos::{Checksum, CommandValue, FrameCodec, Reply, Request, ReturnCode, TalosFrame};
 
 /// Network misbehaviour to inject, for tests and training. Changes apply at once.
@@ -326,28 +327,39 @@ async fn answer_ack(arm: &SimArm, item: Decoded, client: &mut Client) -> Option<
 }
 
 /// An ack-dialect frame's request and id, or why the deployed operator ignores it.
-fn ack_request(item: Decoded) -> Result<(u32, Request), String> {
+fn ack_request(item: Decoded) -> Result<(u32, Request), Ignored> {
     let frame = match item {
         Decoded::TalosFrame(frame) => frame,
-        Decoded::Rejected(rejection) => return Err(describe_rejection(&rejection)),
+        Decoded::Rejected(rejection) => {
+            return Err(Ignored::Rejected(describe_rejection(&rejection)));
+        }
     };
     let name = label(frame.id, frame.command);
     if frame.is_reply() {
-        return Err(format!(
-            "{name}: a reply value; the operator takes requests"
-        ));
+        return Err(Ignored::Reply(name));
     }
     match CommandValue::from_request_value(frame.command) {
-        None => return Err(format!("{name}: not a command of the ICD")),
-        Some(command) if !Dialect::Ack.supports(command) => {
-            return Err(format!(
-                "{name}: the deployed operator implements only commands 0x0000-0x0004"
-            ));
-        }
+        None => return Err(Ignored::NotACommand(name)),
+        Some(command) if !Dialect::Ack.supports(command) => return Err(Ignored::NotInAck(name)),
         Some(_) => {}
     }
     match Request::from_frame(&frame) {
         Ok(request) => Ok((frame.id, request)),
-        Err(error) => Err(format!("{name}: malformed payload: {error}")),
+        Err(error) => Err(Ignored::Malformed(name, error)),
     }
+}
+
+/// Why the deployed operator does nothing with a frame, naming the frame.
+#[derive(Debug, thiserror::Error)]
+enum Ignored {
+    #[error("{0}")]
+    Rejected(String),
+    #[error("{0}: a reply value; the operator takes requests")]
+    Reply(String),
+    #[error("{0}: not a command of the ICD")]
+    NotACommand(String),
+    #[error("{0}: the deployed operator implements only commands 0x0000-0x0004")]
+    NotInAck(String),
+    #[error("{0}: malformed payload: {1}")]
+    Malformed(String, DecodeError),
 }

@@ -159,12 +159,13 @@ async fn the_console_refuses_modbus_jogs_when_its_guard_cannot_start() {
     )
     .await;
     let ArmEvent::Failed {
-        error: ArmError::GuardNotRunning(reason),
+        error: error @ ArmError::GuardNotRunning(_),
         ..
     } = failed
     else {
         panic!("refused for want of the guard: {failed:?}")
     };
+    let reason = error.to_string();
     assert!(
         reason.starts_with("stop guard not running:"),
         "says why: {reason}"
@@ -174,7 +175,7 @@ async fn the_console_refuses_modbus_jogs_when_its_guard_cannot_start() {
     // Home is motion too.
     assert!(driver.send(ArmCommand::Home));
     wait_event(&mut events, Duration::from_secs(5), "home refused", |e| {
-        matches!(e, ArmEvent::Failed { command: CommandKind::Home, error: ArmError::GuardNotRunning(reason) } if reason.contains("stop guard"))
+        matches!(e, ArmEvent::Failed { command: CommandKind::Home, error: ArmError::GuardNotRunning(reason) } if reason.to_string().contains("stop guard"))
     })
     .await;
     driver.shutdown().await;
@@ -215,7 +216,7 @@ async fn a_guard_that_stops_answering_is_replaced() {
     assert!(reason.contains("stopped answering"), "says why: {reason}");
     assert!(driver.send(jog_x()));
     wait_event(&mut events, Duration::from_secs(5), "the jog refused", |e| {
-        matches!(e, ArmEvent::Failed { command: CommandKind::Jog, error: ArmError::GuardNotRunning(reason) } if reason.contains("stop guard not running"))
+        matches!(e, ArmEvent::Failed { command: CommandKind::Jog, error: ArmError::GuardNotRunning(reason) } if reason.to_string().contains("stop guard not running"))
     })
     .await;
     let again = guard_ready(&mut events, Duration::from_secs(15), "a new guard").await;

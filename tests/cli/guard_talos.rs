@@ -226,7 +226,7 @@ async fn talos_motion_waits_for_a_ready_guard_as_modbus_motion_does() {
         assert!(driver.send(command));
         wait_event(&mut events, Duration::from_secs(5), "the refusal", |e| {
             matches!(e, ArmEvent::Failed { command, error: ArmError::GuardNotRunning(reason) }
-                if *command == kind && reason.starts_with("stop guard not running"))
+                if *command == kind && reason.to_string().starts_with("stop guard not running"))
         })
         .await;
     }

@@ -41,7 +41,7 @@ fn near_limit_places_the_joint_two_degrees_inside_its_limit_and_the_rest_at_home
 fn near_limit_refuses_continuous_joints_and_numbers_out_of_range() {
     for joint in ["1", "3", "5", "7"] {
         let args = sim_args(&["--near-limit", joint]).expect("parses");
-        let err = args.config().expect_err("a continuous joint");
+        let err = args.config().expect_err("a continuous joint").to_string();
         assert!(
             err.contains(&format!("--near-limit {joint}")) && err.contains("continuously"),
             "{err}"

@@ -251,7 +251,7 @@ async fn a_restore_the_arm_refuses_is_reported_with_the_limits_to_set_again() {
             angular: 80.0
         }
     );
-    assert!(error.contains("illegal data value"), "{error}");
+    assert!(error.to_string().contains("illegal data value"), "{error}");
     link.close().await.expect("close");
 }
 

@@ -63,9 +63,9 @@ impl TalosStop {
                     ));
                 }
                 // Each distinct error once: the tries are 50 ms apart.
-                Err(e) if !errors.contains(&e) => {
+                Err(e) if !errors.contains(&e.to_string()) => {
                     tracing::error!("stop guard: talos stop not answered: {e}");
-                    errors.push(e);
+                    errors.push(e.to_string());
                 }
                 Err(_) => {}
             }
@@ -77,35 +77,38 @@ impl TalosStop {
     }
 
     /// One connection: handshake, stop set, answers; returns how many stops were answered.
-    async fn once(&self, console: Console) -> Result<usize, String> {
-        let (link, _events) = TalosLink::connect(self.config.clone())
-            .await
-            .map_err(|e| e.to_string())?;
-        let handshake = link
-            .submit(Request::Handshake {
-                oid: Some(self.oid),
-            })
-            .map_err(|e| e.to_string())?;
+    async fn once(&self, console: Console) -> Result<usize, NotAnswered> {
+        let (link, _events) = TalosLink::connect(self.config.clone()).await?;
+        let handshake = link.submit(Request::Handshake {
+            oid: Some(self.oid),
+        })?;
         if console == Console::MayBeConnected {
             match handshake.wait().await {
                 // Any answer, a refusal too, says the operator serves this connection.
                 Ok(_) | Err(TalosError::ReturnCode { .. }) => {}
-                Err(e) => {
-                    return Err(format!(
-                        "the operator did not answer the guard's connection ({e}): one that \
-                         serves one client at a time cannot while the console holds its own"
-                    ));
-                }
+                Err(e) => return Err(NotAnswered::NotServed(e)),
             }
         }
         let mut answers = Vec::new();
         for request in stop_requests(self.config.dialect) {
-            answers.push(link.submit(request).map_err(|e| e.to_string())?.wait());
+            answers.push(link.submit(request)?.wait());
         }
         let requests = answers.len();
         for answer in futures::future::join_all(answers).await {
-            answer.map_err(|e| e.to_string())?;
+            answer?;
         }
         Ok(requests)
     }
+}
+
+/// Why one try did not get the stop set answered.
+#[derive(Debug, thiserror::Error)]
+enum NotAnswered {
+    #[error(transparent)]
+    Talos(#[from] TalosError),
+    #[error(
+        "the operator did not answer the guard's connection ({0}): one that \
+         serves one client at a time cannot while the console holds its own"
+    )]
+    NotServed(TalosError),
 }

@@ -31,14 +31,17 @@ pub struct StoredOptions {
     pub max_jog_speed: f64,
 }
 
+/// A `--wait-timeout` no run could have.
+#[derive(Debug, thiserror::Error)]
+#[error("--wait-timeout {0}: must be above 0 and at most 86400 s")]
+pub struct BadWaitTimeout(f64);
+
 impl StoredOptions {
     /// Refuses values a technician could get wrong, before anything connects.
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), BadWaitTimeout> {
         let timeout = self.wait_timeout;
         if !(timeout.is_finite() && timeout > 0.0 && timeout <= 86_400.0) {
-            return Err(format!(
-                "--wait-timeout {timeout}: must be above 0 and at most 86400 s"
-            ));
+            return Err(BadWaitTimeout(timeout));
         }
         Ok(())
     }

@@ -11,9 +11,8 @@ use super::message::Until;
 use super::resave::RESAVE_GO_WITHIN;
 use super::saving::Saved;
 use super::{App, Effect, Input, Overlay, Severity};
-use crate::console::book_io::SaveOutcome;
+use crate::console::book_io::{Loaded, SaveOutcome};
 use crate::console::form::Confirm;
-use crate::console::positions::PositionBook;
 use crate::console::positions::merge::Kept;
 use crate::console::positions::shared::Written;
 use crate::link::interface::{ArmCommand, ArmError, ArmEvent, CommandKind, LinkStatus};
@@ -28,7 +27,7 @@ impl App {
     /// The book arrived (or could not be read: the error names the file and what was wrong).
     pub(super) fn on_positions_loaded(
         &mut self,
-        result: Result<PositionBook, String>,
+        result: Loaded,
         now: Instant,
         effects: &mut Vec<Effect>,
     ) {
@@ -51,7 +50,7 @@ impl App {
                     Severity::Error,
                     now,
                 );
-                self.book.on_load_failed(error);
+                self.book.on_load_failed(error.to_string());
             }
         }
     }

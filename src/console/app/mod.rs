@@ -63,7 +63,7 @@ pub use trail::{TRAIL_CAPACITY, TRAIL_SPACING, TRAIL_SPAN, ToolTrail, TrailPoint
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use super::book_io::{BookSave, SaveOutcome};
+use super::book_io::{BookSave, Loaded, SaveOutcome};
 use super::form::{Confirm, Form};
 use super::jog::{KeyKind, ReleaseMode};
 use super::keymap::{KeyName, Keymap};
@@ -107,7 +107,7 @@ pub enum Input {
     /// A bracketed paste, or input the reader dropped.
     Paste(Pasted),
     /// The book read off the event loop, or why not. See [`App::begin_loading_positions`].
-    PositionsLoaded(Result<PositionBook, String>),
+    PositionsLoaded(Loaded),
     /// The writer's outcome for the saves asked for so far (see `saving`).
     PositionsSaved(SaveOutcome),
 }

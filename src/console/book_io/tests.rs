@@ -208,7 +208,10 @@ async fn a_book_loads_off_the_loop_and_an_unreadable_one_names_its_file() {
     std::fs::write(&bad, "{ not json").unwrap();
     let mut loading = Some(load(&bad));
     let error = loaded(&mut loading).await.unwrap_err();
-    assert!(error.starts_with(&bad.display().to_string()), "{error}");
+    assert!(
+        error.to_string().starts_with(&bad.display().to_string()),
+        "{error}"
+    );
 }
 
 #[tokio::test]
@@ -234,7 +237,10 @@ async fn a_bad_book_read_already_reports_as_opening_it_would() {
     let mut opened = BookFiles::open(Some(bad.clone())).expect("opened");
     let mut handed = BookFiles::open_read(bad.clone(), read(&bad).await).expect("opened");
     let error = loaded(&mut handed.loading).await.unwrap_err();
-    assert!(error.starts_with(&bad.display().to_string()), "{error}");
+    assert!(
+        error.to_string().starts_with(&bad.display().to_string()),
+        "{error}"
+    );
     assert_eq!(loaded(&mut opened.loading).await, Err(error));
 
     let missing = d.path().join("missing.json");

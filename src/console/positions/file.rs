@@ -103,6 +103,9 @@ pub enum BookError {
         bytes: u64,
         limit: u64,
     },
+    /// The thread that reads it ended without an answer.
+    #[error("the positions loader ended without a book")]
+    LoaderEnded,
 }
 
 /// A book as its file holds it: what loaded, what was set aside, and the file's text.

@@ -7,7 +7,10 @@ use tokio::task::AbortHandle;
 use tokio::time::Instant;
 
 use super::talos_side::TalosConnected;
-use crate::link::modbus::{ModbusConfig, ModbusEvent, ModbusLink};
+use crate::link::TalosError;
+use crate::link::failure::Shared;
+use crate::link::modbus::{ModbusConfig, ModbusError, ModbusEvent, ModbusLink};
+use crate::talos::ReturnCode;
 
 /// First retry delay after a failed connect or a lost link.
 pub const RETRY_FIRST: Duration = Duration::from_secs(1);
@@ -16,8 +19,32 @@ pub const RETRY_MAX: Duration = Duration::from_secs(5);
 
 /// What a connect task reports.
 pub enum Connected {
-    Talos(Result<TalosConnected, String>),
-    Modbus(Result<(ModbusLink, mpsc::UnboundedReceiver<ModbusEvent>), String>),
+    Talos(Result<TalosConnected, ConnectError>),
+    Modbus(Result<(ModbusLink, mpsc::UnboundedReceiver<ModbusEvent>), ConnectError>),
+}
+
+/// Why a link could not be opened, named by its link.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ConnectError {
+    #[error("talos: {0}")]
+    Talos(Shared<TalosError>),
+    /// The handshake's failure in words, with its hint (`talos::first_exchange_error`).
+    #[error("talos handshake: {0}")]
+    Handshake(String),
+    #[error(
+        "talos: the operator's speed {speed}% is over the cap and it refused Set Speed ({code})"
+    )]
+    SpeedRefused { speed: u8, code: ReturnCode },
+    #[error("talos: the operator's speed {speed}% is over the cap and Set Speed failed: {error}")]
+    SpeedNotSet {
+        speed: u8,
+        error: Shared<TalosError>,
+    },
+    #[error("modbus {addr}: {error}")]
+    Modbus {
+        addr: String,
+        error: Shared<ModbusError>,
+    },
 }
 
 /// One link's connect attempts: at most one in flight, the next one due after a back-off.
@@ -98,7 +125,10 @@ pub async fn modbus(config: ModbusConfig) -> Connected {
     Connected::Modbus(
         ModbusLink::connect(config)
             .await
-            .map_err(|e| format!("modbus {addr}: {e}")),
+            .map_err(|e| ConnectError::Modbus {
+                addr,
+                error: e.into(),
+            }),
     )
 }
 
@@ -141,7 +171,7 @@ mod tests {
         attempts.start(
             async {
                 tokio::time::sleep(Duration::from_millis(20)).await;
-                Connected::Talos(Err("late".into()))
+                Connected::Talos(Err(ConnectError::Handshake("late".into())))
             },
             &tx,
         );
@@ -149,7 +179,7 @@ mod tests {
         let Some(Connected::Talos(Err(reason))) = rx.recv().await else {
             panic!("the attempt reports on the channel");
         };
-        assert_eq!(reason, "late");
+        assert_eq!(reason, ConnectError::Handshake("late".into()));
         attempts.finished(false);
         assert!(attempts.due_at().is_some());
     }

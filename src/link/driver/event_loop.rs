@@ -10,7 +10,7 @@ use super::links::{LinkState, Links, LostReason, modbus_description};
 use super::stop_outcome::{self, Side, StopOutcomes};
 use super::talos_side::{ORIENTATION_NEEDS_MODBUS, STORED_NEEDS_MODBUS, TalosSide};
 use super::{DriverConfig, JointPositions, modbus_worker::ModbusWorker, speed::SpeedInForce};
-use crate::link::guard::{self, GuardPolicy, GuardReport, GuardSupervisor};
+use crate::link::guard::{self, GuardNotRunning, GuardPolicy, GuardReport, GuardSupervisor};
 use crate::link::interface::{
     ArmCommand, ArmError, ArmEvent, CommandKind, JogMotion, LinkStatus, TelemetrySource,
 };
@@ -428,7 +428,7 @@ fn guard_refusal(
     }
     let refusal = match guard {
         Some(g) => g.refusal(),
-        None => Some("stop guard not running: none was started for this link".into()),
+        None => Some(GuardNotRunning::NoneStarted),
     };
     refusal.map(ArmError::GuardNotRunning)
 }

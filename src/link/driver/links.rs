@@ -1,6 +1,7 @@
 //! Each link's state as the driver knows it, and the one status shown for them.
 
 use super::DriverConfig;
+use super::connect::ConnectError;
 use crate::link::interface::LinkStatus;
 use crate::link::modbus::ModbusConfig;
 
@@ -17,8 +18,8 @@ pub enum LinkState {
 /// Why a link is not connected.
 #[derive(Debug, Clone, PartialEq)]
 pub enum LostReason {
-    /// A connect or handshake failed: the connect's own words, naming the link.
-    ConnectFailed(String),
+    /// A connect or handshake failed.
+    ConnectFailed(ConnectError),
     /// The Talos link was up and dropped.
     TalosDisconnected(String),
     /// The Modbus link was up and dropped.
@@ -28,7 +29,7 @@ pub enum LostReason {
 impl std::fmt::Display for LostReason {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            LostReason::ConnectFailed(words) => f.write_str(words),
+            LostReason::ConnectFailed(error) => error.fmt(f),
             LostReason::TalosDisconnected(reason) => write!(f, "talos: {reason}"),
             LostReason::ModbusDisconnected(reason) => write!(f, "modbus: {reason}"),
         }
@@ -57,11 +58,11 @@ impl Default for Links {
 
 impl Links {
     /// A failed connect (a lost link keeps its first reason). Returns whether the state changed.
-    pub fn connect_failed(state: &mut LinkState, words: String) -> bool {
+    pub fn connect_failed(state: &mut LinkState, error: ConnectError) -> bool {
         if matches!(state, LinkState::Lost(_)) {
             return false;
         }
-        *state = LinkState::Lost(LostReason::ConnectFailed(words));
+        *state = LinkState::Lost(LostReason::ConnectFailed(error));
         true
     }
 
@@ -139,13 +140,14 @@ mod tests {
     #[test]
     fn a_failed_reconnect_keeps_the_reason_the_link_went_down_with() {
         let mut state = LinkState::Connecting;
-        assert!(Links::connect_failed(&mut state, "talos: refused".into()));
-        assert!(!Links::connect_failed(&mut state, "talos: again".into()));
-        assert_eq!(
-            state,
-            LinkState::Lost(LostReason::ConnectFailed("talos: refused".into()))
-        );
+        let refused = || ConnectError::Handshake("refused".into());
+        assert!(Links::connect_failed(&mut state, refused()));
+        assert!(!Links::connect_failed(
+            &mut state,
+            ConnectError::Handshake("again".into())
+        ));
+        assert_eq!(state, LinkState::Lost(LostReason::ConnectFailed(refused())));
         let mut lost = LinkState::Lost(LostReason::TalosDisconnected("eof".into()));
-        assert!(!Links::connect_failed(&mut lost, "talos: refused".into()));
+        assert!(!Links::connect_failed(&mut lost, refused()));
     }
 }

@@ -4,7 +4,7 @@
 
 use std::collections::VecDeque;
 
-use crate::link::interface::{ArmCommand, ArmEvent};
+use crate::link::interface::{ArmCommand, ArmError, ArmEvent};
 
 /// The two links the driver may have.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -63,7 +63,7 @@ impl StopOutcomes {
     }
 
     /// `side`'s answer to the oldest STOP it owes; that STOP's outcome once nothing more is owed.
-    pub fn answer(&mut self, side: Side, result: Result<(), String>) -> Option<ArmEvent> {
+    pub fn answer(&mut self, side: Side, result: Result<(), &ArmError>) -> Option<ArmEvent> {
         let index = self.pending.iter().position(|p| p.owed[side as usize])?;
         let pending = &mut self.pending[index];
         pending.owed[side as usize] = false;
@@ -91,10 +91,10 @@ impl Pending {
 }
 
 /// The stop outcome an event from one link's side carries, if it answers a STOP.
-pub fn stop_answer(event: &ArmEvent) -> Option<Result<(), String>> {
+pub fn stop_answer(event: &ArmEvent) -> Option<Result<(), &ArmError>> {
     match event {
         ArmEvent::Done { command } if command.is_stop() => Some(Ok(())),
-        ArmEvent::Failed { command, error } if command.is_stop() => Some(Err(error.to_string())),
+        ArmEvent::Failed { command, error } if command.is_stop() => Some(Err(error)),
         _ => None,
     }
 }
@@ -102,7 +102,7 @@ pub fn stop_answer(event: &ArmEvent) -> Option<Result<(), String>> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::link::interface::{ArmError, CommandKind, StepMove};
+    use crate::link::interface::{CommandKind, StepMove};
 
     const STEP: ArmCommand = ArmCommand::Step(StepMove::Polar {
         azimuth: 1,
@@ -126,7 +126,8 @@ mod tests {
     fn one_failed_link_makes_the_stop_unconfirmed() {
         let mut outcomes = StopOutcomes::default();
         outcomes.stop(&[Side::Talos, Side::Modbus], &[]);
-        outcomes.answer(Side::Talos, Err("no reply within 500 ms".into()));
+        let no_reply = ArmError::StopNotWritten("no reply within 500 ms".into());
+        outcomes.answer(Side::Talos, Err(&no_reply));
         let Some(ArmEvent::StopUnconfirmed { reason }) = outcomes.answer(Side::Modbus, Ok(()))
         else {
             panic!("expected an unconfirmed stop");
@@ -160,7 +161,7 @@ mod tests {
             error: ArmError::StopNotWritten("timeout".into()),
         };
         assert_eq!(
-            stop_answer(&failed(CommandKind::QuickStop)),
+            stop_answer(&failed(CommandKind::QuickStop)).map(|r| r.map_err(|e| e.to_string())),
             Some(Err("STOP COULD NOT BE WRITTEN: timeout".into()))
         );
         assert!(matches!(
@@ -176,7 +177,10 @@ mod tests {
         outcomes.stop(&[Side::Modbus], &[]);
         outcomes.stop(&[Side::Modbus], &[]);
         assert!(matches!(
-            outcomes.answer(Side::Modbus, Err("timeout".into())),
+            outcomes.answer(
+                Side::Modbus,
+                Err(&ArmError::StopNotWritten("timeout".into()))
+            ),
             Some(ArmEvent::StopUnconfirmed { .. })
         ));
         assert_eq!(

@@ -7,6 +7,7 @@ use super::{Operator, SavedPosition, iso, pose_of};
 use crate::sim::arm_model::Arm;
 use crate::sim::kinematics::{self, JOINTS, Joints, Pose};
 use crate::talos::PositionName;
+use crate::talos::name::NameError;
 use crate::text;
 
 /// Kept joint angles must put the tool this close to the place (m), else taken at another time.
@@ -117,16 +118,22 @@ impl Operator {
     }
 }
 
-fn usable(position: &RememberedPosition) -> Result<(), String> {
-    PositionName::new(position.name.as_str()).map_err(|e| format!("name {e}"))?;
+/// Why a remembered position cannot be restored.
+#[derive(Debug, thiserror::Error)]
+enum Unusable {
+    #[error("name {0}")]
+    Name(#[from] NameError),
+    #[error("a coordinate is not a finite number")]
+    NotFinite,
+}
+
+fn usable(position: &RememberedPosition) -> Result<(), Unusable> {
+    PositionName::new(position.name.as_str())?;
     let finite = position.position_m.iter().all(|v| v.is_finite())
         && position
             .orientation_deg
             .is_none_or(|o| o.iter().all(|v| v.is_finite()));
-    if !finite {
-        return Err("a coordinate is not a finite number".into());
-    }
-    Ok(())
+    finite.then_some(()).ok_or(Unusable::NotFinite)
 }
 
 /// The reported angles (0-360) as angles reachable from `from`, each the turn nearest the joint (a

@@ -7,7 +7,7 @@ use crate::app_support;
 use app_support::*;
 use armjog::console::app::{BookState, CHECKED_ON_CONNECT, Effect, Input};
 use armjog::console::jog::ReleaseMode;
-use armjog::console::positions::PositionBook;
+use armjog::console::positions::{BookError, PositionBook};
 use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus};
 
 /// A book path in a fresh directory, removed when the `TempDir` is dropped.
@@ -120,11 +120,12 @@ fn a_book_that_cannot_be_read_is_named_and_never_saved_over() {
     let (_dir, path) = temp_book();
     std::fs::write(&path, "{ \"format\": 1, \"positions\": { \"a\" }").expect("write");
     let before = std::fs::read(&path).expect("read");
-    let error = PositionBook::load(&path).expect_err("corrupt").to_string();
+    let corrupt = PositionBook::load(&path).expect_err("corrupt");
+    let error = corrupt.to_string();
 
     let (mut app, t0) = app(ReleaseMode::Reported, false);
     app.begin_loading_positions(path.display().to_string());
-    app.handle(Input::PositionsLoaded(Err(error.clone())), t0);
+    app.handle(Input::PositionsLoaded(Err(corrupt.into())), t0);
     assert_eq!(
         *app.book_state(),
         BookState::Failed {
@@ -187,7 +188,13 @@ fn a_big_book_checks_a_bounded_number_of_names_with_the_operator() {
 fn a_change_to_an_unreadable_book_is_marked_not_saved_at_once() {
     let (mut app, t0) = app(ReleaseMode::Reported, true);
     app.begin_loading_positions("book.json");
-    app.handle(Input::PositionsLoaded(Err("bad json".into())), t0);
+    let bad = BookError::Parse {
+        path: "book.json".into(),
+        line: 1,
+        column: 1,
+        message: "bad json".into(),
+    };
+    app.handle(Input::PositionsLoaded(Err(bad.into())), t0);
     let save = ArmCommand::SavePosition {
         name: "pick".into(),
         anchor: false,

@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 use armjog::console::app::{App, AppConfig, Input, KeyInput, Overlay};
 use armjog::console::jog::{JogMotion, KeyKind, ReleaseMode};
 use armjog::console::keymap::{KeyName, Keymap};
-use armjog::console::positions::PositionBook;
+use armjog::console::positions::{BookError, PositionBook};
 use armjog::console::ui::{self, Theme};
 use armjog::console::view::View;
 use armjog::kortex::{
@@ -538,7 +538,13 @@ fn positions_that_could_not_be_read_with_one_kept_in_memory() {
         t0,
     );
     app.handle(
-        Input::PositionsLoaded(Err("/data/book.json:3:7: expected `:`".into())),
+        Input::PositionsLoaded(Err(BookError::Parse {
+            path: "/data/book.json".into(),
+            line: 3,
+            column: 7,
+            message: "expected `:`".into(),
+        }
+        .into())),
         t0,
     );
     insta::assert_snapshot!(render(ui::positions::draw, &app, 60, 5).backend());

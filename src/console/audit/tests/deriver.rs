@@ -252,6 +252,7 @@ fn link_changes_are_recorded_once_each() {
 
 #[test]
 fn the_guards_stop_is_a_guard_stop_not_a_failed_jog_and_other_failures_name_their_command() {
+    use crate::link::guard::GuardNotRunning;
     use crate::link::interface::{ArmError, CommandKind};
     let mut d = deriver();
     let stopped = ArmEvent::Failed {
@@ -278,13 +279,13 @@ fn the_guards_stop_is_a_guard_stop_not_a_failed_jog_and_other_failures_name_thei
     );
     let other = ArmEvent::Failed {
         command: CommandKind::Home,
-        error: ArmError::GuardNotRunning("not ready".into()),
+        error: ArmError::GuardNotRunning(GuardNotRunning::Starting),
     };
     assert_eq!(
         events(d.arm_event(&other, t0())),
         [AuditEvent::CommandFailed {
             command: CommandKind::Home.to_string(),
-            error: "not ready".into()
+            error: "stop guard not running: still starting".into()
         }]
     );
 }

@@ -29,19 +29,39 @@ impl fmt::Display for KeyName {
 }
 
 /// A key name that could not be parsed: the name as written and why.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown key {name:?} ({reason})")]
 pub struct KeyNameError {
     pub name: String,
-    pub reason: String,
+    pub reason: BadKeyName,
 }
 
-impl fmt::Display for KeyNameError {
-    fn fmt(&self, formatter: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(formatter, "unknown key {:?} ({})", self.name, self.reason)
-    }
+/// Why a key name is wrong, in the words a keymap file's author reads.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum BadKeyName {
+    #[error("{0} appears twice")]
+    ModifierTwice(&'static str),
+    #[error("{SHIFT_RULE}")]
+    ShiftedCharacter,
+    #[error("{SHIFT_RULE}: did you mean \"{0}\"?")]
+    ShiftedLetter(KeyName),
+    #[error("write the space bar as \"space\"")]
+    SpaceBar,
+    #[error("control, bidi and whitespace characters have no key name")]
+    Unprintable,
+    #[error("function keys go from f1 to f{MAX_FUNCTION_KEY}")]
+    NoSuchFunctionKey,
+    #[error("the key is missing; {EXPECTED_KEYS}")]
+    Missing,
+    #[error("key names are lowercase: did you mean {0:?}?")]
+    Uppercase(String),
+    #[error("{EXPECTED_KEYS}")]
+    Unknown,
 }
 
-impl std::error::Error for KeyNameError {}
+const SHIFT_RULE: &str = "shift+ is not used with character keys: a key is named by the \
+    character it types (\"A\" rather than \"shift+a\", \"?\" rather than \"shift+/\"); space \
+    and keypad keys match with or without shift";
 
 const EXPECTED_KEYS: &str = "expected a character such as \"a\", \"A\" or \"?\", a named key \
     (space, enter, esc, tab, backspace, delete, insert, home, end, pageup, pagedown, up, down, \
@@ -53,7 +73,7 @@ impl FromStr for KeyName {
     type Err = KeyNameError;
 
     fn from_str(name: &str) -> Result<KeyName, KeyNameError> {
-        let refuse = |reason: String| KeyNameError {
+        let refuse = |reason: BadKeyName| KeyNameError {
             name: name.to_owned(),
             reason,
         };
@@ -74,16 +94,13 @@ impl FromStr for KeyName {
                 break;
             }
             if *flag {
-                return Err(refuse(format!("{prefix} appears twice")));
+                return Err(refuse(BadKeyName::ModifierTwice(prefix)));
             }
             *flag = true;
             rest = &rest[prefix.len()..];
         }
         let key = parse_base_key(rest).map_err(refuse)?;
         if modifiers.shift && key.is_character() {
-            const RULE: &str = "shift+ is not used with character keys: a key is named by the \
-                character it types (\"A\" rather than \"shift+a\", \"?\" rather than \
-                \"shift+/\"); space and keypad keys match with or without shift";
             let capital = match key {
                 BaseKey::Char(character) if shifted_letter(character) != character => {
                     Some(KeyName {
@@ -97,21 +114,21 @@ impl FromStr for KeyName {
                 _ => None,
             };
             return Err(refuse(match capital {
-                Some(capital) => format!("{RULE}: did you mean \"{capital}\"?"),
-                None => RULE.to_owned(),
+                Some(capital) => BadKeyName::ShiftedLetter(capital),
+                None => BadKeyName::ShiftedCharacter,
             }));
         }
         Ok(KeyName { modifiers, key })
     }
 }
 
-fn parse_base_key(text: &str) -> Result<BaseKey, String> {
+fn parse_base_key(text: &str) -> Result<BaseKey, BadKeyName> {
     let mut characters = text.chars();
     if let (Some(character), None) = (characters.next(), characters.next()) {
         return if character == ' ' {
-            Err("write the space bar as \"space\"".to_owned())
+            Err(BadKeyName::SpaceBar)
         } else if crate::text::is_unsafe(character) || character.is_whitespace() {
-            Err("control, bidi and whitespace characters have no key name".to_owned())
+            Err(BadKeyName::Unprintable)
         } else {
             Ok(BaseKey::Char(character))
         };
@@ -126,7 +143,7 @@ fn parse_base_key(text: &str) -> Result<BaseKey, String> {
     {
         return match digits.parse::<u8>() {
             Ok(number) if (1..=MAX_FUNCTION_KEY).contains(&number) => Ok(BaseKey::Function(number)),
-            _ => Err(format!("function keys go from f1 to f{MAX_FUNCTION_KEY}")),
+            _ => Err(BadKeyName::NoSuchFunctionKey),
         };
     }
     if let Some(keypad) = text.strip_prefix("kp") {
@@ -146,18 +163,16 @@ fn parse_base_key(text: &str) -> Result<BaseKey, String> {
         }
     }
     if text.is_empty() {
-        return Err(format!("the key is missing; {EXPECTED_KEYS}"));
+        return Err(BadKeyName::Missing);
     }
     let lowercase = text.to_lowercase();
     if lowercase != text
         && let Ok(key) = parse_base_key(&lowercase)
         && !matches!(key, BaseKey::Char(_))
     {
-        return Err(format!(
-            "key names are lowercase: did you mean {lowercase:?}?"
-        ));
+        return Err(BadKeyName::Uppercase(lowercase));
     }
-    Err(EXPECTED_KEYS.to_owned())
+    Err(BadKeyName::Unknown)
 }
 
 impl serde::Serialize for KeyName {

@@ -2,6 +2,8 @@
 
 use tokio::sync::mpsc;
 
+use super::super::connect::ConnectError;
+
 use crate::link::speed::{INITIAL_SPEED, OperatorScale};
 use crate::link::talos::{self, Answer, TalosConfig, TalosError, TalosEvent};
 use crate::link::{Dialect, TalosLink};
@@ -25,10 +27,10 @@ pub(super) async fn connect(
     config: TalosConfig,
     oid: u16,
     scale: OperatorScale,
-) -> Result<TalosConnected, String> {
+) -> Result<TalosConnected, ConnectError> {
     let (link, mut link_events) = TalosLink::connect(config.clone())
         .await
-        .map_err(|e| format!("talos: {e}"))?;
+        .map_err(|e| ConnectError::Talos(e.into()))?;
     let version = match link.handshake(oid).await {
         Ok(Some((major, minor))) => format!(", operator {major}.{minor}"),
         Ok(None) => String::new(),
@@ -41,7 +43,7 @@ pub(super) async fn connect(
                 _ => None,
             };
             let words = talos::first_exchange_error(&e, &config, fit);
-            return Err(format!("talos handshake: {words}"));
+            return Err(ConnectError::Handshake(words));
         }
     };
     let mut speed = None;
@@ -70,14 +72,11 @@ pub(super) async fn connect(
                 }
                 Ok(exchange) => {
                     let code = exchange.return_code();
-                    return Err(format!(
-                        "talos: the operator's speed {s}% is over the cap and it refused Set Speed ({code})"
-                    ));
+                    return Err(ConnectError::SpeedRefused { speed: s, code });
                 }
                 Err(e) => {
-                    return Err(format!(
-                        "talos: the operator's speed {s}% is over the cap and Set Speed failed: {e}"
-                    ));
+                    let error = e.into();
+                    return Err(ConnectError::SpeedNotSet { speed: s, error });
                 }
             }
         }

@@ -6,6 +6,7 @@ use std::time::Duration;
 
 use tokio::sync::mpsc;
 
+use super::connect::ConnectError;
 use super::hw_telemetry;
 use super::speed::SpeedInForce;
 use super::{DriverConfig, JointPositions};
@@ -105,7 +106,7 @@ impl TalosSide {
     /// Connect, handshake and speed read, run off the loop; `None` with no operator configured.
     pub fn connect_attempt(
         &self,
-    ) -> Option<impl Future<Output = Result<TalosConnected, String>> + Send + 'static> {
+    ) -> Option<impl Future<Output = Result<TalosConnected, ConnectError>> + Send + 'static> {
         let config = self.config.clone()?;
         Some(connect::connect(config, self.oid, self.scale))
     }

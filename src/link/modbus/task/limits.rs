@@ -139,7 +139,7 @@ impl LinkTask {
                 );
                 self.event(ModbusEvent::SpeedLimitsNotRestored {
                     limits,
-                    error: e.to_string(),
+                    error: e.into(),
                 });
             }
         }
