@@ -23,7 +23,7 @@ use super::input;
 use super::input_first;
 use super::jog::ReleaseMode;
 use super::keymap::Keymap;
-use super::pacing::FramePacer;
+use super::pacing::{self, FramePacer};
 use super::painter::Painter;
 use super::positions::{self, PositionBook};
 use super::terminal;
@@ -277,13 +277,13 @@ async fn event_loop(
     let mut keys = input::open()?;
     let mut signals = Signals::new()?;
     let mut pacer = FramePacer::default();
-    pacer.changed(true, Instant::now());
+    pacer.changed(false, &app, Instant::now());
     // One timer for the app's deadline, the next frame and the audit's hand-over: a key moves
     // two of them, and each timer moved earlier costs the runtime a wake-up of its own.
     let mut timer = Deadline::new();
     loop {
         let deadline = app.next_deadline();
-        let paint_at = pacer.wake_at(app.arm_in_motion());
+        let paint_at = pacer.due_at();
         let audit_at = audit.hand_over_at();
         let earliest = [deadline, paint_at, audit_at].into_iter().flatten().min();
         timer.set(earliest.map(tokio::time::Instant::from_std));
@@ -343,8 +343,7 @@ async fn event_loop(
         };
         // The records of the input before this one are made once this one's frames are out
         // (`handled`), or before anything this one records (`input`, `book_saved`).
-        let urgent = !matches!(input, Input::Arm(_) | Input::Tick);
-        let report = is_report(&input);
+        let report = pacing::is_routine_report(&input);
         let now = Instant::now();
         audit.input(&input);
         let mut sent = false;
@@ -388,30 +387,7 @@ async fn event_loop(
             audit.hand_over();
         }
         // A report that made the app send something (a stop from the cap watch or another
-        // client's motion) is drawn on time, as any other change.
-        if !report || sent {
-            pacer.changed(urgent, now);
-            continue;
-        }
-        // A frame due by now is drawn in this report's turn: the loop woke for the report, and
-        // at rest a wake-up of the frame's own would cost as much again (see `REPORT_SLACK`).
-        pacer.reported(now);
-        if pacer
-            .due_at(app.arm_in_motion())
-            .is_some_and(|at| at <= now)
-            && let Some(view) = pacer.frame(View::new(&app), now)
-        {
-            screen.painter.paint(view);
-        }
-    }
-}
-
-/// What a link sends with every telemetry poll: the snapshot, its latency, and its log line
-/// when the poll succeeded. Their frames may wait for a later report's turn (`REPORT_SLACK`).
-fn is_report(input: &Input) -> bool {
-    match input {
-        Input::Arm(ArmEvent::Telemetry(_) | ArmEvent::Latency(_)) => true,
-        Input::Arm(ArmEvent::Log(entry)) => entry.poll && entry.ok,
-        _ => false,
+        // client's motion) is not routine: drawn at the live rate, as any other change.
+        pacer.changed(report && !sent, &app, now);
     }
 }

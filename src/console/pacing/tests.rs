@@ -1,7 +1,8 @@
 use super::*;
-use crate::console::app::{App, AppConfig, Input, STALE_AFTER};
+use crate::console::app::{AppConfig, STALE_AFTER};
 use crate::console::positions::PositionBook;
-use crate::link::interface::{ArmEvent, LinkStatus, TelemetrySource};
+use crate::kortex::{Flag, FlagSet, Telemetry};
+use crate::link::interface::{LinkStatus, LogEntry, TelemetrySource};
 
 fn app() -> App {
     App::new(AppConfig::for_tests(), PositionBook::new())
@@ -17,99 +18,19 @@ fn up(app: &mut App, now: Instant) {
     app.handle(Input::Arm(ArmEvent::Status(up)), now);
 }
 
-#[test]
-fn nothing_changed_wakes_nothing_and_a_change_is_drawn_once_its_command_is_out() {
-    let start = Instant::now();
-    let mut pacer = FramePacer::default();
-    assert_eq!(pacer.due_at(false), None);
-    pacer.changed(true, start);
-    assert_eq!(pacer.due_at(false), Some(start + SETTLE));
-    // Later changes before that frame do not put it off.
-    pacer.changed(true, start + Duration::from_millis(2));
-    assert_eq!(pacer.due_at(false), Some(start + SETTLE));
-    assert!(pacer.frame(View::new(&app()), start + SETTLE).is_some());
-    // Long after the last frame, a key's frame comes SETTLE after it.
-    let later = start + Duration::from_secs(1);
-    pacer.changed(true, later);
-    assert_eq!(pacer.due_at(false), Some(later + SETTLE));
+/// The app takes `input` at `now` and the pacer hears of it, as the console's loop does.
+fn take(app: &mut App, pacer: &mut FramePacer, input: Input, now: Instant) {
+    let routine = is_routine_report(&input);
+    app.handle(input, now);
+    pacer.changed(routine, app, now);
 }
 
-#[test]
-fn a_changed_view_is_drawn_at_its_rate_and_an_identical_one_is_not() {
-    let start = Instant::now();
-    let mut app = app();
-    let mut pacer = FramePacer::default();
-    pacer.changed(true, start);
-    assert!(pacer.frame(View::new(&app), start).is_some());
-    assert_eq!(pacer.due_at(false), None, "drawn: nothing due");
-
-    // The arm's report changes what is shown: due IDLE_FRAME after the last frame.
-    app.handle(Input::Arm(ArmEvent::Speed(40)), start);
-    pacer.changed(false, start);
-    assert_eq!(pacer.due_at(false), Some(start + IDLE_FRAME));
-    // A key (or a jog) brings it forward to the 30 fps rate.
-    assert_eq!(pacer.due_at(true), Some(start + FRAME));
-    pacer.changed(true, start);
-    assert_eq!(pacer.due_at(false), Some(start + FRAME));
-    let at = start + FRAME;
-    let painted = pacer.frame(View::new(&app), at).expect("the speed changed");
-    assert_eq!(painted.arm.speed, Some(40));
-
-    // The same again (an identical report): woken, but nothing is handed to the painter.
-    app.handle(Input::Arm(ArmEvent::Speed(40)), at);
-    pacer.changed(false, at);
-    assert_eq!(pacer.frame(View::new(&app), at + IDLE_FRAME), None);
-    assert_eq!(pacer.due_at(false), None);
-    // The skipped frame did not count as a drawn one: the next change is due as before.
-    let next = at + IDLE_FRAME;
-    app.handle(Input::Arm(ArmEvent::Speed(60)), next);
-    pacer.changed(false, next);
-    assert_eq!(pacer.due_at(false), Some(next + SETTLE));
-}
-
-#[test]
-fn a_due_time_dependent_change_is_drawn_with_no_new_report() {
-    let start = Instant::now();
-    let mut app = app();
-    up(&mut app, start);
-    let mut pacer = FramePacer::default();
-    pacer.changed(false, start);
-    assert!(pacer.frame(View::new(&app), start).is_some());
-    assert_eq!(View::new(&app).truth.link_stale, None);
-
-    // A tick before anything is due shows the same: not drawn.
-    let early = start + Duration::from_millis(50);
-    app.handle(Input::Tick, early);
-    pacer.changed(false, early);
-    assert_eq!(pacer.frame(View::new(&app), early), None);
-
-    // The silent link's deadline: the tick that wakes the app there makes it stale, and
-    // that frame is drawn although no report came.
-    let deadline = app
-        .next_deadline()
-        .expect("the link's silence has a deadline");
-    assert!(deadline >= start + STALE_AFTER);
-    app.handle(Input::Tick, deadline);
-    pacer.changed(false, deadline);
-    let due = pacer.due_at(false).expect("due");
-    let painted = pacer
-        .frame(View::new(&app), due.max(deadline))
-        .expect("the stale link is drawn");
-    assert!(painted.truth.link_stale.is_some());
-
-    // And its age, as it grows, is drawn again.
-    let later = deadline + Duration::from_secs(2);
-    app.handle(Input::Tick, later);
-    pacer.changed(false, later);
-    assert!(pacer.frame(View::new(&app), later).is_some());
-}
-
-fn report(telemetry: &crate::kortex::Telemetry) -> Input {
+fn report(telemetry: &Telemetry) -> Input {
     Input::Arm(ArmEvent::Telemetry(Box::new(telemetry.clone())))
 }
 
-fn poll_line(count: u32, latency_ms: u64) -> ArmEvent {
-    ArmEvent::Log(crate::link::interface::LogEntry {
+fn poll_line(count: u32, latency_ms: u64) -> Input {
+    Input::Arm(ArmEvent::Log(LogEntry {
         name: "modbus poll".into(),
         outcome: "OK".into(),
         ok: true,
@@ -117,7 +38,126 @@ fn poll_line(count: u32, latency_ms: u64) -> ArmEvent {
         count,
         latency: Some(Duration::from_millis(latency_ms)),
         ..Default::default()
-    })
+    }))
+}
+
+#[test]
+fn routine_reports_are_the_polls_snapshot_latency_and_successful_line() {
+    let telemetry = Telemetry::decode(&Default::default());
+    assert!(is_routine_report(&report(&telemetry)));
+    let latency = Input::Arm(ArmEvent::Latency(Duration::from_millis(2)));
+    assert!(is_routine_report(&latency));
+    assert!(is_routine_report(&poll_line(3, 2)));
+
+    let failed = LogEntry {
+        name: "modbus poll".into(),
+        outcome: "timed out".into(),
+        poll: true,
+        ..Default::default()
+    };
+    assert!(!is_routine_report(&Input::Arm(ArmEvent::Log(failed))));
+    let reply = LogEntry {
+        name: "Cartesian Move".into(),
+        outcome: "OK".into(),
+        ok: true,
+        ..Default::default()
+    };
+    assert!(!is_routine_report(&Input::Arm(ArmEvent::Log(reply))));
+    assert!(!is_routine_report(&Input::Arm(ArmEvent::Speed(40))));
+    assert!(!is_routine_report(&Input::Tick));
+    let resize = Input::Resize {
+        width: 80,
+        height: 24,
+    };
+    assert!(!is_routine_report(&resize));
+}
+
+#[test]
+fn nothing_changed_wakes_nothing_and_a_change_is_drawn_once_its_command_is_out() {
+    let start = Instant::now();
+    let app = app();
+    let mut pacer = FramePacer::default();
+    assert_eq!(pacer.due_at(), None);
+    pacer.changed(false, &app, start);
+    assert_eq!(pacer.due_at(), Some(start + SETTLE));
+    // Later changes before that frame do not put it off.
+    pacer.changed(false, &app, start + Duration::from_millis(2));
+    assert_eq!(pacer.due_at(), Some(start + SETTLE));
+    assert!(pacer.frame(View::new(&app), start + SETTLE).is_some());
+    // Long after the last frame, a key's frame comes SETTLE after it.
+    let later = start + Duration::from_secs(1);
+    pacer.changed(false, &app, later);
+    assert_eq!(pacer.due_at(), Some(later + SETTLE));
+}
+
+#[test]
+fn a_changed_view_is_drawn_at_its_rate_and_an_identical_one_is_not() {
+    let start = Instant::now();
+    let mut app = app();
+    let mut pacer = FramePacer::default();
+    pacer.changed(false, &app, start);
+    assert!(pacer.frame(View::new(&app), start).is_some());
+    assert_eq!(pacer.due_at(), None, "drawn: nothing due");
+
+    // What the arm says besides its routine reports is drawn at the live rate.
+    take(&mut app, &mut pacer, Input::Arm(ArmEvent::Speed(40)), start);
+    assert_eq!(pacer.due_at(), Some(start + FRAME));
+    let at = start + FRAME;
+    let painted = pacer.frame(View::new(&app), at).expect("the speed changed");
+    assert_eq!(painted.arm.speed, Some(40));
+
+    // The same again (an identical report): woken, but nothing is handed to the painter.
+    take(&mut app, &mut pacer, Input::Arm(ArmEvent::Speed(40)), at);
+    assert_eq!(pacer.frame(View::new(&app), at + FRAME), None);
+    assert_eq!(pacer.due_at(), None);
+    // The skipped frame did not count as a drawn one: the next change is due as before.
+    let next = at + FRAME;
+    take(&mut app, &mut pacer, Input::Arm(ArmEvent::Speed(60)), next);
+    assert_eq!(pacer.due_at(), Some(next + SETTLE));
+}
+
+#[test]
+fn a_due_time_dependent_change_is_drawn_with_no_new_report_at_the_live_rate() {
+    let start = Instant::now();
+    let mut app = app();
+    up(&mut app, start);
+    let mut pacer = FramePacer::default();
+    pacer.changed(false, &app, start);
+    assert!(pacer.frame(View::new(&app), start).is_some());
+    assert_eq!(View::new(&app).truth.link_stale, None);
+
+    // A tick before anything is due shows the same: not drawn.
+    let early = start + Duration::from_millis(50);
+    take(&mut app, &mut pacer, Input::Tick, early);
+    assert_eq!(pacer.frame(View::new(&app), early), None);
+
+    // The silent link's deadline: the tick that wakes the app there makes it stale, and
+    // that frame is drawn although no report came, SETTLE after the tick (the last frame is
+    // long past).
+    let deadline = app
+        .next_deadline()
+        .expect("the link's silence has a deadline");
+    assert!(deadline >= start + STALE_AFTER);
+    take(&mut app, &mut pacer, Input::Tick, deadline);
+    let due = pacer.due_at().expect("due");
+    assert_eq!(due, deadline + SETTLE);
+    let painted = pacer
+        .frame(View::new(&app), due)
+        .expect("the stale link is drawn");
+    assert!(painted.truth.link_stale.is_some());
+
+    // And its age, as it grows, is drawn again.
+    let later = deadline + Duration::from_secs(2);
+    take(&mut app, &mut pacer, Input::Tick, later);
+    assert!(pacer.frame(View::new(&app), later).is_some());
+
+    // The report that ends the staleness changes the gate's answer: drawn at the live rate.
+    let fresh = later + Duration::from_millis(10);
+    let telemetry = Telemetry::decode(&Default::default());
+    take(&mut app, &mut pacer, report(&telemetry), fresh);
+    assert_eq!(pacer.due_at(), Some(later + FRAME));
+    let painted = pacer.frame(View::new(&app), later + FRAME).expect("fresh");
+    assert_eq!(painted.truth.link_stale, None);
 }
 
 #[test]
@@ -125,102 +165,133 @@ fn what_ticks_over_at_rest_is_drawn_every_two_seconds() {
     let start = Instant::now();
     // No link promising telemetry: nothing goes stale in this test.
     let mut app = app();
-    app.handle(Input::Arm(poll_line(1, 2)), start);
     let mut pacer = FramePacer::default();
-    pacer.changed(false, start);
+    take(&mut app, &mut pacer, poll_line(1, 2), start);
     assert!(pacer.frame(View::new(&app), start).is_some());
 
-    // Another poll and a new latency: held back until a second after the last frame.
-    let t = start + IDLE_FRAME;
-    app.handle(Input::Arm(poll_line(1, 3)), t);
-    app.handle(Input::Arm(ArmEvent::Latency(Duration::from_millis(3))), t);
-    pacer.changed(false, t);
-    let mut view = View::new(&app);
-    let as_built = view.clone();
-    assert!(view.differs_only_in_background(&pacer.shown.clone().expect("drawn")));
-    // Compared in place: the view keeps its own count and latency.
-    assert_eq!(view, as_built);
-    assert_eq!(view.arm.latency, Some(Duration::from_millis(3)));
-    assert_eq!(pacer.frame(View::new(&app), t), None);
-    assert_eq!(pacer.due_at(false), Some(start + BACKGROUND_FRAME));
-    // The next poll is looked at a frame's period after the held one, not at once.
-    app.handle(Input::Arm(poll_line(1, 2)), t + FRAME);
-    pacer.changed(false, t + FRAME);
-    assert_eq!(pacer.due_at(false), Some(t + IDLE_FRAME));
-    assert_eq!(pacer.frame(View::new(&app), t + IDLE_FRAME), None);
+    // Another poll and a new latency: held until REST_FRAME after the last frame.
+    let t = start + FRAME;
+    take(&mut app, &mut pacer, poll_line(1, 3), t);
+    let latency = Input::Arm(ArmEvent::Latency(Duration::from_millis(3)));
+    take(&mut app, &mut pacer, latency, t);
+    assert_eq!(pacer.due_at(), Some(start + REST_FRAME));
+    take(&mut app, &mut pacer, poll_line(1, 2), t + FRAME);
+    assert_eq!(pacer.due_at(), Some(start + REST_FRAME));
     let painted = pacer
-        .frame(View::new(&app), start + BACKGROUND_FRAME)
-        .expect("the counters are drawn a second on");
+        .frame(View::new(&app), start + REST_FRAME)
+        .expect("the counters are drawn");
     assert_eq!(painted.screen.log.back().map(|e| e.count), Some(3));
-    assert_eq!(pacer.due_at(false), None);
+    assert_eq!(pacer.due_at(), None);
 
     // A key draws them at once.
-    let k = start + BACKGROUND_FRAME + IDLE_FRAME;
-    app.handle(Input::Arm(poll_line(1, 4)), k);
-    pacer.changed(true, k);
-    assert!(pacer.frame(View::new(&app), k + FRAME).is_some());
+    let k = start + REST_FRAME + FRAME;
+    take(&mut app, &mut pacer, poll_line(1, 4), k);
+    pacer.changed(false, &app, k);
+    assert_eq!(pacer.due_at(), Some(k + SETTLE));
+    assert!(pacer.frame(View::new(&app), k + SETTLE).is_some());
 
-    // Anything else the arm reports is drawn at its own rate, counters and all.
+    // Anything else the arm says is drawn at the live rate, counters and all.
     let r = k + 2 * FRAME;
-    app.handle(Input::Arm(poll_line(1, 5)), r);
-    pacer.changed(false, r);
-    assert_eq!(pacer.frame(View::new(&app), r + IDLE_FRAME), None);
-    app.handle(Input::Arm(ArmEvent::Speed(40)), r + IDLE_FRAME);
-    pacer.changed(false, r + IDLE_FRAME);
-    let at = pacer.due_at(false).expect("due");
-    assert!(at < k + FRAME + BACKGROUND_FRAME);
+    take(&mut app, &mut pacer, poll_line(1, 5), r);
+    take(
+        &mut app,
+        &mut pacer,
+        Input::Arm(ArmEvent::Speed(40)),
+        r + FRAME,
+    );
+    let at = pacer.due_at().expect("due");
+    assert_eq!(at, r + SETTLE);
     let painted = pacer.frame(View::new(&app), at).expect("the speed changed");
     assert_eq!(painted.arm.speed, Some(40));
     assert_eq!(painted.screen.log.back().map(|e| e.count), Some(5));
 
-    // A failed poll is a new line, not a counter: drawn at once.
-    let f = at + IDLE_FRAME;
-    app.handle(
-        Input::Arm(ArmEvent::Log(crate::link::interface::LogEntry {
-            name: "modbus poll".into(),
-            outcome: "timed out".into(),
-            poll: true,
-            ..Default::default()
-        })),
-        f,
-    );
-    pacer.changed(false, f);
-    assert!(pacer.frame(View::new(&app), f).is_some());
+    // A failed poll is a new line, not a counter: drawn at the live rate.
+    let f = at + FRAME;
+    let failed = LogEntry {
+        name: "modbus poll".into(),
+        outcome: "timed out".into(),
+        poll: true,
+        ..Default::default()
+    };
+    take(&mut app, &mut pacer, Input::Arm(ArmEvent::Log(failed)), f);
+    assert_eq!(pacer.due_at(), Some(f + SETTLE));
+    assert!(pacer.frame(View::new(&app), f + SETTLE).is_some());
 }
 
 #[test]
-fn a_temperature_creeping_is_background_and_a_joint_moving_is_not() {
+fn a_temperature_creeping_is_drawn_at_rest_and_a_joint_turning_is_not() {
     let start = Instant::now();
     let mut app = app();
-    let mut telemetry = crate::kortex::Telemetry::decode(&Default::default());
-    app.handle(report(&telemetry), start);
+    let mut telemetry = Telemetry::decode(&Default::default());
     let mut pacer = FramePacer::default();
-    pacer.changed(false, start);
+    take(&mut app, &mut pacer, report(&telemetry), start);
     assert!(pacer.frame(View::new(&app), start).is_some());
 
-    let t = start + IDLE_FRAME;
+    let t = start + FRAME;
     telemetry.joints[3].temperature += 0.001;
     telemetry.arm.cpu_temperature += 0.01;
-    app.handle(report(&telemetry), t);
-    pacer.changed(false, t);
-    assert_eq!(pacer.frame(View::new(&app), t), None);
-    assert_eq!(pacer.due_at(false), Some(start + BACKGROUND_FRAME));
+    take(&mut app, &mut pacer, report(&telemetry), t);
+    assert_eq!(pacer.due_at(), Some(start + REST_FRAME));
 
     telemetry.joints[3].position += 0.01;
-    let m = t + IDLE_FRAME;
-    app.handle(report(&telemetry), m);
-    pacer.changed(false, m);
+    telemetry.joints[3].velocity = 3.0;
+    let m = t + FRAME;
+    take(&mut app, &mut pacer, report(&telemetry), m);
+    assert_eq!(pacer.due_at(), Some(t + SETTLE));
     let painted = pacer.frame(View::new(&app), m).expect("a joint moved");
     let shown = painted.arm.telemetry.expect("telemetry");
     assert_eq!(shown.joints[3].position, telemetry.joints[3].position);
     assert_eq!(shown.joints[3].temperature, telemetry.joints[3].temperature);
+
+    // The report that shows the joint stopped is drawn at the live rate too; the next one,
+    // at rest again, at the rest rate.
+    telemetry.joints[3].velocity = 0.0;
+    let s = m + FRAME;
+    take(&mut app, &mut pacer, report(&telemetry), s);
+    assert_eq!(pacer.due_at(), Some(s + SETTLE));
+    assert!(pacer.frame(View::new(&app), s).is_some());
+    telemetry.arm.cpu_temperature += 0.01;
+    take(&mut app, &mut pacer, report(&telemetry), s + FRAME);
+    assert_eq!(pacer.due_at(), Some(s + REST_FRAME));
+}
+
+#[test]
+fn a_fault_in_a_routine_report_is_drawn_at_the_live_rate() {
+    let start = Instant::now();
+    let mut app = app();
+    up(&mut app, start);
+    let mut telemetry = Telemetry::decode(&Default::default());
+    let mut pacer = FramePacer::default();
+    take(&mut app, &mut pacer, report(&telemetry), start);
+    assert!(pacer.frame(View::new(&app), start).is_some());
+    let t = start + FRAME;
+    telemetry.arm.cpu_temperature += 0.01;
+    take(&mut app, &mut pacer, report(&telemetry), t);
+    assert_eq!(pacer.due_at(), Some(start + REST_FRAME), "at rest");
+
+    telemetry.faults = FlagSet::from_bits(Flag::EmergencyStop.bit());
+    let f = t + FRAME;
+    take(&mut app, &mut pacer, report(&telemetry), f);
+    assert_eq!(
+        pacer.due_at(),
+        Some(t + SETTLE),
+        "kept its first change's time"
+    );
+    let painted = pacer.frame(View::new(&app), f).expect("the fault");
+    let shown = painted.arm.telemetry.expect("telemetry");
+    assert!(!shown.faults.is_empty());
+
+    // Cleared: drawn at the live rate as well.
+    telemetry.faults = FlagSet::from_bits(0);
+    take(&mut app, &mut pacer, report(&telemetry), f + FRAME);
+    assert_eq!(pacer.due_at(), Some(f + FRAME + SETTLE));
 }
 
 #[test]
 fn a_turning_joint_or_a_motion_shown_draws_at_the_full_rate() {
     let start = Instant::now();
     let mut app = app();
-    let mut telemetry = crate::kortex::Telemetry::decode(&Default::default());
+    let mut telemetry = Telemetry::decode(&Default::default());
     app.handle(report(&telemetry), start);
     assert!(!app.arm_in_motion(), "at rest");
     // Noise below the threshold is rest.
@@ -232,97 +303,13 @@ fn a_turning_joint_or_a_motion_shown_draws_at_the_full_rate() {
     app.handle(report(&telemetry), start);
     assert!(app.arm_in_motion());
     let mut pacer = FramePacer::default();
-    pacer.changed(false, start);
+    pacer.changed(true, &app, start);
     assert!(pacer.frame(View::new(&app), start).is_some());
-    pacer.changed(false, start + Duration::from_millis(1));
-    assert_eq!(pacer.due_at(app.arm_in_motion()), Some(start + FRAME));
-}
-
-#[test]
-fn a_frame_only_reports_changed_may_wait_for_a_later_reports_turn() {
-    let start = Instant::now();
-    let mut app = app();
-    let mut pacer = FramePacer::default();
-    assert_eq!(pacer.wake_at(false), None, "nothing changed: no wake-up");
-
-    // A report: due as any change the arm reported, but the runtime need not wake for it
-    // before REPORT_SLACK has passed (a later report's turn draws it).
-    pacer.reported(start);
-    let due = pacer.due_at(false).expect("due");
-    assert_eq!(due, start + SETTLE);
-    assert_eq!(pacer.wake_at(false), Some(due + REPORT_SLACK));
-    // While anything moves, the frame keeps its time.
-    assert_eq!(pacer.wake_at(true), pacer.due_at(true));
-
-    // Anything else the arm says (a status, a failure) is drawn on time, reports or not.
-    pacer.changed(false, start);
-    assert_eq!(pacer.wake_at(false), Some(due));
-    assert!(pacer.frame(View::new(&app), due).is_some());
-
-    // A key after reports: on time, at the key's rate.
-    let k = start + Duration::from_secs(1);
-    app.handle(Input::Arm(ArmEvent::Speed(40)), k);
-    pacer.reported(k);
-    pacer.changed(true, k);
-    assert_eq!(pacer.wake_at(false), Some(k + SETTLE));
-    assert_eq!(pacer.wake_at(false), pacer.due_at(false));
-    assert!(pacer.frame(View::new(&app), k + SETTLE).is_some());
-
-    // Once a frame was considered, reports alone may wait again.
-    let r = k + Duration::from_secs(1);
-    pacer.reported(r);
-    pacer.reported(r + FRAME);
-    assert_eq!(pacer.wake_at(false), Some(r + SETTLE + REPORT_SLACK));
-}
-
-#[test]
-fn a_frame_held_for_the_background_may_wait_for_a_reports_turn_too() {
-    let start = Instant::now();
-    let mut app = app();
-    app.handle(Input::Arm(poll_line(1, 2)), start);
-    let mut pacer = FramePacer::default();
-    pacer.reported(start);
-    assert!(pacer.frame(View::new(&app), start).is_some());
-    // Only the poll count and the latency changed: held for BACKGROUND_FRAME.
-    let t = start + IDLE_FRAME;
-    app.handle(Input::Arm(poll_line(1, 3)), t);
-    pacer.reported(t);
-    assert_eq!(pacer.frame(View::new(&app), t), None);
-    assert_eq!(pacer.due_at(false), Some(start + BACKGROUND_FRAME));
-    assert_eq!(
-        pacer.wake_at(false),
-        Some(start + BACKGROUND_FRAME + REPORT_SLACK)
+    take(
+        &mut app,
+        &mut pacer,
+        report(&telemetry),
+        start + Duration::from_millis(1),
     );
-}
-
-#[test]
-fn a_poll_line_is_background_only_in_its_count_and_latency() {
-    let start = Instant::now();
-    let mut app = app();
-    app.handle(Input::Arm(poll_line(1, 2)), start);
-    let shown = View::new(&app);
-    let line = |view: &mut View| {
-        std::sync::Arc::make_mut(view.screen.log.back_mut().expect("the poll's line")).clone()
-    };
-
-    let mut counted = View::new(&app);
-    let mut changed = line(&mut counted);
-    changed.count += 4;
-    changed.latency = Some(Duration::from_millis(9));
-    *counted.screen.log.back_mut().expect("line") = changed.into();
-    assert!(counted.differs_only_in_background(&shown));
-    // Compared, not changed: the view keeps its own count.
-    assert_eq!(counted.screen.log.back().map(|l| l.count), Some(5));
-
-    let mut other = View::new(&app);
-    let mut changed = line(&mut other);
-    changed.id = Some(7);
-    *other.screen.log.back_mut().expect("line") = changed.into();
-    assert!(!other.differs_only_in_background(&shown));
-
-    let mut failed = View::new(&app);
-    let mut changed = line(&mut failed);
-    changed.ok = false;
-    *failed.screen.log.back_mut().expect("line") = changed.into();
-    assert!(!failed.differs_only_in_background(&shown));
+    assert_eq!(pacer.due_at(), Some(start + FRAME));
 }
