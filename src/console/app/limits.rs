@@ -4,7 +4,7 @@
 //! margin is taken on the angle folded into (-180, 180]. Continuous joints have no limit.
 
 use crate::kortex::Telemetry;
-use crate::kortex::gen3::JOINT_LIMITS_DEG;
+use crate::kortex::gen3::limit_margin;
 
 /// Within this many degrees of a limit a joint is named and its gauge turns to the warning
 /// colour.
@@ -30,28 +30,6 @@ impl NearLimit {
     }
 }
 
-/// A reported angle folded into (-180, 180].
-fn signed(deg: f32) -> f32 {
-    let wrapped = deg.rem_euclid(360.0);
-    if wrapped > 180.0 {
-        wrapped - 360.0
-    } else {
-        wrapped
-    }
-}
-
-/// Joint `joint`'s (1-7) margin to its nearer limit, degrees; `None` for a continuous joint
-/// or a non-finite angle.
-pub fn limit_margin(joint: usize, position_deg: f32) -> Option<f32> {
-    let limit = JOINT_LIMITS_DEG
-        .get(joint.checked_sub(1)?)
-        .copied()
-        .flatten()? as f32;
-    position_deg
-        .is_finite()
-        .then(|| limit - signed(position_deg).abs())
-}
-
 /// The limited joints within [`LIMIT_WARNING_DEG`] of a limit, the nearest first.
 pub fn near_limits(t: &Telemetry) -> Vec<NearLimit> {
     let mut near: Vec<NearLimit> = t
@@ -59,7 +37,7 @@ pub fn near_limits(t: &Telemetry) -> Vec<NearLimit> {
         .iter()
         .enumerate()
         .filter_map(|(i, j)| {
-            let margin_deg = limit_margin(i + 1, j.position)?;
+            let margin_deg = limit_margin(i, j.position)?;
             (margin_deg < LIMIT_WARNING_DEG).then_some(NearLimit {
                 joint: i as u8 + 1,
                 margin_deg,
