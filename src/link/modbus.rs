@@ -347,13 +347,8 @@ impl ModbusLink {
         frame: ReferenceFrame,
         pose: Pose,
     ) -> Result<WriteReport, ModbusError> {
-        let writes = commands::go_to_pose(frame, pose)?;
-        self.ask(|reply| Job::Move {
-            writes,
-            cap: None,
-            reply,
-        })
-        .await
+        self.run_move(commands::go_to_pose(frame, pose)?, None)
+            .await
     }
 
     /// [`ModbusLink::go_to_pose`] with the tool at or under `cap`: its point at `cap.linear`
@@ -366,14 +361,8 @@ impl ModbusLink {
         pose: Pose,
         cap: SpeedLimits,
     ) -> Result<WriteReport, ModbusError> {
-        let writes = commands::go_to_pose(frame, pose)?;
-        commands::speed_limits(cap.linear, cap.angular)?;
-        self.ask(|reply| Job::Move {
-            writes,
-            cap: Some(cap),
-            reply,
-        })
-        .await
+        self.run_move(commands::go_to_pose(frame, pose)?, Some(cap))
+            .await
     }
 
     /// Starts a stored action or sequence by id.
@@ -382,13 +371,8 @@ impl ModbusLink {
         id: u16,
         motion: StoredMotion,
     ) -> Result<WriteReport, ModbusError> {
-        let writes = commands::start_stored(id, motion)?;
-        self.ask(|reply| Job::Move {
-            writes,
-            cap: None,
-            reply,
-        })
-        .await
+        self.run_move(commands::start_stored(id, motion)?, None)
+            .await
     }
 
     /// Starts the Home action (id from the config).
@@ -413,14 +397,8 @@ impl ModbusLink {
         motion: StoredMotion,
         cap: SpeedLimits,
     ) -> Result<WriteReport, ModbusError> {
-        let writes = commands::start_stored(id, motion)?;
-        commands::speed_limits(cap.linear, cap.angular)?;
-        self.ask(|reply| Job::Move {
-            writes,
-            cap: Some(cap),
-            reply,
-        })
-        .await
+        self.run_move(commands::start_stored(id, motion)?, Some(cap))
+            .await
     }
 
     /// Sets the desired cartesian speed limits: linear m/s, angular deg/s.
@@ -454,6 +432,19 @@ impl ModbusLink {
     /// get `Disconnected`. Use it rather than a plain drop to learn whether the stop failed.
     pub async fn close(self) -> Result<(), ModbusError> {
         self.ask(Job::Close).await
+    }
+
+    /// A move's writes, with the arm's speed limits lowered to `cap` (checked first) while it
+    /// runs.
+    async fn run_move(
+        &self,
+        writes: Vec<Write>,
+        cap: Option<SpeedLimits>,
+    ) -> Result<WriteReport, ModbusError> {
+        if let Some(cap) = cap {
+            commands::speed_limits(cap.linear, cap.angular)?;
+        }
+        self.ask(|reply| Job::Move { writes, cap, reply }).await
     }
 
     async fn plain(&self, writes: Vec<Write>, halts: bool) -> Result<WriteReport, ModbusError> {
