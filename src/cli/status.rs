@@ -13,9 +13,6 @@ use crate::console::audit::rfc3339_ms;
 use crate::kortex::{CodeName, Flag, FlagSet, Telemetry};
 use crate::link::ModbusLink;
 
-/// Snapshots per second of `--watch` without a value.
-pub const DEFAULT_WATCH_HZ: f64 = 1.0;
-
 #[derive(Debug, Args)]
 pub struct StatusArgs {
     #[command(flatten)]
