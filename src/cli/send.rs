@@ -87,30 +87,15 @@ pub enum SendCommand {
         #[arg(long, allow_hyphen_values = true)]
         altitude: i32,
         /// Wait before starting, ms.
-        #[arg(
-            long,
-            default_value_t = 0,
-            value_name = "MS",
-            allow_hyphen_values = true
-        )]
+        #[arg(long, default_value_t, value_name = "MS", allow_hyphen_values = true)]
         delay: u32,
         /// Duration of the pan, ms.
-        #[arg(
-            long,
-            default_value_t = 0,
-            value_name = "MS",
-            allow_hyphen_values = true
-        )]
+        #[arg(long, default_value_t, value_name = "MS", allow_hyphen_values = true)]
         time: u32,
     },
     /// 0x0002: go to the home pose.
     Home {
-        #[arg(
-            long,
-            default_value_t = 0,
-            value_name = "MS",
-            allow_hyphen_values = true
-        )]
+        #[arg(long, default_value_t, value_name = "MS", allow_hyphen_values = true)]
         delay: u32,
     },
     /// 0x0003: start or refresh a continuous pan; each direction is -1, 0 or 1.
@@ -130,19 +115,9 @@ pub enum SendCommand {
         y: i32,
         #[arg(long, allow_hyphen_values = true)]
         z: i32,
-        #[arg(
-            long,
-            default_value_t = 0,
-            value_name = "MS",
-            allow_hyphen_values = true
-        )]
+        #[arg(long, default_value_t, value_name = "MS", allow_hyphen_values = true)]
         delay: u32,
-        #[arg(
-            long,
-            default_value_t = 0,
-            value_name = "MS",
-            allow_hyphen_values = true
-        )]
+        #[arg(long, default_value_t, value_name = "MS", allow_hyphen_values = true)]
         time: u32,
     },
     /// 0x0006: start or refresh a continuous cartesian move; each direction is -1, 0 or 1.
