@@ -8,9 +8,10 @@ use crate::link::interface::LinkStatus;
 use crate::link::modbus::ModbusConfig;
 
 /// One link's state.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub enum LinkState {
     /// Not connected yet, and no attempt has failed.
+    #[default]
     Connecting,
     /// Connected: the words the status bar shows for it.
     Up { description: String },
@@ -46,18 +47,10 @@ pub fn modbus_description(config: &ModbusConfig) -> String {
 
 /// Both links' states. A link that is not configured stays [`LinkState::Connecting`] and is
 /// left out of the status.
+#[derive(Default)]
 pub struct Links {
     pub talos: LinkState,
     pub modbus: LinkState,
-}
-
-impl Default for Links {
-    fn default() -> Links {
-        Links {
-            talos: LinkState::Connecting,
-            modbus: LinkState::Connecting,
-        }
-    }
 }
 
 impl Links {
