@@ -215,19 +215,13 @@ impl AuditRecord {
     }
 }
 
-/// Where the audit files go: `$ARMJOG_STATE_DIR`, else `$ARMJOG_LOG_DIR` (a run that keeps its
-/// logs elsewhere keeps its audit with them), else the user's state directory
-/// (`~/.local/state/armjog/`), else the local data directory.
+/// Where the audit files go: `$ARMJOG_STATE_DIR`, else where the logs go
+/// ([`crate::logging::log_dir`]: a run that keeps its logs elsewhere keeps its audit with them).
 pub fn audit_dir() -> Option<PathBuf> {
-    if let Some(dir) = std::env::var_os("ARMJOG_STATE_DIR") {
-        return Some(PathBuf::from(dir));
+    match std::env::var_os("ARMJOG_STATE_DIR") {
+        Some(dir) => Some(PathBuf::from(dir)),
+        None => crate::logging::log_dir(),
     }
-    if let Some(dir) = std::env::var_os("ARMJOG_LOG_DIR") {
-        return Some(PathBuf::from(dir));
-    }
-    dirs::state_dir()
-        .or_else(dirs::data_local_dir)
-        .map(|d| d.join("armjog"))
 }
 
 #[cfg(test)]
