@@ -298,11 +298,7 @@ pub async fn run(args: &SendArgs) -> Outcome {
     };
     log_exchange(&addr, &result);
     match result {
-        Ok(exchange) => Outcome {
-            stdout: render(args, &exchange),
-            stderr: None,
-            exit_code: 0,
-        },
+        Ok(exchange) => Outcome::printed(render(args, &exchange)),
         Err(TalosError::ReturnCode { exchange }) => Outcome {
             stdout: render(args, &exchange),
             stderr: Some(format!(
@@ -313,11 +309,7 @@ pub async fn run(args: &SendArgs) -> Outcome {
             )),
             exit_code: EXIT_RETURN_CODE,
         },
-        Err(e) => Outcome {
-            stdout: Vec::new(),
-            stderr: Some(first_exchange_error(&e, &config, None)),
-            exit_code: EXIT_LINK,
-        },
+        Err(e) => Outcome::error(first_exchange_error(&e, &config, None), EXIT_LINK),
     }
 }
 

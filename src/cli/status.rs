@@ -48,11 +48,7 @@ pub async fn run(args: &StatusArgs) -> Outcome {
     };
     let Some(hz) = args.watch else {
         return match link.read_telemetry().await {
-            Ok(telemetry) => Outcome {
-                stdout: render(&telemetry, args.json),
-                stderr: None,
-                exit_code: 0,
-            },
+            Ok(telemetry) => Outcome::printed(render(&telemetry, args.json)),
             Err(e) => Outcome::failed(&e),
         };
     };
@@ -77,22 +73,14 @@ pub async fn run(args: &StatusArgs) -> Outcome {
                     // The reader went away (a closed pipe): nothing left to do.
                     Ok(Printed::ReaderGone) => break,
                     Err(e) => {
-                        return Outcome {
-                            stdout: Vec::new(),
-                            stderr: Some(format!("cannot write the output: {e}")),
-                            exit_code: 1,
-                        };
+                        return Outcome::error(format!("cannot write the output: {e}"), 1);
                     }
                 }
             }
             Err(e) => output::print_error(&e.to_string()),
         }
     }
-    Outcome {
-        stdout: Vec::new(),
-        stderr: None,
-        exit_code: 0,
-    }
+    Outcome::printed(Vec::new())
 }
 
 /// The snapshot as the `--json` object or the readable table.
