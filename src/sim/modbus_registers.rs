@@ -11,9 +11,9 @@ use super::arm_model::{ArmSnapshot, SimMotion};
 use super::kinematics::Pose;
 use super::stored;
 use super::world::World;
-use crate::kortex::ReferenceFrame;
 use crate::kortex::registers::{coil, discrete_input, holding_register, input_register};
 use crate::kortex::words::{f32_from_words, f32_to_words, u32_to_words};
+use crate::kortex::{MoveType, ReferenceFrame};
 
 pub use super::stored::HOME_ACTION_ID;
 
@@ -182,20 +182,25 @@ fn execute(world: &mut World) {
         2 => world.arm.stop(),
         1 => {
             let id = block[1];
-            if matches!(block[2], 2 | 3) && !command_floats_finite(&block) {
+            let move_type = MoveType::from_code(block[2]);
+            let cartesian = matches!(
+                move_type,
+                Some(MoveType::CartesianTrajectory | MoveType::Twist)
+            );
+            if cartesian && !command_floats_finite(&block) {
                 // Like the real arm: the action is aborted and nothing moves (a running motion
                 // stops too, since its client just asked for something else).
                 world.arm.stop();
                 world.arm.mark_aborted();
                 return;
             }
-            if let move_type @ (stored::MOVE_TYPE_ACTION | stored::MOVE_TYPE_SEQUENCE) = block[2] {
-                start_stored(world, id, move_type);
+            if matches!(move_type, Some(MoveType::Action | MoveType::Sequence)) {
+                start_stored(world, id, block[2]);
                 return;
             }
             let v = |a: u16| f64::from(float_at(&block, a));
-            let motion = match block[2] {
-                2 => {
+            let motion = match move_type {
+                Some(MoveType::CartesianTrajectory) => {
                     let pose = Pose::from_position_euler_deg(
                         [v(204), v(206), v(208)],
                         [v(210), v(212), v(214)],
@@ -207,7 +212,7 @@ fn execute(world: &mut World) {
                         angular_speed: angular.to_radians(),
                     })
                 }
-                3 => {
+                Some(MoveType::Twist) => {
                     // An unknown code falls back to the base frame, as before.
                     let frame = ReferenceFrame::from_code(block[3]).unwrap_or(ReferenceFrame::Base);
                     Some(SimMotion::Twist {
