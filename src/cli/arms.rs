@@ -15,29 +15,17 @@ pub fn run(given: Option<&std::path::Path>) -> Outcome {
         return refused(&ProfileError::NoPlace);
     };
     match profiles::load(&path) {
-        Ok(profiles) => Outcome {
-            stdout: lines(&profiles),
-            stderr: None,
-            exit_code: 0,
-        },
-        Err(ProfileError::NoFile { path }) if given.is_none() => Outcome {
-            stdout: vec![format!(
-                "no arm profiles: {} does not exist (each is an [arms.NAME] table; see the README)",
-                path.display()
-            )],
-            stderr: None,
-            exit_code: 0,
-        },
+        Ok(profiles) => Outcome::printed(lines(&profiles)),
+        Err(ProfileError::NoFile { path }) if given.is_none() => Outcome::printed(vec![format!(
+            "no arm profiles: {} does not exist (each is an [arms.NAME] table; see the README)",
+            path.display()
+        )]),
         Err(e) => refused(&e),
     }
 }
 
 fn refused(e: &ProfileError) -> Outcome {
-    Outcome {
-        stdout: Vec::new(),
-        stderr: Some(e.to_string()),
-        exit_code: EXIT_PROFILE,
-    }
+    Outcome::error(e.to_string(), EXIT_PROFILE)
 }
 
 /// One line a profile: its name, then its Talos and Modbus targets as written.

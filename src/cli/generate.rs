@@ -87,33 +87,22 @@ fn with_sections(page: Vec<u8>, sections: &str) -> Vec<u8> {
 }
 
 pub fn run_completions(args: &CompletionsArgs) -> Outcome {
-    let script = completions(args.shell);
-    Outcome {
-        stdout: String::from_utf8_lossy(&script)
-            .lines()
-            .map(str::to_owned)
-            .collect(),
-        stderr: None,
-        exit_code: 0,
-    }
+    Outcome::printed(text_lines(&completions(args.shell)))
 }
 
 pub fn run_man(args: &ManArgs) -> Outcome {
     match man_page(args.subcommand.as_deref()) {
-        Ok(page) => Outcome {
-            stdout: String::from_utf8_lossy(&page)
-                .lines()
-                .map(str::to_owned)
-                .collect(),
-            stderr: None,
-            exit_code: 0,
-        },
-        Err(e) => Outcome {
-            stdout: Vec::new(),
-            stderr: Some(format!("cannot render the man page: {e}")),
-            exit_code: 1,
-        },
+        Ok(page) => Outcome::printed(text_lines(&page)),
+        Err(e) => Outcome::error(format!("cannot render the man page: {e}"), 1),
     }
+}
+
+/// A generated text's lines, to be printed (each through `cli::output`).
+fn text_lines(bytes: &[u8]) -> Vec<String> {
+    String::from_utf8_lossy(bytes)
+        .lines()
+        .map(str::to_owned)
+        .collect()
 }
 
 #[cfg(test)]

@@ -161,11 +161,7 @@ impl ModbusCommand {
 
 impl Outcome {
     pub fn failed(error: &ModbusError) -> Outcome {
-        Outcome {
-            stdout: Vec::new(),
-            stderr: Some(error.to_string()),
-            exit_code: exit_code(error),
-        }
+        Outcome::error(error.to_string(), exit_code(error))
     }
 }
 
@@ -180,11 +176,7 @@ pub async fn run(args: &ModbusArgs) -> Outcome {
         Some((stored, options)) => match options.check() {
             Ok(()) => Some((stored, options)),
             Err(why) => {
-                return Outcome {
-                    stdout: Vec::new(),
-                    stderr: Some(why.to_string()),
-                    exit_code: EXIT_REFUSED,
-                };
+                return Outcome::error(why.to_string(), EXIT_REFUSED);
             }
         },
         None => None,
@@ -196,11 +188,7 @@ pub async fn run(args: &ModbusArgs) -> Outcome {
     let outcome = match stored {
         Some((stored, options)) => stored::run(args, &link, stored, options).await,
         None => match args.command.send(&link).await {
-            Ok(report) => Outcome {
-                stdout: render(args, &report, None),
-                stderr: None,
-                exit_code: 0,
-            },
+            Ok(report) => Outcome::printed(render(args, &report, None)),
             Err(e) => Outcome::failed(&e),
         },
     };

@@ -84,30 +84,15 @@ pub enum SendCommand {
         #[arg(long, allow_hyphen_values = true)]
         altitude: i32,
         /// Wait before starting, ms.
-        #[arg(
-            long,
-            default_value_t = 0,
-            value_name = "MS",
-            allow_hyphen_values = true
-        )]
+        #[arg(long, default_value_t, value_name = "MS", allow_hyphen_values = true)]
         delay: u32,
         /// Duration of the pan, ms.
-        #[arg(
-            long,
-            default_value_t = 0,
-            value_name = "MS",
-            allow_hyphen_values = true
-        )]
+        #[arg(long, default_value_t, value_name = "MS", allow_hyphen_values = true)]
         time: u32,
     },
     /// 0x0002: go to the home pose.
     Home {
-        #[arg(
-            long,
-            default_value_t = 0,
-            value_name = "MS",
-            allow_hyphen_values = true
-        )]
+        #[arg(long, default_value_t, value_name = "MS", allow_hyphen_values = true)]
         delay: u32,
     },
     /// 0x0003: start or refresh a continuous pan; each direction is -1, 0 or 1.
@@ -127,19 +112,9 @@ pub enum SendCommand {
         y: i32,
         #[arg(long, allow_hyphen_values = true)]
         z: i32,
-        #[arg(
-            long,
-            default_value_t = 0,
-            value_name = "MS",
-            allow_hyphen_values = true
-        )]
+        #[arg(long, default_value_t, value_name = "MS", allow_hyphen_values = true)]
         delay: u32,
-        #[arg(
-            long,
-            default_value_t = 0,
-            value_name = "MS",
-            allow_hyphen_values = true
-        )]
+        #[arg(long, default_value_t, value_name = "MS", allow_hyphen_values = true)]
         time: u32,
     },
     /// 0x0006: start or refresh a continuous cartesian move; each direction is -1, 0 or 1.
@@ -318,11 +293,7 @@ pub async fn run(args: &SendArgs) -> Outcome {
     };
     log_exchange(&addr, &result);
     match result {
-        Ok(exchange) => Outcome {
-            stdout: render(args, &exchange),
-            stderr: None,
-            exit_code: 0,
-        },
+        Ok(exchange) => Outcome::printed(render(args, &exchange)),
         Err(TalosError::ReturnCode { exchange }) => Outcome {
             stdout: render(args, &exchange),
             stderr: Some(format!(
@@ -333,11 +304,7 @@ pub async fn run(args: &SendArgs) -> Outcome {
             )),
             exit_code: EXIT_RETURN_CODE,
         },
-        Err(e) => Outcome {
-            stdout: Vec::new(),
-            stderr: Some(first_exchange_error(&e, &config, None)),
-            exit_code: EXIT_LINK,
-        },
+        Err(e) => Outcome::error(first_exchange_error(&e, &config, None), EXIT_LINK),
     }
 }
 

@@ -13,9 +13,6 @@ use crate::console::audit::rfc3339_ms;
 use crate::kortex::{CodeName, Flag, FlagSet, Telemetry};
 use crate::link::ModbusLink;
 
-/// Snapshots per second of `--watch` without a value.
-pub const DEFAULT_WATCH_HZ: f64 = 1.0;
-
 #[derive(Debug, Args)]
 pub struct StatusArgs {
     #[command(flatten)]
@@ -50,11 +47,7 @@ pub async fn run(args: &StatusArgs) -> Outcome {
     };
     let Some(hz) = args.watch else {
         return match link.read_telemetry().await {
-            Ok(telemetry) => Outcome {
-                stdout: render(&telemetry, args.json),
-                stderr: None,
-                exit_code: 0,
-            },
+            Ok(telemetry) => Outcome::printed(render(&telemetry, args.json)),
             Err(e) => Outcome::failed(&e),
         };
     };
@@ -79,22 +72,14 @@ pub async fn run(args: &StatusArgs) -> Outcome {
                     // The reader went away (a closed pipe): nothing left to do.
                     Ok(Printed::ReaderGone) => break,
                     Err(e) => {
-                        return Outcome {
-                            stdout: Vec::new(),
-                            stderr: Some(format!("cannot write the output: {e}")),
-                            exit_code: 1,
-                        };
+                        return Outcome::error(format!("cannot write the output: {e}"), 1);
                     }
                 }
             }
             Err(e) => output::print_error(&e.to_string()),
         }
     }
-    Outcome {
-        stdout: Vec::new(),
-        stderr: None,
-        exit_code: 0,
-    }
+    Outcome::printed(Vec::new())
 }
 
 /// The snapshot as the `--json` object or the readable table.

@@ -1,13 +1,8 @@
 //! Numbers as one-shot commands print them: fixed decimals, no `-0.00`, small speeds in mm/s.
 
-/// `value` with `decimals` decimals; a value that rounds to zero prints without a sign.
-pub fn fixed(value: f64, decimals: usize) -> String {
-    let text = format!("{value:.decimals$}");
-    match text.strip_prefix('-') {
-        Some(unsigned) if unsigned.bytes().all(|b| b == b'0' || b == b'.') => unsigned.to_string(),
-        _ => text,
-    }
-}
+/// `value` with `decimals` decimals; a value that rounds to zero prints without a sign (the
+/// panels' rule, one home).
+pub use crate::console::ui::numbers::fixed;
 
 /// A linear speed: below 1 m/s in mm/s with one decimal (`12.5 mm/s`), else in m/s.
 pub fn linear_speed(m_s: f64) -> String {

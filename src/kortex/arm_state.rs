@@ -2,7 +2,7 @@
 //! rest or not, why an action aborted, whether the arm is in fault, whether its action status
 //! names another move than ours. Pure.
 
-use super::gen3::JOINT_LIMITS_DEG;
+use super::gen3::limit_margin;
 use super::telemetry::ActionState;
 use super::{ActionStatus, CodeName, Coded, Flag, MoveType, RobotState, Telemetry};
 
@@ -27,20 +27,11 @@ pub fn at_rest(t: &Telemetry) -> bool {
 
 /// Why an action aborted, naming the joint at its limit if one is.
 pub fn abort_reason(t: &Telemetry) -> String {
-    let signed = |deg: f32| if deg > 180.0 { deg - 360.0 } else { deg };
-    // How far each limited joint is from its limit, deg.
-    let margin = |i: usize, position: f32| {
-        JOINT_LIMITS_DEG
-            .get(i)
-            .copied()
-            .flatten()
-            .map(|limit| limit as f32 - signed(position).abs())
-    };
     let nearest = t
         .joints
         .iter()
         .enumerate()
-        .filter_map(|(i, j)| margin(i, j.position).map(|m| (i, m)))
+        .filter_map(|(i, j)| limit_margin(i, j.position).map(|m| (i, m)))
         .filter(|(_, m)| *m <= NEAR_LIMIT_DEG)
         .min_by(|a, b| a.1.total_cmp(&b.1));
     // A joint is the cause if it faulted or is at its limit, not merely near it.

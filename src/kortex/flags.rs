@@ -97,14 +97,6 @@ impl FlagSet {
             .collect()
     }
 
-    /// Raised bits that no flag names.
-    pub fn unknown_bits(self) -> Vec<u8> {
-        let named = Flag::ALL.iter().fold(0u32, |bits, f| bits | f.bit());
-        (0..32u8)
-            .filter(|bit| self.0 & !named & (1 << bit) != 0)
-            .collect()
-    }
-
     /// Every raised bit as a name, in bit order: the flag's key, or `unknown_bit_N`.
     pub fn names(self) -> Vec<String> {
         (0..32u16)
@@ -139,6 +131,5 @@ mod tests {
         assert_eq!(Flag::IllegalPosition.warning_input(), 94);
         assert_eq!(Flag::NvramCorrupted.fault_input(), 58);
         assert_eq!(FlagSet::from_bits(0b10).names(), vec!["unknown_bit_1"]);
-        assert_eq!(FlagSet::from_bits(0b10).unknown_bits(), vec![1]);
     }
 }

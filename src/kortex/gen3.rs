@@ -15,6 +15,26 @@ pub const JOINT_LIMITS_DEG: [Option<f64>; 7] = [
     None,
 ];
 
+/// A reported angle (any range; the Gen3 reports 0 to 360) as the same angle in (-180, 180],
+/// about which a limited joint's limits are symmetric.
+pub fn signed_deg(deg: f32) -> f32 {
+    let wrapped = deg.rem_euclid(360.0);
+    if wrapped > 180.0 {
+        wrapped - 360.0
+    } else {
+        wrapped
+    }
+}
+
+/// Joint `index`'s (0-6) margin to its nearer limit, degrees; `None` for a continuous joint
+/// or a non-finite angle.
+pub fn limit_margin(index: usize, position_deg: f32) -> Option<f32> {
+    let limit = JOINT_LIMITS_DEG.get(index).copied().flatten()? as f32;
+    position_deg
+        .is_finite()
+        .then(|| limit - signed_deg(position_deg).abs())
+}
+
 /// Maximum joint speeds in deg/s.
 pub const MAX_JOINT_SPEED_DEG: [f64; 7] = [80.0, 80.0, 80.0, 80.0, 70.0, 70.0, 70.0];
 

@@ -327,13 +327,8 @@ impl ModbusLink {
         frame: ReferenceFrame,
         pose: Pose,
     ) -> Result<WriteReport, ModbusError> {
-        let writes = commands::go_to_pose(frame, pose)?;
-        self.ask(|reply| Job::Move {
-            writes,
-            cap: None,
-            reply,
-        })
-        .await
+        self.run_move(commands::go_to_pose(frame, pose)?, None)
+            .await
     }
 
     /// [`ModbusLink::go_to_pose`] with the arm's limits lowered to `cap` (m/s, deg/s) for the move.
@@ -343,14 +338,8 @@ impl ModbusLink {
         pose: Pose,
         cap: SpeedLimits,
     ) -> Result<WriteReport, ModbusError> {
-        let writes = commands::go_to_pose(frame, pose)?;
-        commands::speed_limits(cap.linear, cap.angular)?;
-        self.ask(|reply| Job::Move {
-            writes,
-            cap: Some(cap),
-            reply,
-        })
-        .await
+        self.run_move(commands::go_to_pose(frame, pose)?, Some(cap))
+            .await
     }
 
     pub async fn start_stored(
@@ -358,13 +347,8 @@ impl ModbusLink {
         id: u16,
         motion: StoredMotion,
     ) -> Result<WriteReport, ModbusError> {
-        let writes = commands::start_stored(id, motion)?;
-        self.ask(|reply| Job::Move {
-            writes,
-            cap: None,
-            reply,
-        })
-        .await
+        self.run_move(commands::start_stored(id, motion)?, None)
+            .await
     }
 
     /// Starts the Home action (id from the config).
@@ -386,14 +370,8 @@ impl ModbusLink {
         motion: StoredMotion,
         cap: SpeedLimits,
     ) -> Result<WriteReport, ModbusError> {
-        let writes = commands::start_stored(id, motion)?;
-        commands::speed_limits(cap.linear, cap.angular)?;
-        self.ask(|reply| Job::Move {
-            writes,
-            cap: Some(cap),
-            reply,
-        })
-        .await
+        self.run_move(commands::start_stored(id, motion)?, Some(cap))
+            .await
     }
 
     /// Sets the desired cartesian speed limits: linear m/s, angular deg/s.
@@ -426,6 +404,19 @@ impl ModbusLink {
     /// Stops any twist and ends the task; unlike a drop, says if the stop failed.
     pub async fn close(self) -> Result<(), ModbusError> {
         self.ask(Job::Close).await
+    }
+
+    /// A move's writes, with the arm's speed limits lowered to `cap` (checked first) while it
+    /// runs.
+    async fn run_move(
+        &self,
+        writes: Vec<Write>,
+        cap: Option<SpeedLimits>,
+    ) -> Result<WriteReport, ModbusError> {
+        if let Some(cap) = cap {
+            commands::speed_limits(cap.linear, cap.angular)?;
+        }
+        self.ask(|reply| Job::Move { writes, cap, reply }).await
     }
 
     async fn plain(&self, writes: Vec<Write>, halts: bool) -> Result<WriteReport, ModbusError> {

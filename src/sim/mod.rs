@@ -116,14 +116,9 @@ pub struct Simulator {
 
 impl Simulator {
     pub async fn start(config: SimConfig) -> Result<Simulator, SimError> {
-        let talos_listener = bind("the Talos operator", &config.talos_listen).await?;
-        let talos_addr = local_addr("the Talos operator", &config.talos_listen, &talos_listener)?;
+        let (talos_listener, talos_addr) = bind("the Talos operator", &config.talos_listen).await?;
         let modbus_listener = match &config.modbus_listen {
-            Some(addr) => {
-                let listener = bind("the Modbus server", addr).await?;
-                let local = local_addr("the Modbus server", addr, &listener)?;
-                Some((listener, local))
-            }
+            Some(addr) => Some(bind("the Modbus server", addr).await?),
             None => None,
         };
         let mut operator = Operator::with_max_jog_linear(config.max_jog_speed);
@@ -174,22 +169,14 @@ impl Drop for Simulator {
     }
 }
 
-async fn bind(what: &'static str, addr: &str) -> Result<TcpListener, SimError> {
-    TcpListener::bind(addr)
-        .await
-        .map_err(|source| SimError::Bind {
-            what,
-            addr: addr.to_string(),
-            source,
-        })
-}
-
-fn local_addr(
-    what: &'static str,
-    addr: &str,
-    listener: &TcpListener,
-) -> Result<SocketAddr, SimError> {
-    listener.local_addr().map_err(|source| SimError::Bind {
+/// A listener on `addr` and the address it got (the port chosen for `:0`).
+async fn bind(what: &'static str, addr: &str) -> Result<(TcpListener, SocketAddr), SimError> {
+    let bound = async {
+        let listener = TcpListener::bind(addr).await?;
+        let local = listener.local_addr()?;
+        Ok((listener, local))
+    };
+    bound.await.map_err(|source| SimError::Bind {
         what,
         addr: addr.to_string(),
         source,

@@ -9,9 +9,9 @@ use super::arm_model::{ArmSnapshot, SimMotion};
 use super::kinematics::Pose;
 use super::stored;
 use super::world::World;
-use crate::kortex::ReferenceFrame;
 use crate::kortex::registers::{coil, discrete_input, holding_register, input_register};
-use crate::kortex::words::{f32_to_words, u32_to_words};
+use crate::kortex::words::{f32_from_words, f32_to_words, u32_to_words};
+use crate::kortex::{MoveType, ReferenceFrame};
 
 pub use super::stored::HOME_ACTION_ID;
 
@@ -50,50 +50,30 @@ pub fn input_registers(s: &ArmSnapshot) -> [u16; 140] {
         let a = usize::from(addr);
         r[a..a + 2].copy_from_slice(&words);
     };
-    let f = |v: f64| f32_to_words(v as f32);
     put(input_register::FAULT_FLAGS, u32_to_words(s.faults));
     put(input_register::WARNING_FLAGS, u32_to_words(s.warnings));
-    put(input_register::ARM_CURRENT, f(s.arm_current));
-    put(input_register::ARM_VOLTAGE, f(s.arm_voltage));
-    put(input_register::ARM_CPU_TEMPERATURE, f(s.cpu_temperature));
-    put(
-        input_register::ARM_AMBIENT_TEMPERATURE,
-        f(s.ambient_temperature),
-    );
-    for j in 0..7u16 {
-        let i = usize::from(j);
-        put(
-            input_register::JOINT_POSITIONS + 2 * j,
-            f(s.joint_position[i]),
-        );
-        put(
-            input_register::JOINT_VELOCITIES + 2 * j,
-            f(s.joint_velocity[i]),
-        );
-        put(input_register::JOINT_TORQUES + 2 * j, f(s.joint_torque[i]));
-        put(
-            input_register::JOINT_CURRENTS + 2 * j,
-            f(s.joint_current[i]),
-        );
-        put(
-            input_register::JOINT_MOTOR_TEMPERATURES + 2 * j,
-            f(s.joint_temperature[i]),
-        );
-    }
     let six = |a: [f64; 3], b: [f64; 3]| [a[0], a[1], a[2], b[0], b[1], b[2]];
+    let pose = six(s.tcp_position, s.tcp_orientation);
+    let twist = six(s.tcp_linear_velocity, s.tcp_angular_velocity);
+    let wrench = six(s.tcp_force, s.tcp_torque);
+    // Each block's floats end to end, two registers each.
+    use input_register as at;
     for (block, values) in [
-        (
-            input_register::TCP_POSE,
-            six(s.tcp_position, s.tcp_orientation),
-        ),
-        (
-            input_register::TCP_TWIST,
-            six(s.tcp_linear_velocity, s.tcp_angular_velocity),
-        ),
-        (input_register::TCP_WRENCH, six(s.tcp_force, s.tcp_torque)),
+        (at::ARM_CURRENT, &[s.arm_current][..]),
+        (at::ARM_VOLTAGE, &[s.arm_voltage]),
+        (at::ARM_CPU_TEMPERATURE, &[s.cpu_temperature]),
+        (at::ARM_AMBIENT_TEMPERATURE, &[s.ambient_temperature]),
+        (at::JOINT_POSITIONS, &s.joint_position),
+        (at::JOINT_VELOCITIES, &s.joint_velocity),
+        (at::JOINT_TORQUES, &s.joint_torque),
+        (at::JOINT_CURRENTS, &s.joint_current),
+        (at::JOINT_MOTOR_TEMPERATURES, &s.joint_temperature),
+        (at::TCP_POSE, &pose),
+        (at::TCP_TWIST, &twist),
+        (at::TCP_WRENCH, &wrench),
     ] {
-        for (k, v) in values.iter().enumerate() {
-            put(block + 2 * k as u16, f(*v));
+        for (k, v) in (0u16..).zip(values) {
+            put(block + 2 * k, f32_to_words(*v as f32));
         }
     }
     r[usize::from(input_register::ROBOT_STATE)] = s.robot_state.code();
@@ -128,8 +108,8 @@ pub fn holding_registers(s: &ArmSnapshot, command_block: &[u16; 20]) -> [u16; 22
 }
 
 fn float_at(block: &[u16; 20], addr: u16) -> f32 {
-    let i = usize::from(addr - 200);
-    f32::from_bits((u32::from(block[i + 1]) << 16) | u32::from(block[i]))
+    let i = usize::from(addr - WRITABLE.0);
+    f32_from_words([block[i], block[i + 1]])
 }
 
 /// Writes registers `start..` of the command block and carries out what they ask.
@@ -199,19 +179,24 @@ fn execute(world: &mut World) {
         2 => world.arm.stop(),
         1 => {
             let id = block[1];
-            if matches!(block[2], 2 | 3) && !command_floats_finite(&block) {
+            let move_type = MoveType::from_code(block[2]);
+            let cartesian = matches!(
+                move_type,
+                Some(MoveType::CartesianTrajectory | MoveType::Twist)
+            );
+            if cartesian && !command_floats_finite(&block) {
                 // Like the real arm: aborted, nothing moves (its client asked for something else).
                 world.arm.stop();
                 world.arm.mark_aborted();
                 return;
             }
-            if let move_type @ (stored::MOVE_TYPE_ACTION | stored::MOVE_TYPE_SEQUENCE) = block[2] {
-                start_stored(world, id, move_type);
+            if matches!(move_type, Some(MoveType::Action | MoveType::Sequence)) {
+                start_stored(world, id, block[2]);
                 return;
             }
-            let motion = match block[2] {
-                2 => {
-                    let v = |a: u16| f64::from(float_at(&block, a));
+            let v = |a: u16| f64::from(float_at(&block, a));
+            let motion = match move_type {
+                Some(MoveType::CartesianTrajectory) => {
                     let pose = Pose::from_position_euler_deg(
                         [v(204), v(206), v(208)],
                         [v(210), v(212), v(214)],
@@ -223,8 +208,7 @@ fn execute(world: &mut World) {
                         angular_speed: angular.to_radians(),
                     })
                 }
-                3 => {
-                    let v = |a: u16| f64::from(float_at(&block, a));
+                Some(MoveType::Twist) => {
                     // An unknown code falls back to the base frame, as before.
                     let frame = ReferenceFrame::from_code(block[3]).unwrap_or(ReferenceFrame::Base);
                     Some(SimMotion::Twist {

@@ -20,11 +20,10 @@ use super::modbus_registers::{
 };
 use super::talos_server::NetworkFaults;
 use super::world::{SimArm, World};
+use crate::kortex::registers::{MAX_REGISTERS_PER_WRITE, Table};
 
-/// Most registers or bits one request may carry (Modbus application protocol, FC 1-4, 15, 16).
-const MAX_READ_REGISTERS: u16 = 125;
-const MAX_READ_BITS: u16 = 2000;
-const MAX_WRITE_REGISTERS: u16 = 123;
+/// Most coils one write may carry (Modbus application protocol, FC 15); reads and register
+/// writes are bounded by [`Table::max_read`] and [`MAX_REGISTERS_PER_WRITE`].
 const MAX_WRITE_COILS: u16 = 1968;
 
 /// Pause after a failed accept before accepting again.
@@ -94,7 +93,8 @@ fn serve(
         }
     };
     // A read may span unlisted addresses inside the image when the arm answers them.
-    let check_read = |ranges: &[(u16, u16)], start: u16, count: u16, max: u16| {
+    let check_read = |ranges: &[(u16, u16)], table: Table, start: u16, count: u16| {
+        let max = table.max_read();
         let image = [(0, ranges.iter().map(|(_, end)| *end).max().unwrap_or(0))];
         match unlisted {
             UnlistedReads::Refuse => check(ranges, start, count, max),
@@ -103,21 +103,21 @@ fn serve(
     };
     match request {
         Request::ReadDiscreteInputs(start, count) => {
-            let range = check_read(&DISCRETE_INPUTS, *start, *count, MAX_READ_BITS)?;
+            let range = check_read(&DISCRETE_INPUTS, Table::DiscreteInputs, *start, *count)?;
             let bits = registers::discrete_inputs(&snapshot());
             Ok(Response::ReadDiscreteInputs(bits[range].to_vec()))
         }
         Request::ReadCoils(start, count) => {
-            let range = check_read(&COILS, *start, *count, MAX_READ_BITS)?;
+            let range = check_read(&COILS, Table::Coils, *start, *count)?;
             Ok(Response::ReadCoils(vec![false; range.len()]))
         }
         Request::ReadInputRegisters(start, count) => {
-            let range = check_read(&INPUT_REGISTERS, *start, *count, MAX_READ_REGISTERS)?;
+            let range = check_read(&INPUT_REGISTERS, Table::InputRegisters, *start, *count)?;
             let words = registers::input_registers(&snapshot());
             Ok(Response::ReadInputRegisters(words[range].to_vec()))
         }
         Request::ReadHoldingRegisters(start, count) => {
-            let range = check_read(&HOLDING_REGISTERS, *start, *count, MAX_READ_REGISTERS)?;
+            let range = check_read(&HOLDING_REGISTERS, Table::HoldingRegisters, *start, *count)?;
             let words = registers::holding_registers(&snapshot(), &world.command_block);
             Ok(Response::ReadHoldingRegisters(words[range].to_vec()))
         }
@@ -127,7 +127,7 @@ fn serve(
         }
         Request::WriteMultipleRegisters(addr, values) => {
             let count = u16::try_from(values.len()).map_err(|_| ExceptionCode::IllegalDataValue)?;
-            if count == 0 || count > MAX_WRITE_REGISTERS {
+            if count == 0 || count > MAX_REGISTERS_PER_WRITE {
                 return Err(ExceptionCode::IllegalDataValue);
             }
             registers::write_registers(world, *addr, values).map_err(refused)?;

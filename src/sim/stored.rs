@@ -4,6 +4,7 @@
 
 use super::arm_model::SimMotion;
 use super::kinematics::{self, HOME_DEG};
+use crate::kortex::{CodeName, MoveType};
 
 /// The Home action's id (armjog's default `--action-id`).
 pub const HOME_ACTION_ID: u16 = 2;
@@ -70,11 +71,6 @@ pub const SEQUENCES: [StoredSequence; 1] = [StoredSequence {
     actions: &[3, HOME_ACTION_ID],
 }];
 
-/// Move type 0 in register 202.
-pub const MOVE_TYPE_ACTION: u16 = 0;
-/// Move type 1 in register 202.
-pub const MOVE_TYPE_SEQUENCE: u16 = 1;
-
 pub fn action(id: u16) -> Option<&'static StoredAction> {
     ACTIONS.iter().find(|a| a.id == id)
 }
@@ -92,9 +88,9 @@ fn to_motion(action: &StoredAction) -> SimMotion {
 
 /// The moves that start `id` as `move_type` (0 action, 1 sequence); `None` if none.
 pub fn steps(id: u16, move_type: u16) -> Option<Vec<SimMotion>> {
-    match move_type {
-        MOVE_TYPE_ACTION => action(id).map(|a| vec![to_motion(a)]),
-        MOVE_TYPE_SEQUENCE => sequence(id).map(|s| {
+    match MoveType::from_code(move_type)? {
+        MoveType::Action => action(id).map(|a| vec![to_motion(a)]),
+        MoveType::Sequence => sequence(id).map(|s| {
             s.actions
                 .iter()
                 .filter_map(|step| action(*step))

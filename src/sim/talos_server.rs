@@ -123,23 +123,17 @@ impl Client {
     }
 }
 
-/// Why a connection ended.
+/// Why a connection ended (its words in the simulator's log).
+#[derive(Debug, thiserror::Error)]
 enum Ending {
+    #[error("end of stream")]
     EndOfStream,
+    #[error("read error: {0}")]
     ReadError(String),
+    #[error("write error: {0}")]
     WriteError(String),
+    #[error("closed by fault injection")]
     FaultInjection,
-}
-
-impl fmt::Display for Ending {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Ending::EndOfStream => f.write_str("end of stream"),
-            Ending::ReadError(e) => write!(f, "read error: {e}"),
-            Ending::WriteError(e) => write!(f, "write error: {e}"),
-            Ending::FaultInjection => f.write_str("closed by fault injection"),
-        }
-    }
 }
 
 fn now() -> std::time::Instant {

@@ -146,11 +146,7 @@ pub(super) async fn run(
             if !args.json {
                 stdout.push(named.completed(took));
             }
-            Outcome {
-                stdout,
-                stderr: None,
-                exit_code: 0,
-            }
+            Outcome::printed(stdout)
         }
         Ok(End::Failed(message)) => failed(message, render(args, &report, Some("failed"))),
         Err(e) => Outcome::failed(&e),
@@ -190,16 +186,12 @@ async fn start_unwatched(
         None
     };
     if let Some(over) = over {
-        return Outcome {
-            stdout: Vec::new(),
-            stderr: Some(format!(
-                "{} not started: the arm's {over}, and with --no-wait nothing is left to lower \
-                 it for the run and put it back; drop --no-wait (the command then waits for the \
-                 end)",
-                named.stored
-            )),
-            exit_code: 1,
-        };
+        let why = format!(
+            "{} not started: the arm's {over}, and with --no-wait nothing is left to lower it \
+             for the run and put it back; drop --no-wait (the command then waits for the end)",
+            named.stored
+        );
+        return Outcome::error(why, 1);
     }
     let report = match link
         .start_stored(named.stored.id, named.stored.motion)
@@ -209,11 +201,7 @@ async fn start_unwatched(
         Err(e) => return Outcome::failed(&e),
     };
     let stdout = render(args, &report, Some("started"));
-    Outcome {
-        stdout,
-        stderr: None,
-        exit_code: 0,
-    }
+    Outcome::printed(stdout)
 }
 
 /// The fault flags are read before the status: a fault raised between them shows as an abort with

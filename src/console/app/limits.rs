@@ -3,7 +3,7 @@
 //! continuous joints have none.
 
 use crate::kortex::Telemetry;
-use crate::kortex::gen3::JOINT_LIMITS_DEG;
+use crate::kortex::gen3::limit_margin;
 
 /// Within this many degrees of a limit a joint is named and its gauge warns.
 pub const LIMIT_WARNING_DEG: f32 = 5.0;
@@ -28,27 +28,6 @@ impl NearLimit {
     }
 }
 
-/// A reported angle folded into (-180, 180].
-fn signed(deg: f32) -> f32 {
-    let wrapped = deg.rem_euclid(360.0);
-    if wrapped > 180.0 {
-        wrapped - 360.0
-    } else {
-        wrapped
-    }
-}
-
-/// Joint `joint`'s (1-7) margin to its nearer limit, deg; `None` if continuous or not finite.
-pub fn limit_margin(joint: usize, position_deg: f32) -> Option<f32> {
-    let limit = JOINT_LIMITS_DEG
-        .get(joint.checked_sub(1)?)
-        .copied()
-        .flatten()? as f32;
-    position_deg
-        .is_finite()
-        .then(|| limit - signed(position_deg).abs())
-}
-
 /// The limited joints within [`LIMIT_WARNING_DEG`] of a limit, the nearest first.
 pub fn near_limits(t: &Telemetry) -> Vec<NearLimit> {
     let mut near: Vec<NearLimit> = t
@@ -56,7 +35,7 @@ pub fn near_limits(t: &Telemetry) -> Vec<NearLimit> {
         .iter()
         .enumerate()
         .filter_map(|(i, j)| {
-            let margin_deg = limit_margin(i + 1, j.position)?;
+            let margin_deg = limit_margin(i, j.position)?;
             (margin_deg < LIMIT_WARNING_DEG).then_some(NearLimit {
                 joint: i as u8 + 1,
                 margin_deg,

@@ -40,7 +40,7 @@ pub use jog_evidence::{
     ALONG_FRACTION, Contradiction, OTHER_MOTION_JOINT_DEG_S, OTHER_MOTION_M_S, SLOW_FRACTION,
 };
 pub use keys::TAP_STEP_LIMIT;
-pub use limits::{LIMIT_WARNING_DEG, NearLimit, limit_margin, near_limits};
+pub use limits::{LIMIT_WARNING_DEG, NearLimit, near_limits};
 pub use motion_truth::{
     ACTION_TIMEOUT, ARRIVED_DEG, ARRIVED_MM, ActionKind, GoToTarget, MotionShown, MotionTruth,
     NO_TELEMETRY_ACTION_TIME, STALE_AFTER, STOP_GRACE, StoredAction, TrackedAction, TruthView,

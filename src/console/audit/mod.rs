@@ -204,15 +204,10 @@ impl AuditRecord {
 
 /// `$ARMJOG_STATE_DIR`, `$ARMJOG_LOG_DIR`, `~/.local/state/armjog/`, or the data directory.
 pub fn audit_dir() -> Option<PathBuf> {
-    if let Some(dir) = std::env::var_os("ARMJOG_STATE_DIR") {
-        return Some(PathBuf::from(dir));
+    match std::env::var_os("ARMJOG_STATE_DIR") {
+        Some(dir) => Some(PathBuf::from(dir)),
+        None => crate::logging::log_dir(),
     }
-    if let Some(dir) = std::env::var_os("ARMJOG_LOG_DIR") {
-        return Some(PathBuf::from(dir));
-    }
-    dirs::state_dir()
-        .or_else(dirs::data_local_dir)
-        .map(|d| d.join("armjog"))
 }
 
 #[cfg(test)]

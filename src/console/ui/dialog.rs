@@ -9,7 +9,8 @@ use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Clear, Paragraph};
 
-use super::long_text::{elide_end, elide_start};
+use super::long_text::elide_start;
+use super::numbers::elide_name;
 use super::theme::Theme;
 use crate::console::app::Overlay;
 use crate::console::view::View;
@@ -47,7 +48,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
                     // The end, where typing goes, stays in view.
                     format!("{}_", elide_start(&field.value, room.saturating_sub(1)))
                 } else {
-                    elide_end(&field.value, room)
+                    elide_name(&field.value, room)
                 };
                 lines.push(Line::from(vec![
                     Span::styled(

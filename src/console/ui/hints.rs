@@ -26,94 +26,64 @@ struct Group {
 }
 
 /// The groups in the order they are shown.
-const GROUPS: [Group; 13] = [
-    Group {
-        label: "jog",
-        actions: &[
-            Action::JogXPlus,
-            Action::JogXMinus,
-            Action::JogYPlus,
-            Action::JogYMinus,
-            Action::JogZPlus,
-            Action::JogZMinus,
-        ],
-        priority: 3,
-    },
-    Group {
-        label: "turn",
-        actions: &[
-            Action::JogRxPlus,
-            Action::JogRxMinus,
-            Action::JogRyPlus,
-            Action::JogRyMinus,
-            Action::JogRzPlus,
-            Action::JogRzMinus,
-        ],
+const GROUPS: [Group; 13] = {
+    use Action as A;
+    const fn group(label: &'static str, actions: &'static [Action], priority: u8) -> Group {
+        Group {
+            label,
+            actions,
+            priority,
+        }
+    }
+    [
+        group(
+            "jog",
+            &[
+                A::JogXPlus,
+                A::JogXMinus,
+                A::JogYPlus,
+                A::JogYMinus,
+                A::JogZPlus,
+                A::JogZMinus,
+            ],
+            3,
+        ),
         // Kept after pan: on an arm with both, pan is the older and more used family.
-        priority: 5,
-    },
-    Group {
-        label: "pan",
-        actions: &[
-            Action::PanAzimuthPlus,
-            Action::PanAzimuthMinus,
-            Action::PanAltitudePlus,
-            Action::PanAltitudeMinus,
-        ],
-        priority: 4,
-    },
-    Group {
-        label: "joint",
-        actions: &[Action::JointPlus, Action::JointMinus],
-        priority: 10,
-    },
-    Group {
-        label: "stop",
-        actions: &[Action::Stop],
-        priority: 0,
-    },
-    Group {
-        label: "speed",
-        actions: &[Action::SpeedUp, Action::SpeedDown],
-        priority: 8,
-    },
-    Group {
-        label: "step",
-        actions: &[Action::StepMode],
-        priority: 9,
-    },
-    Group {
-        label: "home",
-        actions: &[Action::Home],
-        priority: 7,
-    },
-    Group {
-        label: "stored",
-        actions: &[Action::StoredAction],
+        group(
+            "turn",
+            &[
+                A::JogRxPlus,
+                A::JogRxMinus,
+                A::JogRyPlus,
+                A::JogRyMinus,
+                A::JogRzPlus,
+                A::JogRzMinus,
+            ],
+            5,
+        ),
+        group(
+            "pan",
+            &[
+                A::PanAzimuthPlus,
+                A::PanAzimuthMinus,
+                A::PanAltitudePlus,
+                A::PanAltitudeMinus,
+            ],
+            4,
+        ),
+        group("joint", &[A::JointPlus, A::JointMinus], 10),
+        group("stop", &[A::Stop], 0),
+        group("speed", &[A::SpeedUp, A::SpeedDown], 8),
+        group("step", &[A::StepMode], 9),
+        group("home", &[A::Home], 7),
         // The least needed: dropped first.
-        priority: 12,
-    },
-    Group {
-        label: "save",
-        actions: &[Action::SavePosition],
-        priority: 6,
-    },
-    Group {
-        label: "go to",
-        actions: &[Action::GoToPosition],
-        priority: 11,
-    },
-    Group {
-        label: "help",
-        actions: &[Action::Help],
-        priority: 1,
-    },
-    Group {
-        label: "quit",
-        actions: &[Action::Quit],
-        priority: 2,
-    },
-];
+        group("stored", &[A::StoredAction], 12),
+        group("save", &[A::SavePosition], 6),
+        group("go to", &[A::GoToPosition], 11),
+        group("help", &[A::Help], 1),
+        group("quit", &[A::Quit], 2),
+    ]
+};
 
 /// The four arrow keys, which the footer calls "arrows" when they are a group's keys.
 const ARROWS: [NamedKey; 4] = [

@@ -12,10 +12,10 @@ use ratatui::style::Style;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Cell, Row, Table};
 
-use super::numbers::{NOT_KNOWN, fixed_or_unknown, signed_angle, width as text_width};
+use super::numbers::{NOT_KNOWN, fixed_or_unknown, width as text_width};
 use super::theme::Theme;
 use crate::console::view::View;
-use crate::kortex::gen3::JOINT_LIMITS_DEG;
+use crate::kortex::gen3::{JOINT_LIMITS_DEG, limit_margin, signed_deg as signed_angle};
 use crate::kortex::{Telemetry, sanity};
 
 /// Joint `joint`'s limit in degrees (Gen3: J2, J4, J6 limited; the others turn continuously).
@@ -206,7 +206,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
         .collect();
     let rows = (0..t.joints.len()).map(|i| {
         let position = t.joints[i].position;
-        let near = limit(i).is_some_and(|l| l - signed_angle(position).abs() < NEAR_LIMIT);
+        let near = limit_margin(i, position).is_some_and(|m| m < NEAR_LIMIT);
         let selected = usize::from(view.keys.joint) == i + 1;
         // Within 5 degrees the gauge turns to the warning colour (the status bar names it).
         let gauge_warns = view

@@ -1,5 +1,5 @@
-//! Text wider than its room: cut with a `…` where it shows, never silently. Measured in terminal
-//! columns, so a name in wide characters fits its field as an ASCII one does.
+//! Text wider than its room: its end after a `…` (its start: [`numbers::elide_name`]). Measured
+//! in terminal columns, so a name in wide characters fits its field as an ASCII one does.
 
 use super::numbers::{self, ELLIPSIS};
 
@@ -26,14 +26,10 @@ pub fn elide_start(text: &str, room: usize) -> String {
     format!("{ELLIPSIS}{tail}")
 }
 
-/// `text` in at most `room` columns: its start, then a `…` when it is wider.
-pub fn elide_end(text: &str, room: usize) -> String {
-    numbers::elide_name(text, room)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::console::ui::numbers::elide_name as elide_end;
 
     #[test]
     fn long_text_keeps_its_start_or_its_end_and_shows_the_cut() {

@@ -41,14 +41,6 @@ pub fn no_telemetry_text(view: &View) -> &'static str {
     }
 }
 
-/// A telemetry panel's title, with the telemetry's age when it is old.
-pub fn telemetry_title(title: &str, view: &View) -> String {
-    match view.truth.telemetry_stale {
-        Some(age) => format!("{title} (stale {})", super::app::age_text(age)),
-        None => title.to_string(),
-    }
-}
-
 /// Greys out the inside of a telemetry panel whose values are old (call after drawing it).
 pub fn grey_if_stale(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     if view.truth.telemetry_stale.is_some() {

@@ -34,16 +34,6 @@ pub fn fixed(value: impl Into<f64>, decimals: usize) -> String {
     }
 }
 
-/// A reported angle (any range, degrees) as the same angle in (−180, 180].
-pub fn signed_angle(deg: f32) -> f32 {
-    let wrapped = deg.rem_euclid(360.0);
-    if wrapped > 180.0 {
-        wrapped - 360.0
-    } else {
-        wrapped
-    }
-}
-
 /// The width of `text` in terminal columns.
 pub fn width(text: &str) -> usize {
     Span::raw(text).width()
@@ -134,6 +124,7 @@ mod tests {
 
     #[test]
     fn angles_wrap_into_minus_180_exclusive_to_180_inclusive() {
+        use crate::kortex::gen3::signed_deg as signed_angle;
         assert!((signed_angle(359.66) - -0.34).abs() < 1e-3);
         assert_eq!(signed_angle(180.0), 180.0);
         assert_eq!(signed_angle(-180.0), 180.0);

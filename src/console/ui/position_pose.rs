@@ -111,7 +111,7 @@ fn tenths(value: i32) -> f64 {
 
 /// A reported angle (0 to 360 degrees) as a technician reads it: -0.5, not 359.5.
 ///
-/// In f64, unlike [`numbers::signed_angle`](super::numbers::signed_angle) (f32): for a
+/// In f64, unlike [`crate::kortex::gen3::signed_deg`] (f32): for a
 /// negative angle in a book the two round differently (-127.975 reads -127.97 here, -127.98
 /// there).
 fn about_zero(degrees: f64) -> f64 {

@@ -17,19 +17,15 @@ use crate::link::interface::{GuardStatus, LinkStatus};
 
 /// What the key-release mode is, in words: the status bar always shows it.
 pub fn release_mode_text(view: &View) -> String {
-    match view.keys.release_mode {
-        ReleaseMode::Reported => "keys: release events".into(),
-        ReleaseMode::AutoRepeat => {
-            let timing = view.keys.repeat_timing;
-            match (timing.onset, timing.interval) {
-                (Some(onset), Some(interval)) => format!(
-                    "keys: auto-repeat fallback ({} ms, {:.0} Hz)",
-                    onset.as_millis(),
-                    1.0 / interval.as_secs_f64()
-                ),
-                _ => "keys: auto-repeat fallback".into(),
-            }
-        }
+    let timing = view.keys.repeat_timing;
+    match (view.keys.release_mode, timing.onset, timing.interval) {
+        (ReleaseMode::AutoRepeat, Some(onset), Some(interval)) => format!(
+            "{} ({} ms, {:.0} Hz)",
+            release_mode_name(view),
+            onset.as_millis(),
+            1.0 / interval.as_secs_f64()
+        ),
+        _ => release_mode_name(view).into(),
     }
 }
 
@@ -230,58 +226,24 @@ struct Cut {
     limit: bool,
 }
 
-/// Each line keeps what the one before it keeps, less one more part.
-const CUTS: [Cut; 9] = {
-    let all = Cut {
-        reason: true,
-        timing: true,
-        mm_s: true,
-        words: true,
-        joint: true,
-        frame: true,
-        speed: true,
-        limit: true,
-    };
-    let no_reason = Cut {
-        reason: false,
-        ..all
-    };
-    let no_timing = Cut {
-        timing: false,
-        ..no_reason
-    };
-    let no_mm_s = Cut {
-        mm_s: false,
-        ..no_timing
-    };
-    let no_words = Cut {
-        words: false,
-        ..no_mm_s
-    };
-    let no_joint = Cut {
-        joint: false,
-        ..no_words
-    };
-    let no_frame = Cut {
-        frame: false,
-        ..no_joint
-    };
-    let no_speed = Cut {
-        speed: false,
-        ..no_frame
-    };
-    let no_limit = Cut {
-        limit: false,
-        ..no_speed
-    };
-    [
-        all, no_reason, no_timing, no_mm_s, no_words, no_joint, no_frame, no_speed, no_limit,
-    ]
-};
+/// The line with the first `given_up` parts (0 to 8, in [`Cut`]'s order) given up: each keeps
+/// what the one before it keeps, less one more part.
+fn cut(given_up: usize) -> Cut {
+    Cut {
+        reason: given_up < 1,
+        timing: given_up < 2,
+        mm_s: given_up < 3,
+        words: given_up < 4,
+        joint: given_up < 5,
+        frame: given_up < 6,
+        speed: given_up < 7,
+        limit: given_up < 8,
+    }
+}
 
 /// The motion, the key-release mode and the settings, as much of them as fits `width`.
 fn motion_line(view: &View, theme: &Theme, width: usize) -> Line<'static> {
-    let candidates = CUTS.iter().map(|cut| motion_spans(view, theme, *cut));
+    let candidates = (0..=8).map(|given_up| motion_spans(view, theme, cut(given_up)));
     let mut last = Vec::new();
     for spans in candidates {
         if spans_width(&spans) <= width {

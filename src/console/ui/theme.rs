@@ -44,26 +44,12 @@ impl Theme {
 
     /// Faults and lost links: must stand out even without colour.
     pub fn alarm(&self) -> Style {
-        if self.color {
-            Style::default()
-                .fg(Color::White)
-                .bg(Color::Red)
-                .add_modifier(Modifier::BOLD)
-        } else {
-            Style::default().add_modifier(Modifier::BOLD | Modifier::REVERSED)
-        }
+        self.badge(Color::White, Color::Red)
     }
 
     /// Motion in progress.
     pub fn moving(&self) -> Style {
-        if self.color {
-            Style::default()
-                .fg(Color::Black)
-                .bg(Color::Yellow)
-                .add_modifier(Modifier::BOLD)
-        } else {
-            Style::default().add_modifier(Modifier::BOLD | Modifier::REVERSED)
-        }
+        self.badge(Color::Black, Color::Yellow)
     }
 
     /// Values from telemetry too old to trust: greyed out (dimmed without colour).
@@ -88,11 +74,13 @@ impl Theme {
 
     /// The built-in simulated arm's badge: plain to see, and unlike any alarm or motion.
     pub fn simulated(&self) -> Style {
+        self.badge(Color::Black, Color::Cyan)
+    }
+
+    /// Bold `fg` on `bg`; bold and reversed without colour.
+    fn badge(&self, fg: Color, bg: Color) -> Style {
         if self.color {
-            Style::default()
-                .fg(Color::Black)
-                .bg(Color::Cyan)
-                .add_modifier(Modifier::BOLD)
+            Style::default().fg(fg).bg(bg).add_modifier(Modifier::BOLD)
         } else {
             Style::default().add_modifier(Modifier::BOLD | Modifier::REVERSED)
         }

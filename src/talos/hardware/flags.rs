@@ -232,15 +232,8 @@ impl fmt::Display for ArmFlags {
 pub struct RobotState(pub u16);
 
 impl RobotState {
-    pub const UNSPECIFIED: RobotState = RobotState(0);
-    pub const BASE_INIT_NOT_COMPLETED: RobotState = RobotState(1);
-    pub const BASE_INIT_SUCCEEDED: RobotState = RobotState(2);
-    pub const INITIALISING: RobotState = RobotState(3);
     pub const IN_FAULT: RobotState = RobotState(4);
-    pub const MAINTENANCE: RobotState = RobotState(5);
-    pub const LOW_LEVEL_SERVOING: RobotState = RobotState(6);
     pub const READY: RobotState = RobotState(7);
-    pub const CONTROLLED_BY_SEQUENCE: RobotState = RobotState(8);
     pub const CONTROLLED_MANUALLY: RobotState = RobotState(9);
 
     /// snake_case name of a defined state, as the Modbus register map names it.
