@@ -58,7 +58,7 @@ impl App {
                     self.other_client_note_speed(now);
                 }
             }
-            ArmEvent::Notice(text) => self.say(text, Severity::Warning, now),
+            ArmEvent::Notice(text) => self.warn(text, now),
             ArmEvent::Log(entry) => self.screen.on_log(entry),
             ArmEvent::Failed {
                 error: error @ (ArmError::GuardStoppedArm(_) | ArmError::GuardStopFailed(_)),
@@ -85,11 +85,7 @@ impl App {
                 // Said only when the technician is looking at it; otherwise the panel marks it.
                 if self.screen.shows_position(&name) {
                     self.screen.show(Overlay::None);
-                    self.say(
-                        format!("the operator does not know '{name}'"),
-                        Severity::Warning,
-                        now,
-                    );
+                    self.warn(format!("the operator does not know '{name}'"), now);
                 }
             }
             ArmEvent::Done { command } => self.on_done(command, now, effects),
@@ -141,7 +137,7 @@ impl App {
             Some(what) => format!("{what} stopped: {error}"),
             None => error.to_string(),
         };
-        self.say(text, Severity::Error, now);
+        self.error(text, now);
     }
 
     /// A console frozen for the guard's heartbeat timeout may get the guard's report after it has
@@ -190,7 +186,7 @@ impl App {
         self.truth.forget_action();
         self.stop_everything(now, effects);
         tracing::warn!("{text}");
-        self.say(text, Severity::Error, now);
+        self.error(text, now);
     }
 
     /// Whether the cap is watched; `None` until the driver says whether telemetry comes.
@@ -217,7 +213,7 @@ impl App {
     /// The stored action key: the form, or why not (the link, or the motion gate).
     pub(super) fn open_stored_form(&mut self, now: Instant) {
         if let Some(why) = self.stored_refusal() {
-            self.say(why, Severity::Warning, now);
+            self.warn(why, now);
             return;
         }
         if !self.refuse_motion(now) {
@@ -233,7 +229,7 @@ impl App {
     /// Yes to "Run action 5 on the arm?" (the motion gate has just let it through).
     pub(super) fn run_stored(&mut self, stored: Stored, now: Instant, effects: &mut Vec<Effect>) {
         match self.stored_refusal() {
-            Some(why) => self.say(why, Severity::Warning, now),
+            Some(why) => self.warn(why, now),
             None => effects.push(Effect::Arm(ArmCommand::StartStored(stored))),
         }
     }

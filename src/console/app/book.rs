@@ -46,11 +46,7 @@ impl App {
             }
             Err(error) => {
                 tracing::error!("positions not loaded: {error}");
-                self.say(
-                    format!("positions not loaded: {error}"),
-                    Severity::Error,
-                    now,
-                );
+                self.error(format!("positions not loaded: {error}"), now);
                 self.book.on_load_failed(error);
             }
         }
@@ -68,11 +64,7 @@ impl App {
             1 => String::new(),
             n => format!(" (and {} more: see the log)", n - 1),
         };
-        self.say(
-            format!("positions file: {first}{more}"),
-            Severity::Warning,
-            now,
-        );
+        self.warn(format!("positions file: {first}{more}"), now);
     }
 
     /// Asks the operator about the first [`CHECKED_ON_CONNECT`] remembered names.
@@ -133,13 +125,13 @@ impl App {
         };
         if let Some(first) = written.conflicts.first() {
             let text = format!("{}{}", first.describe(), more(written.conflicts.len()));
-            self.say(text, Severity::Warning, now);
+            self.warn(text, now);
             self.ask_which(written);
         } else if let Some(first) = written.notes.first() {
-            self.say(format!("positions file: {first}"), Severity::Warning, now);
+            self.warn(format!("positions file: {first}"), now);
         } else if let Some(first) = written.moved.first() {
             let text = format!("{}{}", first.describe(), more(written.moved.len()));
-            self.say(text, Severity::Warning, now);
+            self.warn(text, now);
         } else if written.taken > 0 {
             let saved = saved.map(|n| format!("saved '{n}'; ")).unwrap_or_default();
             let text = format!(
@@ -147,7 +139,7 @@ impl App {
                  nothing lost",
                 written.taken
             );
-            self.say(text, Severity::Info, now);
+            self.info(text, now);
         }
     }
 
@@ -182,7 +174,7 @@ impl App {
         let (Some(theirs), Some(ours)) = (book.get(&name).cloned(), book.get(&copy).cloned())
         else {
             let text = format!("'{name}' or '{copy}' is gone meanwhile: nothing swapped");
-            self.say(text, Severity::Warning, now);
+            self.warn(text, now);
             return;
         };
         if let Some(entry) = book.get_mut(&name) {
@@ -193,7 +185,7 @@ impl App {
         }
         self.book.select(&name);
         let text = format!("'{name}' is this console's now; the other program's is '{copy}'");
-        self.say(text, Severity::Info, now);
+        self.info(text, now);
         self.save_book(&[&name, &copy], effects);
     }
 }
@@ -222,7 +214,7 @@ impl App {
             let text = format!("saving '{name}'…");
             self.say_until(text, Severity::Info, Until::BookWritten, now);
         } else {
-            self.say(format!("saved '{name}'"), Severity::Info, now);
+            self.info(format!("saved '{name}'"), now);
         }
     }
 
@@ -234,13 +226,13 @@ impl App {
             self.book.on_found(&found);
             self.tell_found(&found.written, reported.as_deref(), now);
         } else if let Some(name) = reported.filter(|_| written) {
-            self.say(format!("saved '{name}'"), Severity::Info, now);
+            self.info(format!("saved '{name}'"), now);
         }
         match self.book.on_saved(outcome) {
             Saved::Quietly => {}
             Saved::Recovered(n) => {
                 let text = format!("positions saved ({n} that had failed)");
-                self.say(text, Severity::Info, now);
+                self.info(text, now);
             }
             Saved::Failed { error, unsaved } => {
                 tracing::error!("positions not saved: {error}");
@@ -287,7 +279,7 @@ impl App {
     pub(super) fn ask_go_to(&mut self, name: String, now: Instant) {
         // Not asked when the answer could only be that it cannot work.
         if let Some(why) = self.go_to_refusal(&name) {
-            self.say(why, Severity::Warning, now);
+            self.warn(why, now);
             return;
         }
         if self.refuse_motion(now) {
@@ -304,9 +296,8 @@ impl App {
         } else if self.remembered_cartesian(&name).is_some() {
             self.screen.show(Overlay::Confirm(Confirm::Resave(name)));
         } else {
-            self.say(
+            self.warn(
                 format!("'{name}' is unknown to the operator and no coordinates are remembered"),
-                Severity::Warning,
                 now,
             );
         }
@@ -324,11 +315,7 @@ impl App {
         effects: &mut Vec<Effect>,
     ) {
         let Some([x, y, z]) = self.remembered_cartesian(&name) else {
-            self.say(
-                format!("'{name}' has no coordinates remembered"),
-                Severity::Warning,
-                now,
-            );
+            self.warn(format!("'{name}' has no coordinates remembered"), now);
             return;
         };
         effects.push(Effect::Arm(ArmCommand::SetCartesianPosition {
@@ -337,11 +324,7 @@ impl App {
             y,
             z,
         }));
-        self.say(
-            format!("re-saving '{name}' on the operator"),
-            Severity::Info,
-            now,
-        );
+        self.info(format!("re-saving '{name}' on the operator"), now);
         self.book.resave_mut().then_go = Some((name, now));
     }
 
@@ -361,19 +344,14 @@ impl App {
             return;
         };
         if now.saturating_duration_since(asked) > RESAVE_GO_WITHIN {
-            self.say(
+            self.info(
                 format!("re-saved '{pending}' (too late to move there unasked: go to it again)"),
-                Severity::Info,
                 now,
             );
             return;
         }
         self.going_to(&pending);
-        self.say(
-            format!("re-saved '{pending}': moving there"),
-            Severity::Info,
-            now,
-        );
+        self.info(format!("re-saved '{pending}': moving there"), now);
         effects.push(Effect::Arm(ArmCommand::GoToPosition { name: pending }));
     }
 
@@ -415,26 +393,20 @@ impl App {
                 if can_offer && self.screen.overlay_is_none() && !self.keys.jog().is_jogging() {
                     self.screen
                         .show(Overlay::Confirm(Confirm::Resave(name.clone())));
-                    self.say(
-                        format!("the operator does not know '{name}'"),
-                        Severity::Warning,
-                        now,
-                    );
+                    self.warn(format!("the operator does not know '{name}'"), now);
                 } else if can_offer {
-                    self.say(
+                    self.warn(
                         format!(
                             "the operator does not know '{name}': go to it again to re-save it \
                              from the remembered coordinates"
                         ),
-                        Severity::Warning,
                         now,
                     );
                 } else {
-                    self.say(
+                    self.warn(
                         format!(
                             "the operator does not know '{name}' and no coordinates are remembered"
                         ),
-                        Severity::Warning,
                         now,
                     );
                 }

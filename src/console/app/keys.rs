@@ -112,11 +112,7 @@ impl App {
             }
             (None, _) => {
                 self.stop_jog(now, effects);
-                self.say(
-                    format!("'{}' is not bound: press ? for help", key.key),
-                    Severity::Info,
-                    now,
-                );
+                self.info(format!("'{}' is not bound: press ? for help", key.key), now);
             }
         }
     }
@@ -156,17 +152,12 @@ impl App {
                 altitude: p,
             },
             A::Joint => {
-                self.say(
-                    "step mode has no joint steps: hold to jog a joint",
-                    Severity::Info,
-                    now,
-                );
+                self.info("step mode has no joint steps: hold to jog a joint", now);
                 return;
             }
             A::Rx | A::Ry | A::Rz => {
-                self.say(
+                self.info(
                     "step mode has no turn steps: leave it and hold to turn the tool",
-                    Severity::Info,
                     now,
                 );
                 return;
@@ -184,7 +175,7 @@ impl App {
             A::Stop => {
                 self.stop_everything(now, effects);
                 self.hold_stop(now);
-                self.say("stopped", Severity::Info, now);
+                self.info("stopped", now);
             }
             A::QuickStop => {
                 self.keys.jog_mut().stop_all(now);
@@ -207,7 +198,7 @@ impl App {
                 } else {
                     "jog mode: hold a key to move"
                 };
-                self.say(text, Severity::Info, now);
+                self.info(text, now);
             }
             A::StepBigger | A::StepSmaller => self.keys.on_step_size(action == A::StepBigger),
             A::SpeedUp | A::SpeedDown => {
@@ -220,11 +211,7 @@ impl App {
             }
             A::FrameCycle => {
                 if !self.offers().carries(A::FrameCycle) {
-                    self.say(
-                        "the Talos link jogs in the base frame only",
-                        Severity::Info,
-                        now,
-                    );
+                    self.info("the Talos link jogs in the base frame only", now);
                     return;
                 }
                 let frame = self.arm.on_frame_cycle();
@@ -242,7 +229,7 @@ impl App {
             }
             // Starts empty: a saved pose must not overwrite the selected one by accident.
             A::SavePosition => match self.save_refusal() {
-                Some(why) => self.say(why, Severity::Warning, now),
+                Some(why) => self.warn(why, now),
                 None => self.screen.show(Overlay::Form(self.save_form())),
             },
             A::SetPolarPosition | A::SetCartesianPosition => {
@@ -257,7 +244,7 @@ impl App {
             A::UndoDelete => self.undo_delete(now, effects),
             A::GoToPosition | A::DeletePosition | A::ShowPosition | A::RenamePosition => {
                 let Some(name) = self.selected_name().map(str::to_string) else {
-                    self.say("no position selected: save one first", Severity::Info, now);
+                    self.info("no position selected: save one first", now);
                     return;
                 };
                 match action {

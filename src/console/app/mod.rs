@@ -408,6 +408,21 @@ impl App {
         self.say_until(text, severity, until, now);
     }
 
+    /// A notice ([`App::say`]) at [`Severity::Info`].
+    fn info(&mut self, text: impl Into<String>, now: Instant) {
+        self.say(text, Severity::Info, now);
+    }
+
+    /// A notice ([`App::say`]) at [`Severity::Warning`].
+    fn warn(&mut self, text: impl Into<String>, now: Instant) {
+        self.say(text, Severity::Warning, now);
+    }
+
+    /// A notice ([`App::say`]) at [`Severity::Error`].
+    fn error(&mut self, text: impl Into<String>, now: Instant) {
+        self.say(text, Severity::Error, now);
+    }
+
     /// Stops a jog in progress; the jog keys still down stay latched until released.
     fn stop_jog(&mut self, now: Instant, effects: &mut Vec<Effect>) {
         let jog = self.keys.jog_mut().stop_all(now);

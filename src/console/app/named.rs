@@ -44,7 +44,7 @@ impl App {
             Confirm::Resave(name) => self.resave_confirmed(name, now, effects),
             Confirm::GoTo(name) => {
                 if let Err(why) = self.go_to(name, effects) {
-                    self.say(why, Severity::Warning, now);
+                    self.warn(why, now);
                 }
             }
             Confirm::Tour(question) => self.tour_confirmed(question, now, effects),
@@ -150,11 +150,7 @@ impl App {
                 parent,
             } => {
                 let Some(pose) = self.pose_now().filter(|p| p.cartesian.is_some()) else {
-                    self.say(
-                        "no telemetry yet: cannot save the pose",
-                        Severity::Warning,
-                        now,
-                    );
+                    self.warn("no telemetry yet: cannot save the pose", now);
                     return;
                 };
                 (name, pose, anchor, parent)
@@ -179,9 +175,8 @@ impl App {
             ),
         };
         if anchor {
-            self.say(
+            self.warn(
                 "anchored positions need a Talos operator: saved without anchor",
-                Severity::Warning,
                 now,
             );
         }

@@ -18,7 +18,7 @@ use std::time::{Duration, Instant};
 use super::jog_evidence::{
     Contradiction, OTHER_MOTION_JOINT_DEG_S, OTHER_MOTION_M_S, contradiction, progress,
 };
-use super::{App, Effect, Severity};
+use super::{App, Effect};
 use crate::console::coords::describe_motion;
 use crate::console::jog::{JogEffect, JogMotion};
 use crate::kortex::arm_state::{
@@ -355,9 +355,8 @@ impl App {
         tracing::warn!("the arm moves after our STOP: sending STOP again");
         effects.push(Effect::Arm(ArmCommand::Stop));
         if self.arm.others().hold.past_slowing_down(now) {
-            self.say(
+            self.warn(
                 "the arm moved after our STOP (another client?): stopped again",
-                Severity::Warning,
                 now,
             );
         }

@@ -319,15 +319,15 @@ impl App {
                     Confirm::BothChanged { name, copy } => {
                         let text =
                             format!("both kept: theirs as '{name}', this console's as '{copy}'");
-                        self.say(text, Severity::Info, now);
+                        self.info(text, now);
                     }
-                    _ => self.say("cancelled", Severity::Info, now),
+                    _ => self.info("cancelled", now),
                 }
             }
             Overlay::Form(mut form) => {
                 match key.key {
                     ESC => {
-                        self.say("cancelled", Severity::Info, now);
+                        self.info("cancelled", now);
                         return;
                     }
                     ENTER => {
@@ -368,31 +368,22 @@ impl App {
         let text = match pasted {
             Pasted::Refused(why) => {
                 self.stop_everything(now, effects);
-                self.say(format!("{why}; stopped"), Severity::Warning, now);
+                self.warn(format!("{why}; stopped"), now);
                 return;
             }
             Pasted::Text(text) => text,
         };
         let Some(form) = self.screen.form_mut() else {
-            self.say(
-                "paste ignored: pasted text is never keys",
-                Severity::Info,
-                now,
-            );
+            self.info("paste ignored: pasted text is never keys", now);
             return;
         };
         match form.paste(&text) {
             FormPaste::Inserted => {}
-            FormPaste::Cut { limit } => self.say(
+            FormPaste::Cut { limit } => self.warn(
                 format!("pasted text cut to the field's {limit}-byte limit"),
-                Severity::Warning,
                 now,
             ),
-            FormPaste::Toggle => self.say(
-                "paste ignored: this field is a yes/no toggle",
-                Severity::Info,
-                now,
-            ),
+            FormPaste::Toggle => self.info("paste ignored: this field is a yes/no toggle", now),
         }
     }
 
@@ -409,7 +400,7 @@ impl App {
         };
         self.stop_jog(now, effects);
         self.latch_jog_key(key, now, effects);
-        self.say(why, Severity::Warning, now);
+        self.warn(why, now);
         true
     }
 }

@@ -277,7 +277,7 @@ impl App {
             truth.stop_confirmed_at = None;
             if let Some(action) = truth.action.take() {
                 let verb = action.kind.verb();
-                self.say(format!("{verb} stopped"), Severity::Info, now);
+                self.info(format!("{verb} stopped"), now);
             }
             return;
         }
@@ -352,13 +352,13 @@ impl App {
                 self.truth.stop_needed = true;
                 let text =
                     format!("{verb} not done: MOVED BY ANOTHER CLIENT: {evidence}; STOP sent");
-                self.say(text, Severity::Error, now);
+                self.error(text, now);
             }
             Some(End::Done) => {
                 // The arm reported the end and telemetry shows it at rest: settled.
                 self.truth.action = None;
                 self.truth.unsettled = false;
-                self.say(format!("{verb} done"), Severity::Info, now);
+                self.info(format!("{verb} done"), now);
             }
             None => {}
         }
@@ -380,20 +380,18 @@ impl App {
         let verb = action.kind.verb();
         self.truth.action = None;
         if with_telemetry {
-            self.say(
+            self.warn(
                 format!("{verb}: no end seen within {} s", limit.as_secs()),
-                Severity::Warning,
                 now,
             );
         } else {
             // Without telemetry an action ends once its longest expected time has passed.
             self.truth.unsettled = false;
-            self.say(
+            self.info(
                 format!(
                     "{verb}: no telemetry; taken as ended after {} s",
                     limit.as_secs()
                 ),
-                Severity::Info,
                 now,
             );
         }
