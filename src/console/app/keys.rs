@@ -8,7 +8,7 @@ use super::message::Until;
 use super::{App, Effect, KeyInput, Overlay, Severity};
 use crate::console::action::Action;
 use crate::console::form::{Confirm, Form, FormKind};
-use crate::console::jog::{JogEffect, JogMotion, JogNotice, KeyKind};
+use crate::console::jog::{JogEffect, JogMotion, JogNotice, KeyKind, unit_motion};
 use crate::console::keymap::KeyName;
 use crate::link::interface::{ArmCommand, StepMove};
 
@@ -121,41 +121,18 @@ impl App {
         let Some((axis, sign)) = action.jog() else {
             return;
         };
-        use crate::console::action::JogAxis as A;
-        let s = i32::from(sign.value());
-        let (c, p) = (
-            self.keys.step().cartesian() * s,
-            self.keys.step().polar() * s,
-        );
-        let step = match axis {
-            A::X => StepMove::Cartesian {
-                dx: c,
-                dy: 0,
-                dz: 0,
+        let step = self.keys.step();
+        let step = match unit_motion(axis, sign.value(), 0) {
+            JogMotion::Cartesian { x, y, z } => cartesian_step([x, y, z], step.cartesian()),
+            JogMotion::Polar { azimuth, altitude } => StepMove::Polar {
+                azimuth: i32::from(azimuth) * step.polar(),
+                altitude: i32::from(altitude) * step.polar(),
             },
-            A::Y => StepMove::Cartesian {
-                dx: 0,
-                dy: c,
-                dz: 0,
-            },
-            A::Z => StepMove::Cartesian {
-                dx: 0,
-                dy: 0,
-                dz: c,
-            },
-            A::Azimuth => StepMove::Polar {
-                azimuth: p,
-                altitude: 0,
-            },
-            A::Altitude => StepMove::Polar {
-                azimuth: 0,
-                altitude: p,
-            },
-            A::Joint => {
+            JogMotion::Joint { .. } => {
                 self.info("step mode has no joint steps: hold to jog a joint", now);
                 return;
             }
-            A::Rx | A::Ry | A::Rz => {
+            JogMotion::Orientation { .. } => {
                 self.info(
                     "step mode has no turn steps: leave it and hold to turn the tool",
                     now,
@@ -318,11 +295,7 @@ impl App {
             return None;
         };
         let size = self.keys.step().cartesian().clamp(0, TAP_STEP_LIMIT);
-        Some(StepMove::Cartesian {
-            dx: i32::from(x) * size,
-            dy: i32::from(y) * size,
-            dz: i32::from(z) * size,
-        })
+        Some(cartesian_step([x, y, z], size))
     }
 
     /// A key that may not move the arm: a jog key is latched until a new press.
@@ -355,6 +328,15 @@ impl App {
             let jog = self.keys.jog_mut().key(action, key.kind, now);
             self.apply_jog(jog, now, effects);
         }
+    }
+}
+
+/// A cartesian step of `size` tenths of mm along each of `unit`'s directions.
+fn cartesian_step([x, y, z]: [i8; 3], size: i32) -> StepMove {
+    StepMove::Cartesian {
+        dx: i32::from(x) * size,
+        dy: i32::from(y) * size,
+        dz: i32::from(z) * size,
     }
 }
 
