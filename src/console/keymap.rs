@@ -24,9 +24,6 @@ const BUILTIN_KEYMAPS: [(&str, &str); 2] = [
     ("numpad", include_str!("../../keymaps/numpad.json")),
 ];
 
-/// The keymap used when none is asked for.
-pub const DEFAULT_KEYMAP_NAME: &str = "default";
-
 /// The actions every keymap must bind: the technician must always be able to stop and quit.
 pub const REQUIRED_ACTIONS: [Action; 2] = [Action::Stop, Action::Quit];
 
@@ -154,14 +151,6 @@ impl Keymap {
             .into_iter()
             .map(|action| (action, self.keys_for(action)))
             .filter(|(_, keys)| !keys.is_empty())
-            .collect()
-    }
-
-    /// The actions this keymap leaves without a key, in [`Action::ALL`] order.
-    pub fn unbound_actions(&self) -> Vec<Action> {
-        Action::ALL
-            .into_iter()
-            .filter(|action| !self.bindings.values().any(|bound| bound == action))
             .collect()
     }
 }
@@ -304,11 +293,10 @@ mod tests {
                 Err(error) => panic!("{error}"),
             };
             assert_eq!(loaded.name(), name);
-            assert_eq!(loaded.unbound_actions(), Vec::<Action>::new(), "{name}");
             assert_eq!(Keymap::builtin(name), Some(loaded));
         }
         assert_eq!(Keymap::builtin("nonesuch"), None);
-        assert!(Keymap::builtin(DEFAULT_KEYMAP_NAME).is_some());
+        assert!(Keymap::builtin("default").is_some());
     }
 
     #[test]

@@ -35,7 +35,7 @@ pub use cap_watch::{CAP_TOLERANCE, CapWatch, OVER_CAP_SAMPLES};
 pub use crate::console::coords::{cartesian_of, describe_motion, polar_of};
 pub use crate::kortex::arm_state::{abort_reason, at_rest, fault_reason};
 pub use arm::STORED_REFUSAL;
-pub use history::{BUCKET, BUCKETS, HISTORY_WINDOW, History, HistorySeries, JointQuantity};
+pub use history::{BUCKET, BUCKETS, History, HistorySeries, JointQuantity};
 pub use jog_evidence::{
     ALONG_FRACTION, Contradiction, OTHER_MOTION_JOINT_DEG_S, OTHER_MOTION_M_S, SLOW_FRACTION,
 };

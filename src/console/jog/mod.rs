@@ -139,11 +139,6 @@ impl JogEngine {
         self.active
     }
 
-    /// Every jog key the engine believes is down, latched or not.
-    pub fn held_actions(&self) -> impl Iterator<Item = Action> + '_ {
-        self.held.keys().copied()
-    }
-
     /// Whether `action`'s key is down since before a stop, so it cannot move until released.
     pub fn is_latched(&self, action: Action) -> bool {
         self.held

@@ -48,11 +48,6 @@ impl PositionBook {
         }
     }
 
-    pub fn remove_tour(&mut self, name: &str) -> Option<Tour> {
-        let index = self.tours.iter().position(|t| t.name == name)?;
-        Some(self.tours.remove(index))
-    }
-
     /// The first of `names` the book has no position for, with its place (0-based).
     pub fn first_missing<'a>(&self, names: &'a [String]) -> Option<(usize, &'a str)> {
         names
@@ -137,8 +132,6 @@ mod tests {
         let b = book.tour("b").cloned().expect("b");
         assert_eq!(book.first_missing(&b.positions), Some((1, "gone")));
         assert_eq!(b.legs_text(), "bench → gone");
-        assert_eq!(book.remove_tour("a").map(|t| t.name), Some("a".into()));
-        assert!(book.tour("a").is_none());
     }
 
     #[test]

@@ -105,14 +105,10 @@ impl App {
                 self.truth.stop_needed = true;
             }
             ArmEvent::StopUnconfirmed { reason } => {
-                self.say_until(
-                    format!(
-                        "STOP NOT CONFIRMED: {reason}. The arm may still be moving: use its e-stop"
-                    ),
-                    Severity::Error,
-                    Until::StopConfirmed,
-                    now,
+                let text = format!(
+                    "STOP NOT CONFIRMED: {reason}. The arm may still be moving: use its e-stop"
                 );
+                self.say_until(text, Severity::Error, Until::StopConfirmed, now);
             }
             _ => {}
         }
@@ -229,15 +225,9 @@ impl App {
             }
             if self.keys.jog().is_jogging() {
                 self.stop_jog(now, effects);
-                self.say_until(
-                    format!(
-                        "link stale: no word from the arm for {}: jog stopped",
-                        age_text(age)
-                    ),
-                    Severity::Error,
-                    Until::LinkFresh,
-                    now,
-                );
+                let age = age_text(age);
+                let text = format!("link stale: no word from the arm for {age}: jog stopped");
+                self.say_until(text, Severity::Error, Until::LinkFresh, now);
             }
         }
         self.time_out_action(now);
@@ -377,21 +367,15 @@ impl App {
         if now < action.sent + limit {
             return;
         }
-        let verb = action.kind.verb();
+        let (verb, secs) = (action.kind.verb(), limit.as_secs());
         self.truth.action = None;
         if with_telemetry {
-            self.warn(
-                format!("{verb}: no end seen within {} s", limit.as_secs()),
-                now,
-            );
+            self.warn(format!("{verb}: no end seen within {secs} s"), now);
         } else {
             // Without telemetry an action ends once its longest expected time has passed.
             self.truth.unsettled = false;
             self.info(
-                format!(
-                    "{verb}: no telemetry; taken as ended after {} s",
-                    limit.as_secs()
-                ),
+                format!("{verb}: no telemetry; taken as ended after {secs} s"),
                 now,
             );
         }
