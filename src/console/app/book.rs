@@ -285,13 +285,7 @@ impl App {
         if self.refuse_motion(now) {
             return;
         }
-        let lost = self.config.positions_on_operator
-            && self
-                .book
-                .positions()
-                .get(&name)
-                .is_some_and(|e| e.unknown_to_operator);
-        if !lost {
+        if !self.lost_by_operator(&name) {
             self.screen.show(Overlay::Confirm(Confirm::GoTo(name)));
         } else if self.remembered_cartesian(&name).is_some() {
             self.screen.show(Overlay::Confirm(Confirm::Resave(name)));
@@ -301,6 +295,12 @@ impl App {
                 now,
             );
         }
+    }
+
+    /// The operator keeps the positions and said it does not know `name`.
+    pub(super) fn lost_by_operator(&self, name: &str) -> bool {
+        let entry = self.book.positions().get(name);
+        self.config.positions_on_operator && entry.is_some_and(|e| e.unknown_to_operator)
     }
 
     fn remembered_cartesian(&self, name: &str) -> Option<[i32; 3]> {

@@ -171,13 +171,8 @@ impl App {
         if let Some(why) = self.go_to_refusal(name) {
             return Some(why);
         }
-        let lost = self.config.positions_on_operator
-            && self
-                .book
-                .positions()
-                .get(name)
-                .is_some_and(|e| e.unknown_to_operator);
-        lost.then(|| format!("the operator does not know '{name}': go to it alone to re-save it"))
+        self.lost_by_operator(name)
+            .then(|| format!("the operator does not know '{name}': go to it alone to re-save it"))
     }
 
     /// Yes to the tour's question: its first leg starts.
