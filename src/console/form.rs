@@ -33,10 +33,6 @@ pub struct Field {
 }
 
 impl Field {
-    fn list(label: &'static str, value: &str) -> Field {
-        Field::text(label, value)
-    }
-
     fn text(label: &'static str, value: &str) -> Field {
         Field {
             label,
@@ -55,10 +51,8 @@ impl Field {
 
     fn toggle(label: &'static str) -> Field {
         Field {
-            label,
-            value: "no".into(),
             toggle: true,
-            name: false,
+            ..Field::text(label, "no")
         }
     }
 

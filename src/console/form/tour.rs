@@ -49,7 +49,7 @@ pub(super) const LEGS_PASTE_LIMIT: usize = 4096;
 pub(super) fn make_fields(name: &str, legs: &str) -> Vec<Field> {
     vec![
         Field::name("tour name", name),
-        Field::list(LEGS_LABEL, legs),
+        Field::text(LEGS_LABEL, legs),
     ]
 }
 
