@@ -386,9 +386,7 @@ impl App {
                 let Some(name) = self.book.resave_mut().goto_sent.take() else {
                     return false;
                 };
-                if let Some(entry) = self.book.positions_mut().get_mut(&name) {
-                    entry.unknown_to_operator = true;
-                }
+                self.book.on_unknown_to_operator(&name);
                 let can_offer = self.remembered_cartesian(&name).is_some();
                 if can_offer && self.screen.overlay_is_none() && !self.keys.jog().is_jogging() {
                     self.screen
