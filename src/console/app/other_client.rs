@@ -318,9 +318,7 @@ fn ended_under_jog(t: &Telemetry, motion: JogMotion, was_twist: bool) -> bool {
 
 /// The tool point or a joint faster than the idle thresholds (NaN is not fast: it says nothing).
 fn fast_motion(t: &Telemetry) -> bool {
-    let v = t.tcp.twist;
-    let tool = (v.x * v.x + v.y * v.y + v.z * v.z).sqrt();
-    tool > OTHER_MOTION_M_S
+    t.tcp.twist.linear_speed() > OTHER_MOTION_M_S
         || t.joints
             .iter()
             .any(|j| j.velocity.abs() > OTHER_MOTION_JOINT_DEG_S)
