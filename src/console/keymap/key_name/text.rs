@@ -5,6 +5,7 @@ use std::str::FromStr;
 
 use super::{BaseKey, KeyName, KeypadKey, MAX_FUNCTION_KEY, Modifiers, NamedKey};
 use super::{is_keypad_char, shifted_letter};
+use crate::console::keymap::single_char;
 
 impl fmt::Display for KeyName {
     fn fmt(&self, formatter: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -106,8 +107,7 @@ impl FromStr for KeyName {
 }
 
 fn parse_base_key(text: &str) -> Result<BaseKey, String> {
-    let mut characters = text.chars();
-    if let (Some(character), None) = (characters.next(), characters.next()) {
+    if let Some(character) = single_char(text.chars()) {
         return if character == ' ' {
             Err("write the space bar as \"space\"".to_owned())
         } else if crate::text::is_unsafe(character) || character.is_whitespace() {
@@ -130,8 +130,7 @@ fn parse_base_key(text: &str) -> Result<BaseKey, String> {
         };
     }
     if let Some(keypad) = text.strip_prefix("kp") {
-        let mut characters = keypad.chars();
-        if let (Some(character), None) = (characters.next(), characters.next())
+        if let Some(character) = single_char(keypad.chars())
             && is_keypad_char(character)
         {
             return Ok(BaseKey::Keypad(KeypadKey::Char(character)));
