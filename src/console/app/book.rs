@@ -60,10 +60,7 @@ impl App {
         for note in &notes {
             tracing::warn!("positions: {note}");
         }
-        let more = match notes.len() {
-            1 => String::new(),
-            n => format!(" (and {} more: see the log)", n - 1),
-        };
+        let more = and_more(notes.len());
         self.warn(format!("positions file: {first}{more}"), now);
     }
 
@@ -119,18 +116,14 @@ impl App {
         for moved in &written.moved {
             tracing::warn!("positions: {}", moved.describe());
         }
-        let more = |n: usize| match n {
-            0 | 1 => String::new(),
-            n => format!(" (and {} more: see the log)", n - 1),
-        };
         if let Some(first) = written.conflicts.first() {
-            let text = format!("{}{}", first.describe(), more(written.conflicts.len()));
+            let text = format!("{}{}", first.describe(), and_more(written.conflicts.len()));
             self.warn(text, now);
             self.ask_which(written);
         } else if let Some(first) = written.notes.first() {
             self.warn(format!("positions file: {first}"), now);
         } else if let Some(first) = written.moved.first() {
-            let text = format!("{}{}", first.describe(), more(written.moved.len()));
+            let text = format!("{}{}", first.describe(), and_more(written.moved.len()));
             self.warn(text, now);
         } else if written.taken > 0 {
             let saved = saved.map(|n| format!("saved '{n}'; ")).unwrap_or_default();
@@ -412,5 +405,13 @@ impl App {
             }
             _ => false,
         }
+    }
+}
+
+/// After the first of `count` things said, how many more the log has.
+fn and_more(count: usize) -> String {
+    match count {
+        0 | 1 => String::new(),
+        n => format!(" (and {} more: see the log)", n - 1),
     }
 }
