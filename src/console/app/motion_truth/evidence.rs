@@ -6,8 +6,8 @@ use std::time::{Duration, Instant};
 
 use super::actions::{End, heuristic_end, run_end};
 use super::{
-    ACTION_TIMEOUT, ActionKind, GoToTarget, INTERVALS_KEPT, MotionShown, NO_TELEMETRY_ACTION_TIME,
-    STOP_GRACE, StoredAction, TrackedAction, TruthView,
+    ActionKind, GoToTarget, INTERVALS_KEPT, MotionShown, STOP_GRACE, StoredAction, TrackedAction,
+    TruthView,
 };
 use crate::console::app::age::age_text;
 use crate::console::app::message::Until;
@@ -359,11 +359,7 @@ impl App {
             return;
         };
         let with_telemetry = self.truth.expects_telemetry();
-        let limit = if with_telemetry {
-            ACTION_TIMEOUT
-        } else {
-            NO_TELEMETRY_ACTION_TIME
-        };
+        let limit = self.truth.action_time_limit();
         if now < action.sent + limit {
             return;
         }
