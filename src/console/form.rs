@@ -279,6 +279,11 @@ impl Form {
         }
     }
 
+    /// Field `i`'s text, trimmed ("" past the last field).
+    fn value(&self, i: usize) -> &str {
+        self.fields.get(i).map_or("", |f| f.value.trim())
+    }
+
     /// Validates every field. On error the form stays as typed, with the reason.
     pub fn submit(&mut self) -> Option<FormResult> {
         match self.parse() {
