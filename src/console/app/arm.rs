@@ -26,7 +26,9 @@ pub const STORED_REFUSAL: &str = "stored actions and sequences by id need a Modb
 impl App {
     pub(super) fn on_arm(&mut self, event: ArmEvent, now: Instant, effects: &mut Vec<Effect>) {
         self.truth_on_arm(&event, now);
-        self.messages_on_arm(&event);
+        // Arm events that end a message.
+        let telemetry_expected = self.truth.expects_telemetry();
+        self.screen.messages_on_arm(&event, telemetry_expected);
         if self.edits_on_arm(&event, now, effects) {
             return;
         }

@@ -240,7 +240,7 @@ impl App {
             }
             A::ToggleHex => self.screen.on_toggle_hex(),
             A::HistoryCycle => self.arm.on_history_cycle(),
-            A::Help => self.open_help(),
+            A::Help => self.screen.open_help(),
             A::Quit => self.ask_quit(now, effects),
             A::MakeTour | A::PlayTour | A::TourLeg => self.on_tour_action(action, now),
             A::StoredAction => self.open_stored_form(now),

@@ -17,7 +17,7 @@ use crate::console::keymap::{KeyName, NamedKey};
 use crate::console::positions::PositionBook;
 use crate::console::view::View;
 use crate::kortex::{ReferenceFrame, Telemetry};
-use crate::link::interface::{ArmEvent, LinkStatus, LogEntry, TelemetrySource};
+use crate::link::interface::{LinkStatus, LogEntry, TelemetrySource};
 
 /// The keys dialogs and forms answer whatever the keymap.
 const YES: KeyName = KeyName::char('y');
@@ -156,12 +156,6 @@ impl App {
         self.screen.say_until(text.into(), severity, until, now);
     }
 
-    /// Arm events that end a message.
-    pub(super) fn messages_on_arm(&mut self, event: &ArmEvent) {
-        let telemetry_expected = self.truth.expects_telemetry();
-        self.screen.messages_on_arm(event, telemetry_expected);
-    }
-
     /// After every input: ended state messages and expired notices go.
     pub(super) fn settle_messages(&mut self, now: Instant) {
         let link_up = self.arm.link_up();
@@ -298,7 +292,8 @@ impl App {
         match self.screen.take_overlay() {
             Overlay::None => {}
             Overlay::Help => {
-                if self.scroll_help(&key.key) {
+                // A scrolling key scrolls the help and leaves it open.
+                if self.screen.on_help_key(&key.key, &self.config.keymap) {
                     self.screen.show(Overlay::Help);
                 }
             }
@@ -353,15 +348,6 @@ impl App {
     /// The help overlay's first shown line.
     pub fn help_scroll(&self) -> usize {
         self.screen.help_scroll()
-    }
-
-    pub(super) fn open_help(&mut self) {
-        self.screen.open_help();
-    }
-
-    /// Scrolls the help for a scrolling key and says whether it was one (the help stays open).
-    pub(super) fn scroll_help(&mut self, key: &KeyName) -> bool {
-        self.screen.on_help_key(key, &self.config.keymap)
     }
 
     pub(super) fn on_paste(&mut self, pasted: Pasted, now: Instant, effects: &mut Vec<Effect>) {
