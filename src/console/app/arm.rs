@@ -11,7 +11,7 @@ use super::cap_watch::{CapWatch, over_cap};
 use super::message::Until;
 use super::parts::Leg;
 use super::{App, Effect, KeyInput, Overlay, Severity, parts};
-use crate::console::form::{Confirm, Form};
+use crate::console::form::Form;
 use crate::console::jog::KeyKind;
 use crate::kortex::{Stored, Telemetry};
 use crate::link::guard::HEARTBEAT_TIMEOUT;
@@ -221,11 +221,6 @@ impl App {
         if !self.refuse_motion(now) {
             self.screen.show(Overlay::Form(Form::stored()));
         }
-    }
-
-    /// The form was submitted: ask before it moves.
-    pub(super) fn ask_stored(&mut self, stored: Stored) {
-        self.screen.show(Overlay::Confirm(Confirm::Stored(stored)));
     }
 
     /// Yes to "Run action 5 on the arm?" (the motion gate has just let it through).

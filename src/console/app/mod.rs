@@ -380,7 +380,7 @@ impl App {
         //    go-to the gate and the truth must see; `tests/console/app/tours.rs` fails if not).
         self.tour_before_truth(before.interrupted, now, effects);
         // 2. After 1: a go-to the tour just emitted is tracked under its leg's name.
-        let goto = before.goto.or_else(|| self.tour_leg_starting());
+        let goto = before.goto.or_else(|| self.tours.starting_leg());
         // 3. After every emitter (the input, the tour): the gate drops motion it refuses, a
         //    stale link stops the jog, and each command going out is noted as evidence awaited.
         self.truth_after(goto, now, effects);

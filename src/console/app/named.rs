@@ -106,7 +106,10 @@ impl App {
     ) {
         match result {
             FormResult::Rename { from, to } => return self.rename(from, to, now, effects),
-            FormResult::Stored(stored) => return self.ask_stored(stored),
+            // Asked before it moves.
+            FormResult::Stored(stored) => {
+                return self.screen.show(Overlay::Confirm(Confirm::Stored(stored)));
+            }
             _ => {}
         }
         if self.config.positions_on_operator {

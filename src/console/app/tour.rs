@@ -338,9 +338,4 @@ impl App {
             .action()
             .is_some_and(|a| a.kind == ActionKind::GoTo(name.to_string()))
     }
-
-    /// The name a go-to just emitted goes to, when it is a tour's leg.
-    pub(super) fn tour_leg_starting(&self) -> Option<String> {
-        self.tours.starting_leg()
-    }
 }
