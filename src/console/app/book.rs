@@ -81,22 +81,20 @@ impl App {
 
     /// No saving until the book is loaded: it would write a partial book over the file.
     pub(super) fn hold_saves_until_loaded(&mut self, now: Instant, effects: &mut Vec<Effect>) {
-        let text = match self.book.state() {
+        let (text, severity) = match self.book.state() {
             BookState::Ready => return,
-            BookState::Loading { file } => {
-                format!("positions still loading from {file}: the change is saved once loaded")
-            }
-            BookState::Failed { error } => {
-                format!("positions not saved: the file could not be read ({error})")
-            }
+            BookState::Loading { file } => (
+                format!("positions still loading from {file}: the change is saved once loaded"),
+                Severity::Warning,
+            ),
+            BookState::Failed { error } => (
+                format!("positions not saved: the file could not be read ({error})"),
+                Severity::Error,
+            ),
         };
         let before = effects.len();
         effects.retain(|e| !matches!(e, Effect::SavePositions(_)));
         if effects.len() != before {
-            let severity = match self.book.state() {
-                BookState::Loading { .. } => Severity::Warning,
-                _ => Severity::Error,
-            };
             self.say(text, severity, now);
         }
     }

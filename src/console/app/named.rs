@@ -2,7 +2,7 @@
 
 use std::time::Instant;
 
-use super::{App, Effect, Overlay, Severity, cartesian_of, polar_of};
+use super::{App, Effect, Overlay, cartesian_of, polar_of};
 use crate::console::form::{Confirm, FormResult, tour_list};
 use crate::console::positions::{BookEntry, PoseFrame};
 use crate::kortex::{Pose, Telemetry};
@@ -209,19 +209,14 @@ impl App {
     fn deleted(&mut self, name: String, now: Instant, effects: &mut Vec<Effect>) {
         self.book.on_delete(&name);
         let tours = self.book.positions().tours_using(&name);
-        let (text, severity) = if tours.is_empty() {
-            (
-                format!("deleted '{name}' (undo restores it)"),
-                Severity::Info,
-            )
+        if tours.is_empty() {
+            self.info(format!("deleted '{name}' (undo restores it)"), now);
         } else {
-            let text = format!(
-                "deleted '{name}': {} cannot be played without it (undo restores it)",
-                tour_list(&tours)
-            );
-            (text, Severity::Warning)
-        };
-        self.say(text, severity, now);
+            let tours = tour_list(&tours);
+            let text =
+                format!("deleted '{name}': {tours} cannot be played without it (undo restores it)");
+            self.warn(text, now);
+        }
         self.save_book(&[&name], effects);
     }
 
