@@ -343,11 +343,7 @@ impl App {
             }
             Input::Arm(event) => self.on_arm(event, now, &mut effects),
             Input::Signal(name) => {
-                self.say(
-                    format!("{name}: stopping and quitting"),
-                    Severity::Warning,
-                    now,
-                );
+                self.warn(format!("{name}: stopping and quitting"), now);
                 self.quit(now, &mut effects);
             }
             Input::PositionsLoaded(result) => self.on_positions_loaded(result, now, &mut effects),
