@@ -2,6 +2,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use self::Action as A;
+
 /// A direction along one jog axis.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 pub enum Sign {
@@ -114,62 +116,81 @@ pub enum Action {
     StoredAction,
 }
 
+/// Every action in the order the help overlay lists them, with what it does in one line.
+const DESCRIBED: [(Action, &str); 48] = [
+    (A::JogXPlus, "hold: move the tool +X"),
+    (A::JogXMinus, "hold: move the tool -X"),
+    (A::JogYPlus, "hold: move the tool +Y"),
+    (A::JogYMinus, "hold: move the tool -Y"),
+    (A::JogZPlus, "hold: move the tool +Z"),
+    (A::JogZMinus, "hold: move the tool -Z"),
+    (A::PanAzimuthPlus, "hold: turn about the base, azimuth +"),
+    (A::PanAzimuthMinus, "hold: turn about the base, azimuth -"),
+    (A::PanAltitudePlus, "hold: raise the tool, altitude +"),
+    (A::PanAltitudeMinus, "hold: lower the tool, altitude -"),
+    (A::JointPlus, "hold: turn the selected joint +"),
+    (A::JointMinus, "hold: turn the selected joint -"),
+    (A::JogRxPlus, "hold: turn the tool about its point, +Rx"),
+    (A::JogRxMinus, "hold: turn the tool about its point, -Rx"),
+    (A::JogRyPlus, "hold: turn the tool about its point, +Ry"),
+    (A::JogRyMinus, "hold: turn the tool about its point, -Ry"),
+    (A::JogRzPlus, "hold: turn the tool about its point, +Rz"),
+    (A::JogRzMinus, "hold: turn the tool about its point, -Rz"),
+    (A::Stop, "stop all motion"),
+    (A::QuickStop, "quick stop: the arm faults until reset"),
+    (A::FaultReset, "reset the arm's faults"),
+    (A::Home, "go to the home pose (asks first)"),
+    (
+        A::StoredAction,
+        "run a stored action or sequence by id (Modbus)",
+    ),
+    (A::StepMode, "step mode on/off: one step per press"),
+    (A::StepBigger, "bigger step (step mode)"),
+    (A::StepSmaller, "smaller step (step mode)"),
+    (A::SpeedUp, "faster: next speed step (% of the cap)"),
+    (A::SpeedDown, "slower: previous speed step"),
+    (A::FrameCycle, "jog frame: base, tool, mixed (Modbus)"),
+    (A::JointNext, "select the next joint"),
+    (A::JointPrevious, "select the previous joint"),
+    (A::SavePosition, "save the current pose under a name"),
+    (A::GoToPosition, "go to the selected position (asks first)"),
+    (
+        A::DeletePosition,
+        "delete the selected position (asks first)",
+    ),
+    (A::RenamePosition, "rename the selected position"),
+    (A::UndoDelete, "bring back the last deleted position"),
+    (
+        A::SetPolarPosition,
+        "define a position by elevation, azimuth, radius",
+    ),
+    (A::SetCartesianPosition, "define a position by x, y, z"),
+    (A::ShowPosition, "show the selected position's coordinates"),
+    (A::PositionNext, "select the next position"),
+    (A::PositionPrevious, "select the previous position"),
+    (A::ToggleHex, "show the log's frames in hex"),
+    (A::HistoryCycle, "history: plot joint torque or current"),
+    (A::Help, "this help: every key of the keymap"),
+    (A::Quit, "stop the arm and quit"),
+    (A::MakeTour, "make a tour of the positions (a form)"),
+    (A::PlayTour, "play a tour straight through (asks first)"),
+    (A::TourLeg, "play a tour one leg at a time; next leg"),
+];
+
 impl Action {
     /// Every action, in the order the help overlay lists them.
-    pub const ALL: [Action; 48] = [
-        Action::JogXPlus,
-        Action::JogXMinus,
-        Action::JogYPlus,
-        Action::JogYMinus,
-        Action::JogZPlus,
-        Action::JogZMinus,
-        Action::PanAzimuthPlus,
-        Action::PanAzimuthMinus,
-        Action::PanAltitudePlus,
-        Action::PanAltitudeMinus,
-        Action::JointPlus,
-        Action::JointMinus,
-        Action::JogRxPlus,
-        Action::JogRxMinus,
-        Action::JogRyPlus,
-        Action::JogRyMinus,
-        Action::JogRzPlus,
-        Action::JogRzMinus,
-        Action::Stop,
-        Action::QuickStop,
-        Action::FaultReset,
-        Action::Home,
-        Action::StoredAction,
-        Action::StepMode,
-        Action::StepBigger,
-        Action::StepSmaller,
-        Action::SpeedUp,
-        Action::SpeedDown,
-        Action::FrameCycle,
-        Action::JointNext,
-        Action::JointPrevious,
-        Action::SavePosition,
-        Action::GoToPosition,
-        Action::DeletePosition,
-        Action::RenamePosition,
-        Action::UndoDelete,
-        Action::SetPolarPosition,
-        Action::SetCartesianPosition,
-        Action::ShowPosition,
-        Action::PositionNext,
-        Action::PositionPrevious,
-        Action::ToggleHex,
-        Action::HistoryCycle,
-        Action::Help,
-        Action::Quit,
-        Action::MakeTour,
-        Action::PlayTour,
-        Action::TourLeg,
-    ];
+    pub const ALL: [Action; 48] = {
+        let mut all = [Action::Stop; 48];
+        let mut i = 0;
+        while i < all.len() {
+            all[i] = DESCRIBED[i].0;
+            i += 1;
+        }
+        all
+    };
 
     /// The axis and direction of a hold-to-jog action.
     pub fn jog(self) -> Option<(JogAxis, Sign)> {
-        use Action as A;
         Some(match self {
             A::JogXPlus => (JogAxis::X, Sign::Plus),
             A::JogXMinus => (JogAxis::X, Sign::Minus),
@@ -203,62 +224,12 @@ impl Action {
 
     /// What the action does, in one line (the help overlay and the key table of docs/user-guide.md).
     pub fn describe(self) -> &'static str {
-        use Action as A;
-        match self {
-            A::JogXPlus => "hold: move the tool +X",
-            A::JogXMinus => "hold: move the tool -X",
-            A::JogYPlus => "hold: move the tool +Y",
-            A::JogYMinus => "hold: move the tool -Y",
-            A::JogZPlus => "hold: move the tool +Z",
-            A::JogZMinus => "hold: move the tool -Z",
-            A::PanAzimuthPlus => "hold: turn about the base, azimuth +",
-            A::PanAzimuthMinus => "hold: turn about the base, azimuth -",
-            A::PanAltitudePlus => "hold: raise the tool, altitude +",
-            A::PanAltitudeMinus => "hold: lower the tool, altitude -",
-            A::JointPlus => "hold: turn the selected joint +",
-            A::JointMinus => "hold: turn the selected joint -",
-            A::JogRxPlus => "hold: turn the tool about its point, +Rx",
-            A::JogRxMinus => "hold: turn the tool about its point, -Rx",
-            A::JogRyPlus => "hold: turn the tool about its point, +Ry",
-            A::JogRyMinus => "hold: turn the tool about its point, -Ry",
-            A::JogRzPlus => "hold: turn the tool about its point, +Rz",
-            A::JogRzMinus => "hold: turn the tool about its point, -Rz",
-            A::Stop => "stop all motion",
-            A::QuickStop => "quick stop: the arm faults until reset",
-            A::FaultReset => "reset the arm's faults",
-            A::Home => "go to the home pose (asks first)",
-            A::StepMode => "step mode on/off: one step per press",
-            A::StepBigger => "bigger step (step mode)",
-            A::StepSmaller => "smaller step (step mode)",
-            A::SpeedUp => "faster: next speed step (% of the cap)",
-            A::SpeedDown => "slower: previous speed step",
-            A::FrameCycle => "jog frame: base, tool, mixed (Modbus)",
-            A::JointNext => "select the next joint",
-            A::JointPrevious => "select the previous joint",
-            A::SavePosition => "save the current pose under a name",
-            A::GoToPosition => "go to the selected position (asks first)",
-            A::DeletePosition => "delete the selected position (asks first)",
-            A::RenamePosition => "rename the selected position",
-            A::UndoDelete => "bring back the last deleted position",
-            A::SetPolarPosition => "define a position by elevation, azimuth, radius",
-            A::SetCartesianPosition => "define a position by x, y, z",
-            A::ShowPosition => "show the selected position's coordinates",
-            A::PositionNext => "select the next position",
-            A::PositionPrevious => "select the previous position",
-            A::ToggleHex => "show the log's frames in hex",
-            A::HistoryCycle => "history: plot joint torque or current",
-            A::Help => "this help: every key of the keymap",
-            A::Quit => "stop the arm and quit",
-            A::MakeTour => "make a tour of the positions (a form)",
-            A::PlayTour => "play a tour straight through (asks first)",
-            A::TourLeg => "play a tour one leg at a time; next leg",
-            A::StoredAction => "run a stored action or sequence by id (Modbus)",
-        }
+        let described = DESCRIBED.iter().find(|(action, _)| *action == self);
+        described.map_or("", |(_, text)| text)
     }
 
     /// The help overlay's section for this action.
     pub fn section(self) -> &'static str {
-        use Action as A;
         match self {
             _ if self.jog().is_some() => "Hold to move",
             A::Stop

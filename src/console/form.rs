@@ -33,10 +33,6 @@ pub struct Field {
 }
 
 impl Field {
-    fn list(label: &'static str, value: &str) -> Field {
-        Field::text(label, value)
-    }
-
     fn text(label: &'static str, value: &str) -> Field {
         Field {
             label,
@@ -55,10 +51,8 @@ impl Field {
 
     fn toggle(label: &'static str) -> Field {
         Field {
-            label,
-            value: "no".into(),
             toggle: true,
-            name: false,
+            ..Field::text(label, "no")
         }
     }
 
@@ -283,6 +277,11 @@ impl Form {
             field.value.pop();
             self.error = field.too_long();
         }
+    }
+
+    /// Field `i`'s text, trimmed ("" past the last field).
+    fn value(&self, i: usize) -> &str {
+        self.fields.get(i).map_or("", |f| f.value.trim())
     }
 
     /// Validates every field. On error the form stays as typed, with the reason.

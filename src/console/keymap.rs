@@ -261,7 +261,7 @@ impl fmt::Display for KeymapError {
 
 impl std::error::Error for KeymapError {}
 
-/// The one char of a case mapping, if it is one.
+/// The only char of `chars`, if there is exactly one (a case mapping, a key name).
 fn single_char(mut chars: impl Iterator<Item = char>) -> Option<char> {
     let first = chars.next()?;
     chars.next().is_none().then_some(first)

@@ -11,7 +11,7 @@ use super::cap_watch::{CapWatch, over_cap};
 use super::message::Until;
 use super::parts::Leg;
 use super::{App, Effect, KeyInput, Overlay, Severity, parts};
-use crate::console::form::{Confirm, Form};
+use crate::console::form::Form;
 use crate::console::jog::KeyKind;
 use crate::kortex::{Stored, Telemetry};
 use crate::link::guard::HEARTBEAT_TIMEOUT;
@@ -26,7 +26,9 @@ pub const STORED_REFUSAL: &str = "stored actions and sequences by id need a Modb
 impl App {
     pub(super) fn on_arm(&mut self, event: ArmEvent, now: Instant, effects: &mut Vec<Effect>) {
         self.truth_on_arm(&event, now);
-        self.messages_on_arm(&event);
+        // Arm events that end a message.
+        let telemetry_expected = self.truth.expects_telemetry();
+        self.screen.messages_on_arm(&event, telemetry_expected);
         if self.edits_on_arm(&event, now, effects) {
             return;
         }
@@ -58,7 +60,7 @@ impl App {
                     self.other_client_note_speed(now);
                 }
             }
-            ArmEvent::Notice(text) => self.say(text, Severity::Warning, now),
+            ArmEvent::Notice(text) => self.warn(text, now),
             ArmEvent::Log(entry) => self.screen.on_log(entry),
             ArmEvent::Failed {
                 error: error @ (ArmError::GuardStoppedArm(_) | ArmError::GuardStopFailed(_)),
@@ -85,11 +87,7 @@ impl App {
                 // Said only when the technician is looking at it; otherwise the panel marks it.
                 if self.screen.shows_position(&name) {
                     self.screen.show(Overlay::None);
-                    self.say(
-                        format!("the operator does not know '{name}'"),
-                        Severity::Warning,
-                        now,
-                    );
+                    self.warn(format!("the operator does not know '{name}'"), now);
                 }
             }
             ArmEvent::Done { command } => self.on_done(command, now, effects),
@@ -141,7 +139,7 @@ impl App {
             Some(what) => format!("{what} stopped: {error}"),
             None => error.to_string(),
         };
-        self.say(text, Severity::Error, now);
+        self.error(text, now);
     }
 
     /// A console frozen for the guard's heartbeat timeout may get the guard's report after it has
@@ -190,7 +188,7 @@ impl App {
         self.truth.forget_action();
         self.stop_everything(now, effects);
         tracing::warn!("{text}");
-        self.say(text, Severity::Error, now);
+        self.error(text, now);
     }
 
     /// Whether the cap is watched; `None` until the driver says whether telemetry comes.
@@ -217,7 +215,7 @@ impl App {
     /// The stored action key: the form, or why not (the link, or the motion gate).
     pub(super) fn open_stored_form(&mut self, now: Instant) {
         if let Some(why) = self.stored_refusal() {
-            self.say(why, Severity::Warning, now);
+            self.warn(why, now);
             return;
         }
         if !self.refuse_motion(now) {
@@ -225,15 +223,10 @@ impl App {
         }
     }
 
-    /// The form was submitted: ask before it moves.
-    pub(super) fn ask_stored(&mut self, stored: Stored) {
-        self.screen.show(Overlay::Confirm(Confirm::Stored(stored)));
-    }
-
     /// Yes to "Run action 5 on the arm?" (the motion gate has just let it through).
     pub(super) fn run_stored(&mut self, stored: Stored, now: Instant, effects: &mut Vec<Effect>) {
         match self.stored_refusal() {
-            Some(why) => self.say(why, Severity::Warning, now),
+            Some(why) => self.warn(why, now),
             None => effects.push(Effect::Arm(ArmCommand::StartStored(stored))),
         }
     }

@@ -45,11 +45,7 @@ impl App {
             }
             Err(error) => {
                 tracing::error!("positions not loaded: {error}");
-                self.say(
-                    format!("positions not loaded: {error}"),
-                    Severity::Error,
-                    now,
-                );
+                self.error(format!("positions not loaded: {error}"), now);
                 self.book.on_load_failed(error.to_string());
             }
         }
@@ -63,15 +59,8 @@ impl App {
         for note in &notes {
             tracing::warn!("positions: {note}");
         }
-        let more = match notes.len() {
-            1 => String::new(),
-            n => format!(" (and {} more: see the log)", n - 1),
-        };
-        self.say(
-            format!("positions file: {first}{more}"),
-            Severity::Warning,
-            now,
-        );
+        let more = and_more(notes.len());
+        self.warn(format!("positions file: {first}{more}"), now);
     }
 
     /// Asks the operator about the first [`CHECKED_ON_CONNECT`] remembered names.
@@ -91,22 +80,20 @@ impl App {
 
     /// No saving until the book is loaded: it would write a partial book over the file.
     pub(super) fn hold_saves_until_loaded(&mut self, now: Instant, effects: &mut Vec<Effect>) {
-        let text = match self.book.state() {
+        let (text, severity) = match self.book.state() {
             BookState::Ready => return,
-            BookState::Loading { file } => {
-                format!("positions still loading from {file}: the change is saved once loaded")
-            }
-            BookState::Failed { error } => {
-                format!("positions not saved: the file could not be read ({error})")
-            }
+            BookState::Loading { file } => (
+                format!("positions still loading from {file}: the change is saved once loaded"),
+                Severity::Warning,
+            ),
+            BookState::Failed { error } => (
+                format!("positions not saved: the file could not be read ({error})"),
+                Severity::Error,
+            ),
         };
         let before = effects.len();
         effects.retain(|e| !matches!(e, Effect::SavePositions(_)));
         if effects.len() != before {
-            let severity = match self.book.state() {
-                BookState::Loading { .. } => Severity::Warning,
-                _ => Severity::Error,
-            };
             self.say(text, severity, now);
         }
     }
@@ -126,19 +113,15 @@ impl App {
         for moved in &written.moved {
             tracing::warn!("positions: {}", moved.describe());
         }
-        let more = |n: usize| match n {
-            0 | 1 => String::new(),
-            n => format!(" (and {} more: see the log)", n - 1),
-        };
         if let Some(first) = written.conflicts.first() {
-            let text = format!("{}{}", first.describe(), more(written.conflicts.len()));
-            self.say(text, Severity::Warning, now);
+            let text = format!("{}{}", first.describe(), and_more(written.conflicts.len()));
+            self.warn(text, now);
             self.ask_which(written);
         } else if let Some(first) = written.notes.first() {
-            self.say(format!("positions file: {first}"), Severity::Warning, now);
+            self.warn(format!("positions file: {first}"), now);
         } else if let Some(first) = written.moved.first() {
-            let text = format!("{}{}", first.describe(), more(written.moved.len()));
-            self.say(text, Severity::Warning, now);
+            let text = format!("{}{}", first.describe(), and_more(written.moved.len()));
+            self.warn(text, now);
         } else if written.taken > 0 {
             let saved = saved.map(|n| format!("saved '{n}'; ")).unwrap_or_default();
             let text = format!(
@@ -146,7 +129,7 @@ impl App {
                  nothing lost",
                 written.taken
             );
-            self.say(text, Severity::Info, now);
+            self.info(text, now);
         }
     }
 
@@ -181,7 +164,7 @@ impl App {
         let (Some(theirs), Some(ours)) = (book.get(&name).cloned(), book.get(&copy).cloned())
         else {
             let text = format!("'{name}' or '{copy}' is gone meanwhile: nothing swapped");
-            self.say(text, Severity::Warning, now);
+            self.warn(text, now);
             return;
         };
         if let Some(entry) = book.get_mut(&name) {
@@ -192,7 +175,7 @@ impl App {
         }
         self.book.select(&name);
         let text = format!("'{name}' is this console's now; the other program's is '{copy}'");
-        self.say(text, Severity::Info, now);
+        self.info(text, now);
         self.save_book(&[&name, &copy], effects);
     }
 }
@@ -221,7 +204,7 @@ impl App {
             let text = format!("saving '{name}'…");
             self.say_until(text, Severity::Info, Until::BookWritten, now);
         } else {
-            self.say(format!("saved '{name}'"), Severity::Info, now);
+            self.info(format!("saved '{name}'"), now);
         }
     }
 
@@ -233,13 +216,13 @@ impl App {
             self.book.on_found(&found);
             self.tell_found(&found.written, reported.as_deref(), now);
         } else if let Some(name) = reported.filter(|_| written) {
-            self.say(format!("saved '{name}'"), Severity::Info, now);
+            self.info(format!("saved '{name}'"), now);
         }
         match self.book.on_saved(outcome) {
             Saved::Quietly => {}
             Saved::Recovered(n) => {
                 let text = format!("positions saved ({n} that had failed)");
-                self.say(text, Severity::Info, now);
+                self.info(text, now);
             }
             Saved::Failed { error, unsaved } => {
                 tracing::error!("positions not saved: {error}");
@@ -286,29 +269,28 @@ impl App {
     pub(super) fn ask_go_to(&mut self, name: String, now: Instant) {
         // Not asked when the answer could only be that it cannot work.
         if let Some(why) = self.go_to_refusal(&name) {
-            self.say(why, Severity::Warning, now);
+            self.warn(why, now);
             return;
         }
         if self.refuse_motion(now) {
             return;
         }
-        let lost = self.config.positions_on_operator
-            && self
-                .book
-                .positions()
-                .get(&name)
-                .is_some_and(|e| e.unknown_to_operator);
-        if !lost {
+        if !self.lost_by_operator(&name) {
             self.screen.show(Overlay::Confirm(Confirm::GoTo(name)));
         } else if self.remembered_cartesian(&name).is_some() {
             self.screen.show(Overlay::Confirm(Confirm::Resave(name)));
         } else {
-            self.say(
+            self.warn(
                 format!("'{name}' is unknown to the operator and no coordinates are remembered"),
-                Severity::Warning,
                 now,
             );
         }
+    }
+
+    /// The operator keeps the positions and said it does not know `name`.
+    pub(super) fn lost_by_operator(&self, name: &str) -> bool {
+        let entry = self.book.positions().get(name);
+        self.config.positions_on_operator && entry.is_some_and(|e| e.unknown_to_operator)
     }
 
     fn remembered_cartesian(&self, name: &str) -> Option<[i32; 3]> {
@@ -323,11 +305,7 @@ impl App {
         effects: &mut Vec<Effect>,
     ) {
         let Some([x, y, z]) = self.remembered_cartesian(&name) else {
-            self.say(
-                format!("'{name}' has no coordinates remembered"),
-                Severity::Warning,
-                now,
-            );
+            self.warn(format!("'{name}' has no coordinates remembered"), now);
             return;
         };
         effects.push(Effect::Arm(ArmCommand::SetCartesianPosition {
@@ -336,11 +314,7 @@ impl App {
             y,
             z,
         }));
-        self.say(
-            format!("re-saving '{name}' on the operator"),
-            Severity::Info,
-            now,
-        );
+        self.info(format!("re-saving '{name}' on the operator"), now);
         self.book.resave_mut().then_go = Some((name, now));
     }
 
@@ -360,19 +334,14 @@ impl App {
             return;
         };
         if now.saturating_duration_since(asked) > RESAVE_GO_WITHIN {
-            self.say(
+            self.info(
                 format!("re-saved '{pending}' (too late to move there unasked: go to it again)"),
-                Severity::Info,
                 now,
             );
             return;
         }
         self.going_to(&pending);
-        self.say(
-            format!("re-saved '{pending}': moving there"),
-            Severity::Info,
-            now,
-        );
+        self.info(format!("re-saved '{pending}': moving there"), now);
         effects.push(Effect::Arm(ArmCommand::GoToPosition { name: pending }));
     }
 
@@ -407,33 +376,25 @@ impl App {
                 let Some(name) = self.book.resave_mut().goto_sent.take() else {
                     return false;
                 };
-                if let Some(entry) = self.book.positions_mut().get_mut(&name) {
-                    entry.unknown_to_operator = true;
-                }
+                self.book.on_unknown_to_operator(&name);
                 let can_offer = self.remembered_cartesian(&name).is_some();
                 if can_offer && self.screen.overlay_is_none() && !self.keys.jog().is_jogging() {
                     self.screen
                         .show(Overlay::Confirm(Confirm::Resave(name.clone())));
-                    self.say(
-                        format!("the operator does not know '{name}'"),
-                        Severity::Warning,
-                        now,
-                    );
+                    self.warn(format!("the operator does not know '{name}'"), now);
                 } else if can_offer {
-                    self.say(
+                    self.warn(
                         format!(
                             "the operator does not know '{name}': go to it again to re-save it \
                              from the remembered coordinates"
                         ),
-                        Severity::Warning,
                         now,
                     );
                 } else {
-                    self.say(
+                    self.warn(
                         format!(
                             "the operator does not know '{name}' and no coordinates are remembered"
                         ),
-                        Severity::Warning,
                         now,
                     );
                 }
@@ -441,5 +402,13 @@ impl App {
             }
             _ => false,
         }
+    }
+}
+
+/// After the first of `count` things said, how many more the log has.
+fn and_more(count: usize) -> String {
+    match count {
+        0 | 1 => String::new(),
+        n => format!(" (and {} more: see the log)", n - 1),
     }
 }

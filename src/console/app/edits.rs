@@ -5,7 +5,7 @@
 
 use std::time::Instant;
 
-use super::{App, Effect, Overlay, Severity};
+use super::{App, Effect, Overlay};
 use crate::console::form::{Confirm, Form, FormResult, tour_list};
 use crate::console::positions::BookEntry;
 use crate::link::interface::{ArmCommand, ArmError, ArmEvent, CommandKind, LinkStatus};
@@ -75,7 +75,7 @@ impl App {
             result.name()
         ));
         self.screen.show(Overlay::Form(form));
-        self.say("not overwritten", Severity::Info, now);
+        self.info("not overwritten", now);
     }
 
     pub(super) fn rename(
@@ -86,11 +86,7 @@ impl App {
         effects: &mut Vec<Effect>,
     ) {
         let Some(entry) = self.book.positions().get(&from).cloned() else {
-            self.say(
-                format!("'{from}' is gone: not renamed"),
-                Severity::Warning,
-                now,
-            );
+            self.warn(format!("'{from}' is gone: not renamed"), now);
             return;
         };
         if !self.config.positions_on_operator {
@@ -101,7 +97,7 @@ impl App {
         }
         if let Some(renaming) = self.book.renaming() {
             let busy = format!("still renaming '{}': wait for it to finish", renaming.from);
-            self.say(busy, Severity::Warning, now);
+            self.warn(busy, now);
             return;
         }
         if let (true, Some(parent)) = (entry.anchor, &entry.parent) {
@@ -109,12 +105,12 @@ impl App {
                 "'{from}' moves with '{parent}': the operator can only save it under a new name \
                  at fixed coordinates, so it is not renamed"
             );
-            self.say(text, Severity::Warning, now);
+            self.warn(text, now);
             return;
         }
         // Where the operator has it now (the book's copy may be old).
         effects.push(Effect::Arm(ArmCommand::GetPosition { name: from.clone() }));
-        self.say(format!("renaming '{from}' to '{to}'…"), Severity::Info, now);
+        self.info(format!("renaming '{from}' to '{to}'…"), now);
         self.book.set_renaming(Some(Renaming {
             from,
             to,
@@ -124,12 +120,12 @@ impl App {
 
     pub(super) fn undo_delete(&mut self, now: Instant, effects: &mut Vec<Effect>) {
         let Some((name, entry)) = self.book.last_deleted().cloned() else {
-            self.say("nothing deleted to restore", Severity::Info, now);
+            self.info("nothing deleted to restore", now);
             return;
         };
         if self.book.positions().get(&name).is_some() {
             let text = format!("'{name}' exists again: not restored over it");
-            self.say(text, Severity::Warning, now);
+            self.warn(text, now);
             return;
         }
         if !self.config.positions_on_operator {
@@ -138,7 +134,7 @@ impl App {
         }
         let Some([x, y, z]) = entry.cartesian else {
             let text = format!("'{name}' cannot be restored: its coordinates were never known");
-            self.say(text, Severity::Warning, now);
+            self.warn(text, now);
             return;
         };
         effects.push(Effect::Arm(ArmCommand::SetCartesianPosition {
@@ -147,7 +143,7 @@ impl App {
             y,
             z,
         }));
-        self.say(format!("restoring '{name}'…"), Severity::Info, now);
+        self.info(format!("restoring '{name}'…"), now);
         self.book.set_restoring(Some((name, entry)));
     }
 
@@ -181,11 +177,7 @@ impl App {
         }
         self.book.select(&name);
         self.book.forget_deleted();
-        self.say(
-            format!("restored '{name}'{at}{unanchored}"),
-            Severity::Info,
-            now,
-        );
+        self.info(format!("restored '{name}'{at}{unanchored}"), now);
         self.save_book(&[&name], effects);
     }
 
@@ -217,7 +209,7 @@ impl App {
                 } => {
                     self.book.set_restoring(None);
                     let text = format!("restoring '{name}' failed: {error}; undo tries again");
-                    self.say(text, Severity::Error, now);
+                    self.error(text, now);
                     return true;
                 }
                 _ => {}
@@ -240,7 +232,7 @@ impl App {
                         "not renamed: the operator did not say where '{from}' is, and the console \
                          does not know"
                     );
-                    self.say(text, Severity::Error, now);
+                    self.error(text, now);
                     return true;
                 };
                 effects.push(Effect::Arm(ArmCommand::SetCartesianPosition {
@@ -256,7 +248,7 @@ impl App {
             (RenameStep::Asking, ArmEvent::UnknownPosition { name }) if *name == from => {
                 self.book.set_renaming(None);
                 let text = format!("not renamed: the operator does not know '{from}'");
-                self.say(text, Severity::Error, now);
+                self.error(text, now);
                 // The book marks the name, as for any answer.
                 false
             }
@@ -310,7 +302,7 @@ impl App {
         } else {
             format!("renamed '{from}' to '{to}', in {} too", tour_list(&tours))
         };
-        self.say(text, Severity::Info, now);
+        self.info(text, now);
         self.save_book(&[from, to], effects);
     }
 
@@ -346,6 +338,6 @@ impl App {
                 )
             }
         };
-        self.say(text, Severity::Error, now);
+        self.error(text, now);
     }
 }

@@ -7,8 +7,6 @@ use std::time::{Duration, Instant};
 
 use crate::kortex::{Telemetry, sanity};
 
-/// How far back the history goes.
-pub const HISTORY_WINDOW: Duration = Duration::from_secs(30);
 /// One bucket's span.
 pub const BUCKET: Duration = Duration::from_millis(250);
 /// Buckets in the window (30 s / 250 ms).

@@ -8,7 +8,7 @@ use super::message::Until;
 use super::{App, Effect, KeyInput, Overlay, Severity};
 use crate::console::action::Action;
 use crate::console::form::{Confirm, Form, FormKind};
-use crate::console::jog::{JogEffect, JogMotion, JogNotice, KeyKind};
+use crate::console::jog::{JogEffect, JogMotion, JogNotice, KeyKind, unit_motion};
 use crate::console::keymap::KeyName;
 use crate::link::interface::{ArmCommand, StepMove};
 
@@ -112,11 +112,7 @@ impl App {
             }
             (None, _) => {
                 self.stop_jog(now, effects);
-                self.say(
-                    format!("'{}' is not bound: press ? for help", key.key),
-                    Severity::Info,
-                    now,
-                );
+                self.info(format!("'{}' is not bound: press ? for help", key.key), now);
             }
         }
     }
@@ -125,48 +121,20 @@ impl App {
         let Some((axis, sign)) = action.jog() else {
             return;
         };
-        use crate::console::action::JogAxis as A;
-        let s = i32::from(sign.value());
-        let (c, p) = (
-            self.keys.step().cartesian() * s,
-            self.keys.step().polar() * s,
-        );
-        let step = match axis {
-            A::X => StepMove::Cartesian {
-                dx: c,
-                dy: 0,
-                dz: 0,
+        let step = self.keys.step();
+        let step = match unit_motion(axis, sign.value(), 0) {
+            JogMotion::Cartesian { x, y, z } => cartesian_step([x, y, z], step.cartesian()),
+            JogMotion::Polar { azimuth, altitude } => StepMove::Polar {
+                azimuth: i32::from(azimuth) * step.polar(),
+                altitude: i32::from(altitude) * step.polar(),
             },
-            A::Y => StepMove::Cartesian {
-                dx: 0,
-                dy: c,
-                dz: 0,
-            },
-            A::Z => StepMove::Cartesian {
-                dx: 0,
-                dy: 0,
-                dz: c,
-            },
-            A::Azimuth => StepMove::Polar {
-                azimuth: p,
-                altitude: 0,
-            },
-            A::Altitude => StepMove::Polar {
-                azimuth: 0,
-                altitude: p,
-            },
-            A::Joint => {
-                self.say(
-                    "step mode has no joint steps: hold to jog a joint",
-                    Severity::Info,
-                    now,
-                );
+            JogMotion::Joint { .. } => {
+                self.info("step mode has no joint steps: hold to jog a joint", now);
                 return;
             }
-            A::Rx | A::Ry | A::Rz => {
-                self.say(
+            JogMotion::Orientation { .. } => {
+                self.info(
                     "step mode has no turn steps: leave it and hold to turn the tool",
-                    Severity::Info,
                     now,
                 );
                 return;
@@ -184,7 +152,7 @@ impl App {
             A::Stop => {
                 self.stop_everything(now, effects);
                 self.hold_stop(now);
-                self.say("stopped", Severity::Info, now);
+                self.info("stopped", now);
             }
             A::QuickStop => {
                 self.keys.jog_mut().stop_all(now);
@@ -207,7 +175,7 @@ impl App {
                 } else {
                     "jog mode: hold a key to move"
                 };
-                self.say(text, Severity::Info, now);
+                self.info(text, now);
             }
             A::StepBigger | A::StepSmaller => self.keys.on_step_size(action == A::StepBigger),
             A::SpeedUp | A::SpeedDown => {
@@ -220,11 +188,7 @@ impl App {
             }
             A::FrameCycle => {
                 if !self.offers().carries(A::FrameCycle) {
-                    self.say(
-                        "the Talos link jogs in the base frame only",
-                        Severity::Info,
-                        now,
-                    );
+                    self.info("the Talos link jogs in the base frame only", now);
                     return;
                 }
                 let frame = self.arm.on_frame_cycle();
@@ -242,7 +206,7 @@ impl App {
             }
             // Starts empty: a saved pose must not overwrite the selected one by accident.
             A::SavePosition => match self.save_refusal() {
-                Some(why) => self.say(why, Severity::Warning, now),
+                Some(why) => self.warn(why, now),
                 None => self.screen.show(Overlay::Form(self.save_form())),
             },
             A::SetPolarPosition | A::SetCartesianPosition => {
@@ -257,7 +221,7 @@ impl App {
             A::UndoDelete => self.undo_delete(now, effects),
             A::GoToPosition | A::DeletePosition | A::ShowPosition | A::RenamePosition => {
                 let Some(name) = self.selected_name().map(str::to_string) else {
-                    self.say("no position selected: save one first", Severity::Info, now);
+                    self.info("no position selected: save one first", now);
                     return;
                 };
                 match action {
@@ -276,7 +240,7 @@ impl App {
             }
             A::ToggleHex => self.screen.on_toggle_hex(),
             A::HistoryCycle => self.arm.on_history_cycle(),
-            A::Help => self.open_help(),
+            A::Help => self.screen.open_help(),
             A::Quit => self.ask_quit(now, effects),
             A::MakeTour | A::PlayTour | A::TourLeg => self.on_tour_action(action, now),
             A::StoredAction => self.open_stored_form(now),
@@ -331,11 +295,7 @@ impl App {
             return None;
         };
         let size = self.keys.step().cartesian().clamp(0, TAP_STEP_LIMIT);
-        Some(StepMove::Cartesian {
-            dx: i32::from(x) * size,
-            dy: i32::from(y) * size,
-            dz: i32::from(z) * size,
-        })
+        Some(cartesian_step([x, y, z], size))
     }
 
     /// A key that may not move the arm: a jog key is latched until a new press.
@@ -368,6 +328,15 @@ impl App {
             let jog = self.keys.jog_mut().key(action, key.kind, now);
             self.apply_jog(jog, now, effects);
         }
+    }
+}
+
+/// A cartesian step of `size` tenths of mm along each of `unit`'s directions.
+fn cartesian_step([x, y, z]: [i8; 3], size: i32) -> StepMove {
+    StepMove::Cartesian {
+        dx: i32::from(x) * size,
+        dy: i32::from(y) * size,
+        dz: i32::from(z) * size,
     }
 }
 

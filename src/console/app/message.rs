@@ -109,34 +109,21 @@ impl Messages {
             self.hidden = Some(older);
         }
         // One message per state: a newer one about the same state replaces the older.
-        if self
-            .hidden
-            .as_ref()
-            .is_some_and(|h| h.until == message.until)
-        {
-            self.hidden = None;
-        }
+        self.hidden.take_if(|h| h.until == message.until);
         self.shown = Some(message);
     }
 
     /// Arm events that end a message: a command through, a fault reset, telemetry without fault.
     pub(super) fn on_arm(&mut self, event: &ArmEvent, telemetry_expected: bool) {
         for slot in self.slots() {
-            let Some(message) = slot else {
-                continue;
-            };
-            if message_ended(&mut message.until, event, telemetry_expected) {
-                *slot = None;
-            }
+            slot.take_if(|m| message_ended(&mut m.until, event, telemetry_expected));
         }
     }
 
     /// Messages whose state no longer `holds` go; a hidden one shows again once on top.
     pub(super) fn settle(&mut self, holds: impl Fn(&Message) -> bool) {
         for slot in self.slots() {
-            if slot.as_ref().is_some_and(|m| !holds(m)) {
-                *slot = None;
-            }
+            slot.take_if(|m| !holds(m));
         }
         if self.shown.is_none() {
             self.shown = self.hidden.take();

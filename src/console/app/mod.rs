@@ -35,7 +35,7 @@ pub use cap_watch::{CAP_TOLERANCE, CapWatch, OVER_CAP_SAMPLES};
 pub use crate::console::coords::{cartesian_of, describe_motion, polar_of};
 pub use crate::kortex::arm_state::{abort_reason, at_rest, fault_reason};
 pub use arm::STORED_REFUSAL;
-pub use history::{BUCKET, BUCKETS, HISTORY_WINDOW, History, HistorySeries, JointQuantity};
+pub use history::{BUCKET, BUCKETS, History, HistorySeries, JointQuantity};
 pub use jog_evidence::{
     ALONG_FRACTION, Contradiction, OTHER_MOTION_JOINT_DEG_S, OTHER_MOTION_M_S, SLOW_FRACTION,
 };
@@ -343,11 +343,7 @@ impl App {
             }
             Input::Arm(event) => self.on_arm(event, now, &mut effects),
             Input::Signal(name) => {
-                self.say(
-                    format!("{name}: stopping and quitting"),
-                    Severity::Warning,
-                    now,
-                );
+                self.warn(format!("{name}: stopping and quitting"), now);
                 self.quit(now, &mut effects);
             }
             Input::PositionsLoaded(result) => self.on_positions_loaded(result, now, &mut effects),
@@ -380,7 +376,7 @@ impl App {
         //    go-to the gate and the truth must see; `tests/console/app/tours.rs` fails if not).
         self.tour_before_truth(before.interrupted, now, effects);
         // 2. After 1: a go-to the tour just emitted is tracked under its leg's name.
-        let goto = before.goto.or_else(|| self.tour_leg_starting());
+        let goto = before.goto.or_else(|| self.tours.starting_leg());
         // 3. After every emitter (the input, the tour): the gate drops motion it refuses, a
         //    stale link stops the jog, and each command going out is noted as evidence awaited.
         self.truth_after(goto, now, effects);
@@ -406,6 +402,21 @@ impl App {
     pub fn say(&mut self, text: impl Into<String>, severity: Severity, now: Instant) {
         let until = message::Until::TimeOut { done: None };
         self.say_until(text, severity, until, now);
+    }
+
+    /// A notice ([`App::say`]) at [`Severity::Info`].
+    fn info(&mut self, text: impl Into<String>, now: Instant) {
+        self.say(text, Severity::Info, now);
+    }
+
+    /// A notice ([`App::say`]) at [`Severity::Warning`].
+    fn warn(&mut self, text: impl Into<String>, now: Instant) {
+        self.say(text, Severity::Warning, now);
+    }
+
+    /// A notice ([`App::say`]) at [`Severity::Error`].
+    fn error(&mut self, text: impl Into<String>, now: Instant) {
+        self.say(text, Severity::Error, now);
     }
 
     /// Stops a jog in progress; the jog keys still down stay latched until released.

@@ -81,7 +81,7 @@ impl ActionKind {
         }
     }
 
-    /// Whether a failure of a `kind` command is this action's.
+    /// Whether a `kind` command is this action's (its failure is the action's, its answer too).
     fn failed_by(&self, kind: CommandKind) -> bool {
         matches!(
             (self, kind),
@@ -98,20 +98,13 @@ impl ActionKind {
         )
     }
 
+    /// Whether `command` going through is this action's (a stored run's of its id).
     fn answers(&self, command: &ArmCommand) -> bool {
         match (self, command) {
             (ActionKind::Stored(StoredAction::ById(ours)), ArmCommand::StartStored(done)) => {
                 ours == done
             }
-            _ => matches!(
-                (self, command),
-                (ActionKind::Stored(StoredAction::Home), ArmCommand::Home)
-                    | (
-                        ActionKind::GoTo(_),
-                        ArmCommand::GoToPosition { .. } | ArmCommand::MoveToPose(_)
-                    )
-                    | (ActionKind::Step, ArmCommand::Step(_))
-            ),
+            _ => self.failed_by(command.kind()),
         }
     }
 

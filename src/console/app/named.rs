@@ -2,7 +2,7 @@
 
 use std::time::Instant;
 
-use super::{App, Effect, Overlay, Severity, cartesian_of, polar_of};
+use super::{App, Effect, Overlay, cartesian_of, polar_of};
 use crate::console::form::{Confirm, FormResult, tour_list};
 use crate::console::positions::{BookEntry, PoseFrame};
 use crate::kortex::{Pose, Telemetry};
@@ -44,7 +44,7 @@ impl App {
             Confirm::Resave(name) => self.resave_confirmed(name, now, effects),
             Confirm::GoTo(name) => {
                 if let Err(why) = self.go_to(name, effects) {
-                    self.say(why, Severity::Warning, now);
+                    self.warn(why, now);
                 }
             }
             Confirm::Tour(question) => self.tour_confirmed(question, now, effects),
@@ -106,7 +106,10 @@ impl App {
     ) {
         match result {
             FormResult::Rename { from, to } => return self.rename(from, to, now, effects),
-            FormResult::Stored(stored) => return self.ask_stored(stored),
+            // Asked before it moves.
+            FormResult::Stored(stored) => {
+                return self.screen.show(Overlay::Confirm(Confirm::Stored(stored)));
+            }
             _ => {}
         }
         if self.config.positions_on_operator {
@@ -150,11 +153,7 @@ impl App {
                 parent,
             } => {
                 let Some(pose) = self.pose_now().filter(|p| p.cartesian.is_some()) else {
-                    self.say(
-                        "no telemetry yet: cannot save the pose",
-                        Severity::Warning,
-                        now,
-                    );
+                    self.warn("no telemetry yet: cannot save the pose", now);
                     return;
                 };
                 (name, pose, anchor, parent)
@@ -179,9 +178,8 @@ impl App {
             ),
         };
         if anchor {
-            self.say(
+            self.warn(
                 "anchored positions need a Talos operator: saved without anchor",
-                Severity::Warning,
                 now,
             );
         }
@@ -211,19 +209,14 @@ impl App {
     fn deleted(&mut self, name: String, now: Instant, effects: &mut Vec<Effect>) {
         self.book.on_delete(&name);
         let tours = self.book.positions().tours_using(&name);
-        let (text, severity) = if tours.is_empty() {
-            (
-                format!("deleted '{name}' (undo restores it)"),
-                Severity::Info,
-            )
+        if tours.is_empty() {
+            self.info(format!("deleted '{name}' (undo restores it)"), now);
         } else {
-            let text = format!(
-                "deleted '{name}': {} cannot be played without it (undo restores it)",
-                tour_list(&tours)
-            );
-            (text, Severity::Warning)
-        };
-        self.say(text, severity, now);
+            let tours = tour_list(&tours);
+            let text =
+                format!("deleted '{name}': {tours} cannot be played without it (undo restores it)");
+            self.warn(text, now);
+        }
         self.save_book(&[&name], effects);
     }
 

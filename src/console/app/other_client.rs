@@ -18,7 +18,7 @@ use std::time::{Duration, Instant};
 use super::jog_evidence::{
     Contradiction, OTHER_MOTION_JOINT_DEG_S, OTHER_MOTION_M_S, contradiction, progress,
 };
-use super::{App, Effect, Severity};
+use super::{App, Effect};
 use crate::console::coords::describe_motion;
 use crate::console::jog::{JogEffect, JogMotion};
 use crate::kortex::arm_state::{
@@ -146,8 +146,8 @@ impl App {
 
     /// The speed in force changed: the steady speed is learnt anew after a grace.
     pub(super) fn other_client_note_speed(&mut self, now: Instant) {
-        self.arm.others_mut().baseline_since = Some(now);
-        self.arm.others_mut().steady = None;
+        let others = self.arm.others_mut();
+        (others.baseline_since, others.steady) = (Some(now), None);
     }
 
     /// Fresh telemetry: is our jog still the arm's motion, and is someone else moving it?
@@ -159,27 +159,23 @@ impl App {
     ) {
         let moving = fast_motion(t);
         self.keep_stop(moving, now, effects);
-        self.arm.others_mut().moving_in_a_row = if moving {
-            self.arm.others_mut().moving_in_a_row.saturating_add(1)
+        let others = self.arm.others_mut();
+        others.moving_in_a_row = if moving {
+            others.moving_in_a_row.saturating_add(1)
         } else {
             0
         };
         let Some(motion) = self.keys.jog().active() else {
-            self.arm.others_mut().end_contradiction();
+            others.end_contradiction();
             return;
         };
-        let Some((_, since)) = self
-            .arm
-            .others_mut()
-            .jog_since
-            .filter(|(m, _)| *m == motion)
-        else {
+        let Some((_, since)) = others.jog_since.filter(|(m, _)| *m == motion) else {
             return;
         };
-        let was_twist = self.arm.others_mut().seen_twist;
-        self.arm.others_mut().seen_twist |= t.action.move_type == Coded::Known(MoveType::Twist);
+        let was_twist = others.seen_twist;
+        others.seen_twist |= t.action.move_type == Coded::Known(MoveType::Twist);
         if now < since + OTHER_CLIENT_GRACE {
-            self.arm.others_mut().end_contradiction();
+            others.end_contradiction();
             return;
         }
         let modbus = self.truth.expected_telemetry() == Some(TelemetrySource::Modbus);
@@ -195,28 +191,25 @@ impl App {
         }
         let base = !self.config.frames || self.arm.frame() == ReferenceFrame::Base;
         let rest_telling = self.jog_unmistakable_from_rest(motion);
-        let slow_ready = self
-            .arm
-            .others_mut()
+        let others = self.arm.others_mut();
+        let slow_ready = others
             .baseline_since
             .is_some_and(|at| now >= at + OTHER_CLIENT_GRACE);
-        let steady = self.arm.others_mut().steady.filter(|_| slow_ready);
+        let steady = others.steady.filter(|_| slow_ready);
         let Some(found) = contradiction(t, motion, base, steady, rest_telling) else {
-            self.arm.others_mut().end_contradiction();
+            others.end_contradiction();
             if slow_ready && let Some((seen, _)) = progress(t, motion, base) {
-                self.arm.others_mut().steady =
-                    Some(self.arm.others_mut().steady.map_or(seen, |s| s.max(seen)));
+                others.steady = Some(others.steady.map_or(seen, |s| s.max(seen)));
             }
-            if let Some((_, fine)) = self.arm.others_mut().refresh_waiting.as_mut() {
+            if let Some((_, fine)) = others.refresh_waiting.as_mut() {
                 *fine += 1;
                 if *fine >= REFRESH_SAMPLES {
-                    self.arm.others_mut().refresh_waiting = None;
+                    others.refresh_waiting = None;
                     effects.push(Effect::Arm(ArmCommand::Jog(motion)));
                 }
             }
             return;
         };
-        let others = &mut self.arm.others_mut();
         others.contradicting_in_a_row += 1;
         let first = *others.contradicting_since.get_or_insert(now);
         others.last_contradiction = Some(found.clone());
@@ -231,9 +224,10 @@ impl App {
         let Some(motion) = self.keys.jog().active() else {
             return;
         };
+        let others = self.arm.others_mut();
         if let (Some(first), Some(found)) = (
-            self.arm.others_mut().contradicting_since,
-            self.arm.others_mut().last_contradiction.clone(),
+            others.contradicting_since,
+            others.last_contradiction.clone(),
         ) && now >= first + CONTRADICTED_FOR
         {
             let text = found.words(motion);
@@ -242,14 +236,12 @@ impl App {
             }
             return;
         }
-        if self.arm.others_mut().contradicting_in_a_row == 0
-            && self
-                .arm
-                .others_mut()
+        if others.contradicting_in_a_row == 0
+            && others
                 .refresh_waiting
                 .is_some_and(|(at, _)| now >= at + REFRESH_WAIT)
         {
-            self.arm.others_mut().refresh_waiting = None;
+            others.refresh_waiting = None;
             effects.push(Effect::Arm(ArmCommand::Jog(motion)));
         }
     }
@@ -257,16 +249,9 @@ impl App {
     /// When [`App::other_clients_on_tick`] has something to do.
     pub(super) fn other_clients_deadline(&self) -> Option<Instant> {
         self.keys.jog().active()?;
-        let contradicted = self
-            .arm
-            .others()
-            .contradicting_since
-            .map(|at| at + CONTRADICTED_FOR);
-        let waiting = self
-            .arm
-            .others()
-            .refresh_waiting
-            .map(|(at, _)| at + REFRESH_WAIT);
+        let others = self.arm.others();
+        let contradicted = others.contradicting_since.map(|at| at + CONTRADICTED_FOR);
+        let waiting = others.refresh_waiting.map(|(at, _)| at + REFRESH_WAIT);
         contradicted.into_iter().chain(waiting).min()
     }
 
@@ -333,9 +318,7 @@ fn ended_under_jog(t: &Telemetry, motion: JogMotion, was_twist: bool) -> bool {
 
 /// The tool point or a joint faster than the idle thresholds (NaN is not fast: it says nothing).
 fn fast_motion(t: &Telemetry) -> bool {
-    let v = t.tcp.twist;
-    let tool = (v.x * v.x + v.y * v.y + v.z * v.z).sqrt();
-    tool > OTHER_MOTION_M_S
+    t.tcp.twist.linear_speed() > OTHER_MOTION_M_S
         || t.joints
             .iter()
             .any(|j| j.velocity.abs() > OTHER_MOTION_JOINT_DEG_S)
@@ -355,9 +338,8 @@ impl App {
         tracing::warn!("the arm moves after our STOP: sending STOP again");
         effects.push(Effect::Arm(ArmCommand::Stop));
         if self.arm.others().hold.past_slowing_down(now) {
-            self.say(
+            self.warn(
                 "the arm moved after our STOP (another client?): stopped again",
-                Severity::Warning,
                 now,
             );
         }

@@ -78,27 +78,17 @@ impl Saving {
 
     /// The name said as being saved, when the writes up to `upto` hold it.
     pub(super) fn reported(&mut self, upto: u64) -> Option<String> {
-        match self.writing.take() {
-            Some((name, at)) if at <= upto => Some(name),
-            later => {
-                self.writing = later;
-                None
-            }
-        }
+        let held = self.writing.take_if(|(_, at)| *at <= upto);
+        held.map(|(name, _)| name)
     }
 
     /// The names the writes up to `upto` held, no longer pending.
     pub(super) fn covered(&mut self, upto: u64) -> Vec<String> {
-        let covered: Vec<String> = self
-            .pending
-            .iter()
-            .filter(|(_, at)| **at <= upto)
-            .map(|(name, _)| name.clone())
-            .collect();
-        for name in &covered {
-            self.pending.remove(name);
-        }
-        covered
+        let (covered, pending): (BTreeMap<_, _>, _) = std::mem::take(&mut self.pending)
+            .into_iter()
+            .partition(|(_, at)| *at <= upto);
+        self.pending = pending;
+        covered.into_keys().collect()
     }
 
     /// The whole book was written: whatever had failed is on disk now.
@@ -122,9 +112,7 @@ pub(super) fn mark_unsaved(
     names: impl IntoIterator<Item = String>,
 ) {
     for name in names {
-        if let Some(entry) = positions.get_mut(&name)
-            && !entry.unsaved
-        {
+        if let Some(entry) = positions.get_mut(&name) {
             entry.unsaved = true;
         }
         saving.mark_failed(name);

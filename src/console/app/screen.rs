@@ -17,7 +17,7 @@ use crate::console::keymap::{KeyName, NamedKey};
 use crate::console::positions::PositionBook;
 use crate::console::view::View;
 use crate::kortex::{ReferenceFrame, Telemetry};
-use crate::link::interface::{ArmEvent, LinkStatus, LogEntry, TelemetrySource};
+use crate::link::interface::{LinkStatus, LogEntry, TelemetrySource};
 
 /// The keys dialogs and forms answer whatever the keymap.
 const YES: KeyName = KeyName::char('y');
@@ -156,12 +156,6 @@ impl App {
         self.screen.say_until(text.into(), severity, until, now);
     }
 
-    /// Arm events that end a message.
-    pub(super) fn messages_on_arm(&mut self, event: &ArmEvent) {
-        let telemetry_expected = self.truth.expects_telemetry();
-        self.screen.messages_on_arm(event, telemetry_expected);
-    }
-
     /// After every input: ended state messages and expired notices go.
     pub(super) fn settle_messages(&mut self, now: Instant) {
         let link_up = self.arm.link_up();
@@ -298,7 +292,8 @@ impl App {
         match self.screen.take_overlay() {
             Overlay::None => {}
             Overlay::Help => {
-                if self.scroll_help(&key.key) {
+                // A scrolling key scrolls the help and leaves it open.
+                if self.screen.on_help_key(&key.key, &self.config.keymap) {
                     self.screen.show(Overlay::Help);
                 }
             }
@@ -319,15 +314,15 @@ impl App {
                     Confirm::BothChanged { name, copy } => {
                         let text =
                             format!("both kept: theirs as '{name}', this console's as '{copy}'");
-                        self.say(text, Severity::Info, now);
+                        self.info(text, now);
                     }
-                    _ => self.say("cancelled", Severity::Info, now),
+                    _ => self.info("cancelled", now),
                 }
             }
             Overlay::Form(mut form) => {
                 match key.key {
                     ESC => {
-                        self.say("cancelled", Severity::Info, now);
+                        self.info("cancelled", now);
                         return;
                     }
                     ENTER => {
@@ -355,44 +350,26 @@ impl App {
         self.screen.help_scroll()
     }
 
-    pub(super) fn open_help(&mut self) {
-        self.screen.open_help();
-    }
-
-    /// Scrolls the help for a scrolling key and says whether it was one (the help stays open).
-    pub(super) fn scroll_help(&mut self, key: &KeyName) -> bool {
-        self.screen.on_help_key(key, &self.config.keymap)
-    }
-
     pub(super) fn on_paste(&mut self, pasted: Pasted, now: Instant, effects: &mut Vec<Effect>) {
         let text = match pasted {
             Pasted::Refused(why) => {
                 self.stop_everything(now, effects);
-                self.say(format!("{why}; stopped"), Severity::Warning, now);
+                self.warn(format!("{why}; stopped"), now);
                 return;
             }
             Pasted::Text(text) => text,
         };
         let Some(form) = self.screen.form_mut() else {
-            self.say(
-                "paste ignored: pasted text is never keys",
-                Severity::Info,
-                now,
-            );
+            self.info("paste ignored: pasted text is never keys", now);
             return;
         };
         match form.paste(&text) {
             FormPaste::Inserted => {}
-            FormPaste::Cut { limit } => self.say(
+            FormPaste::Cut { limit } => self.warn(
                 format!("pasted text cut to the field's {limit}-byte limit"),
-                Severity::Warning,
                 now,
             ),
-            FormPaste::Toggle => self.say(
-                "paste ignored: this field is a yes/no toggle",
-                Severity::Info,
-                now,
-            ),
+            FormPaste::Toggle => self.info("paste ignored: this field is a yes/no toggle", now),
         }
     }
 
@@ -409,7 +386,7 @@ impl App {
         };
         self.stop_jog(now, effects);
         self.latch_jog_key(key, now, effects);
-        self.say(why, Severity::Warning, now);
+        self.warn(why, now);
         true
     }
 }

@@ -6,7 +6,7 @@
 use std::time::Instant;
 
 use super::parts::Leg;
-use super::{ActionKind, App, Effect, Input, KeyInput, Overlay, Severity};
+use super::{ActionKind, App, Effect, Input, KeyInput, Overlay};
 use crate::console::action::Action;
 use crate::console::form::{Confirm, Form, FormResult, QuestionText, TourQuestion};
 use crate::console::jog::KeyKind;
@@ -48,7 +48,7 @@ impl App {
     fn open_make_tour(&mut self, now: Instant) {
         let book = self.book.positions();
         if book.is_empty() {
-            self.say("no positions to tour: save some first", Severity::Info, now);
+            self.info("no positions to tour: save some first", now);
             return;
         }
         let names: Vec<&str> = if book.len() <= PREFILL_ALL_UP_TO {
@@ -63,9 +63,8 @@ impl App {
     fn open_play_tour(&mut self, one_leg: bool, now: Instant) {
         let tours = self.book.positions().tours();
         let Some(first) = tours.first() else {
-            self.say(
+            self.info(
                 "no tours in the book: make one from the positions first",
-                Severity::Info,
                 now,
             );
             return;
@@ -104,11 +103,7 @@ impl App {
                 let replaced = self.book.positions_mut().set_tour(tour);
                 self.tours.note_last(&name);
                 let verb = if replaced { "replaced" } else { "saved" };
-                self.say(
-                    format!("tour '{name}' {verb}: {legs} leg(s)"),
-                    Severity::Info,
-                    now,
-                );
+                self.info(format!("tour '{name}' {verb}: {legs} leg(s)"), now);
                 self.save_book::<&str>(&[], effects);
             }
             FormResult::PlayTour { name, one_leg } => {
@@ -133,7 +128,7 @@ impl App {
                 };
                 self.tours.note_last(&name);
                 if let Some(why) = self.tour_refusal(&tour) {
-                    self.say(why, Severity::Warning, now);
+                    self.warn(why, now);
                     return;
                 }
                 if self.refuse_motion(now) {
@@ -176,13 +171,8 @@ impl App {
         if let Some(why) = self.go_to_refusal(name) {
             return Some(why);
         }
-        let lost = self.config.positions_on_operator
-            && self
-                .book
-                .positions()
-                .get(name)
-                .is_some_and(|e| e.unknown_to_operator);
-        lost.then(|| format!("the operator does not know '{name}': go to it alone to re-save it"))
+        self.lost_by_operator(name)
+            .then(|| format!("the operator does not know '{name}': go to it alone to re-save it"))
     }
 
     /// Yes to the tour's question: its first leg starts.
@@ -193,7 +183,7 @@ impl App {
         effects: &mut Vec<Effect>,
     ) {
         if let Some(why) = self.tour_refusal(&question.tour) {
-            self.say(why, Severity::Warning, now);
+            self.warn(why, now);
             return;
         }
         self.tours.begin(question.tour, question.one_leg);
@@ -215,7 +205,7 @@ impl App {
         match sent {
             Ok(()) => {
                 self.tours.set_phase(Leg::Starting);
-                self.say(leg, Severity::Info, now);
+                self.info(leg, now);
             }
             Err(why) => self.tour_over(format!("{leg} not started: {why}"), now),
         }
@@ -231,7 +221,7 @@ impl App {
 
     fn tour_over(&mut self, text: String, now: Instant) {
         self.tours.end();
-        self.say(text, Severity::Warning, now);
+        self.warn(text, now);
     }
 
     /// A key while a tour plays: the next-leg key goes on when a leg waits for it; any other press
@@ -309,16 +299,15 @@ impl App {
         if !self.tours.has_next() {
             let done = self.tours.leg_text();
             self.tours.end();
-            self.say(format!("{done}: tour done"), Severity::Info, now);
+            self.info(format!("{done}: tour done"), now);
         } else if self.tours.one_leg() {
             self.tours.set_phase(Leg::Waiting);
             let next = match self.config.keymap.key_for(Action::TourLeg) {
                 Some(key) => format!("{key} for the next leg"),
                 None => "the next-leg key goes on".into(),
             };
-            self.say(
+            self.info(
                 format!("{leg} done: {next}, any other key ends the tour"),
-                Severity::Info,
                 now,
             );
         } else {
@@ -348,10 +337,5 @@ impl App {
         self.truth
             .action()
             .is_some_and(|a| a.kind == ActionKind::GoTo(name.to_string()))
-    }
-
-    /// The name a go-to just emitted goes to, when it is a tour's leg.
-    pub(super) fn tour_leg_starting(&self) -> Option<String> {
-        self.tours.starting_leg()
     }
 }

@@ -8,7 +8,7 @@ use crate::console::app::tool_position;
 use crate::console::coords::describe_motion;
 use crate::console::positions::PositionBook;
 use crate::kortex::arm_state::fault_reason;
-use crate::kortex::{CodeName, Pose, ReferenceFrame};
+use crate::kortex::{CodeName, ReferenceFrame};
 use crate::link::interface::{
     ArmCommand, ArmError, ArmEvent, GuardStatus, JogMotion, LinkStatus, StepMove,
 };
@@ -150,7 +150,8 @@ impl AuditDeriver {
             ArmCommand::MoveToPose(pose) => Some(AuditEvent::GoTo {
                 name: go_to_name,
                 position_mm: Some(
-                    [pose.x, pose.y, pose.z].map(|v| round_mm(f64::from(v) * 1000.0)),
+                    // To a tenth of a millimetre: an f32 pose in metres has no more to say.
+                    [pose.x, pose.y, pose.z].map(|v| round_tenth(f64::from(v) * 1000.0)),
                 ),
                 speed_percent,
                 speed_mm_s,
@@ -365,11 +366,7 @@ fn coordinates(book: &PositionBook) -> BTreeMap<String, Option<[i32; 3]>> {
 }
 
 fn step_event(step: StepMove, speed_percent: u8, speed_mm_s: f64) -> AuditEvent {
-    let sign = |v: i32| match v.signum() {
-        1 => 1,
-        -1 => -1,
-        _ => 0,
-    };
+    let sign = |v: i32| v.signum() as i8;
     match step {
         StepMove::Cartesian { dx, dy, dz } => AuditEvent::Step {
             axis: describe_motion(JogMotion::Cartesian {
@@ -402,13 +399,9 @@ pub fn go_to_name(
     book: &PositionBook,
     selected: Option<&str>,
 ) -> Option<String> {
-    match command {
-        ArmCommand::MoveToPose(pose) => name_at_pose(book, selected, pose),
-        _ => None,
-    }
-}
-
-fn name_at_pose(book: &PositionBook, selected: Option<&str>, pose: &Pose) -> Option<String> {
+    let ArmCommand::MoveToPose(pose) = command else {
+        return None;
+    };
     let target = [pose.x, pose.y, pose.z].map(|v| (f64::from(v) * 10_000.0).round() as i32);
     let at_pose = |name: &str| book.get(name).and_then(|e| e.cartesian) == Some(target);
     selected
@@ -420,11 +413,6 @@ fn name_at_pose(book: &PositionBook, selected: Option<&str>, pose: &Pose) -> Opt
 /// Tenths (of mm or of degrees) as decimals.
 fn tenths_mm(v: [i32; 3]) -> [f64; 3] {
     v.map(|t| f64::from(t) / 10.0)
-}
-
-/// To a tenth of a millimetre: an f32 pose in metres has no more to say.
-fn round_mm(mm: f64) -> f64 {
-    round_tenth(mm)
 }
 
 /// To a tenth (of mm/s, of deg/s).

@@ -51,19 +51,11 @@ impl AuditSession {
             handled: None,
             handled_sent: Vec::new(),
         };
-        session.write(vec![AuditRecord::new(
-            SystemTime::now(),
-            match profile {
-                Some(arm) => AuditEvent::SessionStart {
-                    arm,
-                    target: Some(target),
-                },
-                None => AuditEvent::SessionStart {
-                    arm: target,
-                    target: None,
-                },
-            },
-        )]);
+        let (arm, target) = match profile {
+            Some(arm) => (arm, Some(target)),
+            None => (target, None),
+        };
+        session.write_now(AuditEvent::SessionStart { arm, target });
         session
     }
 
@@ -71,6 +63,10 @@ impl AuditSession {
         for record in records {
             self.log.record(record);
         }
+    }
+
+    fn write_now(&mut self, event: AuditEvent) {
+        self.log.record(AuditRecord::new(SystemTime::now(), event));
     }
 
     /// Before the app sees `input`: the driver's reports and the loaded book.
@@ -168,10 +164,7 @@ impl AuditSession {
     /// Records the session's end and writes everything queued (at most `within`).
     pub async fn finish(mut self, within: Duration) {
         self.record_handled();
-        self.write(vec![AuditRecord::new(
-            SystemTime::now(),
-            AuditEvent::SessionEnd,
-        )]);
+        self.write_now(AuditEvent::SessionEnd);
         self.log.finish(within).await;
     }
 }

@@ -9,26 +9,21 @@ impl Form {
         if self.kind == FormKind::Stored {
             return self.parse_stored();
         }
-        let value = |i: usize| self.fields.get(i).map(|f| f.value.trim()).unwrap_or("");
-        let name = PositionName::new(value(0))
-            .map_err(|e| (0, format!("name {e}")))?
-            .as_str()
-            .to_string();
+        let name_in = |i: usize, label: &str| {
+            let name = PositionName::new(self.value(i)).map_err(|e| (i, format!("{label} {e}")))?;
+            Ok::<_, (usize, String)>(name.as_str().to_string())
+        };
+        let name = name_in(0, "name")?;
         match self.kind {
             FormKind::Save => {
-                let parent = match value(1) {
+                let parent = match self.value(1) {
                     "" => None,
-                    p => Some(
-                        PositionName::new(p)
-                            .map_err(|e| (1, format!("parent {e}")))?
-                            .as_str()
-                            .to_string(),
-                    ),
+                    _ => Some(name_in(1, "parent")?),
                 };
                 if parent.as_deref() == Some(name.as_str()) {
                     return Err((1, "a position cannot be its own parent".into()));
                 }
-                let anchor = value(2) == "yes";
+                let anchor = self.value(2) == "yes";
                 if anchor && parent.is_none() {
                     return Err((2, "anchor needs a parent to move with".into()));
                 }

@@ -26,8 +26,7 @@ impl Form {
     }
 
     pub(super) fn parse_stored(&self) -> Result<FormResult, (usize, String)> {
-        let value = |i: usize| self.fields.get(i).map(|f| f.value.trim()).unwrap_or("");
-        let kind = value(KIND);
+        let kind = self.value(KIND);
         let motion = match kind.to_ascii_lowercase().as_str() {
             "action" | "a" => StoredMotion::Action,
             "sequence" | "s" => StoredMotion::Sequence,
@@ -39,7 +38,7 @@ impl Form {
                 ));
             }
         };
-        let text = value(ID);
+        let text = self.value(ID);
         let (first, last) = (STORED_IDS.start(), STORED_IDS.end());
         if text.is_empty() {
             return Err((

@@ -49,7 +49,7 @@ pub(super) const LEGS_PASTE_LIMIT: usize = 4096;
 pub(super) fn make_fields(name: &str, legs: &str) -> Vec<Field> {
     vec![
         Field::name("tour name", name),
-        Field::list(LEGS_LABEL, legs),
+        Field::text(LEGS_LABEL, legs),
     ]
 }
 
@@ -70,10 +70,10 @@ impl Form {
 
     /// The positions field as names, each by the name rule, at least one.
     pub(super) fn tour_legs(&self) -> Result<Vec<String>, (usize, String)> {
-        let text = self.fields.get(1).map(|f| f.value.as_str()).unwrap_or("");
+        let text = self.value(1);
         let mut legs = Vec::new();
         for (i, part) in text.split(',').map(str::trim).enumerate() {
-            if part.is_empty() && text.trim().is_empty() {
+            if part.is_empty() && text.is_empty() {
                 break;
             }
             let name =

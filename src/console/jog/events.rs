@@ -3,7 +3,9 @@
 use std::time::Instant;
 
 use super::held::{Held, KeyState, expiry};
-use super::{JogEffect, JogEngine, JogMotion, JogNotice, KeyKind, REPEAT_GAP_MAX, ReleaseMode};
+use super::{
+    JogEffect, JogEngine, JogMotion, JogNotice, KeyKind, REPEAT_GAP_MAX, ReleaseMode, motion_of,
+};
 use crate::console::action::{Action, JogAxis, JogFamily};
 
 impl JogEngine {
@@ -215,8 +217,9 @@ impl JogEngine {
             return Vec::new();
         }
         let mut effects = Vec::new();
+        // Each family is its own variant of the motion.
         let family_changed = match (self.active, wanted) {
-            (Some(a), Some(b)) => family_of(a) != family_of(b),
+            (Some(a), Some(b)) => std::mem::discriminant(&a) != std::mem::discriminant(&b),
             _ => false,
         };
         if family_changed {
@@ -240,7 +243,6 @@ impl JogEngine {
     pub(super) fn motion(&self) -> Option<JogMotion> {
         let moving = || self.held.values().filter(|h| h.state == KeyState::Moving);
         let newest = moving().max_by_key(|h| h.order)?;
-        let family = newest.axis.family();
         let sum = |axis: JogAxis| -> i8 {
             let total: i8 = moving()
                 .filter(|h| h.axis == axis)
@@ -248,45 +250,9 @@ impl JogEngine {
                 .sum();
             total.clamp(-1, 1)
         };
-        let motion = match family {
-            JogFamily::Cartesian => JogMotion::Cartesian {
-                x: sum(JogAxis::X),
-                y: sum(JogAxis::Y),
-                z: sum(JogAxis::Z),
-            },
-            JogFamily::Polar => JogMotion::Polar {
-                azimuth: sum(JogAxis::Azimuth),
-                altitude: sum(JogAxis::Altitude),
-            },
-            JogFamily::Joint => JogMotion::Joint {
-                joint: self.joint,
-                direction: sum(JogAxis::Joint),
-            },
-            JogFamily::Orientation => JogMotion::Orientation {
-                rx: sum(JogAxis::Rx),
-                ry: sum(JogAxis::Ry),
-                rz: sum(JogAxis::Rz),
-            },
-        };
+        let family = newest.axis.family();
+        let motion = motion_of(family, self.joint, sum);
         // Opposite keys cancel: no motion rather than a zero-speed START.
-        (!is_zero(motion)).then_some(motion)
-    }
-}
-
-fn is_zero(motion: JogMotion) -> bool {
-    match motion {
-        JogMotion::Cartesian { x, y, z } => x == 0 && y == 0 && z == 0,
-        JogMotion::Polar { azimuth, altitude } => azimuth == 0 && altitude == 0,
-        JogMotion::Joint { direction, .. } => direction == 0,
-        JogMotion::Orientation { rx, ry, rz } => rx == 0 && ry == 0 && rz == 0,
-    }
-}
-
-fn family_of(motion: JogMotion) -> JogFamily {
-    match motion {
-        JogMotion::Cartesian { .. } => JogFamily::Cartesian,
-        JogMotion::Polar { .. } => JogFamily::Polar,
-        JogMotion::Joint { .. } => JogFamily::Joint,
-        JogMotion::Orientation { .. } => JogFamily::Orientation,
+        (motion != motion_of(family, self.joint, |_| 0)).then_some(motion)
     }
 }

@@ -3,7 +3,7 @@
 use std::time::{Duration, Instant};
 
 use super::timing::{REPEAT_GAP_MAX, RepeatTiming};
-use super::{JogMotion, ReleaseMode};
+use super::{JogMotion, ReleaseMode, unit_motion};
 use crate::console::action::{JogAxis, JogFamily};
 
 /// A key silent this long with reported releases is stopped: the terminal must prove it.
@@ -97,27 +97,7 @@ impl Held {
 
     /// The unit motion of this key alone, for a tap's step.
     pub(super) fn unit_motion(&self, joint: u8) -> JogMotion {
-        let along = |axis: JogAxis| if self.axis == axis { self.direction } else { 0 };
-        match self.axis.family() {
-            JogFamily::Cartesian => JogMotion::Cartesian {
-                x: along(JogAxis::X),
-                y: along(JogAxis::Y),
-                z: along(JogAxis::Z),
-            },
-            JogFamily::Polar => JogMotion::Polar {
-                azimuth: along(JogAxis::Azimuth),
-                altitude: along(JogAxis::Altitude),
-            },
-            JogFamily::Joint => JogMotion::Joint {
-                joint,
-                direction: self.direction,
-            },
-            JogFamily::Orientation => JogMotion::Orientation {
-                rx: along(JogAxis::Rx),
-                ry: along(JogAxis::Ry),
-                rz: along(JogAxis::Rz),
-            },
-        }
+        unit_motion(self.axis, self.direction, joint)
     }
 }
 

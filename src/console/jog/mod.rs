@@ -18,12 +18,45 @@ mod timing;
 use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
 
-use super::action::Action;
+use super::action::{Action, JogAxis, JogFamily};
 // The motion the held keys ask for is the link's vocabulary: re-exported for the console.
 pub use crate::link::interface::JogMotion;
 pub use held::KEY_EVENT_TIMEOUT;
 use held::{Held, KeyState};
 pub use timing::{DEFAULT_INTERVAL, MAX_ONSET, REPEAT_GAP_MAX, RepeatTiming};
+
+/// The motion of `family`, `along(axis)` (-1, 0 or 1) on each of its axes.
+fn motion_of(family: JogFamily, joint: u8, along: impl Fn(JogAxis) -> i8) -> JogMotion {
+    match family {
+        JogFamily::Cartesian => JogMotion::Cartesian {
+            x: along(JogAxis::X),
+            y: along(JogAxis::Y),
+            z: along(JogAxis::Z),
+        },
+        JogFamily::Polar => JogMotion::Polar {
+            azimuth: along(JogAxis::Azimuth),
+            altitude: along(JogAxis::Altitude),
+        },
+        JogFamily::Joint => JogMotion::Joint {
+            joint,
+            direction: along(JogAxis::Joint),
+        },
+        JogFamily::Orientation => JogMotion::Orientation {
+            rx: along(JogAxis::Rx),
+            ry: along(JogAxis::Ry),
+            rz: along(JogAxis::Rz),
+        },
+    }
+}
+
+/// The motion of one jog key alone: `direction` along `axis` (`joint` for a joint jog).
+pub fn unit_motion(axis: JogAxis, direction: i8, joint: u8) -> JogMotion {
+    motion_of(
+        axis.family(),
+        joint,
+        |a| if a == axis { direction } else { 0 },
+    )
+}
 
 /// How key releases are known.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

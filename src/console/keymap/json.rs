@@ -15,9 +15,11 @@ const FIELDS: [&str; 3] = ["name", "description", "bindings"];
 pub(super) fn parse(source_name: &str, text: &str) -> Result<Keymap, KeymapError> {
     let problem = Cell::new(None);
     let mut deserializer = serde_json::Deserializer::from_str(text);
-    let parsed = FileSeed { problem: &problem }
-        .deserialize(&mut deserializer)
-        .and_then(|keymap| deserializer.end().map(|()| keymap));
+    let parsed = FileVisitor {
+        problem: ProblemSlot(&problem),
+    }
+    .deserialize(&mut deserializer)
+    .and_then(|keymap| deserializer.end().map(|()| keymap));
     parsed.map_err(|error| describe(source_name, text, &error, problem.get()))
 }
 
@@ -144,22 +146,16 @@ impl ProblemSlot<'_> {
     }
 }
 
-struct FileSeed<'a> {
-    problem: &'a Cell<Option<KeymapErrorKind>>,
+struct FileVisitor<'a> {
+    problem: ProblemSlot<'a>,
 }
 
-impl<'de> DeserializeSeed<'de> for FileSeed<'_> {
+impl<'de> DeserializeSeed<'de> for FileVisitor<'_> {
     type Value = Keymap;
 
     fn deserialize<D: Deserializer<'de>>(self, deserializer: D) -> Result<Keymap, D::Error> {
-        deserializer.deserialize_map(FileVisitor {
-            problem: ProblemSlot(self.problem),
-        })
+        deserializer.deserialize_map(self)
     }
-}
-
-struct FileVisitor<'a> {
-    problem: ProblemSlot<'a>,
 }
 
 impl<'de> Visitor<'de> for FileVisitor<'_> {
@@ -182,17 +178,16 @@ impl<'de> Visitor<'de> for FileVisitor<'_> {
                 )
             };
             match field.as_str() {
-                "name" => {
-                    if name.is_some() {
+                "name" | "description" => {
+                    let text = if field == "name" {
+                        &mut name
+                    } else {
+                        &mut description
+                    };
+                    if text.is_some() {
                         return Err(duplicate());
                     }
-                    name = Some(shown_text(problem, "name", map.next_value()?)?);
-                }
-                "description" => {
-                    if description.is_some() {
-                        return Err(duplicate());
-                    }
-                    description = Some(shown_text(problem, "description", map.next_value()?)?);
+                    *text = Some(shown_text(problem, &field, map.next_value()?)?);
                 }
                 "bindings" => {
                     if bindings.is_some() {

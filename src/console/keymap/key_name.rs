@@ -300,11 +300,7 @@ pub fn shifted_letter(character: char) -> char {
     if !character.is_lowercase() {
         return character;
     }
-    let mut upper = character.to_uppercase();
-    match (upper.next(), upper.next()) {
-        (Some(single), None) => single,
-        _ => character,
-    }
+    super::single_char(character.to_uppercase()).unwrap_or(character)
 }
 
 #[cfg(test)]

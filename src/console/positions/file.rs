@@ -231,19 +231,22 @@ impl PositionBook {
             path: path.to_string(),
             source: std::io::Error::other(e),
         };
+        let write = |out: &mut dyn Write, pretty: bool| {
+            if pretty {
+                serde_json::to_writer_pretty(out, self)
+            } else {
+                serde_json::to_writer(out, self)
+            }
+        };
         let size = |pretty: bool| {
             let mut counter = ByteCounter(0);
-            let result = if pretty {
-                serde_json::to_writer_pretty(&mut counter, self)
-            } else {
-                serde_json::to_writer(&mut counter, self)
-            };
             // With its final newline.
-            result.map(|()| counter.0 + 1).map_err(failed)
+            write(&mut counter, pretty)
+                .map(|()| counter.0 + 1)
+                .map_err(failed)
         };
-        let pretty = if size(true)? <= limit {
-            true
-        } else {
+        let pretty = size(true)? <= limit;
+        if !pretty {
             let bytes = size(false)?;
             if bytes > limit {
                 return Err(BookError::TooLarge {
@@ -252,13 +255,8 @@ impl PositionBook {
                     limit,
                 });
             }
-            false
-        };
-        if pretty {
-            serde_json::to_writer_pretty(&mut *out, self).map_err(failed)?;
-        } else {
-            serde_json::to_writer(&mut *out, self).map_err(failed)?;
         }
+        write(&mut *out, pretty).map_err(failed)?;
         out.write_all(b"\n").map_err(|source| BookError::Io {
             path: path.to_string(),
             source,

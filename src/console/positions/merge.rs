@@ -111,10 +111,6 @@ fn same_entry(a: Option<&BookEntry>, b: Option<&BookEntry>) -> bool {
     }
 }
 
-fn same_tour(a: Option<&Tour>, b: Option<&Tour>) -> bool {
-    a == b
-}
-
 /// How one name merges.
 enum Side<T> {
     /// The value to keep (none: the name is gone), and whether it came from the other side.
@@ -305,7 +301,7 @@ fn merge_tours(
             ours.tour(name),
             theirs.tour(name),
             false,
-            same_tour,
+            |a, b| a == b,
         );
         match side {
             Side::Take(tour, from_theirs) => {

@@ -6,8 +6,8 @@ use std::time::{Duration, Instant};
 
 use super::actions::{End, heuristic_end, run_end};
 use super::{
-    ACTION_TIMEOUT, ActionKind, GoToTarget, INTERVALS_KEPT, MotionShown, NO_TELEMETRY_ACTION_TIME,
-    STOP_GRACE, StoredAction, TrackedAction, TruthView,
+    ActionKind, GoToTarget, INTERVALS_KEPT, MotionShown, STOP_GRACE, StoredAction, TrackedAction,
+    TruthView,
 };
 use crate::console::app::age::age_text;
 use crate::console::app::message::Until;
@@ -105,14 +105,10 @@ impl App {
                 self.truth.stop_needed = true;
             }
             ArmEvent::StopUnconfirmed { reason } => {
-                self.say_until(
-                    format!(
-                        "STOP NOT CONFIRMED: {reason}. The arm may still be moving: use its e-stop"
-                    ),
-                    Severity::Error,
-                    Until::StopConfirmed,
-                    now,
+                let text = format!(
+                    "STOP NOT CONFIRMED: {reason}. The arm may still be moving: use its e-stop"
                 );
+                self.say_until(text, Severity::Error, Until::StopConfirmed, now);
             }
             _ => {}
         }
@@ -229,15 +225,9 @@ impl App {
             }
             if self.keys.jog().is_jogging() {
                 self.stop_jog(now, effects);
-                self.say_until(
-                    format!(
-                        "link stale: no word from the arm for {}: jog stopped",
-                        age_text(age)
-                    ),
-                    Severity::Error,
-                    Until::LinkFresh,
-                    now,
-                );
+                let age = age_text(age);
+                let text = format!("link stale: no word from the arm for {age}: jog stopped");
+                self.say_until(text, Severity::Error, Until::LinkFresh, now);
             }
         }
         self.time_out_action(now);
@@ -277,7 +267,7 @@ impl App {
             truth.stop_confirmed_at = None;
             if let Some(action) = truth.action.take() {
                 let verb = action.kind.verb();
-                self.say(format!("{verb} stopped"), Severity::Info, now);
+                self.info(format!("{verb} stopped"), now);
             }
             return;
         }
@@ -352,13 +342,13 @@ impl App {
                 self.truth.stop_needed = true;
                 let text =
                     format!("{verb} not done: MOVED BY ANOTHER CLIENT: {evidence}; STOP sent");
-                self.say(text, Severity::Error, now);
+                self.error(text, now);
             }
             Some(End::Done) => {
                 // The arm reported the end and telemetry shows it at rest: settled.
                 self.truth.action = None;
                 self.truth.unsettled = false;
-                self.say(format!("{verb} done"), Severity::Info, now);
+                self.info(format!("{verb} done"), now);
             }
             None => {}
         }
@@ -369,31 +359,19 @@ impl App {
             return;
         };
         let with_telemetry = self.truth.expects_telemetry();
-        let limit = if with_telemetry {
-            ACTION_TIMEOUT
-        } else {
-            NO_TELEMETRY_ACTION_TIME
-        };
+        let limit = self.truth.action_time_limit();
         if now < action.sent + limit {
             return;
         }
-        let verb = action.kind.verb();
+        let (verb, secs) = (action.kind.verb(), limit.as_secs());
         self.truth.action = None;
         if with_telemetry {
-            self.say(
-                format!("{verb}: no end seen within {} s", limit.as_secs()),
-                Severity::Warning,
-                now,
-            );
+            self.warn(format!("{verb}: no end seen within {secs} s"), now);
         } else {
             // Without telemetry an action ends once its longest expected time has passed.
             self.truth.unsettled = false;
-            self.say(
-                format!(
-                    "{verb}: no telemetry; taken as ended after {} s",
-                    limit.as_secs()
-                ),
-                Severity::Info,
+            self.info(
+                format!("{verb}: no telemetry; taken as ended after {secs} s"),
                 now,
             );
         }

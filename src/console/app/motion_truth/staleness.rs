@@ -12,6 +12,16 @@ impl MotionTruth {
         STALE_AFTER.max(period * 3)
     }
 
+    /// How long a tracked action is watched: with telemetry until it times out, without it until
+    /// it is taken as ended.
+    pub(super) fn action_time_limit(&self) -> Duration {
+        if self.expects_telemetry() {
+            ACTION_TIMEOUT
+        } else {
+            NO_TELEMETRY_ACTION_TIME
+        }
+    }
+
     /// How long the link has been silent past its limit, if it has.
     pub(super) fn stale_for(&self, now: Instant) -> Option<Duration> {
         self.expect?;
@@ -71,12 +81,7 @@ impl MotionTruth {
             candidate(at + STOP_GRACE);
         }
         if let Some(action) = &self.action {
-            let limit = if self.expects_telemetry() {
-                ACTION_TIMEOUT
-            } else {
-                NO_TELEMETRY_ACTION_TIME
-            };
-            candidate(action.sent + limit);
+            candidate(action.sent + self.action_time_limit());
         }
         next
     }

@@ -13,19 +13,11 @@ use crate::console::keymap::KeyName;
 /// Within this many repeat intervals a same-key event continues a run (a keystroke is slower).
 const CONTINUES_RUN: (u32, u32) = (3, 2);
 
-/// The latest key event, to tell whether the next one continues its auto-repeat run.
+/// A key and its latest event, to tell whether the next one continues its auto-repeat run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct KeyTrace {
     key: KeyName,
     at: Instant,
-}
-
-/// The key that opened the form, while its auto-repeat may still arrive.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-struct FormOpener {
-    key: KeyName,
-    /// Its latest event (fallback: the run continues from here).
-    last: Instant,
 }
 
 #[derive(Debug, Clone)]
@@ -34,9 +26,10 @@ pub(in crate::console::app) struct Keys {
     step: Step,
     /// The key that closed an overlay, last seen: its auto-repeat must not start a jog.
     swallowed: Option<(KeyName, Instant)>,
-    /// The latest key event, and the form opener while its auto-repeat may come.
+    /// The latest key event, and the form opener while its auto-repeat may come (fallback: the
+    /// run continues from its latest event).
     last_key: Option<KeyTrace>,
-    form_opener: Option<FormOpener>,
+    form_opener: Option<KeyTrace>,
     /// Keeps pasted and hasty keys from answering a question.
     question_guard: QuestionGuard,
 }
@@ -153,9 +146,9 @@ impl Keys {
             ReleaseMode::Reported => true,
             ReleaseMode::AutoRepeat => repeating,
         };
-        self.form_opener = remember.then_some(FormOpener {
+        self.form_opener = remember.then_some(KeyTrace {
             key: key.key,
-            last: now,
+            at: now,
         });
     }
 
@@ -177,13 +170,13 @@ impl Keys {
             && match (self.jog.mode(), key.kind) {
                 (_, KeyKind::Repeat) => true,
                 (ReleaseMode::AutoRepeat, KeyKind::Press) => {
-                    now.saturating_duration_since(opener.last) <= self.run_window()
+                    now.saturating_duration_since(opener.at) <= self.run_window()
                 }
                 _ => false,
             };
-        self.form_opener = repeat.then_some(FormOpener {
+        self.form_opener = repeat.then_some(KeyTrace {
             key: opener.key,
-            last: now,
+            at: now,
         });
         repeat
     }

@@ -5,6 +5,7 @@ use std::str::FromStr;
 
 use super::{BaseKey, KeyName, KeypadKey, MAX_FUNCTION_KEY, Modifiers, NamedKey};
 use super::{is_keypad_char, shifted_letter};
+use crate::console::keymap::single_char;
 
 impl fmt::Display for KeyName {
     fn fmt(&self, formatter: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -123,8 +124,7 @@ impl FromStr for KeyName {
 }
 
 fn parse_base_key(text: &str) -> Result<BaseKey, BadKeyName> {
-    let mut characters = text.chars();
-    if let (Some(character), None) = (characters.next(), characters.next()) {
+    if let Some(character) = single_char(text.chars()) {
         return if character == ' ' {
             Err(BadKeyName::SpaceBar)
         } else if crate::text::is_unsafe(character) || character.is_whitespace() {
@@ -147,8 +147,7 @@ fn parse_base_key(text: &str) -> Result<BaseKey, BadKeyName> {
         };
     }
     if let Some(keypad) = text.strip_prefix("kp") {
-        let mut characters = keypad.chars();
-        if let (Some(character), None) = (characters.next(), characters.next())
+        if let Some(character) = single_char(keypad.chars())
             && is_keypad_char(character)
         {
             return Ok(BaseKey::Keypad(KeypadKey::Char(character)));
