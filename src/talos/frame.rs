@@ -79,11 +79,7 @@ impl TalosFrame {
         out.extend_from_slice(&self.command.to_be_bytes());
         out.extend_from_slice(&length.to_be_bytes());
         out.extend_from_slice(&self.payload);
-        let sum = checksum.compute(&out[start..]);
-        match checksum.len() {
-            1 => out.push(sum as u8),
-            _ => out.extend_from_slice(&sum.to_be_bytes()),
-        }
+        checksum.append(out, start);
         Ok(())
     }
 

@@ -38,10 +38,6 @@ impl FrameCodec {
         }
     }
 
-    pub fn checksum(&self) -> Checksum {
-        self.checksum
-    }
-
     /// Most bytes the decoder ever holds waiting for one frame.
     pub fn max_frame_len(&self) -> usize {
         HEADER_LEN + self.max_payload + self.checksum.len()
