@@ -82,10 +82,6 @@ pub(super) fn start(
     let (connected_tx, connected) = mpsc::unbounded_channel();
     let talos = TalosSide::new(&config, cap, talos_side_tx, joints.clone(), speed.clone());
     let guard = start_guard(&config, guard_reports_tx);
-    let attempts = |configured: bool| match configured {
-        true => Attempts::due_now(),
-        false => Attempts::never(),
-    };
     let hz = config.hw_telemetry_hz.clamp(0.5, 50.0);
     let mut hw_poll = tokio::time::interval(Duration::from_secs_f64(1.0 / hz));
     hw_poll.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
@@ -99,8 +95,8 @@ pub(super) fn start(
         hw_poll,
     };
     let driver = Box::new(DriverState {
-        talos_attempts: attempts(config.talos.is_some()),
-        modbus_attempts: attempts(config.modbus.is_some()),
+        talos_attempts: Attempts::new(config.talos.is_some()),
+        modbus_attempts: Attempts::new(config.modbus.is_some()),
         hw_telemetry: config.telemetry_source() == TelemetrySource::TalosHardware,
         config,
         events,

@@ -5,9 +5,10 @@ use super::connect::ConnectError;
 use crate::link::interface::LinkStatus;
 use crate::link::modbus::ModbusConfig;
 
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub enum LinkState {
     /// Not connected yet, and no attempt has failed.
+    #[default]
     Connecting,
     /// Connected: the words the status bar shows for it.
     Up { description: String },
@@ -42,18 +43,10 @@ pub fn modbus_description(config: &ModbusConfig) -> String {
 }
 
 /// Both links' states; an unconfigured one stays [`LinkState::Connecting`], left out of the status.
+#[derive(Default)]
 pub struct Links {
     pub talos: LinkState,
     pub modbus: LinkState,
-}
-
-impl Default for Links {
-    fn default() -> Links {
-        Links {
-            talos: LinkState::Connecting,
-            modbus: LinkState::Connecting,
-        }
-    }
 }
 
 impl Links {
