@@ -99,9 +99,6 @@ pub(super) fn log_error(
             count: 1,
             name: name.name().to_string(),
             outcome: error.to_string(),
-            ok: false,
-            latency: None,
-            traffic: Traffic::None,
             ..LogEntry::default()
         }));
     }

@@ -10,9 +10,7 @@ use super::connect::ConnectError;
 use super::hw_telemetry;
 use super::speed::SpeedInForce;
 use super::{DriverConfig, JointPositions};
-use crate::link::interface::{
-    ArmCommand, ArmError, ArmEvent, JogMotion, LogEntry, StepMove, Traffic,
-};
+use crate::link::interface::{ArmCommand, ArmError, ArmEvent, JogMotion, LogEntry, StepMove};
 use crate::link::speed::{OperatorScale, SpeedCap};
 use crate::link::talos::{TalosConfig, TalosEvent};
 use crate::link::{Dialect, TalosLink};
@@ -348,8 +346,6 @@ impl TalosSide {
                     count: 1,
                     name: CommandValue::ExecuteHardwareOperation.name().to_string(),
                     outcome: e.to_string(),
-                    ok: false,
-                    traffic: Traffic::None,
                     ..LogEntry::default()
                 }));
                 return;
@@ -380,18 +376,11 @@ impl TalosSide {
                         Some(HwReply::GetActuatorFeedback { actuators }),
                     ) = (hw_reply(&state), hw_reply(&feedback))
                     {
-                        let mut positions = [0.0f32; 7];
-                        for a in &actuators {
-                            if let Some(slot) =
-                                positions.get_mut(usize::from(a.joint).wrapping_sub(1))
-                            {
-                                *slot = a.position_deg;
-                            }
-                        }
-                        if actuators.len() == 7 {
-                            joints.send_replace(Some(positions));
-                        }
                         let telemetry = hw_telemetry::telemetry(&state, &actuators);
+                        // Only a full set: a joint jog never carries a position not reported.
+                        if actuators.len() == 7 {
+                            joints.send_replace(Some(telemetry.joints.map(|j| j.position)));
+                        }
                         let _ = events.send(ArmEvent::Telemetry(Box::new(telemetry)));
                         let _ = events.send(ArmEvent::Latency(latency));
                     }
