@@ -84,12 +84,7 @@ impl HwRequest {
             HwRequest::SendActuatorCommand { joint, command } => {
                 out.push(*joint);
                 out.extend_from_slice(&command.flags.0.to_be_bytes());
-                for value in [
-                    command.position_deg,
-                    command.velocity_deg_s,
-                    command.torque_nm,
-                    command.current_a,
-                ] {
+                for value in command.setpoints() {
                     out.extend_from_slice(&value.to_be_bytes());
                 }
             }
