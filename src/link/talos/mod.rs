@@ -240,30 +240,6 @@ impl TalosLink {
         )
     }
 
-    /// Connects, retrying with exponential backoff (100 ms doubling to 2 s) until `attempts`
-    /// connection attempts have failed.
-    pub async fn connect_with_backoff(
-        config: TalosConfig,
-        attempts: u32,
-    ) -> Result<(TalosLink, mpsc::UnboundedReceiver<TalosEvent>), TalosError> {
-        let mut delay = Duration::from_millis(100);
-        let mut tried = 0;
-        loop {
-            tried += 1;
-            match Self::connect(config.clone()).await {
-                Ok(link) => return Ok(link),
-                Err(e) if tried >= attempts.max(1) => return Err(e),
-                Err(e) => tracing::info!("talos connect attempt {tried} failed: {e}"),
-            }
-            tokio::time::sleep(delay).await;
-            delay = (delay * 2).min(Duration::from_secs(2));
-        }
-    }
-
-    pub fn config(&self) -> &TalosConfig {
-        &self.config
-    }
-
     /// Sends `request` and waits for its answer within the request timeout. A reply with a
     /// non-zero return code is `Err(TalosError::ReturnCode)`, carrying the whole exchange.
     pub async fn request(&self, request: Request) -> Result<Exchange, TalosError> {
