@@ -191,15 +191,10 @@ impl LinkTask {
         };
         let reason = end.reason;
         tracing::warn!("talos link lost: {reason}");
-        for (_, p) in self.pending.drain() {
-            let _ = p.answer.send(Err(TalosError::Disconnected {
-                reason: reason.clone(),
-            }));
-        }
-        for wait in self.ack_queue.drain(..) {
-            let _ = wait.pending.answer.send(Err(TalosError::Disconnected {
-                reason: reason.clone(),
-            }));
+        let waiting = self.pending.drain().map(|(_, p)| p);
+        for p in waiting.chain(self.ack_queue.drain(..).map(|w| w.pending)) {
+            let reason = reason.clone();
+            let _ = p.answer.send(Err(TalosError::Disconnected { reason }));
         }
         self.event(TalosEvent::Disconnected { reason });
         // Fail later callers at once rather than letting them time out.
