@@ -98,56 +98,30 @@ pub struct FrameTooLong {
 }
 
 /// Why bytes were discarded.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
 pub enum RejectReason {
     /// The frame was complete but its checksum field did not match.
+    #[error("bad checksum: computed 0x{expected:04X}, frame carries 0x{found:04X}")]
     BadChecksum { expected: u16, found: u16 },
     /// The Length field is above the decoder's bound.
+    #[error("length {length} exceeds the {max}-byte payload bound")]
     OversizedLength { length: u16, max: usize },
     /// An undefined command cannot start a frame while resynchronising (or without a checksum).
+    #[error("command value 0x{value:04X} is not in the ICD")]
     UnknownCommand { value: u16 },
     /// A length the ICD does not allow for the command: no frame start while resynchronising.
+    #[error("length {length} is not one the ICD allows for command value 0x{command:04X}")]
     ImplausibleLength { command: u16, length: u16 },
     /// The stream ended inside a frame.
+    #[error("stream ended inside a frame ({have} of {needed} bytes)")]
     Truncated { have: usize, needed: usize },
     /// A frame begun `after` ago was incomplete at its deadline.
+    #[error("frame incomplete after {after:?} ({have} of {needed} bytes): given up")]
     Stalled {
         have: usize,
         needed: usize,
         after: Duration,
     },
-}
-
-impl fmt::Display for RejectReason {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            RejectReason::BadChecksum { expected, found } => write!(
-                f,
-                "bad checksum: computed 0x{expected:04X}, frame carries 0x{found:04X}"
-            ),
-            RejectReason::OversizedLength { length, max } => {
-                write!(f, "length {length} exceeds the {max}-byte payload bound")
-            }
-            RejectReason::UnknownCommand { value } => {
-                write!(f, "command value 0x{value:04X} is not in the ICD")
-            }
-            RejectReason::ImplausibleLength { command, length } => write!(
-                f,
-                "length {length} is not one the ICD allows for command value 0x{command:04X}"
-            ),
-            RejectReason::Truncated { have, needed } => {
-                write!(f, "stream ended inside a frame ({have} of {needed} bytes)")
-            }
-            RejectReason::Stalled {
-                have,
-                needed,
-                after,
-            } => write!(
-                f,
-                "frame incomplete after {after:?} ({have} of {needed} bytes): given up"
-            ),
-        }
-    }
 }
 
 /// Bytes the decoder dropped: the reason at the first bad position, how many were skipped, and that
@@ -173,23 +147,13 @@ impl fmt::Display for Rejection {
 }
 
 /// A frame that fails the link's checksum dialect but is valid under another.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("checksum fails {} but fits {}", .used.as_str(), .fits.as_str())]
 pub struct ChecksumFit {
     /// The dialect the decoder was told to use.
     pub used: Checksum,
     /// The dialect the bytes fit.
     pub fits: Checksum,
-}
-
-impl fmt::Display for ChecksumFit {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "checksum fails {} but fits {}",
-            self.used.as_str(),
-            self.fits.as_str()
-        )
-    }
 }
 
 /// The checksum other than `used` under which `bytes` start a valid frame (`none`: two zeros).
