@@ -182,7 +182,7 @@ impl DriverState {
                     Some(mc) => ArmError::ModbusLinkDown {
                         addr: mc.addr.clone(),
                     },
-                    None if is_orientation_jog(&command) => {
+                    None if matches!(command, ArmCommand::Jog(JogMotion::Orientation { .. })) => {
                         ArmError::Unsupported(ORIENTATION_NEEDS_MODBUS)
                     }
                     None if matches!(command, ArmCommand::StartStored(_)) => {
@@ -339,9 +339,8 @@ impl DriverState {
             if let Some(modbus) = &self.modbus {
                 modbus.send(ArmCommand::Stop);
             }
-            if self.config.talos.is_some() && !self.talos.is_down() {
-                self.talos.command(ArmCommand::Stop);
-            }
+            // Without a link the Talos side drops a stop silently.
+            self.talos.command(ArmCommand::Stop);
         }
         self.emit(report.into_event());
     }
@@ -390,10 +389,6 @@ impl DriverState {
 /// Past a crossing refresh's trip, and about when the other console's next refresh falls due (100
 /// ms apart; it needs two samples to see this stop, `console/app/other_client.rs`).
 const EXIT_STOP_AGAIN: Duration = Duration::from_millis(100);
-
-fn is_orientation_jog(command: &ArmCommand) -> bool {
-    matches!(command, ArmCommand::Jog(JogMotion::Orientation { .. }))
-}
 
 /// Starts the stop guard when the configuration needs one.
 fn start_guard(
