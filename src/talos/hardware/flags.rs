@@ -187,15 +187,6 @@ impl StatusFlags {
 pub struct ArmFlags(pub u32);
 
 impl ArmFlags {
-    pub const fn bits(self) -> u32 {
-        self.0
-    }
-
-    /// Whether every bit of `other` is set in `self`.
-    pub const fn contains(self, other: ArmFlags) -> bool {
-        self.0 & other.0 == other.0
-    }
-
     /// snake_case names of the set bits, ascending; unnamed bits as `unknown_bit_N`.
     pub fn names(&self) -> Vec<String> {
         FlagSet::from_bits(self.0).names()
@@ -205,13 +196,6 @@ impl ArmFlags {
 impl From<Flag> for ArmFlags {
     fn from(flag: Flag) -> ArmFlags {
         ArmFlags(flag.bit())
-    }
-}
-
-impl BitOr for ArmFlags {
-    type Output = ArmFlags;
-    fn bitor(self, other: ArmFlags) -> ArmFlags {
-        ArmFlags(self.0 | other.0)
     }
 }
 
@@ -226,21 +210,15 @@ impl fmt::Display for ArmFlags {
     }
 }
 
-/// Arm state, same values as Kinova Modbus input register 0. Unknown values are kept raw.
+/// Arm state, same values as Kinova Modbus input register 0 (named by
+/// [`crate::kortex::RobotState`]). Unknown values are kept raw.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize)]
 #[serde(transparent)]
 pub struct RobotState(pub u16);
 
 impl RobotState {
-    pub const UNSPECIFIED: RobotState = RobotState(0);
-    pub const BASE_INIT_NOT_COMPLETED: RobotState = RobotState(1);
-    pub const BASE_INIT_SUCCEEDED: RobotState = RobotState(2);
-    pub const INITIALISING: RobotState = RobotState(3);
     pub const IN_FAULT: RobotState = RobotState(4);
-    pub const MAINTENANCE: RobotState = RobotState(5);
-    pub const LOW_LEVEL_SERVOING: RobotState = RobotState(6);
     pub const READY: RobotState = RobotState(7);
-    pub const CONTROLLED_BY_SEQUENCE: RobotState = RobotState(8);
     pub const CONTROLLED_MANUALLY: RobotState = RobotState(9);
 
     /// snake_case name of a defined state, as the Modbus register map names it.
