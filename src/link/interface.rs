@@ -134,7 +134,7 @@ impl ArmCommand {
 }
 
 /// A named position's coordinates, as read back.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct PositionCoordinates {
     /// Tenths of millimetres.
     pub cartesian: Option<[i32; 3]>,

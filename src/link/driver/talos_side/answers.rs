@@ -124,10 +124,7 @@ pub(super) async fn answers(
     speed_in_force: SpeedInForce,
 ) {
     let all_ok = !pending.is_empty();
-    let mut coordinates = PositionCoordinates {
-        cartesian: None,
-        polar: None,
-    };
+    let mut coordinates = PositionCoordinates::default();
     for p in pending {
         let (id, name) = (p.id(), p.command());
         match p.wait().await {

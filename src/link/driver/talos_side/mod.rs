@@ -139,19 +139,17 @@ impl TalosSide {
 
     /// Whether the Talos link carries `command` (rather than the Modbus link).
     pub fn handles(&self, command: &ArmCommand, has_modbus: bool) -> bool {
-        if self.config.is_none() {
-            return false;
-        }
-        match command {
-            // Never over Talos: its ICD has no orientation jog.
-            ArmCommand::Jog(JogMotion::Orientation { .. }) => false,
-            ArmCommand::MoveToPose(_) | ArmCommand::SetFrame(_) | ArmCommand::StartStored(_) => {
-                false
+        self.config.is_some()
+            && match command {
+                // The Talos ICD has no orientation jog, stored run by id, pose move or frame.
+                ArmCommand::Jog(JogMotion::Orientation { .. })
+                | ArmCommand::MoveToPose(_)
+                | ArmCommand::SetFrame(_)
+                | ArmCommand::StartStored(_) => false,
+                // Over Modbus the coils do it properly; over Talos only the nearest equivalent.
+                ArmCommand::FaultReset => !has_modbus,
+                _ => true,
             }
-            // Over Modbus the coils do it properly; over Talos only the nearest equivalent.
-            ArmCommand::FaultReset => !has_modbus,
-            _ => true,
-        }
     }
 
     /// A joint jog's rate, deg/s, keeping the tool point under the cap until the 500 ms watchdog.
@@ -360,30 +358,28 @@ impl TalosSide {
         let polling = self.polling.clone();
         let joints = self.joints.clone();
         tokio::spawn(async move {
-            if let (Ok(state), Ok(feedback)) = (state, feedback) {
-                let (state, feedback) = (state.wait().await, feedback.wait().await);
-                if let (Ok(state), Ok(feedback)) = (state, feedback) {
-                    for exchange in [&state, &feedback] {
-                        let entry = LogEntry {
-                            poll: true,
-                            ..log_entry(exchange)
-                        };
-                        let _ = events.send(ArmEvent::Log(entry));
+            if let (Ok(state), Ok(feedback)) = (state, feedback)
+                && let (Ok(state), Ok(feedback)) = (state.wait().await, feedback.wait().await)
+            {
+                for exchange in [&state, &feedback] {
+                    let entry = LogEntry {
+                        poll: true,
+                        ..log_entry(exchange)
+                    };
+                    let _ = events.send(ArmEvent::Log(entry));
+                }
+                if let (
+                    Some(HwReply::GetArmState { state: arm }),
+                    Some(HwReply::GetActuatorFeedback { actuators }),
+                ) = (hw_reply(&state), hw_reply(&feedback))
+                {
+                    let telemetry = hw_telemetry::telemetry(&arm, &actuators);
+                    // Only a full set: a joint jog never carries a position not reported.
+                    if actuators.len() == 7 {
+                        joints.send_replace(Some(telemetry.joints.map(|j| j.position)));
                     }
-                    let latency = state.latency;
-                    if let (
-                        Some(HwReply::GetArmState { state }),
-                        Some(HwReply::GetActuatorFeedback { actuators }),
-                    ) = (hw_reply(&state), hw_reply(&feedback))
-                    {
-                        let telemetry = hw_telemetry::telemetry(&state, &actuators);
-                        // Only a full set: a joint jog never carries a position not reported.
-                        if actuators.len() == 7 {
-                            joints.send_replace(Some(telemetry.joints.map(|j| j.position)));
-                        }
-                        let _ = events.send(ArmEvent::Telemetry(Box::new(telemetry)));
-                        let _ = events.send(ArmEvent::Latency(latency));
-                    }
+                    let _ = events.send(ArmEvent::Telemetry(Box::new(telemetry)));
+                    let _ = events.send(ArmEvent::Latency(state.latency));
                 }
             }
             polling.store(false, Ordering::Release);
