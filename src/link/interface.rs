@@ -254,3 +254,11 @@ pub enum ArmEvent {
         reason: String,
     },
 }
+
+impl ArmEvent {
+    /// `command` failed with `error`.
+    pub fn failed(command: &ArmCommand, error: ArmError) -> ArmEvent {
+        let command = command.kind();
+        ArmEvent::Failed { command, error }
+    }
+}

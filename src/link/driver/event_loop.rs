@@ -196,10 +196,7 @@ impl DriverState {
     }
 
     fn refuse(&self, command: &ArmCommand, error: ArmError) {
-        self.emit(ArmEvent::Failed {
-            command: command.kind(),
-            error,
-        });
+        self.emit(ArmEvent::failed(command, error));
     }
 
     /// Stops go everywhere, whichever link the motion came through.

@@ -274,10 +274,7 @@ impl State {
                     outcome: error.to_string(),
                     ..LogEntry::default()
                 }));
-                let _ = self.events.send(ArmEvent::Failed {
-                    command: command.kind(),
-                    error,
-                });
+                let _ = self.events.send(ArmEvent::failed(&command, error));
             }
         }
     }

@@ -65,10 +65,7 @@ pub(super) fn report_error(
     if unknown_asked {
         return;
     }
-    let _ = events.send(ArmEvent::Failed {
-        command: command.kind(),
-        error: failure_reason(error),
-    });
+    let _ = events.send(ArmEvent::failed(command, failure_reason(error)));
 }
 
 pub(super) fn failure_reason(error: TalosError) -> ArmError {
@@ -157,10 +154,7 @@ pub(super) async fn answers(
         }
     }
     if let Some(error) = stop_failure {
-        let _ = events.send(ArmEvent::Failed {
-            command: command.kind(),
-            error,
-        });
+        let _ = events.send(ArmEvent::failed(&command, error));
         return;
     }
     if !all_ok {

@@ -266,20 +266,16 @@ impl TalosSide {
         // Borrowed, not cloned: a clone of the link copies its address, on every key's path.
         let Some(link) = &self.link else {
             if !command.is_stop() {
-                let _ = self.events.send(ArmEvent::Failed {
-                    command: command.kind(),
-                    error: ArmError::NoTalosLink,
-                });
+                let _ = self
+                    .events
+                    .send(ArmEvent::failed(&command, ArmError::NoTalosLink));
             }
             return;
         };
         let requests = match self.requests(&command) {
             Ok(requests) => requests,
             Err(error) => {
-                let _ = self.events.send(ArmEvent::Failed {
-                    command: command.kind(),
-                    error,
-                });
+                let _ = self.events.send(ArmEvent::failed(&command, error));
                 return;
             }
         };
