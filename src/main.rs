@@ -3,11 +3,7 @@
 use armjog::cli::profiles::{ArgsError, EXIT_PROFILE, Parsed, parse_args};
 use armjog::cli::{Cli, Command, output};
 
-/// mimalloc rather than glibc's allocator: the console at rest wakes some 250 times a second
-/// (Modbus replies, reports, frames), each time with caches gone cold; with mimalloc it spends
-/// 7-23 % less CPU there than with glibc's (`benches/idle_ab.py`, both side by side). Its
-/// transparent huge pages are left off: with them it saved 15-41 %, but the console's resident
-/// memory went from 18 to 30-32 MB.
+/// mimalloc: less CPU at rest than glibc's allocator (figures in docs/development.md).
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
@@ -24,10 +20,8 @@ fn main() {
         }
     };
     let log_guards = armjog::logging::init(log_role(cli.command.as_ref()));
-    // One thread carries the key path: the tty is read, the app decides, the driver and the
-    // links write, all as tasks of this runtime, so a key becomes a frame on the socket without
-    // waking another thread (a reader thread and a multi-threaded runtime handed it across up
-    // to three). Drawing, the audit log and the built-in simulator have threads of their own.
+    // One thread carries the key path (tty read, app, driver, links): a key becomes a frame
+    // without waking another thread. Drawing, audit and the simulator have threads of their own.
     let runtime = match tokio::runtime::Builder::new_current_thread()
         .enable_all()
         .build()
@@ -39,9 +33,7 @@ fn main() {
         }
     };
     let code = runtime.block_on(async {
-        // Run as a task, not in place: a panic in it ends at the task's edge and the runtime
-        // goes on, so the driver still carries the STOP the console's panic hook asked for
-        // while the hook's own thread ends the process.
+        // A task: a panic ends at its edge and the runtime still carries the panic hook's STOP.
         match tokio::spawn(run(cli, arm)).await {
             Ok(code) => code,
             Err(e) if e.is_panic() => {
@@ -56,13 +48,9 @@ fn main() {
     std::process::exit(code);
 }
 
-/// Ends the process with clap's message (`--help`, `--version`, a refused argument). A refusal
-/// may echo a value with a control or bidi character in it (a path, an address): it is printed
-/// escaped, as every other message is (`output`), without clap's colours; help and the version
-/// as clap prints them.
+/// Ends the process with clap's message. A refusal is printed escaped (`output`): it may echo a
+/// value with control or bidi characters; help and the version as clap prints them.
 fn exit_clap(e: clap::Error) -> ! {
-    // Every refusal is printed as plain text, escaped: on a terminal clap would print the
-    // value as typed, escape sequences and all (its plain rendering drops them).
     if e.use_stderr() {
         output::print_error_lines(&e.to_string());
         std::process::exit(e.exit_code());

@@ -1,10 +1,7 @@
-//! The console's runtime: terminal, event loop, and the IO the state machine asks for.
-//!
-//! One `select!` over terminal events, arm events, the state machine's deadline, a render tick
-//! and signals. Frames are drawn on their own thread from a [`View`] of the app (see
-//! [`super::painter`]): the task that reads keys and sends their STOPs never waits for a draw.
-//! The terminal is restored on quit, error, panic and signal; the arm is told to stop first on
-//! every one of those paths.
+//! The console's runtime: one `select!` over terminal, arm, timer and signal events, doing the
+//! IO the app asks for. Frames are drawn on their own thread ([`super::painter`]), so keys never
+//! wait for a draw. On quit, error, panic and signal the arm is told to stop, then the terminal
+//! is restored.
 
 use std::io::Write as _;
 use std::path::PathBuf;
@@ -118,17 +115,14 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
                 arm_events,
                 painter,
             };
-            // A task of its own, boxed: a key's wake-up polls the loop straight from the
-            // runtime, not through this set-up and the command dispatch above it. Every page
-            // of each poll's stack frame is touched on each poll, and after a pause each one
-            // costs the key a fault (`benches/key_pages.py`).
+            // A boxed task of its own: a key's wake-up polls the loop, not this set-up's deeper
+            // stack frame, whose pages each cost a fault after a pause (`benches/key_pages.py`).
             let looped = tokio::spawn(Box::pin(loop_task(config, parts, size, draw_errors)));
             match looped.await {
                 Ok((result, parts)) => {
                     // The arm is told to stop before waiting for the frame in progress.
                     driver.send(ArmCommand::Stop);
-                    // Waited for off this thread: the driver and the links run on it, and
-                    // carry the stop meanwhile.
+                    // Waited for off this thread: the driver and links on it carry the stop.
                     let mut painter = parts.painter;
                     let closed = tokio::task::spawn_blocking(move || {
                         painter.close(Duration::from_millis(500));
@@ -137,8 +131,7 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
                     parts.audit.finish(Duration::from_secs(2)).await;
                     (result, Some(parts.book))
                 }
-                // The panic hook has stopped the arm and ends the process: the panic goes on
-                // here as it would have in this task.
+                // The panic hook has stopped the arm and ends the process.
                 Err(ended) if ended.is_panic() => std::panic::resume_unwind(ended.into_panic()),
                 // Only a runtime shutting down cancels it; the book went with it.
                 Err(ended) => (
@@ -221,12 +214,9 @@ struct Screen<'a> {
     errors: tokio::sync::mpsc::UnboundedReceiver<std::io::Error>,
 }
 
-/// On a panic anywhere (the event loop or any task): stop the arm, give the terminal back, report,
-/// and end the process. A console that lost part of itself must not go on driving an arm.
-///
-/// The driver runs on the runtime's one thread, which may be the one panicking: the hook does
-/// not wait there. It asks for the stop, leaves the rest to a thread of its own, and returns,
-/// so the panic ends at its task's edge and the runtime carries the stop while that thread waits.
+/// On a panic anywhere: stop the arm, give the terminal back, report, and end the process; a
+/// console that lost part of itself must not drive an arm. The hook does not wait on this thread
+/// (it may be the driver's): a thread of its own waits while the runtime carries the stop.
 fn install_panic_hook(stop: StopHandle, release_events: bool, drawing: Arc<AtomicBool>) {
     std::panic::set_hook(Box::new(move |info| {
         stop.stop();
@@ -237,8 +227,7 @@ fn install_panic_hook(stop: StopHandle, release_events: bool, drawing: Arc<Atomi
             std::thread::sleep(PANIC_STOP_WAIT);
             terminal::restore(release_events);
             tracing::error!("panic: {report}");
-            // Not `eprintln!`, which panics when stderr is gone (a terminal that hung up):
-            // this thread must reach the exit.
+            // Not `eprintln!`, which panics when stderr is gone: this thread must reach the exit.
             let _ = writeln!(std::io::stderr(), "{report}");
             std::process::exit(101);
         };
@@ -336,8 +325,7 @@ async fn event_loop(
             }
         };
         let Some(input) = input else {
-            // The last input's commands went out while this task waited (the driver and the
-            // links run on this thread): its records are made now, not in its burst.
+            // The last input's frames went out while this task waited: its records are made now.
             audit.record_handled();
             continue;
         };
@@ -373,11 +361,8 @@ async fn event_loop(
                 }
             }
         }
-        // The driver and the links run on this thread: they write the commands' frames before
-        // anything else runs here. Without the yield they still wrote them in the key's burst,
-        // but after this loop's next poll of everything it waits on: after a rest that cold
-        // code made a press->START some 10 % slower (under load a little faster: a yield polls
-        // the reactor, a syscall, before coming back).
+        // The driver and the links (on this thread) write the frames before this loop polls
+        // everything it waits on again (figures in docs/development.md).
         if sent {
             tokio::task::yield_now().await;
         }

@@ -69,12 +69,6 @@ pub enum ArmError {
 #[derive(Debug)]
 pub struct Shared<E>(Arc<E>);
 
-impl<E> Shared<E> {
-    pub fn get(&self) -> &E {
-        &self.0
-    }
-}
-
 impl<E> From<E> for Shared<E> {
     fn from(error: E) -> Shared<E> {
         Shared(Arc::new(error))

@@ -134,7 +134,7 @@ impl ArmCommand {
 }
 
 /// A named position's coordinates, as read back.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct PositionCoordinates {
     /// Tenths of millimetres.
     pub cartesian: Option<[i32; 3]>,
@@ -253,4 +253,12 @@ pub enum ArmEvent {
     StopUnconfirmed {
         reason: String,
     },
+}
+
+impl ArmEvent {
+    /// `command` failed with `error`.
+    pub fn failed(command: &ArmCommand, error: ArmError) -> ArmEvent {
+        let command = command.kind();
+        ArmEvent::Failed { command, error }
+    }
 }

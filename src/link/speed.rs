@@ -80,11 +80,6 @@ impl SpeedCap {
         }
     }
 
-    /// The tool speed at 100 %, m/s.
-    pub fn max_jog_speed(&self) -> f64 {
-        self.max_jog_speed
-    }
-
     /// The tool speed at 100 %, mm/s.
     pub fn max_mm_s(&self) -> f64 {
         self.max_jog_speed * 1000.0

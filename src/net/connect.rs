@@ -50,17 +50,15 @@ pub async fn connect_with_timeout(
                 .unwrap_or_else(|| std::io::Error::other("the name resolved to no address")),
         })
     };
-    match tokio::time::timeout(timeout, connect).await {
-        Ok(Ok(stream)) => {
-            let _ = stream.set_nodelay(true);
-            Ok(stream)
-        }
-        Ok(Err(e)) => Err(e),
-        Err(_) => Err(ConnectError::Timeout {
-            addr: addr.to_string(),
-            after: timeout,
-        }),
-    }
+    let timed_out = |_| ConnectError::Timeout {
+        addr: addr.to_string(),
+        after: timeout,
+    };
+    let stream = tokio::time::timeout(timeout, connect)
+        .await
+        .map_err(timed_out)??;
+    let _ = stream.set_nodelay(true);
+    Ok(stream)
 }
 
 #[cfg(test)]

@@ -53,10 +53,6 @@ impl<R: AsyncRead + Unpin> FrameReader<R> {
         }
     }
 
-    pub fn deadline(&self) -> Duration {
-        self.deadline
-    }
-
     /// The next frame or rejection; `None` once ended and all is reported.
     pub async fn next(&mut self) -> Option<io::Result<Decoded>> {
         loop {

@@ -45,9 +45,9 @@ impl Checksum {
         }
     }
 
-    /// Appends the checksum field for `bytes` (everything already in `out`).
-    pub fn append(self, out: &mut Vec<u8>) {
-        let value = self.compute(out);
+    /// Appends the checksum field of `out[start..]` (a frame's header and payload).
+    pub fn append(self, out: &mut Vec<u8>, start: usize) {
+        let value = self.compute(&out[start..]);
         match self {
             Checksum::Crc16 | Checksum::None => out.extend_from_slice(&value.to_be_bytes()),
             Checksum::Xor8 => out.push(value as u8),
@@ -116,7 +116,7 @@ mod tests {
     #[test]
     fn none_is_two_zero_bytes_and_accepts_anything() {
         let mut out = vec![1, 2, 3];
-        Checksum::None.append(&mut out);
+        Checksum::None.append(&mut out, 0);
         assert_eq!(out, [1, 2, 3, 0, 0]);
         assert!(Checksum::None.verify(&[1, 2, 3], 0xBEEF));
     }

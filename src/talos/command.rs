@@ -6,12 +6,13 @@ use std::fmt;
 pub const REPLY_BIT: u16 = 0x8000;
 
 macro_rules! commands {
+    // `$title`: the ICD's section title, the variant's doc.
     ($($variant:ident = $value:literal, $name:literal, $title:literal;)*) => {
         /// One ICD command, request side. [`CommandValue::reply_value`] gives its reply's value.
         #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
         #[repr(u16)]
         pub enum CommandValue {
-            $($variant = $value,)*
+            $(#[doc = $title] $variant = $value,)*
         }
 
         impl CommandValue {
@@ -29,13 +30,6 @@ macro_rules! commands {
             pub fn name(self) -> &'static str {
                 match self {
                     $(CommandValue::$variant => $name,)*
-                }
-            }
-
-            /// The ICD's section title.
-            pub fn title(self) -> &'static str {
-                match self {
-                    $(CommandValue::$variant => $title,)*
                 }
             }
         }

@@ -79,11 +79,7 @@ impl TalosFrame {
         out.extend_from_slice(&self.command.to_be_bytes());
         out.extend_from_slice(&length.to_be_bytes());
         out.extend_from_slice(&self.payload);
-        let sum = checksum.compute(&out[start..]);
-        match checksum.len() {
-            1 => out.push(sum as u8),
-            _ => out.extend_from_slice(&sum.to_be_bytes()),
-        }
+        checksum.append(out, start);
         Ok(())
     }
 
@@ -151,23 +147,13 @@ impl fmt::Display for Rejection {
 }
 
 /// A frame that fails the link's checksum dialect but is valid under another.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[error("checksum fails {} but fits {}", .used.as_str(), .fits.as_str())]
 pub struct ChecksumFit {
     /// The dialect the decoder was told to use.
     pub used: Checksum,
     /// The dialect the bytes fit.
     pub fits: Checksum,
-}
-
-impl fmt::Display for ChecksumFit {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "checksum fails {} but fits {}",
-            self.used.as_str(),
-            self.fits.as_str()
-        )
-    }
 }
 
 /// The checksum other than `used` under which `bytes` start a valid frame (`none`: two zeros).

@@ -3,6 +3,7 @@
 //! command and field a payload fails on.
 
 use super::command::CommandValue;
+use super::frame::TalosFrame;
 use super::name::{NameError, PositionName};
 use super::reader::{BeReader, Short};
 
@@ -21,6 +22,14 @@ pub enum EncodeError {
     },
     #[error("payload of {0} bytes does not fit the u16 Length field")]
     TooLong(usize),
+}
+
+/// `payload` as a frame, unless it is longer than the u16 Length field can say.
+pub(super) fn framed(id: u32, command: u16, payload: Vec<u8>) -> Result<TalosFrame, EncodeError> {
+    match payload.len() > usize::from(u16::MAX) {
+        true => Err(EncodeError::TooLong(payload.len())),
+        false => Ok(TalosFrame::new(id, command, payload)),
+    }
 }
 
 /// A frame whose payload does not match the ICD. Says which command and field.

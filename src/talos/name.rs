@@ -72,13 +72,6 @@ impl PositionName {
     pub fn as_str(&self) -> &str {
         &self.0
     }
-
-    /// Length byte then the name's bytes.
-    pub fn encode_into(&self, out: &mut Vec<u8>) {
-        // check() bounds the length to 255.
-        out.push(self.0.len() as u8);
-        out.extend_from_slice(self.0.as_bytes());
-    }
 }
 
 impl fmt::Display for PositionName {
@@ -133,7 +126,10 @@ mod tests {
     #[test]
     fn encodes_with_a_length_prefix_and_no_terminator() {
         let mut out = Vec::new();
-        PositionName::new("home2").unwrap().encode_into(&mut out);
+        let go_to = crate::talos::Request::GoToPosition {
+            name: "home2".into(),
+        };
+        go_to.encode_payload(&mut out).unwrap();
         assert_eq!(out, [0x05, b'h', b'o', b'm', b'e', b'2']);
     }
 }

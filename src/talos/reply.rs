@@ -6,7 +6,7 @@ use serde::Serialize;
 
 use super::command::CommandValue;
 use super::frame::TalosFrame;
-use super::message::{DecodeError, EncodeError, FieldReader};
+use super::message::{DecodeError, EncodeError, FieldReader, framed};
 use super::return_code::ReturnCode;
 
 /// One reply, as the ICD's "Receive" tables define it.
@@ -186,14 +186,7 @@ impl Reply {
         };
         let mut payload = Vec::with_capacity(capacity);
         self.encode_payload(&mut payload);
-        if payload.len() > usize::from(u16::MAX) {
-            return Err(EncodeError::TooLong(payload.len()));
-        }
-        Ok(TalosFrame::new(
-            request_id | 1,
-            self.command().reply_value(),
-            payload,
-        ))
+        framed(request_id | 1, self.command().reply_value(), payload)
     }
 
     /// Reads a reply frame. The reply bit must be set.

@@ -4,7 +4,7 @@
 
 use super::command::CommandValue;
 use super::frame::TalosFrame;
-use super::message::{DecodeError, EncodeError, FieldReader};
+use super::message::{DecodeError, EncodeError, FieldReader, framed};
 use super::name::PositionName;
 
 /// One request, as the ICD's "Send" tables define it.
@@ -250,10 +250,7 @@ impl Request {
     pub fn to_frame(&self, id: u32) -> Result<TalosFrame, EncodeError> {
         let mut payload = Vec::with_capacity(self.payload_capacity());
         self.encode_payload(&mut payload)?;
-        if payload.len() > usize::from(u16::MAX) {
-            return Err(EncodeError::TooLong(payload.len()));
-        }
-        Ok(TalosFrame::new(id, self.command().request_value(), payload))
+        framed(id, self.command().request_value(), payload)
     }
 
     /// Reads a request frame. The reply bit must be clear.

@@ -23,14 +23,6 @@ macro_rules! codes {
                     _ => None,
                 }
             }
-
-            /// One-line meaning for people.
-            pub fn meaning(self) -> Option<&'static str> {
-                match self.0 {
-                    $($value => Some($meaning),)*
-                    _ => None,
-                }
-            }
         }
     };
 }

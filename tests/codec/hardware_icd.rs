@@ -114,7 +114,11 @@ fn request_vectors() -> Vec<(u16, HwRequest, Vec<u8>)> {
             0x0002,
             HwRequest::SendActuatorCommand {
                 joint: 4,
-                command: ActuatorCommand::clear_faults(-2.5),
+                // Both fault flags cleared without moving: servoing off, setpoints at rest.
+                command: ActuatorCommand {
+                    flags: CommandFlags::CLEAR_MAJOR_FAULT | CommandFlags::CLEAR_MINOR_FAULT,
+                    ..ActuatorCommand::jog(-2.5, 0.0)
+                },
             },
             hex("04 0000000C C0200000 00000000 00000000 00000000"),
         ),

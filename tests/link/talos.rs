@@ -191,22 +191,6 @@ async fn connecting_to_a_closed_port_is_refused() {
 }
 
 #[tokio::test]
-async fn reconnect_with_backoff_reaches_an_operator_that_starts_late() {
-    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
-    let addr = listener.local_addr().unwrap().to_string();
-    drop(listener);
-    let late_addr = addr.clone();
-    tokio::spawn(async move {
-        tokio::time::sleep(Duration::from_millis(250)).await;
-        let listener = tokio::net::TcpListener::bind(&late_addr).await.unwrap();
-        let (_s, _) = listener.accept().await.unwrap();
-        tokio::time::sleep(Duration::from_secs(2)).await;
-    });
-    let connected = TalosLink::connect_with_backoff(config(&addr, Checksum::Crc16), 6).await;
-    assert!(connected.is_ok(), "{:?}", connected.err());
-}
-
-#[tokio::test]
 async fn ack_dialect_pairs_acks_in_order_and_refuses_typed_commands_locally() {
     let script: common::Script = Arc::new(|_: &TalosFrame| vec![Action::Write(b"ACK\0".to_vec())]);
     let mut op = TestOperator::start(Checksum::Xor8, script).await;

@@ -1,11 +1,6 @@
-//! One key sequence from the terminal's bytes, as crossterm's `KeyEvent`.
-//!
-//! crossterm's own parser is private to its reader, and that reader cannot drain the terminal
-//! (see [`super`]); this is a compact port of the parts of it the console receives (MIT,
-//! crossterm 0.29 `event/sys/unix/parse.rs`): plain and UTF-8 characters, control keys, alt
-//! prefixes, SS3 and CSI cursor and function keys with modifiers, `CSI … ~` special keys, the
-//! kitty keyboard protocol's `CSI … u` with event types and alternate keys, and focus reports.
-//! Mouse reports, cursor positions and protocol answers are recognised and dropped.
+//! One key sequence from the terminal's bytes, as crossterm's `KeyEvent`: a compact port of
+//! crossterm 0.29's private `event/sys/unix/parse.rs` (keys, kitty `CSI … u`, focus reports);
+//! mouse reports and protocol answers are recognised and dropped.
 //!
 //! The ported parts: Copyright (c) 2019 Timon, crossterm, under the MIT License, whose
 //! permission notice is `licenses/crossterm-MIT.txt` and applies to them.

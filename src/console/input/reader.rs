@@ -1,13 +1,8 @@
-//! The terminal, read by the console itself on the runtime's own thread: on each wake every
-//! readable byte is read and decoded at once (up to [`READ_BUDGET`]), so a key waits behind
-//! nothing that came before it, and is handled (its frame written) by the thread that read it:
-//! no other thread is woken between a key and its frame. The terminal is read only once the
-//! event loop has taken what was read before: when the loop falls behind, the terminal holds
-//! the rest, never this process.
-//!
-//! The descriptor is registered with the runtime's reactor through tokio's pipe receiver, whose
-//! unchecked constructor skips only its is-a-FIFO check: a tty (or a socket, in the tests)
-//! polls and reads the same way. (`AsyncFd` would need `unsafe` to register it.)
+//! The terminal, read on the runtime's own thread: each wake reads and decodes every readable
+//! byte (up to [`READ_BUDGET`]), so a key waits behind nothing and no other thread is woken
+//! between a key and its frame; it reads again only once the loop took what it made, so a backlog
+//! stays in the terminal. The descriptor is registered through tokio's pipe receiver
+//! (unchecked: a tty polls as a FIFO does); `AsyncFd` would need `unsafe`.
 
 use std::collections::VecDeque;
 use std::io;
@@ -185,11 +180,8 @@ enum Read {
     AllThereWas(usize),
 }
 
-/// Reads what the terminal has. A read shorter than the buffer took all there was, and also
-/// clears the reactor's readiness, sparing each key's burst the read that would find the
-/// terminal empty. The readiness cleared is the one seen before the read (`try_io` takes it
-/// first): bytes that came after the read, even ones the reactor has seen meanwhile on
-/// another thread, still wake the stream.
+/// Reads what the terminal has. A short read took all there was and clears the readiness seen
+/// before it (sparing the read that would find nothing); bytes that came after still wake.
 fn read_all_there_is(fd: &pipe::Receiver, buffer: &mut [u8]) -> io::Result<Read> {
     let mut short = None;
     let read = fd.try_io(|| match fd.try_read(buffer) {
@@ -235,9 +227,8 @@ impl Reader {
         }
     }
 
-    /// Reads every readable byte (up to the budget: a read shorter than the buffer took all
-    /// there was), handing over what each read makes: a flood is judged, and its keys dropped,
-    /// a read at a time, so it is never held.
+    /// Reads every readable byte (up to the budget), handing over what each read makes: a flood
+    /// is judged, and its keys dropped, a read at a time, so it is never held.
     fn drain(
         &mut self,
         fd: &pipe::Receiver,

@@ -55,20 +55,11 @@ pub struct Attempts {
 }
 
 impl Attempts {
-    /// Attempts for a configured link: the first one is due at once.
-    pub fn due_now() -> Attempts {
+    /// A configured link's first attempt is due at once; an unconfigured one's never.
+    pub fn new(configured: bool) -> Attempts {
         Attempts {
             in_flight: None,
-            next_at: Some(Instant::now()),
-            delay: RETRY_FIRST,
-        }
-    }
-
-    /// Attempts for a link that is not configured: none is ever due.
-    pub fn never() -> Attempts {
-        Attempts {
-            in_flight: None,
-            next_at: None,
+            next_at: configured.then(Instant::now),
             delay: RETRY_FIRST,
         }
     }
@@ -143,7 +134,7 @@ mod tests {
 
     #[tokio::test]
     async fn failed_attempts_back_off_from_one_second_to_five_and_reset_on_success() {
-        let mut attempts = Attempts::due_now();
+        let mut attempts = Attempts::new(true);
         let mut delays = Vec::new();
         for _ in 0..5 {
             let before = Instant::now();
@@ -160,13 +151,13 @@ mod tests {
         let before = Instant::now();
         attempts.lost();
         assert_eq!(due_in_secs(&attempts, before), Some(1));
-        assert_eq!(Attempts::never().due_at(), None);
+        assert_eq!(Attempts::new(false).due_at(), None);
     }
 
     #[tokio::test]
     async fn no_attempt_is_due_while_one_is_in_flight() {
         let (tx, mut rx) = mpsc::unbounded_channel();
-        let mut attempts = Attempts::due_now();
+        let mut attempts = Attempts::new(true);
         assert!(attempts.due_at().is_some());
         attempts.start(
             async {

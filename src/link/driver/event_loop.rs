@@ -82,10 +82,6 @@ pub(super) fn start(
     let (connected_tx, connected) = mpsc::unbounded_channel();
     let talos = TalosSide::new(&config, cap, talos_side_tx, joints.clone(), speed.clone());
     let guard = start_guard(&config, guard_reports_tx);
-    let attempts = |configured: bool| match configured {
-        true => Attempts::due_now(),
-        false => Attempts::never(),
-    };
     let hz = config.hw_telemetry_hz.clamp(0.5, 50.0);
     let mut hw_poll = tokio::time::interval(Duration::from_secs_f64(1.0 / hz));
     hw_poll.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
@@ -99,8 +95,8 @@ pub(super) fn start(
         hw_poll,
     };
     let driver = Box::new(DriverState {
-        talos_attempts: attempts(config.talos.is_some()),
-        modbus_attempts: attempts(config.modbus.is_some()),
+        talos_attempts: Attempts::new(config.talos.is_some()),
+        modbus_attempts: Attempts::new(config.modbus.is_some()),
         hw_telemetry: config.telemetry_source() == TelemetrySource::TalosHardware,
         config,
         events,
@@ -186,7 +182,7 @@ impl DriverState {
                     Some(mc) => ArmError::ModbusLinkDown {
                         addr: mc.addr.clone(),
                     },
-                    None if is_orientation_jog(&command) => {
+                    None if matches!(command, ArmCommand::Jog(JogMotion::Orientation { .. })) => {
                         ArmError::Unsupported(ORIENTATION_NEEDS_MODBUS)
                     }
                     None if matches!(command, ArmCommand::StartStored(_)) => {
@@ -200,10 +196,7 @@ impl DriverState {
     }
 
     fn refuse(&self, command: &ArmCommand, error: ArmError) {
-        self.emit(ArmEvent::Failed {
-            command: command.kind(),
-            error,
-        });
+        self.emit(ArmEvent::failed(command, error));
     }
 
     /// Stops go everywhere, whichever link the motion came through.
@@ -343,9 +336,8 @@ impl DriverState {
             if let Some(modbus) = &self.modbus {
                 modbus.send(ArmCommand::Stop);
             }
-            if self.config.talos.is_some() && !self.talos.is_down() {
-                self.talos.command(ArmCommand::Stop);
-            }
+            // Without a link the Talos side drops a stop silently.
+            self.talos.command(ArmCommand::Stop);
         }
         self.emit(report.into_event());
     }
@@ -394,10 +386,6 @@ impl DriverState {
 /// Past a crossing refresh's trip, and about when the other console's next refresh falls due (100
 /// ms apart; it needs two samples to see this stop, `console/app/other_client.rs`).
 const EXIT_STOP_AGAIN: Duration = Duration::from_millis(100);
-
-fn is_orientation_jog(command: &ArmCommand) -> bool {
-    matches!(command, ArmCommand::Jog(JogMotion::Orientation { .. }))
-}
 
 /// Starts the stop guard when the configuration needs one.
 fn start_guard(

@@ -17,24 +17,17 @@ pub enum LinkState {
 }
 
 /// Why a link is not connected.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum LostReason {
     /// A connect or handshake failed.
+    #[error("{0}")]
     ConnectFailed(ConnectError),
     /// The Talos link was up and dropped.
+    #[error("talos: {0}")]
     TalosDisconnected(String),
     /// The Modbus link was up and dropped.
+    #[error("modbus: {0}")]
     ModbusDisconnected(String),
-}
-
-impl std::fmt::Display for LostReason {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            LostReason::ConnectFailed(error) => error.fmt(f),
-            LostReason::TalosDisconnected(reason) => write!(f, "talos: {reason}"),
-            LostReason::ModbusDisconnected(reason) => write!(f, "modbus: {reason}"),
-        }
-    }
 }
 
 /// How the status bar names a Modbus link that is up.

@@ -11,7 +11,7 @@ use crate::kortex::{PolarPanSettings, Pose, ReferenceFrame, SpeedLimits, Stored,
 use crate::link::interface::{
     ArmCommand, ArmError, ArmEvent, CommandClass, JogMotion, LogEntry, StepMove, Traffic,
 };
-use crate::link::modbus::{ModbusError, ModbusLink, WriteReport};
+use crate::link::modbus::{ModbusError, ModbusLink, Snapshot, WriteReport};
 use crate::link::speed::{SpeedCap, fraction, is_settable};
 
 pub struct ModbusWorker {
@@ -127,12 +127,8 @@ fn without_stale_jogs(batch: Vec<ArmCommand>) -> Vec<ArmCommand> {
 }
 
 impl State {
-    fn current_pose(&self) -> Option<Pose> {
-        self.link
-            .subscribe()
-            .borrow()
-            .as_ref()
-            .map(|s| s.telemetry.tcp.pose)
+    fn latest<T>(&self, read: impl FnOnce(&Snapshot) -> T) -> Option<T> {
+        self.link.subscribe().borrow().as_ref().map(read)
     }
 
     /// The tool speed at the speed in force, m/s: the one cap every motion keeps.
@@ -146,21 +142,30 @@ impl State {
     }
 
     /// Starts a stored run (home among them) with the limits lowered to the move cap.
-    async fn start_stored(&self, stored: Stored) -> Result<WriteReport, ModbusError> {
-        self.link
-            .start_stored_capped(stored.id, stored.motion, self.move_cap())
-            .await
+    async fn start_stored(&self, stored: Stored) -> Result<Option<WriteReport>, ArmError> {
+        let cap = self.move_cap();
+        wrap(
+            self.link
+                .start_stored_capped(stored.id, stored.motion, cap)
+                .await,
+        )
+    }
+
+    /// A base-frame move to `pose` with the limits lowered to the move cap.
+    async fn go_to(&self, pose: Pose) -> Result<Option<WriteReport>, ArmError> {
+        let cap = self.move_cap();
+        wrap(
+            self.link
+                .go_to_pose_capped(ReferenceFrame::Base, pose, cap)
+                .await,
+        )
     }
 
     /// An orientation jog's rate, deg/s, never above the arm's own usable angular limit.
     fn angular_speed(&self) -> f32 {
         let wanted = self.cap.turn_rate(self.speed.percent());
         let arm_limit = self
-            .link
-            .subscribe()
-            .borrow()
-            .as_ref()
-            .map(|s| s.telemetry.speed_limits.angular)
+            .latest(|s| s.telemetry.speed_limits.angular)
             .filter(|limit| limit.is_finite() && *limit > 0.0);
         arm_limit.map_or(wanted, |limit| wanted.min(limit))
     }
@@ -180,15 +185,12 @@ impl State {
     async fn execute(&mut self, command: ArmCommand) {
         let result: Result<Option<WriteReport>, ArmError> = match &command {
             ArmCommand::Jog(JogMotion::Cartesian { x, y, z }) => {
-                let d = [f64::from(*x), f64::from(*y), f64::from(*z)];
-                let norm = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt().max(1.0);
-                // Diagonals are normalised: the tool never exceeds the jog speed cap.
-                let v = f64::from(self.tool_speed()) / norm;
+                let [x, y, z] = along([*x, *y, *z], self.tool_speed());
                 let twist = Twist {
-                    x: (d[0] * v) as f32,
-                    y: (d[1] * v) as f32,
-                    z: (d[2] * v) as f32,
-                    ..Twist::default()
+                    x,
+                    y,
+                    z,
+                    ..Twist::ZERO
                 };
                 wrap(self.link.jog_twist(self.frame, twist).await)
             }
@@ -212,22 +214,11 @@ impl State {
             ArmCommand::QuickStop => wrap(self.link.quick_stop().await),
             ArmCommand::FaultReset => wrap(self.link.fault_reset().await),
             // Moves keep the arm's own planning, under lowered limits (`move_cap`).
-            ArmCommand::Home => wrap(self.start_stored(self.link.config().home_action()).await),
-            ArmCommand::StartStored(stored) => wrap(self.start_stored(*stored).await),
-            ArmCommand::MoveToPose(pose) => wrap(
-                self.link
-                    .go_to_pose_capped(ReferenceFrame::Base, *pose, self.move_cap())
-                    .await,
-            ),
-            ArmCommand::Step(step) => match self.current_pose() {
-                Some(pose) => {
-                    let target = step_target(pose, *step);
-                    wrap(
-                        self.link
-                            .go_to_pose_capped(ReferenceFrame::Base, target, self.move_cap())
-                            .await,
-                    )
-                }
+            ArmCommand::Home => self.start_stored(self.link.config().home_action()).await,
+            ArmCommand::StartStored(stored) => self.start_stored(*stored).await,
+            ArmCommand::MoveToPose(pose) => self.go_to(*pose).await,
+            ArmCommand::Step(step) => match self.latest(|s| s.telemetry.tcp.pose) {
+                Some(pose) => self.go_to(step_target(pose, *step)).await,
                 None => Err(ArmError::NoPose),
             },
             // Never written to the arm's limits (216-219): those are the integrator's.
@@ -261,8 +252,6 @@ impl State {
                     let starts =
                         matches!(command.class(), CommandClass::Motion { runs_to_end: true });
                     let _ = self.events.send(ArmEvent::Log(LogEntry {
-                        id: None,
-                        poll: false,
                         count: 1,
                         name: label.to_string(),
                         outcome: format!(
@@ -273,41 +262,40 @@ impl State {
                         ok: true,
                         latency: Some(report.elapsed),
                         traffic: Traffic::Modbus(report.writes),
+                        ..LogEntry::default()
                     }));
                 }
                 let _ = self.events.send(ArmEvent::Done { command });
             }
             Err(error) => {
                 let _ = self.events.send(ArmEvent::Log(LogEntry {
-                    id: None,
-                    poll: false,
                     count: 1,
                     name: label.to_string(),
                     outcome: error.to_string(),
-                    ok: false,
-                    latency: None,
-                    traffic: Traffic::None,
+                    ..LogEntry::default()
                 }));
-                let _ = self.events.send(ArmEvent::Failed {
-                    command: command.kind(),
-                    error,
-                });
+                let _ = self.events.send(ArmEvent::failed(&command, error));
             }
         }
     }
 }
 
 /// A turn about the tool point at `rate` deg/s along the held directions (diagonals normalised).
-pub fn turn_twist(directions: [i8; 3], rate: f32) -> Twist {
-    let d = directions.map(f32::from);
-    let norm = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt().max(1.0);
-    let w = rate / norm;
+fn turn_twist(directions: [i8; 3], rate: f32) -> Twist {
+    let [theta_x, theta_y, theta_z] = along(directions, rate);
     Twist {
-        theta_x: d[0] * w,
-        theta_y: d[1] * w,
-        theta_z: d[2] * w,
+        theta_x,
+        theta_y,
+        theta_z,
         ..Twist::ZERO
     }
+}
+
+/// `total` along the held directions: a diagonal is normalised, never faster than `total`.
+fn along(directions: [i8; 3], total: f32) -> [f32; 3] {
+    let d = directions.map(f64::from);
+    let each = f64::from(total) / d.iter().map(|v| v * v).sum::<f64>().sqrt().max(1.0);
+    d.map(|v| (v * each) as f32)
 }
 
 fn wrap(result: Result<WriteReport, ModbusError>) -> Result<Option<WriteReport>, ArmError> {

@@ -47,7 +47,7 @@ fn a_cap_is_above_0_and_at_most_the_twists_limit() {
             "{refused}"
         );
     }
-    assert!((cap(0.5).max_jog_speed() - 0.5).abs() < 1e-12);
+    assert!((cap(0.5).max_jog_speed - 0.5).abs() < 1e-12);
     assert!((cap(0.000_1).max_mm_s() - 0.1).abs() < 1e-12);
     assert_eq!(
         SpeedCapError::OutOfRange.to_string(),

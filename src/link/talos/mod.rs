@@ -1,26 +1,15 @@
-//! Async client for a Talos operator.
+//! Async client for a Talos operator. One task (`task.rs`) owns the transport, stamps each
+//! request with the next even command id and pairs its reply (id | 1); what it cannot pair is
+//! reported as a [`TalosEvent`], never dropped silently. [`TalosLink::submit`] never waits: a
+//! full queue ([`QUEUE_DEPTH`]) or a write stalled past [`WRITE_STALL`] ends the link.
 //!
-//! One task (`task.rs`) owns the transport: TCP, or any `AsyncRead + AsyncWrite`. Requests
-//! reach it over a channel with a oneshot for the answer; it stamps each with the next even
-//! command id, writes it, and pairs the reply (id | 1) when it arrives. Anything it cannot
-//! pair (an unknown id, a late reply, a corrupt frame) is reported as a [`TalosEvent`], never
-//! dropped silently.
+//! Safety: once anything that may move the arm went out and no full stop set
+//! ([`crate::talos::stop_requests`]) since, a link dropped by its callers, or failing on its read
+//! side, sends the stop set before closing rather than leave it to the operator's 500 ms watchdog.
 //!
-//! Safety: once anything that may move the arm went out (a continuous START, a joint jog, a
-//! discrete step, home, go-to) and no full stop set ([`crate::talos::stop_requests`]) since,
-//! dropping the link (the task losing its callers) sends the whole stop set before closing,
-//! rather than leaving it to the operator's 500 ms watchdog; so does a link that fails on its
-//! read side while it can still write.
-//!
-//! Nothing here waits on the operator for a caller: [`TalosLink::submit`] is a plain function
-//! that queues or fails at once. A full queue ([`QUEUE_DEPTH`] requests unsent) ends the link,
-//! and so does a write that cannot complete within [`WRITE_STALL`] (an operator that stopped
-//! reading): every pending request fails and [`TalosEvent::Disconnected`] says why.
-//!
-//! Ack dialect: an ACK carries no id, so one lost ACK would misalign every later pairing. A
-//! request whose ACK has not come within its timeout therefore leaves the in-order queue (a
-//! late ACK for it is then absorbed, not paired with a newer request), and a STOP without an
-//! ACK is re-sent ([`STOP_ACK_TRIES`] frames, [`STOP_ACK_INTERVAL`] apart) before it fails.
+//! Ack dialect: an ACK carries no id, so a request whose ACK is late leaves the in-order queue
+//! (its late ACK is absorbed), and a STOP is re-sent ([`STOP_ACK_TRIES`], [`STOP_ACK_INTERVAL`]
+//! apart) before it fails.
 
 mod hint;
 mod motion;
@@ -217,8 +206,7 @@ impl fmt::Debug for TalosLink {
 }
 
 impl TalosLink {
-    /// Opens a TCP connection within the connect timeout. Returns the link and the receiver of
-    /// its unsolicited events.
+    /// Opens a TCP connection within the connect timeout; returns the link and its events.
     pub async fn connect(
         config: TalosConfig,
     ) -> Result<(TalosLink, mpsc::UnboundedReceiver<TalosEvent>), TalosError> {
@@ -226,9 +214,7 @@ impl TalosLink {
         Ok(Self::over(stream, config))
     }
 
-    /// Runs a link over an already connected transport (a TCP stream, or an in-memory one in
-    /// tests). Returns the link and the receiver of its unsolicited events. Needs a tokio
-    /// runtime: it spawns the task that owns the transport.
+    /// Runs a link over a connected transport (in-memory in tests); spawns its task.
     pub fn over<S>(
         stream: S,
         config: TalosConfig,
@@ -254,40 +240,14 @@ impl TalosLink {
         )
     }
 
-    /// Connects, retrying with exponential backoff (100 ms doubling to 2 s) until `attempts`
-    /// connection attempts have failed.
-    pub async fn connect_with_backoff(
-        config: TalosConfig,
-        attempts: u32,
-    ) -> Result<(TalosLink, mpsc::UnboundedReceiver<TalosEvent>), TalosError> {
-        let mut delay = Duration::from_millis(100);
-        let mut tried = 0;
-        loop {
-            tried += 1;
-            match Self::connect(config.clone()).await {
-                Ok(link) => return Ok(link),
-                Err(e) if tried >= attempts.max(1) => return Err(e),
-                Err(e) => tracing::info!("talos connect attempt {tried} failed: {e}"),
-            }
-            tokio::time::sleep(delay).await;
-            delay = (delay * 2).min(Duration::from_secs(2));
-        }
-    }
-
-    pub fn config(&self) -> &TalosConfig {
-        &self.config
-    }
-
     /// Sends `request` and waits for its answer within the request timeout. A reply with a
     /// non-zero return code is `Err(TalosError::ReturnCode)`, carrying the whole exchange.
     pub async fn request(&self, request: Request) -> Result<Exchange, TalosError> {
         self.submit(request)?.wait().await
     }
 
-    /// Queues `request` for sending and returns at once with a handle on its answer; never
-    /// waits. Requests go on the wire in the order they were submitted, so a STOP submitted
-    /// after a START is never overtaken by it, while the caller need not wait for the START's
-    /// reply. A full queue fails the request and ends the link (see the module docs).
+    /// Queues `request` and returns at once with a handle on its answer. Requests go out in the
+    /// order submitted (a STOP is never overtaken by an earlier START); a full queue ends the link.
     pub fn submit(&self, request: Request) -> Result<PendingReply, TalosError> {
         let command = request.command();
         if !self.config.dialect.supports(command) {

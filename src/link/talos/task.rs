@@ -35,26 +35,10 @@ struct Pending {
     answer: AnswerTx,
 }
 
-/// Why the link ended, and whether its write side may still carry a stop.
-struct End {
-    reason: String,
-    writable: bool,
-}
-
-impl End {
-    fn write(reason: String) -> End {
-        End {
-            reason,
-            writable: false,
-        }
-    }
-
-    fn read(reason: String) -> End {
-        End {
-            reason,
-            writable: true,
-        }
-    }
+/// Why the link ended, on which side: after a read-side end the write side may still carry a stop.
+enum End {
+    Write(String),
+    Read(String),
 }
 
 pub(super) struct LinkTask {
@@ -149,7 +133,7 @@ impl LinkTask {
                 // of the runtime's timer wheel); replies last, so an operator that floods them
                 // never holds up an overdue STOP's re-send or the requests' deadlines.
                 biased;
-                () = self.overflow.notified() => break End::write(super::queue_full()),
+                () = self.overflow.notified() => break End::Write(super::queue_full()),
                 job = jobs.recv() => match job {
                     Some(job) => {
                         // What else is queued goes in the same write: a stop set is one segment.
@@ -160,7 +144,7 @@ impl LinkTask {
                             batch.push(job);
                         }
                         if let Err(reason) = self.send(&mut writer, batch).await {
-                            break End::write(reason);
+                            break End::Write(reason);
                         }
                     }
                     None => {
@@ -171,7 +155,7 @@ impl LinkTask {
                 },
                 _ = ack_expiry.fired(), if ack_expiry.armed() => {
                     if let Err(reason) = self.expire_acks(&mut writer).await {
-                        break End::write(reason);
+                        break End::Write(reason);
                     }
                 }
                 _ = sweep.tick() => self.sweep(),
@@ -183,31 +167,27 @@ impl LinkTask {
                         Some(Ok(Incoming::Ack(AckItem::Garbage(n)))) => {
                             self.event(TalosEvent::UnexpectedAckBytes(n));
                         }
-                        Some(Err(e)) => break End::read(format!("read failed: {}", io_error_words(&e))),
-                        None => break End::read("the operator closed the connection".to_string()),
+                        Some(Err(e)) => break End::Read(format!("read failed: {}", io_error_words(&e))),
+                        None => break End::Read("the operator closed the connection".to_string()),
                     }
                 }
             }
         };
-        let reason = end.reason;
+        let (reason, writable) = match end {
+            End::Write(reason) => (reason, false),
+            End::Read(reason) => (reason, true),
+        };
         tracing::warn!("talos link lost: {reason}");
-        for (_, p) in self.pending.drain() {
-            let _ = p.answer.send(Err(TalosError::Disconnected {
-                reason: reason.clone(),
-            }));
-        }
-        for wait in self.ack_queue.drain(..) {
-            let _ = wait.pending.answer.send(Err(TalosError::Disconnected {
-                reason: reason.clone(),
-            }));
+        let waiting = self.pending.drain().map(|(_, p)| p);
+        for p in waiting.chain(self.ack_queue.drain(..).map(|w| w.pending)) {
+            let reason = reason.clone();
+            let _ = p.answer.send(Err(TalosError::Disconnected { reason }));
         }
         self.event(TalosEvent::Disconnected { reason });
         // Fail later callers at once rather than letting them time out.
         jobs.close();
         // A link that failed on its read side may still carry the stop set.
-        if end.writable
-            && let Err(reason) = self.write_stops(&mut writer).await
-        {
+        if writable && let Err(reason) = self.write_stops(&mut writer).await {
             tracing::warn!("talos: the stop set after the link was lost: {reason}");
         }
         while let Some(job) = jobs.recv().await {

@@ -38,10 +38,6 @@ impl FrameCodec {
         }
     }
 
-    pub fn checksum(&self) -> Checksum {
-        self.checksum
-    }
-
     /// Most bytes the decoder ever holds waiting for one frame.
     pub fn max_frame_len(&self) -> usize {
         HEADER_LEN + self.max_payload + self.checksum.len()
@@ -65,13 +61,7 @@ impl FrameCodec {
             needed,
             after,
         };
-        if self.first.is_none() {
-            let fits = self.synced.then(|| self.fits_other_checksum(src)).flatten();
-            self.first = Some((reason, header_at(src), fits));
-        }
-        self.synced = false;
-        src.advance(1);
-        self.discarded += 1;
+        self.drop_first_byte(src, reason, header_at(src));
         for _ in 1..overdue {
             let complete = matches!(
                 parse_frame(src, self.checksum, self.max_payload, true),
@@ -106,16 +96,7 @@ impl FrameCodec {
                     src.reserve(needed.saturating_sub(src.len()));
                     return None;
                 }
-                Parse::Invalid(reason, header) => {
-                    if self.first.is_none() {
-                        // Only a clean frame boundary is worth a second look under the others.
-                        let fits = self.synced.then(|| self.fits_other_checksum(src)).flatten();
-                        self.first = Some((reason, header, fits));
-                    }
-                    self.synced = false;
-                    src.advance(1);
-                    self.discarded += 1;
-                }
+                Parse::Invalid(reason, header) => self.drop_first_byte(src, reason, header),
             }
         }
     }
@@ -131,9 +112,18 @@ impl FrameCodec {
         }))
     }
 
-    /// Another checksum dialect under which `src` starts with a valid frame.
-    fn fits_other_checksum(&self, src: &[u8]) -> Option<ChecksumFit> {
-        checksum_that_fits(src, self.checksum, self.max_payload)
+    /// Drops `src`'s first byte, noting why if it begins a dropped run.
+    fn drop_first_byte(&mut self, src: &mut BytesMut, why: RejectReason, at: Option<FrameHeader>) {
+        if self.first.is_none() {
+            // Only a clean frame boundary is worth a second look under the other checksums.
+            let fits = self
+                .synced
+                .then(|| checksum_that_fits(src, self.checksum, self.max_payload));
+            self.first = Some((why, at, fits.flatten()));
+        }
+        self.synced = false;
+        src.advance(1);
+        self.discarded += 1;
     }
 }
 
@@ -189,9 +179,8 @@ impl Encoder<&TalosFrame> for FrameCodec {
     type Error = std::io::Error;
 
     fn encode(&mut self, frame: &TalosFrame, dst: &mut BytesMut) -> Result<(), Self::Error> {
-        let mut bytes = Vec::with_capacity(frame.encoded_len(self.checksum));
-        frame
-            .encode_into(self.checksum, &mut bytes)
+        let bytes = frame
+            .to_bytes(self.checksum)
             .map_err(|e| std::io::Error::new(std::io::ErrorKind::InvalidInput, e))?;
         dst.extend_from_slice(&bytes);
         Ok(())

@@ -187,15 +187,6 @@ impl StatusFlags {
 pub struct ArmFlags(pub u32);
 
 impl ArmFlags {
-    pub const fn bits(self) -> u32 {
-        self.0
-    }
-
-    /// Whether every bit of `other` is set in `self`.
-    pub const fn contains(self, other: ArmFlags) -> bool {
-        self.0 & other.0 == other.0
-    }
-
     /// snake_case names of the set bits, ascending; unnamed bits as `unknown_bit_N`.
     pub fn names(&self) -> Vec<String> {
         FlagSet::from_bits(self.0).names()
@@ -205,13 +196,6 @@ impl ArmFlags {
 impl From<Flag> for ArmFlags {
     fn from(flag: Flag) -> ArmFlags {
         ArmFlags(flag.bit())
-    }
-}
-
-impl BitOr for ArmFlags {
-    type Output = ArmFlags;
-    fn bitor(self, other: ArmFlags) -> ArmFlags {
-        ArmFlags(self.0 | other.0)
     }
 }
 
@@ -226,7 +210,8 @@ impl fmt::Display for ArmFlags {
     }
 }
 
-/// Arm state, same values as Kinova Modbus input register 0. Unknown values are kept raw.
+/// Arm state, same values as Kinova Modbus input register 0 (named by
+/// [`crate::kortex::RobotState`]). Unknown values are kept raw.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize)]
 #[serde(transparent)]
 pub struct RobotState(pub u16);

@@ -84,12 +84,7 @@ impl HwRequest {
             HwRequest::SendActuatorCommand { joint, command } => {
                 out.push(*joint);
                 out.extend_from_slice(&command.flags.0.to_be_bytes());
-                for value in [
-                    command.position_deg,
-                    command.velocity_deg_s,
-                    command.torque_nm,
-                    command.current_a,
-                ] {
+                for value in command.setpoints() {
                     out.extend_from_slice(&value.to_be_bytes());
                 }
             }
@@ -122,16 +117,17 @@ impl HwRequest {
                 command.validate()?;
                 Ok(HwRequest::SendActuatorCommand { joint, command })
             }
-            GET_ARM_STATE => Reader::exact(subcommand, payload, 0).map(|_| HwRequest::GetArmState),
-            STOP_ALL_JOINTS => {
-                Reader::exact(subcommand, payload, 0).map(|_| HwRequest::StopAllJoints)
-            }
-            CLEAR_ALL_FAULTS => {
-                Reader::exact(subcommand, payload, 0).map(|_| HwRequest::ClearAllFaults)
-            }
+            GET_ARM_STATE => empty(subcommand, payload, HwRequest::GetArmState),
+            STOP_ALL_JOINTS => empty(subcommand, payload, HwRequest::StopAllJoints),
+            CLEAR_ALL_FAULTS => empty(subcommand, payload, HwRequest::ClearAllFaults),
             other => Err(HwError::UnknownSubcommand(other)),
         }
     }
+}
+
+/// `value` for a subcommand whose payload is empty, as it must be.
+fn empty<T>(subcommand: u16, payload: &[u8], value: T) -> Result<T, HwError> {
+    Reader::exact(subcommand, payload, 0).map(|_| value)
 }
 
 /// A reply payload with return code OK; any other code has an empty payload.
@@ -250,12 +246,8 @@ impl HwReply {
                 let state = ArmState::read(&mut r)?;
                 Ok(HwReply::GetArmState { state })
             }
-            STOP_ALL_JOINTS => {
-                Reader::exact(subcommand, payload, 0).map(|_| HwReply::StopAllJoints)
-            }
-            CLEAR_ALL_FAULTS => {
-                Reader::exact(subcommand, payload, 0).map(|_| HwReply::ClearAllFaults)
-            }
+            STOP_ALL_JOINTS => empty(subcommand, payload, HwReply::StopAllJoints),
+            CLEAR_ALL_FAULTS => empty(subcommand, payload, HwReply::ClearAllFaults),
             other => Err(HwError::UnknownSubcommand(other)),
         }
     }

@@ -29,17 +29,6 @@ impl ActuatorCommand {
         }
     }
 
-    /// Clear both fault flags without moving: servoing off, setpoints at rest.
-    pub fn clear_faults(position_deg: f32) -> Self {
-        ActuatorCommand {
-            flags: CommandFlags::CLEAR_MAJOR_FAULT | CommandFlags::CLEAR_MINOR_FAULT,
-            position_deg,
-            velocity_deg_s: 0.0,
-            torque_nm: 0.0,
-            current_a: 0.0,
-        }
-    }
-
     /// No undefined flag bit, every setpoint finite.
     pub fn validate(&self) -> Result<(), HwError> {
         let bits = self.flags.undefined_bits();
@@ -49,10 +38,21 @@ impl ActuatorCommand {
                 bits,
             });
         }
-        check_finite("position_deg", self.position_deg)?;
-        check_finite("velocity_deg_s", self.velocity_deg_s)?;
-        check_finite("torque_nm", self.torque_nm)?;
-        check_finite("current_a", self.current_a)
+        let [position, velocity, torque, current] = self.setpoints();
+        check_finite("position_deg", position)?;
+        check_finite("velocity_deg_s", velocity)?;
+        check_finite("torque_nm", torque)?;
+        check_finite("current_a", current)
+    }
+
+    /// Position, velocity, torque and current, in wire order.
+    pub(super) fn setpoints(&self) -> [f32; 4] {
+        [
+            self.position_deg,
+            self.velocity_deg_s,
+            self.torque_nm,
+            self.current_a,
+        ]
     }
 }
 

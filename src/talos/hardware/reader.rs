@@ -1,38 +1,34 @@
 //! Field checks and the hardware view of the shared big-endian reader.
 
+use std::cmp::Ordering;
+
 use super::{HwError, JOINT_COUNT};
 use crate::talos::reader::{BeReader, Short};
 
 pub(super) fn check_joint(joint: u8) -> Result<(), HwError> {
-    if (1..=JOINT_COUNT).contains(&joint) {
-        Ok(())
-    } else {
-        Err(HwError::JointOutOfRange(joint))
-    }
+    ensure(
+        (1..=JOINT_COUNT).contains(&joint),
+        HwError::JointOutOfRange(joint),
+    )
 }
 
 pub(super) fn check_selector(selector: u8) -> Result<(), HwError> {
-    if selector <= JOINT_COUNT {
-        Ok(())
-    } else {
-        Err(HwError::SelectorOutOfRange(selector))
-    }
+    ensure(
+        selector <= JOINT_COUNT,
+        HwError::SelectorOutOfRange(selector),
+    )
 }
 
 pub(super) fn check_order(previous: u8, joint: u8) -> Result<(), HwError> {
-    if joint > previous {
-        Ok(())
-    } else {
-        Err(HwError::JointOrder { previous, joint })
-    }
+    ensure(joint > previous, HwError::JointOrder { previous, joint })
 }
 
 pub(super) fn check_finite(field: &'static str, value: f32) -> Result<(), HwError> {
-    if value.is_finite() {
-        Ok(())
-    } else {
-        Err(HwError::NonFinite { field })
-    }
+    ensure(value.is_finite(), HwError::NonFinite { field })
+}
+
+fn ensure(holds: bool, error: HwError) -> Result<(), HwError> {
+    holds.then_some(()).ok_or(error)
 }
 
 /// The shared reader ([`crate::talos::reader`]) over a payload of checked length.
@@ -50,24 +46,22 @@ impl<'a> Reader<'a> {
         expected: usize,
     ) -> Result<Self, HwError> {
         let got = payload.len();
-        if got < expected {
-            Err(HwError::TooShort {
+        match got.cmp(&expected) {
+            Ordering::Less => Err(HwError::TooShort {
                 subcommand,
                 expected,
                 got,
-            })
-        } else if got > expected {
-            Err(HwError::TooLong {
+            }),
+            Ordering::Greater => Err(HwError::TooLong {
                 subcommand,
                 expected,
                 got,
-            })
-        } else {
-            Ok(Reader {
+            }),
+            Ordering::Equal => Ok(Reader {
                 bytes: BeReader::new(payload),
                 subcommand,
                 len: got,
-            })
+            }),
         }
     }
 

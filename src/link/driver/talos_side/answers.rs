@@ -65,10 +65,7 @@ pub(super) fn report_error(
     if unknown_asked {
         return;
     }
-    let _ = events.send(ArmEvent::Failed {
-        command: command.kind(),
-        error: failure_reason(error),
-    });
+    let _ = events.send(ArmEvent::failed(command, failure_reason(error)));
 }
 
 pub(super) fn failure_reason(error: TalosError) -> ArmError {
@@ -99,9 +96,6 @@ pub(super) fn log_error(
             count: 1,
             name: name.name().to_string(),
             outcome: error.to_string(),
-            ok: false,
-            latency: None,
-            traffic: Traffic::None,
             ..LogEntry::default()
         }));
     }
@@ -127,10 +121,7 @@ pub(super) async fn answers(
     speed_in_force: SpeedInForce,
 ) {
     let all_ok = !pending.is_empty();
-    let mut coordinates = PositionCoordinates {
-        cartesian: None,
-        polar: None,
-    };
+    let mut coordinates = PositionCoordinates::default();
     for p in pending {
         let (id, name) = (p.id(), p.command());
         match p.wait().await {
@@ -163,10 +154,7 @@ pub(super) async fn answers(
         }
     }
     if let Some(error) = stop_failure {
-        let _ = events.send(ArmEvent::Failed {
-            command: command.kind(),
-            error,
-        });
+        let _ = events.send(ArmEvent::failed(&command, error));
         return;
     }
     if !all_ok {

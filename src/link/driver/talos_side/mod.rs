@@ -10,9 +10,7 @@ use super::connect::ConnectError;
 use super::hw_telemetry;
 use super::speed::SpeedInForce;
 use super::{DriverConfig, JointPositions};
-use crate::link::interface::{
-    ArmCommand, ArmError, ArmEvent, JogMotion, LogEntry, StepMove, Traffic,
-};
+use crate::link::interface::{ArmCommand, ArmError, ArmEvent, JogMotion, LogEntry, StepMove};
 use crate::link::speed::{OperatorScale, SpeedCap};
 use crate::link::talos::{TalosConfig, TalosEvent};
 use crate::link::{Dialect, TalosLink};
@@ -141,19 +139,17 @@ impl TalosSide {
 
     /// Whether the Talos link carries `command` (rather than the Modbus link).
     pub fn handles(&self, command: &ArmCommand, has_modbus: bool) -> bool {
-        if self.config.is_none() {
-            return false;
-        }
-        match command {
-            // Never over Talos: its ICD has no orientation jog.
-            ArmCommand::Jog(JogMotion::Orientation { .. }) => false,
-            ArmCommand::MoveToPose(_) | ArmCommand::SetFrame(_) | ArmCommand::StartStored(_) => {
-                false
+        self.config.is_some()
+            && match command {
+                // The Talos ICD has no orientation jog, stored run by id, pose move or frame.
+                ArmCommand::Jog(JogMotion::Orientation { .. })
+                | ArmCommand::MoveToPose(_)
+                | ArmCommand::SetFrame(_)
+                | ArmCommand::StartStored(_) => false,
+                // Over Modbus the coils do it properly; over Talos only the nearest equivalent.
+                ArmCommand::FaultReset => !has_modbus,
+                _ => true,
             }
-            // Over Modbus the coils do it properly; over Talos only the nearest equivalent.
-            ArmCommand::FaultReset => !has_modbus,
-            _ => true,
-        }
     }
 
     /// A joint jog's rate, deg/s, keeping the tool point under the cap until the 500 ms watchdog.
@@ -270,20 +266,16 @@ impl TalosSide {
         // Borrowed, not cloned: a clone of the link copies its address, on every key's path.
         let Some(link) = &self.link else {
             if !command.is_stop() {
-                let _ = self.events.send(ArmEvent::Failed {
-                    command: command.kind(),
-                    error: ArmError::NoTalosLink,
-                });
+                let _ = self
+                    .events
+                    .send(ArmEvent::failed(&command, ArmError::NoTalosLink));
             }
             return;
         };
         let requests = match self.requests(&command) {
             Ok(requests) => requests,
             Err(error) => {
-                let _ = self.events.send(ArmEvent::Failed {
-                    command: command.kind(),
-                    error,
-                });
+                let _ = self.events.send(ArmEvent::failed(&command, error));
                 return;
             }
         };
@@ -348,8 +340,6 @@ impl TalosSide {
                     count: 1,
                     name: CommandValue::ExecuteHardwareOperation.name().to_string(),
                     outcome: e.to_string(),
-                    ok: false,
-                    traffic: Traffic::None,
                     ..LogEntry::default()
                 }));
                 return;
@@ -364,37 +354,28 @@ impl TalosSide {
         let polling = self.polling.clone();
         let joints = self.joints.clone();
         tokio::spawn(async move {
-            if let (Ok(state), Ok(feedback)) = (state, feedback) {
-                let (state, feedback) = (state.wait().await, feedback.wait().await);
-                if let (Ok(state), Ok(feedback)) = (state, feedback) {
-                    for exchange in [&state, &feedback] {
-                        let entry = LogEntry {
-                            poll: true,
-                            ..log_entry(exchange)
-                        };
-                        let _ = events.send(ArmEvent::Log(entry));
+            if let (Ok(state), Ok(feedback)) = (state, feedback)
+                && let (Ok(state), Ok(feedback)) = (state.wait().await, feedback.wait().await)
+            {
+                for exchange in [&state, &feedback] {
+                    let entry = LogEntry {
+                        poll: true,
+                        ..log_entry(exchange)
+                    };
+                    let _ = events.send(ArmEvent::Log(entry));
+                }
+                if let (
+                    Some(HwReply::GetArmState { state: arm }),
+                    Some(HwReply::GetActuatorFeedback { actuators }),
+                ) = (hw_reply(&state), hw_reply(&feedback))
+                {
+                    let telemetry = hw_telemetry::telemetry(&arm, &actuators);
+                    // Only a full set: a joint jog never carries a position not reported.
+                    if actuators.len() == 7 {
+                        joints.send_replace(Some(telemetry.joints.map(|j| j.position)));
                     }
-                    let latency = state.latency;
-                    if let (
-                        Some(HwReply::GetArmState { state }),
-                        Some(HwReply::GetActuatorFeedback { actuators }),
-                    ) = (hw_reply(&state), hw_reply(&feedback))
-                    {
-                        let mut positions = [0.0f32; 7];
-                        for a in &actuators {
-                            if let Some(slot) =
-                                positions.get_mut(usize::from(a.joint).wrapping_sub(1))
-                            {
-                                *slot = a.position_deg;
-                            }
-                        }
-                        if actuators.len() == 7 {
-                            joints.send_replace(Some(positions));
-                        }
-                        let telemetry = hw_telemetry::telemetry(&state, &actuators);
-                        let _ = events.send(ArmEvent::Telemetry(Box::new(telemetry)));
-                        let _ = events.send(ArmEvent::Latency(latency));
-                    }
+                    let _ = events.send(ArmEvent::Telemetry(Box::new(telemetry)));
+                    let _ = events.send(ArmEvent::Latency(state.latency));
                 }
             }
             polling.store(false, Ordering::Release);

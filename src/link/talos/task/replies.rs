@@ -77,14 +77,8 @@ impl LinkTask {
     /// Forgets requests whose callers gave up, so the map stays bounded. A reply that still
     /// comes for one is reported as unpaired.
     pub(super) fn sweep(&mut self) {
-        let stale: Vec<u32> = self
-            .pending
-            .iter()
-            .filter(|(_, p)| p.answer.is_closed() && p.sent.elapsed() > Duration::from_secs(5))
-            .map(|(id, _)| *id)
-            .collect();
-        for id in stale {
-            self.pending.remove(&id);
-        }
+        let stale =
+            |p: &super::Pending| p.answer.is_closed() && p.sent.elapsed() > Duration::from_secs(5);
+        self.pending.retain(|_, p| !stale(p));
     }
 }
