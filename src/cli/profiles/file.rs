@@ -80,20 +80,16 @@ pub fn known_keys() -> Vec<String> {
 
 /// Reads and checks the file at `path`.
 pub fn load(path: &Path) -> Result<Profiles, ProfileError> {
-    let text = match crate::files::read_to_string_bounded(path, CONFIG_LIMIT) {
-        Ok(text) => text,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            return Err(ProfileError::NoFile {
-                path: path.to_path_buf(),
-            });
-        }
-        Err(e) => {
-            return Err(ProfileError::Unreadable {
-                path: path.to_path_buf(),
+    let text = crate::files::read_to_string_bounded(path, CONFIG_LIMIT).map_err(|e| {
+        let path = path.to_path_buf();
+        match e.kind() {
+            std::io::ErrorKind::NotFound => ProfileError::NoFile { path },
+            _ => ProfileError::Unreadable {
+                path,
                 reason: e.to_string(),
-            });
+            },
         }
-    };
+    })?;
     parse(path, &text)
 }
 
