@@ -202,32 +202,24 @@ fn execute(world: &mut World) {
                         [v(210), v(212), v(214)],
                     );
                     let (linear, angular) = world.arm.speed_limits();
-                    Some(SimMotion::ToPose {
+                    SimMotion::ToPose {
                         target: pose,
                         linear_speed: linear,
                         angular_speed: angular.to_radians(),
-                    })
-                }
-                Some(MoveType::Twist) => {
-                    // An unknown code falls back to the base frame, as before.
-                    let frame = ReferenceFrame::from_code(block[3]).unwrap_or(ReferenceFrame::Base);
-                    Some(SimMotion::Twist {
-                        linear: Vector3::new(v(204), v(206), v(208)),
-                        angular: Vector3::new(v(210), v(212), v(214)).map(f64::to_radians),
-                        frame,
-                    })
-                }
-                // Unknown move types: nothing to run.
-                _ => None,
-            };
-            match motion {
-                // Refused: aborted, no flag (as the real arm).
-                Some(motion) => {
-                    if world.arm.command(motion, 0.0, false).is_err() {
-                        world.arm.mark_aborted();
                     }
                 }
-                None => world.arm.mark_aborted(),
+                // An unknown frame code falls back to the base frame, as before.
+                Some(MoveType::Twist) => SimMotion::Twist {
+                    linear: Vector3::new(v(204), v(206), v(208)),
+                    angular: Vector3::new(v(210), v(212), v(214)).map(f64::to_radians),
+                    frame: ReferenceFrame::from_code(block[3]).unwrap_or(ReferenceFrame::Base),
+                },
+                // Unknown move types: nothing to run.
+                _ => return world.arm.mark_aborted(),
+            };
+            // Refused: aborted, no flag (as the real arm).
+            if world.arm.command(motion, 0.0, false).is_err() {
+                world.arm.mark_aborted();
             }
         }
         _ => {}
