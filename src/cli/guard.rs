@@ -322,8 +322,14 @@ impl Stopper {
     /// was done on each, or (any failed) what failed and what was done.
     async fn stop(&self, why: &str, console: Console) -> Result<String, String> {
         let give_up = Instant::now() + STOP_PERSISTENCE;
-        let modbus = self.modbus.as_ref().map(|link| stop_modbus(link, why, give_up));
-        let talos = self.talos.as_ref().map(|talos| talos.stop(console, give_up));
+        let modbus = self
+            .modbus
+            .as_ref()
+            .map(|link| stop_modbus(link, why, give_up));
+        let talos = self
+            .talos
+            .as_ref()
+            .map(|talos| talos.stop(console, give_up));
         let (modbus, talos) = (OptionFuture::from(modbus), OptionFuture::from(talos));
         let (modbus, talos) = tokio::join!(modbus, talos);
         let outcomes: Vec<(&str, Result<String, String>)> = [("modbus", modbus), ("talos", talos)]

@@ -59,7 +59,9 @@ pub fn telemetry_hz(text: &str) -> Result<f64, BadValue> {
 
 /// A number as typed, in `range`; `outside` if it is not.
 fn within(text: &str, range: RangeInclusive<f64>, outside: BadValue) -> Result<f64, BadValue> {
-    Some(number(text)?).filter(|n| range.contains(n)).ok_or(outside)
+    Some(number(text)?)
+        .filter(|n| range.contains(n))
+        .ok_or(outside)
 }
 
 /// A stored action or sequence id, in [`crate::kortex::commands::STORED_IDS`].

@@ -66,8 +66,9 @@ struct Named {
 
 impl Named {
     fn completed(&self, took: Duration) -> String {
+        let (name, secs) = (self.name(), took.as_secs_f64());
         let colon = if self.home { ":" } else { "" };
-        format!("{}{colon} completed in {:.1} s", self.name(), took.as_secs_f64())
+        format!("{name}{colon} completed in {secs:.1} s")
     }
 
     fn failed(&self, why: &str) -> String {
