@@ -30,7 +30,6 @@ use crate::talos::{Reply, Request, ReturnCode};
 pub use clients::ClientId;
 use hardware::hardware_operation;
 pub use positions::SavedPosition;
-use positions::{iso, pose_of};
 pub use restore::RememberedPosition;
 
 /// The simulated operator's version, reported by Handshake.
