@@ -179,12 +179,8 @@ impl Arm {
         linear: Vector3<f64>,
         angular: Vector3<f64>,
     ) -> (Vector3<f64>, Vector3<f64>) {
-        let speed = linear.norm();
-        let scale = if speed > self.linear_cap() {
-            self.linear_cap() / speed
-        } else {
-            1.0
-        };
+        // Never up; a still (or NaN) speed keeps its twist.
+        let scale = (self.linear_cap() / linear.norm()).min(1.0);
         (
             linear * scale,
             cap(angular * scale, self.speed_limit_angular),
