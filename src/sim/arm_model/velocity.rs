@@ -218,7 +218,8 @@ fn makes_headway(j: &Jacobian, qd: &Joints, wanted: (Vector3<f64>, Vector3<f64>)
     wanted.norm_squared() == 0.0 || realised.dot(&wanted) >= 0.1 * wanted.norm_squared()
 }
 
-fn cap(v: Vector3<f64>, max: f64) -> Vector3<f64> {
+/// `v` shortened to `max` when longer.
+pub(super) fn cap(v: Vector3<f64>, max: f64) -> Vector3<f64> {
     let n = v.norm();
     if n > max && n > 0.0 { v * (max / n) } else { v }
 }
