@@ -46,17 +46,15 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &View, theme: &Theme) {
         } else {
             (numbers::elide(&outcome, room), String::new())
         };
+        let outcome_style = if entry.ok {
+            theme.ok()
+        } else {
+            theme.warning()
+        };
         let mut entry_lines = vec![Line::from(vec![
             Span::styled(id, theme.dim()),
             Span::raw(name),
-            Span::styled(
-                outcome,
-                if entry.ok {
-                    theme.ok()
-                } else {
-                    theme.warning()
-                },
-            ),
+            Span::styled(outcome, outcome_style),
             Span::styled(latency, theme.dim()),
         ])];
         if app.screen.hex {
@@ -65,9 +63,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &View, theme: &Theme) {
             }
         }
         // Newest at the bottom: collect newest first, then reverse.
-        for line in entry_lines.into_iter().rev() {
-            lines.push(line);
-        }
+        lines.extend(entry_lines.into_iter().rev());
         if lines.len() >= rows {
             break;
         }
