@@ -261,45 +261,39 @@ fn motion_line(view: &View, theme: &Theme, width: usize) -> Line<'static> {
 }
 
 fn motion_spans(view: &View, theme: &Theme, cut: Cut) -> Vec<Span<'static>> {
-    let mut spans = Vec::new();
     let mut reason = None;
-    match view.truth.motion.clone() {
-        MotionShown::Jog(motion @ JogMotion::Orientation { .. }) => spans.push(Span::styled(
-            format!(" JOG {} ", turn_text(view, motion)),
-            theme.moving(),
-        )),
-        MotionShown::Jog(motion) => spans.push(Span::styled(
-            format!(" JOG {} ", describe_motion(motion)),
-            theme.moving(),
-        )),
+    let (motion, style) = match view.truth.motion.clone() {
+        MotionShown::Jog(motion @ JogMotion::Orientation { .. }) => {
+            (format!(" JOG {} ", turn_text(view, motion)), theme.moving())
+        }
+        MotionShown::Jog(motion) => (format!(" JOG {} ", describe_motion(motion)), theme.moving()),
         MotionShown::Action {
             label,
             confirmed: true,
-        } => spans.push(Span::styled(format!(" MOVING: {label} "), theme.moving())),
+        } => (format!(" MOVING: {label} "), theme.moving()),
         // Nothing comes back to say when it ends.
         MotionShown::Action {
             label,
             confirmed: false,
-        } => spans.push(Span::styled(
-            format!(" MAY BE MOVING: {label} "),
-            theme.alarm(),
-        )),
-        MotionShown::Stopping => spans.push(Span::styled(" STOPPING ", theme.warning())),
-        MotionShown::MovedByAnotherClient => {
-            spans.push(Span::styled(" MOVED BY ANOTHER CLIENT ", theme.alarm()))
-        }
+        } => (format!(" MAY BE MOVING: {label} "), theme.alarm()),
+        MotionShown::Stopping => (" STOPPING ".into(), theme.warning()),
+        MotionShown::MovedByAnotherClient => (" MOVED BY ANOTHER CLIENT ".into(), theme.alarm()),
         MotionShown::MayBeMoving(why) => {
-            spans.push(Span::styled(" MAY BE MOVING ", theme.alarm()));
             reason = Some(why);
+            (" MAY BE MOVING ".into(), theme.alarm())
         }
         // The step size goes with the mode, so it shows at any width.
-        MotionShown::Idle if view.keys.step.enabled => spans.push(Span::raw(format!(
-            " STEP {} mm / {} deg ",
-            numbers::fixed(f64::from(view.keys.step.cartesian()) / 10.0, 1),
-            view.keys.step.polar()
-        ))),
-        MotionShown::Idle => spans.push(Span::raw(" idle ")),
-    }
+        MotionShown::Idle if view.keys.step.enabled => {
+            let step = view.keys.step;
+            let mm = numbers::fixed(f64::from(step.cartesian()) / 10.0, 1);
+            (
+                format!(" STEP {mm} mm / {} deg ", step.polar()),
+                Style::default(),
+            )
+        }
+        MotionShown::Idle => (" idle ".into(), Style::default()),
+    };
+    let mut spans = vec![Span::styled(motion, style)];
     // Why the arm may be moving, after the motion (the message line says it too).
     if let Some(why) = reason.filter(|_| cut.reason) {
         spans.push(Span::styled(format!("({why}) "), theme.warning()));
@@ -308,11 +302,7 @@ fn motion_spans(view: &View, theme: &Theme, cut: Cut) -> Vec<Span<'static>> {
     let separator = if cut.words { " | " } else { " " };
     // A joint near its limit or a singularity, after the motion: the next jog may be the one
     // that stops on it or turns a joint fast for little tool motion.
-    let mut text = if cut.limit {
-        warnings(view)
-    } else {
-        Vec::new()
-    };
+    let mut text = cut.limit.then(|| warnings(view)).unwrap_or_default();
     if !text.is_empty() {
         if !cut.words {
             text.truncate(1);
