@@ -5,7 +5,7 @@ use std::ffi::OsString;
 use clap::parser::ValueSource;
 use clap::{ArgMatches, Command, CommandFactory, FromArgMatches, Parser};
 
-use super::{Profile, ProfileError, config_path, load};
+use super::{Profile, ProfileError, config_path, first_line, load};
 use crate::cli::Cli;
 
 /// The commands a profile applies to (`None`: the console).
@@ -71,11 +71,9 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Parsed, ArgsError> {
             arm: Some(arm),
         }),
         Err(e) if e.kind() == clap::error::ErrorKind::MissingRequiredArgument => {
-            let rendered = e.to_string();
-            let first = rendered.lines().next().unwrap_or_default();
             Err(ArgsError::Incomplete(format!(
                 "{}: neither the command line nor the profile '{arm}' in {} gives it",
-                first.strip_prefix("error: ").unwrap_or(first),
+                first_line(&e),
                 file.display()
             )))
         }

@@ -34,6 +34,13 @@ pub fn config_path(given: Option<&Path>) -> Option<PathBuf> {
         .or_else(|| dirs::config_dir().map(|d| d.join("armjog").join("config.toml")))
 }
 
+/// The first line of clap's message, without its `error: `.
+fn first_line(e: &clap::Error) -> String {
+    let rendered = e.to_string();
+    let first = rendered.lines().next().unwrap_or_default();
+    first.strip_prefix("error: ").unwrap_or(first).to_string()
+}
+
 /// A config file's profiles, in the file's order.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Profiles {
