@@ -4,7 +4,6 @@
 use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Block, Borders};
 
 use super::numbers;
 use super::theme::Theme;
@@ -14,13 +13,11 @@ use crate::talos::hex::spaced_hex;
 
 pub fn draw(frame: &mut Frame, area: Rect, app: &View, theme: &Theme) {
     let title = if app.screen.hex {
-        " Command log (hex) "
+        "Command log (hex)"
     } else {
-        " Command log "
+        "Command log"
     };
-    let block = Block::default()
-        .borders(Borders::ALL)
-        .title(Span::styled(title, theme.title()));
+    let block = super::panel(title, theme);
     let rows = usize::from(area.height.saturating_sub(2));
     let width = usize::from(area.width.saturating_sub(2));
     let mut lines: Vec<Line> = Vec::new();
