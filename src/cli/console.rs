@@ -9,7 +9,7 @@ use super::output::fail;
 
 use crate::console::book_io;
 use crate::console::keymap::Keymap;
-use crate::console::positions::{BookError, PositionBook};
+use crate::console::positions::{BookError, PositionBook, book_key, default_path};
 use crate::console::run::{ConsoleSetup, run};
 use crate::kortex::PollPlan;
 use crate::link::Dialect;
@@ -150,14 +150,8 @@ pub async fn run_console(args: &ConsoleArgs, arm_name: Option<String>) -> i32 {
     // With no arm named, the console opens on the built-in simulated arm.
     let on_simulator = args.talos.is_none() && args.modbus.is_none();
     let positions_file = args.positions.clone().or_else(|| {
-        on_simulator
-            .then(|| {
-                crate::console::positions::default_path(&crate::console::positions::book_key(
-                    arm_name.as_deref(),
-                    "simulator",
-                ))
-            })
-            .flatten()
+        let book = book_key(arm_name.as_deref(), "simulator");
+        on_simulator.then(|| default_path(&book)).flatten()
     });
     // The built-in operator starts with the book's positions: read once, shared with the console.
     let positions_read = match (&positions_file, on_simulator) {

@@ -26,6 +26,8 @@ use crate::console::app::TrailShade;
 pub use crate::console::arm_geometry::Projection;
 use crate::console::arm_geometry::{self, ArmPose, jog_direction};
 use crate::console::view::View;
+use crate::kortex::Telemetry;
+use crate::kortex::sanity::JOINT_ANGLE_DEG;
 use crate::link::interface::TelemetrySource;
 
 /// What the panel says over a link that sends no telemetry (the ack dialect).
@@ -144,12 +146,10 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     let titles = super::telemetry_titles("Arm view", &[": top X-Y, side X-Z"], view);
     let block = super::fitted_panel(&titles, area.width, theme);
     // An angle out of physical range (1e9 deg) is not drawn as some other angle.
-    let joints_known = |t: &crate::kortex::Telemetry| {
-        t.joints.iter().all(|j| {
-            crate::kortex::sanity::JOINT_ANGLE_DEG
-                .sane(j.position)
-                .is_some()
-        })
+    let joints_known = |t: &Telemetry| {
+        t.joints
+            .iter()
+            .all(|j| JOINT_ANGLE_DEG.sane(j.position).is_some())
     };
     let telemetry = view.arm.telemetry.as_ref().filter(|t| joints_known(t));
     let Some(telemetry) = telemetry else {
