@@ -38,12 +38,9 @@ fn release_mode_name(view: &View) -> &'static str {
 }
 
 /// The built-in simulator's badge; none for a real link, whose address the line shows.
-fn simulated_spans(view: &View, theme: &Theme) -> Vec<Span<'static>> {
-    if view.session.simulated {
-        vec![Span::styled(" SIMULATED ARM ", theme.simulated())]
-    } else {
-        Vec::new()
-    }
+fn simulated_span(view: &View, theme: &Theme) -> Option<Span<'static>> {
+    let badge = Span::styled(" SIMULATED ARM ", theme.simulated());
+    view.session.simulated.then_some(badge)
 }
 
 /// The stop guard's badge, when one is required (every real link).
@@ -60,18 +57,13 @@ fn guard_spans(view: &View, theme: &Theme) -> Vec<Span<'static>> {
 }
 
 /// The arm profile's name (`--arm cell3`), before the link: which cell the keys move.
-fn arm_name_spans(view: &View) -> Vec<Span<'static>> {
+fn arm_name_span(view: &View) -> Option<Span<'static>> {
     const ARM_NAME_WIDTH: usize = 16;
-    match &view.session.arm_name {
-        Some(name) => {
-            let shown = crate::text::shown(name);
-            vec![Span::raw(format!(
-                " arm {} ",
-                numbers::elide(&shown, ARM_NAME_WIDTH)
-            ))]
-        }
-        None => Vec::new(),
-    }
+    let name = crate::text::shown(view.session.arm_name.as_deref()?);
+    Some(Span::raw(format!(
+        " arm {} ",
+        numbers::elide(&name, ARM_NAME_WIDTH)
+    )))
 }
 
 /// The tour being played, after the motion: `TOUR 2/5 → bench`, or `TOUR 2/5 at bench: N next
@@ -170,9 +162,9 @@ fn spans_width(spans: &[Span]) -> usize {
 /// the description is elided.
 fn link_line(view: &View, theme: &Theme, width: usize) -> Line<'static> {
     // Which arm the keys move comes first of all: a demo must never pass for a real cell.
-    let mut badges = simulated_spans(view, theme);
+    let mut badges: Vec<_> = simulated_span(view, theme).into_iter().collect();
     badges.extend(guard_spans(view, theme));
-    badges.extend(arm_name_spans(view));
+    badges.extend(arm_name_span(view));
     let (detail, detail_style, latency) = match &view.arm.link {
         LinkStatus::Up { description } => {
             // A link that went silent is not shown as healthy.
