@@ -386,9 +386,11 @@ pub fn describe(exchange: &Exchange) -> String {
     };
     let mut line = format!("{command} (id {}): {outcome}", exchange.id);
     let decoded = decoded_hardware_reply(exchange).is_some();
-    let fields = (!failed)
-        .then(|| reply_fields(exchange))
-        .unwrap_or_default();
+    let fields = if failed {
+        Map::new()
+    } else {
+        reply_fields(exchange)
+    };
     for (key, value) in fields {
         // An empty payload says nothing; a decoded one is shown on the lines below.
         let empty = value.as_str().is_some_and(str::is_empty);

@@ -294,7 +294,11 @@ fn motion_spans(view: &View, theme: &Theme, cut: Cut) -> Vec<Span<'static>> {
     let separator = if cut.words { " | " } else { " " };
     // A joint near its limit or a singularity, after the motion: the next jog may be the one
     // that stops on it or turns a joint fast for little tool motion.
-    let mut text = cut.limit.then(|| warnings(view)).unwrap_or_default();
+    let mut text = if cut.limit {
+        warnings(view)
+    } else {
+        Vec::new()
+    };
     if !text.is_empty() {
         if !cut.words {
             text.truncate(1);
