@@ -94,39 +94,32 @@ pub fn init(role: LogRole) -> Option<LogGuards> {
             .map(tracing_appender::non_blocking)
     };
     let (own, own_guard) = file(role.file_prefix())?;
-    if role == LogRole::Console {
-        let (sim, sim_guard) = file(SIM_LOG_PREFIX)?;
-        tracing_subscriber::registry()
-            .with(
-                fmt::layer()
-                    .with_writer(own)
-                    .with_ansi(false)
-                    .with_filter(level_filter().and(filter_fn(|m| !from_sim(m)))),
-            )
-            .with(
-                fmt::layer()
-                    .with_writer(sim)
-                    .with_ansi(false)
-                    .with_filter(level_filter().and(filter_fn(from_sim))),
-            )
-            .try_init()
-            .ok()?;
-        return Some(LogGuards {
-            _guards: vec![own_guard, sim_guard],
-        });
-    }
+    let mut guards = vec![own_guard];
+    // The console's simulator logs to its own file, not the console's.
+    let console = role == LogRole::Console;
+    let sim = match console {
+        true => {
+            let (sim, sim_guard) = file(SIM_LOG_PREFIX)?;
+            guards.push(sim_guard);
+            Some(plain(sim).with_filter(level_filter().and(filter_fn(from_sim))))
+        }
+        false => None,
+    };
+    let own_events = filter_fn(move |m| !console || !from_sim(m));
     tracing_subscriber::registry()
-        .with(
-            fmt::layer()
-                .with_writer(own)
-                .with_ansi(false)
-                .with_filter(level_filter()),
-        )
+        .with(plain(own).with_filter(level_filter().and(own_events)))
+        .with(sim)
         .try_init()
         .ok()?;
-    Some(LogGuards {
-        _guards: vec![own_guard],
-    })
+    Some(LogGuards { _guards: guards })
+}
+
+/// A plain-text layer writing to `writer`.
+fn plain<S, W>(writer: W) -> fmt::Layer<S, fmt::format::DefaultFields, fmt::format::Format, W>
+where
+    W: for<'w> fmt::MakeWriter<'w> + 'static,
+{
+    fmt::layer().with_writer(writer).with_ansi(false)
 }
 
 /// `dir/PREFIX.YYYY-MM-DD.log`, a file per UTC day, the [`KEPT_LOG_FILES`] newest kept (pruned now

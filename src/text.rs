@@ -111,10 +111,9 @@ pub fn name_repair(name: &str) -> Option<String> {
         }
         if c.is_ascii() && name_byte(c as u8) {
             repaired.push(c);
-        } else if c.is_control() || is_bidi_control(c) {
-            let _ = escape(c, &mut repaired);
         } else {
-            let _ = write!(repaired, "\\u{{{:x}}}", u32::from(c));
+            // A control character by its escape, any other by its code point.
+            let _ = escape(c, &mut repaired);
         }
     }
     // Every character pushed is ASCII: any byte index is a character boundary.

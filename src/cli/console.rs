@@ -5,9 +5,11 @@ use std::time::Duration;
 
 use clap::{Args, ValueEnum};
 
+use super::output::fail;
+
 use crate::console::book_io;
 use crate::console::keymap::Keymap;
-use crate::console::positions::{BookError, PositionBook};
+use crate::console::positions::{BookError, PositionBook, book_key, default_path};
 use crate::console::run::{ConsoleSetup, run};
 use crate::kortex::PollPlan;
 use crate::link::Dialect;
@@ -139,27 +141,17 @@ impl ConsoleArgs {
 /// Runs the console; returns the exit status. `arm_name`: the profile `args` came from.
 pub async fn run_console(args: &ConsoleArgs, arm_name: Option<String>) -> i32 {
     if let Err(reason) = args.validate() {
-        super::output::print_error(&reason.to_string());
-        return 2;
+        return fail(reason, 2);
     }
     let keymap = match Keymap::load(&args.keymap) {
         Ok(keymap) => keymap,
-        Err(e) => {
-            super::output::print_error(&format!("bad keymap: {e}"));
-            return 2;
-        }
+        Err(e) => return fail(format!("bad keymap: {e}"), 2),
     };
     // With no arm named, the console opens on the built-in simulated arm.
     let on_simulator = args.talos.is_none() && args.modbus.is_none();
     let positions_file = args.positions.clone().or_else(|| {
-        on_simulator
-            .then(|| {
-                crate::console::positions::default_path(&crate::console::positions::book_key(
-                    arm_name.as_deref(),
-                    "simulator",
-                ))
-            })
-            .flatten()
+        let book = book_key(arm_name.as_deref(), "simulator");
+        on_simulator.then(|| default_path(&book)).flatten()
     });
     // The built-in operator starts with the book's positions: read once, shared with the console.
     let positions_read = match (&positions_file, on_simulator) {
@@ -186,10 +178,7 @@ pub async fn run_console(args: &ConsoleArgs, arm_name: Option<String>) -> i32 {
                 simulator = Some(sim);
                 (Some(talos), modbus)
             }
-            Err(e) => {
-                super::output::print_error(&format!("cannot start the simulated arm: {e}"));
-                return 1;
-            }
+            Err(e) => return fail(format!("cannot start the simulated arm: {e}"), 1),
         },
         (t, m) => (t.clone(), m.clone()),
     };
@@ -222,13 +211,10 @@ pub async fn run_console(args: &ConsoleArgs, arm_name: Option<String>) -> i32 {
         simulated: simulator.is_some(),
         arm_name,
     };
+    // Not `eprintln!`: it panics when stderr is gone after a hang-up.
     let code = match run(setup).await {
         Ok(()) => 0,
-        Err(e) => {
-            // Not `eprintln!`: it panics when stderr is gone after a hang-up.
-            super::output::print_error(&e.to_string());
-            1
-        }
+        Err(e) => fail(e, 1),
     };
     drop(simulator);
     code

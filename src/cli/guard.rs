@@ -11,6 +11,7 @@ use std::future::Future;
 use std::time::Duration;
 
 use clap::Args;
+use futures::future::OptionFuture;
 use tokio::io::{AsyncRead, AsyncReadExt, AsyncWrite, AsyncWriteExt};
 use tokio::sync::mpsc;
 use tokio::time::Instant;
@@ -321,18 +322,15 @@ impl Stopper {
     /// was done on each, or (any failed) what failed and what was done.
     async fn stop(&self, why: &str, console: Console) -> Result<String, String> {
         let give_up = Instant::now() + STOP_PERSISTENCE;
-        let modbus = async {
-            match &self.modbus {
-                Some(link) => Some(stop_modbus(link, why, give_up).await),
-                None => None,
-            }
-        };
-        let talos = async {
-            match &self.talos {
-                Some(talos) => Some(talos.stop(console, give_up).await),
-                None => None,
-            }
-        };
+        let modbus = self
+            .modbus
+            .as_ref()
+            .map(|link| stop_modbus(link, why, give_up));
+        let talos = self
+            .talos
+            .as_ref()
+            .map(|talos| talos.stop(console, give_up));
+        let (modbus, talos) = (OptionFuture::from(modbus), OptionFuture::from(talos));
         let (modbus, talos) = tokio::join!(modbus, talos);
         let outcomes: Vec<(&str, Result<String, String>)> = [("modbus", modbus), ("talos", talos)]
             .into_iter()

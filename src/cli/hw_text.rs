@@ -1,6 +1,6 @@
 //! `armjog send hw-op` as text: labelled lines with units; `--json` keeps full values.
 
-use super::units::{fixed, linear_speed};
+use super::units::{arm_line, fixed, tool_lines};
 use crate::talos::hardware::{ActuatorFeedback, ArmState, HwReply};
 
 /// The lines under the reply's summary line, each indented by two spaces.
@@ -22,32 +22,19 @@ pub fn lines(reply: &HwReply) -> Vec<String> {
 }
 
 fn arm_state(s: &ArmState) -> Vec<String> {
-    let f = |v: f32, d: usize| fixed(f64::from(v), d);
-    let [x, y, z] = s.tcp_position_m.map(|m| f(m * 1000.0, 1));
-    let [rx, ry, rz] = s.tcp_orientation_deg.map(|d| f(d, 2));
-    let [vx, vy, vz] = s.linear_velocity_m_s.map(|v| linear_speed(f64::from(v)));
-    let [wx, wy, wz] = s.angular_velocity_deg_s.map(|d| f(d, 2));
-    let [fx, fy, fz] = s.force_n.map(|n| f(n, 2));
-    let [tx, ty, tz] = s.torque_nm.map(|n| f(n, 3));
-    vec![
+    let mut lines = vec![
         format!("robot state   {}", s.robot_state),
         format!("faults        {}", s.faults),
         format!("warnings      {}", s.warnings),
-        format!(
-            "arm           current {} A   voltage {} V   cpu {} C   ambient {} C",
-            f(s.current_a, 3),
-            f(s.voltage_v, 3),
-            f(s.cpu_temp_c, 1),
-            f(s.ambient_temp_c, 1)
-        ),
-        format!(
-            "tcp pose      x {x} mm   y {y} mm   z {z} mm   theta x {rx}   y {ry}   z {rz} deg"
-        ),
-        format!("tcp twist     x {vx}   y {vy}   z {vz}   theta x {wx}   y {wy}   z {wz} deg/s"),
-        format!(
-            "tcp wrench    force x {fx}   y {fy}   z {fz} N   torque x {tx}   y {ty}   z {tz} N m"
-        ),
-    ]
+        arm_line([s.current_a, s.voltage_v, s.cpu_temp_c, s.ambient_temp_c]),
+    ];
+    lines.extend(tool_lines(
+        s.tcp_position_m.map(|m| f64::from(m * 1000.0)),
+        s.tcp_orientation_deg,
+        &[s.linear_velocity_m_s, s.angular_velocity_deg_s].concat(),
+        &[s.force_n, s.torque_nm].concat(),
+    ));
+    lines
 }
 
 fn actuator_table(actuators: &[ActuatorFeedback]) -> Vec<String> {

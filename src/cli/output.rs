@@ -48,6 +48,12 @@ pub fn print_error(reason: &str) {
     }
 }
 
+/// Prints `armjog: reason` on stderr ([`print_error`]) and returns the exit status `code`.
+pub fn fail(reason: impl std::fmt::Display, code: i32) -> i32 {
+    print_error(&reason.to_string());
+    code
+}
+
 /// Prints several lines (clap's message) on stderr, each escaped; a failure is only logged.
 pub fn print_error_lines(message: &str) {
     let mut err = io::stderr().lock();

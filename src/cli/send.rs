@@ -412,33 +412,22 @@ pub fn describe(exchange: &Exchange) -> String {
 
 /// The `--json` object: command, id, return code, then the reply's fields as the ICD names them.
 pub fn to_json(exchange: &Exchange, with_hex: bool) -> Value {
-    let mut object = Map::new();
-    object.insert("command".into(), json!(exchange.request.command().name()));
-    object.insert("id".into(), json!(exchange.id));
+    let mut object = json!({"command": exchange.request.command().name(), "id": exchange.id});
     match &exchange.answer {
         Answer::Reply(_) => {
             let code = exchange.return_code();
-            object.insert("return_code".into(), json!(code.0));
-            object.insert("return_code_name".into(), json!(code.name()));
+            object["return_code"] = json!(code.0);
+            object["return_code_name"] = json!(code.name());
         }
-        Answer::Ack => {
-            object.insert("ack".into(), json!(true));
-        }
+        Answer::Ack => object["ack"] = json!(true),
     }
-    object.extend(reply_fields(exchange));
-    object.insert(
-        "latency_ms".into(),
-        json!(exchange.latency.as_secs_f64() * 1000.0),
-    );
+    if let Value::Object(map) = &mut object {
+        map.extend(reply_fields(exchange));
+    }
+    object["latency_ms"] = json!(exchange.latency.as_secs_f64() * 1000.0);
     if with_hex {
-        object.insert(
-            "request_hex".into(),
-            json!(hex::encode_upper(&exchange.request_bytes)),
-        );
-        object.insert(
-            "reply_hex".into(),
-            json!(hex::encode_upper(&exchange.reply_bytes)),
-        );
+        object["request_hex"] = json!(hex::encode_upper(&exchange.request_bytes));
+        object["reply_hex"] = json!(hex::encode_upper(&exchange.reply_bytes));
     }
-    Value::Object(object)
+    object
 }

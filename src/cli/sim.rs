@@ -108,17 +108,11 @@ impl SimArgs {
 pub async fn run(args: &SimArgs) -> i32 {
     let config = match args.config() {
         Ok(config) => config,
-        Err(reason) => {
-            output::print_error(&reason.to_string());
-            return 2;
-        }
+        Err(reason) => return output::fail(reason, 2),
     };
     let sim = match Simulator::start(config).await {
         Ok(sim) => sim,
-        Err(e) => {
-            output::print_error(&e.to_string());
-            return 1;
-        }
+        Err(e) => return output::fail(e, 1),
     };
     // Serves until signalled even if no one reads the banner (`| head`).
     let banner = [

@@ -7,7 +7,7 @@ use clap::Args;
 use super::Outcome;
 use super::modbus::ArmAddress;
 use super::output::{self, Printed};
-use super::units::{fixed, linear_speed};
+use super::units::{arm_line, fixed, linear_speed, tool_lines};
 use super::values::BadValue;
 use crate::console::audit::rfc3339_ms;
 use crate::kortex::{CodeName, Flag, FlagSet, Telemetry};
@@ -145,13 +145,13 @@ pub fn table(t: &Telemetry) -> Vec<String> {
     lines.push(format!("faults        {}", flag_list(t.faults)));
     lines.push(format!("warnings      {}", flag_list(t.warnings)));
     let f = |v: f32, decimals: usize| fixed(f64::from(v), decimals);
-    lines.push(format!(
-        "arm           current {} A   voltage {} V   cpu {} C   ambient {} C",
-        f(t.arm.current, 3),
-        f(t.arm.voltage, 3),
-        f(t.arm.cpu_temperature, 1),
-        f(t.arm.ambient_temperature, 1)
-    ));
+    let arm = t.arm;
+    lines.push(arm_line([
+        arm.current,
+        arm.voltage,
+        arm.cpu_temperature,
+        arm.ambient_temperature,
+    ]));
     lines.push(format!(
         "action        {}   id {}   move type {}",
         t.action.status, t.action.id, t.action.move_type
@@ -177,36 +177,11 @@ pub fn table(t: &Telemetry) -> Vec<String> {
         ));
     }
     let p = t.tcp.pose;
-    let mm = |m: f32| fixed(f64::from(m) * 1000.0, 1);
-    lines.push(format!(
-        "tcp pose      x {} mm   y {} mm   z {} mm   theta x {}   y {}   z {} deg",
-        mm(p.x),
-        mm(p.y),
-        mm(p.z),
-        f(p.theta_x, 2),
-        f(p.theta_y, 2),
-        f(p.theta_z, 2)
-    ));
-    let v = t.tcp.twist;
-    let speed = |m_s: f32| linear_speed(f64::from(m_s));
-    lines.push(format!(
-        "tcp twist     x {}   y {}   z {}   theta x {}   y {}   z {} deg/s",
-        speed(v.x),
-        speed(v.y),
-        speed(v.z),
-        f(v.theta_x, 2),
-        f(v.theta_y, 2),
-        f(v.theta_z, 2)
-    ));
-    let w = t.tcp.wrench;
-    lines.push(format!(
-        "tcp wrench    force x {}   y {}   z {} N   torque x {}   y {}   z {} N m",
-        f(w.force_x, 2),
-        f(w.force_y, 2),
-        f(w.force_z, 2),
-        f(w.torque_x, 3),
-        f(w.torque_y, 3),
-        f(w.torque_z, 3)
+    lines.extend(tool_lines(
+        [p.x, p.y, p.z].map(|m| f64::from(m) * 1000.0),
+        [p.theta_x, p.theta_y, p.theta_z],
+        &t.tcp.twist.to_array(),
+        &t.tcp.wrench.to_array(),
     ));
     lines
 }

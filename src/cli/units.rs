@@ -13,6 +13,44 @@ pub fn linear_speed(m_s: f64) -> String {
     }
 }
 
+/// A snapshot's `arm` line: current A, voltage V, CPU and ambient temperatures C.
+pub fn arm_line([current, voltage, cpu, ambient]: [f32; 4]) -> String {
+    let f = |v: f32, decimals: usize| fixed(f64::from(v), decimals);
+    format!(
+        "arm           current {} A   voltage {} V   cpu {} C   ambient {} C",
+        f(current, 3),
+        f(voltage, 3),
+        f(cpu, 1),
+        f(ambient, 1)
+    )
+}
+
+/// A snapshot's tool lines: pose (position mm, orientation deg), twist (m/s, deg/s) and wrench
+/// (N, N m), each six floats: x, y, z then about x, y, z.
+pub fn tool_lines(
+    position_mm: [f64; 3],
+    orientation_deg: [f32; 3],
+    twist: &[f32],
+    wrench: &[f32],
+) -> [String; 3] {
+    let f = |v: f32, decimals: usize| fixed(f64::from(v), decimals);
+    let [x, y, z] = position_mm.map(|mm| fixed(mm, 1));
+    let [rx, ry, rz] = orientation_deg.map(|deg| f(deg, 2));
+    let [vx, vy, vz] = [0, 1, 2].map(|i| linear_speed(f64::from(twist[i])));
+    let [wx, wy, wz] = [3, 4, 5].map(|i| f(twist[i], 2));
+    let [fx, fy, fz] = [0, 1, 2].map(|i| f(wrench[i], 2));
+    let [tx, ty, tz] = [3, 4, 5].map(|i| f(wrench[i], 3));
+    [
+        format!(
+            "tcp pose      x {x} mm   y {y} mm   z {z} mm   theta x {rx}   y {ry}   z {rz} deg"
+        ),
+        format!("tcp twist     x {vx}   y {vy}   z {vz}   theta x {wx}   y {wy}   z {wz} deg/s"),
+        format!(
+            "tcp wrench    force x {fx}   y {fy}   z {fz} N   torque x {tx}   y {ty}   z {tz} N m"
+        ),
+    ]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

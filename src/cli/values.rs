@@ -2,6 +2,8 @@
 //! ranges. Profiles use the same parsers (`profiles::file`), so a value is refused alike wherever
 //! written; messages name no option (clap names the option, a profile its key).
 
+use std::ops::RangeInclusive;
+
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 
 use crate::kortex::commands::{CommandError, stored_id};
@@ -47,18 +49,19 @@ pub fn tool_speed(text: &str) -> Result<f64, BadValue> {
 
 /// `--refresh-hz`: how often a held jog is re-sent, well inside the operator's 500 ms watchdog.
 pub fn refresh_hz(text: &str) -> Result<f64, BadValue> {
-    match number(text)? {
-        hz if hz.is_finite() && (2.5..=100.0).contains(&hz) => Ok(hz),
-        _ => Err(BadValue::RefreshHz),
-    }
+    within(text, 2.5..=100.0, BadValue::RefreshHz)
 }
 
 /// `--telemetry-hz`: Modbus polls per second.
 pub fn telemetry_hz(text: &str) -> Result<f64, BadValue> {
-    match number(text)? {
-        hz if hz.is_finite() && (1.0..=200.0).contains(&hz) => Ok(hz),
-        _ => Err(BadValue::TelemetryHz),
-    }
+    within(text, 1.0..=200.0, BadValue::TelemetryHz)
+}
+
+/// A number as typed, in `range`; `outside` if it is not.
+fn within(text: &str, range: RangeInclusive<f64>, outside: BadValue) -> Result<f64, BadValue> {
+    Some(number(text)?)
+        .filter(|n| range.contains(n))
+        .ok_or(outside)
 }
 
 /// A stored action or sequence id, in [`crate::kortex::commands::STORED_IDS`].

@@ -2,6 +2,7 @@
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
 
 use tokio::sync::{mpsc, oneshot};
@@ -121,7 +122,7 @@ pub struct Found {
 pub struct Saver {
     next: mpsc::UnboundedSender<(u64, BookSave)>,
     /// Books handed over so far.
-    handed: std::sync::atomic::AtomicU64,
+    handed: AtomicU64,
     task: tokio::task::JoinHandle<()>,
 }
 
@@ -173,15 +174,13 @@ impl Saver {
                 let _ = outcomes_tx.send(SaveOutcome { upto, error, found });
             }
         });
-        let handed = std::sync::atomic::AtomicU64::new(0);
+        let handed = AtomicU64::new(0);
         (Saver { next, handed, task }, outcomes)
     }
 
     /// Hands a book over to be written. Never waits for a write.
     pub fn save(&self, book: BookSave) {
-        let upto = 1 + self
-            .handed
-            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let upto = 1 + self.handed.fetch_add(1, Ordering::Relaxed);
         if self.next.send((upto, book)).is_err() {
             tracing::error!("the positions writer has ended: positions not saved");
         }
@@ -328,16 +327,13 @@ impl BookFiles {
             return;
         };
         let left = deadline.saturating_duration_since(tokio::time::Instant::now());
-        let shown = self
-            .path
-            .as_deref()
-            .map(|p| p.display().to_string())
-            .unwrap_or_default();
-        let lock = self
-            .path
-            .as_deref()
-            .map(|p| shared::lock_path(p).display().to_string())
-            .unwrap_or_default();
+        let (shown, lock) = match self.path.as_deref() {
+            Some(p) => (
+                p.display().to_string(),
+                shared::lock_path(p).display().to_string(),
+            ),
+            None => Default::default(),
+        };
         let waiting = || {
             tell(format!(
                 "writing the positions to {shown}: waiting up to {} s for its lock ({lock}), \

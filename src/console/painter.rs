@@ -119,17 +119,13 @@ fn paint(
                 {
                     break app;
                 }
-                guard = if guard.next.is_some() {
-                    match ready.wait_timeout(guard, resting) {
-                        Ok((guard, _)) => guard,
-                        Err(_) => return,
-                    }
-                } else {
-                    match ready.wait(guard) {
-                        Ok(guard) => guard,
-                        Err(_) => return,
-                    }
+                // Resting with a view waiting: until the rest is over; else until one comes.
+                let waited = match guard.next.is_some() {
+                    true => ready.wait_timeout(guard, resting).ok().map(|(g, _)| g),
+                    false => ready.wait(guard).ok(),
                 };
+                let Some(waited) = waited else { return };
+                guard = waited;
             }
         };
         if !allowed.load(Ordering::SeqCst) {

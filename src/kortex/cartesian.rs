@@ -48,31 +48,28 @@ pub struct Wrench {
 
 /// `from_array` / `to_array` in the ICD's order (x, y, z, theta x, y, z).
 macro_rules! six_floats {
-    ($($t:ident),*) => {$(
+    ($($t:ident { $($field:ident),* })*) => {$(
         impl $t {
-            pub fn from_array(v: [f32; 6]) -> $t {
-                let [x, y, z, theta_x, theta_y, theta_z] = v;
-                $t { x, y, z, theta_x, theta_y, theta_z }
+            pub const fn from_array(v: [f32; 6]) -> $t {
+                let [$($field),*] = v;
+                $t { $($field),* }
             }
 
             pub fn to_array(self) -> [f32; 6] {
-                [self.x, self.y, self.z, self.theta_x, self.theta_y, self.theta_z]
+                [$(self.$field),*]
             }
         }
     )*};
 }
 
-six_floats!(Pose, Twist);
+six_floats! {
+    Pose { x, y, z, theta_x, theta_y, theta_z }
+    Twist { x, y, z, theta_x, theta_y, theta_z }
+    Wrench { force_x, force_y, force_z, torque_x, torque_y, torque_z }
+}
 
 impl Twist {
-    pub const ZERO: Twist = Twist {
-        x: 0.0,
-        y: 0.0,
-        z: 0.0,
-        theta_x: 0.0,
-        theta_y: 0.0,
-        theta_z: 0.0,
-    };
+    pub const ZERO: Twist = Twist::from_array([0.0; 6]);
 
     /// Speed of the tool point, m/s.
     pub fn linear_speed(self) -> f32 {
@@ -140,19 +137,6 @@ fn product(a: &Matrix, b: &Matrix) -> Matrix {
         }
     }
     out
-}
-
-impl Wrench {
-    pub fn from_array(v: [f32; 6]) -> Wrench {
-        Wrench {
-            force_x: v[0],
-            force_y: v[1],
-            force_z: v[2],
-            torque_x: v[3],
-            torque_y: v[4],
-            torque_z: v[5],
-        }
-    }
 }
 
 #[cfg(test)]

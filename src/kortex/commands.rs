@@ -222,15 +222,11 @@ pub enum StoredMotion {
 /// An id outside [`STORED_IDS`] is refused.
 pub fn start_stored(id: u16, motion: StoredMotion) -> Result<Vec<Write>, CommandError> {
     let id = stored_id(id.into())?;
-    let move_type = match motion {
-        StoredMotion::Action => MoveType::Action,
-        StoredMotion::Sequence => MoveType::Sequence,
-    };
     Ok(vec![
         Write::command(ActionCommand::NoAction),
         Write::Registers {
             addr: hr::COMMAND_ID,
-            values: vec![id, move_type.code()],
+            values: vec![id, motion.move_type().code()],
         },
         Write::command(ActionCommand::Start),
     ])

@@ -2,7 +2,7 @@
 
 use std::fmt;
 
-use super::registers::{Table, discrete_input, holding_register, input_register};
+use super::registers::{Table, discrete_input as di, holding_register as hr, input_register as ir};
 use super::words;
 
 /// One read request: `count` items of `table` from `start`.
@@ -54,46 +54,22 @@ pub enum PollPlan {
 }
 
 const COMPACT: [ReadBlock; 4] = [
-    ReadBlock::new(DI, 0, discrete_input::END),
-    ReadBlock::new(
-        IR,
-        input_register::ROBOT_STATE,
-        input_register::ARM_CURRENT + 8,
-    ),
-    ReadBlock::new(IR, input_register::JOINT_POSITIONS, input_register::END),
-    ReadBlock::new(HR, holding_register::CONTROL, holding_register::READ_END),
+    ReadBlock::new(DI, 0, di::END),
+    ReadBlock::new(IR, ir::ROBOT_STATE, ir::ARM_CURRENT + 8),
+    ReadBlock::new(IR, ir::JOINT_POSITIONS, ir::END),
+    ReadBlock::new(HR, hr::CONTROL, hr::READ_END),
 ];
 
 const ICD_BLOCKS: [ReadBlock; 9] = [
-    ReadBlock::new(
-        DI,
-        discrete_input::ROBOT_STATES,
-        discrete_input::ROBOT_STATE_COUNT,
-    ),
-    ReadBlock::new(
-        DI,
-        discrete_input::FAULT_FLAGS,
-        discrete_input::FAULT_FLAGS + 31,
-    ),
-    ReadBlock::new(DI, discrete_input::WARNING_FLAGS, discrete_input::END),
-    ReadBlock::new(IR, input_register::ROBOT_STATE, 1),
-    ReadBlock::new(
-        IR,
-        input_register::FAULT_FLAGS,
-        input_register::ARM_CURRENT + 8,
-    ),
-    ReadBlock::new(IR, input_register::JOINT_POSITIONS, input_register::END),
-    ReadBlock::new(HR, holding_register::CONTROL, 1),
-    ReadBlock::new(
-        HR,
-        holding_register::ACTION_STATUS,
-        holding_register::ACTION_MOVE_TYPE + 1,
-    ),
-    ReadBlock::new(
-        HR,
-        holding_register::LINEAR_SPEED_LIMIT,
-        holding_register::READ_END,
-    ),
+    ReadBlock::new(DI, di::ROBOT_STATES, di::ROBOT_STATE_COUNT),
+    ReadBlock::new(DI, di::FAULT_FLAGS, di::FAULT_FLAGS + 31),
+    ReadBlock::new(DI, di::WARNING_FLAGS, di::END),
+    ReadBlock::new(IR, ir::ROBOT_STATE, 1),
+    ReadBlock::new(IR, ir::FAULT_FLAGS, ir::ARM_CURRENT + 8),
+    ReadBlock::new(IR, ir::JOINT_POSITIONS, ir::END),
+    ReadBlock::new(HR, hr::CONTROL, 1),
+    ReadBlock::new(HR, hr::ACTION_STATUS, hr::ACTION_MOVE_TYPE + 1),
+    ReadBlock::new(HR, hr::LINEAR_SPEED_LIMIT, hr::READ_END),
 ];
 
 /// Blocks that need not be read in every snapshot: the robot-state and warning flag inputs (input
@@ -141,17 +117,17 @@ pub enum ImageError {
 /// Every readable address of the ICD, as last read.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct RegisterImage {
-    pub discrete_inputs: [bool; discrete_input::END as usize],
-    pub input_registers: [u16; input_register::END as usize],
-    pub holding_registers: [u16; holding_register::READ_END as usize],
+    pub discrete_inputs: [bool; di::END as usize],
+    pub input_registers: [u16; ir::END as usize],
+    pub holding_registers: [u16; hr::READ_END as usize],
 }
 
 impl Default for RegisterImage {
     fn default() -> Self {
         RegisterImage {
-            discrete_inputs: [false; discrete_input::END as usize],
-            input_registers: [0; input_register::END as usize],
-            holding_registers: [0; holding_register::READ_END as usize],
+            discrete_inputs: [false; di::END as usize],
+            input_registers: [0; ir::END as usize],
+            holding_registers: [0; hr::READ_END as usize],
         }
     }
 }

@@ -58,11 +58,9 @@ pub fn check_directions(
     let speed_ok = settings.angular_speed > 0.0 && settings.angular_speed <= MAX_ANGULAR_SPEED;
     let linear_ok =
         settings.max_linear_speed > 0.0 && settings.max_linear_speed <= MAX_LINEAR_SPEED;
-    if speed_ok && linear_ok {
-        Ok(())
-    } else {
-        Err(PolarPanError::BadSettings)
-    }
+    (speed_ok && linear_ok)
+        .then_some(())
+        .ok_or(PolarPanError::BadSettings)
 }
 
 /// The base-frame twist that pans the tool at `pose`; `azimuth` and `altitude` in -1..1 (positive:
@@ -109,15 +107,10 @@ pub fn polar_twist(
     .into_iter()
     .filter(|s| s.is_finite())
     .fold(1.0f64, f64::min);
-    let out = |v: f64| (v * scale) as f32;
-    Ok(Twist {
-        x: out(linear[0]),
-        y: out(linear[1]),
-        z: out(linear[2]),
-        theta_x: out(omega[0]),
-        theta_y: out(omega[1]),
-        theta_z: out(omega[2]),
-    })
+    let ([vx, vy, vz], [wx, wy, wz]) = (linear, omega);
+    Ok(Twist::from_array(
+        [vx, vy, vz, wx, wy, wz].map(|v| (v * scale) as f32),
+    ))
 }
 
 #[cfg(test)]

@@ -195,12 +195,7 @@ impl Telemetry {
             (
                 TOOL_WRENCH,
                 ir::TCP_WRENCH,
-                {
-                    let w = self.tcp.wrench;
-                    [
-                        w.force_x, w.force_y, w.force_z, w.torque_x, w.torque_y, w.torque_z,
-                    ]
-                },
+                self.tcp.wrench.to_array(),
                 six(TOOL_FORCE_N, TOOL_TORQUE_NM),
             ),
         ];

@@ -8,7 +8,7 @@ use std::fmt;
 use std::time::Duration;
 
 use super::arm_state::{OurMove, abort_reason, at_rest, fault_reason};
-use super::codes::{ActionStatus, Coded, MoveType};
+use super::codes::{ActionStatus, CodeName, Coded, MoveType};
 use super::commands::StoredMotion;
 use super::telemetry::Telemetry;
 
@@ -18,12 +18,9 @@ pub const STATUS_GRACE: Duration = Duration::from_millis(500);
 pub const START_LIMIT: Duration = Duration::from_secs(2);
 
 impl StoredMotion {
-    /// `action` or `sequence`, as messages name it.
+    /// `action` or `sequence`, as messages name it: its move type's key.
     pub fn name(self) -> &'static str {
-        match self {
-            StoredMotion::Action => "action",
-            StoredMotion::Sequence => "sequence",
-        }
+        self.move_type().key()
     }
 
     /// Its move type in register 202.

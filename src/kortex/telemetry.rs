@@ -6,7 +6,7 @@ use super::cartesian::{Axis, Pose, Twist, Wrench};
 use super::codes::{ActionStatus, CodeName, Coded, ControlCoil, MoveType, RobotState};
 use super::flags::FlagSet;
 use super::image::RegisterImage;
-use super::registers::{discrete_input, holding_register, input_register};
+use super::registers::{discrete_input as di, holding_register as hr, input_register as ir};
 
 /// Arm-level health (input registers 6-13).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
@@ -72,7 +72,7 @@ pub struct Telemetry {
     /// Input registers 4-5 and discrete inputs 64-94 together.
     pub warnings: FlagSet,
     pub arm: ArmHealth,
-    pub joints: [JointState; input_register::JOINTS as usize],
+    pub joints: [JointState; ir::JOINTS as usize],
     pub tcp: ToolState,
     pub action: ActionState,
     pub speed_limits: SpeedLimits,
@@ -87,13 +87,8 @@ pub struct Telemetry {
 impl Telemetry {
     /// Decodes a snapshot; every bit pattern decodes (NaN, `Coded::Unknown`, unknown bits).
     pub fn decode(image: &RegisterImage) -> Telemetry {
-        use input_register as ir;
-
         let state_from_inputs = image
-            .inputs(
-                discrete_input::ROBOT_STATES,
-                discrete_input::ROBOT_STATE_COUNT,
-            )
+            .inputs(di::ROBOT_STATES, di::ROBOT_STATE_COUNT)
             .iter()
             .position(|on| *on)
             .and_then(|code| RobotState::from_code(code as u16));
@@ -109,9 +104,8 @@ impl Telemetry {
         };
 
         let flags = |register: u16, inputs: u16| {
-            FlagSet::from_bits(image.input_u32(register)).union(FlagSet::from_inputs(
-                image.inputs(inputs, discrete_input::FLAG_COUNT),
-            ))
+            FlagSet::from_bits(image.input_u32(register))
+                .union(FlagSet::from_inputs(image.inputs(inputs, di::FLAG_COUNT)))
         };
 
         let joint = |j: u16| JointState {
@@ -138,8 +132,8 @@ impl Telemetry {
 
         Telemetry {
             robot_state,
-            faults: flags(ir::FAULT_FLAGS, discrete_input::FAULT_FLAGS),
-            warnings: flags(ir::WARNING_FLAGS, discrete_input::WARNING_FLAGS),
+            faults: flags(ir::FAULT_FLAGS, di::FAULT_FLAGS),
+            warnings: flags(ir::WARNING_FLAGS, di::WARNING_FLAGS),
             arm: ArmHealth {
                 current: image.input_f32(ir::ARM_CURRENT),
                 voltage: image.input_f32(ir::ARM_VOLTAGE),
@@ -153,15 +147,15 @@ impl Telemetry {
                 wrench: Wrench::from_array(six(ir::TCP_WRENCH)),
             },
             action: ActionState {
-                status: Coded::from_code(holding(holding_register::ACTION_STATUS)),
-                id: holding(holding_register::ACTION_ID),
-                move_type: Coded::from_code(holding(holding_register::ACTION_MOVE_TYPE)),
+                status: Coded::from_code(holding(hr::ACTION_STATUS)),
+                id: holding(hr::ACTION_ID),
+                move_type: Coded::from_code(holding(hr::ACTION_MOVE_TYPE)),
             },
             speed_limits: SpeedLimits {
-                linear: image.holding_f32(holding_register::LINEAR_SPEED_LIMIT),
-                angular: image.holding_f32(holding_register::ANGULAR_SPEED_LIMIT),
+                linear: image.holding_f32(hr::LINEAR_SPEED_LIMIT),
+                angular: image.holding_f32(hr::ANGULAR_SPEED_LIMIT),
             },
-            control: Coded::from_code(holding(holding_register::CONTROL)),
+            control: Coded::from_code(holding(hr::CONTROL)),
             state_from_inputs,
         }
     }

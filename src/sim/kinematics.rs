@@ -9,6 +9,9 @@ pub const JOINTS: usize = 7;
 /// Joint angles in radians.
 pub type Joints = [f64; JOINTS];
 
+use crate::kortex::gen3::frames;
+/// The geometric Jacobian, base frame.
+pub use crate::kortex::gen3::jacobian;
 pub use crate::kortex::gen3::{HOME_DEG, JOINT_LIMITS_DEG, MAX_JOINT_SPEED_DEG, MAX_JOINT_TORQUE};
 
 /// A tool pose in the base frame.
@@ -37,11 +40,6 @@ impl Pose {
     }
 }
 
-/// Frames before each joint (index i is the frame joint i+1 rotates in) and the tool frame.
-fn frames(q: &Joints) -> ([Matrix4<f64>; JOINTS], Matrix4<f64>) {
-    crate::kortex::gen3::frames(q)
-}
-
 fn pose_of(t: &Matrix4<f64>) -> Pose {
     let r = t.fixed_view::<3, 3>(0, 0).into_owned();
     Pose {
@@ -55,11 +53,6 @@ pub fn forward(q: &Joints) -> Pose {
     pose_of(&frames(q).1)
 }
 
-/// The geometric Jacobian, base frame (see [`crate::kortex::gen3::jacobian`]).
-pub fn jacobian(q: &Joints) -> SMatrix<f64, 6, JOINTS> {
-    crate::kortex::gen3::jacobian(q)
-}
-
 /// The tool pose and the Jacobian from one pass (the integrator needs both every step).
 pub fn pose_and_jacobian(q: &Joints) -> (Pose, SMatrix<f64, 6, JOINTS>) {
     let (before, tool) = frames(q);
@@ -67,12 +60,8 @@ pub fn pose_and_jacobian(q: &Joints) -> (Pose, SMatrix<f64, 6, JOINTS>) {
     (pose_of(&tool), j)
 }
 
-/// Joint velocities best producing `xdot` (m/s, rad/s, base frame), damped near singularities.
-pub fn dls_velocity(q: &Joints, xdot: &Vector6<f64>, damping: f64) -> Joints {
-    dls_velocity_with(&jacobian(q), xdot, damping)
-}
-
-/// [`dls_velocity`] with the Jacobian `j` already computed.
+/// Joint velocities best producing `xdot` (m/s, rad/s, base frame) through the Jacobian `j`,
+/// damped near singularities.
 pub fn dls_velocity_with(j: &SMatrix<f64, 6, JOINTS>, xdot: &Vector6<f64>, damping: f64) -> Joints {
     let jjt: Matrix6<f64> = j * j.transpose() + Matrix6::identity() * damping * damping;
     let Some(inv) = jjt.try_inverse() else {
@@ -155,7 +144,7 @@ pub fn inverse(q0: &Joints, target: &Pose) -> Result<Joints, IkError> {
         let scale = (0.05 / position.max(1e-12))
             .min(0.2 / rotation.max(1e-12))
             .min(1.0);
-        let dq = dls_velocity(&q, &(err * scale), 0.02);
+        let dq = dls_velocity_with(&jacobian(&q), &(err * scale), 0.02);
         for i in 0..JOINTS {
             q[i] += dq[i];
             if let Some(limit) = JOINT_LIMITS_DEG[i] {

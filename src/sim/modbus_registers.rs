@@ -9,7 +9,9 @@ use super::arm_model::{ArmSnapshot, SimMotion};
 use super::kinematics::Pose;
 use super::stored;
 use super::world::World;
-use crate::kortex::registers::{coil, discrete_input, holding_register, input_register};
+use crate::kortex::registers::{
+    coil, discrete_input as di, holding_register as hr, input_register as ir,
+};
 use crate::kortex::words::{f32_from_words, f32_to_words, u32_to_words};
 use crate::kortex::{MoveType, ReferenceFrame};
 
@@ -50,33 +52,32 @@ pub fn input_registers(s: &ArmSnapshot) -> [u16; 140] {
         let a = usize::from(addr);
         r[a..a + 2].copy_from_slice(&words);
     };
-    put(input_register::FAULT_FLAGS, u32_to_words(s.faults));
-    put(input_register::WARNING_FLAGS, u32_to_words(s.warnings));
+    put(ir::FAULT_FLAGS, u32_to_words(s.faults));
+    put(ir::WARNING_FLAGS, u32_to_words(s.warnings));
     let six = |a: [f64; 3], b: [f64; 3]| [a[0], a[1], a[2], b[0], b[1], b[2]];
     let pose = six(s.tcp_position, s.tcp_orientation);
     let twist = six(s.tcp_linear_velocity, s.tcp_angular_velocity);
     let wrench = six(s.tcp_force, s.tcp_torque);
     // Each block's floats end to end, two registers each.
-    use input_register as at;
     for (block, values) in [
-        (at::ARM_CURRENT, &[s.arm_current][..]),
-        (at::ARM_VOLTAGE, &[s.arm_voltage]),
-        (at::ARM_CPU_TEMPERATURE, &[s.cpu_temperature]),
-        (at::ARM_AMBIENT_TEMPERATURE, &[s.ambient_temperature]),
-        (at::JOINT_POSITIONS, &s.joint_position),
-        (at::JOINT_VELOCITIES, &s.joint_velocity),
-        (at::JOINT_TORQUES, &s.joint_torque),
-        (at::JOINT_CURRENTS, &s.joint_current),
-        (at::JOINT_MOTOR_TEMPERATURES, &s.joint_temperature),
-        (at::TCP_POSE, &pose),
-        (at::TCP_TWIST, &twist),
-        (at::TCP_WRENCH, &wrench),
+        (ir::ARM_CURRENT, &[s.arm_current][..]),
+        (ir::ARM_VOLTAGE, &[s.arm_voltage]),
+        (ir::ARM_CPU_TEMPERATURE, &[s.cpu_temperature]),
+        (ir::ARM_AMBIENT_TEMPERATURE, &[s.ambient_temperature]),
+        (ir::JOINT_POSITIONS, &s.joint_position),
+        (ir::JOINT_VELOCITIES, &s.joint_velocity),
+        (ir::JOINT_TORQUES, &s.joint_torque),
+        (ir::JOINT_CURRENTS, &s.joint_current),
+        (ir::JOINT_MOTOR_TEMPERATURES, &s.joint_temperature),
+        (ir::TCP_POSE, &pose),
+        (ir::TCP_TWIST, &twist),
+        (ir::TCP_WRENCH, &wrench),
     ] {
         for (k, v) in (0u16..).zip(values) {
             put(block + 2 * k, f32_to_words(*v as f32));
         }
     }
-    r[usize::from(input_register::ROBOT_STATE)] = s.robot_state.code();
+    r[usize::from(ir::ROBOT_STATE)] = s.robot_state.code();
     r
 }
 
@@ -87,8 +88,8 @@ pub fn discrete_inputs(s: &ArmSnapshot) -> [bool; 95] {
         *slot = true;
     }
     for bit in 0..31u16 {
-        d[usize::from(discrete_input::FAULT_FLAGS + bit)] = s.faults & (1 << bit) != 0;
-        d[usize::from(discrete_input::WARNING_FLAGS + bit)] = s.warnings & (1 << bit) != 0;
+        d[usize::from(di::FAULT_FLAGS + bit)] = s.faults & (1 << bit) != 0;
+        d[usize::from(di::WARNING_FLAGS + bit)] = s.warnings & (1 << bit) != 0;
     }
     d
 }
@@ -96,9 +97,9 @@ pub fn discrete_inputs(s: &ArmSnapshot) -> [bool; 95] {
 /// Holding registers 0-219: action state, speed limits, and the command block as written.
 pub fn holding_registers(s: &ArmSnapshot, command_block: &[u16; 20]) -> [u16; 220] {
     let mut h = [0u16; 220];
-    h[usize::from(holding_register::ACTION_STATUS)] = s.action_status.code();
-    h[usize::from(holding_register::ACTION_ID)] = s.action_id;
-    h[usize::from(holding_register::ACTION_MOVE_TYPE)] = s.move_type;
+    h[usize::from(hr::ACTION_STATUS)] = s.action_status.code();
+    h[usize::from(hr::ACTION_ID)] = s.action_id;
+    h[usize::from(hr::ACTION_MOVE_TYPE)] = s.move_type;
     let lin = f32_to_words(s.speed_limit_linear as f32);
     let ang = f32_to_words(s.speed_limit_angular_deg as f32);
     h[104..106].copy_from_slice(&lin);
@@ -126,9 +127,7 @@ pub fn write_registers(world: &mut World, start: u16, values: &[u16]) -> Result<
     let at = usize::from(start - WRITABLE.0);
     block[at..at + values.len()].copy_from_slice(values);
     let touches = |addr: u16| u32::from(start) <= u32::from(addr) && u32::from(addr) < end;
-    if touches(holding_register::DESIRED_LINEAR_SPEED_LIMIT)
-        || touches(holding_register::DESIRED_ANGULAR_SPEED_LIMIT)
-    {
+    if touches(hr::DESIRED_LINEAR_SPEED_LIMIT) || touches(hr::DESIRED_ANGULAR_SPEED_LIMIT) {
         // A limit not written yet (still 0) keeps the one in force.
         let (current_linear, current_angular) = world.arm.speed_limits();
         let pick = |addr: u16, current: f64| match float_at(&block, addr) {
@@ -136,11 +135,8 @@ pub fn write_registers(world: &mut World, start: u16, values: &[u16]) -> Result<
             v if v.is_finite() && v > 0.0 => Ok(f64::from(v)),
             _ => Err(Refused::IllegalValue),
         };
-        let linear = pick(holding_register::DESIRED_LINEAR_SPEED_LIMIT, current_linear)?;
-        let angular = pick(
-            holding_register::DESIRED_ANGULAR_SPEED_LIMIT,
-            current_angular,
-        )?;
+        let linear = pick(hr::DESIRED_LINEAR_SPEED_LIMIT, current_linear)?;
+        let angular = pick(hr::DESIRED_ANGULAR_SPEED_LIMIT, current_angular)?;
         world
             .arm
             .set_speed_limits(linear, angular)
@@ -148,7 +144,7 @@ pub fn write_registers(world: &mut World, start: u16, values: &[u16]) -> Result<
     }
     // Only a write the arm accepted lands in the block.
     world.command_block = block;
-    if touches(holding_register::COMMAND) {
+    if touches(hr::COMMAND) {
         execute(world);
     }
     Ok(())
@@ -202,32 +198,24 @@ fn execute(world: &mut World) {
                         [v(210), v(212), v(214)],
                     );
                     let (linear, angular) = world.arm.speed_limits();
-                    Some(SimMotion::ToPose {
+                    SimMotion::ToPose {
                         target: pose,
                         linear_speed: linear,
                         angular_speed: angular.to_radians(),
-                    })
-                }
-                Some(MoveType::Twist) => {
-                    // An unknown code falls back to the base frame, as before.
-                    let frame = ReferenceFrame::from_code(block[3]).unwrap_or(ReferenceFrame::Base);
-                    Some(SimMotion::Twist {
-                        linear: Vector3::new(v(204), v(206), v(208)),
-                        angular: Vector3::new(v(210), v(212), v(214)).map(f64::to_radians),
-                        frame,
-                    })
-                }
-                // Unknown move types: nothing to run.
-                _ => None,
-            };
-            match motion {
-                // Refused: aborted, no flag (as the real arm).
-                Some(motion) => {
-                    if world.arm.command(motion, 0.0, false).is_err() {
-                        world.arm.mark_aborted();
                     }
                 }
-                None => world.arm.mark_aborted(),
+                // An unknown frame code falls back to the base frame, as before.
+                Some(MoveType::Twist) => SimMotion::Twist {
+                    linear: Vector3::new(v(204), v(206), v(208)),
+                    angular: Vector3::new(v(210), v(212), v(214)).map(f64::to_radians),
+                    frame: ReferenceFrame::from_code(block[3]).unwrap_or(ReferenceFrame::Base),
+                },
+                // Unknown move types: nothing to run.
+                _ => return world.arm.mark_aborted(),
+            };
+            // Refused: aborted, no flag (as the real arm).
+            if world.arm.command(motion, 0.0, false).is_err() {
+                world.arm.mark_aborted();
             }
         }
         _ => {}

@@ -30,7 +30,6 @@ use crate::talos::{Reply, Request, ReturnCode};
 pub use clients::ClientId;
 use hardware::hardware_operation;
 pub use positions::SavedPosition;
-use positions::{iso, pose_of};
 pub use restore::RememberedPosition;
 
 /// The simulated operator's version, reported by Handshake.
@@ -136,11 +135,13 @@ impl Operator {
         let command = request.command();
         let done = Reply::error(command, ok);
         match request {
-            Request::Handshake { .. } => Ok(Reply::Handshake {
-                return_code: ok,
-                major_version: VERSION.0,
-                minor_version: VERSION.1,
-            }),
+            Request::Handshake { .. } => {
+                return Ok(Reply::Handshake {
+                    return_code: ok,
+                    major_version: VERSION.0,
+                    minor_version: VERSION.1,
+                });
+            }
             Request::PolarPan {
                 delta_azimuth,
                 delta_altitude,
@@ -158,16 +159,14 @@ impl Operator {
                     linear_speed: rate * radius,
                     angular_speed: rate,
                 };
-                self.command(arm, motion, delay_ms, false, self.move_cap(time_ms))?;
-                Ok(done)
+                self.command(arm, motion, delay_ms, self.move_cap(time_ms))?;
             }
             Request::Home { delay_ms } => {
                 let motion = SimMotion::ToJoints {
                     target: kinematics::to_radians(&HOME_DEG),
                     fraction: self.fraction() * MAX_JOINT_FRACTION,
                 };
-                self.command(arm, motion, delay_ms, false, self.jog_cap())?;
-                Ok(done)
+                self.command(arm, motion, delay_ms, self.jog_cap())?;
             }
             Request::PolarPanStart {
                 moving_azimuth,
@@ -183,12 +182,8 @@ impl Operator {
                     altitude: f64::from(moving_altitude) * rate,
                 };
                 self.continuous(arm, motion)?;
-                Ok(done)
             }
-            Request::PolarPanStop | Request::CartesianMoveStop => {
-                arm.stop();
-                Ok(done)
-            }
+            Request::PolarPanStop | Request::CartesianMoveStop => arm.stop(),
             Request::CartesianMove {
                 delta_x,
                 delta_y,
@@ -207,8 +202,7 @@ impl Operator {
                     linear_speed: speed,
                     angular_speed: MAX_JOG_ANGULAR_DEG.to_radians(),
                 };
-                self.command(arm, motion, delay_ms, false, self.move_cap(time_ms))?;
-                Ok(done)
+                self.command(arm, motion, delay_ms, self.move_cap(time_ms))?;
             }
             Request::CartesianMoveStart {
                 moving_x,
@@ -231,7 +225,6 @@ impl Operator {
                     frame: ReferenceFrame::Base,
                 };
                 self.continuous(arm, motion)?;
-                Ok(done)
             }
             Request::HardwareOperation {
                 subcommand,
@@ -241,39 +234,33 @@ impl Operator {
                 let hw = HwRequest::decode(subcommand, &payload)
                     .map_err(|e| ReturnCode(e.return_code()))?;
                 let reply = hardware_operation(arm, hw, self.jog_cap())?;
-                Ok(Reply::HardwareOperation {
+                return Ok(Reply::HardwareOperation {
                     return_code: ok,
                     subcommand,
                     payload: reply.encode_payload(),
-                })
+                });
             }
-            Request::GetSpeed => Ok(Reply::GetSpeed {
-                return_code: ok,
-                speed: self.speed,
-            }),
+            Request::GetSpeed => {
+                return Ok(Reply::GetSpeed {
+                    return_code: ok,
+                    speed: self.speed,
+                });
+            }
             Request::SetSpeed { speed } => {
                 if !(1..=100).contains(&speed) {
                     return Err(ReturnCode::OUT_OF_RANGE);
                 }
                 self.speed = speed;
-                Ok(done)
             }
             Request::SavePosition {
                 name,
                 anchor,
                 parent,
-            } => {
-                self.save(arm, name, anchor, parent)?;
-                Ok(done)
-            }
-            Request::DeletePosition { name } => {
-                self.delete(&name)?;
-                Ok(done)
-            }
+            } => self.save(arm, name, anchor, parent)?,
+            Request::DeletePosition { name } => self.delete(&name)?,
             Request::GoToPosition { name } => {
                 let motion = self.go_to(&name)?;
-                self.command(arm, motion, 0, false, self.jog_cap())?;
-                Ok(done)
+                self.command(arm, motion, 0, self.jog_cap())?;
             }
             Request::SetPolarPosition {
                 name,
@@ -292,33 +279,32 @@ impl Operator {
                     r * el.sin(),
                 );
                 self.set_absolute_position(arm, name, xyz)?;
-                Ok(done)
             }
             Request::GetPolarPosition { name } => {
                 let p = self.absolute(&name, 0)?.position;
                 let horizontal = p.x.hypot(p.y);
-                Ok(Reply::GetPolarPosition {
+                return Ok(Reply::GetPolarPosition {
                     return_code: ok,
                     delta: tenths(p.z.atan2(horizontal).to_degrees()),
                     azimuth: tenths(p.y.atan2(p.x).to_degrees()),
                     radius: tenths(p.norm() * 1000.0),
-                })
+                });
             }
             Request::SetCartesianPosition { name, x, y, z } => {
                 let xyz = Vector3::new(f64::from(x), f64::from(y), f64::from(z)) / 10_000.0;
                 self.set_absolute_position(arm, name, xyz)?;
-                Ok(done)
             }
             Request::GetCartesianPosition { name } => {
                 let p = self.absolute(&name, 0)?.position;
-                Ok(Reply::GetCartesianPosition {
+                return Ok(Reply::GetCartesianPosition {
                     return_code: ok,
                     x: tenths(p.x * 1000.0),
                     y: tenths(p.y * 1000.0),
                     z: tenths(p.z * 1000.0),
-                })
+                });
             }
         }
+        Ok(done)
     }
 
     /// Speed so `amount` takes `time_ms`, capped at `max`; without a time, the speed setting.
@@ -329,16 +315,15 @@ impl Operator {
         (amount / (f64::from(time_ms) / 1000.0)).clamp(1e-4, max)
     }
 
-    /// Starts `motion` with the tool point kept under `cap` m/s.
+    /// Starts a discrete `motion` (no watchdog) with the tool point kept under `cap` m/s.
     fn command(
         &self,
         arm: &mut Arm,
         motion: SimMotion,
         delay_ms: u32,
-        watchdog: bool,
         cap: f64,
     ) -> Result<(), ReturnCode> {
-        arm.command_capped(motion, f64::from(delay_ms) / 1000.0, watchdog, Some(cap))
+        arm.command_capped(motion, f64::from(delay_ms) / 1000.0, false, Some(cap))
             .map_err(refusal_code)
     }
 

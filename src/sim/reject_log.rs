@@ -96,10 +96,6 @@ impl RejectLog {
         }
     }
 
-    pub fn peer(&self) -> SocketAddr {
-        self.peer
-    }
-
     /// Logs that a frame from the peer was rejected, and why.
     pub fn rejected(&mut self, now: Instant, reason: impl fmt::Display) {
         let admission = self.limit.admit(now);

@@ -33,28 +33,21 @@ pub const PACKAGING_DEG: [f64; 7] = [0.0, -30.0, 180.0, -140.0, 0.0, -110.0, 90.
 pub const ZERO_DEG: [f64; 7] = [0.0; 7];
 
 /// The factory actions, by id.
-pub const ACTIONS: [StoredAction; 4] = [
-    StoredAction {
-        id: HOME_ACTION_ID,
-        name: "Home",
-        joints_deg: HOME_DEG,
-    },
-    StoredAction {
-        id: 3,
-        name: "Retract",
-        joints_deg: RETRACT_DEG,
-    },
-    StoredAction {
-        id: 4,
-        name: "Packaging",
-        joints_deg: PACKAGING_DEG,
-    },
-    StoredAction {
-        id: 5,
-        name: "Zero",
-        joints_deg: ZERO_DEG,
-    },
-];
+pub const ACTIONS: [StoredAction; 4] = {
+    const fn stored(id: u16, name: &'static str, joints_deg: [f64; 7]) -> StoredAction {
+        StoredAction {
+            id,
+            name,
+            joints_deg,
+        }
+    }
+    [
+        stored(HOME_ACTION_ID, "Home", HOME_DEG),
+        stored(3, "Retract", RETRACT_DEG),
+        stored(4, "Packaging", PACKAGING_DEG),
+        stored(5, "Zero", ZERO_DEG),
+    ]
+};
 
 /// A stored sequence: the actions it runs, in order.
 #[derive(Debug, Clone, Copy, PartialEq)]

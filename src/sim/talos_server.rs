@@ -221,9 +221,14 @@ enum Answer {
     Ack,
 }
 
-/// A reply frame for any command value, known or not, carrying only a return code.
-fn bare_reply(id: u32, command: u16, code: ReturnCode) -> TalosFrame {
-    TalosFrame::new(id | 1, command | REPLY_BIT, code.0.to_be_bytes().to_vec())
+/// The answer to any command value, known or not: a reply frame carrying only a return code.
+fn bare_reply(id: u32, command: u16, code: ReturnCode) -> Option<Answer> {
+    let payload = code.0.to_be_bytes().to_vec();
+    Some(Answer::TalosFrame(TalosFrame::new(
+        id | 1,
+        command | REPLY_BIT,
+        payload,
+    )))
 }
 
 /// Names a frame in the log: its id and command value.
@@ -264,9 +269,9 @@ async fn answer_icd(arm: &SimArm, item: Decoded, client: &mut Client) -> Option<
             client.reject(describe_rejection(&rejection));
             // A frame whose checksum failed still names its exchange: say so.
             return match (rejection.reason, rejection.header) {
-                (RejectReason::BadChecksum { .. }, Some(h)) if h.command & REPLY_BIT == 0 => Some(
-                    Answer::TalosFrame(bare_reply(h.id, h.command, ReturnCode::BAD_CHECKSUM)),
-                ),
+                (RejectReason::BadChecksum { .. }, Some(h)) if h.command & REPLY_BIT == 0 => {
+                    bare_reply(h.id, h.command, ReturnCode::BAD_CHECKSUM)
+                }
                 _ => None,
             };
         }
@@ -276,11 +281,7 @@ async fn answer_icd(arm: &SimArm, item: Decoded, client: &mut Client) -> Option<
             "{}: a reply value; the operator takes requests",
             label(frame.id, frame.command)
         ));
-        return Some(Answer::TalosFrame(bare_reply(
-            frame.id,
-            frame.command,
-            ReturnCode::UNKNOWN_COMMAND,
-        )));
+        return bare_reply(frame.id, frame.command, ReturnCode::UNKNOWN_COMMAND);
     }
     let reply = match Request::from_frame(&frame) {
         Ok(request) => carry_out(arm, client, frame.id, request).await?,
@@ -289,13 +290,7 @@ async fn answer_icd(arm: &SimArm, item: Decoded, client: &mut Client) -> Option<
             let code = Operator::reply_to_undecodable(&error);
             match CommandValue::from_request_value(frame.command) {
                 Some(command) => Reply::error(command, code),
-                None => {
-                    return Some(Answer::TalosFrame(bare_reply(
-                        frame.id,
-                        frame.command,
-                        code,
-                    )));
-                }
+                None => return bare_reply(frame.id, frame.command, code),
             }
         }
     };

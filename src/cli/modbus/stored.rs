@@ -40,10 +40,8 @@ impl StoredOptions {
     /// Refuses values a technician could get wrong, before anything connects.
     pub fn check(&self) -> Result<(), BadWaitTimeout> {
         let timeout = self.wait_timeout;
-        if !(timeout.is_finite() && timeout > 0.0 && timeout <= 86_400.0) {
-            return Err(BadWaitTimeout(timeout));
-        }
-        Ok(())
+        let sane = timeout.is_finite() && timeout > 0.0 && timeout <= 86_400.0;
+        sane.then_some(()).ok_or(BadWaitTimeout(timeout))
     }
 
     /// The cap as the arm's limits for the run (m/s, deg/s), at full speed (these commands have no
@@ -68,19 +66,19 @@ struct Named {
 
 impl Named {
     fn completed(&self, took: Duration) -> String {
-        let secs = took.as_secs_f64();
-        if self.home {
-            format!("home: completed in {secs:.1} s")
-        } else {
-            format!("{} completed in {secs:.1} s", self.stored)
-        }
+        let (name, secs) = (self.name(), took.as_secs_f64());
+        let colon = if self.home { ":" } else { "" };
+        format!("{name}{colon} completed in {secs:.1} s")
     }
 
     fn failed(&self, why: &str) -> String {
-        if self.home {
-            format!("home failed: {why}")
-        } else {
-            format!("{} failed: {why}", self.stored)
+        format!("{} failed: {why}", self.name())
+    }
+
+    fn name(&self) -> String {
+        match self.home {
+            true => "home".into(),
+            false => self.stored.to_string(),
         }
     }
 

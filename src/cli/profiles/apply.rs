@@ -5,7 +5,7 @@ use std::ffi::OsString;
 use clap::parser::ValueSource;
 use clap::{ArgMatches, Command, CommandFactory, FromArgMatches, Parser};
 
-use super::{Profile, ProfileError, config_path, load};
+use super::{Profile, ProfileError, config_path, first_line, load};
 use crate::cli::Cli;
 
 /// The commands a profile applies to (`None`: the console).
@@ -23,41 +23,19 @@ pub struct Parsed {
 }
 
 /// Why the command line cannot be used.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum ArgsError {
     /// clap's own (also `--help` and `--version`): `exit()` prints it.
-    Clap(clap::Error),
-    Profile(ProfileError),
+    #[error(transparent)]
+    Clap(#[from] clap::Error),
+    #[error(transparent)]
+    Profile(#[from] ProfileError),
     /// `--arm` typed for a command that takes no profile.
+    #[error("--arm: `{0}` takes no arm profile (the console, send, status and modbus do)")]
     NotForThisCommand(String),
     /// Neither the command line nor the profile gives an option the command needs.
+    #[error("{0}")]
     Incomplete(String),
-}
-
-impl std::fmt::Display for ArgsError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            ArgsError::Clap(e) => write!(f, "{e}"),
-            ArgsError::Profile(e) => write!(f, "{e}"),
-            ArgsError::NotForThisCommand(command) => write!(
-                f,
-                "--arm: `{command}` takes no arm profile (the console, send, status and modbus do)"
-            ),
-            ArgsError::Incomplete(why) => write!(f, "{why}"),
-        }
-    }
-}
-
-impl From<clap::Error> for ArgsError {
-    fn from(e: clap::Error) -> Self {
-        ArgsError::Clap(e)
-    }
-}
-
-impl From<ProfileError> for ArgsError {
-    fn from(e: ProfileError) -> Self {
-        ArgsError::Profile(e)
-    }
 }
 
 /// Reads `args` and applies the profile `--arm` or `ARMJOG_ARM` names, checked whole first.
@@ -93,11 +71,9 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Parsed, ArgsError> {
             arm: Some(arm),
         }),
         Err(e) if e.kind() == clap::error::ErrorKind::MissingRequiredArgument => {
-            let rendered = e.to_string();
-            let first = rendered.lines().next().unwrap_or_default();
             Err(ArgsError::Incomplete(format!(
                 "{}: neither the command line nor the profile '{arm}' in {} gives it",
-                first.strip_prefix("error: ").unwrap_or(first),
+                first_line(&e),
                 file.display()
             )))
         }

@@ -8,7 +8,7 @@ use clap::{Arg, Args, Command};
 use toml::Spanned;
 use toml::de::{DeTable, DeValue};
 
-use super::{Profile, ProfileError, Profiles, Setting};
+use super::{Profile, ProfileError, Profiles, Setting, first_line};
 use crate::cli::console::ConsoleArgs;
 
 /// The largest config file read: a few profiles are a few kB.
@@ -80,20 +80,16 @@ pub fn known_keys() -> Vec<String> {
 
 /// Reads and checks the file at `path`.
 pub fn load(path: &Path) -> Result<Profiles, ProfileError> {
-    let text = match crate::files::read_to_string_bounded(path, CONFIG_LIMIT) {
-        Ok(text) => text,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            return Err(ProfileError::NoFile {
-                path: path.to_path_buf(),
-            });
-        }
-        Err(e) => {
-            return Err(ProfileError::Unreadable {
-                path: path.to_path_buf(),
+    let text = crate::files::read_to_string_bounded(path, CONFIG_LIMIT).map_err(|e| {
+        let path = path.to_path_buf();
+        match e.kind() {
+            std::io::ErrorKind::NotFound => ProfileError::NoFile { path },
+            _ => ProfileError::Unreadable {
+                path,
                 reason: e.to_string(),
-            });
+            },
         }
-    };
+    })?;
     parse(path, &text)
 }
 
@@ -209,11 +205,7 @@ fn check_value(arg: &Arg, key: &str, text: &str) -> Result<(), String> {
             // The parser's own words (`must be above 0 ...`); clap's first line otherwise.
             let why = match std::error::Error::source(&e) {
                 Some(source) => source.to_string(),
-                None => {
-                    let rendered = e.to_string();
-                    let first = rendered.lines().next().unwrap_or_default();
-                    first.strip_prefix("error: ").unwrap_or(first).to_string()
-                }
+                None => first_line(&e),
             };
             Err(format!("{key} = {text}: {why}"))
         }

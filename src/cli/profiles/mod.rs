@@ -5,7 +5,6 @@
 mod apply;
 mod file;
 
-use std::fmt;
 use std::path::{Path, PathBuf};
 
 use clap::Args;
@@ -33,6 +32,13 @@ pub fn config_path(given: Option<&Path>) -> Option<PathBuf> {
     given
         .map(Path::to_path_buf)
         .or_else(|| dirs::config_dir().map(|d| d.join("armjog").join("config.toml")))
+}
+
+/// The first line of clap's message, without its `error: `.
+fn first_line(e: &clap::Error) -> String {
+    let rendered = e.to_string();
+    let first = rendered.lines().next().unwrap_or_default();
+    first.strip_prefix("error: ").unwrap_or(first).to_string()
 }
 
 /// A config file's profiles, in the file's order.
@@ -85,23 +91,23 @@ impl Profile {
 }
 
 /// Why a profile could not be used. Each names the file; those about its contents, the line.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ProfileError {
     /// No configuration folder is known (no home directory) and no `--config` was given.
+    #[error("no configuration folder is known (no home directory): give --config FILE")]
     NoPlace,
-    NoFile {
-        path: PathBuf,
-    },
-    Unreadable {
-        path: PathBuf,
-        reason: String,
-    },
+    #[error("{}: no such file (arm profiles go there)", path.display())]
+    NoFile { path: PathBuf },
+    #[error("{}: cannot read it: {reason}", path.display())]
+    Unreadable { path: PathBuf, reason: String },
     /// Bad TOML, an unknown key, a wrong type or a bad value.
+    #[error("{}:{line}: {message}", path.display())]
     Invalid {
         path: PathBuf,
         line: usize,
         message: String,
     },
+    #[error("{}: no arm '{name}'{}", path.display(), known_arms(name, known))]
     UnknownArm {
         path: PathBuf,
         name: String,
@@ -109,40 +115,11 @@ pub enum ProfileError {
     },
 }
 
-impl fmt::Display for ProfileError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            ProfileError::NoPlace => write!(
-                f,
-                "no configuration folder is known (no home directory): give --config FILE"
-            ),
-            ProfileError::NoFile { path } => {
-                write!(
-                    f,
-                    "{}: no such file (arm profiles go there)",
-                    path.display()
-                )
-            }
-            ProfileError::Unreadable { path, reason } => {
-                write!(f, "{}: cannot read it: {reason}", path.display())
-            }
-            ProfileError::Invalid {
-                path,
-                line,
-                message,
-            } => write!(f, "{}:{line}: {message}", path.display()),
-            ProfileError::UnknownArm { path, name, known } => {
-                write!(f, "{}: no arm '{name}'", path.display())?;
-                if let Some(near) = nearest(name, known) {
-                    write!(f, "; did you mean '{near}'?")
-                } else if known.is_empty() {
-                    write!(f, " (the file has no [arms.NAME] tables)")
-                } else {
-                    write!(f, " (arms: {})", known.join(", "))
-                }
-            }
-        }
+/// What follows an unknown arm's name: the nearest known one, else the known ones.
+fn known_arms(name: &str, known: &[String]) -> String {
+    match nearest(name, known) {
+        Some(near) => format!("; did you mean '{near}'?"),
+        None if known.is_empty() => " (the file has no [arms.NAME] tables)".into(),
+        None => format!(" (arms: {})", known.join(", ")),
     }
 }
-
-impl std::error::Error for ProfileError {}

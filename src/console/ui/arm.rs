@@ -39,29 +39,21 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
             Span::styled(format!("{first}{more}"), theme.warning()),
         ]));
     }
-    let faults = t.faults.names();
-    lines.push(if faults.is_empty() {
-        Line::from(vec![
-            Span::styled("faults ", theme.dim()),
-            Span::raw("none"),
-        ])
-    } else {
-        Line::from(vec![
+    let none = |label| Line::from(vec![Span::styled(label, theme.dim()), Span::raw("none")]);
+    let (faults, warnings) = (t.faults.names().join(", "), t.warnings.names().join(", "));
+    lines.push(match faults.is_empty() {
+        true => none("faults "),
+        false => Line::from(vec![
             Span::styled("FAULTS ", theme.alarm()),
-            Span::styled(format!(" {}", faults.join(", ")), theme.warning()),
-        ])
+            Span::styled(format!(" {faults}"), theme.warning()),
+        ]),
     });
-    let warnings = t.warnings.names();
-    lines.push(if warnings.is_empty() {
-        Line::from(vec![
-            Span::styled("warnings ", theme.dim()),
-            Span::raw("none"),
-        ])
-    } else {
-        Line::from(vec![
+    lines.push(match warnings.is_empty() {
+        true => none("warnings "),
+        false => Line::from(vec![
             Span::styled("warnings ", theme.warning()),
-            Span::raw(warnings.join(", ")),
-        ])
+            Span::raw(warnings),
+        ]),
     });
     // A figure and its unit, and a name and its figure, are joined by no-break spaces: a
     // narrow panel wraps between them, not inside.

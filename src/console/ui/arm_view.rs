@@ -26,6 +26,8 @@ use crate::console::app::TrailShade;
 pub use crate::console::arm_geometry::Projection;
 use crate::console::arm_geometry::{self, ArmPose, jog_direction};
 use crate::console::view::View;
+use crate::kortex::Telemetry;
+use crate::kortex::sanity::JOINT_ANGLE_DEG;
 use crate::link::interface::TelemetrySource;
 
 /// What the panel says over a link that sends no telemetry (the ack dialect).
@@ -144,12 +146,10 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     let titles = super::telemetry_titles("Arm view", &[": top X-Y, side X-Z"], view);
     let block = super::fitted_panel(&titles, area.width, theme);
     // An angle out of physical range (1e9 deg) is not drawn as some other angle.
-    let joints_known = |t: &crate::kortex::Telemetry| {
-        t.joints.iter().all(|j| {
-            crate::kortex::sanity::JOINT_ANGLE_DEG
-                .sane(j.position)
-                .is_some()
-        })
+    let joints_known = |t: &Telemetry| {
+        t.joints
+            .iter()
+            .all(|j| JOINT_ANGLE_DEG.sane(j.position).is_some())
     };
     let telemetry = view.arm.telemetry.as_ref().filter(|t| joints_known(t));
     let Some(telemetry) = telemetry else {
@@ -225,15 +225,12 @@ fn draw_one(frame: &mut Frame, drawing: &Drawing, scene: &Scene, theme: &Theme) 
     trail(&mut ctx, projection, &scene.trail, theme);
     ctx.layer();
     for marker in &scene.markers {
-        let (x, y) = at(&marker.at);
         let color = if marker.selected {
             Color::Yellow
         } else {
             Color::Cyan
         };
-        let d = 0.015;
-        let coords = [(x, y), (x - d, y), (x + d, y), (x, y - d), (x, y + d)];
-        ctx.points(&coords, paint(theme, color));
+        cross(&mut ctx, at(&marker.at), 0.015, paint(theme, color));
     }
     ctx.layer();
     arm(&mut ctx, projection, &scene.pose, theme);
@@ -296,10 +293,9 @@ fn trail(
 ) {
     for pair in points.windows(2) {
         let (age, to) = pair[1];
-        let from = pair[0].1;
-        let (x1, y1) = projection.project(&from);
-        let (x2, y2) = projection.project(&to);
-        ctx.line((x1, y1), (x2, y2), paint(theme, shade(age)));
+        let color = paint(theme, shade(age));
+        let (from, to) = (projection.project(&pair[0].1), projection.project(&to));
+        ctx.line(from, to, color);
     }
 }
 
@@ -327,27 +323,18 @@ fn arm(ctx: &mut Braille, projection: Projection, pose: &ArmPose, theme: &Theme)
     }
     let link = paint(theme, Color::White);
     for pair in pose.points.windows(2) {
-        let (x1, y1) = at(&pair[0]);
-        let (x2, y2) = at(&pair[1]);
-        ctx.line((x1, y1), (x2, y2), link);
+        ctx.line(at(&pair[0]), at(&pair[1]), link);
     }
     ctx.layer();
-    let joints: Vec<(f64, f64)> = pose.points[1..8].iter().map(at).collect();
     let joint = paint(theme, Color::LightBlue);
-    for (x, y) in &joints {
-        let d = 0.012;
-        let coords = [(*x, *y), (x - d, *y), (x + d, *y), (*x, y - d), (*x, y + d)];
-        ctx.points(&coords, joint);
+    for point in &pose.points[1..8] {
+        cross(ctx, at(point), 0.012, joint);
     }
     ctx.layer();
-    let (tx, ty) = at(&pose.tool());
-    for (axis, color) in pose
-        .tool_axes
-        .iter()
-        .zip([Color::Red, Color::Green, Color::Blue])
-    {
-        let (ax, ay) = at(&(pose.tool() + axis * AXIS_LENGTH));
-        ctx.line((tx, ty), (ax, ay), paint(theme, color));
+    let colors = [Color::Red, Color::Green, Color::Blue];
+    for (axis, color) in pose.tool_axes.iter().zip(colors) {
+        let end = at(&(pose.tool() + axis * AXIS_LENGTH));
+        ctx.line(at(&pose.tool()), end, paint(theme, color));
     }
 }
 
@@ -374,6 +361,12 @@ fn arrow(
         let (s, c) = (angle + turn).sin_cos();
         ctx.line((x2, y2), (x2 + head * c, y2 + head * s), color);
     }
+}
+
+/// A point and its four neighbours `d` away: a small cross.
+fn cross(ctx: &mut Braille, (x, y): (f64, f64), d: f64, color: Color) {
+    let dots = [(x, y), (x - d, y), (x + d, y), (x, y - d), (x, y + d)];
+    ctx.points(&dots, color);
 }
 
 /// A whole braille cell filled at a point: the tool point stands out from the lines through it.

@@ -104,9 +104,14 @@ impl Braille {
     /// The world points that fall inside the window, a dot each.
     pub fn points(&mut self, points: &[(f64, f64)], color: Color) {
         for &(x, y) in points {
-            if let Some((dot_x, dot_y)) = self.dot(x, y) {
-                self.paint(dot_x, dot_y, color);
-            }
+            self.point(x, y, color);
+        }
+    }
+
+    /// A world point's dot, if it falls inside the window.
+    fn point(&mut self, x: f64, y: f64, color: Color) {
+        if let Some((dot_x, dot_y)) = self.dot(x, y) {
+            self.paint(dot_x, dot_y, color);
         }
     }
 
@@ -125,11 +130,11 @@ impl Braille {
     /// A circle's outline: a dot every degree.
     pub fn circle(&mut self, centre: (f64, f64), radius: f64, color: Color) {
         for (cos, sin) in DEGREES.iter() {
-            let x = radius.mul_add(*cos, centre.0);
-            let y = radius.mul_add(*sin, centre.1);
-            if let Some((dot_x, dot_y)) = self.dot(x, y) {
-                self.paint(dot_x, dot_y, color);
-            }
+            self.point(
+                radius.mul_add(*cos, centre.0),
+                radius.mul_add(*sin, centre.1),
+                color,
+            );
         }
     }
 
@@ -178,21 +183,11 @@ fn clip(
     const BOTTOM: u8 = 4;
     const TOP: u8 = 8;
     let region = |(x, y): (f64, f64)| {
-        let across = if x < x_min {
-            LEFT
-        } else if x > x_max {
-            RIGHT
-        } else {
-            0
-        };
-        let down = if y < y_min {
-            BOTTOM
-        } else if y > y_max {
-            TOP
-        } else {
-            0
-        };
-        across | down
+        let beyond = |past: bool, edge: u8| if past { edge } else { 0 };
+        beyond(x < x_min, LEFT)
+            | beyond(x > x_max, RIGHT)
+            | beyond(y < y_min, BOTTOM)
+            | beyond(y > y_max, TOP)
     };
     // Where the line from `p` towards `q` crosses the first window edge `p` is beyond.
     let onto_edge = |p: (f64, f64), q: (f64, f64), outside: u8| {

@@ -7,7 +7,7 @@ mod fit;
 use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Block, Borders, Clear, Paragraph};
+use ratatui::widgets::{Clear, Paragraph};
 
 use super::long_text::elide_start;
 use super::numbers::elide_name;
@@ -34,7 +34,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
                 columns,
                 most_rows,
             );
-            (" Confirm ".to_string(), lines)
+            ("Confirm".to_string(), lines)
         }
         Overlay::Form(form) => {
             let mut lines = Vec::new();
@@ -76,7 +76,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
                 theme.dim(),
             ));
             (
-                format!(" {} ", form.title()),
+                form.title().to_string(),
                 fit::fit(&lines, &foot, columns, most_rows),
             )
         }
@@ -84,7 +84,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
             let lines = super::position_pose::lines(view, name, coordinates.as_ref(), theme);
             let close = [Line::raw(""), Line::styled("any key closes", theme.dim())];
             (
-                format!(" Position '{name}' "),
+                format!("Position '{name}'"),
                 fit::fit(&lines, &close, columns, most_rows),
             )
         }
@@ -99,9 +99,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
         width,
         height,
     };
-    let block = Block::default()
-        .borders(Borders::ALL)
-        .title(Span::styled(title, theme.title()));
+    let block = super::panel(&title, theme);
     frame.render_widget(Clear, rect);
     // Wrapped to the dialog's width already: a row each.
     frame.render_widget(Paragraph::new(lines).block(block), rect);

@@ -85,11 +85,7 @@ fn heading(view: &View, width: usize) -> String {
         ],
         None => vec![format!("|{name}| {unit}{keys}"), format!("{name} {unit}")],
     };
-    candidates
-        .iter()
-        .find(|c| numbers::width(c) <= width)
-        .cloned()
-        .unwrap_or_else(|| numbers::elide(candidates.last().map_or("", String::as_str), width))
+    numbers::first_fitting(&candidates, width)
 }
 
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {

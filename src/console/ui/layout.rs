@@ -97,16 +97,8 @@ pub fn layout(area: Rect, widths: TopWidths) -> ScreenLayout {
     let (tool_width, joints_beside) = top_split(area.width, widths);
     let top = take_rows(&mut free, TOP_ROWS);
     if joints_beside {
-        let joints_width = area.width - tool_width;
-        layout.joints = Some(Rect {
-            width: joints_width,
-            ..top
-        });
-        layout.tool = Some(Rect {
-            x: top.x + joints_width,
-            width: tool_width,
-            ..top
-        });
+        let (joints, tool) = split_columns(top, area.width - tool_width);
+        (layout.joints, layout.tool) = (Some(joints), Some(tool));
     } else {
         layout.tool = Some(top);
         if free.height >= JOINTS_MIN_ROWS {
@@ -118,8 +110,7 @@ pub fn layout(area: Rect, widths: TopWidths) -> ScreenLayout {
     if free.height >= MIDDLE_ROWS + extra + LOG_MIN_ROWS {
         let middle = take_rows(&mut free, MIDDLE_ROWS + extra);
         match split_off_view(middle) {
-            Some((left, view)) => {
-                let mut left = left;
+            Some((mut left, view)) => {
                 layout.arm = Some(take_rows(&mut left, MIDDLE_ROWS));
                 layout.positions = Some(left);
                 layout.arm_view = Some(view);
@@ -154,18 +145,8 @@ pub fn place_history(positions: Rect) -> (Option<Rect>, Option<Rect>) {
         return (Some(positions), None);
     }
     let kept = (positions.width * POSITIONS_PERCENT / 100).max(POSITIONS_MIN_WIDTH);
-    let history = Rect {
-        x: positions.x + kept,
-        width: positions.width - kept,
-        ..positions
-    };
-    (
-        Some(Rect {
-            width: kept,
-            ..positions
-        }),
-        Some(history),
-    )
+    let (positions, history) = split_columns(positions, kept);
+    (Some(positions), Some(history))
 }
 
 /// The tool panel's width, and whether the joints panel fits beside it.
@@ -205,30 +186,22 @@ fn split_off_view(middle: Rect) -> Option<(Rect, Rect)> {
     if width < VIEW_MIN_WIDTH {
         return None;
     }
-    let left = Rect {
-        width: middle.width - width,
-        ..middle
-    };
-    let view = Rect {
-        x: middle.x + left.width,
-        width,
-        ..middle
-    };
-    Some((left, view))
+    Some(split_columns(middle, middle.width - width))
 }
 
 fn split_middle(middle: Rect) -> (Option<Rect>, Option<Rect>) {
-    let arm_width = middle.width * ARM_PERCENT / 100;
-    let arm = Rect {
-        width: arm_width,
-        ..middle
-    };
-    let positions = Rect {
-        x: middle.x + arm_width,
-        width: middle.width - arm_width,
-        ..middle
-    };
+    let (arm, positions) = split_columns(middle, middle.width * ARM_PERCENT / 100);
     (Some(arm), Some(positions))
+}
+
+/// `area` cut `width` columns from its left: the left part and the rest.
+fn split_columns(area: Rect, width: u16) -> (Rect, Rect) {
+    let rest = Rect {
+        x: area.x + width,
+        width: area.width - width,
+        ..area
+    };
+    (Rect { width, ..area }, rest)
 }
 
 #[cfg(test)]

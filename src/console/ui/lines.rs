@@ -18,14 +18,10 @@ use crate::text::is_printable_ascii;
 /// beyond the last row are not drawn, and each line is cut at the right edge.
 pub fn draw(buffer: &mut Buffer, area: Rect, block: Option<Block>, lines: &[Line]) {
     let area = area.intersection(buffer.area);
-    let inner = match &block {
-        Some(block) => {
-            let inner = block.inner(area);
-            block.render(area, buffer);
-            inner
-        }
-        None => area,
-    };
+    let inner = block.as_ref().map_or(area, |block| block.inner(area));
+    if let Some(block) = block {
+        block.render(area, buffer);
+    }
     for (line, y) in lines.iter().zip(inner.top()..inner.bottom()) {
         let row = Rect {
             y,

@@ -4,7 +4,6 @@
 use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Block, Borders};
 
 use super::numbers;
 use super::theme::Theme;
@@ -14,13 +13,11 @@ use crate::talos::hex::spaced_hex;
 
 pub fn draw(frame: &mut Frame, area: Rect, app: &View, theme: &Theme) {
     let title = if app.screen.hex {
-        " Command log (hex) "
+        "Command log (hex)"
     } else {
-        " Command log "
+        "Command log"
     };
-    let block = Block::default()
-        .borders(Borders::ALL)
-        .title(Span::styled(title, theme.title()));
+    let block = super::panel(title, theme);
     let rows = usize::from(area.height.saturating_sub(2));
     let width = usize::from(area.width.saturating_sub(2));
     let mut lines: Vec<Line> = Vec::new();
@@ -46,17 +43,15 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &View, theme: &Theme) {
         } else {
             (numbers::elide(&outcome, room), String::new())
         };
+        let outcome_style = if entry.ok {
+            theme.ok()
+        } else {
+            theme.warning()
+        };
         let mut entry_lines = vec![Line::from(vec![
             Span::styled(id, theme.dim()),
             Span::raw(name),
-            Span::styled(
-                outcome,
-                if entry.ok {
-                    theme.ok()
-                } else {
-                    theme.warning()
-                },
-            ),
+            Span::styled(outcome, outcome_style),
             Span::styled(latency, theme.dim()),
         ])];
         if app.screen.hex {
@@ -65,9 +60,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &View, theme: &Theme) {
             }
         }
         // Newest at the bottom: collect newest first, then reverse.
-        for line in entry_lines.into_iter().rev() {
-            lines.push(line);
-        }
+        lines.extend(entry_lines.into_iter().rev());
         if lines.len() >= rows {
             break;
         }

@@ -61,12 +61,7 @@ pub fn panel(title: &str, theme: &Theme) -> Block<'static> {
 pub fn fitted_panel(titles: &[String], width: u16, theme: &Theme) -> Block<'static> {
     // Two corners and a space either side of the title.
     let room = usize::from(width).saturating_sub(4);
-    let title = titles
-        .iter()
-        .find(|t| numbers::width(t) <= room)
-        .cloned()
-        .unwrap_or_else(|| numbers::elide(titles.last().map_or("", String::as_str), room));
-    panel(&title, theme)
+    panel(&numbers::first_fitting(titles, room), theme)
 }
 
 /// A telemetry panel's titles, longest first: `title` with each of `details` (longest first),

@@ -89,6 +89,15 @@ pub fn elide(text: &str, max: usize) -> String {
     format!("{kept}{ELLIPSIS}")
 }
 
+/// The first of `candidates` (longest first) that fits `max` columns whole; else the last one
+/// elided.
+pub fn first_fitting(candidates: &[String], max: usize) -> String {
+    match candidates.iter().find(|c| width(c) <= max) {
+        Some(fits) => fits.clone(),
+        None => elide(candidates.last().map_or("", String::as_str), max),
+    }
+}
+
 /// A name cut to at most `max` columns, anywhere, ending in `…` when cut (a name is not a
 /// number: `pos-12…` still reads as a cut name).
 pub fn elide_name(name: &str, max: usize) -> String {

@@ -6,7 +6,7 @@
 use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Block, Borders, List, ListItem, ListState};
+use ratatui::widgets::{List, ListItem, ListState};
 
 use super::numbers;
 use super::theme::Theme;
@@ -20,10 +20,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     } else {
         "console"
     };
-    let block = Block::default().borders(Borders::ALL).title(Span::styled(
-        format!(" Positions ({where_}) "),
-        theme.title(),
-    ));
+    let block = super::panel(&format!("Positions ({where_})"), theme);
     let inner = block.inner(area);
     // The highlight symbol takes two columns of every row of a list with a selection.
     let row_width = if view.book.positions.is_empty() {

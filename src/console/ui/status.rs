@@ -38,12 +38,9 @@ fn release_mode_name(view: &View) -> &'static str {
 }
 
 /// The built-in simulator's badge; none for a real link, whose address the line shows.
-fn simulated_spans(view: &View, theme: &Theme) -> Vec<Span<'static>> {
-    if view.session.simulated {
-        vec![Span::styled(" SIMULATED ARM ", theme.simulated())]
-    } else {
-        Vec::new()
-    }
+fn simulated_span(view: &View, theme: &Theme) -> Option<Span<'static>> {
+    let badge = Span::styled(" SIMULATED ARM ", theme.simulated());
+    view.session.simulated.then_some(badge)
 }
 
 /// The stop guard's badge, when one is required (every real link).
@@ -60,18 +57,13 @@ fn guard_spans(view: &View, theme: &Theme) -> Vec<Span<'static>> {
 }
 
 /// The arm profile's name (`--arm cell3`), before the link: which cell the keys move.
-fn arm_name_spans(view: &View) -> Vec<Span<'static>> {
+fn arm_name_span(view: &View) -> Option<Span<'static>> {
     const ARM_NAME_WIDTH: usize = 16;
-    match &view.session.arm_name {
-        Some(name) => {
-            let shown = crate::text::shown(name);
-            vec![Span::raw(format!(
-                " arm {} ",
-                numbers::elide(&shown, ARM_NAME_WIDTH)
-            ))]
-        }
-        None => Vec::new(),
-    }
+    let name = crate::text::shown(view.session.arm_name.as_deref()?);
+    Some(Span::raw(format!(
+        " arm {} ",
+        numbers::elide(&name, ARM_NAME_WIDTH)
+    )))
 }
 
 /// The tour being played, after the motion: `TOUR 2/5 → bench`, or `TOUR 2/5 at bench: N next
@@ -170,9 +162,9 @@ fn spans_width(spans: &[Span]) -> usize {
 /// the description is elided.
 fn link_line(view: &View, theme: &Theme, width: usize) -> Line<'static> {
     // Which arm the keys move comes first of all: a demo must never pass for a real cell.
-    let mut badges = simulated_spans(view, theme);
+    let mut badges: Vec<_> = simulated_span(view, theme).into_iter().collect();
     badges.extend(guard_spans(view, theme));
-    badges.extend(arm_name_spans(view));
+    badges.extend(arm_name_span(view));
     let (detail, detail_style, latency) = match &view.arm.link {
         LinkStatus::Up { description } => {
             // A link that went silent is not shown as healthy.
@@ -261,45 +253,39 @@ fn motion_line(view: &View, theme: &Theme, width: usize) -> Line<'static> {
 }
 
 fn motion_spans(view: &View, theme: &Theme, cut: Cut) -> Vec<Span<'static>> {
-    let mut spans = Vec::new();
     let mut reason = None;
-    match view.truth.motion.clone() {
-        MotionShown::Jog(motion @ JogMotion::Orientation { .. }) => spans.push(Span::styled(
-            format!(" JOG {} ", turn_text(view, motion)),
-            theme.moving(),
-        )),
-        MotionShown::Jog(motion) => spans.push(Span::styled(
-            format!(" JOG {} ", describe_motion(motion)),
-            theme.moving(),
-        )),
+    let (motion, style) = match view.truth.motion.clone() {
+        MotionShown::Jog(motion @ JogMotion::Orientation { .. }) => {
+            (format!(" JOG {} ", turn_text(view, motion)), theme.moving())
+        }
+        MotionShown::Jog(motion) => (format!(" JOG {} ", describe_motion(motion)), theme.moving()),
         MotionShown::Action {
             label,
             confirmed: true,
-        } => spans.push(Span::styled(format!(" MOVING: {label} "), theme.moving())),
+        } => (format!(" MOVING: {label} "), theme.moving()),
         // Nothing comes back to say when it ends.
         MotionShown::Action {
             label,
             confirmed: false,
-        } => spans.push(Span::styled(
-            format!(" MAY BE MOVING: {label} "),
-            theme.alarm(),
-        )),
-        MotionShown::Stopping => spans.push(Span::styled(" STOPPING ", theme.warning())),
-        MotionShown::MovedByAnotherClient => {
-            spans.push(Span::styled(" MOVED BY ANOTHER CLIENT ", theme.alarm()))
-        }
+        } => (format!(" MAY BE MOVING: {label} "), theme.alarm()),
+        MotionShown::Stopping => (" STOPPING ".into(), theme.warning()),
+        MotionShown::MovedByAnotherClient => (" MOVED BY ANOTHER CLIENT ".into(), theme.alarm()),
         MotionShown::MayBeMoving(why) => {
-            spans.push(Span::styled(" MAY BE MOVING ", theme.alarm()));
             reason = Some(why);
+            (" MAY BE MOVING ".into(), theme.alarm())
         }
         // The step size goes with the mode, so it shows at any width.
-        MotionShown::Idle if view.keys.step.enabled => spans.push(Span::raw(format!(
-            " STEP {} mm / {} deg ",
-            numbers::fixed(f64::from(view.keys.step.cartesian()) / 10.0, 1),
-            view.keys.step.polar()
-        ))),
-        MotionShown::Idle => spans.push(Span::raw(" idle ")),
-    }
+        MotionShown::Idle if view.keys.step.enabled => {
+            let step = view.keys.step;
+            let mm = numbers::fixed(f64::from(step.cartesian()) / 10.0, 1);
+            (
+                format!(" STEP {mm} mm / {} deg ", step.polar()),
+                Style::default(),
+            )
+        }
+        MotionShown::Idle => (" idle ".into(), Style::default()),
+    };
+    let mut spans = vec![Span::styled(motion, style)];
     // Why the arm may be moving, after the motion (the message line says it too).
     if let Some(why) = reason.filter(|_| cut.reason) {
         spans.push(Span::styled(format!("({why}) "), theme.warning()));

@@ -27,11 +27,7 @@ impl Theme {
     }
 
     pub fn dim(&self) -> Style {
-        if self.color {
-            Style::default().fg(Color::DarkGray)
-        } else {
-            Style::default()
-        }
+        self.colored(Color::DarkGray)
     }
 
     pub fn ok(&self) -> Style {

@@ -7,6 +7,7 @@
 
 use nalgebra::{Rotation3, Vector3};
 
+use super::velocity::cap;
 use super::{STEP, SimMotion, polar_target};
 use crate::sim::kinematics::{Pose, pose_error};
 
@@ -114,13 +115,8 @@ impl Reference {
             return;
         }
         self.pose = Pose {
-            position: actual.position + limit(dp, MAX_HELD_POSITION),
-            rotation: Rotation3::new(limit(dr, MAX_HELD_ROTATION)) * actual.rotation,
+            position: actual.position + cap(dp, MAX_HELD_POSITION),
+            rotation: Rotation3::new(cap(dr, MAX_HELD_ROTATION)) * actual.rotation,
         };
     }
-}
-
-fn limit(v: Vector3<f64>, max: f64) -> Vector3<f64> {
-    let n = v.norm();
-    if n > max { v * (max / n) } else { v }
 }

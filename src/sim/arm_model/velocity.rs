@@ -179,12 +179,8 @@ impl Arm {
         linear: Vector3<f64>,
         angular: Vector3<f64>,
     ) -> (Vector3<f64>, Vector3<f64>) {
-        let speed = linear.norm();
-        let scale = if speed > self.linear_cap() {
-            self.linear_cap() / speed
-        } else {
-            1.0
-        };
+        // Never up; a still (or NaN) speed keeps its twist.
+        let scale = (self.linear_cap() / linear.norm()).min(1.0);
         (
             linear * scale,
             cap(angular * scale, self.speed_limit_angular),
@@ -222,7 +218,8 @@ fn makes_headway(j: &Jacobian, qd: &Joints, wanted: (Vector3<f64>, Vector3<f64>)
     wanted.norm_squared() == 0.0 || realised.dot(&wanted) >= 0.1 * wanted.norm_squared()
 }
 
-fn cap(v: Vector3<f64>, max: f64) -> Vector3<f64> {
+/// `v` shortened to `max` when longer.
+pub(super) fn cap(v: Vector3<f64>, max: f64) -> Vector3<f64> {
     let n = v.norm();
     if n > max && n > 0.0 { v * (max / n) } else { v }
 }

@@ -20,14 +20,26 @@ pub struct SavedPosition {
     pub parent: Option<String>,
 }
 
-pub(super) fn iso(pose: &Pose) -> Isometry3<f64> {
+impl SavedPosition {
+    /// At `pose`, moving with nothing; `parent` kept only as a reference.
+    pub(super) fn fixed(pose: Pose, parent: Option<String>) -> SavedPosition {
+        SavedPosition {
+            pose,
+            joints: None,
+            anchor: false,
+            parent,
+        }
+    }
+}
+
+fn iso(pose: &Pose) -> Isometry3<f64> {
     Isometry3::from_parts(
         Translation3::from(pose.position),
         UnitQuaternion::from_rotation_matrix(&pose.rotation),
     )
 }
 
-pub(super) fn pose_of(iso: &Isometry3<f64>) -> Pose {
+fn pose_of(iso: &Isometry3<f64>) -> Pose {
     Pose {
         position: iso.translation.vector,
         rotation: iso.rotation.to_rotation_matrix(),
@@ -35,6 +47,21 @@ pub(super) fn pose_of(iso: &Isometry3<f64>) -> Pose {
 }
 
 impl Operator {
+    /// A position at `absolute`, anchored to `parent` (held relative to its pose now).
+    pub(super) fn anchored(
+        &self,
+        parent: String,
+        absolute: &Pose,
+    ) -> Result<SavedPosition, ReturnCode> {
+        let parent_pose = self.absolute(&parent, 0)?;
+        Ok(SavedPosition {
+            pose: pose_of(&(iso(&parent_pose).inverse() * iso(absolute))),
+            joints: None,
+            anchor: true,
+            parent: Some(parent),
+        })
+    }
+
     pub(super) fn save(
         &mut self,
         arm: &Arm,
@@ -53,16 +80,8 @@ impl Operator {
         {
             return Err(ReturnCode::INVALID_PARENT);
         }
-        let position = match &anchored_to {
-            Some(p) => {
-                let parent_pose = self.absolute(p, 0)?;
-                SavedPosition {
-                    pose: pose_of(&(iso(&parent_pose).inverse() * iso(&here))),
-                    joints: None,
-                    anchor: true,
-                    parent,
-                }
-            }
+        let position = match anchored_to {
+            Some(p) => self.anchored(p, &here)?,
             None => SavedPosition {
                 pose: here,
                 joints: Some(arm.joints()),
@@ -105,12 +124,7 @@ impl Operator {
         for child in children {
             let pose = self.absolute(&child, 0)?;
             if let Some(p) = self.positions.get_mut(&child) {
-                *p = SavedPosition {
-                    pose,
-                    joints: None,
-                    anchor: false,
-                    parent: None,
-                };
+                *p = SavedPosition::fixed(pose, None);
             }
         }
         self.positions.remove(name);
@@ -175,21 +189,8 @@ impl Operator {
                 anchor: true,
                 parent: Some(parent),
                 ..
-            }) => {
-                let parent_pose = self.absolute(&parent, 0)?;
-                SavedPosition {
-                    pose: pose_of(&(iso(&parent_pose).inverse() * iso(&absolute))),
-                    joints: None,
-                    anchor: true,
-                    parent: Some(parent),
-                }
-            }
-            other => SavedPosition {
-                pose: absolute,
-                joints: None,
-                anchor: false,
-                parent: other.and_then(|p| p.parent),
-            },
+            }) => self.anchored(parent, &absolute)?,
+            other => SavedPosition::fixed(absolute, other.and_then(|p| p.parent)),
         };
         self.positions.insert(name, position);
         Ok(())

@@ -3,7 +3,7 @@
 
 use std::collections::BTreeMap;
 
-use super::{Operator, SavedPosition, iso, pose_of};
+use super::{Operator, SavedPosition};
 use crate::sim::arm_model::Arm;
 use crate::sim::kinematics::{self, JOINTS, Joints, Pose};
 use crate::talos::PositionName;
@@ -91,20 +91,9 @@ impl Operator {
             .parent
             .filter(|p| self.positions.contains_key(p) && *p != remembered.name);
         let saved = match (&parent, remembered.anchor) {
-            (Some(p), true) => match self.absolute(p, 0) {
-                Ok(parent_pose) => SavedPosition {
-                    pose: pose_of(&(iso(&parent_pose).inverse() * iso(&absolute))),
-                    joints: None,
-                    anchor: true,
-                    parent,
-                },
-                Err(_) => SavedPosition {
-                    pose: absolute,
-                    joints: None,
-                    anchor: false,
-                    parent: None,
-                },
-            },
+            (Some(p), true) => self
+                .anchored(p.clone(), &absolute)
+                .unwrap_or_else(|_| SavedPosition::fixed(absolute, None)),
             _ => SavedPosition {
                 pose: absolute,
                 joints: remembered

@@ -89,9 +89,7 @@ fn cut(mut wrapped: Vec<Row>, rows: usize, width: usize) -> Vec<Row> {
         while !last.is_empty() && row_width(last) + 1 > width {
             last.pop();
         }
-        while last.last().is_some_and(|(c, _)| *c == ' ') {
-            last.pop();
-        }
+        *last = trimmed(std::mem::take(last));
         last.push((ELLIPSIS, style));
     }
     wrapped
