@@ -36,44 +36,40 @@ pub enum NamedKey {
     Right,
 }
 
+/// Every named key: its name in keymap files and the crossterm code that reports it.
+const NAMED_KEYS: [(NamedKey, &str, KeyCode); 15] = [
+    (NamedKey::Space, "space", KeyCode::Char(' ')),
+    (NamedKey::Enter, "enter", KeyCode::Enter),
+    (NamedKey::Esc, "esc", KeyCode::Esc),
+    (NamedKey::Tab, "tab", KeyCode::Tab),
+    (NamedKey::Backspace, "backspace", KeyCode::Backspace),
+    (NamedKey::Delete, "delete", KeyCode::Delete),
+    (NamedKey::Insert, "insert", KeyCode::Insert),
+    (NamedKey::Home, "home", KeyCode::Home),
+    (NamedKey::End, "end", KeyCode::End),
+    (NamedKey::PageUp, "pageup", KeyCode::PageUp),
+    (NamedKey::PageDown, "pagedown", KeyCode::PageDown),
+    (NamedKey::Up, "up", KeyCode::Up),
+    (NamedKey::Down, "down", KeyCode::Down),
+    (NamedKey::Left, "left", KeyCode::Left),
+    (NamedKey::Right, "right", KeyCode::Right),
+];
+
 impl NamedKey {
-    pub const ALL: [NamedKey; 15] = [
-        NamedKey::Space,
-        NamedKey::Enter,
-        NamedKey::Esc,
-        NamedKey::Tab,
-        NamedKey::Backspace,
-        NamedKey::Delete,
-        NamedKey::Insert,
-        NamedKey::Home,
-        NamedKey::End,
-        NamedKey::PageUp,
-        NamedKey::PageDown,
-        NamedKey::Up,
-        NamedKey::Down,
-        NamedKey::Left,
-        NamedKey::Right,
-    ];
+    pub const ALL: [NamedKey; 15] = {
+        let mut all = [NamedKey::Space; 15];
+        let mut i = 0;
+        while i < all.len() {
+            all[i] = NAMED_KEYS[i].0;
+            i += 1;
+        }
+        all
+    };
 
     /// The name used in keymap files.
     pub fn name(self) -> &'static str {
-        match self {
-            NamedKey::Space => "space",
-            NamedKey::Enter => "enter",
-            NamedKey::Esc => "esc",
-            NamedKey::Tab => "tab",
-            NamedKey::Backspace => "backspace",
-            NamedKey::Delete => "delete",
-            NamedKey::Insert => "insert",
-            NamedKey::Home => "home",
-            NamedKey::End => "end",
-            NamedKey::PageUp => "pageup",
-            NamedKey::PageDown => "pagedown",
-            NamedKey::Up => "up",
-            NamedKey::Down => "down",
-            NamedKey::Left => "left",
-            NamedKey::Right => "right",
-        }
+        let named = NAMED_KEYS.iter().find(|(key, _, _)| *key == self);
+        named.map_or("", |(_, name, _)| name)
     }
 
     fn from_name(name: &str) -> Option<NamedKey> {
@@ -189,27 +185,11 @@ impl KeyName {
             }
             KeyCode::KeypadBegin => BaseKey::Keypad(KeypadKey::Begin),
             code => {
-                let named = match code {
-                    KeyCode::Enter => NamedKey::Enter,
-                    KeyCode::Esc => NamedKey::Esc,
-                    KeyCode::Tab => NamedKey::Tab,
-                    KeyCode::Backspace => NamedKey::Backspace,
-                    KeyCode::Delete => NamedKey::Delete,
-                    KeyCode::Insert => NamedKey::Insert,
-                    KeyCode::Home => NamedKey::Home,
-                    KeyCode::End => NamedKey::End,
-                    KeyCode::PageUp => NamedKey::PageUp,
-                    KeyCode::PageDown => NamedKey::PageDown,
-                    KeyCode::Up => NamedKey::Up,
-                    KeyCode::Down => NamedKey::Down,
-                    KeyCode::Left => NamedKey::Left,
-                    KeyCode::Right => NamedKey::Right,
-                    _ => return None,
-                };
+                let (named, _, _) = NAMED_KEYS.iter().find(|(_, _, known)| *known == code)?;
                 if on_keypad && named.is_on_keypad() {
-                    BaseKey::Keypad(KeypadKey::Named(named))
+                    BaseKey::Keypad(KeypadKey::Named(*named))
                 } else {
-                    BaseKey::Named(named)
+                    BaseKey::Named(*named)
                 }
             }
         };
