@@ -33,35 +33,25 @@ pub fn describe_motion(motion: JogMotion) -> String {
         -1 => "-",
         _ => "",
     };
+    // The axes that move, the sign before a cartesian or turn axis ("+X") and after a pan's ("az+").
+    let moving = |axes: &[(&str, i8)], sign_first: bool| {
+        let parts = axes
+            .iter()
+            .filter(|(_, v)| *v != 0)
+            .map(|(axis, v)| match sign_first {
+                true => format!("{}{axis}", sign(*v)),
+                false => format!("{axis}{}", sign(*v)),
+            });
+        parts.collect::<Vec<_>>().join(" ")
+    };
     match motion {
-        JogMotion::Cartesian { x, y, z } => {
-            let mut parts = Vec::new();
-            for (axis, v) in [("X", x), ("Y", y), ("Z", z)] {
-                if v != 0 {
-                    parts.push(format!("{}{axis}", sign(v)));
-                }
-            }
-            parts.join(" ")
-        }
+        JogMotion::Cartesian { x, y, z } => moving(&[("X", x), ("Y", y), ("Z", z)], true),
         JogMotion::Polar { azimuth, altitude } => {
-            let mut parts = Vec::new();
-            if azimuth != 0 {
-                parts.push(format!("az{}", sign(azimuth)));
-            }
-            if altitude != 0 {
-                parts.push(format!("alt{}", sign(altitude)));
-            }
-            parts.join(" ")
+            moving(&[("az", azimuth), ("alt", altitude)], false)
         }
         JogMotion::Joint { joint, direction } => format!("J{joint}{}", sign(direction)),
         JogMotion::Orientation { rx, ry, rz } => {
-            let mut parts = Vec::new();
-            for (axis, v) in [("Rx", rx), ("Ry", ry), ("Rz", rz)] {
-                if v != 0 {
-                    parts.push(format!("{}{axis}", sign(v)));
-                }
-            }
-            parts.join(" ")
+            moving(&[("Rx", rx), ("Ry", ry), ("Rz", rz)], true)
         }
     }
 }
