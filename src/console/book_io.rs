@@ -72,26 +72,10 @@ pub struct BookSave {
 
 impl BookSave {
     /// This book written instead of unwritten `older`: from its base, with its changes.
-    fn over(mut self, older: Unwritten) -> BookSave {
+    fn over(mut self, older: BookSave) -> BookSave {
         self.known = older.known;
         self.touched.extend(older.touched);
         self
-    }
-}
-
-/// What a book handed over and not written was merged from, and changed.
-#[derive(Debug)]
-struct Unwritten {
-    known: PositionBook,
-    touched: BTreeSet<String>,
-}
-
-impl From<BookSave> for Unwritten {
-    fn from(save: BookSave) -> Unwritten {
-        Unwritten {
-            known: save.known,
-            touched: save.touched,
-        }
     }
 }
 
@@ -132,12 +116,12 @@ impl Saver {
         let (next, mut books) = mpsc::unbounded_channel::<(u64, BookSave)>();
         let (outcomes_tx, outcomes) = mpsc::unbounded_channel();
         let task = tokio::spawn(async move {
-            // Books are taken, not copied; `unwritten`: the last failed write's base and changes.
-            let mut unwritten: Option<Unwritten> = None;
+            // Books are taken, not copied; `unwritten`: the last failed write (its base and changes).
+            let mut unwritten: Option<BookSave> = None;
             while let Some(mut handed) = books.recv().await {
                 while let Ok((upto, newer)) = books.try_recv() {
                     // The newer book holds the older's changes, merged from the older's base.
-                    handed = (upto, newer.over(handed.1.into()));
+                    handed = (upto, newer.over(handed.1));
                 }
                 let (upto, mut save) = handed;
                 if let Some(older) = unwritten.take() {
@@ -163,7 +147,7 @@ impl Saver {
                         (None, Some(Box::new(Found { handed, written })))
                     }
                     Ok((save, Err(e))) => {
-                        unwritten = Some(save.into());
+                        unwritten = Some(save);
                         (Some(e.to_string()), None)
                     }
                     Err(e) => (Some(format!("the positions writer failed: {e}")), None),
@@ -257,13 +241,10 @@ impl BookFiles {
         let loading = match (read, regular_within_limit) {
             (None, true) => load(p),
             (Some(read), true) => answered(read.map_err(Shared::from)),
-            (read, false) => {
-                let book = match read {
-                    Some(read) => read?,
-                    None => PositionBook::load(p)?,
-                };
-                answered(Ok(book))
-            }
+            (read, false) => answered(Ok(match read {
+                Some(read) => read?,
+                None => PositionBook::load(p)?,
+            })),
         };
         let (saver, save_outcomes) = Saver::start(p.clone());
         Ok(BookFiles {
