@@ -13,17 +13,12 @@ pub(super) const FORMAT: u32 = 1;
 /// Serde for the shared sorted list: the file holds a map from name to entry.
 pub(super) mod sorted_map {
     use super::*;
-    use serde::ser::SerializeMap;
 
     pub fn serialize<S: serde::Serializer>(
         list: &Arc<Vec<Named>>,
         serializer: S,
     ) -> Result<S::Ok, S::Error> {
-        let mut map = serializer.serialize_map(Some(list.len()))?;
-        for (name, entry) in list.iter() {
-            map.serialize_entry(name, entry)?;
-        }
-        map.end()
+        serializer.collect_map(list.iter().map(|(name, entry)| (name, entry)))
     }
 
     pub fn deserialize<'de, D: serde::Deserializer<'de>>(
