@@ -265,7 +265,7 @@ impl<'de> Visitor<'de> for BindingsSeed<'_> {
     fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
         let problem = self.problem;
         let mut bindings = BTreeMap::new();
-        while let Some(key) = map.next_key_seed(KeyNameSeed { problem })? {
+        while let Some(key) = map.next_key_seed(key_name(problem))? {
             if let Some(earlier) = bindings.get(&key) {
                 return Err(problem.raise(
                     KeymapErrorKind::DuplicateKey,
@@ -275,7 +275,7 @@ impl<'de> Visitor<'de> for BindingsSeed<'_> {
                     ),
                 ));
             }
-            let action = map.next_value_seed(ActionSeed { problem })?;
+            let action = map.next_value_seed(action(problem))?;
             bindings.insert(key, action);
         }
         for required in REQUIRED_ACTIONS {
@@ -294,66 +294,60 @@ impl<'de> Visitor<'de> for BindingsSeed<'_> {
     }
 }
 
-#[derive(Clone, Copy)]
-struct KeyNameSeed<'a> {
+/// A string turned into a `T` by `read`, whose refusal is raised as the problem of its kind.
+struct TextSeed<'a, T> {
     problem: ProblemSlot<'a>,
+    expecting: &'static str,
+    read: fn(&str) -> Result<T, (KeymapErrorKind, String)>,
 }
 
-impl<'de> DeserializeSeed<'de> for KeyNameSeed<'_> {
-    type Value = KeyName;
+impl<'de, T> DeserializeSeed<'de> for TextSeed<'_, T> {
+    type Value = T;
 
-    fn deserialize<D: Deserializer<'de>>(self, deserializer: D) -> Result<KeyName, D::Error> {
+    fn deserialize<D: Deserializer<'de>>(self, deserializer: D) -> Result<T, D::Error> {
         deserializer.deserialize_str(self)
     }
 }
 
-impl Visitor<'_> for KeyNameSeed<'_> {
-    type Value = KeyName;
+impl<T> Visitor<'_> for TextSeed<'_, T> {
+    type Value = T;
 
     fn expecting(&self, formatter: &mut fmt::Formatter) -> fmt::Result {
-        formatter.write_str("a key name")
+        formatter.write_str(self.expecting)
     }
 
-    fn visit_str<E: de::Error>(self, text: &str) -> Result<KeyName, E> {
-        text.parse()
-            .map_err(|error| self.problem.raise(KeymapErrorKind::UnknownKey, error))
-    }
-}
-
-#[derive(Clone, Copy)]
-struct ActionSeed<'a> {
-    problem: ProblemSlot<'a>,
-}
-
-impl<'de> DeserializeSeed<'de> for ActionSeed<'_> {
-    type Value = Action;
-
-    fn deserialize<D: Deserializer<'de>>(self, deserializer: D) -> Result<Action, D::Error> {
-        deserializer.deserialize_str(self)
+    fn visit_str<E: de::Error>(self, text: &str) -> Result<T, E> {
+        (self.read)(text).map_err(|(kind, message)| self.problem.raise(kind, message))
     }
 }
 
-impl Visitor<'_> for ActionSeed<'_> {
-    type Value = Action;
-
-    fn expecting(&self, formatter: &mut fmt::Formatter) -> fmt::Result {
-        formatter.write_str("an action name such as \"stop\"")
-    }
-
-    fn visit_str<E: de::Error>(self, text: &str) -> Result<Action, E> {
-        Action::ALL
-            .into_iter()
-            .find(|action| action.name() == text)
-            .ok_or_else(|| {
-                let expected: Vec<String> = Action::ALL.iter().map(|a| a.name()).collect();
-                self.problem.raise(
-                    KeymapErrorKind::UnknownAction,
-                    format!(
-                        "unknown action {text:?} (expected one of: {})",
-                        expected.join(", ")
-                    ),
-                )
+fn key_name(problem: ProblemSlot<'_>) -> TextSeed<'_, KeyName> {
+    TextSeed {
+        problem,
+        expecting: "a key name",
+        read: |text| {
+            text.parse().map_err(|error: super::KeyNameError| {
+                (KeymapErrorKind::UnknownKey, error.to_string())
             })
+        },
+    }
+}
+
+fn action(problem: ProblemSlot<'_>) -> TextSeed<'_, Action> {
+    TextSeed {
+        problem,
+        expecting: "an action name such as \"stop\"",
+        read: |text| {
+            let found = Action::ALL.into_iter().find(|action| action.name() == text);
+            found.ok_or_else(|| {
+                let expected: Vec<String> = Action::ALL.iter().map(|a| a.name()).collect();
+                let message = format!(
+                    "unknown action {text:?} (expected one of: {})",
+                    expected.join(", ")
+                );
+                (KeymapErrorKind::UnknownAction, message)
+            })
+        },
     }
 }
 
