@@ -139,16 +139,30 @@ fn three_way<T: Clone>(
     }
 }
 
-/// What is kept of a name both sides changed, by which side still has it.
-fn conflict_outcome(theirs: bool, ours: bool) -> Kept {
-    match (theirs, ours) {
-        (true, true) => Kept::Both {
-            // Named once every name is known.
-            copy: String::new(),
-        },
-        (true, false) => Kept::TheirsNotDeleted,
-        (false, _) => Kept::OursNotDeleted,
-    }
+/// A name both sides changed, recorded in `conflicts`: what keeps the name, and ours to keep
+/// beside it (named once every name is known) when both still have it.
+fn resolve<T>(
+    kind: &'static str,
+    name: &str,
+    theirs: Option<T>,
+    ours: Option<T>,
+    conflicts: &mut Vec<Conflict>,
+) -> (Option<T>, Option<T>) {
+    let both = Kept::Both {
+        copy: String::new(),
+    };
+    let (outcome, keep, copy) = match (theirs, ours) {
+        (Some(theirs), Some(ours)) => (both, Some(theirs), Some(ours)),
+        (Some(theirs), None) => (Kept::TheirsNotDeleted, Some(theirs), None),
+        (None, ours) => (Kept::OursNotDeleted, ours, None),
+    };
+    let name = name.to_string();
+    conflicts.push(Conflict {
+        kind,
+        name,
+        outcome,
+    });
+    (keep, copy)
 }
 
 /// The three-way merge of a write; `touched`: saved or edited here since `known`.
@@ -206,21 +220,9 @@ fn merge_with(
             }
             Side::Conflict(theirs, ours) if !keep_both => ours.or(theirs),
             Side::Conflict(theirs, ours) => {
-                let outcome = conflict_outcome(theirs.is_some(), ours.is_some());
-                conflicts.push(Conflict {
-                    kind: "position",
-                    name: name.to_string(),
-                    outcome: outcome.clone(),
-                });
-                match (outcome, ours) {
-                    (Kept::OursNotDeleted, ours) => ours,
-                    (Kept::Both { .. }, Some(ours)) => {
-                        // Named below, once every name is known.
-                        copies.push((name.to_string(), ours));
-                        theirs
-                    }
-                    (_, _) => theirs,
-                }
+                let (keep, copy) = resolve("position", name, theirs, ours, &mut conflicts);
+                copies.extend(copy.map(|ours| (name.to_string(), ours)));
+                keep
             }
         };
         if let Some(entry) = keep {
@@ -310,20 +312,9 @@ fn merge_tours(
             }
             Side::Conflict(theirs, ours) if !keep_both => kept.extend(ours.or(theirs)),
             Side::Conflict(theirs, ours) => {
-                let outcome = conflict_outcome(theirs.is_some(), ours.is_some());
-                conflicts.push(Conflict {
-                    kind: "tour",
-                    name: name.to_string(),
-                    outcome: outcome.clone(),
-                });
-                match outcome {
-                    Kept::Both { .. } => {
-                        kept.extend(theirs);
-                        copies.extend(ours);
-                    }
-                    Kept::TheirsNotDeleted => kept.extend(theirs),
-                    Kept::OursNotDeleted => kept.extend(ours),
-                }
+                let (keep, copy) = resolve("tour", name, theirs, ours, conflicts);
+                kept.extend(keep);
+                copies.extend(copy);
             }
         }
     }
