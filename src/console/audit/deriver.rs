@@ -105,39 +105,33 @@ impl AuditDeriver {
             None
         };
         let event = match command {
-            ArmCommand::Jog(motion) => match self.jog {
-                // A refresh of the same jog.
-                Some((running, _)) if running == *motion => None,
-                Some((running, since)) => {
-                    self.jog = Some((*motion, since));
-                    let (speed_mm_s, speed_deg_s) = self.jog_rate(motion, speed_percent);
-                    Some(AuditEvent::JogChange {
-                        axis: describe_motion(*motion),
-                        from: describe_motion(running),
+            ArmCommand::Jog(motion) => {
+                let (speed_mm_s, speed_deg_s) = self.jog_rate(motion, speed_percent);
+                let axis = describe_motion(*motion);
+                // A turn always goes over Modbus, in the chosen frame.
+                let framed = matches!(motion, JogMotion::Orientation { .. })
+                    || (self.frames && matches!(motion, JogMotion::Cartesian { .. }));
+                match self.jog.replace((*motion, at)) {
+                    // A refresh of the same jog or a change of direction: it runs since it started.
+                    Some((running, since)) => {
+                        self.jog = Some((*motion, since));
+                        (running != *motion).then(|| AuditEvent::JogChange {
+                            axis,
+                            from: describe_motion(running),
+                            speed_percent,
+                            speed_mm_s,
+                            speed_deg_s,
+                        })
+                    }
+                    None => Some(AuditEvent::JogStart {
+                        axis,
+                        frame: framed.then(|| frame.key().to_string()),
                         speed_percent,
                         speed_mm_s,
                         speed_deg_s,
-                    })
+                    }),
                 }
-                None => {
-                    self.jog = Some((*motion, at));
-                    let (speed_mm_s, speed_deg_s) = self.jog_rate(motion, speed_percent);
-                    Some(AuditEvent::JogStart {
-                        axis: describe_motion(*motion),
-                        frame: match motion {
-                            JogMotion::Cartesian { .. } if self.frames => {
-                                Some(frame.key().to_string())
-                            }
-                            // A turn always goes over Modbus, in the chosen frame.
-                            JogMotion::Orientation { .. } => Some(frame.key().to_string()),
-                            _ => None,
-                        },
-                        speed_percent,
-                        speed_mm_s,
-                        speed_deg_s,
-                    })
-                }
-            },
+            }
             ArmCommand::Stop => Some(match stopped_jog {
                 Some((motion, since)) => AuditEvent::JogStop {
                     axis: describe_motion(motion),
