@@ -36,16 +36,12 @@ impl PositionBook {
 
     /// Adds `tour` or replaces its namesake in place; returns whether one was replaced.
     pub fn set_tour(&mut self, tour: Tour) -> bool {
-        match self.tours.iter_mut().find(|t| t.name == tour.name) {
-            Some(old) => {
-                *old = tour;
-                true
-            }
-            None => {
-                self.tours.push(tour);
-                false
-            }
+        let old = self.tours.iter().position(|t| t.name == tour.name);
+        match old {
+            Some(i) => self.tours[i] = tour,
+            None => self.tours.push(tour),
         }
+        old.is_some()
     }
 
     /// The first of `names` the book has no position for, with its place (0-based).
@@ -70,12 +66,8 @@ impl PositionBook {
     pub fn rename_in_tours(&mut self, from: &str, to: &str) -> Vec<String> {
         let mut changed = Vec::new();
         for tour in &mut self.tours {
-            let mut renamed = false;
-            for leg in tour.positions.iter_mut().filter(|p| *p == from) {
-                *leg = to.to_string();
-                renamed = true;
-            }
-            if renamed {
+            let legs = tour.positions.iter_mut().filter(|p| *p == from);
+            if legs.map(|leg| *leg = to.to_string()).count() > 0 {
                 changed.push(tour.name.clone());
             }
         }
