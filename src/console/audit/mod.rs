@@ -204,10 +204,8 @@ impl AuditRecord {
 
 /// `$ARMJOG_STATE_DIR`, `$ARMJOG_LOG_DIR`, `~/.local/state/armjog/`, or the data directory.
 pub fn audit_dir() -> Option<PathBuf> {
-    match std::env::var_os("ARMJOG_STATE_DIR") {
-        Some(dir) => Some(PathBuf::from(dir)),
-        None => crate::logging::log_dir(),
-    }
+    let state_dir = std::env::var_os("ARMJOG_STATE_DIR").map(PathBuf::from);
+    state_dir.or_else(crate::logging::log_dir)
 }
 
 #[cfg(test)]

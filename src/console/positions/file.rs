@@ -286,15 +286,7 @@ pub fn default_path(target: &str) -> Option<PathBuf> {
     let base = std::env::var_os("ARMJOG_DATA_DIR")
         .map(PathBuf::from)
         .or_else(|| dirs::data_dir().map(|d| d.join("armjog")))?;
-    let safe: String = target
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '.' || c == '-' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect();
+    let unsafe_in_a_file_name = |c: char| !(c.is_ascii_alphanumeric() || c == '.' || c == '-');
+    let safe = target.replace(unsafe_in_a_file_name, "_");
     Some(base.join("positions").join(format!("{safe}.json")))
 }
