@@ -9,14 +9,11 @@ use crate::console::keymap::single_char;
 
 impl fmt::Display for KeyName {
     fn fmt(&self, formatter: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if self.modifiers.ctrl {
-            formatter.write_str("ctrl+")?;
-        }
-        if self.modifiers.alt {
-            formatter.write_str("alt+")?;
-        }
-        if self.modifiers.shift {
-            formatter.write_str("shift+")?;
+        let Modifiers { ctrl, alt, shift } = self.modifiers;
+        for (held, prefix) in [(ctrl, "ctrl+"), (alt, "alt+"), (shift, "shift+")] {
+            if held {
+                formatter.write_str(prefix)?;
+            }
         }
         match self.key {
             BaseKey::Char(character) => write!(formatter, "{character}"),
