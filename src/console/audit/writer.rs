@@ -35,14 +35,9 @@ impl AuditLog {
         let (error_tx, errors) = unbounded_channel();
         let thread = std::thread::Builder::new()
             .name("audit-writer".into())
-            .spawn(move || write_all(dir, incoming, error_tx));
-        let thread = match thread {
-            Ok(thread) => Some(thread),
-            Err(e) => {
-                tracing::warn!("audit log off: cannot start its writer thread: {e}");
-                None
-            }
-        };
+            .spawn(move || write_all(dir, incoming, error_tx))
+            .inspect_err(|e| tracing::warn!("audit log off: cannot start its writer thread: {e}"))
+            .ok();
         AuditLog {
             records: thread.as_ref().map(|_| records),
             held: Vec::new(),
