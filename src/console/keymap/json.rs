@@ -29,11 +29,9 @@ fn describe(
     error: &serde_json::Error,
     problem: Option<KeymapErrorKind>,
 ) -> KeymapError {
-    let kind = problem.unwrap_or(match error.classify() {
-        serde_json::error::Category::Data => KeymapErrorKind::InvalidValue,
-        serde_json::error::Category::Io
-        | serde_json::error::Category::Syntax
-        | serde_json::error::Category::Eof => KeymapErrorKind::InvalidJson,
+    let kind = problem.unwrap_or(match error.is_data() {
+        true => KeymapErrorKind::InvalidValue,
+        false => KeymapErrorKind::InvalidJson,
     });
     let shown = error.to_string();
     let position_suffix = format!(" at line {} column {}", error.line(), error.column());
@@ -50,20 +48,19 @@ fn describe(
             | KeymapErrorKind::UnknownField
             | KeymapErrorKind::DuplicateField
     );
-    let position = match (points_at_a_string, read_up_to) {
-        (true, Some(end)) => match token_start(text, end) {
-            Some(start) => Some(position_of_character(text, start)),
-            None => Some(position_of_last_read(text, end)),
+    let position = match read_up_to {
+        Some(end) => match points_at_a_string.then(|| token_start(text, end)).flatten() {
+            Some(start) => position_of_character(text, start),
+            None => position_of_last_read(text, end),
         },
-        (false, Some(end)) => Some(position_of_last_read(text, end)),
-        (_, None) => Some(TextPosition {
+        None => TextPosition {
             line: error.line().max(1),
             column: error.column().max(1),
-        }),
+        },
     };
     KeymapError {
         source_name: source_name.to_owned(),
-        position,
+        position: Some(position),
         kind,
         message,
     }
