@@ -324,10 +324,7 @@ impl BookFiles {
         };
         let in_time = saver.finish(left, waiting).await;
         // The last outcome covers every write before it (each writes the whole book).
-        let mut last = None;
-        while let Ok(outcome) = self.save_outcomes.try_recv() {
-            last = Some(outcome);
-        }
+        let last = std::iter::from_fn(|| self.save_outcomes.try_recv().ok()).last();
         if let Some(error) = last.and_then(|o| o.error) {
             tell(format!("positions not saved: {error}"));
         } else if !in_time {
