@@ -78,11 +78,12 @@ impl Keymap {
                 } else {
                     format!("cannot read the keymap file: {error}")
                 };
-                Err(KeymapError::without_position(
-                    name_or_path,
-                    KeymapErrorKind::Unreadable,
+                Err(KeymapError {
+                    source_name: name_or_path.to_owned(),
+                    position: None,
+                    kind: KeymapErrorKind::Unreadable,
                     message,
-                ))
+                })
             }
         }
     }
@@ -208,15 +209,6 @@ pub struct KeymapError {
 }
 
 impl KeymapError {
-    fn without_position(source_name: &str, kind: KeymapErrorKind, message: String) -> Self {
-        KeymapError {
-            source_name: source_name.to_owned(),
-            position: None,
-            kind,
-            message,
-        }
-    }
-
     /// The file (path as given, or `keymaps/NAME.json` for a built-in keymap).
     pub fn source_name(&self) -> &str {
         &self.source_name
