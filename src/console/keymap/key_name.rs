@@ -238,10 +238,6 @@ impl KeyName {
         self.key
     }
 
-    pub fn modifiers(&self) -> Modifiers {
-        self.modifiers
-    }
-
     /// Without modifiers: a release after ctrl or alt was let go first.
     pub fn without_modifiers(&self) -> KeyName {
         KeyName {

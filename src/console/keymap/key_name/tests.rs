@@ -69,7 +69,7 @@ fn modifiers_parse_in_any_order() {
     assert_eq!(key("alt+ctrl+x"), key("ctrl+alt+x"));
     assert_eq!(key("shift+alt+up").to_string(), "alt+shift+up");
     assert_eq!(key("ctrl++").base(), BaseKey::Char('+'));
-    assert!(key("ctrl++").modifiers().ctrl);
+    assert!(key("ctrl++").modifiers.ctrl);
 }
 
 #[test]
