@@ -103,12 +103,10 @@ pub fn same_on_disk(a: &BookEntry, b: &BookEntry) -> bool {
         && *frame == b.frame
 }
 
+/// Both there and the same on disk, or both gone.
 fn same_entry(a: Option<&BookEntry>, b: Option<&BookEntry>) -> bool {
-    match (a, b) {
-        (Some(a), Some(b)) => same_on_disk(a, b),
-        (None, None) => true,
-        _ => false,
-    }
+    a.zip(b)
+        .map_or(a.is_none() && b.is_none(), |(a, b)| same_on_disk(a, b))
 }
 
 /// How one name merges.
