@@ -60,8 +60,8 @@ macro_rules! talos_message {
                 }
             }
 
-            /// The fields in wire order, each checked as its wire type requires.
-            fn put_fields(&self, out: &mut Vec<u8>) -> Result<(), EncodeError> {
+            /// The payload bytes in wire order, each field checked as its wire type requires.
+            pub fn encode_payload(&self, out: &mut Vec<u8>) -> Result<(), EncodeError> {
                 match self {
                     $($name::$variant $({ $($field,)* })? => {
                         $($($crate::talos::message::put::$wire(out, stringify!($field), $field)?;)*)?
@@ -70,13 +70,26 @@ macro_rules! talos_message {
                 Ok(())
             }
 
-            /// The fields of `command`'s message, in wire order.
-            fn read_fields(command: CommandValue, r: &mut FieldReader) -> Result<Self, DecodeError> {
-                Ok(match command {
+            /// `command`'s message from its payload, every byte used.
+            pub fn decode_payload(command: CommandValue, payload: &[u8]) -> Result<Self, DecodeError> {
+                Self::decode_fields(command, payload, false)
+            }
+
+            /// As `decode_payload`; `zero_fill` reads fields past the end as zero.
+            fn decode_fields(
+                command: CommandValue,
+                payload: &[u8],
+                zero_fill: bool,
+            ) -> Result<Self, DecodeError> {
+                let mut r = FieldReader::new(command, payload);
+                r.zero_fill = zero_fill;
+                let message = match command {
                     $(CommandValue::$command => $name::$variant $({
                         $($field: r.$wire(stringify!($field))?,)*
                     })?,)*
-                })
+                };
+                r.finish()?;
+                Ok(message)
             }
         }
     };

@@ -87,15 +87,11 @@ impl Reply {
 
     /// The error reply to `command`: only a return code, every other field zero.
     pub fn error(command: CommandValue, return_code: ReturnCode) -> Reply {
-        match Self::decode_inner(command, &return_code.0.to_be_bytes(), true) {
+        match Self::decode_fields(command, &return_code.0.to_be_bytes(), true) {
             Ok(reply) => reply,
             // Unreachable: with zero fill every reply decodes from a bare return code.
             Err(_) => Reply::PolarPan { return_code },
         }
-    }
-
-    pub fn encode_payload(&self, out: &mut Vec<u8>) -> Result<(), EncodeError> {
-        self.put_fields(out)
     }
 
     /// The reply as a frame answering request id `request_id` (its id | 1).
@@ -114,21 +110,5 @@ impl Reply {
         let command = CommandValue::from_reply_value(frame.command)
             .ok_or(DecodeError::UnknownCommand(frame.command))?;
         Self::decode_payload(command, &frame.payload)
-    }
-
-    pub fn decode_payload(command: CommandValue, payload: &[u8]) -> Result<Reply, DecodeError> {
-        Self::decode_inner(command, payload, false)
-    }
-
-    fn decode_inner(
-        command: CommandValue,
-        payload: &[u8],
-        zero_fill: bool,
-    ) -> Result<Reply, DecodeError> {
-        let mut r = FieldReader::new(command, payload);
-        r.zero_fill = zero_fill;
-        let reply = Self::read_fields(command, &mut r)?;
-        r.finish()?;
-        Ok(reply)
     }
 }

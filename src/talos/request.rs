@@ -72,11 +72,6 @@ talos_message! {
 }
 
 impl Request {
-    /// The payload bytes, validating names and directions.
-    pub fn encode_payload(&self, out: &mut Vec<u8>) -> Result<(), EncodeError> {
-        self.put_fields(out)
-    }
-
     /// The payload's length, or an upper bound for the fixed layouts (to allocate once).
     fn payload_capacity(&self) -> usize {
         match self {
@@ -105,12 +100,5 @@ impl Request {
         let command = CommandValue::from_request_value(frame.command)
             .ok_or(DecodeError::UnknownCommand(frame.command))?;
         Self::decode_payload(command, &frame.payload)
-    }
-
-    pub fn decode_payload(command: CommandValue, payload: &[u8]) -> Result<Request, DecodeError> {
-        let mut r = FieldReader::new(command, payload);
-        let request = Self::read_fields(command, &mut r)?;
-        r.finish()?;
-        Ok(request)
     }
 }
