@@ -72,25 +72,10 @@ talos_message! {
 }
 
 impl Request {
-    /// The payload's length, or an upper bound for the fixed layouts (to allocate once).
-    fn payload_capacity(&self) -> usize {
-        match self {
-            Request::HardwareOperation { payload, .. } => 6 + payload.len(),
-            Request::SavePosition { name, parent, .. } => 3 + name.len() + parent.len(),
-            Request::DeletePosition { name }
-            | Request::GoToPosition { name }
-            | Request::GetPolarPosition { name }
-            | Request::GetCartesianPosition { name } => 1 + name.len(),
-            Request::SetPolarPosition { name, .. } | Request::SetCartesianPosition { name, .. } => {
-                13 + name.len()
-            }
-            _ => 20,
-        }
-    }
-
     /// The request as a frame with command id `id`.
     pub fn to_frame(&self, id: u32) -> Result<TalosFrame, EncodeError> {
-        let mut payload = Vec::with_capacity(self.payload_capacity());
+        // One allocation for every jog's START and STOP (at most 27 bytes); a long name grows it.
+        let mut payload = Vec::with_capacity(32);
         self.encode_payload(&mut payload)?;
         framed(id, self.command().request_value(), payload)
     }
