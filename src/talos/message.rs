@@ -1,6 +1,7 @@
 //! Typed requests and replies, one variant per ICD command and reply (fields in snake_case). This
-//! module holds what [`Request`] and [`Reply`] share: errors and the field reader that names the
-//! command and field a payload fails on.
+//! module holds what [`Request`] and [`Reply`] share: the `talos_message!` that declares each,
+//! errors, and each wire type's writer (`put`) and reader (`FieldReader`, which names the
+//! command and field a payload fails on).
 
 use super::command::CommandValue;
 use super::frame::TalosFrame;
