@@ -86,14 +86,10 @@ impl fmt::Display for Checksum {
 impl FromStr for Checksum {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s {
-            "crc16" => Ok(Checksum::Crc16),
-            "xor8" => Ok(Checksum::Xor8),
-            "none" => Ok(Checksum::None),
-            other => Err(format!(
-                "unknown checksum '{other}': expected crc16, xor8 or none"
-            )),
-        }
+        Self::ALL
+            .into_iter()
+            .find(|c| c.as_str() == s)
+            .ok_or_else(|| format!("unknown checksum '{s}': expected crc16, xor8 or none"))
     }
 }
 

@@ -43,10 +43,9 @@ impl fmt::Display for Dialect {
 impl FromStr for Dialect {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s {
-            "icd" => Ok(Dialect::Icd),
-            "ack" => Ok(Dialect::Ack),
-            other => Err(format!("unknown dialect '{other}': expected icd or ack")),
-        }
+        Self::ALL
+            .into_iter()
+            .find(|d| d.as_str() == s)
+            .ok_or_else(|| format!("unknown dialect '{s}': expected icd or ack"))
     }
 }

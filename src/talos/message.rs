@@ -1,11 +1,13 @@
 //! Typed requests and replies, one variant per ICD command and reply (fields in snake_case). This
-//! module holds what [`Request`] and [`Reply`] share: errors and the field reader that names the
-//! command and field a payload fails on.
+//! module holds what [`Request`] and [`Reply`] share: the `talos_message!` that declares each,
+//! errors, and each wire type's writer (`put`) and reader (`FieldReader`, which names the
+//! command and field a payload fails on).
 
 use super::command::CommandValue;
 use super::frame::TalosFrame;
 use super::name::{NameError, PositionName};
 use super::reader::{BeReader, Short};
+use super::return_code::ReturnCode;
 
 pub use super::reply::Reply;
 pub use super::request::Request;
@@ -29,6 +31,145 @@ pub(super) fn framed(id: u32, command: u16, payload: Vec<u8>) -> Result<TalosFra
     match payload.len() > usize::from(u16::MAX) {
         true => Err(EncodeError::TooLong(payload.len())),
         false => Ok(TalosFrame::new(id, command, payload)),
+    }
+}
+
+/// Defines a request or reply enum, one variant per ICD command (`Variant = Command { fields }`),
+/// with its `command()` and its fields written and read in wire order. Each field names its wire
+/// type: the [`put`] function that writes it and the [`FieldReader`] method that reads it.
+macro_rules! talos_message {
+    (
+        $(#[$meta:meta])*
+        pub enum $name:ident {
+            $(
+                $(#[$variant_meta:meta])*
+                $variant:ident = $command:ident $({
+                    $($(#[$field_meta:meta])* $field:ident: $ty:ty = $wire:ident,)*
+                })?,
+            )*
+        }
+    ) => {
+        $(#[$meta])*
+        pub enum $name {
+            $($(#[$variant_meta])* $variant $({ $($(#[$field_meta])* $field: $ty,)* })?,)*
+        }
+
+        impl $name {
+            pub fn command(&self) -> CommandValue {
+                match self {
+                    $($name::$variant { .. } => CommandValue::$command,)*
+                }
+            }
+
+            /// The payload bytes in wire order, each field checked as its wire type requires.
+            pub fn encode_payload(&self, out: &mut Vec<u8>) -> Result<(), EncodeError> {
+                match self {
+                    $($name::$variant $({ $($field,)* })? => {
+                        $($($crate::talos::message::put::$wire(out, stringify!($field), $field)?;)*)?
+                    })*
+                }
+                Ok(())
+            }
+
+            /// `command`'s message from its payload, every byte used.
+            pub fn decode_payload(command: CommandValue, payload: &[u8]) -> Result<Self, DecodeError> {
+                Self::decode_fields(command, payload, false)
+            }
+
+            /// As `decode_payload`; `zero_fill` reads fields past the end as zero.
+            fn decode_fields(
+                command: CommandValue,
+                payload: &[u8],
+                zero_fill: bool,
+            ) -> Result<Self, DecodeError> {
+                let mut r = FieldReader::new(command, payload);
+                r.zero_fill = zero_fill;
+                let message = match command {
+                    $(CommandValue::$command => $name::$variant $({
+                        $($field: r.$wire(stringify!($field))?,)*
+                    })?,)*
+                };
+                r.finish()?;
+                Ok(message)
+            }
+        }
+    };
+}
+pub(super) use talos_message;
+
+/// The writers of the wire types [`talos_message`] names, each the twin of a [`FieldReader`] method.
+pub(super) mod put {
+    use super::EncodeError;
+    use crate::talos::name::PositionName;
+    use crate::talos::return_code::ReturnCode;
+
+    type Put = Result<(), EncodeError>;
+
+    pub fn u8(out: &mut Vec<u8>, _: &str, value: &u8) -> Put {
+        out.push(*value);
+        Ok(())
+    }
+
+    pub fn u16(out: &mut Vec<u8>, _: &str, value: &u16) -> Put {
+        out.extend_from_slice(&value.to_be_bytes());
+        Ok(())
+    }
+
+    pub fn u32(out: &mut Vec<u8>, _: &str, value: &u32) -> Put {
+        out.extend_from_slice(&value.to_be_bytes());
+        Ok(())
+    }
+
+    pub fn i32(out: &mut Vec<u8>, _: &str, value: &i32) -> Put {
+        out.extend_from_slice(&value.to_be_bytes());
+        Ok(())
+    }
+
+    pub fn return_code(out: &mut Vec<u8>, field: &str, value: &ReturnCode) -> Put {
+        u16(out, field, &value.0)
+    }
+
+    /// The ICD's OID, or nothing for a handshake that came without one.
+    pub fn oid(out: &mut Vec<u8>, field: &str, value: &Option<u16>) -> Put {
+        value.as_ref().map_or(Ok(()), |oid| u16(out, field, oid))
+    }
+
+    pub fn direction(out: &mut Vec<u8>, field: &'static str, value: &i8) -> Put {
+        if !(-1..=1).contains(value) {
+            return Err(EncodeError::Direction {
+                field,
+                value: *value,
+            });
+        }
+        out.push(*value as u8);
+        Ok(())
+    }
+
+    pub fn boolean(out: &mut Vec<u8>, _: &str, value: &bool) -> Put {
+        out.push(u8::from(*value));
+        Ok(())
+    }
+
+    pub fn name(out: &mut Vec<u8>, field: &'static str, name: &str) -> Put {
+        PositionName::validate(name.as_bytes())
+            .map_err(|reason| EncodeError::Name { field, reason })?;
+        // validate() bounds the length to 1..=255.
+        out.push(name.len() as u8);
+        out.extend_from_slice(name.as_bytes());
+        Ok(())
+    }
+
+    /// Parent names may be empty (length 0): "use the operator's default".
+    pub fn parent(out: &mut Vec<u8>, field: &'static str, parent: &str) -> Put {
+        match parent.is_empty() {
+            true => u8(out, field, &0),
+            false => name(out, field, parent),
+        }
+    }
+
+    pub fn rest(out: &mut Vec<u8>, _: &str, bytes: &[u8]) -> Put {
+        out.extend_from_slice(bytes);
+        Ok(())
     }
 }
 
@@ -103,6 +244,21 @@ impl<'a> FieldReader<'a> {
         }
     }
 
+    /// A reply's return code. A failed operator may send it bare: the other fields read as zero.
+    pub(super) fn return_code(&mut self, field: &'static str) -> Result<ReturnCode, DecodeError> {
+        let code = ReturnCode(self.u16(field)?);
+        self.zero_fill |= !code.is_ok() && self.is_empty();
+        Ok(code)
+    }
+
+    /// Be liberal: the empty handshake of deployed clients is a handshake without an OID.
+    pub(super) fn oid(&mut self, field: &'static str) -> Result<Option<u16>, DecodeError> {
+        match self.is_empty() {
+            true => Ok(None),
+            false => self.u16(field).map(Some),
+        }
+    }
+
     pub(super) fn u8(&mut self, field: &'static str) -> Result<u8, DecodeError> {
         self.field(|r| r.u8(field))
     }
@@ -158,12 +314,12 @@ impl<'a> FieldReader<'a> {
     }
 
     /// Like `name`, but empty is allowed: "the operator's default reference".
-    pub(super) fn parent(&mut self) -> Result<String, DecodeError> {
-        let raw = self.bytes_of_len("parent")?;
+    pub(super) fn parent(&mut self, field: &'static str) -> Result<String, DecodeError> {
+        let raw = self.bytes_of_len(field)?;
         if raw.is_empty() {
             return Ok(String::new());
         }
-        self.position_name("parent", raw)
+        self.position_name(field, raw)
     }
 
     fn position_name(&self, field: &'static str, raw: &[u8]) -> Result<String, DecodeError> {
@@ -176,8 +332,9 @@ impl<'a> FieldReader<'a> {
             })
     }
 
-    pub(super) fn rest(&mut self) -> Vec<u8> {
-        self.bytes.rest().to_vec()
+    /// The bytes left; never fails (a `Result` as every field's read is).
+    pub(super) fn rest(&mut self, _: &'static str) -> Result<Vec<u8>, DecodeError> {
+        Ok(self.bytes.rest().to_vec())
     }
 
     /// Ok when every byte was read; otherwise the count left over.

@@ -29,27 +29,23 @@ pub struct PositionName(String);
 impl PositionName {
     pub fn new(name: impl Into<String>) -> Result<Self, NameError> {
         let name = name.into();
-        Self::check(name.as_bytes())?;
+        Self::validate(name.as_bytes())?;
         Ok(PositionName(name))
     }
 
     /// Validates raw bytes, as received in a payload.
     pub fn from_bytes(bytes: &[u8]) -> Result<Self, NameError> {
-        Self::check(bytes)?;
-        // check() admits ASCII only, which is always valid UTF-8: nothing is replaced.
+        Self::validate(bytes)?;
+        // validate() admits ASCII only, which is always valid UTF-8: nothing is replaced.
         Ok(PositionName(String::from_utf8_lossy(bytes).into_owned()))
-    }
-
-    /// Checks a name against the rule without keeping it (no allocation).
-    pub fn validate(bytes: &[u8]) -> Result<(), NameError> {
-        Self::check(bytes)
     }
 
     pub fn into_string(self) -> String {
         self.0
     }
 
-    fn check(bytes: &[u8]) -> Result<(), NameError> {
+    /// Checks a name against the rule without keeping it (no allocation).
+    pub fn validate(bytes: &[u8]) -> Result<(), NameError> {
         if bytes.is_empty() {
             return Err(NameError::Empty);
         }

@@ -290,6 +290,34 @@ mod tests {
     }
 
     #[test]
+    fn kittys_keypad_and_function_key_codepoints_are_their_keys() {
+        // By hand from the kitty keyboard protocol's table of functional key codes.
+        let keypad = |code| {
+            Decoded::Event(Event::Key(KeyEvent::new_with_kind_and_state(
+                code,
+                KeyModifiers::NONE,
+                KeyEventKind::Press,
+                KeyEventState::KEYPAD,
+            )))
+        };
+        let cases: [(&[u8], Decoded); 8] = [
+            (b"\x1b[57399u", keypad(KeyCode::Char('0'))),
+            (b"\x1b[57413u", keypad(KeyCode::Char('+'))),
+            (b"\x1b[57414u", keypad(KeyCode::Enter)),
+            (b"\x1b[57417u", keypad(KeyCode::Left)),
+            (b"\x1b[57426u", keypad(KeyCode::Delete)),
+            (b"\x1b[57427u", keypad(KeyCode::KeypadBegin)),
+            (b"\x1b[57376u", key(KeyCode::F(13), KeyModifiers::NONE)),
+            (b"\x1b[57398u", key(KeyCode::F(35), KeyModifiers::NONE)),
+        ];
+        for (bytes, want) in cases {
+            assert_eq!(decode(&[bytes]), vec![want], "{bytes:?}");
+        }
+        // Past the keypad's last key: a private-use codepoint, no key.
+        assert_eq!(decode(&[b"\x1b[57428u"]), vec![]);
+    }
+
+    #[test]
     fn garbage_is_dropped_and_the_next_key_still_comes() {
         let mut garbage = b"\x1b[".to_vec();
         garbage.extend(std::iter::repeat_n(b'1', 200));

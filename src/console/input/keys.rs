@@ -263,33 +263,21 @@ fn kitty_key(params: &str) -> Parsed {
 
 /// Kitty's private-use codepoints for keypad and function keys; `true` for the keypad.
 fn functional_key(codepoint: u32) -> Option<(KeyCode, bool)> {
+    use KeyCode::*;
     const KEYPAD_CHARS: &str = "0123456789./*-+";
-    let keypad = match codepoint {
+    /// The keypad's other keys, 57414 to 57427 in order.
+    #[rustfmt::skip]
+    const KEYPAD_KEYS: [KeyCode; 14] = [
+        Enter, Char('='), Char(','), Left, Right, Up, Down, PageUp, PageDown, Home, End, Insert,
+        Delete, KeypadBegin,
+    ];
+    match codepoint {
         57399..=57413 => KEYPAD_CHARS
             .chars()
             .nth((codepoint - 57399) as usize)
-            .map(KeyCode::Char),
-        57414 => Some(KeyCode::Enter),
-        57415 => Some(KeyCode::Char('=')),
-        57416 => Some(KeyCode::Char(',')),
-        57417 => Some(KeyCode::Left),
-        57418 => Some(KeyCode::Right),
-        57419 => Some(KeyCode::Up),
-        57420 => Some(KeyCode::Down),
-        57421 => Some(KeyCode::PageUp),
-        57422 => Some(KeyCode::PageDown),
-        57423 => Some(KeyCode::Home),
-        57424 => Some(KeyCode::End),
-        57425 => Some(KeyCode::Insert),
-        57426 => Some(KeyCode::Delete),
-        57427 => Some(KeyCode::KeypadBegin),
-        _ => None,
-    };
-    if let Some(code) = keypad {
-        return Some((code, true));
-    }
-    match codepoint {
-        57376..=57398 => Some((KeyCode::F((codepoint - 57376 + 13) as u8), false)),
+            .map(|c| (Char(c), true)),
+        57414..=57427 => Some((KEYPAD_KEYS[(codepoint - 57414) as usize], true)),
+        57376..=57398 => Some((F((codepoint - 57376 + 13) as u8), false)),
         _ => None,
     }
 }

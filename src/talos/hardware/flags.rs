@@ -43,13 +43,6 @@ macro_rules! flag_word {
             pub const NAMED: &'static [($name, &'static str)] = &[$(($name::$konst, $label),)*];
             /// Mask of every named bit.
             pub const DEFINED: u32 = 0 $(| (1 << $bit))*;
-            /// What `Display` shows for a word with no bit set.
-            pub const ZERO_NAME: &'static str = $zero;
-
-            pub const fn bits(self) -> u32 {
-                self.0
-            }
-
             /// Whether every bit of `other` is set in `self`.
             pub const fn contains(self, other: $name) -> bool {
                 self.0 & other.0 == other.0
@@ -76,12 +69,12 @@ macro_rules! flag_word {
             }
         }
 
-        /// Names joined with '|', or the zero name when no bit is set.
+        /// Names joined with '|', or the zero name (`zero`) when no bit is set.
         impl fmt::Display for $name {
             fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
                 let names = self.names();
                 if names.is_empty() {
-                    f.write_str(Self::ZERO_NAME)
+                    f.write_str($zero)
                 } else {
                     f.write_str(&names.join("|"))
                 }

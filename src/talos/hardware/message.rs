@@ -59,20 +59,20 @@ impl HwRequest {
     /// The Talos request (0x0008) for this operation, after [`HwRequest::validate`].
     pub fn to_request(&self) -> Result<Request, HwError> {
         self.validate()?;
-        Ok(self.carried(self.payload_bytes()))
+        Ok(self.carried())
     }
 
     /// STOP_ALL_JOINTS as its request: no fields, so nothing can fail (the stop set needs it).
     pub fn stop_all_joints_request() -> Request {
-        let stop = HwRequest::StopAllJoints;
-        stop.carried(stop.payload_bytes())
+        HwRequest::StopAllJoints.carried()
     }
 
-    fn carried(&self, payload: Vec<u8>) -> Request {
+    /// The request carrying this operation, as it is (validated or without fields).
+    fn carried(&self) -> Request {
         Request::HardwareOperation {
             subcommand: self.subcommand(),
             reserved: 0,
-            payload,
+            payload: self.payload_bytes(),
         }
     }
 

@@ -26,36 +26,34 @@ pub const ARM_STATE_LEN: usize = 98;
 
 /// The subcommand values carried in the Talos "Subcommand Value" field (request and reply alike).
 pub mod subcommand {
-    /// Read the feedback of one actuator or of all of them.
-    pub const GET_ACTUATOR_FEEDBACK: u16 = 0x0001;
-    /// Send one command to one actuator; the reply carries its feedback (like ActuatorCyclic.Refresh).
-    pub const SEND_ACTUATOR_COMMAND: u16 = 0x0002;
-    /// Read the arm-level state, pose, twist and wrench.
-    pub const GET_ARM_STATE: u16 = 0x0003;
-    /// Bring every joint to velocity 0 and hold position.
-    pub const STOP_ALL_JOINTS: u16 = 0x0004;
-    /// Clear the major and minor fault flags of every actuator.
-    pub const CLEAR_ALL_FAULTS: u16 = 0x0005;
+    macro_rules! subcommands {
+        ($($(#[$doc:meta])* $konst:ident = $value:literal, $name:literal;)*) => {
+            $($(#[$doc])* pub const $konst: u16 = $value;)*
 
-    /// Every defined subcommand, ascending.
-    pub const ALL: [u16; 5] = [
-        GET_ACTUATOR_FEEDBACK,
-        SEND_ACTUATOR_COMMAND,
-        GET_ARM_STATE,
-        STOP_ALL_JOINTS,
-        CLEAR_ALL_FAULTS,
-    ];
+            /// Every defined subcommand, ascending.
+            pub const ALL: [u16; 5] = [$($konst,)*];
 
-    /// snake_case name of a defined subcommand.
-    pub fn name(value: u16) -> Option<&'static str> {
-        match value {
-            GET_ACTUATOR_FEEDBACK => Some("get_actuator_feedback"),
-            SEND_ACTUATOR_COMMAND => Some("send_actuator_command"),
-            GET_ARM_STATE => Some("get_arm_state"),
-            STOP_ALL_JOINTS => Some("stop_all_joints"),
-            CLEAR_ALL_FAULTS => Some("clear_all_faults"),
-            _ => None,
-        }
+            /// snake_case name of a defined subcommand.
+            pub fn name(value: u16) -> Option<&'static str> {
+                match value {
+                    $($konst => Some($name),)*
+                    _ => None,
+                }
+            }
+        };
+    }
+
+    subcommands! {
+        /// Read the feedback of one actuator or of all of them.
+        GET_ACTUATOR_FEEDBACK = 0x0001, "get_actuator_feedback";
+        /// Send one command to one actuator; the reply carries its feedback (like ActuatorCyclic.Refresh).
+        SEND_ACTUATOR_COMMAND = 0x0002, "send_actuator_command";
+        /// Read the arm-level state, pose, twist and wrench.
+        GET_ARM_STATE = 0x0003, "get_arm_state";
+        /// Bring every joint to velocity 0 and hold position.
+        STOP_ALL_JOINTS = 0x0004, "stop_all_joints";
+        /// Clear the major and minor fault flags of every actuator.
+        CLEAR_ALL_FAULTS = 0x0005, "clear_all_faults";
     }
 }
 
