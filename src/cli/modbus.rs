@@ -145,12 +145,18 @@ impl ModbusCommand {
                 options,
             }
             | ModbusCommand::Action { id, options } => {
-                link.start_stored_capped(*id, StoredMotion::Action, options.cap())
-                    .await
+                let action = Stored {
+                    motion: StoredMotion::Action,
+                    id: *id,
+                };
+                link.start_stored(action, Some(options.cap())).await
             }
             ModbusCommand::Sequence { id, options } => {
-                link.start_stored_capped(*id, StoredMotion::Sequence, options.cap())
-                    .await
+                let sequence = Stored {
+                    motion: StoredMotion::Sequence,
+                    id: *id,
+                };
+                link.start_stored(sequence, Some(options.cap())).await
             }
             ModbusCommand::SpeedLimit { linear, angular } => {
                 link.set_speed_limits(*linear, *angular).await

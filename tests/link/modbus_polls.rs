@@ -139,7 +139,7 @@ async fn a_strict_arms_speed_limits_are_read_afresh_before_a_capped_move_and_aft
         linear: 0.25,
         angular: armjog::kortex::commands::MAX_ANGULAR_SPEED,
     };
-    link.go_to_pose_capped(ReferenceFrame::Base, pose, cap)
+    link.go_to_pose(ReferenceFrame::Base, pose, Some(cap))
         .await
         .unwrap();
     let reads = arm.with(|s| s.reads());

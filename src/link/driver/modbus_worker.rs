@@ -131,34 +131,20 @@ impl State {
         self.link.subscribe().borrow().as_ref().map(read)
     }
 
-    /// The tool speed at the speed in force, m/s: the one cap every motion keeps.
-    fn tool_speed(&self) -> f32 {
-        self.cap.twist_speed(self.speed.percent())
+    /// A stored run (home among them) with the limits lowered to the move cap.
+    async fn start_stored(&self, stored: Stored) -> Result<Option<WriteReport>, ArmError> {
+        wrap(self.link.start_stored(stored, Some(self.move_cap())).await)
+    }
+
+    /// A base-frame move to `pose` with the limits lowered to the move cap.
+    async fn go_to(&self, pose: Pose) -> Result<Option<WriteReport>, ArmError> {
+        let cap = Some(self.move_cap());
+        wrap(self.link.go_to_pose(ReferenceFrame::Base, pose, cap).await)
     }
 
     /// A planned move's limits at the speed in force ([`SpeedCap::move_cap`]).
     fn move_cap(&self) -> SpeedLimits {
         self.cap.move_cap(self.speed.percent())
-    }
-
-    /// Starts a stored run (home among them) with the limits lowered to the move cap.
-    async fn start_stored(&self, stored: Stored) -> Result<Option<WriteReport>, ArmError> {
-        let cap = self.move_cap();
-        wrap(
-            self.link
-                .start_stored_capped(stored.id, stored.motion, cap)
-                .await,
-        )
-    }
-
-    /// A base-frame move to `pose` with the limits lowered to the move cap.
-    async fn go_to(&self, pose: Pose) -> Result<Option<WriteReport>, ArmError> {
-        let cap = self.move_cap();
-        wrap(
-            self.link
-                .go_to_pose_capped(ReferenceFrame::Base, pose, cap)
-                .await,
-        )
     }
 
     /// An orientation jog's rate, deg/s, never above the arm's own usable angular limit.
@@ -185,7 +171,8 @@ impl State {
     async fn execute(&mut self, command: ArmCommand) {
         let result: Result<Option<WriteReport>, ArmError> = match &command {
             ArmCommand::Jog(JogMotion::Cartesian { x, y, z }) => {
-                let [x, y, z] = along([*x, *y, *z], self.tool_speed());
+                // The tool speed at the speed in force: the one cap every motion keeps.
+                let [x, y, z] = along([*x, *y, *z], self.cap.twist_speed(self.speed.percent()));
                 let twist = Twist {
                     x,
                     y,
