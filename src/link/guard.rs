@@ -111,18 +111,14 @@ impl GuardReport {
 
     /// The event the console sees.
     pub fn into_event(self) -> ArmEvent {
-        match self {
-            GuardReport::Status(status) => ArmEvent::Guard(status),
-            // As a failed jog: the console stops and forgets the held keys.
-            GuardReport::StoppedArm { reason } => ArmEvent::Failed {
-                command: CommandKind::Jog,
-                error: ArmError::GuardStoppedArm(reason),
-            },
-            GuardReport::StopFailed { reason } => ArmEvent::Failed {
-                command: CommandKind::Jog,
-                error: ArmError::GuardStopFailed(reason),
-            },
-        }
+        let error = match self {
+            GuardReport::Status(status) => return ArmEvent::Guard(status),
+            GuardReport::StoppedArm { reason } => ArmError::GuardStoppedArm(reason),
+            GuardReport::StopFailed { reason } => ArmError::GuardStopFailed(reason),
+        };
+        // As a failed jog: the console stops and forgets the held keys.
+        let command = CommandKind::Jog;
+        ArmEvent::Failed { command, error }
     }
 }
 
@@ -334,15 +330,13 @@ fn on_line(line: &str, pid: u32, reporter: &Reporter) {
         }),
         "stopped" => {
             tracing::warn!("stop guard {pid} stopped the arm: {rest}");
-            let _ = reporter.reports.send(GuardReport::StoppedArm {
-                reason: rest.to_string(),
-            });
+            let reason = rest.to_string();
+            let _ = reporter.reports.send(GuardReport::StoppedArm { reason });
         }
         "stop-failed" => {
             tracing::error!("stop guard {pid} could not stop the arm: {rest}");
-            let _ = reporter.reports.send(GuardReport::StopFailed {
-                reason: rest.to_string(),
-            });
+            let reason = rest.to_string();
+            let _ = reporter.reports.send(GuardReport::StopFailed { reason });
         }
         _ => tracing::info!("stop guard {pid}: {line}"),
     }
