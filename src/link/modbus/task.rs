@@ -41,6 +41,30 @@ enum MotionInForce {
     },
 }
 
+impl MotionInForce {
+    /// The same motion asked for: a polar pan by its directions and settings, not its last twist.
+    fn same_ask(&self, other: &MotionInForce) -> bool {
+        use MotionInForce::Polar;
+        match (self, other) {
+            (
+                Polar {
+                    azimuth,
+                    altitude,
+                    settings,
+                    ..
+                },
+                Polar {
+                    azimuth: a,
+                    altitude: e,
+                    settings: s,
+                    ..
+                },
+            ) => (azimuth, altitude, settings) == (a, e, s),
+            _ => self == other,
+        }
+    }
+}
+
 /// What woke the task.
 enum Wake {
     Job(Option<Job>),

@@ -125,16 +125,13 @@ impl TalosSide {
 
     /// The next unsolicited link event; pends forever without a link.
     pub async fn next_event(&mut self) -> Option<TalosEvent> {
-        match &mut self.link_events {
-            Some(rx) => match rx.recv().await {
-                Some(event) => Some(event),
-                None => {
-                    self.link_events = None;
-                    std::future::pending().await
-                }
-            },
-            None => std::future::pending().await,
+        if let Some(rx) = &mut self.link_events
+            && let Some(event) = rx.recv().await
+        {
+            return Some(event);
         }
+        self.link_events = None;
+        std::future::pending().await
     }
 
     /// Whether the Talos link carries `command` (rather than the Modbus link).

@@ -40,23 +40,16 @@ impl LinkTask {
         if azimuth == 0.0 && altitude == 0.0 {
             return self.stop(StopReason::Requested).await;
         }
-        if let MotionInForce::Polar {
-            azimuth: a,
-            altitude: e,
-            settings: s,
-            ..
-        } = self.motion
-            && (a, e, s) == (azimuth, altitude, settings)
-        {
-            self.refresh_hold();
-            return Ok(WriteReport::default());
-        }
         let wanted = MotionInForce::Polar {
             azimuth,
             altitude,
             settings,
             twist: Twist::ZERO,
         };
+        if self.motion.same_ask(&wanted) {
+            self.refresh_hold();
+            return Ok(WriteReport::default());
+        }
         if self.ended_elsewhere(&wanted) {
             return Ok(WriteReport::default());
         }
