@@ -132,40 +132,21 @@ fn signals() -> std::io::Result<impl Future<Output = &'static str>> {
     })
 }
 
-/// What came through the console's pipe.
-enum FromConsole {
-    Beat,
-    Gone(String),
-}
-
-fn read_console<R: AsyncRead + Unpin + Send + 'static>(
-    mut pipe: R,
-) -> mpsc::UnboundedReceiver<FromConsole> {
-    let (tx, rx) = mpsc::unbounded_channel();
-    tokio::spawn(async move {
-        let mut buf = [0u8; 64];
-        loop {
-            let message = match pipe.read(&mut buf).await {
-                Ok(0) => FromConsole::Gone("its pipe closed".into()),
-                Ok(_) => FromConsole::Beat,
-                Err(e) => FromConsole::Gone(format!("reading its pipe failed: {e}")),
-            };
-            let gone = matches!(message, FromConsole::Gone(_));
-            if tx.send(message).is_err() || gone {
-                return;
-            }
-        }
-    });
-    rx
+/// The console's next byte (a heartbeat), or why it is gone. Cancel safe: nothing read is lost.
+async fn from_console<R: AsyncRead + Unpin>(pipe: &mut R) -> Result<(), String> {
+    let mut buf = [0u8; 64];
+    match pipe.read(&mut buf).await {
+        Ok(0) => Err("its pipe closed".into()),
+        Ok(_) => Ok(()),
+        Err(e) => Err(format!("reading its pipe failed: {e}")),
+    }
 }
 
 /// Waits until the console is gone, ignoring heartbeats.
-async fn console_gone(console: &mut mpsc::UnboundedReceiver<FromConsole>) -> String {
+async fn console_gone<R: AsyncRead + Unpin>(pipe: &mut R) -> String {
     loop {
-        match console.recv().await {
-            Some(FromConsole::Beat) => {}
-            Some(FromConsole::Gone(reason)) => return reason,
-            None => return "its pipe reader ended".into(),
+        if let Err(reason) = from_console(pipe).await {
+            return reason;
         }
     }
 }
@@ -174,16 +155,15 @@ async fn console_gone(console: &mut mpsc::UnboundedReceiver<FromConsole>) -> Str
 pub async fn watch<R, W>(
     targets: Targets,
     heartbeat_timeout: Duration,
-    pipe: R,
+    mut pipe: R,
     mut out: W,
     signal: impl Future<Output = &'static str>,
 ) -> i32
 where
-    R: AsyncRead + Unpin + Send + 'static,
+    R: AsyncRead + Unpin,
     W: AsyncWrite + Unpin,
 {
     tokio::pin!(signal);
-    let mut console = read_console(pipe);
     let (modbus, mut link_events) = match targets.modbus {
         None => (None, None),
         Some(config) => {
@@ -191,7 +171,7 @@ where
             tokio::pin!(connect);
             tokio::select! {
                 biased;
-                reason = console_gone(&mut console) => {
+                reason = console_gone(&mut pipe) => {
                     // Not ready yet, so the console was refused every motion: nothing to stop.
                     tracing::info!("stop guard: the console is gone ({reason}) before the arm was reached");
                     return 0;
@@ -216,21 +196,17 @@ where
     loop {
         tokio::select! {
             biased;
-            message = console.recv() => match message {
-                Some(FromConsole::Beat) => {
+            message = from_console(&mut pipe) => match message {
+                Ok(()) => {
                     deadline = Instant::now() + heartbeat_timeout;
                     if starved {
                         tracing::info!("stop guard: the console's heartbeat is back");
                         starved = false;
                     }
                 }
-                Some(FromConsole::Gone(reason)) => {
+                Err(reason) => {
                     let why = format!("the console is gone ({reason})");
                     return stopper.finish(&why, Console::Gone, &mut out).await;
-                }
-                None => {
-                    let why = "the console's pipe reader ended";
-                    return stopper.finish(why, Console::Gone, &mut out).await;
                 }
             },
             name = &mut signal => {
