@@ -166,7 +166,7 @@ impl DriverState {
             return self.on_stop(command);
         }
         if let Some(error) = guard_refusal(&self.config, self.guard.as_ref(), &command) {
-            return self.refuse(&command, error);
+            return self.emit(ArmEvent::failed(&command, error));
         }
         if self.talos.handles(&command, self.modbus.is_some()) {
             self.stops.motion(&command, Side::Talos);
@@ -190,13 +190,9 @@ impl DriverState {
                     }
                     None => ArmError::NoLinkCarriesIt,
                 };
-                self.refuse(&command, error);
+                self.emit(ArmEvent::failed(&command, error));
             }
         }
-    }
-
-    fn refuse(&self, command: &ArmCommand, error: ArmError) {
-        self.emit(ArmEvent::failed(command, error));
     }
 
     /// Stops go everywhere, whichever link the motion came through.

@@ -75,27 +75,24 @@ fn forward_telemetry(
     let mut snapshots = link.subscribe();
     tokio::spawn(async move {
         while snapshots.changed().await.is_ok() {
-            let snapshot = snapshots.borrow_and_update().clone();
-            if let Some(s) = snapshot {
-                let latency = s.poll_time;
-                joints.send_replace(Some(s.telemetry.joints.map(|j| j.position)));
-                let entry = LogEntry {
-                    name: "modbus poll".into(),
-                    outcome: "OK".into(),
-                    ok: true,
-                    latency: Some(latency),
-                    poll: true,
-                    count: 1,
-                    ..LogEntry::default()
-                };
-                let _ = events.send(ArmEvent::Log(entry));
-                if events
-                    .send(ArmEvent::Telemetry(Box::new(s.telemetry)))
-                    .is_err()
-                    || events.send(ArmEvent::Latency(latency)).is_err()
-                {
-                    break;
-                }
+            let Some(s) = snapshots.borrow_and_update().clone() else {
+                continue;
+            };
+            joints.send_replace(Some(s.telemetry.joints.map(|j| j.position)));
+            let entry = LogEntry {
+                ok: true,
+                latency: Some(s.poll_time),
+                poll: true,
+                ..LogEntry::new("modbus poll", "OK".into())
+            };
+            let telemetry = ArmEvent::Telemetry(Box::new(s.telemetry));
+            let sent = [
+                ArmEvent::Log(entry),
+                telemetry,
+                ArmEvent::Latency(s.poll_time),
+            ];
+            if sent.into_iter().any(|event| events.send(event).is_err()) {
+                break;
             }
         }
     });
@@ -230,7 +227,7 @@ impl State {
     }
 
     fn report(&self, command: ArmCommand, result: Result<Option<WriteReport>, ArmError>) {
-        let label = command.label();
+        let label = command.kind().label();
         match result {
             Ok(report) => {
                 // A jog refresh that wrote nothing is not worth a log line.
@@ -255,12 +252,8 @@ impl State {
                 let _ = self.events.send(ArmEvent::Done { command });
             }
             Err(error) => {
-                let _ = self.events.send(ArmEvent::Log(LogEntry {
-                    count: 1,
-                    name: label.to_string(),
-                    outcome: error.to_string(),
-                    ..LogEntry::default()
-                }));
+                let entry = LogEntry::new(label, error.to_string());
+                let _ = self.events.send(ArmEvent::Log(entry));
                 let _ = self.events.send(ArmEvent::failed(&command, error));
             }
         }
