@@ -16,6 +16,7 @@ use tokio::io::{AsyncRead, AsyncReadExt, AsyncWrite, AsyncWriteExt};
 use tokio::sync::mpsc;
 use tokio::time::Instant;
 
+use crate::kortex::ControlCoil;
 use crate::link::guard::{ALIVE_PERIOD, HEARTBEAT_TIMEOUT};
 use crate::link::modbus::{DEFAULT_PORT, DEFAULT_UNIT, ModbusConfig, ModbusEvent, ModbusLink};
 use crate::link::{Dialect, talos::DEFAULT_PORT as TALOS_PORT};
@@ -340,7 +341,7 @@ async fn stop_modbus(link: &ModbusLink, why: &str, give_up: Instant) -> Result<S
                 errors.push(e.to_string());
             }
         }
-        match link.abort().await {
+        match link.pulse(ControlCoil::Abort).await {
             Ok(report) => return Ok(done(started, report.writes.len())),
             Err(e) => {
                 tracing::error!("stop guard ({why}): abort coil not written: {e}");

@@ -7,7 +7,7 @@ use serde_json::{Value, json};
 
 use super::Outcome;
 use crate::kortex::commands::{self, Write};
-use crate::kortex::{Stored, StoredMotion};
+use crate::kortex::{ControlCoil, Stored, StoredMotion};
 use crate::link::modbus::{DEFAULT_HOME_ACTION_ID, DEFAULT_PORT, ModbusConfig, ModbusError};
 use crate::link::{ModbusLink, WriteReport};
 
@@ -135,9 +135,9 @@ impl ModbusCommand {
 
     async fn send(&self, link: &ModbusLink) -> Result<WriteReport, ModbusError> {
         match self {
-            ModbusCommand::QuickStop => link.quick_stop().await,
-            ModbusCommand::Abort => link.abort().await,
-            ModbusCommand::FaultReset => link.fault_reset().await,
+            ModbusCommand::QuickStop => link.pulse(ControlCoil::QuickStop).await,
+            ModbusCommand::Abort => link.pulse(ControlCoil::Abort).await,
+            ModbusCommand::FaultReset => link.pulse(ControlCoil::FaultReset).await,
             ModbusCommand::Stop => link.stop().await,
             // Capped while the link watches them: the limits go back when they end.
             ModbusCommand::Home {

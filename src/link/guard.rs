@@ -60,12 +60,8 @@ pub fn guard_args(
 ) -> Vec<String> {
     let mut args = vec!["guard".to_string()];
     if let Some(mc) = modbus {
-        args.extend([
-            "--modbus".into(),
-            mc.addr.clone(),
-            "--unit".into(),
-            mc.unit.to_string(),
-        ]);
+        let unit = mc.unit.to_string();
+        args.extend(["--modbus", &mc.addr, "--unit", &unit].map(String::from));
     }
     if let Some(tc) = talos {
         args.extend([

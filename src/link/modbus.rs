@@ -348,21 +348,11 @@ impl ModbusLink {
         self.plain(writes, false).await
     }
 
-    /// Pulses the quick stop coil (0).
-    pub async fn quick_stop(&self) -> Result<WriteReport, ModbusError> {
-        self.plain(commands::pulse(ControlCoil::QuickStop), true)
-            .await
-    }
-
-    /// Pulses the abort / manual stop coil (1).
-    pub async fn abort(&self) -> Result<WriteReport, ModbusError> {
-        self.plain(commands::pulse(ControlCoil::Abort), true).await
-    }
-
-    /// Pulses the fault reset coil (2). After a quick stop the arm may need more than one.
-    pub async fn fault_reset(&self) -> Result<WriteReport, ModbusError> {
-        self.plain(commands::pulse(ControlCoil::FaultReset), false)
-            .await
+    /// Pulses a control coil: quick stop (0), abort / manual stop (1), both ending any motion, or
+    /// fault reset (2; after a quick stop the arm may need more than one).
+    pub async fn pulse(&self, coil: ControlCoil) -> Result<WriteReport, ModbusError> {
+        let halts = coil != ControlCoil::FaultReset;
+        self.plain(commands::pulse(coil), halts).await
     }
 
     /// Stops any twist and ends the task; unlike a drop, says if the stop failed.

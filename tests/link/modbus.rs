@@ -8,7 +8,7 @@ use crate::modbus_fake;
 
 use std::time::Duration;
 
-use armjog::kortex::{Pose, ReferenceFrame, Stored, Twist};
+use armjog::kortex::{ControlCoil, Pose, ReferenceFrame, Stored, Twist};
 use armjog::link::modbus::{ModbusConfig, ModbusLink};
 use modbus_fake::{Behaviour, FakeArm, Written, from_cdab, stop_write};
 use tokio_modbus::{ExceptionCode, Request};
@@ -202,9 +202,9 @@ async fn pose_action_speed_limit_and_coil_sequences() {
     .await
     .unwrap();
     link.set_speed_limits(0.25, 100.0).await.unwrap();
-    link.quick_stop().await.unwrap();
-    link.abort().await.unwrap();
-    link.fault_reset().await.unwrap();
+    link.pulse(ControlCoil::QuickStop).await.unwrap();
+    link.pulse(ControlCoil::Abort).await.unwrap();
+    link.pulse(ControlCoil::FaultReset).await.unwrap();
     assert_eq!(
         arm.writes(),
         vec![
@@ -253,7 +253,7 @@ async fn exceptions_are_typed_by_name() {
         _ => None,
     });
     let (link, _events) = ModbusLink::connect(config(&arm)).await.unwrap();
-    let e = link.fault_reset().await.unwrap_err();
+    let e = link.pulse(ControlCoil::FaultReset).await.unwrap_err();
     assert_eq!(e.exception(), Some(ExceptionCode::IllegalFunction));
     assert!(e.to_string().contains("illegal function (0x01)"), "{e}");
     assert!(e.to_string().contains("coil 2"), "{e}");

@@ -55,7 +55,9 @@ async fn the_unit_id_is_sent_with_every_request() {
     config.unit = 7;
     let (link, _events) = ModbusLink::connect(config).await.unwrap();
     link.read_telemetry().await.unwrap();
-    link.fault_reset().await.unwrap();
+    link.pulse(armjog::kortex::ControlCoil::FaultReset)
+        .await
+        .unwrap();
     let units: Vec<u8> = arm.with(|s| s.log.iter().map(|l| l.unit).collect());
     assert_eq!(units.len(), 6);
     assert!(units.iter().all(|u| *u == 7), "{units:?}");

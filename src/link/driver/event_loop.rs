@@ -67,13 +67,10 @@ pub(super) fn start(
     let _ = events.send(ArmEvent::Status(LinkStatus::Connecting));
     let joints: JointPositions = std::sync::Arc::new(tokio::sync::watch::Sender::new(None));
     // A cap made in code that skipped the front ends' check stops here, before anything connects.
-    let cap = match config.speed_cap() {
-        Ok(cap) => cap,
-        Err(e) => panic!(
-            "speed cap {} m/s on an operator of {} m/s: {e}",
-            config.max_jog_speed, config.operator_full_speed
-        ),
-    };
+    let cap = config.speed_cap().unwrap_or_else(|e| {
+        let (cap, operator) = (config.max_jog_speed, config.operator_full_speed);
+        panic!("speed cap {cap} m/s on an operator of {operator} m/s: {e}")
+    });
     let speed = SpeedInForce::default();
     let (talos_side_tx, talos_side) = mpsc::unbounded_channel();
     let (modbus_side_tx, modbus_side) = mpsc::unbounded_channel();

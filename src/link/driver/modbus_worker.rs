@@ -7,7 +7,9 @@ use tokio::task::JoinHandle;
 
 use super::JointPositions;
 use super::speed::SpeedInForce;
-use crate::kortex::{PolarPanSettings, Pose, ReferenceFrame, SpeedLimits, Stored, Twist};
+use crate::kortex::{
+    ControlCoil, PolarPanSettings, Pose, ReferenceFrame, SpeedLimits, Stored, Twist,
+};
 use crate::link::interface::{
     ArmCommand, ArmError, ArmEvent, CommandClass, JogMotion, LogEntry, StepMove, Traffic,
 };
@@ -195,8 +197,8 @@ impl State {
                 "single-joint jog needs a Talos operator: Modbus cannot command joints",
             )),
             ArmCommand::Stop => wrap(self.link.stop().await),
-            ArmCommand::QuickStop => wrap(self.link.quick_stop().await),
-            ArmCommand::FaultReset => wrap(self.link.fault_reset().await),
+            ArmCommand::QuickStop => wrap(self.link.pulse(ControlCoil::QuickStop).await),
+            ArmCommand::FaultReset => wrap(self.link.pulse(ControlCoil::FaultReset).await),
             // Moves keep the arm's own planning, under lowered limits (`move_cap`).
             ArmCommand::Home => self.start_stored(self.link.config().home_action()).await,
             ArmCommand::StartStored(stored) => self.start_stored(*stored).await,
