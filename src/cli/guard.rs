@@ -357,10 +357,8 @@ async fn stop_modbus(link: &ModbusLink, why: &str, give_up: Instant) -> Result<S
 }
 
 fn done(started: Instant, writes: usize) -> String {
-    format!(
-        "{writes} writes in {:.1} ms",
-        started.elapsed().as_secs_f64() * 1000.0
-    )
+    let ms = started.elapsed().as_secs_f64() * 1000.0;
+    format!("{writes} writes in {ms:.1} ms")
 }
 
 /// One status line to the console; a console that is gone cannot read it, which is fine.

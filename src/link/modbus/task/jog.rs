@@ -26,9 +26,7 @@ impl LinkTask {
         let writes = commands::twist(frame, twist)?;
         self.motion = wanted;
         self.refresh_hold();
-        let result = self.write_motion(&writes).await;
-        self.restore_after_replacing_move(&result).await;
-        result
+        self.write_replacing(&writes).await
     }
 
     pub(super) async fn polar_pan(
@@ -78,9 +76,7 @@ impl LinkTask {
         };
         self.refresh_hold();
         let writes = commands::twist(ReferenceFrame::Base, twist)?;
-        let result = self.write_motion(&writes).await;
-        self.restore_after_replacing_move(&result).await;
-        result
+        self.write_replacing(&writes).await
     }
 
     /// Recomputes a running polar pan from the pose just polled.
