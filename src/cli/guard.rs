@@ -58,8 +58,15 @@ impl GuardArgs {
     /// What the guard stops: the links it was given.
     pub fn targets(&self) -> Targets {
         Targets {
+            // Writes only when told, a slow poll, short timeouts for retries.
             modbus: self.modbus.as_ref().map(|addr| {
-                guard_link_config(super::with_default_port(addr, DEFAULT_PORT), self.unit)
+                let mut config = ModbusConfig::new(super::with_default_port(addr, DEFAULT_PORT));
+                config.unit = self.unit;
+                config.poll_rate_hz = Some(1.0);
+                config.twist_hold = None;
+                config.request_timeout = Duration::from_millis(300);
+                config.connect_timeout = Duration::from_secs(1);
+                config
             }),
             talos: self.talos.as_ref().map(|addr| {
                 TalosStop::new(
@@ -86,17 +93,6 @@ fn links_group() -> clap::ArgGroup {
 pub struct Targets {
     pub modbus: Option<ModbusConfig>,
     pub talos: Option<TalosStop>,
-}
-
-/// The guard's Modbus link: writes only when told, a slow poll, short timeouts for retries.
-pub fn guard_link_config(addr: String, unit: u8) -> ModbusConfig {
-    let mut config = ModbusConfig::new(addr);
-    config.unit = unit;
-    config.poll_rate_hz = Some(1.0);
-    config.twist_hold = None;
-    config.request_timeout = Duration::from_millis(300);
-    config.connect_timeout = Duration::from_secs(1);
-    config
 }
 
 /// Runs the guard on stdin and stdout: exit 0 (stopped, or nothing connected) or 1 (stop failed).

@@ -145,16 +145,12 @@ impl GuardSupervisor {
         }
     }
 
-    pub fn status(&self) -> GuardStatus {
-        self.status.borrow().clone()
-    }
-
     /// Why motion is refused now, on any link, or `None` when the guard is ready.
     pub fn refusal(&self) -> Option<GuardNotRunning> {
-        match self.status() {
+        match &*self.status.borrow() {
             GuardStatus::Ready { .. } => None,
             GuardStatus::Starting => Some(GuardNotRunning::Starting),
-            GuardStatus::Down { reason } => Some(GuardNotRunning::Down(reason)),
+            GuardStatus::Down { reason } => Some(GuardNotRunning::Down(reason.clone())),
         }
     }
 }

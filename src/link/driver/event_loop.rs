@@ -12,7 +12,8 @@ use super::talos_side::{ORIENTATION_NEEDS_MODBUS, STORED_NEEDS_MODBUS, TalosSide
 use super::{DriverConfig, JointPositions, modbus_worker::ModbusWorker, speed::SpeedInForce};
 use crate::link::guard::{self, GuardNotRunning, GuardPolicy, GuardReport, GuardSupervisor};
 use crate::link::interface::{
-    ArmCommand, ArmError, ArmEvent, CommandKind, JogMotion, LinkStatus, TelemetrySource,
+    ArmCommand, ArmError, ArmEvent, CommandKind, GuardStatus, JogMotion, LinkStatus,
+    TelemetrySource,
 };
 use crate::link::modbus::{ModbusEvent, StopReason};
 use crate::link::talos::TalosEvent;
@@ -391,9 +392,7 @@ fn start_guard(
     if !config.guard_required() {
         return None;
     }
-    let _ = reports.send(GuardReport::Status(
-        crate::link::interface::GuardStatus::Starting,
-    ));
+    let _ = reports.send(GuardReport::Status(GuardStatus::Starting));
     let args = guard::guard_args(config.talos.as_ref(), config.modbus.as_ref(), config.oid);
     Some(GuardSupervisor::spawn(program.clone(), args, reports))
 }

@@ -88,18 +88,14 @@ impl LinkTask {
                 self.close_replies.push(reply);
                 self.closing = true;
             }
-            Some(Job::Read(reply)) => {
-                let _ = reply.send(Err(error()));
-            }
+            Some(Job::Read(reply)) => _ = reply.send(Err(error())),
             Some(
                 Job::Twist { reply, .. }
                 | Job::PolarPan { reply, .. }
                 | Job::Stop(reply)
                 | Job::Move { reply, .. }
                 | Job::Plain { reply, .. },
-            ) => {
-                let _ = reply.send(Err(error()));
-            }
+            ) => _ = reply.send(Err(error())),
         }
     }
 }
