@@ -238,13 +238,7 @@ impl LinkTask {
 
     async fn handle(&mut self, job: Job) {
         match job {
-            Job::Read(reply) => {
-                let result = self.poll().await;
-                if result.is_err() {
-                    self.stop_after_failed_poll().await;
-                }
-                let _ = reply.send(result);
-            }
+            Job::Read(reply) => _ = reply.send(self.poll_or_stop().await),
             Job::Twist {
                 frame,
                 twist,
@@ -371,6 +365,15 @@ impl LinkTask {
         if self.motion != MotionInForce::Idle && self.ctx.is_some() {
             let _ = self.stop(StopReason::PollFailed).await;
         }
+    }
+
+    /// A poll asked for: if it fails, a moving arm we cannot see is stopped.
+    pub(super) async fn poll_or_stop(&mut self) -> Result<Telemetry, ModbusError> {
+        let result = self.poll().await;
+        if result.is_err() {
+            self.stop_after_failed_poll().await;
+        }
+        result
     }
 
     async fn tick(&mut self) {

@@ -52,13 +52,7 @@ impl LinkTask {
             return Ok(WriteReport::default());
         }
         // A fresh pose, not the last poll's: the new direction starts from where the arm is.
-        let pose = match self.poll().await {
-            Ok(telemetry) => telemetry.tcp.pose,
-            Err(e) => {
-                self.stop_after_failed_poll().await;
-                return Err(e);
-            }
-        };
+        let pose = self.poll_or_stop().await?.tcp.pose;
         let twist = match polar_twist(pose, azimuth, altitude, settings) {
             Ok(twist) => twist,
             Err(e) => {
