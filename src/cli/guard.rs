@@ -16,6 +16,7 @@ use tokio::io::{AsyncRead, AsyncReadExt, AsyncWrite, AsyncWriteExt};
 use tokio::sync::mpsc;
 use tokio::time::Instant;
 
+use crate::kortex::ControlCoil;
 use crate::link::guard::{ALIVE_PERIOD, HEARTBEAT_TIMEOUT};
 use crate::link::modbus::{DEFAULT_PORT, DEFAULT_UNIT, ModbusConfig, ModbusEvent, ModbusLink};
 use crate::link::{Dialect, talos::DEFAULT_PORT as TALOS_PORT};
@@ -57,8 +58,15 @@ impl GuardArgs {
     /// What the guard stops: the links it was given.
     pub fn targets(&self) -> Targets {
         Targets {
+            // Writes only when told, a slow poll, short timeouts for retries.
             modbus: self.modbus.as_ref().map(|addr| {
-                guard_link_config(super::with_default_port(addr, DEFAULT_PORT), self.unit)
+                let mut config = ModbusConfig::new(super::with_default_port(addr, DEFAULT_PORT));
+                config.unit = self.unit;
+                config.poll_rate_hz = Some(1.0);
+                config.twist_hold = None;
+                config.request_timeout = Duration::from_millis(300);
+                config.connect_timeout = Duration::from_secs(1);
+                config
             }),
             talos: self.talos.as_ref().map(|addr| {
                 TalosStop::new(
@@ -85,17 +93,6 @@ fn links_group() -> clap::ArgGroup {
 pub struct Targets {
     pub modbus: Option<ModbusConfig>,
     pub talos: Option<TalosStop>,
-}
-
-/// The guard's Modbus link: writes only when told, a slow poll, short timeouts for retries.
-pub fn guard_link_config(addr: String, unit: u8) -> ModbusConfig {
-    let mut config = ModbusConfig::new(addr);
-    config.unit = unit;
-    config.poll_rate_hz = Some(1.0);
-    config.twist_hold = None;
-    config.request_timeout = Duration::from_millis(300);
-    config.connect_timeout = Duration::from_secs(1);
-    config
 }
 
 /// Runs the guard on stdin and stdout: exit 0 (stopped, or nothing connected) or 1 (stop failed).
@@ -132,40 +129,21 @@ fn signals() -> std::io::Result<impl Future<Output = &'static str>> {
     })
 }
 
-/// What came through the console's pipe.
-enum FromConsole {
-    Beat,
-    Gone(String),
-}
-
-fn read_console<R: AsyncRead + Unpin + Send + 'static>(
-    mut pipe: R,
-) -> mpsc::UnboundedReceiver<FromConsole> {
-    let (tx, rx) = mpsc::unbounded_channel();
-    tokio::spawn(async move {
-        let mut buf = [0u8; 64];
-        loop {
-            let message = match pipe.read(&mut buf).await {
-                Ok(0) => FromConsole::Gone("its pipe closed".into()),
-                Ok(_) => FromConsole::Beat,
-                Err(e) => FromConsole::Gone(format!("reading its pipe failed: {e}")),
-            };
-            let gone = matches!(message, FromConsole::Gone(_));
-            if tx.send(message).is_err() || gone {
-                return;
-            }
-        }
-    });
-    rx
+/// The console's next byte (a heartbeat), or why it is gone. Cancel safe: nothing read is lost.
+async fn from_console<R: AsyncRead + Unpin>(pipe: &mut R) -> Result<(), String> {
+    let mut buf = [0u8; 64];
+    match pipe.read(&mut buf).await {
+        Ok(0) => Err("its pipe closed".into()),
+        Ok(_) => Ok(()),
+        Err(e) => Err(format!("reading its pipe failed: {e}")),
+    }
 }
 
 /// Waits until the console is gone, ignoring heartbeats.
-async fn console_gone(console: &mut mpsc::UnboundedReceiver<FromConsole>) -> String {
+async fn console_gone<R: AsyncRead + Unpin>(pipe: &mut R) -> String {
     loop {
-        match console.recv().await {
-            Some(FromConsole::Beat) => {}
-            Some(FromConsole::Gone(reason)) => return reason,
-            None => return "its pipe reader ended".into(),
+        if let Err(reason) = from_console(pipe).await {
+            return reason;
         }
     }
 }
@@ -174,16 +152,15 @@ async fn console_gone(console: &mut mpsc::UnboundedReceiver<FromConsole>) -> Str
 pub async fn watch<R, W>(
     targets: Targets,
     heartbeat_timeout: Duration,
-    pipe: R,
+    mut pipe: R,
     mut out: W,
     signal: impl Future<Output = &'static str>,
 ) -> i32
 where
-    R: AsyncRead + Unpin + Send + 'static,
+    R: AsyncRead + Unpin,
     W: AsyncWrite + Unpin,
 {
     tokio::pin!(signal);
-    let mut console = read_console(pipe);
     let (modbus, mut link_events) = match targets.modbus {
         None => (None, None),
         Some(config) => {
@@ -191,7 +168,7 @@ where
             tokio::pin!(connect);
             tokio::select! {
                 biased;
-                reason = console_gone(&mut console) => {
+                reason = console_gone(&mut pipe) => {
                     // Not ready yet, so the console was refused every motion: nothing to stop.
                     tracing::info!("stop guard: the console is gone ({reason}) before the arm was reached");
                     return 0;
@@ -216,21 +193,17 @@ where
     loop {
         tokio::select! {
             biased;
-            message = console.recv() => match message {
-                Some(FromConsole::Beat) => {
+            message = from_console(&mut pipe) => match message {
+                Ok(()) => {
                     deadline = Instant::now() + heartbeat_timeout;
                     if starved {
                         tracing::info!("stop guard: the console's heartbeat is back");
                         starved = false;
                     }
                 }
-                Some(FromConsole::Gone(reason)) => {
+                Err(reason) => {
                     let why = format!("the console is gone ({reason})");
                     return stopper.finish(&why, Console::Gone, &mut out).await;
-                }
-                None => {
-                    let why = "the console's pipe reader ended";
-                    return stopper.finish(why, Console::Gone, &mut out).await;
                 }
             },
             name = &mut signal => {
@@ -364,7 +337,7 @@ async fn stop_modbus(link: &ModbusLink, why: &str, give_up: Instant) -> Result<S
                 errors.push(e.to_string());
             }
         }
-        match link.abort().await {
+        match link.pulse(ControlCoil::Abort).await {
             Ok(report) => return Ok(done(started, report.writes.len())),
             Err(e) => {
                 tracing::error!("stop guard ({why}): abort coil not written: {e}");
@@ -380,10 +353,8 @@ async fn stop_modbus(link: &ModbusLink, why: &str, give_up: Instant) -> Result<S
 }
 
 fn done(started: Instant, writes: usize) -> String {
-    format!(
-        "{writes} writes in {:.1} ms",
-        started.elapsed().as_secs_f64() * 1000.0
-    )
+    let ms = started.elapsed().as_secs_f64() * 1000.0;
+    format!("{writes} writes in {ms:.1} ms")
 }
 
 /// One status line to the console; a console that is gone cannot read it, which is fine.

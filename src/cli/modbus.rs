@@ -7,7 +7,7 @@ use serde_json::{Value, json};
 
 use super::Outcome;
 use crate::kortex::commands::{self, Write};
-use crate::kortex::{Stored, StoredMotion};
+use crate::kortex::{ControlCoil, Stored, StoredMotion};
 use crate::link::modbus::{DEFAULT_HOME_ACTION_ID, DEFAULT_PORT, ModbusConfig, ModbusError};
 use crate::link::{ModbusLink, WriteReport};
 
@@ -135,9 +135,9 @@ impl ModbusCommand {
 
     async fn send(&self, link: &ModbusLink) -> Result<WriteReport, ModbusError> {
         match self {
-            ModbusCommand::QuickStop => link.quick_stop().await,
-            ModbusCommand::Abort => link.abort().await,
-            ModbusCommand::FaultReset => link.fault_reset().await,
+            ModbusCommand::QuickStop => link.pulse(ControlCoil::QuickStop).await,
+            ModbusCommand::Abort => link.pulse(ControlCoil::Abort).await,
+            ModbusCommand::FaultReset => link.pulse(ControlCoil::FaultReset).await,
             ModbusCommand::Stop => link.stop().await,
             // Capped while the link watches them: the limits go back when they end.
             ModbusCommand::Home {
@@ -145,12 +145,18 @@ impl ModbusCommand {
                 options,
             }
             | ModbusCommand::Action { id, options } => {
-                link.start_stored_capped(*id, StoredMotion::Action, options.cap())
-                    .await
+                let action = Stored {
+                    motion: StoredMotion::Action,
+                    id: *id,
+                };
+                link.start_stored(action, Some(options.cap())).await
             }
             ModbusCommand::Sequence { id, options } => {
-                link.start_stored_capped(*id, StoredMotion::Sequence, options.cap())
-                    .await
+                let sequence = Stored {
+                    motion: StoredMotion::Sequence,
+                    id: *id,
+                };
+                link.start_stored(sequence, Some(options.cap())).await
             }
             ModbusCommand::SpeedLimit { linear, angular } => {
                 link.set_speed_limits(*linear, *angular).await

@@ -60,12 +60,8 @@ pub fn guard_args(
 ) -> Vec<String> {
     let mut args = vec!["guard".to_string()];
     if let Some(mc) = modbus {
-        args.extend([
-            "--modbus".into(),
-            mc.addr.clone(),
-            "--unit".into(),
-            mc.unit.to_string(),
-        ]);
+        let unit = mc.unit.to_string();
+        args.extend(["--modbus", &mc.addr, "--unit", &unit].map(String::from));
     }
     if let Some(tc) = talos {
         args.extend([
@@ -111,18 +107,14 @@ impl GuardReport {
 
     /// The event the console sees.
     pub fn into_event(self) -> ArmEvent {
-        match self {
-            GuardReport::Status(status) => ArmEvent::Guard(status),
-            // As a failed jog: the console stops and forgets the held keys.
-            GuardReport::StoppedArm { reason } => ArmEvent::Failed {
-                command: CommandKind::Jog,
-                error: ArmError::GuardStoppedArm(reason),
-            },
-            GuardReport::StopFailed { reason } => ArmEvent::Failed {
-                command: CommandKind::Jog,
-                error: ArmError::GuardStopFailed(reason),
-            },
-        }
+        let error = match self {
+            GuardReport::Status(status) => return ArmEvent::Guard(status),
+            GuardReport::StoppedArm { reason } => ArmError::GuardStoppedArm(reason),
+            GuardReport::StopFailed { reason } => ArmError::GuardStopFailed(reason),
+        };
+        // As a failed jog: the console stops and forgets the held keys.
+        let command = CommandKind::Jog;
+        ArmEvent::Failed { command, error }
     }
 }
 
@@ -153,16 +145,12 @@ impl GuardSupervisor {
         }
     }
 
-    pub fn status(&self) -> GuardStatus {
-        self.status.borrow().clone()
-    }
-
     /// Why motion is refused now, on any link, or `None` when the guard is ready.
     pub fn refusal(&self) -> Option<GuardNotRunning> {
-        match self.status() {
+        match &*self.status.borrow() {
             GuardStatus::Ready { .. } => None,
             GuardStatus::Starting => Some(GuardNotRunning::Starting),
-            GuardStatus::Down { reason } => Some(GuardNotRunning::Down(reason)),
+            GuardStatus::Down { reason } => Some(GuardNotRunning::Down(reason.clone())),
         }
     }
 }
@@ -334,15 +322,13 @@ fn on_line(line: &str, pid: u32, reporter: &Reporter) {
         }),
         "stopped" => {
             tracing::warn!("stop guard {pid} stopped the arm: {rest}");
-            let _ = reporter.reports.send(GuardReport::StoppedArm {
-                reason: rest.to_string(),
-            });
+            let reason = rest.to_string();
+            let _ = reporter.reports.send(GuardReport::StoppedArm { reason });
         }
         "stop-failed" => {
             tracing::error!("stop guard {pid} could not stop the arm: {rest}");
-            let _ = reporter.reports.send(GuardReport::StopFailed {
-                reason: rest.to_string(),
-            });
+            let reason = rest.to_string();
+            let _ = reporter.reports.send(GuardReport::StopFailed { reason });
         }
         _ => tracing::info!("stop guard {pid}: {line}"),
     }

@@ -127,10 +127,6 @@ impl ArmCommand {
             ArmCommand::StartStored(_) => CommandKind::StartStored,
         }
     }
-
-    pub fn label(&self) -> &'static str {
-        self.kind().label()
-    }
 }
 
 /// A named position's coordinates, as read back.
@@ -180,6 +176,19 @@ pub struct LogEntry {
     pub latency: Option<Duration>,
     /// What went over the wire, raw: the log panel formats it.
     pub traffic: Traffic,
+}
+
+impl LogEntry {
+    /// One exchange's line with `outcome`, not ok unless set (a failure, or a request not sent).
+    pub fn new(name: &str, outcome: String) -> LogEntry {
+        let (count, name) = (1, name.to_string());
+        LogEntry {
+            count,
+            name,
+            outcome,
+            ..LogEntry::default()
+        }
+    }
 }
 
 /// The raw exchange behind a log line.

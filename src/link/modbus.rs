@@ -4,8 +4,8 @@
 //!
 //! Safety: the arm has no twist watchdog, so the link writes the stop sequence when every handle is
 //! gone, when a jog is not refreshed within [`ModbusConfig::twist_hold`], when a write or poll
-//! fails, and after a reconnect; a refused stop escalates to the abort coil. A capped move (the
-//! `*_capped` methods) is stopped on close and the arm's limits put back (`task/limits.rs`). Await
+//! fails, and after a reconnect; a refused stop escalates to the abort coil. A capped move (one
+//! given a `cap`) is stopped on close and the arm's limits put back (`task/limits.rs`). Await
 //! [`ModbusLink::close`] before leaving the runtime: a cancelled task writes nothing.
 
 mod error;
@@ -289,14 +289,9 @@ impl ModbusLink {
         .await
     }
 
-    /// Starts or updates a polar pan, directions in -1..1 ([`crate::kortex::polar`]); the twist is
-    /// recomputed from every poll's pose. The same directions only refresh the hold; zero stops.
-    pub async fn polar_pan(&self, azimuth: f32, altitude: f32) -> Result<WriteReport, ModbusError> {
-        self.polar_pan_with(azimuth, altitude, self.config.polar)
-            .await
-    }
-
-    /// [`ModbusLink::polar_pan`] at `settings` (the console's speed); other settings restart it.
+    /// Starts or updates a polar pan at `settings` (the console's speed), directions in -1..1
+    /// ([`crate::kortex::polar`]); the twist is recomputed from every poll's pose. The same
+    /// directions and settings only refresh the hold; other settings restart it; zero stops.
     pub async fn polar_pan_with(
         &self,
         azimuth: f32,
@@ -321,56 +316,25 @@ impl ModbusLink {
         self.ask(Job::Stop).await
     }
 
-    /// Moves the tool to `pose` (m, deg) in `frame` as a cartesian trajectory.
+    /// Moves the tool to `pose` (m, deg) in `frame` as a cartesian trajectory, with the arm's
+    /// limits lowered to `cap` (m/s, deg/s) for the move if one is given.
     pub async fn go_to_pose(
         &self,
         frame: ReferenceFrame,
         pose: Pose,
+        cap: Option<SpeedLimits>,
     ) -> Result<WriteReport, ModbusError> {
-        self.run_move(commands::go_to_pose(frame, pose)?, None)
-            .await
+        self.run_move(commands::go_to_pose(frame, pose)?, cap).await
     }
 
-    /// [`ModbusLink::go_to_pose`] with the arm's limits lowered to `cap` (m/s, deg/s) for the move.
-    pub async fn go_to_pose_capped(
-        &self,
-        frame: ReferenceFrame,
-        pose: Pose,
-        cap: SpeedLimits,
-    ) -> Result<WriteReport, ModbusError> {
-        self.run_move(commands::go_to_pose(frame, pose)?, Some(cap))
-            .await
-    }
-
+    /// A stored action or sequence (home among them: [`ModbusConfig::home_action`]), under `cap`
+    /// if one is given (whether it honours the limits is the arm's).
     pub async fn start_stored(
         &self,
-        id: u16,
-        motion: StoredMotion,
+        stored: Stored,
+        cap: Option<SpeedLimits>,
     ) -> Result<WriteReport, ModbusError> {
-        self.run_move(commands::start_stored(id, motion)?, None)
-            .await
-    }
-
-    /// Starts the Home action (id from the config).
-    pub async fn home(&self) -> Result<WriteReport, ModbusError> {
-        self.start_stored(self.config.home_action_id, StoredMotion::Action)
-            .await
-    }
-
-    /// The Home action under `cap`, as [`ModbusLink::start_stored_capped`].
-    pub async fn home_capped(&self, cap: SpeedLimits) -> Result<WriteReport, ModbusError> {
-        self.start_stored_capped(self.config.home_action_id, StoredMotion::Action, cap)
-            .await
-    }
-
-    /// A stored action or sequence under `cap` (whether it honours the limits is the arm's).
-    pub async fn start_stored_capped(
-        &self,
-        id: u16,
-        motion: StoredMotion,
-        cap: SpeedLimits,
-    ) -> Result<WriteReport, ModbusError> {
-        self.run_move(commands::start_stored(id, motion)?, Some(cap))
+        self.run_move(commands::start_stored(stored.id, stored.motion)?, cap)
             .await
     }
 
@@ -384,21 +348,11 @@ impl ModbusLink {
         self.plain(writes, false).await
     }
 
-    /// Pulses the quick stop coil (0).
-    pub async fn quick_stop(&self) -> Result<WriteReport, ModbusError> {
-        self.plain(commands::pulse(ControlCoil::QuickStop), true)
-            .await
-    }
-
-    /// Pulses the abort / manual stop coil (1).
-    pub async fn abort(&self) -> Result<WriteReport, ModbusError> {
-        self.plain(commands::pulse(ControlCoil::Abort), true).await
-    }
-
-    /// Pulses the fault reset coil (2). After a quick stop the arm may need more than one.
-    pub async fn fault_reset(&self) -> Result<WriteReport, ModbusError> {
-        self.plain(commands::pulse(ControlCoil::FaultReset), false)
-            .await
+    /// Pulses a control coil: quick stop (0), abort / manual stop (1), both ending any motion, or
+    /// fault reset (2; after a quick stop the arm may need more than one).
+    pub async fn pulse(&self, coil: ControlCoil) -> Result<WriteReport, ModbusError> {
+        let halts = coil != ControlCoil::FaultReset;
+        self.plain(commands::pulse(coil), halts).await
     }
 
     /// Stops any twist and ends the task; unlike a drop, says if the stop failed.

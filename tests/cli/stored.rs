@@ -220,7 +220,13 @@ async fn another_clients_action_during_a_sequence_exits_1_naming_it() {
         .await
         .expect("second client");
     other
-        .start_stored(4, armjog::kortex::StoredMotion::Action)
+        .start_stored(
+            armjog::kortex::Stored {
+                motion: armjog::kortex::StoredMotion::Action,
+                id: 4,
+            },
+            None,
+        )
         .await
         .expect("action 4 started");
     let (out, stdout, stderr) = ended(child, "returns after the other move").await;

@@ -8,7 +8,7 @@ use crate::modbus_fake;
 
 use std::time::Duration;
 
-use armjog::kortex::{Pose, ReferenceFrame, Twist};
+use armjog::kortex::{ControlCoil, Pose, ReferenceFrame, Stored, Twist};
 use armjog::link::modbus::{ModbusConfig, ModbusLink};
 use modbus_fake::{Behaviour, FakeArm, Written, from_cdab, stop_write};
 use tokio_modbus::{ExceptionCode, Request};
@@ -147,22 +147,32 @@ async fn values_that_cannot_be_written_are_refused_before_sending() {
         x: 456.6,
         ..Pose::default()
     };
-    assert!(link.go_to_pose(ReferenceFrame::Base, far).await.is_err());
-    assert!(link.polar_pan(1.5, 0.0).await.is_err());
+    assert!(
+        link.go_to_pose(ReferenceFrame::Base, far, None)
+            .await
+            .is_err()
+    );
+    assert!(
+        link.polar_pan_with(1.5, 0.0, link.config().polar)
+            .await
+            .is_err()
+    );
     for motion in [
         armjog::kortex::StoredMotion::Action,
         armjog::kortex::StoredMotion::Sequence,
     ] {
-        let e = link.start_stored(0, motion).await.unwrap_err();
+        let e = link
+            .start_stored(Stored { motion, id: 0 }, None)
+            .await
+            .unwrap_err();
         assert!(e.refused_before_sending(), "{e}");
         let e = link
-            .start_stored_capped(
-                0,
-                motion,
-                armjog::kortex::SpeedLimits {
+            .start_stored(
+                Stored { motion, id: 0 },
+                Some(armjog::kortex::SpeedLimits {
                     linear: 0.1,
                     angular: 10.0,
-                },
+                }),
             )
             .await
             .unwrap_err();
@@ -176,15 +186,25 @@ async fn pose_action_speed_limit_and_coil_sequences() {
     let arm = FakeArm::start().await;
     let (link, _events) = ModbusLink::connect(config(&arm)).await.unwrap();
     let pose = home_tcp();
-    link.go_to_pose(ReferenceFrame::Base, pose).await.unwrap();
-    link.home().await.unwrap();
-    link.start_stored(17, armjog::kortex::StoredMotion::Sequence)
+    link.go_to_pose(ReferenceFrame::Base, pose, None)
         .await
         .unwrap();
+    link.start_stored(link.config().home_action(), None)
+        .await
+        .unwrap();
+    link.start_stored(
+        Stored {
+            motion: armjog::kortex::StoredMotion::Sequence,
+            id: 17,
+        },
+        None,
+    )
+    .await
+    .unwrap();
     link.set_speed_limits(0.25, 100.0).await.unwrap();
-    link.quick_stop().await.unwrap();
-    link.abort().await.unwrap();
-    link.fault_reset().await.unwrap();
+    link.pulse(ControlCoil::QuickStop).await.unwrap();
+    link.pulse(ControlCoil::Abort).await.unwrap();
+    link.pulse(ControlCoil::FaultReset).await.unwrap();
     assert_eq!(
         arm.writes(),
         vec![
@@ -233,7 +253,7 @@ async fn exceptions_are_typed_by_name() {
         _ => None,
     });
     let (link, _events) = ModbusLink::connect(config(&arm)).await.unwrap();
-    let e = link.fault_reset().await.unwrap_err();
+    let e = link.pulse(ControlCoil::FaultReset).await.unwrap_err();
     assert_eq!(e.exception(), Some(ExceptionCode::IllegalFunction));
     assert!(e.to_string().contains("illegal function (0x01)"), "{e}");
     assert!(e.to_string().contains("coil 2"), "{e}");
@@ -255,7 +275,9 @@ async fn polar_pan_orbits_the_base_from_the_live_pose() {
     let mut config = config(&arm);
     config.poll_rate_hz = Some(50.0);
     let (link, _events) = ModbusLink::connect(config).await.unwrap();
-    link.polar_pan(1.0, 0.0).await.unwrap();
+    link.polar_pan_with(1.0, 0.0, link.config().polar)
+        .await
+        .unwrap();
     let twist_block = |s: &modbus_fake::ArmState| {
         s.writes().into_iter().rev().find_map(|w| match w {
             Written::Registers(202, v) => Some(v),
@@ -279,7 +301,9 @@ async fn polar_pan_orbits_the_base_from_the_live_pose() {
         twist_block(s).is_some_and(|b| from_cdab(&b[2..4]) < -0.08)
     })
     .await;
-    link.polar_pan(0.0, 0.0).await.unwrap();
+    link.polar_pan_with(0.0, 0.0, link.config().polar)
+        .await
+        .unwrap();
     assert_eq!(arm.writes().last(), Some(&stop_write()));
 }
 
@@ -290,7 +314,10 @@ async fn polar_pan_on_the_base_axis_is_refused_without_moving() {
     let mut config = config(&arm);
     config.poll_rate_hz = Some(20.0);
     let (link, _events) = ModbusLink::connect(config).await.unwrap();
-    let e = link.polar_pan(0.0, 1.0).await.unwrap_err();
+    let e = link
+        .polar_pan_with(0.0, 1.0, link.config().polar)
+        .await
+        .unwrap_err();
     assert!(e.to_string().contains("base Z axis"), "{e}");
     assert!(arm.writes().is_empty());
 }

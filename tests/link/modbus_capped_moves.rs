@@ -86,7 +86,7 @@ async fn a_capped_move_lowers_the_limit_first_and_restores_it_when_the_arm_repor
     let arm = arm().await;
     let (link, mut events) = link(&arm).await;
     let report = link
-        .go_to_pose_capped(ReferenceFrame::Base, target(), CAP)
+        .go_to_pose(ReferenceFrame::Base, target(), Some(CAP))
         .await
         .expect("move");
     let writes = arm.writes();
@@ -139,7 +139,9 @@ async fn limits_already_under_the_cap_are_left_alone() {
         s.set_holding_f32(106, 10.0);
     });
     let (link, _events) = link(&arm).await;
-    link.home_capped(CAP).await.expect("home");
+    link.start_stored(link.config().home_action(), Some(CAP))
+        .await
+        .expect("home");
     assert!(limit_writes(&arm).is_empty(), "{:?}", arm.writes());
     link.close().await.expect("close");
     assert!(limit_writes(&arm).is_empty());
@@ -151,7 +153,7 @@ async fn each_limit_is_lowered_to_the_caps_and_never_raised() {
     let arm = arm().await;
     arm.with(|s| s.set_holding_f32(106, 10.0));
     let (link, _events) = link(&arm).await;
-    link.go_to_pose_capped(ReferenceFrame::Base, target(), CAP)
+    link.go_to_pose(ReferenceFrame::Base, target(), Some(CAP))
         .await
         .expect("move");
     assert_eq!(limit_writes(&arm), [limits_write(0.05, 10.0)]);
@@ -162,7 +164,9 @@ async fn each_limit_is_lowered_to_the_caps_and_never_raised() {
     let arm = self::arm().await;
     arm.with(|s| s.set_holding_f32(104, 0.03));
     let (link, _events) = self::link(&arm).await;
-    link.home_capped(CAP).await.expect("home");
+    link.start_stored(link.config().home_action(), Some(CAP))
+        .await
+        .expect("home");
     assert_eq!(limit_writes(&arm), [limits_write(0.03, 15.0)]);
     link.close().await.expect("close");
     assert_eq!(limit_writes(&arm)[1..], [limits_write(0.03, 80.0)]);
@@ -174,7 +178,7 @@ async fn a_move_is_refused_when_the_arm_reports_no_usable_limits() {
     arm.with(|s| s.set_holding_f32(104, f32::NAN));
     let (link, _events) = link(&arm).await;
     let e = link
-        .go_to_pose_capped(ReferenceFrame::Base, target(), CAP)
+        .go_to_pose(ReferenceFrame::Base, target(), Some(CAP))
         .await
         .expect_err("refused");
     assert!(matches!(e, ModbusError::SpeedLimitsUnknown { .. }), "{e}");
@@ -185,7 +189,9 @@ async fn a_move_is_refused_when_the_arm_reports_no_usable_limits() {
 async fn a_stop_or_a_jog_ends_the_move_and_gives_the_limits_back() {
     let arm = arm().await;
     let (link, _events) = link(&arm).await;
-    link.home_capped(CAP).await.expect("home");
+    link.start_stored(link.config().home_action(), Some(CAP))
+        .await
+        .expect("home");
     arm.with(|s| s.holding_registers[100] = 0);
     link.stop().await.expect("stop");
     let writes = arm.writes();
@@ -193,7 +199,7 @@ async fn a_stop_or_a_jog_ends_the_move_and_gives_the_limits_back() {
     assert_eq!(writes[n - 2..], [stop_write(), limits_write(0.3, 80.0)]);
 
     // A twist replacing a capped move: limits back after the twist is written.
-    link.go_to_pose_capped(ReferenceFrame::Base, target(), CAP)
+    link.go_to_pose(ReferenceFrame::Base, target(), Some(CAP))
         .await
         .expect("move");
     let twist = armjog::kortex::Twist {
@@ -211,7 +217,7 @@ async fn a_stop_or_a_jog_ends_the_move_and_gives_the_limits_back() {
 async fn closing_the_link_mid_move_stops_it_before_restoring_the_limits() {
     let arm = arm().await;
     let (link, _events) = link(&arm).await;
-    link.go_to_pose_capped(ReferenceFrame::Base, target(), CAP)
+    link.go_to_pose(ReferenceFrame::Base, target(), Some(CAP))
         .await
         .expect("move");
     arm.with(|s| s.holding_registers[100] = 0);
@@ -235,7 +241,9 @@ async fn a_restore_the_arm_refuses_is_reported_with_the_limits_to_set_again() {
         _ => None,
     });
     let (link, mut events) = link(&arm).await;
-    link.home_capped(CAP).await.expect("home");
+    link.start_stored(link.config().home_action(), Some(CAP))
+        .await
+        .expect("home");
     link.stop().await.expect("stop");
     let e = next_matching(&mut events, |e| {
         matches!(e, ModbusEvent::SpeedLimitsNotRestored { .. })
@@ -259,7 +267,9 @@ async fn a_restore_the_arm_refuses_is_reported_with_the_limits_to_set_again() {
 async fn limits_owed_when_the_connection_drops_are_restored_after_the_reconnect() {
     let arm = arm().await;
     let (link, mut events) = link(&arm).await;
-    link.home_capped(CAP).await.expect("home");
+    link.start_stored(link.config().home_action(), Some(CAP))
+        .await
+        .expect("home");
     arm.with(|s| s.holding_registers[100] = 0);
     // Give the background polls a chance to see the move running, then hang up.
     tokio::time::sleep(Duration::from_millis(100)).await;
@@ -291,7 +301,7 @@ async fn no_capped_move_is_started_over_another_clients_running_move() {
     });
     let (link, _events) = link(&arm).await;
     let e = link
-        .go_to_pose_capped(ReferenceFrame::Base, target(), CAP)
+        .go_to_pose(ReferenceFrame::Base, target(), Some(CAP))
         .await
         .expect_err("refused");
     assert!(
@@ -302,7 +312,7 @@ async fn no_capped_move_is_started_over_another_clients_running_move() {
 
     // The same arm running a twist (a jog: no limits lowered for it) takes the move.
     arm.with(|s| s.holding_registers[102] = 3);
-    link.go_to_pose_capped(ReferenceFrame::Base, target(), CAP)
+    link.go_to_pose(ReferenceFrame::Base, target(), Some(CAP))
         .await
         .expect("move");
     assert_eq!(limit_writes(&arm), [limits_write(0.05, 15.0)]);

@@ -55,7 +55,9 @@ async fn the_unit_id_is_sent_with_every_request() {
     config.unit = 7;
     let (link, _events) = ModbusLink::connect(config).await.unwrap();
     link.read_telemetry().await.unwrap();
-    link.fault_reset().await.unwrap();
+    link.pulse(armjog::kortex::ControlCoil::FaultReset)
+        .await
+        .unwrap();
     let units: Vec<u8> = arm.with(|s| s.log.iter().map(|l| l.unit).collect());
     assert_eq!(units.len(), 6);
     assert!(units.iter().all(|u| *u == 7), "{units:?}");
@@ -139,7 +141,7 @@ async fn a_strict_arms_speed_limits_are_read_afresh_before_a_capped_move_and_aft
         linear: 0.25,
         angular: armjog::kortex::commands::MAX_ANGULAR_SPEED,
     };
-    link.go_to_pose_capped(ReferenceFrame::Base, pose, cap)
+    link.go_to_pose(ReferenceFrame::Base, pose, Some(cap))
         .await
         .unwrap();
     let reads = arm.with(|s| s.reads());

@@ -33,7 +33,9 @@ async fn dropping_the_last_handle_stops_the_twist() {
 async fn dropping_an_idle_link_writes_nothing() {
     let arm = FakeArm::start().await;
     let (link, _events) = ModbusLink::connect(config(&arm)).await.unwrap();
-    link.home().await.unwrap();
+    link.start_stored(link.config().home_action(), None)
+        .await
+        .unwrap();
     drop(link);
     tokio::time::sleep(Duration::from_millis(100)).await;
     // Home runs to its end: only its own three writes.

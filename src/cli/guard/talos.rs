@@ -57,10 +57,8 @@ impl TalosStop {
         loop {
             match self.once(console).await {
                 Ok(requests) => {
-                    return Ok(format!(
-                        "stop set of {requests} answered in {:.1} ms",
-                        started.elapsed().as_secs_f64() * 1000.0
-                    ));
+                    let ms = started.elapsed().as_secs_f64() * 1000.0;
+                    return Ok(format!("stop set of {requests} answered in {ms:.1} ms"));
                 }
                 // Each distinct error once: the tries are 50 ms apart.
                 Err(e) if !errors.contains(&e.to_string()) => {

@@ -191,10 +191,7 @@ async fn start_unwatched(
         );
         return Outcome::error(why, 1);
     }
-    let report = match link
-        .start_stored(named.stored.id, named.stored.motion)
-        .await
-    {
+    let report = match link.start_stored(named.stored, None).await {
         Ok(started) => started,
         Err(e) => return Outcome::failed(&e),
     };

@@ -113,14 +113,11 @@ impl Attempts {
 /// The Modbus connect, reporting as [`Connected::Modbus`].
 pub async fn modbus(config: ModbusConfig) -> Connected {
     let addr = config.addr.clone();
-    Connected::Modbus(
-        ModbusLink::connect(config)
-            .await
-            .map_err(|e| ConnectError::Modbus {
-                addr,
-                error: e.into(),
-            }),
-    )
+    let failed = |e: ModbusError| ConnectError::Modbus {
+        addr,
+        error: e.into(),
+    };
+    Connected::Modbus(ModbusLink::connect(config).await.map_err(failed))
 }
 
 #[cfg(test)]

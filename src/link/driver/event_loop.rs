@@ -12,7 +12,8 @@ use super::talos_side::{ORIENTATION_NEEDS_MODBUS, STORED_NEEDS_MODBUS, TalosSide
 use super::{DriverConfig, JointPositions, modbus_worker::ModbusWorker, speed::SpeedInForce};
 use crate::link::guard::{self, GuardNotRunning, GuardPolicy, GuardReport, GuardSupervisor};
 use crate::link::interface::{
-    ArmCommand, ArmError, ArmEvent, CommandKind, JogMotion, LinkStatus, TelemetrySource,
+    ArmCommand, ArmError, ArmEvent, CommandKind, GuardStatus, JogMotion, LinkStatus,
+    TelemetrySource,
 };
 use crate::link::modbus::{ModbusEvent, StopReason};
 use crate::link::talos::TalosEvent;
@@ -67,13 +68,10 @@ pub(super) fn start(
     let _ = events.send(ArmEvent::Status(LinkStatus::Connecting));
     let joints: JointPositions = std::sync::Arc::new(tokio::sync::watch::Sender::new(None));
     // A cap made in code that skipped the front ends' check stops here, before anything connects.
-    let cap = match config.speed_cap() {
-        Ok(cap) => cap,
-        Err(e) => panic!(
-            "speed cap {} m/s on an operator of {} m/s: {e}",
-            config.max_jog_speed, config.operator_full_speed
-        ),
-    };
+    let cap = config.speed_cap().unwrap_or_else(|e| {
+        let (cap, operator) = (config.max_jog_speed, config.operator_full_speed);
+        panic!("speed cap {cap} m/s on an operator of {operator} m/s: {e}")
+    });
     let speed = SpeedInForce::default();
     let (talos_side_tx, talos_side) = mpsc::unbounded_channel();
     let (modbus_side_tx, modbus_side) = mpsc::unbounded_channel();
@@ -166,7 +164,7 @@ impl DriverState {
             return self.on_stop(command);
         }
         if let Some(error) = guard_refusal(&self.config, self.guard.as_ref(), &command) {
-            return self.refuse(&command, error);
+            return self.emit(ArmEvent::failed(&command, error));
         }
         if self.talos.handles(&command, self.modbus.is_some()) {
             self.stops.motion(&command, Side::Talos);
@@ -190,13 +188,9 @@ impl DriverState {
                     }
                     None => ArmError::NoLinkCarriesIt,
                 };
-                self.refuse(&command, error);
+                self.emit(ArmEvent::failed(&command, error));
             }
         }
-    }
-
-    fn refuse(&self, command: &ArmCommand, error: ArmError) {
-        self.emit(ArmEvent::failed(command, error));
     }
 
     /// Stops go everywhere, whichever link the motion came through.
@@ -398,9 +392,7 @@ fn start_guard(
     if !config.guard_required() {
         return None;
     }
-    let _ = reports.send(GuardReport::Status(
-        crate::link::interface::GuardStatus::Starting,
-    ));
+    let _ = reports.send(GuardReport::Status(GuardStatus::Starting));
     let args = guard::guard_args(config.talos.as_ref(), config.modbus.as_ref(), config.oid);
     Some(GuardSupervisor::spawn(program.clone(), args, reports))
 }

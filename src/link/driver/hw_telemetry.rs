@@ -21,8 +21,6 @@ pub fn telemetry(state: &ArmState, actuators: &[ActuatorFeedback]) -> Telemetry 
         }
     }
     let six = |a: [f32; 3], b: [f32; 3]| [a[0], a[1], a[2], b[0], b[1], b[2]];
-    let [fx, fy, fz] = state.force_n;
-    let [tx, ty, tz] = state.torque_nm;
     Telemetry {
         robot_state: Coded::from_code(state.robot_state.0),
         faults: FlagSet::from_bits(state.faults.0),
@@ -37,14 +35,7 @@ pub fn telemetry(state: &ArmState, actuators: &[ActuatorFeedback]) -> Telemetry 
         tcp: ToolState {
             pose: Pose::from_array(six(state.tcp_position_m, state.tcp_orientation_deg)),
             twist: Twist::from_array(six(state.linear_velocity_m_s, state.angular_velocity_deg_s)),
-            wrench: Wrench {
-                force_x: fx,
-                force_y: fy,
-                force_z: fz,
-                torque_x: tx,
-                torque_y: ty,
-                torque_z: tz,
-            },
+            wrench: Wrench::from_array(six(state.force_n, state.torque_nm)),
         },
         action: ActionState {
             status: Coded::Unknown(u16::MAX),

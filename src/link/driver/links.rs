@@ -59,10 +59,7 @@ impl Links {
             (config.modbus.is_some(), &self.modbus),
         ];
         let mut up = Vec::new();
-        for (wanted, state) in parts {
-            if !wanted {
-                continue;
-            }
+        for (_, state) in parts.into_iter().filter(|(wanted, _)| *wanted) {
             match state {
                 LinkState::Connecting => return LinkStatus::Connecting,
                 LinkState::Lost(reason) => {

@@ -7,7 +7,9 @@ use tokio::task::JoinHandle;
 
 use super::JointPositions;
 use super::speed::SpeedInForce;
-use crate::kortex::{PolarPanSettings, Pose, ReferenceFrame, SpeedLimits, Stored, Twist};
+use crate::kortex::{
+    ControlCoil, PolarPanSettings, Pose, ReferenceFrame, SpeedLimits, Stored, Twist,
+};
 use crate::link::interface::{
     ArmCommand, ArmError, ArmEvent, CommandClass, JogMotion, LogEntry, StepMove, Traffic,
 };
@@ -75,27 +77,24 @@ fn forward_telemetry(
     let mut snapshots = link.subscribe();
     tokio::spawn(async move {
         while snapshots.changed().await.is_ok() {
-            let snapshot = snapshots.borrow_and_update().clone();
-            if let Some(s) = snapshot {
-                let latency = s.poll_time;
-                joints.send_replace(Some(s.telemetry.joints.map(|j| j.position)));
-                let entry = LogEntry {
-                    name: "modbus poll".into(),
-                    outcome: "OK".into(),
-                    ok: true,
-                    latency: Some(latency),
-                    poll: true,
-                    count: 1,
-                    ..LogEntry::default()
-                };
-                let _ = events.send(ArmEvent::Log(entry));
-                if events
-                    .send(ArmEvent::Telemetry(Box::new(s.telemetry)))
-                    .is_err()
-                    || events.send(ArmEvent::Latency(latency)).is_err()
-                {
-                    break;
-                }
+            let Some(s) = snapshots.borrow_and_update().clone() else {
+                continue;
+            };
+            joints.send_replace(Some(s.telemetry.joints.map(|j| j.position)));
+            let entry = LogEntry {
+                ok: true,
+                latency: Some(s.poll_time),
+                poll: true,
+                ..LogEntry::new("modbus poll", "OK".into())
+            };
+            let telemetry = ArmEvent::Telemetry(Box::new(s.telemetry));
+            let sent = [
+                ArmEvent::Log(entry),
+                telemetry,
+                ArmEvent::Latency(s.poll_time),
+            ];
+            if sent.into_iter().any(|event| events.send(event).is_err()) {
+                break;
             }
         }
     });
@@ -131,34 +130,20 @@ impl State {
         self.link.subscribe().borrow().as_ref().map(read)
     }
 
-    /// The tool speed at the speed in force, m/s: the one cap every motion keeps.
-    fn tool_speed(&self) -> f32 {
-        self.cap.twist_speed(self.speed.percent())
+    /// A stored run (home among them) with the limits lowered to the move cap.
+    async fn start_stored(&self, stored: Stored) -> Result<Option<WriteReport>, ArmError> {
+        wrap(self.link.start_stored(stored, Some(self.move_cap())).await)
+    }
+
+    /// A base-frame move to `pose` with the limits lowered to the move cap.
+    async fn go_to(&self, pose: Pose) -> Result<Option<WriteReport>, ArmError> {
+        let cap = Some(self.move_cap());
+        wrap(self.link.go_to_pose(ReferenceFrame::Base, pose, cap).await)
     }
 
     /// A planned move's limits at the speed in force ([`SpeedCap::move_cap`]).
     fn move_cap(&self) -> SpeedLimits {
         self.cap.move_cap(self.speed.percent())
-    }
-
-    /// Starts a stored run (home among them) with the limits lowered to the move cap.
-    async fn start_stored(&self, stored: Stored) -> Result<Option<WriteReport>, ArmError> {
-        let cap = self.move_cap();
-        wrap(
-            self.link
-                .start_stored_capped(stored.id, stored.motion, cap)
-                .await,
-        )
-    }
-
-    /// A base-frame move to `pose` with the limits lowered to the move cap.
-    async fn go_to(&self, pose: Pose) -> Result<Option<WriteReport>, ArmError> {
-        let cap = self.move_cap();
-        wrap(
-            self.link
-                .go_to_pose_capped(ReferenceFrame::Base, pose, cap)
-                .await,
-        )
     }
 
     /// An orientation jog's rate, deg/s, never above the arm's own usable angular limit.
@@ -185,7 +170,8 @@ impl State {
     async fn execute(&mut self, command: ArmCommand) {
         let result: Result<Option<WriteReport>, ArmError> = match &command {
             ArmCommand::Jog(JogMotion::Cartesian { x, y, z }) => {
-                let [x, y, z] = along([*x, *y, *z], self.tool_speed());
+                // The tool speed at the speed in force: the one cap every motion keeps.
+                let [x, y, z] = along([*x, *y, *z], self.cap.twist_speed(self.speed.percent()));
                 let twist = Twist {
                     x,
                     y,
@@ -211,8 +197,8 @@ impl State {
                 "single-joint jog needs a Talos operator: Modbus cannot command joints",
             )),
             ArmCommand::Stop => wrap(self.link.stop().await),
-            ArmCommand::QuickStop => wrap(self.link.quick_stop().await),
-            ArmCommand::FaultReset => wrap(self.link.fault_reset().await),
+            ArmCommand::QuickStop => wrap(self.link.pulse(ControlCoil::QuickStop).await),
+            ArmCommand::FaultReset => wrap(self.link.pulse(ControlCoil::FaultReset).await),
             // Moves keep the arm's own planning, under lowered limits (`move_cap`).
             ArmCommand::Home => self.start_stored(self.link.config().home_action()).await,
             ArmCommand::StartStored(stored) => self.start_stored(*stored).await,
@@ -243,7 +229,7 @@ impl State {
     }
 
     fn report(&self, command: ArmCommand, result: Result<Option<WriteReport>, ArmError>) {
-        let label = command.label();
+        let label = command.kind().label();
         match result {
             Ok(report) => {
                 // A jog refresh that wrote nothing is not worth a log line.
@@ -268,12 +254,8 @@ impl State {
                 let _ = self.events.send(ArmEvent::Done { command });
             }
             Err(error) => {
-                let _ = self.events.send(ArmEvent::Log(LogEntry {
-                    count: 1,
-                    name: label.to_string(),
-                    outcome: error.to_string(),
-                    ..LogEntry::default()
-                }));
+                let entry = LogEntry::new(label, error.to_string());
+                let _ = self.events.send(ArmEvent::Log(entry));
                 let _ = self.events.send(ArmEvent::failed(&command, error));
             }
         }

@@ -41,6 +41,30 @@ enum MotionInForce {
     },
 }
 
+impl MotionInForce {
+    /// The same motion asked for: a polar pan by its directions and settings, not its last twist.
+    fn same_ask(&self, other: &MotionInForce) -> bool {
+        use MotionInForce::Polar;
+        match (self, other) {
+            (
+                Polar {
+                    azimuth,
+                    altitude,
+                    settings,
+                    ..
+                },
+                Polar {
+                    azimuth: a,
+                    altitude: e,
+                    settings: s,
+                    ..
+                },
+            ) => (azimuth, altitude, settings) == (a, e, s),
+            _ => self == other,
+        }
+    }
+}
+
 /// What woke the task.
 enum Wake {
     Job(Option<Job>),
@@ -214,44 +238,30 @@ impl LinkTask {
 
     async fn handle(&mut self, job: Job) {
         match job {
-            Job::Read(reply) => {
-                let result = self.poll().await;
-                if result.is_err() {
-                    self.stop_after_failed_poll().await;
-                }
-                let _ = reply.send(result);
-            }
+            Job::Read(reply) => _ = reply.send(self.poll_or_stop().await),
             Job::Twist {
                 frame,
                 twist,
                 reply,
-            } => {
-                let result = self.jog_twist(frame, twist).await;
-                let _ = reply.send(result);
-            }
+            } => _ = reply.send(self.jog_twist(frame, twist).await),
             Job::PolarPan {
                 azimuth,
                 altitude,
                 settings,
                 reply,
-            } => {
-                let result = self.polar_pan(azimuth, altitude, settings).await;
-                let _ = reply.send(result);
-            }
-            Job::Stop(reply) => {
-                let result = self.stop(StopReason::Requested).await;
-                let _ = reply.send(result);
-            }
+            } => _ = reply.send(self.polar_pan(azimuth, altitude, settings).await),
+            Job::Stop(reply) => _ = reply.send(self.stop(StopReason::Requested).await),
             Job::Move { writes, cap, reply } => {
-                let result = match self.stop_owed {
-                    true => self.stop(StopReason::Replaced).await.map(|_| ()),
-                    false => Ok(()),
-                };
-                let result = match (result, cap) {
-                    (Ok(()), Some(cap)) => self.capped_move(&writes, cap).await,
-                    (Ok(()), None) => self.execute(&writes).await,
-                    (Err(e), _) => Err(e),
-                };
+                let mut result = Ok(WriteReport::default());
+                if self.stop_owed {
+                    result = self.stop(StopReason::Replaced).await;
+                }
+                if result.is_ok() {
+                    result = match cap {
+                        Some(cap) => self.capped_move(&writes, cap).await,
+                        None => self.execute(&writes).await,
+                    };
+                }
                 let _ = reply.send(result);
             }
             Job::Plain {
@@ -284,14 +294,11 @@ impl LinkTask {
             self.twist_start
                 .get_or_insert_with(elsewhere::TwistStart::now);
             self.ended_elsewhere = None;
-        }
-        if result.is_err() {
-            if self.ctx.is_some() {
-                let _ = self.stop(StopReason::WriteFailed).await;
-            } else {
-                self.motion = MotionInForce::Idle;
-                self.hold_until = None;
-            }
+        } else if self.ctx.is_some() {
+            let _ = self.stop(StopReason::WriteFailed).await;
+        } else {
+            self.motion = MotionInForce::Idle;
+            self.hold_until = None;
         }
         result
     }
@@ -340,10 +347,9 @@ impl LinkTask {
     }
 
     fn stop_failed(&mut self, reason: StopReason, error: &ModbusError) {
-        let retry = if self.ctx.is_none() {
-            "; retrying after the reconnect"
-        } else {
-            ""
+        let retry = match self.ctx {
+            None => "; retrying after the reconnect",
+            Some(_) => "",
         };
         tracing::error!(
             "STOP NOT WRITTEN ({reason:?}): {error}{retry}. The arm may still be moving: use its e-stop"
@@ -359,6 +365,15 @@ impl LinkTask {
         if self.motion != MotionInForce::Idle && self.ctx.is_some() {
             let _ = self.stop(StopReason::PollFailed).await;
         }
+    }
+
+    /// A poll asked for: if it fails, a moving arm we cannot see is stopped.
+    pub(super) async fn poll_or_stop(&mut self) -> Result<Telemetry, ModbusError> {
+        let result = self.poll().await;
+        if result.is_err() {
+            self.stop_after_failed_poll().await;
+        }
+        result
     }
 
     async fn tick(&mut self) {
@@ -470,13 +485,11 @@ impl LinkTask {
     }
 
     fn not_connected(&self) -> ModbusError {
-        ModbusError::Disconnected {
-            reason: if self.lost_reason.is_empty() {
-                "reconnecting".into()
-            } else {
-                format!("reconnecting after: {}", self.lost_reason)
-            },
-        }
+        let reason = match self.lost_reason.as_str() {
+            "" => "reconnecting".into(),
+            lost => format!("reconnecting after: {lost}"),
+        };
+        ModbusError::Disconnected { reason }
     }
 
     fn event(&self, event: ModbusEvent) {

@@ -10,23 +10,21 @@ use super::{ModbusConfig, ModbusError, Operation};
 use crate::kortex::{ReadBlock, RegisterImage, Table, Write};
 use crate::net::connect_with_timeout;
 
-/// Opens TCP to the arm within the connect timeout (lookup included), trying every address.
-pub(super) async fn open(config: &ModbusConfig) -> Result<Context, ModbusError> {
-    let stream = connect_with_timeout(&config.addr, config.connect_timeout).await?;
-    Ok(attach(stream, config))
-}
-
 /// Opens a fresh connection (TCP, or in-memory in tests), for the first and every reconnect.
 pub(super) type Connector = std::sync::Arc<
     dyn Fn() -> futures::future::BoxFuture<'static, Result<Context, ModbusError>> + Send + Sync,
 >;
 
-/// The connector that dials `config.addr` over TCP.
+/// The connector that dials `config.addr` over TCP within the connect timeout (lookup included),
+/// trying every address.
 pub(super) fn tcp_connector(config: &ModbusConfig) -> Connector {
     let config = config.clone();
     std::sync::Arc::new(move || {
         let config = config.clone();
-        Box::pin(async move { open(&config).await })
+        Box::pin(async move {
+            let stream = connect_with_timeout(&config.addr, config.connect_timeout).await?;
+            Ok(attach(stream, &config))
+        })
     })
 }
 

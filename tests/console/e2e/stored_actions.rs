@@ -296,7 +296,13 @@ async fn another_clients_action_under(start: &str, ours: &str) {
         .await
         .expect("second client");
     other
-        .start_stored(3, StoredMotion::Action)
+        .start_stored(
+            armjog::kortex::Stored {
+                motion: StoredMotion::Action,
+                id: 3,
+            },
+            None,
+        )
         .await
         .expect("action 3 started");
     let not_done =

@@ -311,7 +311,13 @@ async fn another_clients_action_under_a_modbus_leg_ends_the_tour_and_stops_the_a
     // `armjog modbus action --id 5 --no-wait`: the simulator's Zero action.
     let other = other_client(&c.sim).await;
     other
-        .start_stored(5, StoredMotion::Action)
+        .start_stored(
+            armjog::kortex::Stored {
+                motion: StoredMotion::Action,
+                id: 5,
+            },
+            None,
+        )
         .await
         .expect("action 5 started");
     moved_by_another_client(c).await;
@@ -333,7 +339,7 @@ async fn another_clients_move_elsewhere_under_a_leg_is_never_the_leg_done() {
             ..home
         };
         other
-            .go_to_pose(ReferenceFrame::Base, elsewhere)
+            .go_to_pose(ReferenceFrame::Base, elsewhere, None)
             .await
             .expect("the other move started");
         moved_by_another_client(c).await;
@@ -348,7 +354,13 @@ async fn another_clients_action_under_a_talos_leg_is_named_from_the_modbus_statu
     let c = leg_under_way_over(true, true).await;
     let other = other_client(&c.sim).await;
     other
-        .start_stored(5, StoredMotion::Action)
+        .start_stored(
+            armjog::kortex::Stored {
+                motion: StoredMotion::Action,
+                id: 5,
+            },
+            None,
+        )
         .await
         .expect("action 5 started");
     let said = moved_by_another_client(c).await;

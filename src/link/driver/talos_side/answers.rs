@@ -91,13 +91,8 @@ pub(super) fn log_error(
             let _ = events.send(ArmEvent::UnknownPosition { name });
         }
     } else {
-        let _ = events.send(ArmEvent::Log(LogEntry {
-            id,
-            count: 1,
-            name: name.name().to_string(),
-            outcome: error.to_string(),
-            ..LogEntry::default()
-        }));
+        let entry = LogEntry::new(name.name(), error.to_string());
+        let _ = events.send(ArmEvent::Log(LogEntry { id, ..entry }));
     }
 }
 

@@ -125,16 +125,13 @@ impl TalosSide {
 
     /// The next unsolicited link event; pends forever without a link.
     pub async fn next_event(&mut self) -> Option<TalosEvent> {
-        match &mut self.link_events {
-            Some(rx) => match rx.recv().await {
-                Some(event) => Some(event),
-                None => {
-                    self.link_events = None;
-                    std::future::pending().await
-                }
-            },
-            None => std::future::pending().await,
+        if let Some(rx) = &mut self.link_events
+            && let Some(event) = rx.recv().await
+        {
+            return Some(event);
         }
+        self.link_events = None;
+        std::future::pending().await
     }
 
     /// Whether the Talos link carries `command` (rather than the Modbus link).
@@ -150,17 +147,6 @@ impl TalosSide {
                 ArmCommand::FaultReset => !has_modbus,
                 _ => true,
             }
-    }
-
-    /// A joint jog's rate, deg/s, keeping the tool point under the cap until the 500 ms watchdog.
-    fn joint_rate(&self, positions: &[f32; 7], joint: u8) -> f32 {
-        self.cap().joint_rate(
-            self.joint_jog_speed,
-            positions,
-            joint,
-            self.speed.percent(),
-            JOINT_JOG_HORIZON,
-        )
     }
 
     /// The requests that carry out `command`, in order.
@@ -189,7 +175,12 @@ impl TalosSide {
                     return Err(ArmError::NoJointPosition);
                 };
                 let index = usize::from(joint.saturating_sub(1)).min(6);
-                let velocity = f32::from(*direction) * self.joint_rate(&positions, *joint);
+                // The rate keeps the tool point under the cap until the 500 ms watchdog, deg/s.
+                let (speed, percent) = (self.joint_jog_speed, self.speed.percent());
+                let rate =
+                    self.cap()
+                        .joint_rate(speed, &positions, *joint, percent, JOINT_JOG_HORIZON);
+                let velocity = f32::from(*direction) * rate;
                 let position = positions[index];
                 vec![hw_request(&HwRequest::SendActuatorCommand {
                     joint: *joint,
@@ -335,12 +326,11 @@ impl TalosSide {
             [Ok(state), Ok(feedback)] => [state, feedback],
             [Err(e), _] | [_, Err(e)] => {
                 tracing::error!("talos telemetry poll not sent: {e}");
+                let name = CommandValue::ExecuteHardwareOperation.name();
+                let entry = LogEntry::new(name, e.to_string());
                 let _ = self.events.send(ArmEvent::Log(LogEntry {
                     poll: true,
-                    count: 1,
-                    name: CommandValue::ExecuteHardwareOperation.name().to_string(),
-                    outcome: e.to_string(),
-                    ..LogEntry::default()
+                    ..entry
                 }));
                 return;
             }

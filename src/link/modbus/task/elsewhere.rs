@@ -77,23 +77,7 @@ impl LinkTask {
 
     /// Whether `wanted` is the motion another client ended: asked again, it writes nothing.
     pub(super) fn ended_elsewhere(&self, wanted: &MotionInForce) -> bool {
-        match (self.ended_elsewhere, wanted) {
-            (
-                Some(MotionInForce::Polar {
-                    azimuth,
-                    altitude,
-                    settings,
-                    ..
-                }),
-                MotionInForce::Polar {
-                    azimuth: a,
-                    altitude: e,
-                    settings: s,
-                    ..
-                },
-            ) => (azimuth, altitude, settings) == (*a, *e, *s),
-            (Some(ended), wanted) => ended == *wanted,
-            (None, _) => false,
-        }
+        self.ended_elsewhere
+            .is_some_and(|ended| ended.same_ask(wanted))
     }
 }

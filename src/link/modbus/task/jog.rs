@@ -26,9 +26,7 @@ impl LinkTask {
         let writes = commands::twist(frame, twist)?;
         self.motion = wanted;
         self.refresh_hold();
-        let result = self.write_motion(&writes).await;
-        self.restore_after_replacing_move(&result).await;
-        result
+        self.write_replacing(&writes).await
     }
 
     pub(super) async fn polar_pan(
@@ -40,34 +38,21 @@ impl LinkTask {
         if azimuth == 0.0 && altitude == 0.0 {
             return self.stop(StopReason::Requested).await;
         }
-        if let MotionInForce::Polar {
-            azimuth: a,
-            altitude: e,
-            settings: s,
-            ..
-        } = self.motion
-            && (a, e, s) == (azimuth, altitude, settings)
-        {
-            self.refresh_hold();
-            return Ok(WriteReport::default());
-        }
         let wanted = MotionInForce::Polar {
             azimuth,
             altitude,
             settings,
             twist: Twist::ZERO,
         };
+        if self.motion.same_ask(&wanted) {
+            self.refresh_hold();
+            return Ok(WriteReport::default());
+        }
         if self.ended_elsewhere(&wanted) {
             return Ok(WriteReport::default());
         }
         // A fresh pose, not the last poll's: the new direction starts from where the arm is.
-        let pose = match self.poll().await {
-            Ok(telemetry) => telemetry.tcp.pose,
-            Err(e) => {
-                self.stop_after_failed_poll().await;
-                return Err(e);
-            }
-        };
+        let pose = self.poll_or_stop().await?.tcp.pose;
         let twist = match polar_twist(pose, azimuth, altitude, settings) {
             Ok(twist) => twist,
             Err(e) => {
@@ -85,9 +70,7 @@ impl LinkTask {
         };
         self.refresh_hold();
         let writes = commands::twist(ReferenceFrame::Base, twist)?;
-        let result = self.write_motion(&writes).await;
-        self.restore_after_replacing_move(&result).await;
-        result
+        self.write_replacing(&writes).await
     }
 
     /// Recomputes a running polar pan from the pose just polled.

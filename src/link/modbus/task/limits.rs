@@ -152,14 +152,16 @@ impl LinkTask {
         }
     }
 
-    /// A twist or polar pan was written: it replaced any capped move.
-    pub(super) async fn restore_after_replacing_move(
+    /// Writes a new twist or polar pan: once written it replaced any capped move.
+    pub(super) async fn write_replacing(
         &mut self,
-        written: &Result<WriteReport, ModbusError>,
-    ) {
+        writes: &[Write],
+    ) -> Result<WriteReport, ModbusError> {
+        let written = self.write_motion(writes).await;
         if written.is_ok() && self.limit_hold.is_some() {
             self.restore_limits().await;
         }
+        written
     }
 
     /// Follows a capped move through the polls and restores the limits once it has ended.

@@ -44,19 +44,8 @@ impl LinkTask {
                 self.closing_attempts += 1;
             }
             attempts += 1;
-            let opened = {
-                let config = self.config.clone();
-                let connector = self.connector.clone();
-                let open = open_answering(&connector, &config);
-                tokio::pin!(open);
-                loop {
-                    tokio::select! {
-                        biased;
-                        job = self.jobs.recv(), if !self.jobs_closed => self.refuse(job),
-                        opened = &mut open => break opened,
-                    }
-                }
-            };
+            let (connector, config) = (self.connector.clone(), self.config.clone());
+            let opened = self.refusing(open_answering(&connector, &config)).await;
             match opened {
                 Ok(ctx) => {
                     self.ctx = Some(ctx);
@@ -70,16 +59,20 @@ impl LinkTask {
                     self.lost_reason = e.to_string();
                 }
             }
-            let wait = tokio::time::sleep(delay);
-            tokio::pin!(wait);
-            loop {
-                tokio::select! {
-                    biased;
-                    job = self.jobs.recv(), if !self.jobs_closed => self.refuse(job),
-                    () = &mut wait => break,
-                }
-            }
+            self.refusing(tokio::time::sleep(delay)).await;
             delay = (delay * 2).min(self.config.reconnect_max_delay);
+        }
+    }
+
+    /// Awaits `work`, refusing the jobs that come meanwhile.
+    async fn refusing<T>(&mut self, work: impl Future<Output = T>) -> T {
+        tokio::pin!(work);
+        loop {
+            tokio::select! {
+                biased;
+                job = self.jobs.recv(), if !self.jobs_closed => self.refuse(job),
+                done = &mut work => return done,
+            }
         }
     }
 
@@ -95,18 +88,14 @@ impl LinkTask {
                 self.close_replies.push(reply);
                 self.closing = true;
             }
-            Some(Job::Read(reply)) => {
-                let _ = reply.send(Err(error()));
-            }
+            Some(Job::Read(reply)) => _ = reply.send(Err(error())),
             Some(
                 Job::Twist { reply, .. }
                 | Job::PolarPan { reply, .. }
                 | Job::Stop(reply)
                 | Job::Move { reply, .. }
                 | Job::Plain { reply, .. },
-            ) => {
-                let _ = reply.send(Err(error()));
-            }
+            ) => _ = reply.send(Err(error())),
         }
     }
 }
