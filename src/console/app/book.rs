@@ -208,7 +208,6 @@ impl App {
         }
     }
 
-    /// The writer's outcome for the saves up to `outcome.upto`.
     pub(super) fn on_positions_saved(&mut self, mut outcome: SaveOutcome, now: Instant) {
         let reported = self.book.reported(outcome.upto);
         let written = outcome.error.is_none();
@@ -318,7 +317,6 @@ impl App {
         self.book.resave_mut().then_go = Some((name, now));
     }
 
-    /// A Go To is being sent for `name`.
     pub(super) fn going_to(&mut self, name: &str) {
         self.book.resave_mut().goto_sent = Some(name.to_string());
     }

@@ -103,7 +103,6 @@ impl History {
         self.buckets.is_empty()
     }
 
-    /// Adds one telemetry sample taken at `now`.
     pub fn record(&mut self, t: &Telemetry, now: Instant) {
         let speed = self.speed_of(t, now);
         self.latest_speed = speed;

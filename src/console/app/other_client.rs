@@ -69,17 +69,14 @@ pub struct OtherClients {
 }
 
 impl OtherClients {
-    /// How many of the console's jogs another client stopped.
     pub fn stops(&self) -> u64 {
         self.stops
     }
 
-    /// How many refreshes a contradicting sample held back.
     pub fn withheld(&self) -> u64 {
         self.withheld
     }
 
-    /// The technician's STOP, held against a restart from elsewhere.
     pub fn stop_hold(&self) -> &super::stop_hold::StopHold {
         &self.hold
     }
@@ -303,28 +300,7 @@ impl App {
     pub fn other_clients(&self) -> &OtherClients {
         self.arm.others()
     }
-}
 
-/// Over Modbus: the action ended under our jog, or the move type left twist (not a joint jog).
-fn ended_under_jog(t: &Telemetry, motion: JogMotion, was_twist: bool) -> bool {
-    let ended = matches!(
-        t.action.status,
-        Coded::Known(ActionStatus::Aborted | ActionStatus::Completed)
-    );
-    let twist_expected = was_twist && !matches!(motion, JogMotion::Joint { .. });
-    let not_twist = matches!(t.action.move_type, Coded::Known(m) if m != MoveType::Twist);
-    ended || (twist_expected && not_twist)
-}
-
-/// The tool point or a joint faster than the idle thresholds (NaN is not fast: it says nothing).
-fn fast_motion(t: &Telemetry) -> bool {
-    t.tcp.twist.linear_speed() > OTHER_MOTION_M_S
-        || t.joints
-            .iter()
-            .any(|j| j.velocity.abs() > OTHER_MOTION_JOINT_DEG_S)
-}
-
-impl App {
     /// The technician's STOP went out: hold it (see `stop_hold`).
     pub(super) fn hold_stop(&mut self, now: Instant) {
         self.arm.others_mut().hold.arm(now);
@@ -344,6 +320,25 @@ impl App {
             );
         }
     }
+}
+
+/// Over Modbus: the action ended under our jog, or the move type left twist (not a joint jog).
+fn ended_under_jog(t: &Telemetry, motion: JogMotion, was_twist: bool) -> bool {
+    let ended = matches!(
+        t.action.status,
+        Coded::Known(ActionStatus::Aborted | ActionStatus::Completed)
+    );
+    let twist_expected = was_twist && !matches!(motion, JogMotion::Joint { .. });
+    let not_twist = matches!(t.action.move_type, Coded::Known(m) if m != MoveType::Twist);
+    ended || (twist_expected && not_twist)
+}
+
+/// The tool point or a joint faster than the idle thresholds (NaN is not fast: it says nothing).
+fn fast_motion(t: &Telemetry) -> bool {
+    t.tcp.twist.linear_speed() > OTHER_MOTION_M_S
+        || t.joints
+            .iter()
+            .any(|j| j.velocity.abs() > OTHER_MOTION_JOINT_DEG_S)
 }
 
 #[cfg(test)]

@@ -71,7 +71,6 @@ impl App {
         self.screen.overlay()
     }
 
-    /// The message on the bottom line and how bad it is.
     pub fn message(&self) -> Option<(&str, Severity)> {
         self.screen.message()
     }
@@ -89,14 +88,12 @@ impl App {
         self.arm.frame()
     }
 
-    /// The telemetry the driver said to expect (none until it says).
     pub fn telemetry_source(&self) -> TelemetrySource {
         self.truth
             .expected_telemetry()
             .unwrap_or(TelemetrySource::None)
     }
 
-    /// The speed in force, percent, once the arm has said it.
     pub fn speed(&self) -> Option<u8> {
         self.arm.speed()
     }
@@ -113,7 +110,6 @@ impl App {
         self.book.state()
     }
 
-    /// The selected position's index in name order.
     pub fn selected(&self) -> usize {
         self.book.selected()
     }
@@ -122,7 +118,6 @@ impl App {
         self.screen.log()
     }
 
-    /// The last 30 s of telemetry (history panel).
     pub fn history(&self) -> &super::History {
         self.arm.history()
     }
@@ -180,7 +175,6 @@ impl App {
 }
 
 impl App {
-    /// The session's part of the view.
     pub(super) fn session_view(&self) -> SessionView {
         let config = &self.config;
         SessionView {
@@ -345,7 +339,6 @@ impl App {
         }
     }
 
-    /// The help overlay's first shown line.
     pub fn help_scroll(&self) -> usize {
         self.screen.help_scroll()
     }

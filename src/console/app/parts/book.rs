@@ -11,7 +11,6 @@ pub(in crate::console::app) struct Book {
     positions: PositionBook,
     /// The file as last known: a write merges the file's changes since (see `BookSave`).
     known: PositionBook,
-    /// Whether the book is loaded, still loading, or could not be read.
     state: BookState,
     /// Whether the book has a file (saves are written, and their outcomes reported).
     file: bool,
@@ -109,7 +108,6 @@ impl Book {
         self.state = BookState::Failed { error };
     }
 
-    /// The selected position's index in name order.
     pub(in crate::console::app) fn selected(&self) -> usize {
         self.selected
     }
@@ -241,7 +239,6 @@ impl Book {
         saving::mark_unsaved(&mut self.positions, &mut self.saving, unsaved);
     }
 
-    /// The writer's outcome for the saves up to `outcome.upto`.
     pub(in crate::console::app) fn on_saved(&mut self, outcome: SaveOutcome) -> Saved {
         let covered = self.saving.covered(outcome.upto);
         match outcome.error {
@@ -267,7 +264,6 @@ impl Book {
         }
     }
 
-    /// How many changed positions no write has held (their write failed).
     pub(in crate::console::app) fn unsaved(&self) -> usize {
         self.saving.failed().len()
     }
