@@ -250,9 +250,7 @@ impl App {
         self.latch_jog_key(key, now, effects);
         true
     }
-}
 
-impl App {
     /// `None` if a motion may start now, else the one sentence why not.
     pub fn motion_refusal(&self) -> Option<String> {
         self.motion_refusal_until().map(|(text, _)| text)

@@ -178,10 +178,8 @@ impl App {
             ),
         };
         if anchor {
-            self.warn(
-                "anchored positions need a Talos operator: saved without anchor",
-                now,
-            );
+            let text = "anchored positions need a Talos operator: saved without anchor";
+            self.warn(text, now);
         }
         let entry = self.book.positions_mut().get_or_insert(&name);
         pose.store(entry);

@@ -314,10 +314,8 @@ impl App {
         tracing::warn!("the arm moves after our STOP: sending STOP again");
         effects.push(Effect::Arm(ArmCommand::Stop));
         if self.arm.others().hold.past_slowing_down(now) {
-            self.warn(
-                "the arm moved after our STOP (another client?): stopped again",
-                now,
-            );
+            let text = "the arm moved after our STOP (another client?): stopped again";
+            self.warn(text, now);
         }
     }
 }

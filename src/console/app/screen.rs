@@ -137,9 +137,7 @@ impl App {
     pub fn truth(&self) -> &MotionTruth {
         &self.truth
     }
-}
 
-impl App {
     /// Shows a message that lasts while `until`'s state holds.
     pub(super) fn say_until(
         &mut self,
@@ -172,9 +170,7 @@ impl App {
             Until::ArmReady => arm_refuses,
         });
     }
-}
 
-impl App {
     pub(super) fn session_view(&self) -> SessionView {
         let config = &self.config;
         SessionView {
@@ -273,9 +269,7 @@ impl App {
             Form::save_to_own_book()
         }
     }
-}
 
-impl App {
     /// A key with an overlay open: the overlay takes it.
     pub(super) fn on_overlay_key(
         &mut self,
@@ -284,14 +278,11 @@ impl App {
         effects: &mut Vec<Effect>,
     ) {
         match self.screen.take_overlay() {
-            Overlay::None => {}
-            Overlay::Help => {
-                // A scrolling key scrolls the help and leaves it open.
-                if self.screen.on_help_key(&key.key, &self.config.keymap) {
-                    self.screen.show(Overlay::Help);
-                }
+            // A scrolling key scrolls the help and leaves it open.
+            Overlay::Help if self.screen.on_help_key(&key.key, &self.config.keymap) => {
+                self.screen.show(Overlay::Help)
             }
-            Overlay::Position { .. } => {}
+            Overlay::None | Overlay::Help | Overlay::Position { .. } => {}
             Overlay::Confirm(confirm) => {
                 let yes = match confirm {
                     // Enter just submitted the form: only y replaces a position.

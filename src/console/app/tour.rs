@@ -63,10 +63,8 @@ impl App {
     fn open_play_tour(&mut self, one_leg: bool, now: Instant) {
         let tours = self.book.positions().tours();
         let Some(first) = tours.first() else {
-            self.info(
-                "no tours in the book: make one from the positions first",
-                now,
-            );
+            let text = "no tours in the book: make one from the positions first";
+            self.info(text, now);
             return;
         };
         let name = self
@@ -306,10 +304,8 @@ impl App {
                 Some(key) => format!("{key} for the next leg"),
                 None => "the next-leg key goes on".into(),
             };
-            self.info(
-                format!("{leg} done: {next}, any other key ends the tour"),
-                now,
-            );
+            let text = format!("{leg} done: {next}, any other key ends the tour");
+            self.info(text, now);
         } else {
             self.tours.advance();
             self.start_leg(now, effects);

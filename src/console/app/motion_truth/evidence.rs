@@ -113,9 +113,7 @@ impl App {
             _ => {}
         }
     }
-}
 
-impl App {
     /// The truth's part of the view: the motion shown and the ages that make things stale.
     pub(in crate::console::app) fn truth_view(&self) -> TruthView {
         TruthView {
@@ -181,9 +179,7 @@ impl App {
         }
         MotionShown::Idle
     }
-}
 
-impl App {
     /// How long the link has been silent, when that makes it stale (only while it is up).
     pub fn link_stale(&self) -> Option<Duration> {
         let now = self.now?;
@@ -205,9 +201,7 @@ impl App {
         let now = self.now?;
         self.truth.next_deadline(now, self.arm.link_up())
     }
-}
 
-impl App {
     /// After every input: a stale link starts no motion (a frozen network could deliver it any
     /// time) and stops the jog; tracked actions time out; emitted commands are noted.
     pub(in crate::console::app) fn truth_after(
@@ -308,9 +302,7 @@ impl App {
             seen_started: false,
         });
     }
-}
 
-impl App {
     /// Watches a tracked action's end ([`crate::kortex::StoredRun::observe`], [`heuristic_end`]).
     pub(super) fn watch_action(&mut self, t: &Telemetry, now: Instant) {
         let Some(action) = self.truth.action.as_mut() else {
@@ -370,10 +362,8 @@ impl App {
         } else {
             // Without telemetry an action ends once its longest expected time has passed.
             self.truth.unsettled = false;
-            self.info(
-                format!("{verb}: no telemetry; taken as ended after {secs} s"),
-                now,
-            );
+            let text = format!("{verb}: no telemetry; taken as ended after {secs} s");
+            self.info(text, now);
         }
     }
 }
