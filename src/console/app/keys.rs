@@ -155,12 +155,8 @@ impl App {
                 self.keys.jog_mut().stop_all(now);
                 effects.push(Effect::Arm(ArmCommand::QuickStop));
                 self.hold_stop(now);
-                self.say_until(
-                    "quick stop: reset the fault before moving again",
-                    Severity::Warning,
-                    Until::fault(None, false),
-                    now,
-                );
+                let text = "quick stop: reset the fault before moving again";
+                self.say_until(text, Severity::Warning, Until::fault(None, false), now);
             }
             A::FaultReset => effects.push(Effect::Arm(ArmCommand::FaultReset)),
             A::Home if !self.refuse_motion(now) => {

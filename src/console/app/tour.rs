@@ -196,11 +196,7 @@ impl App {
         };
         let leg = self.tours.leg_text();
         let refusal = self.motion_refusal().or_else(|| self.leg_refusal(&name));
-        let sent = match refusal {
-            Some(why) => Err(why),
-            None => self.go_to(name, effects),
-        };
-        match sent {
+        match refusal.map_or_else(|| self.go_to(name, effects), Err) {
             Ok(()) => {
                 self.tours.set_phase(Leg::Starting);
                 self.info(leg, now);
@@ -252,10 +248,8 @@ impl App {
         if phase != Leg::Waiting && !own_stop {
             self.stop_leg(effects);
         }
-        self.tour_over(
-            format!("{leg}: stopped by a key; play it again to go on"),
-            now,
-        );
+        let text = format!("{leg}: stopped by a key; play it again to go on");
+        self.tour_over(text, now);
         !own_stop
     }
 
