@@ -119,14 +119,9 @@ impl Book {
     /// The selection one down or up, round the ends.
     pub(in crate::console::app) fn on_select_next(&mut self, forward: bool) {
         let n = self.positions.len();
-        if n == 0 {
-            return;
+        if n > 0 {
+            self.selected = (self.selected + if forward { 1 } else { n - 1 }) % n;
         }
-        self.selected = if forward {
-            (self.selected + 1) % n
-        } else {
-            (self.selected + n - 1) % n
-        };
     }
 
     pub(in crate::console::app) fn select(&mut self, name: &str) {

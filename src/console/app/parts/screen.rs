@@ -145,23 +145,21 @@ impl Screen {
 
     /// A log line; equal telemetry polls in a row share one counted line.
     pub(in crate::console::app) fn on_log(&mut self, entry: LogEntry) {
+        let count = entry.count.max(1);
         if let Some(last) = self.log.back_mut()
             && entry.poll
             && last.poll
             && last.name == entry.name
             && last.outcome == entry.outcome
         {
-            let count = last.count.saturating_add(entry.count.max(1));
+            let count = last.count.saturating_add(count);
             *last = Arc::new(LogEntry { count, ..entry });
             return;
         }
         if self.log.len() >= LOG_CAPACITY {
             self.log.pop_front();
         }
-        self.log.push_back(Arc::new(LogEntry {
-            count: entry.count.max(1),
-            ..entry
-        }));
+        self.log.push_back(Arc::new(LogEntry { count, ..entry }));
     }
 
     pub(in crate::console::app) fn help_scroll(&self) -> usize {
