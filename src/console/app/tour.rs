@@ -56,8 +56,7 @@ impl App {
         } else {
             self.selected_name().into_iter().collect()
         };
-        let form = Form::make_tour("", &names);
-        self.screen.show(Overlay::Form(form));
+        self.screen.show(Overlay::Form(Form::make_tour("", &names)));
     }
 
     fn open_play_tour(&mut self, one_leg: bool, now: Instant) {
