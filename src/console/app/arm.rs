@@ -97,12 +97,8 @@ impl App {
                     self.stop_jog(now, effects);
                 }
                 if let GuardStatus::Down { reason } = &status {
-                    self.say_until(
-                        format!("stop guard down, no motion until it is back: {reason}"),
-                        Severity::Error,
-                        Until::GuardReady,
-                        now,
-                    );
+                    let text = format!("stop guard down, no motion until it is back: {reason}");
+                    self.say_until(text, Severity::Error, Until::GuardReady, now);
                 }
                 self.arm.on_guard(status);
             }
@@ -171,10 +167,9 @@ impl App {
         let cap_mm_s = self.cap.max_mm_s();
         let joint_deg_s = f64::from(self.config.joint_jog_speed);
         let over = over_cap(t, jog, cap_mm_s, joint_deg_s);
-        let Some(text) = self.arm.on_cap_sample(over) else {
-            return;
-        };
-        self.stop_from_telemetry(text, now, effects);
+        if let Some(text) = self.arm.on_cap_sample(over) {
+            self.stop_from_telemetry(text, now, effects);
+        }
     }
 
     /// Stops a motion telemetry forbids, latching held keys; `text` said and logged.
@@ -250,9 +245,7 @@ impl App {
         self.latch_jog_key(key, now, effects);
         true
     }
-}
 
-impl App {
     /// `None` if a motion may start now, else the one sentence why not.
     pub fn motion_refusal(&self) -> Option<String> {
         self.motion_refusal_until().map(|(text, _)| text)

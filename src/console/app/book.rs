@@ -97,9 +97,7 @@ impl App {
             self.say(text, severity, now);
         }
     }
-}
 
-impl App {
     /// A write found another writer's changes: a name changed on both sides, or an entry set aside,
     /// is a warning (and a question when nothing else goes on); what was merged in is said after
     /// `saved`.
@@ -178,9 +176,7 @@ impl App {
         self.info(text, now);
         self.save_book(&[&name, &copy], effects);
     }
-}
 
-impl App {
     /// Changes to `changed` are to be written: asks for the whole book to be saved.
     pub(super) fn save_book<S: AsRef<str>>(&mut self, changed: &[S], effects: &mut Vec<Effect>) {
         let book = self
@@ -208,7 +204,6 @@ impl App {
         }
     }
 
-    /// The writer's outcome for the saves up to `outcome.upto`.
     pub(super) fn on_positions_saved(&mut self, mut outcome: SaveOutcome, now: Instant) {
         let reported = self.book.reported(outcome.upto);
         let written = outcome.error.is_none();
@@ -220,10 +215,7 @@ impl App {
         }
         match self.book.on_saved(outcome) {
             Saved::Quietly => {}
-            Saved::Recovered(n) => {
-                let text = format!("positions saved ({n} that had failed)");
-                self.info(text, now);
-            }
+            Saved::Recovered(n) => self.info(format!("positions saved ({n} that had failed)"), now),
             Saved::Failed { error, unsaved } => {
                 tracing::error!("positions not saved: {error}");
                 let text = format!(
@@ -262,9 +254,7 @@ impl App {
             self.save_book(&names, effects);
         }
     }
-}
 
-impl App {
     /// The go-to key: the usual question, or the re-save offer for a name the operator lost.
     pub(super) fn ask_go_to(&mut self, name: String, now: Instant) {
         // Not asked when the answer could only be that it cannot work.
@@ -318,7 +308,6 @@ impl App {
         self.book.resave_mut().then_go = Some((name, now));
     }
 
-    /// A Go To is being sent for `name`.
     pub(super) fn going_to(&mut self, name: &str) {
         self.book.resave_mut().goto_sent = Some(name.to_string());
     }
@@ -377,27 +366,19 @@ impl App {
                     return false;
                 };
                 self.book.on_unknown_to_operator(&name);
-                let can_offer = self.remembered_cartesian(&name).is_some();
-                if can_offer && self.screen.overlay_is_none() && !self.keys.jog().is_jogging() {
+                let text = if self.remembered_cartesian(&name).is_none() {
+                    format!("the operator does not know '{name}' and no coordinates are remembered")
+                } else if self.screen.overlay_is_none() && !self.keys.jog().is_jogging() {
                     self.screen
                         .show(Overlay::Confirm(Confirm::Resave(name.clone())));
-                    self.warn(format!("the operator does not know '{name}'"), now);
-                } else if can_offer {
-                    self.warn(
-                        format!(
-                            "the operator does not know '{name}': go to it again to re-save it \
-                             from the remembered coordinates"
-                        ),
-                        now,
-                    );
+                    format!("the operator does not know '{name}'")
                 } else {
-                    self.warn(
-                        format!(
-                            "the operator does not know '{name}' and no coordinates are remembered"
-                        ),
-                        now,
-                    );
-                }
+                    format!(
+                        "the operator does not know '{name}': go to it again to re-save it from \
+                         the remembered coordinates"
+                    )
+                };
+                self.warn(text, now);
                 true
             }
             _ => false,

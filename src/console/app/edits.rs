@@ -124,8 +124,7 @@ impl App {
             return;
         };
         if self.book.positions().get(&name).is_some() {
-            let text = format!("'{name}' exists again: not restored over it");
-            self.warn(text, now);
+            self.warn(format!("'{name}' exists again: not restored over it"), now);
             return;
         }
         if !self.config.positions_on_operator {

@@ -103,7 +103,6 @@ impl History {
         self.buckets.is_empty()
     }
 
-    /// Adds one telemetry sample taken at `now`.
     pub fn record(&mut self, t: &Telemetry, now: Instant) {
         let speed = self.speed_of(t, now);
         self.latest_speed = speed;
@@ -139,7 +138,7 @@ impl History {
             }
             bucket.samples += 1;
         }
-        self.age_out(now);
+        self.age_out(index);
     }
 
     /// TCP speed, mm/s: the twist's, else from the last position; NaN out of physical range.
@@ -182,11 +181,8 @@ impl History {
         (since.as_millis() / BUCKET.as_millis()) as u64
     }
 
-    /// Drops buckets that ended more than the window ago.
-    fn age_out(&mut self, now: Instant) {
-        let Some(origin) = self.origin else { return };
-        let current =
-            (now.saturating_duration_since(origin).as_millis() / BUCKET.as_millis()) as u64;
+    /// Drops buckets that ended more than the window before the `current` one.
+    fn age_out(&mut self, current: u64) {
         let oldest = current.saturating_sub(BUCKETS as u64 - 1);
         while self.buckets.front().is_some_and(|b| b.index < oldest) {
             self.buckets.pop_front();

@@ -11,6 +11,7 @@ use crate::console::form::{Confirm, Form, FormKind};
 use crate::console::jog::{JogEffect, JogMotion, JogNotice, KeyKind, unit_motion};
 use crate::console::keymap::KeyName;
 use crate::link::interface::{ArmCommand, StepMove};
+use crate::link::speed::INITIAL_SPEED;
 
 /// Ctrl+c quits whatever the keymap (the keys dialogs and forms answer: `screen`).
 const CTRL_C: KeyName = KeyName::char('c').with_ctrl();
@@ -123,27 +124,23 @@ impl App {
         };
         let step = self.keys.step();
         let step = match unit_motion(axis, sign.value(), 0) {
-            JogMotion::Cartesian { x, y, z } => cartesian_step([x, y, z], step.cartesian()),
-            JogMotion::Polar { azimuth, altitude } => StepMove::Polar {
+            JogMotion::Cartesian { x, y, z } => Ok(cartesian_step([x, y, z], step.cartesian())),
+            JogMotion::Polar { azimuth, altitude } => Ok(StepMove::Polar {
                 azimuth: i32::from(azimuth) * step.polar(),
                 altitude: i32::from(altitude) * step.polar(),
-            },
-            JogMotion::Joint { .. } => {
-                self.info("step mode has no joint steps: hold to jog a joint", now);
-                return;
-            }
+            }),
+            JogMotion::Joint { .. } => Err("step mode has no joint steps: hold to jog a joint"),
             JogMotion::Orientation { .. } => {
-                self.info(
-                    "step mode has no turn steps: leave it and hold to turn the tool",
-                    now,
-                );
-                return;
+                Err("step mode has no turn steps: leave it and hold to turn the tool")
             }
         };
-        if self.refuse_motion(now) {
-            return;
+        match step {
+            Err(why) => self.info(why, now),
+            Ok(step) if !self.refuse_motion(now) => {
+                effects.push(Effect::Arm(ArmCommand::Step(step)))
+            }
+            Ok(_) => {}
         }
-        effects.push(Effect::Arm(ArmCommand::Step(step)));
     }
 
     fn on_action(&mut self, action: Action, now: Instant, effects: &mut Vec<Effect>) {
@@ -158,12 +155,8 @@ impl App {
                 self.keys.jog_mut().stop_all(now);
                 effects.push(Effect::Arm(ArmCommand::QuickStop));
                 self.hold_stop(now);
-                self.say_until(
-                    "quick stop: reset the fault before moving again",
-                    Severity::Warning,
-                    Until::fault(None, false),
-                    now,
-                );
+                let text = "quick stop: reset the fault before moving again";
+                self.say_until(text, Severity::Warning, Until::fault(None, false), now);
             }
             A::FaultReset => effects.push(Effect::Arm(ArmCommand::FaultReset)),
             A::Home if !self.refuse_motion(now) => {
@@ -179,10 +172,7 @@ impl App {
             }
             A::StepBigger | A::StepSmaller => self.keys.on_step_size(action == A::StepBigger),
             A::SpeedUp | A::SpeedDown => {
-                let current = self
-                    .arm
-                    .speed()
-                    .unwrap_or(crate::link::speed::INITIAL_SPEED);
+                let current = self.arm.speed().unwrap_or(INITIAL_SPEED);
                 let speed = super::next_speed(current, action == A::SpeedUp);
                 effects.push(Effect::Arm(ArmCommand::SetSpeed(speed)));
             }
@@ -256,13 +246,12 @@ impl App {
         jog: &mut Vec<JogEffect>,
         now: Instant,
     ) {
-        let Some(motion) = before else {
-            return;
-        };
-        let watched = self.truth.expects_telemetry();
-        self.arm
-            .others_mut()
-            .hold_refresh(motion, watched, jog, now);
+        if let Some(motion) = before {
+            let watched = self.truth.expects_telemetry();
+            self.arm
+                .others_mut()
+                .hold_refresh(motion, watched, jog, now);
+        }
     }
 
     /// Carries out what the jog engine asked for.

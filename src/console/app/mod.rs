@@ -80,7 +80,6 @@ pub const MIN_HEIGHT: u16 = 10;
 const CARTESIAN_STEPS: [i32; 6] = [1, 10, 50, 100, 500, 1000];
 const POLAR_STEPS: [i32; 5] = [1, 2, 5, 10, 30];
 
-/// One key event as the console needs it.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct KeyInput {
     pub key: KeyName,
@@ -89,7 +88,6 @@ pub struct KeyInput {
     pub kind: KeyKind,
 }
 
-/// Everything that can happen to the console.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Input {
     Key(KeyInput),
@@ -136,7 +134,6 @@ impl Effect {
     }
 }
 
-/// How bad a status message is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Severity {
     Info,
@@ -157,7 +154,6 @@ pub enum Overlay {
     },
 }
 
-/// Step mode settings.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Step {
     pub enabled: bool,
@@ -175,7 +171,6 @@ impl Default for Step {
 }
 
 impl Step {
-    /// One step bigger or smaller, within the steps there are.
     fn resize(&mut self, bigger: bool) {
         self.index = if bigger {
             (self.index + 1).min(CARTESIAN_STEPS.len() - 1)
@@ -248,17 +243,13 @@ pub struct App {
     config: AppConfig,
     /// The speed cap, made once from `config.max_jog_speed`: what every speed here is of.
     cap: SpeedCap,
-    /// The jog engine and what the keys have done lately.
     keys: parts::Keys,
-    /// The positions, their edits and their saves.
     book: parts::Book,
-    /// What the driver says about the link and the arm.
     arm: parts::Arm,
     /// Link health and motion evidence (LINK STALE, MAY BE MOVING, MOVING: HOME).
     truth: MotionTruth,
     /// What is drawn over the panels and on the bottom line, and the terminal's size.
     screen: parts::Screen,
-    /// The tour being played, if one is.
     tours: parts::Tours,
     quitting: bool,
     /// The latest input's `now`: the panels draw ages against it.
@@ -296,7 +287,6 @@ impl App {
         }
     }
 
-    /// Whether the terminal is large enough to show the status.
     pub fn fits(&self) -> bool {
         self.screen.fits()
     }
@@ -404,17 +394,14 @@ impl App {
         self.say_until(text, severity, until, now);
     }
 
-    /// A notice ([`App::say`]) at [`Severity::Info`].
     fn info(&mut self, text: impl Into<String>, now: Instant) {
         self.say(text, Severity::Info, now);
     }
 
-    /// A notice ([`App::say`]) at [`Severity::Warning`].
     fn warn(&mut self, text: impl Into<String>, now: Instant) {
         self.say(text, Severity::Warning, now);
     }
 
-    /// A notice ([`App::say`]) at [`Severity::Error`].
     fn error(&mut self, text: impl Into<String>, now: Instant) {
         self.say(text, Severity::Error, now);
     }

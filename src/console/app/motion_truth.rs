@@ -197,7 +197,6 @@ pub struct MotionTruth {
 }
 
 impl MotionTruth {
-    /// The home, go-to or step being watched, if one is.
     pub fn action(&self) -> Option<&TrackedAction> {
         self.action.as_ref()
     }
@@ -212,12 +211,10 @@ impl MotionTruth {
         self.stop_failure.is_some()
     }
 
-    /// Motion was commanded and is not yet shown to have ended.
     pub(in crate::console::app) fn is_unsettled(&self) -> bool {
         self.unsettled
     }
 
-    /// The telemetry the driver said to expect, once it has said.
     pub fn expected_telemetry(&self) -> Option<TelemetrySource> {
         self.expect
     }

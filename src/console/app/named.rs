@@ -10,23 +10,19 @@ use crate::link::interface::{ArmCommand, PositionCoordinates};
 
 impl App {
     pub(super) fn show_position(&mut self, name: String, effects: &mut Vec<Effect>) {
-        if self.config.positions_on_operator {
+        let coordinates = if self.config.positions_on_operator {
             effects.push(Effect::Arm(ArmCommand::GetPosition { name: name.clone() }));
-            self.screen.show(Overlay::Position {
-                name,
-                coordinates: None,
-            });
+            None
         } else {
-            let coordinates = self
-                .book
+            self.book
                 .positions()
                 .get(&name)
                 .map(|e| PositionCoordinates {
                     cartesian: e.cartesian,
                     polar: e.cartesian.map(polar_of),
-                });
-            self.screen.show(Overlay::Position { name, coordinates });
-        }
+                })
+        };
+        self.screen.show(Overlay::Position { name, coordinates });
     }
 
     pub(super) fn confirmed(&mut self, confirm: Confirm, now: Instant, effects: &mut Vec<Effect>) {
@@ -178,10 +174,8 @@ impl App {
             ),
         };
         if anchor {
-            self.warn(
-                "anchored positions need a Talos operator: saved without anchor",
-                now,
-            );
+            let text = "anchored positions need a Talos operator: saved without anchor";
+            self.warn(text, now);
         }
         let entry = self.book.positions_mut().get_or_insert(&name);
         pose.store(entry);

@@ -69,17 +69,14 @@ pub struct OtherClients {
 }
 
 impl OtherClients {
-    /// How many of the console's jogs another client stopped.
     pub fn stops(&self) -> u64 {
         self.stops
     }
 
-    /// How many refreshes a contradicting sample held back.
     pub fn withheld(&self) -> u64 {
         self.withheld
     }
 
-    /// The technician's STOP, held against a restart from elsewhere.
     pub fn stop_hold(&self) -> &super::stop_hold::StopHold {
         &self.hold
     }
@@ -303,6 +300,24 @@ impl App {
     pub fn other_clients(&self) -> &OtherClients {
         self.arm.others()
     }
+
+    /// The technician's STOP went out: hold it (see `stop_hold`).
+    pub(super) fn hold_stop(&mut self, now: Instant) {
+        self.arm.others_mut().hold.arm(now);
+    }
+
+    /// A telemetry sample while the STOP holds: moving, it is stopped again.
+    pub(super) fn keep_stop(&mut self, moving: bool, now: Instant, effects: &mut Vec<Effect>) {
+        if !self.arm.others_mut().hold.resend(moving, now) {
+            return;
+        }
+        tracing::warn!("the arm moves after our STOP: sending STOP again");
+        effects.push(Effect::Arm(ArmCommand::Stop));
+        if self.arm.others().hold.past_slowing_down(now) {
+            let text = "the arm moved after our STOP (another client?): stopped again";
+            self.warn(text, now);
+        }
+    }
 }
 
 /// Over Modbus: the action ended under our jog, or the move type left twist (not a joint jog).
@@ -322,28 +337,6 @@ fn fast_motion(t: &Telemetry) -> bool {
         || t.joints
             .iter()
             .any(|j| j.velocity.abs() > OTHER_MOTION_JOINT_DEG_S)
-}
-
-impl App {
-    /// The technician's STOP went out: hold it (see `stop_hold`).
-    pub(super) fn hold_stop(&mut self, now: Instant) {
-        self.arm.others_mut().hold.arm(now);
-    }
-
-    /// A telemetry sample while the STOP holds: moving, it is stopped again.
-    pub(super) fn keep_stop(&mut self, moving: bool, now: Instant, effects: &mut Vec<Effect>) {
-        if !self.arm.others_mut().hold.resend(moving, now) {
-            return;
-        }
-        tracing::warn!("the arm moves after our STOP: sending STOP again");
-        effects.push(Effect::Arm(ArmCommand::Stop));
-        if self.arm.others().hold.past_slowing_down(now) {
-            self.warn(
-                "the arm moved after our STOP (another client?): stopped again",
-                now,
-            );
-        }
-    }
 }
 
 #[cfg(test)]

@@ -14,7 +14,6 @@ pub const BURST_KEY_GAP: Duration = Duration::from_millis(5);
 pub(super) struct QuestionGuard {
     /// The question open and when it opened.
     asked: Option<(Confirm, Instant)>,
-    /// The latest press or repeat.
     previous_key: Option<Instant>,
 }
 

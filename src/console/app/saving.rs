@@ -71,12 +71,10 @@ impl Saving {
         self.announced = Some(name.to_string());
     }
 
-    /// Whether a save said as being saved is not reported yet.
     pub(super) fn writing(&self) -> bool {
         self.writing.is_some()
     }
 
-    /// The name said as being saved, when the writes up to `upto` hold it.
     pub(super) fn reported(&mut self, upto: u64) -> Option<String> {
         let held = self.writing.take_if(|(_, at)| *at <= upto);
         held.map(|(name, _)| name)

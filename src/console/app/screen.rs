@@ -71,7 +71,6 @@ impl App {
         self.screen.overlay()
     }
 
-    /// The message on the bottom line and how bad it is.
     pub fn message(&self) -> Option<(&str, Severity)> {
         self.screen.message()
     }
@@ -89,14 +88,12 @@ impl App {
         self.arm.frame()
     }
 
-    /// The telemetry the driver said to expect (none until it says).
     pub fn telemetry_source(&self) -> TelemetrySource {
         self.truth
             .expected_telemetry()
             .unwrap_or(TelemetrySource::None)
     }
 
-    /// The speed in force, percent, once the arm has said it.
     pub fn speed(&self) -> Option<u8> {
         self.arm.speed()
     }
@@ -113,7 +110,6 @@ impl App {
         self.book.state()
     }
 
-    /// The selected position's index in name order.
     pub fn selected(&self) -> usize {
         self.book.selected()
     }
@@ -122,7 +118,6 @@ impl App {
         self.screen.log()
     }
 
-    /// The last 30 s of telemetry (history panel).
     pub fn history(&self) -> &super::History {
         self.arm.history()
     }
@@ -142,9 +137,7 @@ impl App {
     pub fn truth(&self) -> &MotionTruth {
         &self.truth
     }
-}
 
-impl App {
     /// Shows a message that lasts while `until`'s state holds.
     pub(super) fn say_until(
         &mut self,
@@ -177,10 +170,7 @@ impl App {
             Until::ArmReady => arm_refuses,
         });
     }
-}
 
-impl App {
-    /// The session's part of the view.
     pub(super) fn session_view(&self) -> SessionView {
         let config = &self.config;
         SessionView {
@@ -279,9 +269,7 @@ impl App {
             Form::save_to_own_book()
         }
     }
-}
 
-impl App {
     /// A key with an overlay open: the overlay takes it.
     pub(super) fn on_overlay_key(
         &mut self,
@@ -290,14 +278,11 @@ impl App {
         effects: &mut Vec<Effect>,
     ) {
         match self.screen.take_overlay() {
-            Overlay::None => {}
-            Overlay::Help => {
-                // A scrolling key scrolls the help and leaves it open.
-                if self.screen.on_help_key(&key.key, &self.config.keymap) {
-                    self.screen.show(Overlay::Help);
-                }
+            // A scrolling key scrolls the help and leaves it open.
+            Overlay::Help if self.screen.on_help_key(&key.key, &self.config.keymap) => {
+                self.screen.show(Overlay::Help)
             }
-            Overlay::Position { .. } => {}
+            Overlay::None | Overlay::Help | Overlay::Position { .. } => {}
             Overlay::Confirm(confirm) => {
                 let yes = match confirm {
                     // Enter just submitted the form: only y replaces a position.
@@ -345,7 +330,6 @@ impl App {
         }
     }
 
-    /// The help overlay's first shown line.
     pub fn help_scroll(&self) -> usize {
         self.screen.help_scroll()
     }

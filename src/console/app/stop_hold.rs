@@ -28,7 +28,6 @@ impl StopHold {
         self.resent
     }
 
-    /// The technician's STOP went out at `now`: hold it.
     pub(super) fn arm(&mut self, now: Instant) {
         self.since = Some(now);
         self.until = Some(now + STOP_HOLD);

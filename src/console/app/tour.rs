@@ -56,17 +56,14 @@ impl App {
         } else {
             self.selected_name().into_iter().collect()
         };
-        let form = Form::make_tour("", &names);
-        self.screen.show(Overlay::Form(form));
+        self.screen.show(Overlay::Form(Form::make_tour("", &names)));
     }
 
     fn open_play_tour(&mut self, one_leg: bool, now: Instant) {
         let tours = self.book.positions().tours();
         let Some(first) = tours.first() else {
-            self.info(
-                "no tours in the book: make one from the positions first",
-                now,
-            );
+            let text = "no tours in the book: make one from the positions first";
+            self.info(text, now);
             return;
         };
         let name = self
@@ -198,11 +195,7 @@ impl App {
         };
         let leg = self.tours.leg_text();
         let refusal = self.motion_refusal().or_else(|| self.leg_refusal(&name));
-        let sent = match refusal {
-            Some(why) => Err(why),
-            None => self.go_to(name, effects),
-        };
-        match sent {
+        match refusal.map_or_else(|| self.go_to(name, effects), Err) {
             Ok(()) => {
                 self.tours.set_phase(Leg::Starting);
                 self.info(leg, now);
@@ -254,10 +247,8 @@ impl App {
         if phase != Leg::Waiting && !own_stop {
             self.stop_leg(effects);
         }
-        self.tour_over(
-            format!("{leg}: stopped by a key; play it again to go on"),
-            now,
-        );
+        let text = format!("{leg}: stopped by a key; play it again to go on");
+        self.tour_over(text, now);
         !own_stop
     }
 
@@ -306,10 +297,8 @@ impl App {
                 Some(key) => format!("{key} for the next leg"),
                 None => "the next-leg key goes on".into(),
             };
-            self.info(
-                format!("{leg} done: {next}, any other key ends the tour"),
-                now,
-            );
+            let text = format!("{leg} done: {next}, any other key ends the tour");
+            self.info(text, now);
         } else {
             self.tours.advance();
             self.start_leg(now, effects);

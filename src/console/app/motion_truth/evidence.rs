@@ -22,14 +22,11 @@ impl App {
         let truth = &mut self.truth;
         match event {
             ArmEvent::Status(status) => {
-                let came_up = matches!(status, LinkStatus::Up { .. }) && !self.arm.link_up();
-                if came_up {
+                if matches!(status, LinkStatus::Up { .. }) && !self.arm.link_up() {
                     truth.link_up_at = Some(now);
                     truth.waiting_since = None;
                     // Back after a loss with motion unaccounted for: a STOP is always safe.
-                    if truth.unsettled || truth.action.is_some() {
-                        truth.stop_needed = true;
-                    }
+                    truth.stop_needed |= truth.unsettled || truth.action.is_some();
                 }
             }
             ArmEvent::TelemetrySource(source) => truth.expect = Some(*source),
@@ -52,12 +49,9 @@ impl App {
                     truth.stop_confirmed_at = None;
                 }
             }
-            // Sent for polls as well as replies: no answer to a command.
-            ArmEvent::Latency(_) => {}
-            // The console's own guard process speaks, not the arm.
-            ArmEvent::Guard(_) => {}
-            // Said by the driver itself, with the answer it reports apart.
-            ArmEvent::Notice(_) => {}
+            // No answer to a command: a latency comes for polls as well as replies, the guard is
+            // the console's own process, a notice the driver's own words (its answer comes apart).
+            ArmEvent::Latency(_) | ArmEvent::Guard(_) | ArmEvent::Notice(_) => {}
             ArmEvent::Log(entry) if entry.poll => {}
             ArmEvent::Log(_)
             | ArmEvent::Speed(_)
@@ -113,9 +107,7 @@ impl App {
             _ => {}
         }
     }
-}
 
-impl App {
     /// The truth's part of the view: the motion shown and the ages that make things stale.
     pub(in crate::console::app) fn truth_view(&self) -> TruthView {
         TruthView {
@@ -146,9 +138,8 @@ impl App {
             return MotionShown::MayBeMoving(format!("stop not confirmed: {reason}"));
         }
         if truth.unsettled {
-            match self.arm.link() {
-                LinkStatus::Up { .. } => {}
-                _ => return MotionShown::MayBeMoving("link lost after motion".into()),
+            if !self.arm.link_up() {
+                return MotionShown::MayBeMoving("link lost after motion".into());
             }
             if let Some(age) = self.link_stale() {
                 return MotionShown::MayBeMoving(format!(
@@ -181,16 +172,11 @@ impl App {
         }
         MotionShown::Idle
     }
-}
 
-impl App {
     /// How long the link has been silent, when that makes it stale (only while it is up).
     pub fn link_stale(&self) -> Option<Duration> {
-        let now = self.now?;
-        match self.arm.link() {
-            LinkStatus::Up { .. } => self.truth.stale_for(now),
-            _ => None,
-        }
+        let now = self.now.filter(|_| self.arm.link_up())?;
+        self.truth.stale_for(now)
     }
 
     /// The age of the telemetry shown, when it is old enough to be drawn as stale.
@@ -205,9 +191,7 @@ impl App {
         let now = self.now?;
         self.truth.next_deadline(now, self.arm.link_up())
     }
-}
 
-impl App {
     /// After every input: a stale link starts no motion (a frozen network could deliver it any
     /// time) and stops the jog; tracked actions time out; emitted commands are noted.
     pub(in crate::console::app) fn truth_after(
@@ -220,9 +204,7 @@ impl App {
         self.gate_effects(now, effects);
         if let Some(age) = self.link_stale() {
             // An action the console can no longer watch is stopped: never moving unseen.
-            if self.truth.action.is_some() {
-                self.truth.stop_needed = true;
-            }
+            self.truth.stop_needed |= self.truth.action.is_some();
             if self.keys.jog().is_jogging() {
                 self.stop_jog(now, effects);
                 let age = age_text(age);
@@ -235,11 +217,10 @@ impl App {
             effects.push(Effect::Arm(ArmCommand::Stop));
         }
         for effect in effects.iter() {
-            let Effect::Arm(command) = effect else {
-                continue;
-            };
-            self.note_sent(command, goto.clone(), now);
-            self.other_client_note_sent(command, now);
+            if let Effect::Arm(command) = effect {
+                self.note_sent(command, goto.clone(), now);
+                self.other_client_note_sent(command, now);
+            }
         }
     }
 
@@ -308,9 +289,7 @@ impl App {
             seen_started: false,
         });
     }
-}
 
-impl App {
     /// Watches a tracked action's end ([`crate::kortex::StoredRun::observe`], [`heuristic_end`]).
     pub(super) fn watch_action(&mut self, t: &Telemetry, now: Instant) {
         let Some(action) = self.truth.action.as_mut() else {
@@ -370,10 +349,8 @@ impl App {
         } else {
             // Without telemetry an action ends once its longest expected time has passed.
             self.truth.unsettled = false;
-            self.info(
-                format!("{verb}: no telemetry; taken as ended after {secs} s"),
-                now,
-            );
+            let text = format!("{verb}: no telemetry; taken as ended after {secs} s");
+            self.info(text, now);
         }
     }
 }

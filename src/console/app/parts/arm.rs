@@ -61,7 +61,6 @@ pub struct ArmView {
     pub speed: Option<u8>,
     pub frame: ReferenceFrame,
     pub telemetry: Option<Telemetry>,
-    /// The last 30 s of telemetry (history panel).
     pub history: HistorySeries,
     /// Limited joints within 5 degrees of a limit, the nearest first.
     pub near_limits: Vec<NearLimit>,
@@ -136,7 +135,6 @@ impl Arm {
         self.latency = Some(latency);
     }
 
-    /// The speed in force, percent, once the arm has said it.
     pub(in crate::console::app) fn speed(&self) -> Option<u8> {
         self.speed
     }
@@ -178,7 +176,6 @@ impl Arm {
         &self.history
     }
 
-    /// The history panel shows its next quantity.
     pub(in crate::console::app) fn on_history_cycle(&mut self) {
         self.history.cycle_quantity();
     }

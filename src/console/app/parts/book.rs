@@ -11,7 +11,6 @@ pub(in crate::console::app) struct Book {
     positions: PositionBook,
     /// The file as last known: a write merges the file's changes since (see `BookSave`).
     known: PositionBook,
-    /// Whether the book is loaded, still loading, or could not be read.
     state: BookState,
     /// Whether the book has a file (saves are written, and their outcomes reported).
     file: bool,
@@ -109,7 +108,6 @@ impl Book {
         self.state = BookState::Failed { error };
     }
 
-    /// The selected position's index in name order.
     pub(in crate::console::app) fn selected(&self) -> usize {
         self.selected
     }
@@ -121,14 +119,9 @@ impl Book {
     /// The selection one down or up, round the ends.
     pub(in crate::console::app) fn on_select_next(&mut self, forward: bool) {
         let n = self.positions.len();
-        if n == 0 {
-            return;
+        if n > 0 {
+            self.selected = (self.selected + if forward { 1 } else { n - 1 }) % n;
         }
-        self.selected = if forward {
-            (self.selected + 1) % n
-        } else {
-            (self.selected + n - 1) % n
-        };
     }
 
     pub(in crate::console::app) fn select(&mut self, name: &str) {
@@ -241,7 +234,6 @@ impl Book {
         saving::mark_unsaved(&mut self.positions, &mut self.saving, unsaved);
     }
 
-    /// The writer's outcome for the saves up to `outcome.upto`.
     pub(in crate::console::app) fn on_saved(&mut self, outcome: SaveOutcome) -> Saved {
         let covered = self.saving.covered(outcome.upto);
         match outcome.error {
@@ -267,7 +259,6 @@ impl Book {
         }
     }
 
-    /// How many changed positions no write has held (their write failed).
     pub(in crate::console::app) fn unsaved(&self) -> usize {
         self.saving.failed().len()
     }

@@ -20,6 +20,12 @@ struct KeyTrace {
     at: Instant,
 }
 
+impl KeyTrace {
+    fn new(key: KeyName, at: Instant) -> KeyTrace {
+        KeyTrace { key, at }
+    }
+}
+
 #[derive(Debug, Clone)]
 pub(in crate::console::app) struct Keys {
     jog: JogEngine,
@@ -102,10 +108,7 @@ impl Keys {
             || self
                 .last_key
                 .is_some_and(|t| t.key == key.key && now.saturating_duration_since(t.at) <= window);
-        self.last_key = Some(KeyTrace {
-            key: key.key,
-            at: now,
-        });
+        self.last_key = Some(KeyTrace::new(key.key, now));
         continues
     }
 
@@ -142,14 +145,8 @@ impl Keys {
     ) {
         // A key that closed an earlier overlay has no say in the form: its next press is text.
         self.swallowed = None;
-        let remember = match self.jog.mode() {
-            ReleaseMode::Reported => true,
-            ReleaseMode::AutoRepeat => repeating,
-        };
-        self.form_opener = remember.then_some(KeyTrace {
-            key: key.key,
-            at: now,
-        });
+        let remember = self.jog.mode() == ReleaseMode::Reported || repeating;
+        self.form_opener = remember.then_some(KeyTrace::new(key.key, now));
     }
 
     /// Whether `key` repeats the form's opener (not text); any other event ends that run.
@@ -174,10 +171,7 @@ impl Keys {
                 }
                 _ => false,
             };
-        self.form_opener = repeat.then_some(KeyTrace {
-            key: opener.key,
-            at: now,
-        });
+        self.form_opener = repeat.then_some(KeyTrace::new(opener.key, now));
         repeat
     }
 

@@ -11,7 +11,6 @@ use crate::console::keymap::{KeyName, Keymap, NamedKey};
 use crate::console::ui::help::scroll_limits;
 use crate::link::interface::{ArmEvent, LogEntry, PositionCoordinates};
 
-/// Command log lines kept.
 const LOG_CAPACITY: usize = 500;
 
 const DOWN: KeyName = KeyName::named(NamedKey::Down);
@@ -31,7 +30,6 @@ pub(in crate::console::app) struct Screen {
     log: VecDeque<Arc<LogEntry>>,
     hex: bool,
     size: (u16, u16),
-    /// The help overlay's first shown line.
     help_scroll: usize,
 }
 
@@ -45,7 +43,6 @@ pub struct ScreenView {
     pub hex: bool,
     pub message: Option<(String, Severity)>,
     pub overlay: Overlay,
-    /// The help overlay's first shown line.
     pub help_scroll: usize,
 }
 
@@ -130,7 +127,6 @@ impl Screen {
         self.size = (width, height);
     }
 
-    /// Whether the terminal is large enough to show the status.
     pub(in crate::console::app) fn fits(&self) -> bool {
         self.size.0 >= MIN_WIDTH && self.size.1 >= MIN_HEIGHT
     }
@@ -149,23 +145,21 @@ impl Screen {
 
     /// A log line; equal telemetry polls in a row share one counted line.
     pub(in crate::console::app) fn on_log(&mut self, entry: LogEntry) {
+        let count = entry.count.max(1);
         if let Some(last) = self.log.back_mut()
             && entry.poll
             && last.poll
             && last.name == entry.name
             && last.outcome == entry.outcome
         {
-            let count = last.count.saturating_add(entry.count.max(1));
+            let count = last.count.saturating_add(count);
             *last = Arc::new(LogEntry { count, ..entry });
             return;
         }
         if self.log.len() >= LOG_CAPACITY {
             self.log.pop_front();
         }
-        self.log.push_back(Arc::new(LogEntry {
-            count: entry.count.max(1),
-            ..entry
-        }));
+        self.log.push_back(Arc::new(LogEntry { count, ..entry }));
     }
 
     pub(in crate::console::app) fn help_scroll(&self) -> usize {
@@ -194,12 +188,10 @@ impl Screen {
         true
     }
 
-    /// The message on the bottom line and how bad it is.
     pub(in crate::console::app) fn message(&self) -> Option<(&str, Severity)> {
         self.messages.shown().map(|m| (m.text.as_str(), m.severity))
     }
 
-    /// Shows a message that lasts while `until`'s state holds.
     pub(in crate::console::app) fn say_until(
         &mut self,
         text: String,
@@ -210,7 +202,6 @@ impl Screen {
         self.messages.say(text, severity, until, now);
     }
 
-    /// When the shown notice times out.
     pub(in crate::console::app) fn message_deadline(&self) -> Option<Instant> {
         self.messages.deadline()
     }

@@ -62,7 +62,6 @@ impl Tours {
         self.last = Some(name.to_string());
     }
 
-    /// A confirmed tour begins at its first leg.
     pub(in crate::console::app) fn begin(&mut self, tour: Tour, one_leg: bool) {
         self.last = Some(tour.name.clone());
         self.run = Some(Run {
