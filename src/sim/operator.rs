@@ -1,14 +1,10 @@
 //! The simulated Talos operator: what each ICD command means to the simulated arm. Pure:
 //! [`Operator::handle`] takes a request and the arm and returns the reply.
 //!
-//! Where the ICD is silent (more in `docs/simulator.md`):
-//! - Speed is 1-100 % of [`MAX_JOG_LINEAR`] (or [`Operator::with_max_jog_linear`]) and
-//!   [`MAX_JOG_ANGULAR_DEG`] for polar pans; the tool never moves faster than the linear cap times
-//!   the speed, whatever the motion.
-//! - A continuous START runs until STOP, an all-zero START, or 500 ms without a START; either STOP
-//!   stops any continuous motion. It also stops when its holder's connection closes
-//!   ([`Operator::client_gone`]); discrete moves run to their end.
-//! - Discrete moves honour Delay; a non-zero Time sets the speed (never over the maximum).
+//! Where the ICD is silent it does what `docs/simulator.md` says (the speed cap over every
+//! motion, the 500 ms watchdog, a holder's closed connection); besides: either STOP stops any
+//! continuous motion, an all-zero START too; discrete moves honour Delay, and a non-zero Time
+//! sets their speed (never over the maximum).
 //! - Polar coordinates are about the base origin: delta is elevation, azimuth from +X towards +Y,
 //!   radius in tenths of mm. An anchored position moves with its parent; deleting the parent
 //!   freezes it.

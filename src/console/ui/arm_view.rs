@@ -1,14 +1,9 @@
 //! The arm view: the arm drawn from its reported joint angles (forward kinematics, see
 //! [`arm_geometry`]) on two braille canvases, seen from above (X-Y) and from the side (X-Z).
 //!
-//! Each drawing shows the reach envelope (and the table, z = 0, from the side), the base, the
-//! links and joints, the tool point and its axes (X red, Y green, Z blue), the tool point's path
-//! over the last 10 s (dimmer with age), the saved positions as labelled markers (the selected
-//! one highlighted), and while jogging an arrow the way the tool point is commanded to move.
-//! Without telemetry nothing is drawn: a guess would look like the arm.
-//!
-//! Labels are names, written after the canvas: a label that does not fit is elided, one that
-//! would cover another is dropped; none runs past its drawing.
+//! Without telemetry nothing is drawn: a guess would look like the arm. Labels (names) are
+//! written after the canvas: one that does not fit is elided, one that would cover another is
+//! dropped; none runs past its drawing.
 
 use std::sync::LazyLock;
 

@@ -1,10 +1,9 @@
 //! The help overlay: every action of the active keymap, in sections, each with its keys, its
 //! name as a keymap file spells it and what it does.
 //!
-//! The rows are wrapped to the overlay's width (a key name is never cut, a description wraps
-//! under itself) and scroll when they do not fit: down/up by a line, pagedown/pageup by a page
-//! (the app keeps the offset, see [`scroll_limits`]). The overlay leaves the status bar
-//! visible: what the arm is doing stays on screen while the help is open.
+//! A key name is never cut, a description wraps under itself; the rows scroll (the app keeps
+//! the offset, [`scroll_limits`]). The status bar stays visible: what the arm is doing stays on
+//! screen while the help is open.
 
 use ratatui::Frame;
 use ratatui::layout::Rect;

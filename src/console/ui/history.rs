@@ -4,8 +4,7 @@
 //! cycles which; every joint on one scale, so the rows compare), with the joint that works
 //! hardest (largest mean over the window) marked.
 //!
-//! Numbers sit right of their sparkline at a fixed width and are never cut: the sparkline
-//! gives way first, then the speed's peak.
+//! Numbers are never cut: the sparkline gives way first, then the speed's peak.
 
 use ratatui::Frame;
 use ratatui::layout::Rect;

@@ -1,10 +1,8 @@
 //! The joints panel: position (against limits), velocity, torque, current and temperature of
 //! all seven joints.
 //!
-//! Angles read in (−180, 180] (the title says so): the Gen3 reports 0 to 360, where a joint
-//! just below zero would read 359.66. Each column is as wide as its widest entry; a panel too
-//! narrow for all of them drops whole columns, the least needed first (limits gauge,
-//! temperature, current, torque, velocity).
+//! Angles read in (−180, 180] ([`numbers`](super::numbers)), as the title says. A panel too
+//! narrow for every column drops whole columns, the least needed first (`BY_PRIORITY`).
 
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Rect};
