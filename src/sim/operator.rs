@@ -117,7 +117,6 @@ impl Operator {
         }
     }
 
-    /// Carries out `request` on `arm` and returns the reply.
     pub fn handle(&mut self, arm: &mut Arm, request: Request) -> Reply {
         let command = request.command();
         match self.dispatch(arm, request) {

@@ -32,7 +32,6 @@ use crate::talos::{Checksum, CommandValue, FrameCodec, Reply, Request, ReturnCod
 /// Network misbehaviour to inject, for tests and training. Changes apply at once.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct NetworkFaults {
-    /// Wait this long before each reply.
     pub reply_delay: Duration,
     /// Drop every Nth reply (1 drops them all; 0 drops none). Commands are still carried out.
     pub drop_every_nth_reply: u32,

@@ -27,9 +27,7 @@ use crate::link::interface::TelemetrySource;
 
 /// What the panel says over a link that sends no telemetry (the ack dialect).
 pub const NO_TELEMETRY: &str = "no telemetry on this link: the arm is not drawn";
-/// What it says when a reported joint angle is not a number.
 pub const NOT_FINITE: &str = "a joint angle is not a sane number (?): the arm is not drawn";
-/// What it says until the first telemetry arrives.
 pub const WAITING: &str = "waiting for telemetry: the arm is drawn once its joints are known";
 
 /// The fewest columns a drawing is worth drawing in.

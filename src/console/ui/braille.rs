@@ -41,7 +41,6 @@ pub struct Braille {
     resolution: (f64, f64),
     /// What the layers below the current one show.
     below: Vec<Dots>,
-    /// The current layer.
     layer: Vec<Dots>,
     /// The cells the current layer painted, each once.
     painted: Vec<usize>,

@@ -14,7 +14,6 @@ use crate::console::app::{Offers, Severity};
 use crate::console::keymap::{KeyName, Keymap, NamedKey};
 use crate::console::view::View;
 
-/// Between two groups.
 const GROUP_GAP: &str = "  ";
 
 /// One footer group: its label, its actions (one key shown for each) and how much it is needed

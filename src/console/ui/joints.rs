@@ -27,7 +27,6 @@ fn limit(joint: usize) -> Option<f32> {
 
 /// Within this many degrees of a limit the position is highlighted.
 const NEAR_LIMIT: f32 = 10.0;
-/// The gauge's width.
 const GAUGE_WIDTH: usize = 11;
 /// How the title states the angle convention, longest first.
 const CONVENTION: [&str; 2] = [", deg in (-180, 180]", " (-180, 180]"];
@@ -54,7 +53,6 @@ const BY_PRIORITY: [Column; 7] = [
     Column::Temperature,
     Column::Gauge,
 ];
-/// Left to right on screen.
 const ON_SCREEN: [Column; 7] = [
     Column::Name,
     Column::Position,
@@ -88,7 +86,6 @@ impl Column {
         }
     }
 
-    /// Joint `i`'s entry in this column.
     fn text(self, t: &Telemetry, i: usize) -> String {
         let j = &t.joints[i];
         // A value out of physical range shows as `?`, never as a number.
