@@ -139,13 +139,12 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     let titles = super::telemetry_titles("Arm view", &[": top X-Y, side X-Z"], view);
     let block = super::fitted_panel(&titles, area.width, theme);
     // An angle out of physical range (1e9 deg) is not drawn as some other angle.
-    let joints_known = |t: &Telemetry| {
+    let sane = |t: &&Telemetry| {
         t.joints
             .iter()
             .all(|j| JOINT_ANGLE_DEG.sane(j.position).is_some())
     };
-    let telemetry = view.arm.telemetry.as_ref().filter(|t| joints_known(t));
-    let Some(telemetry) = telemetry else {
+    let Some(telemetry) = view.arm.telemetry.as_ref().filter(sane) else {
         let text = match view.truth.telemetry_source {
             TelemetrySource::None => NO_TELEMETRY,
             _ if view.arm.telemetry.is_some() => NOT_FINITE,
@@ -267,8 +266,7 @@ fn envelope(ctx: &mut Braille, projection: Projection, theme: &Theme) {
 /// Straight pieces of the reach envelope's circle.
 const ENVELOPE_SEGMENTS: u16 = 96;
 
-/// The cosine and sine of the envelope's corners, a whole turn: worked out once, not twice a
-/// frame.
+/// The cosine and sine of the envelope's corners, a whole turn: worked out once, not per frame.
 static ENVELOPE_TURN: LazyLock<Vec<(f64, f64)>> = LazyLock::new(|| {
     (0..=ENVELOPE_SEGMENTS)
         .map(|i| {
