@@ -186,9 +186,7 @@ impl Operator {
                 delay_ms,
                 time_ms,
             } => {
-                let delta =
-                    Vector3::new(f64::from(delta_x), f64::from(delta_y), f64::from(delta_z))
-                        / 10_000.0;
+                let delta = Vector3::new(delta_x, delta_y, delta_z).map(f64::from) / 10_000.0;
                 let mut target = arm.pose();
                 target.position += delta;
                 let speed = self.timed_speed(delta.norm(), time_ms, self.max_jog_linear);
@@ -204,11 +202,7 @@ impl Operator {
                 moving_y,
                 moving_z,
             } => {
-                let direction = Vector3::new(
-                    f64::from(moving_x),
-                    f64::from(moving_y),
-                    f64::from(moving_z),
-                );
+                let direction = Vector3::new(moving_x, moving_y, moving_z).map(f64::from);
                 if direction.norm() == 0.0 {
                     arm.stop();
                     return Ok(done);
@@ -263,10 +257,8 @@ impl Operator {
                 azimuth,
                 radius,
             } => {
-                let (el, az) = (
-                    (f64::from(delta) / 10.0).to_radians(),
-                    (f64::from(azimuth) / 10.0).to_radians(),
-                );
+                let [el, az] =
+                    [delta, azimuth].map(|tenths| (f64::from(tenths) / 10.0).to_radians());
                 let r = f64::from(radius) / 10_000.0;
                 let xyz = Vector3::new(
                     r * el.cos() * az.cos(),
@@ -286,7 +278,7 @@ impl Operator {
                 });
             }
             Request::SetCartesianPosition { name, x, y, z } => {
-                let xyz = Vector3::new(f64::from(x), f64::from(y), f64::from(z)) / 10_000.0;
+                let xyz = Vector3::new(x, y, z).map(f64::from) / 10_000.0;
                 self.set_absolute_position(arm, name, xyz)?;
             }
             Request::GetCartesianPosition { name } => {
