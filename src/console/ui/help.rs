@@ -58,12 +58,8 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     let bottom = if max_scroll == 0 {
         " any key closes this help ".to_string()
     } else {
-        let shown = format!(
-            "{}-{} of {}",
-            scroll + 1,
-            (scroll + rows).min(lines.len()),
-            lines.len()
-        );
+        let (first, last, total) = (scroll + 1, (scroll + rows).min(lines.len()), lines.len());
+        let shown = format!("{first}-{last} of {total}");
         let long = format!(" lines {shown}; down/up pagedown/pageup scroll; other keys close ");
         if long.chars().count() + 2 <= usize::from(area.width) {
             long

@@ -102,14 +102,11 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
             };
             Line::styled(text.clone(), style)
         }
-        None => Line::styled(
-            footer(
-                &view.session.keymap,
-                view.session.offers,
-                usize::from(area.width),
-            ),
-            theme.dim(),
-        ),
+        None => {
+            let session = &view.session;
+            let keys = footer(&session.keymap, session.offers, usize::from(area.width));
+            Line::styled(keys, theme.dim())
+        }
     };
     super::lines::draw(frame.buffer_mut(), area, None, &[line]);
 }
