@@ -290,11 +290,9 @@ fn motion_spans(view: &View, theme: &Theme, cut: Cut) -> Vec<Span<'static>> {
     let separator = if cut.words { " | " } else { " " };
     // A joint near its limit or a singularity, after the motion: the next jog may be the one
     // that stops on it or turns a joint fast for little tool motion.
-    let mut text = cut.limit.then(|| warnings(view)).unwrap_or_default();
-    if !text.is_empty() {
-        if !cut.words {
-            text.truncate(1);
-        }
+    let mut text = warnings(view);
+    text.truncate(if cut.words { text.len() } else { 1 });
+    if cut.limit && !text.is_empty() {
         spans.push(Span::styled(
             format!(" {} ", text.join(", ")),
             theme.warning(),
