@@ -178,15 +178,10 @@ pub async fn run(args: &ModbusArgs) -> Outcome {
     {
         return Outcome::failed(&e.into());
     }
-    let stored = match args.command.stored() {
-        Some((stored, options)) => match options.check() {
-            Ok(()) => Some((stored, options)),
-            Err(why) => {
-                return Outcome::error(why.to_string(), EXIT_REFUSED);
-            }
-        },
-        None => None,
-    };
+    let stored = args.command.stored();
+    if let Some(Err(why)) = stored.as_ref().map(|(_, options)| options.check()) {
+        return Outcome::error(why.to_string(), EXIT_REFUSED);
+    }
     let link = match ModbusLink::connect(args.arm.config()).await {
         Ok((link, _events)) => link,
         Err(e) => return Outcome::failed(&e),

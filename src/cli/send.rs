@@ -344,21 +344,19 @@ fn render(args: &SendArgs, exchange: &Exchange) -> Vec<String> {
 
 /// The reply's fields but the return code, in ICD order; a hardware payload decoded too.
 fn reply_fields(exchange: &Exchange) -> Map<String, Value> {
-    match &exchange.answer {
-        Answer::Reply(reply) => match serde_json::to_value(reply) {
-            Ok(Value::Object(mut map)) => {
-                map.remove("return_code");
-                if let Some(decoded) = decoded_hardware_reply(exchange)
-                    && let Ok(value) = serde_json::to_value(&decoded)
-                {
-                    map.insert("decoded".into(), value);
-                }
-                map
-            }
-            _ => Map::new(),
-        },
-        Answer::Ack => Map::new(),
+    let Answer::Reply(reply) = &exchange.answer else {
+        return Map::new();
+    };
+    let Ok(Value::Object(mut map)) = serde_json::to_value(reply) else {
+        return Map::new();
+    };
+    map.remove("return_code");
+    if let Some(decoded) = decoded_hardware_reply(exchange)
+        && let Ok(value) = serde_json::to_value(&decoded)
+    {
+        map.insert("decoded".into(), value);
     }
+    map
 }
 
 /// A successful hardware operation's reply payload, decoded by the companion ICD.
@@ -403,10 +401,8 @@ pub fn describe(exchange: &Exchange) -> String {
         };
         line.push_str(&format!(" {key}={shown}"));
     }
-    line.push_str(&format!(
-        " [{:.1} ms]",
-        exchange.latency.as_secs_f64() * 1000.0
-    ));
+    let ms = exchange.latency.as_secs_f64() * 1000.0;
+    line.push_str(&format!(" [{ms:.1} ms]"));
     line
 }
 

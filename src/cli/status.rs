@@ -63,17 +63,13 @@ pub async fn run(args: &StatusArgs) -> Outcome {
         match link.read_telemetry().await {
             Ok(telemetry) => {
                 let mut lines = watch_lines(&telemetry, args.json, SystemTime::now());
-                if !args.json {
-                    // A blank line between tables.
-                    lines.push(String::new());
-                }
+                // A blank line between tables.
+                lines.extend((!args.json).then(String::new));
                 match output::print_lines(&lines) {
                     Ok(Printed::All) => {}
                     // The reader went away (a closed pipe): nothing left to do.
                     Ok(Printed::ReaderGone) => break,
-                    Err(e) => {
-                        return Outcome::error(format!("cannot write the output: {e}"), 1);
-                    }
+                    Err(e) => return Outcome::error(format!("cannot write the output: {e}"), 1),
                 }
             }
             Err(e) => output::print_error(&e.to_string()),
@@ -121,12 +117,9 @@ fn flag_list(flags: FlagSet) -> String {
     flags
         .names()
         .into_iter()
-        .map(|name| {
-            let described = Flag::ALL.iter().find(|f| f.key() == name);
-            match described {
-                Some(flag) => format!("{name} ({})", flag.description()),
-                None => name,
-            }
+        .map(|name| match Flag::ALL.iter().find(|f| f.key() == name) {
+            Some(flag) => format!("{name} ({})", flag.description()),
+            None => name,
         })
         .collect::<Vec<_>>()
         .join(", ")

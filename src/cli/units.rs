@@ -15,13 +15,10 @@ pub fn linear_speed(m_s: f64) -> String {
 
 /// A snapshot's `arm` line: current A, voltage V, CPU and ambient temperatures C.
 pub fn arm_line([current, voltage, cpu, ambient]: [f32; 4]) -> String {
-    let f = |v: f32, decimals: usize| fixed(f64::from(v), decimals);
+    let [current, voltage] = [current, voltage].map(|v| fixed(f64::from(v), 3));
+    let [cpu, ambient] = [cpu, ambient].map(|v| fixed(f64::from(v), 1));
     format!(
-        "arm           current {} A   voltage {} V   cpu {} C   ambient {} C",
-        f(current, 3),
-        f(voltage, 3),
-        f(cpu, 1),
-        f(ambient, 1)
+        "arm           current {current} A   voltage {voltage} V   cpu {cpu} C   ambient {ambient} C"
     )
 }
 

@@ -19,15 +19,13 @@ use crate::link::interface::ArmEvent;
 
 /// Shortest time between frames at the live rate.
 pub const FRAME: Duration = Duration::from_millis(33);
-/// Shortest time between frames at rest. A frame at rest costs the console several ms of CPU,
-/// its caches gone cold (the view, the draw, the write): at one a second instead of one every
-/// 2 s, a resting console cost 1.3x the CPU, side by side (`benches/idle_ab.py`).
+/// Shortest time between frames at rest: a frame at rest is costly, its caches gone cold (the
+/// figures are in docs/development.md).
 pub const REST_FRAME: Duration = Duration::from_secs(2);
 /// How long after a change its frame starts at the soonest: the command a key sent (a release's
 /// STOP above all) goes out before a frame's drawing competes with it for the CPU.
 pub const SETTLE: Duration = Duration::from_millis(3);
 
-/// How soon a change is drawn.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Pace {
     Rest,
@@ -62,7 +60,6 @@ pub struct FramePacer {
     /// The changes not drawn yet: their pace and when the first came.
     pending: Option<(Pace, Instant)>,
     last_paint: Option<Instant>,
-    /// The last view handed to the painter.
     shown: Option<View>,
     /// What the technician waits on, as of the last change.
     watched: Watched,
@@ -82,7 +79,6 @@ impl FramePacer {
         });
     }
 
-    /// When the next frame is due, or `None` when nothing changed.
     pub fn due_at(&self) -> Option<Instant> {
         let (pace, first) = self.pending?;
         let period = match pace {

@@ -1,9 +1,6 @@
-//! The drawing thread: it owns the terminal's output and draws [`View`]s of the app, so the
-//! task that reads keys never waits for a frame to be drawn (a release's STOP goes out while a
-//! frame is being written).
-//!
-//! Only the newest view is kept: a slow draw skips frames rather than queueing them, and
-//! the thread rests after each draw in proportion to its cost.
+//! The drawing thread: it owns the terminal's output and draws [`View`]s, so the task that reads
+//! keys never waits for a frame (a release's STOP goes out while one is written). Only the
+//! newest view is kept: a slow draw skips frames, and the thread rests in proportion to its cost.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Condvar, Mutex};

@@ -68,7 +68,6 @@ pub enum Progress {
     Completed,
     /// Aborted after it ran (a stop, another client, a joint limit, named if so).
     Aborted(String),
-    /// The arm is in fault.
     Fault(String),
     /// Not taken: refused at once, or something else reported after [`START_LIMIT`].
     NotTaken(String),

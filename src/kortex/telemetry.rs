@@ -117,15 +117,8 @@ impl Telemetry {
         };
 
         let six = |block: u16| {
-            [
-                Axis::X,
-                Axis::Y,
-                Axis::Z,
-                Axis::ThetaX,
-                Axis::ThetaY,
-                Axis::ThetaZ,
-            ]
-            .map(|axis| image.input_f32(ir::tcp(block, axis)))
+            use Axis::{ThetaX, ThetaY, ThetaZ, X, Y, Z};
+            [X, Y, Z, ThetaX, ThetaY, ThetaZ].map(|axis| image.input_f32(ir::tcp(block, axis)))
         };
 
         let holding = |addr: u16| image.holding_registers[usize::from(addr)];

@@ -100,10 +100,8 @@ pub fn holding_registers(s: &ArmSnapshot, command_block: &[u16; 20]) -> [u16; 22
     h[usize::from(hr::ACTION_STATUS)] = s.action_status.code();
     h[usize::from(hr::ACTION_ID)] = s.action_id;
     h[usize::from(hr::ACTION_MOVE_TYPE)] = s.move_type;
-    let lin = f32_to_words(s.speed_limit_linear as f32);
-    let ang = f32_to_words(s.speed_limit_angular_deg as f32);
-    h[104..106].copy_from_slice(&lin);
-    h[106..108].copy_from_slice(&ang);
+    h[104..106].copy_from_slice(&f32_to_words(s.speed_limit_linear as f32));
+    h[106..108].copy_from_slice(&f32_to_words(s.speed_limit_angular_deg as f32));
     h[200..220].copy_from_slice(command_block);
     h
 }
@@ -115,10 +113,8 @@ fn float_at(block: &[u16; 20], addr: u16) -> f32 {
 
 /// Writes registers `start..` of the command block and carries out what they ask.
 pub fn write_registers(world: &mut World, start: u16, values: &[u16]) -> Result<(), Refused> {
-    let count = u16::try_from(values.len()).map_err(|_| Refused::IllegalValue)?;
-    if count == 0 {
-        return Err(Refused::IllegalValue);
-    }
+    let count = u16::try_from(values.len()).ok().filter(|count| *count > 0);
+    let count = count.ok_or(Refused::IllegalValue)?;
     let end = u32::from(start) + u32::from(count);
     if start < WRITABLE.0 || end > u32::from(WRITABLE.1) {
         return Err(Refused::IllegalAddress);

@@ -1,14 +1,10 @@
 //! The simulated Talos operator: what each ICD command means to the simulated arm. Pure:
 //! [`Operator::handle`] takes a request and the arm and returns the reply.
 //!
-//! Where the ICD is silent (more in `docs/simulator.md`):
-//! - Speed is 1-100 % of [`MAX_JOG_LINEAR`] (or [`Operator::with_max_jog_linear`]) and
-//!   [`MAX_JOG_ANGULAR_DEG`] for polar pans; the tool never moves faster than the linear cap times
-//!   the speed, whatever the motion.
-//! - A continuous START runs until STOP, an all-zero START, or 500 ms without a START; either STOP
-//!   stops any continuous motion. It also stops when its holder's connection closes
-//!   ([`Operator::client_gone`]); discrete moves run to their end.
-//! - Discrete moves honour Delay; a non-zero Time sets the speed (never over the maximum).
+//! Where the ICD is silent it does what `docs/simulator.md` says (the speed cap over every
+//! motion, the 500 ms watchdog, a holder's closed connection); besides: either STOP stops any
+//! continuous motion, an all-zero START too; discrete moves honour Delay, and a non-zero Time
+//! sets their speed (never over the maximum).
 //! - Polar coordinates are about the base origin: delta is elevation, azimuth from +X towards +Y,
 //!   radius in tenths of mm. An anchored position moves with its parent; deleting the parent
 //!   freezes it.
@@ -121,7 +117,6 @@ impl Operator {
         }
     }
 
-    /// Carries out `request` on `arm` and returns the reply.
     pub fn handle(&mut self, arm: &mut Arm, request: Request) -> Reply {
         let command = request.command();
         match self.dispatch(arm, request) {
@@ -191,9 +186,7 @@ impl Operator {
                 delay_ms,
                 time_ms,
             } => {
-                let delta =
-                    Vector3::new(f64::from(delta_x), f64::from(delta_y), f64::from(delta_z))
-                        / 10_000.0;
+                let delta = Vector3::new(delta_x, delta_y, delta_z).map(f64::from) / 10_000.0;
                 let mut target = arm.pose();
                 target.position += delta;
                 let speed = self.timed_speed(delta.norm(), time_ms, self.max_jog_linear);
@@ -209,11 +202,7 @@ impl Operator {
                 moving_y,
                 moving_z,
             } => {
-                let direction = Vector3::new(
-                    f64::from(moving_x),
-                    f64::from(moving_y),
-                    f64::from(moving_z),
-                );
+                let direction = Vector3::new(moving_x, moving_y, moving_z).map(f64::from);
                 if direction.norm() == 0.0 {
                     arm.stop();
                     return Ok(done);
@@ -268,10 +257,8 @@ impl Operator {
                 azimuth,
                 radius,
             } => {
-                let (el, az) = (
-                    (f64::from(delta) / 10.0).to_radians(),
-                    (f64::from(azimuth) / 10.0).to_radians(),
-                );
+                let [el, az] =
+                    [delta, azimuth].map(|tenths| (f64::from(tenths) / 10.0).to_radians());
                 let r = f64::from(radius) / 10_000.0;
                 let xyz = Vector3::new(
                     r * el.cos() * az.cos(),
@@ -291,7 +278,7 @@ impl Operator {
                 });
             }
             Request::SetCartesianPosition { name, x, y, z } => {
-                let xyz = Vector3::new(f64::from(x), f64::from(y), f64::from(z)) / 10_000.0;
+                let xyz = Vector3::new(x, y, z).map(f64::from) / 10_000.0;
                 self.set_absolute_position(arm, name, xyz)?;
             }
             Request::GetCartesianPosition { name } => {

@@ -96,7 +96,6 @@ impl RejectLog {
         }
     }
 
-    /// Logs that a frame from the peer was rejected, and why.
     pub fn rejected(&mut self, now: Instant, reason: impl fmt::Display) {
         let admission = self.limit.admit(now);
         if let Some(n) = admission.suppressed_before {

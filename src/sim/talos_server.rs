@@ -2,11 +2,9 @@
 //! one arm task in order, and any client's STOP stops it. [`TalosServerConfig::one_client`] serves
 //! as the deployed operator does: it accepts nothing while it serves a client.
 //!
-//! A closed connection stops the continuous motion it holds at once (a joint jog: the hardware
-//! ICD's SHALL; a START too), only if its command last started or refreshed it
-//! ([`Operator::client_gone`]). Every rejected frame is logged with peer and reason (in the ack
-//! dialect the log is the only place to see why a frame did nothing), rate-limited per connection
-//! ([`RejectLog`]).
+//! A closed connection stops the continuous motion it last started or refreshed
+//! ([`Operator::client_gone`]); rejected frames are logged, rate-limited ([`RejectLog`]): see
+//! `docs/simulator.md`.
 
 use std::fmt;
 use std::net::SocketAddr;
@@ -34,7 +32,6 @@ use crate::talos::{Checksum, CommandValue, FrameCodec, Reply, Request, ReturnCod
 /// Network misbehaviour to inject, for tests and training. Changes apply at once.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct NetworkFaults {
-    /// Wait this long before each reply.
     pub reply_delay: Duration,
     /// Drop every Nth reply (1 drops them all; 0 drops none). Commands are still carried out.
     pub drop_every_nth_reply: u32,

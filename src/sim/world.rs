@@ -36,7 +36,6 @@ pub struct SimArm {
 }
 
 impl SimArm {
-    /// Starts the arm task with `arm` and `operator` as the initial state.
     pub fn spawn(arm: Arm, operator: Operator) -> SimArm {
         let (jobs, rx) = mpsc::channel::<Job>(256);
         let world = World {

@@ -198,18 +198,13 @@ fn check_value(arg: &Arg, key: &str, text: &str) -> Result<(), String> {
     let Some(long) = arg.get_long() else {
         return Ok(());
     };
-    match console_options().try_get_matches_from(["armjog".to_string(), format!("--{long}={text}")])
-    {
-        Ok(_) => Ok(()),
-        Err(e) => {
-            // The parser's own words (`must be above 0 ...`); clap's first line otherwise.
-            let why = match std::error::Error::source(&e) {
-                Some(source) => source.to_string(),
-                None => first_line(&e),
-            };
-            Err(format!("{key} = {text}: {why}"))
-        }
-    }
+    let args = ["armjog".to_string(), format!("--{long}={text}")];
+    let Err(e) = console_options().try_get_matches_from(args) else {
+        return Ok(());
+    };
+    // The parser's own words (`must be above 0 ...`); clap's first line otherwise.
+    let why = std::error::Error::source(&e).map_or_else(|| first_line(&e), |s| s.to_string());
+    Err(format!("{key} = {text}: {why}"))
 }
 
 /// The candidate near enough to `typed` to be meant: an edit per three characters, at least one.
@@ -235,14 +230,10 @@ struct Locator<'a> {
 }
 
 impl Locator<'_> {
-    /// The 1-based line of a byte span's start.
+    /// The 1-based line of a byte span's start: the pieces before it, split at newlines.
     fn line(&self, span: &Range<usize>) -> usize {
         let start = span.start.min(self.text.len());
-        self.text.as_bytes()[..start]
-            .iter()
-            .filter(|b| **b == b'\n')
-            .count()
-            + 1
+        self.text.as_bytes()[..start].split(|b| *b == b'\n').count()
     }
 
     fn error(&self, line: usize, message: String) -> ProfileError {

@@ -1,14 +1,9 @@
 //! The arm view: the arm drawn from its reported joint angles (forward kinematics, see
 //! [`arm_geometry`]) on two braille canvases, seen from above (X-Y) and from the side (X-Z).
 //!
-//! Each drawing shows the reach envelope (and the table, z = 0, from the side), the base, the
-//! links and joints, the tool point and its axes (X red, Y green, Z blue), the tool point's path
-//! over the last 10 s (dimmer with age), the saved positions as labelled markers (the selected
-//! one highlighted), and while jogging an arrow the way the tool point is commanded to move.
-//! Without telemetry nothing is drawn: a guess would look like the arm.
-//!
-//! Labels are names, written after the canvas: a label that does not fit is elided, one that
-//! would cover another is dropped; none runs past its drawing.
+//! Without telemetry nothing is drawn: a guess would look like the arm. Labels (names) are
+//! written after the canvas: one that does not fit is elided, one that would cover another is
+//! dropped; none runs past its drawing.
 
 use std::sync::LazyLock;
 
@@ -32,9 +27,7 @@ use crate::link::interface::TelemetrySource;
 
 /// What the panel says over a link that sends no telemetry (the ack dialect).
 pub const NO_TELEMETRY: &str = "no telemetry on this link: the arm is not drawn";
-/// What it says when a reported joint angle is not a number.
 pub const NOT_FINITE: &str = "a joint angle is not a sane number (?): the arm is not drawn";
-/// What it says until the first telemetry arrives.
 pub const WAITING: &str = "waiting for telemetry: the arm is drawn once its joints are known";
 
 /// The fewest columns a drawing is worth drawing in.
@@ -146,13 +139,12 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     let titles = super::telemetry_titles("Arm view", &[": top X-Y, side X-Z"], view);
     let block = super::fitted_panel(&titles, area.width, theme);
     // An angle out of physical range (1e9 deg) is not drawn as some other angle.
-    let joints_known = |t: &Telemetry| {
+    let sane = |t: &&Telemetry| {
         t.joints
             .iter()
             .all(|j| JOINT_ANGLE_DEG.sane(j.position).is_some())
     };
-    let telemetry = view.arm.telemetry.as_ref().filter(|t| joints_known(t));
-    let Some(telemetry) = telemetry else {
+    let Some(telemetry) = view.arm.telemetry.as_ref().filter(sane) else {
         let text = match view.truth.telemetry_source {
             TelemetrySource::None => NO_TELEMETRY,
             _ if view.arm.telemetry.is_some() => NOT_FINITE,
@@ -274,8 +266,7 @@ fn envelope(ctx: &mut Braille, projection: Projection, theme: &Theme) {
 /// Straight pieces of the reach envelope's circle.
 const ENVELOPE_SEGMENTS: u16 = 96;
 
-/// The cosine and sine of the envelope's corners, a whole turn: worked out once, not twice a
-/// frame.
+/// The cosine and sine of the envelope's corners, a whole turn: worked out once, not per frame.
 static ENVELOPE_TURN: LazyLock<Vec<(f64, f64)>> = LazyLock::new(|| {
     (0..=ENVELOPE_SEGMENTS)
         .map(|i| {

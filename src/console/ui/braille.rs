@@ -1,10 +1,9 @@
 //! Braille drawings: the dots ratatui's `Canvas` with `Marker::Braille` draws, in the same
 //! cells and colours, at a fraction of its cost.
 //!
-//! ratatui's canvas turns every layer into a grid of the whole area and then walks every cell
-//! of every layer into the buffer; the arm view's two drawings have eight layers each, and were
-//! a third of a 200x60 frame (`benches/console_render.rs`). Here a layer only touches the cells
-//! it painted, and the buffer is written once. The tests hold it to ratatui's canvas.
+//! ratatui's canvas walks every cell of every layer into the buffer (the arm view's drawings
+//! have eight layers each); here a layer only touches the cells it painted, and the buffer is
+//! written once. The tests hold it to ratatui's canvas.
 
 use std::sync::LazyLock;
 
@@ -13,7 +12,6 @@ use ratatui::layout::Rect;
 use ratatui::style::Color;
 use ratatui::symbols::braille::BRAILLE;
 
-/// Dots per cell across and down.
 const DOTS_ACROSS: usize = 2;
 const DOTS_DOWN: usize = 4;
 
@@ -43,7 +41,6 @@ pub struct Braille {
     resolution: (f64, f64),
     /// What the layers below the current one show.
     below: Vec<Dots>,
-    /// The current layer.
     layer: Vec<Dots>,
     /// The cells the current layer painted, each once.
     painted: Vec<usize>,

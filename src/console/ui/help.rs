@@ -1,10 +1,9 @@
 //! The help overlay: every action of the active keymap, in sections, each with its keys, its
 //! name as a keymap file spells it and what it does.
 //!
-//! The rows are wrapped to the overlay's width (a key name is never cut, a description wraps
-//! under itself) and scroll when they do not fit: down/up by a line, pagedown/pageup by a page
-//! (the app keeps the offset, see [`scroll_limits`]). The overlay leaves the status bar
-//! visible: what the arm is doing stays on screen while the help is open.
+//! A key name is never cut, a description wraps under itself; the rows scroll (the app keeps
+//! the offset, [`scroll_limits`]). The status bar stays visible: what the arm is doing stays on
+//! screen while the help is open.
 
 use ratatui::Frame;
 use ratatui::layout::Rect;
@@ -59,12 +58,8 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     let bottom = if max_scroll == 0 {
         " any key closes this help ".to_string()
     } else {
-        let shown = format!(
-            "{}-{} of {}",
-            scroll + 1,
-            (scroll + rows).min(lines.len()),
-            lines.len()
-        );
+        let (first, last, total) = (scroll + 1, (scroll + rows).min(lines.len()), lines.len());
+        let shown = format!("{first}-{last} of {total}");
         let long = format!(" lines {shown}; down/up pagedown/pageup scroll; other keys close ");
         if long.chars().count() + 2 <= usize::from(area.width) {
             long

@@ -14,7 +14,6 @@ use crate::console::app::{Offers, Severity};
 use crate::console::keymap::{KeyName, Keymap, NamedKey};
 use crate::console::view::View;
 
-/// Between two groups.
 const GROUP_GAP: &str = "  ";
 
 /// One footer group: its label, its actions (one key shown for each) and how much it is needed
@@ -103,14 +102,11 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
             };
             Line::styled(text.clone(), style)
         }
-        None => Line::styled(
-            footer(
-                &view.session.keymap,
-                view.session.offers,
-                usize::from(area.width),
-            ),
-            theme.dim(),
-        ),
+        None => {
+            let session = &view.session;
+            let keys = footer(&session.keymap, session.offers, usize::from(area.width));
+            Line::styled(keys, theme.dim())
+        }
     };
     super::lines::draw(frame.buffer_mut(), area, None, &[line]);
 }

@@ -1,11 +1,6 @@
-//! The history panel: sparklines of the last 30 s, one 250 ms bucket per column (the newest on
-//! the right; a blank column is a bucket without telemetry): the TCP linear speed (peak per
-//! bucket, scaled to the window's peak) and each joint's mean |torque| or |current| (a key
-//! cycles which; every joint on one scale, so the rows compare), with the joint that works
-//! hardest (largest mean over the window) marked.
-//!
-//! Numbers sit right of their sparkline at a fixed width and are never cut: the sparkline
-//! gives way first, then the speed's peak.
+//! The history panel: sparklines of the last 30 s, a bucket per column, of the TCP speed and
+//! each joint's torque or current (docs/user-guide.md, "History and joint limits"). Numbers are
+//! never cut: the sparkline gives way first, then the speed's peak.
 
 use ratatui::Frame;
 use ratatui::layout::Rect;

@@ -1,10 +1,8 @@
 //! The joints panel: position (against limits), velocity, torque, current and temperature of
 //! all seven joints.
 //!
-//! Angles read in (−180, 180] (the title says so): the Gen3 reports 0 to 360, where a joint
-//! just below zero would read 359.66. Each column is as wide as its widest entry; a panel too
-//! narrow for all of them drops whole columns, the least needed first (limits gauge,
-//! temperature, current, torque, velocity).
+//! Angles read in (−180, 180] ([`numbers`](super::numbers)), as the title says. A panel too
+//! narrow for every column drops whole columns, the least needed first (`BY_PRIORITY`).
 
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Rect};
@@ -29,7 +27,6 @@ fn limit(joint: usize) -> Option<f32> {
 
 /// Within this many degrees of a limit the position is highlighted.
 const NEAR_LIMIT: f32 = 10.0;
-/// The gauge's width.
 const GAUGE_WIDTH: usize = 11;
 /// How the title states the angle convention, longest first.
 const CONVENTION: [&str; 2] = [", deg in (-180, 180]", " (-180, 180]"];
@@ -56,7 +53,6 @@ const BY_PRIORITY: [Column; 7] = [
     Column::Temperature,
     Column::Gauge,
 ];
-/// Left to right on screen.
 const ON_SCREEN: [Column; 7] = [
     Column::Name,
     Column::Position,
@@ -90,7 +86,6 @@ impl Column {
         }
     }
 
-    /// Joint `i`'s entry in this column.
     fn text(self, t: &Telemetry, i: usize) -> String {
         let j = &t.joints[i];
         // A value out of physical range shows as `?`, never as a number.

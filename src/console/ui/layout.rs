@@ -1,25 +1,10 @@
-//! Where each panel goes at a given terminal size, and which panels give way when the terminal
-//! is too small for all of them.
-//!
-//! Drop priority, from the last to go to the first:
-//!
-//! 1. the status bar (two rows) and the bottom line (message or keys): always shown;
-//! 2. the tool panel (TCP pose, twist, wrench);
-//! 3. the joints panel: beside the tool panel when both fit side by side, under it otherwise;
-//!    at a narrow width it drops whole columns (limits gauge, then temperature, current,
-//!    torque, velocity), never a part of one;
-//! 4. the arm panel and the positions panel (side by side), once at least 4 rows are left;
-//! 5. the command log, once at least 3 rows are left;
-//! 6. the arm view (a drawing of the arm), once the arm and positions row has at least
-//!    [`VIEW_MIN_ROWS`] rows and the screen is wide enough for it beside the arm panel's wide
-//!    lines: it takes the right part of that row, as wide as its drawings want, and the arm
-//!    and positions panels stack in the left part (the arm panel on top).
-//! 7. the history panel (sparklines of the last 30 s): only in spare space, beside the
-//!    positions panel when that is wide and tall enough for both (see [`place_history`]).
-//!
-//! A panel that gets fewer rows than it has lines shows its first lines whole; every line that
-//! is too wide for its panel is cut at a word before a number, never inside one (see
-//! [`numbers::elide`](super::numbers::elide)).
+//! Where each panel goes at a given terminal size, and which panels give way whole when the
+//! terminal is too small for all of them, in the order docs/user-guide.md gives ("Screen
+//! sizes"): the status bar and the bottom line always, then the tool, joints (beside the tool
+//! panel or under it), arm and positions, log, arm view ([`VIEW_MIN_ROWS`]) and, only in spare
+//! space, history ([`place_history`]) panels. A panel with fewer rows than lines shows its
+//! first lines whole; a line too wide is cut at a word before a number, never inside one
+//! ([`numbers::elide`](super::numbers::elide)).
 
 use ratatui::layout::Rect;
 

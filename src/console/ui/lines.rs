@@ -1,11 +1,9 @@
 //! Lines of text a row each, cut at the right edge: what ratatui's
 //! `Paragraph::new(lines).block(block)` draws (no wrap, no scroll), at a fraction of its cost.
 //!
-//! A paragraph styles its whole area twice more than its block does and walks every character
-//! through grapheme segmentation and a width lookup; the panels' text is nearly all printable
-//! ASCII, a character a cell. Such a line is written here a byte at a time; any other line
-//! (wide or combining characters, controls, an alignment of its own) is drawn by ratatui's
-//! paragraph, on its own row. The tests hold it to the paragraph.
+//! The panels' text is nearly all printable ASCII, a character a cell: such a line is written a
+//! byte at a time; any other line (wide or combining characters, controls, an alignment of its
+//! own) is drawn by ratatui's paragraph, on its own row. The tests hold it to the paragraph.
 
 use ratatui::buffer::Buffer;
 use ratatui::layout::Rect;

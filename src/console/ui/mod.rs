@@ -166,5 +166,4 @@ fn draw_panels(frame: &mut Frame, view: &View, theme: &Theme) {
     }
 }
 
-/// A panel's draw function.
 type Panel = fn(&mut Frame, Rect, &View, &Theme);

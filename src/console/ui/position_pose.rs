@@ -37,12 +37,10 @@ pub fn lines(
     lines.push(row(
         "polar",
         match c.polar.or(c.cartesian.map(polar_of)) {
-            Some([d, a, r]) => format!(
-                "elevation {}  azimuth {} deg  radius {} mm",
-                fixed(tenths(d), 1),
-                fixed(tenths(a), 1),
-                fixed(tenths(r), 1)
-            ),
+            Some(polar) => {
+                let [d, a, r] = polar.map(|v| fixed(tenths(v), 1));
+                format!("elevation {d}  azimuth {a} deg  radius {r} mm")
+            }
             None => "unknown".into(),
         },
     ));
@@ -64,12 +62,10 @@ fn remembered_lines(entry: &BookEntry, c: &PositionCoordinates, lines: &mut Vec<
     lines.push(row(
         "orientation",
         match entry.orientation {
-            Some([x, y, z]) => format!(
-                "θx {}  θy {}  θz {} deg",
-                fixed(f64::from(x), 2),
-                fixed(f64::from(y), 2),
-                fixed(f64::from(z), 2)
-            ),
+            Some(angles) => {
+                let [x, y, z] = angles.map(|v| fixed(f64::from(v), 2));
+                format!("θx {x}  θy {y}  θz {z} deg")
+            }
             None => "unknown".into(),
         },
     ));
@@ -96,13 +92,9 @@ fn row(label: &str, value: String) -> Line<'static> {
     Line::raw(format!("{label:<LABEL$}{value}"))
 }
 
-fn cartesian_text([x, y, z]: [i32; 3]) -> String {
-    format!(
-        "x {}  y {}  z {} mm",
-        fixed(tenths(x), 1),
-        fixed(tenths(y), 1),
-        fixed(tenths(z), 1)
-    )
+fn cartesian_text(xyz: [i32; 3]) -> String {
+    let [x, y, z] = xyz.map(|v| fixed(tenths(v), 1));
+    format!("x {x}  y {y}  z {z} mm")
 }
 
 fn tenths(value: i32) -> f64 {
@@ -111,9 +103,8 @@ fn tenths(value: i32) -> f64 {
 
 /// A reported angle (0 to 360 degrees) as a technician reads it: -0.5, not 359.5.
 ///
-/// In f64, unlike [`crate::kortex::gen3::signed_deg`] (f32): for a
-/// negative angle in a book the two round differently (-127.975 reads -127.97 here, -127.98
-/// there).
+/// In f64, unlike [`crate::kortex::gen3::signed_deg`] (f32): for a negative angle in a book the
+/// two round differently (-127.975 reads -127.97 here, -127.98 there).
 fn about_zero(degrees: f64) -> f64 {
     let turned = degrees.rem_euclid(360.0);
     if turned > 180.0 {

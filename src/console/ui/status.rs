@@ -78,10 +78,11 @@ fn tour_spans(view: &View, theme: &Theme, cut: Cut) -> Vec<Span<'static>> {
     let text = match (cut.words, tour.waiting) {
         (false, _) => format!(" {count} "),
         (true, false) => format!(" {count} → {to} "),
-        (true, true) => match view.session.keymap.key_for(Action::TourLeg) {
-            Some(key) => format!(" {count} at {to}: {key} next leg "),
-            None => format!(" {count} at {to}: next leg "),
-        },
+        (true, true) => {
+            let key = view.session.keymap.key_for(Action::TourLeg);
+            let key = key.map(|key| format!("{key} ")).unwrap_or_default();
+            format!(" {count} at {to}: {key}next leg ")
+        }
     };
     vec![Span::styled(text, theme.accent())]
 }
@@ -102,18 +103,14 @@ fn speed_part(view: &View, mm_s: bool) -> String {
     let cap = view.arm.speed.filter(|_| mm_s).map(|s| {
         let mm_s = view.session.cap.tool_speed_mm_s(s);
         // A slow speed keeps a decimal: "0 mm/s" would read as stopped.
-        if mm_s < 10.0 {
-            format!("≤{mm_s:.1} mm/s")
-        } else {
-            format!("≤{mm_s:.0} mm/s")
-        }
+        let decimals = usize::from(mm_s < 10.0);
+        format!("≤{mm_s:.decimals$} mm/s")
     });
-    let unwatched = (view.truth.cap_watched == Some(false)).then_some("cap not watched");
-    match (cap, unwatched) {
-        (Some(cap), Some(unwatched)) => format!("{percent} ({cap}, {unwatched})"),
-        (Some(cap), None) => format!("{percent} ({cap})"),
-        (None, Some(unwatched)) => format!("{percent} ({unwatched})"),
-        (None, None) => percent,
+    let unwatched = (view.truth.cap_watched == Some(false)).then(|| "cap not watched".into());
+    let notes: Vec<String> = cap.into_iter().chain(unwatched).collect();
+    match notes.is_empty() {
+        true => percent,
+        false => format!("{percent} ({})", notes.join(", ")),
     }
 }
 
@@ -202,10 +199,9 @@ fn link_line(view: &View, theme: &Theme, width: usize) -> Line<'static> {
 
 /// How much of the second line gives way, in order: why the arm may be moving (the message
 /// line says it too), the measured auto-repeat timing, the speed's cap in mm/s (`cap not
-/// watched` stays with the percentage), the words around the
-/// key-release mode and the settings (and every warning but the first: joints near a limit,
-/// then the singularity), the joint, the frame, the speed, the first warning; the motion and
-/// the key-release mode never.
+/// watched` stays with the percentage), the words around the key-release mode and the settings
+/// (and every warning but the first: joints near a limit, then the singularity), the joint, the
+/// frame, the speed, the first warning; the motion and the key-release mode never.
 #[derive(Debug, Clone, Copy)]
 struct Cut {
     reason: bool,
@@ -294,15 +290,9 @@ fn motion_spans(view: &View, theme: &Theme, cut: Cut) -> Vec<Span<'static>> {
     let separator = if cut.words { " | " } else { " " };
     // A joint near its limit or a singularity, after the motion: the next jog may be the one
     // that stops on it or turns a joint fast for little tool motion.
-    let mut text = if cut.limit {
-        warnings(view)
-    } else {
-        Vec::new()
-    };
-    if !text.is_empty() {
-        if !cut.words {
-            text.truncate(1);
-        }
+    let mut text = warnings(view);
+    text.truncate(if cut.words { text.len() } else { 1 });
+    if cut.limit && !text.is_empty() {
         spans.push(Span::styled(
             format!(" {} ", text.join(", ")),
             theme.warning(),
@@ -321,11 +311,8 @@ fn motion_spans(view: &View, theme: &Theme, cut: Cut) -> Vec<Span<'static>> {
         spans.push(Span::raw(format!("{separator}{label}{speed}")));
     }
     if view.session.frames && cut.frame {
-        let label = if cut.words { "frame " } else { "" };
-        spans.push(Span::raw(format!(
-            "{separator}{label}{}",
-            view.arm.frame.key()
-        )));
+        let (label, frame) = (if cut.words { "frame " } else { "" }, view.arm.frame.key());
+        spans.push(Span::raw(format!("{separator}{label}{frame}")));
     }
     // Step mode has no joint steps: the selected joint only matters when jogging.
     if !view.keys.step.enabled && cut.joint {
@@ -345,7 +332,6 @@ fn warnings(view: &View) -> Vec<String> {
         .collect()
 }
 
-/// The key-release mode in a word.
 fn release_mode_short(view: &View) -> &'static str {
     match view.keys.release_mode {
         ReleaseMode::Reported => "release",

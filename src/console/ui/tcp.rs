@@ -1,12 +1,8 @@
 //! The tool panel: TCP pose and twist in the base frame, and the wrench in the tool frame.
 //!
-//! The frames are the truth of the figures, not a guess: the Kinova ICD lists the TCP wrench
-//! (input registers 128-139) without a frame, and the simulator (`sim::arm_model`) gives it as
-//! a wrist sensor measures it, in the tool frame (at home, the tool's weight pulls along its
-//! Y axis). The pose and twist are the base frame's, as everywhere in the ICD.
-//!
-//! Long labels (`pos mm`) where they fit, unit labels (`mm`) otherwise; the numbers keep their
-//! width either way.
+//! The Kinova ICD lists the TCP wrench (input registers 128-139) without a frame; the simulator
+//! (`sim::arm_model`) gives it as a wrist sensor measures it, in the tool frame. Long labels
+//! (`pos mm`) where they fit, unit labels (`mm`) otherwise; the numbers keep their width.
 
 use ratatui::Frame;
 use ratatui::layout::Rect;

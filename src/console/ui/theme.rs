@@ -43,7 +43,6 @@ impl Theme {
         self.badge(Color::White, Color::Red)
     }
 
-    /// Motion in progress.
     pub fn moving(&self) -> Style {
         self.badge(Color::Black, Color::Yellow)
     }

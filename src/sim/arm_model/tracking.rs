@@ -55,7 +55,6 @@ impl Reference {
         }
     }
 
-    /// Whether this reference belongs to `motion`.
     pub(super) fn follows(&self, motion: &SimMotion) -> bool {
         self.motion == *motion
     }
