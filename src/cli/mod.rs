@@ -1,11 +1,11 @@
 //! Command-line front ends: argument definitions and the one-shot commands.
 
-mod anywhere;
 pub mod arms;
 pub mod console;
 pub mod generate;
 pub mod guard;
 mod hw_text;
+mod leading_options;
 mod man_sections;
 pub mod modbus;
 mod outcome;
@@ -21,7 +21,7 @@ pub mod version;
 
 use clap::{Parser, Subcommand};
 
-pub use anywhere::options_after_command;
+pub use leading_options::options_after_command;
 pub use outcome::Outcome;
 
 /// armjog: jog a robot arm from the keyboard, and talk to it from a shell.

@@ -7,7 +7,7 @@ use std::fmt;
 use super::cartesian::{Pose, Twist};
 use super::codes::{ActionCommand, CodeName, ControlCoil, MoveType, ReferenceFrame};
 use super::registers::holding_register as hr;
-use super::words;
+use super::two_registers;
 
 /// Twist hard limit of the arm, linear: m/s (Gen3 user guide).
 pub const MAX_LINEAR_SPEED: f32 = 0.5;
@@ -146,7 +146,7 @@ pub fn check_twist(twist: Twist) -> Result<(), CommandError> {
 /// The shared start sequence of a cartesian trajectory or a twist: Kinova's own example.
 fn start_cartesian(move_type: MoveType, frame: ReferenceFrame, target: [f32; 6]) -> Vec<Write> {
     let mut block = vec![move_type.code(), frame.code()];
-    block.extend(words::f32s_to_words(&target));
+    block.extend(two_registers::f32s_to_words(&target));
     vec![
         Write::command(ActionCommand::NoAction),
         Write::Registers {
@@ -250,7 +250,7 @@ pub fn speed_limits(linear: f32, angular: f32) -> Result<Vec<Write>, CommandErro
     }
     Ok(vec![Write::Registers {
         addr: hr::DESIRED_LINEAR_SPEED_LIMIT,
-        values: words::f32s_to_words(&[linear, angular]),
+        values: two_registers::f32s_to_words(&[linear, angular]),
     }])
 }
 

@@ -3,7 +3,7 @@
 use std::fmt;
 
 use super::registers::{Table, discrete_input as di, holding_register as hr, input_register as ir};
-use super::words;
+use super::two_registers;
 
 /// One read request: `count` items of `table` from `start`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -187,17 +187,17 @@ impl RegisterImage {
 
     /// The float at input register `addr` (and `addr + 1`).
     pub fn input_f32(&self, addr: u16) -> f32 {
-        words::f32_from_words(pair(&self.input_registers, addr))
+        two_registers::f32_from_words(pair(&self.input_registers, addr))
     }
 
     /// The uint32 at input register `addr` (and `addr + 1`).
     pub fn input_u32(&self, addr: u16) -> u32 {
-        words::u32_from_words(pair(&self.input_registers, addr))
+        two_registers::u32_from_words(pair(&self.input_registers, addr))
     }
 
     /// The float at holding register `addr` (and `addr + 1`).
     pub fn holding_f32(&self, addr: u16) -> f32 {
-        words::f32_from_words(pair(&self.holding_registers, addr))
+        two_registers::f32_from_words(pair(&self.holding_registers, addr))
     }
 
     /// The discrete inputs `start..start + count`.

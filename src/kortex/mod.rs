@@ -1,5 +1,5 @@
 //! The Kinova Kortex Modbus ICD (`shared/icd/kinova-modbus-icd.md`), pure: [`registers`]
-//! (addresses), [`words`] (CDAB floats), [`codes`] and [`flags`] (named values), [`image`] and
+//! (addresses), [`two_registers`] (CDAB floats), [`codes`] and [`flags`] (named values), [`image`] and
 //! [`telemetry`] (a poll's reads and snapshot), [`commands`] (writes), [`polar`] (pan as a twist),
 //! [`stored_run`] (a stored run's progress), [`sanity`] (physically possible values).
 
@@ -15,7 +15,7 @@ pub mod registers;
 pub mod sanity;
 pub mod stored_run;
 pub mod telemetry;
-pub mod words;
+pub mod two_registers;
 
 pub use arm_state::{OurMove, abort_reason, at_rest, fault_reason};
 pub use cartesian::{Axis, Pose, Twist, Wrench};

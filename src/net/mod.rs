@@ -3,9 +3,9 @@
 pub mod connect;
 pub mod deadline;
 pub mod frame_reader;
-pub mod words;
+pub mod io_error_text;
 
 pub use connect::{ConnectError, connect_with_timeout};
 pub use deadline::Deadline;
 pub use frame_reader::{DEFAULT_FRAME_DEADLINE, FrameReader};
-pub use words::io_error_words;
+pub use io_error_text::io_error_words;

@@ -12,7 +12,7 @@ use super::world::World;
 use crate::kortex::registers::{
     coil, discrete_input as di, holding_register as hr, input_register as ir,
 };
-use crate::kortex::words::{f32_from_words, f32_to_words, u32_to_words};
+use crate::kortex::two_registers::{f32_from_words, f32_to_words, u32_to_words};
 use crate::kortex::{MoveType, ReferenceFrame};
 
 pub use super::stored::HOME_ACTION_ID;

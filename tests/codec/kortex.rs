@@ -4,7 +4,7 @@
 
 use armjog::kortex::commands::{self, CommandError, StoredMotion, Write};
 use armjog::kortex::image::ReadBlock;
-use armjog::kortex::words::{f32_from_words, f32_to_words, u32_from_words, u32_to_words};
+use armjog::kortex::two_registers::{f32_from_words, f32_to_words, u32_from_words, u32_to_words};
 use armjog::kortex::{
     ActionStatus, Coded, ControlCoil, Flag, FlagSet, MoveType, PolarPanError, PolarPanSettings,
     Pose, ReferenceFrame, RegisterImage, RobotState, Table, Telemetry, Twist, polar_twist,

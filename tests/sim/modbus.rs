@@ -4,7 +4,7 @@
 //! and injected network faults.
 //!
 //! Floats and UINT32s span two registers, low word first (CDAB); the decoding here is written out
-//! independently of armjog's `kortex::words`.
+//! independently of armjog's `kortex::two_registers`.
 
 use std::borrow::Cow;
 use std::time::{Duration, Instant};

@@ -25,9 +25,9 @@ pub const STORED_REFUSAL: &str = "stored actions and sequences by id need a Modb
 
 impl App {
     pub(super) fn on_arm(&mut self, event: ArmEvent, now: Instant, effects: &mut Vec<Effect>) {
-        self.truth_on_arm(&event, now);
+        self.motion_truth_on_arm(&event, now);
         // Arm events that end a message.
-        let telemetry_expected = self.truth.expects_telemetry();
+        let telemetry_expected = self.motion_truth.expects_telemetry();
         self.screen.messages_on_arm(&event, telemetry_expected);
         if self.edits_on_arm(&event, now, effects) {
             return;
@@ -52,7 +52,7 @@ impl App {
                 self.watch_other_clients(&t, now, effects);
                 self.arm.on_telemetry(*t, now);
             }
-            // The motion truth keeps the source (see `truth_on_arm`).
+            // The motion truth keeps the source (see `motion_truth_on_arm`).
             ArmEvent::TelemetrySource(_) => {}
             ArmEvent::Latency(latency) => self.arm.on_latency(latency),
             ArmEvent::Speed(speed) => {
@@ -102,7 +102,7 @@ impl App {
                 }
                 self.arm.on_guard(status);
             }
-            // Evidence only: see `truth_on_arm`.
+            // Evidence only: see `motion_truth_on_arm`.
             ArmEvent::StopConfirmed | ArmEvent::StopUnconfirmed { .. } => {}
         }
     }
@@ -113,7 +113,7 @@ impl App {
     fn on_guard_stopped(&mut self, error: &ArmError, now: Instant, effects: &mut Vec<Effect>) {
         let jogging = self.keys.jog().is_jogging();
         self.stop_jog(now, effects);
-        let stopped = match self.truth.action() {
+        let stopped = match self.motion_truth.action() {
             Some(action) => Some(action.kind.verb()),
             None => jogging.then(|| "jog".to_string()),
         };
@@ -124,7 +124,7 @@ impl App {
                 .filter(|(_, back)| now <= *back + HEARTBEAT_TIMEOUT)
                 .map(|(what, _)| what)
         });
-        self.truth.forget_action();
+        self.motion_truth.forget_action();
         if stopped.is_some() && !effects.iter().any(Effect::is_stop) {
             effects.push(Effect::Arm(ArmCommand::Stop));
         }
@@ -149,7 +149,7 @@ impl App {
             .tours
             .phase()
             .is_some_and(|phase| phase != Leg::Waiting);
-        let running = match self.truth.action() {
+        let running = match self.motion_truth.action() {
             _ if leg_moving => Some(self.tours.leg_text()),
             Some(action) => Some(action.kind.verb()),
             None => self.keys.jog().is_jogging().then(|| "jog".to_string()),
@@ -160,7 +160,7 @@ impl App {
     /// A telemetry sample against the cap, while a motion the console started runs.
     pub(super) fn watch_cap(&mut self, t: &Telemetry, now: Instant, effects: &mut Vec<Effect>) {
         let jog = self.keys.jog().active();
-        if jog.is_none() && self.truth.action().is_none() {
+        if jog.is_none() && self.motion_truth.action().is_none() {
             self.arm.on_cap_idle();
             return;
         }
@@ -180,7 +180,7 @@ impl App {
         effects: &mut Vec<Effect>,
     ) {
         // The action ends here, said once below (not also as "home stopped").
-        self.truth.forget_action();
+        self.motion_truth.forget_action();
         self.stop_everything(now, effects);
         tracing::warn!("{text}");
         self.error(text, now);
@@ -188,7 +188,7 @@ impl App {
 
     /// Whether the cap is watched; `None` until the driver says whether telemetry comes.
     pub fn cap_watched(&self) -> Option<bool> {
-        self.truth
+        self.motion_truth
             .expected_telemetry()
             .map(|source| source != TelemetrySource::None)
     }
@@ -234,7 +234,7 @@ impl App {
         effects: &mut Vec<Effect>,
     ) -> bool {
         let running = self
-            .truth
+            .motion_truth
             .action()
             .is_some_and(|action| action.kind.stops_on_any_key());
         if key.kind != KeyKind::Press || !running {
@@ -305,7 +305,7 @@ impl App {
         now: Instant,
         effects: &mut Vec<Effect>,
     ) {
-        if !self.keys.jog().is_jogging() && self.truth.action().is_none() {
+        if !self.keys.jog().is_jogging() && self.motion_truth.action().is_none() {
             return;
         }
         if let Some(why) = parts::arm_refusal(t) {

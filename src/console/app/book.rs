@@ -2,7 +2,7 @@
 //! loop (`book_load`), saving each change on the writer's thread (`saving`), merges with another
 //! writer's changes (a name both changed is kept twice, `pick~2`, and the technician asked), and
 //! re-saving names a Talos operator lost (`resave`). Edits are in `edits`, the named-position keys
-//! in `named`.
+//! in `saved_positions`.
 
 use std::time::Instant;
 
@@ -136,7 +136,7 @@ impl App {
         let busy = !self.screen.overlay_is_none()
             || self.keys.jog().is_jogging()
             || self.tours.phase().is_some()
-            || self.truth.action().is_some();
+            || self.motion_truth.action().is_some();
         if busy {
             return;
         }

@@ -73,7 +73,7 @@ pub fn progress(t: &Telemetry, motion: JogMotion, base_frame: bool) -> Option<(f
 
 /// The tool moving fast with under [`ALONG_FRACTION`] of its speed along our direction: where it
 /// goes, in words. Only for a cartesian jog in the base frame, the frame of the twist.
-pub fn elsewhere(t: &Telemetry, motion: JogMotion, base_frame: bool) -> Option<String> {
+pub fn off_our_direction(t: &Telemetry, motion: JogMotion, base_frame: bool) -> Option<String> {
     let JogMotion::Cartesian { .. } = motion else {
         return None;
     };
@@ -117,7 +117,7 @@ pub fn contradiction(
     if rest_telling && at_rest(t) {
         return Some(Contradiction::AtRest);
     }
-    if let Some(seen) = elsewhere(t, motion, base_frame) {
+    if let Some(seen) = off_our_direction(t, motion, base_frame) {
         return Some(Contradiction::Elsewhere { seen });
     }
     let (seen, unit) = progress(t, motion, base_frame)?;

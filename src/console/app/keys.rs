@@ -177,7 +177,7 @@ impl App {
                 effects.push(Effect::Arm(ArmCommand::SetSpeed(speed)));
             }
             A::FrameCycle => {
-                if !self.offers().carries(A::FrameCycle) {
+                if !self.link_actions().carries(A::FrameCycle) {
                     self.info("the Talos link jogs in the base frame only", now);
                     return;
                 }
@@ -247,7 +247,7 @@ impl App {
         now: Instant,
     ) {
         if let Some(motion) = before {
-            let watched = self.truth.expects_telemetry();
+            let watched = self.motion_truth.expects_telemetry();
             self.arm
                 .others_mut()
                 .hold_refresh(motion, watched, jog, now);

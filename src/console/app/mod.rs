@@ -12,14 +12,14 @@ mod history;
 mod jog_evidence;
 mod keys;
 mod limits;
+mod link_actions;
 mod message;
 mod motion_truth;
-mod named;
-mod offers;
 mod other_client;
 mod parts;
 mod question;
 mod resave;
+mod saved_positions;
 mod saving;
 mod screen;
 mod singularity;
@@ -41,12 +41,11 @@ pub use jog_evidence::{
 };
 pub use keys::TAP_STEP_LIMIT;
 pub use limits::{LIMIT_WARNING_DEG, NearLimit, near_limits};
+pub use link_actions::{LinkActions, SessionView};
 pub use motion_truth::{
-    ACTION_TIMEOUT, ARRIVED_DEG, ARRIVED_MM, ActionKind, GoToTarget, MotionShown, MotionTruth,
-    NO_TELEMETRY_ACTION_TIME, STALE_AFTER, STOP_GRACE, StoredAction, TrackedAction, TruthView,
+    ACTION_TIMEOUT, ARRIVED_DEG, ARRIVED_MM, ActionKind, GoToTarget, MotionShown, MotionStatusView,
+    MotionTruth, NO_TELEMETRY_ACTION_TIME, STALE_AFTER, STOP_GRACE, StoredAction, TrackedAction,
 };
-pub use named::tool_position;
-pub use offers::{Offers, SessionView};
 pub use other_client::{
     CONTRADICTED_FOR, OTHER_CLIENT_GRACE, OTHER_CLIENT_SAMPLES, OtherClients, REFRESH_SAMPLES,
     REFRESH_WAIT,
@@ -55,6 +54,7 @@ pub use parts::arm_refusal;
 pub use parts::{ArmView, BookView, KeysView, ScreenView, TourView};
 pub use question::{BURST_KEY_GAP, QUESTION_QUIET};
 pub use resave::RESAVE_GO_WITHIN;
+pub use saved_positions::tool_position;
 pub use singularity::{AT_SINGULARITY, SINGULARITY_WARNING, near_singularity, singularity_text};
 pub use speed_steps::{SPEED_STEPS, next_speed};
 pub use stop_hold::{RESEND_EVERY, SLOWING_DOWN, STOP_HOLD, StopHold};
@@ -247,7 +247,7 @@ pub struct App {
     book: parts::Book,
     arm: parts::Arm,
     /// Link health and motion evidence (LINK STALE, MAY BE MOVING, MOVING: HOME).
-    truth: MotionTruth,
+    motion_truth: MotionTruth,
     /// What is drawn over the panels and on the bottom line, and the terminal's size.
     screen: parts::Screen,
     tours: parts::Tours,
@@ -278,7 +278,7 @@ impl App {
             keys,
             book: parts::Book::new(positions),
             arm: parts::Arm::default(),
-            truth: MotionTruth::default(),
+            motion_truth: MotionTruth::default(),
             screen: parts::Screen::default(),
             tours: parts::Tours::default(),
             quitting: false,
@@ -303,7 +303,7 @@ impl App {
             .next_deadline()
             .into_iter()
             .chain(message)
-            .chain(self.truth_deadline())
+            .chain(self.motion_truth_deadline())
             .chain(self.other_clients_deadline())
             .min()
     }
@@ -361,17 +361,17 @@ impl App {
     /// The follow-ups after every input, in this order; each reads what the ones above left.
     /// A new follow-up goes here, with its reason.
     fn follow_ups(&mut self, before: BeforeInput, now: Instant, effects: &mut Vec<Effect>) {
-        // 1. Before the truth notes what goes out: the tour ends on an interruption or a
+        // 1. Before the motion truth notes what goes out: the tour ends on an interruption or a
         //    refusing gate (its STOP then goes out and is noted), or starts its next leg (a
-        //    go-to the gate and the truth must see; `tests/console/app/tours.rs` fails if not).
-        self.tour_before_truth(before.interrupted, now, effects);
+        //    go-to the gate and the motion truth must see; `tests/console/app/tours.rs` fails if not).
+        self.tour_before_motion_truth(before.interrupted, now, effects);
         // 2. After 1: a go-to the tour just emitted is tracked under its leg's name.
         let goto = before.goto.or_else(|| self.tours.starting_leg());
         // 3. After every emitter (the input, the tour): the gate drops motion it refuses, a
         //    stale link stops the jog, and each command going out is noted as evidence awaited.
-        self.truth_after(goto, now, effects);
-        // 4. After 3: a leg the truth now tracks is moving; one the gate dropped ends the tour.
-        self.tour_after_truth(now);
+        self.motion_truth_after(goto, now, effects);
+        // 4. After 3: a leg the motion truth now tracks is moving; one the gate dropped ends the tour.
+        self.tour_after_motion_truth(now);
         // 5. Saves asked while the book loads or could not be read are held back (and said).
         //    Before 6; with the steps above, order not known to matter (they emit no saves).
         self.hold_saves_until_loaded(now, effects);

@@ -159,7 +159,7 @@ pub enum MotionShown {
 
 /// What the status bar and the panels show of the motion truth, worked out once per frame.
 #[derive(Debug, Clone, PartialEq)]
-pub struct TruthView {
+pub struct MotionStatusView {
     pub motion: MotionShown,
     /// How long the link has been silent, when that makes it stale.
     pub link_stale: Option<Duration>,

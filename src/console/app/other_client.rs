@@ -175,7 +175,7 @@ impl App {
             others.end_contradiction();
             return;
         }
-        let modbus = self.truth.expected_telemetry() == Some(TelemetrySource::Modbus);
+        let modbus = self.motion_truth.expected_telemetry() == Some(TelemetrySource::Modbus);
         if modbus && ended_under_jog(t, motion, was_twist) {
             let evidence = format!(
                 "the arm's action is {} ({}) under our {} jog",
@@ -292,8 +292,8 @@ impl App {
     /// Idle, nothing unsettled, and the arm moving for [`OTHER_CLIENT_SAMPLES`] samples.
     pub(super) fn moved_by_another_client(&self) -> bool {
         self.keys.jog().active().is_none()
-            && self.truth.action().is_none()
-            && !self.truth.is_unsettled()
+            && self.motion_truth.action().is_none()
+            && !self.motion_truth.is_unsettled()
             && self.arm.others().moving_in_a_row >= OTHER_CLIENT_SAMPLES
     }
 

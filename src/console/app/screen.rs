@@ -6,8 +6,8 @@
 use std::collections::VecDeque;
 use std::time::Instant;
 
+use super::link_actions::{LinkActions, SessionView};
 use super::message::{MESSAGE_TIME, Message, Until};
-use super::offers::{Offers, SessionView};
 use super::{
     App, AppConfig, BookState, Effect, KeyInput, MotionTruth, Overlay, Pasted, Severity, Step,
 };
@@ -42,7 +42,7 @@ impl App {
             session: self.session_view(),
             keys: self.keys.view(),
             arm: self.arm.view(self.now),
-            truth: self.truth_view(),
+            motion_status: self.motion_status_view(),
             book: self.book.view(rows),
             screen: self.screen.view(rows),
             tour: self.tours.view(),
@@ -89,7 +89,7 @@ impl App {
     }
 
     pub fn telemetry_source(&self) -> TelemetrySource {
-        self.truth
+        self.motion_truth
             .expected_telemetry()
             .unwrap_or(TelemetrySource::None)
     }
@@ -134,8 +134,8 @@ impl App {
         self.quitting
     }
 
-    pub fn truth(&self) -> &MotionTruth {
-        &self.truth
+    pub fn motion_truth(&self) -> &MotionTruth {
+        &self.motion_truth
     }
 
     /// Shows a message that lasts while `until`'s state holds.
@@ -154,7 +154,7 @@ impl App {
         let link_up = self.arm.link_up();
         let stale = self.link_stale().is_some();
         let guard_ready = self.arm.guard_ready();
-        let stop_unconfirmed = self.truth.stop_unconfirmed();
+        let stop_unconfirmed = self.motion_truth.stop_unconfirmed();
         let unsaved = self.unsaved_positions() > 0;
         let writing = self.book.writing();
         let arm_refuses = self.arm.refusal().is_some();
@@ -179,14 +179,14 @@ impl App {
             frames: config.frames,
             simulated: config.simulated,
             positions_on_operator: config.positions_on_operator,
-            offers: self.offers(),
+            link_actions: self.link_actions(),
             arm_name: config.arm_name.clone(),
         }
     }
 
     /// Which of the actions that only some links carry this session's links carry.
-    pub fn offers(&self) -> Offers {
-        Offers {
+    pub fn link_actions(&self) -> LinkActions {
+        LinkActions {
             save: self.can_save_position(),
             turn: self.can_turn(),
             joint: self.can_jog_joints(),
@@ -207,7 +207,7 @@ impl App {
     /// itself; otherwise the console needs telemetry's pose. Offered until the driver has said
     /// which telemetry to expect.
     pub fn save_refusal(&self) -> Option<&'static str> {
-        let no_telemetry = self.truth.expected_telemetry() == Some(TelemetrySource::None);
+        let no_telemetry = self.motion_truth.expected_telemetry() == Some(TelemetrySource::None);
         (!self.config.positions_on_operator && no_telemetry).then_some(
             "cannot save here: this operator (ack dialect) keeps no positions and sends no \
              telemetry to read the pose from; add --modbus for telemetry",
@@ -256,7 +256,7 @@ impl App {
     /// No Modbus link: Modbus telemetry is expected exactly when there is one.
     pub(super) fn without_modbus(&self) -> bool {
         matches!(
-            self.truth.expected_telemetry(),
+            self.motion_truth.expected_telemetry(),
             Some(TelemetrySource::TalosHardware | TelemetrySource::None)
         )
     }

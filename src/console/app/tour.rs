@@ -206,7 +206,7 @@ impl App {
 
     /// Stops the current leg: the tour's message says so, not "go to 'bench' stopped".
     fn stop_leg(&mut self, effects: &mut Vec<Effect>) {
-        self.truth.forget_action();
+        self.motion_truth.forget_action();
         if !effects.iter().any(Effect::is_stop) {
             effects.push(Effect::Arm(ArmCommand::Stop));
         }
@@ -252,9 +252,9 @@ impl App {
         !own_stop
     }
 
-    /// After an input, before the truth notes what goes out: an interruption or refusing gate ends
+    /// After an input, before the motion truth notes what goes out: an interruption or refusing gate ends
     /// the tour; a leg done at rest leads to the next, one that ended otherwise ends the tour.
-    pub(super) fn tour_before_truth(
+    pub(super) fn tour_before_motion_truth(
         &mut self,
         interrupted: Option<String>,
         now: Instant,
@@ -277,7 +277,7 @@ impl App {
         if phase != Leg::Moving || self.leg_tracked() {
             return;
         }
-        let at_rest = !self.truth.is_unsettled() && self.truth.expects_telemetry();
+        let at_rest = !self.motion_truth.is_unsettled() && self.motion_truth.expects_telemetry();
         if !at_rest {
             // The failure's own message (go to 'bench' failed: aborted) is the reason.
             let reason = self
@@ -305,8 +305,8 @@ impl App {
         }
     }
 
-    /// After the truth noted what goes out: a leg started is tracked; one dropped ends the tour.
-    pub(super) fn tour_after_truth(&mut self, now: Instant) {
+    /// After the motion truth noted what goes out: a leg started is tracked; one dropped ends the tour.
+    pub(super) fn tour_after_motion_truth(&mut self, now: Instant) {
         if self.tours.phase() != Some(Leg::Starting) {
             return;
         }
@@ -318,12 +318,12 @@ impl App {
         }
     }
 
-    /// The go-to of the current leg is the action the truth tracks.
+    /// The go-to of the current leg is the action the motion truth tracks.
     fn leg_tracked(&self) -> bool {
         let Some(name) = self.tours.leg_position() else {
             return false;
         };
-        self.truth
+        self.motion_truth
             .action()
             .is_some_and(|a| a.kind == ActionKind::GoTo(name.to_string()))
     }

@@ -124,7 +124,7 @@ fn a_due_time_dependent_change_is_drawn_with_no_new_report_at_the_live_rate() {
     let mut pacer = FramePacer::default();
     pacer.changed(false, &app, start);
     assert!(pacer.frame(View::new(&app), start).is_some());
-    assert_eq!(View::new(&app).truth.link_stale, None);
+    assert_eq!(View::new(&app).motion_status.link_stale, None);
 
     // A tick before anything is due shows the same: not drawn.
     let early = start + Duration::from_millis(50);
@@ -144,7 +144,7 @@ fn a_due_time_dependent_change_is_drawn_with_no_new_report_at_the_live_rate() {
     let painted = pacer
         .frame(View::new(&app), due)
         .expect("the stale link is drawn");
-    assert!(painted.truth.link_stale.is_some());
+    assert!(painted.motion_status.link_stale.is_some());
 
     // And its age, as it grows, is drawn again.
     let later = deadline + Duration::from_secs(2);
@@ -157,7 +157,7 @@ fn a_due_time_dependent_change_is_drawn_with_no_new_report_at_the_live_rate() {
     take(&mut app, &mut pacer, report(&telemetry), fresh);
     assert_eq!(pacer.due_at(), Some(later + FRAME));
     let painted = pacer.frame(View::new(&app), later + FRAME).expect("fresh");
-    assert_eq!(painted.truth.link_stale, None);
+    assert_eq!(painted.motion_status.link_stale, None);
 }
 
 #[test]

@@ -145,7 +145,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
             .all(|j| JOINT_ANGLE_DEG.sane(j.position).is_some())
     };
     let Some(telemetry) = view.arm.telemetry.as_ref().filter(sane) else {
-        let text = match view.truth.telemetry_source {
+        let text = match view.motion_status.telemetry_source {
             TelemetrySource::None => NO_TELEMETRY,
             _ if view.arm.telemetry.is_some() => NOT_FINITE,
             _ => WAITING,
@@ -169,7 +169,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
             .map(|(shade, [x, y, z])| (*shade, Vector3::new(*x, *y, *z)))
             .collect(),
         markers: markers(view),
-        arrow: match view.truth.motion {
+        arrow: match view.motion_status.motion {
             MotionShown::Jog(motion) => {
                 let frame = view.session.frames.then_some(view.arm.frame);
                 jog_direction(motion, frame, &position_deg)

@@ -10,7 +10,7 @@ use ratatui::text::Line;
 
 use super::theme::Theme;
 use crate::console::action::Action;
-use crate::console::app::{Offers, Severity};
+use crate::console::app::{LinkActions, Severity};
 use crate::console::keymap::{KeyName, Keymap, NamedKey};
 use crate::console::view::View;
 
@@ -104,7 +104,11 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
         }
         None => {
             let session = &view.session;
-            let keys = footer(&session.keymap, session.offers, usize::from(area.width));
+            let keys = footer(
+                &session.keymap,
+                session.link_actions,
+                usize::from(area.width),
+            );
             Line::styled(keys, theme.dim())
         }
     };
@@ -112,14 +116,14 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
 }
 
 /// The key groups of `keymap` that fit in `width` columns, in display order. Only actions the
-/// links carry (`offers`) get a key: a group of none is left out (the joint keys without a Talos
+/// links carry (`link_actions`) get a key: a group of none is left out (the joint keys without a Talos
 /// operator in the ICD dialect, the turn keys and the stored action key without a Modbus link,
 /// the save key where saving cannot work, the go-to key where no link moves to a saved
 /// position).
-pub fn footer(keymap: &Keymap, offers: Offers, width: usize) -> String {
+pub fn footer(keymap: &Keymap, link_actions: LinkActions, width: usize) -> String {
     let groups: Vec<(u8, String)> = GROUPS
         .iter()
-        .filter_map(|group| Some((group.priority, group_text(keymap, offers, group)?)))
+        .filter_map(|group| Some((group.priority, group_text(keymap, link_actions, group)?)))
         .collect();
     let mut by_need: Vec<usize> = (0..groups.len()).collect();
     by_need.sort_by_key(|&i| groups[i].0);
@@ -144,11 +148,11 @@ pub fn footer(keymap: &Keymap, offers: Offers, width: usize) -> String {
 
 /// `keys label`, e.g. `w/s/a/d/r/f jog`; `None` when the keymap binds none of its actions that
 /// the links carry.
-fn group_text(keymap: &Keymap, offers: Offers, group: &Group) -> Option<String> {
+fn group_text(keymap: &Keymap, link_actions: LinkActions, group: &Group) -> Option<String> {
     let keys: Vec<KeyName> = group
         .actions
         .iter()
-        .filter(|action| offers.carries(**action))
+        .filter(|action| link_actions.carries(**action))
         .filter_map(|action| keymap.key_for(*action))
         .collect();
     if keys.is_empty() {
@@ -185,7 +189,7 @@ mod tests {
 
     #[test]
     fn a_wide_footer_shows_every_group_in_order() {
-        let text = footer(&default_keymap(), Offers::ALL, 200);
+        let text = footer(&default_keymap(), LinkActions::ALL, 200);
         assert_eq!(
             text,
             "w/s/a/d/r/f jog  i/m/l/b/e/z turn  arrows pan  k/j joint  space stop  +/- speed  \
@@ -196,9 +200,9 @@ mod tests {
     #[test]
     fn a_narrow_footer_drops_whole_groups_least_needed_first() {
         let keymap = default_keymap();
-        let full = footer(&keymap, Offers::ALL, 200);
+        let full = footer(&keymap, LinkActions::ALL, 200);
         for width in 0..=full.len() {
-            let text = footer(&keymap, Offers::ALL, width);
+            let text = footer(&keymap, LinkActions::ALL, width);
             assert!(text.chars().count() <= width, "{width}: {text}");
             for group in text.split(GROUP_GAP) {
                 assert!(full.contains(group), "{width}: {group} is cut");
@@ -208,7 +212,7 @@ mod tests {
             }
         }
         assert_eq!(
-            footer(&keymap, Offers::ALL, 30),
+            footer(&keymap, LinkActions::ALL, 30),
             "space stop  ? help  q quit"
         );
     }
@@ -220,11 +224,11 @@ mod tests {
         let turn = "  i/m/l/b/e/z turn";
         // Just wide enough for the turn group beside pan and the essentials: it is shown.
         assert_eq!(
-            footer(&keymap, Offers::ALL, essentials.len() + turn.len()),
+            footer(&keymap, LinkActions::ALL, essentials.len() + turn.len()),
             "w/s/a/d/r/f jog  i/m/l/b/e/z turn  arrows pan  space stop  ? help  q quit"
         );
         // One column less: the turn group goes (smaller groups may fill the room), pan stays.
-        let narrower = footer(&keymap, Offers::ALL, essentials.len() + turn.len() - 1);
+        let narrower = footer(&keymap, LinkActions::ALL, essentials.len() + turn.len() - 1);
         assert!(!narrower.contains("turn"), "{narrower}");
         for group in essentials.split(GROUP_GAP) {
             assert!(narrower.contains(group), "{group} dropped: {narrower}");
@@ -233,9 +237,9 @@ mod tests {
 
     #[test]
     fn turns_that_the_link_cannot_carry_are_not_offered() {
-        let offered = Offers {
+        let offered = LinkActions {
             turn: false,
-            ..Offers::ALL
+            ..LinkActions::ALL
         };
         let text = footer(&default_keymap(), offered, 200);
         assert!(!text.contains("turn"), "{text}");
@@ -244,9 +248,9 @@ mod tests {
 
     #[test]
     fn joint_jogs_that_the_links_cannot_carry_are_not_offered() {
-        let offered = Offers {
+        let offered = LinkActions {
             joint: false,
-            ..Offers::ALL
+            ..LinkActions::ALL
         };
         let text = footer(&default_keymap(), offered, 200);
         assert!(!text.contains("joint"), "{text}");
@@ -255,9 +259,9 @@ mod tests {
 
     #[test]
     fn saving_that_cannot_work_is_not_offered() {
-        let offered = Offers {
+        let offered = LinkActions {
             save: false,
-            ..Offers::ALL
+            ..LinkActions::ALL
         };
         let text = footer(&default_keymap(), offered, 200);
         assert!(!text.contains("save"), "{text}");
@@ -266,9 +270,9 @@ mod tests {
 
     #[test]
     fn a_go_to_that_cannot_work_is_not_offered() {
-        let offered = Offers {
+        let offered = LinkActions {
             go_to: false,
-            ..Offers::ALL
+            ..LinkActions::ALL
         };
         let text = footer(&default_keymap(), offered, 200);
         assert!(!text.contains("go to"), "{text}");
@@ -277,16 +281,16 @@ mod tests {
 
     #[test]
     fn stored_actions_that_the_link_cannot_run_are_not_offered() {
-        let offered = Offers {
+        let offered = LinkActions {
             stored: false,
-            ..Offers::ALL
+            ..LinkActions::ALL
         };
         let text = footer(&default_keymap(), offered, 200);
         assert!(!text.contains("stored"), "{text}");
         assert!(text.contains("h home  p save"), "{text}");
         // The least needed group: the first dropped when the line is short.
-        let full = footer(&default_keymap(), Offers::ALL, 200);
-        let short = footer(&default_keymap(), Offers::ALL, full.len() - 1);
+        let full = footer(&default_keymap(), LinkActions::ALL, 200);
+        let short = footer(&default_keymap(), LinkActions::ALL, full.len() - 1);
         assert!(
             full.contains("A stored") && !short.contains("A stored"),
             "{short}"

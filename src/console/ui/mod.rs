@@ -35,7 +35,7 @@ pub use theme::Theme;
 
 /// What a telemetry panel says when it has nothing to show.
 pub fn no_telemetry_text(view: &View) -> &'static str {
-    match view.truth.telemetry_source {
+    match view.motion_status.telemetry_source {
         TelemetrySource::None => "no telemetry: the ack-dialect operator sends none back",
         _ => "waiting for telemetry...",
     }
@@ -43,7 +43,7 @@ pub fn no_telemetry_text(view: &View) -> &'static str {
 
 /// Greys out the inside of a telemetry panel whose values are old (call after drawing it).
 pub fn grey_if_stale(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
-    if view.truth.telemetry_stale.is_some() {
+    if view.motion_status.telemetry_stale.is_some() {
         let inner = Block::default().borders(Borders::ALL).inner(area);
         frame.buffer_mut().set_style(inner, theme.stale());
     }
@@ -68,7 +68,7 @@ pub fn fitted_panel(titles: &[String], width: u16, theme: &Theme) -> Block<'stat
 /// then `title` alone; each with the telemetry's age when it is old (the age goes last).
 pub fn telemetry_titles(title: &str, details: &[&str], view: &View) -> Vec<String> {
     let stale = view
-        .truth
+        .motion_status
         .telemetry_stale
         .map(|age| format!(" (stale {})", super::app::age_text(age)))
         .unwrap_or_default();

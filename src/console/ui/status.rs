@@ -106,7 +106,8 @@ fn speed_part(view: &View, mm_s: bool) -> String {
         let decimals = usize::from(mm_s < 10.0);
         format!("≤{mm_s:.decimals$} mm/s")
     });
-    let unwatched = (view.truth.cap_watched == Some(false)).then(|| "cap not watched".into());
+    let unwatched =
+        (view.motion_status.cap_watched == Some(false)).then(|| "cap not watched".into());
     let notes: Vec<String> = cap.into_iter().chain(unwatched).collect();
     match notes.is_empty() {
         true => percent,
@@ -165,7 +166,7 @@ fn link_line(view: &View, theme: &Theme, width: usize) -> Line<'static> {
     let (detail, detail_style, latency) = match &view.arm.link {
         LinkStatus::Up { description } => {
             // A link that went silent is not shown as healthy.
-            badges.push(match view.truth.link_stale {
+            badges.push(match view.motion_status.link_stale {
                 Some(age) => Span::styled(format!(" LINK STALE {} ", age_text(age)), theme.alarm()),
                 None => Span::styled(" LINK UP ", theme.ok()),
             });
@@ -250,7 +251,7 @@ fn motion_line(view: &View, theme: &Theme, width: usize) -> Line<'static> {
 
 fn motion_spans(view: &View, theme: &Theme, cut: Cut) -> Vec<Span<'static>> {
     let mut reason = None;
-    let (motion, style) = match view.truth.motion.clone() {
+    let (motion, style) = match view.motion_status.motion.clone() {
         MotionShown::Jog(motion @ JogMotion::Orientation { .. }) => {
             (format!(" JOG {} ", turn_text(view, motion)), theme.moving())
         }

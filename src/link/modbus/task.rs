@@ -1,8 +1,8 @@
 //! The task that owns the connection (rules: parent module).
 
-mod elsewhere;
 mod jog;
 mod limits;
+mod other_client;
 mod reconnect;
 
 use std::time::Duration;
@@ -99,9 +99,9 @@ pub(super) struct LinkTask {
     closing_attempts: u32,
     close_replies: Vec<Reply<()>>,
     /// Our twist's write, until the arm is seen to run it (see `elsewhere`).
-    twist_start: Option<elsewhere::TwistStart>,
+    twist_start: Option<other_client::TwistStart>,
     /// The motion another client stopped or replaced: asked again, it is not restarted.
-    ended_elsewhere: Option<MotionInForce>,
+    ended_by_other_client: Option<MotionInForce>,
 }
 
 /// Which of a strict arm's blocks a snapshot reads (see [`PollPlan::is_slow`]).
@@ -142,7 +142,7 @@ impl LinkTask {
             closing_attempts: 0,
             close_replies: Vec::new(),
             twist_start: None,
-            ended_elsewhere: None,
+            ended_by_other_client: None,
         }
     }
 
@@ -292,8 +292,8 @@ impl LinkTask {
         if result.is_ok() {
             // A rewrite of the running twist (a new direction, a pan's new pose) keeps its start.
             self.twist_start
-                .get_or_insert_with(elsewhere::TwistStart::now);
-            self.ended_elsewhere = None;
+                .get_or_insert_with(other_client::TwistStart::now);
+            self.ended_by_other_client = None;
         } else if self.ctx.is_some() {
             let _ = self.stop(StopReason::WriteFailed).await;
         } else {
@@ -308,7 +308,7 @@ impl LinkTask {
         self.motion = MotionInForce::Idle;
         self.hold_until = None;
         self.twist_start = None;
-        self.ended_elsewhere = None;
+        self.ended_by_other_client = None;
         let stop_error = match self.execute(&commands::stop()).await {
             Ok(report) => {
                 self.stop_owed = false;
@@ -379,7 +379,7 @@ impl LinkTask {
     async fn tick(&mut self) {
         match self.poll().await {
             Ok(telemetry) => {
-                self.note_motion_ended_elsewhere(&telemetry);
+                self.note_motion_ended_by_other_client(&telemetry);
                 self.refresh_polar(telemetry.tcp.pose).await;
                 self.note_action(&telemetry).await;
             }

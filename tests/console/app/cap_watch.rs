@@ -175,7 +175,7 @@ fn home_go_to_and_steps_are_watched_too() {
     );
     let (effects, _) = feed_all(&mut app, &three, answered);
     assert_eq!(effects, [STOP], "home");
-    assert!(app.truth().action().is_none());
+    assert!(app.motion_truth().action().is_none());
     assert!(
         message(&app).contains("over the 50 mm/s cap"),
         "{}",

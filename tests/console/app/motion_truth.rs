@@ -407,7 +407,7 @@ fn a_home_on_an_arm_in_fault_fails() {
         message(&app),
         "home failed: the arm is in fault: emergency_stop"
     );
-    assert!(app.truth().action().is_none());
+    assert!(app.motion_truth().action().is_none());
 }
 
 #[test]
@@ -477,7 +477,7 @@ fn a_failed_home_command_stops_and_reports() {
         message(&app),
         "home failed: not connected to the arm: connection reset"
     );
-    assert!(app.truth().action().is_none());
+    assert!(app.motion_truth().action().is_none());
 }
 
 #[test]
@@ -520,7 +520,7 @@ fn a_go_to_the_link_cannot_carry_ends_its_tracking_and_stops() {
         error: ArmError::NoLinkCarriesIt,
     };
     assert_eq!(app.handle(Input::Arm(failed), t0 + ms(2)), [STOP]);
-    assert!(app.truth().action().is_none());
+    assert!(app.motion_truth().action().is_none());
     assert_eq!(
         message(&app),
         "move to pose failed: not possible over this link"
@@ -591,7 +591,7 @@ fn a_stale_link_starts_no_home_step_or_go_to() {
     assert_eq!(app.overlay(), &Overlay::None);
     press(&mut app, "t", stale);
     assert!(press(&mut app, "w", stale).is_empty(), "no step");
-    assert!(app.truth().action().is_none());
+    assert!(app.motion_truth().action().is_none());
     // Fresh again: a new press moves.
     app.handle(key("w", KeyKind::Release), stale + ms(5));
     feed(&mut app, at_rest(), stale + ms(10));

@@ -244,7 +244,7 @@ fn an_abort_or_a_fault_is_a_failure_naming_the_kind_and_id() {
         app.message(),
         Some(("action 5 failed: aborted", Severity::Error))
     );
-    assert!(app.truth().action().is_none());
+    assert!(app.motion_truth().action().is_none());
 
     let (mut second, t0) = console(TelemetrySource::Modbus);
     start(&mut second, "5", t0);
@@ -279,7 +279,7 @@ fn an_id_the_arm_does_not_take_fails_within_2_s_naming_it() {
         "{text}"
     );
     assert!(text.contains("Web App, Actions page"), "{text}");
-    assert!(app.truth().action().is_none());
+    assert!(app.motion_truth().action().is_none());
 }
 
 #[test]
@@ -292,7 +292,7 @@ fn any_key_stops_a_stored_run_and_does_nothing_else() {
         assert_eq!(effects, [STOP], "{key}");
         assert_eq!(message(&app), "action 5 stopped", "{key}");
         assert_eq!(*app.overlay(), Overlay::None, "{key}: nothing opened");
-        assert!(app.truth().action().is_none(), "{key}");
+        assert!(app.motion_truth().action().is_none(), "{key}");
         assert!(!app.quitting(), "{key}");
     }
     // Home is a stored run too.
@@ -333,7 +333,7 @@ fn over_a_talos_only_link_the_key_says_why_and_the_footer_leaves_it_out() {
 /// The footer as the view offers it, at 200 columns.
 fn footer(app: &App) -> String {
     let view = View::new(app);
-    ui::hints::footer(&view.session.keymap, view.session.offers, 200)
+    ui::hints::footer(&view.session.keymap, view.session.link_actions, 200)
 }
 
 #[test]

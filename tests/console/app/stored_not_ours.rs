@@ -47,7 +47,7 @@ fn another_clients_move_under_our_stored_action_stops_it_and_is_never_done() {
                  action 5; STOP sent"
             )
         );
-        assert!(app.truth().action().is_none(), "{theirs}");
+        assert!(app.motion_truth().action().is_none(), "{theirs}");
         assert_ne!(app.motion_shown(), moving("ACTION 5"), "{theirs}");
         // Its end at rest is not ours: nothing says done, nothing moves.
         let said = message(&app);
@@ -97,7 +97,7 @@ fn another_clients_action_under_our_modbus_home_stops_it_and_is_never_home_done(
         "home not done: MOVED BY ANOTHER CLIENT: the arm runs action 5, not our action 2; \
          STOP sent"
     );
-    assert!(app.truth().action().is_none());
+    assert!(app.motion_truth().action().is_none());
     let said = message(&app);
     let end = last_run(5, MoveType::Action, ActionStatus::Completed, 0.0);
     assert_eq!(feed(&mut app, end, t0 + ms(1200)), []);

@@ -205,7 +205,7 @@ async fn a_network_that_freezes_mid_jog_shows_link_stale_and_may_be_moving() {
             c.app.motion_shown() == MotionShown::Idle
         })
         .await;
-    assert!(!console.moving().await, "idle is the truth");
+    assert!(!console.moving().await, "idle is the motion_truth");
 }
 
 fn message(c: &Console) -> String {

@@ -234,7 +234,7 @@ async fn an_id_the_arm_does_not_have_fails_within_2_s_naming_it() {
         "{:?}",
         started.elapsed()
     );
-    assert!(console.app.truth().action().is_none());
+    assert!(console.app.motion_truth().action().is_none());
     assert!(!console.moving().await, "nothing moved");
 }
 

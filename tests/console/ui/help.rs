@@ -121,10 +121,10 @@ fn footers_of_every_keymap_at_several_widths() {
 fn a_footer_never_cuts_a_key_name_and_keeps_stop_help_and_quit() {
     for name in ["default", "numpad", "custom"] {
         let keymap = keymap(name);
-        let full = ui::hints::footer(&keymap, armjog::console::app::Offers::ALL, 1000);
+        let full = ui::hints::footer(&keymap, armjog::console::app::LinkActions::ALL, 1000);
         let key_names: Vec<String> = keymap.bindings().keys().map(|k| k.to_string()).collect();
         for width in 40..=full.len() {
-            let line = ui::hints::footer(&keymap, armjog::console::app::Offers::ALL, width);
+            let line = ui::hints::footer(&keymap, armjog::console::app::LinkActions::ALL, width);
             assert!(line.chars().count() <= width, "{name} {width}: {line}");
             for group in line.split("  ") {
                 assert!(full.contains(group), "{name} {width}: {group:?} was cut");
@@ -292,7 +292,7 @@ fn the_joint_keys_are_offered_only_where_a_talos_operator_carries_them() {
     ] {
         let (app, _) = app_with(keymap("default"), on_operator, telemetry, (200, 40));
         assert_eq!(app.can_jog_joints(), offered, "{telemetry:?}");
-        assert_eq!(app.offers().carries(Action::JointPlus), offered);
+        assert_eq!(app.link_actions().carries(Action::JointPlus), offered);
         let line = footer(&app);
         assert_eq!(
             line.contains("k/j joint"),
@@ -392,7 +392,7 @@ fn a_pose_saved_to_the_consoles_own_book_keeps_its_parent() {
 /// The footer's keys as the view offers them, at 200 columns, whatever message is shown.
 fn offered_footer(app: &App) -> String {
     let view = View::new(app);
-    ui::hints::footer(&view.session.keymap, view.session.offers, 200)
+    ui::hints::footer(&view.session.keymap, view.session.link_actions, 200)
 }
 
 /// Defines `name` at (x, y, z) mm with the set-cartesian form (`C`).

@@ -239,7 +239,7 @@ fn a_go_to_command_is_named_the_position_it_goes_to() {
     press(&mut app, "o", t0);
     press(&mut app, "y", t0 + QUESTION_QUIET);
     assert!(matches!(
-        app.truth().action().map(|a| a.kind.label()),
+        app.motion_truth().action().map(|a| a.kind.label()),
         Some(label) if label == "GOTO bench"
     ));
 }

@@ -6,8 +6,8 @@ use std::time::{Duration, Instant};
 
 use super::actions::{End, heuristic_end, run_end};
 use super::{
-    ActionKind, GoToTarget, INTERVALS_KEPT, MotionShown, STOP_GRACE, StoredAction, TrackedAction,
-    TruthView,
+    ActionKind, GoToTarget, INTERVALS_KEPT, MotionShown, MotionStatusView, STOP_GRACE,
+    StoredAction, TrackedAction,
 };
 use crate::console::app::age::age_text;
 use crate::console::app::message::Until;
@@ -18,35 +18,36 @@ use crate::link::interface::{ArmCommand, ArmEvent, LinkStatus};
 
 impl App {
     /// Evidence from the driver, before the event is otherwise handled.
-    pub(in crate::console::app) fn truth_on_arm(&mut self, event: &ArmEvent, now: Instant) {
-        let truth = &mut self.truth;
+    pub(in crate::console::app) fn motion_truth_on_arm(&mut self, event: &ArmEvent, now: Instant) {
+        let motion_truth = &mut self.motion_truth;
         match event {
             ArmEvent::Status(status) => {
                 if matches!(status, LinkStatus::Up { .. }) && !self.arm.link_up() {
-                    truth.link_up_at = Some(now);
-                    truth.waiting_since = None;
+                    motion_truth.link_up_at = Some(now);
+                    motion_truth.waiting_since = None;
                     // Back after a loss with motion unaccounted for: a STOP is always safe.
-                    truth.stop_needed |= truth.unsettled || truth.action.is_some();
+                    motion_truth.stop_needed |=
+                        motion_truth.unsettled || motion_truth.action.is_some();
                 }
             }
-            ArmEvent::TelemetrySource(source) => truth.expect = Some(*source),
+            ArmEvent::TelemetrySource(source) => motion_truth.expect = Some(*source),
             ArmEvent::Telemetry(t) => {
-                if let Some(last) = truth.telemetry_at {
+                if let Some(last) = motion_truth.telemetry_at {
                     let interval = now.saturating_duration_since(last);
-                    if truth.intervals.len() >= INTERVALS_KEPT {
-                        truth.intervals.pop_front();
+                    if motion_truth.intervals.len() >= INTERVALS_KEPT {
+                        motion_truth.intervals.pop_front();
                     }
-                    truth.intervals.push_back(interval);
+                    motion_truth.intervals.push_back(interval);
                 }
-                truth.telemetry_at = Some(now);
-                truth.telemetry_moving = !at_rest(t);
-                if !truth.telemetry_moving
-                    && truth
+                motion_truth.telemetry_at = Some(now);
+                motion_truth.telemetry_moving = !at_rest(t);
+                if !motion_truth.telemetry_moving
+                    && motion_truth
                         .stop_confirmed_at
                         .is_some_and(|confirmed| now >= confirmed)
                 {
-                    truth.unsettled = false;
-                    truth.stop_confirmed_at = None;
+                    motion_truth.unsettled = false;
+                    motion_truth.stop_confirmed_at = None;
                 }
             }
             // No answer to a command: a latency comes for polls as well as replies, the guard is
@@ -58,30 +59,30 @@ impl App {
             | ArmEvent::Done { .. }
             | ArmEvent::Failed { .. }
             | ArmEvent::Position { .. }
-            | ArmEvent::UnknownPosition { .. } => truth.waiting_since = None,
+            | ArmEvent::UnknownPosition { .. } => motion_truth.waiting_since = None,
             ArmEvent::StopConfirmed => {
-                truth.waiting_since = None;
-                truth.stop_sent = None;
-                if !truth.motion_since_stop {
-                    truth.stop_failure = None;
-                    if truth.expects_telemetry() {
-                        truth.stop_confirmed_at = Some(now);
+                motion_truth.waiting_since = None;
+                motion_truth.stop_sent = None;
+                if !motion_truth.motion_since_stop {
+                    motion_truth.stop_failure = None;
+                    if motion_truth.expects_telemetry() {
+                        motion_truth.stop_confirmed_at = Some(now);
                     } else {
-                        truth.unsettled = false;
+                        motion_truth.unsettled = false;
                     }
                 }
             }
             ArmEvent::StopUnconfirmed { reason } => {
-                truth.waiting_since = None;
-                truth.stop_sent = None;
-                truth.stop_failure = Some(reason.clone());
-                truth.stop_confirmed_at = None;
+                motion_truth.waiting_since = None;
+                motion_truth.stop_sent = None;
+                motion_truth.stop_failure = Some(reason.clone());
+                motion_truth.stop_confirmed_at = None;
             }
         }
         match event {
             ArmEvent::Telemetry(t) => self.watch_action(t, now),
             ArmEvent::Done { command } => {
-                if let Some(action) = self.truth.action.as_mut()
+                if let Some(action) = self.motion_truth.action.as_mut()
                     && action.kind.answers(command)
                 {
                     action.accepted.get_or_insert(now);
@@ -89,14 +90,14 @@ impl App {
             }
             ArmEvent::Failed { command, .. }
                 if self
-                    .truth
+                    .motion_truth
                     .action
                     .as_ref()
                     .is_some_and(|a| a.kind.failed_by(*command)) =>
             {
                 // The failure itself is said by the caller; a STOP settles the doubt.
-                self.truth.action = None;
-                self.truth.stop_needed = true;
+                self.motion_truth.action = None;
+                self.motion_truth.stop_needed = true;
             }
             ArmEvent::StopUnconfirmed { reason } => {
                 let text = format!(
@@ -109,8 +110,8 @@ impl App {
     }
 
     /// The truth's part of the view: the motion shown and the ages that make things stale.
-    pub(in crate::console::app) fn truth_view(&self) -> TruthView {
-        TruthView {
+    pub(in crate::console::app) fn motion_status_view(&self) -> MotionStatusView {
+        MotionStatusView {
             motion: self.motion_shown(),
             link_stale: self.link_stale(),
             telemetry_source: self.telemetry_source(),
@@ -124,20 +125,20 @@ impl App {
         if let Some(motion) = self.keys.jog().active() {
             return MotionShown::Jog(motion);
         }
-        let truth = &self.truth;
-        if let Some(action) = &truth.action {
+        let motion_truth = &self.motion_truth;
+        if let Some(action) = &motion_truth.action {
             return MotionShown::Action {
                 label: action.kind.label(),
-                confirmed: truth.expects_telemetry(),
+                confirmed: motion_truth.expects_telemetry(),
             };
         }
         let Some(now) = self.now else {
             return MotionShown::Idle;
         };
-        if let Some(reason) = &truth.stop_failure {
+        if let Some(reason) = &motion_truth.stop_failure {
             return MotionShown::MayBeMoving(format!("stop not confirmed: {reason}"));
         }
-        if truth.unsettled {
+        if motion_truth.unsettled {
             if !self.arm.link_up() {
                 return MotionShown::MayBeMoving("link lost after motion".into());
             }
@@ -149,21 +150,24 @@ impl App {
             }
         }
         let within = |at: Option<Instant>| at.is_some_and(|at| now < at + STOP_GRACE);
-        if within(truth.stop_sent) || (truth.unsettled && within(truth.stop_confirmed_at)) {
+        if within(motion_truth.stop_sent)
+            || (motion_truth.unsettled && within(motion_truth.stop_confirmed_at))
+        {
             return MotionShown::Stopping;
         }
-        let telemetry_fresh = self.telemetry_stale().is_none() && truth.telemetry_at.is_some();
+        let telemetry_fresh =
+            self.telemetry_stale().is_none() && motion_truth.telemetry_at.is_some();
         if telemetry_fresh && self.moved_by_another_client() {
             return MotionShown::MovedByAnotherClient;
         }
-        if telemetry_fresh && truth.telemetry_moving {
+        if telemetry_fresh && motion_truth.telemetry_moving {
             return MotionShown::MayBeMoving("telemetry shows motion".into());
         }
-        if truth.stop_sent.is_some() {
+        if motion_truth.stop_sent.is_some() {
             return MotionShown::MayBeMoving("stop not acknowledged".into());
         }
-        if truth.unsettled {
-            let why = if truth.stop_confirmed_at.is_some() {
+        if motion_truth.unsettled {
+            let why = if motion_truth.stop_confirmed_at.is_some() {
                 "no telemetry at rest since the stop"
             } else {
                 "motion not shown to have ended: press stop"
@@ -176,25 +180,25 @@ impl App {
     /// How long the link has been silent, when that makes it stale (only while it is up).
     pub fn link_stale(&self) -> Option<Duration> {
         let now = self.now.filter(|_| self.arm.link_up())?;
-        self.truth.stale_for(now)
+        self.motion_truth.stale_for(now)
     }
 
     /// The age of the telemetry shown, when it is old enough to be drawn as stale.
     pub fn telemetry_stale(&self) -> Option<Duration> {
-        let (now, at) = (self.now?, self.truth.telemetry_at?);
+        let (now, at) = (self.now?, self.motion_truth.telemetry_at?);
         let age = now.saturating_duration_since(at);
-        (age >= self.truth.stale_after()).then_some(age)
+        (age >= self.motion_truth.stale_after()).then_some(age)
     }
 
     /// The truth's part of [`App::next_deadline`].
-    pub(in crate::console::app) fn truth_deadline(&self) -> Option<Instant> {
+    pub(in crate::console::app) fn motion_truth_deadline(&self) -> Option<Instant> {
         let now = self.now?;
-        self.truth.next_deadline(now, self.arm.link_up())
+        self.motion_truth.next_deadline(now, self.arm.link_up())
     }
 
     /// After every input: a stale link starts no motion (a frozen network could deliver it any
     /// time) and stops the jog; tracked actions time out; emitted commands are noted.
-    pub(in crate::console::app) fn truth_after(
+    pub(in crate::console::app) fn motion_truth_after(
         &mut self,
         goto: Option<String>,
         now: Instant,
@@ -204,7 +208,7 @@ impl App {
         self.gate_effects(now, effects);
         if let Some(age) = self.link_stale() {
             // An action the console can no longer watch is stopped: never moving unseen.
-            self.truth.stop_needed |= self.truth.action.is_some();
+            self.motion_truth.stop_needed |= self.motion_truth.action.is_some();
             if self.keys.jog().is_jogging() {
                 self.stop_jog(now, effects);
                 let age = age_text(age);
@@ -213,7 +217,9 @@ impl App {
             }
         }
         self.time_out_action(now);
-        if std::mem::take(&mut self.truth.stop_needed) && !effects.iter().any(Effect::is_stop) {
+        if std::mem::take(&mut self.motion_truth.stop_needed)
+            && !effects.iter().any(Effect::is_stop)
+        {
             effects.push(Effect::Arm(ArmCommand::Stop));
         }
         for effect in effects.iter() {
@@ -240,13 +246,13 @@ impl App {
             ),
             _ => (None, None),
         };
-        let truth = &mut self.truth;
-        truth.waiting_since.get_or_insert(now);
+        let motion_truth = &mut self.motion_truth;
+        motion_truth.waiting_since.get_or_insert(now);
         if command.is_stop() {
-            truth.stop_sent = Some(now);
-            truth.motion_since_stop = false;
-            truth.stop_confirmed_at = None;
-            if let Some(action) = truth.action.take() {
+            motion_truth.stop_sent = Some(now);
+            motion_truth.motion_since_stop = false;
+            motion_truth.stop_confirmed_at = None;
+            if let Some(action) = motion_truth.action.take() {
                 let verb = action.kind.verb();
                 self.info(format!("{verb} stopped"), now);
             }
@@ -263,12 +269,12 @@ impl App {
             ArmCommand::Step(_) => Some(ActionKind::Step),
             _ => return,
         };
-        truth.unsettled = true;
-        truth.motion_since_stop = true;
-        truth.stop_confirmed_at = None;
+        motion_truth.unsettled = true;
+        motion_truth.motion_since_stop = true;
+        motion_truth.stop_confirmed_at = None;
         // A new motion replaces whatever action was running.
         let last = self.arm.telemetry();
-        truth.action = kind.map(|kind| TrackedAction {
+        motion_truth.action = kind.map(|kind| TrackedAction {
             run: match kind {
                 ActionKind::Stored(StoredAction::ById(stored)) => Some(StoredRun::new(stored)),
                 ActionKind::Stored(StoredAction::Home) => {
@@ -292,7 +298,7 @@ impl App {
 
     /// Watches a tracked action's end ([`crate::kortex::StoredRun::observe`], [`heuristic_end`]).
     pub(super) fn watch_action(&mut self, t: &Telemetry, now: Instant) {
-        let Some(action) = self.truth.action.as_mut() else {
+        let Some(action) = self.motion_truth.action.as_mut() else {
             return;
         };
         let Some(accepted) = action.accepted else {
@@ -305,8 +311,8 @@ impl App {
         let verb = action.kind.verb();
         match end {
             Some(End::Failed { reason, fault }) => {
-                self.truth.action = None;
-                self.truth.stop_needed = true;
+                self.motion_truth.action = None;
+                self.motion_truth.stop_needed = true;
                 // A fault's message stays until the fault is gone; an abort's is a notice.
                 let until = match fault {
                     true => Until::fault(None, true),
@@ -317,16 +323,16 @@ impl App {
             }
             Some(End::MovedByAnotherClient(evidence)) => {
                 // Not ours: stopped like a failure, and never said done.
-                self.truth.action = None;
-                self.truth.stop_needed = true;
+                self.motion_truth.action = None;
+                self.motion_truth.stop_needed = true;
                 let text =
                     format!("{verb} not done: MOVED BY ANOTHER CLIENT: {evidence}; STOP sent");
                 self.error(text, now);
             }
             Some(End::Done) => {
                 // The arm reported the end and telemetry shows it at rest: settled.
-                self.truth.action = None;
-                self.truth.unsettled = false;
+                self.motion_truth.action = None;
+                self.motion_truth.unsettled = false;
                 self.info(format!("{verb} done"), now);
             }
             None => {}
@@ -334,21 +340,21 @@ impl App {
     }
 
     pub(super) fn time_out_action(&mut self, now: Instant) {
-        let Some(action) = &self.truth.action else {
+        let Some(action) = &self.motion_truth.action else {
             return;
         };
-        let with_telemetry = self.truth.expects_telemetry();
-        let limit = self.truth.action_time_limit();
+        let with_telemetry = self.motion_truth.expects_telemetry();
+        let limit = self.motion_truth.action_time_limit();
         if now < action.sent + limit {
             return;
         }
         let (verb, secs) = (action.kind.verb(), limit.as_secs());
-        self.truth.action = None;
+        self.motion_truth.action = None;
         if with_telemetry {
             self.warn(format!("{verb}: no end seen within {secs} s"), now);
         } else {
             // Without telemetry an action ends once its longest expected time has passed.
-            self.truth.unsettled = false;
+            self.motion_truth.unsettled = false;
             let text = format!("{verb}: no telemetry; taken as ended after {secs} s");
             self.info(text, now);
         }

@@ -5,7 +5,7 @@ use crate::console::positions::Tour;
 /// Where the current leg is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(in crate::console::app) enum Leg {
-    /// Its go-to was emitted by this input: it is tracked once the truth has noted it.
+    /// Its go-to was emitted by this input: it is tracked once the motion truth has noted it.
     Starting,
     /// Its go-to is tracked (`MOVING: GOTO bench`) until its end.
     Moving,

@@ -20,7 +20,7 @@ impl LinkTask {
             self.refresh_hold();
             return Ok(WriteReport::default());
         }
-        if self.ended_elsewhere(&wanted) {
+        if self.ended_by_other_client(&wanted) {
             return Ok(WriteReport::default());
         }
         let writes = commands::twist(frame, twist)?;
@@ -48,7 +48,7 @@ impl LinkTask {
             self.refresh_hold();
             return Ok(WriteReport::default());
         }
-        if self.ended_elsewhere(&wanted) {
+        if self.ended_by_other_client(&wanted) {
             return Ok(WriteReport::default());
         }
         // A fresh pose, not the last poll's: the new direction starts from where the arm is.

@@ -36,7 +36,7 @@ impl TwistStart {
 
 impl LinkTask {
     /// A fresh poll: drops the motion in force if another client ended it.
-    pub(super) fn note_motion_ended_elsewhere(&mut self, telemetry: &Telemetry) {
+    pub(super) fn note_motion_ended_by_other_client(&mut self, telemetry: &Telemetry) {
         let Some(start) = self.twist_start.as_mut() else {
             return;
         };
@@ -69,15 +69,15 @@ impl LinkTask {
             status.key(),
             telemetry.action.move_type.key()
         );
-        self.ended_elsewhere = Some(self.motion);
+        self.ended_by_other_client = Some(self.motion);
         self.motion = MotionInForce::Idle;
         self.hold_until = None;
         self.twist_start = None;
     }
 
     /// Whether `wanted` is the motion another client ended: asked again, it writes nothing.
-    pub(super) fn ended_elsewhere(&self, wanted: &MotionInForce) -> bool {
-        self.ended_elsewhere
+    pub(super) fn ended_by_other_client(&self, wanted: &MotionInForce) -> bool {
+        self.ended_by_other_client
             .is_some_and(|ended| ended.same_ask(wanted))
     }
 }

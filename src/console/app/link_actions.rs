@@ -1,4 +1,4 @@
-//! The one rule of which actions the session's links carry ([`Offers`]).
+//! The one rule of which actions the session's links carry ([`LinkActions`]).
 
 use std::sync::Arc;
 
@@ -8,7 +8,7 @@ use crate::link::speed::SpeedCap;
 
 /// Which of the actions that only some links carry this session's links carry.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Offers {
+pub struct LinkActions {
     /// Saving the current pose ([`super::App::save_refusal`]).
     pub save: bool,
     /// The orientation jog: a Modbus link ([`super::App::can_turn`]).
@@ -23,9 +23,9 @@ pub struct Offers {
     pub frames: bool,
 }
 
-impl Offers {
+impl LinkActions {
     /// Everything, as on links that carry every action.
-    pub const ALL: Offers = Offers {
+    pub const ALL: LinkActions = LinkActions {
         save: true,
         turn: true,
         joint: true,
@@ -65,7 +65,7 @@ pub struct SessionView {
     pub simulated: bool,
     pub positions_on_operator: bool,
     /// Which actions the links carry: the footer offers keys for those only.
-    pub offers: Offers,
+    pub link_actions: LinkActions,
     /// The arm profile the console was opened with (`--arm cell3`).
     pub arm_name: Option<String>,
 }
