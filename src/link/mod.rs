@@ -3,6 +3,7 @@
 pub mod command_kind;
 pub mod driver;
 pub mod failure;
+pub mod fence;
 pub mod guard;
 pub mod interface;
 pub mod modbus;
