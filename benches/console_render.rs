@@ -79,6 +79,7 @@ impl Scene {
                 simulated: false,
                 arm_name: None,
                 home_action: None,
+                fence: None,
             },
             PositionBook::new(),
         );

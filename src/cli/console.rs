@@ -210,6 +210,7 @@ pub async fn run_console(args: &ConsoleArgs, arm_name: Option<String>) -> i32 {
         positions_read,
         simulated: simulator.is_some(),
         arm_name,
+        fence: None,
     };
     // Not `eprintln!`: it panics when stderr is gone after a hang-up.
     let code = match run(setup).await {

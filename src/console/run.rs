@@ -52,6 +52,8 @@ pub struct ConsoleSetup {
     pub simulated: bool,
     /// The arm profile the console was opened with: its book and audit go by its name.
     pub arm_name: Option<String>,
+    /// The arm profile's fence (`[arms.NAME.fence]`).
+    pub fence: Option<Arc<crate::link::fence::Fence>>,
 }
 
 /// Why the console could not run.
@@ -106,6 +108,7 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
                 simulated: setup.simulated,
                 arm_name: setup.arm_name.clone(),
                 home_action,
+                fence: setup.fence.clone(),
             };
             let audit = AuditSession::start(&config, arm, setup.arm_name, audit::audit_dir());
             let parts = LoopParts {

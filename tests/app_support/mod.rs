@@ -25,6 +25,7 @@ pub fn config() -> AppConfig {
         simulated: false,
         arm_name: None,
         home_action: None,
+        fence: None,
     }
 }
 

@@ -147,6 +147,7 @@ fn the_console_stops_and_says_so_when_its_guard_goes_down_and_shows_its_state() 
             simulated: false,
             arm_name: None,
             home_action: None,
+            fence: None,
         },
         PositionBook::new(),
     );

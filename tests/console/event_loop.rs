@@ -28,6 +28,7 @@ pub fn app_for(config: &DriverConfig, book: PositionBook) -> App {
             simulated: false,
             arm_name: None,
             home_action: config.modbus_home(),
+            fence: None,
         },
         book,
     )

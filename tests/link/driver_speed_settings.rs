@@ -346,6 +346,7 @@ fn the_status_bar_shows_the_jog_speed_from_the_cap_and_the_percent() {
             simulated: false,
             arm_name: None,
             home_action: None,
+            fence: None,
         },
         PositionBook::new(),
     );

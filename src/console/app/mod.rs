@@ -70,6 +70,7 @@ use super::keymap::{KeyName, Keymap};
 use super::positions::PositionBook;
 
 use crate::kortex::Stored;
+use crate::link::fence::Fence;
 use crate::link::interface::{ArmCommand, ArmEvent, PositionCoordinates};
 use crate::link::speed::SpeedCap;
 
@@ -212,6 +213,8 @@ pub struct AppConfig {
     pub arm_name: Option<String>,
     /// Home's Modbus stored action (`DriverConfig::modbus_home`), followed by id; `None` on Talos.
     pub home_action: Option<Stored>,
+    /// The arm profile's fence, kept on every motion; `None`: no fence.
+    pub fence: Option<Arc<Fence>>,
 }
 
 #[cfg(test)]
@@ -232,6 +235,7 @@ impl AppConfig {
             simulated: false,
             arm_name: None,
             home_action: None,
+            fence: None,
         }
     }
 }

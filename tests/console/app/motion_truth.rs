@@ -39,6 +39,7 @@ fn app(source: TelemetrySource) -> (App, Instant) {
         simulated: false,
         arm_name: None,
         home_action: None,
+        fence: None,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();

@@ -52,6 +52,7 @@ fn app_with(
         simulated: false,
         arm_name: None,
         home_action: None,
+        fence: None,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();
@@ -316,6 +317,7 @@ fn the_turn_keys_are_offered_until_the_driver_says_which_link_it_has() {
         simulated: false,
         arm_name: None,
         home_action: None,
+        fence: None,
     };
     let mut app = App::new(config, PositionBook::new());
     app.handle(

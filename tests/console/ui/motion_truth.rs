@@ -72,6 +72,7 @@ fn modbus_app() -> (App, Instant) {
         simulated: false,
         arm_name: None,
         home_action: None,
+        fence: None,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();

@@ -129,6 +129,7 @@ fn bare_app(mode: ReleaseMode, on_operator: bool) -> (App, Instant) {
         simulated: false,
         arm_name: None,
         home_action: None,
+        fence: None,
     };
     (App::new(config, PositionBook::new()), Instant::now())
 }

@@ -116,6 +116,7 @@ fn live_app(mode: ReleaseMode, frames: bool) -> (App, Instant) {
         simulated: false,
         arm_name: None,
         home_action: None,
+        fence: None,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();
