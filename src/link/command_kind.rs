@@ -27,6 +27,8 @@ pub enum CommandKind {
     MoveToPose,
     Home,
     SetSpeed,
+    /// The fence's share of the speed in force.
+    FenceSpeed,
     SetFrame,
     QuickStop,
     FaultReset,
@@ -52,6 +54,7 @@ impl CommandKind {
             CommandKind::MoveToPose => "move to pose",
             CommandKind::Home => "home",
             CommandKind::SetSpeed => "set speed",
+            CommandKind::FenceSpeed => "fence speed",
             CommandKind::SetFrame => "set frame",
             CommandKind::QuickStop => "quick stop",
             CommandKind::FaultReset => "fault reset",
@@ -77,6 +80,7 @@ impl CommandKind {
             | CommandKind::GoToPosition
             | CommandKind::StartStored => CommandClass::Motion { runs_to_end: true },
             CommandKind::SetSpeed
+            | CommandKind::FenceSpeed
             | CommandKind::SetFrame
             | CommandKind::FaultReset
             | CommandKind::SavePosition
@@ -168,6 +172,7 @@ mod tests {
                 MOVE,
             ),
             (ArmCommand::SetSpeed(50), CommandClass::Setting),
+            (ArmCommand::FenceSpeed(550), CommandClass::Setting),
             (
                 ArmCommand::SetFrame(ReferenceFrame::Base),
                 CommandClass::Setting,

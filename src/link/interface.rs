@@ -41,6 +41,37 @@ pub enum StepMove {
     Polar { azimuth: i32, altitude: i32 },
 }
 
+impl StepMove {
+    /// The pose a step moves to. Polar steps turn the position about base Z (extrinsic XYZ: a
+    /// change of theta z) and change its elevation about the base origin, keeping the distance.
+    pub fn target(self, pose: Pose) -> Pose {
+        match self {
+            StepMove::Cartesian { dx, dy, dz } => Pose {
+                x: pose.x + dx as f32 / 10_000.0,
+                y: pose.y + dy as f32 / 10_000.0,
+                z: pose.z + dz as f32 / 10_000.0,
+                ..pose
+            },
+            StepMove::Polar { azimuth, altitude } => {
+                let (x, y, z) = (f64::from(pose.x), f64::from(pose.y), f64::from(pose.z));
+                let horizontal = x.hypot(y);
+                let distance = horizontal.hypot(z);
+                let azimuth_now = y.atan2(x) + f64::from(azimuth).to_radians();
+                let elevation = (z.atan2(horizontal) + f64::from(altitude).to_radians())
+                    .clamp(-89f64.to_radians(), 89f64.to_radians());
+                let h = distance * elevation.cos();
+                Pose {
+                    x: (h * azimuth_now.cos()) as f32,
+                    y: (h * azimuth_now.sin()) as f32,
+                    z: (distance * elevation.sin()) as f32,
+                    theta_z: pose.theta_z + azimuth as f32,
+                    ..pose
+                }
+            }
+        }
+    }
+}
+
 /// Everything the console asks of an arm.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ArmCommand {
@@ -54,6 +85,9 @@ pub enum ArmCommand {
     Home,
     /// Percent of the maximum jog speed, 1-100.
     SetSpeed(u8),
+    /// The fence's share of the speed in force, per mille (1000: none taken): motion near a face
+    /// goes slower without the technician's speed changing. Kept until the next one.
+    FenceSpeed(u16),
     SetFrame(ReferenceFrame),
     QuickStop,
     FaultReset,
@@ -115,6 +149,7 @@ impl ArmCommand {
             ArmCommand::MoveToPose(_) => CommandKind::MoveToPose,
             ArmCommand::Home => CommandKind::Home,
             ArmCommand::SetSpeed(_) => CommandKind::SetSpeed,
+            ArmCommand::FenceSpeed(_) => CommandKind::FenceSpeed,
             ArmCommand::SetFrame(_) => CommandKind::SetFrame,
             ArmCommand::QuickStop => CommandKind::QuickStop,
             ArmCommand::FaultReset => CommandKind::FaultReset,

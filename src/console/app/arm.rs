@@ -8,16 +8,20 @@
 use std::time::Instant;
 
 use super::cap_watch::{CapWatch, over_cap};
+use super::fence_watch;
 use super::message::Until;
 use super::parts::Leg;
 use super::{App, Effect, KeyInput, Overlay, Severity, parts};
 use crate::console::form::Form;
+use crate::console::jog::JogMotion;
 use crate::console::jog::KeyKind;
-use crate::kortex::{Stored, Telemetry};
+use crate::kortex::{ReferenceFrame, Stored, Telemetry};
+use crate::link::fence::{Fence, Pace, SLOWEST, Verdict, WHOLE};
 use crate::link::guard::HEARTBEAT_TIMEOUT;
 use crate::link::interface::{
     ArmCommand, ArmError, ArmEvent, CommandKind, GuardStatus, LinkStatus, TelemetrySource,
 };
+use crate::link::speed::{INITIAL_SPEED, fraction};
 
 /// Why the stored action key does nothing on a link without Modbus.
 pub const STORED_REFUSAL: &str = "stored actions and sequences by id need a Modbus link: over \
@@ -51,6 +55,7 @@ impl App {
                 self.watch_arm_state(&t, now, effects);
                 self.watch_other_clients(&t, now, effects);
                 self.arm.on_telemetry(*t, now);
+                self.watch_fence(now, effects);
             }
             // The motion truth keeps the source (see `motion_truth_on_arm`).
             ArmEvent::TelemetrySource(_) => {}
@@ -270,8 +275,25 @@ impl App {
             }
             _ => {}
         }
-        let why = self.arm.refusal()?;
-        Some((format!("refused: the arm reports {why}"), Until::ArmReady))
+        if let Some(why) = self.arm.refusal() {
+            return Some((format!("refused: the arm reports {why}"), Until::ArmReady));
+        }
+        self.fence_blind()
+    }
+
+    /// With a fence, no motion without fresh telemetry: the fence cannot see the tool.
+    fn fence_blind(&self) -> Option<(String, Until)> {
+        self.config.fence.as_ref()?;
+        if self.motion_truth.expected_telemetry() == Some(TelemetrySource::None) {
+            let text =
+                "refused: the fence needs telemetry and this link reports none (add --modbus)";
+            return Some((text.into(), Until::ArmReady));
+        }
+        if self.arm.telemetry().is_none() || self.telemetry_stale().is_some() {
+            let text = "refused: no fresh telemetry for the fence to see the tool by";
+            return Some((text.into(), Until::LinkFresh));
+        }
+        None
     }
 
     /// Says why a motion may not start and returns true, or returns false when it may.
@@ -296,6 +318,142 @@ impl App {
                 self.stop_jog(now, effects);
             }
         }
+    }
+
+    /// The fence over every motion going out, after the gate: a jog shaped (axes taken out, its
+    /// share of the speed sent first) or stopped at the fence with its key still held; a target
+    /// or straight path across the fence refused; a stop puts the whole speed back.
+    pub(super) fn fence_effects(&mut self, now: Instant, effects: &mut Vec<Effect>) {
+        let Some(fence) = self.config.fence.clone() else {
+            return;
+        };
+        let Some(t) = self.arm.telemetry().cloned() else {
+            return;
+        };
+        let mut out = Vec::with_capacity(effects.len() + 1);
+        for effect in effects.drain(..) {
+            match effect {
+                Effect::Arm(ArmCommand::Jog(motion)) => {
+                    self.fence_jog(&fence, &t, motion, now, &mut out);
+                }
+                Effect::Arm(command) if command.starts_motion() => {
+                    if let Some(why) = fence_watch::target_refusal(&fence, &t, &command, &self.book)
+                    {
+                        self.warn(format!("refused: {why}"), now);
+                        continue;
+                    }
+                    self.fence_whole_speed(&mut out);
+                    out.push(Effect::Arm(command));
+                }
+                stop if stop.is_stop() => {
+                    out.push(stop);
+                    self.fence_whole_speed(&mut out);
+                }
+                other => out.push(other),
+            }
+        }
+        *effects = out;
+    }
+
+    /// Back to the whole speed, if the fence had taken a share.
+    fn fence_whole_speed(&mut self, out: &mut Vec<Effect>) {
+        if self.fence.sent != WHOLE {
+            self.fence.sent = WHOLE;
+            out.push(Effect::Arm(ArmCommand::FenceSpeed(WHOLE)));
+        }
+    }
+
+    /// The verdict on the held `motion` now; `None` when telemetry cannot place the tool.
+    fn fence_verdict(&self, fence: &Fence, t: &Telemetry, motion: JogMotion) -> Option<Verdict> {
+        let base = !self.config.frames || self.arm.frame() == ReferenceFrame::Base;
+        let heading = fence_watch::heading(motion, t, base)?;
+        let sample = fence_watch::sample(t, &heading)?;
+        let percent = self.arm.speed().unwrap_or(INITIAL_SPEED);
+        let pace = Pace {
+            speed_mm_s: self.cap.tool_speed_mm_s(percent),
+            joint_rate: f64::from(self.config.joint_jog_speed) * fraction(percent),
+            lookahead_s: self.fence.lookahead_s(),
+        };
+        Some(fence.judge(&sample, heading, pace))
+    }
+
+    fn fence_jog(
+        &mut self,
+        fence: &Fence,
+        t: &Telemetry,
+        motion: JogMotion,
+        now: Instant,
+        out: &mut Vec<Effect>,
+    ) {
+        let Some(verdict) = self.fence_verdict(fence, t, motion) else {
+            self.fence.stopped = true;
+            out.push(Effect::Arm(ArmCommand::Stop));
+            self.warn(
+                "refused: the telemetry does not place the tool (not a number)",
+                now,
+            );
+            return;
+        };
+        if verdict.blocked() {
+            if !self.fence.stopped {
+                self.fence.stopped = true;
+                out.push(Effect::Arm(ArmCommand::Stop));
+                self.fence_whole_speed(out);
+            }
+        } else {
+            let share = fence_watch::permille(&verdict);
+            if share != self.fence.sent {
+                self.fence.sent = share;
+                out.push(Effect::Arm(ArmCommand::FenceSpeed(share)));
+            }
+            self.fence.stopped = false;
+            out.push(Effect::Arm(ArmCommand::Jog(fence_watch::shaped(
+                motion, &verdict,
+            ))));
+        }
+        self.fence.verdict = Some(verdict);
+    }
+
+    /// Each sample: a held jog whose verdict changed goes out again (the net shapes it); a planned
+    /// move heading into the fence is stopped; idle, where the tool is.
+    fn watch_fence(&mut self, now: Instant, effects: &mut Vec<Effect>) {
+        let (Some(fence), Some(t)) = (self.config.fence.clone(), self.arm.telemetry().cloned())
+        else {
+            return;
+        };
+        self.fence.on_sample(now);
+        if let Some(motion) = self.keys.jog().active() {
+            let verdict = self.fence_verdict(&fence, &t, motion);
+            let key = |v: &Verdict| (v.axes, fence_watch::permille(v));
+            if verdict.as_ref().map(key) != self.fence.verdict.as_ref().map(key) {
+                effects.push(Effect::Arm(ArmCommand::Jog(motion)));
+            } else {
+                self.fence.verdict = verdict;
+            }
+            return;
+        }
+        // A planned move is not slowed: its margin is its own speed's (the judge takes a tenth of
+        // what it is given at contact). Idle, no heading: only a tool already across shows.
+        let moving = self.motion_truth.action().is_some();
+        let (heading, speed) = if moving {
+            fence_watch::going(&t)
+        } else {
+            (fence_watch::STILL, 0.0)
+        };
+        let pace = Pace {
+            speed_mm_s: speed / SLOWEST,
+            joint_rate: 0.0,
+            lookahead_s: self.fence.lookahead_s(),
+        };
+        let verdict =
+            fence_watch::sample(&t, &heading).map(|sample| fence.judge(&sample, heading, pace));
+        if moving
+            && let Some(v) = verdict.as_ref().filter(|v| v.blocked())
+            && let Some(text) = v.state.text()
+        {
+            self.stop_from_telemetry(format!("stopped: {text}"), now, effects);
+        }
+        self.fence.verdict = verdict;
     }
 
     /// Fresh telemetry under our motion: a fault, state or reading that forbids it stops it.

@@ -8,6 +8,7 @@ mod book;
 mod book_load;
 mod cap_watch;
 mod edits;
+mod fence_watch;
 mod history;
 mod jog_evidence;
 mod keys;
@@ -261,6 +262,8 @@ pub struct App {
     /// What ran when the console was last seen frozen, and when it came back (see
     /// `note_freeze`).
     frozen_with: Option<(String, Instant)>,
+    /// What the app last put on the wire for the fence (`config.fence`), and its last verdict.
+    fence: fence_watch::FenceWatch,
 }
 
 /// What [`App::handle`] takes from the state before an input changes it, for the follow-ups.
@@ -288,6 +291,7 @@ impl App {
             quitting: false,
             now: None,
             frozen_with: None,
+            fence: fence_watch::FenceWatch::default(),
         }
     }
 

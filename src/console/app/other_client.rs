@@ -132,7 +132,9 @@ impl App {
                 others.steady = None;
             }
             ArmCommand::Jog(_) => others.refresh_waiting = None,
-            ArmCommand::SetSpeed(_) => self.other_client_note_speed(now),
+            ArmCommand::SetSpeed(_) | ArmCommand::FenceSpeed(_) => {
+                self.other_client_note_speed(now)
+            }
             c if c.is_stop() || c.starts_motion() => others.forget_jog(),
             _ => {}
         }

@@ -8,6 +8,7 @@ use std::time::Instant;
 
 use super::link_actions::{LinkActions, SessionView};
 use super::message::{MESSAGE_TIME, Message, Until};
+use super::parts::ArmView;
 use super::{
     App, AppConfig, BookState, Effect, KeyInput, MotionTruth, Overlay, Pasted, Severity, Step,
 };
@@ -41,7 +42,10 @@ impl App {
         View {
             session: self.session_view(),
             keys: self.keys.view(),
-            arm: self.arm.view(self.now),
+            arm: ArmView {
+                fence: self.fence.text(),
+                ..self.arm.view(self.now)
+            },
             motion_status: self.motion_status_view(),
             book: self.book.view(rows),
             screen: self.screen.view(rows),

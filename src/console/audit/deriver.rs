@@ -175,6 +175,12 @@ impl AuditDeriver {
                     mm_s: self.speed_mm_s(*percent),
                 })
             }
+            ArmCommand::FenceSpeed(permille) => Some(AuditEvent::FenceSpeed {
+                permille: *permille,
+                mm_s: round_tenth(
+                    self.cap.tool_speed_mm_s(speed_percent) * f64::from(*permille) / 1000.0,
+                ),
+            }),
             ArmCommand::SetFrame(frame) => Some(AuditEvent::Frame {
                 frame: frame.key().to_string(),
             }),

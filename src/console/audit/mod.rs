@@ -103,6 +103,12 @@ pub enum AuditEvent {
         percent: u8,
         mm_s: f64,
     },
+    /// The fence's share of the speed asked for (per mille, 1000: none taken), and the tool
+    /// speed that leaves.
+    FenceSpeed {
+        permille: u16,
+        mm_s: f64,
+    },
     /// The reference frame of cartesian jogs (Modbus).
     Frame {
         frame: String,

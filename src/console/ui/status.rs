@@ -322,13 +322,12 @@ fn motion_spans(view: &View, theme: &Theme, cut: Cut) -> Vec<Span<'static>> {
     spans
 }
 
-/// The joints near a limit, the nearest first, then the arm near a singularity: one warning
-/// each. Narrow, only the first shows.
+/// What the fence says, the joints near a limit, the nearest first, then the arm near a
+/// singularity: one warning each. Narrow, only the first shows.
 fn warnings(view: &View) -> Vec<String> {
-    view.arm
-        .near_limits
-        .iter()
-        .map(|n| n.text())
+    let fence = view.arm.fence.iter().cloned();
+    fence
+        .chain(view.arm.near_limits.iter().map(|n| n.text()))
         .chain(view.arm.near_singularity.map(singularity_text))
         .collect()
 }

@@ -166,6 +166,13 @@ impl DriverState {
         if let Some(error) = guard_refusal(&self.config, self.guard.as_ref(), &command) {
             return self.emit(ArmEvent::failed(&command, error));
         }
+        if let ArmCommand::FenceSpeed(permille) = command {
+            // In force for both sides at once; the operator, with one speed, is told too.
+            self.speed.set_fence(permille);
+            if !self.talos.handles(&command, self.modbus.is_some()) || self.talos.is_down() {
+                return self.emit(ArmEvent::Done { command });
+            }
+        }
         if self.talos.handles(&command, self.modbus.is_some()) {
             self.stops.motion(&command, Side::Talos);
             return self.talos.command(command);

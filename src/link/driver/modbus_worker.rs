@@ -11,7 +11,7 @@ use crate::kortex::{
     ControlCoil, PolarPanSettings, Pose, ReferenceFrame, SpeedLimits, Stored, Twist,
 };
 use crate::link::interface::{
-    ArmCommand, ArmError, ArmEvent, CommandClass, JogMotion, LogEntry, StepMove, Traffic,
+    ArmCommand, ArmError, ArmEvent, CommandClass, JogMotion, LogEntry, Traffic,
 };
 use crate::link::modbus::{ModbusError, ModbusLink, Snapshot, WriteReport};
 use crate::link::speed::{SpeedCap, fraction, is_settable};
@@ -148,7 +148,7 @@ impl State {
 
     /// An orientation jog's rate, deg/s, never above the arm's own usable angular limit.
     fn angular_speed(&self) -> f32 {
-        let wanted = self.cap.turn_rate(self.speed.percent());
+        let wanted = self.cap.turn_rate(self.speed.percent()) * self.speed.fence_share();
         let arm_limit = self
             .latest(|s| s.telemetry.speed_limits.angular)
             .filter(|limit| limit.is_finite() && *limit > 0.0);
@@ -159,19 +159,23 @@ impl State {
     fn polar_settings(&self) -> PolarPanSettings {
         let configured = self.link.config().polar;
         let percent = self.speed.percent();
+        let share = self.speed.fence_share();
         PolarPanSettings {
-            angular_speed: configured.angular_speed * fraction(percent) as f32,
+            angular_speed: configured.angular_speed * fraction(percent) as f32 * share,
             max_linear_speed: self
                 .cap
-                .polar_linear_bound(configured.max_linear_speed, percent),
+                .polar_linear_bound(configured.max_linear_speed, percent)
+                * share,
         }
     }
 
     async fn execute(&mut self, command: ArmCommand) {
         let result: Result<Option<WriteReport>, ArmError> = match &command {
             ArmCommand::Jog(JogMotion::Cartesian { x, y, z }) => {
-                // The tool speed at the speed in force: the one cap every motion keeps.
-                let [x, y, z] = along([*x, *y, *z], self.cap.twist_speed(self.speed.percent()));
+                // The tool speed at the speed in force, less the fence's share: the one cap every
+                // motion keeps.
+                let speed = self.cap.twist_speed(self.speed.percent()) * self.speed.fence_share();
+                let [x, y, z] = along([*x, *y, *z], speed);
                 let twist = Twist {
                     x,
                     y,
@@ -204,7 +208,7 @@ impl State {
             ArmCommand::StartStored(stored) => self.start_stored(*stored).await,
             ArmCommand::MoveToPose(pose) => self.go_to(*pose).await,
             ArmCommand::Step(step) => match self.latest(|s| s.telemetry.tcp.pose) {
-                Some(pose) => self.go_to(step_target(pose, *step)).await,
+                Some(pose) => self.go_to(step.target(pose)).await,
                 None => Err(ArmError::NoPose),
             },
             // Never written to the arm's limits (216-219): those are the integrator's.
@@ -221,6 +225,8 @@ impl State {
                 self.frame = *frame;
                 Ok(None)
             }
+            // Put in force by the driver before it got here: the next jog carries it.
+            ArmCommand::FenceSpeed(_) => Ok(None),
             _ => Err(ArmError::Unsupported(
                 "named positions over Modbus are kept by the console",
             )),
@@ -284,38 +290,10 @@ fn wrap(result: Result<WriteReport, ModbusError>) -> Result<Option<WriteReport>,
     result.map(Some).map_err(|e| ArmError::Modbus(e.into()))
 }
 
-/// The pose a step moves to. Polar steps turn the position about base Z (extrinsic XYZ: a change of
-/// theta z) and change its elevation about the base origin, keeping the distance.
-pub fn step_target(pose: Pose, step: StepMove) -> Pose {
-    match step {
-        StepMove::Cartesian { dx, dy, dz } => Pose {
-            x: pose.x + dx as f32 / 10_000.0,
-            y: pose.y + dy as f32 / 10_000.0,
-            z: pose.z + dz as f32 / 10_000.0,
-            ..pose
-        },
-        StepMove::Polar { azimuth, altitude } => {
-            let (x, y, z) = (f64::from(pose.x), f64::from(pose.y), f64::from(pose.z));
-            let horizontal = x.hypot(y);
-            let distance = horizontal.hypot(z);
-            let azimuth_now = y.atan2(x) + f64::from(azimuth).to_radians();
-            let elevation = (z.atan2(horizontal) + f64::from(altitude).to_radians())
-                .clamp(-89f64.to_radians(), 89f64.to_radians());
-            let h = distance * elevation.cos();
-            Pose {
-                x: (h * azimuth_now.cos()) as f32,
-                y: (h * azimuth_now.sin()) as f32,
-                z: (distance * elevation.sin()) as f32,
-                theta_z: pose.theta_z + azimuth as f32,
-                ..pose
-            }
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::link::interface::StepMove;
 
     #[test]
     fn a_stop_drops_the_jogs_queued_before_it_but_keeps_other_commands() {
@@ -357,32 +335,26 @@ mod tests {
             theta_y: 0.0,
             theta_z: 90.0,
         };
-        let t = step_target(
-            pose,
-            StepMove::Polar {
-                azimuth: 90,
-                altitude: 0,
-            },
-        );
+        let t = StepMove::Polar {
+            azimuth: 90,
+            altitude: 0,
+        }
+        .target(pose);
         assert!(t.x.abs() < 1e-6 && (t.y - 0.4).abs() < 1e-6 && (t.z - 0.3).abs() < 1e-6);
         assert!((t.theta_z - 180.0).abs() < 1e-6);
-        let up = step_target(
-            pose,
-            StepMove::Polar {
-                azimuth: 0,
-                altitude: 10,
-            },
-        );
+        let up = StepMove::Polar {
+            azimuth: 0,
+            altitude: 10,
+        }
+        .target(pose);
         let d = |p: Pose| (p.x * p.x + p.y * p.y + p.z * p.z).sqrt();
         assert!((d(up) - d(pose)).abs() < 1e-5 && up.z > pose.z);
-        let c = step_target(
-            pose,
-            StepMove::Cartesian {
-                dx: 100,
-                dy: -50,
-                dz: 0,
-            },
-        );
+        let c = StepMove::Cartesian {
+            dx: 100,
+            dy: -50,
+            dz: 0,
+        }
+        .target(pose);
         assert!((c.x - 0.41).abs() < 1e-6 && (c.y + 0.005).abs() < 1e-6);
     }
 }

@@ -6,9 +6,8 @@ use super::geometry::Barrier;
 use super::{Fence, JOINT_SLOW_BAND_DEG, SLOWEST};
 use crate::kortex::gen3::{condition_number, jacobian};
 
-/// How far ahead of the tool a contact is called, s: the telemetry period and the link's latency
-/// with room to spare, at the speed the tool reaches a face with.
-pub const LOOKAHEAD_S: f64 = 0.08;
+/// How far ahead of the tool a contact is called, at least, s ([`Pace::lookahead_s`]).
+pub const MIN_LOOKAHEAD_S: f64 = 0.08;
 /// The least stop margin toward a face, mm, and toward a soft limit, degrees.
 const MIN_MARGIN_MM: f64 = 0.5;
 const MIN_MARGIN_DEG: f64 = 0.3;
@@ -126,9 +125,23 @@ fn unit(v: [f64; 3]) -> [f64; 3] {
     if n > 0.0 { v.map(|x| x / n) } else { [0.0; 3] }
 }
 
-/// A stop margin for `speed` (per s) toward a limit, never under `least`.
-fn margin(speed: f64, least: f64) -> f64 {
-    (speed * LOOKAHEAD_S).max(least)
+/// How fast the held motion goes unslowed, and how far ahead a contact is called.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pace {
+    /// The tool speed the technician's speed gives, mm/s.
+    pub speed_mm_s: f64,
+    /// A joint jog's rate, deg/s.
+    pub joint_rate: f64,
+    /// The telemetry's period and the link's latency, with room: a stop called now takes effect
+    /// after the next sample at the latest. At least [`MIN_LOOKAHEAD_S`].
+    pub lookahead_s: f64,
+}
+
+impl Pace {
+    /// A stop margin for `speed` (per s) toward a limit, never under `least`.
+    fn margin(&self, speed: f64, least: f64) -> f64 {
+        (speed * self.lookahead_s.max(MIN_LOOKAHEAD_S)).max(least)
+    }
 }
 
 /// The slow zone's factor at `clearance`: 1 at its edge, [`SLOWEST`] at contact.
@@ -192,15 +205,8 @@ impl Worst {
 }
 
 impl Fence {
-    /// The held motion against one sample. `speed_mm_s` is the tool speed the technician's speed
-    /// gives; `joint_rate` the joint jog's rate, deg/s.
-    pub fn judge(
-        &self,
-        sample: &Sample,
-        heading: Heading,
-        speed_mm_s: f64,
-        joint_rate: f64,
-    ) -> Verdict {
+    /// The held motion against one sample, at `pace`.
+    pub fn judge(&self, sample: &Sample, heading: Heading, pace: Pace) -> Verdict {
         let mut axes = match heading {
             Heading::Axes(axes) => axes,
             Heading::Along { .. } => [0; 3],
@@ -231,9 +237,9 @@ impl Fence {
             let (what, mm) = (b.name.to_string(), -b.clearance);
             worst.note(factor, FenceState::Outside { what, mm, deeper });
         } else {
-            self.judge_approach(p, heading, &mut axes, direction, speed_mm_s, &mut worst);
+            self.judge_approach(p, heading, &mut axes, direction, pace, &mut worst);
         }
-        self.judge_joints(sample, heading, joint_rate, &mut worst);
+        self.judge_joints(sample, heading, pace, &mut worst);
         self.judge_singularity(sample, &mut worst);
         let moving = match heading {
             Heading::Axes(_) => axes != [0; 3],
@@ -258,7 +264,7 @@ impl Fence {
         heading: Heading,
         axes: &mut [i8; 3],
         direction: impl Fn([i8; 3]) -> [f64; 3],
-        speed_mm_s: f64,
+        pace: Pace,
         worst: &mut Worst,
     ) {
         // Taking an axis out changes the direction: again until nothing changes (at most 3).
@@ -267,8 +273,8 @@ impl Fence {
             let mut contact: Option<(&str, [f64; 3])> = None;
             self.barriers(p, |b| {
                 let toward = -dot(d, b.away);
-                let at_contact = speed_mm_s * SLOWEST * toward;
-                if toward > 1e-9 && b.clearance <= margin(at_contact, MIN_MARGIN_MM) {
+                let at_contact = pace.speed_mm_s * SLOWEST * toward;
+                if toward > 1e-9 && b.clearance <= pace.margin(at_contact, MIN_MARGIN_MM) {
                     contact.get_or_insert((b.name, b.away));
                 }
             });
@@ -302,7 +308,7 @@ impl Fence {
 
     /// Soft limits: a joint jog slows over the last [`JOINT_SLOW_BAND_DEG`] and stops at its
     /// limit; any other motion stops when a joint turning toward its limit reaches it.
-    fn judge_joints(&self, sample: &Sample, heading: Heading, joint_rate: f64, worst: &mut Worst) {
+    fn judge_joints(&self, sample: &Sample, heading: Heading, pace: Pace, worst: &mut Worst) {
         for (index, limits) in self.joints.iter().enumerate() {
             let Some([min, max]) = *limits else { continue };
             let q = sample.joints_deg[index];
@@ -314,7 +320,7 @@ impl Fence {
                 _ => None,
             };
             let (dir, rate) = match jogged {
-                Some(dir) => (dir, joint_rate),
+                Some(dir) => (dir, pace.joint_rate),
                 None => {
                     let rate = sample.joint_rates[index];
                     if rate.abs() < TURNING_DEG_S {
@@ -326,8 +332,8 @@ impl Fence {
             let left = if dir > 0.0 { max - q } else { q - min };
             let what = || format!("J{} soft limit", index + 1);
             let stop_at = match jogged {
-                Some(_) => margin(rate * SLOWEST, MIN_MARGIN_DEG),
-                None => margin(rate, MIN_MARGIN_DEG),
+                Some(_) => pace.margin(rate * SLOWEST, MIN_MARGIN_DEG),
+                None => pace.margin(rate, MIN_MARGIN_DEG),
             };
             if left <= stop_at {
                 worst.note(0.0, FenceState::AtFence { what: what() });

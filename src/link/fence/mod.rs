@@ -7,10 +7,12 @@ mod geometry;
 mod judge;
 
 pub use geometry::{Aabb, Barrier};
-pub use judge::{FenceState, Heading, Sample, Verdict, kappa_ahead};
+pub use judge::{FenceState, Heading, MIN_LOOKAHEAD_S, Pace, Sample, Verdict, kappa_ahead};
 
 use crate::kortex::gen3::JOINT_LIMITS_DEG;
 
+/// The fence's share of the speed when it takes none, per mille (`ArmCommand::FenceSpeed`).
+pub const WHOLE: u16 = 1000;
 /// The slowest a motion toward a face goes before contact: this fraction of the technician's speed.
 pub const SLOWEST: f64 = 0.1;
 /// A joint jog slows over this many degrees before a soft limit.
@@ -209,13 +211,13 @@ fn finite(key: &str, value: f64) -> Result<(), FenceError> {
 }
 
 fn check_box(key: &str, zone: &Aabb) -> Result<(), FenceError> {
-    for axis in 0..3 {
+    for (axis, name) in AXES.iter().enumerate() {
         finite(&format!("{key}.min"), zone.min[axis])?;
         finite(&format!("{key}.max"), zone.max[axis])?;
         if zone.min[axis] >= zone.max[axis] {
             return Err(FenceError::MinNotBelowMax {
                 key: key.into(),
-                axis: AXES[axis],
+                axis: name,
                 min: zone.min[axis],
                 max: zone.max[axis],
             });

@@ -25,6 +25,13 @@ fn cell() -> Fence {
     }
 }
 
+/// 125 mm/s (50 % of 250), J2 at 20 deg/s, telemetry at 30 Hz: the least lookahead, 80 ms.
+const PACE: Pace = Pace {
+    speed_mm_s: 125.0,
+    joint_rate: 20.0,
+    lookahead_s: 0.05,
+};
+
 fn at(tool_mm: [f64; 3]) -> Sample {
     Sample {
         tool_mm,
@@ -59,23 +66,13 @@ fn the_sphere_s_clearance_to_a_zone_above_beside_and_inside_it() {
 fn moving_down_toward_the_table_slows_linearly_to_a_tenth() {
     let fence = cell();
     // Tool point 150 mm over the table top: sphere 110 mm clear, beyond the slow zone.
-    let v = fence.judge(
-        &at([400.0, 0.0, 230.0]),
-        Heading::Axes([0, 0, -1]),
-        125.0,
-        20.0,
-    );
+    let v = fence.judge(&at([400.0, 0.0, 230.0]), Heading::Axes([0, 0, -1]), PACE);
     assert_eq!(
         (v.axes, v.factor, v.state),
         ([0, 0, -1], 1.0, FenceState::Clear)
     );
     // 30 mm clear: 0.1 + 0.9 * 30/60 = 0.55.
-    let v = fence.judge(
-        &at([400.0, 0.0, 150.0]),
-        Heading::Axes([0, 0, -1]),
-        125.0,
-        20.0,
-    );
+    let v = fence.judge(&at([400.0, 0.0, 150.0]), Heading::Axes([0, 0, -1]), PACE);
     assert!((v.factor - 0.55).abs() < 1e-9, "{}", v.factor);
     let slowed = FenceState::Slowed {
         what: "table".into(),
@@ -84,20 +81,10 @@ fn moving_down_toward_the_table_slows_linearly_to_a_tenth() {
     assert_eq!(v.state, slowed);
     assert_eq!(v.state.text().as_deref(), Some("SLOWED: table 30 mm"));
     // 6 mm clear: 0.19, kept to the 0.05 step below.
-    let v = fence.judge(
-        &at([400.0, 0.0, 126.0]),
-        Heading::Axes([0, 0, -1]),
-        125.0,
-        20.0,
-    );
+    let v = fence.judge(&at([400.0, 0.0, 126.0]), Heading::Axes([0, 0, -1]), PACE);
     assert!((v.factor - 0.15).abs() < 1e-9, "{}", v.factor);
     // Going up, away from it: full speed.
-    let v = fence.judge(
-        &at([400.0, 0.0, 126.0]),
-        Heading::Axes([0, 0, 1]),
-        125.0,
-        20.0,
-    );
+    let v = fence.judge(&at([400.0, 0.0, 126.0]), Heading::Axes([0, 0, 1]), PACE);
     assert_eq!(v.factor, 1.0);
 }
 
@@ -105,60 +92,31 @@ fn moving_down_toward_the_table_slows_linearly_to_a_tenth() {
 fn at_contact_the_axis_toward_the_table_is_taken_out_and_the_rest_slides() {
     let fence = cell();
     // 125 mm/s at a tenth for 80 ms: 1 mm margin. 0.8 mm clear is contact.
-    let down = fence.judge(
-        &at([400.0, 0.0, 120.8]),
-        Heading::Axes([0, 0, -1]),
-        125.0,
-        20.0,
-    );
+    let down = fence.judge(&at([400.0, 0.0, 120.8]), Heading::Axes([0, 0, -1]), PACE);
     assert!(down.blocked());
     assert_eq!(down.state.text().as_deref(), Some("AT FENCE: table"));
     // Diagonally, the approach is 0.71 of the speed: a 0.71 mm margin.
-    let slide = fence.judge(
-        &at([400.0, 0.0, 120.6]),
-        Heading::Axes([1, 0, -1]),
-        125.0,
-        20.0,
-    );
+    let slide = fence.judge(&at([400.0, 0.0, 120.6]), Heading::Axes([1, 0, -1]), PACE);
     assert_eq!(slide.axes, [1, 0, 0]);
     assert_eq!(slide.factor, 1.0);
     assert_eq!(slide.state.text().as_deref(), Some("AT FENCE: table"));
     // 1.5 mm clear is not yet contact.
-    let near = fence.judge(
-        &at([400.0, 0.0, 121.5]),
-        Heading::Axes([0, 0, -1]),
-        125.0,
-        20.0,
-    );
+    let near = fence.judge(&at([400.0, 0.0, 121.5]), Heading::Axes([0, 0, -1]), PACE);
     assert!(!near.blocked());
     // Any other motion stops whole at contact.
     let along = Heading::Along {
         tool: [0.6, 0.0, -0.8],
         joint: None,
     };
-    assert!(
-        fence
-            .judge(&at([400.0, 0.0, 120.8]), along, 125.0, 20.0)
-            .blocked()
-    );
+    assert!(fence.judge(&at([400.0, 0.0, 120.8]), along, PACE).blocked());
 }
 
 #[test]
 fn the_box_s_floor_and_sides_are_faces_too() {
     let fence = cell();
-    let v = fence.judge(
-        &at([0.0, 0.0, 40.5]),
-        Heading::Axes([0, 0, -1]),
-        125.0,
-        20.0,
-    );
+    let v = fence.judge(&at([0.0, 0.0, 40.5]), Heading::Axes([0, 0, -1]), PACE);
     assert_eq!(v.state.text().as_deref(), Some("AT FENCE: floor"));
-    let v = fence.judge(
-        &at([0.0, 540.0, 400.0]),
-        Heading::Axes([0, 1, 0]),
-        125.0,
-        20.0,
-    );
+    let v = fence.judge(&at([0.0, 540.0, 400.0]), Heading::Axes([0, 1, 0]), PACE);
     let side = FenceState::Slowed {
         what: "+Y side".into(),
         mm: 20.0,
@@ -170,31 +128,16 @@ fn the_box_s_floor_and_sides_are_faces_too() {
 fn inside_a_zone_deeper_is_refused_and_out_goes_at_a_tenth() {
     let fence = cell();
     // Tool point 12 mm under the table top: the sphere is 52 mm in.
-    let deeper = fence.judge(
-        &at([400.0, 0.0, 68.0]),
-        Heading::Axes([0, 0, -1]),
-        125.0,
-        20.0,
-    );
+    let deeper = fence.judge(&at([400.0, 0.0, 68.0]), Heading::Axes([0, 0, -1]), PACE);
     assert!(deeper.blocked());
     assert_eq!(
         deeper.state.text().as_deref(),
         Some("OUTSIDE FENCE: table, 52 mm in")
     );
-    let out = fence.judge(
-        &at([400.0, 0.0, 68.0]),
-        Heading::Axes([0, 0, 1]),
-        125.0,
-        20.0,
-    );
+    let out = fence.judge(&at([400.0, 0.0, 68.0]), Heading::Axes([0, 0, 1]), PACE);
     assert_eq!(out.factor, SLOWEST);
     // Sideways, parallel to the way out, is not deeper.
-    let side = fence.judge(
-        &at([400.0, 0.0, 68.0]),
-        Heading::Axes([0, 1, 0]),
-        125.0,
-        20.0,
-    );
+    let side = fence.judge(&at([400.0, 0.0, 68.0]), Heading::Axes([0, 1, 0]), PACE);
     assert_eq!(side.factor, SLOWEST);
 }
 
@@ -241,10 +184,10 @@ fn a_joint_jog_slows_over_the_last_ten_degrees_and_stops_at_the_soft_limit() {
     };
     let mut s = at([0.0, 0.0, 400.0]);
     s.joints_deg[1] = 100.0;
-    assert_eq!(fence.judge(&s, jog, 125.0, 20.0).factor, 1.0);
+    assert_eq!(fence.judge(&s, jog, PACE).factor, 1.0);
     // 5 degrees left: 0.55.
     s.joints_deg[1] = 115.0;
-    let v = fence.judge(&s, jog, 125.0, 20.0);
+    let v = fence.judge(&s, jog, PACE);
     assert!((v.factor - 0.55).abs() < 1e-9);
     assert_eq!(
         v.state.text().as_deref(),
@@ -252,7 +195,7 @@ fn a_joint_jog_slows_over_the_last_ten_degrees_and_stops_at_the_soft_limit() {
     );
     // 20 deg/s at a tenth for 80 ms: 0.3 degrees (the least margin).
     s.joints_deg[1] = 119.8;
-    let v = fence.judge(&s, jog, 125.0, 20.0);
+    let v = fence.judge(&s, jog, PACE);
     assert!(v.blocked());
     assert_eq!(v.state.text().as_deref(), Some("AT FENCE: J2 soft limit"));
     // Away from it, at full speed.
@@ -260,15 +203,11 @@ fn a_joint_jog_slows_over_the_last_ten_degrees_and_stops_at_the_soft_limit() {
         tool: [0.0; 3],
         joint: Some((1, -1.0)),
     };
-    assert_eq!(fence.judge(&s, back, 125.0, 20.0).factor, 1.0);
+    assert_eq!(fence.judge(&s, back, PACE).factor, 1.0);
     // Another motion turning J2 toward its limit at 10 deg/s stops 0.8 degrees short.
     s.joints_deg[1] = 119.3;
     s.joint_rates[1] = 10.0;
-    assert!(
-        fence
-            .judge(&s, Heading::Axes([1, 0, 0]), 125.0, 20.0)
-            .blocked()
-    );
+    assert!(fence.judge(&s, Heading::Axes([1, 0, 0]), PACE).blocked());
 }
 
 #[test]
@@ -277,25 +216,16 @@ fn near_a_singularity_speed_falls_unless_the_motion_lowers_kappa() {
     let mut s = at([0.0, 0.0, 400.0]);
     // κ 20 of slow 17, stop 30: (30 - 20) / 13 = 0.77, kept to 0.75.
     s.kappa = Some((20.0, 20.5));
-    let v = fence.judge(&s, Heading::Axes([1, 0, 0]), 125.0, 20.0);
+    let v = fence.judge(&s, Heading::Axes([1, 0, 0]), PACE);
     assert!((v.factor - 0.75).abs() < 1e-9);
     assert_eq!(
         v.state.text().as_deref(),
         Some("SLOWED: near singularity κ 20")
     );
     s.kappa = Some((20.0, 19.5));
-    assert_eq!(
-        fence
-            .judge(&s, Heading::Axes([1, 0, 0]), 125.0, 20.0)
-            .factor,
-        1.0
-    );
+    assert_eq!(fence.judge(&s, Heading::Axes([1, 0, 0]), PACE).factor, 1.0);
     s.kappa = Some((31.0, 32.0));
-    assert!(
-        fence
-            .judge(&s, Heading::Axes([1, 0, 0]), 125.0, 20.0)
-            .blocked()
-    );
+    assert!(fence.judge(&s, Heading::Axes([1, 0, 0]), PACE).blocked());
 }
 
 #[test]

@@ -206,6 +206,8 @@ impl App {
     ) {
         // Whatever emitted it, no motion starts while the gate refuses (a stale link above all).
         self.gate_effects(now, effects);
+        // After the gate: the fence shapes or stops what the gate let through.
+        self.fence_effects(now, effects);
         if let Some(age) = self.link_stale() {
             // An action the console can no longer watch is stopped: never moving unseen.
             self.motion_truth.stop_needed |= self.motion_truth.action.is_some();

@@ -68,6 +68,8 @@ pub struct ArmView {
     pub near_singularity: Option<f64>,
     /// The arm view's trail (base frame, m), oldest first.
     pub trail: Vec<(TrailShade, [f64; 3])>,
+    /// What the fence says (`SLOWED: table 34 mm`, `AT FENCE: table`), the app's to fill.
+    pub fence: Option<String>,
 }
 
 impl Default for Arm {
@@ -223,6 +225,7 @@ impl Arm {
             near_limits: self.telemetry.as_ref().map(near_limits).unwrap_or_default(),
             near_singularity: self.singularity,
             trail: now.map(|now| self.trail.shaded(now)).unwrap_or_default(),
+            fence: None,
         }
     }
 }

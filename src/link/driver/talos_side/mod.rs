@@ -180,7 +180,7 @@ impl TalosSide {
                 let rate =
                     self.cap()
                         .joint_rate(speed, &positions, *joint, percent, JOINT_JOG_HORIZON);
-                let velocity = f32::from(*direction) * rate;
+                let velocity = f32::from(*direction) * rate * self.speed.fence_share();
                 let position = positions[index];
                 vec![hw_request(&HwRequest::SendActuatorCommand {
                     joint: *joint,
@@ -205,8 +205,14 @@ impl TalosSide {
                 time_ms: 0,
             }],
             ArmCommand::Home => vec![Request::Home { delay_ms: 0 }],
+            // The operator has one speed: the fence's share is taken from it while it holds.
             ArmCommand::SetSpeed(speed) => vec![Request::SetSpeed {
-                speed: self.scale.to_operator(*speed),
+                speed: self.scale.to_operator(self.speed.fenced(*speed)),
+            }],
+            ArmCommand::FenceSpeed(_) => vec![Request::SetSpeed {
+                speed: self
+                    .scale
+                    .to_operator(self.speed.fenced(self.speed.percent())),
             }],
             ArmCommand::FaultReset => vec![hw_request(&HwRequest::ClearAllFaults)?],
             ArmCommand::SavePosition {
