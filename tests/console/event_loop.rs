@@ -16,6 +16,15 @@ use armjog::link::interface::ArmEvent;
 /// The app the console's runtime builds for `config` (default keymap, key releases reported),
 /// starting with `book`.
 pub fn app_for(config: &DriverConfig, book: PositionBook) -> App {
+    app_fenced(config, book, None)
+}
+
+/// [`app_for`] with an arm profile's fence.
+pub fn app_fenced(
+    config: &DriverConfig,
+    book: PositionBook,
+    fence: Option<armjog::link::fence::Fence>,
+) -> App {
     App::new(
         AppConfig {
             keymap: Keymap::builtin("default").expect("keymap").into(),
@@ -28,7 +37,7 @@ pub fn app_for(config: &DriverConfig, book: PositionBook) -> App {
             simulated: false,
             arm_name: None,
             home_action: config.modbus_home(),
-            fence: None,
+            fence: fence.map(std::sync::Arc::new),
         },
         book,
     )

@@ -284,14 +284,16 @@ impl App {
     /// With a fence, no motion without fresh telemetry: the fence cannot see the tool.
     fn fence_blind(&self) -> Option<(String, Until)> {
         self.config.fence.as_ref()?;
+        // Said for a while: no report ends it.
+        let until = Until::TimeOut { done: None };
         if self.motion_truth.expected_telemetry() == Some(TelemetrySource::None) {
             let text =
                 "refused: the fence needs telemetry and this link reports none (add --modbus)";
-            return Some((text.into(), Until::ArmReady));
+            return Some((text.into(), until));
         }
         if self.arm.telemetry().is_none() || self.telemetry_stale().is_some() {
             let text = "refused: no fresh telemetry for the fence to see the tool by";
-            return Some((text.into(), Until::LinkFresh));
+            return Some((text.into(), until));
         }
         None
     }

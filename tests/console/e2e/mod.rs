@@ -3,6 +3,7 @@
 //! terminal.
 
 mod cap;
+mod fence;
 mod jog;
 mod motion_truth;
 mod near_limit;
