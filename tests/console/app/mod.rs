@@ -2,6 +2,7 @@
 //! view out. No terminal, no sockets.
 
 mod book_load;
+mod fence;
 mod cap_watch;
 mod form_keys;
 mod goto_end;

@@ -1,0 +1,156 @@
+//! The fence in the state machine, on a fake clock: telemetry goes straight in, and the effects
+//! are what the driver would be given. The rules' own figures are in `src/link/fence/tests.rs`.
+
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use armjog::console::app::{App, AppConfig, Effect, Input};
+use armjog::console::jog::KeyKind;
+use armjog::console::positions::PositionBook;
+use armjog::console::view::View;
+use armjog::kortex::gen3::{HOME_DEG, condition_number};
+use armjog::kortex::{RegisterImage, Telemetry};
+use armjog::link::fence::{Aabb, Fence, KeepOut};
+use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus, TelemetrySource};
+
+use crate::app_support::{STOP, config, jog, key, message, no_motion, press, release};
+
+/// The tool point the telemetry reports, mm (over home's angles).
+const TOOL: [f64; 3] = [450.0, 0.0, 300.0];
+
+/// A table 40 mm (sphere) under `TOOL`, a 40 mm sphere, the 60 mm slow zone.
+fn fence() -> Fence {
+    Fence {
+        tool_radius: 40.0,
+        keep_out: vec![KeepOut {
+            name: "table".into(),
+            zone: Aabb {
+                min: [0.0, -400.0, -100.0],
+                max: [900.0, 400.0, 220.0],
+            },
+            enabled: true,
+        }],
+        ..Fence::default()
+    }
+}
+
+/// The arm at home with its tool point at `tool` mm.
+fn at(tool: [f64; 3]) -> Input {
+    let mut t = Telemetry::decode(&RegisterImage::default());
+    for (joint, q) in t.joints.iter_mut().zip(HOME_DEG) {
+        joint.position = q as f32;
+    }
+    t.tcp.pose.x = (tool[0] / 1000.0) as f32;
+    t.tcp.pose.y = (tool[1] / 1000.0) as f32;
+    t.tcp.pose.z = (tool[2] / 1000.0) as f32;
+    Input::Arm(ArmEvent::Telemetry(Box::new(t)))
+}
+
+/// An app with `fence`, its link up, Modbus telemetry at the tool point `tool`.
+fn fenced(fence: Fence, tool: Option<[f64; 3]>) -> (App, Instant) {
+    let config = AppConfig {
+        fence: Some(Arc::new(fence)),
+        ..config()
+    };
+    let mut app = App::new(config, PositionBook::new());
+    let t0 = Instant::now();
+    let up = LinkStatus::Up {
+        description: "test".into(),
+    };
+    app.handle(Input::Arm(ArmEvent::Status(up)), t0);
+    app.handle(Input::Arm(ArmEvent::Speed(50)), t0);
+    let source = TelemetrySource::Modbus;
+    app.handle(Input::Arm(ArmEvent::TelemetrySource(source)), t0);
+    if let Some(tool) = tool {
+        app.handle(at(tool), t0);
+    }
+    (app, t0)
+}
+
+fn fence_speed(permille: u16) -> Effect {
+    Effect::Arm(ArmCommand::FenceSpeed(permille))
+}
+
+#[test]
+fn home_is_far_from_the_default_singularity_slow_down() {
+    let kappa = condition_number(&HOME_DEG.map(f64::to_radians));
+    assert!(kappa < 17.0, "κ at home {kappa}");
+}
+
+#[test]
+fn in_the_slow_zone_the_share_goes_out_before_the_jog_and_the_whole_speed_after_the_stop() {
+    // The sphere 30 mm over the table: 0.1 + 0.9 * 30 / 60 = 0.55.
+    let (mut app, t0) = fenced(fence(), Some([450.0, 0.0, 290.0]));
+    let effects = press(&mut app, "f", t0);
+    assert_eq!(effects, [fence_speed(550), jog(0, 0, -1)]);
+    let status = View::new(&app).arm.fence;
+    assert_eq!(status.as_deref(), Some("SLOWED: table 30 mm"));
+    // Going up is away from it: the whole speed, no share.
+    let effects = release(&mut app, "f", t0);
+    assert_eq!(effects, [STOP, fence_speed(1000)]);
+    let effects = press(&mut app, "r", t0);
+    assert_eq!(effects, [jog(0, 0, 1)]);
+}
+
+#[test]
+fn each_sample_nearer_the_table_sends_the_lower_share_and_contact_stops_with_the_key_held() {
+    let (mut app, t0) = fenced(fence(), Some(TOOL));
+    assert_eq!(press(&mut app, "f", t0), [jog(0, 0, -1)]);
+    let t1 = t0 + Duration::from_millis(33);
+    // 15 mm clear: 0.325, kept to 0.30.
+    let effects = app.handle(at([450.0, 0.0, 275.0]), t1);
+    assert_eq!(effects, [fence_speed(300), jog(0, 0, -1)]);
+    // The same again: nothing new goes out.
+    let t2 = t1 + Duration::from_millis(33);
+    assert!(app.handle(at([450.0, 0.0, 275.0]), t2).is_empty());
+    // 0.5 mm clear: contact. A STOP, and the speed put back; the key still held.
+    let t3 = t2 + Duration::from_millis(33);
+    let effects = app.handle(at([450.0, 0.0, 260.5]), t3);
+    assert_eq!(effects, [STOP, fence_speed(1000)]);
+    assert!(app.jog().is_jogging());
+    let status = View::new(&app).arm.fence;
+    assert_eq!(status.as_deref(), Some("AT FENCE: table"));
+    // Its refreshes send nothing while it stays there.
+    let t4 = t3 + Duration::from_millis(150);
+    assert!(no_motion(&app.handle(Input::Tick, t4)));
+    // +X as well: the tool slides, -Z taken out.
+    let effects = app.handle(key("w", KeyKind::Press), t4);
+    assert_eq!(effects, [jog(1, 0, 0)]);
+}
+
+#[test]
+fn a_step_into_the_table_is_refused_and_nothing_moves() {
+    let (mut app, t0) = fenced(fence(), Some(TOOL));
+    press(&mut app, "t", t0);
+    release(&mut app, "t", t0);
+    // The step size up to 100 mm: 5 mm, 10, 50, 100.
+    for _ in 0..2 {
+        press(&mut app, ".", t0);
+        release(&mut app, ".", t0);
+    }
+    let effects = press(&mut app, "f", t0);
+    assert!(no_motion(&effects), "{effects:?}");
+    assert!(message(&app).contains("table"), "{}", message(&app));
+}
+
+#[test]
+fn with_a_fence_and_no_telemetry_yet_nothing_moves_and_the_reason_is_said() {
+    let (mut app, t0) = fenced(fence(), None);
+    let effects = press(&mut app, "w", t0);
+    assert!(no_motion(&effects), "{effects:?}");
+    assert_eq!(
+        message(&app),
+        "refused: no fresh telemetry for the fence to see the tool by"
+    );
+}
+
+#[test]
+fn a_tool_already_in_a_zone_is_said_at_rest_and_may_only_go_out() {
+    // 12 mm under the table's top: the sphere 52 mm in.
+    let (mut app, t0) = fenced(fence(), Some([450.0, 0.0, 208.0]));
+    let status = View::new(&app).arm.fence;
+    assert_eq!(status.as_deref(), Some("OUTSIDE FENCE: table, 52 mm in"));
+    assert!(no_motion(&press(&mut app, "f", t0)));
+    release(&mut app, "f", t0);
+    assert_eq!(press(&mut app, "r", t0), [fence_speed(100), jog(0, 0, 1)]);
+}
