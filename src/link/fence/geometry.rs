@@ -44,9 +44,9 @@ impl Aabb {
         }
         // Inside (or on a face): out through the nearest face.
         let mut best = (f64::INFINITY, [0.0; 3]);
-        for axis in 0..3 {
-            let below = p[axis] - self.min[axis];
-            let above = self.max[axis] - p[axis];
+        for (axis, &at) in p.iter().enumerate() {
+            let below = at - self.min[axis];
+            let above = self.max[axis] - at;
             if below < best.0 {
                 best = (below, unit(axis, -1.0));
             }

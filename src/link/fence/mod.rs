@@ -209,13 +209,13 @@ fn finite(key: &str, value: f64) -> Result<(), FenceError> {
 }
 
 fn check_box(key: &str, zone: &Aabb) -> Result<(), FenceError> {
-    for axis in 0..3 {
+    for (axis, &name) in AXES.iter().enumerate() {
         finite(&format!("{key}.min"), zone.min[axis])?;
         finite(&format!("{key}.max"), zone.max[axis])?;
         if zone.min[axis] >= zone.max[axis] {
             return Err(FenceError::MinNotBelowMax {
                 key: key.into(),
-                axis: AXES[axis],
+                axis: name,
                 min: zone.min[axis],
                 max: zone.max[axis],
             });
