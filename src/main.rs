@@ -2,6 +2,7 @@
 
 use armjog::cli::profiles::{ArgsError, EXIT_PROFILE, Parsed, parse_args};
 use armjog::cli::{Cli, Command, output};
+use armjog::link::fence::Fence;
 
 /// mimalloc: less CPU at rest than glibc's allocator (figures in docs/development.md).
 #[global_allocator]
@@ -11,7 +12,7 @@ fn main() {
     // The shared options of send/status/modbus may also come before the command word.
     let args = armjog::cli::options_after_command(std::env::args_os().collect());
     // The profile `--arm` names is read and checked before anything starts.
-    let Parsed { cli, arm } = match parse_args(args) {
+    let Parsed { cli, arm, fence } = match parse_args(args) {
         Ok(parsed) => parsed,
         Err(ArgsError::Clap(e)) => exit_clap(e),
         Err(e) => {
@@ -34,7 +35,7 @@ fn main() {
     };
     let code = runtime.block_on(async {
         // A task: a panic ends at its edge and the runtime still carries the panic hook's STOP.
-        match tokio::spawn(run(cli, arm)).await {
+        match tokio::spawn(run(cli, arm, fence)).await {
             Ok(code) => code,
             Err(e) if e.is_panic() => {
                 tokio::time::sleep(PANIC_GRACE).await;
@@ -62,7 +63,7 @@ fn exit_clap(e: clap::Error) -> ! {
 /// process sooner (see `console::run`), once the stop it asked for has gone out.
 const PANIC_GRACE: std::time::Duration = std::time::Duration::from_secs(1);
 
-async fn run(cli: Cli, arm: Option<String>) -> i32 {
+async fn run(cli: Cli, arm: Option<String>, fence: Option<Fence>) -> i32 {
     match cli.command {
         Some(Command::Send(args)) => report(armjog::cli::send::run(&args).await),
         Some(Command::Status(args)) => report(armjog::cli::status::run(&args).await),
@@ -72,7 +73,7 @@ async fn run(cli: Cli, arm: Option<String>) -> i32 {
         Some(Command::Guard(args)) => armjog::cli::guard::run(&args).await,
         Some(Command::Completions(args)) => report(armjog::cli::generate::run_completions(&args)),
         Some(Command::Man(args)) => report(armjog::cli::generate::run_man(&args)),
-        None => armjog::cli::console::run_console(&cli.console, arm).await,
+        None => armjog::cli::console::run_console(&cli.console, arm, fence).await,
     }
 }
 

@@ -1,9 +1,10 @@
-//! `armjog arms`: the arm profiles of config.toml, one line each with its targets.
+//! `armjog arms`: the arm profiles of config.toml, one line each with its targets and fence.
 
 use clap::Args;
 
 use super::Outcome;
 use super::profiles::{self, EXIT_PROFILE, ProfileError, Profiles};
+use crate::link::fence::Fence;
 use crate::text;
 
 #[derive(Debug, Args)]
@@ -24,11 +25,26 @@ pub fn run(given: Option<&std::path::Path>) -> Outcome {
     }
 }
 
+/// `fence: 2 keep-out zones, 1 off`.
+fn fence_clause(fence: &Fence) -> String {
+    let zones = fence.keep_out.len();
+    let off = zones - fence.zones().count();
+    let mut clause = match zones {
+        0 => "fence: no keep-out zones".to_string(),
+        1 => "fence: 1 keep-out zone".to_string(),
+        n => format!("fence: {n} keep-out zones"),
+    };
+    if off > 0 {
+        clause.push_str(&format!(", {off} off"));
+    }
+    clause
+}
+
 fn refused(e: &ProfileError) -> Outcome {
     Outcome::error(e.to_string(), EXIT_PROFILE)
 }
 
-/// One line a profile: its name, then its Talos and Modbus targets as written.
+/// One line a profile: its name, its Talos and Modbus targets as written, and its fence if any.
 pub fn lines(profiles: &Profiles) -> Vec<String> {
     if profiles.arms.is_empty() {
         return vec![format!(
@@ -57,6 +73,9 @@ pub fn lines(profiles: &Profiles) -> Vec<String> {
             }
             if targets.is_empty() {
                 targets.push("the built-in simulated arm".into());
+            }
+            if let Some(fence) = &profile.fence {
+                targets.push(fence_clause(fence));
             }
             format!("{name:<width$}  {}", targets.join("  "))
         })

@@ -1,6 +1,7 @@
 //! `armjog` with no subcommand: the console, on the built-in simulated arm unless told otherwise.
 
 use std::path::PathBuf;
+use std::sync::Arc;
 use std::time::Duration;
 
 use clap::{Args, ValueEnum};
@@ -14,6 +15,7 @@ use crate::console::run::{ConsoleSetup, run};
 use crate::kortex::PollPlan;
 use crate::link::Dialect;
 use crate::link::driver::DriverConfig;
+use crate::link::fence::Fence;
 use crate::link::guard::GuardPolicy;
 use crate::link::modbus::{self, ModbusConfig};
 use crate::link::speed::{SpeedCap, SpeedCapError};
@@ -138,8 +140,13 @@ impl ConsoleArgs {
     }
 }
 
-/// Runs the console; returns the exit status. `arm_name`: the profile `args` came from.
-pub async fn run_console(args: &ConsoleArgs, arm_name: Option<String>) -> i32 {
+/// Runs the console; returns the exit status. `arm_name`: the profile `args` came from; `fence`:
+/// its fence, checked as the profile was read.
+pub async fn run_console(
+    args: &ConsoleArgs,
+    arm_name: Option<String>,
+    fence: Option<Fence>,
+) -> i32 {
     if let Err(reason) = args.validate() {
         return fail(reason, 2);
     }
@@ -210,7 +217,7 @@ pub async fn run_console(args: &ConsoleArgs, arm_name: Option<String>) -> i32 {
         positions_read,
         simulated: simulator.is_some(),
         arm_name,
-        fence: None,
+        fence: fence.map(Arc::new),
     };
     // Not `eprintln!`: it panics when stderr is gone after a hang-up.
     let code = match run(setup).await {

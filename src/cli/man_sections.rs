@@ -75,6 +75,7 @@ const FILES: Section = (
         (
             "$XDG_CONFIG_HOME/armjog/config.toml",
             "The arm profiles: one [arms.NAME] table each, with console options by their long names \
+             and an optional [arms.NAME.fence] table (box, keep-out zones, soft joint limits) \
              (~/.config/armjog/config.toml).",
         ),
         (

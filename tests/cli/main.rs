@@ -33,6 +33,7 @@ mod modbus_home;
 mod options;
 mod outside_text;
 mod profile_commands;
+mod profile_fence;
 mod profile_precedence;
 mod profile_values;
 mod profiles;

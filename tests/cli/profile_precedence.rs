@@ -22,7 +22,7 @@ fn parsed(config: &Path, args: &[&str]) -> Result<Parsed, ArgsError> {
 #[test]
 fn the_profile_beats_the_defaults_and_a_flag_beats_the_profile() {
     let (_dir, config) = config_file(GOOD);
-    let Parsed { cli, arm } = parsed(&config, &["--arm", "cell3"]).expect("parses");
+    let Parsed { cli, arm, .. } = parsed(&config, &["--arm", "cell3"]).expect("parses");
     assert_eq!(arm.as_deref(), Some("cell3"));
     let c = &cli.console;
     assert_eq!(c.talos.as_deref(), Some("192.168.1.20"));
@@ -64,7 +64,7 @@ fn the_profile_beats_the_defaults_and_a_flag_beats_the_profile() {
 #[test]
 fn the_one_shot_commands_take_the_options_they_have() {
     let (_dir, config) = config_file(GOOD);
-    let Parsed { cli, arm } = parsed(&config, &["status", "--arm", "cell3"]).expect("parses");
+    let Parsed { cli, arm, .. } = parsed(&config, &["status", "--arm", "cell3"]).expect("parses");
     assert_eq!(arm.as_deref(), Some("cell3"));
     let Some(Command::Status(status)) = cli.command else {
         panic!("status");
@@ -110,7 +110,7 @@ fn a_profile_without_what_the_command_needs_says_so() {
 #[test]
 fn without_arm_the_file_is_not_read_and_arm_is_refused_where_it_means_nothing() {
     let missing = Path::new("/nonexistent/armjog/config.toml");
-    let Parsed { cli, arm } = parsed(missing, &["--talos", "op"]).expect("no profile named");
+    let Parsed { cli, arm, .. } = parsed(missing, &["--talos", "op"]).expect("no profile named");
     assert_eq!(arm, None);
     assert_eq!(cli.console.talos.as_deref(), Some("op"));
     let err = parsed(missing, &["--arm", "cell3"]).expect_err("missing file");

@@ -7,6 +7,7 @@ use clap::{ArgMatches, Command, CommandFactory, FromArgMatches, Parser};
 
 use super::{Profile, ProfileError, config_path, first_line, load};
 use crate::cli::Cli;
+use crate::link::fence::Fence;
 
 /// The commands a profile applies to (`None`: the console).
 const TAKE_PROFILES: [Option<&str>; 4] = [None, Some("send"), Some("status"), Some("modbus")];
@@ -20,6 +21,8 @@ pub struct Parsed {
     pub cli: Cli,
     /// The profile applied, if any.
     pub arm: Option<String>,
+    /// That profile's fence, checked, if it has one.
+    pub fence: Option<Fence>,
 }
 
 /// Why the command line cannot be used.
@@ -54,6 +57,7 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Parsed, ArgsError> {
         return Ok(Parsed {
             cli: Cli::from_arg_matches(&matches)?,
             arm: None,
+            fence: None,
         });
     };
     let given = leaf_matches.get_one::<std::path::PathBuf>("config");
@@ -69,6 +73,7 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Parsed, ArgsError> {
         Ok(cli) => Ok(Parsed {
             cli,
             arm: Some(arm),
+            fence: profile.fence.clone(),
         }),
         Err(e) if e.kind() == clap::error::ErrorKind::MissingRequiredArgument => {
             Err(ArgsError::Incomplete(format!(

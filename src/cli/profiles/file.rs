@@ -1,4 +1,5 @@
-//! Reading `config.toml`'s `[arms.NAME]` tables, keys checked against clap's options, with lines.
+//! Reading `config.toml`'s `[arms.NAME]` tables, keys checked against clap's options, with lines;
+//! a profile's `fence` table is read by `super::fence`.
 
 use std::any::TypeId;
 use std::ops::Range;
@@ -8,7 +9,7 @@ use clap::{Arg, Args, Command};
 use toml::Spanned;
 use toml::de::{DeTable, DeValue};
 
-use super::{Profile, ProfileError, Profiles, Setting, first_line};
+use super::{Profile, ProfileError, Profiles, Setting, fence, first_line};
 use crate::cli::console::ConsoleArgs;
 
 /// The largest config file read: a few profiles are a few kB.
@@ -70,11 +71,15 @@ pub fn key_of(arg: &Arg) -> Option<String> {
     arg.get_long().map(|long| long.replace('-', "_"))
 }
 
-/// Every key a profile may hold, in the order `--help` lists them.
+/// The key of a profile's fence table (`[arms.NAME.fence]`), which is no option.
+pub const FENCE_KEY: &str = "fence";
+
+/// Every key a profile may hold: the options in the order `--help` lists them, then `fence`.
 pub fn known_keys() -> Vec<String> {
     console_options()
         .get_arguments()
         .filter_map(key_of)
+        .chain([FENCE_KEY.to_string()])
         .collect()
 }
 
@@ -135,7 +140,12 @@ fn read_profile(
     let options = console_options();
     let keys = known_keys();
     let mut settings = Vec::new();
+    let mut fence = None;
     for (key, value) in table {
+        if key.get_ref() == FENCE_KEY {
+            fence = Some(fence::read(at, &arm, key, value)?);
+            continue;
+        }
         let Some(arg) = options
             .get_arguments()
             .find(|arg| key_of(arg).as_deref() == Some(key.get_ref().as_ref()))
@@ -158,6 +168,7 @@ fn read_profile(
         name: name.get_ref().to_string(),
         line: at.line(&name.span()),
         settings,
+        fence,
     })
 }
 
@@ -224,19 +235,19 @@ fn one_line(message: &str) -> String {
 }
 
 /// Names places in the file.
-struct Locator<'a> {
+pub(super) struct Locator<'a> {
     path: PathBuf,
     text: &'a str,
 }
 
 impl Locator<'_> {
     /// The 1-based line of a byte span's start: the pieces before it, split at newlines.
-    fn line(&self, span: &Range<usize>) -> usize {
+    pub(super) fn line(&self, span: &Range<usize>) -> usize {
         let start = span.start.min(self.text.len());
         self.text.as_bytes()[..start].split(|b| *b == b'\n').count()
     }
 
-    fn error(&self, line: usize, message: String) -> ProfileError {
+    pub(super) fn error(&self, line: usize, message: String) -> ProfileError {
         ProfileError::Invalid {
             path: self.path.clone(),
             line,
@@ -244,7 +255,7 @@ impl Locator<'_> {
         }
     }
 
-    fn unknown_key(
+    pub(super) fn unknown_key(
         &self,
         key: &Spanned<std::borrow::Cow<'_, str>>,
         known: &[String],
@@ -258,19 +269,31 @@ impl Locator<'_> {
         self.error(self.line(&key.span()), message)
     }
 
-    fn wrong_type(&self, value: &Spanned<DeValue<'_>>, key: &str, expected: &str) -> ProfileError {
-        let found = match value.get_ref() {
-            DeValue::String(_) => "a string",
-            DeValue::Integer(_) => "an integer",
-            DeValue::Float(_) => "a float",
-            DeValue::Boolean(_) => "a boolean",
-            DeValue::Datetime(_) => "a date",
-            DeValue::Array(_) => "an array",
-            DeValue::Table(_) => "a table",
-        };
+    pub(super) fn wrong_type(
+        &self,
+        value: &Spanned<DeValue<'_>>,
+        key: &str,
+        expected: &str,
+    ) -> ProfileError {
         self.error(
             self.line(&value.span()),
-            format!("{key}: expected {expected}, found {found}"),
+            format!(
+                "{key}: expected {expected}, found {}",
+                found(value.get_ref())
+            ),
         )
+    }
+}
+
+/// What a value is, as an error names it (`an integer`).
+pub(super) fn found(value: &DeValue<'_>) -> &'static str {
+    match value {
+        DeValue::String(_) => "a string",
+        DeValue::Integer(_) => "an integer",
+        DeValue::Float(_) => "a float",
+        DeValue::Boolean(_) => "a boolean",
+        DeValue::Datetime(_) => "a date",
+        DeValue::Array(_) => "an array",
+        DeValue::Table(_) => "a table",
     }
 }

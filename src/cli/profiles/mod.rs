@@ -3,11 +3,14 @@
 //! profile over the defaults.
 
 mod apply;
+mod fence;
 mod file;
 
 use std::path::{Path, PathBuf};
 
 use clap::Args;
+
+use crate::link::fence::Fence;
 
 pub use apply::{ArgsError, Parsed, parse_args, profile_args};
 pub use file::{known_keys, load, nearest, parse};
@@ -55,6 +58,8 @@ pub struct Profile {
     /// The line of its `[arms.NAME]` header.
     pub line: usize,
     pub settings: Vec<Setting>,
+    /// Its `[arms.NAME.fence]` table, checked; `None` when it has none.
+    pub fence: Option<Fence>,
 }
 
 /// One option of a profile, as the command line would write its value.
