@@ -36,7 +36,10 @@ fn fence(zones: usize) -> Fence {
     joints[5] = Some([-115.0, 115.0]);
     let keep_out = (0..zones)
         .map(|i| {
-            let (x, y) = ((i % 10) as f64 * 80.0 - 400.0, (i / 10) as f64 * 80.0 - 400.0);
+            let (x, y) = (
+                (i % 10) as f64 * 80.0 - 400.0,
+                (i / 10) as f64 * 80.0 - 400.0,
+            );
             KeepOut {
                 name: format!("zone {i}"),
                 zone: Aabb {
@@ -118,7 +121,10 @@ fn bench(c: &mut Criterion) {
             fence.judge(&sample, heading, PACE)
         })
     });
-    for (name, fence) in [("app_sample (no fence)", None), ("app_sample (100 zones)", Some(fence))] {
+    for (name, fence) in [
+        ("app_sample (no fence)", None),
+        ("app_sample (100 zones)", Some(fence)),
+    ] {
         let (mut app, mut now) = jogging(fence);
         let input = report();
         c.bench_function(name, |b| {

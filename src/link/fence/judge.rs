@@ -15,6 +15,8 @@ const MIN_MARGIN_DEG: f64 = 0.3;
 const TURNING_DEG_S: f64 = 0.5;
 /// Speed factors are kept to these steps, so a slow-down sends a command per step, not per sample.
 const FACTOR_STEP: f64 = 0.05;
+/// A factor this close under a step is on it: an f32 pose in metres is good to some 1e-5 mm.
+const STEP_ROUNDING: f64 = 1e-4;
 
 /// What a sample tells the fence.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -246,7 +248,8 @@ impl Fence {
             Heading::Along { .. } => true,
         };
         let factor = if moving && worst.factor > 0.0 {
-            ((worst.factor / FACTOR_STEP).floor() * FACTOR_STEP).max(SLOWEST.min(worst.factor))
+            ((worst.factor / FACTOR_STEP + STEP_ROUNDING).floor() * FACTOR_STEP)
+                .max(SLOWEST.min(worst.factor))
         } else {
             0.0
         };

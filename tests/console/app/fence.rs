@@ -9,16 +9,16 @@ use armjog::console::jog::KeyKind;
 use armjog::console::positions::PositionBook;
 use armjog::console::view::View;
 use armjog::kortex::gen3::{HOME_DEG, condition_number};
-use armjog::kortex::{RegisterImage, Telemetry};
+use armjog::kortex::{Coded, RegisterImage, RobotState, Telemetry};
 use armjog::link::fence::{Aabb, Fence, KeepOut};
 use armjog::link::interface::{ArmCommand, ArmEvent, LinkStatus, TelemetrySource};
 
 use crate::app_support::{STOP, config, jog, key, message, no_motion, press, release};
 
-/// The tool point the telemetry reports, mm (over home's angles).
-const TOOL: [f64; 3] = [450.0, 0.0, 300.0];
+/// The tool point the telemetry reports, mm (over home's angles): 140 mm clear of the table.
+const TOOL: [f64; 3] = [450.0, 0.0, 400.0];
 
-/// A table 40 mm (sphere) under `TOOL`, a 40 mm sphere, the 60 mm slow zone.
+/// A table with its top at z = 220 mm, a 40 mm sphere, the 60 mm slow zone.
 fn fence() -> Fence {
     Fence {
         tool_radius: 40.0,
@@ -37,6 +37,7 @@ fn fence() -> Fence {
 /// The arm at home with its tool point at `tool` mm.
 fn at(tool: [f64; 3]) -> Input {
     let mut t = Telemetry::decode(&RegisterImage::default());
+    t.robot_state = Coded::Known(RobotState::Ready);
     for (joint, q) in t.joints.iter_mut().zip(HOME_DEG) {
         joint.position = q as f32;
     }
@@ -120,10 +121,11 @@ fn each_sample_nearer_the_table_sends_the_lower_share_and_contact_stops_with_the
 
 #[test]
 fn a_step_into_the_table_is_refused_and_nothing_moves() {
-    let (mut app, t0) = fenced(fence(), Some(TOOL));
+    // 40 mm clear: a 50 mm step down would put the sphere 10 mm in.
+    let (mut app, t0) = fenced(fence(), Some([450.0, 0.0, 300.0]));
     press(&mut app, "t", t0);
     release(&mut app, "t", t0);
-    // The step size up to 100 mm: 5 mm, 10, 50, 100.
+    // The step size up to 50 mm: 5 mm, 10, 50.
     for _ in 0..2 {
         press(&mut app, ".", t0);
         release(&mut app, ".", t0);

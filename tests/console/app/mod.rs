@@ -2,8 +2,8 @@
 //! view out. No terminal, no sockets.
 
 mod book_load;
-mod fence;
 mod cap_watch;
+mod fence;
 mod form_keys;
 mod goto_end;
 mod guard_stops;
