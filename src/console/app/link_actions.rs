@@ -2,6 +2,8 @@
 
 use std::sync::Arc;
 
+use crate::link::fence::Fence;
+
 use crate::console::action::{Action, JogFamily};
 use crate::console::keymap::Keymap;
 use crate::link::speed::SpeedCap;
@@ -68,4 +70,6 @@ pub struct SessionView {
     pub link_actions: LinkActions,
     /// The arm profile the console was opened with (`--arm cell3`).
     pub arm_name: Option<String>,
+    /// The arm profile's fence: the arm view draws it.
+    pub fence: Option<Arc<Fence>>,
 }

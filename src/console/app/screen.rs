@@ -44,6 +44,7 @@ impl App {
             keys: self.keys.view(),
             arm: ArmView {
                 fence: self.fence.text(),
+                fence_nearest: self.fence_nearest(),
                 ..self.arm.view(self.now)
             },
             motion_status: self.motion_status_view(),
@@ -51,6 +52,18 @@ impl App {
             screen: self.screen.view(rows),
             tour: self.tours.view(),
         }
+    }
+
+    /// The fence's barrier nearest the tool sphere and its clearance, mm.
+    fn fence_nearest(&self) -> Option<(String, f64)> {
+        let fence = self.config.fence.as_ref()?;
+        let pose = self.arm.telemetry()?.tcp.pose;
+        let tool = [pose.x, pose.y, pose.z].map(|m| f64::from(m) * 1000.0);
+        if !tool.iter().all(|v| v.is_finite()) {
+            return None;
+        }
+        let (name, clearance) = fence.nearest(tool)?;
+        Some((name.to_string(), clearance))
     }
 
     /// The arm moves, or may: draw at the full rate.
@@ -185,6 +198,7 @@ impl App {
             positions_on_operator: config.positions_on_operator,
             link_actions: self.link_actions(),
             arm_name: config.arm_name.clone(),
+            fence: config.fence.clone(),
         }
     }
 

@@ -5,7 +5,7 @@
 //! written after the canvas: one that does not fit is elided, one that would cover another is
 //! dropped; none runs past its drawing.
 
-use std::sync::LazyLock;
+use std::sync::{Arc, LazyLock};
 
 use nalgebra::Vector3;
 use ratatui::Frame;
@@ -23,6 +23,7 @@ use crate::console::arm_geometry::{self, ArmPose, jog_direction};
 use crate::console::view::View;
 use crate::kortex::Telemetry;
 use crate::kortex::sanity::JOINT_ANGLE_DEG;
+use crate::link::fence::{Aabb, Fence};
 use crate::link::interface::TelemetrySource;
 
 /// What the panel says over a link that sends no telemetry (the ack dialect).
@@ -133,6 +134,8 @@ struct Scene {
     trail: Vec<(TrailShade, Vector3<f64>)>,
     markers: Vec<Marker3>,
     arrow: Option<Vector3<f64>>,
+    /// The arm profile's fence, drawn under the arm.
+    fence: Option<Arc<Fence>>,
 }
 
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
@@ -176,6 +179,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
             }
             _ => None,
         },
+        fence: view.session.fence.clone(),
     };
     if inner.width < 2 * MIN_DRAWING_WIDTH + 1 || inner.height < 3 {
         return;
@@ -214,6 +218,10 @@ fn draw_one(frame: &mut Frame, drawing: &Drawing, scene: &Scene, theme: &Theme) 
     let mut ctx = Braille::new(area.width, area.height, drawing.x_bounds, drawing.y_bounds);
     envelope(&mut ctx, projection, theme);
     ctx.layer();
+    if let Some(fence) = &scene.fence {
+        fence_lines(&mut ctx, projection, fence, &scene.pose.tool(), theme);
+        ctx.layer();
+    }
     trail(&mut ctx, projection, &scene.trail, theme);
     ctx.layer();
     for marker in &scene.markers {
@@ -238,6 +246,38 @@ fn draw_one(frame: &mut Frame, drawing: &Drawing, scene: &Scene, theme: &Theme) 
 
 /// The tool point's colour: its cell is filled in it (tests find it by it).
 pub const TOOL_COLOR: Color = Color::LightMagenta;
+
+/// The fence's box (blue) and zones (red) as rectangles, and the tool's sphere, in metres.
+fn fence_lines(
+    ctx: &mut Braille,
+    projection: Projection,
+    fence: &Fence,
+    tool: &Vector3<f64>,
+    theme: &Theme,
+) {
+    let rectangle = |ctx: &mut Braille, zone: &Aabb, color: Color| {
+        let corner = |c: [f64; 3]| projection.project(&Vector3::from(c.map(|mm| mm / 1000.0)));
+        let ((x1, y1), (x2, y2)) = (corner(zone.min), corner(zone.max));
+        for (from, to) in [
+            ((x1, y1), (x2, y1)),
+            ((x2, y1), (x2, y2)),
+            ((x2, y2), (x1, y2)),
+            ((x1, y2), (x1, y1)),
+        ] {
+            ctx.line(from, to, color);
+        }
+    };
+    if let Some(inside) = &fence.inside {
+        rectangle(ctx, inside, paint(theme, Color::Blue));
+    }
+    for zone in fence.zones() {
+        rectangle(ctx, &zone.zone, paint(theme, Color::LightRed));
+    }
+    if fence.tool_radius > 0.0 {
+        let radius = fence.tool_radius / 1000.0;
+        ctx.circle(projection.project(tool), radius, paint(theme, TOOL_COLOR));
+    }
+}
 
 fn envelope(ctx: &mut Braille, projection: Projection, theme: &Theme) {
     let grey = paint(theme, Color::DarkGray);

@@ -86,7 +86,13 @@ fn panel_width(value_width: usize, long_labels: bool) -> u16 {
 }
 
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
-    let titles = super::telemetry_titles("Tool (TCP)", &[], view);
+    // The fence's nearest face or zone, while the title has room for it.
+    let nearest = view
+        .arm
+        .fence_nearest
+        .as_ref()
+        .map(|(name, mm)| format!(", {name} {mm:.0} mm"));
+    let titles = super::telemetry_titles("Tool (TCP)", &[nearest.as_deref().unwrap_or("")], view);
     let block = super::fitted_panel(&titles, area.width, theme);
     let Some(t) = &view.arm.telemetry else {
         return super::draw_no_telemetry(frame, area, block, view);

@@ -107,6 +107,18 @@ impl Fence {
         }
     }
 
+    /// The barrier nearest the tool sphere at `p` (mm), and its clearance: what the tool panel
+    /// shows.
+    pub fn nearest(&self, p: [f64; 3]) -> Option<(&str, f64)> {
+        let mut nearest: Option<(&str, f64)> = None;
+        self.barriers(p, |b| {
+            if nearest.is_none_or(|(_, c)| b.clearance < c) {
+                nearest = Some((b.name, b.clearance));
+            }
+        });
+        nearest
+    }
+
     /// Why a tool point at `target` (mm) may not be gone to: the barrier the sphere would cross.
     pub fn refuse_target(&self, target: [f64; 3]) -> Option<String> {
         let mut worst: Option<(f64, &str)> = None;

@@ -2,6 +2,7 @@
 //! a `View`; insta snapshots in `snapshots/`.
 
 mod arm_view;
+mod fence;
 mod help;
 mod hostile_text;
 mod long_names;

@@ -70,6 +70,8 @@ pub struct ArmView {
     pub trail: Vec<(TrailShade, [f64; 3])>,
     /// What the fence says (`SLOWED: table 34 mm`, `AT FENCE: table`), the app's to fill.
     pub fence: Option<String>,
+    /// The fence's barrier nearest the tool sphere and its clearance (mm), the app's to fill.
+    pub fence_nearest: Option<(String, f64)>,
 }
 
 impl Default for Arm {
@@ -226,6 +228,7 @@ impl Arm {
             near_singularity: self.singularity,
             trail: now.map(|now| self.trail.shaded(now)).unwrap_or_default(),
             fence: None,
+            fence_nearest: None,
         }
     }
 }
