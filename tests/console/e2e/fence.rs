@@ -408,3 +408,56 @@ async fn a_polar_pan_toward_a_side_of_the_box_stops_outside_it_over_both_links()
     a_pan_stops_at_a_side_of_the_box(Links::Talos).await;
     a_pan_stops_at_a_side_of_the_box(Links::Modbus).await;
 }
+
+/// A move the arm plans (home) is watched: heading into a zone, it is stopped at the fence.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn home_heading_into_a_zone_is_stopped_at_the_fence() {
+    // A wall 20 mm thick, 60 mm on from home in +X, up to 100 mm over home's tool point.
+    let mut console = Console::start(Links::Modbus, |tool| {
+        let [x, y, z] = tool;
+        Fence {
+            tool_radius: RADIUS,
+            keep_out: vec![KeepOut {
+                name: "wall".into(),
+                zone: Aabb {
+                    min: [x + 100.0, y - 500.0, z - 500.0],
+                    max: [x + 120.0, y + 500.0, z + 100.0],
+                },
+                enabled: true,
+            }],
+            ..Fence::default()
+        }
+    })
+    .await;
+    let home = console.tool_mm().await;
+    // Up 180 mm, then over the wall 200 mm in +X.
+    for (key, mm, axis) in [("r", 180.0, 2), ("w", 200.0, 0)] {
+        let from = console.tool_mm().await[axis];
+        console.key(key, KeyKind::Press);
+        let until = tokio::time::Instant::now() + Duration::from_secs(6);
+        while console.tool_mm().await[axis] - from < mm && tokio::time::Instant::now() < until {
+            console.watch_for(Duration::from_millis(20)).await;
+        }
+        console.key(key, KeyKind::Release);
+        console.watch_for(Duration::from_millis(300)).await;
+    }
+    let over = console.tool_mm().await;
+    assert!(over[0] - home[0] > 190.0 && over[2] - home[2] > 160.0, "{over:?}");
+    console.said.clear();
+    console.key("h", KeyKind::Press);
+    console.key("h", KeyKind::Release);
+    console
+        .run_for(QUESTION_QUIET + Duration::from_millis(20))
+        .await;
+    console.key("y", KeyKind::Press);
+    console.key("y", KeyKind::Release);
+    let (_, end) = console.watch_for(Duration::from_secs(4)).await;
+    let stopped = console.said.iter().any(|s| s.contains("stopped: AT FENCE: wall"));
+    assert!(stopped, "said {:?}", console.said);
+    assert!(
+        end[0] - RADIUS >= home[0] + 120.0 - 3.0,
+        "home went {:.1} mm past the wall's far face",
+        home[0] + 120.0 - (end[0] - RADIUS)
+    );
+    console.driver.shutdown().await;
+}
