@@ -6,6 +6,7 @@ pub mod arm_geometry;
 pub mod audit;
 pub mod book_io;
 pub mod coords;
+pub mod fence_file;
 pub mod form;
 pub mod input;
 pub mod input_first;
