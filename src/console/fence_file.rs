@@ -33,9 +33,6 @@ use toml_edit::{
 
 use crate::link::fence::{Aabb, Fence, FenceError, KeepOut, Singularity};
 
-#[cfg(test)]
-mod tests;
-
 /// The largest config file read or written: the profile reader's limit
 /// (`cli::profiles::file::CONFIG_LIMIT`), so that what is written loads again.
 pub const CONFIG_LIMIT: u64 = 1024 * 1024;

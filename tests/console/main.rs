@@ -1,6 +1,6 @@
 //! The console: its state machine (`app/`), panels (`ui/`, insta snapshots), end-to-end runs
 //! against the simulator (`e2e/`) and the real binary in tmux (`tmux/`); beside them the jog
-//! engine, keymaps, the audit deriver and the terminal reader.
+//! engine, keymaps, the audit deriver, the terminal reader and the fence's writer.
 //!
 //! One test binary per folder (linking one binary per file cost most of a CI run): each module
 //! is named for what it tests, so test paths read `<module>::<test>`. Helpers shared with other
@@ -18,6 +18,7 @@ mod event_loop;
 mod app;
 mod audit;
 mod e2e;
+mod fence_file;
 mod jog_engine;
 mod keymap;
 mod readme_keys;

@@ -1,10 +1,12 @@
-//! Hand-written files before and after a write; the written files read back with the profile
-//! reader (`cli::profiles::parse`), which the console layer itself does not use.
+//! `console::fence_file`: hand-written files before and after a write, and the written files
+//! read back with the profile reader (`cli::profiles::parse`, which the console layer itself may
+//! not use: hence a test here rather than in the module).
 
 use std::path::{Path, PathBuf};
 
-use super::*;
-use crate::cli::profiles::parse;
+use armjog::cli::profiles::parse;
+use armjog::console::fence_file::{FenceSave, FenceWriteError, write_fence};
+use armjog::link::fence::{Aabb, Fence, KeepOut, Singularity};
 
 /// A folder with `config.toml` holding `text`.
 fn folder_with(text: &str) -> (tempfile::TempDir, PathBuf) {
@@ -501,15 +503,25 @@ fn a_profile_written_inline_gets_its_fence_inline() {
 
 #[test]
 fn numbers_are_integers_when_whole_else_a_tenth() {
-    let shown = |v: f64| number(v).to_string();
-    assert_eq!(shown(-600.0), "-600");
-    assert_eq!(shown(0.0), "0");
-    assert_eq!(shown(-0.04), "0");
-    assert_eq!(shown(12.5), "12.5");
-    assert_eq!(shown(12.34), "12.3");
-    assert_eq!(shown(-0.25), "-0.3");
-    assert_eq!(shown(899.96), "900");
-    assert_eq!(shown(0.1 + 0.2), "0.3");
+    let fence = Fence {
+        inside: Some(Aabb {
+            min: [-600.0, -0.04, 12.34],
+            max: [899.96, 0.1 + 0.2, 12.5],
+        }),
+        tool_radius: 12.25,
+        slow_zone: 60.0,
+        ..Fence::default()
+    };
+    let expected = "\
+[arms.cell3]
+
+[arms.cell3.fence]
+inside = { min = [-600, 0, 12.3], max = [900, 0.3, 12.5] }
+tool_radius = 12.3
+slow_zone = 60
+";
+    let after = written("", "cell3", &fence);
+    assert_eq!(after, expected);
 }
 
 #[test]
