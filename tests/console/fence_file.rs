@@ -587,6 +587,47 @@ fn a_folder_that_cannot_be_made_names_the_file() {
 }
 
 #[test]
+fn a_folder_in_place_of_the_file_is_named() {
+    let dir = tempfile::tempdir().expect("a folder");
+    let file = dir.path().join("config.toml");
+    std::fs::create_dir(&file).expect("made");
+    let err = save(&file, "cell3", &Fence::default()).expect_err("a folder");
+    let expected = format!(
+        "{}: fence not saved: cannot read the file: not a regular file (a directory); only a \
+         regular file is read",
+        file.display()
+    );
+    assert_eq!(err.to_string(), expected);
+}
+
+#[cfg(unix)]
+#[test]
+fn a_read_only_folder_names_the_file_and_keeps_it() {
+    use std::os::unix::fs::PermissionsExt;
+    let (dir, file) = folder_with("[arms.cell3]\n");
+    let mode = |m| std::fs::Permissions::from_mode(m);
+    std::fs::set_permissions(dir.path(), mode(0o555)).expect("chmod");
+    // Root writes anyway: nothing to see there.
+    let probe = dir.path().join("probe");
+    if std::fs::write(&probe, "").is_ok() {
+        std::fs::set_permissions(dir.path(), mode(0o755)).expect("chmod");
+        eprintln!("skipped: this user writes into a read-only folder");
+        return;
+    }
+    let err = save(&file, "cell3", &Fence::default()).expect_err("read-only");
+    std::fs::set_permissions(dir.path(), mode(0o755)).expect("chmod");
+    let at = format!(
+        "{}: fence not saved: cannot write the file: ",
+        file.display()
+    );
+    assert!(err.to_string().starts_with(&at), "{err}");
+    assert_eq!(
+        std::fs::read_to_string(&file).expect("read"),
+        "[arms.cell3]\n"
+    );
+}
+
+#[test]
 fn a_fence_that_would_not_load_is_not_written() {
     let (_dir, file) = folder_with(CELLS);
     let mut fence = read_back(CELLS, "cell3");
