@@ -1,7 +1,9 @@
-//! Writing an arm's fence into its profile in `config.toml` (`[arms.NAME.fence]`), as the console
-//! does when a technician teaches one. The document is edited, not written afresh: comments,
-//! order and spacing stay, and only the values that changed are written. The file is replaced
-//! atomically: on any error it is as it was.
+//! Writing an arm's fence into its profile in `config.toml` (`[arms.NAME.fence]`), for the console
+//! to call when a technician teaches one. The document is edited, not written afresh: comments,
+//! order and spacing stay, and only the values that changed are written (a file that would not
+//! change is not written). The file is replaced atomically (a temporary file beside it, renamed
+//! over it): an error leaves it as it was, but for one after the rename, when the folder's entry
+//! could not be flushed. A symlinked file stays a link: the file it points to is replaced.
 //!
 //! What the fence table holds after a write, the same way every time:
 //! - `tool_radius` and `slow_zone`, always (at their defaults too: the numbers to tune are there);
@@ -20,8 +22,9 @@
 //! its comments with it; a new zone goes after the one before it in the fence, in the form the
 //! file uses (`[[...keep_out]]` tables, or inline tables in an array).
 //!
-//! A missing file is created with its folder; a missing `[arms.NAME]` is added at the end (a
-//! profile with no other key runs on the built-in simulator). The layer above `console` is not
+//! A missing file is created with its folder; a missing `[arms.NAME]` is added after everything
+//! the file has but the comments that end it (a profile with no other key runs on the built-in
+//! simulator); a new `[arms.NAME.fence]` follows its arm's table. The layer above `console` is not
 //! used: the limit is the profile reader's own, copied.
 
 use std::io::Write;
