@@ -80,6 +80,8 @@ impl Scene {
                 arm_name: None,
                 home_action: None,
                 fence: None,
+
+                config_file: None,
             },
             PositionBook::new(),
         );

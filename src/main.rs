@@ -73,7 +73,10 @@ async fn run(cli: Cli, arm: Option<String>, fence: Option<Fence>) -> i32 {
         Some(Command::Guard(args)) => armjog::cli::guard::run(&args).await,
         Some(Command::Completions(args)) => report(armjog::cli::generate::run_completions(&args)),
         Some(Command::Man(args)) => report(armjog::cli::generate::run_man(&args)),
-        None => armjog::cli::console::run_console(&cli.console, arm, fence).await,
+        None => {
+            let config_file = armjog::cli::profiles::config_path(cli.profile.config.as_deref());
+            armjog::cli::console::run_console(&cli.console, arm, fence, config_file).await
+        }
     }
 }
 

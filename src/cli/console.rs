@@ -146,6 +146,7 @@ pub async fn run_console(
     args: &ConsoleArgs,
     arm_name: Option<String>,
     fence: Option<Fence>,
+    config_file: Option<PathBuf>,
 ) -> i32 {
     if let Err(reason) = args.validate() {
         return fail(reason, 2);
@@ -218,6 +219,7 @@ pub async fn run_console(
         simulated: simulator.is_some(),
         arm_name,
         fence: fence.map(Arc::new),
+        config_file,
     };
     // Not `eprintln!`: it panics when stderr is gone after a hang-up.
     let code = match run(setup).await {

@@ -114,10 +114,12 @@ pub enum Action {
     TourLeg,
     // Motion (listed after home in `ALL`).
     StoredAction,
+    // The fence screen (listed with the screen's keys).
+    Fence,
 }
 
 /// Every action in the order the help overlay lists them, with what it does in one line.
-const DESCRIBED: [(Action, &str); 48] = [
+const DESCRIBED: [(Action, &str); 49] = [
     (A::JogXPlus, "hold: move the tool +X"),
     (A::JogXMinus, "hold: move the tool -X"),
     (A::JogYPlus, "hold: move the tool +Y"),
@@ -170,6 +172,7 @@ const DESCRIBED: [(Action, &str); 48] = [
     (A::PositionPrevious, "select the previous position"),
     (A::ToggleHex, "show the log's frames in hex"),
     (A::HistoryCycle, "history: plot joint torque or current"),
+    (A::Fence, "the fence: its faces and zones, taught here"),
     (A::Help, "this help: every key of the keymap"),
     (A::Quit, "stop the arm and quit"),
     (A::MakeTour, "make a tour of the positions (a form)"),
@@ -179,8 +182,8 @@ const DESCRIBED: [(Action, &str); 48] = [
 
 impl Action {
     /// Every action, in the order the help overlay lists them.
-    pub const ALL: [Action; 48] = {
-        let mut all = [Action::Stop; 48];
+    pub const ALL: [Action; 49] = {
+        let mut all = [Action::Stop; 49];
         let mut i = 0;
         while i < all.len() {
             all[i] = DESCRIBED[i].0;

@@ -30,6 +30,7 @@ use crate::link::driver::{Driver, DriverConfig, StopHandle};
 use crate::link::interface::{ArmCommand, ArmEvent};
 use crate::net::Deadline;
 
+mod fence_writer;
 mod inputs;
 
 pub use inputs::key_input;
@@ -54,6 +55,8 @@ pub struct ConsoleSetup {
     pub arm_name: Option<String>,
     /// The arm profile's fence (`[arms.NAME.fence]`).
     pub fence: Option<Arc<crate::link::fence::Fence>>,
+    /// Where the profiles are read from: a fence taught in the console is written there.
+    pub config_file: Option<PathBuf>,
 }
 
 /// Why the console could not run.
@@ -109,6 +112,8 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
                 arm_name: setup.arm_name.clone(),
                 home_action,
                 fence: setup.fence.clone(),
+
+                config_file: setup.config_file.clone(),
             };
             let audit = AuditSession::start(&config, arm, setup.arm_name, audit::audit_dir());
             let parts = LoopParts {
@@ -268,6 +273,7 @@ async fn event_loop(
     // Read by the console itself: every readable byte is decoded on each wake (see `input`).
     let mut keys = input::open()?;
     let mut signals = Signals::new()?;
+    let mut fence_writer = fence_writer::FenceWriter::new();
     let mut pacer = FramePacer::default();
     pacer.changed(false, &app, Instant::now());
     // One timer for the app's deadline, the next frame and the audit's hand-over: a key moves
@@ -317,6 +323,10 @@ async fn event_loop(
                 }
             }
             Some(outcome) = book.save_outcomes.recv() => Some(Input::PositionsSaved(outcome)),
+            Some(outcome) = fence_writer.outcomes.recv() => {
+                fence_writer.ended();
+                Some(Input::FenceSaved(outcome))
+            }
             Some(e) = screen.errors.recv() => {
                 audit.record_handled();
                 return Err(ConsoleError::Terminal(e));
@@ -352,6 +362,11 @@ async fn event_loop(
                 Effect::SavePositions(save) => {
                     audit.book_saved(&save.book, &save.known);
                     book.save(save);
+                }
+                // Written off the loop, one at a time; the outcome comes back as `outcomes`.
+                Effect::SaveFence(change) => {
+                    audit.fence_changed(&change);
+                    fence_writer.write(change);
                 }
                 Effect::Quit => {
                     audit.handled(&app);

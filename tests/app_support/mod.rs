@@ -26,6 +26,8 @@ pub fn config() -> AppConfig {
         arm_name: None,
         home_action: None,
         fence: None,
+
+        config_file: None,
     }
 }
 

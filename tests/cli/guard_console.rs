@@ -148,6 +148,8 @@ fn the_console_stops_and_says_so_when_its_guard_goes_down_and_shows_its_state() 
             arm_name: None,
             home_action: None,
             fence: None,
+
+            config_file: None,
         },
         PositionBook::new(),
     );

@@ -38,6 +38,8 @@ pub fn app_fenced(
             arm_name: None,
             home_action: config.modbus_home(),
             fence: fence.map(std::sync::Arc::new),
+
+            config_file: None,
         },
         book,
     )

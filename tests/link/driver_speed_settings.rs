@@ -347,6 +347,8 @@ fn the_status_bar_shows_the_jog_speed_from_the_cap_and_the_percent() {
             arm_name: None,
             home_action: None,
             fence: None,
+
+            config_file: None,
         },
         PositionBook::new(),
     );

@@ -283,7 +283,7 @@ impl App {
 
     /// With a fence, no motion without fresh telemetry: the fence cannot see the tool.
     fn fence_blind(&self) -> Option<(String, Until)> {
-        self.config.fence.as_ref()?;
+        self.fence.kept.as_ref()?;
         // Said for a while: no report ends it.
         let until = Until::TimeOut { done: None };
         if self.motion_truth.expected_telemetry() == Some(TelemetrySource::None) {
@@ -326,7 +326,7 @@ impl App {
     /// share of the speed sent first) or stopped at the fence with its key still held; a target
     /// or straight path across the fence refused; a stop puts the whole speed back.
     pub(super) fn fence_effects(&mut self, now: Instant, effects: &mut Vec<Effect>) {
-        let Some(fence) = self.config.fence.clone() else {
+        let Some(fence) = self.fence.kept.clone() else {
             return;
         };
         let Some(t) = self.arm.telemetry().cloned() else {
@@ -419,7 +419,7 @@ impl App {
     /// Each sample: a held jog whose verdict changed goes out again (the net shapes it); a planned
     /// move heading into the fence is stopped; idle, where the tool is.
     fn watch_fence(&mut self, now: Instant, effects: &mut Vec<Effect>) {
-        let (Some(fence), Some(t)) = (self.config.fence.clone(), self.arm.telemetry().cloned())
+        let (Some(fence), Some(t)) = (self.fence.kept.clone(), self.arm.telemetry().cloned())
         else {
             return;
         };

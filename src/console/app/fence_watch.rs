@@ -6,15 +6,27 @@ use super::parts::Book;
 use crate::console::jog::JogMotion;
 use crate::kortex::gen3::{frames, jacobian, signed_deg};
 use crate::kortex::{Pose, Telemetry};
-use crate::link::fence::Fence;
+use crate::link::fence::{Fence, KeepOut};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use crate::link::fence::{Heading, MIN_LOOKAHEAD_S, Sample, Verdict, WHOLE, kappa_ahead};
 use crate::link::interface::{ArmCommand, StepMove};
 
-/// What the app last did for the fence, so a sample that changes nothing sends nothing.
+/// The fence kept and what the app last did for it, so a sample that changes nothing sends
+/// nothing; and the teaching in progress.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FenceWatch {
+    /// The fence kept now: the profile's, then as taught.
+    pub kept: Option<Arc<Fence>>,
+    /// A zone's first corner, marked (mm).
+    pub corner: Option<[i64; 3]>,
+    /// The last zone deleted and where it was, for undo.
+    pub deleted: Option<(usize, KeepOut)>,
+    /// Why the last taught fence is not in the file (held: written again with the next change).
+    pub unwritten: Option<String>,
+    /// The profile a fence taught without one goes to, once named.
+    pub profile: Option<String>,
     /// The share in force on the wire, per mille.
     pub sent: u16,
     /// The held motion is stopped at the fence (a STOP went out for it).
@@ -25,9 +37,14 @@ pub struct FenceWatch {
     pub sampled: Option<(Instant, Duration)>,
 }
 
-impl Default for FenceWatch {
-    fn default() -> FenceWatch {
+impl FenceWatch {
+    pub fn new(kept: Option<Arc<Fence>>) -> FenceWatch {
         FenceWatch {
+            kept,
+            corner: None,
+            deleted: None,
+            unwritten: None,
+            profile: None,
             sent: WHOLE,
             stopped: false,
             verdict: None,

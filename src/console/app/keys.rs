@@ -5,7 +5,7 @@
 use std::time::Instant;
 
 use super::message::Until;
-use super::{App, Effect, KeyInput, Overlay, Severity};
+use super::{App, Effect, FenceScreen, KeyInput, Overlay, Severity};
 use crate::console::action::Action;
 use crate::console::form::{Confirm, Form, FormKind};
 use crate::console::jog::{JogEffect, JogMotion, JogNotice, KeyKind, unit_motion};
@@ -231,6 +231,7 @@ impl App {
             A::ToggleHex => self.screen.on_toggle_hex(),
             A::HistoryCycle => self.arm.on_history_cycle(),
             A::Help => self.screen.open_help(),
+            A::Fence => self.screen.show(Overlay::Fence(FenceScreen::default())),
             A::Quit => self.ask_quit(now, effects),
             A::MakeTour | A::PlayTour | A::TourLeg => self.on_tour_action(action, now),
             A::StoredAction => self.open_stored_form(now),

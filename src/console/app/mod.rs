@@ -8,6 +8,7 @@ mod book;
 mod book_load;
 mod cap_watch;
 mod edits;
+mod fence_teach;
 mod fence_watch;
 mod history;
 mod jog_evidence;
@@ -36,6 +37,7 @@ pub use cap_watch::{CAP_TOLERANCE, CapWatch, OVER_CAP_SAMPLES};
 pub use crate::console::coords::{cartesian_of, describe_motion, polar_of};
 pub use crate::kortex::arm_state::{abort_reason, at_rest, fault_reason};
 pub use arm::STORED_REFUSAL;
+pub use fence_teach::{FenceRow, FenceScreen, Naming};
 pub use history::{BUCKET, BUCKETS, History, HistorySeries, JointQuantity};
 pub use jog_evidence::{
     ALONG_FRACTION, Contradiction, OTHER_MOTION_JOINT_DEG_S, OTHER_MOTION_M_S, SLOW_FRACTION,
@@ -52,7 +54,7 @@ pub use other_client::{
     REFRESH_WAIT,
 };
 pub use parts::arm_refusal;
-pub use parts::{ArmView, BookView, KeysView, ScreenView, TourView};
+pub use parts::{ArmView, BookView, FenceScreenView, KeysView, ScreenView, TourView};
 pub use question::{BURST_KEY_GAP, QUESTION_QUIET};
 pub use resave::RESAVE_GO_WITHIN;
 pub use saved_positions::tool_position;
@@ -110,6 +112,8 @@ pub enum Input {
     PositionsLoaded(Loaded),
     /// The writer's outcome for the saves asked for so far (see `saving`).
     PositionsSaved(SaveOutcome),
+    /// The fence written into the profile, or why not (see `fence_teach`).
+    FenceSaved(Result<(), String>),
 }
 
 /// A bracketed paste, or input dropped unread: text, never keys (see `keys`).
@@ -126,7 +130,18 @@ pub enum Effect {
     Arm(ArmCommand),
     /// Write the book, merged with what another writer put in the file since.
     SavePositions(BookSave),
+    /// Write the taught fence into the profile (see `fence_teach`).
+    SaveFence(FenceChange),
     Quit,
+}
+
+/// A taught fence to write: `arm`'s fence in `file`, and the change in words (for the audit).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FenceChange {
+    pub file: std::path::PathBuf,
+    pub arm: String,
+    pub fence: Fence,
+    pub change: String,
 }
 
 impl Effect {
@@ -154,6 +169,8 @@ pub enum Overlay {
         name: String,
         coordinates: Option<PositionCoordinates>,
     },
+    /// The fence screen: its faces and zones, taught here.
+    Fence(FenceScreen),
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -214,8 +231,11 @@ pub struct AppConfig {
     pub arm_name: Option<String>,
     /// Home's Modbus stored action (`DriverConfig::modbus_home`), followed by id; `None` on Talos.
     pub home_action: Option<Stored>,
-    /// The arm profile's fence, kept on every motion; `None`: no fence.
+    /// The arm profile's fence, kept on every motion; `None`: no fence (until one is taught).
     pub fence: Option<Arc<Fence>>,
+    /// The file profiles are read from (`--config`, `ARMJOG_CONFIG` or the default): a taught
+    /// fence is written there. `None`: kept for the session only.
+    pub config_file: Option<std::path::PathBuf>,
 }
 
 #[cfg(test)]
@@ -237,6 +257,8 @@ impl AppConfig {
             arm_name: None,
             home_action: None,
             fence: None,
+
+            config_file: None,
         }
     }
 }
@@ -262,7 +284,8 @@ pub struct App {
     /// What ran when the console was last seen frozen, and when it came back (see
     /// `note_freeze`).
     frozen_with: Option<(String, Instant)>,
-    /// What the app last put on the wire for the fence (`config.fence`), and its last verdict.
+    /// The fence kept (from `config.fence`, then as taught), what the app last put on the wire
+    /// for it, its last verdict and the teaching in progress.
     fence: fence_watch::FenceWatch,
 }
 
@@ -279,6 +302,7 @@ impl App {
     /// On a `max_jog_speed` [`SpeedCap::new`] refuses (the front ends refuse it first).
     pub fn new(config: AppConfig, positions: PositionBook) -> App {
         let keys = parts::Keys::new(config.release_mode, config.refresh);
+        let config_fence = config.fence.clone();
         App {
             cap: SpeedCap::configured(config.max_jog_speed),
             config,
@@ -291,7 +315,7 @@ impl App {
             quitting: false,
             now: None,
             frozen_with: None,
-            fence: fence_watch::FenceWatch::default(),
+            fence: fence_watch::FenceWatch::new(config_fence),
         }
     }
 
@@ -346,6 +370,7 @@ impl App {
             }
             Input::PositionsLoaded(result) => self.on_positions_loaded(result, now, &mut effects),
             Input::PositionsSaved(outcome) => self.on_positions_saved(outcome, now),
+            Input::FenceSaved(result) => self.on_fence_saved(result, now),
             Input::Paste(pasted) => self.on_paste(pasted, now, &mut effects),
         }
         self.follow_ups(before, now, &mut effects);

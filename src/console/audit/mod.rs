@@ -109,6 +109,13 @@ pub enum AuditEvent {
         permille: u16,
         mm_s: f64,
     },
+    /// The fence taught in the console (`change`, in words), written into `arm`'s profile in
+    /// `file`.
+    FenceChanged {
+        change: String,
+        arm: String,
+        file: String,
+    },
     /// The reference frame of cartesian jogs (Modbus).
     Frame {
         frame: String,

@@ -65,6 +65,16 @@ impl AuditSession {
         }
     }
 
+    /// A fence taught in the console, about to be written into its profile.
+    pub fn fence_changed(&mut self, change: &crate::console::app::FenceChange) {
+        self.record_handled();
+        self.write_now(AuditEvent::FenceChanged {
+            change: change.change.clone(),
+            arm: change.arm.clone(),
+            file: change.file.display().to_string(),
+        });
+    }
+
     fn write_now(&mut self, event: AuditEvent) {
         self.log.record(AuditRecord::new(SystemTime::now(), event));
     }

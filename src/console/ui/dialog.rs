@@ -88,6 +88,66 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
                 fit::fit(&lines, &close, columns, most_rows),
             )
         }
+        Overlay::Fence(open) => {
+            let Some(screen) = &view.arm.fence_screen else {
+                return;
+            };
+            let mut lines: Vec<Line> = screen
+                .rows
+                .iter()
+                .enumerate()
+                .map(|(i, row)| {
+                    let style = if i == open.selected {
+                        theme.selected()
+                    } else {
+                        ratatui::style::Style::default()
+                    };
+                    let mark = if i == open.selected { ">" } else { " " };
+                    let text = format!("{mark} {:<22} {}", elide_name(&row.label, 22), row.detail);
+                    Line::styled(text, style)
+                })
+                .collect();
+            if let Some([x, y, z]) = screen.corner {
+                lines.push(Line::styled(
+                    format!("corner 1 marked at {x} {y} {z} mm"),
+                    theme.dim(),
+                ));
+            }
+            if let Some(why) = &screen.unwritten {
+                lines.push(Line::styled(format!("NOT WRITTEN: {why}"), theme.alarm()));
+            }
+            let mut foot = vec![Line::raw("")];
+            match &open.naming {
+                Some((naming, text)) => {
+                    let what = match naming {
+                        crate::console::app::Naming::Zone { .. } => "zone name",
+                        crate::console::app::Naming::Profile => "profile name",
+                    };
+                    foot.push(Line::from(vec![
+                        Span::styled(format!("{what}: "), theme.selected()),
+                        Span::raw(format!(
+                            "{}_",
+                            elide_start(text, columns.saturating_sub(16))
+                        )),
+                    ]));
+                    foot.push(Line::styled("enter: ok  esc: cancel", theme.dim()));
+                }
+                None => {
+                    foot.push(Line::styled(
+                        "up/down  s: face at the tool  c: mark corner  e: zone on/off",
+                        theme.dim(),
+                    ));
+                    foot.push(Line::styled(
+                        "x: delete zone  u: undo  esc: close",
+                        theme.dim(),
+                    ));
+                }
+            }
+            (
+                "Fence".to_string(),
+                fit::fit(&lines, &foot, columns, most_rows),
+            )
+        }
         Overlay::None | Overlay::Help => return,
     };
     let height = (lines.len() as u16 + 2).min(room.height);

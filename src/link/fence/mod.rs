@@ -6,7 +6,7 @@
 mod geometry;
 mod judge;
 
-pub use geometry::{Aabb, Barrier};
+pub use geometry::{Aabb, Barrier, FACE_NAMES};
 pub use judge::{FenceState, Heading, MIN_LOOKAHEAD_S, Pace, Sample, Verdict, kappa_ahead};
 
 use crate::kortex::gen3::JOINT_LIMITS_DEG;

@@ -156,3 +156,159 @@ fn a_tool_already_in_a_zone_is_said_at_rest_and_may_only_go_out() {
     release(&mut app, "f", t0);
     assert_eq!(press(&mut app, "r", t0), [fence_speed(100), jog(0, 0, 1)]);
 }
+
+/// Types `text` into the app, a key a character.
+fn type_text(app: &mut App, text: &str, now: Instant) {
+    for c in text.chars() {
+        app.handle(
+            Input::Key(armjog::console::app::KeyInput {
+                key: if c == ' ' {
+                    "space".to_string()
+                } else {
+                    c.to_string()
+                }
+                .parse()
+                .expect("a key"),
+                text: Some(c),
+                kind: KeyKind::Press,
+            }),
+            now,
+        );
+    }
+}
+
+/// The fence an effect writes, and to which profile and file.
+fn saved(effects: &[Effect]) -> Option<(String, Fence, String)> {
+    effects.iter().find_map(|e| match e {
+        Effect::SaveFence(change) => Some((
+            change.arm.clone(),
+            change.fence.clone(),
+            change.change.clone(),
+        )),
+        _ => None,
+    })
+}
+
+/// An app on a profile `cell` in `config.toml`, its tool at `tool`.
+fn teaching(fence: Fence, tool: [f64; 3]) -> (App, Instant) {
+    let config = AppConfig {
+        fence: Some(Arc::new(fence)),
+        arm_name: Some("cell".into()),
+        config_file: Some("config.toml".into()),
+        ..config()
+    };
+    let mut app = App::new(config, PositionBook::new());
+    let t0 = Instant::now();
+    let up = LinkStatus::Up {
+        description: "test".into(),
+    };
+    app.handle(Input::Arm(ArmEvent::Status(up)), t0);
+    let source = TelemetrySource::Modbus;
+    app.handle(Input::Arm(ArmEvent::TelemetrySource(source)), t0);
+    app.handle(at(tool), t0);
+    (app, t0)
+}
+
+#[test]
+fn the_floor_is_set_at_the_tool_and_written_into_the_profile() {
+    let (mut app, t0) = teaching(fence(), [450.0, 0.0, 400.0]);
+    press(&mut app, "F", t0);
+    // Rows: -X, +X, -Y, +Y, floor, ceiling, then the zones.
+    for _ in 0..4 {
+        press(&mut app, "down", t0);
+    }
+    let effects = press(&mut app, "s", t0);
+    let (arm, taught, change) = saved(&effects).expect("the fence written");
+    assert_eq!(
+        (arm.as_str(), change.as_str()),
+        ("cell", "box floor set at the tool")
+    );
+    let inside = taught.inside.expect("a box");
+    // The sphere's bottom: 400 - 40.
+    assert_eq!(inside.min[2], 360.0);
+    // Kept at once: the screen lists it, and a jog down is judged against it.
+    let rows = View::new(&app).arm.fence_screen.expect("open").rows;
+    assert_eq!(rows[4].detail, "z = 360 mm, 0 mm away");
+    app.handle(Input::FenceSaved(Ok(())), t0);
+    assert_eq!(message(&app), "fence written to the profile");
+    press(&mut app, "esc", t0);
+    assert!(no_motion(&press(&mut app, "f", t0)));
+}
+
+#[test]
+fn a_zone_is_made_from_two_corners_and_named_then_turned_off_deleted_and_brought_back() {
+    let (mut app, t0) = teaching(Fence::default(), [450.0, 0.0, 400.0]);
+    press(&mut app, "F", t0);
+    press(&mut app, "c", t0);
+    assert!(
+        message(&app).starts_with("corner 1 at 450 0 400 mm"),
+        "{}",
+        message(&app)
+    );
+    press(&mut app, "esc", t0);
+    // Jogged (here: reported) to the opposite corner.
+    app.handle(at([550.0, 100.0, 300.0]), t0 + Duration::from_millis(33));
+    press(&mut app, "F", t0);
+    press(&mut app, "c", t0);
+    type_text(&mut app, "camera", t0);
+    let effects = press(&mut app, "enter", t0);
+    let (_, taught, change) = saved(&effects).expect("written");
+    assert_eq!(change, "zone camera added");
+    let zone = &taught.keep_out[0];
+    assert_eq!(
+        (zone.zone.min, zone.zone.max),
+        ([450.0, 0.0, 300.0], [550.0, 100.0, 400.0])
+    );
+    // The new zone is selected: off, deleted, back.
+    let (_, off, _) = saved(&press(&mut app, "e", t0)).expect("written");
+    assert!(!off.keep_out[0].enabled);
+    let (_, gone, change) = saved(&press(&mut app, "x", t0)).expect("written");
+    assert!(gone.keep_out.is_empty());
+    assert_eq!(change, "zone camera deleted (u brings it back)");
+    let (_, back, _) = saved(&press(&mut app, "u", t0)).expect("written");
+    assert_eq!(back.keep_out[0].name, "camera");
+}
+
+#[test]
+fn taught_without_a_profile_it_asks_for_a_name_and_a_failed_write_is_marked() {
+    let config = AppConfig {
+        config_file: Some("config.toml".into()),
+        ..config()
+    };
+    let mut app = App::new(config, PositionBook::new());
+    let t0 = Instant::now();
+    let up = LinkStatus::Up {
+        description: "test".into(),
+    };
+    app.handle(Input::Arm(ArmEvent::Status(up)), t0);
+    app.handle(at([450.0, 0.0, 400.0]), t0);
+    press(&mut app, "F", t0);
+    let asked = press(&mut app, "s", t0);
+    assert!(saved(&asked).is_none());
+    assert!(
+        message(&app).contains("name the profile"),
+        "{}",
+        message(&app)
+    );
+    type_text(&mut app, "bad name", t0);
+    press(&mut app, "enter", t0);
+    assert!(
+        message(&app).contains("letters, digits"),
+        "{}",
+        message(&app)
+    );
+    for _ in 0.."bad name".len() {
+        press(&mut app, "backspace", t0);
+    }
+    type_text(&mut app, "bench2", t0);
+    let (arm, taught, _) = saved(&press(&mut app, "enter", t0)).expect("written");
+    assert_eq!(arm, "bench2");
+    assert_eq!(taught.inside.expect("box").min[0], 450.0 - 0.0);
+    app.handle(Input::FenceSaved(Err("config.toml: read-only".into())), t0);
+    assert_eq!(
+        message(&app),
+        "fence NOT written: config.toml: read-only; kept for this session"
+    );
+    let view = View::new(&app).arm.fence_screen.expect("open");
+    assert_eq!(view.unwritten.as_deref(), Some("config.toml: read-only"));
+}

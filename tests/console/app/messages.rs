@@ -35,6 +35,8 @@ fn app_before_link(source: TelemetrySource) -> (App, Instant) {
         arm_name: None,
         home_action: None,
         fence: None,
+
+        config_file: None,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();

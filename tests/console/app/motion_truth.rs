@@ -40,6 +40,8 @@ fn app(source: TelemetrySource) -> (App, Instant) {
         arm_name: None,
         home_action: None,
         fence: None,
+
+        config_file: None,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();

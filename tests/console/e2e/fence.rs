@@ -442,7 +442,10 @@ async fn home_heading_into_a_zone_is_stopped_at_the_fence() {
         console.watch_for(Duration::from_millis(300)).await;
     }
     let over = console.tool_mm().await;
-    assert!(over[0] - home[0] > 190.0 && over[2] - home[2] > 160.0, "{over:?}");
+    assert!(
+        over[0] - home[0] > 190.0 && over[2] - home[2] > 160.0,
+        "{over:?}"
+    );
     console.said.clear();
     console.key("h", KeyKind::Press);
     console.key("h", KeyKind::Release);
@@ -452,7 +455,10 @@ async fn home_heading_into_a_zone_is_stopped_at_the_fence() {
     console.key("y", KeyKind::Press);
     console.key("y", KeyKind::Release);
     let (_, end) = console.watch_for(Duration::from_secs(4)).await;
-    let stopped = console.said.iter().any(|s| s.contains("stopped: AT FENCE: wall"));
+    let stopped = console
+        .said
+        .iter()
+        .any(|s| s.contains("stopped: AT FENCE: wall"));
     assert!(stopped, "said {:?}", console.said);
     assert!(
         end[0] - RADIUS >= home[0] + 120.0 - 3.0,

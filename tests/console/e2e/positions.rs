@@ -78,7 +78,7 @@ impl Session {
             match effect {
                 Effect::Arm(command) => assert!(self.driver.send(command), "driver alive"),
                 Effect::SavePositions(save) => self.written = Some(save.book),
-                Effect::Quit => {}
+                Effect::SaveFence(_) | Effect::Quit => {}
             }
         }
     }

@@ -53,6 +53,8 @@ fn app_with(
         arm_name: None,
         home_action: None,
         fence: None,
+
+        config_file: None,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();
@@ -318,6 +320,8 @@ fn the_turn_keys_are_offered_until_the_driver_says_which_link_it_has() {
         arm_name: None,
         home_action: None,
         fence: None,
+
+        config_file: None,
     };
     let mut app = App::new(config, PositionBook::new());
     app.handle(

@@ -73,6 +73,8 @@ fn modbus_app() -> (App, Instant) {
         arm_name: None,
         home_action: None,
         fence: None,
+
+        config_file: None,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();

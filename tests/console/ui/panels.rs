@@ -130,6 +130,8 @@ fn bare_app(mode: ReleaseMode, on_operator: bool) -> (App, Instant) {
         arm_name: None,
         home_action: None,
         fence: None,
+
+        config_file: None,
     };
     (App::new(config, PositionBook::new()), Instant::now())
 }

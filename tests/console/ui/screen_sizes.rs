@@ -117,6 +117,8 @@ fn live_app(mode: ReleaseMode, frames: bool) -> (App, Instant) {
         arm_name: None,
         home_action: None,
         fence: None,
+
+        config_file: None,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();

@@ -72,6 +72,18 @@ pub struct ArmView {
     pub fence: Option<String>,
     /// The fence's barrier nearest the tool sphere and its clearance (mm), the app's to fill.
     pub fence_nearest: Option<(String, f64)>,
+    /// The fence screen's rows and state while it is open, the app's to fill.
+    pub fence_screen: Option<FenceScreenView>,
+}
+
+/// What the fence screen shows besides its selection.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct FenceScreenView {
+    pub rows: Vec<super::super::FenceRow>,
+    /// A zone's first corner, marked (mm).
+    pub corner: Option<[i64; 3]>,
+    /// Why the fence taught last is not in the file.
+    pub unwritten: Option<String>,
 }
 
 impl Default for Arm {
@@ -229,6 +241,7 @@ impl Arm {
             trail: now.map(|now| self.trail.shaded(now)).unwrap_or_default(),
             fence: None,
             fence_nearest: None,
+            fence_screen: None,
         }
     }
 }

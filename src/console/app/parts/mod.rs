@@ -10,7 +10,7 @@ mod screen;
 mod tour;
 
 pub(super) use arm::Arm;
-pub use arm::{ArmView, arm_refusal};
+pub use arm::{ArmView, FenceScreenView, arm_refusal};
 pub(super) use book::Book;
 pub use book::BookView;
 pub(super) use keys::Keys;
