@@ -309,7 +309,7 @@ fn stop_not_confirmed_stays_until_a_stop_is_confirmed() {
 #[test]
 fn a_key_that_is_not_bound_is_only_a_notice() {
     let (mut app, t0) = app(TelemetrySource::None);
-    app.handle(key("F", KeyKind::Press), t0);
+    app.handle(key("Z", KeyKind::Press), t0);
     assert!(message(&app).is_some_and(|m| m.contains("not bound")));
     app.handle(Input::Tick, t0 + LONG);
     assert_eq!(message(&app), None);
