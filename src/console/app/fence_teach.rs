@@ -48,7 +48,10 @@ pub fn rows(fence: &Fence, tool: Option<[f64; 3]>) -> Vec<FenceRow> {
         clearances
             .iter()
             .find(|(n, _)| n == name)
-            .map_or(String::new(), |(_, c)| format!(", {c:.0} mm away"))
+            .map_or(String::new(), |(_, c)| match *c {
+                c if c < 0.0 => format!(", {:.0} mm in", -c),
+                c => format!(", {c:.0} mm away"),
+            })
     };
     for (axis, names) in FACE_NAMES.iter().enumerate() {
         for (high, name) in names.iter().enumerate() {
@@ -206,6 +209,9 @@ mod tests {
         // Off: kept in the file, no distance.
         assert_eq!(rows[6].label, "zone table");
         assert_eq!(rows[6].detail, "off");
+        // Inside the table, 84 mm under its top: the sphere 124 mm in.
+        let inside = super::rows(&fence, Some([500.0, 0.0, 200.0]));
+        assert_eq!(inside[6].detail, "kept, 124 mm in");
         let (without, zone) = delete_zone(&fence, 0).expect("deleted");
         assert!(without.keep_out.is_empty() && zone.name == "table");
     }
