@@ -312,3 +312,71 @@ fn taught_without_a_profile_it_asks_for_a_name_and_a_failed_write_is_marked() {
     let view = View::new(&app).arm.fence_screen.expect("open");
     assert_eq!(view.unwritten.as_deref(), Some("config.toml: read-only"));
 }
+
+/// Criterion 6: a zone taught in the console is in config.toml with the file's comments kept,
+/// and the next start, reading the profile, keeps it: a step into it is refused.
+#[test]
+fn a_zone_taught_is_written_with_the_comments_kept_and_holds_at_the_next_start() {
+    let dir = tempfile::tempdir().expect("a folder");
+    let file = dir.path().join("config.toml");
+    let text = "# the cell by the window\n[arms.cell]\n";
+    std::fs::write(&file, text).expect("written");
+    let config = AppConfig {
+        arm_name: Some("cell".into()),
+        config_file: Some(file.clone()),
+        ..config()
+    };
+    let mut app = App::new(config, PositionBook::new());
+    let t0 = Instant::now();
+    let up = LinkStatus::Up {
+        description: "test".into(),
+    };
+    app.handle(Input::Arm(ArmEvent::Status(up)), t0);
+    app.handle(at([450.0, 0.0, 200.0]), t0);
+    press(&mut app, "F", t0);
+    press(&mut app, "c", t0);
+    press(&mut app, "esc", t0);
+    app.handle(at([650.0, 200.0, 100.0]), t0);
+    press(&mut app, "F", t0);
+    press(&mut app, "c", t0);
+    type_text(&mut app, "fixture", t0);
+    let effects = press(&mut app, "enter", t0);
+    let Some(Effect::SaveFence(change)) = effects
+        .into_iter()
+        .find(|e| matches!(e, Effect::SaveFence(_)))
+    else {
+        panic!("the fence is written");
+    };
+    // What the runtime does with the effect.
+    let save = armjog::console::fence_file::FenceSave {
+        file: change.file.clone(),
+        arm: change.arm.clone(),
+        fence: change.fence.clone(),
+    };
+    armjog::console::fence_file::write_fence(&save).expect("written");
+    let written = std::fs::read_to_string(&file).expect("read");
+    assert!(
+        written.starts_with("# the cell by the window\n[arms.cell]\n"),
+        "{written}"
+    );
+    assert!(written.contains("name = \"fixture\""), "{written}");
+
+    // The next start: the profile read as `armjog --arm cell` reads it.
+    let profiles = armjog::cli::profiles::parse(&file, &written).expect("a valid profile");
+    let fence = profiles
+        .get("cell")
+        .expect("cell")
+        .fence
+        .clone()
+        .expect("a fence");
+    assert_eq!(fence, change.fence);
+    let (mut next, t1) = teaching(fence, [450.0, 0.0, 400.0]);
+    // A 50 mm step down from 40 mm over the zone's top (200; no sphere taught): into it.
+    press(&mut next, "t", t1);
+    for _ in 0..2 {
+        press(&mut next, ".", t1);
+    }
+    next.handle(at([550.0, 100.0, 240.0]), t1);
+    assert!(no_motion(&press(&mut next, "f", t1)));
+    assert!(message(&next).contains("fixture"), "{}", message(&next));
+}
