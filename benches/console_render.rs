@@ -82,6 +82,8 @@ impl Scene {
                 fence: None,
 
                 config_file: None,
+
+                new_profile: Vec::new(),
             },
             PositionBook::new(),
         );

@@ -220,6 +220,7 @@ pub async fn run_console(
         arm_name,
         fence: fence.map(Arc::new),
         config_file,
+        new_profile: new_profile(args, simulator.is_some()),
     };
     // Not `eprintln!`: it panics when stderr is gone after a hang-up.
     let code = match run(setup).await {
@@ -228,6 +229,28 @@ pub async fn run_console(
     };
     drop(simulator);
     code
+}
+
+/// The settings a profile made by teaching a fence gets: how this console reached the arm, and
+/// its cap, as the options' text; none on the built-in simulator (its addresses are this run's).
+fn new_profile(args: &ConsoleArgs, simulated: bool) -> Vec<(String, String)> {
+    if simulated {
+        return Vec::new();
+    }
+    let mut settings = Vec::new();
+    let mut set = |key: &str, value: String| settings.push((key.to_string(), value));
+    if let Some(talos) = &args.talos {
+        set("talos", talos.clone());
+        set("dialect", args.dialect.to_string());
+        set("checksum", args.checksum.to_string());
+        set("operator_full_speed", args.operator_full_speed.to_string());
+    }
+    if let Some(modbus) = &args.modbus {
+        set("modbus", modbus.clone());
+        set("unit", args.unit.to_string());
+    }
+    set("max_jog_speed", args.max_jog_speed.to_string());
+    settings
 }
 
 /// The book's positions with coordinates, for the built-in simulator's operator at start.

@@ -57,6 +57,8 @@ pub struct ConsoleSetup {
     pub fence: Option<Arc<crate::link::fence::Fence>>,
     /// Where the profiles are read from: a fence taught in the console is written there.
     pub config_file: Option<PathBuf>,
+    /// A profile made by teaching a fence gets these settings (`AppConfig::new_profile`).
+    pub new_profile: Vec<(String, String)>,
 }
 
 /// Why the console could not run.
@@ -114,6 +116,8 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
                 fence: setup.fence.clone(),
 
                 config_file: setup.config_file.clone(),
+
+                new_profile: setup.new_profile.clone(),
             };
             let audit = AuditSession::start(&config, arm, setup.arm_name, audit::audit_dir());
             let parts = LoopParts {
@@ -366,7 +370,7 @@ async fn event_loop(
                 // Written off the loop, one at a time; the outcome comes back as `outcomes`.
                 Effect::SaveFence(change) => {
                     audit.fence_changed(&change);
-                    fence_writer.write(change);
+                    fence_writer.write(*change);
                 }
                 Effect::Quit => {
                     audit.handled(&app);

@@ -28,6 +28,8 @@ pub fn config() -> AppConfig {
         fence: None,
 
         config_file: None,
+
+        new_profile: Vec::new(),
     }
 }
 

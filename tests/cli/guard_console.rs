@@ -150,6 +150,8 @@ fn the_console_stops_and_says_so_when_its_guard_goes_down_and_shows_its_state() 
             fence: None,
 
             config_file: None,
+
+            new_profile: Vec::new(),
         },
         PositionBook::new(),
     );

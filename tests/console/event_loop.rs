@@ -40,6 +40,8 @@ pub fn app_fenced(
             fence: fence.map(std::sync::Arc::new),
 
             config_file: None,
+
+            new_profile: Vec::new(),
         },
         book,
     )

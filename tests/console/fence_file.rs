@@ -21,6 +21,7 @@ fn save(file: &Path, arm: &str, fence: &Fence) -> Result<(), FenceWriteError> {
         file: file.to_path_buf(),
         arm: arm.into(),
         fence: fence.clone(),
+        new_profile: Vec::new(),
     })
 }
 
@@ -669,4 +670,47 @@ fn the_files_permissions_stay_and_a_link_stays_a_link() {
         .permissions()
         .mode();
     assert_eq!(mode & 0o777, 0o640);
+}
+
+/// A profile made by a write gets the console's link settings; one that exists gets none.
+#[test]
+fn a_profile_made_by_a_write_gets_the_link_settings_and_one_that_exists_does_not() {
+    let (_dir, file) = folder_with("[arms.cell4]\nmodbus = \"192.168.1.11\"\n");
+    let settings = vec![
+        ("modbus".to_string(), "10.0.0.7:502".to_string()),
+        ("unit".to_string(), "1".to_string()),
+        ("max_jog_speed".to_string(), "50".to_string()),
+    ];
+    for arm in ["cell4", "bench"] {
+        write_fence(&FenceSave {
+            file: file.clone(),
+            arm: arm.into(),
+            fence: Fence::default(),
+            new_profile: settings.clone(),
+        })
+        .expect("saved");
+    }
+    let text = std::fs::read_to_string(&file).expect("read");
+    let expected = r#"[arms.cell4]
+modbus = "192.168.1.11"
+
+[arms.cell4.fence]
+tool_radius = 0
+slow_zone = 60
+
+[arms.bench]
+modbus = "10.0.0.7:502"
+unit = 1
+max_jog_speed = 50
+
+[arms.bench.fence]
+tool_radius = 0
+slow_zone = 60
+"#;
+    assert_eq!(text, expected);
+    let profiles = parse(&file, &text).expect("both load");
+    assert_eq!(
+        profiles.get("bench").expect("bench").value("max_jog_speed"),
+        Some("50")
+    );
 }

@@ -349,6 +349,8 @@ fn the_status_bar_shows_the_jog_speed_from_the_cap_and_the_percent() {
             fence: None,
 
             config_file: None,
+
+            new_profile: Vec::new(),
         },
         PositionBook::new(),
     );

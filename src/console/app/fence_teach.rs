@@ -2,7 +2,33 @@
 //! typed) and the changes its keys make, pure. The app applies them (`screen.rs`) and writes the
 //! fence into the profile (`Effect::SaveFence`).
 
+use std::sync::Arc;
+
+use super::fence_watch::FenceWatch;
+use super::{KeyInput, Severity};
+use crate::console::keymap::{KeyName, NamedKey};
 use crate::link::fence::{Aabb, FACE_NAMES, Fence, FenceError, KeepOut};
+
+const ENTER: KeyName = KeyName::named(NamedKey::Enter);
+const ESC: KeyName = KeyName::named(NamedKey::Esc);
+const UP: KeyName = KeyName::named(NamedKey::Up);
+const DOWN: KeyName = KeyName::named(NamedKey::Down);
+const BACKSPACE: KeyName = KeyName::named(NamedKey::Backspace);
+const DELETE: KeyName = KeyName::named(NamedKey::Delete);
+/// The fence key closes the screen it opened.
+const FENCE_KEY: KeyName = KeyName::char('F');
+/// A face's row, 0-5; the zones' rows follow.
+const FACES: usize = 6;
+/// What no fresh telemetry means here.
+const NO_TOOL: &str = "no fresh telemetry: the tool's position is not known";
+
+/// What a key on the fence screen asks of the app.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Taught {
+    Say(String, Severity),
+    /// The fence changed (`change`, in words): write it into the profile.
+    Write(String),
+}
 
 /// A new box's faces before any is taught, mm: beyond the Gen3's reach (902 mm) on every side
 /// but the floor, which is the base's mounting plane.
@@ -144,6 +170,178 @@ pub fn profile_name_ok(name: &str) -> bool {
 /// A tool point to the millimetre, as a corner is marked.
 pub fn mark(tool: [f64; 3]) -> [i64; 3] {
     tool.map(|v| v.round() as i64)
+}
+
+impl FenceWatch {
+    /// A key on the fence screen `open`, the tool at `tool` (mm; `None` without fresh
+    /// telemetry), `named`: the console runs on a profile. The screen as it stays (`None`:
+    /// closed) and what the app is to say and write. A change is kept at once.
+    pub fn on_key(
+        &mut self,
+        mut open: FenceScreen,
+        key: &KeyInput,
+        tool: Option<[f64; 3]>,
+        named: bool,
+    ) -> (Option<FenceScreen>, Vec<Taught>) {
+        let mut taught = Vec::new();
+        let mut say = |text: String, severity| taught.push(Taught::Say(text, severity));
+        if let Some((naming, mut text)) = open.naming.take() {
+            match key.key {
+                ESC => say("cancelled".into(), Severity::Info),
+                ENTER => return self.named(naming, text.trim(), open, named),
+                BACKSPACE => {
+                    text.pop();
+                    open.naming = Some((naming, text));
+                }
+                _ => {
+                    if let Some(c) = key.text.filter(|c| !c.is_control())
+                        && text.chars().count() < MAX_NAME
+                    {
+                        text.push(c);
+                    }
+                    open.naming = Some((naming, text));
+                }
+            }
+            return (Some(open), taught);
+        }
+        let fence = self.kept.as_deref().cloned().unwrap_or_default();
+        let zone = open.selected.checked_sub(FACES);
+        let change = match (key.key, key.text) {
+            (ESC | FENCE_KEY, _) => return (None, taught),
+            (UP, _) => {
+                open.selected = open.selected.saturating_sub(1);
+                None
+            }
+            (DOWN, _) => {
+                open.selected = (open.selected + 1).min(FACES - 1 + fence.keep_out.len());
+                None
+            }
+            (ENTER, _) | (_, Some('s')) if zone.is_none() => match tool {
+                None => {
+                    say(NO_TOOL.into(), Severity::Warning);
+                    None
+                }
+                Some(tool) => match set_face(&fence, open.selected, tool) {
+                    Ok(face_set) => {
+                        let face = FACE_NAMES[open.selected / 2][open.selected % 2];
+                        Some((face_set, format!("box {face} set at the tool")))
+                    }
+                    Err(e) => {
+                        say(format!("not set: {e}"), Severity::Warning);
+                        None
+                    }
+                },
+            },
+            (_, Some('e')) if let Some(i) = zone.filter(|i| *i < fence.keep_out.len()) => {
+                let toggled = toggle_zone(&fence, i);
+                let zone = &toggled.keep_out[i];
+                let state = if zone.enabled { "kept" } else { "off" };
+                let change = format!("zone {} {state}", zone.name);
+                Some((toggled, change))
+            }
+            (DELETE, _) | (_, Some('x')) if let Some(i) = zone => {
+                delete_zone(&fence, i).map(|(without, gone)| {
+                    let change = format!("zone {} deleted (u brings it back)", gone.name);
+                    self.deleted = Some((i, gone));
+                    open.selected = open.selected.min(FACES - 1 + without.keep_out.len());
+                    (without, change)
+                })
+            }
+            (_, Some('u')) => match self.deleted.take() {
+                Some((i, zone)) => {
+                    let mut back = fence.clone();
+                    let change = format!("zone {} back", zone.name);
+                    back.keep_out.insert(i.min(back.keep_out.len()), zone);
+                    Some((back, change))
+                }
+                None => {
+                    say("no zone deleted to bring back".into(), Severity::Info);
+                    None
+                }
+            },
+            (_, Some('c')) => {
+                match (tool, self.corner.take()) {
+                    (None, corner) => {
+                        self.corner = corner;
+                        say(NO_TOOL.into(), Severity::Warning);
+                    }
+                    (Some(tool), None) => {
+                        let [x, y, z] = mark(tool);
+                        self.corner = Some([x, y, z]);
+                        let text = format!(
+                            "corner 1 at {x} {y} {z} mm: jog to the opposite corner, then F and c"
+                        );
+                        say(text, Severity::Info);
+                    }
+                    (Some(tool), Some(a)) => {
+                        let b = mark(tool);
+                        open.naming = Some((Naming::Zone { a, b }, String::new()));
+                    }
+                }
+                None
+            }
+            _ => None,
+        };
+        if let Some((fence, change)) = change {
+            taught.extend(self.teach(fence, change, &mut open, named));
+        }
+        (Some(open), taught)
+    }
+
+    /// A name typed on the fence screen: a zone's, or the profile a fence is written to.
+    fn named(
+        &mut self,
+        naming: Naming,
+        name: &str,
+        mut open: FenceScreen,
+        named: bool,
+    ) -> (Option<FenceScreen>, Vec<Taught>) {
+        let warn = |text: String| vec![Taught::Say(text, Severity::Warning)];
+        let taught = match naming {
+            Naming::Zone { a, b } => {
+                let fence = self.kept.as_deref().cloned().unwrap_or_default();
+                match add_zone(&fence, name, a, b) {
+                    Ok(with_zone) => {
+                        open.selected = FACES - 1 + with_zone.keep_out.len();
+                        let change = format!("zone {name} added");
+                        self.teach(with_zone, change, &mut open, named)
+                    }
+                    Err(e) => {
+                        self.corner = Some(a);
+                        warn(format!("zone not added: {e}"))
+                    }
+                }
+            }
+            Naming::Profile if profile_name_ok(name) => {
+                self.profile = Some(name.to_string());
+                vec![Taught::Write(format!("profile {name} made"))]
+            }
+            Naming::Profile => {
+                open.naming = Some((Naming::Profile, name.to_string()));
+                warn("a profile name is letters, digits, - and _ (e.g. cell3)".into())
+            }
+        };
+        (Some(open), taught)
+    }
+
+    /// `fence` kept from now on (judged afresh at the next sample), and written into the
+    /// profile, once named.
+    fn teach(
+        &mut self,
+        fence: Fence,
+        change: String,
+        open: &mut FenceScreen,
+        named: bool,
+    ) -> Vec<Taught> {
+        self.kept = Some(Arc::new(fence));
+        self.verdict = None;
+        if !named && self.profile.is_none() {
+            open.naming = Some((Naming::Profile, String::new()));
+            let text = format!("{change}: name the profile to write it into");
+            return vec![Taught::Say(text, Severity::Info)];
+        }
+        vec![Taught::Write(change)]
+    }
 }
 
 #[cfg(test)]

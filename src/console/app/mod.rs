@@ -131,7 +131,7 @@ pub enum Effect {
     /// Write the book, merged with what another writer put in the file since.
     SavePositions(BookSave),
     /// Write the taught fence into the profile (see `fence_teach`).
-    SaveFence(FenceChange),
+    SaveFence(Box<FenceChange>),
     Quit,
 }
 
@@ -142,6 +142,8 @@ pub struct FenceChange {
     pub arm: String,
     pub fence: Fence,
     pub change: String,
+    /// A new profile's settings (`AppConfig::new_profile`).
+    pub new_profile: Vec<(String, String)>,
 }
 
 impl Effect {
@@ -236,6 +238,9 @@ pub struct AppConfig {
     /// The file profiles are read from (`--config`, `ARMJOG_CONFIG` or the default): a taught
     /// fence is written there. `None`: kept for the session only.
     pub config_file: Option<std::path::PathBuf>,
+    /// The settings a profile made by teaching a fence gets: the link options this console was
+    /// started with (`talos`, `modbus`, the cap...), none on the built-in simulator.
+    pub new_profile: Vec<(String, String)>,
 }
 
 #[cfg(test)]
@@ -259,6 +264,8 @@ impl AppConfig {
             fence: None,
 
             config_file: None,
+
+            new_profile: Vec::new(),
         }
     }
 }

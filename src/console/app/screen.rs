@@ -4,10 +4,9 @@
 //! tests (fields stay private, so only inputs change them).
 
 use std::collections::VecDeque;
-use std::sync::Arc;
 use std::time::Instant;
 
-use super::fence_teach::{self, FenceScreen, Naming};
+use super::fence_teach::{self, FenceScreen, Taught};
 use super::link_actions::{LinkActions, SessionView};
 use super::message::{MESSAGE_TIME, Message, Until};
 use super::parts::{ArmView, FenceScreenView};
@@ -21,7 +20,6 @@ use crate::console::keymap::{KeyName, NamedKey};
 use crate::console::positions::PositionBook;
 use crate::console::view::View;
 use crate::kortex::{ReferenceFrame, Telemetry};
-use crate::link::fence::{FACE_NAMES, Fence};
 use crate::link::interface::{LinkStatus, LogEntry, TelemetrySource};
 
 /// The keys dialogs and forms answer whatever the keymap.
@@ -34,8 +32,6 @@ const BACKTAB: KeyName = KeyName::named(NamedKey::Tab).with_shift();
 const UP: KeyName = KeyName::named(NamedKey::Up);
 const DOWN: KeyName = KeyName::named(NamedKey::Down);
 const BACKSPACE: KeyName = KeyName::named(NamedKey::Backspace);
-const DELETE: KeyName = KeyName::named(NamedKey::Delete);
-const FENCE_KEY: KeyName = KeyName::char('F');
 
 /// A joint faster than this (deg/s) counts as moving; below, noise or idle-rate motion.
 pub const MOVING_JOINT_DEG_S: f32 = 0.5;
@@ -308,7 +304,7 @@ impl App {
                 self.screen.show(Overlay::Help)
             }
             Overlay::None | Overlay::Help | Overlay::Position { .. } => {}
-            Overlay::Fence(fence_screen) => self.on_fence_key(fence_screen, key, now, effects),
+            Overlay::Fence(fence_screen) => self.on_fence_key(fence_screen, &key, now, effects),
             Overlay::Confirm(confirm) => {
                 let yes = match confirm {
                     // Enter just submitted the form: only y replaces a position.
@@ -423,157 +419,26 @@ impl App {
         tool.iter().all(|v| v.is_finite()).then_some(tool)
     }
 
-    /// A key on the fence screen: a row chosen, a face set at the tool, a corner marked, a zone
-    /// kept or not, deleted, brought back, or a name typed.
+    /// A key on the fence screen (`fence_teach`): what it changed is kept at once and written.
     fn on_fence_key(
         &mut self,
-        mut open: FenceScreen,
-        key: KeyInput,
+        open: FenceScreen,
+        key: &KeyInput,
         now: Instant,
         effects: &mut Vec<Effect>,
     ) {
-        if let Some((naming, mut text)) = open.naming.take() {
-            match key.key {
-                ESC => self.info("cancelled", now),
-                ENTER => self.fence_named(naming, text.trim(), &mut open, now, effects),
-                BACKSPACE => {
-                    text.pop();
-                    open.naming = Some((naming, text));
-                }
-                _ => {
-                    if let Some(c) = key.text.filter(|c| !c.is_control())
-                        && text.chars().count() < fence_teach::MAX_NAME
-                    {
-                        text.push(c);
-                    }
-                    open.naming = Some((naming, text));
-                }
+        let tool = self.tool_mm();
+        let named = self.config.arm_name.is_some();
+        let (open, taught) = self.fence.on_key(open, key, tool, named);
+        for taught in taught {
+            match taught {
+                Taught::Say(text, severity) => self.say(text, severity, now),
+                Taught::Write(change) => self.write_fence(change, now, effects),
             }
+        }
+        if let Some(open) = open {
             self.screen.show(Overlay::Fence(open));
-            return;
         }
-        let fence = self.fence.kept.as_deref().cloned().unwrap_or_default();
-        let zone = open.selected.checked_sub(6);
-        let name = |i: usize| fence.keep_out.get(i).map_or("", |z| z.name.as_str());
-        match (key.key, key.text) {
-            (ESC | FENCE_KEY, _) => return,
-            (UP, _) => open.selected = open.selected.saturating_sub(1),
-            (DOWN, _) => open.selected = (open.selected + 1).min(5 + fence.keep_out.len()),
-            (ENTER, _) | (_, Some('s')) if zone.is_none() => match self.tool_mm() {
-                None => self.warn("no fresh telemetry: the tool's position is not known", now),
-                Some(tool) => match fence_teach::set_face(&fence, open.selected, tool) {
-                    Ok(taught) => {
-                        let face = FACE_NAMES[open.selected / 2][open.selected % 2];
-                        let change = format!("box {face} set at the tool");
-                        self.teach(taught, change, &mut open, now, effects);
-                    }
-                    Err(e) => self.warn(format!("not set: {e}"), now),
-                },
-            },
-            (_, Some('e')) if let Some(i) = zone.filter(|i| *i < fence.keep_out.len()) => {
-                let taught = fence_teach::toggle_zone(&fence, i);
-                let state = if taught.keep_out[i].enabled {
-                    "kept"
-                } else {
-                    "off"
-                };
-                let change = format!("zone {} {state}", name(i));
-                self.teach(taught, change, &mut open, now, effects);
-            }
-            (DELETE, _) | (_, Some('x')) if let Some(i) = zone => {
-                if let Some((taught, gone)) = fence_teach::delete_zone(&fence, i) {
-                    let change = format!("zone {} deleted (u brings it back)", gone.name);
-                    self.fence.deleted = Some((i, gone));
-                    open.selected = open.selected.min(5 + taught.keep_out.len());
-                    self.teach(taught, change, &mut open, now, effects);
-                }
-            }
-            (_, Some('u')) => match self.fence.deleted.take() {
-                Some((i, zone)) => {
-                    let mut taught = fence.clone();
-                    let change = format!("zone {} back", zone.name);
-                    taught.keep_out.insert(i.min(taught.keep_out.len()), zone);
-                    self.teach(taught, change, &mut open, now, effects);
-                }
-                None => self.info("no zone deleted to bring back", now),
-            },
-            (_, Some('c')) => match (self.tool_mm(), self.fence.corner.take()) {
-                (None, corner) => {
-                    self.fence.corner = corner;
-                    self.warn("no fresh telemetry: the tool's position is not known", now);
-                }
-                (Some(tool), None) => {
-                    let at = fence_teach::mark(tool);
-                    self.fence.corner = Some(at);
-                    let text = format!(
-                        "corner 1 at {} {} {} mm: jog to the opposite corner, then F and c",
-                        at[0], at[1], at[2]
-                    );
-                    self.info(text, now);
-                }
-                (Some(tool), Some(a)) => {
-                    let b = fence_teach::mark(tool);
-                    open.naming = Some((Naming::Zone { a, b }, String::new()));
-                }
-            },
-            _ => {}
-        }
-        self.screen.show(Overlay::Fence(open));
-    }
-
-    /// A name typed on the fence screen: a zone's, or the profile a fence is written to.
-    fn fence_named(
-        &mut self,
-        naming: Naming,
-        name: &str,
-        open: &mut FenceScreen,
-        now: Instant,
-        effects: &mut Vec<Effect>,
-    ) {
-        match naming {
-            Naming::Zone { a, b } => {
-                let fence = self.fence.kept.as_deref().cloned().unwrap_or_default();
-                match fence_teach::add_zone(&fence, name, a, b) {
-                    Ok(taught) => {
-                        open.selected = 5 + taught.keep_out.len();
-                        self.teach(taught, format!("zone {name} added"), open, now, effects);
-                    }
-                    Err(e) => {
-                        self.fence.corner = Some(a);
-                        self.warn(format!("zone not added: {e}"), now);
-                    }
-                }
-            }
-            Naming::Profile if fence_teach::profile_name_ok(name) => {
-                self.fence.profile = Some(name.to_string());
-                self.write_fence(format!("profile {name} made"), now, effects);
-            }
-            Naming::Profile => {
-                let text = "a profile name is letters, digits, - and _ (e.g. cell3)";
-                self.warn(text, now);
-                open.naming = Some((Naming::Profile, name.to_string()));
-            }
-        }
-    }
-
-    /// The fence as taught from now on, written into the profile (a name asked first if none).
-    fn teach(
-        &mut self,
-        taught: Fence,
-        change: String,
-        open: &mut FenceScreen,
-        now: Instant,
-        effects: &mut Vec<Effect>,
-    ) {
-        self.fence.kept = Some(Arc::new(taught));
-        // Judged afresh at the next sample.
-        self.fence.verdict = None;
-        if self.config.arm_name.is_none() && self.fence.profile.is_none() {
-            self.info(format!("{change}: name the profile to write it into"), now);
-            open.naming = Some((Naming::Profile, String::new()));
-            return;
-        }
-        self.write_fence(change, now, effects);
     }
 
     /// The fence kept, written into its profile off the event loop (`Input::FenceSaved`).
@@ -589,12 +454,13 @@ impl App {
             return;
         };
         self.info(format!("{change}: writing {}", file.display()), now);
-        effects.push(Effect::SaveFence(FenceChange {
+        effects.push(Effect::SaveFence(Box::new(FenceChange {
             file,
             arm,
             fence,
             change,
-        }));
+            new_profile: self.config.new_profile.clone(),
+        })));
     }
 
     /// The writer's word on the last fence written.

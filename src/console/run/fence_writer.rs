@@ -38,6 +38,7 @@ impl FenceWriter {
                 file: change.file,
                 arm: change.arm,
                 fence: change.fence,
+                new_profile: change.new_profile,
             };
             let _ = done.send(write_fence(&save).map_err(|e| e.to_string()));
         });

@@ -352,6 +352,7 @@ fn a_zone_taught_is_written_with_the_comments_kept_and_holds_at_the_next_start()
         file: change.file.clone(),
         arm: change.arm.clone(),
         fence: change.fence.clone(),
+        new_profile: change.new_profile.clone(),
     };
     armjog::console::fence_file::write_fence(&save).expect("written");
     let written = std::fs::read_to_string(&file).expect("read");

@@ -37,6 +37,8 @@ fn app_before_link(source: TelemetrySource) -> (App, Instant) {
         fence: None,
 
         config_file: None,
+
+        new_profile: Vec::new(),
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();

@@ -55,6 +55,8 @@ fn app_with(
         fence: None,
 
         config_file: None,
+
+        new_profile: Vec::new(),
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();
@@ -322,6 +324,8 @@ fn the_turn_keys_are_offered_until_the_driver_says_which_link_it_has() {
         fence: None,
 
         config_file: None,
+
+        new_profile: Vec::new(),
     };
     let mut app = App::new(config, PositionBook::new());
     app.handle(

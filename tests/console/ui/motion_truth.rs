@@ -75,6 +75,8 @@ fn modbus_app() -> (App, Instant) {
         fence: None,
 
         config_file: None,
+
+        new_profile: Vec::new(),
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();

@@ -132,6 +132,8 @@ fn bare_app(mode: ReleaseMode, on_operator: bool) -> (App, Instant) {
         fence: None,
 
         config_file: None,
+
+        new_profile: Vec::new(),
     };
     (App::new(config, PositionBook::new()), Instant::now())
 }

@@ -119,6 +119,8 @@ fn live_app(mode: ReleaseMode, frames: bool) -> (App, Instant) {
         fence: None,
 
         config_file: None,
+
+        new_profile: Vec::new(),
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();
