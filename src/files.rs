@@ -1,6 +1,7 @@
 //! Bounded reads of user-supplied files (config, keymap, book): only a regular file is read, so a
 //! FIFO or device is refused at once instead of blocking the start or eating memory, and a huge
-//! file stops at the limit.
+//! file stops at the limit. Also what a write that replaces a file by a rename needs (`temp_beside`,
+//! `sync_directory`), shared by the book and the profile's fence.
 
 use std::fs::{File, FileType, OpenOptions};
 use std::io::Read;
@@ -106,6 +107,38 @@ fn describe_size(bytes: u64) -> String {
     } else {
         format!("{bytes} bytes")
     }
+}
+
+/// A temporary file beside `target` in `dir` (`.NAME.XXXXXX`), for a write that replaces `target`
+/// by a rename: with `target`'s permissions, or 0644 less the umask for a new file (tempfile's 0600
+/// would hide a shared lab file from its other users).
+pub fn temp_beside(dir: &Path, target: &Path) -> std::io::Result<tempfile::NamedTempFile> {
+    let name = target
+        .file_name()
+        .map_or_else(|| "file".into(), |n| n.to_string_lossy());
+    let prefix = format!(".{name}.");
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(&prefix);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o644));
+    }
+    let tmp = builder.tempfile_in(dir)?;
+    if let Ok(existing) = std::fs::metadata(target) {
+        tmp.as_file().set_permissions(existing.permissions())?;
+    }
+    Ok(tmp)
+}
+
+/// Flushes a folder's entries to disk, so a rename in it survives a power cut (Unix only can
+/// open a folder).
+pub fn sync_directory(dir: &Path) -> std::io::Result<()> {
+    #[cfg(unix)]
+    std::fs::File::open(dir)?.sync_all()?;
+    #[cfg(not(unix))]
+    let _ = dir;
+    Ok(())
 }
 
 #[cfg(test)]

@@ -295,39 +295,9 @@ fn replace(shown: &Path, target: &Path, text: &str) -> Result<(), FenceWriteErro
         }
         None => Path::new("."),
     };
-    let mut tmp = temp_beside(dir, target).map_err(unwritable)?;
+    let mut tmp = crate::files::temp_beside(dir, target).map_err(unwritable)?;
     tmp.write_all(text.as_bytes()).map_err(unwritable)?;
     tmp.as_file().sync_all().map_err(unwritable)?;
     tmp.persist(target).map_err(|e| unwritable(e.error))?;
-    sync_directory(dir).map_err(unwritable)
-}
-
-/// The temporary file (`.config.toml.XXXXXX`), with the permissions the file has (tempfile's
-/// 0600 would hide a shared profile from the lab's other users).
-fn temp_beside(dir: &Path, target: &Path) -> std::io::Result<tempfile::NamedTempFile> {
-    let name = target
-        .file_name()
-        .map_or_else(|| "config.toml".into(), |n| n.to_string_lossy());
-    let prefix = format!(".{name}.");
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(&prefix);
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        builder.permissions(std::fs::Permissions::from_mode(0o644));
-    }
-    let tmp = builder.tempfile_in(dir)?;
-    if let Ok(existing) = std::fs::metadata(target) {
-        tmp.as_file().set_permissions(existing.permissions())?;
-    }
-    Ok(tmp)
-}
-
-/// Flushes a folder's entries to disk (Unix only can open a folder).
-fn sync_directory(dir: &Path) -> std::io::Result<()> {
-    #[cfg(unix)]
-    std::fs::File::open(dir)?.sync_all()?;
-    #[cfg(not(unix))]
-    let _ = dir;
-    Ok(())
+    crate::files::sync_directory(dir).map_err(unwritable)
 }

@@ -178,39 +178,14 @@ impl PositionBook {
             }
             None => Path::new("."),
         };
-        let tmp = new_book_file(dir, path).map_err(io)?;
+        let tmp = crate::files::temp_beside(dir, path).map_err(io)?;
         let mut out = std::io::BufWriter::new(tmp);
         self.write_to(&mut out, &shown, crate::files::POSITIONS_LIMIT)?;
         let tmp = out.into_inner().map_err(|e| io(e.into_error()))?;
         tmp.as_file().sync_all().map_err(io)?;
         tmp.persist(path).map_err(|e| io(e.error))?;
-        sync_directory(dir).map_err(io)
+        crate::files::sync_directory(dir).map_err(io)
     }
-}
-
-/// The temporary file, with the permissions the book keeps: the old book's, or 0644 less the umask
-/// (tempfile's 0600 would hide a shared lab book from its other users).
-fn new_book_file(dir: &Path, book: &Path) -> std::io::Result<tempfile::NamedTempFile> {
-    let mut builder = tempfile::Builder::new();
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        builder.permissions(std::fs::Permissions::from_mode(0o644));
-    }
-    let tmp = builder.tempfile_in(dir)?;
-    if let Ok(existing) = std::fs::metadata(book) {
-        tmp.as_file().set_permissions(existing.permissions())?;
-    }
-    Ok(tmp)
-}
-
-/// Flushes a directory's entries to disk (Unix only can open a directory).
-fn sync_directory(dir: &Path) -> std::io::Result<()> {
-    #[cfg(unix)]
-    std::fs::File::open(dir)?.sync_all()?;
-    #[cfg(not(unix))]
-    let _ = dir;
-    Ok(())
 }
 
 impl PositionBook {
