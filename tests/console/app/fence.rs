@@ -47,12 +47,8 @@ fn at(tool: [f64; 3]) -> Input {
     Input::Arm(ArmEvent::Telemetry(Box::new(t)))
 }
 
-/// An app with `fence`, its link up, Modbus telemetry at the tool point `tool`.
-fn fenced(fence: Fence, tool: Option<[f64; 3]>) -> (App, Instant) {
-    let config = AppConfig {
-        fence: Some(Arc::new(fence)),
-        ..config()
-    };
+/// An app on `config`, its link up at 50 %, Modbus telemetry at the tool point `tool`.
+fn up(config: AppConfig, tool: Option<[f64; 3]>) -> (App, Instant) {
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();
     let up = LinkStatus::Up {
@@ -66,6 +62,15 @@ fn fenced(fence: Fence, tool: Option<[f64; 3]>) -> (App, Instant) {
         app.handle(at(tool), t0);
     }
     (app, t0)
+}
+
+/// An app with `fence`, its link up, its tool at `tool`.
+fn fenced(fence: Fence, tool: Option<[f64; 3]>) -> (App, Instant) {
+    let config = AppConfig {
+        fence: Some(Arc::new(fence)),
+        ..config()
+    };
+    up(config, tool)
 }
 
 fn fence_speed(permille: u16) -> Effect {
@@ -197,16 +202,7 @@ fn teaching(fence: Fence, tool: [f64; 3]) -> (App, Instant) {
         config_file: Some("config.toml".into()),
         ..config()
     };
-    let mut app = App::new(config, PositionBook::new());
-    let t0 = Instant::now();
-    let up = LinkStatus::Up {
-        description: "test".into(),
-    };
-    app.handle(Input::Arm(ArmEvent::Status(up)), t0);
-    let source = TelemetrySource::Modbus;
-    app.handle(Input::Arm(ArmEvent::TelemetrySource(source)), t0);
-    app.handle(at(tool), t0);
-    (app, t0)
+    up(config, Some(tool))
 }
 
 #[test]
@@ -275,13 +271,7 @@ fn taught_without_a_profile_it_asks_for_a_name_and_a_failed_write_is_marked() {
         config_file: Some("config.toml".into()),
         ..config()
     };
-    let mut app = App::new(config, PositionBook::new());
-    let t0 = Instant::now();
-    let up = LinkStatus::Up {
-        description: "test".into(),
-    };
-    app.handle(Input::Arm(ArmEvent::Status(up)), t0);
-    app.handle(at([450.0, 0.0, 400.0]), t0);
+    let (mut app, t0) = up(config, Some([450.0, 0.0, 400.0]));
     press(&mut app, "F", t0);
     let asked = press(&mut app, "s", t0);
     assert!(saved(&asked).is_none());
@@ -326,13 +316,7 @@ fn a_zone_taught_is_written_with_the_comments_kept_and_holds_at_the_next_start()
         config_file: Some(file.clone()),
         ..config()
     };
-    let mut app = App::new(config, PositionBook::new());
-    let t0 = Instant::now();
-    let up = LinkStatus::Up {
-        description: "test".into(),
-    };
-    app.handle(Input::Arm(ArmEvent::Status(up)), t0);
-    app.handle(at([450.0, 0.0, 200.0]), t0);
+    let (mut app, t0) = up(config, Some([450.0, 0.0, 200.0]));
     press(&mut app, "F", t0);
     press(&mut app, "c", t0);
     press(&mut app, "esc", t0);
