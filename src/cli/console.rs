@@ -84,6 +84,9 @@ pub struct ConsoleArgs {
     /// Id of the Home action on a Kinova arm (Modbus).
     #[arg(long, default_value_t = modbus::DEFAULT_HOME_ACTION_ID, value_parser = super::values::stored_action_id)]
     pub home_action_id: u16,
+    /// Do not record the session (the flight recorder's MCAP file beside the audit log).
+    #[arg(long)]
+    pub no_record: bool,
 }
 
 /// Why the console's speed options cannot be used (together).
@@ -221,6 +224,7 @@ pub async fn run_console(
         fence: fence.map(Arc::new),
         config_file,
         new_profile: new_profile(args, simulator.is_some()),
+        record: !args.no_record,
     };
     // Not `eprintln!`: it panics when stderr is gone after a hang-up.
     let code = match run(setup).await {

@@ -89,6 +89,12 @@ const FILES: Section = (
              object per line, by UTC day. Kept: audit files are records and are never removed.",
         ),
         (
+            "~/.local/state/armjog/armjog-YYYY-MM-DDTHH-MM-SSZ-ARM.mcap",
+            "The flight recording of each console session (MCAP, JSON messages with JSON Schemas, \
+             read by Foxglove): telemetry, keys, commands, stops and refusals, by start time and \
+             arm; 14 days are kept. --no-record turns it off.",
+        ),
+        (
             "~/.local/share/armjog/positions/ARM.json",
             "The named positions the console remembers for each arm (simulator.json for the \
              simulated arm), written atomically.",
@@ -99,6 +105,16 @@ const FILES: Section = (
         ),
     ],
 );
+
+/// The FILES section as plain text, for `armjog --help`.
+pub fn files_text() -> String {
+    let (title, entries) = FILES;
+    let mut out = format!("{title}:\n");
+    for (path, text) in entries {
+        out.push_str(&format!("  {path}\n      {text}\n"));
+    }
+    out
+}
 
 /// `text` as roff: backslashes and hyphens escaped, no line read as a request.
 fn roff_text(text: &str) -> String {

@@ -29,7 +29,7 @@ pub use outcome::Outcome;
 /// With no subcommand it opens the jog console: on the built-in simulated arm, or on the arm
 /// given with --talos and/or --modbus, or by the profile --arm names.
 #[derive(Debug, Parser)]
-#[command(name = "armjog", version = version::VERSION, about, long_about = None, args_conflicts_with_subcommands = true)]
+#[command(name = "armjog", version = version::VERSION, about, long_about = None, args_conflicts_with_subcommands = true, after_long_help = man_sections::files_text())]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,

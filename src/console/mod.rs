@@ -15,6 +15,7 @@ pub mod keymap;
 pub mod pacing;
 pub mod painter;
 pub mod positions;
+pub mod recorder;
 pub mod run;
 pub mod signals;
 pub mod terminal;

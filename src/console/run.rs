@@ -23,6 +23,7 @@ use super::keymap::Keymap;
 use super::pacing::{self, FramePacer};
 use super::painter::Painter;
 use super::positions::{self, PositionBook};
+use super::recorder::{self, Recorder};
 use super::terminal;
 use super::ui::{self, Theme};
 use super::view::View;
@@ -59,6 +60,8 @@ pub struct ConsoleSetup {
     pub config_file: Option<PathBuf>,
     /// A profile made by teaching a fence gets these settings (`AppConfig::new_profile`).
     pub new_profile: Vec<(String, String)>,
+    /// Record the session (`recorder`), unless `--no-record`.
+    pub record: bool,
 }
 
 /// Why the console could not run.
@@ -119,9 +122,16 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
 
                 new_profile: setup.new_profile.clone(),
             };
-            let audit = AuditSession::start(&config, arm, setup.arm_name, audit::audit_dir());
+            let recorder = setup
+                .record
+                .then(|| start_recorder(&config, &arm))
+                .flatten();
+            let recording = recorder.as_ref().map(Recorder::path);
+            let audit =
+                AuditSession::start(&config, arm, setup.arm_name, audit::audit_dir(), recording);
             let parts = LoopParts {
                 book,
+                recorder,
                 audit,
                 driver: driver.clone(),
                 arm_events,
@@ -170,6 +180,7 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
 /// What the event loop's task owns while it runs, and gives back when it ends.
 struct LoopParts {
     book: BookFiles,
+    recorder: Option<Recorder>,
     audit: AuditSession,
     driver: Driver,
     arm_events: tokio::sync::mpsc::UnboundedReceiver<ArmEvent>,
@@ -186,6 +197,7 @@ async fn loop_task(
         config,
         &mut parts.book,
         &mut parts.audit,
+        &mut parts.recorder,
         &parts.driver,
         &mut parts.arm_events,
         Screen {
@@ -252,6 +264,27 @@ fn install_panic_hook(stop: StopHandle, release_events: bool, drawing: Arc<Atomi
     }));
 }
 
+/// The session's recorder, in the audit folder, the old recordings pruned first; `None` (and a
+/// warning in the log) when there is no folder or the file cannot be made.
+fn start_recorder(config: &AppConfig, target: &str) -> Option<Recorder> {
+    let dir = audit::audit_dir()?;
+    let now = std::time::SystemTime::now();
+    recorder::prune(&dir, time::OffsetDateTime::from(now).date());
+    let arm = match (&config.arm_name, config.simulated) {
+        (Some(name), _) => name.clone(),
+        (None, true) => "sim".to_string(),
+        (None, false) => target.replace(|c: char| !c.is_ascii_alphanumeric(), "-"),
+    };
+    let path = recorder::file_for(&dir, now, &arm);
+    match Recorder::start(path.clone(), recorder::QUEUE) {
+        Ok(recorder) => Some(recorder),
+        Err(e) => {
+            tracing::warn!("recording off: cannot record into {}: {e}", path.display());
+            None
+        }
+    }
+}
+
 /// How long a panic waits for the stop before the terminal is restored and the process ends.
 const PANIC_STOP_WAIT: Duration = Duration::from_millis(200);
 
@@ -259,6 +292,7 @@ async fn event_loop(
     config: AppConfig,
     book: &mut BookFiles,
     audit: &mut AuditSession,
+    recorder: &mut Option<Recorder>,
     driver: &Driver,
     arm_events: &mut tokio::sync::mpsc::UnboundedReceiver<ArmEvent>,
     mut screen: Screen<'_>,
@@ -351,6 +385,9 @@ async fn event_loop(
         let report = pacing::is_routine_report(&input);
         let now = Instant::now();
         audit.input(&input);
+        if let Some(recorder) = recorder.as_ref() {
+            recorder.input(&input);
+        }
         let mut sent = false;
         let effects = app.handle(input, now);
         for effect in effects {
@@ -358,6 +395,10 @@ async fn event_loop(
                 Effect::Arm(command) => {
                     if !driver.send(command.clone()) {
                         app.say("the arm driver has stopped", Severity::Error, now);
+                    }
+                    // After the frame is the driver's: the recorder never delays it.
+                    if let Some(recorder) = recorder.as_ref() {
+                        recorder.command(&command);
                     }
                     audit.command(command);
                     sent = true;
@@ -387,6 +428,9 @@ async fn event_loop(
         // everything it waits on again (figures in docs/development.md).
         if sent {
             tokio::task::yield_now().await;
+        }
+        if let Some(recorder) = recorder.as_mut() {
+            recorder.said(app.message());
         }
         audit.handled(&app);
         // Inputs that never let the loop rest (a flood) do not hold the records for ever.

@@ -22,6 +22,7 @@ mod fence_file;
 mod jog_engine;
 mod keymap;
 mod readme_keys;
+mod recorder;
 mod terminal_input;
 mod tmux;
 mod ui;

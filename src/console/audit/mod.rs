@@ -28,6 +28,9 @@ pub enum AuditEvent {
         arm: String,
         #[serde(skip_serializing_if = "Option::is_none")]
         target: Option<String>,
+        /// The session's flight recording (MCAP), unless `--no-record`.
+        #[serde(skip_serializing_if = "Option::is_none")]
+        recording: Option<String>,
     },
     /// The console closed (after its last STOP).
     SessionEnd,

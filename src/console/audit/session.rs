@@ -33,12 +33,14 @@ struct Handled {
 }
 
 impl AuditSession {
-    /// Starts the writer for `dir` and records the start on `arm` (`profile`: the arm profile).
+    /// Starts the writer for `dir` and records the start on `arm` (`profile`: the arm profile),
+    /// naming the session's flight `recording`.
     pub fn start(
         config: &AppConfig,
         target: String,
         profile: Option<String>,
         dir: Option<std::path::PathBuf>,
+        recording: Option<&std::path::Path>,
     ) -> Self {
         let mut session = AuditSession {
             deriver: AuditDeriver::new(
@@ -55,7 +57,12 @@ impl AuditSession {
             Some(arm) => (arm, Some(target)),
             None => (target, None),
         };
-        session.write_now(AuditEvent::SessionStart { arm, target });
+        let recording = recording.map(|p| p.display().to_string());
+        session.write_now(AuditEvent::SessionStart {
+            arm,
+            target,
+            recording,
+        });
         session
     }
 

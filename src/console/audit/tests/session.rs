@@ -27,7 +27,7 @@ fn app_and_session(
 ) -> (crate::console::app::App, AuditSession) {
     let config = crate::console::app::AppConfig::for_tests();
     let app = crate::console::app::App::new(config.clone(), book);
-    let session = AuditSession::start(&config, "sim".into(), None, Some(dir.into()));
+    let session = AuditSession::start(&config, "sim".into(), None, Some(dir.into()), None);
     (app, session)
 }
 

@@ -1,0 +1,318 @@
+//! The flight recorder: every console session written as an MCAP file (zstd chunks, JSON messages
+//! with JSON Schemas; `topics.rs`) beside the audit files. The event loop never waits for it: what
+//! it hands over goes through a bounded queue to the recorder's thread, which makes the JSON and
+//! writes it; a full queue drops the message and counts it, and the count is recorded. Chunks are
+//! closed at least once a second, so a console killed outright leaves a file readable up to its
+//! last second; a clean end writes the summary and the index.
+
+mod messages;
+pub mod topics;
+
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::mpsc::{self, Receiver, RecvTimeoutError, SyncSender, TrySendError};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant, SystemTime};
+
+pub use messages::Recorded;
+
+use crate::console::app::{Input, Severity};
+use crate::link::interface::{ArmCommand, ArmEvent};
+
+/// The queue between the event loop and the recorder's thread: some seconds of telemetry.
+pub const QUEUE: usize = 1024;
+/// Chunks are closed at least this often: what a killed console's file is readable up to.
+pub const FLUSH_EVERY: Duration = Duration::from_secs(1);
+/// A telemetry channel's message equal to the last one written is left out, up to this long: a
+/// still arm's samples are the same, and a reader holds the last value.
+pub const SAME_HELD_NS: u64 = 1_000_000_000;
+/// Recordings older than this many days are removed when a console starts.
+pub const KEPT_DAYS: i64 = 14;
+
+/// The event loop's end of the recorder. Dropping it ends the recording (the summary written).
+pub struct Recorder {
+    queue: Option<SyncSender<(u64, Recorded)>>,
+    dropped: Arc<AtomicU64>,
+    thread: Option<JoinHandle<()>>,
+    path: PathBuf,
+    said: Option<String>,
+}
+
+/// Nanoseconds since the Unix epoch, as MCAP readers expect a log time.
+fn now_ns() -> u64 {
+    SystemTime::now()
+        .duration_since(SystemTime::UNIX_EPOCH)
+        .map_or(0, |d| u64::try_from(d.as_nanos()).unwrap_or(u64::MAX))
+}
+
+impl Recorder {
+    /// Starts recording into `path` (its folder made), with a queue of `queue` messages.
+    pub fn start(path: PathBuf, queue: usize) -> std::io::Result<Recorder> {
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir)?;
+        }
+        let file = File::create(&path)?;
+        let writer = mcap::WriteOptions::new()
+            .compression(Some(mcap::Compression::Zstd))
+            .create(BufWriter::new(file))
+            .map_err(std::io::Error::other)?;
+        let (queue, received) = mpsc::sync_channel(queue);
+        let dropped = Arc::new(AtomicU64::new(0));
+        let counted = dropped.clone();
+        let thread = std::thread::Builder::new()
+            .name("armjog-recorder".into())
+            .spawn(move || record(writer, &received, &counted))?;
+        Ok(Recorder {
+            queue: Some(queue),
+            dropped,
+            thread: Some(thread),
+            path,
+            said: None,
+        })
+    }
+
+    /// The file being written.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Messages dropped so far (the queue was full).
+    pub fn dropped(&self) -> u64 {
+        self.dropped.load(Ordering::Relaxed)
+    }
+
+    fn hand(&self, recorded: Recorded) {
+        let Some(queue) = &self.queue else { return };
+        match queue.try_send((now_ns(), recorded)) {
+            Ok(()) => {}
+            Err(TrySendError::Full(_)) => {
+                self.dropped.fetch_add(1, Ordering::Relaxed);
+            }
+            Err(TrySendError::Disconnected(_)) => {}
+        }
+    }
+
+    /// An input the app is about to handle: telemetry, keys, the link's reports.
+    pub fn input(&self, input: &Input) {
+        let kept = match input {
+            Input::Arm(ArmEvent::Latency(_) | ArmEvent::Speed(_)) => false,
+            Input::Arm(_) | Input::Key(_) | Input::FocusLost | Input::Signal(_) => true,
+            _ => false,
+        };
+        if kept {
+            self.hand(Recorded::Input(input.clone()));
+        }
+    }
+
+    /// A command going to the arm.
+    pub fn command(&self, command: &ArmCommand) {
+        self.hand(Recorded::Command(command.clone()));
+    }
+
+    /// The console's message line after an input: recorded when it changed.
+    pub fn said(&mut self, message: Option<(&str, Severity)>) {
+        let Some((text, severity)) = message else {
+            self.said = None;
+            return;
+        };
+        if self.said.as_deref() != Some(text) {
+            self.said = Some(text.to_string());
+            self.hand(Recorded::Said(text.to_string(), severity));
+        }
+    }
+}
+
+impl Drop for Recorder {
+    fn drop(&mut self) {
+        // The queue closed: the thread writes what is left, the count, the summary, and ends.
+        self.queue.take();
+        if let Some(thread) = self.thread.take() {
+            let _ = thread.join();
+        }
+    }
+}
+
+/// The recorder's thread: writes what comes, closes a chunk each [`FLUSH_EVERY`].
+fn record(
+    mut writer: mcap::Writer<BufWriter<File>>,
+    received: &Receiver<(u64, Recorded)>,
+    dropped: &AtomicU64,
+) {
+    let Ok(channels) = add_channels(&mut writer) else {
+        tracing::error!("recorder: the channels could not be written");
+        return;
+    };
+    let mut sequence = 0u32;
+    let mut links_at = 0u64;
+    // Per telemetry topic: the last message written and when.
+    let mut last: BTreeMap<&'static str, (String, u64)> = BTreeMap::new();
+    let mut write = |writer: &mut mcap::Writer<BufWriter<File>>, ns: u64, recorded: &Recorded| {
+        let with_links = ns >= links_at.saturating_add(messages::TRANSFORMS_EVERY_NS);
+        let recorded_messages = messages::messages(recorded, ns, with_links);
+        if recorded_messages
+            .iter()
+            .any(|(t, _)| t.topic == topics::TRANSFORMS.topic)
+        {
+            links_at = ns;
+        }
+        for (topic, message) in recorded_messages {
+            let Some(&(_, id)) = channels.iter().find(|(t, _)| t == &topic.topic) else {
+                continue;
+            };
+            let data = message.to_string();
+            if topic.held {
+                match last.get(topic.topic) {
+                    Some((same, at)) if *same == data && ns < at.saturating_add(SAME_HELD_NS) => {
+                        continue;
+                    }
+                    _ => {
+                        last.insert(topic.topic, (data.clone(), ns));
+                    }
+                }
+            }
+            sequence = sequence.wrapping_add(1);
+            let header = mcap::records::MessageHeader {
+                channel_id: id,
+                sequence,
+                log_time: ns,
+                publish_time: ns,
+            };
+            if let Err(e) = writer.write_to_known_channel(&header, data.as_bytes()) {
+                tracing::warn!("recorder: a message not written: {e}");
+            }
+        }
+    };
+    let mut flushed_at = Instant::now();
+    let mut dropped_written = 0;
+    loop {
+        let wait = FLUSH_EVERY.saturating_sub(flushed_at.elapsed());
+        match received.recv_timeout(wait) {
+            Ok((ns, recorded)) => write(&mut writer, ns, &recorded),
+            Err(RecvTimeoutError::Timeout) => {}
+            Err(RecvTimeoutError::Disconnected) => break,
+        }
+        let count = dropped.load(Ordering::Relaxed);
+        if count != dropped_written {
+            dropped_written = count;
+            write(&mut writer, now_ns(), &Recorded::Dropped(count));
+        }
+        if flushed_at.elapsed() >= FLUSH_EVERY {
+            flushed_at = Instant::now();
+            if let Err(e) = writer.flush() {
+                tracing::warn!("recorder: a chunk not flushed: {e}");
+            }
+        }
+    }
+    write(
+        &mut writer,
+        now_ns(),
+        &Recorded::Dropped(dropped.load(Ordering::Relaxed)),
+    );
+    if let Err(e) = writer.finish() {
+        tracing::warn!("recorder: the summary not written: {e}");
+    }
+}
+
+/// Each channel with its schema; their topics and ids.
+fn add_channels(
+    writer: &mut mcap::Writer<BufWriter<File>>,
+) -> mcap::McapResult<Vec<(&'static str, u16)>> {
+    let mut ids = Vec::new();
+    for topic in topics::ALL {
+        let schema = writer.add_schema(topic.schema, "jsonschema", topic.json_schema.as_bytes())?;
+        let id = writer.add_channel(schema, topic.topic, "json", &BTreeMap::new())?;
+        ids.push((topic.topic, id));
+    }
+    Ok(ids)
+}
+
+/// The file a session starting at `at` on `arm` records into, in `dir`:
+/// `armjog-2026-12-06T18-03-05Z-cell3.mcap` (`sim` for the built-in simulator, `arm` unnamed).
+pub fn file_for(dir: &Path, at: SystemTime, arm: &str) -> PathBuf {
+    let at = time::OffsetDateTime::from(at);
+    let name = format!(
+        "armjog-{:04}-{:02}-{:02}T{:02}-{:02}-{:02}Z-{arm}.mcap",
+        at.year(),
+        u8::from(at.month()),
+        at.day(),
+        at.hour(),
+        at.minute(),
+        at.second()
+    );
+    dir.join(name)
+}
+
+/// Removes the recordings in `dir` dated more than [`KEPT_DAYS`] before `today` (by the date in
+/// their names; other files are left alone).
+pub fn prune(dir: &Path, today: time::Date) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let Some(date) = name.to_str().and_then(recording_date) else {
+            continue;
+        };
+        if (today - date).whole_days() > KEPT_DAYS {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
+}
+
+/// The date in a recording's name (`armjog-YYYY-MM-DDT...mcap`).
+fn recording_date(name: &str) -> Option<time::Date> {
+    let rest = name.strip_prefix("armjog-")?;
+    if !name.ends_with(".mcap") {
+        return None;
+    }
+    let date = rest.get(..10)?;
+    let format = time::macros::format_description!("[year]-[month]-[day]");
+    time::Date::parse(date, &format).ok()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_carry_the_start_time_and_the_arm_and_old_ones_are_pruned() {
+        let at = SystemTime::UNIX_EPOCH + Duration::from_secs(1_796_580_185);
+        let path = file_for(Path::new("/x"), at, "cell3");
+        assert_eq!(path, Path::new("/x/armjog-2026-12-06T18-03-05Z-cell3.mcap"));
+        let date = |s| recording_date(s);
+        assert_eq!(
+            date("armjog-2026-11-21T00-00-00Z-sim.mcap"),
+            time::Date::from_calendar_date(2026, time::Month::November, 21).ok()
+        );
+        assert_eq!(date("audit-2026-11-21.jsonl"), None);
+        assert_eq!(date("armjog-2026-11-21.log"), None);
+        let dir = tempfile::tempdir().expect("dir");
+        for name in [
+            "armjog-2026-11-21T00-00-00Z-sim.mcap",
+            "armjog-2026-11-22T00-00-00Z-sim.mcap",
+            "audit-2026-11-01.jsonl",
+        ] {
+            std::fs::write(dir.path().join(name), b"").expect("file");
+        }
+        let today = time::Date::from_calendar_date(2026, time::Month::December, 6).expect("date");
+        prune(dir.path(), today);
+        let mut left: Vec<String> = std::fs::read_dir(dir.path())
+            .expect("dir")
+            .flatten()
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .collect();
+        left.sort();
+        // 15 days old goes; 14 stays; not a recording stays.
+        assert_eq!(
+            left,
+            [
+                "armjog-2026-11-22T00-00-00Z-sim.mcap",
+                "audit-2026-11-01.jsonl"
+            ]
+        );
+    }
+}
