@@ -84,6 +84,8 @@ impl Scene {
                 config_file: None,
 
                 new_profile: Vec::new(),
+
+                recording_off: false,
             },
             PositionBook::new(),
         );

@@ -101,7 +101,7 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
     install_panic_hook(driver.stop_handle(), release_events, drawing.clone());
     let (result, book) = match start_painter(drawing) {
         Ok((painter, size, draw_errors)) => {
-            let config = AppConfig {
+            let mut config = AppConfig {
                 keymap: setup.keymap.into(),
                 release_mode: if release_events {
                     ReleaseMode::Reported
@@ -121,11 +121,14 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
                 config_file: setup.config_file.clone(),
 
                 new_profile: setup.new_profile.clone(),
+
+                recording_off: false,
             };
             let recorder = setup
                 .record
                 .then(|| start_recorder(&config, &arm))
                 .flatten();
+            config.recording_off = recorder.is_none();
             let recording = recorder.as_ref().map(Recorder::path);
             let audit =
                 AuditSession::start(&config, arm, setup.arm_name, audit::audit_dir(), recording);

@@ -30,6 +30,8 @@ pub fn config() -> AppConfig {
         config_file: None,
 
         new_profile: Vec::new(),
+
+        recording_off: false,
     }
 }
 

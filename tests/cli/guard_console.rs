@@ -152,6 +152,8 @@ fn the_console_stops_and_says_so_when_its_guard_goes_down_and_shows_its_state() 
             config_file: None,
 
             new_profile: Vec::new(),
+
+            recording_off: false,
         },
         PositionBook::new(),
     );

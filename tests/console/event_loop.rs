@@ -42,6 +42,8 @@ pub fn app_fenced(
             config_file: None,
 
             new_profile: Vec::new(),
+
+            recording_off: false,
         },
         book,
     )
@@ -123,6 +125,15 @@ pub async fn run_until_instant<C: Drives>(
 
 /// Row 1 of the whole console drawn at 120x30 from `view`: the status line.
 pub fn status_line(view: &armjog::console::view::View) -> String {
+    row_at_120(view, 1)
+}
+
+/// Row 0 of the whole console drawn at 120x30 from `view`: the link line and its badges.
+pub fn status_line_0(view: &armjog::console::view::View) -> String {
+    row_at_120(view, 0)
+}
+
+fn row_at_120(view: &armjog::console::view::View, row: u16) -> String {
     use armjog::console::ui::{self, Theme};
     use ratatui::{Terminal, backend::TestBackend};
     let mut terminal = Terminal::new(TestBackend::new(120, 30)).expect("terminal");
@@ -130,5 +141,5 @@ pub fn status_line(view: &armjog::console::view::View) -> String {
         .draw(|f| ui::draw(f, view, &Theme { color: true }))
         .expect("draw");
     let buffer = terminal.backend().buffer();
-    (0..120).map(|x| buffer[(x, 1)].symbol()).collect()
+    (0..120).map(|x| buffer[(x, row)].symbol()).collect()
 }

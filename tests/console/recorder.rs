@@ -219,3 +219,24 @@ fn chunks_are_closed_each_second_so_an_unfinished_file_reads_up_to_then() {
     assert!(readable >= 5, "{readable} messages readable before the end");
     drop(recorder);
 }
+
+#[test]
+fn the_status_bar_says_rec_off_when_the_session_is_not_recorded() {
+    use armjog::console::app::{App, AppConfig};
+    use armjog::console::positions::PositionBook;
+    use armjog::console::view::View;
+    let line = |recording_off: bool| {
+        let config = AppConfig {
+            recording_off,
+            ..crate::app_support::config()
+        };
+        let mut app = App::new(config, PositionBook::new());
+        let up = LinkStatus::Up {
+            description: "test".into(),
+        };
+        app.handle(Input::Arm(ArmEvent::Status(up)), std::time::Instant::now());
+        crate::event_loop::status_line_0(&View::new(&app))
+    };
+    assert!(line(true).contains(" REC OFF "), "{}", line(true));
+    assert!(!line(false).contains("REC"), "{}", line(false));
+}

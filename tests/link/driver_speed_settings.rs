@@ -351,6 +351,8 @@ fn the_status_bar_shows_the_jog_speed_from_the_cap_and_the_percent() {
             config_file: None,
 
             new_profile: Vec::new(),
+
+            recording_off: false,
         },
         PositionBook::new(),
     );

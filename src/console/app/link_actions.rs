@@ -72,4 +72,6 @@ pub struct SessionView {
     pub arm_name: Option<String>,
     /// The arm profile's fence: the arm view draws it.
     pub fence: Option<Arc<Fence>>,
+    /// The session is not recorded: the status bar says so.
+    pub recording_off: bool,
 }

@@ -241,6 +241,8 @@ pub struct AppConfig {
     /// The settings a profile made by teaching a fence gets: the link options this console was
     /// started with (`talos`, `modbus`, the cap...), none on the built-in simulator.
     pub new_profile: Vec<(String, String)>,
+    /// The session is not recorded (`--no-record`, or the recording could not start).
+    pub recording_off: bool,
 }
 
 #[cfg(test)]
@@ -266,6 +268,8 @@ impl AppConfig {
             config_file: None,
 
             new_profile: Vec::new(),
+
+            recording_off: false,
         }
     }
 }

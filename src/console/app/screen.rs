@@ -202,6 +202,7 @@ impl App {
             link_actions: self.link_actions(),
             arm_name: config.arm_name.clone(),
             fence: self.fence.kept.clone(),
+            recording_off: config.recording_off,
         }
     }
 

@@ -163,6 +163,9 @@ fn link_line(view: &View, theme: &Theme, width: usize) -> Line<'static> {
     let mut badges: Vec<_> = simulated_span(view, theme).into_iter().collect();
     badges.extend(guard_spans(view, theme));
     badges.extend(arm_name_span(view));
+    if view.session.recording_off {
+        badges.push(Span::styled(" REC OFF ", theme.warning()));
+    }
     let (detail, detail_style, latency) = match &view.arm.link {
         LinkStatus::Up { description } => {
             // A link that went silent is not shown as healthy.

@@ -57,6 +57,8 @@ fn app_with(
         config_file: None,
 
         new_profile: Vec::new(),
+
+        recording_off: false,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();
@@ -326,6 +328,8 @@ fn the_turn_keys_are_offered_until_the_driver_says_which_link_it_has() {
         config_file: None,
 
         new_profile: Vec::new(),
+
+        recording_off: false,
     };
     let mut app = App::new(config, PositionBook::new());
     app.handle(

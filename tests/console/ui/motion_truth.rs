@@ -77,6 +77,8 @@ fn modbus_app() -> (App, Instant) {
         config_file: None,
 
         new_profile: Vec::new(),
+
+        recording_off: false,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();

@@ -134,6 +134,8 @@ fn bare_app(mode: ReleaseMode, on_operator: bool) -> (App, Instant) {
         config_file: None,
 
         new_profile: Vec::new(),
+
+        recording_off: false,
     };
     (App::new(config, PositionBook::new()), Instant::now())
 }

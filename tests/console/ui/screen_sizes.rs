@@ -121,6 +121,8 @@ fn live_app(mode: ReleaseMode, frames: bool) -> (App, Instant) {
         config_file: None,
 
         new_profile: Vec::new(),
+
+        recording_off: false,
     };
     let mut app = App::new(config, PositionBook::new());
     let t0 = Instant::now();
