@@ -11,6 +11,7 @@ pub mod modbus;
 mod outcome;
 pub mod output;
 pub mod profiles;
+pub mod replay;
 pub mod send;
 pub mod sim;
 mod sim_thread;
@@ -52,6 +53,8 @@ pub enum Command {
     Arms(arms::ArmsArgs),
     /// Run the simulated Kinova Gen3 arm: a Talos operator and a Kinova Modbus server.
     Sim(sim::SimArgs),
+    /// Print a recorded session's events (`--events`): keys, commands, stops, refusals, faults.
+    Replay(replay::ReplayArgs),
     /// Print a shell completion script (bash, zsh or fish) to stdout.
     Completions(generate::CompletionsArgs),
     /// Print the man page (roff) to stdout: armjog(1), or a subcommand's.

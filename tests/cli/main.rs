@@ -37,6 +37,7 @@ mod profile_fence;
 mod profile_precedence;
 mod profile_values;
 mod profiles;
+mod replay;
 mod send;
 mod sim_args_near_limit;
 mod sim_args_near_singularity;
