@@ -272,3 +272,58 @@ fn a_terminal_that_hangs_up_ends_the_console_without_a_panic() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A console killed outright (SIGKILL) leaves a recording readable up to its last second: the
+/// recorder closes a chunk every second.
+#[test]
+fn a_console_killed_outright_leaves_its_recording_readable_up_to_its_last_second() {
+    let dir = fresh_dir("recording-killed");
+    let state = dir.join("state");
+    let tmux = Tmux::start(&console_command(&dir, &state, "exec ", ""));
+    tmux.wait_for("the link to come up", |s| {
+        s.contains("LINK UP") && s.contains("pos mm")
+    });
+    std::thread::sleep(Duration::from_millis(2500));
+    let pane = Command::new("tmux")
+        .args([
+            "-L",
+            &tmux.socket,
+            "display",
+            "-p",
+            "-t",
+            "console",
+            "#{pane_pid}",
+        ])
+        .output()
+        .expect("tmux display");
+    let pid = String::from_utf8_lossy(&pane.stdout).trim().to_string();
+    let killed_at = std::time::SystemTime::now();
+    let status = Command::new("kill")
+        .args(["-KILL", &pid])
+        .status()
+        .expect("kill");
+    assert!(status.success(), "kill -KILL {pid}");
+    std::thread::sleep(Duration::from_millis(300));
+    let recording = std::fs::read_dir(&state)
+        .expect("the state folder")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .find(|p| p.extension().is_some_and(|e| e == "mcap"))
+        .expect("a recording beside the audit");
+    let bytes = std::fs::read(&recording).expect("the recording");
+    let last = mcap::MessageStream::new(&bytes)
+        .expect("an MCAP start")
+        .map_while(Result::ok)
+        .map(|m| m.log_time)
+        .max()
+        .expect("messages readable");
+    let killed_ns = killed_at
+        .duration_since(std::time::SystemTime::UNIX_EPOCH)
+        .expect("after 1970")
+        .as_nanos() as u64;
+    let lost = Duration::from_nanos(killed_ns.saturating_sub(last));
+    // A chunk a second, and a loaded machine's scheduling: generous.
+    assert!(
+        lost < Duration::from_millis(2500),
+        "{lost:?} before the kill lost"
+    );
+}
