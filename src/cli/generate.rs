@@ -47,6 +47,7 @@ fn documented_subcommands() -> Vec<&'static str> {
         "modbus",
         "arms",
         "sim",
+        "replay",
         "completions",
         "man",
     ]
