@@ -25,6 +25,9 @@ use crate::link::interface::{ArmCommand, ArmEvent};
 
 /// The queue between the event loop and the recorder's thread: some seconds of telemetry.
 pub const QUEUE: usize = 1024;
+/// The recorder's thread sleeps this long after each batch: the queue holds what comes meanwhile
+/// (some 10 messages at 30 Hz telemetry, far under [`QUEUE`]).
+const NAP: Duration = Duration::from_millis(100);
 /// Chunks are closed at least this often: what a killed console's file is readable up to.
 pub const FLUSH_EVERY: Duration = Duration::from_secs(1);
 /// A telemetry channel's message equal to the last one written is left out, up to this long: a
@@ -191,7 +194,14 @@ fn record(
     loop {
         let wait = FLUSH_EVERY.saturating_sub(flushed_at.elapsed());
         match received.recv_timeout(wait) {
-            Ok((ns, recorded)) => write(&mut writer, ns, &recorded),
+            Ok((ns, recorded)) => {
+                write(&mut writer, ns, &recorded);
+                // What came meanwhile, then a nap: a few wake-ups a second, not one a sample.
+                for (ns, recorded) in received.try_iter() {
+                    write(&mut writer, ns, &recorded);
+                }
+                std::thread::sleep(NAP);
+            }
             Err(RecvTimeoutError::Timeout) => {}
             Err(RecvTimeoutError::Disconnected) => break,
         }
