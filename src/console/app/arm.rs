@@ -72,8 +72,9 @@ impl App {
                 ..
             } => self.on_guard_stopped(&error, now, effects),
             ArmEvent::Failed { command, error } => {
-                // A refused jog is not left to the watchdog: stop and latch held keys.
-                if command == CommandKind::Jog {
+                // A refused jog is not left to the watchdog: stop and latch held keys. Nor is a
+                // refused fence slow-down: the arm may still go at the faster speed.
+                if matches!(command, CommandKind::Jog | CommandKind::FenceSpeed) {
                     self.stop_jog(now, effects);
                 }
                 if self.position_failed(command, &error, now) {

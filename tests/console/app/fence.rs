@@ -365,3 +365,17 @@ fn a_zone_taught_is_written_with_the_comments_kept_and_holds_at_the_next_start()
     assert!(no_motion(&press(&mut next, "f", t1)));
     assert!(message(&next).contains("fixture"), "{}", message(&next));
 }
+
+#[test]
+fn a_fence_slow_down_the_link_refuses_stops_the_jog() {
+    // 30 mm over the table: the share goes out before the jog.
+    let (mut app, t0) = fenced(fence(), Some([450.0, 0.0, 290.0]));
+    assert_eq!(press(&mut app, "f", t0), [fence_speed(550), jog(0, 0, -1)]);
+    let failed = ArmEvent::Failed {
+        command: armjog::link::interface::CommandKind::FenceSpeed,
+        error: armjog::link::interface::ArmError::NoTalosLink,
+    };
+    let effects = app.handle(Input::Arm(failed), t0);
+    assert!(effects.contains(&STOP), "{effects:?}");
+    assert!(!app.jog().is_jogging());
+}
