@@ -388,7 +388,7 @@ async fn event_loop(
         let report = pacing::is_routine_report(&input);
         let now = Instant::now();
         audit.input(&input);
-        if let Some(recorder) = recorder.as_ref() {
+        if let Some(recorder) = recorder.as_mut() {
             recorder.input(&input);
         }
         let mut sent = false;
@@ -399,8 +399,7 @@ async fn event_loop(
                     if !driver.send(command.clone()) {
                         app.say("the arm driver has stopped", Severity::Error, now);
                     }
-                    // After the frame is the driver's: the recorder never delays it.
-                    if let Some(recorder) = recorder.as_ref() {
+                    if let Some(recorder) = recorder.as_mut() {
                         recorder.command(&command);
                     }
                     audit.command(command);
@@ -432,8 +431,10 @@ async fn event_loop(
         if sent {
             tokio::task::yield_now().await;
         }
+        // After the frames: the recorder's queue never comes before one.
         if let Some(recorder) = recorder.as_mut() {
             recorder.said(app.message());
+            recorder.hand_over();
         }
         audit.handled(&app);
         // Inputs that never let the loop rest (a flood) do not hold the records for ever.

@@ -184,10 +184,12 @@ fn a_session_reads_back_as_json_on_schema_d_channels_in_time_order() {
 fn a_full_queue_drops_and_counts_and_the_count_is_recorded() {
     let dir = tempfile::tempdir().expect("a folder");
     let path = dir.path().join("flood.mcap");
-    let recorder = Recorder::start(path.clone(), 1).expect("recording");
-    // Each report different: none is left out as the same as the last.
+    let mut recorder = Recorder::start(path.clone(), 1).expect("recording");
+    // Each report different: none is left out as the same as the last. Handed over after each,
+    // as the event loop does after each input.
     for i in 0..2000 {
         recorder.input(&moved(i as f32 * 0.01));
+        recorder.hand_over();
     }
     let dropped = recorder.dropped();
     assert!(dropped > 0, "a queue of one kept up with 2000 reports");
@@ -207,8 +209,9 @@ fn a_full_queue_drops_and_counts_and_the_count_is_recorded() {
 fn chunks_are_closed_each_second_so_an_unfinished_file_reads_up_to_then() {
     let dir = tempfile::tempdir().expect("a folder");
     let path = dir.path().join("killed.mcap");
-    let recorder = Recorder::start(path.clone(), QUEUE).expect("recording");
+    let mut recorder = Recorder::start(path.clone(), QUEUE).expect("recording");
     recorder.input(&telemetry());
+    recorder.hand_over();
     std::thread::sleep(Duration::from_millis(1500));
     // Read while still recording, as after a SIGKILL: no summary yet, the first chunk closed.
     let bytes = std::fs::read(&path).expect("the file so far");

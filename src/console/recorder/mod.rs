@@ -43,6 +43,8 @@ pub struct Recorder {
     thread: Option<JoinHandle<()>>,
     path: PathBuf,
     said: Option<String>,
+    /// What this input brought, each with when it was seen, handed over after its frames.
+    pending: Vec<(u64, Recorded)>,
 }
 
 /// Nanoseconds since the Unix epoch, as MCAP readers expect a log time.
@@ -75,6 +77,7 @@ impl Recorder {
             thread: Some(thread),
             path,
             said: None,
+            pending: Vec::new(),
         })
     }
 
@@ -88,19 +91,27 @@ impl Recorder {
         self.dropped.load(Ordering::Relaxed)
     }
 
-    fn hand(&self, recorded: Recorded) {
+    /// Kept, with when it was seen, until [`Recorder::hand_over`].
+    fn hand(&mut self, recorded: Recorded) {
+        self.pending.push((now_ns(), recorded));
+    }
+
+    /// Hands what was kept to the recorder's thread: after the input's frames are out, so that
+    /// the queue (a lock, maybe a wake-up) never comes before a frame. A full queue drops.
+    pub fn hand_over(&mut self) {
         let Some(queue) = &self.queue else { return };
-        match queue.try_send((now_ns(), recorded)) {
-            Ok(()) => {}
-            Err(TrySendError::Full(_)) => {
-                self.dropped.fetch_add(1, Ordering::Relaxed);
+        for message in self.pending.drain(..) {
+            match queue.try_send(message) {
+                Ok(()) | Err(TrySendError::Disconnected(_)) => {}
+                Err(TrySendError::Full(_)) => {
+                    self.dropped.fetch_add(1, Ordering::Relaxed);
+                }
             }
-            Err(TrySendError::Disconnected(_)) => {}
         }
     }
 
     /// An input the app is about to handle: telemetry, keys, the link's reports.
-    pub fn input(&self, input: &Input) {
+    pub fn input(&mut self, input: &Input) {
         let kept = match input {
             Input::Arm(ArmEvent::Latency(_) | ArmEvent::Speed(_)) => false,
             Input::Arm(_) | Input::Key(_) | Input::FocusLost | Input::Signal(_) => true,
@@ -112,7 +123,7 @@ impl Recorder {
     }
 
     /// A command going to the arm.
-    pub fn command(&self, command: &ArmCommand) {
+    pub fn command(&mut self, command: &ArmCommand) {
         self.hand(Recorded::Command(command.clone()));
     }
 
@@ -132,6 +143,7 @@ impl Recorder {
 impl Drop for Recorder {
     fn drop(&mut self) {
         // The queue closed: the thread writes what is left, the count, the summary, and ends.
+        self.hand_over();
         self.queue.take();
         if let Some(thread) = self.thread.take() {
             let _ = thread.join();
