@@ -3,9 +3,10 @@
 //! The rules themselves are `link::fence`'s.
 
 use super::parts::Book;
+use crate::console::arm_geometry::jog_direction;
 use crate::console::jog::JogMotion;
-use crate::kortex::gen3::{frames, jacobian, signed_deg};
-use crate::kortex::{Pose, Telemetry};
+use crate::kortex::gen3::signed_deg;
+use crate::kortex::{Pose, ReferenceFrame, Telemetry};
 use crate::link::fence::{Fence, KeepOut};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -102,51 +103,27 @@ pub fn sample(t: &Telemetry, heading: &Heading) -> Option<Sample> {
 }
 
 /// Where `motion` takes the tool, from the angles in `t`. `base_frame`: a cartesian jog's axes
-/// are the base frame's (else the tool's, turned into the base frame: no axis is taken out).
+/// are the base frame's (else the tool's, turned into the base frame: no axis is taken out). The
+/// direction is the arm view's arrow's ([`jog_direction`]).
 pub fn heading(motion: JogMotion, t: &Telemetry, base_frame: bool) -> Option<Heading> {
-    let q = joints_deg(t)?.map(f64::to_radians);
-    let along = |tool: [f64; 3], joint| {
-        Some(Heading::Along {
-            tool: unit(tool),
-            joint,
-        })
-    };
-    match motion {
-        JogMotion::Cartesian { x, y, z } if base_frame => Some(Heading::Axes([x, y, z])),
-        JogMotion::Cartesian { x, y, z } => {
-            let tool = frames(&q).1;
-            let d = [x, y, z].map(f64::from);
-            let turned = std::array::from_fn(|r| (0..3).map(|c| tool[(r, c)] * d[c]).sum());
-            along(turned, None)
-        }
-        JogMotion::Polar { azimuth, altitude } => {
-            let p = t.tcp.pose;
-            let [x, y, z] = [p.x, p.y, p.z].map(f64::from);
-            let h = x.hypot(y).max(1e-9);
-            let r = h.hypot(z).max(1e-9);
-            let (a, e) = (f64::from(azimuth), f64::from(altitude));
-            // Azimuth turns about base Z (counter-clockwise for +); altitude raises the elevation.
-            let d = [
-                a * -y / h + e * -x * z / (h * r),
-                a * x / h + e * -y * z / (h * r),
-                e * h / r,
-            ];
-            along(d, None)
-        }
-        JogMotion::Joint { joint, direction } => {
-            let index = usize::from(joint.saturating_sub(1)).min(6);
-            let j = jacobian(&q);
-            let dir = f64::from(direction);
-            let d = [
-                j[(0, index)] * dir,
-                j[(1, index)] * dir,
-                j[(2, index)] * dir,
-            ];
-            along(d, Some((index, dir)))
-        }
-        // A turn about the tool point does not move it.
-        JogMotion::Orientation { .. } => along([0.0; 3], None),
+    joints_deg(t)?;
+    if let JogMotion::Cartesian { x, y, z } = motion
+        && base_frame
+    {
+        return Some(Heading::Axes([x, y, z]));
     }
+    let frame = (!base_frame).then_some(ReferenceFrame::Tool);
+    let direction = jog_direction(motion, frame, &t.joints.map(|j| j.position));
+    let joint = match motion {
+        JogMotion::Joint { joint, direction } => {
+            Some((usize::from(joint.clamp(1, 7) - 1), f64::from(direction)))
+        }
+        _ => None,
+    };
+    Some(Heading::Along {
+        tool: direction.map_or([0.0; 3], |v| [v.x, v.y, v.z]),
+        joint,
+    })
 }
 
 /// No motion: only a tool already across the fence has anything to say.
