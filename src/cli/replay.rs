@@ -18,7 +18,7 @@ pub struct ReplayArgs {
     /// The recording (`armjog-….mcap`, beside the audit files).
     #[arg(value_name = "FILE")]
     pub file: PathBuf,
-    /// Print the session's events one line each (playback in the console's panels is to come).
+    /// Print the session's events one line each instead of playing the session in the panels.
     #[arg(long)]
     pub events: bool,
     /// With --events: one JSON object per line (`ts`, `topic` and the message's fields).
@@ -28,9 +28,10 @@ pub struct ReplayArgs {
 
 pub fn run(args: &ReplayArgs) -> Outcome {
     if !args.events {
-        let text = "replay: playback in the console's panels is not in this version; \
-                    --events prints the session's events";
-        return Outcome::error(text.into(), 2);
+        return match crate::console::replay::run(&args.file) {
+            Ok(()) => Outcome::printed(Vec::new()),
+            Err(e) => Outcome::error(e, 1),
+        };
     }
     let shown = args.file.display();
     let bytes = match crate::files::read_bytes_bounded(&args.file, RECORDING_LIMIT) {
@@ -124,8 +125,33 @@ fn event_text(topic: &str, json: &Value, faults: &mut Value) -> Option<String> {
     let s = |v: &Value| v.as_str().unwrap_or_default().to_string();
     Some(match topic {
         "/keys" => format!("key      {} {}", s(&json["key"]), s(&json["kind"])),
-        "/commands" => format!("command  {} ({})", s(&json["command"]), s(&json["detail"])),
+        "/commands" => match s(&json["detail"]) {
+            detail if detail.is_empty() => format!("command  {}", s(&json["command"])),
+            detail => format!("command  {} ({detail})", s(&json["command"])),
+        },
+        // Telemetry polls are the link's routine: only a failed one is an event.
+        "/commands/log" if json["poll"] == true && json["ok"] == true => return None,
         "/commands/log" => format!("link     {}: {}", s(&json["name"]), s(&json["outcome"])),
+        "/speed" => format!(
+            "speed    {} % of the {} mm/s cap",
+            json["speed_percent"], json["cap_mm_s"]
+        ),
+        "/fence" => match json["verdict"].as_str() {
+            Some(verdict) => format!("fence    {verdict}"),
+            None => "fence    clear".to_string(),
+        },
+        "/session" => format!(
+            "session  armjog {} on {} ({}), cap {} mm/s, {}",
+            s(&json["armjog"]),
+            s(&json["link"]),
+            if json["simulated"] == true {
+                "simulated arm"
+            } else {
+                "real arm"
+            },
+            json["cap_mm_s"],
+            s(&json["release_mode"])
+        ),
         "/log" => {
             let level = match json["level"].as_u64() {
                 Some(4 | 5) => "error",

@@ -16,6 +16,7 @@ pub mod pacing;
 pub mod painter;
 pub mod positions;
 pub mod recorder;
+pub mod replay;
 pub mod run;
 pub mod signals;
 pub mod terminal;

@@ -124,10 +124,13 @@ pub async fn run(setup: ConsoleSetup) -> Result<(), ConsoleError> {
 
                 recording_off: false,
             };
-            let recorder = setup
+            let mut recorder = setup
                 .record
                 .then(|| start_recorder(&config, &arm))
                 .flatten();
+            if let Some(recorder) = recorder.as_mut() {
+                recorder.session(&config, &arm);
+            }
             config.recording_off = recorder.is_none();
             let recording = recorder.as_ref().map(Recorder::path);
             let audit =
@@ -434,6 +437,7 @@ async fn event_loop(
         // After the frames: the recorder's queue never comes before one.
         if let Some(recorder) = recorder.as_mut() {
             recorder.said(app.message());
+            recorder.fence(app.fence_text());
             recorder.hand_over();
         }
         audit.handled(&app);

@@ -153,6 +153,17 @@ impl<T: CodeName> Coded<T> {
         }
     }
 
+    /// The value of a [`Coded::key`] (`ready`, `unknown_65535`): how it reads back from JSON.
+    pub fn from_key(key: &str) -> Option<Coded<T>> {
+        if let Some(code) = key.strip_prefix("unknown_") {
+            return code.parse().ok().map(Coded::Unknown);
+        }
+        T::ALL
+            .iter()
+            .find(|v| v.key() == key)
+            .map(|v| Coded::Known(*v))
+    }
+
     /// The value's key, or `unknown_N` for a number the ICD does not list.
     pub fn key(&self) -> Cow<'static, str> {
         match self {

@@ -97,6 +97,19 @@ impl FlagSet {
             .collect()
     }
 
+    /// The set [`FlagSet::names`] names; `None` if a name is not a flag's nor `unknown_bit_N`.
+    pub fn from_names<'a>(names: impl IntoIterator<Item = &'a str>) -> Option<FlagSet> {
+        let mut bits = 0u32;
+        for name in names {
+            let bit = match name.strip_prefix("unknown_bit_") {
+                Some(bit) => bit.parse::<u16>().ok().filter(|b| *b < 32)?,
+                None => Flag::ALL.iter().find(|f| f.key() == name)?.code(),
+            };
+            bits |= 1 << bit;
+        }
+        Some(FlagSet::from_bits(bits))
+    }
+
     /// Every raised bit as a name, in bit order: the flag's key, or `unknown_bit_N`.
     pub fn names(self) -> Vec<String> {
         (0..32u16)

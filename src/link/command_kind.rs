@@ -45,6 +45,33 @@ pub enum CommandKind {
 }
 
 impl CommandKind {
+    /// Every kind.
+    pub const ALL: [CommandKind; 18] = [
+        CommandKind::Jog,
+        CommandKind::Stop,
+        CommandKind::Step,
+        CommandKind::MoveToPose,
+        CommandKind::Home,
+        CommandKind::SetSpeed,
+        CommandKind::FenceSpeed,
+        CommandKind::SetFrame,
+        CommandKind::QuickStop,
+        CommandKind::FaultReset,
+        CommandKind::SavePosition,
+        CommandKind::DeletePosition,
+        CommandKind::GoToPosition,
+        CommandKind::SetPolarPosition,
+        CommandKind::SetCartesianPosition,
+        CommandKind::GetPosition,
+        CommandKind::RestoreSpeedLimits,
+        CommandKind::StartStored,
+    ];
+
+    /// The kind a [`CommandKind::label`] names (a recording's words read back).
+    pub fn from_label(label: &str) -> Option<CommandKind> {
+        CommandKind::ALL.into_iter().find(|k| k.label() == label)
+    }
+
     /// Words for the status line and the log: "jog", "go to position".
     pub fn label(self) -> &'static str {
         match self {

@@ -52,6 +52,9 @@ pub enum ArmError {
     /// The stop guard tried to stop the arm and could not: the arm may still be moving.
     #[error("the stop guard could NOT stop the arm, it may still be moving: {0}")]
     GuardStopFailed(String),
+    /// A failure read back from a recording (`armjog replay`): its words only.
+    #[error("{0}")]
+    Replayed(String),
     /// The Modbus link could not write a STOP: the arm may still move.
     #[error("STOP COULD NOT BE WRITTEN: {0}")]
     StopNotWritten(String),

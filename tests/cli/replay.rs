@@ -54,9 +54,9 @@ async fn the_events_print_one_a_line_in_order() {
         [
             "info     link up: talos 127.0.0.1:61616",
             "key      w press",
-            "command  jog (Jog(Cartesian { x: 1, y: 0, z: 0 }))",
+            "command  jog (+X)",
             "key      w release",
-            "command  stop (Stop)",
+            "command  stop",
             "warning  refused: the arm reports in fault",
         ]
     );
@@ -106,7 +106,16 @@ async fn a_file_that_is_not_a_recording_is_refused_with_its_name() {
         "{}",
         run.stderr
     );
+    // Playback refuses it the same way, before it takes the terminal.
     let bare = armjog(&["replay", foreign.to_str().expect("utf-8")]).await;
-    assert_eq!(bare.code, 2);
-    assert!(bare.stderr.contains("--events"), "{}", bare.stderr);
+    assert_eq!(bare.code, 1);
+    assert!(
+        bare.stderr.contains("notes.mcap: not an MCAP recording"),
+        "{}",
+        bare.stderr
+    );
+    let missing = dir.path().join("gone.mcap");
+    let gone = armjog(&["replay", missing.to_str().expect("utf-8")]).await;
+    assert_eq!(gone.code, 1);
+    assert!(gone.stderr.contains("gone.mcap: cannot read it"), "{}", gone.stderr);
 }

@@ -74,4 +74,6 @@ pub struct SessionView {
     pub fence: Option<Arc<Fence>>,
     /// The session is not recorded: the status bar says so.
     pub recording_off: bool,
+    /// A recording played back (`REPLAY 12:03:41.250 ×1`): the status bar says so first.
+    pub replay: Option<String>,
 }

@@ -91,6 +91,11 @@ impl App {
         self.screen.overlay()
     }
 
+    /// What the fence says of the tool (`SLOWED: table 34 mm`), if anything.
+    pub fn fence_text(&self) -> Option<String> {
+        self.fence.text()
+    }
+
     pub fn message(&self) -> Option<(&str, Severity)> {
         self.screen.message()
     }
@@ -203,6 +208,7 @@ impl App {
             arm_name: config.arm_name.clone(),
             fence: self.fence.kept.clone(),
             recording_off: config.recording_off,
+            replay: None,
         }
     }
 

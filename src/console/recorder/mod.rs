@@ -18,9 +18,10 @@ use std::sync::mpsc::{self, Receiver, RecvTimeoutError, SyncSender, TrySendError
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant, SystemTime};
 
-pub use messages::Recorded;
+pub use messages::{FOCUS_LOST, Recorded};
 
-use crate::console::app::{Input, Severity};
+use crate::console::app::{AppConfig, Input, Severity};
+use crate::console::jog::ReleaseMode;
 use crate::link::interface::{ArmCommand, ArmEvent};
 
 /// The queue between the event loop and the recorder's thread: some seconds of telemetry.
@@ -30,9 +31,10 @@ pub const QUEUE: usize = 1024;
 const NAP: Duration = Duration::from_millis(100);
 /// Chunks are closed at least this often: what a killed console's file is readable up to.
 pub const FLUSH_EVERY: Duration = Duration::from_secs(1);
-/// A telemetry channel's message equal to the last one written is left out, up to this long: a
-/// still arm's samples are the same, and a reader holds the last value.
-pub const SAME_HELD_NS: u64 = 1_000_000_000;
+/// Telemetry polls are folded into one command-log message for at most this long (ns).
+const POLLS_FOLDED_NS: u64 = 1_000_000_000;
+/// The link's round trip is recorded at most this often (ns): the status bar's figure.
+const LATENCY_EVERY_NS: u64 = 250_000_000;
 /// Recordings older than this many days are removed when a console starts.
 pub const KEPT_DAYS: i64 = 14;
 
@@ -43,12 +45,20 @@ pub struct Recorder {
     thread: Option<JoinHandle<()>>,
     path: PathBuf,
     said: Option<String>,
+    fence: Option<String>,
     /// What this input brought, each with when it was seen, handed over after its frames.
     pending: Vec<(u64, Recorded)>,
+    /// The time of what is handed next, when a test sets it; else the wall clock.
+    clock: Option<u64>,
+    /// The session's cap (mm/s), which `/speed` messages carry.
+    cap_mm_s: f64,
+    /// Telemetry polls not yet written: the first's time, the last entry, how many.
+    polls: Option<(u64, crate::link::interface::LogEntry, u32)>,
+    latency_at: Option<u64>,
 }
 
 /// Nanoseconds since the Unix epoch, as MCAP readers expect a log time.
-fn now_ns() -> u64 {
+pub fn now_ns() -> u64 {
     SystemTime::now()
         .duration_since(SystemTime::UNIX_EPOCH)
         .map_or(0, |d| u64::try_from(d.as_nanos()).unwrap_or(u64::MAX))
@@ -77,7 +87,12 @@ impl Recorder {
             thread: Some(thread),
             path,
             said: None,
+            fence: None,
             pending: Vec::new(),
+            clock: None,
+            cap_mm_s: 0.0,
+            polls: None,
+            latency_at: None,
         })
     }
 
@@ -91,9 +106,48 @@ impl Recorder {
         self.dropped.load(Ordering::Relaxed)
     }
 
+    /// What is handed from now on was seen at `ns` (ns since the Unix epoch), not at the wall
+    /// clock's time: for tests on a fake clock.
+    pub fn set_clock(&mut self, ns: u64) {
+        self.clock = Some(ns);
+    }
+
+    fn now(&self) -> u64 {
+        self.clock.unwrap_or_else(now_ns)
+    }
+
     /// Kept, with when it was seen, until [`Recorder::hand_over`].
     fn hand(&mut self, recorded: Recorded) {
-        self.pending.push((now_ns(), recorded));
+        let now = self.now();
+        self.pending.push((now, recorded));
+    }
+
+    /// The session's facts, first in the file: what `armjog replay` starts the panels with.
+    pub fn session(&mut self, config: &AppConfig, link: &str) {
+        self.cap_mm_s = config.max_jog_speed * 1000.0;
+        let arm = match (&config.arm_name, config.simulated) {
+            (Some(name), _) => name.clone(),
+            (None, true) => "sim".to_string(),
+            (None, false) => String::new(),
+        };
+        let release_mode = match config.release_mode {
+            ReleaseMode::Reported => "reported",
+            ReleaseMode::AutoRepeat => "auto-repeat",
+        };
+        let facts = serde_json::json!({
+            "armjog": env!("CARGO_PKG_VERSION"),
+            "arm": arm,
+            "link": link,
+            "simulated": config.simulated,
+            "release_mode": release_mode,
+            "refresh_ms": u64::try_from(config.refresh.as_millis()).unwrap_or(u64::MAX).max(1),
+            "cap_mm_s": self.cap_mm_s,
+            "joint_jog_deg_s": config.joint_jog_speed,
+            "frames": config.frames,
+            "positions_on_operator": config.positions_on_operator,
+            "fence": config.fence.is_some(),
+        });
+        self.hand(Recorded::Session(facts));
     }
 
     /// Hands what was kept to the recorder's thread: after the input's frames are out, so that
@@ -112,13 +166,70 @@ impl Recorder {
 
     /// An input the app is about to handle: telemetry, keys, the link's reports.
     pub fn input(&mut self, input: &Input) {
-        let kept = match input {
-            Input::Arm(ArmEvent::Latency(_) | ArmEvent::Speed(_)) => false,
-            Input::Arm(_) | Input::Key(_) | Input::FocusLost | Input::Signal(_) => true,
-            _ => false,
-        };
-        if kept {
-            self.hand(Recorded::Input(input.clone()));
+        let now = self.now();
+        // Polls folded for a second are written, whatever comes.
+        if self
+            .polls
+            .as_ref()
+            .is_some_and(|(at, ..)| now >= at.saturating_add(POLLS_FOLDED_NS))
+        {
+            self.write_polls();
+        }
+        match input {
+            Input::Arm(ArmEvent::Latency(latency))
+                if self
+                    .latency_at
+                    .is_none_or(|at| now >= at.saturating_add(LATENCY_EVERY_NS)) =>
+            {
+                self.latency_at = Some(now);
+                self.hand(Recorded::Latency(*latency));
+            }
+            Input::Arm(ArmEvent::Latency(_)) => {}
+            Input::Arm(ArmEvent::Speed(percent)) => {
+                let cap_mm_s = self.cap_mm_s;
+                self.hand(Recorded::Speed {
+                    percent: *percent,
+                    cap_mm_s,
+                });
+            }
+            Input::Arm(ArmEvent::Log(entry)) if entry.poll => self.poll(entry),
+            Input::Arm(_) | Input::Key(_) | Input::FocusLost | Input::Signal(_) => {
+                // A line after folded polls comes after them, as in the panel.
+                if matches!(input, Input::Arm(ArmEvent::Log(_))) {
+                    self.write_polls();
+                }
+                self.hand(Recorded::Input(input.clone()));
+            }
+            _ => {}
+        }
+    }
+
+    /// A telemetry poll's line: folded into the polls not yet written when it says the same.
+    fn poll(&mut self, entry: &crate::link::interface::LogEntry) {
+        let count = entry.count.max(1);
+        if let Some((_, last, folded)) = self.polls.as_mut()
+            && last.name == entry.name
+            && last.outcome == entry.outcome
+        {
+            *folded = folded.saturating_add(count);
+            last.clone_from(entry);
+            return;
+        }
+        self.write_polls();
+        self.polls = Some((self.now(), entry.clone(), count));
+    }
+
+    fn write_polls(&mut self) {
+        if let Some((_, entry, count)) = self.polls.take() {
+            self.hand(Recorded::Polls(entry, count));
+        }
+    }
+
+    /// What the fence says of the tool after an input: recorded when it changed.
+    pub fn fence(&mut self, verdict: Option<String>) {
+        if verdict != self.fence {
+            self.fence.clone_from(&verdict);
+            self.hand(Recorded::Fence(verdict));
         }
     }
 
@@ -130,12 +241,14 @@ impl Recorder {
     /// The console's message line after an input: recorded when it changed.
     pub fn said(&mut self, message: Option<(&str, Severity)>) {
         let Some((text, severity)) = message else {
-            self.said = None;
+            if self.said.take().is_some() {
+                self.hand(Recorded::Said(None));
+            }
             return;
         };
         if self.said.as_deref() != Some(text) {
             self.said = Some(text.to_string());
-            self.hand(Recorded::Said(text.to_string(), severity));
+            self.hand(Recorded::Said(Some((text.to_string(), severity))));
         }
     }
 }
@@ -143,6 +256,7 @@ impl Recorder {
 impl Drop for Recorder {
     fn drop(&mut self) {
         // The queue closed: the thread writes what is left, the count, the summary, and ends.
+        self.write_polls();
         self.hand_over();
         self.queue.take();
         if let Some(thread) = self.thread.take() {
@@ -163,8 +277,6 @@ fn record(
     };
     let mut sequence = 0u32;
     let mut links_at = 0u64;
-    // Per telemetry topic: the last message written and when.
-    let mut last: BTreeMap<&'static str, (String, u64)> = BTreeMap::new();
     let mut write = |writer: &mut mcap::Writer<BufWriter<File>>, ns: u64, recorded: &Recorded| {
         let with_links = ns >= links_at.saturating_add(messages::TRANSFORMS_EVERY_NS);
         let recorded_messages = messages::messages(recorded, ns, with_links);
@@ -179,16 +291,6 @@ fn record(
                 continue;
             };
             let data = message.to_string();
-            if topic.held {
-                match last.get(topic.topic) {
-                    Some((same, at)) if *same == data && ns < at.saturating_add(SAME_HELD_NS) => {
-                        continue;
-                    }
-                    _ => {
-                        last.insert(topic.topic, (data.clone(), ns));
-                    }
-                }
-            }
             sequence = sequence.wrapping_add(1);
             let header = mcap::records::MessageHeader {
                 channel_id: id,

@@ -92,6 +92,10 @@ const ARROWS: [NamedKey; 4] = [
     NamedKey::Down,
 ];
 
+/// The keys of a recording played back (`armjog replay`): none of them is the console's.
+pub const REPLAY_KEYS: &str =
+    "space pause  \u{2190}/\u{2192} 1 s (shift 10 s)  +/- speed  Home/End  q quit";
+
 pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
     let line = match &view.screen.message {
         Some((text, severity)) => {
@@ -102,6 +106,7 @@ pub fn draw(frame: &mut Frame, area: Rect, view: &View, theme: &Theme) {
             };
             Line::styled(text.clone(), style)
         }
+        None if view.session.replay.is_some() => Line::styled(REPLAY_KEYS, theme.dim()),
         None => {
             let session = &view.session;
             let keys = footer(

@@ -160,7 +160,11 @@ fn spans_width(spans: &[Span]) -> usize {
 /// the description is elided.
 fn link_line(view: &View, theme: &Theme, width: usize) -> Line<'static> {
     // Which arm the keys move comes first of all: a demo must never pass for a real cell.
-    let mut badges: Vec<_> = simulated_span(view, theme).into_iter().collect();
+    // A recording played back says so before anything: nothing on this screen is live.
+    let replay =
+        (view.session.replay.as_ref()).map(|r| Span::styled(format!(" {r} "), theme.simulated()));
+    let mut badges: Vec<_> = replay.into_iter().collect();
+    badges.extend(simulated_span(view, theme));
     badges.extend(guard_spans(view, theme));
     badges.extend(arm_name_span(view));
     if view.session.recording_off {

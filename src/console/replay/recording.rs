@@ -1,0 +1,279 @@
+//! A recording read back as what the console's app took in: the session's facts, then each
+//! input at its time (telemetry rebuilt, keys, the link, the command log), and what the screen
+//! said (the message line, the fence). A file cut short plays up to its last good message.
+
+use std::collections::BTreeSet;
+use std::path::Path;
+use std::time::Duration;
+
+use serde_json::Value;
+
+use super::telemetry;
+use crate::console::app::{Input, KeyInput, Severity};
+use crate::console::jog::KeyKind;
+use crate::console::recorder::topics;
+use crate::link::interface::{
+    ArmError, ArmEvent, CommandKind, GuardStatus, LinkStatus, LogEntry, TelemetrySource,
+};
+
+/// The largest recording read: some days of jogging.
+pub const RECORDING_LIMIT: u64 = 1 << 30;
+
+/// What happened at one time of a recording.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Happened {
+    /// Fed to the app, as live.
+    Input(Input),
+    /// The message line as live showed it (`None`: cleared).
+    Message(Option<(String, Severity)>),
+    /// What the fence said of the tool.
+    Fence(Option<String>),
+}
+
+/// A recording read back.
+#[derive(Debug, Clone, Default)]
+pub struct Recording {
+    /// The `/session` message; `None` in a file from before it was written.
+    pub session: Option<Value>,
+    /// In time order: ns since the Unix epoch, and what happened.
+    pub events: Vec<(u64, Happened)>,
+    /// Channels read but not played (unknown topics, messages not as their schema says).
+    pub skipped: BTreeSet<String>,
+    /// Why the file ends before its end (cut short, damaged), in words.
+    pub cut_short: Option<String>,
+    pub first_ns: u64,
+    pub last_ns: u64,
+}
+
+/// Why a file cannot be played at all.
+#[derive(Debug, thiserror::Error)]
+pub enum RecordingError {
+    #[error("{0}: cannot read it: {1}")]
+    Unreadable(String, std::io::Error),
+    #[error("{0}: not an MCAP recording: {1}")]
+    NotMcap(String, String),
+    #[error("{0}: no armjog messages in it")]
+    Empty(String),
+}
+
+/// The three parts of a telemetry sample, gathered by their shared time.
+#[derive(Default)]
+struct Sample {
+    ns: u64,
+    joints: Option<Value>,
+    tool: Option<Value>,
+    arm: Option<Value>,
+}
+
+impl Recording {
+    /// Reads `path`: refused when it is not a recording; played up to a damaged part.
+    pub fn read(path: &Path) -> Result<Recording, RecordingError> {
+        let shown = path.display().to_string();
+        let bytes = crate::files::read_bytes_bounded(path, RECORDING_LIMIT)
+            .map_err(|e| RecordingError::Unreadable(shown.clone(), e))?;
+        Recording::parse(&bytes).map_err(|e| match e {
+            RecordingError::NotMcap(_, why) => RecordingError::NotMcap(shown, why),
+            RecordingError::Empty(_) => RecordingError::Empty(shown),
+            other => other,
+        })
+    }
+
+    /// [`Recording::read`] on the file's bytes.
+    pub fn parse(bytes: &[u8]) -> Result<Recording, RecordingError> {
+        let stream = mcap::MessageStream::new(bytes)
+            .map_err(|e| RecordingError::NotMcap(String::new(), e.to_string()))?;
+        let mut recording = Recording::default();
+        let mut sample = Sample::default();
+        let mut read_any = false;
+        for message in stream {
+            let message = match message {
+                Ok(message) => message,
+                Err(e) if !read_any => {
+                    return Err(RecordingError::NotMcap(String::new(), e.to_string()));
+                }
+                Err(e) => {
+                    recording.cut_short = Some(e.to_string());
+                    break;
+                }
+            };
+            read_any = true;
+            let topic = message.channel.topic.as_str();
+            let ns = message.log_time;
+            let Ok(json) = serde_json::from_slice::<Value>(&message.data) else {
+                recording.skipped.insert(format!("{topic} (not JSON)"));
+                continue;
+            };
+            if sample.ns != ns {
+                recording.end_sample(&mut sample);
+                sample.ns = ns;
+            }
+            match topic {
+                t if t == topics::JOINT_STATES.topic => sample.joints = Some(json),
+                t if t == topics::TOOL_STATE.topic => sample.tool = Some(json),
+                // The last of a sample's three: it plays before what comes after it.
+                t if t == topics::ARM_STATE.topic => {
+                    sample.arm = Some(json);
+                    recording.end_sample(&mut sample);
+                }
+                t if t == topics::SESSION.topic => recording.session = Some(json),
+                t => {
+                    if let Some(happened) = happened(t, &json) {
+                        recording.events.push((ns, happened));
+                    } else if !topics::ALL.iter().any(|known| known.topic == t) {
+                        recording.skipped.insert(t.to_string());
+                    }
+                }
+            }
+        }
+        recording.end_sample(&mut sample);
+        if recording.events.is_empty() && recording.session.is_none() {
+            return Err(RecordingError::Empty(String::new()));
+        }
+        // Written in time order by one thread; a sort keeps a hand-made file playable.
+        recording.events.sort_by_key(|(ns, _)| *ns);
+        recording.first_ns = recording.events.first().map_or(0, |(ns, _)| *ns);
+        recording.last_ns = recording.events.last().map_or(0, |(ns, _)| *ns);
+        Ok(recording)
+    }
+
+    fn end_sample(&mut self, sample: &mut Sample) {
+        let Sample {
+            ns,
+            joints,
+            tool,
+            arm,
+        } = std::mem::take(sample);
+        let (joints, tool, arm) = match (joints, tool, arm) {
+            (None, None, None) => return,
+            (Some(joints), Some(tool), Some(arm)) => (joints, tool, arm),
+            _ => {
+                self.skipped.insert("telemetry samples not whole".into());
+                return;
+            }
+        };
+        match telemetry::rebuild(&joints, &tool, &arm) {
+            Some(t) => {
+                let input = Input::Arm(ArmEvent::Telemetry(Box::new(t)));
+                self.events.push((ns, Happened::Input(input)));
+            }
+            None => {
+                self.skipped
+                    .insert("telemetry not as its schema says".into());
+            }
+        }
+    }
+}
+
+/// What a message of a non-telemetry channel makes; `None` for one that plays no part (or is
+/// not as its schema says).
+fn happened(topic: &str, json: &Value) -> Option<Happened> {
+    let text = |name: &str| json[name].as_str().map(str::to_string);
+    let input = |event: ArmEvent| Some(Happened::Input(Input::Arm(event)));
+    match topic {
+        t if t == topics::KEYS.topic => {
+            let key = text("key")?;
+            let kind = match json["kind"].as_str()? {
+                "press" => KeyKind::Press,
+                "repeat" => KeyKind::Repeat,
+                "release" => KeyKind::Release,
+                _ => return None,
+            };
+            let mut chars = key.chars();
+            let typed = match (chars.next(), chars.next()) {
+                (Some(c), None) => Some(c),
+                _ => None,
+            };
+            Some(Happened::Input(Input::Key(KeyInput {
+                key: key.parse().ok()?,
+                text: typed,
+                kind,
+            })))
+        }
+        t if t == topics::COMMAND_LOG.topic => {
+            let entry = LogEntry {
+                id: json["id"].as_u64().and_then(|id| u32::try_from(id).ok()),
+                poll: json["poll"].as_bool().unwrap_or(false),
+                count: json["count"]
+                    .as_u64()
+                    .and_then(|n| u32::try_from(n).ok())
+                    .unwrap_or(1),
+                name: text("name")?,
+                outcome: text("outcome")?,
+                ok: json["ok"].as_bool()?,
+                latency: json["latency_ms"]
+                    .as_f64()
+                    .and_then(|ms| Duration::try_from_secs_f64(ms / 1000.0).ok()),
+                ..LogEntry::default()
+            };
+            input(ArmEvent::Log(entry))
+        }
+        t if t == topics::LINK.topic => link(json),
+        t if t == topics::SPEED.topic => {
+            let percent = json["speed_percent"].as_u64()?;
+            input(ArmEvent::Speed(u8::try_from(percent).ok()?))
+        }
+        t if t == topics::MESSAGE.topic => {
+            let severity = match json["severity"].as_str() {
+                Some("info") => Severity::Info,
+                Some("warning") => Severity::Warning,
+                Some("error") => Severity::Error,
+                _ => return Some(Happened::Message(None)),
+            };
+            Some(Happened::Message(text("text").map(|t| (t, severity))))
+        }
+        t if t == topics::FENCE.topic => Some(Happened::Fence(text("verdict"))),
+        t if t == topics::LOG.topic => match json["message"].as_str()? {
+            crate::console::recorder::FOCUS_LOST => Some(Happened::Input(Input::FocusLost)),
+            _ => None,
+        },
+        _ => None,
+    }
+}
+
+/// A `/link` message: the link's state, its telemetry, the guard or the round trip.
+fn link(json: &Value) -> Option<Happened> {
+    let text = json["text"].as_str().unwrap_or_default().to_string();
+    let event = if let Some(status) = json["status"].as_str() {
+        ArmEvent::Status(match status {
+            "connecting" => LinkStatus::Connecting,
+            "up" => LinkStatus::Up { description: text },
+            "down" => LinkStatus::Down { reason: text },
+            _ => return None,
+        })
+    } else if let Some(source) = json["telemetry_source"].as_str() {
+        ArmEvent::TelemetrySource(match source {
+            "modbus" => TelemetrySource::Modbus,
+            "talos_hardware" => TelemetrySource::TalosHardware,
+            "none" => TelemetrySource::None,
+            _ => return None,
+        })
+    } else if let Some(guard) = json["guard"].as_str() {
+        ArmEvent::Guard(match guard {
+            "starting" => GuardStatus::Starting,
+            "ready" => GuardStatus::Ready {
+                pid: json["guard_pid"]
+                    .as_u64()
+                    .and_then(|p| u32::try_from(p).ok())
+                    .unwrap_or(0),
+            },
+            "down" => GuardStatus::Down { reason: text },
+            _ => return None,
+        })
+    } else if let Some(stop) = json["stop"].as_str() {
+        match stop {
+            "confirmed" => ArmEvent::StopConfirmed,
+            _ => ArmEvent::StopUnconfirmed { reason: text },
+        }
+    } else if let Some(kind) = json["failed"].as_str() {
+        ArmEvent::Failed {
+            command: CommandKind::from_label(kind)?,
+            error: ArmError::Replayed(text),
+        }
+    } else if let Some(notice) = json["notice"].as_str() {
+        ArmEvent::Notice(notice.to_string())
+    } else {
+        let ms = json["latency_ms"].as_f64()?;
+        ArmEvent::Latency(Duration::try_from_secs_f64(ms / 1000.0).ok()?)
+    };
+    Some(Happened::Input(Input::Arm(event)))
+}
