@@ -117,5 +117,9 @@ async fn a_file_that_is_not_a_recording_is_refused_with_its_name() {
     let missing = dir.path().join("gone.mcap");
     let gone = armjog(&["replay", missing.to_str().expect("utf-8")]).await;
     assert_eq!(gone.code, 1);
-    assert!(gone.stderr.contains("gone.mcap: cannot read it"), "{}", gone.stderr);
+    assert!(
+        gone.stderr.contains("gone.mcap: cannot read it"),
+        "{}",
+        gone.stderr
+    );
 }

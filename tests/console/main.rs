@@ -23,6 +23,7 @@ mod jog_engine;
 mod keymap;
 mod readme_keys;
 mod recorder;
+mod replay;
 mod terminal_input;
 mod tmux;
 mod ui;

@@ -52,6 +52,9 @@ pub struct Player {
     checkpoints: Vec<Point>,
     speed: usize,
     paused: bool,
+    /// What of the file is not played (cut short, channels skipped), said while the message
+    /// line is free.
+    notice: Option<String>,
 }
 
 /// The app's settings from the recording's `/session` message (the defaults where it has none).
@@ -119,7 +122,9 @@ impl Player {
             point,
             speed: NORMAL_SPEED,
             paused: false,
+            notice: None,
         };
+        player.notice = notice_of(&player.recording);
         player.seek(player.recording.first_ns);
         player
     }
@@ -285,7 +290,11 @@ impl Player {
         let mut view = self.point.app.view();
         view.session.replay = Some(self.status());
         view.session.recording_off = false;
-        view.screen.message.clone_from(&self.point.message);
+        view.screen.message = match (&self.point.message, &self.notice) {
+            (Some(message), _) => Some(message.clone()),
+            (None, Some(notice)) => Some((notice.clone(), Severity::Warning)),
+            (None, None) => None,
+        };
         view.screen.overlay = Overlay::None;
         view.arm.fence.clone_from(&self.point.fence);
         view.screen.size = self.size;
@@ -296,6 +305,20 @@ impl Player {
     pub fn config(&self) -> &AppConfig {
         &self.config
     }
+}
+
+/// What of `recording` is not played, in words; `None` when it plays whole.
+fn notice_of(recording: &Recording) -> Option<String> {
+    let mut parts = Vec::new();
+    if let Some(why) = &recording.cut_short {
+        let end = clock_text(recording.last_ns);
+        parts.push(format!("recording cut short ({why}): played up to {end}"));
+    }
+    if !recording.skipped.is_empty() {
+        let skipped: Vec<&str> = recording.skipped.iter().map(String::as_str).collect();
+        parts.push(format!("skipped: {}", skipped.join(", ")));
+    }
+    (!parts.is_empty()).then(|| parts.join("; "))
 }
 
 /// `12:03:41.250`, UTC (the recording's name and the audit's times are UTC too).

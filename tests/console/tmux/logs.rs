@@ -326,4 +326,27 @@ fn a_console_killed_outright_leaves_its_recording_readable_up_to_its_last_second
         lost < Duration::from_millis(2500),
         "{lost:?} before the kill lost"
     );
+    // And it plays back, up to the same last second, saying it was cut short.
+    let played = armjog::console::replay::Recording::read(&recording).expect("playable");
+    // Its last sample (a few ms before the last message of any kind).
+    assert!(
+        last - played.last_ns < 100_000_000,
+        "{last} vs {}",
+        played.last_ns
+    );
+    assert!(
+        played.cut_short.is_some(),
+        "no summary: the end is not the file's"
+    );
+    let mut player =
+        armjog::console::replay::Player::new(played, (120, 40), std::time::Instant::now());
+    player.seek(last);
+    let view = player.view();
+    assert!(view.arm.telemetry.is_some(), "the arm as last recorded");
+    let said = view
+        .screen
+        .message
+        .map(|(text, _)| text)
+        .unwrap_or_default();
+    assert!(said.contains("recording cut short"), "{said}");
 }
