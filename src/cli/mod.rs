@@ -53,7 +53,8 @@ pub enum Command {
     Arms(arms::ArmsArgs),
     /// Run the simulated Kinova Gen3 arm: a Talos operator and a Kinova Modbus server.
     Sim(sim::SimArgs),
-    /// Print a recorded session's events (`--events`): keys, commands, stops, refusals, faults.
+    /// Play a recorded session in the console's panels (no link opened, no key moves an arm),
+    /// or print its events with `--events`: keys, commands, stops, refusals, faults.
     Replay(replay::ReplayArgs),
     /// Print a shell completion script (bash, zsh or fish) to stdout.
     Completions(generate::CompletionsArgs),

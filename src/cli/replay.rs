@@ -1,6 +1,7 @@
-//! `armjog replay --events FILE`: a recorded session's events (keys, commands, stops and
-//! refusals, faults, the link) one line each with their times, for a bug report; `--json` for
-//! scripts. A file cut short or damaged is read up to its last good message, and says so.
+//! `armjog replay FILE`: the session played in the console's panels (`console::replay`).
+//! `armjog replay --events FILE`: its events (keys, commands, stops and refusals, faults, the
+//! link) one line each with their times, for a bug report; `--json` for scripts. A file cut
+//! short or damaged is read up to its last good message, and says so.
 
 use std::path::PathBuf;
 
@@ -10,8 +11,7 @@ use serde_json::Value;
 use super::Outcome;
 use crate::console::recorder::topics;
 
-/// The largest recording read: some days of jogging.
-const RECORDING_LIMIT: u64 = 1 << 30;
+use crate::console::replay::recording::RECORDING_LIMIT;
 
 #[derive(Debug, Args)]
 pub struct ReplayArgs {

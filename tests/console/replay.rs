@@ -406,3 +406,71 @@ fn a_file_cut_short_plays_to_its_last_good_message_and_a_foreign_one_is_refused(
         }
     }
 }
+
+#[test]
+fn a_file_with_channels_this_armjog_does_not_know_plays_the_rest_and_says_what_it_skipped() {
+    let dir = tempfile::tempdir().expect("a folder");
+    let ours = dir.path().join("ours.mcap");
+    session(&ours);
+    let bytes = std::fs::read(&ours).expect("read");
+    // The same session with a channel from elsewhere and one an older armjog wrote.
+    let mixed = dir.path().join("mixed.mcap");
+    let file = std::fs::File::create(&mixed).expect("created");
+    let mut writer = mcap::Writer::new(std::io::BufWriter::new(file)).expect("a writer");
+    let mut channels = std::collections::BTreeMap::new();
+    let mut extra = None;
+    for message in mcap::MessageStream::new(&bytes).expect("ours") {
+        let message = message.expect("a message");
+        let id = *channels
+            .entry(message.channel.topic.clone())
+            .or_insert_with(|| {
+                writer
+                    .add_channel(0, &message.channel.topic, "json", &Default::default())
+                    .expect("a channel")
+            });
+        let extra_ids = *extra.get_or_insert_with(|| {
+            let gripper = writer
+                .add_channel(0, "/gripper/state", "json", &Default::default())
+                .expect("gripper");
+            let old = writer
+                .add_channel(0, "/tool/twist_wrench", "json", &Default::default())
+                .expect("old");
+            (gripper, old)
+        });
+        let header = |channel_id| mcap::records::MessageHeader {
+            channel_id,
+            sequence: 0,
+            log_time: message.log_time,
+            publish_time: message.log_time,
+        };
+        writer
+            .write_to_known_channel(&header(id), &message.data)
+            .expect("written");
+        writer
+            .write_to_known_channel(&header(extra_ids.0), b"{\"open\":true}")
+            .expect("written");
+        writer
+            .write_to_known_channel(&header(extra_ids.1), b"{}")
+            .expect("written");
+    }
+    writer.finish().expect("finished");
+    drop(writer);
+    let whole = Recording::read(&ours).expect("ours");
+    let recording = Recording::read(&mixed).expect("played");
+    assert_eq!(
+        recording
+            .skipped
+            .iter()
+            .map(String::as_str)
+            .collect::<Vec<_>>(),
+        ["/gripper/state", "/tool/twist_wrench"]
+    );
+    assert_eq!(recording.events, whole.events, "the rest plays as ever");
+    let mut player = Player::new(recording, (WIDTH, HEIGHT), Instant::now());
+    player.seek(START_NS + 500_000_000);
+    let bottom = rows(&player.view())[usize::from(HEIGHT) - 1].clone();
+    assert!(
+        bottom.contains("skipped: /gripper/state, /tool/twist_wrench"),
+        "{bottom}"
+    );
+}

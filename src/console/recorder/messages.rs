@@ -72,6 +72,24 @@ fn quaternion(m: &Matrix3<f64>) -> Value {
 /// needs no more, and they are most of a sample's bytes (`/joint_states` has every sample).
 pub const TRANSFORMS_EVERY_NS: u64 = 100_000_000;
 
+/// What a message says, without its time: a held channel's message is left out when this is the
+/// same as its last one's (`SAME_HELD_NS`).
+pub fn content(message: &Value) -> String {
+    match message {
+        Value::Object(fields) => {
+            let mut fields = fields.clone();
+            fields.remove("timestamp");
+            if let Some(Value::Array(transforms)) = fields.get_mut("transforms") {
+                for t in transforms.iter_mut().filter_map(Value::as_object_mut) {
+                    t.remove("timestamp");
+                }
+            }
+            Value::Object(fields).to_string()
+        }
+        other => other.to_string(),
+    }
+}
+
 fn log(ns: u64, level: u8, message: String) -> Value {
     json!({"timestamp": time(ns), "level": level, "message": message, "name": "armjog", "file": "", "line": 0})
 }
@@ -94,12 +112,6 @@ pub fn messages(recorded: &Recorded, ns: u64, with_links: bool) -> Vec<(&'static
         }
         Recorded::Input(Input::FocusLost) => {
             vec![(&topics::LOG, log(ns, 2, FOCUS_LOST.into()))]
-        }
-        Recorded::Input(Input::Signal(name)) => {
-            vec![(
-                &topics::LOG,
-                log(ns, 3, format!("{name}: stopping and quitting")),
-            )]
         }
         Recorded::Input(_) => Vec::new(),
         Recorded::Command(command) => {
@@ -136,10 +148,9 @@ pub fn messages(recorded: &Recorded, ns: u64, with_links: bool) -> Vec<(&'static
             json!({"speed_percent": percent, "cap_mm_s": cap_mm_s}),
         )],
         Recorded::Polls(entry, count) => vec![(&topics::COMMAND_LOG, log_entry(entry, *count))],
-        Recorded::Latency(latency) => vec![(
-            &topics::LINK,
-            json!({"latency_ms": latency.as_secs_f64() * 1000.0}),
-        )],
+        Recorded::Latency(latency) => {
+            vec![(&topics::LINK, json!({"latency_ms": milliseconds(*latency)}))]
+        }
         Recorded::Fence(verdict) => vec![(&topics::FENCE, json!({"verdict": verdict}))],
         Recorded::Dropped(count) => vec![(&topics::RECORDER, json!({"dropped": count}))],
     }
@@ -260,12 +271,17 @@ fn detail(command: &ArmCommand) -> String {
     }
 }
 
+/// To the microsecond: `0.27`, not `0.26972999999999997`.
+fn milliseconds(d: std::time::Duration) -> f64 {
+    (d.as_secs_f64() * 1e6).round() / 1000.0
+}
+
 fn log_entry(entry: &LogEntry, count: u32) -> Value {
     json!({
         "name": entry.name,
         "outcome": entry.outcome,
         "ok": entry.ok,
-        "latency_ms": entry.latency.map(|l| l.as_secs_f64() * 1000.0),
+        "latency_ms": entry.latency.map(milliseconds),
         "id": entry.id,
         "poll": entry.poll,
         "count": count.max(1),

@@ -31,6 +31,9 @@ pub const QUEUE: usize = 1024;
 const NAP: Duration = Duration::from_millis(100);
 /// Chunks are closed at least this often: what a killed console's file is readable up to.
 pub const FLUSH_EVERY: Duration = Duration::from_secs(1);
+/// A held channel's message that says what its last one said is left out, up to this long: a
+/// reader holds the last value, and playback takes the last one with each `/joint_states`.
+pub const SAME_HELD_NS: u64 = 1_000_000_000;
 /// Telemetry polls are folded into one command-log message for at most this long (ns).
 const POLLS_FOLDED_NS: u64 = 1_000_000_000;
 /// The link's round trip is recorded at most this often (ns): the status bar's figure.
@@ -277,6 +280,11 @@ fn record(
     };
     let mut sequence = 0u32;
     let mut links_at = 0u64;
+    // The latest log time written: the dropped count is stamped with it, so that the file's
+    // times never go backwards (what came during a nap carries earlier times than the clock's).
+    let written_ns = std::cell::Cell::new(0u64);
+    // Per held topic: what it last said (without its time) and when.
+    let mut held: BTreeMap<&'static str, (String, u64)> = BTreeMap::new();
     let mut write = |writer: &mut mcap::Writer<BufWriter<File>>, ns: u64, recorded: &Recorded| {
         let with_links = ns >= links_at.saturating_add(messages::TRANSFORMS_EVERY_NS);
         let recorded_messages = messages::messages(recorded, ns, with_links);
@@ -291,6 +299,26 @@ fn record(
                 continue;
             };
             let data = message.to_string();
+            if topic.held {
+                // A message with a time says the same when all but its time is the same.
+                let timed =
+                    message.get("timestamp").is_some() || message.get("transforms").is_some();
+                let content = match timed {
+                    true => std::borrow::Cow::Owned(messages::content(&message)),
+                    false => std::borrow::Cow::Borrowed(data.as_str()),
+                };
+                match held.get(topic.topic) {
+                    Some((same, at))
+                        if same == content.as_ref() && ns < at.saturating_add(SAME_HELD_NS) =>
+                    {
+                        continue;
+                    }
+                    _ => {
+                        held.insert(topic.topic, (content.into_owned(), ns));
+                    }
+                }
+            }
+            written_ns.set(written_ns.get().max(ns));
             sequence = sequence.wrapping_add(1);
             let header = mcap::records::MessageHeader {
                 channel_id: id,
@@ -322,7 +350,7 @@ fn record(
         let count = dropped.load(Ordering::Relaxed);
         if count != dropped_written {
             dropped_written = count;
-            write(&mut writer, now_ns(), &Recorded::Dropped(count));
+            write(&mut writer, written_ns.get(), &Recorded::Dropped(count));
         }
         if flushed_at.elapsed() >= FLUSH_EVERY {
             flushed_at = Instant::now();
@@ -331,9 +359,10 @@ fn record(
             }
         }
     }
+    let end = now_ns().max(written_ns.get());
     write(
         &mut writer,
-        now_ns(),
+        end,
         &Recorded::Dropped(dropped.load(Ordering::Relaxed)),
     );
     if let Err(e) = writer.finish() {

@@ -6,6 +6,9 @@ pub struct Topic {
     pub topic: &'static str,
     pub schema: &'static str,
     pub json_schema: &'static str,
+    /// A message that says what the last one said is left out for up to a second
+    /// (`SAME_HELD_NS`): what a still arm repeats. `/joint_states`, never held, times each sample.
+    pub held: bool,
 }
 
 const TIME: &str = r#"{"type":"object","properties":{"sec":{"type":"integer","minimum":0},"nsec":{"type":"integer","minimum":0,"maximum":999999999}},"required":["sec","nsec"]}"#;
@@ -28,6 +31,7 @@ pub const JOINT_STATES: Topic = Topic {
         r#""temperature_c":{"type":"array","items":{"type":["number","null"]},"minItems":7,"maxItems":7}"#,
         r#"},"required":["position_deg","velocity_deg_s","torque_nm","current_a","temperature_c"]}"#
     ),
+    held: false,
 };
 
 /// The tool's pose in the base frame (foxglove.PoseInFrame), metres and a unit quaternion.
@@ -42,6 +46,7 @@ pub const TOOL_POSE: Topic = Topic {
         r#""orientation":{"type":"object","properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"},"w":{"type":"number"}},"required":["x","y","z","w"]}"#,
         r#"},"required":["position","orientation"]}},"required":["timestamp","frame_id","pose"]}"#
     ),
+    held: true,
 };
 
 /// The tool's pose as reported (base frame, metres and extrinsic XYZ degrees), twist (base
@@ -59,6 +64,7 @@ pub const TOOL_STATE: Topic = Topic {
         r#""torque_nm":{"type":"array","items":{"type":["number","null"]},"minItems":3,"maxItems":3}"#,
         r#"},"required":["position_m","orientation_deg","linear_m_s","angular_deg_s","force_n","torque_nm"]}"#
     ),
+    held: true,
 };
 
 /// The arm's links from the forward kinematics (foxglove.FrameTransforms): Foxglove's 3D panel
@@ -74,6 +80,7 @@ pub const TRANSFORMS: Topic = Topic {
         r#""rotation":{"type":"object","properties":{"x":{"type":"number"},"y":{"type":"number"},"z":{"type":"number"},"w":{"type":"number"}},"required":["x","y","z","w"]}},"#,
         r#""required":["timestamp","parent_frame_id","child_frame_id","translation","rotation"]}}},"required":["transforms"]}"#
     ),
+    held: true,
 };
 
 /// The arm's state, faults and warnings by name, its action, its health (A, V, °C) and the
@@ -89,6 +96,7 @@ pub const ARM_STATE: Topic = Topic {
         r#""speed_limits":{"type":"object","properties":{"linear":{"type":["number","null"]},"angular":{"type":["number","null"]}},"required":["linear","angular"]}},"#,
         r#""required":["robot_state","faults","warnings","action","health","speed_limits"]}"#
     ),
+    held: true,
 };
 
 /// The session: what the console was started with (first message of a file).
@@ -102,6 +110,7 @@ pub const SESSION: Topic = Topic {
         r#""frames":{"type":"boolean"},"positions_on_operator":{"type":"boolean"},"fence":{"type":"boolean"}},"#,
         r#""required":["armjog","arm","link","simulated","release_mode","refresh_ms","cap_mm_s","joint_jog_deg_s","frames","positions_on_operator","fence"]}"#
     ),
+    held: false,
 };
 
 /// The link: its state, which telemetry it carries, the stop guard, the round trip, whether a
@@ -115,6 +124,7 @@ pub const LINK: Topic = Topic {
         r#""guard_pid":{"type":"integer","minimum":0},"latency_ms":{"type":"number","minimum":0},"#,
         r#""stop":{"enum":["confirmed","unconfirmed"]},"failed":{"type":"string"},"notice":{"type":"string"}},"minProperties":1}"#
     ),
+    held: false,
 };
 
 /// The speed in force (percent of the cap) as the link reports it, and the cap it is of.
@@ -124,6 +134,7 @@ pub const SPEED: Topic = Topic {
     json_schema: schema!(
         r#"{"type":"object","properties":{"speed_percent":{"type":"integer","minimum":0,"maximum":100},"cap_mm_s":{"type":"number","exclusiveMinimum":0}},"required":["speed_percent","cap_mm_s"]}"#
     ),
+    held: false,
 };
 
 /// The console's message line as the technician saw it: each change, `null` when it cleared.
@@ -133,6 +144,7 @@ pub const MESSAGE: Topic = Topic {
     json_schema: schema!(
         r#"{"type":"object","properties":{"text":{"type":["string","null"]},"severity":{"enum":["info","warning","error",null]}},"required":["text","severity"]}"#
     ),
+    held: false,
 };
 
 /// The fence (when the arm has one): what it says of the tool, on each change (`SLOWED: table
@@ -143,6 +155,7 @@ pub const FENCE: Topic = Topic {
     json_schema: schema!(
         r#"{"type":"object","properties":{"verdict":{"type":["string","null"]}},"required":["verdict"]}"#
     ),
+    held: false,
 };
 
 /// A jog key's press, repeat or release.
@@ -152,6 +165,7 @@ pub const KEYS: Topic = Topic {
     json_schema: schema!(
         r#"{"type":"object","properties":{"key":{"type":"string"},"kind":{"enum":["press","repeat","release"]}},"required":["key","kind"]}"#
     ),
+    held: false,
 };
 
 /// A command the console sent the arm: its kind (`jog`, `stop`, `fence speed`), class, and its
@@ -162,6 +176,7 @@ pub const COMMANDS: Topic = Topic {
     json_schema: schema!(
         r#"{"type":"object","properties":{"command":{"type":"string"},"class":{"enum":["stop","motion","setting","query"]},"detail":{"type":"string"}},"required":["command","class","detail"]}"#
     ),
+    held: false,
 };
 
 /// What the arm's link said of a command: a log line (link, request, outcome, latency). Telemetry
@@ -172,6 +187,7 @@ pub const COMMAND_LOG: Topic = Topic {
     json_schema: schema!(
         r#"{"type":"object","properties":{"name":{"type":"string"},"outcome":{"type":"string"},"ok":{"type":"boolean"},"latency_ms":{"type":["number","null"]},"id":{"type":["integer","null"]},"poll":{"type":"boolean"},"count":{"type":"integer","minimum":1}},"required":["name","outcome","ok","poll","count"]}"#
     ),
+    held: false,
 };
 
 /// Messages (foxglove.Log): the console's message line (stops and refusals with their reasons),
@@ -184,6 +200,7 @@ pub const LOG: Topic = Topic {
         r#""level":{"type":"integer","minimum":0,"maximum":5},"message":{"type":"string"},"name":{"type":"string"},"file":{"type":"string"},"line":{"type":"integer","minimum":0}},"#,
         r#""required":["timestamp","level","message","name","file","line"]}"#
     ),
+    held: false,
 };
 
 /// The recorder itself: messages dropped so far because its queue was full.
@@ -193,6 +210,7 @@ pub const RECORDER: Topic = Topic {
     json_schema: schema!(
         r#"{"type":"object","properties":{"dropped":{"type":"integer","minimum":0}},"required":["dropped"]}"#
     ),
+    held: false,
 };
 
 /// Every channel, in the order they are added to a file.

@@ -3,7 +3,7 @@
 //! inputs, `player` feeds them to the app on a clock of its own, `run` is the terminal's end.
 
 mod player;
-mod recording;
+pub mod recording;
 mod run;
 mod telemetry;
 

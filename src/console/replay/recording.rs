@@ -56,11 +56,12 @@ pub enum RecordingError {
     Empty(String),
 }
 
-/// The three parts of a telemetry sample, gathered by their shared time.
+/// A telemetry sample's parts: `/joint_states` comes with every sample and times it; the tool's
+/// and the arm's come when they changed (the recorder leaves out repeats), else the last ones.
 #[derive(Default)]
 struct Sample {
-    ns: u64,
-    joints: Option<Value>,
+    /// The sample being read: its time and joints.
+    joints: Option<(u64, Value)>,
     tool: Option<Value>,
     arm: Option<Value>,
 }
@@ -103,18 +104,24 @@ impl Recording {
                 recording.skipped.insert(format!("{topic} (not JSON)"));
                 continue;
             };
-            if sample.ns != ns {
+            // A sample's messages come together: another of armjog's, or a later time, ends it
+            // (a channel from elsewhere in between does not).
+            let part = [
+                &topics::JOINT_STATES,
+                &topics::TOOL_STATE,
+                &topics::ARM_STATE,
+            ]
+            .iter()
+            .any(|t| t.topic == topic);
+            let known = topics::ALL.iter().any(|t| t.topic == topic);
+            let later = sample.joints.as_ref().is_some_and(|(at, _)| *at != ns);
+            if (known && !part) || later || topic == topics::JOINT_STATES.topic {
                 recording.end_sample(&mut sample);
-                sample.ns = ns;
             }
             match topic {
-                t if t == topics::JOINT_STATES.topic => sample.joints = Some(json),
+                t if t == topics::JOINT_STATES.topic => sample.joints = Some((ns, json)),
                 t if t == topics::TOOL_STATE.topic => sample.tool = Some(json),
-                // The last of a sample's three: it plays before what comes after it.
-                t if t == topics::ARM_STATE.topic => {
-                    sample.arm = Some(json);
-                    recording.end_sample(&mut sample);
-                }
+                t if t == topics::ARM_STATE.topic => sample.arm = Some(json),
                 t if t == topics::SESSION.topic => recording.session = Some(json),
                 t => {
                     if let Some(happened) = happened(t, &json) {
@@ -136,22 +143,16 @@ impl Recording {
         Ok(recording)
     }
 
+    /// The sample read so far plays (the tool's and arm's parts are kept for the next).
     fn end_sample(&mut self, sample: &mut Sample) {
-        let Sample {
-            ns,
-            joints,
-            tool,
-            arm,
-        } = std::mem::take(sample);
-        let (joints, tool, arm) = match (joints, tool, arm) {
-            (None, None, None) => return,
-            (Some(joints), Some(tool), Some(arm)) => (joints, tool, arm),
-            _ => {
-                self.skipped.insert("telemetry samples not whole".into());
-                return;
-            }
+        let Some((ns, joints)) = sample.joints.take() else {
+            return;
         };
-        match telemetry::rebuild(&joints, &tool, &arm) {
+        let (Some(tool), Some(arm)) = (&sample.tool, &sample.arm) else {
+            self.skipped.insert("telemetry samples not whole".into());
+            return;
+        };
+        match telemetry::rebuild(&joints, tool, arm) {
             Some(t) => {
                 let input = Input::Arm(ArmEvent::Telemetry(Box::new(t)));
                 self.events.push((ns, Happened::Input(input)));
