@@ -21,6 +21,7 @@ mod e2e;
 mod fence_file;
 mod jog_engine;
 mod keymap;
+mod mcap_spec;
 mod readme_keys;
 mod recorder;
 mod terminal_input;
