@@ -24,6 +24,7 @@ mod keymap;
 mod mcap_spec;
 mod readme_keys;
 mod recorder;
+mod recording_readback;
 mod terminal_input;
 mod tmux;
 mod ui;
