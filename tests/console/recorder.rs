@@ -246,3 +246,30 @@ fn the_status_bar_says_rec_off_when_the_session_is_not_recorded() {
     assert!(line(true).contains(" REC OFF "), "{}", line(true));
     assert!(!line(false).contains("REC"), "{}", line(false));
 }
+
+#[test]
+fn the_fence_s_words_are_recorded_on_each_change() {
+    let dir = tempfile::tempdir().expect("a folder");
+    let path = dir.path().join("fence.mcap");
+    let mut recorder = Recorder::start(path.clone(), QUEUE).expect("recording");
+    recorder.fence(None);
+    recorder.fence(Some("SLOWED: table 34 mm".into()));
+    recorder.fence(Some("SLOWED: table 34 mm".into()));
+    recorder.fence(Some("AT FENCE: table".into()));
+    recorder.fence(None);
+    drop(recorder);
+    let verdicts: Vec<Value> = read(&path)
+        .into_iter()
+        .filter(|m| m.0 == "/fence")
+        .map(|m| m.4["verdict"].clone())
+        .collect();
+    // Nothing at first (clear is where a session starts), then each change once.
+    assert_eq!(
+        verdicts,
+        [
+            Value::from("SLOWED: table 34 mm"),
+            Value::from("AT FENCE: table"),
+            Value::Null
+        ]
+    );
+}
