@@ -132,10 +132,10 @@ fn event_text(topic: &str, json: &Value, faults: &mut Value) -> Option<String> {
         // Telemetry polls are the link's routine: only a failed one is an event.
         "/commands/log" if json["poll"] == true && json["ok"] == true => return None,
         "/commands/log" => format!("link     {}: {}", s(&json["name"]), s(&json["outcome"])),
-        "/speed" => format!(
-            "speed    {} % of the {} mm/s cap",
-            json["speed_percent"], json["cap_mm_s"]
-        ),
+        "/speed" => match json["cap_mm_s"].as_f64() {
+            Some(cap) => format!("speed    {} % of the {cap} mm/s cap", json["speed_percent"]),
+            None => format!("speed    {} %", json["speed_percent"]),
+        },
         "/fence" => match json["verdict"].as_str() {
             Some(verdict) => format!("fence    {verdict}"),
             None => "fence    clear".to_string(),

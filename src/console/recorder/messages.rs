@@ -25,10 +25,10 @@ pub enum Recorded {
     Said(Option<(String, Severity)>),
     /// The session's facts (`topics::SESSION`), made once at the start.
     Session(Value),
-    /// The speed in force, percent, and the cap it is of (mm/s).
+    /// The speed in force, percent, and the cap it is of (mm/s), once known.
     Speed {
         percent: u8,
-        cap_mm_s: f64,
+        cap_mm_s: Option<f64>,
     },
     /// Telemetry polls folded as the command log folds them: the last one and how many.
     Polls(LogEntry, u32),

@@ -53,8 +53,8 @@ pub struct Recorder {
     pending: Vec<(u64, Recorded)>,
     /// The time of what is handed next, when a test sets it; else the wall clock.
     clock: Option<u64>,
-    /// The session's cap (mm/s), which `/speed` messages carry.
-    cap_mm_s: f64,
+    /// The session's cap (mm/s), which `/speed` messages carry, once [`Recorder::session`] said it.
+    cap_mm_s: Option<f64>,
     /// Telemetry polls not yet written: the first's time, the last entry, how many.
     polls: Option<(u64, crate::link::interface::LogEntry, u32)>,
     latency_at: Option<u64>,
@@ -93,7 +93,7 @@ impl Recorder {
             fence: None,
             pending: Vec::new(),
             clock: None,
-            cap_mm_s: 0.0,
+            cap_mm_s: None,
             polls: None,
             latency_at: None,
         })
@@ -127,7 +127,8 @@ impl Recorder {
 
     /// The session's facts, first in the file: what `armjog replay` starts the panels with.
     pub fn session(&mut self, config: &AppConfig, link: &str) {
-        self.cap_mm_s = config.max_jog_speed * 1000.0;
+        let cap_mm_s = config.max_jog_speed * 1000.0;
+        self.cap_mm_s = Some(cap_mm_s);
         let arm = match (&config.arm_name, config.simulated) {
             (Some(name), _) => name.clone(),
             (None, true) => "sim".to_string(),
@@ -144,7 +145,7 @@ impl Recorder {
             "simulated": config.simulated,
             "release_mode": release_mode,
             "refresh_ms": u64::try_from(config.refresh.as_millis()).unwrap_or(u64::MAX).max(1),
-            "cap_mm_s": self.cap_mm_s,
+            "cap_mm_s": cap_mm_s,
             "joint_jog_deg_s": config.joint_jog_speed,
             "frames": config.frames,
             "positions_on_operator": config.positions_on_operator,

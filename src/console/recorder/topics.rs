@@ -127,12 +127,13 @@ pub const LINK: Topic = Topic {
     held: false,
 };
 
-/// The speed in force (percent of the cap) as the link reports it, and the cap it is of.
+/// The speed in force (percent of the cap) as the link reports it, and the cap it is of (`null`
+/// before the session's facts are recorded).
 pub const SPEED: Topic = Topic {
     topic: "/speed",
     schema: "armjog.Speed",
     json_schema: schema!(
-        r#"{"type":"object","properties":{"speed_percent":{"type":"integer","minimum":0,"maximum":100},"cap_mm_s":{"type":"number","exclusiveMinimum":0}},"required":["speed_percent","cap_mm_s"]}"#
+        r#"{"type":"object","properties":{"speed_percent":{"type":"integer","minimum":0,"maximum":100},"cap_mm_s":{"type":["number","null"],"exclusiveMinimum":0}},"required":["speed_percent","cap_mm_s"]}"#
     ),
     held: false,
 };
