@@ -70,7 +70,7 @@ async fn run(cli: Cli, arm: Option<String>, fence: Option<Fence>) -> i32 {
         Some(Command::Modbus(args)) => report(armjog::cli::modbus::run(&args).await),
         Some(Command::Arms(_)) => report(armjog::cli::arms::run(cli.profile.config.as_deref())),
         Some(Command::Sim(args)) => armjog::cli::sim::run(&args).await,
-        Some(Command::Replay(args)) => report(armjog::cli::replay::run(&args)),
+        Some(Command::Replay(args)) => report(armjog::cli::replay::run(&args).await),
         Some(Command::Guard(args)) => armjog::cli::guard::run(&args).await,
         Some(Command::Completions(args)) => report(armjog::cli::generate::run_completions(&args)),
         Some(Command::Man(args)) => report(armjog::cli::generate::run_man(&args)),

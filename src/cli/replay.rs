@@ -4,6 +4,8 @@
 //! short or damaged is read up to its last good message, and says so.
 
 use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use clap::Args;
 use serde_json::Value;
@@ -26,9 +28,9 @@ pub struct ReplayArgs {
     pub json: bool,
 }
 
-pub fn run(args: &ReplayArgs) -> Outcome {
+pub async fn run(args: &ReplayArgs) -> Outcome {
     if !args.events {
-        return match crate::console::replay::run(&args.file) {
+        return match play(args.file.clone()).await {
             Ok(()) => Outcome::printed(Vec::new()),
             Err(e) => Outcome::error(e, 1),
         };
@@ -103,6 +105,29 @@ pub fn run(args: &ReplayArgs) -> Outcome {
         stderr: (!notes.is_empty()).then(|| notes.join("\n")),
         exit_code: 0,
     }
+}
+
+/// Plays `file` on a thread of its own (the terminal's loop blocks); a signal ends it as `q`
+/// does, the terminal given back.
+async fn play(file: PathBuf) -> Result<(), String> {
+    use tokio::signal::unix::SignalKind;
+    let quit = Arc::new(AtomicBool::new(false));
+    let told = quit.clone();
+    let mut signals = crate::console::signals::forward(&[
+        (SignalKind::interrupt(), ()),
+        (SignalKind::terminate(), ()),
+        (SignalKind::hangup(), ()),
+    ])
+    .map_err(|e| format!("signals: {e}"))?;
+    let mut played = tokio::task::spawn_blocking(move || crate::console::replay::run(&file, &told));
+    let ended = tokio::select! {
+        ended = &mut played => ended,
+        _ = signals.recv() => {
+            quit.store(true, Ordering::Relaxed);
+            played.await
+        }
+    };
+    ended.map_err(|e| format!("playback ended early: {e}"))?
 }
 
 /// `2026-12-06 19:08:47.368 UTC`.

@@ -3,6 +3,7 @@
 //! passed handed to it. One thread; a frame at most every [`FRAME`].
 
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use crossterm::event::{self, Event, KeyEventKind};
@@ -21,7 +22,8 @@ const FRAME: Duration = Duration::from_millis(33);
 
 /// Plays `path` until the technician quits. `Err`: why the file cannot be played, or the
 /// terminal failed.
-pub fn run(path: &Path) -> Result<(), String> {
+/// `quit` set (a signal): it ends as `q` does.
+pub fn run(path: &Path, quit: &AtomicBool) -> Result<(), String> {
     let recording = Recording::read(path).map_err(|e| e.to_string())?;
     let release_events = terminal::enter(Some(false)).map_err(|e| format!("terminal: {e}"))?;
     // A panic gives the terminal back before it reports.
@@ -30,20 +32,20 @@ pub fn run(path: &Path) -> Result<(), String> {
         terminal::restore(release_events);
         previous(info);
     }));
-    let played = play(recording);
+    let played = play(recording, quit);
     terminal::restore(release_events);
     let _ = std::panic::take_hook();
     played.map_err(|e| format!("terminal: {e}"))
 }
 
-fn play(recording: Recording) -> std::io::Result<()> {
+fn play(recording: Recording, quit: &AtomicBool) -> std::io::Result<()> {
     let mut terminal = Terminal::new(CrosstermBackend::new(std::io::stdout()))?;
     let size = terminal.size()?;
     let theme = Theme::from_env();
     let mut player = Player::new(recording, (size.width, size.height), Instant::now());
     let mut last = Instant::now();
     let mut drawn = None;
-    loop {
+    while !quit.load(Ordering::Relaxed) {
         let view = player.view();
         if drawn.as_ref() != Some(&view) {
             terminal.draw(|frame| ui::draw(frame, &view, &theme))?;
@@ -75,4 +77,5 @@ fn play(recording: Recording) -> std::io::Result<()> {
         player.play(now - last);
         last = now;
     }
+    Ok(())
 }
