@@ -227,7 +227,10 @@ fn start_painter(drawing: Arc<AtomicBool>) -> Result<PainterStart, ConsoleError>
     let terminal = Terminal::new(CrosstermBackend::new(std::io::stdout()))?;
     let size = terminal.size()?;
     let theme = Theme::from_env();
-    let mut terminal = terminal;
+    // Never dropped: ratatui's `Terminal` shows the cursor on drop and `eprintln!`s if it cannot,
+    // which panics when the terminal has hung up (and stderr with it). `terminal::restore`
+    // shows the cursor instead, whatever the terminal's state.
+    let mut terminal = std::mem::ManuallyDrop::new(terminal);
     let draw = move |view: &View| {
         terminal
             .draw(|frame| ui::draw(frame, view, &theme))

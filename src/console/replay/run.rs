@@ -39,7 +39,9 @@ pub fn run(path: &Path, quit: &AtomicBool) -> Result<(), String> {
 }
 
 fn play(recording: Recording, quit: &AtomicBool) -> std::io::Result<()> {
-    let mut terminal = Terminal::new(CrosstermBackend::new(std::io::stdout()))?;
+    // Never dropped, as the console's: its drop `eprintln!`s when the terminal has hung up.
+    let mut terminal =
+        std::mem::ManuallyDrop::new(Terminal::new(CrosstermBackend::new(std::io::stdout()))?);
     let size = terminal.size()?;
     let theme = Theme::from_env();
     let mut player = Player::new(recording, (size.width, size.height), Instant::now());
