@@ -40,7 +40,7 @@ pub async fn run(args: &ReplayArgs) -> Outcome {
         Ok(bytes) => bytes,
         Err(e) => return Outcome::error(format!("{shown}: cannot read it: {e}"), 1),
     };
-    let stream = match mcap::MessageStream::new(&bytes) {
+    let stream = match crate::console::replay::recording::messages(&bytes) {
         Ok(stream) => stream,
         Err(e) => return Outcome::error(format!("{shown}: not an MCAP recording: {e}"), 1),
     };
@@ -57,7 +57,7 @@ pub async fn run(args: &ReplayArgs) -> Outcome {
                 return Outcome::error(format!("{shown}: not an MCAP recording: {e}"), 1);
             }
             Err(e) => {
-                cut_short = Some(e.to_string());
+                cut_short = Some(e);
                 break;
             }
         };

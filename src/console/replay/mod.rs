@@ -2,6 +2,7 @@
 //! link opened and no key able to move anything. `recording` reads the file back as the app's
 //! inputs, `player` feeds them to the app on a clock of its own, `run` is the terminal's end.
 
+mod chunks;
 mod player;
 pub mod recording;
 mod run;

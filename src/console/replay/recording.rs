@@ -81,8 +81,7 @@ impl Recording {
 
     /// [`Recording::read`] on the file's bytes.
     pub fn parse(bytes: &[u8]) -> Result<Recording, RecordingError> {
-        let stream = mcap::MessageStream::new(bytes)
-            .map_err(|e| RecordingError::NotMcap(String::new(), e.to_string()))?;
+        let stream = messages(bytes).map_err(|e| RecordingError::NotMcap(String::new(), e))?;
         let mut recording = Recording::default();
         let mut sample = Sample::default();
         let mut read_any = false;
@@ -90,10 +89,10 @@ impl Recording {
             let message = match message {
                 Ok(message) => message,
                 Err(e) if !read_any => {
-                    return Err(RecordingError::NotMcap(String::new(), e.to_string()));
+                    return Err(RecordingError::NotMcap(String::new(), e));
                 }
                 Err(e) => {
-                    recording.cut_short = Some(e.to_string());
+                    recording.cut_short = Some(e);
                     break;
                 }
             };
@@ -163,6 +162,33 @@ impl Recording {
             }
         }
     }
+}
+
+/// The messages of an MCAP file's bytes, each or why the file ends there; the first error ends
+/// it. A reader that fails on damaged bytes by panicking (the `mcap` crate's arithmetic on a
+/// chunk's sizes, in a debug build) ends it the same way, as damage.
+pub fn messages(
+    bytes: &[u8],
+) -> Result<impl Iterator<Item = Result<mcap::Message<'_>, String>>, String> {
+    let (sound, damage) = super::chunks::sound_prefix(bytes);
+    let mut stream = mcap::MessageStream::new(&bytes[..sound]).map_err(|e| e.to_string())?;
+    let mut damage = damage;
+    let mut ended = false;
+    Ok(std::iter::from_fn(move || {
+        if ended {
+            return None;
+        }
+        let next = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| stream.next()));
+        let next = match next {
+            Ok(Some(Ok(message))) => Ok(message),
+            // Where the sound part ends, the damage is why.
+            Ok(Some(Err(e))) => Err(damage.take().unwrap_or_else(|| e.to_string())),
+            Ok(None) => Err(damage.take()?),
+            Err(_) => Err("damaged: the MCAP reader could not make sense of a chunk".to_string()),
+        };
+        ended = next.is_err();
+        Some(next)
+    }))
 }
 
 /// What a message of a non-telemetry channel makes; `None` for one that plays no part (or is
