@@ -61,7 +61,7 @@ pub struct Recorder {
 }
 
 /// Nanoseconds since the Unix epoch, as MCAP readers expect a log time.
-pub fn now_ns() -> u64 {
+fn now_ns() -> u64 {
     SystemTime::now()
         .duration_since(SystemTime::UNIX_EPOCH)
         .map_or(0, |d| u64::try_from(d.as_nanos()).unwrap_or(u64::MAX))

@@ -8,7 +8,6 @@ pub mod recording;
 mod run;
 mod telemetry;
 
-pub use player::{Control, Player, SPEEDS, clock_text, config_of};
+pub use player::{Control, Player, config_of};
 pub use recording::{Happened, Recording, RecordingError};
 pub use run::run;
-pub use telemetry::rebuild;

@@ -44,7 +44,6 @@ struct Point {
 
 pub struct Player {
     recording: Recording,
-    config: AppConfig,
     size: (u16, u16),
     /// The app's clock at the recording's first message.
     base: Instant,
@@ -98,7 +97,7 @@ impl Player {
     /// Playback of `recording` on a `size` terminal, at its start, playing at ×1.
     pub fn new(recording: Recording, size: (u16, u16), base: Instant) -> Player {
         let config = config_of(recording.session.as_ref());
-        let mut app = App::new(config.clone(), PositionBook::new());
+        let mut app = App::new(config, PositionBook::new());
         app.handle(
             Input::Resize {
                 width: size.0,
@@ -116,7 +115,6 @@ impl Player {
         let mut player = Player {
             checkpoints: vec![point.clone()],
             recording,
-            config,
             size,
             base,
             point,
@@ -129,18 +127,9 @@ impl Player {
         player
     }
 
-    /// The recording played.
-    pub fn recording(&self) -> &Recording {
-        &self.recording
-    }
-
     /// Where playback is: ns since the Unix epoch.
     pub fn at_ns(&self) -> u64 {
         self.point.at_ns
-    }
-
-    pub fn paused(&self) -> bool {
-        self.paused
     }
 
     pub fn at_end(&self) -> bool {
@@ -299,11 +288,6 @@ impl Player {
         view.arm.fence.clone_from(&self.point.fence);
         view.screen.size = self.size;
         view
-    }
-
-    /// The settings the app plays with (from the recording's `/session`).
-    pub fn config(&self) -> &AppConfig {
-        &self.config
     }
 }
 
