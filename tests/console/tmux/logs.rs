@@ -49,6 +49,19 @@ impl Tmux {
         String::from_utf8_lossy(&out.stdout).into_owned()
     }
 
+    /// The pid of the pane's process (the console itself, run with `exec`).
+    fn pane_pid(&self) -> u32 {
+        let shown = Command::new("tmux")
+            .args(["-L", &self.socket, "display", "-p", "-t", "console"])
+            .arg("#{pane_pid}")
+            .output()
+            .expect("tmux display");
+        String::from_utf8_lossy(&shown.stdout)
+            .trim()
+            .parse()
+            .expect("the console's pid")
+    }
+
     fn wait_for(&self, what: &str, done: impl Fn(&str) -> bool) -> String {
         let until = Instant::now() + Duration::from_secs(30);
         loop {
@@ -230,22 +243,7 @@ fn a_terminal_that_hangs_up_ends_the_console_without_a_panic() {
     tmux.wait_for("the link to come up", |s| {
         s.contains("LINK UP") && s.contains("pos mm")
     });
-    let shown = Command::new("tmux")
-        .args([
-            "-L",
-            &tmux.socket,
-            "display",
-            "-p",
-            "-t",
-            "console",
-            "#{pane_pid}",
-        ])
-        .output()
-        .expect("tmux display");
-    let pid: u32 = String::from_utf8_lossy(&shown.stdout)
-        .trim()
-        .parse()
-        .expect("the console's pid");
+    let pid = tmux.pane_pid();
     // The terminal hangs up while the console draws (a jog's frames).
     tmux.keys(&["w"]);
     drop(tmux);
@@ -284,19 +282,7 @@ fn a_console_killed_outright_leaves_its_recording_readable_up_to_its_last_second
         s.contains("LINK UP") && s.contains("pos mm")
     });
     std::thread::sleep(Duration::from_millis(2500));
-    let pane = Command::new("tmux")
-        .args([
-            "-L",
-            &tmux.socket,
-            "display",
-            "-p",
-            "-t",
-            "console",
-            "#{pane_pid}",
-        ])
-        .output()
-        .expect("tmux display");
-    let pid = String::from_utf8_lossy(&pane.stdout).trim().to_string();
+    let pid = tmux.pane_pid().to_string();
     let killed_at = std::time::SystemTime::now();
     let status = Command::new("kill")
         .args(["-KILL", &pid])
